@@ -1,1 +1,191 @@
-fn main() {}
+//! The `cierva` command line.
+
+use cierva_harness::eval::{self, CheckResult};
+use cierva_harness::{load_cases, refs, text};
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Verification and validation of rotorcraft flight-dynamics models against flight references.
+///
+/// Exit codes: 0 every check passed (or failed as its case expects); 1 a check failed
+/// unexpectedly or an expected failure passed; 2 bad input (a case or reference file that does
+/// not load, a missing path, no cases).
+#[derive(Parser)]
+#[command(name = "cierva", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run validation cases and print a table of every check.
+    ///
+    /// Example: `cierva validate cases/seed002-vpm-m16-60kn.yaml --format json`
+    Validate {
+        /// Case files or folders searched for `*.yaml` (default: `cases`).
+        paths: Vec<PathBuf>,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// Print the modes, BCAR Section T verdicts and weakly coupled systems values of a linear
+    /// model held in a reference file.
+    ///
+    /// Example: `cierva modes flight-refs/seed002-vpm-m16-60kn.yaml`
+    Modes {
+        /// A reference file with a `linear_model` block.
+        file: PathBuf,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    Text,
+    Json,
+}
+
+fn main() -> ExitCode {
+    match Cli::parse().command {
+        Command::Validate { paths, format } => validate(paths, format),
+        Command::Modes { file, format } => modes(file, format),
+    }
+}
+
+fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
+    let paths = if paths.is_empty() {
+        vec![PathBuf::from("cases")]
+    } else {
+        paths
+    };
+    let loaded = match load_cases(&paths) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if loaded.is_empty() {
+        eprintln!("error: no case files (*.yaml) under {}", show(&paths));
+        return ExitCode::from(2);
+    }
+    let mut results: Vec<CheckResult> = Vec::new();
+    let mut errors = Vec::new();
+    for c in &loaded {
+        match c {
+            Ok(case) => results.extend(eval::run_case(case)),
+            Err(e) => errors.push(e.to_string()),
+        }
+    }
+    let counts = text::counts(&results);
+    match format {
+        Format::Json => {
+            let out = serde_json::json!({
+                "cases": loaded.len(),
+                "counts": counts,
+                "input_errors": errors,
+                "results": results,
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        Format::Text => {
+            print!("{}", text::results_table(&results));
+            for r in results.iter().filter(|r| !r.outcome.ok()) {
+                println!("\n{}", r.explain());
+            }
+            for e in &errors {
+                println!("\nerror: {e}");
+            }
+            println!(
+                "\n{} cases, {} checks: {} passed, {} failed, {} expected failures, {} unexpected passes, {} files with errors",
+                loaded.len(),
+                results.len(),
+                counts.pass,
+                counts.fail,
+                counts.expected_failure,
+                counts.unexpected_pass,
+                errors.len()
+            );
+        }
+    }
+    if !errors.is_empty() {
+        ExitCode::from(2)
+    } else if counts.fail + counts.unexpected_pass > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn modes(file: PathBuf, format: Format) -> ExitCode {
+    let r = match refs::load(&file) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let Some(model) = r.linear_model else {
+        eprintln!("error: {}: no `linear_model` block", file.display());
+        return ExitCode::from(2);
+    };
+    let analysis = match cierva_model::modes(&model) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("error: {}: {e}", file.display());
+            return ExitCode::from(2);
+        }
+    };
+    match format {
+        Format::Json => {
+            let assessed: Vec<_> = analysis
+                .modes
+                .iter()
+                .map(|m| serde_json::json!({ "mode": m, "bcar": cierva_model::bcar::assess(m) }))
+                .collect();
+            let out = serde_json::json!({
+                "file": file,
+                "id": r.id,
+                "states": analysis.states,
+                "modes": assessed,
+                "milne": milne_json(&model),
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        Format::Text => {
+            println!("{} ({})\n{}\n", r.title, r.id, r.provenance.source);
+            print!("{}", text::modes_table(&analysis));
+            println!();
+            print!("{}", text::milne_table(&model));
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn milne_json(m: &cierva_model::LinearModel) -> serde_json::Value {
+    use cierva_model::milne;
+    let eq13 = milne::eq13(m);
+    serde_json::json!({
+        "reduced": milne::reduced(m).and_then(|r| milne::as_array3(&r)).map_err(|e| e.to_string()),
+        "eq13": eq13.as_ref().map_err(|e| e.to_string()),
+        "cubic": eq13.map_err(|e| e.to_string()).and_then(|e| e.cubic().map_err(|e| e.to_string())).map(|c| {
+            serde_json::json!({ "cubic": c, "sensitivity": c.sensitivity() })
+        }),
+    })
+}
+
+fn show(paths: &[PathBuf]) -> String {
+    paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}

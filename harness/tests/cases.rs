@@ -1,1 +1,106 @@
-fn main() {}
+//! The validation suite: every check of every case under `cases/` is one trial, named
+//! `<case-id>::<check-id>`; every case with a linear model also gets regression snapshots
+//! (`<case-id>::snapshot-derivatives`, `::snapshot-modes`, `::snapshot-milne`) kept in
+//! `reports/snapshots/` and reviewed with `cargo insta review`.
+//!
+//! A case file that does not load is one failing trial, `<file-stem>::load`, whose message
+//! names the file, line, column and field. No case files at all is a failing trial too.
+
+use cierva_harness::case::{Case, Subject};
+use cierva_harness::{eval, load_cases, repo_root, text};
+use libtest_mimic::{Arguments, Failed, Trial};
+
+fn main() {
+    let args = Arguments::from_args();
+    let root = repo_root();
+    let mut trials = Vec::new();
+    match load_cases(&[root.join("cases")]) {
+        Err(e) => trials.push(Trial::test("cases::discover", move || {
+            Err(e.to_string().into())
+        })),
+        Ok(loaded) if loaded.is_empty() => trials.push(Trial::test("cases::discover", || {
+            Err(
+                "no case files (*.yaml) under cases/: the validation suite would check nothing"
+                    .into(),
+            )
+        })),
+        Ok(loaded) => {
+            for c in loaded {
+                match c {
+                    Ok(case) => add_case(&mut trials, case),
+                    Err(e) => {
+                        let stem = e
+                            .path
+                            .file_stem()
+                            .map(|s| s.to_string_lossy().to_string())
+                            .unwrap_or_default();
+                        let msg = e.to_string();
+                        trials.push(Trial::test(
+                            format!("{stem}::load"),
+                            move || Err(msg.into()),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    libtest_mimic::run(&args, trials).exit();
+}
+
+fn add_case(trials: &mut Vec<Trial>, case: Case) {
+    let case = std::sync::Arc::new(case);
+    for check in &case.checks {
+        let (c, id) = (case.clone(), check.id.clone());
+        trials.push(
+            Trial::test(format!("{}::{}", case.id, check.id), move || {
+                let check = c.checks.iter().find(|k| k.id == id).expect("check exists");
+                let r = eval::run_check(&c, check);
+                if r.outcome.ok() {
+                    Ok(())
+                } else {
+                    Err(r.explain().into())
+                }
+            })
+            .with_kind("validation"),
+        );
+    }
+    if let Subject::Linear { model, .. } = &case.subject {
+        let snaps: Vec<(
+            &str,
+            fn(&cierva_model::LinearModel) -> Result<String, String>,
+        )> = vec![
+            ("derivatives", |m| Ok(text::derivatives_table(m))),
+            ("modes", |m| {
+                cierva_model::modes(m)
+                    .map(|a| text::modes_table(&a))
+                    .map_err(|e| e.to_string())
+            }),
+            ("milne", |m| Ok(text::milne_table(m))),
+        ];
+        for (what, f) in snaps {
+            if what == "milne" && !model.has_state("Omega") {
+                continue;
+            }
+            let (m, c) = (model.clone(), case.clone());
+            trials.push(
+                Trial::test(format!("{}::snapshot-{what}", case.id), move || {
+                    snapshot(&c, what, f(&m))
+                })
+                .with_kind("snapshot"),
+            );
+        }
+    }
+}
+
+fn snapshot(case: &Case, what: &str, body: Result<String, String>) -> Result<(), Failed> {
+    let body = body?;
+    let mut s = insta::Settings::clone_current();
+    s.set_snapshot_path(repo_root().join("reports/snapshots"));
+    s.set_prepend_module_to_snapshot(false);
+    s.set_input_file(&case.path);
+    s.set_description(format!("{}: {} ({})", case.id, what, case.title));
+    s.set_omit_expression(true);
+    let name = format!("{}-{what}", case.id);
+    s.bind(|| insta::assert_snapshot!(name, body));
+    Ok(())
+}

@@ -1,0 +1,716 @@
+//! Case files: what is checked, against what, with which tolerance and why.
+//!
+//! The schema is documented with an example in the README ("Writing a case"). Every field is
+//! checked: unknown fields are rejected, a tolerance must have a reason, an expectation must
+//! name a quantity that its check kind computes, and a check that is expected to fail says why.
+
+use crate::refs::{self, DerivativeTable, Entry, LinearModelSpec, Provenance};
+use crate::yaml::{self, InputError};
+use cierva_model::bcar::Verdict;
+use cierva_model::{LinearModel, ModeKind};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A case file as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseSpec {
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    pub model: ModelSpec,
+    #[serde(default)]
+    pub tolerances: BTreeMap<String, ToleranceSpec>,
+    pub checks: Vec<CheckSpec>,
+}
+
+/// The subject of a case: exactly one of the fields.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// A reference file (path relative to the case file) holding a `linear_model`.
+    #[serde(default)]
+    pub linear_model_file: Option<String>,
+    /// A linear model written in the case.
+    #[serde(default)]
+    pub linear_model: Option<LinearModelSpec>,
+    /// Published derivative values: a column of a reference file's table.
+    #[serde(default)]
+    pub derivative_table: Option<TableColumnSpec>,
+}
+
+/// A column of a derivative table in a reference file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableColumnSpec {
+    /// Path relative to the case file.
+    pub file: String,
+    pub column: String,
+}
+
+/// A named tolerance as written: exactly one of the kinds, and a reason.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToleranceSpec {
+    #[serde(default)]
+    pub absolute: Option<f64>,
+    #[serde(default)]
+    pub relative: Option<f64>,
+    #[serde(default)]
+    pub interval: Option<[f64; 2]>,
+    #[serde(default)]
+    pub interval_from: Option<TableColumnSpec>,
+    #[serde(default)]
+    pub rounding: Option<RoundingSpec>,
+    pub reason: String,
+}
+
+/// Tolerance for published numbers that were rounded: the inputs (the model's matrices) to
+/// `input_decimals`, the expected value to `output_decimals`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoundingSpec {
+    pub input_decimals: u32,
+    pub output_decimals: u32,
+}
+
+/// The kinds of check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CheckKind {
+    /// Characteristics of one mode.
+    Mode,
+    /// BCAR Section T verdict (and margins) of one oscillatory mode.
+    Bcar,
+    /// Weakly coupled systems values (seed 002 Eqs. 13-25).
+    Milne,
+    /// One stability or control derivative.
+    Derivative,
+}
+
+/// Which system a mode or BCAR check looks at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum System {
+    /// The model itself.
+    #[default]
+    Full,
+    /// `A11` on `[w q]` (seed 002 Eq. 11).
+    ShortPeriod,
+    /// The exact Schur complement on `[u theta Omega]` (seed 002 Eq. 12).
+    Reduced,
+    /// The closed form of seed 002 Eq. 13.
+    Eq13,
+}
+
+/// A check as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckSpec {
+    pub id: String,
+    pub kind: CheckKind,
+    #[serde(default)]
+    pub description: Option<String>,
+    /// For `mode` and `bcar`.
+    #[serde(default)]
+    pub system: System,
+    /// For `mode` and `bcar`: the mode class to look at.
+    #[serde(default)]
+    pub mode: Option<ModeKind>,
+    /// For `derivative`: the derivative's name (`M_w`).
+    #[serde(default)]
+    pub derivative: Option<String>,
+    /// For `bcar`: the expected verdict.
+    #[serde(default)]
+    pub verdict: Option<Verdict>,
+    /// Derivatives set to these values before the check (a what-if variant).
+    #[serde(default)]
+    pub set: BTreeMap<String, f64>,
+    /// Zero every rotorspeed coupling derivative first (seed 002 Tables 2 and 5).
+    #[serde(default)]
+    pub without_rotorspeed_coupling: bool,
+    /// Quantity -> expectation.
+    #[serde(default)]
+    pub expect: BTreeMap<String, ExpectSpec>,
+    /// The check is known to fail, and this is why.
+    #[serde(default)]
+    pub expected_failure: Option<String>,
+}
+
+/// An expectation as written: a value and a named tolerance, or an interval tolerance alone.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExpectSpec {
+    #[serde(default)]
+    pub value: Option<f64>,
+    pub tolerance: String,
+}
+
+/// A resolved tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Tolerance {
+    pub name: String,
+    pub kind: ToleranceKind,
+    pub reason: String,
+}
+
+/// The kinds of tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToleranceKind {
+    /// `|value - expected| <= bound`.
+    Absolute(f64),
+    /// `|value - expected| <= bound |expected|`.
+    Relative(f64),
+    /// `lower <= value <= upper` (no expected value).
+    Interval(f64, f64),
+    /// Published rounding propagated through the computation (see `eval`).
+    Rounding(RoundingSpec),
+}
+
+/// A resolved expectation on one quantity.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Expectation {
+    pub quantity: String,
+    pub value: Option<f64>,
+    pub tolerance: Tolerance,
+}
+
+/// A resolved check.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Check {
+    pub id: String,
+    pub kind: CheckKind,
+    pub description: Option<String>,
+    pub system: System,
+    pub mode: Option<ModeKind>,
+    pub derivative: Option<String>,
+    pub verdict: Option<Verdict>,
+    pub set: BTreeMap<String, f64>,
+    pub without_rotorspeed_coupling: bool,
+    pub expectations: Vec<Expectation>,
+    pub expected_failure: Option<String>,
+}
+
+/// What a case checks.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Subject {
+    /// A linear model, with the file it came from (if any) and its units.
+    Linear {
+        model: LinearModel,
+        file: Option<PathBuf>,
+        units: BTreeMap<String, String>,
+    },
+    /// Published derivative values: one column of a table.
+    Table {
+        table: DerivativeTable,
+        file: PathBuf,
+        column: String,
+    },
+}
+
+/// A loaded, checked case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    pub path: PathBuf,
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    pub subject: Subject,
+    pub checks: Vec<Check>,
+}
+
+/// Quantities each check kind computes (the keys allowed under `expect`).
+pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
+    match kind {
+        CheckKind::Mode => &[
+            "eigenvalue_real_per_s",
+            "eigenvalue_imag_rad_s",
+            "damping_ratio",
+            "natural_frequency_rad_s",
+            "period_s",
+            "time_to_half_s",
+            "time_to_double_s",
+        ],
+        CheckKind::Bcar => &[
+            "damping_index",
+            "boundary_index",
+            "margin_index",
+            "margin_real_per_s",
+            "period_s",
+        ],
+        CheckKind::Milne => &[
+            "omega_sp_squared",
+            "eq13_a11",
+            "eq13_a12",
+            "eq13_a13",
+            "eq13_a21",
+            "eq13_a23",
+            "eq13_a31",
+            "eq13_a33",
+            "schur_a11",
+            "schur_a12",
+            "schur_a13",
+            "schur_a21",
+            "schur_a22",
+            "schur_a23",
+            "schur_a31",
+            "schur_a32",
+            "schur_a33",
+            "cubic_a",
+            "cubic_b",
+            "cubic_c",
+            "delta_b",
+            "delta_c",
+            "delta_a_ph",
+            "delta_b_ph",
+            "delta_lambda_omega",
+            "m_omega_eq24",
+            "m_omega_eq25",
+        ],
+        CheckKind::Derivative => &["value"],
+    }
+}
+
+/// Loads and checks a case file.
+pub fn load(path: &Path) -> Result<Case, InputError> {
+    let src = yaml::read(path)?;
+    let spec: CaseSpec = yaml::parse(path, &src)?;
+    refs::check_id(path, &src, &spec.id)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let err = |field: &str, msg: String| InputError::field(path, &src, field, msg);
+    if spec.provenance.source.trim().is_empty() {
+        return Err(err(
+            "provenance.source",
+            "the source must not be empty".into(),
+        ));
+    }
+
+    let subject = load_subject(path, &src, dir, &spec.model)?;
+    let mut seen = std::collections::BTreeSet::new();
+    let mut checks = Vec::new();
+    if spec.checks.is_empty() {
+        return Err(err("checks", "a case needs at least one check".into()));
+    }
+    for (i, c) in spec.checks.iter().enumerate() {
+        let here = format!("checks[{i}]");
+        if !seen.insert(c.id.clone()) {
+            return Err(err(
+                &format!("{here}.id"),
+                format!("check id `{}` is used twice", c.id),
+            ));
+        }
+        if c.id.contains("::") || c.id.contains("__") || c.id.trim().is_empty() {
+            return Err(err(
+                &format!("{here}.id"),
+                "a check id must be non-empty and contain neither `::` nor `__`".into(),
+            ));
+        }
+        checks.push(resolve_check(path, &src, dir, &spec, &subject, &here, c)?);
+    }
+    Ok(Case {
+        path: path.to_path_buf(),
+        id: spec.id,
+        title: spec.title,
+        provenance: spec.provenance,
+        subject,
+        checks,
+    })
+}
+
+fn load_subject(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject, InputError> {
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
+    let given = [
+        m.linear_model_file.is_some(),
+        m.linear_model.is_some(),
+        m.derivative_table.is_some(),
+    ];
+    if given.iter().filter(|g| **g).count() != 1 {
+        return Err(err(
+            "model",
+            "give exactly one of `linear_model_file`, `linear_model` or `derivative_table`".into(),
+        ));
+    }
+    if let Some(file) = &m.linear_model_file {
+        let rpath = dir.join(file);
+        let r = refs::load(&rpath).map_err(|e| {
+            err(
+                "model.linear_model_file",
+                format!("in the referenced file: {e}"),
+            )
+        })?;
+        let model = r.linear_model.ok_or_else(|| {
+            err(
+                "model.linear_model_file",
+                format!("{} has no `linear_model` block", rpath.display()),
+            )
+        })?;
+        return Ok(Subject::Linear {
+            model,
+            file: Some(rpath),
+            units: r.units,
+        });
+    }
+    if let Some(spec) = &m.linear_model {
+        return Ok(Subject::Linear {
+            model: spec.build(path, src, "model.linear_model")?,
+            file: None,
+            units: spec.units.clone(),
+        });
+    }
+    let t = m.derivative_table.as_ref().expect("one subject is given");
+    let tpath = dir.join(&t.file);
+    let table = load_table(path, src, &tpath, "model.derivative_table.file")?;
+    match table.columns.get(&t.column) {
+        Some(c) if c.kind == refs::ColumnKind::Value => {}
+        Some(_) => {
+            return Err(err(
+                "model.derivative_table.column",
+                format!("column `{}` holds intervals, not values", t.column),
+            ));
+        }
+        None => {
+            return Err(err(
+                "model.derivative_table.column",
+                format!(
+                    "{} has no column `{}`; it has [{}]",
+                    tpath.display(),
+                    t.column,
+                    table.columns.keys().cloned().collect::<Vec<_>>().join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(Subject::Table {
+        table,
+        file: tpath,
+        column: t.column.clone(),
+    })
+}
+
+fn load_table(
+    path: &Path,
+    src: &str,
+    tpath: &Path,
+    field: &str,
+) -> Result<DerivativeTable, InputError> {
+    let r = refs::load(tpath)
+        .map_err(|e| InputError::field(path, src, field, format!("in the referenced file: {e}")))?;
+    if r.table.rows.is_empty() {
+        return Err(InputError::field(
+            path,
+            src,
+            field,
+            format!("{} has no `derivatives` table", tpath.display()),
+        ));
+    }
+    Ok(r.table)
+}
+
+fn resolve_check(
+    path: &Path,
+    src: &str,
+    dir: &Path,
+    spec: &CaseSpec,
+    subject: &Subject,
+    here: &str,
+    c: &CheckSpec,
+) -> Result<Check, InputError> {
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
+    let needs = |present: bool, field: &str| -> Result<(), InputError> {
+        if present {
+            Ok(())
+        } else {
+            Err(err(
+                here,
+                format!("a `{:?}` check needs `{field}`", c.kind).to_lowercase(),
+            ))
+        }
+    };
+    let refuses = |present: bool, field: &str| -> Result<(), InputError> {
+        if present {
+            Err(err(
+                &format!("{here}.{field}"),
+                format!("`{field}` does not apply to a {:?} check", c.kind).to_lowercase(),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    match c.kind {
+        CheckKind::Mode | CheckKind::Bcar => {
+            needs(c.mode.is_some(), "mode")?;
+            refuses(c.derivative.is_some(), "derivative")?;
+            if c.kind == CheckKind::Bcar {
+                needs(c.verdict.is_some(), "verdict")?;
+            } else {
+                refuses(c.verdict.is_some(), "verdict")?;
+            }
+        }
+        CheckKind::Milne => {
+            refuses(c.mode.is_some(), "mode")?;
+            refuses(c.derivative.is_some(), "derivative")?;
+            refuses(c.verdict.is_some(), "verdict")?;
+            refuses(c.system != System::Full, "system")?;
+        }
+        CheckKind::Derivative => {
+            needs(c.derivative.is_some(), "derivative")?;
+            refuses(c.mode.is_some(), "mode")?;
+            refuses(c.verdict.is_some(), "verdict")?;
+            refuses(c.system != System::Full, "system")?;
+        }
+    }
+    if c.kind != CheckKind::Bcar && c.expect.is_empty() {
+        return Err(err(
+            here,
+            "a check needs at least one entry under `expect`".into(),
+        ));
+    }
+    if let Some(r) = &c.expected_failure {
+        if r.trim().is_empty() {
+            return Err(err(
+                &format!("{here}.expected_failure"),
+                "say why the check is expected to fail".into(),
+            ));
+        }
+    }
+    match subject {
+        Subject::Table { table, column, .. } => {
+            if c.kind != CheckKind::Derivative {
+                return Err(err(
+                    &format!("{here}.kind"),
+                    "a case whose model is a derivative table can only have `derivative` checks"
+                        .into(),
+                ));
+            }
+            if !c.set.is_empty() || c.without_rotorspeed_coupling {
+                return Err(err(
+                    here,
+                    "a published derivative table cannot be modified".into(),
+                ));
+            }
+            let d = c.derivative.as_deref().unwrap_or_default();
+            if table.entry(d, column).is_none() {
+                return Err(err(
+                    &format!("{here}.derivative"),
+                    format!("the table has no `{d}` in column `{column}`"),
+                ));
+            }
+        }
+        Subject::Linear { model, .. } => {
+            for name in c.set.keys().chain(c.derivative.iter()) {
+                model
+                    .derivative(name)
+                    .map_err(|e| err(&format!("{here}.derivative"), e.to_string()))?;
+            }
+            for (name, v) in &c.set {
+                if !v.is_finite() {
+                    return Err(err(&format!("{here}.set.{name}"), "must be finite".into()));
+                }
+            }
+        }
+    }
+
+    let allowed = quantities(c.kind);
+    let mut expectations = Vec::new();
+    for (q, e) in &c.expect {
+        let field = format!("{here}.expect.{q}");
+        if !allowed.contains(&q.as_str()) {
+            return Err(err(
+                &field,
+                format!(
+                    "a {:?} check does not compute `{q}`; it computes [{}]",
+                    c.kind,
+                    allowed.join(", ")
+                )
+                .to_lowercase(),
+            ));
+        }
+        let tolerance = resolve_tolerance(path, src, dir, spec, c, &field, &e.tolerance)?;
+        let interval = matches!(tolerance.kind, ToleranceKind::Interval(..));
+        match (e.value, interval) {
+            (Some(_), true) => {
+                return Err(err(
+                    &format!("{field}.value"),
+                    format!(
+                        "tolerance `{}` is an interval: give no value",
+                        tolerance.name
+                    ),
+                ));
+            }
+            (None, false) => {
+                return Err(err(
+                    &field,
+                    format!("tolerance `{}` needs an expected `value`", tolerance.name),
+                ));
+            }
+            (Some(v), _) if !v.is_finite() => {
+                return Err(err(&format!("{field}.value"), "must be finite".into()));
+            }
+            _ => {}
+        }
+        expectations.push(Expectation {
+            quantity: q.clone(),
+            value: e.value,
+            tolerance,
+        });
+    }
+    Ok(Check {
+        id: c.id.clone(),
+        kind: c.kind,
+        description: c.description.clone(),
+        system: c.system,
+        mode: c.mode,
+        derivative: c.derivative.clone(),
+        verdict: c.verdict,
+        set: c.set.clone(),
+        without_rotorspeed_coupling: c.without_rotorspeed_coupling,
+        expectations,
+        expected_failure: c.expected_failure.clone(),
+    })
+}
+
+fn resolve_tolerance(
+    path: &Path,
+    src: &str,
+    dir: &Path,
+    spec: &CaseSpec,
+    check: &CheckSpec,
+    field: &str,
+    name: &str,
+) -> Result<Tolerance, InputError> {
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
+    let t = spec.tolerances.get(name).ok_or_else(|| {
+        err(
+            &format!("{field}.tolerance"),
+            format!(
+                "no tolerance named `{name}`; the case defines [{}]",
+                spec.tolerances
+                    .keys()
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )
+    })?;
+    let tfield = format!("tolerances.{name}");
+    if t.reason.trim().is_empty() {
+        return Err(err(
+            &format!("{tfield}.reason"),
+            "every tolerance needs a reason".into(),
+        ));
+    }
+    let kinds = [
+        t.absolute.is_some(),
+        t.relative.is_some(),
+        t.interval.is_some(),
+        t.interval_from.is_some(),
+        t.rounding.is_some(),
+    ];
+    if kinds.iter().filter(|k| **k).count() != 1 {
+        return Err(err(
+            &tfield,
+            "give exactly one of `absolute`, `relative`, `interval`, `interval_from` or `rounding`"
+                .into(),
+        ));
+    }
+    let positive = |v: f64, key: &str| -> Result<f64, InputError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(err(
+                &format!("{tfield}.{key}"),
+                format!("must be finite and >= 0, got {v}"),
+            ))
+        }
+    };
+    let kind = if let Some(v) = t.absolute {
+        ToleranceKind::Absolute(positive(v, "absolute")?)
+    } else if let Some(v) = t.relative {
+        ToleranceKind::Relative(positive(v, "relative")?)
+    } else if let Some([lo, hi]) = t.interval {
+        if lo.is_nan() || hi.is_nan() || lo > hi {
+            return Err(err(
+                &format!("{tfield}.interval"),
+                "expected [lower, upper] with lower <= upper".into(),
+            ));
+        }
+        ToleranceKind::Interval(lo, hi)
+    } else if let Some(r) = t.rounding {
+        if r.input_decimals > 12 || r.output_decimals > 12 {
+            return Err(err(
+                &format!("{tfield}.rounding"),
+                "decimals must be at most 12".into(),
+            ));
+        }
+        ToleranceKind::Rounding(r)
+    } else {
+        let from = t.interval_from.as_ref().expect("one kind is given");
+        let d = check.derivative.as_deref().ok_or_else(|| {
+            err(
+                &format!("{field}.tolerance"),
+                format!("`{name}` takes its interval from a derivative table, so it only applies to `derivative` checks"),
+            )
+        })?;
+        let table = load_table(
+            path,
+            src,
+            &dir.join(&from.file),
+            &format!("{tfield}.interval_from.file"),
+        )?;
+        match table.entry(d, &from.column) {
+            Some(Entry::Interval(lo, hi)) => ToleranceKind::Interval(lo, hi),
+            Some(Entry::Value(_)) => {
+                return Err(err(
+                    &format!("{tfield}.interval_from.column"),
+                    format!("column `{}` holds values, not intervals", from.column),
+                ));
+            }
+            None => {
+                return Err(err(
+                    &format!("{tfield}.interval_from"),
+                    format!("the table has no `{d}` in column `{}`", from.column),
+                ));
+            }
+        }
+    };
+    Ok(Tolerance {
+        name: name.to_string(),
+        kind,
+        reason: t.reason.clone(),
+    })
+}
+
+/// Finds case files (`*.yaml`, `*.yml`) under the given paths, sorted; a file is taken as given.
+pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            walk(p, &mut out)?;
+        } else if p.is_file() {
+            out.push(p.clone());
+        } else {
+            return Err(InputError::file(p, "no such file or directory"));
+        }
+    }
+    out.sort();
+    out.dedup();
+    Ok(out)
+}
+
+fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), InputError> {
+    let entries =
+        std::fs::read_dir(dir).map_err(|e| InputError::file(dir, format!("cannot list: {e}")))?;
+    for entry in entries {
+        let p = entry
+            .map_err(|e| InputError::file(dir, format!("cannot list: {e}")))?
+            .path();
+        if p.is_dir() {
+            walk(&p, out)?;
+        } else if matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml")) {
+            out.push(p);
+        }
+    }
+    Ok(())
+}

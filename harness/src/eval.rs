@@ -1,0 +1,549 @@
+//! Running checks: compute each quantity, compare with its expectation, decide the outcome.
+//!
+//! # Margins
+//! Every comparison gives a margin that is positive when the check passes:
+//! `absolute`: `bound - |value - expected|`; `relative`: `bound |expected| - |value - expected|`;
+//! `interval`: the distance to the nearer end, `min(value - lower, upper - value)`;
+//! `rounding`: as `absolute`, with the bound computed below. A NaN value, bound or margin
+//! fails. A check passes when every expectation passes (and, for `bcar`, the verdict matches).
+//!
+//! # Rounding tolerance
+//! Published matrices are rounded, so a quantity computed from them differs from the
+//! published value computed from the unrounded matrices. The `rounding` tolerance bounds this
+//! difference to first order: every entry of A and B outside the kinematic rows (`phi`,
+//! `theta`, `psi`) is moved by half a unit of `input_decimals` either way, the change in the
+//! quantity is taken by central difference, and the absolute changes are summed (the worst
+//! case over all sign combinations, to first order). Half a unit of `output_decimals` is added
+//! for the rounding of the published value itself.
+
+use crate::case::{Case, Check, CheckKind, Expectation, Subject, System, ToleranceKind};
+use crate::refs::Entry;
+use cierva_model::bcar::{self, Verdict};
+use cierva_model::milne;
+use cierva_model::modes::{self, Complex, Mode};
+use cierva_model::{Element, LinearModel};
+use serde::Serialize;
+
+/// The outcome of a check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    Pass,
+    Fail,
+    /// Failed, as the case says it would.
+    ExpectedFailure,
+    /// Passed although the case says it fails: the case (or the model) must be looked at.
+    UnexpectedPass,
+}
+
+impl Outcome {
+    /// Whether this outcome is acceptable (the run stays green).
+    pub fn ok(self) -> bool {
+        matches!(self, Self::Pass | Self::ExpectedFailure)
+    }
+
+    /// Short label for tables.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Pass => "pass",
+            Self::Fail => "FAIL",
+            Self::ExpectedFailure => "xfail",
+            Self::UnexpectedPass => "XPASS",
+        }
+    }
+}
+
+/// One quantity compared with its expectation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct QuantityResult {
+    pub quantity: String,
+    pub value: f64,
+    pub expected: Option<f64>,
+    pub tolerance: String,
+    /// The tolerance in words (`± 1.2e-3`, `[-0.133, -0.044]`).
+    pub allowed: String,
+    pub reason: String,
+    pub margin: f64,
+    pub pass: bool,
+}
+
+/// The result of one check.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CheckResult {
+    pub case: String,
+    pub check: String,
+    pub kind: CheckKind,
+    pub outcome: Outcome,
+    pub quantities: Vec<QuantityResult>,
+    /// For `bcar`: (expected, computed) verdicts.
+    pub verdict: Option<(Verdict, Verdict)>,
+    /// Why the check could not be computed, if it could not.
+    pub error: Option<String>,
+    pub expected_failure: Option<String>,
+}
+
+impl CheckResult {
+    /// A one-paragraph explanation, for test failures and logs.
+    pub fn explain(&self) -> String {
+        let mut s = format!("{}::{} [{}]", self.case, self.check, self.outcome.label());
+        if let Some(e) = &self.error {
+            s += &format!("\n  error: {e}");
+        }
+        if let Some((want, got)) = self.verdict {
+            s += &format!("\n  verdict: expected {want:?}, computed {got:?}");
+        }
+        for q in &self.quantities {
+            s += &format!(
+                "\n  {}: value {:.6e}, expected {} {} ({}: {}), margin {:.3e} -> {}",
+                q.quantity,
+                q.value,
+                q.expected.map_or("-".into(), |v| format!("{v:.6e}")),
+                q.allowed,
+                q.tolerance,
+                q.reason,
+                q.margin,
+                if q.pass { "ok" } else { "out of tolerance" }
+            );
+        }
+        match (self.outcome, &self.expected_failure) {
+            (Outcome::UnexpectedPass, Some(r)) => {
+                s += &format!(
+                    "\n  this check is marked as an expected failure ({r}) but it passes: \
+                     review the case and remove `expected_failure` if the discrepancy is gone"
+                )
+            }
+            (Outcome::ExpectedFailure, Some(r)) => s += &format!("\n  expected failure: {r}"),
+            _ => {}
+        }
+        s
+    }
+}
+
+/// Runs every check of a case.
+pub fn run_case(case: &Case) -> Vec<CheckResult> {
+    case.checks.iter().map(|c| run_check(case, c)).collect()
+}
+
+/// Runs one check.
+pub fn run_check(case: &Case, check: &Check) -> CheckResult {
+    let mut result = CheckResult {
+        case: case.id.clone(),
+        check: check.id.clone(),
+        kind: check.kind,
+        outcome: Outcome::Fail,
+        quantities: vec![],
+        verdict: None,
+        error: None,
+        expected_failure: check.expected_failure.clone(),
+    };
+    let passed = match evaluate(&case.subject, check) {
+        Ok((quantities, verdict)) => {
+            let verdict_ok = verdict.is_none_or(|(want, got)| want == got);
+            let all = quantities.iter().all(|q| q.pass);
+            result.quantities = quantities;
+            result.verdict = verdict;
+            verdict_ok && all
+        }
+        Err(e) => {
+            result.error = Some(e);
+            false
+        }
+    };
+    result.outcome = match (passed, check.expected_failure.is_some()) {
+        (true, false) => Outcome::Pass,
+        (false, false) => Outcome::Fail,
+        (false, true) => Outcome::ExpectedFailure,
+        (true, true) => Outcome::UnexpectedPass,
+    };
+    result
+}
+
+type Evaluated = (Vec<QuantityResult>, Option<(Verdict, Verdict)>);
+
+fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
+    match subject {
+        Subject::Table { table, column, .. } => {
+            let d = check.derivative.as_deref().unwrap_or_default();
+            let value = match table.entry(d, column) {
+                Some(Entry::Value(v)) => v,
+                _ => return Err(format!("no value of `{d}` in column `{column}`")),
+            };
+            let q = check
+                .expectations
+                .iter()
+                .map(|e| compare(e, value, || Ok(0.0)))
+                .collect::<Result<_, _>>()?;
+            Ok((q, None))
+        }
+        Subject::Linear { model, .. } => {
+            let base = prepare(model, check)?;
+            let nominal = compute(&base, check, None, model)?;
+            let mut out = Vec::new();
+            for e in &check.expectations {
+                let value = nominal.get(&e.quantity)?;
+                out.push(compare(e, value, || {
+                    propagated_rounding(model, check, &nominal, &e.quantity, e)
+                })?);
+            }
+            let verdict = match (check.verdict, nominal.verdict) {
+                (Some(want), Some(got)) => Some((want, got)),
+                (Some(_), None) => {
+                    return Err("the mode is not oscillatory: BCAR Section T does not apply".into());
+                }
+                _ => None,
+            };
+            Ok((out, verdict))
+        }
+    }
+}
+
+/// The model after the check's modifications (`without_rotorspeed_coupling`, then `set`).
+fn prepare(model: &LinearModel, check: &Check) -> Result<LinearModel, String> {
+    let mut m = if check.without_rotorspeed_coupling {
+        milne::without_rotorspeed_coupling(model).map_err(|e| e.to_string())?
+    } else {
+        model.clone()
+    };
+    for (name, value) in &check.set {
+        let e = m.derivative(name).map_err(|e| e.to_string())?;
+        m = m.with(e, *value).map_err(|e| e.to_string())?;
+    }
+    Ok(m)
+}
+
+/// The quantities a check computes on one model.
+struct Computed {
+    values: Vec<(&'static str, f64)>,
+    /// The eigenvalue of the selected mode (to follow it under perturbation).
+    anchor: Option<Complex>,
+    verdict: Option<Verdict>,
+}
+
+impl Computed {
+    fn get(&self, q: &str) -> Result<f64, String> {
+        self.values
+            .iter()
+            .find(|(n, _)| *n == q)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| {
+                format!("`{q}` is not defined here (for example a period of a real mode)")
+            })
+    }
+}
+
+fn system_model(model: &LinearModel, system: System) -> Result<LinearModel, String> {
+    match system {
+        System::Full => Ok(model.clone()),
+        System::ShortPeriod => milne::short_period(model).map_err(|e| e.to_string()),
+        System::Reduced => milne::reduced(model).map_err(|e| e.to_string()),
+        System::Eq13 => milne::eq13(model)
+            .map(|e| e.model())
+            .map_err(|e| e.to_string()),
+    }
+}
+
+/// Steps of the path along which a mode is followed from the unmodified model.
+const CONTINUATION_STEPS: usize = 50;
+
+fn nearest(analysis: modes::ModalAnalysis, a: Complex) -> Result<Mode, String> {
+    analysis
+        .modes
+        .into_iter()
+        .min_by(|x, y| {
+            let d = |m: &Mode| (m.eigenvalue.re - a.re).hypot(m.eigenvalue.im - a.im);
+            d(x).total_cmp(&d(y))
+        })
+        .ok_or_else(|| "no modes".to_string())
+}
+
+/// Selects the mode of a check.
+///
+/// * On a perturbed model (rounding propagation), the mode nearest to `anchor`, the nominal
+///   mode's eigenvalue: classification can flip under perturbation, the mode cannot jump.
+/// * Otherwise by its class. When the check modifies the model (`set`,
+///   `without_rotorspeed_coupling`) and the modified mode is not classified unambiguously (a
+///   mixed mode), it is followed by continuity from its class on the unmodified model, along
+///   the straight path between the two models' matrices, as a root locus names its branches.
+fn select_mode(
+    model: &LinearModel,
+    check: &Check,
+    anchor: Option<Complex>,
+    unmodified: &LinearModel,
+) -> Result<Mode, String> {
+    let sys = system_model(model, check.system)?;
+    let analysis = modes::modes(&sys).map_err(|e| e.to_string())?;
+    let kind = check.mode.expect("mode checks have a mode");
+    if let Some(a) = anchor {
+        return nearest(analysis, a);
+    }
+    let found: Vec<Mode> = analysis.of_kind(kind).cloned().collect();
+    if found.len() != 1 && model != unmodified {
+        let start = select_mode(unmodified, check, None, unmodified)?;
+        let mut at = start.eigenvalue;
+        let mut mode = start;
+        for k in 1..=CONTINUATION_STEPS {
+            let t = k as f64 / CONTINUATION_STEPS as f64;
+            let m = LinearModel::new(
+                model.states().to_vec(),
+                model.controls().to_vec(),
+                unmodified.a() * (1.0 - t) + model.a() * t,
+                unmodified.b() * (1.0 - t) + model.b() * t,
+            )
+            .map_err(|e| e.to_string())?;
+            let sys = system_model(&m, check.system)?;
+            mode = nearest(modes::modes(&sys).map_err(|e| e.to_string())?, at)?;
+            at = mode.eigenvalue;
+        }
+        return Ok(mode);
+    }
+    match found.len() {
+        1 => Ok(found.into_iter().next().expect("one")),
+        0 => Err(format!(
+            "no {} mode in the {:?} system; its modes are: {}",
+            kind.name(),
+            check.system,
+            analysis
+                .modes
+                .iter()
+                .map(|m| format!("{} {:.4}", m.kind.name(), m.eigenvalue))
+                .collect::<Vec<_>>()
+                .join("; ")
+        )),
+        n => Err(format!(
+            "{n} modes are classified {}: ambiguous",
+            kind.name()
+        )),
+    }
+}
+
+fn compute(
+    model: &LinearModel,
+    check: &Check,
+    anchor: Option<Complex>,
+    unmodified: &LinearModel,
+) -> Result<Computed, String> {
+    let mut values: Vec<(&'static str, f64)> = Vec::new();
+    let mut verdict = None;
+    let mut selected = None;
+    match check.kind {
+        CheckKind::Mode => {
+            let m = select_mode(model, check, anchor, unmodified)?;
+            values.push(("eigenvalue_real_per_s", m.eigenvalue.re));
+            values.push(("eigenvalue_imag_rad_s", m.eigenvalue.im));
+            values.push(("natural_frequency_rad_s", m.natural_frequency_rad_s));
+            let optional = [
+                ("damping_ratio", m.damping_ratio),
+                ("period_s", m.period_s),
+                ("time_to_half_s", m.time_to_half_s),
+                ("time_to_double_s", m.time_to_double_s),
+            ];
+            values.extend(optional.into_iter().filter_map(|(n, v)| v.map(|v| (n, v))));
+            selected = Some(m.eigenvalue);
+        }
+        CheckKind::Bcar => {
+            let m = select_mode(model, check, anchor, unmodified)?;
+            if let Some(a) = bcar::assess(&m) {
+                values.push(("damping_index", a.damping_index));
+                values.push(("boundary_index", a.boundary_index));
+                values.push(("margin_index", a.margin_index));
+                values.push(("margin_real_per_s", a.margin_real_per_s));
+                values.push(("period_s", a.period_s));
+                verdict = Some(a.verdict);
+            }
+            selected = Some(m.eigenvalue);
+        }
+        CheckKind::Milne => {
+            for q in &check.expectations {
+                values.push((
+                    static_name(&q.quantity),
+                    milne_quantity(model, &q.quantity)?,
+                ));
+            }
+        }
+        CheckKind::Derivative => {
+            let d = check.derivative.as_deref().unwrap_or_default();
+            values.push((
+                "value",
+                model.derivative_value(d).map_err(|e| e.to_string())?,
+            ));
+        }
+    }
+    Ok(Computed {
+        values,
+        anchor: selected,
+        verdict,
+    })
+}
+
+fn static_name(q: &str) -> &'static str {
+    crate::case::quantities(CheckKind::Milne)
+        .iter()
+        .find(|n| **n == q)
+        .copied()
+        .unwrap_or("unknown")
+}
+
+fn milne_quantity(model: &LinearModel, q: &str) -> Result<f64, String> {
+    let s = |e: milne::MilneError| e.to_string();
+    let idx = |q: &str, prefix: &str| -> Option<(usize, usize)> {
+        let rest = q.strip_prefix(prefix)?;
+        let b = rest.as_bytes();
+        (b.len() == 2).then(|| ((b[0] - b'0') as usize, (b[1] - b'0') as usize))
+    };
+    if let Some((i, j)) = idx(q, "eq13_a") {
+        let e = milne::eq13(model).map_err(s)?;
+        return e.element(i, j).ok_or_else(|| format!("no element a{i}{j}"));
+    }
+    if let Some((i, j)) = idx(q, "schur_a") {
+        let r = milne::reduced(model).map_err(s)?;
+        let a = milne::as_array3(&r).map_err(s)?;
+        return Ok(a[i - 1][j - 1]);
+    }
+    let e = || milne::eq13(model).map_err(s);
+    let cubic = || e()?.cubic().map_err(s);
+    Ok(match q {
+        "omega_sp_squared" => e()?.omega_sp_squared,
+        "cubic_a" => cubic()?.a,
+        "cubic_b" => cubic()?.b,
+        "cubic_c" => cubic()?.c,
+        "delta_b" => cubic()?.coupling.delta_b,
+        "delta_c" => cubic()?.coupling.delta_c,
+        "delta_a_ph" => cubic()?.sensitivity().delta_a_ph,
+        "delta_b_ph" => cubic()?.sensitivity().delta_b_ph,
+        "delta_lambda_omega" => cubic()?.sensitivity().delta_lambda_omega,
+        "m_omega_eq24" => milne::m_omega_eq24(model).map_err(s)?,
+        "m_omega_eq25" => milne::m_omega_eq25(model).map_err(s)?,
+        other => return Err(format!("unknown Milne quantity `{other}`")),
+    })
+}
+
+const KINEMATIC: [&str; 3] = ["phi", "theta", "psi"];
+
+/// First-order worst-case change of a quantity when the published matrix entries move by half
+/// a unit in their last printed decimal (see the module docs). Entries that the check `set`s
+/// are exact and are not moved.
+fn propagated_rounding(
+    model: &LinearModel,
+    check: &Check,
+    nominal: &Computed,
+    quantity: &str,
+    e: &Expectation,
+) -> Result<f64, String> {
+    let ToleranceKind::Rounding(r) = e.tolerance.kind else {
+        return Ok(0.0);
+    };
+    let h = 0.5 * 10f64.powi(-(r.input_decimals as i32));
+    let fixed: Vec<Element> = check
+        .set
+        .keys()
+        .filter_map(|n| model.derivative(n).ok())
+        .collect();
+    let mut elements = Vec::new();
+    for (i, s) in model.states().iter().enumerate() {
+        if KINEMATIC.contains(&s.as_str()) {
+            continue;
+        }
+        elements.extend((0..model.states().len()).map(|j| Element::A { row: i, col: j }));
+        elements.extend((0..model.controls().len()).map(|j| Element::B { row: i, col: j }));
+    }
+    let mut total = 0.0;
+    for el in elements.into_iter().filter(|el| !fixed.contains(el)) {
+        let v0 = model.get(el);
+        let side = |sign: f64| -> Result<f64, String> {
+            let m = model.with(el, v0 + sign * h).map_err(|e| e.to_string())?;
+            let prepared = prepare(&m, check)?;
+            compute(&prepared, check, nominal.anchor, &m)?.get(quantity)
+        };
+        let (up, down) = (side(1.0)?, side(-1.0)?);
+        total += 0.5 * (up - down).abs();
+    }
+    Ok(total + 0.5 * 10f64.powi(-(r.output_decimals as i32)))
+}
+
+fn compare(
+    e: &Expectation,
+    value: f64,
+    rounding: impl FnOnce() -> Result<f64, String>,
+) -> Result<QuantityResult, String> {
+    let (margin, allowed) = match (e.tolerance.kind.clone(), e.value) {
+        (ToleranceKind::Absolute(b), Some(x)) => (b - (value - x).abs(), format!("± {b:.3e}")),
+        (ToleranceKind::Relative(r), Some(x)) => {
+            let b = r * x.abs();
+            (
+                b - (value - x).abs(),
+                format!("± {:.3} % ({b:.3e})", 100.0 * r),
+            )
+        }
+        (ToleranceKind::Interval(lo, hi), None) => {
+            ((value - lo).min(hi - value), format!("in [{lo}, {hi}]"))
+        }
+        (ToleranceKind::Rounding(r), Some(x)) => {
+            let b = rounding()?;
+            (
+                b - (value - x).abs(),
+                format!(
+                    "± {b:.3e} (rounding to {} / {} decimals)",
+                    r.input_decimals, r.output_decimals
+                ),
+            )
+        }
+        _ => return Err("expectation and tolerance do not fit (checked at load)".into()),
+    };
+    let pass = value.is_finite() && margin.is_finite() && margin >= 0.0;
+    Ok(QuantityResult {
+        quantity: e.quantity.clone(),
+        value,
+        expected: e.value,
+        tolerance: e.tolerance.name.clone(),
+        allowed,
+        reason: e.tolerance.reason.clone(),
+        margin,
+        pass,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::Tolerance;
+
+    fn exp(kind: ToleranceKind, value: Option<f64>) -> Expectation {
+        Expectation {
+            quantity: "q".into(),
+            value,
+            tolerance: Tolerance {
+                name: "t".into(),
+                kind,
+                reason: "test".into(),
+            },
+        }
+    }
+
+    #[test]
+    fn margins_are_positive_inside_and_negative_outside() {
+        let a = exp(ToleranceKind::Absolute(0.1), Some(1.0));
+        assert!(compare(&a, 1.05, || Ok(0.0)).unwrap().pass);
+        assert!(!compare(&a, 1.2, || Ok(0.0)).unwrap().pass);
+        let r = exp(ToleranceKind::Relative(0.01), Some(-2.0));
+        assert!((compare(&r, -2.01, || Ok(0.0)).unwrap().margin - 0.01).abs() < 1e-12);
+        let i = exp(ToleranceKind::Interval(-0.133, -0.044), None);
+        assert!(!compare(&i, -0.194, || Ok(0.0)).unwrap().pass);
+        assert!(compare(&i, -0.1, || Ok(0.0)).unwrap().pass);
+    }
+
+    #[test]
+    fn nan_never_passes() {
+        for kind in [
+            ToleranceKind::Absolute(f64::INFINITY),
+            ToleranceKind::Relative(1e300),
+        ] {
+            let e = exp(kind, Some(1.0));
+            assert!(!compare(&e, f64::NAN, || Ok(0.0)).unwrap().pass);
+        }
+        let i = exp(
+            ToleranceKind::Interval(f64::NEG_INFINITY, f64::INFINITY),
+            None,
+        );
+        assert!(!compare(&i, f64::NAN, || Ok(0.0)).unwrap().pass);
+    }
+}

@@ -1,0 +1,300 @@
+//! Plain-text tables: modes, derivatives, Milne values and validation results.
+//!
+//! Numbers are written to a fixed number of significant digits ([`sig`]) so that snapshots do
+//! not churn on the last bits of floating point.
+
+use crate::eval::{CheckResult, Outcome};
+use cierva_model::bcar;
+use cierva_model::milne;
+use cierva_model::{LinearModel, ModalAnalysis};
+use std::fmt::Write;
+
+/// Significant digits in snapshots and tables.
+pub const SIG: usize = 6;
+
+/// `x` to `digits` significant digits: plain decimals for 1e-4 <= |x| < 1e6, scientific
+/// otherwise; zero (of either sign) as `0`.
+pub fn sig(x: f64, digits: usize) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = digits.max(1);
+    let mag = x.abs().log10().floor() as i32;
+    if (-4..6).contains(&mag) {
+        let decimals = (digits as i32 - 1 - mag).max(0) as usize;
+        let s = format!("{x:.decimals$}");
+        // Rounding can carry into a new digit (9.99999 -> 10.0000); that is still fine.
+        if s.trim_start_matches('-')
+            .chars()
+            .all(|c| c == '0' || c == '.')
+        {
+            "0".into()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.*e}", digits - 1)
+    }
+}
+
+fn opt(x: Option<f64>) -> String {
+    x.map_or_else(|| "-".into(), |v| sig(v, SIG))
+}
+
+/// The modes with their characteristics and BCAR Section T assessment.
+pub fn modes_table(a: &ModalAnalysis) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<16} {:>24} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<34} dominant states",
+        "mode",
+        "eigenvalue (1/s)",
+        "zeta",
+        "wn rad/s",
+        "period s",
+        "t_half s",
+        "t_double s",
+        "BCAR Section T (margin, 1/s)"
+    );
+    for m in &a.modes {
+        let ev = if m.is_oscillatory() {
+            format!(
+                "{} ± {}i",
+                sig(m.eigenvalue.re, SIG),
+                sig(m.eigenvalue.im, SIG)
+            )
+        } else {
+            sig(m.eigenvalue.re, SIG)
+        };
+        let b = bcar::assess(m).map_or_else(
+            || "n/a (not oscillatory)".to_string(),
+            |x| {
+                format!(
+                    "{} ({})",
+                    match x.verdict {
+                        bcar::Verdict::Complies => "complies",
+                        bcar::Verdict::DoesNotComply => "DOES NOT COMPLY",
+                    },
+                    sig(x.margin_real_per_s, 4)
+                )
+            },
+        );
+        let mut dom: Vec<(f64, &str)> = m
+            .participation
+            .iter()
+            .zip(&a.states)
+            .map(|(p, s)| (*p, s.as_str()))
+            .collect();
+        dom.sort_by(|x, y| y.0.total_cmp(&x.0));
+        let dom = dom
+            .iter()
+            .take(3)
+            .map(|(p, s)| format!("{s} {:.2}", p))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let _ = writeln!(
+            s,
+            "{:<16} {:>24} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<34} {}",
+            m.kind.name(),
+            ev,
+            opt(m.damping_ratio),
+            sig(m.natural_frequency_rad_s, SIG),
+            opt(m.period_s),
+            opt(m.time_to_half_s),
+            opt(m.time_to_double_s),
+            b,
+            dom
+        );
+    }
+    if a.defective {
+        s += "(the eigenvector matrix is singular: participation and classification are unavailable)\n";
+    }
+    s
+}
+
+/// Every element of A and B, one per line, with its derivative name.
+pub fn derivatives_table(m: &LinearModel) -> String {
+    let mut s = String::new();
+    let n = m.states().len();
+    for i in 0..n {
+        for j in 0..n {
+            let e = cierva_model::Element::A { row: i, col: j };
+            let _ = writeln!(s, "{:<22} {:>14}", m.element_name(e), sig(m.get(e), SIG));
+        }
+        for j in 0..m.controls().len() {
+            let e = cierva_model::Element::B { row: i, col: j };
+            let _ = writeln!(s, "{:<22} {:>14}", m.element_name(e), sig(m.get(e), SIG));
+        }
+    }
+    s
+}
+
+/// The weakly coupled systems values of a longitudinal model, or why they do not exist.
+pub fn milne_table(m: &LinearModel) -> String {
+    let mut s = String::new();
+    let row3 = |s: &mut String, title: &str, a: &[[f64; 3]; 3]| {
+        let _ = writeln!(s, "{title} (rows and columns u, theta, Omega):");
+        for r in a {
+            let _ = writeln!(
+                s,
+                "  {:>12} {:>12} {:>12}",
+                sig(r[0], SIG),
+                sig(r[1], SIG),
+                sig(r[2], SIG)
+            );
+        }
+    };
+    match milne::reduced(m).and_then(|r| milne::as_array3(&r)) {
+        Ok(a) => row3(&mut s, "Schur complement A22 - A21 A11^-1 A12 (Eq. 12)", &a),
+        Err(e) => {
+            let _ = writeln!(s, "Schur complement: {e}");
+        }
+    }
+    match milne::eq13(m) {
+        Ok(e) => {
+            let _ = writeln!(s, "omega_sp^2 = {}", sig(e.omega_sp_squared, SIG));
+            row3(
+                &mut s,
+                "Eq. 13 closed form (neglects Q_q, Z_theta, M_theta)",
+                &e.a,
+            );
+            match e.cubic() {
+                Ok(c) => {
+                    let u = c.sensitivity();
+                    let _ = writeln!(
+                        s,
+                        "cubic (Eq. 14): A = {}, B = {}, C = {}",
+                        sig(c.a, SIG),
+                        sig(c.b, SIG),
+                        sig(c.c, SIG)
+                    );
+                    let _ = writeln!(
+                        s,
+                        "factors (Eq. 16): lambda_Omega = {}, a_ph = {}, b_ph = {}",
+                        sig(c.lambda_omega, SIG),
+                        sig(c.a_ph, SIG),
+                        sig(c.b_ph, SIG)
+                    );
+                    let _ = writeln!(
+                        s,
+                        "coupling: dB = {}, dC = {}; first order (Eqs. 17-19): d a_ph = {}, d b_ph = {}, d lambda_Omega = {}",
+                        sig(c.coupling.delta_b, SIG),
+                        sig(c.coupling.delta_c, SIG),
+                        sig(u.delta_a_ph, SIG),
+                        sig(u.delta_b_ph, SIG),
+                        sig(u.delta_lambda_omega, SIG)
+                    );
+                }
+                Err(e) => {
+                    let _ = writeln!(s, "cubic: {e}");
+                }
+            }
+        }
+        Err(e) => {
+            let _ = writeln!(s, "Eq. 13: {e}");
+        }
+    }
+    if let (Ok(a), Ok(b)) = (milne::m_omega_eq24(m), milne::m_omega_eq25(m)) {
+        let _ = writeln!(
+            s,
+            "M_Omega for a23 = 0 (Eq. 24): {}; for no augmentation of Q_Omega (Eq. 25): {}",
+            sig(a, SIG),
+            sig(b, SIG)
+        );
+    }
+    s
+}
+
+/// The validation table: one line per quantity (or per check without quantities).
+pub fn results_table(results: &[CheckResult]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<34} {:<30} {:<6} {:<24} {:>13} {:>13} {:>11}",
+        "case", "check", "result", "quantity", "value", "expected", "margin"
+    );
+    for r in results {
+        if let Some(e) = &r.error {
+            let _ = writeln!(
+                s,
+                "{:<34} {:<30} {:<6} error: {e}",
+                r.case,
+                r.check,
+                r.outcome.label()
+            );
+        }
+        if let Some((want, got)) = r.verdict {
+            let _ = writeln!(
+                s,
+                "{:<34} {:<30} {:<6} {:<24} {:>13} {:>13}",
+                r.case,
+                r.check,
+                r.outcome.label(),
+                "verdict",
+                format!("{got:?}"),
+                format!("{want:?}")
+            );
+        }
+        for q in &r.quantities {
+            let expected = match q.expected {
+                Some(v) => sig(v, 5),
+                None => q.allowed.trim_start_matches("in ").to_string(),
+            };
+            let _ = writeln!(
+                s,
+                "{:<34} {:<30} {:<6} {:<24} {:>13} {:>13} {:>11}{}",
+                r.case,
+                r.check,
+                r.outcome.label(),
+                q.quantity,
+                sig(q.value, 5),
+                expected,
+                sig(q.margin, 3),
+                if q.pass { "" } else { "  (out)" }
+            );
+        }
+    }
+    s
+}
+
+/// Counts of each outcome.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Counts {
+    pub pass: usize,
+    pub fail: usize,
+    pub expected_failure: usize,
+    pub unexpected_pass: usize,
+}
+
+/// Tallies outcomes.
+pub fn counts(results: &[CheckResult]) -> Counts {
+    let mut c = Counts::default();
+    for r in results {
+        match r.outcome {
+            Outcome::Pass => c.pass += 1,
+            Outcome::Fail => c.fail += 1,
+            Outcome::ExpectedFailure => c.expected_failure += 1,
+            Outcome::UnexpectedPass => c.unexpected_pass += 1,
+        }
+    }
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sig;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(sig(-1.064475117, 6), "-1.06448");
+        assert_eq!(sig(0.0023217, 3), "0.00232");
+        assert_eq!(sig(28.6824, 6), "28.6824");
+        assert_eq!(sig(-0.0, 6), "0");
+        assert_eq!(sig(1.5e-7, 3), "1.50e-7");
+        assert_eq!(sig(-4e-20, 3), "-4.00e-20");
+        assert_eq!(sig(123456789.0, 3), "1.23e8");
+    }
+}

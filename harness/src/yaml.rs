@@ -1,0 +1,221 @@
+//! Reading YAML files with errors that name the file, line, column and field.
+
+use serde::de::DeserializeOwned;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// An input error located in a file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputError {
+    pub path: PathBuf,
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// 1-based column, when known.
+    pub column: Option<usize>,
+    /// Dotted path of the field (`checks[2].expect.period_s`), when known.
+    pub field: Option<String>,
+    pub message: String,
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+            if let Some(c) = self.column {
+                write!(f, ":{c}")?;
+            }
+        }
+        write!(f, ": ")?;
+        if let Some(field) = &self.field {
+            write!(f, "field `{field}`: ")?;
+        }
+        write!(f, "{}", self.message)
+    }
+}
+
+impl std::error::Error for InputError {}
+
+impl InputError {
+    /// An error about a whole file (I/O, or no better location).
+    pub fn file(path: &Path, message: impl Into<String>) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            line: None,
+            column: None,
+            field: None,
+            message: message.into(),
+        }
+    }
+
+    /// An error about a field, located by searching the source for its key path.
+    pub fn field(path: &Path, src: &str, field: &str, message: impl Into<String>) -> Self {
+        let (line, column) = locate(src, field).unzip();
+        Self {
+            path: path.to_path_buf(),
+            line,
+            column,
+            field: Some(field.to_string()),
+            message: message.into(),
+        }
+    }
+}
+
+/// Reads a file to a string, with an error naming the file.
+pub fn read(path: &Path) -> Result<String, InputError> {
+    std::fs::read_to_string(path).map_err(|e| InputError::file(path, format!("cannot read: {e}")))
+}
+
+/// Parses YAML into `T`, turning a parse error into a located [`InputError`].
+pub fn parse<T: DeserializeOwned>(path: &Path, src: &str) -> Result<T, InputError> {
+    serde_yaml::from_str(src).map_err(|e| {
+        let loc = e.location();
+        let text = e.to_string();
+        // yaml_serde writes "<field path>: <message> at line L column C".
+        let text = match text.rfind(" at line ") {
+            Some(i) if loc.is_some() => text[..i].to_string(),
+            _ => text,
+        };
+        let (field, message) = match text.split_once(": ") {
+            Some((f, m)) if looks_like_field_path(f) => (Some(f.to_string()), m.to_string()),
+            _ => (None, text.clone()),
+        };
+        let (mut line, mut column) = (loc.as_ref().map(|l| l.line()), loc.map(|l| l.column()));
+        if line.is_none() {
+            if let Some((l, c)) = field.as_deref().and_then(|f| locate(src, f)) {
+                (line, column) = (Some(l), Some(c));
+            }
+        }
+        InputError {
+            path: path.to_path_buf(),
+            line,
+            column,
+            field,
+            message,
+        }
+    })
+}
+
+fn looks_like_field_path(s: &str) -> bool {
+    !s.is_empty()
+        && !s.contains(' ')
+        && s.chars()
+            .all(|c| c.is_alphanumeric() || "_.[]-".contains(c))
+}
+
+/// Finds the line and column of a dotted key path (`checks[2].expect.value`) in YAML source.
+///
+/// A best-effort search for error messages: each key is looked for as `key:` at a deeper
+/// indentation than its parent, and `[n]` selects the n-th `- ` item below the parent.
+pub fn locate(src: &str, field: &str) -> Option<(usize, usize)> {
+    let lines: Vec<&str> = src.lines().collect();
+    let mut start = 0usize;
+    let mut parent_indent: isize = -1;
+    let mut found = None;
+    for part in field.split('.') {
+        let (key, index) = match part.split_once('[') {
+            Some((k, rest)) => (k, rest.trim_end_matches(']').parse::<usize>().ok()),
+            None => (part, None),
+        };
+        if !key.is_empty() {
+            let (l, indent) = find_key(&lines, start, parent_indent, key)?;
+            found = Some((l + 1, indent as usize + 1));
+            start = l + 1;
+            parent_indent = indent;
+        }
+        if let Some(n) = index {
+            // Keys of the item sit after "- ": deeper than the dash, which becomes the parent.
+            let (l, dash) = find_item(&lines, start, parent_indent, n)?;
+            found = Some((l + 1, dash as usize + 3));
+            start = l;
+            parent_indent = dash;
+        }
+    }
+    found
+}
+
+fn indent_of(line: &str) -> isize {
+    (line.len() - line.trim_start().len()) as isize
+}
+
+fn find_key(lines: &[&str], start: usize, parent: isize, key: &str) -> Option<(usize, isize)> {
+    for (i, line) in lines.iter().enumerate().skip(start) {
+        let t = line.trim_start();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        let ind = indent_of(line);
+        let t2 = t.strip_prefix("- ").unwrap_or(t);
+        let ind2 = if t2.len() != t.len() { ind + 2 } else { ind };
+        if ind2 <= parent && i > start {
+            return None;
+        }
+        let key_quoted = [
+            format!("{key}:"),
+            format!("\"{key}\":"),
+            format!("'{key}':"),
+        ];
+        if ind2 > parent && key_quoted.iter().any(|k| t2.starts_with(k.as_str())) {
+            return Some((i, ind2));
+        }
+    }
+    None
+}
+
+fn find_item(lines: &[&str], start: usize, parent: isize, n: usize) -> Option<(usize, isize)> {
+    let mut count = 0;
+    let mut item_indent = None;
+    for (i, line) in lines.iter().enumerate().skip(start) {
+        let t = line.trim_start();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        let ind = indent_of(line);
+        if ind <= parent && !t.starts_with('-') {
+            return None;
+        }
+        if t.starts_with('-') && item_indent.is_none_or(|k| k == ind) {
+            item_indent = Some(ind);
+            if count == n {
+                return Some((i, ind));
+            }
+            count += 1;
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SRC: &str = "id: x\nchecks:\n  - id: a\n    kind: mode\n  - id: b\n    expect:\n      period_s:\n        value: 3\n";
+
+    #[test]
+    fn locates_nested_fields() {
+        assert_eq!(locate(SRC, "id"), Some((1, 1)));
+        assert_eq!(locate(SRC, "checks[1]"), Some((5, 5)));
+        assert_eq!(locate(SRC, "checks[1].expect.period_s"), Some((7, 7)));
+        assert_eq!(locate(SRC, "checks[0].kind"), Some((4, 5)));
+        assert_eq!(locate(SRC, "checks[3]"), None);
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct T {
+        id: String,
+        mass_kg: f64,
+    }
+
+    #[test]
+    fn parse_errors_carry_field_line_and_column() {
+        let e = parse::<T>(Path::new("f.yaml"), "id: a\nmass_kg: heavy\n").unwrap_err();
+        assert_eq!(e.line, Some(2));
+        assert_eq!(e.field.as_deref(), Some("mass_kg"));
+        assert!(e.to_string().starts_with("f.yaml:2:"), "{e}");
+        let e = parse::<T>(Path::new("f.yaml"), "id: a\nmass: 3\n").unwrap_err();
+        assert!(e.message.contains("unknown field `mass`"), "{e}");
+        assert_eq!(e.line, Some(2));
+    }
+}

@@ -1,0 +1,119 @@
+//! The command line: exit codes and output of `cierva validate` and `cierva modes`.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn cierva(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_cierva"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn shipped_cases_pass_with_their_expected_failures() {
+    let (code, out, err) = cierva(&["validate"]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(
+        out.contains("0 failed") && out.contains("0 unexpected passes"),
+        "{out}"
+    );
+    assert!(
+        out.contains("seed002-vpm-m16-60kn") && out.contains("xfail"),
+        "{out}"
+    );
+}
+
+#[test]
+fn json_output_parses_and_counts() {
+    let (code, out, _) = cierva(&["validate", "cases", "--format", "json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("valid JSON");
+    assert!(v["counts"]["pass"].as_u64().unwrap() > 0);
+    assert_eq!(v["counts"]["fail"], 0);
+    assert!(
+        v["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|r| r["case"].is_string())
+    );
+}
+
+#[test]
+fn an_unexpected_pass_fails_the_run_loudly() {
+    let (code, out, _) = cierva(&["validate", "harness/tests/fixtures/unexpected-pass.yaml"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("XPASS") && out.contains("but it passes"),
+        "{out}"
+    );
+}
+
+#[test]
+fn an_unexpected_failure_exits_1() {
+    let (code, out, _) = cierva(&["validate", "harness/tests/fixtures/unexpected-fail.yaml"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("FAIL") && out.contains("out of tolerance"),
+        "{out}"
+    );
+}
+
+#[test]
+fn bad_input_exits_2_with_a_located_message() {
+    let (code, out, _) = cierva(&["validate", "harness/tests/bad-input/typo-field.yaml"]);
+    assert_eq!(code, 2);
+    assert!(
+        out.contains("typo-field.yaml:24:") && out.contains("unknown field `tolerence`"),
+        "{out}"
+    );
+    let (code, _, err) = cierva(&["validate", "no/such/dir"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no/such/dir"), "{err}");
+    let (code, _, err) = cierva(&["validate", "reports/snapshots"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no case files"), "{err}");
+}
+
+#[test]
+fn modes_prints_modes_bcar_and_milne() {
+    let (code, out, err) = cierva(&["modes", "flight-refs/seed002-vpm-m16-60kn.yaml"]);
+    assert_eq!(code, 0, "{err}");
+    for s in [
+        "short_period",
+        "phugoid",
+        "rotorspeed",
+        "complies",
+        "Eq. 13",
+        "lambda_Omega",
+    ] {
+        assert!(out.contains(s), "missing {s}:\n{out}");
+    }
+    let (code, out, _) = cierva(&[
+        "modes",
+        "flight-refs/seed002-puma-autorotation-70kn.yaml",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["modes"].as_array().unwrap().len(), 3);
+    assert_eq!(v["modes"][0]["bcar"]["verdict"], "complies");
+    let (code, _, err) = cierva(&["modes", "flight-refs/seed001-table2-vpm-m16-70mph.yaml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no `linear_model`"), "{err}");
+}
