@@ -467,13 +467,13 @@ fn resolve_check(
             "a check needs at least one entry under `expect`".into(),
         ));
     }
-    if let Some(r) = &c.expected_failure {
-        if r.trim().is_empty() {
-            return Err(err(
-                &format!("{here}.expected_failure"),
-                "say why the check is expected to fail".into(),
-            ));
-        }
+    if let Some(r) = &c.expected_failure
+        && r.trim().is_empty()
+    {
+        return Err(err(
+            &format!("{here}.expected_failure"),
+            "say why the check is expected to fail".into(),
+        ));
     }
     match subject {
         Subject::Table { table, column, .. } => {

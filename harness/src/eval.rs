@@ -531,6 +531,82 @@ mod tests {
         assert!(compare(&i, -0.1, || Ok(0.0)).unwrap().pass);
     }
 
+    /// The `rounding` bound is a first-order worst case over every sign combination, so random
+    /// corner perturbations of the printed matrix (every entry moved by +-half a unit) must stay
+    /// within it (allowing 10 % for second-order effects), and the worst of them should come
+    /// close to it (the bound is not loose).
+    #[test]
+    fn rounding_bound_covers_random_corner_perturbations() {
+        use crate::case::{CheckKind, RoundingSpec, System};
+        use cierva_model::ModeKind;
+        let r =
+            crate::refs::load(&crate::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
+                .unwrap();
+        let model = r.linear_model.unwrap();
+        let spec = RoundingSpec {
+            input_decimals: 4,
+            output_decimals: 12,
+        };
+        let mut e = exp(ToleranceKind::Rounding(spec), Some(0.0));
+        e.quantity = "eigenvalue_imag_rad_s".into();
+        for (system, mode) in [
+            (System::Full, ModeKind::Phugoid),
+            (System::Eq13, ModeKind::Phugoid),
+            (System::Full, ModeKind::ShortPeriod),
+        ] {
+            let check = Check {
+                id: "c".into(),
+                kind: CheckKind::Mode,
+                description: None,
+                system,
+                mode: Some(mode),
+                derivative: None,
+                verdict: None,
+                set: Default::default(),
+                without_rotorspeed_coupling: false,
+                expectations: vec![e.clone()],
+                expected_failure: None,
+            };
+            let nominal = compute(&model, &check, None, &model).unwrap();
+            let v0 = nominal.get(&e.quantity).unwrap();
+            let bound = propagated_rounding(&model, &check, &nominal, &e.quantity, &e).unwrap();
+            // Deterministic pseudo-random signs (64-bit LCG, fixed seed).
+            let mut state: u64 = 0x5eed_0002;
+            let mut worst = 0.0f64;
+            for _ in 0..400 {
+                let mut a = model.a().clone();
+                let mut b = model.b().clone();
+                for i in [0usize, 1, 2, 4] {
+                    for j in 0..5 {
+                        state = state
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        a[(i, j)] += if state >> 63 == 1 { 0.5e-4 } else { -0.5e-4 };
+                    }
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    b[(i, 0)] += if state >> 63 == 1 { 0.5e-4 } else { -0.5e-4 };
+                }
+                let m = LinearModel::new(model.states().to_vec(), model.controls().to_vec(), a, b)
+                    .unwrap();
+                let v = compute(&m, &check, nominal.anchor, &m)
+                    .unwrap()
+                    .get(&e.quantity)
+                    .unwrap();
+                worst = worst.max((v - v0).abs());
+            }
+            assert!(
+                worst <= 1.1 * bound,
+                "{system:?} {mode:?}: worst {worst:e} > bound {bound:e}"
+            );
+            assert!(
+                worst >= 0.3 * bound,
+                "{system:?} {mode:?}: worst {worst:e} << bound {bound:e}"
+            );
+        }
+    }
+
     #[test]
     fn nan_never_passes() {
         for kind in [

@@ -33,9 +33,15 @@ enum Command {
     /// model held in a reference file.
     ///
     /// Example: `cierva modes flight-refs/seed002-vpm-m16-60kn.yaml`
+    ///
+    /// With `--sweep Q_u=0.06:0.26:11`, prints the root locus instead: the modes at 11 evenly
+    /// spaced values of the derivative Q_u from 0.06 to 0.26 (in the derivative's own units).
     Modes {
         /// A reference file with a `linear_model` block.
         file: PathBuf,
+        /// Root-locus sweep: `DERIVATIVE=FROM:TO:POINTS`, for example `M_Omega=-0.0096:0.0096:9`.
+        #[arg(long)]
+        sweep: Option<String>,
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
@@ -50,7 +56,11 @@ enum Format {
 fn main() -> ExitCode {
     match Cli::parse().command {
         Command::Validate { paths, format } => validate(paths, format),
-        Command::Modes { file, format } => modes(file, format),
+        Command::Modes {
+            file,
+            sweep,
+            format,
+        } => modes(file, sweep, format),
     }
 }
 
@@ -122,7 +132,7 @@ fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
     }
 }
 
-fn modes(file: PathBuf, format: Format) -> ExitCode {
+fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> ExitCode {
     let r = match refs::load(&file) {
         Ok(r) => r,
         Err(e) => {
@@ -134,6 +144,9 @@ fn modes(file: PathBuf, format: Format) -> ExitCode {
         eprintln!("error: {}: no `linear_model` block", file.display());
         return ExitCode::from(2);
     };
+    if let Some(spec) = sweep {
+        return locus(&model, &spec, format);
+    }
     let analysis = match cierva_model::modes(&model) {
         Ok(a) => a,
         Err(e) => {
@@ -165,6 +178,73 @@ fn modes(file: PathBuf, format: Format) -> ExitCode {
             print!("{}", text::modes_table(&analysis));
             println!();
             print!("{}", text::milne_table(&model));
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn locus(model: &cierva_model::LinearModel, spec: &str, format: Format) -> ExitCode {
+    use cierva_model::locus;
+    let parsed = spec.split_once('=').and_then(|(d, range)| {
+        let p: Vec<&str> = range.split(':').collect();
+        match p.as_slice() {
+            [a, b, n] => Some((
+                d,
+                a.parse::<f64>().ok()?,
+                b.parse::<f64>().ok()?,
+                n.parse::<usize>().ok()?,
+            )),
+            _ => None,
+        }
+    });
+    let Some((name, from, to, n)) = parsed.filter(|(_, a, b, _)| a.is_finite() && b.is_finite())
+    else {
+        eprintln!(
+            "error: --sweep `{spec}`: expected DERIVATIVE=FROM:TO:POINTS, for example Q_u=0.06:0.26:11"
+        );
+        return ExitCode::from(2);
+    };
+    let element = match model.derivative(name) {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: --sweep: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let points = match locus::root_locus(model, element, &locus::linspace(from, to, n)) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: --sweep: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match format {
+        Format::Json => {
+            let out: Vec<_> = points
+                .iter()
+                .map(|p| serde_json::json!({ "value": p.value, "modes": p.analysis.modes }))
+                .collect();
+            let out = serde_json::json!({ "derivative": name, "points": out });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        Format::Text => {
+            println!("root locus: {name} from {from} to {to} ({n} points)");
+            for p in &points {
+                let modes: Vec<String> = p
+                    .analysis
+                    .modes
+                    .iter()
+                    .map(|m| format!("{} {:.4}", m.kind.name(), m.eigenvalue))
+                    .collect();
+                println!(
+                    "{name} = {:>12}  {}",
+                    text::sig(p.value, 6),
+                    modes.join("; ")
+                );
+            }
         }
     }
     ExitCode::SUCCESS

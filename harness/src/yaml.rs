@@ -81,10 +81,10 @@ pub fn parse<T: DeserializeOwned>(path: &Path, src: &str) -> Result<T, InputErro
             _ => (None, text.clone()),
         };
         let (mut line, mut column) = (loc.as_ref().map(|l| l.line()), loc.map(|l| l.column()));
-        if line.is_none() {
-            if let Some((l, c)) = field.as_deref().and_then(|f| locate(src, f)) {
-                (line, column) = (Some(l), Some(c));
-            }
+        if line.is_none()
+            && let Some((l, c)) = field.as_deref().and_then(|f| locate(src, f))
+        {
+            (line, column) = (Some(l), Some(c));
         }
         InputError {
             path: path.to_path_buf(),

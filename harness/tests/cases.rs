@@ -47,6 +47,9 @@ fn main() {
     libtest_mimic::run(&args, trials).exit();
 }
 
+/// Renders one snapshot of a linear model.
+type Snapshotter = fn(&cierva_model::LinearModel) -> Result<String, String>;
+
 fn add_case(trials: &mut Vec<Trial>, case: Case) {
     let case = std::sync::Arc::new(case);
     for check in &case.checks {
@@ -65,10 +68,7 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
         );
     }
     if let Subject::Linear { model, .. } = &case.subject {
-        let snaps: Vec<(
-            &str,
-            fn(&cierva_model::LinearModel) -> Result<String, String>,
-        )> = vec![
+        let snaps: Vec<(&str, Snapshotter)> = vec![
             ("derivatives", |m| Ok(text::derivatives_table(m))),
             ("modes", |m| {
                 cierva_model::modes(m)

@@ -117,3 +117,35 @@ fn modes_prints_modes_bcar_and_milne() {
     assert_eq!(code, 2);
     assert!(err.contains("no `linear_model`"), "{err}");
 }
+
+#[test]
+fn modes_sweeps_a_derivative() {
+    let (code, out, err) = cierva(&[
+        "modes",
+        "flight-refs/seed002-vpm-m16-60kn.yaml",
+        "--sweep",
+        "Q_u=0.06:0.26:5",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        out.lines().filter(|l| l.starts_with("Q_u =")).count(),
+        5,
+        "{out}"
+    );
+    let (code, _, err) = cierva(&[
+        "modes",
+        "flight-refs/seed002-vpm-m16-60kn.yaml",
+        "--sweep",
+        "Q_x=0:1:3",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown state or control `x`"), "{err}");
+    let (code, _, err) = cierva(&[
+        "modes",
+        "flight-refs/seed002-vpm-m16-60kn.yaml",
+        "--sweep",
+        "Q_u=0:1",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("DERIVATIVE=FROM:TO:POINTS"), "{err}");
+}
