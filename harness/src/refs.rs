@@ -150,14 +150,6 @@ impl DerivativeTable {
             .find(|(n, _, _)| n == derivative)
             .and_then(|(_, _, e)| e.get(column).copied())
     }
-
-    /// The units of a derivative.
-    pub fn units(&self, derivative: &str) -> Option<&str> {
-        self.rows
-            .iter()
-            .find(|(n, _, _)| n == derivative)
-            .map(|(_, u, _)| u.as_str())
-    }
 }
 
 /// A loaded, checked reference file.

@@ -263,29 +263,6 @@ impl Cubic {
         })
     }
 
-    /// The cubic with the coupling terms removed (`B - dB`, `C - dC`), factorised.
-    pub fn uncoupled(&self) -> Result<Cubic, MilneError> {
-        let (lambda_omega, phugoid) = factorise(
-            self.a,
-            self.b - self.coupling.delta_b,
-            self.c - self.coupling.delta_c,
-        )?;
-        Ok(Cubic {
-            a: self.a,
-            b: self.b - self.coupling.delta_b,
-            c: self.c - self.coupling.delta_c,
-            lambda_omega,
-            phugoid,
-            a_ph: -2.0 * phugoid.re,
-            b_ph: phugoid.re.powi(2) + phugoid.im.powi(2),
-            coupling: Coupling {
-                delta_a: 0.0,
-                delta_b: 0.0,
-                delta_c: 0.0,
-            },
-        })
-    }
-
     /// First-order effect of changes `dA, dB, dC` of the coefficients on the factors.
     pub fn perturb(&self, da: f64, db: f64, dc: f64) -> Sensitivity {
         let l = self.lambda_omega;
