@@ -91,8 +91,7 @@ mod tests {
             p.analysis
                 .modes
                 .iter()
-                .filter(|m| m.is_oscillatory())
-                .last()
+                .rfind(|m| m.is_oscillatory())
                 .unwrap()
                 .eigenvalue
                 .re
