@@ -1,8 +1,9 @@
 //! # cierva-model
 //!
 //! The flight-dynamics side of cierva: linear-model analysis now (modes, BCAR Section T,
-//! weakly coupled systems with the rotorspeed degree of freedom, root loci); the nonlinear
-//! individual-blade rotorcraft model, trim and linearisation are to come (see the issues).
+//! weakly coupled systems with the rotorspeed degree of freedom, root loci), the atmosphere,
+//! blade sections, the individual-blade rotor with Peters-HaQuang inflow and the isolated rotor
+//! in autorotation. The airframe, the 6-DOF aircraft, trim and linearisation are to come.
 //!
 //! This crate does no I/O and knows nothing about case files: it takes numbers and returns
 //! numbers, statuses and errors. It never panics on data.
@@ -20,14 +21,24 @@
 //!   source states them), `theta_0` collective.
 //! * **Signs.** A positive real part is an unstable mode. Oscillatory modes are reported once,
 //!   by the member of the conjugate pair with positive imaginary part.
-//! * **Azimuth** (for the rotor model, when it lands): zero downstream (blade over the tail),
-//!   increasing in the direction of rotation.
+//! * **Rotor hub axes and azimuth** (module [`rotor`]): `x` forward, `y` starboard, `z` down
+//!   the shaft; the rotor turns anticlockwise seen from above; azimuth is zero with the blade
+//!   over the tail and increases with rotation, so the blade advances at 90 deg. Flapping is
+//!   positive up, `beta = a0 - a1 cos psi - b1 sin psi`; induced velocity is positive down,
+//!   `v_i = v0 + (r/R)(v1s sin psi + v1c cos psi)`.
+//! * **Units.** SI throughout (m, s, kg, N, rad); names carry units where they are not obvious.
 
+pub mod airfoil;
+pub mod atmosphere;
+pub mod autorotation;
 pub mod bcar;
+pub mod inflow;
 pub mod linear;
 pub mod locus;
 pub mod milne;
 pub mod modes;
+pub mod rotor;
+pub mod solve;
 #[cfg(test)]
 pub(crate) mod testdata;
 

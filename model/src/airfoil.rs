@@ -1,0 +1,284 @@
+//! Blade section aerodynamics: lift and drag coefficients against angle of attack and Mach
+//! number, from tables (bilinear interpolation) or from an analytical section.
+//!
+//! Angles of attack are wrapped to (-pi, pi]: a blade element in reverse flow (the inboard
+//! retreating side) sees angles near +-pi.
+
+use serde::Serialize;
+use std::f64::consts::{FRAC_PI_2, PI};
+use thiserror::Error;
+
+/// A blade section.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Airfoil {
+    /// Linear lift up to stall, a drag polar, and a continuous post-stall extension.
+    Analytical(AnalyticalSection),
+    /// Tables in angle of attack and Mach number.
+    Table(SectionTable),
+}
+
+/// The analytical section.
+///
+/// * `|alpha| <= stall`: `cl = a (alpha - alpha_0)`, `cd = cd0 + cd1 alpha + cd2 alpha^2`;
+/// * `stall < |alpha| <= pi/2`: `cl` falls linearly from its stall value to zero at 90 deg;
+///   `cd` rises as `cd_stall + 2 (sin^2 alpha - sin^2 stall)` (a flat plate's 2 at 90 deg);
+/// * `|alpha| > pi/2` (reverse flow): flat plate, `cl = sin 2 alpha`, drag as above.
+///
+/// Both coefficients are continuous in `alpha`; Mach number is ignored.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AnalyticalSection {
+    pub lift_slope_per_rad: f64,
+    pub zero_lift_alpha_rad: f64,
+    pub cd0: f64,
+    pub cd1_per_rad: f64,
+    pub cd2_per_rad2: f64,
+    pub stall_alpha_rad: f64,
+}
+
+/// Coefficient tables: `cl[m][a]` and `cd[m][a]` at `mach[m]` and `alpha_deg[a]`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SectionTable {
+    pub alpha_deg: Vec<f64>,
+    pub mach: Vec<f64>,
+    pub cl: Vec<Vec<f64>>,
+    pub cd: Vec<Vec<f64>>,
+}
+
+/// A section that cannot be used.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AirfoilError {
+    #[error("{0} must be finite")]
+    NotFinite(&'static str),
+    #[error("the stall angle must be in (0, 90) deg, got {0} rad")]
+    StallAngle(f64),
+    #[error("lift slope must be positive, got {0} per rad")]
+    LiftSlope(f64),
+    #[error(
+        "table angles of attack must rise strictly and span -180 to 180 deg (got {first} to {last})"
+    )]
+    AlphaRange { first: f64, last: f64 },
+    #[error("table Mach numbers must rise strictly from a value >= 0")]
+    MachRange,
+    #[error(
+        "table `{name}` must be {rows} rows (one per Mach number) of {cols} values (one per angle)"
+    )]
+    TableShape {
+        name: &'static str,
+        rows: usize,
+        cols: usize,
+    },
+}
+
+/// Wraps an angle to (-pi, pi].
+pub fn wrap_pi(a: f64) -> f64 {
+    let mut x = (a + PI).rem_euclid(2.0 * PI) - PI;
+    if x <= -PI {
+        x += 2.0 * PI;
+    }
+    x
+}
+
+impl AnalyticalSection {
+    /// Checks the section's numbers.
+    pub fn validate(&self) -> Result<(), AirfoilError> {
+        for (n, v) in [
+            ("lift_slope_per_rad", self.lift_slope_per_rad),
+            ("zero_lift_alpha_rad", self.zero_lift_alpha_rad),
+            ("cd0", self.cd0),
+            ("cd1_per_rad", self.cd1_per_rad),
+            ("cd2_per_rad2", self.cd2_per_rad2),
+            ("stall_alpha_rad", self.stall_alpha_rad),
+        ] {
+            if !v.is_finite() {
+                return Err(AirfoilError::NotFinite(n));
+            }
+        }
+        if self.lift_slope_per_rad <= 0.0 {
+            return Err(AirfoilError::LiftSlope(self.lift_slope_per_rad));
+        }
+        if !(0.0 < self.stall_alpha_rad && self.stall_alpha_rad < FRAC_PI_2) {
+            return Err(AirfoilError::StallAngle(self.stall_alpha_rad));
+        }
+        Ok(())
+    }
+
+    fn coefficients(&self, alpha: f64) -> (f64, f64) {
+        let a = wrap_pi(alpha);
+        let s = self.stall_alpha_rad;
+        let polar = |x: f64| self.cd0 + self.cd1_per_rad * x + self.cd2_per_rad2 * x * x;
+        if a.abs() <= s {
+            return (
+                self.lift_slope_per_rad * (a - self.zero_lift_alpha_rad),
+                polar(a),
+            );
+        }
+        let sign = a.signum();
+        let cd_stall = polar(sign * s);
+        let cd = cd_stall + 2.0 * (a.sin().powi(2) - s.sin().powi(2));
+        if a.abs() <= FRAC_PI_2 {
+            let cl_stall = self.lift_slope_per_rad * (sign * s - self.zero_lift_alpha_rad);
+            (cl_stall * (FRAC_PI_2 - a.abs()) / (FRAC_PI_2 - s), cd)
+        } else {
+            ((2.0 * a).sin(), cd)
+        }
+    }
+}
+
+impl SectionTable {
+    /// Checks shapes and ranges.
+    pub fn validate(&self) -> Result<(), AirfoilError> {
+        let (na, nm) = (self.alpha_deg.len(), self.mach.len());
+        let first = self.alpha_deg.first().copied().unwrap_or(f64::NAN);
+        let last = self.alpha_deg.last().copied().unwrap_or(f64::NAN);
+        let rising =
+            |v: &[f64]| v.windows(2).all(|w| w[1] > w[0]) && v.iter().all(|x| x.is_finite());
+        if na < 2 || !rising(&self.alpha_deg) || first > -180.0 || last < 180.0 {
+            return Err(AirfoilError::AlphaRange { first, last });
+        }
+        if nm == 0 || !rising(&self.mach) || self.mach[0] < 0.0 {
+            return Err(AirfoilError::MachRange);
+        }
+        for (name, t) in [("cl", &self.cl), ("cd", &self.cd)] {
+            if t.len() != nm || t.iter().any(|r| r.len() != na) {
+                return Err(AirfoilError::TableShape {
+                    name,
+                    rows: nm,
+                    cols: na,
+                });
+            }
+            if t.iter().flatten().any(|x| !x.is_finite()) {
+                return Err(AirfoilError::NotFinite(name));
+            }
+        }
+        Ok(())
+    }
+
+    fn coefficients(&self, alpha: f64, mach: f64) -> (f64, f64) {
+        let a = wrap_pi(alpha).to_degrees();
+        let (ia, fa) = bracket(&self.alpha_deg, a);
+        let (im, fm) = bracket(&self.mach, mach);
+        let lerp2 = |t: &Vec<Vec<f64>>| {
+            let row = |m: usize| t[m][ia] * (1.0 - fa) + t[m][ia + 1] * fa;
+            if self.mach.len() == 1 {
+                row(0)
+            } else {
+                row(im) * (1.0 - fm) + row(im + 1) * fm
+            }
+        };
+        (lerp2(&self.cl), lerp2(&self.cd))
+    }
+}
+
+/// Index `i` and fraction `f` with `x = v[i] (1-f) + v[i+1] f`, clamped to the table's ends.
+fn bracket(v: &[f64], x: f64) -> (usize, f64) {
+    if v.len() < 2 || x <= v[0] {
+        return (0, 0.0);
+    }
+    let n = v.len();
+    if x >= v[n - 1] {
+        return (n - 2, 1.0);
+    }
+    let i = v.partition_point(|&y| y <= x) - 1;
+    (i, (x - v[i]) / (v[i + 1] - v[i]))
+}
+
+impl Airfoil {
+    /// Checks the section.
+    pub fn validate(&self) -> Result<(), AirfoilError> {
+        match self {
+            Self::Analytical(s) => s.validate(),
+            Self::Table(t) => t.validate(),
+        }
+    }
+
+    /// Lift and drag coefficients at an angle of attack (rad) and Mach number.
+    ///
+    /// Table Mach numbers outside the table are clamped to its first or last column.
+    pub fn coefficients(&self, alpha_rad: f64, mach: f64) -> (f64, f64) {
+        match self {
+            Self::Analytical(s) => s.coefficients(alpha_rad),
+            Self::Table(t) => t.coefficients(alpha_rad, mach),
+        }
+    }
+
+    /// The lift-curve slope at zero lift, per rad (for Lock number and classical estimates).
+    pub fn lift_slope_per_rad(&self) -> f64 {
+        match self {
+            Self::Analytical(s) => s.lift_slope_per_rad,
+            Self::Table(t) => {
+                let h = 1e-3;
+                (t.coefficients(h, 0.0).0 - t.coefficients(-h, 0.0).0) / (2.0 * h)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn section() -> AnalyticalSection {
+        AnalyticalSection {
+            lift_slope_per_rad: 5.85,
+            zero_lift_alpha_rad: 0.0,
+            cd0: 0.012,
+            cd1_per_rad: 0.0,
+            cd2_per_rad2: 0.0,
+            stall_alpha_rad: 12f64.to_radians(),
+        }
+    }
+
+    #[test]
+    fn analytical_section_is_continuous_everywhere() {
+        let s = section();
+        let mut prev = s.coefficients(-PI + 1e-9);
+        let n = 20_000;
+        for k in 1..=n {
+            let a = -PI + 2.0 * PI * k as f64 / n as f64;
+            let c = s.coefficients(a);
+            assert!(
+                (c.0 - prev.0).abs() < 0.01 && (c.1 - prev.1).abs() < 0.01,
+                "jump at {a}"
+            );
+            prev = c;
+        }
+        assert!((s.coefficients(0.1).0 - 0.585).abs() < 1e-12);
+        assert!(
+            (s.coefficients(FRAC_PI_2).1 - (0.012 + 2.0 - 2.0 * 12f64.to_radians().sin().powi(2)))
+                .abs()
+                < 1e-12
+        );
+    }
+
+    #[test]
+    fn tables_interpolate_and_validate() {
+        let t = SectionTable {
+            alpha_deg: vec![-180.0, 0.0, 180.0],
+            mach: vec![0.0, 1.0],
+            cl: vec![vec![0.0, 0.0, 0.0], vec![1.0, 1.0, 1.0]],
+            cd: vec![vec![1.0, 0.0, 1.0], vec![1.0, 0.0, 1.0]],
+        };
+        t.validate().unwrap();
+        let (cl, cd) = t.coefficients(FRAC_PI_2, 0.25);
+        assert!((cl - 0.25).abs() < 1e-12 && (cd - 0.5).abs() < 1e-12);
+        let mut bad = t.clone();
+        bad.alpha_deg = vec![-10.0, 0.0, 10.0];
+        assert!(matches!(
+            bad.validate(),
+            Err(AirfoilError::AlphaRange { .. })
+        ));
+        let mut bad = t.clone();
+        bad.cl.pop();
+        assert!(matches!(
+            bad.validate(),
+            Err(AirfoilError::TableShape { .. })
+        ));
+    }
+
+    #[test]
+    fn angles_wrap() {
+        assert!((wrap_pi(3.0 * PI / 2.0) - -FRAC_PI_2).abs() < 1e-12);
+        assert_eq!(wrap_pi(PI), PI);
+        assert!((wrap_pi(-PI) - PI).abs() < 1e-12);
+    }
+}

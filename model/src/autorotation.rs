@@ -1,0 +1,378 @@
+//! An isolated rotor in a wind tunnel, turning freely: the rotorspeed at which the mean
+//! aerodynamic torque is zero, with the inflow in equilibrium (NACA TR 487, TR 515).
+//!
+//! The rotor's angle of attack `alpha` is between the free stream and the plane normal to the
+//! shaft, positive when the air meets the disc from below (an autogyro's rotor, tilted back).
+//! The hub then moves through the air at `u = V cos alpha` forward and `w = V sin alpha` down
+//! the shaft; `alpha = 90 deg` is vertical descent. Lift and drag are perpendicular and
+//! parallel to the free stream; coefficients are on `q pi R^2` with `q = rho V^2 / 2`.
+//!
+//! The unknowns `Omega, v0, v1s, v1c` are solved together by Newton's method (residuals: the
+//! torque coefficient over solidity, and the inflow's departure from its static equilibrium over
+//! the tip speed), started from a rotorspeed bracketed by the sign of the torque.
+
+use crate::inflow;
+use crate::rotor::{
+    Blade, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError, SteadyLoads,
+};
+use crate::solve::{self, NewtonOptions, SolveError};
+use serde::Serialize;
+use std::f64::consts::PI;
+use thiserror::Error;
+
+/// The tunnel condition.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Tunnel {
+    pub alpha_rad: f64,
+    pub airspeed_m_s: f64,
+    pub density_kg_m3: f64,
+    pub speed_of_sound_m_s: f64,
+    /// Added to the blade pitch everywhere (from a collective or pitch setting), rad.
+    pub collective_shift_rad: f64,
+}
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Options {
+    pub inflow: InflowModel,
+    pub numerics: Numerics,
+    pub newton: NewtonOptions,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            inflow: InflowModel::PetersHaQuang {
+                skew: crate::rotor::SkewConvention::Signed,
+            },
+            numerics: Numerics::default(),
+            newton: NewtonOptions::default(),
+        }
+    }
+}
+
+/// The autorotative equilibrium.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Autorotation {
+    pub omega_rad_s: f64,
+    pub rpm: f64,
+    /// `mu = V cos alpha / (Omega R)`.
+    pub tip_speed_ratio: f64,
+    pub inflow: Inflow,
+    /// Inflow ratio through the disc `lambda = (v0 - w_hub) / (Omega R)`, positive down.
+    pub inflow_ratio: f64,
+    pub skew_rad: f64,
+    pub thrust_n: f64,
+    /// In-plane force, positive rearwards.
+    pub h_force_n: f64,
+    pub side_force_n: f64,
+    pub lift_n: f64,
+    pub drag_n: f64,
+    pub lift_coefficient: f64,
+    pub drag_coefficient: f64,
+    pub lift_to_drag: f64,
+    /// `T / (rho pi R^2 (Omega R)^2)`.
+    pub thrust_coefficient: f64,
+    pub rolling_moment_n_m: f64,
+    pub pitching_moment_n_m: f64,
+    /// Flapping, `beta = a0 - a1 cos psi - b1 sin psi`, rad.
+    pub a0_rad: f64,
+    pub a1_rad: f64,
+    pub b1_rad: f64,
+    pub residual_norm: f64,
+    pub iterations: usize,
+}
+
+/// Why the equilibrium was not found.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AutorotationError {
+    #[error(transparent)]
+    Rotor(#[from] RotorError),
+    #[error("{name} must be {requirement}, got {value}")]
+    Condition {
+        name: &'static str,
+        requirement: &'static str,
+        value: f64,
+    },
+    #[error(
+        "no autorotative rotorspeed found between {low_rad_s:.3} and {high_rad_s:.3} rad/s: the driving torque does not change sign (torque coefficients {torques:?})"
+    )]
+    NoBracket {
+        low_rad_s: f64,
+        high_rad_s: f64,
+        torques: Vec<f64>,
+    },
+    #[error("the equilibrium did not converge: {0}")]
+    Solve(#[from] SolveError),
+}
+
+fn check(
+    name: &'static str,
+    value: f64,
+    ok: bool,
+    requirement: &'static str,
+) -> Result<(), AutorotationError> {
+    if ok && value.is_finite() {
+        Ok(())
+    } else {
+        Err(AutorotationError::Condition {
+            name,
+            requirement,
+            value,
+        })
+    }
+}
+
+struct Problem<'a> {
+    rotor: &'a Rotor,
+    blade: Blade<'a>,
+    tunnel: Tunnel,
+    hub: HubVelocity,
+    model: InflowModel,
+    warm: [f64; 2],
+}
+
+impl Problem<'_> {
+    fn operating(&self, omega: f64, inflow: Inflow) -> Operating {
+        Operating {
+            omega_rad_s: omega,
+            hub: self.hub,
+            inflow,
+            density_kg_m3: self.tunnel.density_kg_m3,
+            speed_of_sound_m_s: self.tunnel.speed_of_sound_m_s,
+            collective_shift_rad: self.tunnel.collective_shift_rad,
+        }
+    }
+
+    fn steady(&mut self, omega: f64, inflow: Inflow) -> Result<SteadyLoads, RotorError> {
+        let loads = self
+            .blade
+            .steady(&self.operating(omega, inflow), self.warm)?;
+        self.warm = loads.beta0;
+        Ok(loads)
+    }
+
+    /// The inflow the loads call for (the prescribed inflow when it is prescribed).
+    fn equilibrium_inflow(&self, loads: &SteadyLoads, current: Inflow) -> Inflow {
+        let (skew, harmonics) = match self.model {
+            InflowModel::Prescribed { v0, v1s, v1c } => return Inflow { v0, v1s, v1c },
+            InflowModel::PetersHaQuang { skew } => (skew, true),
+            InflowModel::UniformOnly { skew } => (skew, false),
+        };
+        inflow::static_inflow(
+            loads.thrust_n(),
+            loads.moment_n_m[0],
+            loads.moment_n_m[1],
+            self.hub,
+            current.v0,
+            self.tunnel.density_kg_m3,
+            self.rotor.radius_m,
+            skew,
+            harmonics,
+        )
+        .0
+    }
+
+    fn torque_coefficient(&self, loads: &SteadyLoads, omega: f64) -> f64 {
+        let r = self.rotor.radius_m;
+        loads.driving_torque_n_m
+            / (self.tunnel.density_kg_m3
+                * PI
+                * r
+                * r
+                * (omega * r).powi(2)
+                * r
+                * self.rotor.solidity())
+    }
+
+    /// Torque coefficient over solidity at a rotorspeed, with the inflow relaxed towards
+    /// equilibrium in a few fixed-point passes (for bracketing only).
+    fn rough_torque(&mut self, omega: f64, inflow: &mut Inflow) -> Result<f64, RotorError> {
+        let mut loads = self.steady(omega, *inflow)?;
+        for _ in 0..4 {
+            let target = self.equilibrium_inflow(&loads, *inflow);
+            *inflow = Inflow {
+                v0: 0.5 * (inflow.v0 + target.v0),
+                v1s: 0.5 * (inflow.v1s + target.v1s),
+                v1c: 0.5 * (inflow.v1c + target.v1c),
+            };
+            loads = self.steady(omega, *inflow)?;
+        }
+        Ok(self.torque_coefficient(&loads, omega))
+    }
+}
+
+/// Finds the autorotative equilibrium of an isolated rotor in a wind tunnel.
+pub fn autorotate(
+    rotor: &Rotor,
+    tunnel: Tunnel,
+    options: Options,
+) -> Result<Autorotation, AutorotationError> {
+    rotor.validate()?;
+    check(
+        "airspeed_m_s",
+        tunnel.airspeed_m_s,
+        tunnel.airspeed_m_s > 0.0,
+        "positive",
+    )?;
+    check(
+        "alpha_rad",
+        tunnel.alpha_rad,
+        tunnel.alpha_rad > 0.0 && tunnel.alpha_rad <= PI / 2.0 + 1e-12,
+        "in (0, 90] deg (air meeting the disc from below)",
+    )?;
+    check(
+        "density_kg_m3",
+        tunnel.density_kg_m3,
+        tunnel.density_kg_m3 > 0.0,
+        "positive",
+    )?;
+    check(
+        "speed_of_sound_m_s",
+        tunnel.speed_of_sound_m_s,
+        tunnel.speed_of_sound_m_s > 0.0,
+        "positive",
+    )?;
+    check(
+        "collective_shift_rad",
+        tunnel.collective_shift_rad,
+        true,
+        "finite",
+    )?;
+    let (sa, ca) = tunnel.alpha_rad.sin_cos();
+    let v = tunnel.airspeed_m_s;
+    let hub = HubVelocity {
+        u: v * ca.max(0.0),
+        v: 0.0,
+        w: v * sa,
+    };
+    let r = rotor.radius_m;
+    let mut p = Problem {
+        rotor,
+        blade: Blade::new(rotor, options.numerics),
+        tunnel,
+        hub,
+        model: options.inflow,
+        warm: [0.05, 0.0],
+    };
+
+    // Bracket the rotorspeed: tip speeds from 1.2 to 40 times the airspeed.
+    let ratios: Vec<f64> = (0..16)
+        .map(|k| 1.2 * (40.0f64 / 1.2).powf(k as f64 / 15.0))
+        .collect();
+    let mut inflow = match options.inflow {
+        InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
+        _ => Inflow::default(),
+    };
+    let mut torques = Vec::new();
+    let mut start = None;
+    for (k, ratio) in ratios.iter().enumerate() {
+        let omega = ratio * v / r;
+        let q = match p.rough_torque(omega, &mut inflow) {
+            Ok(q) => q,
+            Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_)) if k == 0 => {
+                torques.push(f64::NAN);
+                continue;
+            }
+            Err(e) => return Err(e.into()),
+        };
+        torques.push(q);
+        if let (Some(&qp), true) = (torques.get(k.wrapping_sub(1)), k > 0)
+            && qp.is_finite()
+            && qp > 0.0
+            && q <= 0.0
+        {
+            let w0 = ratios[k - 1] * v / r;
+            let t = qp / (qp - q);
+            start = Some((w0 + t * (omega - w0), inflow));
+            break;
+        }
+    }
+    let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
+        low_rad_s: ratios[0] * v / r,
+        high_rad_s: ratios[ratios.len() - 1] * v / r,
+        torques: torques.clone(),
+    })?;
+
+    // Newton on the scaled unknowns [Omega / omega0, v0 / Vs, v1s / Vs, v1c / Vs].
+    let vs = v.max(1.0);
+    let free = match options.inflow {
+        InflowModel::Prescribed { .. } => 1,
+        InflowModel::UniformOnly { .. } => 2,
+        InflowModel::PetersHaQuang { .. } => 4,
+    };
+    let unpack = |x: &[f64]| -> (f64, Inflow) {
+        let omega = x[0] * omega0;
+        let inflow = match options.inflow {
+            InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
+            _ => Inflow {
+                v0: x.get(1).map_or(0.0, |a| a * vs),
+                v1s: x.get(2).map_or(0.0, |a| a * vs),
+                v1c: x.get(3).map_or(0.0, |a| a * vs),
+            },
+        };
+        (omega, inflow)
+    };
+    let x0: Vec<f64> = [1.0, inflow0.v0 / vs, inflow0.v1s / vs, inflow0.v1c / vs][..free].to_vec();
+    let sol = solve::newton(
+        |x| {
+            let (omega, inflow) = unpack(x);
+            if !(omega > 0.0) {
+                return Err(format!("rotorspeed {omega} rad/s"));
+            }
+            let loads = p.steady(omega, inflow).map_err(|e| e.to_string())?;
+            let target = p.equilibrium_inflow(&loads, inflow);
+            let tip = omega * r;
+            let mut res = vec![p.torque_coefficient(&loads, omega)];
+            res.extend(
+                [
+                    inflow.v0 - target.v0,
+                    inflow.v1s - target.v1s,
+                    inflow.v1c - target.v1c,
+                ][..free - 1]
+                    .iter()
+                    .map(|d| d / tip),
+            );
+            Ok(res)
+        },
+        &x0,
+        options.newton,
+    )?;
+    let (omega, inflow) = unpack(&sol.x);
+    let loads = p.steady(omega, inflow)?;
+    let thrust = loads.thrust_n();
+    let h = -loads.force_n[0];
+    let lift = thrust * ca - h * sa;
+    let drag = thrust * sa + h * ca;
+    let q_area = 0.5 * tunnel.density_kg_m3 * v * v * PI * r * r;
+    let skew = match options.inflow {
+        InflowModel::PetersHaQuang { skew } | InflowModel::UniformOnly { skew } => {
+            inflow::wake(hub, inflow.v0, skew).skew_rad
+        }
+        InflowModel::Prescribed { .. } => f64::NAN,
+    };
+    Ok(Autorotation {
+        omega_rad_s: omega,
+        rpm: omega * 30.0 / PI,
+        tip_speed_ratio: hub.u / (omega * r),
+        inflow,
+        inflow_ratio: (inflow.v0 - hub.w) / (omega * r),
+        skew_rad: skew,
+        thrust_n: thrust,
+        h_force_n: h,
+        side_force_n: loads.force_n[1],
+        lift_n: lift,
+        drag_n: drag,
+        lift_coefficient: lift / q_area,
+        drag_coefficient: drag / q_area,
+        lift_to_drag: lift / drag,
+        thrust_coefficient: thrust / (tunnel.density_kg_m3 * PI * r * r * (omega * r).powi(2)),
+        rolling_moment_n_m: loads.moment_n_m[0],
+        pitching_moment_n_m: loads.moment_n_m[1],
+        a0_rad: loads.a0_rad,
+        a1_rad: loads.a1_rad,
+        b1_rad: loads.b1_rad,
+        residual_norm: sol.residual_norm,
+        iterations: sol.iterations,
+    })
+}

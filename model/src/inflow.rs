@@ -1,0 +1,219 @@
+//! Peters-HaQuang dynamic inflow in Chen's skew-angle form (seed 001 Eqs. 2-5 and 13-15,
+//! seed 003 Eqs. 2-6).
+//!
+//! The static gains relate the induced velocity components to the rotor's aerodynamic thrust
+//! and its rolling and pitching moments in wind axes:
+//!
+//! ```text
+//! v0  = T / (2 rho pi R^2 v_T)                    + 15 pi tan(chi/2) / (64 rho pi R^3 v_m) M
+//! v1s =                 -4 / (rho pi R^3 v_m (1 + cos chi)) L
+//! v1c = 15 pi tan(chi/2) / (64 rho pi R^2 v_T) T  - 4 cos chi / (rho pi R^3 v_m (1 + cos chi)) M
+//! ```
+//!
+//! with `v_T = sqrt(V^2 + (v_i0m - w_hub)^2)`, `v_m = (V^2 + (v_i0m - w_hub)(2 v_i0m - w_hub)) / v_T`,
+//! `V` the hub's in-plane speed, `w_hub` its speed along the shaft (down) and `v_i0m` the
+//! momentum induced velocity, taken as the uniform component `v0` (at equilibrium the first
+//! row is Glauert's momentum theory). The skew angle follows seed 003 Eq. 5 (signed, negative
+//! when the flow is up through the disc, as in autorotation) or Eq. 6 (modulus).
+//!
+//! Wind axes are hub axes turned about the shaft so that `x` points along the hub's in-plane
+//! motion; wind azimuth is `psi + psi_w`, with `psi_w = atan2(v, u)`.
+
+use crate::rotor::{HubVelocity, Inflow, SkewConvention};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// The wake quantities of the gains.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Wake {
+    pub v_t_m_s: f64,
+    pub v_m_m_s: f64,
+    pub skew_rad: f64,
+}
+
+/// Wake velocities and skew for a hub motion and a uniform induced velocity.
+pub fn wake(hub: HubVelocity, v0: f64, skew: SkewConvention) -> Wake {
+    let v_inplane = hub.u.hypot(hub.v);
+    let d = v0 - hub.w;
+    let v_t = v_inplane.hypot(d).max(1e-9);
+    let v_m = (v_inplane * v_inplane + d * (2.0 * v0 - hub.w)) / v_t;
+    let skew_rad = match skew {
+        SkewConvention::Signed => {
+            if d == 0.0 {
+                PI / 2.0
+            } else {
+                (v_inplane / d).atan()
+            }
+        }
+        SkewConvention::Modulus => v_inplane.atan2(d.abs()),
+    };
+    Wake {
+        v_t_m_s: v_t,
+        v_m_m_s: v_m,
+        skew_rad,
+    }
+}
+
+/// The equilibrium induced velocity (hub axes) for given aerodynamic thrust `t_n` and hub
+/// moments `roll_n_m` (about `x`) and `pitch_n_m` (about `y`), at the current uniform
+/// component `v0` (for the wake velocities). `harmonics = false` zeroes `v1s` and `v1c`.
+#[allow(clippy::too_many_arguments)]
+pub fn static_inflow(
+    t_n: f64,
+    roll_n_m: f64,
+    pitch_n_m: f64,
+    hub: HubVelocity,
+    v0: f64,
+    density_kg_m3: f64,
+    radius_m: f64,
+    skew: SkewConvention,
+    harmonics: bool,
+) -> (Inflow, Wake) {
+    let wk = wake(hub, v0, skew);
+    let psi_w = if hub.u == 0.0 && hub.v == 0.0 {
+        0.0
+    } else {
+        hub.v.atan2(hub.u)
+    };
+    let (sw, cw) = psi_w.sin_cos();
+    let l_w = roll_n_m * cw + pitch_n_m * sw;
+    let m_w = -roll_n_m * sw + pitch_n_m * cw;
+    let (rho, r) = (density_kg_m3, radius_m);
+    let a = rho * PI * r * r;
+    let chi = wk.skew_rad;
+    let coupling = 15.0 * PI * (chi / 2.0).tan() / 64.0;
+    let vm = if wk.v_m_m_s.abs() < 1e-9 {
+        1e-9f64.copysign(wk.v_m_m_s)
+    } else {
+        wk.v_m_m_s
+    };
+    let v0_new = t_n / (2.0 * a * wk.v_t_m_s) + coupling * m_w / (a * r * vm);
+    if !harmonics {
+        return (
+            Inflow {
+                v0: v0_new,
+                v1s: 0.0,
+                v1c: 0.0,
+            },
+            wk,
+        );
+    }
+    let v1s_w = -4.0 * l_w / (a * r * vm * (1.0 + chi.cos()));
+    let v1c_w = coupling * t_n / (a * wk.v_t_m_s)
+        - 4.0 * chi.cos() * m_w / (a * r * vm * (1.0 + chi.cos()));
+    (
+        Inflow {
+            v0: v0_new,
+            v1s: v1s_w * cw - v1c_w * sw,
+            v1c: v1s_w * sw + v1c_w * cw,
+        },
+        wk,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hover_reduces_to_momentum_theory() {
+        // Hover: v0 = sqrt(T / (2 rho A)) at the fixed point.
+        let (t, rho, r) = (10_000.0, 1.225, 5.0);
+        let vh = (t / (2.0 * rho * PI * r * r)).sqrt();
+        let (inflow, w) = static_inflow(
+            t,
+            0.0,
+            0.0,
+            HubVelocity::default(),
+            vh,
+            rho,
+            r,
+            SkewConvention::Signed,
+            true,
+        );
+        assert!((inflow.v0 - vh).abs() < 1e-12);
+        assert_eq!((inflow.v1s, inflow.v1c), (0.0, 0.0));
+        assert!((w.v_t_m_s - vh).abs() < 1e-12);
+    }
+
+    #[test]
+    fn skew_conventions_differ_only_in_autorotation() {
+        let hub = HubVelocity {
+            u: 30.0,
+            v: 0.0,
+            w: -2.0,
+        };
+        let a = wake(hub, 3.0, SkewConvention::Signed);
+        let b = wake(hub, 3.0, SkewConvention::Modulus);
+        assert!((a.skew_rad - b.skew_rad).abs() < 1e-15 && a.skew_rad > 0.0);
+        // Flow up through the disc (w_hub > v0): Eq. 5 gives chi < 0, Eq. 6 chi > 0.
+        let up = HubVelocity {
+            u: 30.0,
+            v: 0.0,
+            w: 5.0,
+        };
+        let a = wake(up, 2.0, SkewConvention::Signed);
+        let b = wake(up, 2.0, SkewConvention::Modulus);
+        assert!(a.skew_rad < 0.0 && b.skew_rad > 0.0);
+        assert!((a.skew_rad.abs() - b.skew_rad).abs() < 1e-15);
+    }
+
+    #[test]
+    fn moments_drive_the_harmonics_with_the_right_signs() {
+        // A nose-up pitching moment (more lift at the front, psi = 180 deg) gives more downwash
+        // at the front: v1c < 0. A right-wing-down rolling moment (more lift on the left,
+        // psi = 270 deg) gives v1s < 0.
+        let hub = HubVelocity {
+            u: 40.0,
+            v: 0.0,
+            w: 0.0,
+        };
+        let (p, _) = static_inflow(
+            0.0,
+            0.0,
+            1000.0,
+            hub,
+            2.0,
+            1.225,
+            5.0,
+            SkewConvention::Signed,
+            true,
+        );
+        assert!(p.v1c < 0.0);
+        let (r, _) = static_inflow(
+            0.0,
+            1000.0,
+            0.0,
+            hub,
+            2.0,
+            1.225,
+            5.0,
+            SkewConvention::Signed,
+            true,
+        );
+        assert!(r.v1s < 0.0);
+        // The same physics seen from a hub moving to starboard (wind axes turned by 90 deg):
+        // the wind-axis pitching moment is -L, and the front of the wind frame is hub azimuth
+        // 90 deg, so the extra downwash there appears as v1s = -v1c(forward case) > 0.
+        let side = HubVelocity {
+            u: 0.0,
+            v: 40.0,
+            w: 0.0,
+        };
+        let (s, _) = static_inflow(
+            0.0,
+            -1000.0,
+            0.0,
+            side,
+            2.0,
+            1.225,
+            5.0,
+            SkewConvention::Signed,
+            true,
+        );
+        assert!(
+            (s.v1s + p.v1c).abs() < 1e-12 && s.v1c.abs() < 1e-12,
+            "{s:?} vs {p:?}"
+        );
+    }
+}
