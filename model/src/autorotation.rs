@@ -276,8 +276,10 @@ pub fn autorotate(
             }
             Err(e) => return Err(e.into()),
         };
+        let previous = torques.last().copied();
         torques.push(q);
-        if let (Some(&qp), true) = (torques.get(k.wrapping_sub(1)), k > 0)
+        // The driving torque falls as the rotor speeds up: look for its change of sign.
+        if let Some(qp) = previous
             && qp.is_finite()
             && qp > 0.0
             && q <= 0.0
@@ -317,7 +319,7 @@ pub fn autorotate(
     let sol = solve::newton(
         |x| {
             let (omega, inflow) = unpack(x);
-            if !(omega > 0.0) {
+            if omega.is_nan() || omega <= 0.0 {
                 return Err(format!("rotorspeed {omega} rad/s"));
             }
             let loads = p.steady(omega, inflow).map_err(|e| e.to_string())?;
