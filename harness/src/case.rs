@@ -38,6 +38,61 @@ pub struct ModelSpec {
     /// Published derivative values: a column of a reference file's table.
     #[serde(default)]
     pub derivative_table: Option<TableColumnSpec>,
+    /// A rotor file, for isolated-rotor (wind-tunnel) checks.
+    #[serde(default)]
+    pub rotor: Option<RotorModelSpec>,
+}
+
+/// A rotor subject: the file and the inflow model to run it with.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotorModelSpec {
+    /// Path relative to the case file.
+    pub file: String,
+    #[serde(default)]
+    pub inflow: InflowSpec,
+    #[serde(default)]
+    pub skew: SkewSpec,
+}
+
+/// Inflow models for rotor subjects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InflowSpec {
+    /// Peters-HaQuang, uniform and first harmonics.
+    #[default]
+    PetersHaquang,
+    /// Peters-HaQuang with the harmonics zeroed.
+    Uniform,
+}
+
+/// Skew-angle conventions (seed 003 Eq. 5 or Eq. 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SkewSpec {
+    #[default]
+    Signed,
+    Modulus,
+}
+
+/// A wind-tunnel condition: the angle of attack and either the airspeed or the tip-speed ratio
+/// with the rotor speed that the airspeed follows from (`V = mu Omega R / cos alpha`, TR 515).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TunnelSpec {
+    pub alpha_deg: f64,
+    #[serde(default)]
+    pub airspeed_m_s: Option<f64>,
+    #[serde(default)]
+    pub tip_speed_ratio: Option<f64>,
+    #[serde(default)]
+    pub rpm: Option<f64>,
+    /// Blade pitch at the rotor's reference station, deg (default: the file's pitch as it is).
+    #[serde(default)]
+    pub collective_deg: Option<f64>,
+    /// Air density (default ISA sea level).
+    #[serde(default)]
+    pub density_kg_m3: Option<f64>,
 }
 
 /// A column of a derivative table in a reference file.
@@ -87,6 +142,8 @@ pub enum CheckKind {
     Milne,
     /// One stability or control derivative.
     Derivative,
+    /// An isolated rotor's autorotative equilibrium in a wind tunnel.
+    Autorotation,
 }
 
 /// Which system a mode or BCAR check looks at.
@@ -124,6 +181,9 @@ pub struct CheckSpec {
     /// For `bcar`: the expected verdict.
     #[serde(default)]
     pub verdict: Option<Verdict>,
+    /// For `autorotation`: the tunnel condition.
+    #[serde(default)]
+    pub tunnel: Option<TunnelSpec>,
     /// Derivatives set to these values before the check (a what-if variant).
     #[serde(default)]
     pub set: BTreeMap<String, f64>,
@@ -187,6 +247,7 @@ pub struct Check {
     pub mode: Option<ModeKind>,
     pub derivative: Option<String>,
     pub verdict: Option<Verdict>,
+    pub tunnel: Option<TunnelSpec>,
     pub set: BTreeMap<String, f64>,
     pub without_rotorspeed_coupling: bool,
     pub expectations: Vec<Expectation>,
@@ -207,6 +268,11 @@ pub enum Subject {
         table: DerivativeTable,
         file: PathBuf,
         column: String,
+    },
+    /// An isolated rotor, run with the given inflow model.
+    Rotor {
+        file: Box<crate::rotor_file::RotorFile>,
+        inflow: cierva_model::rotor::InflowModel,
     },
 }
 
@@ -270,6 +336,19 @@ pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
             "m_omega_eq25",
         ],
         CheckKind::Derivative => &["value"],
+        CheckKind::Autorotation => &[
+            "rpm",
+            "omega_rad_s",
+            "tip_speed_ratio",
+            "lift_coefficient",
+            "drag_coefficient",
+            "lift_to_drag",
+            "thrust_coefficient",
+            "inflow_v0_m_s",
+            "a0_deg",
+            "a1_deg",
+            "b1_deg",
+        ],
     }
 }
 
@@ -325,12 +404,32 @@ fn load_subject(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Sub
         m.linear_model_file.is_some(),
         m.linear_model.is_some(),
         m.derivative_table.is_some(),
+        m.rotor.is_some(),
     ];
     if given.iter().filter(|g| **g).count() != 1 {
         return Err(err(
             "model",
-            "give exactly one of `linear_model_file`, `linear_model` or `derivative_table`".into(),
+            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table` or `rotor`"
+                .into(),
         ));
+    }
+    if let Some(r) = &m.rotor {
+        let rpath = dir.join(&r.file);
+        let file = crate::rotor_file::load(&rpath)
+            .map_err(|e| err("model.rotor.file", format!("in the referenced file: {e}")))?;
+        use cierva_model::rotor::{InflowModel, SkewConvention};
+        let skew = match r.skew {
+            SkewSpec::Signed => SkewConvention::Signed,
+            SkewSpec::Modulus => SkewConvention::Modulus,
+        };
+        let inflow = match r.inflow {
+            InflowSpec::PetersHaquang => InflowModel::PetersHaQuang { skew },
+            InflowSpec::Uniform => InflowModel::UniformOnly { skew },
+        };
+        return Ok(Subject::Rotor {
+            file: Box::new(file),
+            inflow,
+        });
     }
     if let Some(file) = &m.linear_model_file {
         let rpath = dir.join(file);
@@ -460,6 +559,19 @@ fn resolve_check(
             refuses(c.verdict.is_some(), "verdict")?;
             refuses(c.system != System::Full, "system")?;
         }
+        CheckKind::Autorotation => {
+            needs(c.tunnel.is_some(), "tunnel")?;
+            refuses(c.mode.is_some(), "mode")?;
+            refuses(c.derivative.is_some(), "derivative")?;
+            refuses(c.verdict.is_some(), "verdict")?;
+            refuses(c.system != System::Full, "system")?;
+            refuses(!c.set.is_empty(), "set")?;
+            refuses(c.without_rotorspeed_coupling, "without_rotorspeed_coupling")?;
+            check_tunnel(&err, here, c.tunnel.as_ref().expect("needed above"))?;
+        }
+    }
+    if c.kind != CheckKind::Autorotation && c.tunnel.is_some() {
+        refuses(true, "tunnel")?;
     }
     if c.kind != CheckKind::Bcar && c.expect.is_empty() {
         return Err(err(
@@ -476,6 +588,20 @@ fn resolve_check(
         ));
     }
     match subject {
+        Subject::Rotor { .. } => {
+            if c.kind != CheckKind::Autorotation {
+                return Err(err(
+                    &format!("{here}.kind"),
+                    "a case whose model is a rotor can only have `autorotation` checks".into(),
+                ));
+            }
+        }
+        Subject::Linear { .. } | Subject::Table { .. } if c.kind == CheckKind::Autorotation => {
+            return Err(err(
+                &format!("{here}.kind"),
+                "an `autorotation` check needs a case whose model is a `rotor`".into(),
+            ));
+        }
         Subject::Table { table, column, .. } => {
             if c.kind != CheckKind::Derivative {
                 return Err(err(
@@ -528,6 +654,17 @@ fn resolve_check(
             ));
         }
         let tolerance = resolve_tolerance(path, src, dir, spec, c, &field, &e.tolerance)?;
+        if matches!(tolerance.kind, ToleranceKind::Rounding(_))
+            && !matches!(subject, Subject::Linear { .. })
+        {
+            return Err(err(
+                &format!("{field}.tolerance"),
+                format!(
+                    "`{}` is a rounding tolerance, which applies to linear models only",
+                    tolerance.name
+                ),
+            ));
+        }
         let interval = matches!(tolerance.kind, ToleranceKind::Interval(..));
         match (e.value, interval) {
             (Some(_), true) => {
@@ -564,11 +701,41 @@ fn resolve_check(
         mode: c.mode,
         derivative: c.derivative.clone(),
         verdict: c.verdict,
+        tunnel: c.tunnel,
         set: c.set.clone(),
         without_rotorspeed_coupling: c.without_rotorspeed_coupling,
         expectations,
         expected_failure: c.expected_failure.clone(),
     })
+}
+
+fn check_tunnel(
+    err: &dyn Fn(&str, String) -> InputError,
+    here: &str,
+    t: &TunnelSpec,
+) -> Result<(), InputError> {
+    let field = format!("{here}.tunnel");
+    let finite = |v: Option<f64>| v.is_none_or(f64::is_finite);
+    if !t.alpha_deg.is_finite()
+        || !finite(t.airspeed_m_s)
+        || !finite(t.tip_speed_ratio)
+        || !finite(t.rpm)
+        || !finite(t.collective_deg)
+        || !finite(t.density_kg_m3)
+    {
+        return Err(err(
+            &field,
+            "every number of the tunnel condition must be finite".into(),
+        ));
+    }
+    match (t.airspeed_m_s, t.tip_speed_ratio, t.rpm) {
+        (Some(_), None, None) | (None, Some(_), Some(_)) => Ok(()),
+        _ => Err(err(
+            &field,
+            "give either `airspeed_m_s`, or `tip_speed_ratio` with `rpm` (the airspeed then follows as mu Omega R / cos alpha)"
+                .into(),
+        )),
+    }
 }
 
 fn resolve_tolerance(

@@ -160,8 +160,73 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
 
 type Evaluated = (Vec<QuantityResult>, Option<(Verdict, Verdict)>);
 
+/// The airspeed of a tunnel condition (given, or `mu Omega R / cos alpha`).
+pub fn tunnel_airspeed_m_s(t: &crate::case::TunnelSpec, radius_m: f64) -> f64 {
+    match (t.airspeed_m_s, t.tip_speed_ratio, t.rpm) {
+        (Some(v), _, _) => v,
+        (None, Some(mu), Some(rpm)) => {
+            mu * rpm * std::f64::consts::PI / 30.0 * radius_m / t.alpha_deg.to_radians().cos()
+        }
+        _ => f64::NAN,
+    }
+}
+
+/// Named computed values of a check.
+pub type Quantities = Vec<(&'static str, f64)>;
+
+/// The quantities of an autorotation check.
+pub fn autorotation_quantities(
+    rotor: &cierva_model::rotor::Rotor,
+    inflow: cierva_model::rotor::InflowModel,
+    t: &crate::case::TunnelSpec,
+) -> Result<Quantities, String> {
+    let v = tunnel_airspeed_m_s(t, rotor.radius_m);
+    let a = crate::run_autorotation(
+        rotor,
+        t.alpha_deg,
+        v,
+        t.collective_deg,
+        t.density_kg_m3,
+        inflow,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(vec![
+        ("rpm", a.rpm),
+        ("omega_rad_s", a.omega_rad_s),
+        ("tip_speed_ratio", a.tip_speed_ratio),
+        ("lift_coefficient", a.lift_coefficient),
+        ("drag_coefficient", a.drag_coefficient),
+        ("lift_to_drag", a.lift_to_drag),
+        ("thrust_coefficient", a.thrust_coefficient),
+        ("inflow_v0_m_s", a.inflow.v0),
+        ("a0_deg", a.a0_rad.to_degrees()),
+        ("a1_deg", a.a1_rad.to_degrees()),
+        ("b1_deg", a.b1_rad.to_degrees()),
+    ])
+}
+
 fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
     match subject {
+        Subject::Rotor { file, inflow } => {
+            let t = check
+                .tunnel
+                .as_ref()
+                .ok_or("an autorotation check needs a tunnel")?;
+            let values = autorotation_quantities(&file.rotor, *inflow, t)?;
+            let q = check
+                .expectations
+                .iter()
+                .map(|e| {
+                    let v = values
+                        .iter()
+                        .find(|(n, _)| *n == e.quantity)
+                        .map(|(_, v)| *v)
+                        .ok_or_else(|| format!("`{}` is not computed", e.quantity))?;
+                    compare(e, v, || Ok(0.0))
+                })
+                .collect::<Result<_, _>>()?;
+            Ok((q, None))
+        }
         Subject::Table { table, column, .. } => {
             let d = check.derivative.as_deref().unwrap_or_default();
             let value = match table.entry(d, column) {
@@ -367,6 +432,7 @@ fn compute(
                 model.derivative_value(d).map_err(|e| e.to_string())?,
             ));
         }
+        CheckKind::Autorotation => return Err("an autorotation check needs a rotor".into()),
     }
     Ok(Computed {
         values,
@@ -562,6 +628,7 @@ mod tests {
                 mode: Some(mode),
                 derivative: None,
                 verdict: None,
+                tunnel: None,
                 set: Default::default(),
                 without_rotorspeed_coupling: false,
                 expectations: vec![e.clone()],

@@ -9,6 +9,7 @@
 pub mod case;
 pub mod eval;
 pub mod refs;
+pub mod rotor_file;
 pub mod text;
 pub mod yaml;
 
@@ -33,4 +34,59 @@ pub fn load_cases(paths: &[PathBuf]) -> Result<Vec<Result<Case, InputError>>, In
         .iter()
         .map(|p| case::load(p))
         .collect())
+}
+
+/// Why an autorotation run did not produce an equilibrium.
+#[derive(Debug, thiserror::Error)]
+pub enum AutorotateError {
+    #[error("{0}")]
+    Atmosphere(#[from] cierva_model::atmosphere::AtmosphereError),
+    #[error("{0}")]
+    Autorotation(#[from] cierva_model::autorotation::AutorotationError),
+}
+
+impl AutorotateError {
+    /// Whether the inputs were at fault (rather than the solution).
+    pub fn is_input(&self) -> bool {
+        use cierva_model::autorotation::AutorotationError as A;
+        matches!(
+            self,
+            Self::Atmosphere(_) | Self::Autorotation(A::Condition { .. } | A::Rotor(_))
+        )
+    }
+}
+
+/// The isolated rotor in a tunnel at `alpha_deg` and `airspeed_m_s`, with the blade pitch at the
+/// reference station set to `collective_deg` (or the file's pitch as it is) and the density
+/// given (or ISA sea level; the speed of sound follows from the density altitude).
+pub fn run_autorotation(
+    rotor: &cierva_model::rotor::Rotor,
+    alpha_deg: f64,
+    airspeed_m_s: f64,
+    collective_deg: Option<f64>,
+    density_kg_m3: Option<f64>,
+    inflow: cierva_model::rotor::InflowModel,
+) -> Result<cierva_model::autorotation::Autorotation, AutorotateError> {
+    use cierva_model::atmosphere;
+    use cierva_model::autorotation::{Options, Tunnel, autorotate};
+    let air = match density_kg_m3 {
+        Some(rho) => atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho)?)?,
+        None => atmosphere::Atmosphere::standard().at(0.0)?,
+    };
+    let tunnel = Tunnel {
+        alpha_rad: alpha_deg.to_radians(),
+        airspeed_m_s,
+        density_kg_m3: air.density_kg_m3,
+        speed_of_sound_m_s: air.speed_of_sound_m_s,
+        collective_shift_rad: collective_deg
+            .map_or(0.0, |c| rotor.collective_shift_for(c.to_radians())),
+    };
+    Ok(autorotate(
+        rotor,
+        tunnel,
+        Options {
+            inflow,
+            ..Options::default()
+        },
+    )?)
 }

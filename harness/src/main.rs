@@ -1,7 +1,9 @@
 //! The `cierva` command line.
 
 use cierva_harness::eval::{self, CheckResult};
+use cierva_harness::run_autorotation;
 use cierva_harness::{load_cases, refs, text};
+use cierva_model::rotor::{InflowModel, SkewConvention};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -45,6 +47,57 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Find the autorotative equilibrium of an isolated rotor in a wind tunnel: the rotorspeed
+    /// at which the mean aerodynamic torque is zero, with lift and drag coefficients on
+    /// q pi R^2, L/D, tip-speed ratio, thrust coefficient, flapping and inflow.
+    ///
+    /// Example: `cierva autorotate aircraft/pca-2-rotor.yaml --alpha-deg 6.6 --airspeed-m-s 17.7
+    /// --collective-deg 1.9`. `--alpha-deg 90` is vertical descent.
+    Autorotate {
+        /// A rotor file (see aircraft/).
+        rotor: PathBuf,
+        /// Rotor angle of attack, deg: between the free stream and the plane normal to the
+        /// shaft, positive with the air meeting the disc from below; 90 is vertical descent.
+        #[arg(long, allow_hyphen_values = true)]
+        alpha_deg: f64,
+        /// Tunnel speed, m/s.
+        #[arg(long, allow_hyphen_values = true)]
+        airspeed_m_s: f64,
+        /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
+        /// distribution (default: the file's distribution as it is).
+        #[arg(long, allow_hyphen_values = true)]
+        collective_deg: Option<f64>,
+        /// Air density, kg/m^3 (default 1.225, ISA sea level); the speed of sound is taken
+        /// from the standard atmosphere at that density altitude.
+        #[arg(long, allow_hyphen_values = true)]
+        density_kg_m3: Option<f64>,
+        /// Inflow model.
+        #[arg(long, value_enum, default_value_t = InflowChoice::PetersHaquang)]
+        inflow: InflowChoice,
+        /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
+        #[arg(long, value_enum, default_value_t = SkewChoice::Signed)]
+        skew: SkewChoice,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+}
+
+/// Inflow models offered on the command line.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum InflowChoice {
+    /// Peters-HaQuang, uniform and first harmonics.
+    PetersHaquang,
+    /// Peters-HaQuang with the harmonics set to zero.
+    Uniform,
+}
+
+/// Skew-angle conventions.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SkewChoice {
+    /// tan chi = V / (v_i0m - w_hub) (seed 003 Eq. 5).
+    Signed,
+    /// tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha (seed 003 Eq. 6).
+    Modulus,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -61,6 +114,34 @@ fn main() -> ExitCode {
             sweep,
             format,
         } => modes(file, sweep, format),
+        Command::Autorotate {
+            rotor,
+            alpha_deg,
+            airspeed_m_s,
+            collective_deg,
+            density_kg_m3,
+            inflow,
+            skew,
+            format,
+        } => {
+            let skew = match skew {
+                SkewChoice::Signed => SkewConvention::Signed,
+                SkewChoice::Modulus => SkewConvention::Modulus,
+            };
+            let inflow = match inflow {
+                InflowChoice::PetersHaquang => InflowModel::PetersHaQuang { skew },
+                InflowChoice::Uniform => InflowModel::UniformOnly { skew },
+            };
+            autorotate(
+                rotor,
+                alpha_deg,
+                airspeed_m_s,
+                collective_deg,
+                density_kg_m3,
+                inflow,
+                format,
+            )
+        }
     }
 }
 
@@ -268,4 +349,87 @@ fn show(paths: &[PathBuf]) -> String {
         .map(|p| p.display().to_string())
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+fn autorotate(
+    path: PathBuf,
+    alpha_deg: f64,
+    airspeed_m_s: f64,
+    collective_deg: Option<f64>,
+    density_kg_m3: Option<f64>,
+    inflow: InflowModel,
+    format: Format,
+) -> ExitCode {
+    let file = match cierva_harness::rotor_file::load(&path) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let a = match run_autorotation(
+        &file.rotor,
+        alpha_deg,
+        airspeed_m_s,
+        collective_deg,
+        density_kg_m3,
+        inflow,
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("error: {}: {e}", path.display());
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+        }
+    };
+    match format {
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&a).expect("serialisable")
+        ),
+        Format::Text => {
+            let d = |r: f64| r.to_degrees();
+            println!(
+                "{} ({}) at alpha {alpha_deg} deg, {airspeed_m_s} m/s",
+                file.title, file.id
+            );
+            println!(
+                "rotorspeed           {:.3} rad/s ({:.1} rpm)",
+                a.omega_rad_s, a.rpm
+            );
+            println!("tip-speed ratio mu   {:.4}", a.tip_speed_ratio);
+            println!(
+                "lift coefficient     {:.5}  (on q pi R^2)",
+                a.lift_coefficient
+            );
+            println!("drag coefficient     {:.5}", a.drag_coefficient);
+            println!("L/D                  {:.3}", a.lift_to_drag);
+            println!(
+                "thrust coefficient   {:.6}  (T / rho pi R^2 (Omega R)^2)",
+                a.thrust_coefficient
+            );
+            println!(
+                "thrust, H-force      {:.1} N, {:.1} N",
+                a.thrust_n, a.h_force_n
+            );
+            println!(
+                "flapping a0 a1 b1    {:.3} {:.3} {:.3} deg",
+                d(a.a0_rad),
+                d(a.a1_rad),
+                d(a.b1_rad)
+            );
+            println!(
+                "inflow v0 v1s v1c    {:.3} {:.3} {:.3} m/s; lambda {:.5}; skew {:.2} deg",
+                a.inflow.v0,
+                a.inflow.v1s,
+                a.inflow.v1c,
+                a.inflow_ratio,
+                d(a.skew_rad)
+            );
+            println!(
+                "converged            residual {:.1e} in {} Newton iterations",
+                a.residual_norm, a.iterations
+            );
+        }
+    }
+    ExitCode::SUCCESS
 }

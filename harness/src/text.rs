@@ -208,6 +208,39 @@ pub fn milne_table(m: &LinearModel) -> String {
     s
 }
 
+/// The autorotative equilibria of a rotor case's checks, one line per check (for snapshots).
+///
+/// A check whose equilibrium was not found shows the kind of failure only (the solver's last
+/// iterate is not reproducible to the digit across platforms).
+pub fn autorotation_table(rows: &[(String, Result<crate::eval::Quantities, String>)]) -> String {
+    let mut s = String::new();
+    let names = crate::case::quantities(crate::case::CheckKind::Autorotation);
+    let _ = write!(s, "{:<10}", "check");
+    for n in names {
+        let _ = write!(s, " {n:>12}");
+    }
+    s.push('\n');
+    for (id, r) in rows {
+        let _ = write!(s, "{id:<10}");
+        match r {
+            Ok(values) => {
+                for n in names {
+                    let v = values
+                        .iter()
+                        .find(|(q, _)| q == n)
+                        .map_or(f64::NAN, |(_, v)| *v);
+                    let _ = write!(s, " {:>12}", sig(v, 5));
+                }
+            }
+            Err(e) => {
+                let _ = write!(s, " no equilibrium: {}", e.split(':').next().unwrap_or(""));
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
 /// The validation table: one line per quantity (or per check without quantities).
 pub fn results_table(results: &[CheckResult]) -> String {
     let mut s = String::new();

@@ -67,6 +67,24 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
             .with_kind("validation"),
         );
     }
+    if let Subject::Rotor { .. } = &case.subject {
+        let c = case.clone();
+        trials.push(
+            Trial::test(format!("{}::snapshot-autorotation", case.id), move || {
+                let Subject::Rotor { file, inflow } = &c.subject else {
+                    unreachable!()
+                };
+                let rows: Vec<_> = c
+                    .checks
+                    .iter()
+                    .filter_map(|k| k.tunnel.as_ref().map(|t| (k.id.clone(), t)))
+                    .map(|(id, t)| (id, eval::autorotation_quantities(&file.rotor, *inflow, t)))
+                    .collect();
+                snapshot(&c, "autorotation", Ok(text::autorotation_table(&rows)))
+            })
+            .with_kind("snapshot"),
+        );
+    }
     if let Subject::Linear { model, .. } = &case.subject {
         let snaps: Vec<(&str, Snapshotter)> = vec![
             ("derivatives", |m| Ok(text::derivatives_table(m))),

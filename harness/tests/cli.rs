@@ -149,3 +149,46 @@ fn modes_sweeps_a_derivative() {
     assert_eq!(code, 2);
     assert!(err.contains("DERIVATIVE=FROM:TO:POINTS"), "{err}");
 }
+
+#[test]
+fn autorotate_finds_the_pca2_equilibrium() {
+    let (code, out, err) = cierva(&[
+        "autorotate",
+        "aircraft/pca-2-rotor.yaml",
+        "--alpha-deg",
+        "6.6",
+        "--airspeed-m-s",
+        "18.16",
+        "--collective-deg",
+        "1.9",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    // TR 515 Table III row 15 was run near this condition at 98.8 rpm.
+    let rpm = v["rpm"].as_f64().unwrap();
+    assert!((90.0..110.0).contains(&rpm), "{rpm}");
+    assert!(v["inflow"]["v0"].as_f64().unwrap() > 0.0);
+    assert!(v["residual_norm"].as_f64().unwrap() <= 1e-9);
+    let (code, _, err) = cierva(&[
+        "autorotate",
+        "aircraft/pca-2-rotor.yaml",
+        "--alpha-deg",
+        "6.6",
+        "--airspeed-m-s",
+        "-3",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("airspeed_m_s must be positive"), "{err}");
+    let (code, _, err) = cierva(&[
+        "autorotate",
+        "cases/naca-tr515-table-iii.yaml",
+        "--alpha-deg",
+        "6.6",
+        "--airspeed-m-s",
+        "18",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown field"), "{err}");
+}

@@ -36,7 +36,8 @@ pub struct AnalyticalSection {
 }
 
 /// Coefficient tables: `cl[m][a]` and `cd[m][a]` at `mach[m]` and `alpha_deg[a]`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SectionTable {
     pub alpha_deg: Vec<f64>,
     pub mach: Vec<f64>,

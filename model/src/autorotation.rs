@@ -256,9 +256,30 @@ pub fn autorotate(
         warm: [0.05, 0.0],
     };
 
-    // Bracket the rotorspeed: tip speeds from 1.2 to 40 times the airspeed.
-    let ratios: Vec<f64> = (0..16)
-        .map(|k| 1.2 * (40.0f64 / 1.2).powf(k as f64 / 15.0))
+    // Bracket the rotorspeed, from a fast rotor (the torque is negative: profile drag wins) to
+    // a slow one, with coarse numerics (only the torque's sign matters here) and the inflow
+    // carried from point to point as a fraction of the tip speed.
+    let coarse_rotor = Rotor {
+        elements: rotor.elements.min(8),
+        ..rotor.clone()
+    };
+    let mut coarse = Problem {
+        rotor: &coarse_rotor,
+        blade: Blade::new(
+            &coarse_rotor,
+            Numerics {
+                azimuth_step_rad: 7.5f64.to_radians(),
+                periodic_tolerance: 1e-7,
+                ..options.numerics
+            },
+        ),
+        tunnel,
+        hub,
+        model: options.inflow,
+        warm: [0.05, 0.0],
+    };
+    let ratios: Vec<f64> = (0..20)
+        .map(|k| 40.0 * (1.2f64 / 40.0).powf(k as f64 / 19.0))
         .collect();
     let mut inflow = match options.inflow {
         InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
@@ -266,23 +287,30 @@ pub fn autorotate(
     };
     let mut torques = Vec::new();
     let mut start = None;
+    let mut previous_omega = ratios[0] * v / r;
     for (k, ratio) in ratios.iter().enumerate() {
         let omega = ratio * v / r;
-        let q = match p.rough_torque(omega, &mut inflow) {
+        if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
+            let s = omega / previous_omega;
+            inflow = Inflow {
+                v0: inflow.v0 * s,
+                v1s: inflow.v1s * s,
+                v1c: inflow.v1c * s,
+            };
+        }
+        previous_omega = omega;
+        let q = match coarse.rough_torque(omega, &mut inflow) {
             Ok(q) => q,
-            Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_)) if k == 0 => {
-                torques.push(f64::NAN);
-                continue;
-            }
+            // A very slow rotor may not flap periodically: the bracket lies above it.
+            Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_)) => break,
             Err(e) => return Err(e.into()),
         };
         let previous = torques.last().copied();
         torques.push(q);
-        // The driving torque falls as the rotor speeds up: look for its change of sign.
+        // The driving torque rises as the rotor slows: look for its change of sign.
         if let Some(qp) = previous
-            && qp.is_finite()
-            && qp > 0.0
-            && q <= 0.0
+            && qp < 0.0
+            && q >= 0.0
         {
             let w0 = ratios[k - 1] * v / r;
             let t = qp / (qp - q);
@@ -291,8 +319,8 @@ pub fn autorotate(
         }
     }
     let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
-        low_rad_s: ratios[0] * v / r,
-        high_rad_s: ratios[ratios.len() - 1] * v / r,
+        low_rad_s: ratios[ratios.len() - 1] * v / r,
+        high_rad_s: ratios[0] * v / r,
         torques: torques.clone(),
     })?;
 
@@ -319,8 +347,11 @@ pub fn autorotate(
     let sol = solve::newton(
         |x| {
             let (omega, inflow) = unpack(x);
-            if omega.is_nan() || omega <= 0.0 {
-                return Err(format!("rotorspeed {omega} rad/s"));
+            // Newton stays near the bracketed rotorspeed; leaving it means no equilibrium nearby.
+            if omega.is_nan() || !(0.2 * omega0..=5.0 * omega0).contains(&omega) {
+                return Err(format!(
+                    "rotorspeed {omega:.4} rad/s left the range 0.2-5 times the bracketed {omega0:.4} rad/s"
+                ));
             }
             let loads = p.steady(omega, inflow).map_err(|e| e.to_string())?;
             let target = p.equilibrium_inflow(&loads, inflow);

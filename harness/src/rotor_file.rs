@@ -1,0 +1,230 @@
+//! Rotor files (`aircraft/*.yaml`): a rotor's data, and where every number comes from.
+//!
+//! ```yaml
+//! id: pca-2-rotor                      # equals the file stem
+//! title: Pitcairn PCA-2 autogiro rotor
+//! provenance: {source: "NACA TR 487, pp. 12-13"}
+//! rotor:
+//!   blades: 4
+//!   radius_m: 6.858
+//!   root_cutout_m: 0.0
+//!   hinge_offset_m: 0.0
+//!   chord_m: {r_over_r: [0, 0.394, 0.394, 1], values: [0.381, 0.381, 0.5587, 0.5587]}
+//!   pitch_deg: {r_over_r: [...], values: [...]}      # a repeated station makes a step
+//!   pitch_reference_r_over_r: 0.75                   # where a pitch setting is defined
+//!   flap_inertia_kg_m2: 452.8
+//!   flap_mass_moment_kg_m: 0.0
+//!   flap_spring_n_m_per_rad: 0.0
+//!   precone_deg: 0.0
+//!   tip_loss_factor: 0.959
+//!   airfoil:
+//!     analytical: {lift_slope_per_rad: 5.85, zero_lift_alpha_deg: 0, cd0: 0.012,
+//!                  cd1_per_rad: 0, cd2_per_rad2: 0, stall_alpha_deg: 12}
+//!     # or table: {alpha_deg: [...], mach: [...], cl: [[...]], cd: [[...]]}
+//!   elements: 20
+//!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0}   # optional
+//! sources:                             # one entry for every field of `rotor`
+//!   blades: "NACA TR 487 p. 12"
+//!   hinge_offset_m: "estimated: ..."
+//! ```
+
+use crate::refs::{Provenance, check_id};
+use crate::yaml::{self, InputError};
+use cierva_model::airfoil::{Airfoil, AnalyticalSection, SectionTable};
+use cierva_model::rotor::{Corrections, Distribution, Rotor};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A spanwise distribution as written.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistributionSpec {
+    pub r_over_r: Vec<f64>,
+    pub values: Vec<f64>,
+}
+
+/// The analytical section as written (angles in degrees).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalyticalSpec {
+    pub lift_slope_per_rad: f64,
+    pub zero_lift_alpha_deg: f64,
+    pub cd0: f64,
+    pub cd1_per_rad: f64,
+    pub cd2_per_rad2: f64,
+    pub stall_alpha_deg: f64,
+}
+
+/// A section: exactly one of the two.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AirfoilSpec {
+    #[serde(default)]
+    pub analytical: Option<AnalyticalSpec>,
+    #[serde(default)]
+    pub table: Option<SectionTable>,
+}
+
+/// Correction parameters (seed 000 Sec. VII); absent means no correction.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CorrectionsSpec {
+    #[serde(default = "one")]
+    pub profile_drag_scale: f64,
+    #[serde(default)]
+    pub profile_drag_increment: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// A rotor as written.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotorSpec {
+    pub blades: usize,
+    pub radius_m: f64,
+    pub root_cutout_m: f64,
+    pub hinge_offset_m: f64,
+    pub chord_m: DistributionSpec,
+    pub pitch_deg: DistributionSpec,
+    pub pitch_reference_r_over_r: f64,
+    pub flap_inertia_kg_m2: f64,
+    pub flap_mass_moment_kg_m: f64,
+    pub flap_spring_n_m_per_rad: f64,
+    pub precone_deg: f64,
+    pub tip_loss_factor: f64,
+    pub airfoil: AirfoilSpec,
+    pub elements: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corrections: Option<CorrectionsSpec>,
+}
+
+/// A rotor file as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotorFileSpec {
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    pub rotor: RotorSpec,
+    pub sources: BTreeMap<String, String>,
+}
+
+/// A loaded rotor file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RotorFile {
+    pub path: PathBuf,
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    pub rotor: Rotor,
+    pub sources: BTreeMap<String, String>,
+}
+
+/// Loads and checks a rotor file.
+pub fn load(path: &Path) -> Result<RotorFile, InputError> {
+    let src = yaml::read(path)?;
+    let spec: RotorFileSpec = yaml::parse(path, &src)?;
+    check_id(path, &src, &spec.id)?;
+    let err = |field: &str, msg: String| InputError::field(path, &src, field, msg);
+    // Every field of `rotor` has a source, and every source names a field.
+    let written =
+        serde_yaml::to_value(&spec.rotor).map_err(|e| InputError::file(path, e.to_string()))?;
+    let fields: Vec<String> = written
+        .as_mapping()
+        .map(|m| {
+            m.keys()
+                .filter_map(|k| k.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    for f in &fields {
+        match spec.sources.get(f) {
+            Some(s) if !s.trim().is_empty() => {}
+            _ => {
+                return Err(err(
+                    &format!("rotor.{f}"),
+                    format!(
+                        "`{f}` has no entry under `sources`: say where the number comes from (or \"estimated: why\")"
+                    ),
+                ));
+            }
+        }
+    }
+    if let Some(extra) = spec.sources.keys().find(|k| !fields.contains(k)) {
+        return Err(err(
+            &format!("sources.{extra}"),
+            format!("`{extra}` is not a field of `rotor`"),
+        ));
+    }
+    let r = &spec.rotor;
+    let dist = |d: &DistributionSpec, scale: f64| Distribution {
+        stations_r_over_r: d.r_over_r.clone(),
+        values: d.values.iter().map(|v| v * scale).collect(),
+    };
+    let airfoil = match (&r.airfoil.analytical, &r.airfoil.table) {
+        (Some(a), None) => Airfoil::Analytical(AnalyticalSection {
+            lift_slope_per_rad: a.lift_slope_per_rad,
+            zero_lift_alpha_rad: a.zero_lift_alpha_deg.to_radians(),
+            cd0: a.cd0,
+            cd1_per_rad: a.cd1_per_rad,
+            cd2_per_rad2: a.cd2_per_rad2,
+            stall_alpha_rad: a.stall_alpha_deg.to_radians(),
+        }),
+        (None, Some(t)) => Airfoil::Table(t.clone()),
+        _ => {
+            return Err(err(
+                "rotor.airfoil",
+                "give exactly one of `analytical` or `table`".into(),
+            ));
+        }
+    };
+    let corrections = r
+        .corrections
+        .as_ref()
+        .map_or_else(Corrections::default, |c| Corrections {
+            profile_drag_scale: c.profile_drag_scale,
+            profile_drag_increment: c.profile_drag_increment,
+        });
+    let rotor = Rotor {
+        blades: r.blades,
+        radius_m: r.radius_m,
+        root_cutout_m: r.root_cutout_m,
+        hinge_offset_m: r.hinge_offset_m,
+        chord_m: dist(&r.chord_m, 1.0),
+        pitch_rad: dist(&r.pitch_deg, 1f64.to_radians()),
+        pitch_reference_r_over_r: r.pitch_reference_r_over_r,
+        flap_inertia_kg_m2: r.flap_inertia_kg_m2,
+        flap_mass_moment_kg_m: r.flap_mass_moment_kg_m,
+        flap_spring_n_m_per_rad: r.flap_spring_n_m_per_rad,
+        precone_rad: r.precone_deg.to_radians(),
+        tip_loss_factor: r.tip_loss_factor,
+        airfoil,
+        elements: r.elements,
+        corrections,
+    };
+    rotor.validate().map_err(|e| {
+        let field = match &e {
+            cierva_model::rotor::RotorError::Invalid { name, .. } => {
+                format!("rotor.{}", name.trim_end_matches("_rad"))
+            }
+            cierva_model::rotor::RotorError::Distribution(n) => {
+                format!("rotor.{}", if *n == "pitch_rad" { "pitch_deg" } else { n })
+            }
+            cierva_model::rotor::RotorError::Airfoil(_) => "rotor.airfoil".into(),
+            _ => "rotor".into(),
+        };
+        err(&field, e.to_string())
+    })?;
+    Ok(RotorFile {
+        path: path.to_path_buf(),
+        id: spec.id,
+        title: spec.title,
+        provenance: spec.provenance,
+        rotor,
+        sources: spec.sources,
+    })
+}
