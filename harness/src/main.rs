@@ -47,6 +47,11 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
+    /// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
+    ///
+    /// Example: `cargo run --release -- bench --repeat 51`
+    Bench(BenchArgs),
     /// Find the autorotative equilibrium of an isolated rotor in a wind tunnel: the rotorspeed
     /// at which the mean aerodynamic torque is zero, with lift and drag coefficients on
     /// q pi R^2, L/D, tip-speed ratio, thrust coefficient, flapping and inflow.
@@ -82,6 +87,14 @@ enum Command {
     },
 }
 
+/// Benchmarks of the model's building blocks (medians over repeats; see reports/benchmarks.md).
+#[derive(Parser)]
+struct BenchArgs {
+    /// Repeats of each timed operation.
+    #[arg(long, default_value_t = 21)]
+    repeat: usize,
+}
+
 /// Inflow models offered on the command line.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum InflowChoice {
@@ -114,6 +127,7 @@ fn main() -> ExitCode {
             sweep,
             format,
         } => modes(file, sweep, format),
+        Command::Bench(args) => bench(args.repeat),
         Command::Autorotate {
             rotor,
             alpha_deg,
@@ -430,6 +444,99 @@ fn autorotate(
                 a.residual_norm, a.iterations
             );
         }
+    }
+    ExitCode::SUCCESS
+}
+
+fn bench(repeat: usize) -> ExitCode {
+    use cierva_model::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
+    use std::time::Instant;
+    let path = cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml");
+    let file = match cierva_harness::rotor_file::load(&path) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let rotor = &file.rotor;
+    let repeat = repeat.max(3);
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let time = |f: &mut dyn FnMut()| {
+        let t = Instant::now();
+        f();
+        t.elapsed().as_secs_f64()
+    };
+    // TR 515 Table III row 19 conditions (mu 0.275, alpha 5.5 deg, 100 rpm), 1.9 deg pitch.
+    let omega = 100.0 * std::f64::consts::PI / 30.0;
+    let v = 0.275 * omega * rotor.radius_m / 5.5f64.to_radians().cos();
+    let op = Operating {
+        omega_rad_s: omega,
+        hub: HubVelocity {
+            u: v * 5.5f64.to_radians().cos(),
+            v: 0.0,
+            w: v * 5.5f64.to_radians().sin(),
+        },
+        inflow: Inflow {
+            v0: 0.5,
+            v1s: 0.0,
+            v1c: -0.8,
+        },
+        density_kg_m3: 1.225,
+        speed_of_sound_m_s: 340.3,
+        collective_shift_rad: rotor.collective_shift_for(1.9f64.to_radians()),
+    };
+    let blade = Blade::new(rotor, Numerics::default());
+    let n_rhs = 10_000;
+    let mut sink = 0.0;
+    let rhs: Vec<f64> = (0..repeat)
+        .map(|_| {
+            time(&mut || {
+                for k in 0..n_rhs {
+                    sink += blade.flap_derivative(&op, k as f64 * 1e-3, [0.1, 0.01])[1];
+                }
+            }) / n_rhs as f64
+        })
+        .collect();
+    let warm = blade
+        .steady(&op, [0.1, 0.0])
+        .map(|l| l.beta0)
+        .unwrap_or([0.1, 0.0]);
+    let steady: Vec<f64> = (0..repeat)
+        .map(|_| time(&mut || sink += blade.steady(&op, warm).map_or(0.0, |l| l.thrust_n())))
+        .collect();
+    let inflow = InflowModel::PetersHaQuang {
+        skew: SkewConvention::Signed,
+    };
+    let auto: Vec<f64> = (0..repeat)
+        .map(|_| {
+            time(&mut || {
+                sink +=
+                    run_autorotation(rotor, 5.5, v, Some(1.9), None, inflow).map_or(0.0, |a| a.rpm)
+            })
+        })
+        .collect();
+    println!("| operation | median | notes |");
+    println!("| --- | --- | --- |");
+    println!(
+        "| blade right-hand side (flap equation with {} elements) | {:.2} us | one blade at one azimuth; {} blades per rotor evaluation |",
+        rotor.elements + 1,
+        1e6 * median(rhs),
+        rotor.blades
+    );
+    println!(
+        "| periodic blade solution (warm start, 2.5 deg steps, RK4) | {:.2} ms | one blade to a periodic state, then one revolution of loads |",
+        1e3 * median(steady)
+    );
+    println!(
+        "| PCA-2 autorotation (bracket + Newton on Omega, v0, v1s, v1c) | {:.1} ms | TR 515 row 19 condition, from a cold start |",
+        1e3 * median(auto)
+    );
+    if !sink.is_finite() {
+        eprintln!("(a timed result was not finite)");
     }
     ExitCode::SUCCESS
 }

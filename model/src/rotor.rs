@@ -486,6 +486,12 @@ impl<'a> Blade<'a> {
         out
     }
 
+    /// The right-hand side of one blade's flap equation, `d/dpsi [beta, beta']`, with the
+    /// blade-element loads it needs (the rotor's share of one model evaluation).
+    pub fn flap_derivative(&self, op: &Operating, psi_rad: f64, state: [f64; 2]) -> [f64; 2] {
+        self.flap_rhs(op, psi_rad, state)
+    }
+
     /// Flap acceleration per unit azimuth squared, `d2 beta / d psi2`.
     fn flap_rhs(&self, op: &Operating, psi: f64, s: [f64; 2]) -> [f64; 2] {
         let rot = self.rotor;
