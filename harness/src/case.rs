@@ -55,8 +55,8 @@ pub struct RotorModelSpec {
     pub skew: SkewSpec,
 }
 
-/// Inflow models for rotor subjects.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+/// Inflow models for rotor subjects (in case files and on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum InflowSpec {
     /// Peters-HaQuang, uniform and first harmonics.
@@ -66,13 +66,30 @@ pub enum InflowSpec {
     Uniform,
 }
 
-/// Skew-angle conventions (seed 003 Eq. 5 or Eq. 6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+/// Skew-angle conventions (in case files and on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum SkewSpec {
+    /// tan chi = V / (v_i0m - w_hub) (seed 003 Eq. 5).
     #[default]
     Signed,
+    /// tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha (seed 003 Eq. 6).
     Modulus,
+}
+
+impl InflowSpec {
+    /// The model's inflow model with this skew convention.
+    pub fn model(self, skew: SkewSpec) -> cierva_model::rotor::InflowModel {
+        use cierva_model::rotor::{InflowModel, SkewConvention};
+        let skew = match skew {
+            SkewSpec::Signed => SkewConvention::Signed,
+            SkewSpec::Modulus => SkewConvention::Modulus,
+        };
+        match self {
+            Self::PetersHaquang => InflowModel::PetersHaQuang { skew },
+            Self::Uniform => InflowModel::UniformOnly { skew },
+        }
+    }
 }
 
 /// A wind-tunnel condition: the angle of attack and either the airspeed or the tip-speed ratio
@@ -417,18 +434,9 @@ fn load_subject(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Sub
         let rpath = dir.join(&r.file);
         let file = crate::rotor_file::load(&rpath)
             .map_err(|e| err("model.rotor.file", format!("in the referenced file: {e}")))?;
-        use cierva_model::rotor::{InflowModel, SkewConvention};
-        let skew = match r.skew {
-            SkewSpec::Signed => SkewConvention::Signed,
-            SkewSpec::Modulus => SkewConvention::Modulus,
-        };
-        let inflow = match r.inflow {
-            InflowSpec::PetersHaquang => InflowModel::PetersHaQuang { skew },
-            InflowSpec::Uniform => InflowModel::UniformOnly { skew },
-        };
         return Ok(Subject::Rotor {
             file: Box::new(file),
-            inflow,
+            inflow: r.inflow.model(r.skew),
         });
     }
     if let Some(file) = &m.linear_model_file {

@@ -1,5 +1,6 @@
 //! The `cierva` command line.
 
+use cierva_harness::case::{InflowSpec, SkewSpec};
 use cierva_harness::eval::{self, CheckResult};
 use cierva_harness::run_autorotation;
 use cierva_harness::{load_cases, refs, text};
@@ -77,11 +78,11 @@ enum Command {
         #[arg(long, allow_hyphen_values = true)]
         density_kg_m3: Option<f64>,
         /// Inflow model.
-        #[arg(long, value_enum, default_value_t = InflowChoice::PetersHaquang)]
-        inflow: InflowChoice,
+        #[arg(long, value_enum, default_value_t = InflowSpec::PetersHaquang)]
+        inflow: InflowSpec,
         /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
-        #[arg(long, value_enum, default_value_t = SkewChoice::Signed)]
-        skew: SkewChoice,
+        #[arg(long, value_enum, default_value_t = SkewSpec::Signed)]
+        skew: SkewSpec,
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
@@ -93,24 +94,6 @@ struct BenchArgs {
     /// Repeats of each timed operation.
     #[arg(long, default_value_t = 21)]
     repeat: usize,
-}
-
-/// Inflow models offered on the command line.
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum InflowChoice {
-    /// Peters-HaQuang, uniform and first harmonics.
-    PetersHaquang,
-    /// Peters-HaQuang with the harmonics set to zero.
-    Uniform,
-}
-
-/// Skew-angle conventions.
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum SkewChoice {
-    /// tan chi = V / (v_i0m - w_hub) (seed 003 Eq. 5).
-    Signed,
-    /// tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha (seed 003 Eq. 6).
-    Modulus,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -137,25 +120,15 @@ fn main() -> ExitCode {
             inflow,
             skew,
             format,
-        } => {
-            let skew = match skew {
-                SkewChoice::Signed => SkewConvention::Signed,
-                SkewChoice::Modulus => SkewConvention::Modulus,
-            };
-            let inflow = match inflow {
-                InflowChoice::PetersHaquang => InflowModel::PetersHaQuang { skew },
-                InflowChoice::Uniform => InflowModel::UniformOnly { skew },
-            };
-            autorotate(
-                rotor,
-                alpha_deg,
-                airspeed_m_s,
-                collective_deg,
-                density_kg_m3,
-                inflow,
-                format,
-            )
-        }
+        } => autorotate(
+            rotor,
+            alpha_deg,
+            airspeed_m_s,
+            collective_deg,
+            density_kg_m3,
+            inflow.model(skew),
+            format,
+        ),
     }
 }
 

@@ -160,15 +160,16 @@ impl Problem<'_> {
             InflowModel::UniformOnly { skew } => (skew, false),
         };
         inflow::static_inflow(
-            loads.thrust_n(),
-            loads.moment_n_m[0],
-            loads.moment_n_m[1],
+            inflow::DrivingLoads {
+                thrust_n: loads.thrust_n(),
+                roll_n_m: loads.moment_n_m[0],
+                pitch_n_m: loads.moment_n_m[1],
+            },
             self.hub,
             current.v0,
             self.tunnel.density_kg_m3,
             self.rotor.radius_m,
-            skew,
-            harmonics,
+            (skew, harmonics),
         )
         .0
     }

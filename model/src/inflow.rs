@@ -54,21 +54,32 @@ pub fn wake(hub: HubVelocity, v0: f64, skew: SkewConvention) -> Wake {
     }
 }
 
-/// The equilibrium induced velocity (hub axes) for given aerodynamic thrust `t_n` and hub
-/// moments `roll_n_m` (about `x`) and `pitch_n_m` (about `y`), at the current uniform
+/// The rotor's aerodynamic loads that drive the inflow, hub axes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DrivingLoads {
+    /// Thrust along the shaft, upwards, N.
+    pub thrust_n: f64,
+    /// Moment about `x` (right side down positive), N m.
+    pub roll_n_m: f64,
+    /// Moment about `y` (nose up positive), N m.
+    pub pitch_n_m: f64,
+}
+
+/// The equilibrium induced velocity (hub axes) for given loads, at the current uniform
 /// component `v0` (for the wake velocities). `harmonics = false` zeroes `v1s` and `v1c`.
-#[allow(clippy::too_many_arguments)]
 pub fn static_inflow(
-    t_n: f64,
-    roll_n_m: f64,
-    pitch_n_m: f64,
+    loads: DrivingLoads,
     hub: HubVelocity,
     v0: f64,
     density_kg_m3: f64,
     radius_m: f64,
-    skew: SkewConvention,
-    harmonics: bool,
+    (skew, harmonics): (SkewConvention, bool),
 ) -> (Inflow, Wake) {
+    let DrivingLoads {
+        thrust_n: t_n,
+        roll_n_m,
+        pitch_n_m,
+    } = loads;
     let wk = wake(hub, v0, skew);
     let psi_w = if hub.u == 0.0 && hub.v == 0.0 {
         0.0
@@ -120,16 +131,18 @@ mod tests {
         // Hover: v0 = sqrt(T / (2 rho A)) at the fixed point.
         let (t, rho, r) = (10_000.0, 1.225, 5.0);
         let vh = (t / (2.0 * rho * PI * r * r)).sqrt();
+        let loads = DrivingLoads {
+            thrust_n: t,
+            roll_n_m: 0.0,
+            pitch_n_m: 0.0,
+        };
         let (inflow, w) = static_inflow(
-            t,
-            0.0,
-            0.0,
+            loads,
             HubVelocity::default(),
             vh,
             rho,
             r,
-            SkewConvention::Signed,
-            true,
+            (SkewConvention::Signed, true),
         );
         assert!((inflow.v0 - vh).abs() < 1e-12);
         assert_eq!((inflow.v1s, inflow.v1c), (0.0, 0.0));
@@ -169,27 +182,29 @@ mod tests {
             w: 0.0,
         };
         let (p, _) = static_inflow(
-            0.0,
-            0.0,
-            1000.0,
+            DrivingLoads {
+                thrust_n: 0.0,
+                roll_n_m: 0.0,
+                pitch_n_m: 1000.0,
+            },
             hub,
             2.0,
             1.225,
             5.0,
-            SkewConvention::Signed,
-            true,
+            (SkewConvention::Signed, true),
         );
         assert!(p.v1c < 0.0);
         let (r, _) = static_inflow(
-            0.0,
-            1000.0,
-            0.0,
+            DrivingLoads {
+                thrust_n: 0.0,
+                roll_n_m: 1000.0,
+                pitch_n_m: 0.0,
+            },
             hub,
             2.0,
             1.225,
             5.0,
-            SkewConvention::Signed,
-            true,
+            (SkewConvention::Signed, true),
         );
         assert!(r.v1s < 0.0);
         // The same physics seen from a hub moving to starboard (wind axes turned by 90 deg):
@@ -201,15 +216,16 @@ mod tests {
             w: 0.0,
         };
         let (s, _) = static_inflow(
-            0.0,
-            -1000.0,
-            0.0,
+            DrivingLoads {
+                thrust_n: 0.0,
+                roll_n_m: -1000.0,
+                pitch_n_m: 0.0,
+            },
             side,
             2.0,
             1.225,
             5.0,
-            SkewConvention::Signed,
-            true,
+            (SkewConvention::Signed, true),
         );
         assert!(
             (s.v1s + p.v1c).abs() < 1e-12 && s.v1c.abs() < 1e-12,
