@@ -8,6 +8,7 @@
 
 pub mod case;
 pub mod eval;
+pub mod ident;
 pub mod refs;
 pub mod rotor_file;
 pub mod text;

@@ -48,6 +48,28 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Fly a linear model through a test input and write a synthetic flight record
+    /// (RECORD.csv and its sidecar RECORD.yaml), labelled synthetic with its generator, seed and
+    /// truth.
+    ///
+    /// Example: `cierva synth flight-refs/seed002-vpm-m16-60kn.yaml --control eta_s --input sweep
+    /// --amplitude 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
+    Synth(SynthArgs),
+    /// Identify stability and control derivatives from a flight record (frequency-domain
+    /// equation error, seed 000 Sec. IV): estimates, standard errors, 95 % bounds, fit quality,
+    /// correlations and warnings.
+    ///
+    /// Example: `cierva identify /tmp/vpm-sweep.csv --format yaml > flight-refs/my-derivatives.yaml`
+    Identify {
+        /// A record CSV with its sidecar YAML beside it.
+        record: PathBuf,
+        /// Identification set-up (default: longitudinal [u w q theta Omega], 0.05-2 Hz, 100 points).
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// text, json, or yaml (a flight-refs derivative table).
+        #[arg(long, value_enum, default_value_t = IdentFormat::Text)]
+        format: IdentFormat,
+    },
     /// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
     /// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
     ///
@@ -88,6 +110,80 @@ enum Command {
     },
 }
 
+/// Output of `identify`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum IdentFormat {
+    Text,
+    Json,
+    /// A flight-refs derivative table that cases can check models against.
+    Yaml,
+}
+
+/// Test inputs.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum InputChoice {
+    /// Frequency sweep, low to high.
+    Sweep,
+    /// Frequency sweep, high to low (seed 000 Fig. 5).
+    SweepDown,
+    Doublet,
+    /// 3-2-1-1.
+    ThreeTwoOneOne,
+    Step,
+}
+
+/// Arguments of `synth`.
+#[derive(Parser)]
+struct SynthArgs {
+    /// A reference file with a `linear_model` block (the truth).
+    model: PathBuf,
+    /// The control to excite.
+    #[arg(long)]
+    control: String,
+    #[arg(long, value_enum, default_value_t = InputChoice::Sweep)]
+    input: InputChoice,
+    /// Input amplitude, in the control's units.
+    #[arg(long, allow_hyphen_values = true)]
+    amplitude: f64,
+    /// Sweep band, Hz.
+    #[arg(long, default_value_t = 0.02)]
+    from_hz: f64,
+    #[arg(long, default_value_t = 2.5)]
+    to_hz: f64,
+    /// Length of the sweep (or the pulse unit of a doublet or 3-2-1-1, s).
+    #[arg(long, default_value_t = 100.0)]
+    input_s: f64,
+    /// Length of the record, s.
+    #[arg(long, default_value_t = 120.0)]
+    duration_s: f64,
+    #[arg(long, default_value_t = 100.0)]
+    sample_rate_hz: f64,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Multiplies the default sensor noise (airspeed 0.02 m/s, vanes, rates and attitudes
+    /// 5e-4 rad(/s), rotor 0.01 rad/s); 0 for a noise-free record.
+    #[arg(long, default_value_t = 0.0)]
+    noise_scale: f64,
+    /// Turbulence intensity on each force equation (acceleration units); 0 for none.
+    #[arg(long, default_value_t = 0.0)]
+    turbulence: f64,
+    /// Trim about which the record is written (estimated defaults for the VPM M16 at 60 kn).
+    #[arg(long, default_value_t = 30.0)]
+    trim_u_m_s: f64,
+    #[arg(long, default_value_t = 1.5, allow_hyphen_values = true)]
+    trim_w_m_s: f64,
+    #[arg(long, default_value_t = 0.05, allow_hyphen_values = true)]
+    trim_theta_rad: f64,
+    #[arg(long, default_value_t = 38.0)]
+    trim_rotor_rad_s: f64,
+    /// Air-data probe position relative to the c.g., body axes, m: x,y,z.
+    #[arg(long, default_value = "2.0,0.0,-0.3", allow_hyphen_values = true)]
+    probe_m: String,
+    /// The record to write (its sidecar goes beside it, .yaml).
+    #[arg(long)]
+    output: PathBuf,
+}
+
 /// Benchmarks of the model's building blocks (medians over repeats; see reports/benchmarks.md).
 #[derive(Parser)]
 struct BenchArgs {
@@ -111,6 +207,12 @@ fn main() -> ExitCode {
             format,
         } => modes(file, sweep, format),
         Command::Bench(args) => bench(args.repeat),
+        Command::Synth(args) => synth(args),
+        Command::Identify {
+            record,
+            config,
+            format,
+        } => identify(record, config, format),
         Command::Autorotate {
             rotor,
             alpha_deg,
@@ -508,8 +610,251 @@ fn bench(repeat: usize) -> ExitCode {
         "| PCA-2 autorotation (bracket + Newton on Omega, v0, v1s, v1c) | {:.1} ms | TR 515 row 19 condition, from a cold start |",
         1e3 * median(auto)
     );
+    // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
+    // frequencies (issue 5's benchmark), on a synthetic record of seed 002's Eq. 20.
+    use cierva_harness::ident::{self, record, synth};
+    let truth =
+        refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
+            .ok()
+            .and_then(|r| r.linear_model);
+    if let Some(model) = truth {
+        for (seconds, points) in [(120.0, 100), (240.0, 100), (120.0, 200)] {
+            let settings = synth::Settings {
+                id: "bench".into(),
+                aircraft: "VPM M16".into(),
+                truth: "seed 002 Eq. 20".into(),
+                control: "eta_s".into(),
+                input: synth::Input::Sweep {
+                    from_hz: 0.02,
+                    to_hz: 2.5,
+                    duration_s: seconds - 20.0,
+                    amplitude: 0.01,
+                    descending: false,
+                },
+                duration_s: seconds,
+                sample_rate_hz: 100.0,
+                seed: 1,
+                noise: synth::SensorNoise::NONE,
+                turbulence: None,
+                trim: synth::Trim {
+                    u_m_s: 30.0,
+                    w_m_s: 1.5,
+                    theta_rad: 0.05,
+                    omega_rotor_rad_s: 38.0,
+                },
+                sensors: record::Sensors {
+                    probe_position_m: [2.0, 0.0, -0.3],
+                    cg_position_m: [0.0; 3],
+                },
+            };
+            let Ok((channels, data, meta)) = synth::generate(&model, &settings) else {
+                continue;
+            };
+            let rec = record::Record {
+                path: "bench.csv".into(),
+                meta,
+                channels,
+                data,
+            };
+            let mut cfg = ident::ConfigSpec::longitudinal(&rec);
+            cfg.frequencies.points = Some(points);
+            let t: Vec<f64> = (0..repeat)
+                .map(|_| {
+                    time(&mut || {
+                        sink += ident::identify_record(&rec, &cfg)
+                            .map_or(0.0, |r| r.derivatives.len() as f64)
+                    })
+                })
+                .collect();
+            println!(
+                "| identification, 5 states, {seconds} s at 100 Hz, {points} frequencies | {:.1} ms | air data to c.g., chirp-z transforms, 4 regressions |",
+                1e3 * median(t)
+            );
+        }
+    }
     if !sink.is_finite() {
         eprintln!("(a timed result was not finite)");
+    }
+    ExitCode::SUCCESS
+}
+
+fn synth(a: SynthArgs) -> ExitCode {
+    use cierva_harness::ident::{record, synth};
+    let r = match refs::load(&a.model) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let Some(model) = r.linear_model else {
+        eprintln!("error: {}: no `linear_model` block", a.model.display());
+        return ExitCode::from(2);
+    };
+    let probe: Vec<f64> = a
+        .probe_m
+        .split(',')
+        .filter_map(|v| v.trim().parse().ok())
+        .collect();
+    let [px, py, pz] = probe[..] else {
+        eprintln!("error: --probe-m `{}`: expected x,y,z in metres", a.probe_m);
+        return ExitCode::from(2);
+    };
+    let input = match a.input {
+        InputChoice::Sweep | InputChoice::SweepDown => synth::Input::Sweep {
+            from_hz: a.from_hz,
+            to_hz: a.to_hz,
+            duration_s: a.input_s,
+            amplitude: a.amplitude,
+            descending: a.input == InputChoice::SweepDown,
+        },
+        InputChoice::Doublet => synth::Input::Doublet {
+            start_s: 2.0,
+            pulse_s: a.input_s,
+            amplitude: a.amplitude,
+        },
+        InputChoice::ThreeTwoOneOne => synth::Input::ThreeTwoOneOne {
+            start_s: 2.0,
+            unit_s: a.input_s,
+            amplitude: a.amplitude,
+        },
+        InputChoice::Step => synth::Input::Step {
+            start_s: 2.0,
+            amplitude: a.amplitude,
+        },
+    };
+    let k = a.noise_scale;
+    let id = a
+        .output
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let settings = synth::Settings {
+        id,
+        aircraft: r.title.clone(),
+        truth: a.model.display().to_string(),
+        control: a.control.clone(),
+        input,
+        duration_s: a.duration_s,
+        sample_rate_hz: a.sample_rate_hz,
+        seed: a.seed,
+        noise: synth::SensorNoise {
+            airspeed_m_s: 0.02 * k,
+            vane_rad: 5e-4 * k,
+            rate_rad_s: 5e-4 * k,
+            attitude_rad: 5e-4 * k,
+            rotor_rad_s: 0.01 * k,
+            control: 0.0,
+        },
+        turbulence: (a.turbulence > 0.0).then_some(synth::Turbulence {
+            intensity: a.turbulence,
+            correlation_time_s: 0.5,
+        }),
+        trim: synth::Trim {
+            u_m_s: a.trim_u_m_s,
+            w_m_s: a.trim_w_m_s,
+            theta_rad: a.trim_theta_rad,
+            omega_rotor_rad_s: a.trim_rotor_rad_s,
+        },
+        sensors: record::Sensors {
+            probe_position_m: [px, py, pz],
+            cg_position_m: [0.0, 0.0, 0.0],
+        },
+    };
+    match synth::generate(&model, &settings) {
+        Ok((channels, data, meta)) => match record::write(&a.output, &meta, &channels, &data) {
+            Ok(()) => {
+                println!(
+                    "wrote {} and {} ({} samples, seed {})",
+                    a.output.display(),
+                    record::sidecar_path(&a.output).display(),
+                    data[0].len(),
+                    a.seed
+                );
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: cannot write {}: {e}", a.output.display());
+                ExitCode::from(2)
+            }
+        },
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn identify(path: PathBuf, config: Option<PathBuf>, format: IdentFormat) -> ExitCode {
+    use cierva_harness::ident::{self, record};
+    let rec = match record::load(&path) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let cfg = match config {
+        None => ident::ConfigSpec::longitudinal(&rec),
+        Some(p) => match cierva_harness::yaml::read(&p)
+            .and_then(|src| cierva_harness::yaml::parse(&p, &src))
+        {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        },
+    };
+    let result = match ident::identify_record(&rec, &cfg) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match format {
+        IdentFormat::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&result).expect("serialisable")
+        ),
+        IdentFormat::Yaml => print!(
+            "{}",
+            ident::reference_yaml(&format!("{}-derivatives", rec.meta.id), &result, &rec)
+        ),
+        IdentFormat::Text => {
+            println!(
+                "{} ({}): {}",
+                rec.meta.title, rec.meta.id, rec.meta.provenance.source
+            );
+            println!(
+                "{:<14} {:>13} {:>12} {:>26}",
+                "derivative", "estimate", "std error", "95 % bounds"
+            );
+            for d in &result.derivatives {
+                println!(
+                    "{:<14} {:>13} {:>12} {:>26}",
+                    d.name,
+                    text::sig(d.estimate, 5),
+                    text::sig(d.standard_error, 3),
+                    format!(
+                        "[{}, {}]",
+                        text::sig(d.lower_95, 4),
+                        text::sig(d.upper_95, 4)
+                    )
+                );
+            }
+            for f in &result.fits {
+                println!(
+                    "equation {}: R^2 {:.5}, condition number {:.2e}, {} dof",
+                    f.state, f.r_squared, f.condition_number, f.dof
+                );
+                for w in &f.warnings {
+                    println!("  warning: {w}");
+                }
+            }
+            println!("status: {}", result.status);
+        }
     }
     ExitCode::SUCCESS
 }

@@ -38,6 +38,7 @@ pub mod locus;
 pub mod milne;
 pub mod modes;
 pub mod rotor;
+pub mod simulate;
 pub mod solve;
 #[cfg(test)]
 pub(crate) mod testdata;

@@ -1,0 +1,392 @@
+//! From flight records to derivatives: records ([`record`]), Fourier transforms ([`fourier`]),
+//! equation-error regression ([`estimate`]) and synthetic records ([`synth`]).
+//!
+//! [`identify_record`] converts air data to centre-of-mass velocities (seed 000 Eqs. 5-6),
+//! takes perturbations about the sidecar's trim, and identifies each force equation in the
+//! frequency domain.
+
+pub mod estimate;
+pub mod fourier;
+pub mod record;
+pub mod synth;
+
+use cierva_model::LinearModel;
+use cierva_model::linear::FORCE_STATES;
+use estimate::{Equation, EquationFit, Frequencies, IdentError, Signals, Windowing};
+use record::Record;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// An identification set-up as written (`--config ID.yaml`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConfigSpec {
+    /// Model states, from: `u v w` (air data), `p q r phi theta psi` (channels `<name>_rad_s` or
+    /// `<name>_rad`), `Omega` (`omega_rotor_rad_s`).
+    pub states: Vec<String>,
+    /// Model control name -> record channel.
+    pub controls: BTreeMap<String, String>,
+    pub frequencies: BandSpec,
+    #[serde(default)]
+    pub windowing: WindowingSpec,
+    /// Equations to identify; by default every force state with every state and control free.
+    #[serde(default)]
+    pub equations: Vec<EquationSpec>,
+    /// Kinematic rows, not identified: `theta: q` means theta' = q.
+    #[serde(default)]
+    pub kinematics: BTreeMap<String, String>,
+}
+
+/// A frequency band, or a list.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BandSpec {
+    #[serde(default)]
+    pub from_hz: Option<f64>,
+    #[serde(default)]
+    pub to_hz: Option<f64>,
+    #[serde(default)]
+    pub points: Option<usize>,
+    #[serde(default)]
+    pub list_hz: Option<Vec<f64>>,
+}
+
+/// Segments and taper.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindowingSpec {
+    #[serde(default = "one")]
+    pub segments: usize,
+    #[serde(default)]
+    pub overlap: f64,
+    #[serde(default)]
+    pub hann: bool,
+}
+
+fn one() -> usize {
+    1
+}
+
+impl Default for WindowingSpec {
+    fn default() -> Self {
+        Self {
+            segments: 1,
+            overlap: 0.0,
+            hann: false,
+        }
+    }
+}
+
+/// One equation as written.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EquationSpec {
+    pub state: String,
+    pub estimate: Vec<String>,
+    #[serde(default)]
+    pub fixed: BTreeMap<String, f64>,
+}
+
+impl ConfigSpec {
+    /// The longitudinal set-up of seeds 000 and 002: `[u w q theta Omega]`, the record's first
+    /// control, 0.05-2 Hz at 100 points, theta' = q.
+    pub fn longitudinal(record: &Record) -> Self {
+        let mut controls = BTreeMap::new();
+        if let Some(c) = record.meta.controls.first() {
+            let name = c
+                .strip_suffix("_rad")
+                .or_else(|| c.strip_suffix("_pct"))
+                .unwrap_or(c);
+            controls.insert(name.to_string(), c.clone());
+        }
+        let mut kinematics = BTreeMap::new();
+        kinematics.insert("theta".to_string(), "q".to_string());
+        Self {
+            states: ["u", "w", "q", "theta", "Omega"].map(String::from).to_vec(),
+            controls,
+            frequencies: BandSpec {
+                from_hz: Some(0.05),
+                to_hz: Some(2.0),
+                points: Some(100),
+                list_hz: None,
+            },
+            windowing: WindowingSpec::default(),
+            equations: vec![],
+            kinematics,
+        }
+    }
+}
+
+/// One identified derivative, for tables.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Derivative {
+    pub name: String,
+    pub estimate: f64,
+    pub standard_error: f64,
+    pub lower_95: f64,
+    pub upper_95: f64,
+}
+
+/// The result of identifying a record.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Identification {
+    pub record: String,
+    pub fits: Vec<EquationFit>,
+    pub derivatives: Vec<Derivative>,
+    /// `ok`, or `warnings` when any equation has warnings.
+    pub status: &'static str,
+    #[serde(skip)]
+    pub model: Option<LinearModel>,
+}
+
+fn force_letter(state: &str) -> Option<char> {
+    FORCE_STATES
+        .iter()
+        .find(|(_, s)| *s == state)
+        .map(|(f, _)| *f)
+}
+
+/// State and control time histories, one vector per variable.
+pub type Histories = (Vec<Vec<f64>>, Vec<Vec<f64>>);
+
+/// The perturbation time histories of the configured states and controls.
+pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String> {
+    let ch = |name: &str| {
+        record
+            .channel(name)
+            .ok_or_else(|| format!("{}: channel `{name}` is missing", record.path.display()))
+    };
+    let trim = |key: &str| record.meta.trim.get(key).copied().unwrap_or(0.0);
+    let (v, a, b) = (
+        ch("airspeed_m_s")?,
+        ch("alpha_vane_rad")?,
+        ch("beta_vane_rad")?,
+    );
+    let (p, q, r) = (ch("p_rad_s")?, ch("q_rad_s")?, ch("r_rad_s")?);
+    let s = &record.meta.sensors;
+    let off = [
+        s.probe_position_m[0] - s.cg_position_m[0],
+        s.probe_position_m[1] - s.cg_position_m[1],
+        s.probe_position_m[2] - s.cg_position_m[2],
+    ];
+    let n = v.len();
+    // Seed 000 Eqs. 5-6: probe velocity from airspeed and vanes, then the c.g. velocity.
+    let (mut u, mut vv, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for k in 0..n {
+        let up = v[k] * b[k].cos() * a[k].cos();
+        let vp = v[k] * b[k].sin();
+        let wp = v[k] * b[k].cos() * a[k].sin();
+        u[k] = up - (q[k] * off[2] - r[k] * off[1]);
+        vv[k] = vp - (r[k] * off[0] - p[k] * off[2]);
+        w[k] = wp - (p[k] * off[1] - q[k] * off[0]);
+    }
+    let mut xs = Vec::new();
+    for st in &config.states {
+        let (series, key): (Vec<f64>, String) = match st.as_str() {
+            "u" => (u.clone(), "u_m_s".into()),
+            "v" => (vv.clone(), "v_m_s".into()),
+            "w" => (w.clone(), "w_m_s".into()),
+            "p" | "q" | "r" => (ch(&format!("{st}_rad_s"))?.to_vec(), format!("{st}_rad_s")),
+            "phi" | "theta" | "psi" => (ch(&format!("{st}_rad"))?.to_vec(), format!("{st}_rad")),
+            "Omega" => (
+                ch("omega_rotor_rad_s")?.to_vec(),
+                "omega_rotor_rad_s".into(),
+            ),
+            other => return Err(format!("no measurement gives the state `{other}`")),
+        };
+        let t0 = trim(&key);
+        xs.push(series.iter().map(|x| x - t0).collect());
+    }
+    let mut us = Vec::new();
+    for channel in config.controls.values() {
+        let t0 = trim(channel);
+        us.push(ch(channel)?.iter().map(|x| x - t0).collect());
+    }
+    Ok((xs, us))
+}
+
+/// Identifies a record with a set-up.
+pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identification, String> {
+    let (xs, us) = signals(record, config)?;
+    let controls: Vec<String> = config.controls.keys().cloned().collect();
+    let all: Vec<String> = config.states.iter().chain(&controls).cloned().collect();
+    let equations: Vec<Equation> = if config.equations.is_empty() {
+        config
+            .states
+            .iter()
+            .filter(|s| force_letter(s).is_some())
+            .map(|s| Equation {
+                state: s.clone(),
+                estimate: all.clone(),
+                fixed: vec![],
+            })
+            .collect()
+    } else {
+        config
+            .equations
+            .iter()
+            .map(|e| Equation {
+                state: e.state.clone(),
+                estimate: e.estimate.clone(),
+                fixed: e.fixed.iter().map(|(k, v)| (k.clone(), *v)).collect(),
+            })
+            .collect()
+    };
+    let f = &config.frequencies;
+    let freqs = match (f.from_hz, f.to_hz, f.points, &f.list_hz) {
+        (Some(a), Some(b), Some(n), None) if a > 0.0 && b > a && n >= 2 => Frequencies::Band {
+            from_hz: a,
+            to_hz: b,
+            points: n,
+        },
+        (None, None, None, Some(l)) if !l.is_empty() => Frequencies::List(l.clone()),
+        _ => return Err(
+            "frequencies: give `from_hz` < `to_hz` with `points` >= 2, or a non-empty `list_hz`"
+                .into(),
+        ),
+    };
+    let sig = Signals {
+        states: &config.states,
+        controls: &controls,
+        x: &xs,
+        u: &us,
+        dt_s: record.dt_s(),
+    };
+    let w = Windowing {
+        segments: config.windowing.segments,
+        overlap: config.windowing.overlap,
+        hann: config.windowing.hann,
+    };
+    let fits = estimate::identify(sig, &freqs, w, &equations)
+        .map_err(|e: IdentError| format!("{}: {e}", record.path.display()))?;
+    let mut derivatives = Vec::new();
+    for fit in &fits {
+        let letter = force_letter(&fit.state).map_or(fit.state.clone(), |c| c.to_string());
+        for e in &fit.estimates {
+            derivatives.push(Derivative {
+                name: format!("{letter}_{}", e.variable),
+                estimate: e.value,
+                standard_error: e.standard_error,
+                lower_95: e.lower_95,
+                upper_95: e.upper_95,
+            });
+        }
+    }
+    let model = identified_model(config, &controls, &fits).ok();
+    let status = if fits.iter().any(|f| !f.warnings.is_empty()) {
+        "warnings"
+    } else {
+        "ok"
+    };
+    Ok(Identification {
+        record: record.meta.id.clone(),
+        fits,
+        derivatives,
+        status,
+        model,
+    })
+}
+
+/// The identified linear model: estimated and fixed rows, kinematic rows from the set-up; rows
+/// neither identified nor kinematic are zero.
+pub fn identified_model(
+    config: &ConfigSpec,
+    controls: &[String],
+    fits: &[EquationFit],
+) -> Result<LinearModel, String> {
+    let n = config.states.len();
+    let mut a = vec![vec![0.0; n]; n];
+    let mut b = vec![vec![0.0; controls.len()]; n];
+    let col = |name: &str| -> Option<(bool, usize)> {
+        config
+            .states
+            .iter()
+            .position(|s| s == name)
+            .map(|i| (true, i))
+            .or_else(|| controls.iter().position(|c| c == name).map(|i| (false, i)))
+    };
+    for fit in fits {
+        let row = config
+            .states
+            .iter()
+            .position(|s| *s == fit.state)
+            .ok_or("unknown state")?;
+        let values = fit
+            .estimates
+            .iter()
+            .map(|e| (e.variable.as_str(), e.value))
+            .chain(fit.fixed.iter().map(|(k, v)| (k.as_str(), *v)));
+        for (name, v) in values {
+            match col(name) {
+                Some((true, j)) => a[row][j] = v,
+                Some((false, j)) => b[row][j] = v,
+                None => return Err(format!("unknown variable {name}")),
+            }
+        }
+    }
+    for (state, rate) in &config.kinematics {
+        let (row, c) = (
+            config
+                .states
+                .iter()
+                .position(|s| s == state)
+                .ok_or("unknown kinematic state")?,
+            config
+                .states
+                .iter()
+                .position(|s| s == rate)
+                .ok_or("unknown kinematic rate")?,
+        );
+        a[row][c] = 1.0;
+    }
+    LinearModel::from_rows(config.states.clone(), controls.to_vec(), &a, &b)
+        .map_err(|e| e.to_string())
+}
+
+/// The identified derivatives as a flight-refs derivative table (YAML text).
+pub fn reference_yaml(id: &str, ident: &Identification, record: &Record) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let synthetic = record.meta.synthetic.is_some();
+    let _ = writeln!(s, "id: {id}");
+    let _ = writeln!(
+        s,
+        "title: Derivatives identified from {}{}",
+        record.meta.id,
+        if synthetic { " (synthetic record)" } else { "" }
+    );
+    let _ = writeln!(s, "provenance:");
+    let _ = writeln!(
+        s,
+        "  source: \"cierva identify {}: frequency-domain equation error (seed 000 Sec. IV) on {}\"",
+        env!("CARGO_PKG_VERSION"),
+        record.path.display()
+    );
+    let _ = writeln!(
+        s,
+        "  notes: \"record provenance: {}\"",
+        record.meta.provenance.source.replace('"', "'")
+    );
+    let _ = writeln!(s, "columns:");
+    let _ = writeln!(
+        s,
+        "  estimate: {{kind: value, description: identified value}}"
+    );
+    let _ = writeln!(
+        s,
+        "  standard_error: {{kind: value, description: standard error of the estimate}}"
+    );
+    let _ = writeln!(
+        s,
+        "  flight_95: {{kind: interval, description: 95 % confidence bounds}}"
+    );
+    let _ = writeln!(s, "derivatives:");
+    for d in &ident.derivatives {
+        let _ = writeln!(
+            s,
+            "  - {{name: {}, units: as the record's, estimate: {:e}, standard_error: {:e}, flight_95: [{:e}, {:e}]}}",
+            d.name, d.estimate, d.standard_error, d.lower_95, d.upper_95
+        );
+    }
+    s
+}

@@ -1,0 +1,302 @@
+//! Flight records: a CSV of named channels, units in the names, and a YAML sidecar.
+//!
+//! `RECORD.csv` starts with a header of channel names carrying their units
+//! (`time_s,airspeed_m_s,alpha_vane_rad,...`) followed by one row per sample. Required channels
+//! are [`REQUIRED`] plus the controls named in the sidecar; others are kept as they are.
+//!
+//! `RECORD.yaml`, beside it:
+//!
+//! ```yaml
+//! id: synthetic-vpm-m16-sweep          # equals the file stem
+//! title: ...
+//! provenance: {source: "synthetic: cierva synth ..."}
+//! synthetic: {generator: "cierva synth 0.1.0", seed: 42, truth: "../flight-refs/..."}  # synthetic only
+//! aircraft: VPM M16
+//! sample_rate_hz: 100
+//! sensors:                              # body axes (x forward, y starboard, z down) from a datum
+//!   probe_position_m: [2.0, 0.0, -0.3]  # the air-data vanes
+//!   cg_position_m: [0.0, 0.0, 0.0]
+//! condition: {airspeed_kn: 60}          # free-form, keys with units
+//! trim: {u_m_s: 30.8, w_m_s: 0.0, theta_rad: 0.0, omega_rotor_rad_s: 38.0, eta_s_rad: 0.0}
+//! controls: [eta_s_rad]
+//! ```
+
+use crate::refs::{Provenance, check_id};
+use crate::yaml::{self, InputError};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Channels every record must have.
+pub const REQUIRED: [&str; 10] = [
+    "time_s",
+    "airspeed_m_s",
+    "alpha_vane_rad",
+    "beta_vane_rad",
+    "p_rad_s",
+    "q_rad_s",
+    "r_rad_s",
+    "phi_rad",
+    "theta_rad",
+    "omega_rotor_rad_s",
+];
+
+/// Where the sensors are.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensors {
+    pub probe_position_m: [f64; 3],
+    pub cg_position_m: [f64; 3],
+}
+
+/// How a synthetic record was made.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Synthetic {
+    pub generator: String,
+    pub seed: u64,
+    /// The model that flew (a path, relative to the sidecar, or a description).
+    pub truth: String,
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub settings: BTreeMap<String, String>,
+}
+
+/// The sidecar.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecordMeta {
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub synthetic: Option<Synthetic>,
+    pub aircraft: String,
+    pub sample_rate_hz: f64,
+    pub sensors: Sensors,
+    #[serde(default)]
+    pub condition: BTreeMap<String, serde_yaml::Value>,
+    /// Trim values of channels or derived states (`u_m_s`, `w_m_s`, `theta_rad`, ...).
+    pub trim: BTreeMap<String, f64>,
+    pub controls: Vec<String>,
+}
+
+/// A loaded, checked record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    pub path: PathBuf,
+    pub meta: RecordMeta,
+    pub channels: Vec<String>,
+    /// One vector per channel, in `channels` order.
+    pub data: Vec<Vec<f64>>,
+}
+
+impl Record {
+    /// The samples of a channel.
+    pub fn channel(&self, name: &str) -> Option<&[f64]> {
+        self.channels
+            .iter()
+            .position(|c| c == name)
+            .map(|i| self.data[i].as_slice())
+    }
+
+    /// The time step, s.
+    pub fn dt_s(&self) -> f64 {
+        1.0 / self.meta.sample_rate_hz
+    }
+
+    /// Duration from the first to the last sample, s.
+    pub fn duration_s(&self) -> f64 {
+        let t = self.channel("time_s").unwrap_or(&[]);
+        match (t.first(), t.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        }
+    }
+}
+
+/// The sidecar of a CSV record: same path, `.yaml`.
+pub fn sidecar_path(csv: &Path) -> PathBuf {
+    csv.with_extension("yaml")
+}
+
+/// Relative tolerance on the time step.
+const DT_TOLERANCE: f64 = 0.01;
+
+/// Loads a record and checks everything a real record gets wrong.
+pub fn load(csv_path: &Path) -> Result<Record, InputError> {
+    let side = sidecar_path(csv_path);
+    let side_src = yaml::read(&side)?;
+    let meta: RecordMeta = yaml::parse(&side, &side_src)?;
+    check_id(&side, &side_src, &meta.id)?;
+    if !(meta.sample_rate_hz.is_finite() && meta.sample_rate_hz > 0.0) {
+        return Err(InputError::field(
+            &side,
+            &side_src,
+            "sample_rate_hz",
+            "must be a positive number",
+        ));
+    }
+    let src = std::fs::read_to_string(csv_path)
+        .map_err(|e| InputError::file(csv_path, format!("cannot read: {e}")))?;
+    let at = |line: usize, msg: String| InputError {
+        path: csv_path.to_path_buf(),
+        line: Some(line),
+        column: None,
+        field: None,
+        message: msg,
+    };
+    let mut lines = src
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = lines
+        .next()
+        .ok_or_else(|| InputError::file(csv_path, "the file is empty"))?;
+    let channels: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
+    for (i, c) in channels.iter().enumerate() {
+        if c.is_empty() {
+            return Err(at(1, format!("column {} has no name", i + 1)));
+        }
+        if channels[..i].contains(c) {
+            return Err(at(1, format!("channel `{c}` appears twice")));
+        }
+    }
+    let needed: Vec<&str> = REQUIRED
+        .iter()
+        .copied()
+        .chain(meta.controls.iter().map(String::as_str))
+        .collect();
+    // A misnamed channel is one the record has but does not need.
+    let unexpected: Vec<String> = channels
+        .iter()
+        .filter(|c| !needed.contains(&c.as_str()))
+        .cloned()
+        .collect();
+    for need in &needed {
+        if !channels.iter().any(|c| c == need) {
+            let hint = nearest(need, &unexpected)
+                .map(|c| format!("; `{c}` is there: misnamed, or in other units?"))
+                .unwrap_or_default();
+            return Err(at(1, format!("channel `{need}` is missing{hint}")));
+        }
+    }
+    let mut data = vec![Vec::new(); channels.len()];
+    for (line_no, line) in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.len() != channels.len() {
+            return Err(at(
+                line_no + 1,
+                format!(
+                    "{} values where the header has {} channels",
+                    fields.len(),
+                    channels.len()
+                ),
+            ));
+        }
+        for (k, f) in fields.iter().enumerate() {
+            let v = f.trim();
+            let x: f64 = v.parse().map_err(|_| {
+                at(
+                    line_no + 1,
+                    if v.is_empty() {
+                        format!("channel `{}` has a gap (empty value)", channels[k])
+                    } else {
+                        format!("channel `{}`: `{v}` is not a number", channels[k])
+                    },
+                )
+            })?;
+            if !x.is_finite() {
+                return Err(at(line_no + 1, format!("channel `{}` is {x}", channels[k])));
+            }
+            data[k].push(x);
+        }
+    }
+    let t = &data[channels
+        .iter()
+        .position(|c| c == "time_s")
+        .expect("checked")];
+    if t.len() < 2 {
+        return Err(InputError::file(
+            csv_path,
+            "a record needs at least two samples",
+        ));
+    }
+    let dt = 1.0 / meta.sample_rate_hz;
+    // Time must increase everywhere (the graver fault) before it is checked for regularity.
+    if let Some(k) = (1..t.len()).find(|&k| t[k] <= t[k - 1]) {
+        return Err(at(
+            k + 2,
+            format!(
+                "channel `time_s` does not increase ({} after {})",
+                t[k],
+                t[k - 1]
+            ),
+        ));
+    }
+    for k in 1..t.len() {
+        let step = t[k] - t[k - 1];
+        if (step - dt).abs() > DT_TOLERANCE * dt {
+            return Err(at(
+                k + 2,
+                format!(
+                    "channel `time_s` is irregular: step {step} s where the sidecar's {} Hz means {dt} s (a gap or a dropped sample?)",
+                    meta.sample_rate_hz
+                ),
+            ));
+        }
+    }
+    Ok(Record {
+        path: csv_path.to_path_buf(),
+        meta,
+        channels,
+        data,
+    })
+}
+
+/// Writes a record (CSV and sidecar).
+pub fn write(
+    csv_path: &Path,
+    meta: &RecordMeta,
+    channels: &[String],
+    data: &[Vec<f64>],
+) -> std::io::Result<()> {
+    use std::fmt::Write as _;
+    let mut s = channels.join(",");
+    s.push('\n');
+    let n = data.first().map_or(0, Vec::len);
+    for k in 0..n {
+        for (i, col) in data.iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            let _ = write!(s, "{}", col[k]);
+        }
+        s.push('\n');
+    }
+    std::fs::write(csv_path, s)?;
+    let y = serde_yaml::to_string(meta).map_err(std::io::Error::other)?;
+    std::fs::write(sidecar_path(csv_path), y)
+}
+
+/// The closest name by edit distance, if it is close (a likely typo or unit change).
+pub fn nearest<'a>(want: &str, have: &'a [String]) -> Option<&'a str> {
+    have.iter()
+        .map(|h| (edit_distance(want, h), h.as_str()))
+        .filter(|(d, h)| *d <= 3.max(want.len() / 3) && !h.is_empty())
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, h)| h)
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        let mut cur = vec![i; b.len() + 1];
+        for j in 1..=b.len() {
+            let sub = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
+            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
