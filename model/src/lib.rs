@@ -32,6 +32,7 @@ pub mod airfoil;
 pub mod atmosphere;
 pub mod autorotation;
 pub mod bcar;
+pub mod flapping_inflow;
 pub mod inflow;
 pub mod linear;
 pub mod locus;

@@ -704,6 +704,73 @@ mod tests {
         }
     }
 
+    /// Seed 003 Eqs. 15-17 applied to the model's own autorotative flapping give back the
+    /// model's own inflow, within the approximations that derive them (first-harmonic balance,
+    /// linear lift, small angles, no tip loss, mu^2 terms truncated). At mu ~ 0.13 the
+    /// differences are below 1 % in v0 and 2 % in v1c; they grow with mu (at mu = 0.25: 5 % in
+    /// v0, 21 % in v1c). v1s is where the truncation lands: the model's v1s is ~0 (no rolling
+    /// moment about the hinges), the equations give 0.02-0.04 m/s here, growing to 0.2 m/s at
+    /// mu = 0.25, consistent with the scatter seed 003 finds in flight-derived v1s.
+    #[test]
+    fn seed003_eqs_15_17_hold_for_the_models_own_flapping() {
+        use crate::flapping_inflow::{FlapMeasurement, inflow_from_flapping};
+        for (alpha_deg, v) in [(10.0f64, 30.0), (12.0, 25.0)] {
+            let theta = 2f64.to_radians();
+            let mut rotor = classical(theta, 0.0);
+            rotor.blades = 2;
+            rotor.elements = 40;
+            rotor.airfoil = Airfoil::Analytical(AnalyticalSection {
+                lift_slope_per_rad: 5.7,
+                zero_lift_alpha_rad: 0.0,
+                cd0: 0.01,
+                cd1_per_rad: 0.0,
+                cd2_per_rad2: 0.0,
+                stall_alpha_rad: 0.25,
+            });
+            let alpha = alpha_deg.to_radians();
+            let tunnel = Tunnel {
+                alpha_rad: alpha,
+                airspeed_m_s: v,
+                density_kg_m3: 1.225,
+                speed_of_sound_m_s: 1e9,
+                collective_shift_rad: 0.0,
+            };
+            let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+            let m = FlapMeasurement {
+                beta_0_rad: Some(a.a0_rad),
+                beta_1c_rad: -a.a1_rad,
+                beta_1s_rad: -a.b1_rad,
+                v_inplane_m_s: v * alpha.cos(),
+                w_hub_m_s: v * alpha.sin(),
+                omega_rad_s: a.omega_rad_s,
+                radius_m: rotor.radius_m,
+                lock_number: rotor.lock_number(1.225),
+                a0: 0.0,
+                a1_per_rad: 5.7,
+                theta_0_rad: theta,
+                theta_tw_rad_per_m: 0.0,
+                tan_half_skew: (a.skew_rad / 2.0).tan(),
+            };
+            let g = inflow_from_flapping(&m).unwrap();
+            assert!(a.tip_speed_ratio < 0.14, "{a:?}");
+            assert!(
+                ((g.v0_m_s - a.inflow.v0) / a.inflow.v0).abs() < 0.01,
+                "{g:?} vs {:?}",
+                a.inflow
+            );
+            assert!(
+                ((g.v1c_m_s - a.inflow.v1c) / a.inflow.v1c).abs() < 0.02,
+                "{g:?} vs {:?}",
+                a.inflow
+            );
+            assert!(
+                a.inflow.v1s.abs() < 0.005 && g.v1s_m_s.abs() < 0.05,
+                "{g:?} vs {:?}",
+                a.inflow
+            );
+        }
+    }
+
     #[test]
     fn bad_rotor_data_is_rejected() {
         let mut r = classical(0.1, 0.0);
