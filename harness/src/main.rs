@@ -69,6 +69,10 @@ enum Command {
         /// text, json, or yaml (a flight-refs derivative table).
         #[arg(long, value_enum, default_value_t = IdentFormat::Text)]
         format: IdentFormat,
+        /// Another record (not used in the fit) to predict with the identified model: RMS error
+        /// and Theil's inequality coefficient per state (seed 000 Fig. 10).
+        #[arg(long)]
+        predict: Option<PathBuf>,
     },
     /// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
     /// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
@@ -212,7 +216,8 @@ fn main() -> ExitCode {
             record,
             config,
             format,
-        } => identify(record, config, format),
+            predict,
+        } => identify(record, config, format, predict),
         Command::Autorotate {
             rotor,
             alpha_deg,
@@ -785,7 +790,12 @@ fn synth(a: SynthArgs) -> ExitCode {
     }
 }
 
-fn identify(path: PathBuf, config: Option<PathBuf>, format: IdentFormat) -> ExitCode {
+fn identify(
+    path: PathBuf,
+    config: Option<PathBuf>,
+    format: IdentFormat,
+    predict: Option<PathBuf>,
+) -> ExitCode {
     use cierva_harness::ident::{self, record};
     let rec = match record::load(&path) {
         Ok(r) => r,
@@ -854,6 +864,31 @@ fn identify(path: PathBuf, config: Option<PathBuf>, format: IdentFormat) -> Exit
                 }
             }
             println!("status: {}", result.status);
+        }
+    }
+    if let Some(other) = predict {
+        let outcome = record::load(&other)
+            .map_err(|e| e.to_string())
+            .and_then(|check| {
+                let model = result.model.as_ref().ok_or("no identified model to fly")?;
+                ident::predict(model, &check, &cfg)
+            });
+        match outcome {
+            Ok(cmp) => {
+                println!("prediction of {}:", other.display());
+                for c in &cmp {
+                    println!(
+                        "  {:<8} RMS error {:>10}  Theil {:.4}",
+                        c.signal,
+                        text::sig(c.rms_error, 3),
+                        c.theil
+                    );
+                }
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
         }
     }
     ExitCode::SUCCESS

@@ -390,3 +390,70 @@ pub fn reference_yaml(id: &str, ident: &Identification, record: &Record) -> Stri
     }
     s
 }
+
+/// How well a predicted time history matches a measured one.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SignalComparison {
+    pub signal: String,
+    pub rms_error: f64,
+    /// Theil's inequality coefficient, `rms(p - m) / (rms(p) + rms(m))`: 0 is a perfect match,
+    /// 1 the worst.
+    pub theil: f64,
+}
+
+/// Theil's inequality coefficient of a prediction against a measurement.
+pub fn theil_inequality(predicted: &[f64], measured: &[f64]) -> f64 {
+    let n = predicted.len().min(measured.len()).max(1) as f64;
+    let rms =
+        |f: &dyn Fn(usize) -> f64| ((0..n as usize).map(|k| f(k).powi(2)).sum::<f64>() / n).sqrt();
+    let num = rms(&|k| predicted[k] - measured[k]);
+    let den = rms(&|k| predicted[k]) + rms(&|k| measured[k]);
+    if den > 0.0 { num / den } else { 0.0 }
+}
+
+/// Flies `model` (states and controls as in `config`) with the controls of `record`, from trim,
+/// and compares its states with the record's measured perturbations (seed 000 Fig. 10).
+pub fn predict(
+    model: &LinearModel,
+    record: &Record,
+    config: &ConfigSpec,
+) -> Result<Vec<SignalComparison>, String> {
+    let (xs, us) = signals(record, config)?;
+    let model = model
+        .reorder(&config.states.iter().map(String::as_str).collect::<Vec<_>>())
+        .map_err(|e| e.to_string())?;
+    let dt = record.dt_s();
+    let n = xs.first().map_or(0, Vec::len);
+    if n < 2 {
+        return Err("the record is too short to predict".into());
+    }
+    let input = |t: f64| -> Vec<f64> {
+        let pos = (t / dt).clamp(0.0, (n - 1) as f64);
+        let (k, f) = (pos.floor() as usize, pos - pos.floor());
+        us.iter()
+            .map(|u| u[k] + (u[(k + 1).min(n - 1)] - u[k]) * f)
+            .collect()
+    };
+    let x0: Vec<f64> = xs.iter().map(|x| x[0]).collect();
+    let sim = cierva_model::simulate::simulate(&model, &x0, &input, dt, n - 1);
+    Ok(config
+        .states
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let p: Vec<f64> = sim.iter().map(|s| s[i]).collect();
+            let rms_error = (p
+                .iter()
+                .zip(&xs[i])
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                / n as f64)
+                .sqrt();
+            SignalComparison {
+                signal: name.clone(),
+                rms_error,
+                theil: theil_inequality(&p, &xs[i]),
+            }
+        })
+        .collect())
+}
