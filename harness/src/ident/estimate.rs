@@ -169,12 +169,51 @@ const HIGH_CORRELATION: f64 = 0.95;
 const LARGE_RELATIVE_ERROR: f64 = 0.5;
 const ILL_CONDITIONED: f64 = 1e6;
 
-/// Identifies each equation.
+/// Identifies each equation by least squares.
 pub fn identify(
     sig: Signals<'_>,
     freqs: &Frequencies,
     windowing: Windowing,
     equations: &[Equation],
+) -> Result<Vec<EquationFit>, IdentError> {
+    identify_with(sig, freqs, windowing, equations, None)
+}
+
+/// Identifies each equation with instrumental variables built from a first model `(a, b)`
+/// (states and controls in the order of `sig`): at each frequency the state instruments are
+/// `Z(w) = (i w I - a)^-1 b U(w)`, the first model's response to the measured inputs alone;
+/// the controls are their own instruments.
+///
+/// Turbulence forces the states, so the measured states are correlated with the equation error
+/// at the same frequency and least squares is biased; the instruments are not (and, built in
+/// the frequency domain, they exist even when the first model is unstable).
+/// `theta = (Z'X)^-1 Z'y`, covariance `s^2 (Z'X)^-1 Z'Z (X'Z)^-1`.
+pub fn identify_iv(
+    sig: Signals<'_>,
+    freqs: &Frequencies,
+    windowing: Windowing,
+    equations: &[Equation],
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+) -> Result<Vec<EquationFit>, IdentError> {
+    let (n, m) = (sig.states.len(), sig.controls.len());
+    if a.shape() != (n, n)
+        || b.shape() != (n, m)
+        || a.iter().chain(b.iter()).any(|v| !v.is_finite())
+    {
+        return Err(IdentError::Setting(
+            "the instrument model must be finite, states x states and states x controls".into(),
+        ));
+    }
+    identify_with(sig, freqs, windowing, equations, Some((a, b)))
+}
+
+fn identify_with(
+    sig: Signals<'_>,
+    freqs: &Frequencies,
+    windowing: Windowing,
+    equations: &[Equation],
+    instruments: Option<(&DMatrix<f64>, &DMatrix<f64>)>,
 ) -> Result<Vec<EquationFit>, IdentError> {
     let omegas = freqs.omegas();
     if omegas.is_empty() {
@@ -237,6 +276,7 @@ pub fn identify(
     };
     let mut var_ft: Vec<Vec<C>> = vec![Vec::new(); names.len()];
     let mut der_ft: Vec<Vec<C>> = vec![Vec::new(); sig.states.len()];
+
     for s in 0..windowing.segments {
         let start = s * hop;
         let end = (start + seg_len).min(n);
@@ -266,6 +306,8 @@ pub fn identify(
             var_ft[i].extend(fwx);
         }
     }
+    let ins_ft =
+        instruments.map(|(a, b)| state_instruments(a, b, &omegas, &var_ft, sig.states.len()));
     let index = |name: &str| {
         names
             .iter()
@@ -290,7 +332,7 @@ pub fn identify(
                 .iter()
                 .map(|(v, val)| Ok((index(v)?, *val)))
                 .collect::<Result<Vec<_>, IdentError>>()?;
-            fit(eq, &der_ft[row], &var_ft, &cols, &fixed)
+            fit(eq, &der_ft[row], &var_ft, ins_ft.as_deref(), &cols, &fixed)
         })
         .collect()
 }
@@ -299,6 +341,7 @@ fn fit(
     eq: &Equation,
     y_c: &[C],
     var_ft: &[Vec<C>],
+    ins_ft: Option<&[Vec<C>]>,
     cols: &[usize],
     fixed: &[(usize, f64)],
 ) -> Result<EquationFit, IdentError> {
@@ -344,27 +387,58 @@ fn fit(
             state: eq.state.clone(),
         });
     }
-    let theta_s = svd.solve(&y, 0.0).map_err(|_| IdentError::Singular {
-        state: eq.state.clone(),
-    })?;
+    let dof = rows - p;
+    // Least squares by SVD; instrumental variables: the instruments Zs are built like Xs (same
+    // column scales) and theta = (Zs'Xs)^-1 Zs'y.
+    let theta_s = match ins_ft {
+        None => svd.solve(&y, 0.0).map_err(|_| IdentError::Singular {
+            state: eq.state.clone(),
+        })?,
+        Some(_) => {
+            let zs = zs_of(ins_ft, cols, &scales, m, p);
+            let zx_inv =
+                (zs.transpose() * &xs)
+                    .try_inverse()
+                    .ok_or_else(|| IdentError::Singular {
+                        state: eq.state.clone(),
+                    })?;
+            &zx_inv * (zs.transpose() * &y)
+        }
+    };
     let resid = &y - &xs * &theta_s;
     let rss = resid.norm_squared();
     let mean = y.mean();
     let tss = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
-    let dof = rows - p;
-    let s2 = rss / dof as f64;
-    let v_t = svd.v_t.as_ref().expect("computed");
-    // (Xs'Xs)^-1 = V S^-2 V'
-    let inv = DMatrix::from_fn(p, p, |a, b| {
-        (0..p)
-            .map(|k| v_t[(k, a)] * v_t[(k, b)] / (sv[k] * sv[k]))
-            .sum::<f64>()
-    });
+    // Heteroscedasticity-consistent (sandwich) covariance: the equation error's variance
+    // changes with frequency (turbulence and sensor noise are coloured, and the derivative
+    // transform weights noise by w), so one pooled variance misstates the errors. Each
+    // frequency point's variance is its own squared residual, real and imaginary parts pooled,
+    // with the n/(n - p) small-sample factor:
+    //   cov = G^-1 (sum_r s_r^2 z_r z_r') G^-T,  G = Z'X (Z = X for least squares).
+    let z_rows = match ins_ft {
+        Some(_) => zs_of(ins_ft, cols, &scales, m, p),
+        None => xs.clone(),
+    };
+    let g_inv = (z_rows.transpose() * &xs)
+        .try_inverse()
+        .ok_or_else(|| IdentError::Singular {
+            state: eq.state.clone(),
+        })?;
+    let small_sample = rows as f64 / dof as f64;
+    let mut meat = DMatrix::zeros(p, p);
+    for k in 0..m {
+        let s2k = 0.5 * (resid[2 * k].powi(2) + resid[2 * k + 1].powi(2)) * small_sample;
+        for r in [2 * k, 2 * k + 1] {
+            let zr = z_rows.row(r);
+            meat += zr.transpose() * zr * s2k;
+        }
+    }
+    let cov_s = &g_inv * meat * g_inv.transpose();
     let t = student_t_975(dof);
     let mut estimates = Vec::with_capacity(p);
     for c in 0..p {
         let value = theta_s[c] / scales[c];
-        let se = (s2 * inv[(c, c)]).sqrt() / scales[c];
+        let se = cov_s[(c, c)].sqrt() / scales[c];
         estimates.push(Estimate {
             variable: eq.estimate[c].clone(),
             value,
@@ -376,7 +450,7 @@ fn fit(
     let correlation: Vec<Vec<f64>> = (0..p)
         .map(|a| {
             (0..p)
-                .map(|b| inv[(a, b)] / (inv[(a, a)] * inv[(b, b)]).sqrt())
+                .map(|b| cov_s[(a, b)] / (cov_s[(a, a)] * cov_s[(b, b)]).sqrt())
                 .collect()
         })
         .collect();
@@ -414,6 +488,58 @@ fn fit(
         condition_number,
         warnings,
     })
+}
+
+/// The scaled instrument matrix, built like the regressors.
+fn zs_of(
+    ins_ft: Option<&[Vec<C>]>,
+    cols: &[usize],
+    scales: &[f64],
+    m: usize,
+    p: usize,
+) -> DMatrix<f64> {
+    let mut zs = DMatrix::zeros(2 * m, p);
+    if let Some(z_ft) = ins_ft {
+        for k in 0..m {
+            for (c, &j) in cols.iter().enumerate() {
+                zs[(2 * k, c)] = z_ft[j][k].re / scales[c];
+                zs[(2 * k + 1, c)] = z_ft[j][k].im / scales[c];
+            }
+        }
+    }
+    zs
+}
+
+/// Instrument transforms: for every stacked (segment, frequency) point, the states' response
+/// `(i w I - a)^-1 b U` to the controls' transforms; the controls themselves follow unchanged.
+fn state_instruments(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    omegas: &[f64],
+    var_ft: &[Vec<C>],
+    n: usize,
+) -> Vec<Vec<C>> {
+    let points = var_ft.first().map_or(0, Vec::len);
+    let m = var_ft.len() - n;
+    let mut out: Vec<Vec<C>> = vec![Vec::with_capacity(points); n];
+    for idx in 0..points {
+        let w = omegas[idx % omegas.len()];
+        let sys = DMatrix::from_fn(n, n, |i, j| {
+            C::new(if i == j { 0.0 } else { 0.0 }, if i == j { w } else { 0.0 })
+                - C::new(a[(i, j)], 0.0)
+        });
+        let rhs = DMatrix::from_fn(n, 1, |i, _| {
+            (0..m)
+                .map(|k| C::new(b[(i, k)], 0.0) * var_ft[n + k][idx])
+                .sum::<C>()
+        });
+        let z = sys.lu().solve(&rhs).unwrap_or_else(|| DMatrix::zeros(n, 1));
+        for i in 0..n {
+            out[i].push(z[(i, 0)]);
+        }
+    }
+    out.extend(var_ft[n..].iter().cloned());
+    out
 }
 
 /// The 97.5 % quantile of Student's t with `dof` degrees of freedom (Cornish-Fisher expansion

@@ -35,6 +35,26 @@ pub struct ConfigSpec {
     /// Kinematic rows, not identified: `theta: q` means theta' = q.
     #[serde(default)]
     pub kinematics: BTreeMap<String, String>,
+    #[serde(default)]
+    pub method: Method,
+}
+
+/// The estimator.
+///
+/// Both use heteroscedasticity-consistent (sandwich) standard errors. Plain least squares is
+/// seed 000's estimator; under turbulence it is biased (the disturbance drives the regressors at
+/// the same frequency) and its bounds miss the truth (M_q: 0 of 40 seeded records). Instrumental
+/// variables remove that bias: over 200 seeded records every parameter's 95 % bounds held the
+/// truth 94-99 % of the time (test `instrumental_variable_bounds_cover_the_truth`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// Ordinary least squares (seed 000 Eq. 11).
+    LeastSquares,
+    /// Least squares, then instrumental variables: the first model's frequency response to the
+    /// measured inputs, free of turbulence, is the instrument for the states (two passes).
+    #[default]
+    InstrumentalVariables,
 }
 
 /// A frequency band, or a list.
@@ -89,7 +109,7 @@ pub struct EquationSpec {
 
 impl ConfigSpec {
     /// The longitudinal set-up of seeds 000 and 002: `[u w q theta Omega]`, the record's first
-    /// control, 0.05-2 Hz at 100 points, theta' = q.
+    /// control, 0.05-2 Hz at 100 points, theta' = q, instrumental variables.
     pub fn longitudinal(record: &Record) -> Self {
         let mut controls = BTreeMap::new();
         if let Some(c) = record.meta.controls.first() {
@@ -113,6 +133,7 @@ impl ConfigSpec {
             windowing: WindowingSpec::default(),
             equations: vec![],
             kinematics,
+            method: Method::default(),
         }
     }
 }
@@ -257,8 +278,15 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
         overlap: config.windowing.overlap,
         hann: config.windowing.hann,
     };
-    let fits = estimate::identify(sig, &freqs, w, &equations)
-        .map_err(|e: IdentError| format!("{}: {e}", record.path.display()))?;
+    let err = |e: IdentError| format!("{}: {e}", record.path.display());
+    let mut fits = estimate::identify(sig, &freqs, w, &equations).map_err(err)?;
+    if config.method == Method::InstrumentalVariables {
+        for _ in 0..2 {
+            let first = identified_model(config, &controls, &fits)?;
+            fits = estimate::identify_iv(sig, &freqs, w, &equations, first.a(), first.b())
+                .map_err(err)?;
+        }
+    }
     let mut derivatives = Vec::new();
     for fit in &fits {
         let letter = force_letter(&fit.state).map_or(fit.state.clone(), |c| c.to_string());
