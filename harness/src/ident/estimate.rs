@@ -525,8 +525,7 @@ fn state_instruments(
     for idx in 0..points {
         let w = omegas[idx % omegas.len()];
         let sys = DMatrix::from_fn(n, n, |i, j| {
-            C::new(if i == j { 0.0 } else { 0.0 }, if i == j { w } else { 0.0 })
-                - C::new(a[(i, j)], 0.0)
+            C::new(-a[(i, j)], if i == j { w } else { 0.0 })
         });
         let rhs = DMatrix::from_fn(n, 1, |i, _| {
             (0..m)
