@@ -169,6 +169,20 @@ const HIGH_CORRELATION: f64 = 0.95;
 const LARGE_RELATIVE_ERROR: f64 = 0.5;
 const ILL_CONDITIONED: f64 = 1e6;
 
+/// The transforms of a record's signals at the chosen frequencies: computed once, then used
+/// by every fit (least squares and each instrumental-variable pass).
+#[derive(Debug, Clone)]
+pub struct Spectra {
+    names: Vec<String>,
+    states: usize,
+    /// The frequency of each stacked (segment, frequency) point, rad/s.
+    omegas: Vec<f64>,
+    /// `F[w v]` of every state and control, stacked over segments.
+    var_ft: Vec<Vec<C>>,
+    /// `F[w x']` of every state.
+    der_ft: Vec<Vec<C>>,
+}
+
 /// Identifies each equation by least squares.
 pub fn identify(
     sig: Signals<'_>,
@@ -176,27 +190,25 @@ pub fn identify(
     windowing: Windowing,
     equations: &[Equation],
 ) -> Result<Vec<EquationFit>, IdentError> {
-    identify_with(sig, freqs, windowing, equations, None)
+    fit_equations(&spectra(sig, freqs, windowing)?, equations, None)
 }
 
 /// Identifies each equation with instrumental variables built from a first model `(a, b)`
-/// (states and controls in the order of `sig`): at each frequency the state instruments are
-/// `Z(w) = (i w I - a)^-1 b U(w)`, the first model's response to the measured inputs alone;
-/// the controls are their own instruments.
+/// (states and controls in the order of the signals): at each frequency the state instruments
+/// are `Z(w) = (i w I - a)^-1 b U(w)`, the first model's response to the measured inputs
+/// alone; the controls are their own instruments.
 ///
 /// Turbulence forces the states, so the measured states are correlated with the equation error
 /// at the same frequency and least squares is biased; the instruments are not (and, built in
 /// the frequency domain, they exist even when the first model is unstable).
-/// `theta = (Z'X)^-1 Z'y`, covariance `s^2 (Z'X)^-1 Z'Z (X'Z)^-1`.
+/// `theta = (Z'X)^-1 Z'y`.
 pub fn identify_iv(
-    sig: Signals<'_>,
-    freqs: &Frequencies,
-    windowing: Windowing,
+    spectra: &Spectra,
     equations: &[Equation],
     a: &DMatrix<f64>,
     b: &DMatrix<f64>,
 ) -> Result<Vec<EquationFit>, IdentError> {
-    let (n, m) = (sig.states.len(), sig.controls.len());
+    let (n, m) = (spectra.states, spectra.names.len() - spectra.states);
     if a.shape() != (n, n)
         || b.shape() != (n, m)
         || a.iter().chain(b.iter()).any(|v| !v.is_finite())
@@ -205,16 +217,15 @@ pub fn identify_iv(
             "the instrument model must be finite, states x states and states x controls".into(),
         ));
     }
-    identify_with(sig, freqs, windowing, equations, Some((a, b)))
+    fit_equations(spectra, equations, Some((a, b)))
 }
 
-fn identify_with(
+/// Checks the signals and settings and computes the transforms.
+pub fn spectra(
     sig: Signals<'_>,
     freqs: &Frequencies,
     windowing: Windowing,
-    equations: &[Equation],
-    instruments: Option<(&DMatrix<f64>, &DMatrix<f64>)>,
-) -> Result<Vec<EquationFit>, IdentError> {
+) -> Result<Spectra, IdentError> {
     let omegas = freqs.omegas();
     if omegas.is_empty() {
         return Err(IdentError::NoFrequencies);
@@ -306,19 +317,38 @@ fn identify_with(
             var_ft[i].extend(fwx);
         }
     }
-    let ins_ft =
-        instruments.map(|(a, b)| state_instruments(a, b, &omegas, &var_ft, sig.states.len()));
+    let stacked: Vec<f64> = (0..windowing.segments)
+        .flat_map(|_| omegas.iter().copied())
+        .collect();
+    Ok(Spectra {
+        names: names.iter().map(|n| n.to_string()).collect(),
+        states: sig.states.len(),
+        omegas: stacked,
+        var_ft,
+        der_ft,
+    })
+}
+
+/// Fits each equation on precomputed spectra, by least squares or, given a first model, by
+/// instrumental variables.
+pub fn fit_equations(
+    spectra: &Spectra,
+    equations: &[Equation],
+    instruments: Option<(&DMatrix<f64>, &DMatrix<f64>)>,
+) -> Result<Vec<EquationFit>, IdentError> {
+    let ins_ft = instruments
+        .map(|(a, b)| state_instruments(a, b, &spectra.omegas, &spectra.var_ft, spectra.states));
     let index = |name: &str| {
-        names
+        spectra
+            .names
             .iter()
-            .position(|n| *n == name)
+            .position(|n| n == name)
             .ok_or_else(|| IdentError::Unknown(name.to_string()))
     };
     equations
         .iter()
         .map(|eq| {
-            let row = sig
-                .states
+            let row = spectra.names[..spectra.states]
                 .iter()
                 .position(|s| *s == eq.state)
                 .ok_or_else(|| IdentError::Unknown(eq.state.clone()))?;
@@ -332,7 +362,14 @@ fn identify_with(
                 .iter()
                 .map(|(v, val)| Ok((index(v)?, *val)))
                 .collect::<Result<Vec<_>, IdentError>>()?;
-            fit(eq, &der_ft[row], &var_ft, ins_ft.as_deref(), &cols, &fixed)
+            fit(
+                eq,
+                &spectra.der_ft[row],
+                &spectra.var_ft,
+                ins_ft.as_deref(),
+                &cols,
+                &fixed,
+            )
         })
         .collect()
 }
@@ -523,7 +560,7 @@ fn state_instruments(
     let m = var_ft.len() - n;
     let mut out: Vec<Vec<C>> = vec![Vec::with_capacity(points); n];
     for idx in 0..points {
-        let w = omegas[idx % omegas.len()];
+        let w = omegas[idx];
         let sys = DMatrix::from_fn(n, n, |i, j| {
             C::new(-a[(i, j)], if i == j { w } else { 0.0 })
         });

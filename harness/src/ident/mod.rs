@@ -279,12 +279,14 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
         hann: config.windowing.hann,
     };
     let err = |e: IdentError| format!("{}: {e}", record.path.display());
-    let mut fits = estimate::identify(sig, &freqs, w, &equations).map_err(err)?;
+    // The transforms are computed once; least squares and each instrumental-variable pass use them.
+    let spectra = estimate::spectra(sig, &freqs, w).map_err(err)?;
+    let mut fits = estimate::fit_equations(&spectra, &equations, None).map_err(err)?;
     if config.method == Method::InstrumentalVariables {
         for _ in 0..2 {
             let first = identified_model(config, &controls, &fits)?;
-            fits = estimate::identify_iv(sig, &freqs, w, &equations, first.a(), first.b())
-                .map_err(err)?;
+            fits =
+                estimate::identify_iv(&spectra, &equations, first.a(), first.b()).map_err(err)?;
         }
     }
     let mut derivatives = Vec::new();
