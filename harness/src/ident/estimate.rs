@@ -157,9 +157,9 @@ pub enum IdentError {
         rows: usize,
     },
     #[error(
-        "equation `{state}`: the regressors are singular (a parameter has no effect on the data)"
+        "equation `{state}`: the regressors are singular ({detail}): a parameter has no effect on the data, or two have the same"
     )]
-    Singular { state: String },
+    Singular { state: String, detail: String },
     #[error("a setting is out of range: {0}")]
     Setting(String),
 }
@@ -407,12 +407,16 @@ fn fit(
     }
     // Scale columns to unit norm for a meaningful condition number and a stable solve.
     let scales: Vec<f64> = (0..p).map(|c| x.column(c).norm()).collect();
-    if scales
+    if let Some(c) = scales
         .iter()
-        .any(|s| s.is_nan() || *s <= 0.0 || s.is_infinite())
+        .position(|s| s.is_nan() || *s <= 0.0 || s.is_infinite())
     {
         return Err(IdentError::Singular {
             state: eq.state.clone(),
+            detail: format!(
+                "the regressor of `{}` is zero or not finite",
+                eq.estimate[c]
+            ),
         });
     }
     let xs = DMatrix::from_fn(rows, p, |i, c| x[(i, c)] / scales[c]);
@@ -422,6 +426,7 @@ fn fit(
     if smin.is_nan() || smin <= smax * 1e-13 {
         return Err(IdentError::Singular {
             state: eq.state.clone(),
+            detail: format!("singular values from {smax:.3e} down to {smin:.3e}"),
         });
     }
     let dof = rows - p;
@@ -430,6 +435,7 @@ fn fit(
     let theta_s = match ins_ft {
         None => svd.solve(&y, 0.0).map_err(|_| IdentError::Singular {
             state: eq.state.clone(),
+            detail: "the normal equations cannot be inverted".into(),
         })?,
         Some(_) => {
             let zs = zs_of(ins_ft, cols, &scales, m, p);
@@ -438,6 +444,7 @@ fn fit(
                     .try_inverse()
                     .ok_or_else(|| IdentError::Singular {
                         state: eq.state.clone(),
+                        detail: "the normal equations cannot be inverted".into(),
                     })?;
             &zx_inv * (zs.transpose() * &y)
         }
@@ -460,6 +467,7 @@ fn fit(
         .try_inverse()
         .ok_or_else(|| IdentError::Singular {
             state: eq.state.clone(),
+            detail: "the normal equations cannot be inverted".into(),
         })?;
     let small_sample = rows as f64 / dof as f64;
     let mut meat = DMatrix::zeros(p, p);

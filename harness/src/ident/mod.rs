@@ -231,17 +231,20 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
     let (xs, us) = signals(record, config)?;
     let controls: Vec<String> = config.controls.keys().cloned().collect();
     let all: Vec<String> = config.states.iter().chain(&controls).cloned().collect();
+    // Every force equation with every state and control free: the default, and the first model
+    // that instrumental variables need even when the user identifies only some equations.
+    let full: Vec<Equation> = config
+        .states
+        .iter()
+        .filter(|s| force_letter(s).is_some())
+        .map(|s| Equation {
+            state: s.clone(),
+            estimate: all.clone(),
+            fixed: vec![],
+        })
+        .collect();
     let equations: Vec<Equation> = if config.equations.is_empty() {
-        config
-            .states
-            .iter()
-            .filter(|s| force_letter(s).is_some())
-            .map(|s| Equation {
-                state: s.clone(),
-                estimate: all.clone(),
-                fixed: vec![],
-            })
-            .collect()
+        full.clone()
     } else {
         config
             .equations
@@ -283,10 +286,27 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
     let spectra = estimate::spectra(sig, &freqs, w).map_err(err)?;
     let mut fits = estimate::fit_equations(&spectra, &equations, None).map_err(err)?;
     if config.method == Method::InstrumentalVariables {
+        // The first model: the full least-squares fit, with the user's equations in their rows
+        // (instruments need every state's response, not only the identified equations').
+        let mut base = if equations == full {
+            fits.clone()
+        } else {
+            estimate::fit_equations(&spectra, &full, None).map_err(err)?
+        };
         for _ in 0..2 {
-            let first = identified_model(config, &controls, &fits)?;
+            let merged: Vec<EquationFit> = base
+                .iter()
+                .map(|b| {
+                    fits.iter()
+                        .find(|f| f.state == b.state)
+                        .unwrap_or(b)
+                        .clone()
+                })
+                .collect();
+            let first = identified_model(config, &controls, &merged)?;
             fits =
                 estimate::identify_iv(&spectra, &equations, first.a(), first.b()).map_err(err)?;
+            base = merged;
         }
     }
     let mut derivatives = Vec::new();
