@@ -41,6 +41,31 @@ pub struct ModelSpec {
     /// A rotor file, for isolated-rotor (wind-tunnel) checks.
     #[serde(default)]
     pub rotor: Option<RotorModelSpec>,
+    /// A teeter record and its rotor, for inflow-from-flapping checks (seed 003).
+    #[serde(default)]
+    pub flap_record: Option<FlapRecordSpec>,
+}
+
+/// A teeter record analysed for its inflow (seed 003).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlapRecordSpec {
+    /// The record CSV, relative to the case file (its sidecar beside it).
+    pub file: String,
+    /// The rotor file, relative to the case file.
+    pub rotor: String,
+    #[serde(default)]
+    pub coning: crate::ident::flap::Coning,
+    #[serde(default)]
+    pub skew: crate::ident::flap::HalfSkew,
+    #[serde(default = "sea_level_density")]
+    pub density_kg_m3: f64,
+    #[serde(default)]
+    pub collective_deg: Option<f64>,
+}
+
+fn sea_level_density() -> f64 {
+    1.225
 }
 
 /// A rotor subject: the file and the inflow model to run it with.
@@ -161,6 +186,8 @@ pub enum CheckKind {
     Derivative,
     /// An isolated rotor's autorotative equilibrium in a wind tunnel.
     Autorotation,
+    /// Inflow components from a teeter record (seed 003).
+    InflowCoefficients,
 }
 
 /// Which system a mode or BCAR check looks at.
@@ -291,6 +318,12 @@ pub enum Subject {
         file: Box<crate::rotor_file::RotorFile>,
         inflow: cierva_model::rotor::InflowModel,
     },
+    /// A teeter record, its rotor and the analysis settings.
+    FlapRecord {
+        record: Box<crate::ident::record::Record>,
+        rotor: Box<crate::rotor_file::RotorFile>,
+        settings: crate::ident::flap::FlapSettings,
+    },
 }
 
 /// A loaded, checked case.
@@ -366,6 +399,14 @@ pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
             "a1_deg",
             "b1_deg",
         ],
+        CheckKind::InflowCoefficients => &[
+            "v0_m_s",
+            "v1s_m_s",
+            "v1c_m_s",
+            "coning_deg",
+            "beta_1c_deg",
+            "beta_1s_deg",
+        ],
     }
 }
 
@@ -422,13 +463,49 @@ fn load_subject(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Sub
         m.linear_model.is_some(),
         m.derivative_table.is_some(),
         m.rotor.is_some(),
+        m.flap_record.is_some(),
     ];
     if given.iter().filter(|g| **g).count() != 1 {
         return Err(err(
             "model",
-            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table` or `rotor`"
+            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table`, `rotor` or `flap_record`"
                 .into(),
         ));
+    }
+    if let Some(f) = &m.flap_record {
+        let rec = crate::ident::record::load_with(
+            &dir.join(&f.file),
+            &crate::ident::flap::FLAP_REQUIRED,
+            false,
+        )
+        .map_err(|e| {
+            err(
+                "model.flap_record.file",
+                format!("in the referenced record: {e}"),
+            )
+        })?;
+        let rotor = crate::rotor_file::load(&dir.join(&f.rotor)).map_err(|e| {
+            err(
+                "model.flap_record.rotor",
+                format!("in the referenced file: {e}"),
+            )
+        })?;
+        if !(f.density_kg_m3.is_finite() && f.density_kg_m3 > 0.0) {
+            return Err(err(
+                "model.flap_record.density_kg_m3",
+                "must be positive".into(),
+            ));
+        }
+        return Ok(Subject::FlapRecord {
+            record: Box::new(rec),
+            rotor: Box::new(rotor),
+            settings: crate::ident::flap::FlapSettings {
+                coning: f.coning,
+                skew: f.skew,
+                density_kg_m3: f.density_kg_m3,
+                collective_deg: f.collective_deg,
+            },
+        });
     }
     if let Some(r) = &m.rotor {
         let rpath = dir.join(&r.file);
@@ -577,6 +654,14 @@ fn resolve_check(
             refuses(c.without_rotorspeed_coupling, "without_rotorspeed_coupling")?;
             check_tunnel(&err, here, c.tunnel.as_ref().expect("needed above"))?;
         }
+        CheckKind::InflowCoefficients => {
+            refuses(c.mode.is_some(), "mode")?;
+            refuses(c.derivative.is_some(), "derivative")?;
+            refuses(c.verdict.is_some(), "verdict")?;
+            refuses(c.system != System::Full, "system")?;
+            refuses(!c.set.is_empty(), "set")?;
+            refuses(c.without_rotorspeed_coupling, "without_rotorspeed_coupling")?;
+        }
     }
     if c.kind != CheckKind::Autorotation && c.tunnel.is_some() {
         refuses(true, "tunnel")?;
@@ -595,7 +680,15 @@ fn resolve_check(
             "say why the check is expected to fail".into(),
         ));
     }
+    let flap_subject = matches!(subject, Subject::FlapRecord { .. });
+    if flap_subject != (c.kind == CheckKind::InflowCoefficients) {
+        return Err(err(
+            &format!("{here}.kind"),
+            "`inflow_coefficients` checks go with a `flap_record` model, and a `flap_record` model only has those".into(),
+        ));
+    }
     match subject {
+        Subject::FlapRecord { .. } => {}
         Subject::Rotor { .. } => {
             if c.kind != CheckKind::Autorotation {
                 return Err(err(

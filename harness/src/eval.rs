@@ -207,6 +207,34 @@ pub fn autorotation_quantities(
 
 fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
     match subject {
+        Subject::FlapRecord {
+            record,
+            rotor,
+            settings,
+        } => {
+            let r = crate::ident::flap::inflow_from_record(record, &rotor.rotor, settings)?;
+            let values = [
+                ("v0_m_s", r.v0_m_s),
+                ("v1s_m_s", r.v1s_m_s),
+                ("v1c_m_s", r.v1c_m_s),
+                ("coning_deg", r.coning_deg),
+                ("beta_1c_deg", r.beta_1c_deg),
+                ("beta_1s_deg", r.beta_1s_deg),
+            ];
+            let q = check
+                .expectations
+                .iter()
+                .map(|e| {
+                    let v = values
+                        .iter()
+                        .find(|(n, _)| *n == e.quantity)
+                        .map(|(_, v)| *v)
+                        .ok_or("not computed")?;
+                    compare(e, v, || Ok(0.0))
+                })
+                .collect::<Result<_, _>>()?;
+            Ok((q, None))
+        }
         Subject::Rotor { file, inflow } => {
             let t = check
                 .tunnel
@@ -433,6 +461,7 @@ fn compute(
             ));
         }
         CheckKind::Autorotation => return Err("an autorotation check needs a rotor".into()),
+        CheckKind::InflowCoefficients => return Err("an inflow check needs a flap record".into()),
     }
     Ok(Computed {
         values,

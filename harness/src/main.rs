@@ -74,6 +74,56 @@ enum Command {
         #[arg(long)]
         predict: Option<PathBuf>,
     },
+    /// Inflow components from a teeter record (seed 003): disc tilts by a harmonic fit over
+    /// whole revolutions, then v0, v1s, v1c and coning (Eqs. 13-19).
+    ///
+    /// Example: `cierva inflow flight-refs/synthetic-vpm-m16-teeter.csv --rotor aircraft/vpm-m16-rotor.yaml`
+    Inflow {
+        /// A teeter record (channels time_s, teeter_rad, azimuth_from_front_rad,
+        /// omega_rotor_rad_s, hub_inplane_speed_m_s, hub_normal_speed_m_s) with its sidecar.
+        record: PathBuf,
+        /// The rotor file (radius, chord, pitch, section, flap inertia).
+        #[arg(long)]
+        rotor: PathBuf,
+        /// Coning: unknown (a teetering rotor; Eq. 19) or the mean of the flap channel.
+        #[arg(long, value_enum, default_value_t = cierva_harness::ident::flap::Coning::Unknown)]
+        coning: cierva_harness::ident::flap::Coning,
+        /// tan(chi/2) for Eq. 19: one, or from Eq. 5 (signed) or Eq. 6 (modulus).
+        #[arg(long, value_enum, default_value_t = cierva_harness::ident::flap::HalfSkew::One)]
+        skew: cierva_harness::ident::flap::HalfSkew,
+        /// Air density, kg/m^3 (for the Lock number).
+        #[arg(long, default_value_t = 1.225)]
+        density_kg_m3: f64,
+        /// Blade pitch at the rotor's reference station, deg (default: the file's pitch).
+        #[arg(long, allow_hyphen_values = true)]
+        collective_deg: Option<f64>,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// Write a synthetic teeter record of a rotor's autorotative equilibrium in a wind tunnel
+    /// (for testing `cierva inflow`), labelled synthetic with its generator, seed and truth.
+    ///
+    /// Example: `cierva synth-teeter aircraft/vpm-m16-rotor.yaml --alpha-deg 10 --airspeed-m-s 30 --output /tmp/teeter.csv`
+    SynthTeeter {
+        rotor: PathBuf,
+        #[arg(long, allow_hyphen_values = true)]
+        alpha_deg: f64,
+        #[arg(long, allow_hyphen_values = true)]
+        airspeed_m_s: f64,
+        #[arg(long, allow_hyphen_values = true)]
+        collective_deg: Option<f64>,
+        #[arg(long, default_value_t = 20.0)]
+        duration_s: f64,
+        #[arg(long, default_value_t = 200.0)]
+        sample_rate_hz: f64,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Standard deviation of the teeter angle's noise, deg.
+        #[arg(long, default_value_t = 0.0)]
+        noise_deg: f64,
+        #[arg(long)]
+        output: PathBuf,
+    },
     /// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
     /// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
     ///
@@ -211,6 +261,43 @@ fn main() -> ExitCode {
             format,
         } => modes(file, sweep, format),
         Command::Bench(args) => bench(args.repeat),
+        Command::Inflow {
+            record,
+            rotor,
+            coning,
+            skew,
+            density_kg_m3,
+            collective_deg,
+            format,
+        } => inflow(
+            record,
+            rotor,
+            cierva_harness::ident::flap::FlapSettings {
+                coning,
+                skew,
+                density_kg_m3,
+                collective_deg,
+            },
+            format,
+        ),
+        Command::SynthTeeter {
+            rotor,
+            alpha_deg,
+            airspeed_m_s,
+            collective_deg,
+            duration_s,
+            sample_rate_hz,
+            seed,
+            noise_deg,
+            output,
+        } => synth_teeter(
+            rotor,
+            alpha_deg,
+            airspeed_m_s,
+            collective_deg,
+            (duration_s, sample_rate_hz, seed, noise_deg),
+            output,
+        ),
         Command::Synth(args) => synth(args),
         Command::Identify {
             record,
@@ -892,4 +979,128 @@ fn identify(
         }
     }
     ExitCode::SUCCESS
+}
+
+fn inflow(
+    path: PathBuf,
+    rotor: PathBuf,
+    settings: cierva_harness::ident::flap::FlapSettings,
+    format: Format,
+) -> ExitCode {
+    use cierva_harness::ident::{flap, record};
+    let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
+        .map_err(|e| e.to_string())
+        .and_then(|rec| {
+            cierva_harness::rotor_file::load(&rotor)
+                .map(|r| (rec, r))
+                .map_err(|e| e.to_string())
+        });
+    let (rec, file) = match loaded {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match flap::inflow_from_record(&rec, &file.rotor, &settings) {
+        Ok(r) => {
+            match format {
+                Format::Json => println!(
+                    "{}",
+                    serde_json::to_string_pretty(&r).expect("serialisable")
+                ),
+                Format::Text => {
+                    println!(
+                        "{} ({}): {:.1} revolutions, mu {:.4}",
+                        rec.meta.title, rec.meta.id, r.revolutions, r.tip_speed_ratio
+                    );
+                    println!(
+                        "disc tilts   beta_1c {:.4} deg, beta_1s {:.4} deg; coning {:.4} deg",
+                        r.beta_1c_deg, r.beta_1s_deg, r.coning_deg
+                    );
+                    println!(
+                        "inflow       v0 {:.4} m/s, v1s {:.4} m/s, v1c {:.4} m/s (tan(chi/2) = {:.4})",
+                        r.v0_m_s, r.v1s_m_s, r.v1c_m_s, r.tan_half_skew
+                    );
+                }
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn synth_teeter(
+    rotor: PathBuf,
+    alpha_deg: f64,
+    airspeed_m_s: f64,
+    collective_deg: Option<f64>,
+    (duration_s, sample_rate_hz, seed, noise_deg): (f64, f64, u64, f64),
+    output: PathBuf,
+) -> ExitCode {
+    use cierva_harness::ident::{flap, record};
+    let file = match cierva_harness::rotor_file::load(&rotor) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let inflow = InflowModel::PetersHaQuang {
+        skew: SkewConvention::Signed,
+    };
+    let a = match run_autorotation(
+        &file.rotor,
+        alpha_deg,
+        airspeed_m_s,
+        collective_deg,
+        None,
+        inflow,
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+        }
+    };
+    let id = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let (sa, ca) = alpha_deg.to_radians().sin_cos();
+    let truth = format!(
+        "{} at alpha {alpha_deg} deg, {airspeed_m_s} m/s",
+        rotor.display()
+    );
+    let (channels, data, meta) = flap::synthesize_teeter(
+        &id,
+        &truth,
+        &a,
+        airspeed_m_s * ca,
+        airspeed_m_s * sa,
+        duration_s,
+        sample_rate_hz,
+        seed,
+        noise_deg.to_radians(),
+    );
+    match record::write(&output, &meta, &channels, &data) {
+        Ok(()) => {
+            println!(
+                "wrote {} and its sidecar: model inflow v0 {:.4}, v1s {:.4}, v1c {:.4} m/s, coning {:.4} deg",
+                output.display(),
+                a.inflow.v0,
+                a.inflow.v1s,
+                a.inflow.v1c,
+                a.a0_rad.to_degrees()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", output.display());
+            ExitCode::from(2)
+        }
+    }
 }

@@ -230,3 +230,29 @@ fn synth_then_identify_round_trips() {
     assert_eq!(code, 2);
     assert!(err.contains("no-such.yaml"), "{err}");
 }
+
+#[test]
+fn inflow_reads_a_teeter_record() {
+    let (code, out, err) = cierva(&[
+        "inflow",
+        "flight-refs/synthetic-vpm-m16-rotor-teeter.csv",
+        "--rotor",
+        "aircraft/vpm-m16-rotor.yaml",
+        "--skew",
+        "signed",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["revolutions"].as_f64().unwrap() > 60.0);
+    assert!(v["v0_m_s"].as_f64().unwrap() > 0.0);
+    // A flight record for identification is not a teeter record.
+    let (code, _, err) = cierva(&[
+        "inflow",
+        "cases/naca-tr515-table-iii.yaml",
+        "--rotor",
+        "aircraft/vpm-m16-rotor.yaml",
+    ]);
+    assert_eq!(code, 2, "{err}");
+}

@@ -359,3 +359,78 @@ fn tapered_overlapping_segments_and_fixed_parameters_work() {
     let model = ident.model.unwrap();
     assert_eq!(model.derivative_value("X_theta").unwrap(), x_theta);
 }
+
+/// Seed 003's inversion on a synthetic teeter record, within its derivation's assumptions
+/// (no root cut-out, no tip loss): the model's own v0, v1c and coning come back within 3 %.
+#[test]
+fn inflow_from_a_teeter_record_within_the_derivations_limits() {
+    use cierva_harness::ident::flap;
+    let mut file =
+        cierva_harness::rotor_file::load(&repo_root().join("aircraft/vpm-m16-rotor.yaml")).unwrap();
+    file.rotor.root_cutout_m = 0.0;
+    file.rotor.tip_loss_factor = 1.0;
+    let inflow = cierva_model::rotor::InflowModel::PetersHaQuang {
+        skew: cierva_model::rotor::SkewConvention::Signed,
+    };
+    let a = cierva_harness::run_autorotation(&file.rotor, 10.0, 30.0, None, None, inflow).unwrap();
+    let (sa, ca) = 10f64.to_radians().sin_cos();
+    let (channels, data, meta) = flap::synthesize_teeter(
+        "ideal",
+        "ideal rotor",
+        &a,
+        30.0 * ca,
+        30.0 * sa,
+        10.0,
+        100.0,
+        3,
+        0.0,
+    );
+    let rec = record::Record {
+        path: "ideal.csv".into(),
+        meta,
+        channels,
+        data,
+    };
+    let settings = flap::FlapSettings {
+        coning: flap::Coning::Unknown,
+        skew: flap::HalfSkew::Signed,
+        density_kg_m3: 1.225,
+        collective_deg: None,
+    };
+    let r = flap::inflow_from_record(&rec, &file.rotor, &settings).unwrap();
+    for (got, want) in [
+        (r.v0_m_s, a.inflow.v0),
+        (r.v1c_m_s, a.inflow.v1c),
+        (r.coning_deg, a.a0_rad.to_degrees()),
+    ] {
+        assert!(
+            ((got - want) / want).abs() < 0.03,
+            "{r:?} against {:?}, coning {}",
+            a.inflow,
+            a.a0_rad.to_degrees()
+        );
+    }
+    // A record of fewer than two revolutions is refused.
+    let (channels, data, meta) = flap::synthesize_teeter(
+        "short",
+        "ideal rotor",
+        &a,
+        30.0 * ca,
+        30.0 * sa,
+        0.1,
+        100.0,
+        3,
+        0.0,
+    );
+    let short = record::Record {
+        path: "short.csv".into(),
+        meta,
+        channels,
+        data,
+    };
+    assert!(
+        flap::inflow_from_record(&short, &file.rotor, &settings)
+            .unwrap_err()
+            .contains("revolutions")
+    );
+}

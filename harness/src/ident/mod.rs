@@ -6,6 +6,7 @@
 //! frequency domain.
 
 pub mod estimate;
+pub mod flap;
 pub mod fourier;
 pub mod record;
 pub mod synth;
@@ -184,7 +185,12 @@ pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String
         ch("beta_vane_rad")?,
     );
     let (p, q, r) = (ch("p_rad_s")?, ch("q_rad_s")?, ch("r_rad_s")?);
-    let s = &record.meta.sensors;
+    let s = record.meta.sensors.as_ref().ok_or_else(|| {
+        format!(
+            "{}: the sidecar gives no `sensors` (probe and c.g. positions)",
+            record.path.display()
+        )
+    })?;
     let off = [
         s.probe_position_m[0] - s.cg_position_m[0],
         s.probe_position_m[1] - s.cg_position_m[1],

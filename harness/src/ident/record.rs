@@ -72,11 +72,15 @@ pub struct RecordMeta {
     pub synthetic: Option<Synthetic>,
     pub aircraft: String,
     pub sample_rate_hz: f64,
-    pub sensors: Sensors,
+    /// Air-data probe and c.g. positions (flight records for identification need them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<Sensors>,
     #[serde(default)]
     pub condition: BTreeMap<String, serde_yaml::Value>,
     /// Trim values of channels or derived states (`u_m_s`, `w_m_s`, `theta_rad`, ...).
+    #[serde(default)]
     pub trim: BTreeMap<String, f64>,
+    #[serde(default)]
     pub controls: Vec<String>,
 }
 
@@ -122,8 +126,30 @@ pub fn sidecar_path(csv: &Path) -> PathBuf {
 /// Relative tolerance on the time step.
 const DT_TOLERANCE: f64 = 0.01;
 
-/// Loads a record and checks everything a real record gets wrong.
+/// Loads a flight record for identification (the [`REQUIRED`] channels, the sidecar's controls
+/// and its sensor positions) and checks everything a real record gets wrong.
 pub fn load(csv_path: &Path) -> Result<Record, InputError> {
+    let r = load_with(csv_path, &REQUIRED, true)?;
+    if r.meta.sensors.is_none() {
+        let side = sidecar_path(csv_path);
+        let src = yaml::read(&side)?;
+        return Err(InputError::field(
+            &side,
+            &src,
+            "sensors",
+            "identification needs the probe and c.g. positions under `sensors`",
+        ));
+    }
+    Ok(r)
+}
+
+/// Loads a record that must have the given channels (and the sidecar's controls when
+/// `with_controls`), with the same checks.
+pub fn load_with(
+    csv_path: &Path,
+    required: &[&str],
+    with_controls: bool,
+) -> Result<Record, InputError> {
     let side = sidecar_path(csv_path);
     let side_src = yaml::read(&side)?;
     let meta: RecordMeta = yaml::parse(&side, &side_src)?;
@@ -161,10 +187,11 @@ pub fn load(csv_path: &Path) -> Result<Record, InputError> {
             return Err(at(1, format!("channel `{c}` appears twice")));
         }
     }
-    let needed: Vec<&str> = REQUIRED
+    let controls: &[String] = if with_controls { &meta.controls } else { &[] };
+    let needed: Vec<&str> = required
         .iter()
         .copied()
-        .chain(meta.controls.iter().map(String::as_str))
+        .chain(controls.iter().map(String::as_str))
         .collect();
     // A misnamed channel is one the record has but does not need.
     let unexpected: Vec<String> = channels

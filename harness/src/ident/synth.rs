@@ -363,7 +363,7 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         }),
         aircraft: s.aircraft.clone(),
         sample_rate_hz: s.sample_rate_hz,
-        sensors: s.sensors,
+        sensors: Some(s.sensors),
         condition: BTreeMap::new(),
         trim,
         controls: vec![control_channel],
