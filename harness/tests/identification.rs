@@ -198,7 +198,7 @@ fn malformed_records_get_their_errors() {
 
 #[test]
 fn identified_model_predicts_a_doublet_it_was_not_fitted_on() {
-    // Fit on a noise-free sweep, predict a 3-2-1-1 record with sensor noise (seed 000 Fig. 10).
+    // Fit on a noise-free sweep, predict a doublet record with sensor noise (seed 000 Fig. 10).
     let sweep = record::load(&write_record(
         "fit",
         &settings("fit", 5, SensorNoise::NONE, None),
@@ -215,9 +215,9 @@ fn identified_model_predicts_a_doublet_it_was_not_fitted_on() {
         control: 0.0,
     };
     let mut s = settings("check", 6, noise, None);
-    s.input = Input::ThreeTwoOneOne {
+    s.input = Input::Doublet {
         start_s: 2.0,
-        unit_s: 0.5,
+        pulse_s: 1.0,
         amplitude: 0.01,
     };
     s.duration_s = 20.0;
