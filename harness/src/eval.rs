@@ -221,19 +221,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 ("beta_1c_deg", r.beta_1c_deg),
                 ("beta_1s_deg", r.beta_1s_deg),
             ];
-            let q = check
-                .expectations
-                .iter()
-                .map(|e| {
-                    let v = values
-                        .iter()
-                        .find(|(n, _)| *n == e.quantity)
-                        .map(|(_, v)| *v)
-                        .ok_or("not computed")?;
-                    compare(e, v, || Ok(0.0))
-                })
-                .collect::<Result<_, _>>()?;
-            Ok((q, None))
+            Ok((compare_all(check, &values)?, None))
         }
         Subject::Rotor { file, inflow } => {
             let t = check
@@ -241,19 +229,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 .as_ref()
                 .ok_or("an autorotation check needs a tunnel")?;
             let values = autorotation_quantities(&file.rotor, *inflow, t)?;
-            let q = check
-                .expectations
-                .iter()
-                .map(|e| {
-                    let v = values
-                        .iter()
-                        .find(|(n, _)| *n == e.quantity)
-                        .map(|(_, v)| *v)
-                        .ok_or_else(|| format!("`{}` is not computed", e.quantity))?;
-                    compare(e, v, || Ok(0.0))
-                })
-                .collect::<Result<_, _>>()?;
-            Ok((q, None))
+            Ok((compare_all(check, &values)?, None))
         }
         Subject::Table { table, column, .. } => {
             let d = check.derivative.as_deref().unwrap_or_default();
@@ -288,6 +264,23 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
             Ok((out, verdict))
         }
     }
+}
+
+/// Compares every expectation of a check with its value among `values` (quantities computed
+/// without a rounding tolerance: rotor and flap-record subjects).
+fn compare_all(check: &Check, values: &[(&str, f64)]) -> Result<Vec<QuantityResult>, String> {
+    check
+        .expectations
+        .iter()
+        .map(|e| {
+            let v = values
+                .iter()
+                .find(|(n, _)| *n == e.quantity)
+                .map(|(_, v)| *v)
+                .ok_or_else(|| format!("`{}` is not computed", e.quantity))?;
+            compare(e, v, || Ok(0.0))
+        })
+        .collect()
 }
 
 /// The model after the check's modifications (`without_rotorspeed_coupling`, then `set`).
