@@ -5,6 +5,7 @@
 //! title: Pitcairn PCA-2 autogiro rotor
 //! provenance: {source: "NACA TR 487, pp. 12-13"}
 //! rotor:
+//!   hub: articulated                  # articulated | teetering | rigid
 //!   blades: 4
 //!   radius_m: 6.858
 //!   root_cutout_m: 0.0
@@ -84,6 +85,7 @@ fn one() -> f64 {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotorSpec {
+    pub hub: cierva_model::rotor::Hub,
     pub blades: usize,
     pub radius_m: f64,
     pub root_cutout_m: f64,
@@ -190,6 +192,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
             profile_drag_increment: c.profile_drag_increment,
         });
     let rotor = Rotor {
+        hub: r.hub,
         blades: r.blades,
         radius_m: r.radius_m,
         root_cutout_m: r.root_cutout_m,

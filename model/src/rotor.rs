@@ -121,9 +121,24 @@ impl Default for Corrections {
     }
 }
 
+/// How the blades are attached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Hub {
+    /// Each blade flaps on its own hinge (offset, spring and precone as given).
+    Articulated,
+    /// Two blades on a teeter bar: one teeter angle, the blades at `precone +- teeter` (the
+    /// light-gyroplane rotor of seeds 000-003). Coning is the precone: elastic coning is not
+    /// modelled.
+    Teetering,
+    /// No flapping: the blades stay at the precone (a propeller).
+    Rigid,
+}
+
 /// A rotor's data.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Rotor {
+    pub hub: Hub,
     pub blades: usize,
     pub radius_m: f64,
     /// Start of the aerodynamic span, from the shaft axis.
@@ -299,6 +314,13 @@ impl Rotor {
         }
         positive("radius_m", self.radius_m)?;
         positive("flap_inertia_kg_m2", self.flap_inertia_kg_m2)?;
+        if self.hub == Hub::Teetering && (self.blades != 2 || self.hinge_offset_m != 0.0) {
+            return Err(RotorError::Invalid {
+                name: "blades",
+                requirement: "2, with a zero hinge offset, for a teetering hub",
+                value: self.blades as f64,
+            });
+        }
         non_negative("hinge_offset_m", self.hinge_offset_m)?;
         non_negative("root_cutout_m", self.root_cutout_m)?;
         non_negative("flap_mass_moment_kg_m", self.flap_mass_moment_kg_m)?;
@@ -492,10 +514,37 @@ impl<'a> Blade<'a> {
         self.flap_rhs(op, psi_rad, state)
     }
 
-    /// Flap acceleration per unit azimuth squared, `d2 beta / d psi2`.
+    /// The blade angles `(beta, d beta / dt)` of blade 1 and, for a teetering hub, blade 2
+    /// (half a revolution behind), from the flap state.
+    fn blade_angles(&self, op: &Operating, s: [f64; 2]) -> [(f64, f64); 2] {
+        let p = self.rotor.precone_rad;
+        let w = op.omega_rad_s;
+        match self.rotor.hub {
+            Hub::Articulated => [(s[0], s[1] * w), (s[0], s[1] * w)],
+            Hub::Teetering => [(p + s[0], s[1] * w), (p - s[0], -s[1] * w)],
+            Hub::Rigid => [(p, 0.0), (p, 0.0)],
+        }
+    }
+
+    /// Flap (or teeter) acceleration per unit azimuth squared.
     fn flap_rhs(&self, op: &Operating, psi: f64, s: [f64; 2]) -> [f64; 2] {
         let rot = self.rotor;
         let w = op.omega_rad_s;
+        match rot.hub {
+            Hub::Rigid => return [0.0, 0.0],
+            Hub::Teetering => {
+                // I_t = 2 I_beta; the moments of the two blades oppose about the teeter hinge,
+                // and so do their centrifugal moments: -I Omega^2 (sin b1 cos b1 - sin b2 cos b2).
+                let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
+                let m1 = self.loads(op, psi, b1, d1).flap_moment;
+                let m2 = self.loads(op, psi + PI, b2, d2).flap_moment;
+                let i = rot.flap_inertia_kg_m2;
+                let cf = i * w * w * 0.5 * ((2.0 * b1).sin() - (2.0 * b2).sin());
+                let spring = rot.flap_spring_n_m_per_rad * s[0];
+                return [s[1], (m1 - m2 - cf - spring) / (2.0 * i * w * w)];
+            }
+            Hub::Articulated => {}
+        }
         let beta = s[0];
         let beta_dot = s[1] * w;
         let m_aero = self.loads(op, psi, beta, beta_dot).flap_moment;
@@ -553,24 +602,40 @@ impl<'a> Blade<'a> {
                 change,
             });
         }
-        // One more revolution, sampling loads and flapping at the step points.
+        // One more revolution, sampling loads and flapping at the step points. An articulated or
+        // rigid rotor's blades fly the same motion, so N_b times one blade's mean is the
+        // rotor's; a teetering rotor's two blades are summed as they are.
         let start_state = s;
         let mut sum = BladeLoads::default();
         let (mut a0, mut c1, mut s1) = (0.0, 0.0, 0.0);
+        let teetering = self.rotor.hub == Hub::Teetering;
         for k in 0..n {
             let psi = k as f64 * h;
-            let l = self.loads(op, psi, s[0], s[1] * op.omega_rad_s);
+            let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
+            let mut l = self.loads(op, psi, b1, d1);
+            if teetering {
+                let l2 = self.loads(op, psi + PI, b2, d2);
+                l.torque += l2.torque;
+                for j in 0..3 {
+                    l.force[j] += l2.force[j];
+                    l.moment[j] += l2.moment[j];
+                }
+            }
             sum.torque += l.torque;
             for j in 0..3 {
                 sum.force[j] += l.force[j];
                 sum.moment[j] += l.moment[j];
             }
-            a0 += s[0];
-            c1 += s[0] * psi.cos();
-            s1 += s[0] * psi.sin();
+            a0 += b1;
+            c1 += b1 * psi.cos();
+            s1 += b1 * psi.sin();
             s = self.step(op, psi, s, h);
         }
-        let nb = self.rotor.blades as f64;
+        let nb = if teetering {
+            1.0
+        } else {
+            self.rotor.blades as f64
+        };
         let mean = |x: f64| nb * x / n as f64;
         let out = SteadyLoads {
             force_n: sum.force.map(mean),
@@ -603,6 +668,7 @@ mod tests {
     /// hinge offset and cut-out, rigid blades.
     fn classical(theta0: f64, twist: f64) -> Rotor {
         Rotor {
+            hub: Hub::Articulated,
             blades: 3,
             radius_m: 5.0,
             root_cutout_m: 0.0,
@@ -769,6 +835,98 @@ mod tests {
                 a.inflow
             );
         }
+    }
+
+    /// A teetering rotor behaves as an articulated rotor with zero hinge offset in its
+    /// disc tilt (seed 003, after Johnson); only coning differs (the teeter bar fixes it at the
+    /// precone). With the precone set to the articulated rotor's coning, the autorotative
+    /// rotorspeed, thrust and tilts agree closely.
+    #[test]
+    fn a_teetering_rotor_matches_the_articulated_one_at_the_same_coning() {
+        let mut rotor = classical(2f64.to_radians(), 0.0);
+        rotor.blades = 2;
+        rotor.elements = 20;
+        rotor.airfoil = Airfoil::Analytical(AnalyticalSection {
+            lift_slope_per_rad: 5.7,
+            zero_lift_alpha_rad: 0.0,
+            cd0: 0.01,
+            cd1_per_rad: 0.0,
+            cd2_per_rad2: 0.0,
+            stall_alpha_rad: 0.25,
+        });
+        let tunnel = Tunnel {
+            alpha_rad: 10f64.to_radians(),
+            airspeed_m_s: 30.0,
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 1e9,
+            collective_shift_rad: 0.0,
+        };
+        let art = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+        let teeter = Rotor {
+            hub: Hub::Teetering,
+            precone_rad: art.a0_rad,
+            ..rotor.clone()
+        };
+        let tee = autorotation::autorotate(&teeter, tunnel, Options::default()).unwrap();
+        let rel = |a: f64, b: f64| ((a - b) / b).abs();
+        assert!(rel(tee.rpm, art.rpm) < 0.01, "{} vs {}", tee.rpm, art.rpm);
+        assert!(rel(tee.thrust_n, art.thrust_n) < 0.01);
+        assert!(
+            rel(tee.a1_rad, art.a1_rad) < 0.02,
+            "{} vs {}",
+            tee.a1_rad,
+            art.a1_rad
+        );
+        assert!(
+            rel(tee.b1_rad, art.b1_rad) < 0.05,
+            "{} vs {}",
+            tee.b1_rad,
+            art.b1_rad
+        );
+        assert!(
+            (tee.a0_rad - art.a0_rad).abs() < 1e-9,
+            "the teeter angle has no mean: {} vs {}",
+            tee.a0_rad,
+            art.a0_rad
+        );
+        // A rigid hub does not flap: its blades stay at the precone.
+        let rigid = Rotor {
+            hub: Hub::Rigid,
+            ..teeter
+        };
+        let op = Operating {
+            omega_rad_s: 40.0,
+            hub: HubVelocity {
+                u: 20.0,
+                v: 0.0,
+                w: 0.0,
+            },
+            inflow: Inflow::default(),
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 1e9,
+            collective_shift_rad: 0.0,
+        };
+        let l = Blade::new(&rigid, Numerics::default())
+            .steady(&op, [0.0, 0.0])
+            .unwrap();
+        assert!(
+            l.a1_rad.abs() < 1e-15
+                && l.b1_rad.abs() < 1e-15
+                && (l.a0_rad - art.a0_rad).abs() < 1e-15
+        );
+        // A teetering hub needs two blades and no offset.
+        let bad = Rotor {
+            blades: 3,
+            ..rigid.clone()
+        };
+        assert!(
+            Rotor {
+                hub: Hub::Teetering,
+                ..bad
+            }
+            .validate()
+            .is_err()
+        );
     }
 
     #[test]
