@@ -38,6 +38,7 @@ pub mod linear;
 pub mod locus;
 pub mod milne;
 pub mod modes;
+pub mod propeller;
 pub mod rotor;
 pub mod simulate;
 pub mod solve;
