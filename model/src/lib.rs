@@ -39,6 +39,7 @@ pub mod locus;
 pub mod milne;
 pub mod modes;
 pub mod propeller;
+pub mod rigid_body;
 pub mod rotor;
 pub mod simulate;
 pub mod solve;
