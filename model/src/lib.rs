@@ -2,8 +2,10 @@
 //!
 //! The flight-dynamics side of cierva: linear-model analysis now (modes, BCAR Section T,
 //! weakly coupled systems with the rotorspeed degree of freedom, root loci), the atmosphere,
-//! blade sections, the individual-blade rotor with Peters-HaQuang inflow and the isolated rotor
-//! in autorotation. The airframe, the 6-DOF aircraft, trim and linearisation are to come.
+//! blade sections, the individual-blade rotor (articulated, teetering or rigid hubs) with
+//! Peters-HaQuang inflow, the isolated rotor in autorotation, the propeller with blockage,
+//! the airframe, the 6-DOF rigid body, and inflow from blade flapping. The assembled aircraft,
+//! trim and linearisation are to come.
 //!
 //! This crate does no I/O and knows nothing about case files: it takes numbers and returns
 //! numbers, statuses and errors. It never panics on data.
@@ -29,6 +31,7 @@
 //! * **Units.** SI throughout (m, s, kg, N, rad); names carry units where they are not obvious.
 
 pub mod airfoil;
+pub mod airframe;
 pub mod atmosphere;
 pub mod autorotation;
 pub mod bcar;

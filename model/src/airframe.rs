@@ -1,0 +1,347 @@
+//! Airframe aerodynamics: body-axis force and moment coefficients from two-dimensional tables
+//! in angle of attack and sideslip (seed 000 Sec. III, seed 001 Table 1), plus a tailplane and
+//! fin as lifting surfaces in their local flow.
+//!
+//! Coefficients are on the dynamic pressure of the free stream, a reference area, and a
+//! reference length (pitch) or span (roll, yaw), about a reference point; the loads are moved
+//! to the centre of mass. `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative
+//! velocity at the centre of mass (body axes: x forward, y starboard, z down). Angles outside a
+//! table are an error naming the table, never a silent clamp.
+
+use crate::rigid_body::Loads;
+use serde::Serialize;
+use thiserror::Error;
+
+/// A table in angle of attack (rows) and sideslip (columns), degrees; bilinear interpolation.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Table2 {
+    pub alpha_deg: Vec<f64>,
+    pub beta_deg: Vec<f64>,
+    /// `values[i][j]` at `alpha_deg[i]`, `beta_deg[j]`.
+    pub values: Vec<Vec<f64>>,
+}
+
+/// A lifting surface (tailplane or fin).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Surface {
+    /// Position of its aerodynamic centre, body axes from the datum, m.
+    pub position_m: [f64; 3],
+    pub area_m2: f64,
+    pub lift_slope_per_rad: f64,
+    /// Incidence to the body x axis (positive leading edge up for a tailplane, left for a fin).
+    pub incidence_rad: f64,
+    /// Lift stays at its value here beyond it.
+    pub stall_alpha_rad: f64,
+    pub cd0: f64,
+}
+
+/// The airframe.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Airframe {
+    pub reference_area_m2: f64,
+    pub reference_length_m: f64,
+    pub reference_span_m: f64,
+    /// Moment reference point, body axes from the datum, m.
+    pub reference_point_m: [f64; 3],
+    /// Body-axis coefficients: `cx, cy, cz, cl, cm, cn`.
+    pub coefficients: [Table2; 6],
+    pub tailplane: Option<Surface>,
+    pub fin: Option<Surface>,
+}
+
+/// Why the loads cannot be formed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AirframeError {
+    #[error("table `{table}`: {what} = {value:.3} deg is outside the table's [{lo}, {hi}] deg")]
+    OutOfRange {
+        table: &'static str,
+        what: &'static str,
+        value: f64,
+        lo: f64,
+        hi: f64,
+    },
+    #[error(
+        "table `{0}`: the axes must rise strictly and the values be one row per alpha of one value per beta, all finite"
+    )]
+    Table(&'static str),
+    #[error("the airspeed is zero: the angles of attack and sideslip are undefined")]
+    NoAirspeed,
+}
+
+const NAMES: [&str; 6] = ["cx", "cy", "cz", "cl", "cm", "cn"];
+
+impl Table2 {
+    fn validate(&self, name: &'static str) -> Result<(), AirframeError> {
+        let rising = |v: &[f64]| {
+            !v.is_empty() && v.windows(2).all(|w| w[1] > w[0]) && v.iter().all(|x| x.is_finite())
+        };
+        let ok = rising(&self.alpha_deg)
+            && rising(&self.beta_deg)
+            && self.values.len() == self.alpha_deg.len()
+            && self
+                .values
+                .iter()
+                .all(|r| r.len() == self.beta_deg.len() && r.iter().all(|x| x.is_finite()));
+        if ok {
+            Ok(())
+        } else {
+            Err(AirframeError::Table(name))
+        }
+    }
+
+    fn at(&self, name: &'static str, alpha_deg: f64, beta_deg: f64) -> Result<f64, AirframeError> {
+        let locate =
+            |axis: &[f64], x: f64, what: &'static str| -> Result<(usize, f64), AirframeError> {
+                let (lo, hi) = (axis[0], axis[axis.len() - 1]);
+                if !(lo..=hi).contains(&x) {
+                    return Err(AirframeError::OutOfRange {
+                        table: name,
+                        what,
+                        value: x,
+                        lo,
+                        hi,
+                    });
+                }
+                if axis.len() == 1 {
+                    return Ok((0, 0.0));
+                }
+                let i = axis.partition_point(|&a| a <= x).clamp(1, axis.len() - 1) - 1;
+                Ok((i, (x - axis[i]) / (axis[i + 1] - axis[i])))
+            };
+        let (i, fa) = locate(&self.alpha_deg, alpha_deg, "alpha")?;
+        let (j, fb) = locate(&self.beta_deg, beta_deg, "beta")?;
+        let v = |i: usize, j: usize| {
+            self.values[i.min(self.alpha_deg.len() - 1)][j.min(self.beta_deg.len() - 1)]
+        };
+        let row = |i: usize| v(i, j) * (1.0 - fb) + v(i, j + 1) * fb;
+        Ok(row(i) * (1.0 - fa) + row(i + 1) * fa)
+    }
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+impl Airframe {
+    /// Checks the tables and surfaces.
+    pub fn validate(&self) -> Result<(), AirframeError> {
+        for (t, n) in self.coefficients.iter().zip(NAMES) {
+            t.validate(n)?;
+        }
+        Ok(())
+    }
+
+    /// Loads about the centre of mass for the air-relative velocity `uvw` (m/s) and body rates
+    /// `pqr` (rad/s) at the centre of mass `cg_m` (body axes from the datum).
+    pub fn loads(
+        &self,
+        uvw: [f64; 3],
+        pqr: [f64; 3],
+        density_kg_m3: f64,
+        cg_m: [f64; 3],
+    ) -> Result<Loads, AirframeError> {
+        let speed = (uvw[0] * uvw[0] + uvw[1] * uvw[1] + uvw[2] * uvw[2]).sqrt();
+        if !(speed > 1e-9) {
+            return Err(AirframeError::NoAirspeed);
+        }
+        let alpha = uvw[2].atan2(uvw[0]).to_degrees();
+        let beta = (uvw[1] / speed).asin().to_degrees();
+        let q = 0.5 * density_kg_m3 * speed * speed;
+        let mut c = [0.0; 6];
+        for (k, (t, n)) in self.coefficients.iter().zip(NAMES).enumerate() {
+            c[k] = t.at(n, alpha, beta)?;
+        }
+        let s = self.reference_area_m2;
+        let f = [q * s * c[0], q * s * c[1], q * s * c[2]];
+        let m_ref = [
+            q * s * self.reference_span_m * c[3],
+            q * s * self.reference_length_m * c[4],
+            q * s * self.reference_span_m * c[5],
+        ];
+        let arm = [
+            self.reference_point_m[0] - cg_m[0],
+            self.reference_point_m[1] - cg_m[1],
+            self.reference_point_m[2] - cg_m[2],
+        ];
+        let transfer = cross(arm, f);
+        let mut total = [
+            f[0],
+            f[1],
+            f[2],
+            m_ref[0] + transfer[0],
+            m_ref[1] + transfer[1],
+            m_ref[2] + transfer[2],
+        ];
+        for (surface, vertical) in [(&self.tailplane, false), (&self.fin, true)] {
+            if let Some(sf) = surface {
+                let (fs, ms) = surface_loads(sf, vertical, uvw, pqr, density_kg_m3, cg_m);
+                for k in 0..3 {
+                    total[k] += fs[k];
+                    total[k + 3] += ms[k];
+                }
+            }
+        }
+        Ok(Loads {
+            x_n: total[0],
+            y_n: total[1],
+            z_n: total[2],
+            l_n_m: total[3],
+            m_n_m: total[4],
+            n_n_m: total[5],
+        })
+    }
+}
+
+/// A surface's force and moment about the centre of mass: lift normal to its local flow in its
+/// plane (x-z for the tailplane, x-y for the fin), drag along the local flow.
+fn surface_loads(
+    s: &Surface,
+    vertical: bool,
+    uvw: [f64; 3],
+    pqr: [f64; 3],
+    rho: f64,
+    cg_m: [f64; 3],
+) -> ([f64; 3], [f64; 3]) {
+    let arm = [
+        s.position_m[0] - cg_m[0],
+        s.position_m[1] - cg_m[1],
+        s.position_m[2] - cg_m[2],
+    ];
+    let rot = cross(pqr, arm);
+    let vl = [uvw[0] + rot[0], uvw[1] + rot[1], uvw[2] + rot[2]];
+    // In-plane components: (along x, normal) with normal = z (tailplane) or y (fin).
+    let (ux, un) = if vertical {
+        (vl[0], vl[1])
+    } else {
+        (vl[0], vl[2])
+    };
+    let v2 = ux * ux + un * un;
+    if v2 <= 0.0 {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    let v = v2.sqrt();
+    // Flow angle in the surface's plane; a fin's incidence is taken leading edge to port.
+    let angle = un.atan2(ux)
+        + if vertical {
+            -s.incidence_rad
+        } else {
+            s.incidence_rad
+        };
+    let a = angle.clamp(-s.stall_alpha_rad, s.stall_alpha_rad);
+    let q = 0.5 * rho * v2 * s.area_m2;
+    let (lift, drag) = (q * s.lift_slope_per_rad * a, q * s.cd0);
+    // Lift opposes the normal flow (pushes the surface against it), drag along the flow.
+    let fx = (lift * un - drag * ux) / v;
+    let fn_ = (-lift * ux - drag * un) / v;
+    let f = if vertical {
+        [fx, fn_, 0.0]
+    } else {
+        [fx, 0.0, fn_]
+    };
+    (f, cross(arm, f))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn zero_table() -> Table2 {
+        Table2 {
+            alpha_deg: vec![-30.0, 30.0],
+            beta_deg: vec![-30.0, 30.0],
+            values: vec![vec![0.0, 0.0], vec![0.0, 0.0]],
+        }
+    }
+
+    /// A test airframe: no body aerodynamics, a tailplane 3 m behind and a fin 3 m behind and
+    /// 0.5 m above the c.g. (light-gyroplane proportions, estimated).
+    fn airframe() -> Airframe {
+        let surface = |pos: [f64; 3], area: f64| Surface {
+            position_m: pos,
+            area_m2: area,
+            lift_slope_per_rad: 3.5,
+            incidence_rad: 0.0,
+            stall_alpha_rad: 0.3,
+            cd0: 0.01,
+        };
+        Airframe {
+            reference_area_m2: 1.0,
+            reference_length_m: 1.0,
+            reference_span_m: 1.0,
+            reference_point_m: [0.0; 3],
+            coefficients: std::array::from_fn(|_| zero_table()),
+            tailplane: Some(surface([-3.0, 0.0, 0.0], 0.6)),
+            fin: Some(surface([-3.0, 0.0, -0.5], 0.5)),
+        }
+    }
+
+    #[test]
+    fn tables_interpolate_and_refuse_to_extrapolate() {
+        let t = Table2 {
+            alpha_deg: vec![0.0, 10.0],
+            beta_deg: vec![-10.0, 10.0],
+            values: vec![vec![0.0, 1.0], vec![2.0, 3.0]],
+        };
+        assert!((t.at("cz", 5.0, 0.0).unwrap() - 1.5).abs() < 1e-15);
+        assert!(matches!(
+            t.at("cz", 12.0, 0.0),
+            Err(AirframeError::OutOfRange { what: "alpha", .. })
+        ));
+        let bad = Table2 {
+            values: vec![vec![0.0, 1.0]],
+            ..t
+        };
+        assert_eq!(bad.validate("cz"), Err(AirframeError::Table("cz")));
+    }
+
+    #[test]
+    fn symmetric_flight_has_no_lateral_loads() {
+        let l = airframe()
+            .loads([30.0, 0.0, 2.0], [0.0; 3], 1.225, [0.0; 3])
+            .unwrap();
+        assert!(
+            l.y_n.abs() < 1e-12 && l.l_n_m.abs() < 1e-12 && l.n_n_m.abs() < 1e-12,
+            "{l:?}"
+        );
+    }
+
+    #[test]
+    fn the_tail_damps_pitch_and_the_fin_weathercocks() {
+        let a = airframe();
+        let m = |q: f64| {
+            a.loads([30.0, 0.0, 0.0], [0.0, q, 0.0], 1.225, [0.0; 3])
+                .unwrap()
+                .m_n_m
+        };
+        // Nose-up pitch rate: the tail meets the air from below, lifts, and pitches the nose down.
+        assert!(m(0.1) < 0.0 && m(-0.1) > 0.0);
+        // Angle of attack stability from the tailplane: w > 0 (nose up relative to the flow)
+        // gives a nose-down moment.
+        let mw = a
+            .loads([30.0, 0.0, 1.0], [0.0; 3], 1.225, [0.0; 3])
+            .unwrap()
+            .m_n_m;
+        assert!(mw < 0.0);
+        // Sideslip with the wind from starboard (v > 0): the fin yaws the nose into it, N > 0.
+        let nv = a
+            .loads([30.0, 1.0, 0.0], [0.0; 3], 1.225, [0.0; 3])
+            .unwrap()
+            .n_n_m;
+        assert!(nv > 0.0);
+        // Yaw rate: damped by the fin.
+        let nr = a
+            .loads([30.0, 0.0, 0.0], [0.0, 0.0, 0.1], 1.225, [0.0; 3])
+            .unwrap()
+            .n_n_m;
+        assert!(nr < 0.0);
+        assert_eq!(
+            a.loads([0.0; 3], [0.0; 3], 1.225, [0.0; 3]),
+            Err(AirframeError::NoAirspeed)
+        );
+    }
+}
