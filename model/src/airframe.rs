@@ -146,7 +146,7 @@ impl Airframe {
         cg_m: [f64; 3],
     ) -> Result<Loads, AirframeError> {
         let speed = (uvw[0] * uvw[0] + uvw[1] * uvw[1] + uvw[2] * uvw[2]).sqrt();
-        if !(speed > 1e-9) {
+        if speed.is_nan() || speed <= 1e-9 {
             return Err(AirframeError::NoAirspeed);
         }
         let alpha = uvw[2].atan2(uvw[0]).to_degrees();
