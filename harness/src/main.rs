@@ -348,7 +348,7 @@ fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
     for c in &loaded {
         match c {
             Ok(case) => results.extend(eval::run_case(case)),
-            Err(e) => errors.push(e.to_string()),
+            Err(e) => errors.push(e.render()),
         }
     }
     let counts = text::counts(&results);
@@ -371,7 +371,7 @@ fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
                 println!("\n{}", r.explain());
             }
             for e in &errors {
-                println!("\nerror: {e}");
+                println!("\n{e}");
             }
             println!(
                 "\n{} cases, {} checks: {} passed, {} failed, {} expected failures, {} unexpected passes, {} files with errors",

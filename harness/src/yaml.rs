@@ -37,6 +37,68 @@ impl fmt::Display for InputError {
 impl std::error::Error for InputError {}
 
 impl InputError {
+    /// The error as a person reads it: the message, then the offending line of the file with a
+    /// caret under the column (when the file and the location are known).
+    pub fn render(&self) -> String {
+        let mut out = format!("error: {self}");
+        let Some(line) = self.line else { return out };
+        let Ok(src) = std::fs::read_to_string(&self.path) else {
+            return out;
+        };
+        let Some(text) = src.lines().nth(line.saturating_sub(1)) else {
+            return out;
+        };
+        let col = self.column.unwrap_or(1).max(1);
+        let w = line.to_string().len();
+        out += &format!(
+            "\n{:w$} |\n{line} | {text}\n{:w$} | {}^",
+            "",
+            "",
+            " ".repeat(col - 1)
+        );
+        out
+    }
+}
+
+/// The closest name by edit distance, if it is close enough to be a likely typo.
+pub fn nearest<'a>(want: &str, have: &'a [String]) -> Option<&'a str> {
+    have.iter()
+        .map(|h| (edit_distance(want, h), h.as_str()))
+        .filter(|(d, h)| *d <= 3.max(want.len() / 3) && !h.is_empty() && *d > 0)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, h)| h)
+}
+
+/// Levenshtein distance.
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        let mut cur = vec![i; b.len() + 1];
+        for j in 1..=b.len() {
+            let sub = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
+            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+/// For serde's "unknown field `x`, expected one of `a`, `b`, ..." a suggestion of the nearest
+/// expected field.
+fn suggestion(message: &str) -> Option<String> {
+    let rest = message.strip_prefix("unknown field `")?;
+    let (unknown, tail) = rest.split_once('`')?;
+    let expected: Vec<String> = tail
+        .split('`')
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 1)
+        .map(|(_, s)| s.to_string())
+        .collect();
+    nearest(unknown, &expected).map(|n| format!("did you mean `{n}`?"))
+}
+
+impl InputError {
     /// An error about a whole file (I/O, or no better location).
     pub fn file(path: &Path, message: impl Into<String>) -> Self {
         Self {
@@ -76,10 +138,13 @@ pub fn parse<T: DeserializeOwned>(path: &Path, src: &str) -> Result<T, InputErro
             Some(i) if loc.is_some() => text[..i].to_string(),
             _ => text,
         };
-        let (field, message) = match text.split_once(": ") {
+        let (field, mut message) = match text.split_once(": ") {
             Some((f, m)) if looks_like_field_path(f) => (Some(f.to_string()), m.to_string()),
             _ => (None, text.clone()),
         };
+        if let Some(hint) = suggestion(&message) {
+            message = format!("{message}; {hint}");
+        }
         let (mut line, mut column) = (loc.as_ref().map(|l| l.line()), loc.map(|l| l.column()));
         if line.is_none()
             && let Some((l, c)) = field.as_deref().and_then(|f| locate(src, f))
@@ -206,6 +271,22 @@ mod tests {
     struct T {
         id: String,
         mass_kg: f64,
+    }
+
+    #[test]
+    fn typos_get_a_suggestion_and_a_caret() {
+        let dir = std::env::temp_dir().join(format!("cierva-yaml-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.yaml");
+        std::fs::write(&path, "id: a\nmas_kg: 3\n").unwrap();
+        let e = parse::<T>(&path, "id: a\nmas_kg: 3\n").unwrap_err();
+        assert!(e.message.contains("did you mean `mass_kg`?"), "{e}");
+        let r = e.render();
+        assert!(r.contains("2 | mas_kg: 3") && r.ends_with("| ^"), "{r}");
+        assert_eq!(
+            suggestion("unknown field `zzzzzz`, expected `id` or `mass_kg`"),
+            None
+        );
     }
 
     #[test]

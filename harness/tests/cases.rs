@@ -34,7 +34,7 @@ fn main() {
                             .file_stem()
                             .map(|s| s.to_string_lossy().to_string())
                             .unwrap_or_default();
-                        let msg = e.to_string();
+                        let msg = e.render();
                         trials.push(Trial::test(
                             format!("{stem}::load"),
                             move || Err(msg.into()),

@@ -201,7 +201,7 @@ pub fn load_with(
         .collect();
     for need in &needed {
         if !channels.iter().any(|c| c == need) {
-            let hint = nearest(need, &unexpected)
+            let hint = crate::yaml::nearest(need, &unexpected)
                 .map(|c| format!("; `{c}` is there: misnamed, or in other units?"))
                 .unwrap_or_default();
             return Err(at(1, format!("channel `{need}` is missing{hint}")));
@@ -303,27 +303,4 @@ pub fn write(
     std::fs::write(csv_path, s)?;
     let y = serde_yaml::to_string(meta).map_err(std::io::Error::other)?;
     std::fs::write(sidecar_path(csv_path), y)
-}
-
-/// The closest name by edit distance, if it is close (a likely typo or unit change).
-pub fn nearest<'a>(want: &str, have: &'a [String]) -> Option<&'a str> {
-    have.iter()
-        .map(|h| (edit_distance(want, h), h.as_str()))
-        .filter(|(d, h)| *d <= 3.max(want.len() / 3) && !h.is_empty())
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, h)| h)
-}
-
-fn edit_distance(a: &str, b: &str) -> usize {
-    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for i in 1..=a.len() {
-        let mut cur = vec![i; b.len() + 1];
-        for j in 1..=b.len() {
-            let sub = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
-            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
 }
