@@ -698,6 +698,23 @@ mod tests {
         }
     }
 
+    /// A two-bladed rotor with profile drag (`cd0 = 0.01`, `cd2` as given), able to autorotate.
+    fn autorotating(theta0: f64, elements: usize, cd2: f64) -> Rotor {
+        Rotor {
+            blades: 2,
+            elements,
+            airfoil: Airfoil::Analytical(AnalyticalSection {
+                lift_slope_per_rad: 5.7,
+                zero_lift_alpha_rad: 0.0,
+                cd0: 0.01,
+                cd1_per_rad: 0.0,
+                cd2_per_rad2: cd2,
+                stall_alpha_rad: 0.25,
+            }),
+            ..classical(theta0, 0.0)
+        }
+    }
+
     /// Closed-form articulated-rotor results for uniform inflow (Johnson, Helicopter Theory,
     /// Sec. 5.4 and 5.22; Gessow and Myers): thrust over solidity and flapping.
     fn closed_form(theta0: f64, twist: f64, mu: f64, lambda: f64, gamma: f64, a: f64) -> [f64; 4] {
@@ -782,17 +799,7 @@ mod tests {
         use crate::flapping_inflow::{FlapMeasurement, inflow_from_flapping};
         for (alpha_deg, v) in [(10.0f64, 30.0), (12.0, 25.0)] {
             let theta = 2f64.to_radians();
-            let mut rotor = classical(theta, 0.0);
-            rotor.blades = 2;
-            rotor.elements = 40;
-            rotor.airfoil = Airfoil::Analytical(AnalyticalSection {
-                lift_slope_per_rad: 5.7,
-                zero_lift_alpha_rad: 0.0,
-                cd0: 0.01,
-                cd1_per_rad: 0.0,
-                cd2_per_rad2: 0.0,
-                stall_alpha_rad: 0.25,
-            });
+            let rotor = autorotating(theta, 40, 0.0);
             let alpha = alpha_deg.to_radians();
             let tunnel = Tunnel {
                 alpha_rad: alpha,
@@ -843,17 +850,7 @@ mod tests {
     /// rotorspeed, thrust and tilts agree closely.
     #[test]
     fn a_teetering_rotor_matches_the_articulated_one_at_the_same_coning() {
-        let mut rotor = classical(2f64.to_radians(), 0.0);
-        rotor.blades = 2;
-        rotor.elements = 20;
-        rotor.airfoil = Airfoil::Analytical(AnalyticalSection {
-            lift_slope_per_rad: 5.7,
-            zero_lift_alpha_rad: 0.0,
-            cd0: 0.01,
-            cd1_per_rad: 0.0,
-            cd2_per_rad2: 0.0,
-            stall_alpha_rad: 0.25,
-        });
+        let rotor = autorotating(2f64.to_radians(), 20, 0.0);
         let tunnel = Tunnel {
             alpha_rad: 10f64.to_radians(),
             airspeed_m_s: 30.0,
@@ -955,17 +952,7 @@ mod tests {
     fn autorotation_slows_the_flow_and_balances_torque() {
         // A light-gyroplane-like rotor at 10 deg and 30 m/s: in autorotation the flow slows
         // through the rotor, v0 > 0 (seed 001), the mean torque vanishes and the disc tilts back.
-        let mut rotor = classical(2f64.to_radians(), 0.0);
-        rotor.blades = 2;
-        rotor.elements = 20;
-        rotor.airfoil = Airfoil::Analytical(AnalyticalSection {
-            lift_slope_per_rad: 5.7,
-            zero_lift_alpha_rad: 0.0,
-            cd0: 0.01,
-            cd1_per_rad: 0.0,
-            cd2_per_rad2: 0.5,
-            stall_alpha_rad: 0.25,
-        });
+        let rotor = autorotating(2f64.to_radians(), 20, 0.5);
         let tunnel = Tunnel {
             alpha_rad: 10f64.to_radians(),
             airspeed_m_s: 30.0,
