@@ -124,6 +124,13 @@ enum Command {
         #[arg(long)]
         output: PathBuf,
     },
+    /// Write a commented case file to start from (it validates as it is written).
+    ///
+    /// Example: `cierva new-case cases/my-aircraft-70mph.yaml`
+    NewCase {
+        /// The case file to write; its id is the file name without `.yaml`.
+        path: PathBuf,
+    },
     /// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
     /// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
     ///
@@ -261,6 +268,7 @@ fn main() -> ExitCode {
             format,
         } => modes(file, sweep, format),
         Command::Bench(args) => bench(args.repeat),
+        Command::NewCase { path } => new_case(path),
         Command::Inflow {
             record,
             rotor,
@@ -398,7 +406,7 @@ fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> ExitCode {
     let r = match refs::load(&file) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -544,7 +552,7 @@ fn autorotate(
     let file = match cierva_harness::rotor_file::load(&path) {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -622,7 +630,7 @@ fn bench(repeat: usize) -> ExitCode {
     let file = match cierva_harness::rotor_file::load(&path) {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -887,7 +895,7 @@ fn identify(
     let rec = match record::load(&path) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -1100,6 +1108,32 @@ fn synth_teeter(
         }
         Err(e) => {
             eprintln!("error: cannot write {}: {e}", output.display());
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn new_case(path: PathBuf) -> ExitCode {
+    let Some(id) = path.file_stem().map(|s| s.to_string_lossy().to_string()) else {
+        eprintln!("error: {}: not a file name", path.display());
+        return ExitCode::from(2);
+    };
+    if path.exists() {
+        eprintln!("error: {} exists; not overwritten", path.display());
+        return ExitCode::from(2);
+    }
+    let text = include_str!("../templates/case.yaml").replace("CASE_ID", &id);
+    match std::fs::write(&path, text) {
+        Ok(()) => {
+            println!(
+                "wrote {}: edit it, then `cierva validate {}`",
+                path.display(),
+                path.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", path.display());
             ExitCode::from(2)
         }
     }

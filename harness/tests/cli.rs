@@ -256,3 +256,29 @@ fn inflow_reads_a_teeter_record() {
     ]);
     assert_eq!(code, 2, "{err}");
 }
+
+#[test]
+fn new_case_writes_a_template_that_validates() {
+    let dir = std::env::temp_dir().join(format!("cierva-new-{}", std::process::id()));
+    let cases = dir.join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    // The template refers to ../flight-refs: give it one beside the new cases folder.
+    std::fs::create_dir_all(dir.join("flight-refs")).unwrap();
+    std::fs::copy(
+        root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
+        dir.join("flight-refs/seed002-vpm-m16-60kn.yaml"),
+    )
+    .unwrap();
+    let path = cases.join("my-first-case.yaml");
+    let (code, _, err) = cierva(&["new-case", path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, _) = cierva(&["validate", path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("my-first-case") && out.contains("1 passed"),
+        "{out}"
+    );
+    let (code, _, err) = cierva(&["new-case", path.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("not overwritten"), "{err}");
+}
