@@ -105,13 +105,8 @@ enum Command {
     ///
     /// Example: `cierva synth-teeter aircraft/vpm-m16-rotor.yaml --alpha-deg 10 --airspeed-m-s 30 --output /tmp/teeter.csv`
     SynthTeeter {
-        rotor: PathBuf,
-        #[arg(long, allow_hyphen_values = true)]
-        alpha_deg: f64,
-        #[arg(long, allow_hyphen_values = true)]
-        airspeed_m_s: f64,
-        #[arg(long, allow_hyphen_values = true)]
-        collective_deg: Option<f64>,
+        #[command(flatten)]
+        tunnel: TunnelArgs,
         #[arg(long, default_value_t = 20.0)]
         duration_s: f64,
         #[arg(long, default_value_t = 200.0)]
@@ -143,19 +138,8 @@ enum Command {
     /// Example: `cierva autorotate aircraft/pca-2-rotor.yaml --alpha-deg 6.6 --airspeed-m-s 17.7
     /// --collective-deg 1.9`. `--alpha-deg 90` is vertical descent.
     Autorotate {
-        /// A rotor file (see aircraft/).
-        rotor: PathBuf,
-        /// Rotor angle of attack, deg: between the free stream and the plane normal to the
-        /// shaft, positive with the air meeting the disc from below; 90 is vertical descent.
-        #[arg(long, allow_hyphen_values = true)]
-        alpha_deg: f64,
-        /// Tunnel speed, m/s.
-        #[arg(long, allow_hyphen_values = true)]
-        airspeed_m_s: f64,
-        /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
-        /// distribution (default: the file's distribution as it is).
-        #[arg(long, allow_hyphen_values = true)]
-        collective_deg: Option<f64>,
+        #[command(flatten)]
+        tunnel: TunnelArgs,
         /// Air density, kg/m^3 (default 1.225, ISA sea level); the speed of sound is taken
         /// from the standard atmosphere at that density altitude.
         #[arg(long, allow_hyphen_values = true)]
@@ -169,6 +153,25 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+}
+
+/// A rotor in a wind tunnel: the rotor file and the condition (shared by `autorotate` and
+/// `synth-teeter`).
+#[derive(clap::Args)]
+struct TunnelArgs {
+    /// A rotor file (see aircraft/).
+    rotor: PathBuf,
+    /// Rotor angle of attack, deg: between the free stream and the plane normal to the
+    /// shaft, positive with the air meeting the disc from below; 90 is vertical descent.
+    #[arg(long, allow_hyphen_values = true)]
+    alpha_deg: f64,
+    /// Tunnel speed, m/s.
+    #[arg(long, allow_hyphen_values = true)]
+    airspeed_m_s: f64,
+    /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
+    /// distribution (default: the file's distribution as it is).
+    #[arg(long, allow_hyphen_values = true)]
+    collective_deg: Option<f64>,
 }
 
 /// Output of `identify`.
@@ -289,10 +292,13 @@ fn main() -> ExitCode {
             format,
         ),
         Command::SynthTeeter {
-            rotor,
-            alpha_deg,
-            airspeed_m_s,
-            collective_deg,
+            tunnel:
+                TunnelArgs {
+                    rotor,
+                    alpha_deg,
+                    airspeed_m_s,
+                    collective_deg,
+                },
             duration_s,
             sample_rate_hz,
             seed,
@@ -314,10 +320,13 @@ fn main() -> ExitCode {
             predict,
         } => identify(record, config, format, predict),
         Command::Autorotate {
-            rotor,
-            alpha_deg,
-            airspeed_m_s,
-            collective_deg,
+            tunnel:
+                TunnelArgs {
+                    rotor,
+                    alpha_deg,
+                    airspeed_m_s,
+                    collective_deg,
+                },
             density_kg_m3,
             inflow,
             skew,

@@ -114,6 +114,15 @@ fn noise_free_sweep_recovers_every_element_within_1e_3() {
     assert_eq!(ident.fits.len(), 4);
 }
 
+/// The record text with one field (line `row` of the file, column `col`) replaced.
+fn set_field(text: &str, row: usize, col: usize, value: &str) -> String {
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let mut fields: Vec<String> = lines[row].split(',').map(String::from).collect();
+    fields[col] = value.to_string();
+    lines[row] = fields.join(",");
+    lines.join("\n")
+}
+
 /// Turns a good record's text into a bad one.
 type Corruption = Box<dyn Fn(&str) -> String>;
 
@@ -135,24 +144,12 @@ fn malformed_records_get_their_errors() {
         ),
         (
             "nan",
-            Box::new(|t: &str| {
-                let mut l: Vec<String> = t.lines().map(String::from).collect();
-                let mut f: Vec<String> = l[50].split(',').map(String::from).collect();
-                f[3] = "NaN".into();
-                l[50] = f.join(",");
-                l.join("\n")
-            }),
+            Box::new(|t: &str| set_field(t, 50, 3, "NaN")),
             "is NaN",
         ),
         (
             "gap",
-            Box::new(|t: &str| {
-                let mut l: Vec<String> = t.lines().map(String::from).collect();
-                let mut f: Vec<String> = l[60].split(',').map(String::from).collect();
-                f[5] = String::new();
-                l[60] = f.join(",");
-                l.join("\n")
-            }),
+            Box::new(|t: &str| set_field(t, 60, 5, "")),
             "has a gap",
         ),
         (

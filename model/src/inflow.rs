@@ -176,36 +176,22 @@ mod tests {
         // A nose-up pitching moment (more lift at the front, psi = 180 deg) gives more downwash
         // at the front: v1c < 0. A right-wing-down rolling moment (more lift on the left,
         // psi = 270 deg) gives v1s < 0.
+        let moments = |hub: HubVelocity, roll_n_m: f64, pitch_n_m: f64| {
+            let loads = DrivingLoads {
+                thrust_n: 0.0,
+                roll_n_m,
+                pitch_n_m,
+            };
+            static_inflow(loads, hub, 2.0, 1.225, 5.0, (SkewConvention::Signed, true))
+        };
         let hub = HubVelocity {
             u: 40.0,
             v: 0.0,
             w: 0.0,
         };
-        let (p, _) = static_inflow(
-            DrivingLoads {
-                thrust_n: 0.0,
-                roll_n_m: 0.0,
-                pitch_n_m: 1000.0,
-            },
-            hub,
-            2.0,
-            1.225,
-            5.0,
-            (SkewConvention::Signed, true),
-        );
+        let (p, _) = moments(hub, 0.0, 1000.0);
         assert!(p.v1c < 0.0);
-        let (r, _) = static_inflow(
-            DrivingLoads {
-                thrust_n: 0.0,
-                roll_n_m: 1000.0,
-                pitch_n_m: 0.0,
-            },
-            hub,
-            2.0,
-            1.225,
-            5.0,
-            (SkewConvention::Signed, true),
-        );
+        let (r, _) = moments(hub, 1000.0, 0.0);
         assert!(r.v1s < 0.0);
         // The same physics seen from a hub moving to starboard (wind axes turned by 90 deg):
         // the wind-axis pitching moment is -L, and the front of the wind frame is hub azimuth
@@ -215,18 +201,7 @@ mod tests {
             v: 40.0,
             w: 0.0,
         };
-        let (s, _) = static_inflow(
-            DrivingLoads {
-                thrust_n: 0.0,
-                roll_n_m: -1000.0,
-                pitch_n_m: 0.0,
-            },
-            side,
-            2.0,
-            1.225,
-            5.0,
-            (SkewConvention::Signed, true),
-        );
+        let (s, _) = moments(side, -1000.0, 0.0);
         assert!(
             (s.v1s + p.v1c).abs() < 1e-12 && s.v1c.abs() < 1e-12,
             "{s:?} vs {p:?}"
