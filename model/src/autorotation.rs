@@ -141,6 +141,7 @@ impl Problem<'_> {
             density_kg_m3: self.tunnel.density_kg_m3,
             speed_of_sound_m_s: self.tunnel.speed_of_sound_m_s,
             collective_shift_rad: self.tunnel.collective_shift_rad,
+            hub_rates_rad_s: [0.0; 3],
         }
     }
 

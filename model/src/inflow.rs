@@ -81,12 +81,7 @@ pub fn static_inflow(
         pitch_n_m,
     } = loads;
     let wk = wake(hub, v0, skew);
-    let psi_w = if hub.u == 0.0 && hub.v == 0.0 {
-        0.0
-    } else {
-        hub.v.atan2(hub.u)
-    };
-    let (sw, cw) = psi_w.sin_cos();
+    let (sw, cw) = wind_azimuth(hub).sin_cos();
     let l_w = roll_n_m * cw + pitch_n_m * sw;
     let m_w = -roll_n_m * sw + pitch_n_m * cw;
     let (rho, r) = (density_kg_m3, radius_m);
@@ -120,6 +115,75 @@ pub fn static_inflow(
         },
         wk,
     )
+}
+
+/// The wind-axis azimuth `psi_w = atan2(v, u)` of the hub's in-plane motion (zero in hover).
+fn wind_azimuth(hub: HubVelocity) -> f64 {
+    if hub.u == 0.0 && hub.v == 0.0 {
+        0.0
+    } else {
+        hub.v.atan2(hub.u)
+    }
+}
+
+/// The time-constant matrix of seed 001 Eq. 4 (Chen's form of Peters-HaQuang), s, acting on
+/// the wind-axis components `(v0, v1s, v1c)`:
+///
+/// ```text
+///       | 4R/(3 pi v_T)            0                            -R tan(chi/2)/(12 v_m)        |
+/// tau = | 0                        64R/(45 pi v_m (1+cos chi))   0                            |
+///       | 5R tan(chi/2)/(8 v_T)    0                             64R cos chi/(45 pi v_m (1+cos chi)) |
+/// ```
+///
+/// The extracted seed text of Eq. 4 is garbled; this is the product `L M` of the gain matrix
+/// of Eq. 5 (as [`static_inflow`] implements it, normalised by `rho pi R^3`) and the
+/// Peters-HaQuang apparent mass `M = rho pi R^3 diag(8/(3 pi), -16 R/(45 pi), -16 R/(45 pi))`
+/// (the moment rows carry the extra `R`), which
+/// reproduces every legible entry of Eq. 4, the sign of the `(1,3)` entry included (tested).
+pub fn time_constants(wake: Wake, radius_m: f64) -> [[f64; 3]; 3] {
+    let r = radius_m;
+    let chi = wake.skew_rad;
+    let vt = wake.v_t_m_s;
+    let vm = if wake.v_m_m_s.abs() < 1e-9 {
+        1e-9f64.copysign(wake.v_m_m_s)
+    } else {
+        wake.v_m_m_s
+    };
+    let t = (chi / 2.0).tan();
+    let harmonic = 64.0 * r / (45.0 * PI * vm * (1.0 + chi.cos()));
+    [
+        [4.0 * r / (3.0 * PI * vt), 0.0, -r * t / (12.0 * vm)],
+        [0.0, harmonic, 0.0],
+        [5.0 * r * t / (8.0 * vt), 0.0, harmonic * chi.cos()],
+    ]
+}
+
+/// Dynamic inflow (seed 001 Eq. 3): `tau d/dt v = -v + L F`, with `L F` the equilibrium
+/// inflow of the present loads ([`static_inflow`]). Returns `d/dt (v0, v1s, v1c)` in hub axes,
+/// m/s^2, for the present inflow `current` and the equilibrium `target`, both in hub axes; the
+/// matrix is applied in wind axes.
+pub fn inflow_rate(
+    current: Inflow,
+    target: Inflow,
+    hub: HubVelocity,
+    wake: Wake,
+    radius_m: f64,
+) -> Inflow {
+    let (sw, cw) = wind_azimuth(hub).sin_cos();
+    let to_wind = |v: Inflow| [v.v0, v.v1s * cw + v.v1c * sw, -v.v1s * sw + v.v1c * cw];
+    let (c, t) = (to_wind(current), to_wind(target));
+    let d = [t[0] - c[0], t[1] - c[1], t[2] - c[2]];
+    let tau = time_constants(wake, radius_m);
+    // v1s decouples; (v0, v1c) is a 2x2 system.
+    let v1s_dot = d[1] / tau[1][1];
+    let det = tau[0][0] * tau[2][2] - tau[0][2] * tau[2][0];
+    let v0_dot = (tau[2][2] * d[0] - tau[0][2] * d[2]) / det;
+    let v1c_dot = (-tau[2][0] * d[0] + tau[0][0] * d[2]) / det;
+    Inflow {
+        v0: v0_dot,
+        v1s: v1s_dot * cw - v1c_dot * sw,
+        v1c: v1s_dot * sw + v1c_dot * cw,
+    }
 }
 
 #[cfg(test)]
@@ -206,5 +270,104 @@ mod tests {
             (s.v1s + p.v1c).abs() < 1e-12 && s.v1c.abs() < 1e-12,
             "{s:?} vs {p:?}"
         );
+    }
+
+    /// Eq. 4 is `L M`: the gains of Eq. 5 (probed from [`static_inflow`] with unit loads,
+    /// scaled by `rho pi R^3`) times the apparent mass `diag(8/(3 pi), -16 R/(45 pi), -16 R/(45 pi))`.
+    /// In hover `tau_11 = 4 R / (3 pi v_h)`, the Pitt-Peters value. A step away from the
+    /// equilibrium decays with the rate the matrix gives.
+    #[test]
+    fn time_constants_are_the_gains_times_the_apparent_mass() {
+        let (rho, r) = (1.1, 4.1);
+        for (hub, v0, skew) in [
+            (
+                HubVelocity {
+                    u: 35.0,
+                    v: 0.0,
+                    w: 3.0,
+                },
+                2.0,
+                SkewConvention::Signed,
+            ),
+            (
+                HubVelocity {
+                    u: 20.0,
+                    v: 10.0,
+                    w: -1.0,
+                },
+                4.0,
+                SkewConvention::Signed,
+            ),
+            (
+                HubVelocity {
+                    u: 25.0,
+                    v: 0.0,
+                    w: 6.0,
+                },
+                2.5,
+                SkewConvention::Modulus,
+            ),
+        ] {
+            let wk = wake(hub, v0, skew);
+            let psi_w = hub.v.atan2(hub.u);
+            let (sw, cw) = psi_w.sin_cos();
+            // Columns of L in wind axes: unit thrust, unit wind-axis roll, unit wind-axis pitch.
+            let probe = |t: f64, l_w: f64, m_w: f64| {
+                let loads = DrivingLoads {
+                    thrust_n: t,
+                    roll_n_m: l_w * cw - m_w * sw,
+                    pitch_n_m: l_w * sw + m_w * cw,
+                };
+                let (v, _) = static_inflow(loads, hub, v0, rho, r, (skew, true));
+                [v.v0, v.v1s * cw + v.v1c * sw, -v.v1s * sw + v.v1c * cw]
+            };
+            let cols = [
+                probe(1.0, 0.0, 0.0),
+                probe(0.0, 1.0, 0.0),
+                probe(0.0, 0.0, 1.0),
+            ];
+            let m = [
+                8.0 / (3.0 * PI),
+                -16.0 * r / (45.0 * PI),
+                -16.0 * r / (45.0 * PI),
+            ];
+            let tau = time_constants(wk, r);
+            let scale = rho * PI * r.powi(3);
+            for i in 0..3 {
+                for j in 0..3 {
+                    let lm = scale * cols[j][i] * m[j];
+                    assert!(
+                        (tau[i][j] - lm).abs() < 1e-12 * (1.0 + lm.abs()),
+                        "tau[{i}][{j}] = {} vs L M = {lm}",
+                        tau[i][j]
+                    );
+                }
+            }
+            // Relaxation: the rate solves tau v_dot = target - current.
+            let current = Inflow {
+                v0: 1.0,
+                v1s: 0.3,
+                v1c: -0.2,
+            };
+            let target = Inflow {
+                v0: 2.0,
+                v1s: -0.1,
+                v1c: 0.4,
+            };
+            let rate = inflow_rate(current, target, hub, wk, r);
+            let wind = |v: Inflow| [v.v0, v.v1s * cw + v.v1c * sw, -v.v1s * sw + v.v1c * cw];
+            let (rd, d) = (wind(rate), {
+                let (c, t) = (wind(current), wind(target));
+                [t[0] - c[0], t[1] - c[1], t[2] - c[2]]
+            });
+            for i in 0..3 {
+                let lhs: f64 = (0..3).map(|j| tau[i][j] * rd[j]).sum();
+                assert!((lhs - d[i]).abs() < 1e-12, "row {i}: {lhs} vs {}", d[i]);
+            }
+        }
+        let vh = 9.0;
+        let hover = time_constants(wake(HubVelocity::default(), vh, SkewConvention::Signed), r);
+        assert!((hover[0][0] - 4.0 * r / (3.0 * PI * vh)).abs() < 1e-12);
+        assert!(hover[0][2].abs() < 1e-15 && hover[2][0].abs() < 1e-15);
     }
 }

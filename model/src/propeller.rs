@@ -126,6 +126,7 @@ impl Propeller {
             density_kg_m3,
             speed_of_sound_m_s,
             collective_shift_rad: 0.0,
+            hub_rates_rad_s: [0.0; 3],
         };
         // Momentum theory in axial flow: v0 (v_disc + v0) 2 rho A = T, on the branch v0 >= 0
         // (a propeller producing thrust); the residual is scaled by the tip speed.

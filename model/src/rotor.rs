@@ -249,6 +249,9 @@ pub struct Operating {
     pub speed_of_sound_m_s: f64,
     /// Added to the blade pitch everywhere, rad.
     pub collective_shift_rad: f64,
+    /// Angular velocity of the hub (the non-rotating shaft frame) in hub axes, rad/s: the
+    /// body's rates seen along the hub axes. Zero in a wind tunnel; constant in a steady turn.
+    pub hub_rates_rad_s: [f64; 3],
 }
 
 /// Mean loads of the whole rotor in hub axes and the blade motion, over one revolution.
@@ -266,6 +269,11 @@ pub struct SteadyLoads {
     pub b1_rad: f64,
     /// Flap state at `psi = 0` (periodic), rad and rad/s.
     pub beta0: [f64; 2],
+    /// Mean angular momentum of the blades about the hub centre, hub axes, kg m^2/s (about
+    /// `-I_polar Omega` along `z`). On a rotating hub the blades' inertial moment on it
+    /// averages to `-omega_hub x H` (the gyroscopic couple); on a non-rotating hub it averages
+    /// to zero.
+    pub angular_momentum_kg_m2_s: [f64; 3],
 }
 
 impl SteadyLoads {
@@ -466,13 +474,22 @@ impl<'a> Blade<'a> {
         let hub_r = h.u * r_hat[0] + h.v * r_hat[1];
         let hub_t = h.u * t_hat[0] + h.v * t_hat[1];
         let hub_z_blade = sb * hub_r + cb * h.w;
+        let omega_hub = op.hub_rates_rad_s;
+        let rotating = omega_hub.iter().any(|w| *w != 0.0);
         let mut out = BladeLoads::default();
         for el in &self.elements {
             let radial = rot.hinge_offset_m + el.rho * cb; // distance from the shaft axis
             let x = radial / rot.radius_m;
             let vi = op.inflow.v0 + x * (op.inflow.v1s * sp + op.inflow.v1c * cp);
-            let ut = op.omega_rad_s * radial + hub_t;
-            let up = -hub_z_blade + el.rho * beta_dot + vi * cb;
+            let mut ut = op.omega_rad_s * radial + hub_t;
+            let mut up = -hub_z_blade + el.rho * beta_dot + vi * cb;
+            if rotating {
+                // The element's velocity from the hub's rotation, omega_hub x position.
+                let pos = [radial * r_hat[0], radial * r_hat[1], -el.rho * sb];
+                let vr = cross(omega_hub, pos);
+                ut += vr[0] * t_hat[0] + vr[1] * t_hat[1];
+                up -= vr[0] * z_hat_blade[0] + vr[1] * z_hat_blade[1] + vr[2] * z_hat_blade[2];
+            }
             let w2 = ut * ut + up * up;
             if w2 <= 0.0 {
                 continue;
@@ -539,25 +556,96 @@ impl<'a> Blade<'a> {
                 let m1 = self.loads(op, psi, b1, d1).flap_moment;
                 let m2 = self.loads(op, psi + PI, b2, d2).flap_moment;
                 let i = rot.flap_inertia_kg_m2;
-                let cf = i * w * w * 0.5 * ((2.0 * b1).sin() - (2.0 * b2).sin());
+                // The blades' inertial moments oppose about the teeter hinge.
+                let inertial = self.inertial_flap_moment(op, psi, b1)
+                    - self.inertial_flap_moment(op, psi + PI, b2);
                 let spring = rot.flap_spring_n_m_per_rad * s[0];
-                return [s[1], (m1 - m2 - cf - spring) / (2.0 * i * w * w)];
+                return [s[1], (m1 - m2 - inertial - spring) / (2.0 * i * w * w)];
             }
             Hub::Articulated => {}
         }
         let beta = s[0];
         let beta_dot = s[1] * w;
         let m_aero = self.loads(op, psi, beta, beta_dot).flap_moment;
-        let centrifugal = w
-            * w
-            * beta.sin()
-            * (rot.hinge_offset_m * rot.flap_mass_moment_kg_m
-                + rot.flap_inertia_kg_m2 * beta.cos());
+        let inertial = self.inertial_flap_moment(op, psi, beta);
         let spring = rot.flap_spring_n_m_per_rad * (beta - rot.precone_rad);
         [
             s[1],
-            (m_aero - centrifugal - spring) / (rot.flap_inertia_kg_m2 * w * w),
+            (m_aero - inertial - spring) / (rot.flap_inertia_kg_m2 * w * w),
         ]
+    }
+
+    /// The inertial flap moment of one blade apart from `I d2beta/dt2`: centrifugal, and with
+    /// a rotating hub, Coriolis and centripetal terms (thin rigid blade, hinge at `e` on a
+    /// hub turning at `omega_hub`, rotor at `Omega` about `-z`):
+    ///
+    /// ```text
+    /// Omega^2 sin b (eS + I cos b) + 2 Omega (w.e_b)(eS + I cos b)
+    ///   + (w.n)(eS (w.r) + I (w.e_b)) + |w|^2 e S sin b
+    /// ```
+    ///
+    /// with `e_b` along the flapped blade, `n = d e_b / d beta` and `r` the unflapped blade
+    /// direction. In hover this gives the classical response to a pitch rate: the disc lags
+    /// the shaft by `16 q / (gamma Omega)` (tested).
+    fn inertial_flap_moment(&self, op: &Operating, psi: f64, beta: f64) -> f64 {
+        let rot = self.rotor;
+        let (i, es) = (
+            rot.flap_inertia_kg_m2,
+            rot.hinge_offset_m * rot.flap_mass_moment_kg_m,
+        );
+        let w = op.omega_rad_s;
+        let (sb, cb) = beta.sin_cos();
+        let centrifugal = w * w * sb * (es + i * cb);
+        let [p, q, r] = op.hub_rates_rad_s;
+        if p == 0.0 && q == 0.0 && r == 0.0 {
+            return centrifugal;
+        }
+        let (sp, cp) = psi.sin_cos();
+        let w_r = -p * cp + q * sp;
+        let w_e = cb * w_r - sb * r;
+        let w_n = -sb * w_r - cb * r;
+        let coriolis = 2.0 * w * w_e * (es + i * cb);
+        let centripetal = w_n * (es * w_r + i * w_e) + (p * p + q * q + r * r) * es * sb;
+        centrifugal + coriolis + centripetal
+    }
+
+    /// One blade's angular momentum about the hub centre (thin rigid blade; the blade mass
+    /// for the hinge-offset terms from the uniform-rod relation `m = 4 S^2 / (3 I)`).
+    fn angular_momentum(&self, op: &Operating, psi: f64, beta: f64, beta_dot: f64) -> [f64; 3] {
+        let rot = self.rotor;
+        let (i, s_m, e) = (
+            rot.flap_inertia_kg_m2,
+            rot.flap_mass_moment_kg_m,
+            rot.hinge_offset_m,
+        );
+        let m = 4.0 * s_m * s_m / (3.0 * i);
+        let w = op.omega_rad_s;
+        let (sp, cp) = psi.sin_cos();
+        let (sb, cb) = beta.sin_cos();
+        let r_hat = [-cp, sp, 0.0];
+        let t_hat = [sp, cp, 0.0];
+        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
+        let n_hat = [-sb * r_hat[0], -sb * r_hat[1], -cb];
+        let rt = cross(r_hat, t_hat);
+        let rn = cross(r_hat, n_hat);
+        let et = cross(e_b, t_hat);
+        let en = cross(e_b, n_hat);
+        let om = op.hub_rates_rad_s;
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (w_r, w_e) = (dot(om, r_hat), dot(om, e_b));
+        let x2 = e * e * m + 2.0 * e * s_m * cb + i;
+        let mut h = [0.0; 3];
+        for k in 0..3 {
+            h[k] = w * (e * e * m + e * s_m * cb) * rt[k]
+                + e * s_m * beta_dot * rn[k]
+                + w * (e * s_m + i * cb) * et[k]
+                + i * beta_dot * en[k]
+                + x2 * om[k]
+                - (e * e * m * w_r * r_hat[k]
+                    + e * s_m * (w_r * e_b[k] + w_e * r_hat[k])
+                    + i * w_e * e_b[k]);
+        }
+        h
     }
 
     fn step(&self, op: &Operating, psi: f64, s: [f64; 2], h: f64) -> [f64; 2] {
@@ -608,12 +696,21 @@ impl<'a> Blade<'a> {
         let start_state = s;
         let mut sum = BladeLoads::default();
         let (mut a0, mut c1, mut s1) = (0.0, 0.0, 0.0);
+        let mut h_sum = [0.0; 3];
         let teetering = self.rotor.hub == Hub::Teetering;
         for k in 0..n {
             let psi = k as f64 * h;
             let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
             let mut l = self.loads(op, psi, b1, d1);
+            let hb = self.angular_momentum(op, psi, b1, d1);
+            for j in 0..3 {
+                h_sum[j] += hb[j];
+            }
             if teetering {
+                let h2 = self.angular_momentum(op, psi + PI, b2, d2);
+                for j in 0..3 {
+                    h_sum[j] += h2[j];
+                }
                 let l2 = self.loads(op, psi + PI, b2, d2);
                 l.torque += l2.torque;
                 for j in 0..3 {
@@ -645,6 +742,7 @@ impl<'a> Blade<'a> {
             a1_rad: -2.0 * c1 / n as f64,
             b1_rad: -2.0 * s1 / n as f64,
             beta0: start_state,
+            angular_momentum_kg_m2_s: h_sum.map(mean),
         };
         if !out
             .force_n
@@ -763,6 +861,7 @@ mod tests {
                 density_kg_m3: rho,
                 speed_of_sound_m_s: 1e9,
                 collective_shift_rad: 0.0,
+                hub_rates_rad_s: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -902,6 +1001,7 @@ mod tests {
             density_kg_m3: 1.225,
             speed_of_sound_m_s: 1e9,
             collective_shift_rad: 0.0,
+            hub_rates_rad_s: [0.0; 3],
         };
         let l = Blade::new(&rigid, Numerics::default())
             .steady(&op, [0.0, 0.0])
@@ -924,6 +1024,62 @@ mod tests {
             .validate()
             .is_err()
         );
+    }
+
+    /// The classical hover response to hub rates (uniform inflow, zero offset, linear lift):
+    /// harmonic balance of `beta'' + (gamma/8) beta' + beta = 2 p cos psi - 2 q sin psi
+    /// + (gamma/8)(p sin psi + q cos psi)` (rates over Omega; the aerodynamic damping of the
+    /// hub's rotation and the gyroscopic Coriolis terms) gives `beta_1c = 16 q/gamma - p`,
+    /// `beta_1s = 16 p/gamma + q`: a nose-up pitch rate leaves the disc tilted forward of the
+    /// shaft (the pitch damping of a rotor). With `beta = a0 - a1 cos psi - b1 sin psi`,
+    /// `a1 = -beta_1c`. The mean angular momentum is `-I_polar Omega` along `z`.
+    #[test]
+    fn hub_rates_give_the_classical_gyroscopic_flapping() {
+        let rotor = classical(8f64.to_radians(), 0.0);
+        let omega = 40.0;
+        let gamma = rotor.lock_number(1.225);
+        for (p, q) in [(0.0, 0.2), (0.2, 0.0), (-0.1, 0.15)] {
+            let op = Operating {
+                omega_rad_s: omega,
+                hub: HubVelocity::default(),
+                inflow: Inflow {
+                    v0: 8.0,
+                    v1s: 0.0,
+                    v1c: 0.0,
+                },
+                density_kg_m3: 1.225,
+                speed_of_sound_m_s: 1e9,
+                collective_shift_rad: 0.0,
+                hub_rates_rad_s: [p, q, 0.0],
+            };
+            let numerics = Numerics {
+                azimuth_step_rad: 1f64.to_radians(),
+                ..Numerics::default()
+            };
+            let l = Blade::new(&rotor, numerics)
+                .steady(&op, [0.05, 0.0])
+                .unwrap();
+            let (pb, qb) = (p / omega, q / omega);
+            let beta_1c = 16.0 * qb / gamma - pb;
+            let beta_1s = 16.0 * pb / gamma + qb;
+            let tol = 0.02 * beta_1c.abs().max(beta_1s.abs());
+            assert!(
+                (-l.a1_rad - beta_1c).abs() < tol,
+                "{} vs {beta_1c}",
+                -l.a1_rad
+            );
+            assert!(
+                (-l.b1_rad - beta_1s).abs() < tol,
+                "{} vs {beta_1s}",
+                -l.b1_rad
+            );
+            let i_polar = 3.0 * rotor.flap_inertia_kg_m2 * l.a0_rad.cos().powi(2);
+            let hz = l.angular_momentum_kg_m2_s[2];
+            assert!(
+                ((hz + i_polar * omega) / (i_polar * omega)).abs() < 0.01,
+                "{hz}"
+            );
+        }
     }
 
     #[test]
