@@ -34,6 +34,11 @@ pub struct Surface {
     /// Lift stays at its value here beyond it.
     pub stall_alpha_rad: f64,
     pub cd0: f64,
+    /// Change of the surface's effective angle of attack per unit deflection of its control
+    /// surface (flap effectiveness, 0 with no control surface). A positive deflection (rudder
+    /// trailing edge to starboard, elevator trailing edge down) adds to the angle: for a
+    /// surface behind the c.g., a yawing moment to starboard or a nose-down pitching moment.
+    pub control_effectiveness: f64,
 }
 
 /// The airframe.
@@ -67,6 +72,10 @@ pub enum AirframeError {
     Table(&'static str),
     #[error("the airspeed is zero: the angles of attack and sideslip are undefined")]
     NoAirspeed,
+    #[error(
+        "{0}: areas, lift slope and stall angle must be positive, drag non-negative, all finite"
+    )]
+    Surface(&'static str),
 }
 
 const NAMES: [&str; 6] = ["cx", "cy", "cz", "cl", "cm", "cn"];
@@ -133,17 +142,41 @@ impl Airframe {
         for (t, n) in self.coefficients.iter().zip(NAMES) {
             t.validate(n)?;
         }
+        for (sf, name) in [(&self.tailplane, "tailplane"), (&self.fin, "fin")] {
+            if let Some(sf) = sf {
+                let ok = sf.area_m2 > 0.0
+                    && sf.lift_slope_per_rad > 0.0
+                    && sf.stall_alpha_rad > 0.0
+                    && sf.cd0 >= 0.0
+                    && sf.position_m.iter().all(|x| x.is_finite())
+                    && sf.incidence_rad.is_finite()
+                    && sf.control_effectiveness.is_finite();
+                if !ok {
+                    return Err(AirframeError::Surface(name));
+                }
+            }
+        }
+        let refs = [
+            self.reference_area_m2,
+            self.reference_length_m,
+            self.reference_span_m,
+        ];
+        if refs.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+            return Err(AirframeError::Surface("reference area and lengths"));
+        }
         Ok(())
     }
 
     /// Loads about the centre of mass for the air-relative velocity `uvw` (m/s) and body rates
-    /// `pqr` (rad/s) at the centre of mass `cg_m` (body axes from the datum).
+    /// `pqr` (rad/s) at the centre of mass `cg_m` (body axes from the datum), with the
+    /// tailplane's and fin's control surfaces at `deflections_rad` (elevator, rudder).
     pub fn loads(
         &self,
         uvw: [f64; 3],
         pqr: [f64; 3],
         density_kg_m3: f64,
         cg_m: [f64; 3],
+        deflections_rad: [f64; 2],
     ) -> Result<Loads, AirframeError> {
         let speed = (uvw[0] * uvw[0] + uvw[1] * uvw[1] + uvw[2] * uvw[2]).sqrt();
         if speed.is_nan() || speed <= 1e-9 {
@@ -177,9 +210,13 @@ impl Airframe {
             m_ref[1] + transfer[1],
             m_ref[2] + transfer[2],
         ];
-        for (surface, vertical) in [(&self.tailplane, false), (&self.fin, true)] {
+        for (surface, vertical, deflection) in [
+            (&self.tailplane, false, deflections_rad[0]),
+            (&self.fin, true, deflections_rad[1]),
+        ] {
             if let Some(sf) = surface {
-                let (fs, ms) = surface_loads(sf, vertical, uvw, pqr, density_kg_m3, cg_m);
+                let flow = (uvw, pqr, density_kg_m3);
+                let (fs, ms) = surface_loads(sf, vertical, flow, cg_m, deflection);
                 for k in 0..3 {
                     total[k] += fs[k];
                     total[k + 3] += ms[k];
@@ -202,10 +239,9 @@ impl Airframe {
 fn surface_loads(
     s: &Surface,
     vertical: bool,
-    uvw: [f64; 3],
-    pqr: [f64; 3],
-    rho: f64,
+    (uvw, pqr, rho): ([f64; 3], [f64; 3], f64),
     cg_m: [f64; 3],
+    deflection_rad: f64,
 ) -> ([f64; 3], [f64; 3]) {
     let arm = [
         s.position_m[0] - cg_m[0],
@@ -231,7 +267,8 @@ fn surface_loads(
             -s.incidence_rad
         } else {
             s.incidence_rad
-        };
+        }
+        + s.control_effectiveness * deflection_rad;
     let a = angle.clamp(-s.stall_alpha_rad, s.stall_alpha_rad);
     let q = 0.5 * rho * v2 * s.area_m2;
     let (lift, drag) = (q * s.lift_slope_per_rad * a, q * s.cd0);
@@ -268,6 +305,7 @@ mod tests {
             incidence_rad: 0.0,
             stall_alpha_rad: 0.3,
             cd0: 0.01,
+            control_effectiveness: 0.5,
         };
         Airframe {
             reference_area_m2: 1.0,
@@ -302,7 +340,7 @@ mod tests {
     #[test]
     fn symmetric_flight_has_no_lateral_loads() {
         let l = airframe()
-            .loads([30.0, 0.0, 2.0], [0.0; 3], 1.225, [0.0; 3])
+            .loads([30.0, 0.0, 2.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2])
             .unwrap();
         assert!(
             l.y_n.abs() < 1e-12 && l.l_n_m.abs() < 1e-12 && l.n_n_m.abs() < 1e-12,
@@ -314,7 +352,7 @@ mod tests {
     fn the_tail_damps_pitch_and_the_fin_weathercocks() {
         let a = airframe();
         let m = |q: f64| {
-            a.loads([30.0, 0.0, 0.0], [0.0, q, 0.0], 1.225, [0.0; 3])
+            a.loads([30.0, 0.0, 0.0], [0.0, q, 0.0], 1.225, [0.0; 3], [0.0; 2])
                 .unwrap()
                 .m_n_m
         };
@@ -323,24 +361,30 @@ mod tests {
         // Angle of attack stability from the tailplane: w > 0 (nose up relative to the flow)
         // gives a nose-down moment.
         let mw = a
-            .loads([30.0, 0.0, 1.0], [0.0; 3], 1.225, [0.0; 3])
+            .loads([30.0, 0.0, 1.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2])
             .unwrap()
             .m_n_m;
         assert!(mw < 0.0);
         // Sideslip with the wind from starboard (v > 0): the fin yaws the nose into it, N > 0.
         let nv = a
-            .loads([30.0, 1.0, 0.0], [0.0; 3], 1.225, [0.0; 3])
+            .loads([30.0, 1.0, 0.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2])
             .unwrap()
             .n_n_m;
         assert!(nv > 0.0);
         // Yaw rate: damped by the fin.
         let nr = a
-            .loads([30.0, 0.0, 0.0], [0.0, 0.0, 0.1], 1.225, [0.0; 3])
+            .loads([30.0, 0.0, 0.0], [0.0, 0.0, 0.1], 1.225, [0.0; 3], [0.0; 2])
             .unwrap()
             .n_n_m;
         assert!(nr < 0.0);
+        // Rudder trailing edge to starboard: nose to starboard.
+        let nr = a
+            .loads([30.0, 0.0, 0.0], [0.0; 3], 1.225, [0.0; 3], [0.0, 0.1])
+            .unwrap()
+            .n_n_m;
+        assert!(nr > 0.0);
         assert_eq!(
-            a.loads([0.0; 3], [0.0; 3], 1.225, [0.0; 3]),
+            a.loads([0.0; 3], [0.0; 3], 1.225, [0.0; 3], [0.0; 2]),
             Err(AirframeError::NoAirspeed)
         );
     }

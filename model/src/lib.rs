@@ -30,6 +30,7 @@
 //!   `v_i = v0 + (r/R)(v1s sin psi + v1c cos psi)`.
 //! * **Units.** SI throughout (m, s, kg, N, rad); names carry units where they are not obvious.
 
+pub mod aircraft;
 pub mod airfoil;
 pub mod airframe;
 pub mod atmosphere;
@@ -48,6 +49,7 @@ pub mod simulate;
 pub mod solve;
 #[cfg(test)]
 pub(crate) mod testdata;
+pub mod trim;
 
 pub use linear::{Element, LinearModel, LinearModelError};
 pub use modes::{Complex, ModalAnalysis, Mode, ModeKind, modes};

@@ -19,6 +19,10 @@ pub struct NewtonOptions {
     pub fd_step: f64,
     /// Times a step may be halved while the residual norm does not fall.
     pub max_halvings: usize,
+    /// Update the Jacobian by Broyden's rank-one formula after each accepted step instead of
+    /// recomputing it by finite differences (which is done again whenever an updated
+    /// Jacobian fails to give a descent step). Saves model evaluations when they are costly.
+    pub broyden: bool,
 }
 
 impl Default for NewtonOptions {
@@ -28,6 +32,7 @@ impl Default for NewtonOptions {
             max_iterations: 40,
             fd_step: 1e-6,
             max_halvings: 8,
+            broyden: false,
         }
     }
 }
@@ -83,7 +88,10 @@ where
         })
     };
     let mut r = eval(&mut f, &x)?;
-    for it in 0..=opts.max_iterations {
+    let mut jac: Option<DMatrix<f64>> = None;
+    let mut fresh = false;
+    let mut it = 0;
+    while it <= opts.max_iterations {
         let rn = norm(&r);
         if rn <= opts.tolerance {
             return Ok(Converged {
@@ -97,28 +105,39 @@ where
             break;
         }
         let m = r.len();
-        let mut jac = DMatrix::zeros(m, n);
-        for j in 0..n {
-            let mut xp = x.clone();
-            let h = opts.fd_step * x[j].abs().max(1.0);
-            xp[j] += h;
-            let rp = eval(&mut f, &xp)?;
-            for i in 0..m {
-                jac[(i, j)] = (rp[i] - r[i]) / h;
+        if jac.is_none() {
+            let mut fd = DMatrix::zeros(m, n);
+            for j in 0..n {
+                let mut xp = x.clone();
+                let h = opts.fd_step * x[j].abs().max(1.0);
+                xp[j] += h;
+                let rp = eval(&mut f, &xp)?;
+                for i in 0..m {
+                    fd[(i, j)] = (rp[i] - r[i]) / h;
+                }
             }
+            jac = Some(fd);
+            fresh = true;
         }
+        let jac_now = jac.clone().unwrap_or_else(|| DMatrix::zeros(m, n));
         let rhs = -DVector::from_column_slice(&r);
         let dx = if m == n {
-            jac.clone().lu().solve(&rhs)
+            jac_now.clone().lu().solve(&rhs)
         } else {
-            let jt = jac.transpose();
-            (&jt * &jac).lu().solve(&(jt * rhs))
+            let jt = jac_now.transpose();
+            (&jt * &jac_now).lu().solve(&(jt * rhs))
         }
-        .filter(|d| d.iter().all(|v| v.is_finite()))
-        .ok_or_else(|| SolveError::Singular {
-            x: x.clone(),
-            residuals: r.clone(),
-        })?;
+        .filter(|d| d.iter().all(|v| v.is_finite()));
+        let Some(dx) = dx else {
+            if !fresh {
+                jac = None;
+                continue;
+            }
+            return Err(SolveError::Singular {
+                x: x.clone(),
+                residuals: r.clone(),
+            });
+        };
         let mut step = 1.0;
         let mut accepted = false;
         for _ in 0..=opts.max_halvings {
@@ -126,6 +145,19 @@ where
             if let Ok(rt) = f(&xt)
                 && norm(&rt) < rn
             {
+                if opts.broyden {
+                    // J += (dr - J ds) ds^T / (ds^T ds)
+                    let ds = DVector::from_iterator(n, dx.iter().map(|d| step * d));
+                    let dr = DVector::from_iterator(m, rt.iter().zip(&r).map(|(a, b)| a - b));
+                    let denom = ds.dot(&ds);
+                    if denom > 0.0 {
+                        let upd = (dr - &jac_now * &ds) * ds.transpose() / denom;
+                        jac = Some(jac_now + upd);
+                    }
+                    fresh = false;
+                } else {
+                    jac = None;
+                }
                 x = xt;
                 r = rt;
                 accepted = true;
@@ -134,8 +166,14 @@ where
             step *= 0.5;
         }
         if !accepted {
+            if opts.broyden && !fresh {
+                // The updated Jacobian misled: start again from finite differences.
+                jac = None;
+                continue;
+            }
             break;
         }
+        it += 1;
     }
     Err(SolveError::NoConvergence {
         x,

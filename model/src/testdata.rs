@@ -54,3 +54,157 @@ pub fn puma_eq26() -> LinearModel {
     )
     .expect("seed 002 Eq. 26 is a valid model")
 }
+
+/// A light gyroplane for the model's own tests, of VPM M16 proportions (estimated numbers; the
+/// shipped aircraft file `aircraft/vpm-m16.yaml` carries the same kind of numbers with their
+/// provenance).
+pub fn gyroplane() -> crate::aircraft::Aircraft {
+    use crate::aircraft::*;
+    use crate::airfoil::{Airfoil, AnalyticalSection};
+    use crate::airframe::{Airframe, Surface, Table2};
+    use crate::propeller::Propeller;
+    use crate::rigid_body::MassProperties;
+    use crate::rotor::{
+        Corrections, Distribution, Hub, InflowModel, Numerics, Rotor, SkewConvention,
+    };
+    let d = f64::to_radians;
+    let section = |cd0: f64, cd2: f64, stall_deg: f64| {
+        Airfoil::Analytical(AnalyticalSection {
+            lift_slope_per_rad: 5.73,
+            zero_lift_alpha_rad: 0.0,
+            cd0,
+            cd1_per_rad: 0.0,
+            cd2_per_rad2: cd2,
+            stall_alpha_rad: d(stall_deg),
+        })
+    };
+    let rotor = Rotor {
+        hub: Hub::Teetering,
+        blades: 2,
+        radius_m: 4.115,
+        root_cutout_m: 0.4,
+        hinge_offset_m: 0.0,
+        chord_m: Distribution::constant(0.22),
+        pitch_rad: Distribution::constant(d(2.0)),
+        pitch_reference_r_over_r: 0.75,
+        flap_inertia_kg_m2: 55.3,
+        flap_mass_moment_kg_m: 0.0,
+        flap_spring_n_m_per_rad: 0.0,
+        precone_rad: d(3.4),
+        tip_loss_factor: 0.97,
+        airfoil: section(0.011, 0.4, 12.0),
+        elements: 10,
+        corrections: Corrections::default(),
+    };
+    let prop_rotor = Rotor {
+        hub: Hub::Rigid,
+        blades: 3,
+        radius_m: 0.737,
+        root_cutout_m: 0.12,
+        hinge_offset_m: 0.0,
+        chord_m: Distribution::constant(0.08),
+        pitch_rad: Distribution {
+            stations_r_over_r: vec![0.0, 1.0],
+            values: vec![0.60, 0.22],
+        },
+        pitch_reference_r_over_r: 0.75,
+        flap_inertia_kg_m2: 0.3,
+        flap_mass_moment_kg_m: 0.0,
+        flap_spring_n_m_per_rad: 0.0,
+        precone_rad: 0.0,
+        tip_loss_factor: 0.97,
+        airfoil: section(0.012, 0.5, 14.0),
+        elements: 8,
+        corrections: Corrections::default(),
+    };
+    let table = |f: &dyn Fn(f64, f64) -> f64| {
+        let alpha: Vec<f64> = (-6..=6).map(|k| 10.0 * k as f64).collect();
+        let beta: Vec<f64> = (-3..=3).map(|k| 10.0 * k as f64).collect();
+        let values = alpha
+            .iter()
+            .map(|a| beta.iter().map(|b| f(d(*a), d(*b))).collect())
+            .collect();
+        Table2 {
+            alpha_deg: alpha,
+            beta_deg: beta,
+            values,
+        }
+    };
+    let surface = |position_m: [f64; 3], area_m2: f64, control_effectiveness: f64| Surface {
+        position_m,
+        area_m2,
+        lift_slope_per_rad: 3.5,
+        incidence_rad: 0.0,
+        stall_alpha_rad: d(20.0),
+        cd0: 0.012,
+        control_effectiveness,
+    };
+    Aircraft {
+        mass: MassProperties {
+            mass_kg: 450.0,
+            ixx_kg_m2: 250.0,
+            iyy_kg_m2: 650.0,
+            izz_kg_m2: 450.0,
+            ixz_kg_m2: 40.0,
+        },
+        cg_m: [0.0, 0.0, 0.0],
+        main_rotor: MainRotor {
+            rotor,
+            pivot_m: [0.0, 0.0, -1.6],
+            spindle_length_m: 0.2,
+            collective_shift_rad: 0.0,
+            inflow: InflowModel::PetersHaQuang {
+                skew: SkewConvention::Signed,
+            },
+            numerics: Numerics {
+                azimuth_step_rad: d(5.0),
+                periodic_tolerance: 1e-10,
+                max_revolutions: 200,
+            },
+        },
+        propeller: PropellerInstallation {
+            propeller: Propeller {
+                rotor: prop_rotor,
+                blockage: 0.0,
+            },
+            position_m: [-1.3, 0.0, -0.35],
+            drive: Drive::Engine {
+                max_power_w: 84_500.0,
+                rated_rpm: 2388.0,
+                polar_inertia_kg_m2: 1.2,
+            },
+            rotation: Rotation::Clockwise,
+        },
+        airframe: Airframe {
+            reference_area_m2: 1.0,
+            reference_length_m: 1.0,
+            reference_span_m: 1.0,
+            reference_point_m: [0.0, 0.0, 0.0],
+            coefficients: [
+                table(&|a, _| -0.6 - 0.8 * a.sin().powi(2)),
+                table(&|_, b| -0.8 * b),
+                table(&|a, _| -0.4 * a),
+                table(&|_, b| -0.05 * b),
+                table(&|a, _| 0.15 * a),
+                table(&|_, b| -0.1 * b),
+            ],
+            tailplane: Some(surface([-2.6, 0.0, -0.2], 0.45, 0.0)),
+            fin: Some(surface([-2.8, 0.0, -0.6], 0.7, 0.5)),
+        },
+        controls: ControlMaps {
+            shaft_pitch_rad: LinearMap {
+                at_0_percent: d(-2.0),
+                at_100_percent: d(18.0),
+            },
+            shaft_roll_rad: LinearMap {
+                at_0_percent: d(-8.0),
+                at_100_percent: d(8.0),
+            },
+            rudder_rad: LinearMap {
+                at_0_percent: d(-25.0),
+                at_100_percent: d(25.0),
+            },
+        },
+        hub_aoa_factor: None,
+    }
+}

@@ -1,0 +1,542 @@
+//! Trim: steady flight of the revolution-averaged aircraft ([`crate::aircraft`]).
+//!
+//! Given the true airspeed, rate of climb (negative to descend), turn rate, air and the
+//! aircraft's mass and c.g., trim finds the stick positions, pedal, throttle, pitch and roll
+//! attitude, rotorspeed, main-rotor inflow and (with an engine drive) propeller speed at which
+//! every revolution-averaged acceleration vanishes: `du, dv, dw, dp, dq, dr`, `dOmega`, the
+//! inflow's departure from its equilibrium and, with an engine, `dOmega_prop`. The blade's
+//! periodic motion is solved inside each evaluation. Heading is zero; the flight path is fixed
+//! in north-east-down axes (`V` along the track, climbing at `climb_m_s`), so sideslip is a
+//! result, not an unknown (the pilot flies wings-level or banked as the moments require).
+//!
+//! # Convergence criterion
+//! Damped Newton ([`crate::solve::newton`]) on scaled unknowns, with a finite-difference
+//! Jacobian refreshed by Broyden updates (recomputed when an update fails to descend),
+//! converged when every scaled
+//! residual is at most `tolerance` (default `1e-7`): translational accelerations in g, angular
+//! accelerations in rad/s^2, rotor and propeller accelerations divided by their speeds (1/s),
+//! and the inflow mismatch divided by the tip speed. Failure returns the last residuals by
+//! name.
+
+use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, State};
+use crate::rigid_body::{BodyState, G_M_S2};
+use crate::rotor::{Inflow, InflowModel};
+use crate::solve::{self, NewtonOptions, SolveError};
+use serde::Serialize;
+use std::f64::consts::PI;
+use thiserror::Error;
+
+/// The flight condition to trim.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Condition {
+    pub airspeed_m_s: f64,
+    /// Rate of climb, m/s (negative descends).
+    pub climb_m_s: f64,
+    /// Rate of turn, rad/s (positive to starboard).
+    pub turn_rate_rad_s: f64,
+    pub air: Air,
+}
+
+/// Trim settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Options {
+    pub newton: NewtonOptions,
+    /// The rotor tip speed to start from, m/s.
+    pub tip_speed_guess_m_s: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            newton: NewtonOptions {
+                tolerance: 1e-7,
+                max_iterations: 30,
+                fd_step: 1e-6,
+                max_halvings: 10,
+                broyden: true,
+            },
+            tip_speed_guess_m_s: 160.0,
+        }
+    }
+}
+
+/// A trimmed flight condition.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Trim {
+    pub controls: Controls,
+    pub state: State,
+    pub pitch_rad: f64,
+    pub roll_rad: f64,
+    /// Angle of attack and sideslip at the c.g., rad.
+    pub alpha_rad: f64,
+    pub sideslip_rad: f64,
+    pub rotor_rpm: f64,
+    pub propeller_rpm: f64,
+    /// The model's evaluation at the trim point.
+    pub averaged: Averaged,
+    /// The scaled residuals by name, and their infinity norm.
+    pub residuals: Vec<(String, f64)>,
+    pub residual_norm: f64,
+    pub iterations: usize,
+    pub tolerance: f64,
+}
+
+/// Why trim failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TrimError {
+    #[error(transparent)]
+    Aircraft(#[from] AircraftError),
+    #[error("{name} must be {requirement}, got {value}")]
+    Condition {
+        name: &'static str,
+        requirement: &'static str,
+        value: f64,
+    },
+    #[error("trim did not converge after {iterations} iterations; last scaled residuals: {}", show(.residuals))]
+    NoConvergence {
+        residuals: Vec<(String, f64)>,
+        iterations: usize,
+    },
+    #[error("trim failed: {0}")]
+    Solver(String),
+    #[error(
+        "the trim needs {control} at {percent:.1} %, outside its 0-100 % travel: the condition cannot be flown"
+    )]
+    OutsideTravel {
+        control: &'static str,
+        percent: f64,
+        /// The trim found, for inspection.
+        trim: Box<Trim>,
+    },
+}
+
+fn show(r: &[(String, f64)]) -> String {
+    r.iter()
+        .map(|(n, v)| format!("{n} {v:.3e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The names of the scaled residuals, in order.
+pub fn residual_names(with_engine: bool) -> Vec<&'static str> {
+    let mut v = vec![
+        "du/dt [g]",
+        "dv/dt [g]",
+        "dw/dt [g]",
+        "dp/dt [rad/s^2]",
+        "dq/dt [rad/s^2]",
+        "dr/dt [rad/s^2]",
+        "dOmega/dt / Omega [1/s]",
+        "v0 mismatch / tip speed",
+        "v1s mismatch / tip speed",
+        "v1c mismatch / tip speed",
+    ];
+    if with_engine {
+        v.push("dOmega_prop/dt / Omega_prop [1/s]");
+    }
+    v
+}
+
+struct Problem<'a> {
+    aircraft: &'a Aircraft,
+    condition: Condition,
+    omega0: f64,
+    tip0: f64,
+    prop0: f64,
+    engine: bool,
+    harmonics: bool,
+    warm: [f64; 2],
+}
+
+impl Problem<'_> {
+    fn unpack(&self, x: &[f64]) -> (State, Controls) {
+        let c = &self.condition;
+        let (theta, phi) = (x[4], x[5]);
+        let v = c.airspeed_m_s;
+        let vh = (v * v - c.climb_m_s * c.climb_m_s).max(0.0).sqrt();
+        // North-east-down velocity to body axes (heading zero): R_x(phi) R_y(theta).
+        let (st, ct) = theta.sin_cos();
+        let (sp, cp) = phi.sin_cos();
+        let (vn, vd) = (vh, -c.climb_m_s);
+        let u = ct * vn - st * vd;
+        let vb = sp * st * vn + sp * ct * vd;
+        let w = cp * st * vn + cp * ct * vd;
+        let psi_dot = c.turn_rate_rad_s;
+        let body = BodyState {
+            u_m_s: u,
+            v_m_s: vb,
+            w_m_s: w,
+            p_rad_s: -psi_dot * st,
+            q_rad_s: psi_dot * sp * ct,
+            r_rad_s: psi_dot * cp * ct,
+            phi_rad: phi,
+            theta_rad: theta,
+            ..BodyState::default()
+        };
+        let inflow = if self.harmonics {
+            Inflow {
+                v0: x[7] * self.tip0,
+                v1s: x[8] * self.tip0,
+                v1c: x[9] * self.tip0,
+            }
+        } else {
+            Inflow {
+                v0: x[7] * self.tip0,
+                v1s: 0.0,
+                v1c: 0.0,
+            }
+        };
+        let inflow = match self.aircraft.main_rotor.inflow {
+            InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
+            _ => inflow,
+        };
+        let state = State {
+            body,
+            rotor_omega_rad_s: x[6] * self.omega0,
+            inflow,
+            propeller_omega_rad_s: if self.engine { x[10] * self.prop0 } else { 0.0 },
+        };
+        let controls = Controls {
+            stick_longitudinal_percent: 100.0 * x[0],
+            stick_lateral_percent: 100.0 * x[1],
+            pedal_percent: 100.0 * x[2],
+            throttle_percent: 100.0 * x[3],
+        };
+        (state, controls)
+    }
+
+    fn evaluate(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged), AircraftError> {
+        let (state, controls) = self.unpack(x);
+        let a = self
+            .aircraft
+            .averaged(&state, &controls, self.condition.air, self.warm)?;
+        self.warm = a.flap_start;
+        let d = &a.body_dot;
+        let tip = self.tip0;
+        let mut r = vec![
+            d.u_m_s / G_M_S2,
+            d.v_m_s / G_M_S2,
+            d.w_m_s / G_M_S2,
+            d.p_rad_s,
+            d.q_rad_s,
+            d.r_rad_s,
+            a.rotor_omega_dot_rad_s2 / self.omega0,
+        ];
+        let fixed = matches!(
+            self.aircraft.main_rotor.inflow,
+            InflowModel::Prescribed { .. }
+        );
+        let eq = a.inflow_equilibrium;
+        if fixed {
+            r.extend([x[7], x[8], x[9]]);
+        } else if self.harmonics {
+            r.extend([
+                (eq.v0 - state.inflow.v0) / tip,
+                (eq.v1s - state.inflow.v1s) / tip,
+                (eq.v1c - state.inflow.v1c) / tip,
+            ]);
+        } else {
+            r.extend([(eq.v0 - state.inflow.v0) / tip, x[8], x[9]]);
+        }
+        if self.engine {
+            r.push(a.propeller_omega_dot_rad_s2 / self.prop0);
+        }
+        Ok((r, a))
+    }
+}
+
+/// Trims the aircraft.
+pub fn trim(
+    aircraft: &Aircraft,
+    condition: Condition,
+    options: Options,
+) -> Result<Trim, TrimError> {
+    aircraft.validate()?;
+    let checks = [
+        (
+            "airspeed_m_s",
+            condition.airspeed_m_s,
+            condition.airspeed_m_s > 0.0,
+            "positive",
+        ),
+        (
+            "climb_m_s",
+            condition.climb_m_s,
+            condition.climb_m_s.abs() < condition.airspeed_m_s,
+            "smaller in magnitude than the airspeed",
+        ),
+        (
+            "turn_rate_rad_s",
+            condition.turn_rate_rad_s,
+            condition.turn_rate_rad_s.abs() < 1.0,
+            "below 1 rad/s in magnitude",
+        ),
+        (
+            "density_kg_m3",
+            condition.air.density_kg_m3,
+            condition.air.density_kg_m3 > 0.0,
+            "positive",
+        ),
+        (
+            "speed_of_sound_m_s",
+            condition.air.speed_of_sound_m_s,
+            condition.air.speed_of_sound_m_s > 0.0,
+            "positive",
+        ),
+    ];
+    for (name, value, ok, requirement) in checks {
+        if !(ok && value.is_finite()) {
+            return Err(TrimError::Condition {
+                name,
+                requirement,
+                value,
+            });
+        }
+    }
+    let r = aircraft.main_rotor.rotor.radius_m;
+    let omega0 = options.tip_speed_guess_m_s / r;
+    let tip0 = options.tip_speed_guess_m_s;
+    let (engine, prop0) = match aircraft.propeller.drive {
+        Drive::Engine { rated_rpm, .. } => (true, rated_rpm * PI / 30.0),
+        Drive::Governed { .. } => (false, 1.0),
+    };
+    let harmonics = matches!(
+        aircraft.main_rotor.inflow,
+        InflowModel::PetersHaQuang { .. }
+    );
+    let mut p = Problem {
+        aircraft,
+        condition,
+        omega0,
+        tip0,
+        prop0,
+        engine,
+        harmonics,
+        warm: [0.0, 0.0],
+    };
+    // Starting point: mid controls, level attitudes, Glauert's inflow for the weight.
+    let weight = aircraft.mass.mass_kg * G_M_S2;
+    let area = PI * r * r;
+    let v = condition.airspeed_m_s;
+    let v0 = weight / (2.0 * condition.air.density_kg_m3 * area * v.max(5.0));
+    let cm = &aircraft.controls;
+    let mut x0 = vec![
+        cm.shaft_pitch_rad
+            .percent_for(8f64.to_radians())
+            .clamp(0.0, 100.0)
+            / 100.0,
+        cm.shaft_roll_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
+        cm.rudder_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
+        0.6,
+        0.0,
+        0.0,
+        1.0,
+        v0 / tip0,
+        0.0,
+        0.0,
+    ];
+    if engine {
+        x0.push(0.9);
+    }
+    let sol = solve::newton(
+        |x| p.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
+        &x0,
+        options.newton,
+    );
+    let names = residual_names(engine);
+    let sol = match sol {
+        Ok(s) => s,
+        Err(SolveError::NoConvergence {
+            residuals,
+            iterations,
+            ..
+        }) => {
+            return Err(TrimError::NoConvergence {
+                residuals: names.iter().map(|n| n.to_string()).zip(residuals).collect(),
+                iterations,
+            });
+        }
+        Err(e) => return Err(TrimError::Solver(e.to_string())),
+    };
+    let (residuals, averaged) = p.evaluate(&sol.x)?;
+    let (state, controls) = p.unpack(&sol.x);
+    let b = state.body;
+    let speed = (b.u_m_s * b.u_m_s + b.v_m_s * b.v_m_s + b.w_m_s * b.w_m_s).sqrt();
+    let t = Trim {
+        controls,
+        pitch_rad: b.theta_rad,
+        roll_rad: b.phi_rad,
+        alpha_rad: b.w_m_s.atan2(b.u_m_s),
+        sideslip_rad: (b.v_m_s / speed).asin(),
+        rotor_rpm: state.rotor_omega_rad_s * 30.0 / PI,
+        propeller_rpm: averaged.propeller_omega_rad_s * 30.0 / PI,
+        state,
+        averaged,
+        residual_norm: residuals.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+        residuals: names.iter().map(|n| n.to_string()).zip(residuals).collect(),
+        iterations: sol.iterations,
+        tolerance: options.newton.tolerance,
+    };
+    let c = t.controls;
+    for (control, percent) in [
+        ("longitudinal stick", c.stick_longitudinal_percent),
+        ("lateral stick", c.stick_lateral_percent),
+        ("pedal", c.pedal_percent),
+        ("throttle", c.throttle_percent),
+    ] {
+        if !(0.0..=100.0).contains(&percent) {
+            return Err(TrimError::OutsideTravel {
+                control,
+                percent,
+                trim: Box::new(t),
+            });
+        }
+    }
+    Ok(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testdata::gyroplane;
+
+    fn condition(airspeed_m_s: f64) -> Condition {
+        Condition {
+            airspeed_m_s,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air: Air {
+                density_kg_m3: 1.225,
+                speed_of_sound_m_s: 340.3,
+            },
+        }
+    }
+
+    /// Level flight at 70 mph: converged to the stated criterion, a free rotor in
+    /// autorotation (zero mean torque, flow slowed through the disc, v0 > 0, seed 001), the
+    /// disc meeting the air from below and the rotor carrying about the weight.
+    #[test]
+    fn level_flight_trims_in_autorotation() {
+        let a = gyroplane();
+        let t = trim(&a, condition(31.3), Options::default()).unwrap();
+        assert!(t.residual_norm <= t.tolerance, "{:?}", t.residuals);
+        let r = &t.averaged.rotor;
+        assert!(r.driving_torque_n_m.abs() < 1e-3, "{r:?}");
+        assert!(t.state.inflow.v0 > 0.0 && r.disc_alpha_rad > 0.0, "{r:?}");
+        let weight = a.mass.mass_kg * G_M_S2;
+        assert!((r.thrust_n / weight - 1.0).abs() < 0.1, "{r:?}");
+        assert!((300.0..500.0).contains(&t.rotor_rpm), "{}", t.rotor_rpm);
+        // The forces balance the weight in body axes (the residuals say so; check directly).
+        let l = &t.averaged.loads;
+        let fz = l.rotor.z_n + l.propeller.z_n + l.airframe.z_n;
+        let gz = weight * t.pitch_rad.cos() * t.roll_rad.cos();
+        assert!((fz + gz).abs() < 1e-3 * weight, "{fz} vs {gz}");
+    }
+
+    /// Seed 001 Fig. 3 trends: from 30 to 70 mph the stick moves forward (speed stability)
+    /// and the nose drops; a heavier aircraft turns its rotor faster.
+    #[test]
+    fn trends_with_speed_and_weight() {
+        let a = gyroplane();
+        let mph = 0.44704;
+        let slow = trim(&a, condition(30.0 * mph), Options::default()).unwrap();
+        let fast = trim(&a, condition(70.0 * mph), Options::default()).unwrap();
+        assert!(
+            fast.controls.stick_longitudinal_percent < slow.controls.stick_longitudinal_percent
+        );
+        assert!(fast.pitch_rad < slow.pitch_rad);
+        let mut light = gyroplane();
+        light.mass.mass_kg = 380.0;
+        let l = trim(&light, condition(70.0 * mph), Options::default()).unwrap();
+        assert!(
+            l.rotor_rpm < fast.rotor_rpm,
+            "{} vs {}",
+            l.rotor_rpm,
+            fast.rotor_rpm
+        );
+    }
+
+    /// A climb needs more throttle; a coordinated-ish turn banks by about atan(V psi_dot / g).
+    #[test]
+    fn climbs_and_turns() {
+        let a = gyroplane();
+        let level = trim(&a, condition(31.3), Options::default()).unwrap();
+        let climb = trim(
+            &a,
+            Condition {
+                climb_m_s: 2.0,
+                ..condition(31.3)
+            },
+            Options::default(),
+        )
+        .unwrap();
+        assert!(climb.controls.throttle_percent > level.controls.throttle_percent);
+        let rate = 0.15;
+        let turn = trim(
+            &a,
+            Condition {
+                turn_rate_rad_s: rate,
+                ..condition(31.3)
+            },
+            Options::default(),
+        )
+        .unwrap();
+        let coordinated = (31.3 * rate / G_M_S2).atan();
+        assert!(
+            (turn.roll_rad - coordinated).abs() < 3f64.to_radians(),
+            "{} vs {}",
+            turn.roll_rad.to_degrees(),
+            coordinated.to_degrees()
+        );
+        assert!(
+            turn.rotor_rpm > level.rotor_rpm,
+            "load factor spins the rotor up"
+        );
+    }
+
+    /// Conditions that cannot be flown, or data that are not physical, are errors that say
+    /// why, with the last residuals where the solver ran.
+    #[test]
+    fn impossible_conditions_are_clear_errors() {
+        let a = gyroplane();
+        let steep = trim(
+            &a,
+            Condition {
+                climb_m_s: 12.0,
+                ..condition(31.3)
+            },
+            Options::default(),
+        );
+        match steep {
+            Err(TrimError::OutsideTravel { control, .. }) => assert_eq!(control, "throttle"),
+            Err(TrimError::NoConvergence { residuals, .. }) => assert_eq!(residuals.len(), 11),
+            other => panic!("{other:?}"),
+        }
+        let mut heavy = gyroplane();
+        heavy.mass.mass_kg = -1.0;
+        assert!(matches!(
+            trim(&heavy, condition(31.3), Options::default()),
+            Err(TrimError::Aircraft(AircraftError::Body(_)))
+        ));
+        assert!(matches!(
+            trim(&a, condition(0.0), Options::default()),
+            Err(TrimError::Condition {
+                name: "airspeed_m_s",
+                ..
+            })
+        ));
+        // Beyond the airframe tables (alpha to 60 deg): a steep descent at low speed.
+        let e = trim(
+            &a,
+            Condition {
+                climb_m_s: -9.0,
+                ..condition(10.0)
+            },
+            Options::default(),
+        );
+        match e {
+            Err(TrimError::Solver(m)) => assert!(m.contains("outside the table"), "{m}"),
+            other => panic!("{other:?}"),
+        }
+    }
+}
