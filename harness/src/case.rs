@@ -44,6 +44,23 @@ pub struct ModelSpec {
     /// A teeter record and its rotor, for inflow-from-flapping checks (seed 003).
     #[serde(default)]
     pub flap_record: Option<FlapRecordSpec>,
+    /// An aircraft file, for trim checks.
+    #[serde(default)]
+    pub aircraft: Option<AircraftModelSpec>,
+}
+
+/// An aircraft subject: the file, the mass and the air.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AircraftModelSpec {
+    /// Path relative to the case file.
+    pub file: String,
+    /// Mass, kg (default: the aircraft file's).
+    #[serde(default)]
+    pub mass_kg: Option<f64>,
+    /// ISA density altitude, ft.
+    #[serde(default)]
+    pub density_altitude_ft: f64,
 }
 
 /// A teeter record analysed for its inflow (seed 003).
@@ -188,6 +205,11 @@ pub enum CheckKind {
     Autorotation,
     /// Inflow components from a teeter record (seed 003).
     InflowCoefficients,
+    /// One trimmed flight condition of an aircraft.
+    Trim,
+    /// Trends of trim over a sweep of airspeeds: the least and greatest slopes between
+    /// neighbouring airspeeds, and the worst residual.
+    TrimSweep,
 }
 
 /// Which system a mode or BCAR check looks at.
@@ -228,6 +250,12 @@ pub struct CheckSpec {
     /// For `autorotation`: the tunnel condition.
     #[serde(default)]
     pub tunnel: Option<TunnelSpec>,
+    /// For `trim`: the flight condition.
+    #[serde(default)]
+    pub condition: Option<crate::TrimRequest>,
+    /// For `trim_sweep`: the airspeeds, mph, rising.
+    #[serde(default)]
+    pub sweep_mph: Option<Vec<f64>>,
     /// Derivatives set to these values before the check (a what-if variant).
     #[serde(default)]
     pub set: BTreeMap<String, f64>,
@@ -292,6 +320,8 @@ pub struct Check {
     pub derivative: Option<String>,
     pub verdict: Option<Verdict>,
     pub tunnel: Option<TunnelSpec>,
+    pub condition: Option<crate::TrimRequest>,
+    pub sweep_mph: Option<Vec<f64>>,
     pub set: BTreeMap<String, f64>,
     pub without_rotorspeed_coupling: bool,
     pub expectations: Vec<Expectation>,
@@ -317,6 +347,11 @@ pub enum Subject {
     Rotor {
         file: Box<crate::rotor_file::RotorFile>,
         inflow: cierva_model::rotor::InflowModel,
+    },
+    /// An aircraft, its mass and air.
+    Aircraft {
+        file: Box<crate::aircraft_file::AircraftFile>,
+        loading: crate::Loading,
     },
     /// A teeter record, its rotor and the analysis settings.
     FlapRecord {
@@ -407,8 +442,65 @@ pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
             "beta_1c_deg",
             "beta_1s_deg",
         ],
+        CheckKind::Trim => TRIM_QUANTITIES,
+        CheckKind::TrimSweep => TRIM_SWEEP_QUANTITIES,
     }
 }
+
+/// What a `trim` check computes.
+pub const TRIM_QUANTITIES: &[&str] = &[
+    "residual_norm",
+    "stick_longitudinal_percent",
+    "stick_lateral_percent",
+    "pedal_percent",
+    "throttle_percent",
+    "pitch_deg",
+    "roll_deg",
+    "alpha_deg",
+    "sideslip_deg",
+    "rotor_rpm",
+    "propeller_rpm",
+    "rotor_torque_n_m",
+    "thrust_n",
+    "disc_alpha_deg",
+    "tip_speed_ratio",
+    "a1_deg",
+    "b1_deg",
+    "inflow_v0_m_s",
+    "inflow_v1c_m_s",
+];
+
+/// The trim quantities whose trends a `trim_sweep` check reports.
+pub const TREND_QUANTITIES: &[&str] = &[
+    "stick_longitudinal_percent",
+    "stick_lateral_percent",
+    "pedal_percent",
+    "throttle_percent",
+    "pitch_deg",
+    "roll_deg",
+    "rotor_rpm",
+];
+
+/// What a `trim_sweep` check computes: `max_residual_norm`, and for every trend quantity `q`
+/// the least and greatest slope between neighbouring airspeeds, `q_per_mph_min` and
+/// `q_per_mph_max` (so "decreasing" is `q_per_mph_max <= 0`).
+pub const TRIM_SWEEP_QUANTITIES: &[&str] = &[
+    "max_residual_norm",
+    "stick_longitudinal_percent_per_mph_min",
+    "stick_longitudinal_percent_per_mph_max",
+    "stick_lateral_percent_per_mph_min",
+    "stick_lateral_percent_per_mph_max",
+    "pedal_percent_per_mph_min",
+    "pedal_percent_per_mph_max",
+    "throttle_percent_per_mph_min",
+    "throttle_percent_per_mph_max",
+    "pitch_deg_per_mph_min",
+    "pitch_deg_per_mph_max",
+    "roll_deg_per_mph_min",
+    "roll_deg_per_mph_max",
+    "rotor_rpm_per_mph_min",
+    "rotor_rpm_per_mph_max",
+];
 
 /// Loads and checks a case file.
 pub fn load(path: &Path) -> Result<Case, InputError> {
@@ -464,13 +556,46 @@ fn load_subject(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Sub
         m.derivative_table.is_some(),
         m.rotor.is_some(),
         m.flap_record.is_some(),
+        m.aircraft.is_some(),
     ];
     if given.iter().filter(|g| **g).count() != 1 {
         return Err(err(
             "model",
-            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table`, `rotor` or `flap_record`"
+            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table`, `rotor`, `flap_record` or `aircraft`"
                 .into(),
         ));
+    }
+    if let Some(a) = &m.aircraft {
+        let file = crate::aircraft_file::load(&dir.join(&a.file)).map_err(|e| {
+            err(
+                "model.aircraft.file",
+                format!("in the referenced file: {e}"),
+            )
+        })?;
+        if let Some(mass) = a.mass_kg
+            && !(mass.is_finite() && mass > 0.0)
+        {
+            return Err(err(
+                "model.aircraft.mass_kg",
+                format!("must be positive, got {mass}"),
+            ));
+        }
+        if !(-2000.0..=20000.0).contains(&a.density_altitude_ft) {
+            return Err(err(
+                "model.aircraft.density_altitude_ft",
+                format!(
+                    "must be in [-2000, 20000] ft, got {}",
+                    a.density_altitude_ft
+                ),
+            ));
+        }
+        return Ok(Subject::Aircraft {
+            file: Box::new(file),
+            loading: crate::Loading {
+                mass_kg: a.mass_kg,
+                density_altitude_ft: a.density_altitude_ft,
+            },
+        });
     }
     if let Some(f) = &m.flap_record {
         let rec = crate::ident::record::load_with(
@@ -654,6 +779,44 @@ fn resolve_check(
             refuses(c.without_rotorspeed_coupling, "without_rotorspeed_coupling")?;
             check_tunnel(&err, here, c.tunnel.as_ref().expect("needed above"))?;
         }
+        CheckKind::Trim | CheckKind::TrimSweep => {
+            refuses(c.mode.is_some(), "mode")?;
+            refuses(c.derivative.is_some(), "derivative")?;
+            refuses(c.verdict.is_some(), "verdict")?;
+            refuses(c.system != System::Full, "system")?;
+            refuses(!c.set.is_empty(), "set")?;
+            refuses(c.without_rotorspeed_coupling, "without_rotorspeed_coupling")?;
+            if c.kind == CheckKind::Trim {
+                needs(c.condition.is_some(), "condition")?;
+                refuses(c.sweep_mph.is_some(), "sweep_mph")?;
+            } else {
+                needs(c.sweep_mph.is_some(), "sweep_mph")?;
+                refuses(c.condition.is_some(), "condition")?;
+                let s = c.sweep_mph.as_deref().unwrap_or_default();
+                if s.len() < 2
+                    || s.windows(2)
+                        .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+                    || s[0] <= 0.0
+                {
+                    return Err(err(
+                        &format!("{here}.sweep_mph"),
+                        "give at least two positive airspeeds, rising".into(),
+                    ));
+                }
+            }
+            if let Some(t) = &c.condition {
+                let ok = t.airspeed_mph.is_finite()
+                    && t.airspeed_mph > 0.0
+                    && t.climb_m_s.is_finite()
+                    && t.turn_rate_deg_s.is_finite();
+                if !ok {
+                    return Err(err(
+                        &format!("{here}.condition"),
+                        "the airspeed must be positive, climb and turn rates finite".into(),
+                    ));
+                }
+            }
+        }
         CheckKind::InflowCoefficients => {
             refuses(c.mode.is_some(), "mode")?;
             refuses(c.derivative.is_some(), "derivative")?;
@@ -665,6 +828,17 @@ fn resolve_check(
     }
     if c.kind != CheckKind::Autorotation && c.tunnel.is_some() {
         refuses(true, "tunnel")?;
+    }
+    let trim_kind = matches!(c.kind, CheckKind::Trim | CheckKind::TrimSweep);
+    if !trim_kind {
+        refuses(c.condition.is_some(), "condition")?;
+        refuses(c.sweep_mph.is_some(), "sweep_mph")?;
+    }
+    if trim_kind != matches!(subject, Subject::Aircraft { .. }) {
+        return Err(err(
+            &format!("{here}.kind"),
+            "`trim` and `trim_sweep` checks go with an `aircraft` model, and an `aircraft` model only has those".into(),
+        ));
     }
     if c.kind != CheckKind::Bcar && c.expect.is_empty() {
         return Err(err(
@@ -688,7 +862,7 @@ fn resolve_check(
         ));
     }
     match subject {
-        Subject::FlapRecord { .. } => {}
+        Subject::FlapRecord { .. } | Subject::Aircraft { .. } => {}
         Subject::Rotor { .. } => {
             if c.kind != CheckKind::Autorotation {
                 return Err(err(
@@ -803,6 +977,8 @@ fn resolve_check(
         derivative: c.derivative.clone(),
         verdict: c.verdict,
         tunnel: c.tunnel,
+        condition: c.condition,
+        sweep_mph: c.sweep_mph.clone(),
         set: c.set.clone(),
         without_rotorspeed_coupling: c.without_rotorspeed_coupling,
         expectations,

@@ -205,8 +205,110 @@ pub fn autorotation_quantities(
     ])
 }
 
+/// The quantities of one trim (see [`crate::case::TRIM_QUANTITIES`]).
+pub fn trim_quantities(
+    file: &crate::aircraft_file::AircraftFile,
+    loading: crate::Loading,
+    request: crate::TrimRequest,
+) -> Result<Quantities, String> {
+    let t = crate::run_trim(&file.aircraft, request, loading).map_err(|e| e.to_string())?;
+    let d = f64::to_degrees;
+    let r = &t.averaged.rotor;
+    let c = &t.controls;
+    Ok(vec![
+        ("residual_norm", t.residual_norm),
+        ("stick_longitudinal_percent", c.stick_longitudinal_percent),
+        ("stick_lateral_percent", c.stick_lateral_percent),
+        ("pedal_percent", c.pedal_percent),
+        ("throttle_percent", c.throttle_percent),
+        ("pitch_deg", d(t.pitch_rad)),
+        ("roll_deg", d(t.roll_rad)),
+        ("alpha_deg", d(t.alpha_rad)),
+        ("sideslip_deg", d(t.sideslip_rad)),
+        ("rotor_rpm", t.rotor_rpm),
+        ("propeller_rpm", t.propeller_rpm),
+        ("rotor_torque_n_m", r.driving_torque_n_m),
+        ("thrust_n", r.thrust_n),
+        ("disc_alpha_deg", d(r.disc_alpha_rad)),
+        ("tip_speed_ratio", r.tip_speed_ratio),
+        ("a1_deg", d(r.a1_rad)),
+        ("b1_deg", d(r.b1_rad)),
+        ("inflow_v0_m_s", t.state.inflow.v0),
+        ("inflow_v1c_m_s", t.state.inflow.v1c),
+    ])
+}
+
+/// Trims over a sweep of airspeeds: each point's quantities, or the first failure (named by
+/// its airspeed).
+pub fn trim_sweep(
+    file: &crate::aircraft_file::AircraftFile,
+    loading: crate::Loading,
+    sweep_mph: &[f64],
+) -> Result<Vec<(f64, Quantities)>, String> {
+    sweep_mph
+        .iter()
+        .map(|&v| {
+            let request = crate::TrimRequest {
+                airspeed_mph: v,
+                climb_m_s: 0.0,
+                turn_rate_deg_s: 0.0,
+            };
+            trim_quantities(file, loading, request)
+                .map(|q| (v, q))
+                .map_err(|e| format!("at {v} mph: {e}"))
+        })
+        .collect()
+}
+
+/// The trend quantities of a sweep (see [`crate::case::TRIM_SWEEP_QUANTITIES`]).
+pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
+    let get = |q: &Quantities, name: &str| {
+        q.iter()
+            .find(|(n, _)| *n == name)
+            .map_or(f64::NAN, |(_, v)| *v)
+    };
+    let mut out = vec![(
+        "max_residual_norm".to_string(),
+        points
+            .iter()
+            .map(|(_, q)| get(q, "residual_norm"))
+            .fold(0.0f64, |m, v| if v.is_nan() { f64::NAN } else { m.max(v) }),
+    )];
+    for name in crate::case::TREND_QUANTITIES {
+        let slopes: Vec<f64> = points
+            .windows(2)
+            .map(|w| (get(&w[1].1, name) - get(&w[0].1, name)) / (w[1].0 - w[0].0))
+            .collect();
+        let lo = slopes.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = slopes.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let nan = slopes.iter().any(|v| v.is_nan());
+        out.push((
+            format!("{name}_per_mph_min"),
+            if nan { f64::NAN } else { lo },
+        ));
+        out.push((
+            format!("{name}_per_mph_max"),
+            if nan { f64::NAN } else { hi },
+        ));
+    }
+    out
+}
+
 fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
     match subject {
+        Subject::Aircraft { file, loading } => {
+            if let Some(request) = check.condition {
+                let values = trim_quantities(file, *loading, request)?;
+                return Ok((compare_all(check, &values)?, None));
+            }
+            let sweep = check
+                .sweep_mph
+                .as_deref()
+                .ok_or("a trim_sweep check needs sweep_mph")?;
+            let trends = sweep_trends(&trim_sweep(file, *loading, sweep)?);
+            let values: Vec<(&str, f64)> = trends.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+            Ok((compare_all(check, &values)?, None))
+        }
         Subject::FlapRecord {
             record,
             rotor,
@@ -454,6 +556,9 @@ fn compute(
             ));
         }
         CheckKind::Autorotation => return Err("an autorotation check needs a rotor".into()),
+        CheckKind::Trim | CheckKind::TrimSweep => {
+            return Err("a trim check needs an aircraft".into());
+        }
         CheckKind::InflowCoefficients => return Err("an inflow check needs a flap record".into()),
     }
     Ok(Computed {
@@ -651,6 +756,8 @@ mod tests {
                 derivative: None,
                 verdict: None,
                 tunnel: None,
+                condition: None,
+                sweep_mph: None,
                 set: Default::default(),
                 without_rotorspeed_coupling: false,
                 expectations: vec![e.clone()],

@@ -6,6 +6,7 @@
 //!
 //! The model (`cierva-model`) does no I/O; everything that reads files lives here.
 
+pub mod aircraft_file;
 pub mod case;
 pub mod eval;
 pub mod ident;
@@ -90,4 +91,75 @@ pub fn run_autorotation(
             ..Options::default()
         },
     )?)
+}
+
+/// A trim request in the units people fly in.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrimRequest {
+    /// True airspeed, mph.
+    pub airspeed_mph: f64,
+    /// Rate of climb, m/s (negative descends).
+    #[serde(default)]
+    pub climb_m_s: f64,
+    /// Rate of turn, deg/s (positive to starboard).
+    #[serde(default)]
+    pub turn_rate_deg_s: f64,
+}
+
+/// Where and how heavy: the air (ISA at a density altitude) and the mass (the aircraft file's
+/// unless given; inertias stay as the file gives them, a fuel-state change near the c.g.).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Loading {
+    pub mass_kg: Option<f64>,
+    pub density_altitude_ft: f64,
+}
+
+/// Why a trim run did not produce a trim.
+#[derive(Debug, thiserror::Error)]
+pub enum TrimRunError {
+    #[error("{0}")]
+    Atmosphere(#[from] cierva_model::atmosphere::AtmosphereError),
+    #[error("{0}")]
+    Trim(#[from] cierva_model::trim::TrimError),
+}
+
+impl TrimRunError {
+    /// Whether the inputs were at fault (rather than the solution).
+    pub fn is_input(&self) -> bool {
+        use cierva_model::trim::TrimError as T;
+        matches!(
+            self,
+            Self::Atmosphere(_) | Self::Trim(T::Condition { .. } | T::Aircraft(_))
+        )
+    }
+}
+
+/// Miles per hour to metres per second (exact: 1 mile = 1609.344 m).
+pub const MPH_TO_M_S: f64 = 0.44704;
+/// Feet to metres (exact).
+pub const FT_TO_M: f64 = 0.3048;
+
+/// Trims an aircraft.
+pub fn run_trim(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+) -> Result<cierva_model::trim::Trim, TrimRunError> {
+    use cierva_model::{aircraft::Air, atmosphere, trim};
+    let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)?;
+    let mut a = aircraft.clone();
+    if let Some(m) = loading.mass_kg {
+        a.mass.mass_kg = m;
+    }
+    let condition = trim::Condition {
+        airspeed_m_s: request.airspeed_mph * MPH_TO_M_S,
+        climb_m_s: request.climb_m_s,
+        turn_rate_rad_s: request.turn_rate_deg_s.to_radians(),
+        air: Air {
+            density_kg_m3: air.density_kg_m3,
+            speed_of_sound_m_s: air.speed_of_sound_m_s,
+        },
+    };
+    Ok(trim::trim(&a, condition, trim::Options::default())?)
 }

@@ -153,6 +153,32 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
+    /// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
+    /// Newton solver reached (converged when every scaled residual is at most 1e-7).
+    ///
+    /// Example: `cierva trim aircraft/vpm-m16.yaml --airspeed-mph 70 --mass-kg 410`
+    Trim {
+        /// An aircraft file (see aircraft/).
+        aircraft: PathBuf,
+        /// True airspeed, mph.
+        #[arg(long, allow_hyphen_values = true)]
+        airspeed_mph: f64,
+        /// Mass, kg (default: the aircraft file's).
+        #[arg(long, allow_hyphen_values = true)]
+        mass_kg: Option<f64>,
+        /// Rate of climb, m/s; negative descends.
+        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+        climb_m_s: f64,
+        /// Rate of turn, deg/s; positive to starboard.
+        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+        turn_rate_deg_s: f64,
+        /// Density altitude, ft (ISA).
+        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+        density_altitude_ft: f64,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
 }
 
 /// A rotor in a wind tunnel: the rotor file and the condition (shared by `autorotate` and
@@ -340,7 +366,58 @@ fn main() -> ExitCode {
             inflow.model(skew),
             format,
         ),
+        Command::Trim {
+            aircraft,
+            airspeed_mph,
+            mass_kg,
+            climb_m_s,
+            turn_rate_deg_s,
+            density_altitude_ft,
+            format,
+        } => trim(
+            aircraft,
+            cierva_harness::TrimRequest {
+                airspeed_mph,
+                climb_m_s,
+                turn_rate_deg_s,
+            },
+            cierva_harness::Loading {
+                mass_kg,
+                density_altitude_ft,
+            },
+            format,
+        ),
     }
+}
+
+fn trim(
+    path: PathBuf,
+    request: cierva_harness::TrimRequest,
+    loading: cierva_harness::Loading,
+    format: Format,
+) -> ExitCode {
+    let file = match cierva_harness::aircraft_file::load(&path) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let t = match cierva_harness::run_trim(&file.aircraft, request, loading) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {}: {e}", path.display());
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+        }
+    };
+    match format {
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&t).expect("serialisable")
+        ),
+        Format::Text => print!("{}", text::trim_report(&file.title, request, loading, &t)),
+    }
+    ExitCode::SUCCESS
 }
 
 fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {

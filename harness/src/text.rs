@@ -316,6 +316,165 @@ pub fn counts(results: &[CheckResult]) -> Counts {
     c
 }
 
+/// A trim, for people.
+pub fn trim_report(
+    title: &str,
+    request: crate::TrimRequest,
+    loading: crate::Loading,
+    t: &cierva_model::trim::Trim,
+) -> String {
+    use std::fmt::Write;
+    let d = |r: f64| r.to_degrees();
+    let a = &t.averaged;
+    let r = &a.rotor;
+    let mut o = String::new();
+    let mass = loading
+        .mass_kg
+        .map_or("the file's mass".to_string(), |m| format!("{m} kg"));
+    let _ = writeln!(
+        o,
+        "{title}: {} mph, climb {} m/s, turn {} deg/s, {mass}, density altitude {} ft",
+        request.airspeed_mph,
+        request.climb_m_s,
+        request.turn_rate_deg_s,
+        loading.density_altitude_ft
+    );
+    let c = &t.controls;
+    let _ = writeln!(
+        o,
+        "stick long/lat       {:.2} % / {:.2} %   (0 % forward / left)",
+        c.stick_longitudinal_percent, c.stick_lateral_percent
+    );
+    let _ = writeln!(
+        o,
+        "pedal, throttle      {:.2} %, {:.2} %",
+        c.pedal_percent, c.throttle_percent
+    );
+    let _ = writeln!(
+        o,
+        "pitch, roll          {:.3} deg, {:.3} deg",
+        d(t.pitch_rad),
+        d(t.roll_rad)
+    );
+    let _ = writeln!(
+        o,
+        "alpha, sideslip      {:.3} deg, {:.3} deg (at the c.g.)",
+        d(t.alpha_rad),
+        d(t.sideslip_rad)
+    );
+    let _ = writeln!(
+        o,
+        "rotor                {:.1} rpm, mu {:.4}, disc alpha {:.2} deg, thrust {:.1} N",
+        t.rotor_rpm,
+        r.tip_speed_ratio,
+        d(r.disc_alpha_rad),
+        r.thrust_n
+    );
+    let _ = writeln!(
+        o,
+        "shaft tilt           {:.3} deg aft, {:.3} deg right",
+        d(r.shaft_pitch_rad),
+        d(r.shaft_roll_rad)
+    );
+    let _ = writeln!(
+        o,
+        "flapping a0 a1 b1    {:.3} {:.3} {:.3} deg",
+        d(r.a0_rad),
+        d(r.a1_rad),
+        d(r.b1_rad)
+    );
+    let i = &t.state.inflow;
+    let _ = writeln!(
+        o,
+        "inflow v0 v1s v1c    {:.3} {:.3} {:.3} m/s; skew {:.2} deg",
+        i.v0,
+        i.v1s,
+        i.v1c,
+        d(r.skew_rad)
+    );
+    let p = &a.propeller;
+    let _ = writeln!(
+        o,
+        "propeller            {:.0} rpm, thrust {:.1} N, power {:.1} kW",
+        t.propeller_rpm,
+        p.thrust_n,
+        p.power_w / 1000.0
+    );
+    let _ = writeln!(
+        o,
+        "converged            max scaled residual {:.1e} (tolerance {:.0e}) in {} iterations",
+        t.residual_norm, t.tolerance, t.iterations
+    );
+    for (n, v) in &t.residuals {
+        let _ = writeln!(o, "  {n:<36} {v:+.2e}");
+    }
+    o
+}
+
+/// Trim values over a set of conditions, one row per quantity and one column per condition,
+/// at fixed decimals (three for angles, percent and m/s, one for rpm and N): the trim's own
+/// convergence (scaled residuals at most 1e-7) settles them far below the last digit.
+pub fn trim_table(columns: &[(String, Result<crate::eval::Quantities, String>)]) -> String {
+    let rows: [(&str, usize); 17] = [
+        ("stick_longitudinal_percent", 3),
+        ("stick_lateral_percent", 3),
+        ("pedal_percent", 3),
+        ("throttle_percent", 3),
+        ("pitch_deg", 3),
+        ("roll_deg", 3),
+        ("alpha_deg", 3),
+        ("sideslip_deg", 3),
+        ("rotor_rpm", 1),
+        ("propeller_rpm", 1),
+        ("thrust_n", 1),
+        ("disc_alpha_deg", 3),
+        ("tip_speed_ratio", 4),
+        ("a1_deg", 3),
+        ("b1_deg", 3),
+        ("inflow_v0_m_s", 3),
+        ("inflow_v1c_m_s", 3),
+    ];
+    let mut s = String::new();
+    let _ = write!(s, "{:<28}", "quantity");
+    for (label, _) in columns {
+        let _ = write!(s, " {label:>12}");
+    }
+    s.push('\n');
+    for (name, decimals) in rows {
+        let _ = write!(s, "{name:<28}");
+        for (_, r) in columns {
+            let cell = match r {
+                Ok(values) => {
+                    values
+                        .iter()
+                        .find(|(q, _)| *q == name)
+                        .map_or("-".to_string(), |(_, v)| {
+                            // No negative zero in a snapshot.
+                            let t = format!("{v:.decimals$}");
+                            if t.trim_start_matches('-')
+                                .chars()
+                                .all(|c| c == '0' || c == '.')
+                            {
+                                t.trim_start_matches('-').to_string()
+                            } else {
+                                t
+                            }
+                        })
+                }
+                Err(_) => "no trim".to_string(),
+            };
+            let _ = write!(s, " {cell:>12}");
+        }
+        s.push('\n');
+    }
+    for (label, r) in columns {
+        if let Err(e) = r {
+            let _ = writeln!(s, "{label}: {e}");
+        }
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::sig;

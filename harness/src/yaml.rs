@@ -177,26 +177,102 @@ pub fn locate(src: &str, field: &str) -> Option<(usize, usize)> {
     let mut start = 0usize;
     let mut parent_indent: isize = -1;
     let mut found = None;
-    for part in field.split('.') {
-        let (key, index) = match part.split_once('[') {
-            Some((k, rest)) => (k, rest.trim_end_matches(']').parse::<usize>().ok()),
-            None => (part, None),
-        };
-        if !key.is_empty() {
-            let (l, indent) = find_key(&lines, start, parent_indent, key)?;
-            found = Some((l + 1, indent as usize + 1));
-            start = l + 1;
-            parent_indent = indent;
+    // Inside a flow mapping (`{a: 1, b: {c: 2}}`): the line and column to search on from.
+    let mut flow: Option<(usize, usize)> = None;
+    let parts: Vec<&str> = field.split('.').collect();
+    let mut i = 0;
+    while i < parts.len() {
+        // A key may itself contain dots (`sources: {mass.mass_kg: ...}`): try the longest.
+        let mut matched = false;
+        for j in (i..parts.len()).rev() {
+            if j > i && parts[i..=j].iter().any(|p| p.contains('[')) {
+                continue;
+            }
+            let joined = parts[i..=j].join(".");
+            let (key, index) = match joined.split_once('[') {
+                Some((k, rest)) => (
+                    k.to_string(),
+                    rest.trim_end_matches(']').parse::<usize>().ok(),
+                ),
+                None => (joined.clone(), None),
+            };
+            if key.is_empty() {
+                if let Some(n) = index {
+                    let (l, dash) = find_item(&lines, start, parent_indent, n)?;
+                    found = Some((l + 1, dash as usize + 3));
+                    start = l;
+                    parent_indent = dash;
+                }
+                matched = true;
+                i = j + 1;
+                break;
+            }
+            if flow.is_none()
+                && let Some((l, indent)) = find_key(&lines, start, parent_indent, &key)
+            {
+                found = Some((l + 1, indent as usize + 1));
+                start = l + 1;
+                parent_indent = indent;
+                if let Some(n) = index {
+                    // Keys of the item sit after "- ": deeper than the dash, the new parent.
+                    let (l, dash) = find_item(&lines, start, parent_indent, n)?;
+                    found = Some((l + 1, dash as usize + 3));
+                    start = l;
+                    parent_indent = dash;
+                }
+                matched = true;
+                i = j + 1;
+                break;
+            }
+            if index.is_none() {
+                let from = flow.unwrap_or((start.saturating_sub(1), 0));
+                if let Some((l, c)) = find_flow_key(&lines, from, parent_indent, &key) {
+                    found = Some((l + 1, c + 1));
+                    flow = Some((l, c + key.len()));
+                    matched = true;
+                    i = j + 1;
+                    break;
+                }
+            }
         }
-        if let Some(n) = index {
-            // Keys of the item sit after "- ": deeper than the dash, which becomes the parent.
-            let (l, dash) = find_item(&lines, start, parent_indent, n)?;
-            found = Some((l + 1, dash as usize + 3));
-            start = l;
-            parent_indent = dash;
+        if !matched {
+            return None;
         }
     }
     found
+}
+
+/// A key inside a flow mapping, from line `from.0` column `from.1` on, over the lines that
+/// continue the parent's block: its line and column (0-based).
+fn find_flow_key(
+    lines: &[&str],
+    from: (usize, usize),
+    parent: isize,
+    key: &str,
+) -> Option<(usize, usize)> {
+    for (i, line) in lines.iter().enumerate().skip(from.0) {
+        if i > from.0 && !line.trim().is_empty() && indent_of(line) <= parent {
+            return None;
+        }
+        let skip = if i == from.0 {
+            from.1.min(line.len())
+        } else {
+            0
+        };
+        let mut pos = skip;
+        while let Some(k) = line[pos..].find(key) {
+            let at = pos + k;
+            let before = line[..at].trim_end();
+            let after = line[at + key.len()..].trim_start();
+            if (before.ends_with('{') || before.ends_with(',') || (i > from.0 && before.is_empty()))
+                && after.starts_with(':')
+            {
+                return Some((i, at));
+            }
+            pos = at + key.len();
+        }
+    }
+    None
 }
 
 fn indent_of(line: &str) -> isize {
@@ -263,6 +339,12 @@ mod tests {
         assert_eq!(locate(SRC, "checks[1].expect.period_s"), Some((7, 7)));
         assert_eq!(locate(SRC, "checks[0].kind"), Some((4, 5)));
         assert_eq!(locate(SRC, "checks[3]"), None);
+        let flow = "a:\n  mass: {mass_kg: 1, ixx: 2,\n         iyy: 3}\n  drive: {engine: {p: 1}}\nsources:\n  mass.ixx: x\n";
+        assert_eq!(locate(flow, "a.mass.ixx"), Some((2, 22)));
+        assert_eq!(locate(flow, "a.mass.iyy"), Some((3, 10)));
+        assert_eq!(locate(flow, "a.drive.engine.p"), Some((4, 20)));
+        assert_eq!(locate(flow, "sources.mass.ixx"), Some((6, 3)));
+        assert_eq!(locate(flow, "a.mass.izz"), None);
     }
 
     #[derive(Debug, serde::Deserialize)]

@@ -85,6 +85,50 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
             .with_kind("snapshot"),
         );
     }
+    if let Subject::Aircraft { .. } = &case.subject {
+        let c = case.clone();
+        trials.push(
+            Trial::test(format!("{}::snapshot-trim", case.id), move || {
+                let Subject::Aircraft { file, loading } = &c.subject else {
+                    unreachable!()
+                };
+                let mut requests = Vec::new();
+                for k in &c.checks {
+                    if let Some(r) = k.condition {
+                        requests.push(r);
+                    }
+                    for v in k.sweep_mph.iter().flatten() {
+                        requests.push(cierva_harness::TrimRequest {
+                            airspeed_mph: *v,
+                            climb_m_s: 0.0,
+                            turn_rate_deg_s: 0.0,
+                        });
+                    }
+                }
+                requests.sort_by(|a, b| {
+                    (a.airspeed_mph, a.climb_m_s, a.turn_rate_deg_s)
+                        .partial_cmp(&(b.airspeed_mph, b.climb_m_s, b.turn_rate_deg_s))
+                        .expect("finite conditions")
+                });
+                requests.dedup();
+                let columns: Vec<_> = requests
+                    .iter()
+                    .map(|r| {
+                        let mut label = format!("{} mph", r.airspeed_mph);
+                        if r.climb_m_s != 0.0 {
+                            label += &format!(" {:+} m/s", r.climb_m_s);
+                        }
+                        if r.turn_rate_deg_s != 0.0 {
+                            label += &format!(" {:+} deg/s", r.turn_rate_deg_s);
+                        }
+                        (label, eval::trim_quantities(file, *loading, *r))
+                    })
+                    .collect();
+                snapshot(&c, "trim", Ok(text::trim_table(&columns)))
+            })
+            .with_kind("snapshot"),
+        );
+    }
     if let Subject::Linear { model, .. } = &case.subject {
         let snaps: Vec<(&str, Snapshotter)> = vec![
             ("derivatives", |m| Ok(text::derivatives_table(m))),

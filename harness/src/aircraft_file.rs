@@ -1,0 +1,455 @@
+//! Aircraft files (`aircraft/*.yaml`): an assembled autogyro and where every number comes from.
+//!
+//! ```yaml
+//! id: vpm-m16                          # equals the file stem
+//! title: VPM M16 gyroplane
+//! provenance: {source: "...", notes: "..."}
+//! aircraft:
+//!   mass: {mass_kg: 450, ixx_kg_m2: 250, iyy_kg_m2: 650, izz_kg_m2: 450, ixz_kg_m2: 40}
+//!   cg_m: [0.0, 0.0, 0.0]              # body axes from the datum: x fwd, y stbd, z down
+//!   main_rotor:
+//!     rotor_file: vpm-m16-rotor.yaml   # a rotor file, relative to this file
+//!     pivot_m: [0.0, 0.0, -1.6]
+//!     spindle_length_m: 0.2
+//!     inflow: peters_haquang           # or uniform (harmonics zeroed, seed 001 Fig. 4)
+//!     skew: signed                     # or modulus (seed 003 Eq. 5 or Eq. 6)
+//!     azimuth_step_deg: 5
+//!   propeller:
+//!     rotor_file: vpm-m16-propeller.yaml   # hub: rigid
+//!     position_m: [-1.3, 0.0, -0.35]
+//!     rotation: clockwise              # seen from behind
+//!     drive: {engine: {max_power_w: 84500, rated_rpm: 2388, polar_inertia_kg_m2: 1.2}}
+//!     #   or {governed: {rpm_at_0_percent: 1800, rpm_at_100_percent: 2600}}
+//!   airframe:
+//!     reference_area_m2: 1.0
+//!     reference_length_m: 1.0
+//!     reference_span_m: 1.0
+//!     reference_point_m: [0, 0, 0]
+//!     coefficients: {cx: TABLE, cy: TABLE, cz: TABLE, cl: TABLE, cm: TABLE, cn: TABLE}
+//!     #   TABLE = {alpha_deg: [...], beta_deg: [...], values: [[...] one row per alpha]}
+//!     tailplane: {position_m: [..], area_m2: .., lift_slope_per_rad: .., incidence_deg: ..,
+//!                 stall_alpha_deg: .., cd0: .., control_effectiveness: ..}
+//!     fin: {...}
+//!   controls:                          # linear maps from % of travel
+//!     shaft_pitch_deg: {at_0_percent: -2, at_100_percent: 18}    # stick fwd -> aft
+//!     shaft_roll_deg: {at_0_percent: -8, at_100_percent: 8}      # stick left -> right
+//!     rudder_deg: {at_0_percent: -25, at_100_percent: 25}        # pedal left -> right
+//!   corrections:                       # optional; absent means none
+//!     propeller_blockage: 0.0          # seed 000 Sec. VII.A (0 none, 1 total)
+//!     hub_aoa_factor: 0.5              # seed 000 Sec. VII.B; omit for the kinematic angle
+//! sources:                             # dotted paths; an entry covers everything below it
+//!   mass.mass_kg: "seed 001: maximum all-up mass 450 kg"
+//!   airframe.coefficients: "estimated: ..."
+//! ```
+//!
+//! Every number under `aircraft` must be covered by a `sources` entry (its own path or a
+//! parent's), and every entry must name a path that exists.
+
+use crate::refs::{Provenance, check_id};
+use crate::rotor_file::{self, RotorFile};
+use crate::yaml::{self, InputError};
+use cierva_model::aircraft::{
+    Aircraft, AircraftError, ControlMaps, Drive, LinearMap, MainRotor, PropellerInstallation,
+    Rotation,
+};
+use cierva_model::airframe::{Airframe, AirframeError, Surface, Table2};
+use cierva_model::propeller::Propeller;
+use cierva_model::rigid_body::MassProperties;
+use cierva_model::rotor::{Hub, Numerics};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MassSpec {
+    pub mass_kg: f64,
+    pub ixx_kg_m2: f64,
+    pub iyy_kg_m2: f64,
+    pub izz_kg_m2: f64,
+    pub ixz_kg_m2: f64,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MainRotorSpec {
+    pub rotor_file: String,
+    pub pivot_m: [f64; 3],
+    pub spindle_length_m: f64,
+    #[serde(default)]
+    pub inflow: crate::case::InflowSpec,
+    #[serde(default)]
+    pub skew: crate::case::SkewSpec,
+    pub azimuth_step_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSpec {
+    pub at_0_percent: f64,
+    pub at_100_percent: f64,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EngineSpec {
+    pub max_power_w: f64,
+    pub rated_rpm: f64,
+    pub polar_inertia_kg_m2: f64,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GovernedSpec {
+    pub rpm_at_0_percent: f64,
+    pub rpm_at_100_percent: f64,
+}
+
+/// The drive: exactly one of the two.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub engine: Option<EngineSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub governed: Option<GovernedSpec>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RotationSpec {
+    Clockwise,
+    Anticlockwise,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PropellerSpec {
+    pub rotor_file: String,
+    pub position_m: [f64; 3],
+    pub rotation: RotationSpec,
+    pub drive: DriveSpec,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSpec {
+    pub position_m: [f64; 3],
+    pub area_m2: f64,
+    pub lift_slope_per_rad: f64,
+    pub incidence_deg: f64,
+    pub stall_alpha_deg: f64,
+    pub cd0: f64,
+    pub control_effectiveness: f64,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoefficientsSpec {
+    pub cx: Table2,
+    pub cy: Table2,
+    pub cz: Table2,
+    pub cl: Table2,
+    pub cm: Table2,
+    pub cn: Table2,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AirframeSpec {
+    pub reference_area_m2: f64,
+    pub reference_length_m: f64,
+    pub reference_span_m: f64,
+    pub reference_point_m: [f64; 3],
+    pub coefficients: CoefficientsSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tailplane: Option<SurfaceSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fin: Option<SurfaceSpec>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControlsSpec {
+    pub shaft_pitch_deg: MapSpec,
+    pub shaft_roll_deg: MapSpec,
+    pub rudder_deg: MapSpec,
+}
+
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AircraftCorrectionsSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub propeller_blockage: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hub_aoa_factor: Option<f64>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AircraftSpec {
+    pub mass: MassSpec,
+    pub cg_m: [f64; 3],
+    pub main_rotor: MainRotorSpec,
+    pub propeller: PropellerSpec,
+    pub airframe: AirframeSpec,
+    pub controls: ControlsSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corrections: Option<AircraftCorrectionsSpec>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AircraftFileSpec {
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    pub aircraft: AircraftSpec,
+    pub sources: BTreeMap<String, String>,
+}
+
+/// A loaded aircraft file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AircraftFile {
+    pub path: PathBuf,
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    pub aircraft: Aircraft,
+    pub main_rotor_file: RotorFile,
+    pub propeller_file: RotorFile,
+    pub sources: BTreeMap<String, String>,
+}
+
+/// Dotted paths of the leaves of a YAML value (a coefficient table is one leaf, as is a
+/// position vector).
+fn leaves(v: &serde_yaml::Value, prefix: &str, out: &mut Vec<String>) {
+    match v.as_mapping() {
+        Some(m) if !m.contains_key("alpha_deg") => {
+            for (k, v) in m {
+                let k = k.as_str().unwrap_or_default();
+                let p = if prefix.is_empty() {
+                    k.to_string()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                leaves(v, &p, out);
+            }
+        }
+        _ => out.push(prefix.to_string()),
+    }
+}
+
+fn covers(key: &str, path: &str) -> bool {
+    path == key || path.starts_with(&format!("{key}."))
+}
+
+fn deg(m: MapSpec) -> LinearMap {
+    LinearMap {
+        at_0_percent: m.at_0_percent.to_radians(),
+        at_100_percent: m.at_100_percent.to_radians(),
+    }
+}
+
+/// Loads and checks an aircraft file, with its rotor files.
+pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
+    let src = yaml::read(path)?;
+    let spec: AircraftFileSpec = yaml::parse(path, &src)?;
+    check_id(path, &src, &spec.id)?;
+    let err = |field: &str, msg: String| InputError::field(path, &src, field, msg);
+    let written =
+        serde_yaml::to_value(&spec.aircraft).map_err(|e| InputError::file(path, e.to_string()))?;
+    let mut paths = Vec::new();
+    leaves(&written, "", &mut paths);
+    for p in &paths {
+        if !spec.sources.keys().any(|k| covers(k, p)) {
+            return Err(err(
+                &format!("aircraft.{p}"),
+                format!(
+                    "`{p}` has no entry under `sources` (its own or a parent's): say where the number comes from (or \"estimated: why\")"
+                ),
+            ));
+        }
+    }
+    for (k, s) in &spec.sources {
+        if !paths.iter().any(|p| covers(k, p)) {
+            return Err(err(
+                &format!("sources.{k}"),
+                format!("`{k}` is not a path under `aircraft`"),
+            ));
+        }
+        if s.trim().is_empty() {
+            return Err(err(
+                &format!("sources.{k}"),
+                "a source must not be empty".into(),
+            ));
+        }
+    }
+    let a = &spec.aircraft;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let nested = |field: &str, file: &str| {
+        rotor_file::load(&dir.join(file))
+            .map_err(|e| err(field, format!("in the referenced file: {e}")))
+    };
+    let main_rotor_file = nested("aircraft.main_rotor.rotor_file", &a.main_rotor.rotor_file)?;
+    let propeller_file = nested("aircraft.propeller.rotor_file", &a.propeller.rotor_file)?;
+    if propeller_file.rotor.hub != Hub::Rigid {
+        return Err(err(
+            "aircraft.propeller.rotor_file",
+            format!(
+                "the propeller's rotor file `{}` must have `hub: rigid` (a propeller's blades do not flap)",
+                a.propeller.rotor_file
+            ),
+        ));
+    }
+    let step = a.main_rotor.azimuth_step_deg;
+    if !(step.is_finite() && step > 0.0 && step <= 15.0) {
+        return Err(err(
+            "aircraft.main_rotor.azimuth_step_deg",
+            format!("must be in (0, 15] deg, got {step}"),
+        ));
+    }
+    for (name, m) in [
+        ("shaft_pitch_deg", a.controls.shaft_pitch_deg),
+        ("shaft_roll_deg", a.controls.shaft_roll_deg),
+        ("rudder_deg", a.controls.rudder_deg),
+    ] {
+        if !(m.at_0_percent.is_finite()
+            && m.at_100_percent.is_finite()
+            && m.at_0_percent != m.at_100_percent)
+        {
+            return Err(err(
+                &format!("aircraft.controls.{name}"),
+                format!(
+                    "the map's two ends must be finite and distinct, got {} and {} deg",
+                    m.at_0_percent, m.at_100_percent
+                ),
+            ));
+        }
+    }
+    let surface = |s: &SurfaceSpec| Surface {
+        position_m: s.position_m,
+        area_m2: s.area_m2,
+        lift_slope_per_rad: s.lift_slope_per_rad,
+        incidence_rad: s.incidence_deg.to_radians(),
+        stall_alpha_rad: s.stall_alpha_deg.to_radians(),
+        cd0: s.cd0,
+        control_effectiveness: s.control_effectiveness,
+    };
+    let drive = match (a.propeller.drive.engine, a.propeller.drive.governed) {
+        (Some(e), None) => Drive::Engine {
+            max_power_w: e.max_power_w,
+            rated_rpm: e.rated_rpm,
+            polar_inertia_kg_m2: e.polar_inertia_kg_m2,
+        },
+        (None, Some(g)) => Drive::Governed {
+            rpm: LinearMap {
+                at_0_percent: g.rpm_at_0_percent,
+                at_100_percent: g.rpm_at_100_percent,
+            },
+        },
+        _ => {
+            return Err(err(
+                "aircraft.propeller.drive",
+                "give exactly one of `engine` or `governed`".into(),
+            ));
+        }
+    };
+    let c = &a.airframe.coefficients;
+    let corrections = a.corrections.clone().unwrap_or_default();
+    let aircraft = Aircraft {
+        mass: MassProperties {
+            mass_kg: a.mass.mass_kg,
+            ixx_kg_m2: a.mass.ixx_kg_m2,
+            iyy_kg_m2: a.mass.iyy_kg_m2,
+            izz_kg_m2: a.mass.izz_kg_m2,
+            ixz_kg_m2: a.mass.ixz_kg_m2,
+        },
+        cg_m: a.cg_m,
+        main_rotor: MainRotor {
+            rotor: main_rotor_file.rotor.clone(),
+            pivot_m: a.main_rotor.pivot_m,
+            spindle_length_m: a.main_rotor.spindle_length_m,
+            collective_shift_rad: 0.0,
+            inflow: a.main_rotor.inflow.model(a.main_rotor.skew),
+            numerics: Numerics {
+                azimuth_step_rad: step.to_radians(),
+                periodic_tolerance: 1e-10,
+                ..Numerics::default()
+            },
+        },
+        propeller: PropellerInstallation {
+            propeller: Propeller {
+                rotor: propeller_file.rotor.clone(),
+                blockage: corrections.propeller_blockage.unwrap_or(0.0),
+            },
+            position_m: a.propeller.position_m,
+            drive,
+            rotation: match a.propeller.rotation {
+                RotationSpec::Clockwise => Rotation::Clockwise,
+                RotationSpec::Anticlockwise => Rotation::Anticlockwise,
+            },
+        },
+        airframe: Airframe {
+            reference_area_m2: a.airframe.reference_area_m2,
+            reference_length_m: a.airframe.reference_length_m,
+            reference_span_m: a.airframe.reference_span_m,
+            reference_point_m: a.airframe.reference_point_m,
+            coefficients: [
+                c.cx.clone(),
+                c.cy.clone(),
+                c.cz.clone(),
+                c.cl.clone(),
+                c.cm.clone(),
+                c.cn.clone(),
+            ],
+            tailplane: a.airframe.tailplane.as_ref().map(surface),
+            fin: a.airframe.fin.as_ref().map(surface),
+        },
+        controls: ControlMaps {
+            shaft_pitch_rad: deg(a.controls.shaft_pitch_deg),
+            shaft_roll_rad: deg(a.controls.shaft_roll_deg),
+            rudder_rad: deg(a.controls.rudder_deg),
+        },
+        hub_aoa_factor: corrections.hub_aoa_factor,
+    };
+    aircraft
+        .validate()
+        .map_err(|e| err(&field_of(&e), e.to_string()))?;
+    Ok(AircraftFile {
+        path: path.to_path_buf(),
+        id: spec.id,
+        title: spec.title,
+        provenance: spec.provenance,
+        aircraft,
+        main_rotor_file,
+        propeller_file,
+        sources: spec.sources,
+    })
+}
+
+/// The field of the aircraft file an error points at.
+fn field_of(e: &AircraftError) -> String {
+    match e {
+        AircraftError::Body(_) => "aircraft.mass".into(),
+        AircraftError::Airframe(AirframeError::Table(t)) => {
+            format!("aircraft.airframe.coefficients.{t}")
+        }
+        AircraftError::Airframe(AirframeError::Surface(s)) if *s == "tailplane" || *s == "fin" => {
+            format!("aircraft.airframe.{s}")
+        }
+        AircraftError::Airframe(_) => "aircraft.airframe".into(),
+        AircraftError::Rotor(_) => "aircraft.main_rotor.rotor_file".into(),
+        AircraftError::Propeller(_) => "aircraft.propeller".into(),
+        AircraftError::Invalid { name, .. } => match *name {
+            "spindle_length_m" => "aircraft.main_rotor.spindle_length_m".into(),
+            "blockage" => "aircraft.corrections.propeller_blockage".into(),
+            "hub_aoa_factor" => "aircraft.corrections.hub_aoa_factor".into(),
+            "shaft_pitch map" => "aircraft.controls.shaft_pitch_deg".into(),
+            "shaft_roll map" => "aircraft.controls.shaft_roll_deg".into(),
+            "rudder map" => "aircraft.controls.rudder_deg".into(),
+            "positions" => "aircraft.cg_m".into(),
+            _ => "aircraft.propeller.drive".into(),
+        },
+    }
+}
