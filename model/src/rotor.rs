@@ -269,10 +269,10 @@ pub struct SteadyLoads {
     pub b1_rad: f64,
     /// Flap state at `psi = 0` (periodic), rad and rad/s.
     pub beta0: [f64; 2],
-    /// Mean angular momentum of the blades about the hub centre, hub axes, kg m^2/s (about
-    /// `-I_polar Omega` along `z`). On a rotating hub the blades' inertial moment on it
-    /// averages to `-omega_hub x H` (the gyroscopic couple); on a non-rotating hub it averages
-    /// to zero.
+    /// Mean angular momentum of the blades' motion relative to the hub (rotation and
+    /// flapping) about the hub centre, hub axes, kg m^2/s (about `-I_polar Omega` along `z`).
+    /// On a rotating hub the blades' inertial moment on it averages to `-omega_hub x H` (the
+    /// gyroscopic couple); on a non-rotating hub it averages to zero.
     pub angular_momentum_kg_m2_s: [f64; 3],
 }
 
@@ -429,13 +429,17 @@ impl Rotor {
     }
 }
 
-/// Loads of one blade at one azimuth.
-#[derive(Debug, Clone, Copy, Default)]
-struct BladeLoads {
-    flap_moment: f64,
-    force: [f64; 3],
-    moment: [f64; 3],
-    torque: f64,
+/// Aerodynamic loads of one blade at one azimuth, hub axes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BladeLoads {
+    /// About the flap hinge, positive flapping up, N m.
+    pub flap_moment: f64,
+    /// On the hub, N.
+    pub force: [f64; 3],
+    /// About the hub centre, N m.
+    pub moment: [f64; 3],
+    /// Driving the rotor in its direction of rotation, N m.
+    pub torque: f64,
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -526,9 +530,45 @@ impl<'a> Blade<'a> {
     }
 
     /// The right-hand side of one blade's flap equation, `d/dpsi [beta, beta']`, with the
-    /// blade-element loads it needs (the rotor's share of one model evaluation).
+    /// blade-element loads it needs (the rotor's share of one model evaluation). For a
+    /// teetering hub the state is the teeter angle and its azimuth rate.
     pub fn flap_derivative(&self, op: &Operating, psi_rad: f64, state: [f64; 2]) -> [f64; 2] {
         self.flap_rhs(op, psi_rad, state)
+    }
+
+    /// The aerodynamic loads of one blade at azimuth `psi_rad` with flap angle and rate
+    /// (`beta`, `d beta / dt`).
+    pub fn blade_loads(
+        &self,
+        op: &Operating,
+        psi_rad: f64,
+        beta: f64,
+        beta_dot: f64,
+    ) -> BladeLoads {
+        self.loads(op, psi_rad, beta, beta_dot)
+    }
+
+    /// The blades' flap angles and rates `(beta, d beta / dt)` for a flap state
+    /// `[angle, d angle / d psi]`: blade 1, and for a teetering hub blade 2 (half a
+    /// revolution behind). Articulated and rigid hubs return blade 1 twice.
+    pub fn blade_flap(&self, op: &Operating, state: [f64; 2]) -> [(f64, f64); 2] {
+        self.blade_angles(op, state)
+    }
+
+    /// One blade's angular momentum about the hub centre from its motion relative to the
+    /// hub (rotation and flapping), hub axes, kg m^2/s.
+    pub fn relative_angular_momentum(
+        &self,
+        op: &Operating,
+        psi_rad: f64,
+        beta: f64,
+        beta_dot: f64,
+    ) -> [f64; 3] {
+        let still = Operating {
+            hub_rates_rad_s: [0.0; 3],
+            ..*op
+        };
+        self.angular_momentum(&still, psi_rad, beta, beta_dot)
     }
 
     /// The blade angles `(beta, d beta / dt)` of blade 1 and, for a teetering hub, blade 2
@@ -697,17 +737,21 @@ impl<'a> Blade<'a> {
         let mut sum = BladeLoads::default();
         let (mut a0, mut c1, mut s1) = (0.0, 0.0, 0.0);
         let mut h_sum = [0.0; 3];
+        let still = Operating {
+            hub_rates_rad_s: [0.0; 3],
+            ..*op
+        };
         let teetering = self.rotor.hub == Hub::Teetering;
         for k in 0..n {
             let psi = k as f64 * h;
             let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
             let mut l = self.loads(op, psi, b1, d1);
-            let hb = self.angular_momentum(op, psi, b1, d1);
+            let hb = self.angular_momentum(&still, psi, b1, d1);
             for j in 0..3 {
                 h_sum[j] += hb[j];
             }
             if teetering {
-                let h2 = self.angular_momentum(op, psi + PI, b2, d2);
+                let h2 = self.angular_momentum(&still, psi + PI, b2, d2);
                 for j in 0..3 {
                     h_sum[j] += h2[j];
                 }
