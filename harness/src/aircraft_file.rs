@@ -374,7 +374,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             inflow: a.main_rotor.inflow.model(a.main_rotor.skew),
             numerics: Numerics {
                 azimuth_step_rad: step.to_radians(),
-                periodic_tolerance: 1e-10,
+                periodic_tolerance: 1e-9,
                 ..Numerics::default()
             },
         },

@@ -464,6 +464,7 @@ pub const TRIM_QUANTITIES: &[&str] = &[
     "thrust_n",
     "disc_alpha_deg",
     "tip_speed_ratio",
+    "thrust_coefficient_over_solidity",
     "a1_deg",
     "b1_deg",
     "inflow_v0_m_s",

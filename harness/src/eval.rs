@@ -231,6 +231,17 @@ pub fn trim_quantities(
         ("thrust_n", r.thrust_n),
         ("disc_alpha_deg", d(r.disc_alpha_rad)),
         ("tip_speed_ratio", r.tip_speed_ratio),
+        ("thrust_coefficient_over_solidity", {
+            let rotor = &file.aircraft.main_rotor.rotor;
+            let rho = cierva_model::atmosphere::at_density_altitude(
+                loading.density_altitude_ft * crate::FT_TO_M,
+            )
+            .map_or(f64::NAN, |a| a.density_kg_m3);
+            let tip = t.state.rotor_omega_rad_s * rotor.radius_m;
+            r.thrust_n
+                / (rho * std::f64::consts::PI * rotor.radius_m.powi(2) * tip * tip)
+                / rotor.solidity()
+        }),
         ("a1_deg", d(r.a1_rad)),
         ("b1_deg", d(r.b1_rad)),
         ("inflow_v0_m_s", t.state.inflow.v0),

@@ -797,6 +797,75 @@ fn bench(repeat: usize) -> ExitCode {
         "| PCA-2 autorotation (bracket + Newton on Omega, v0, v1s, v1c) | {:.1} ms | TR 515 row 19 condition, from a cold start |",
         1e3 * median(auto)
     );
+    // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
+    let ac_path = cierva_harness::repo_root().join("aircraft/vpm-m16.yaml");
+    match cierva_harness::aircraft_file::load(&ac_path) {
+        Err(e) => eprintln!("{}", e.render()),
+        Ok(ac) => {
+            let request = cierva_harness::TrimRequest {
+                airspeed_mph: 70.0,
+                climb_m_s: 0.0,
+                turn_rate_deg_s: 0.0,
+            };
+            let loading = cierva_harness::Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            };
+            let mut last = None;
+            let trims: Vec<f64> = (0..repeat)
+                .map(|_| {
+                    time(&mut || {
+                        last = cierva_harness::run_trim(&ac.aircraft, request, loading).ok();
+                    })
+                })
+                .collect();
+            if let Some(t) = last {
+                let air = cierva_model::aircraft::Air {
+                    density_kg_m3: 1.225,
+                    speed_of_sound_m_s: 340.294,
+                };
+                let a = &ac.aircraft;
+                let x = a.full_state(&t.state, &t.controls, air, t.averaged.flap_start);
+                let n = 1000;
+                let full: Vec<f64> = (0..repeat)
+                    .map(|_| {
+                        time(&mut || {
+                            for k in 0..n {
+                                let mut y = x.clone();
+                                y.rotor_azimuth_rad = k as f64 * 0.01;
+                                sink += a
+                                    .derivatives(&y, &t.controls, air)
+                                    .map_or(0.0, |d| d.body.u_m_s);
+                            }
+                        }) / n as f64
+                    })
+                    .collect();
+                let averaged: Vec<f64> = (0..repeat)
+                    .map(|_| {
+                        time(&mut || {
+                            sink += a
+                                .averaged(&t.state, &t.controls, air, t.averaged.flap_start)
+                                .map_or(0.0, |d| d.body_dot.u_m_s)
+                        })
+                    })
+                    .collect();
+                println!(
+                    "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); issue 3's target: under 50 ms |",
+                    1e3 * median(trims),
+                    t.iterations
+                );
+                println!(
+                    "| full model right-hand side (individual blades, {} flap states, inflow, rotorspeed, propeller, airframe, 6-DOF) | {:.1} us | one evaluation at the 70 mph trim, including the propeller's inflow solution |",
+                    x.flap.len(),
+                    1e6 * median(full)
+                );
+                println!(
+                    "| revolution-averaged model evaluation (periodic blade solution, warm) | {:.2} ms | what trim evaluates: the rotor's periodic flapping at 5 deg steps, then its mean loads |",
+                    1e3 * median(averaged)
+                );
+            }
+        }
+    }
     // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
     // frequencies (issue 5's benchmark), on a synthetic record of seed 002's Eq. 20.
     use cierva_harness::ident::{self, record, synth};

@@ -415,7 +415,7 @@ pub fn trim_report(
 /// at fixed decimals (three for angles, percent and m/s, one for rpm and N): the trim's own
 /// convergence (scaled residuals at most 1e-7) settles them far below the last digit.
 pub fn trim_table(columns: &[(String, Result<crate::eval::Quantities, String>)]) -> String {
-    let rows: [(&str, usize); 17] = [
+    let rows: [(&str, usize); 18] = [
         ("stick_longitudinal_percent", 3),
         ("stick_lateral_percent", 3),
         ("pedal_percent", 3),
@@ -429,6 +429,7 @@ pub fn trim_table(columns: &[(String, Result<crate::eval::Quantities, String>)])
         ("thrust_n", 1),
         ("disc_alpha_deg", 3),
         ("tip_speed_ratio", 4),
+        ("thrust_coefficient_over_solidity", 4),
         ("a1_deg", 3),
         ("b1_deg", 3),
         ("inflow_v0_m_s", 3),

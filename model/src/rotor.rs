@@ -615,6 +615,33 @@ impl<'a> Blade<'a> {
         ]
     }
 
+    /// A rigid rotor in axial flow (a propeller): every blade sees the same flow at every
+    /// azimuth, so one azimuth gives the mean loads exactly.
+    fn axisymmetric(&self, op: &Operating) -> Result<SteadyLoads, RotorError> {
+        let p = self.rotor.precone_rad;
+        let l = self.loads(op, 0.0, p, 0.0);
+        let nb = self.rotor.blades as f64;
+        // The blade at azimuth zero points along -x: its in-plane force components average to
+        // zero over a revolution, as do the in-plane moments; thrust and torque remain.
+        let out = SteadyLoads {
+            force_n: [0.0, 0.0, nb * l.force[2]],
+            moment_n_m: [0.0, 0.0, nb * l.moment[2]],
+            driving_torque_n_m: nb * l.torque,
+            a0_rad: p,
+            a1_rad: 0.0,
+            b1_rad: 0.0,
+            beta0: [0.0, 0.0],
+            angular_momentum_kg_m2_s: {
+                let h = self.angular_momentum(op, 0.0, p, 0.0);
+                [0.0, 0.0, nb * h[2]]
+            },
+        };
+        if !(out.force_n[2].is_finite() && out.driving_torque_n_m.is_finite()) {
+            return Err(RotorError::NonFinite("rotor load"));
+        }
+        Ok(out)
+    }
+
     /// The inertial flap moment of one blade apart from `I d2beta/dt2`: centrifugal, and with
     /// a rotating hub, Coriolis and centripetal terms (thin rigid blade, hinge at `e` on a
     /// hub turning at `omega_hub`, rotor at `Omega` about `-z`):
@@ -705,6 +732,15 @@ impl<'a> Blade<'a> {
     /// `start` is the flap state `[beta, d beta / d psi]` at `psi = 0` to start from (a warm
     /// start converges in a few revolutions).
     pub fn steady(&self, op: &Operating, start: [f64; 2]) -> Result<SteadyLoads, RotorError> {
+        let axisymmetric = self.rotor.hub == Hub::Rigid
+            && op.hub.u == 0.0
+            && op.hub.v == 0.0
+            && op.inflow.v1s == 0.0
+            && op.inflow.v1c == 0.0
+            && op.hub_rates_rad_s == [0.0; 3];
+        if axisymmetric {
+            return self.axisymmetric(op);
+        }
         let n = (2.0 * PI / self.numerics.azimuth_step_rad).round().max(8.0) as usize;
         let h = 2.0 * PI / n as f64;
         let mut s = start;

@@ -146,6 +146,8 @@ struct Problem<'a> {
     engine: bool,
     harmonics: bool,
     warm: [f64; 2],
+    /// The last evaluation (the solver's last call is at its solution).
+    last: Option<(Vec<f64>, Vec<f64>, Averaged)>,
 }
 
 impl Problem<'_> {
@@ -206,6 +208,17 @@ impl Problem<'_> {
     }
 
     fn evaluate(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged), AircraftError> {
+        if let Some((lx, r, a)) = &self.last
+            && lx.as_slice() == x
+        {
+            return Ok((r.clone(), a.clone()));
+        }
+        let (r, a) = self.evaluate_afresh(x)?;
+        self.last = Some((x.to_vec(), r.clone(), a.clone()));
+        Ok((r, a))
+    }
+
+    fn evaluate_afresh(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged), AircraftError> {
         let (state, controls) = self.unpack(x);
         let a = self
             .aircraft
@@ -313,6 +326,7 @@ pub fn trim(
         engine,
         harmonics,
         warm: [0.0, 0.0],
+        last: None,
     };
     // Starting point: mid controls, level attitudes, Glauert's inflow for the weight.
     let weight = aircraft.mass.mass_kg * G_M_S2;

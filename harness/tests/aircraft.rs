@@ -1,0 +1,81 @@
+//! The shipped aircraft files: the numerical choices their sources claim hold.
+
+use cierva_harness::{Loading, TrimRequest, aircraft_file, repo_root, run_trim};
+
+fn request(airspeed_mph: f64) -> TrimRequest {
+    TrimRequest {
+        airspeed_mph,
+        climb_m_s: 0.0,
+        turn_rate_deg_s: 0.0,
+    }
+}
+
+const LOADING: Loading = Loading {
+    mass_kg: None,
+    density_altitude_ft: 0.0,
+};
+
+/// `main_rotor.azimuth_step_deg`: 5 deg steps give the trim to about 0.1 % of the 2.5 deg
+/// solution (controls in percent of travel, attitudes in degrees, rotorspeed in rpm).
+#[test]
+fn vpm_m16_azimuth_step_is_converged() {
+    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    for v in [30.0, 70.0] {
+        let coarse = run_trim(&file.aircraft, request(v), LOADING).unwrap();
+        let mut fine_ac = file.aircraft.clone();
+        fine_ac.main_rotor.numerics.azimuth_step_rad = 2.5f64.to_radians();
+        let fine = run_trim(&fine_ac, request(v), LOADING).unwrap();
+        let rel = (coarse.rotor_rpm - fine.rotor_rpm).abs() / fine.rotor_rpm;
+        assert!(
+            rel < 1e-3,
+            "rpm at {v} mph: {} vs {}",
+            coarse.rotor_rpm,
+            fine.rotor_rpm
+        );
+        let (c, f) = (coarse.controls, fine.controls);
+        for (name, a, b) in [
+            (
+                "stick long",
+                c.stick_longitudinal_percent,
+                f.stick_longitudinal_percent,
+            ),
+            (
+                "stick lat",
+                c.stick_lateral_percent,
+                f.stick_lateral_percent,
+            ),
+            ("throttle", c.throttle_percent, f.throttle_percent),
+        ] {
+            assert!((a - b).abs() < 0.1, "{name} at {v} mph: {a} vs {b} %");
+        }
+        let dp = (coarse.pitch_rad - fine.pitch_rad).to_degrees().abs();
+        let dr = (coarse.roll_rad - fine.roll_rad).to_degrees().abs();
+        assert!(
+            dp < 0.05 && dr < 0.05,
+            "attitudes at {v} mph: {dp} {dr} deg"
+        );
+    }
+}
+
+/// The propeller file's `elements`: 8 elements resolve its thrust and torque to about 1 % of
+/// 20 elements, static and at 70 mph.
+#[test]
+fn vpm_m16_propeller_elements_are_enough() {
+    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    let p = &file.aircraft.propeller.propeller;
+    let mut fine = p.clone();
+    fine.rotor.elements = 20;
+    let omega = 2400.0 * std::f64::consts::PI / 30.0;
+    for v in [0.0, 31.3] {
+        let a = p.operate(omega, v, 1.225, 340.3).unwrap();
+        let b = fine.operate(omega, v, 1.225, 340.3).unwrap();
+        assert!(
+            ((a.thrust_n - b.thrust_n) / b.thrust_n).abs() < 0.015,
+            "{a:?} vs {b:?}"
+        );
+        assert!(
+            ((a.torque_n_m - b.torque_n_m) / b.torque_n_m).abs() < 0.015,
+            "{a:?} vs {b:?}"
+        );
+    }
+}
