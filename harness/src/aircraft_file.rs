@@ -13,6 +13,7 @@
 //!     spindle_length_m: 0.2
 //!     inflow: peters_haquang           # or uniform (harmonics zeroed, seed 001 Fig. 4)
 //!     skew: signed                     # or modulus (seed 003 Eq. 5 or Eq. 6)
+//!     inflow_dynamics: dynamic         # optional: or quasi_steady (full model only)
 //!     azimuth_step_deg: 5
 //!   propeller:
 //!     rotor_file: vpm-m16-propeller.yaml   # hub: rigid
@@ -49,8 +50,8 @@ use crate::refs::{Provenance, check_id};
 use crate::rotor_file::{self, RotorFile};
 use crate::yaml::{self, InputError};
 use cierva_model::aircraft::{
-    Aircraft, AircraftError, ControlMaps, Drive, LinearMap, MainRotor, PropellerInstallation,
-    Rotation,
+    Aircraft, AircraftError, ControlMaps, Drive, InflowDynamics, LinearMap, MainRotor,
+    PropellerInstallation, Rotation,
 };
 use cierva_model::airframe::{Airframe, AirframeError, Surface, Table2};
 use cierva_model::propeller::Propeller;
@@ -80,7 +81,17 @@ pub struct MainRotorSpec {
     pub inflow: crate::case::InflowSpec,
     #[serde(default)]
     pub skew: crate::case::SkewSpec,
+    /// In the full model: `dynamic` (seed 001 Eq. 3, the default) or `quasi_steady`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inflow_dynamics: Option<InflowDynamicsSpec>,
     pub azimuth_step_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InflowDynamicsSpec {
+    Dynamic,
+    QuasiSteady,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, Serialize)]
@@ -372,6 +383,10 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             spindle_length_m: a.main_rotor.spindle_length_m,
             collective_shift_rad: 0.0,
             inflow: a.main_rotor.inflow.model(a.main_rotor.skew),
+            inflow_dynamics: match a.main_rotor.inflow_dynamics {
+                Some(InflowDynamicsSpec::QuasiSteady) => InflowDynamics::QuasiSteady,
+                _ => InflowDynamics::Dynamic,
+            },
             numerics: Numerics {
                 azimuth_step_rad: step.to_radians(),
                 periodic_tolerance: 1e-9,

@@ -156,6 +156,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
             inflow: InflowModel::PetersHaQuang {
                 skew: SkewConvention::Signed,
             },
+            inflow_dynamics: Default::default(),
             numerics: Numerics {
                 azimuth_step_rad: d(5.0),
                 periodic_tolerance: 1e-10,
