@@ -3,9 +3,10 @@
 //! The flight-dynamics side of cierva: linear-model analysis now (modes, BCAR Section T,
 //! weakly coupled systems with the rotorspeed degree of freedom, root loci), the atmosphere,
 //! blade sections, the individual-blade rotor (articulated, teetering or rigid hubs) with
-//! Peters-HaQuang inflow, the isolated rotor in autorotation, the propeller with blockage,
-//! the airframe, the 6-DOF rigid body, and inflow from blade flapping. The assembled aircraft,
-//! trim and linearisation are to come.
+//! Peters-HaQuang inflow (static gains and the dynamic time constants), the isolated rotor in
+//! autorotation, the propeller with blockage, the airframe, the 6-DOF rigid body, inflow from
+//! blade flapping, the assembled autogyro ([`aircraft`]) with its revolution-averaged and full
+//! individual-blade equations, and trim ([`trim`]). Linearisation is to come.
 //!
 //! This crate does no I/O and knows nothing about case files: it takes numbers and returns
 //! numbers, statuses and errors. It never panics on data.
@@ -28,6 +29,18 @@
 //!   over the tail and increases with rotation, so the blade advances at 90 deg. Flapping is
 //!   positive up, `beta = a0 - a1 cos psi - b1 sin psi`; induced velocity is positive down,
 //!   `v_i = v0 + (r/R)(v1s sin psi + v1c cos psi)`.
+//! * **Aircraft geometry** (module [`aircraft`]): positions in body axes from a datum, m. Hub
+//!   axes follow from body axes by the shaft's aft tilt `theta_s` (a pitch) then its right tilt
+//!   `phi_s` (a roll): `v_hub = R_x(phi_s) R_y(theta_s) v_body`. The hub sits up the shaft from
+//!   the spindle's pivot.
+//! * **Pilot's controls** in percent of travel: longitudinal stick 0 % fully forward, 100 %
+//!   fully aft (aft stick tilts the rotor back); lateral stick 0 % left, 100 % right (right stick
+//!   tilts it right); pedal 0 % left, 100 % right (rudder trailing edge to starboard positive);
+//!   throttle 0-100 %. The aircraft file maps them linearly to angles.
+//! * **Propeller**: thrust along body `+x`; its rotation is given as seen from behind, and the
+//!   engine's torque reaction rolls the airframe the other way.
+//! * **Trim state**: heading zero, the flight path fixed in north-east-down axes (airspeed along
+//!   the track, climbing at the given rate), sideslip a result.
 //! * **Units.** SI throughout (m, s, kg, N, rad); names carry units where they are not obvious.
 
 pub mod aircraft;
