@@ -368,7 +368,7 @@ impl LinearModel {
         })
     }
 
-    /// The name of a derivative at an element, where one exists (`M_w` for A[q][w]).
+    /// The name of a derivative at an element, where one exists (`M_w` for `A[q][w]`).
     ///
     /// Kinematic rows (attitudes) have no force letter; their elements are named
     /// `d(theta)/d(q)`.
