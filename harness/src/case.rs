@@ -177,6 +177,9 @@ pub struct ToleranceSpec {
     pub interval_from: Option<TableColumnSpec>,
     #[serde(default)]
     pub rounding: Option<RoundingSpec>,
+    /// The same sign as the expected value and within this factor of it (> 1).
+    #[serde(default)]
+    pub factor: Option<f64>,
     pub reason: String,
 }
 
@@ -244,6 +247,10 @@ pub struct CheckSpec {
     /// For `derivative`: the derivative's name (`M_w`).
     #[serde(default)]
     pub derivative: Option<String>,
+    /// For `derivative` on a model: check the ratio of `derivative` to this one (`Q_u` divided
+    /// by `Q_w`).
+    #[serde(default)]
+    pub divided_by: Option<String>,
     /// For `bcar`: the expected verdict.
     #[serde(default)]
     pub verdict: Option<Verdict>,
@@ -299,6 +306,8 @@ pub enum ToleranceKind {
     Interval(f64, f64),
     /// Published rounding propagated through the computation (see `eval`).
     Rounding(RoundingSpec),
+    /// The same sign as the expected value and `1/f <= value/expected <= f`.
+    Factor(f64),
 }
 
 /// A resolved expectation on one quantity.
@@ -318,6 +327,7 @@ pub struct Check {
     pub system: System,
     pub mode: Option<ModeKind>,
     pub derivative: Option<String>,
+    pub divided_by: Option<String>,
     pub verdict: Option<Verdict>,
     pub tunnel: Option<TunnelSpec>,
     pub condition: Option<crate::TrimRequest>,
@@ -420,7 +430,7 @@ pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
             "m_omega_eq24",
             "m_omega_eq25",
         ],
-        CheckKind::Derivative => &["value"],
+        CheckKind::Derivative => &["value", "rotor", "propeller", "airframe", "inertial"],
         CheckKind::Autorotation => &[
             "rpm",
             "omega_rad_s",
@@ -831,15 +841,85 @@ fn resolve_check(
         refuses(true, "tunnel")?;
     }
     let trim_kind = matches!(c.kind, CheckKind::Trim | CheckKind::TrimSweep);
-    if !trim_kind {
-        refuses(c.condition.is_some(), "condition")?;
-        refuses(c.sweep_mph.is_some(), "sweep_mph")?;
-    }
-    if trim_kind != matches!(subject, Subject::Aircraft { .. }) {
+    let aircraft = matches!(subject, Subject::Aircraft { .. });
+    let linear_kind = matches!(
+        c.kind,
+        CheckKind::Mode | CheckKind::Bcar | CheckKind::Milne | CheckKind::Derivative
+    );
+    if trim_kind && !aircraft {
         return Err(err(
             &format!("{here}.kind"),
-            "`trim` and `trim_sweep` checks go with an `aircraft` model, and an `aircraft` model only has those".into(),
+            "`trim` and `trim_sweep` checks need a case whose model is an `aircraft`".into(),
         ));
+    }
+    if aircraft && !trim_kind && !linear_kind {
+        return Err(err(
+            &format!("{here}.kind"),
+            "an `aircraft` model has `trim`, `trim_sweep`, and (with a `condition`, on the linearised model) `derivative`, `mode`, `bcar` and `milne` checks".into(),
+        ));
+    }
+    if aircraft && linear_kind {
+        needs(c.condition.is_some(), "condition")?;
+        refuses(c.sweep_mph.is_some(), "sweep_mph")?;
+        if let Some(t) = &c.condition
+            && t.turn_rate_deg_s != 0.0
+        {
+            return Err(err(
+                &format!("{here}.condition.turn_rate_deg_s"),
+                "the model is linearised about straight flight".into(),
+            ));
+        }
+        let template = cierva_model::LinearModel::from_rows(
+            cierva_model::linearise::STATES
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            cierva_model::linearise::CONTROLS
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            &vec![vec![0.0; 10]; 10],
+            &vec![vec![0.0; 4]; 10],
+        )
+        .expect("the linearised model's names are valid");
+        for name in c
+            .set
+            .keys()
+            .chain(c.derivative.iter())
+            .chain(c.divided_by.iter())
+        {
+            template
+                .derivative(name)
+                .map_err(|e| err(&format!("{here}.derivative"), e.to_string()))?;
+        }
+    }
+    if c.divided_by.is_some() && c.kind != CheckKind::Derivative {
+        refuses(true, "divided_by")?;
+    }
+    if c.divided_by.is_some() && c.expect.keys().any(|q| q != "value") {
+        return Err(err(
+            &format!("{here}.divided_by"),
+            "a ratio of derivatives has only a `value`".into(),
+        ));
+    }
+    if c.divided_by.is_some() && matches!(subject, Subject::Table { .. }) {
+        refuses(true, "divided_by")?;
+    }
+    if !aircraft {
+        refuses(c.condition.is_some(), "condition")?;
+        refuses(c.sweep_mph.is_some(), "sweep_mph")?;
+        if c.kind == CheckKind::Derivative {
+            for q in c.expect.keys() {
+                if q != "value" {
+                    return Err(err(
+                        &format!("{here}.expect.{q}"),
+                        format!(
+                            "`{q}` (a component of the derivative) is computed for aircraft cases only; this case computes [value]"
+                        ),
+                    ));
+                }
+            }
+        }
     }
     if c.kind != CheckKind::Bcar && c.expect.is_empty() {
         return Err(err(
@@ -977,6 +1057,7 @@ fn resolve_check(
         mode: c.mode,
         derivative: c.derivative.clone(),
         verdict: c.verdict,
+        divided_by: c.divided_by.clone(),
         tunnel: c.tunnel,
         condition: c.condition,
         sweep_mph: c.sweep_mph.clone(),
@@ -1052,11 +1133,12 @@ fn resolve_tolerance(
         t.interval.is_some(),
         t.interval_from.is_some(),
         t.rounding.is_some(),
+        t.factor.is_some(),
     ];
     if kinds.iter().filter(|k| **k).count() != 1 {
         return Err(err(
             &tfield,
-            "give exactly one of `absolute`, `relative`, `interval`, `interval_from` or `rounding`"
+            "give exactly one of `absolute`, `relative`, `interval`, `interval_from`, `rounding` or `factor`"
                 .into(),
         ));
     }
@@ -1070,7 +1152,15 @@ fn resolve_tolerance(
             ))
         }
     };
-    let kind = if let Some(v) = t.absolute {
+    let kind = if let Some(f) = t.factor {
+        if !(f.is_finite() && f > 1.0) {
+            return Err(err(
+                &format!("{tfield}.factor"),
+                format!("must be finite and > 1, got {f}"),
+            ));
+        }
+        ToleranceKind::Factor(f)
+    } else if let Some(v) = t.absolute {
         ToleranceKind::Absolute(positive(v, "absolute")?)
     } else if let Some(v) = t.relative {
         ToleranceKind::Relative(positive(v, "relative")?)

@@ -307,6 +307,46 @@ pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
 
 fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
     match subject {
+        Subject::Aircraft { file, loading }
+            if check.kind != CheckKind::Trim && check.kind != CheckKind::TrimSweep =>
+        {
+            let request = check
+                .condition
+                .ok_or("a check on the linearised aircraft needs a condition")?;
+            let lin = crate::linearise_cached(file, request, *loading)?;
+            let full = &lin.1.model;
+            let model = if check.kind == CheckKind::Milne {
+                lin.1.longitudinal().map_err(|e| e.to_string())?
+            } else {
+                full.clone()
+            };
+            let base = prepare(&model, check)?;
+            let nominal = compute(&base, check, None, &model)?;
+            let mut out = Vec::new();
+            for e in &check.expectations {
+                let value = match (check.kind, e.quantity.as_str()) {
+                    (CheckKind::Derivative, q) if q != "value" => {
+                        let d = check.derivative.as_deref().unwrap_or_default();
+                        let parts = lin.1.breakdown(d).map_err(|e| e.to_string())?;
+                        parts
+                            .iter()
+                            .find(|(c, _)| c == q)
+                            .map(|(_, v)| *v)
+                            .ok_or_else(|| format!("no component `{q}`"))?
+                    }
+                    _ => nominal.get(&e.quantity)?,
+                };
+                out.push(compare(e, value, || Ok(0.0))?);
+            }
+            let verdict = match (check.verdict, nominal.verdict) {
+                (Some(want), Some(got)) => Some((want, got)),
+                (Some(_), None) => {
+                    return Err("the mode is not oscillatory: BCAR Section T does not apply".into());
+                }
+                _ => None,
+            };
+            Ok((out, verdict))
+        }
         Subject::Aircraft { file, loading } => {
             if let Some(request) = check.condition {
                 let values = trim_quantities(file, *loading, request)?;
@@ -561,10 +601,11 @@ fn compute(
         }
         CheckKind::Derivative => {
             let d = check.derivative.as_deref().unwrap_or_default();
-            values.push((
-                "value",
-                model.derivative_value(d).map_err(|e| e.to_string())?,
-            ));
+            let mut v = model.derivative_value(d).map_err(|e| e.to_string())?;
+            if let Some(by) = &check.divided_by {
+                v /= model.derivative_value(by).map_err(|e| e.to_string())?;
+            }
+            values.push(("value", v));
         }
         CheckKind::Autorotation => return Err("an autorotation check needs a rotor".into()),
         CheckKind::Trim | CheckKind::TrimSweep => {
@@ -691,6 +732,16 @@ fn compare(
                 ),
             )
         }
+        (ToleranceKind::Factor(f), Some(x)) => {
+            // In log units: ln f - |ln(value / expected)|, not a number across a sign change.
+            let ratio = value / x;
+            let margin = if ratio > 0.0 {
+                f.ln() - ratio.ln().abs()
+            } else {
+                f64::NAN
+            };
+            (margin, format!("same sign, within x{f} (ratio {ratio:.3})"))
+        }
         _ => return Err("expectation and tolerance do not fit (checked at load)".into()),
     };
     let pass = value.is_finite() && margin.is_finite() && margin >= 0.0;
@@ -765,6 +816,7 @@ mod tests {
                 system,
                 mode: Some(mode),
                 derivative: None,
+                divided_by: None,
                 verdict: None,
                 tunnel: None,
                 condition: None,

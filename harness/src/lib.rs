@@ -163,3 +163,104 @@ pub fn run_trim(
     };
     Ok(trim::trim(&a, condition, trim::Options::default())?)
 }
+
+/// Why a linearisation run did not produce a model.
+#[derive(Debug, thiserror::Error)]
+pub enum LinearRunError {
+    #[error("{0}")]
+    Trim(#[from] TrimRunError),
+    #[error("linearisation: {0}")]
+    Linearise(#[from] cierva_model::linearise::LinearisationError),
+}
+
+impl LinearRunError {
+    /// Whether the inputs were at fault.
+    pub fn is_input(&self) -> bool {
+        matches!(self, Self::Trim(t) if t.is_input())
+    }
+}
+
+/// Trims and linearises an aircraft (seed 001 Eqs. 10-12; see `cierva_model::linearise`).
+pub fn run_linearise(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+) -> Result<
+    (
+        cierva_model::trim::Trim,
+        cierva_model::linearise::Linearised,
+    ),
+    LinearRunError,
+> {
+    use cierva_model::{aircraft::Air, atmosphere, linearise};
+    let trim = run_trim(aircraft, request, loading)?;
+    let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)
+        .map_err(TrimRunError::from)?;
+    let mut a = aircraft.clone();
+    if let Some(m) = loading.mass_kg {
+        a.mass.mass_kg = m;
+    }
+    let lin = linearise::linearise(
+        &a,
+        &trim,
+        Air {
+            density_kg_m3: air.density_kg_m3,
+            speed_of_sound_m_s: air.speed_of_sound_m_s,
+        },
+        linearise::Steps::default(),
+    )?;
+    Ok((trim, lin))
+}
+
+/// Units of the linearised model's states and controls.
+pub fn linear_units() -> std::collections::BTreeMap<String, String> {
+    [
+        ("u", "m/s"),
+        ("v", "m/s"),
+        ("w", "m/s"),
+        ("p", "rad/s"),
+        ("q", "rad/s"),
+        ("r", "rad/s"),
+        ("phi", "rad"),
+        ("theta", "rad"),
+        ("psi", "rad"),
+        ("Omega", "rad/s"),
+        ("eta_s", "% of longitudinal stick travel (0 forward)"),
+        ("eta_c", "% of lateral stick travel (0 left)"),
+        ("eta_p", "% of pedal travel (0 left)"),
+        ("eta_t", "% of throttle"),
+    ]
+    .iter()
+    .map(|(k, v)| (k.to_string(), v.to_string()))
+    .collect()
+}
+
+type Linearisation = (
+    cierva_model::trim::Trim,
+    cierva_model::linearise::Linearised,
+);
+
+/// `run_linearise`, remembered per aircraft file, condition and loading (a case's checks at
+/// one condition share one linearisation).
+pub fn linearise_cached(
+    file: &aircraft_file::AircraftFile,
+    request: TrimRequest,
+    loading: Loading,
+) -> Result<std::sync::Arc<Linearisation>, String> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex, OnceLock};
+    type Cache = Mutex<HashMap<String, Result<Arc<Linearisation>, String>>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let key = format!("{}|{request:?}|{loading:?}", file.path.display());
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return hit;
+    }
+    let result = run_linearise(&file.aircraft, request, loading)
+        .map(Arc::new)
+        .map_err(|e| e.to_string());
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, result.clone());
+    }
+    result
+}

@@ -153,6 +153,20 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Trim and linearise an aircraft (seed 001 Eqs. 10-12): the nine rigid-body states and the
+    /// rotorspeed, controls in % of travel, blades and inflow quasi-steady. Prints the
+    /// derivatives, the modes with BCAR Section T, the longitudinal subset's modes and the
+    /// primary derivatives split by component (seed 000 Tables 1-2).
+    ///
+    /// Example: `cierva linearize aircraft/vpm-m16.yaml --airspeed-mph 69 --mass-kg 425
+    /// --density-altitude-ft 2000 --format yaml > /tmp/model.yaml`
+    Linearize {
+        #[command(flatten)]
+        flight: FlightArgs,
+        /// text, json (derivatives and breakdown) or yaml (a flight-refs file with the model).
+        #[arg(long, value_enum, default_value_t = LinearFormat::Text)]
+        format: LinearFormat,
+    },
     /// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
     /// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
     /// Newton solver reached (converged when every scaled residual is at most 1e-7).
@@ -179,6 +193,33 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+}
+
+/// An aircraft and a flight condition (shared by `linearize` and later commands).
+#[derive(clap::Args)]
+struct FlightArgs {
+    /// An aircraft file (see aircraft/).
+    aircraft: PathBuf,
+    /// True airspeed, mph.
+    #[arg(long, allow_hyphen_values = true)]
+    airspeed_mph: f64,
+    /// Mass, kg (default: the aircraft file's).
+    #[arg(long, allow_hyphen_values = true)]
+    mass_kg: Option<f64>,
+    /// Rate of climb, m/s; negative descends.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    climb_m_s: f64,
+    /// Density altitude, ft (ISA).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    density_altitude_ft: f64,
+}
+
+/// Output of `linearize`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum LinearFormat {
+    Text,
+    Json,
+    Yaml,
 }
 
 /// A rotor in a wind tunnel: the rotor file and the condition (shared by `autorotate` and
@@ -366,6 +407,7 @@ fn main() -> ExitCode {
             inflow.model(skew),
             format,
         ),
+        Command::Linearize { flight, format } => linearize(flight, format),
         Command::Trim {
             aircraft,
             airspeed_mph,
@@ -388,6 +430,118 @@ fn main() -> ExitCode {
             format,
         ),
     }
+}
+
+fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
+    let file = match cierva_harness::aircraft_file::load(&f.aircraft) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let request = cierva_harness::TrimRequest {
+        airspeed_mph: f.airspeed_mph,
+        climb_m_s: f.climb_m_s,
+        turn_rate_deg_s: 0.0,
+    };
+    let loading = cierva_harness::Loading {
+        mass_kg: f.mass_kg,
+        density_altitude_ft: f.density_altitude_ft,
+    };
+    let (t, lin) = match cierva_harness::run_linearise(&file.aircraft, request, loading) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {}: {e}", f.aircraft.display());
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+        }
+    };
+    let mass = f.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
+    let condition = format!(
+        "{} mph, climb {} m/s, {} kg, density altitude {} ft",
+        f.airspeed_mph, f.climb_m_s, mass, f.density_altitude_ft
+    );
+    match format {
+        LinearFormat::Yaml => {
+            let id = format!("{}-{}mph-{}kg", file.id, f.airspeed_mph, mass.round());
+            print!(
+                "{}",
+                text::linear_reference_yaml(
+                    &id,
+                    &format!("{} linearised at {condition}", file.title),
+                    &format!(
+                        "cierva linearize {} ({}), trim residual {:.1e}",
+                        env!("CARGO_PKG_VERSION"),
+                        f.aircraft.display(),
+                        t.residual_norm
+                    ),
+                    &lin.model,
+                    &cierva_harness::linear_units(),
+                )
+            );
+        }
+        LinearFormat::Json => {
+            let derivs: Vec<serde_json::Value> = text::PRIMARY_DERIVATIVES
+                .iter()
+                .filter_map(|n| {
+                    let v = lin.model.derivative_value(n).ok()?;
+                    let parts: serde_json::Map<String, serde_json::Value> = lin
+                        .breakdown(n)
+                        .ok()?
+                        .into_iter()
+                        .map(|(c, x)| (c, serde_json::json!(x)))
+                        .collect();
+                    Some(serde_json::json!({"name": n, "value": v, "components": parts}))
+                })
+                .collect();
+            let m = &lin.model;
+            let out = serde_json::json!({
+                "condition": condition,
+                "trim": t,
+                "states": m.states(),
+                "controls": m.controls(),
+                "a": (0..m.states().len()).map(|i| (0..m.states().len()).map(|j| m.a()[(i, j)]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "b": (0..m.states().len()).map(|i| (0..m.controls().len()).map(|j| m.b()[(i, j)]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "primary_derivatives": derivs,
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        LinearFormat::Text => {
+            println!("{} at {condition}", file.title);
+            println!(
+                "trim: stick {:.2} % / {:.2} %, pedal {:.2} %, throttle {:.2} %, pitch {:.3} deg, roll {:.3} deg, rotor {:.1} rpm (residual {:.1e})",
+                t.controls.stick_longitudinal_percent,
+                t.controls.stick_lateral_percent,
+                t.controls.pedal_percent,
+                t.controls.throttle_percent,
+                t.pitch_rad.to_degrees(),
+                t.roll_rad.to_degrees(),
+                t.rotor_rpm,
+                t.residual_norm
+            );
+            println!("\nprimary derivatives by component (SI; controls per % of travel):");
+            print!("{}", text::breakdown_table(&lin, text::PRIMARY_DERIVATIVES));
+            match cierva_model::modes(&lin.model) {
+                Ok(a) => {
+                    println!("\nmodes, 10 states:");
+                    print!("{}", text::modes_table(&a));
+                }
+                Err(e) => println!("modes: {e}"),
+            }
+            if let Ok(lon) = lin.longitudinal()
+                && let Ok(a) = cierva_model::modes(&lon)
+            {
+                println!("\nmodes, longitudinal [u w q theta Omega]:");
+                print!("{}", text::modes_table(&a));
+            }
+            println!("\nall derivatives:");
+            print!("{}", text::derivatives_table(&lin.model));
+        }
+    }
+    ExitCode::SUCCESS
 }
 
 fn trim(

@@ -476,6 +476,96 @@ pub fn trim_table(columns: &[(String, Result<crate::eval::Quantities, String>)])
     s
 }
 
+/// The primary derivatives of a linearised aircraft split by component (seed 000 Tables 1-2).
+pub fn breakdown_table(lin: &cierva_model::linearise::Linearised, names: &[&str]) -> String {
+    let mut s = String::new();
+    let _ = write!(s, "{:<12} {:>12}", "derivative", "total");
+    for c in cierva_model::linearise::COMPONENTS {
+        let _ = write!(s, " {c:>12}");
+    }
+    s.push('\n');
+    for n in names {
+        let (Ok(total), Ok(parts)) = (lin.model.derivative_value(n), lin.breakdown(n)) else {
+            continue;
+        };
+        let _ = write!(s, "{n:<12} {:>12}", sig(total, SIG));
+        // Round-off (a sum of parts minus the total) prints as 0.
+        let scale = parts.iter().fold(total.abs(), |m, (_, v)| m.max(v.abs()));
+        for (_, v) in parts {
+            let v = if v.abs() <= 1e-9 * scale { 0.0 } else { v };
+            let _ = write!(s, " {:>12}", sig(v, SIG));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The primary derivatives the breakdown shows.
+pub const PRIMARY_DERIVATIVES: &[&str] = &[
+    "X_u", "X_w", "Z_u", "Z_w", "M_u", "M_w", "M_q", "Q_u", "Q_w", "Q_q", "Q_Omega", "X_Omega",
+    "Z_Omega", "M_Omega", "Y_v", "L_v", "L_p", "N_v", "N_r", "L_eta_c", "M_eta_s",
+];
+
+/// A linearised model as a flight-refs reference file (loadable by `cierva modes` and cases).
+pub fn linear_reference_yaml(
+    id: &str,
+    title: &str,
+    source: &str,
+    model: &LinearModel,
+    units: &std::collections::BTreeMap<String, String>,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "id: {id}");
+    let _ = writeln!(s, "title: {title}");
+    let _ = writeln!(s, "provenance:");
+    let _ = writeln!(s, "  source: \"{}\"", source.replace('"', "'"));
+    let _ = writeln!(s, "linear_model:");
+    let list = |v: &[String]| v.join(", ");
+    let _ = writeln!(s, "  states: [{}]", list(m_states(model)));
+    let _ = writeln!(s, "  controls: [{}]", list(model.controls()));
+    let _ = writeln!(s, "  units:");
+    for n in model.states().iter().chain(model.controls()) {
+        let _ = writeln!(
+            s,
+            "    {n}: \"{}\"",
+            units.get(n).map_or("not stated", |u| u.as_str())
+        );
+    }
+    let row = |r: Vec<f64>| {
+        format!(
+            "[{}]",
+            r.iter()
+                .map(|v| format!("{v:e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
+    let n = model.states().len();
+    let _ = writeln!(s, "  a:");
+    for i in 0..n {
+        let _ = writeln!(
+            s,
+            "    - {}",
+            row((0..n).map(|j| model.a()[(i, j)]).collect())
+        );
+    }
+    let _ = writeln!(s, "  b:");
+    for i in 0..n {
+        let _ = writeln!(
+            s,
+            "    - {}",
+            row((0..model.controls().len())
+                .map(|j| model.b()[(i, j)])
+                .collect())
+        );
+    }
+    s
+}
+
+fn m_states(m: &LinearModel) -> &[String] {
+    m.states()
+}
+
 #[cfg(test)]
 mod tests {
     use super::sig;

@@ -129,6 +129,56 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
             .with_kind("snapshot"),
         );
     }
+    if let Subject::Aircraft { .. } = &case.subject {
+        // One snapshot of the linearised model per condition its derivative, mode, BCAR or
+        // Milne checks use.
+        let mut conditions: Vec<cierva_harness::TrimRequest> = case
+            .checks
+            .iter()
+            .filter(|k| {
+                !matches!(
+                    k.kind,
+                    cierva_harness::case::CheckKind::Trim
+                        | cierva_harness::case::CheckKind::TrimSweep
+                )
+            })
+            .filter_map(|k| k.condition)
+            .collect();
+        conditions.sort_by(|a, b| {
+            (a.airspeed_mph, a.climb_m_s)
+                .partial_cmp(&(b.airspeed_mph, b.climb_m_s))
+                .expect("finite conditions")
+        });
+        conditions.dedup();
+        for r in conditions {
+            let c = case.clone();
+            let label = format!("{}mph", r.airspeed_mph)
+                + &if r.climb_m_s != 0.0 {
+                    format!("-climb{}", r.climb_m_s)
+                } else {
+                    String::new()
+                };
+            let what = format!("linear-{label}");
+            trials.push(
+                Trial::test(format!("{}::snapshot-{what}", case.id), move || {
+                    let Subject::Aircraft { file, loading } = &c.subject else {
+                        unreachable!()
+                    };
+                    let body = cierva_harness::linearise_cached(file, r, *loading).and_then(|l| {
+                        let modes = cierva_model::modes(&l.1.model).map_err(|e| e.to_string())?;
+                        Ok(format!(
+                            "{}\n{}\n{}",
+                            text::breakdown_table(&l.1, text::PRIMARY_DERIVATIVES),
+                            text::modes_table(&modes),
+                            text::derivatives_table(&l.1.model)
+                        ))
+                    });
+                    snapshot(&c, &what, body)
+                })
+                .with_kind("snapshot"),
+            );
+        }
+    }
     if let Subject::Linear { model, .. } = &case.subject {
         let snaps: Vec<(&str, Snapshotter)> = vec![
             ("derivatives", |m| Ok(text::derivatives_table(m))),

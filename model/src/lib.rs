@@ -52,6 +52,7 @@ pub mod bcar;
 pub mod flapping_inflow;
 pub mod inflow;
 pub mod linear;
+pub mod linearise;
 pub mod locus;
 pub mod milne;
 pub mod modes;
