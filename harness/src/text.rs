@@ -59,7 +59,28 @@ pub fn modes_table(a: &ModalAnalysis) -> String {
         "t_double s",
         "BCAR Section T (margin, 1/s)"
     );
+    // An eigenvalue at round-off from zero (the heading mode) prints as an exact zero.
+    let scale = a
+        .modes
+        .iter()
+        .fold(0.0f64, |x, m| x.max(m.eigenvalue.re.hypot(m.eigenvalue.im)));
     for m in &a.modes {
+        if m.eigenvalue.re.hypot(m.eigenvalue.im) <= 1e-12 * scale {
+            let _ = writeln!(
+                s,
+                "{:<16} {:>24} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<34} {}",
+                m.kind.name(),
+                "0",
+                "-",
+                "0",
+                "-",
+                "-",
+                "-",
+                "n/a (not oscillatory)",
+                "(a zero eigenvalue)"
+            );
+            continue;
+        }
         let ev = if m.is_oscillatory() {
             format!(
                 "{} ± {}i",
