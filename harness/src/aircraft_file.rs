@@ -187,7 +187,7 @@ pub struct ControlsSpec {
     pub rudder_deg: MapSpec,
 }
 
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AircraftCorrectionsSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -367,7 +367,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         }
     };
     let c = &a.airframe.coefficients;
-    let corrections = a.corrections.clone().unwrap_or_default();
+    let corrections = a.corrections.unwrap_or_default();
     let aircraft = Aircraft {
         mass: MassProperties {
             mass_kg: a.mass.mass_kg,
@@ -466,5 +466,30 @@ fn field_of(e: &AircraftError) -> String {
             "positions" => "aircraft.cg_m".into(),
             _ => "aircraft.propeller.drive".into(),
         },
+    }
+}
+
+impl AircraftFile {
+    /// A copy with seed 000's corrections set (those given; the rest as in the file), checked.
+    /// Its path is marked with the corrections, so cached results keep them apart.
+    pub fn with_corrections(
+        &self,
+        c: &AircraftCorrectionsSpec,
+    ) -> Result<AircraftFile, AircraftError> {
+        let mut f = self.clone();
+        if let Some(b) = c.propeller_blockage {
+            f.aircraft.propeller.propeller.blockage = b;
+        }
+        if let Some(k) = c.hub_aoa_factor {
+            f.aircraft.hub_aoa_factor = Some(k);
+        }
+        f.aircraft.validate()?;
+        f.path = PathBuf::from(format!(
+            "{}#blockage={:?},hub_aoa_factor={:?}",
+            self.path.display(),
+            c.propeller_blockage,
+            c.hub_aoa_factor
+        ));
+        Ok(f)
     }
 }

@@ -263,6 +263,10 @@ pub struct CheckSpec {
     /// For `trim_sweep`: the airspeeds, mph, rising.
     #[serde(default)]
     pub sweep_mph: Option<Vec<f64>>,
+    /// For `derivative` on an aircraft: seed 000's corrections to apply; the check then also
+    /// computes `magnitude_change`, `(|corrected| - |uncorrected|) / |uncorrected|`.
+    #[serde(default)]
+    pub corrections: Option<crate::aircraft_file::AircraftCorrectionsSpec>,
     /// Derivatives set to these values before the check (a what-if variant).
     #[serde(default)]
     pub set: BTreeMap<String, f64>,
@@ -332,6 +336,7 @@ pub struct Check {
     pub tunnel: Option<TunnelSpec>,
     pub condition: Option<crate::TrimRequest>,
     pub sweep_mph: Option<Vec<f64>>,
+    pub corrections: Option<crate::aircraft_file::AircraftCorrectionsSpec>,
     pub set: BTreeMap<String, f64>,
     pub without_rotorspeed_coupling: bool,
     pub expectations: Vec<Expectation>,
@@ -430,7 +435,14 @@ pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
             "m_omega_eq24",
             "m_omega_eq25",
         ],
-        CheckKind::Derivative => &["value", "rotor", "propeller", "airframe", "inertial"],
+        CheckKind::Derivative => &[
+            "value",
+            "rotor",
+            "propeller",
+            "airframe",
+            "inertial",
+            "magnitude_change",
+        ],
         CheckKind::Autorotation => &[
             "rpm",
             "omega_rad_s",
@@ -893,6 +905,21 @@ fn resolve_check(
                 .map_err(|e| err(&format!("{here}.derivative"), e.to_string()))?;
         }
     }
+    if let Some(k) = &c.corrections {
+        if !(aircraft && c.kind == CheckKind::Derivative) {
+            refuses(true, "corrections")?;
+        }
+        if let Subject::Aircraft { file, .. } = subject {
+            file.with_corrections(k)
+                .map_err(|e| err(&format!("{here}.corrections"), e.to_string()))?;
+        }
+    }
+    if c.corrections.is_none() && c.expect.contains_key("magnitude_change") {
+        return Err(err(
+            &format!("{here}.expect.magnitude_change"),
+            "`magnitude_change` compares with corrections: give `corrections`".into(),
+        ));
+    }
     if c.divided_by.is_some() && c.kind != CheckKind::Derivative {
         refuses(true, "divided_by")?;
     }
@@ -1061,6 +1088,7 @@ fn resolve_check(
         tunnel: c.tunnel,
         condition: c.condition,
         sweep_mph: c.sweep_mph.clone(),
+        corrections: c.corrections,
         set: c.set.clone(),
         without_rotorspeed_coupling: c.without_rotorspeed_coupling,
         expectations,

@@ -313,6 +313,14 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
             let request = check
                 .condition
                 .ok_or("a check on the linearised aircraft needs a condition")?;
+            let corrected;
+            let file = match &check.corrections {
+                Some(c) => {
+                    corrected = file.with_corrections(c).map_err(|e| e.to_string())?;
+                    &corrected
+                }
+                None => file.as_ref(),
+            };
             let lin = crate::linearise_cached(file, request, *loading)?;
             let full = &lin.1.model;
             let model = if check.kind == CheckKind::Milne {
@@ -325,6 +333,20 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
             let mut out = Vec::new();
             for e in &check.expectations {
                 let value = match (check.kind, e.quantity.as_str()) {
+                    (CheckKind::Derivative, "magnitude_change") => {
+                        let Subject::Aircraft { file: plain, .. } = subject else {
+                            unreachable!()
+                        };
+                        let d = check.derivative.as_deref().unwrap_or_default();
+                        let base = crate::linearise_cached(plain, request, *loading)?;
+                        let b = base
+                            .1
+                            .model
+                            .derivative_value(d)
+                            .map_err(|e| e.to_string())?;
+                        let c = lin.1.model.derivative_value(d).map_err(|e| e.to_string())?;
+                        (c.abs() - b.abs()) / b.abs()
+                    }
                     (CheckKind::Derivative, q) if q != "value" => {
                         let d = check.derivative.as_deref().unwrap_or_default();
                         let parts = lin.1.breakdown(d).map_err(|e| e.to_string())?;
@@ -817,6 +839,7 @@ mod tests {
                 mode: Some(mode),
                 derivative: None,
                 divided_by: None,
+                corrections: None,
                 verdict: None,
                 tunnel: None,
                 condition: None,

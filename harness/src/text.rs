@@ -68,7 +68,7 @@ pub fn modes_table(a: &ModalAnalysis) -> String {
         if m.eigenvalue.re.hypot(m.eigenvalue.im) <= 1e-12 * scale {
             let _ = writeln!(
                 s,
-                "{:<16} {:>24} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<34} {}",
+                "{:<16} {:>24} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<34} (a zero eigenvalue)",
                 m.kind.name(),
                 "0",
                 "-",
@@ -77,7 +77,6 @@ pub fn modes_table(a: &ModalAnalysis) -> String {
                 "-",
                 "-",
                 "n/a (not oscillatory)",
-                "(a zero eigenvalue)"
             );
             continue;
         }
