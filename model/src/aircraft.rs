@@ -564,14 +564,34 @@ impl Aircraft {
         air: Air,
         warm: [f64; 2],
     ) -> Result<Averaged, AircraftError> {
+        self.averaged_cached(state, controls, air, warm, &mut RotorCache::default())
+    }
+
+    /// [`Aircraft::averaged`], reusing the rotor's periodic solution when the rotor's operating
+    /// state is one the cache has seen (perturbations of attitude, pedal, throttle or
+    /// propeller speed leave it unchanged).
+    pub fn averaged_cached(
+        &self,
+        state: &State,
+        controls: &Controls,
+        air: Air,
+        warm: [f64; 2],
+        cache: &mut RotorCache,
+    ) -> Result<Averaged, AircraftError> {
         let b = &state.body;
         let mr = &self.main_rotor;
         let omega = state.rotor_omega_rad_s;
         positive_state("rotor_omega_rad_s", omega)?;
         let frame = self.rotor_frame(b, controls);
         let op = self.operating(&frame, omega, state.inflow, air);
-        let blade = Blade::new(&mr.rotor, mr.numerics);
-        let rl: SteadyLoads = blade.steady(&op, warm)?;
+        let rl: SteadyLoads = match cache.entries.iter().find(|(o, _)| *o == op) {
+            Some((_, l)) => *l,
+            None => {
+                let l = Blade::new(&mr.rotor, mr.numerics).steady(&op, warm)?;
+                cache.entries.push((op, l));
+                l
+            }
+        };
         let driving = inflow::DrivingLoads {
             thrust_n: rl.thrust_n(),
             roll_n_m: rl.moment_n_m[0],
@@ -981,6 +1001,12 @@ fn sum_loads(parts: &[Loads]) -> Loads {
         m_n_m: a.m_n_m + l.m_n_m,
         n_n_m: a.n_n_m + l.n_n_m,
     })
+}
+
+/// Rotor periodic solutions already computed, by operating state.
+#[derive(Debug, Clone, Default)]
+pub struct RotorCache {
+    entries: Vec<(Operating, SteadyLoads)>,
 }
 
 /// The full individual-blade state.
