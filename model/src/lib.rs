@@ -63,6 +63,7 @@ pub mod simulate;
 pub mod solve;
 #[cfg(test)]
 pub(crate) mod testdata;
+pub mod timehistory;
 pub mod trim;
 
 pub use linear::{Element, LinearModel, LinearModelError};
