@@ -8,6 +8,7 @@
 
 pub mod aircraft_file;
 pub mod case;
+pub mod controls_file;
 pub mod eval;
 pub mod ident;
 pub mod refs;
@@ -263,4 +264,56 @@ pub fn linearise_cached(
         c.insert(key, result.clone());
     }
     result
+}
+
+/// Trims the aircraft, refines the trim to the full model's periodic orbit, and flies the
+/// full model from there with the given control changes from trim (`changes(t)` in % of
+/// travel: longitudinal stick, lateral stick, pedal, throttle).
+pub fn run_simulation(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+    changes: &dyn Fn(f64) -> [f64; 4],
+    settings: cierva_model::timehistory::Settings,
+) -> Result<cierva_model::timehistory::TimeHistory, String> {
+    use cierva_model::{aircraft::Air, atmosphere, timehistory, trim};
+    let mut a = aircraft.clone();
+    if let Some(m) = loading.mass_kg {
+        a.mass.mass_kg = m;
+    }
+    let t = run_trim(
+        &a,
+        request,
+        Loading {
+            mass_kg: None,
+            ..loading
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)
+        .map_err(|e| e.to_string())?;
+    let air = Air {
+        density_kg_m3: air.density_kg_m3,
+        speed_of_sound_m_s: air.speed_of_sound_m_s,
+    };
+    let condition = trim::Condition {
+        airspeed_m_s: request.airspeed_mph * MPH_TO_M_S,
+        climb_m_s: request.climb_m_s,
+        turn_rate_rad_s: request.turn_rate_deg_s.to_radians(),
+        air,
+    };
+    let pt = trim::periodic_trim(&a, condition, &t, trim::Options::default())
+        .map_err(|e| format!("periodic trim of the full model: {e}"))?;
+    let u0 = pt.controls;
+    let controls = |time: f64| {
+        let d = changes(time);
+        cierva_model::aircraft::Controls {
+            stick_longitudinal_percent: u0.stick_longitudinal_percent + d[0],
+            stick_lateral_percent: u0.stick_lateral_percent + d[1],
+            pedal_percent: u0.pedal_percent + d[2],
+            throttle_percent: u0.throttle_percent + d[3],
+        }
+    };
+    timehistory::run(&a, pt.start, &controls, air, settings)
+        .map_err(|(time, e)| format!("at {time:.3} s: {e}"))
 }

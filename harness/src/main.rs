@@ -167,6 +167,55 @@ enum Command {
         #[arg(long, value_enum, default_value_t = LinearFormat::Text)]
         format: LinearFormat,
     },
+    /// Fly the full individual-blade model from trim (refined to the full model's periodic
+    /// orbit) with control inputs: a shape on one control, or a CSV of control changes from
+    /// trim. Fixed-step fourth-order Runge-Kutta at the aircraft's azimuth step (or
+    /// `--azimuth-step-deg`). Writes time, controls, body states, rotor and propeller speeds,
+    /// flapping and inflow as CSV.
+    ///
+    /// Example: `cierva simulate aircraft/vpm-m16.yaml --airspeed-mph 70 --shape doublet
+    /// --control eta_s --amplitude-percent 2 --start-s 1 --input-s 1 --duration-s 10
+    /// --output /tmp/doublet.csv`
+    Simulate {
+        #[command(flatten)]
+        flight: FlightArgs,
+        /// A CSV of control changes from trim (time_s and any of eta_s_percent, eta_c_percent,
+        /// eta_p_percent, eta_t_percent); instead of --shape.
+        #[arg(long)]
+        input: Option<PathBuf>,
+        /// An input shape on one control (with --control and --amplitude-percent).
+        #[arg(long, value_enum)]
+        shape: Option<InputChoice>,
+        /// eta_s (longitudinal stick), eta_c (lateral stick), eta_p (pedal) or eta_t (throttle).
+        #[arg(long, default_value = "eta_s")]
+        control: String,
+        /// Amplitude, % of travel.
+        #[arg(long, allow_hyphen_values = true, default_value_t = 1.0)]
+        amplitude_percent: f64,
+        /// When a doublet, 3-2-1-1 or step starts, s.
+        #[arg(long, default_value_t = 1.0)]
+        start_s: f64,
+        /// Pulse (doublet), unit (3-2-1-1) or length (sweep), s.
+        #[arg(long, default_value_t = 1.0)]
+        input_s: f64,
+        /// Sweep band, Hz.
+        #[arg(long, default_value_t = 0.1)]
+        from_hz: f64,
+        #[arg(long, default_value_t = 2.0)]
+        to_hz: f64,
+        /// Length of the run, s.
+        #[arg(long, default_value_t = 10.0)]
+        duration_s: f64,
+        /// Azimuth step of the integration, deg (default: the aircraft file's).
+        #[arg(long)]
+        azimuth_step_deg: Option<f64>,
+        /// Keep every n-th step.
+        #[arg(long, default_value_t = 1)]
+        every: usize,
+        /// The CSV to write.
+        #[arg(long)]
+        output: PathBuf,
+    },
     /// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
     /// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
     /// Newton solver reached (converged when every scaled residual is at most 1e-7).
@@ -408,6 +457,55 @@ fn main() -> ExitCode {
             format,
         ),
         Command::Linearize { flight, format } => linearize(flight, format),
+        Command::Simulate {
+            flight,
+            input,
+            shape,
+            control,
+            amplitude_percent,
+            start_s,
+            input_s,
+            from_hz,
+            to_hz,
+            duration_s,
+            azimuth_step_deg,
+            every,
+            output,
+        } => {
+            let shape = shape.map(|c| match c {
+                InputChoice::Sweep | InputChoice::SweepDown => {
+                    cierva_harness::ident::synth::Input::Sweep {
+                        from_hz,
+                        to_hz,
+                        duration_s: input_s,
+                        amplitude: amplitude_percent,
+                        descending: c == InputChoice::SweepDown,
+                    }
+                }
+                InputChoice::Doublet => cierva_harness::ident::synth::Input::Doublet {
+                    start_s,
+                    pulse_s: input_s,
+                    amplitude: amplitude_percent,
+                },
+                InputChoice::ThreeTwoOneOne => {
+                    cierva_harness::ident::synth::Input::ThreeTwoOneOne {
+                        start_s,
+                        unit_s: input_s,
+                        amplitude: amplitude_percent,
+                    }
+                }
+                InputChoice::Step => cierva_harness::ident::synth::Input::Step {
+                    start_s,
+                    amplitude: amplitude_percent,
+                },
+            });
+            simulate(
+                flight,
+                (input, shape, control),
+                (duration_s, azimuth_step_deg, every),
+                output,
+            )
+        }
         Command::Trim {
             aircraft,
             airspeed_mph,
@@ -429,6 +527,101 @@ fn main() -> ExitCode {
             },
             format,
         ),
+    }
+}
+
+fn simulate(
+    f: FlightArgs,
+    (input, shape, control): (
+        Option<PathBuf>,
+        Option<cierva_harness::ident::synth::Input>,
+        String,
+    ),
+    (duration_s, azimuth_step_deg, every): (f64, Option<f64>, usize),
+    output: PathBuf,
+) -> ExitCode {
+    use cierva_harness::controls_file;
+    let file = match cierva_harness::aircraft_file::load(&f.aircraft) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let table = match (&input, &shape) {
+        (Some(p), None) => match controls_file::read(p) {
+            Ok(t) => Some(t),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        },
+        (None, Some(_)) => None,
+        _ => {
+            eprintln!("error: give exactly one of --input CSV or --shape");
+            return ExitCode::from(2);
+        }
+    };
+    let index = match control.as_str() {
+        "eta_s" => 0,
+        "eta_c" => 1,
+        "eta_p" => 2,
+        "eta_t" => 3,
+        other => {
+            eprintln!("error: unknown control `{other}`: eta_s, eta_c, eta_p or eta_t");
+            return ExitCode::from(2);
+        }
+    };
+    let changes = |t: f64| -> [f64; 4] {
+        match (&table, &shape) {
+            (Some(tb), _) => tb.at(t),
+            (None, Some(s)) => {
+                let mut d = [0.0; 4];
+                d[index] = s.at(t);
+                d
+            }
+            _ => [0.0; 4],
+        }
+    };
+    let step = azimuth_step_deg.map_or(
+        file.aircraft.main_rotor.numerics.azimuth_step_rad,
+        f64::to_radians,
+    );
+    let request = cierva_harness::TrimRequest {
+        airspeed_mph: f.airspeed_mph,
+        climb_m_s: f.climb_m_s,
+        turn_rate_deg_s: 0.0,
+    };
+    let loading = cierva_harness::Loading {
+        mass_kg: f.mass_kg,
+        density_altitude_ft: f.density_altitude_ft,
+    };
+    let settings = cierva_model::timehistory::Settings {
+        azimuth_step_rad: step,
+        duration_s,
+        output_every: every,
+    };
+    let started = std::time::Instant::now();
+    match cierva_harness::run_simulation(&file.aircraft, request, loading, &changes, settings) {
+        Ok(h) => {
+            if let Err(e) = std::fs::write(&output, controls_file::to_csv(&h)) {
+                eprintln!("error: cannot write {}: {e}", output.display());
+                return ExitCode::from(2);
+            }
+            eprintln!(
+                "wrote {} ({} samples, step {:.2} ms, {:.2} s of flight in {:.2} s)",
+                output.display(),
+                h.samples.len(),
+                1e3 * h.step_s,
+                duration_s,
+                started.elapsed().as_secs_f64()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}: {e}", f.aircraft.display());
+            ExitCode::from(1)
+        }
     }
 }
 
@@ -1015,6 +1208,51 @@ fn bench(repeat: usize) -> ExitCode {
                     "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; issue 4's target: under 100 ms |",
                     1e3 * median(lins)
                 );
+                // Simulation: 60 s of level flight from the full model's periodic trim, with 10
+                // and 20 elements per blade, one thread.
+                for elements in [10usize, 20] {
+                    let mut a2 = ac.aircraft.clone();
+                    a2.main_rotor.rotor.elements = elements;
+                    let c = cierva_model::trim::Condition {
+                        airspeed_m_s: 70.0 * cierva_harness::MPH_TO_M_S,
+                        climb_m_s: 0.0,
+                        turn_rate_rad_s: 0.0,
+                        air,
+                    };
+                    let Ok(t2) = cierva_model::trim::trim(&a2, c, Default::default()) else {
+                        continue;
+                    };
+                    let Ok(pt) = cierva_model::trim::periodic_trim(&a2, c, &t2, Default::default())
+                    else {
+                        continue;
+                    };
+                    let u = pt.controls;
+                    let settings = cierva_model::timehistory::Settings {
+                        azimuth_step_rad: a2.main_rotor.numerics.azimuth_step_rad,
+                        duration_s: 60.0,
+                        output_every: 72,
+                    };
+                    let runs: Vec<f64> = (0..repeat.min(5))
+                        .map(|_| {
+                            time(&mut || {
+                                sink += cierva_model::timehistory::run(
+                                    &a2,
+                                    pt.start.clone(),
+                                    &|_| u,
+                                    air,
+                                    settings,
+                                )
+                                .map_or(0.0, |h| h.step_s)
+                            })
+                        })
+                        .collect();
+                    let m = median(runs);
+                    println!(
+                        "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; issue 4's target: 200 times with 10 elements |",
+                        m,
+                        60.0 / m
+                    );
+                }
                 println!(
                     "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); issue 3's target: under 50 ms |",
                     1e3 * median(trims),
@@ -1046,7 +1284,7 @@ fn bench(repeat: usize) -> ExitCode {
                 aircraft: "VPM M16".into(),
                 truth: "seed 002 Eq. 20".into(),
                 control: "eta_s".into(),
-                input: synth::Input::Sweep {
+                input: cierva_harness::ident::synth::Input::Sweep {
                     from_hz: 0.02,
                     to_hz: 2.5,
                     duration_s: seconds - 20.0,
@@ -1123,24 +1361,24 @@ fn synth(a: SynthArgs) -> ExitCode {
         return ExitCode::from(2);
     };
     let input = match a.input {
-        InputChoice::Sweep | InputChoice::SweepDown => synth::Input::Sweep {
+        InputChoice::Sweep | InputChoice::SweepDown => cierva_harness::ident::synth::Input::Sweep {
             from_hz: a.from_hz,
             to_hz: a.to_hz,
             duration_s: a.input_s,
             amplitude: a.amplitude,
             descending: a.input == InputChoice::SweepDown,
         },
-        InputChoice::Doublet => synth::Input::Doublet {
+        InputChoice::Doublet => cierva_harness::ident::synth::Input::Doublet {
             start_s: 2.0,
             pulse_s: a.input_s,
             amplitude: a.amplitude,
         },
-        InputChoice::ThreeTwoOneOne => synth::Input::ThreeTwoOneOne {
+        InputChoice::ThreeTwoOneOne => cierva_harness::ident::synth::Input::ThreeTwoOneOne {
             start_s: 2.0,
             unit_s: a.input_s,
             amplitude: a.amplitude,
         },
-        InputChoice::Step => synth::Input::Step {
+        InputChoice::Step => cierva_harness::ident::synth::Input::Step {
             start_s: 2.0,
             amplitude: a.amplitude,
         },

@@ -335,3 +335,104 @@ fn trim_flies_the_vpm_m16_and_refuses_what_cannot_be_flown() {
     assert_eq!(code, 2);
     assert!(err.contains("unknown field"), "{err}");
 }
+
+#[test]
+fn simulate_flies_a_doublet_and_reads_a_control_csv() {
+    let dir = std::env::temp_dir().join(format!("cierva-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("doublet.csv");
+    let (code, _, err) = cierva(&[
+        "simulate",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        "70",
+        "--shape",
+        "doublet",
+        "--control",
+        "eta_s",
+        "--amplitude-percent",
+        "2",
+        "--start-s",
+        "0.5",
+        "--input-s",
+        "0.5",
+        "--duration-s",
+        "2",
+        "--every",
+        "10",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let header = csv.lines().next().unwrap();
+    for col in [
+        "time_s",
+        "eta_s_percent",
+        "q_rad_s",
+        "rotor_omega_rad_s",
+        "flap1_rad",
+        "inflow_v0_m_s",
+    ] {
+        assert!(
+            header.split(',').any(|c| c == col),
+            "{col} missing: {header}"
+        );
+    }
+    // Aft stick pitches the nose up: the pitch rate is positive during the first pulse.
+    let cols: Vec<&str> = header.split(',').collect();
+    let (it, iq) = (
+        cols.iter().position(|c| *c == "time_s").unwrap(),
+        cols.iter().position(|c| *c == "q_rad_s").unwrap(),
+    );
+    let q_at = |t: f64| {
+        csv.lines()
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .map(|x| x.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .min_by(|a, b| (a[it] - t).abs().total_cmp(&(b[it] - t).abs()))
+            .unwrap()[iq]
+    };
+    assert!(
+        q_at(0.95) > q_at(0.4) + 1e-3,
+        "{} vs {}",
+        q_at(0.95),
+        q_at(0.4)
+    );
+    // A control CSV with a bad time column is a located error.
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "time_s,eta_s_percent\n0,0\n1,1\n0.5,2\n").unwrap();
+    let (code, _, err) = cierva(&[
+        "simulate",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        "70",
+        "--input",
+        bad.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains(":4:") && err.contains("does not rise"),
+        "{err}"
+    );
+    let good = dir.join("good.csv");
+    std::fs::write(&good, "time_s,eta_c_percent\n0,0\n0.5,0\n0.6,1\n").unwrap();
+    let (code, _, err) = cierva(&[
+        "simulate",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        "60",
+        "--input",
+        good.to_str().unwrap(),
+        "--duration-s",
+        "1",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+}

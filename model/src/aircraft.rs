@@ -523,9 +523,12 @@ impl Aircraft {
         let parm = sub(pi.position_m, self.cg_m);
         let prot = cross(pqr, parm);
         let axial = (uvw[0] + prot[0]).max(0.0);
-        let ps =
-            pi.propeller
-                .operate(prop_omega, axial, air.density_kg_m3, air.speed_of_sound_m_s)?;
+        let ps = pi.propeller.operate_checked(
+            prop_omega,
+            axial,
+            air.density_kg_m3,
+            air.speed_of_sound_m_s,
+        )?;
         let sense = match pi.rotation {
             Rotation::Clockwise => 1.0,
             Rotation::Anticlockwise => -1.0,
@@ -834,19 +837,31 @@ impl Aircraft {
             op.inflow = self.quasi_steady_inflow(&frame, &op, air, &driving_at)?;
         }
         let op = op;
-        // Flap (teeter) accelerations.
+        // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
+        let loads: Vec<crate::rotor::BladeLoads> = blades
+            .iter()
+            .map(|&(psi, beta, beta_dot)| blade.blade_loads(&op, psi, beta, beta_dot))
+            .collect();
+        let (i_b, k_b) = (rotor.flap_inertia_kg_m2, rotor.flap_spring_n_m_per_rad);
         let mut flap_dot = Vec::with_capacity(x.flap.len());
         match rotor.hub {
             Hub::Articulated => {
-                for &(psi, beta, beta_dot) in &blades {
-                    let d = blade.flap_derivative(&op, psi, [beta, beta_dot / omega]);
-                    flap_dot.push([beta_dot, d[1] * omega * omega]);
+                for (&(psi, beta, beta_dot), l) in blades.iter().zip(&loads) {
+                    let m = l.flap_moment
+                        - blade.inertial_flap_moment(&op, psi, beta)
+                        - k_b * (beta - rotor.precone_rad);
+                    flap_dot.push([beta_dot, m / i_b]);
                 }
             }
             Hub::Teetering => {
                 let f = x.flap[0];
-                let d = blade.flap_derivative(&op, psi1, [f[0], f[1] / omega]);
-                flap_dot.push([f[1], d[1] * omega * omega]);
+                let ((p1, b1, _), (p2, b2, _)) = (blades[0], blades[1]);
+                let m = loads[0].flap_moment
+                    - loads[1].flap_moment
+                    - (blade.inertial_flap_moment(&op, p1, b1)
+                        - blade.inertial_flap_moment(&op, p2, b2))
+                    - k_b * f[0];
+                flap_dot.push([f[1], m / (2.0 * i_b)]);
             }
             Hub::Rigid => {}
         }
@@ -854,20 +869,15 @@ impl Aircraft {
         let mut moment = [0.0; 3];
         let mut torque = 0.0;
         let mut coriolis_torque = 0.0;
-        for &(psi, beta, beta_dot) in &blades {
-            let l = blade.blade_loads(&op, psi, beta, beta_dot);
+        for (&(_, beta, beta_dot), l) in blades.iter().zip(&loads) {
             for k in 0..3 {
                 force[k] += l.force[k];
                 moment[k] += l.moment[k];
             }
             torque += l.torque;
             // A blade flapping up comes nearer the shaft and speeds the rotor up.
-            let (i, s_m, e) = (
-                rotor.flap_inertia_kg_m2,
-                rotor.flap_mass_moment_kg_m,
-                rotor.hinge_offset_m,
-            );
-            coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i * beta.cos());
+            let (s_m, e) = (rotor.flap_mass_moment_kg_m, rotor.hinge_offset_m);
+            coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i_b * beta.cos());
         }
         let i_r = self.rotor_polar_inertia_kg_m2();
         let omega_dot = (torque + coriolis_torque) / i_r;

@@ -8,7 +8,7 @@
 //! component, which in axial flow is momentum theory: `v0 = T / (2 rho A (V_d + v0))`.
 
 use crate::rotor::{Blade, Hub, HubVelocity, Inflow, Numerics, Operating, Rotor, RotorError};
-use crate::solve::{self, NewtonOptions, SolveError};
+use crate::solve::SolveError;
 use serde::Serialize;
 use std::f64::consts::PI;
 use thiserror::Error;
@@ -61,6 +61,18 @@ impl Propeller {
         speed_of_sound_m_s: f64,
     ) -> Result<PropellerState, PropellerError> {
         self.rotor.validate()?;
+        self.operate_checked(omega_rad_s, airspeed_m_s, density_kg_m3, speed_of_sound_m_s)
+    }
+
+    /// [`Propeller::operate`] for a propeller whose rotor has been validated already (the
+    /// aircraft validates it once; the full model calls this every evaluation).
+    pub(crate) fn operate_checked(
+        &self,
+        omega_rad_s: f64,
+        airspeed_m_s: f64,
+        density_kg_m3: f64,
+        speed_of_sound_m_s: f64,
+    ) -> Result<PropellerState, PropellerError> {
         if self.rotor.hub != Hub::Rigid {
             return Err(PropellerError::Input {
                 name: "hub",
@@ -134,24 +146,38 @@ impl Propeller {
             let t = blade.steady(&op(0.0), [0.0, 0.0])?.thrust_n().max(0.0);
             0.5 * (-v_disc + (v_disc * v_disc + 2.0 * t / (density_kg_m3 * area)).sqrt())
         };
-        let sol = solve::newton(
-            |x| {
-                let v0 = x[0] * tip;
-                let t = blade
-                    .steady(&op(v0), [0.0, 0.0])
-                    .map_err(|e| e.to_string())?
-                    .thrust_n();
-                Ok(vec![
-                    (v0 - t / (2.0 * density_kg_m3 * area * (v_disc + v0).abs().max(1e-6))) / tip,
-                ])
-            },
-            &[start / tip],
-            NewtonOptions {
+        // Secant iterations on the scaled residual (a smooth, nearly linear function of v0):
+        // converged to 1e-12 of the tip speed in a handful of blade evaluations.
+        let residual = |v0: f64| -> Result<f64, PropellerError> {
+            let t = blade.steady(&op(v0), [0.0, 0.0])?.thrust_n();
+            Ok((v0 - t / (2.0 * density_kg_m3 * area * (v_disc + v0).abs().max(1e-6))) / tip)
+        };
+        let (mut x0, mut x1) = (start, start + 1e-3 * tip.max(1.0));
+        let (mut r0, mut r1) = (residual(x0)?, residual(x1)?);
+        let mut converged = r1.abs() <= 1e-12;
+        for _ in 0..50 {
+            if converged {
+                break;
+            }
+            let slope = (r1 - r0) / (x1 - x0);
+            if !(slope.is_finite() && slope != 0.0) {
+                break;
+            }
+            let x2 = (x1 - r1 / slope).max(-0.5 * v_disc.max(0.0));
+            (x0, r0) = (x1, r1);
+            x1 = x2;
+            r1 = residual(x1)?;
+            converged = r1.abs() <= 1e-12;
+        }
+        if !converged {
+            return Err(PropellerError::Solve(SolveError::NoConvergence {
+                x: vec![x1 / tip],
+                residuals: vec![r1],
+                iterations: 50,
                 tolerance: 1e-12,
-                ..NewtonOptions::default()
-            },
-        )?;
-        let v0 = sol.x[0] * tip;
+            }));
+        }
+        let v0 = x1;
         let loads = blade.steady(&op(v0), [0.0, 0.0])?;
         let torque = -loads.driving_torque_n_m;
         Ok(PropellerState {

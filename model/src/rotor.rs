@@ -654,7 +654,7 @@ impl<'a> Blade<'a> {
     /// with `e_b` along the flapped blade, `n = d e_b / d beta` and `r` the unflapped blade
     /// direction. In hover this gives the classical response to a pitch rate: the disc lags
     /// the shaft by `16 q / (gamma Omega)` (tested).
-    fn inertial_flap_moment(&self, op: &Operating, psi: f64, beta: f64) -> f64 {
+    pub fn inertial_flap_moment(&self, op: &Operating, psi: f64, beta: f64) -> f64 {
         let rot = self.rotor;
         let (i, es) = (
             rot.flap_inertia_kg_m2,
