@@ -139,8 +139,8 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
             ));
         }
         table.time_s.push(t);
-        for c in 0..4 {
-            table.changes[c].push(match cols[c] {
+        for (column, source) in table.changes.iter_mut().zip(cols) {
+            column.push(match source {
                 Some(k) => value(k)?,
                 None => 0.0,
             });
