@@ -426,10 +426,6 @@ fn slow_of(x: &FullState) -> [f64; 10] {
     ]
 }
 
-fn slow_rates(d: &crate::aircraft::FullDerivative) -> [f64; 10] {
-    slow_of(d)
-}
-
 fn set_slow(x: &mut FullState, v: &[f64]) {
     let b = &mut x.body;
     b.u_m_s = v[0];
@@ -547,7 +543,7 @@ pub fn periodic_trim(
                 let (mut mean_x, mut mean_d) = ([0.0; 10], [0.0; 10]);
                 for k in 0..n {
                     let d = aircraft.derivatives(&x, &controls, air)?;
-                    let (sx, sd) = (slow_of(&x), slow_rates(&d));
+                    let (sx, sd) = (slow_of(&x), slow_of(&d));
                     for i in 0..10 {
                         mean_x[i] += sx[i] / n as f64;
                         mean_d[i] += sd[i] / n as f64;
