@@ -360,14 +360,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 };
                 out.push(compare(e, value, || Ok(0.0))?);
             }
-            let verdict = match (check.verdict, nominal.verdict) {
-                (Some(want), Some(got)) => Some((want, got)),
-                (Some(_), None) => {
-                    return Err("the mode is not oscillatory: BCAR Section T does not apply".into());
-                }
-                _ => None,
-            };
-            Ok((out, verdict))
+            Ok((out, verdict_pair(check, &nominal)?))
         }
         Subject::Aircraft { file, loading } => {
             if let Some(request) = check.condition {
@@ -429,15 +422,17 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                     propagated_rounding(model, check, &nominal, &e.quantity, e)
                 })?);
             }
-            let verdict = match (check.verdict, nominal.verdict) {
-                (Some(want), Some(got)) => Some((want, got)),
-                (Some(_), None) => {
-                    return Err("the mode is not oscillatory: BCAR Section T does not apply".into());
-                }
-                _ => None,
-            };
-            Ok((out, verdict))
+            Ok((out, verdict_pair(check, &nominal)?))
         }
+    }
+}
+
+/// The expected and computed BCAR verdicts of a check, if it expects one.
+fn verdict_pair(check: &Check, nominal: &Computed) -> Result<Option<(Verdict, Verdict)>, String> {
+    match (check.verdict, nominal.verdict) {
+        (Some(want), Some(got)) => Ok(Some((want, got))),
+        (Some(_), None) => Err("the mode is not oscillatory: BCAR Section T does not apply".into()),
+        _ => Ok(None),
     }
 }
 

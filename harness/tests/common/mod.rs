@@ -1,0 +1,61 @@
+//! Shared by the bad-input tests: every YAML file in a folder is a broken input whose header
+//! says what the error must contain and on which line it must point.
+//!
+//! ```yaml
+//! # error: <text the message must contain>
+//! # line: <1-based line the error must name>
+//! ```
+
+use cierva_harness::yaml::InputError;
+use std::path::Path;
+
+/// Loads every fixture in `dir` with `load` and returns what went wrong (empty when every
+/// fixture gets its error, at its line, with a column, starting with the file's path).
+pub fn check_fixtures<T>(
+    dir: &Path,
+    at_least: usize,
+    load: impl Fn(&Path) -> Result<T, InputError> + std::panic::RefUnwindSafe,
+) -> Vec<String> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "yaml"))
+        .collect();
+    files.sort();
+    assert!(
+        files.len() >= at_least,
+        "the fixtures in {} are missing",
+        dir.display()
+    );
+    let mut problems = Vec::new();
+    for f in &files {
+        let src = std::fs::read_to_string(f).unwrap();
+        let header = |key: &str| {
+            src.lines()
+                .find_map(|l| l.strip_prefix(&format!("# {key}: ")))
+                .unwrap_or_else(|| panic!("{} has no `# {key}:` header", f.display()))
+                .to_string()
+        };
+        let (want, line) = (header("error"), header("line").parse::<usize>().unwrap());
+        match std::panic::catch_unwind(|| load(f)) {
+            Err(_) => problems.push(format!("{}: panicked", f.display())),
+            Ok(Ok(_)) => problems.push(format!("{}: loaded without error", f.display())),
+            Ok(Err(e)) => {
+                let msg = e.to_string();
+                if !msg.contains(&want)
+                    || e.line != Some(line)
+                    || e.column.is_none()
+                    || !msg.starts_with(&f.display().to_string())
+                {
+                    problems.push(format!(
+                        "{}:\n  got      {msg}\n  (line {:?}, column {:?})\n  expected `{want}` at line {line}",
+                        f.file_name().unwrap().to_string_lossy(),
+                        e.line,
+                        e.column
+                    ));
+                }
+            }
+        }
+    }
+    problems
+}
