@@ -222,29 +222,17 @@ enum Command {
     ///
     /// Example: `cierva trim aircraft/vpm-m16.yaml --airspeed-mph 70 --mass-kg 410`
     Trim {
-        /// An aircraft file (see aircraft/).
-        aircraft: PathBuf,
-        /// True airspeed, mph.
-        #[arg(long, allow_hyphen_values = true)]
-        airspeed_mph: f64,
-        /// Mass, kg (default: the aircraft file's).
-        #[arg(long, allow_hyphen_values = true)]
-        mass_kg: Option<f64>,
-        /// Rate of climb, m/s; negative descends.
-        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
-        climb_m_s: f64,
+        #[command(flatten)]
+        flight: FlightArgs,
         /// Rate of turn, deg/s; positive to starboard.
         #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
         turn_rate_deg_s: f64,
-        /// Density altitude, ft (ISA).
-        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
-        density_altitude_ft: f64,
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
 }
 
-/// An aircraft and a flight condition (shared by `linearize` and later commands).
+/// An aircraft and a flight condition (shared by `trim`, `linearize` and `simulate`).
 #[derive(clap::Args)]
 struct FlightArgs {
     /// An aircraft file (see aircraft/).
@@ -261,6 +249,25 @@ struct FlightArgs {
     /// Density altitude, ft (ISA).
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
     density_altitude_ft: f64,
+}
+
+impl FlightArgs {
+    /// The flight condition, turning at `turn_rate_deg_s`.
+    fn request(&self, turn_rate_deg_s: f64) -> cierva_harness::TrimRequest {
+        cierva_harness::TrimRequest {
+            airspeed_mph: self.airspeed_mph,
+            climb_m_s: self.climb_m_s,
+            turn_rate_deg_s,
+        }
+    }
+
+    /// The mass and air.
+    fn loading(&self) -> cierva_harness::Loading {
+        cierva_harness::Loading {
+            mass_kg: self.mass_kg,
+            density_altitude_ft: self.density_altitude_ft,
+        }
+    }
 }
 
 /// Output of `linearize`.
@@ -507,24 +514,13 @@ fn main() -> ExitCode {
             )
         }
         Command::Trim {
-            aircraft,
-            airspeed_mph,
-            mass_kg,
-            climb_m_s,
+            flight,
             turn_rate_deg_s,
-            density_altitude_ft,
             format,
         } => trim(
-            aircraft,
-            cierva_harness::TrimRequest {
-                airspeed_mph,
-                climb_m_s,
-                turn_rate_deg_s,
-            },
-            cierva_harness::Loading {
-                mass_kg,
-                density_altitude_ft,
-            },
+            flight.aircraft.clone(),
+            flight.request(turn_rate_deg_s),
+            flight.loading(),
             format,
         ),
     }
@@ -587,15 +583,7 @@ fn simulate(
         file.aircraft.main_rotor.numerics.azimuth_step_rad,
         f64::to_radians,
     );
-    let request = cierva_harness::TrimRequest {
-        airspeed_mph: f.airspeed_mph,
-        climb_m_s: f.climb_m_s,
-        turn_rate_deg_s: 0.0,
-    };
-    let loading = cierva_harness::Loading {
-        mass_kg: f.mass_kg,
-        density_altitude_ft: f.density_altitude_ft,
-    };
+    let (request, loading) = (f.request(0.0), f.loading());
     let settings = cierva_model::timehistory::Settings {
         azimuth_step_rad: step,
         duration_s,
@@ -633,15 +621,7 @@ fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let request = cierva_harness::TrimRequest {
-        airspeed_mph: f.airspeed_mph,
-        climb_m_s: f.climb_m_s,
-        turn_rate_deg_s: 0.0,
-    };
-    let loading = cierva_harness::Loading {
-        mass_kg: f.mass_kg,
-        density_altitude_ft: f.density_altitude_ft,
-    };
+    let (request, loading) = (f.request(0.0), f.loading());
     let (t, lin) = match cierva_harness::run_linearise(&file.aircraft, request, loading) {
         Ok(x) => x,
         Err(e) => {
