@@ -555,20 +555,38 @@ impl<'a> Blade<'a> {
         self.blade_angles(op, state)
     }
 
-    /// One blade's angular momentum about the hub centre from its motion relative to the
-    /// hub (rotation and flapping), hub axes, kg m^2/s.
-    pub fn relative_angular_momentum(
+    /// One blade's angular momentum about the hub centre, hub axes, kg m^2/s, beyond what the
+    /// airframe's inertia holds: the airframe's inertia tensor carries the blades as a frozen
+    /// disc (each blade's inertia, unflapped, averaged over azimuth:
+    /// `K diag(1/2, 1/2, 1)` with `K = m e^2 + 2 e S + I`), so this is the blade's whole angular
+    /// momentum (its rotation and flapping relative to the hub, and the hub's rates acting on
+    /// its actual, flapped and azimuth-dependent inertia) less the frozen disc's share
+    /// `K diag(1/2, 1/2, 1) omega_hub`.
+    ///
+    /// For three or more blades the azimuth-dependent parts cancel between blades. For two,
+    /// they do not: a two-bladed rotor's inertia turns with it, and a body rate `omega` then
+    /// gives the classical 2/rev gyroscopic couple of about `I_R Omega omega` (two-bladed
+    /// propellers shake aircraft this way).
+    pub fn angular_momentum_beyond_disc(
         &self,
         op: &Operating,
         psi_rad: f64,
         beta: f64,
         beta_dot: f64,
     ) -> [f64; 3] {
-        let still = Operating {
-            hub_rates_rad_s: [0.0; 3],
-            ..*op
-        };
-        self.angular_momentum(&still, psi_rad, beta, beta_dot)
+        let mut h = self.angular_momentum(op, psi_rad, beta, beta_dot);
+        let rot = self.rotor;
+        let (i, s_m, e) = (
+            rot.flap_inertia_kg_m2,
+            rot.flap_mass_moment_kg_m,
+            rot.hinge_offset_m,
+        );
+        let k = 4.0 * s_m * s_m / (3.0 * i) * e * e + 2.0 * e * s_m + i;
+        let w = op.hub_rates_rad_s;
+        h[0] -= 0.5 * k * w[0];
+        h[1] -= 0.5 * k * w[1];
+        h[2] -= k * w[2];
+        h
     }
 
     /// The blade angles `(beta, d beta / dt)` of blade 1 and, for a teetering hub, blade 2
@@ -773,21 +791,17 @@ impl<'a> Blade<'a> {
         let mut sum = BladeLoads::default();
         let (mut a0, mut c1, mut s1) = (0.0, 0.0, 0.0);
         let mut h_sum = [0.0; 3];
-        let still = Operating {
-            hub_rates_rad_s: [0.0; 3],
-            ..*op
-        };
         let teetering = self.rotor.hub == Hub::Teetering;
         for k in 0..n {
             let psi = k as f64 * h;
             let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
             let mut l = self.loads(op, psi, b1, d1);
-            let hb = self.angular_momentum(&still, psi, b1, d1);
+            let hb = self.angular_momentum_beyond_disc(op, psi, b1, d1);
             for j in 0..3 {
                 h_sum[j] += hb[j];
             }
             if teetering {
-                let h2 = self.angular_momentum(&still, psi + PI, b2, d2);
+                let h2 = self.angular_momentum_beyond_disc(op, psi + PI, b2, d2);
                 for j in 0..3 {
                     h_sum[j] += h2[j];
                 }
