@@ -213,6 +213,26 @@ pub enum CheckKind {
     /// Trends of trim over a sweep of airspeeds: the least and greatest slopes between
     /// neighbouring airspeeds, and the worst residual.
     TrimSweep,
+    /// A reference record's control changes flown again by the model, its responses compared
+    /// with the record's: `<signal>.<metric>` (see [`crate::history`]).
+    TimeHistory,
+}
+
+impl CheckKind {
+    /// The kind as written in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Mode => "mode",
+            Self::Bcar => "bcar",
+            Self::Milne => "milne",
+            Self::Derivative => "derivative",
+            Self::Autorotation => "autorotation",
+            Self::InflowCoefficients => "inflow_coefficients",
+            Self::Trim => "trim",
+            Self::TrimSweep => "trim_sweep",
+            Self::TimeHistory => "time_history",
+        }
+    }
 }
 
 /// Which system a mode or BCAR check looks at.
@@ -267,6 +287,17 @@ pub struct CheckSpec {
     /// computes `magnitude_change`, `(|corrected| - |uncorrected|) / |uncorrected|`.
     #[serde(default)]
     pub corrections: Option<crate::aircraft_file::AircraftCorrectionsSpec>,
+    /// For `time_history`: the reference record CSV (its sidecar beside it), relative to the
+    /// case file.
+    #[serde(default)]
+    pub reference: Option<String>,
+    /// For `time_history`: the model that flies the record (default the full blade model).
+    #[serde(default)]
+    pub simulation: Option<crate::history::Simulation>,
+    /// For `time_history` with the full blade model: the azimuth step, deg (default the
+    /// aircraft file's).
+    #[serde(default)]
+    pub azimuth_step_deg: Option<f64>,
     /// Derivatives set to these values before the check (a what-if variant).
     #[serde(default)]
     pub set: BTreeMap<String, f64>,
@@ -337,6 +368,11 @@ pub struct Check {
     pub condition: Option<crate::TrimRequest>,
     pub sweep_mph: Option<Vec<f64>>,
     pub corrections: Option<crate::aircraft_file::AircraftCorrectionsSpec>,
+    /// For `time_history`: the reference record.
+    #[serde(skip)]
+    pub reference: Option<Box<crate::ident::record::Record>>,
+    pub simulation: crate::history::Simulation,
+    pub azimuth_step_deg: Option<f64>,
     pub set: BTreeMap<String, f64>,
     pub without_rotorspeed_coupling: bool,
     pub expectations: Vec<Expectation>,
@@ -466,6 +502,8 @@ pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
         ],
         CheckKind::Trim => TRIM_QUANTITIES,
         CheckKind::TrimSweep => TRIM_SWEEP_QUANTITIES,
+        // `<signal>.<metric>`, for the signals its record carries.
+        CheckKind::TimeHistory => &[],
     }
 }
 
@@ -756,7 +794,7 @@ fn resolve_check(
         } else {
             Err(err(
                 here,
-                format!("a `{:?}` check needs `{field}`", c.kind).to_lowercase(),
+                format!("a `{}` check needs `{field}`", c.kind.name()),
             ))
         }
     };
@@ -764,7 +802,7 @@ fn resolve_check(
         if present {
             Err(err(
                 &format!("{here}.{field}"),
-                format!("`{field}` does not apply to a {:?} check", c.kind).to_lowercase(),
+                format!("`{field}` does not apply to a `{}` check", c.kind.name()),
             ))
         } else {
             Ok(())
@@ -840,6 +878,48 @@ fn resolve_check(
                 }
             }
         }
+        CheckKind::TimeHistory => {
+            needs(c.reference.is_some(), "reference")?;
+            needs(c.condition.is_some(), "condition")?;
+            refuses(c.mode.is_some(), "mode")?;
+            refuses(c.derivative.is_some(), "derivative")?;
+            refuses(c.verdict.is_some(), "verdict")?;
+            refuses(c.system != System::Full, "system")?;
+            refuses(!c.set.is_empty(), "set")?;
+            refuses(c.without_rotorspeed_coupling, "without_rotorspeed_coupling")?;
+            refuses(c.sweep_mph.is_some(), "sweep_mph")?;
+            if let Some(a) = c.azimuth_step_deg
+                && !(a.is_finite() && a > 0.0 && a <= 30.0)
+            {
+                return Err(err(
+                    &format!("{here}.azimuth_step_deg"),
+                    format!("must be in (0, 30] deg, got {a}"),
+                ));
+            }
+            if c.simulation == Some(crate::history::Simulation::Linear) {
+                refuses(c.azimuth_step_deg.is_some(), "azimuth_step_deg")?;
+            }
+            if let Some(t) = &c.condition {
+                let ok = t.airspeed_mph.is_finite()
+                    && t.airspeed_mph > 0.0
+                    && t.climb_m_s.is_finite()
+                    && t.turn_rate_deg_s.is_finite();
+                if !ok {
+                    return Err(err(
+                        &format!("{here}.condition"),
+                        "the airspeed must be positive, climb and turn rates finite".into(),
+                    ));
+                }
+                if c.simulation == Some(crate::history::Simulation::Linear)
+                    && t.turn_rate_deg_s != 0.0
+                {
+                    return Err(err(
+                        &format!("{here}.condition.turn_rate_deg_s"),
+                        "the model is linearised about straight flight".into(),
+                    ));
+                }
+            }
+        }
         CheckKind::InflowCoefficients => {
             refuses(c.mode.is_some(), "mode")?;
             refuses(c.derivative.is_some(), "derivative")?;
@@ -852,7 +932,41 @@ fn resolve_check(
     if c.kind != CheckKind::Autorotation && c.tunnel.is_some() {
         refuses(true, "tunnel")?;
     }
-    let trim_kind = matches!(c.kind, CheckKind::Trim | CheckKind::TrimSweep);
+    if c.kind != CheckKind::TimeHistory {
+        refuses(c.reference.is_some(), "reference")?;
+        refuses(c.simulation.is_some(), "simulation")?;
+        refuses(c.azimuth_step_deg.is_some(), "azimuth_step_deg")?;
+    }
+    let reference = match (&c.reference, subject) {
+        (Some(r), Subject::Aircraft { .. }) => {
+            let rec =
+                crate::ident::record::load_with(&dir.join(r), &["time_s"], true).map_err(|e| {
+                    err(
+                        &format!("{here}.reference"),
+                        format!("in the referenced record: {e}"),
+                    )
+                })?;
+            for ch in crate::history::record_signals(&rec) {
+                if !crate::history::SIGNALS.contains(&ch.as_str()) {
+                    return Err(err(
+                        &format!("{here}.reference"),
+                        format!(
+                            "the record's channel `{ch}` is neither a control (the sidecar's `controls`) nor a response cierva computes ({})",
+                            crate::history::SIGNALS.join(", ")
+                        ),
+                    ));
+                }
+            }
+            crate::history::record_controls(&rec)
+                .map_err(|e| err(&format!("{here}.reference"), e))?;
+            Some(Box::new(rec))
+        }
+        _ => None,
+    };
+    let trim_kind = matches!(
+        c.kind,
+        CheckKind::Trim | CheckKind::TrimSweep | CheckKind::TimeHistory
+    );
     let aircraft = matches!(subject, Subject::Aircraft { .. });
     let linear_kind = matches!(
         c.kind,
@@ -861,13 +975,13 @@ fn resolve_check(
     if trim_kind && !aircraft {
         return Err(err(
             &format!("{here}.kind"),
-            "`trim` and `trim_sweep` checks need a case whose model is an `aircraft`".into(),
+            "`trim`, `trim_sweep` and `time_history` checks need a case whose model is an `aircraft`".into(),
         ));
     }
     if aircraft && !trim_kind && !linear_kind {
         return Err(err(
             &format!("{here}.kind"),
-            "an `aircraft` model has `trim`, `trim_sweep`, and (with a `condition`, on the linearised model) `derivative`, `mode`, `bcar` and `milne` checks".into(),
+            "an `aircraft` model has `trim`, `trim_sweep`, `time_history`, and (with a `condition`, on the linearised model) `derivative`, `mode`, `bcar` and `milne` checks".into(),
         ));
     }
     if aircraft && linear_kind {
@@ -906,7 +1020,7 @@ fn resolve_check(
         }
     }
     if let Some(k) = &c.corrections {
-        if !(aircraft && c.kind == CheckKind::Derivative) {
+        if !(aircraft && matches!(c.kind, CheckKind::Derivative | CheckKind::TimeHistory)) {
             refuses(true, "corrections")?;
         }
         if let Subject::Aircraft { file, .. } = subject {
@@ -1021,19 +1135,28 @@ fn resolve_check(
         }
     }
 
-    let allowed = quantities(c.kind);
+    let mut allowed: Vec<String> = quantities(c.kind).iter().map(|q| q.to_string()).collect();
+    if let Some(rec) = &reference {
+        for s in crate::history::record_signals(rec) {
+            for m in crate::history::METRICS {
+                allowed.push(format!("{s}.{m}"));
+            }
+        }
+    }
     let mut expectations = Vec::new();
     for (q, e) in &c.expect {
         let field = format!("{here}.expect.{q}");
-        if !allowed.contains(&q.as_str()) {
+        if !allowed.contains(q) {
+            let hint = crate::yaml::nearest(q, &allowed)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
             return Err(err(
                 &field,
                 format!(
-                    "a {:?} check does not compute `{q}`; it computes [{}]",
-                    c.kind,
+                    "a `{}` check does not compute `{q}`{hint}; it computes [{}]",
+                    c.kind.name(),
                     allowed.join(", ")
-                )
-                .to_lowercase(),
+                ),
             ));
         }
         let tolerance = resolve_tolerance(path, src, dir, spec, c, &field, &e.tolerance)?;
@@ -1089,6 +1212,9 @@ fn resolve_check(
         condition: c.condition,
         sweep_mph: c.sweep_mph.clone(),
         corrections: c.corrections,
+        reference,
+        simulation: c.simulation.unwrap_or_default(),
+        azimuth_step_deg: c.azimuth_step_deg,
         set: c.set.clone(),
         without_rotorspeed_coupling: c.without_rotorspeed_coupling,
         expectations,

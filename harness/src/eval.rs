@@ -307,6 +307,19 @@ pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
 
 fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
     match subject {
+        Subject::Aircraft { file, loading } if check.kind == CheckKind::TimeHistory => {
+            let metrics = time_history_metrics(file, *loading, check)?;
+            let values: Vec<(String, f64)> = metrics
+                .iter()
+                .flat_map(|m| {
+                    crate::history::METRICS
+                        .iter()
+                        .map(|q| (format!("{}.{q}", m.signal), m.get(q).unwrap_or(f64::NAN)))
+                })
+                .collect();
+            let values: Vec<(&str, f64)> = values.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+            Ok((compare_all(check, &values)?, None))
+        }
         Subject::Aircraft { file, loading }
             if check.kind != CheckKind::Trim && check.kind != CheckKind::TrimSweep =>
         {
@@ -425,6 +438,42 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
             Ok((out, verdict_pair(check, &nominal)?))
         }
     }
+}
+
+/// A `time_history` check's record flown by its model (with its corrections), compared
+/// response by response.
+pub fn time_history_metrics(
+    file: &crate::aircraft_file::AircraftFile,
+    loading: crate::Loading,
+    check: &Check,
+) -> Result<Vec<crate::history::SignalMetrics>, String> {
+    let record = check
+        .reference
+        .as_deref()
+        .ok_or("a time_history check needs a reference record")?;
+    let request = check
+        .condition
+        .ok_or("a time_history check needs a condition")?;
+    let corrected;
+    let file = match &check.corrections {
+        Some(c) => {
+            corrected = file.with_corrections(c).map_err(|e| e.to_string())?;
+            &corrected
+        }
+        None => file,
+    };
+    let step = check.azimuth_step_deg.map_or(
+        file.aircraft.main_rotor.numerics.azimuth_step_rad,
+        f64::to_radians,
+    );
+    crate::history::fly_record(
+        &file.aircraft,
+        request,
+        loading,
+        record,
+        check.simulation,
+        step,
+    )
 }
 
 /// The expected and computed BCAR verdicts of a check, if it expects one.
@@ -625,7 +674,7 @@ fn compute(
             values.push(("value", v));
         }
         CheckKind::Autorotation => return Err("an autorotation check needs a rotor".into()),
-        CheckKind::Trim | CheckKind::TrimSweep => {
+        CheckKind::Trim | CheckKind::TrimSweep | CheckKind::TimeHistory => {
             return Err("a trim check needs an aircraft".into());
         }
         CheckKind::InflowCoefficients => return Err("an inflow check needs a flap record".into()),
@@ -835,6 +884,9 @@ mod tests {
                 derivative: None,
                 divided_by: None,
                 corrections: None,
+                reference: None,
+                simulation: Default::default(),
+                azimuth_step_deg: None,
                 verdict: None,
                 tunnel: None,
                 condition: None,

@@ -10,6 +10,7 @@ pub mod aircraft_file;
 pub mod case;
 pub mod controls_file;
 pub mod eval;
+pub mod history;
 pub mod ident;
 pub mod refs;
 pub mod rotor_file;
@@ -266,17 +267,23 @@ pub fn linearise_cached(
     result
 }
 
-/// Trims the aircraft, refines the trim to the full model's periodic orbit, and flies the
-/// full model from there with the given control changes from trim (`changes(t)` in % of
-/// travel: longitudinal stick, lateral stick, pedal, throttle).
-pub fn run_simulation(
+/// Where a simulation of the full model starts: the aircraft at its mass, the state on the
+/// full model's periodic orbit (blade 1 at azimuth zero), the trimmed controls and the air.
+#[derive(Debug, Clone)]
+pub struct SimulationStart {
+    pub aircraft: cierva_model::aircraft::Aircraft,
+    pub state: cierva_model::aircraft::FullState,
+    pub controls: cierva_model::aircraft::Controls,
+    pub air: cierva_model::aircraft::Air,
+}
+
+/// Trims the aircraft and refines the trim to the full model's periodic orbit.
+pub fn simulation_start(
     aircraft: &cierva_model::aircraft::Aircraft,
     request: TrimRequest,
     loading: Loading,
-    changes: &dyn Fn(f64) -> [f64; 4],
-    settings: cierva_model::timehistory::Settings,
-) -> Result<cierva_model::timehistory::TimeHistory, String> {
-    use cierva_model::{aircraft::Air, atmosphere, timehistory, trim};
+) -> Result<SimulationStart, String> {
+    use cierva_model::{aircraft::Air, atmosphere, trim};
     let mut a = aircraft.clone();
     if let Some(m) = loading.mass_kg {
         a.mass.mass_kg = m;
@@ -304,16 +311,52 @@ pub fn run_simulation(
     };
     let pt = trim::periodic_trim(&a, condition, &t, trim::Options::default())
         .map_err(|e| format!("periodic trim of the full model: {e}"))?;
-    let u0 = pt.controls;
-    let controls = |time: f64| {
-        let d = changes(time);
-        cierva_model::aircraft::Controls {
-            stick_longitudinal_percent: u0.stick_longitudinal_percent + d[0],
-            stick_lateral_percent: u0.stick_lateral_percent + d[1],
-            pedal_percent: u0.pedal_percent + d[2],
-            throttle_percent: u0.throttle_percent + d[3],
-        }
-    };
-    timehistory::run(&a, pt.start, &controls, air, settings)
+    Ok(SimulationStart {
+        aircraft: a,
+        state: pt.start,
+        controls: pt.controls,
+        air,
+    })
+}
+
+impl SimulationStart {
+    /// Flies the full model from the start with the given control changes from trim
+    /// (`changes(t)` in % of travel: longitudinal stick, lateral stick, pedal, throttle).
+    pub fn run(
+        &self,
+        changes: &dyn Fn(f64) -> [f64; 4],
+        settings: cierva_model::timehistory::Settings,
+    ) -> Result<cierva_model::timehistory::TimeHistory, String> {
+        let u0 = self.controls;
+        let controls = |time: f64| {
+            let d = changes(time);
+            cierva_model::aircraft::Controls {
+                stick_longitudinal_percent: u0.stick_longitudinal_percent + d[0],
+                stick_lateral_percent: u0.stick_lateral_percent + d[1],
+                pedal_percent: u0.pedal_percent + d[2],
+                throttle_percent: u0.throttle_percent + d[3],
+            }
+        };
+        cierva_model::timehistory::run(
+            &self.aircraft,
+            self.state.clone(),
+            &controls,
+            self.air,
+            settings,
+        )
         .map_err(|(time, e)| format!("at {time:.3} s: {e}"))
+    }
+}
+
+/// Trims the aircraft, refines the trim to the full model's periodic orbit, and flies the
+/// full model from there with the given control changes from trim (`changes(t)` in % of
+/// travel: longitudinal stick, lateral stick, pedal, throttle).
+pub fn run_simulation(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+    changes: &dyn Fn(f64) -> [f64; 4],
+    settings: cierva_model::timehistory::Settings,
+) -> Result<cierva_model::timehistory::TimeHistory, String> {
+    simulation_start(aircraft, request, loading)?.run(changes, settings)
 }

@@ -183,26 +183,8 @@ enum Command {
         /// eta_p_percent, eta_t_percent); instead of --shape.
         #[arg(long)]
         input: Option<PathBuf>,
-        /// An input shape on one control (with --control and --amplitude-percent).
-        #[arg(long, value_enum)]
-        shape: Option<InputChoice>,
-        /// eta_s (longitudinal stick), eta_c (lateral stick), eta_p (pedal) or eta_t (throttle).
-        #[arg(long, default_value = "eta_s")]
-        control: String,
-        /// Amplitude, % of travel.
-        #[arg(long, allow_hyphen_values = true, default_value_t = 1.0)]
-        amplitude_percent: f64,
-        /// When a doublet, 3-2-1-1 or step starts, s.
-        #[arg(long, default_value_t = 1.0)]
-        start_s: f64,
-        /// Pulse (doublet), unit (3-2-1-1) or length (sweep), s.
-        #[arg(long, default_value_t = 1.0)]
-        input_s: f64,
-        /// Sweep band, Hz.
-        #[arg(long, default_value_t = 0.1)]
-        from_hz: f64,
-        #[arg(long, default_value_t = 2.0)]
-        to_hz: f64,
+        #[command(flatten)]
+        shape: ShapeArgs,
         /// Length of the run, s.
         #[arg(long, default_value_t = 10.0)]
         duration_s: f64,
@@ -216,6 +198,15 @@ enum Command {
         #[arg(long)]
         output: PathBuf,
     },
+    /// Write a synthetic time-history reference record (for `time_history` checks): the
+    /// aircraft flown by the full blade model (or its linearisation) through a test input,
+    /// responses as changes from trim plus seeded sensor noise, with a sidecar that says it is
+    /// synthetic and how it was made.
+    ///
+    /// Example: `cierva synth-history aircraft/vpm-m16.yaml --airspeed-mph 70 --shape doublet
+    /// --amplitude-percent 2 --duration-s 8 --noise-rate-deg-s 0.2 --seed 7
+    /// --output flight-refs/synthetic-vpm-m16-70mph-doublet.csv`
+    SynthHistory(SynthHistoryArgs),
     /// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
     /// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
     /// Newton solver reached (converged when every scaled residual is at most 1e-7).
@@ -268,6 +259,110 @@ impl FlightArgs {
             density_altitude_ft: self.density_altitude_ft,
         }
     }
+}
+
+/// A test input on one control (shared by `simulate` and `synth-history`).
+#[derive(clap::Args)]
+struct ShapeArgs {
+    /// An input shape on one control (with --control and --amplitude-percent).
+    #[arg(long, value_enum)]
+    shape: Option<InputChoice>,
+    /// eta_s (longitudinal stick), eta_c (lateral stick), eta_p (pedal) or eta_t (throttle).
+    #[arg(long, default_value = "eta_s")]
+    control: String,
+    /// Amplitude, % of travel.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 1.0)]
+    amplitude_percent: f64,
+    /// When a doublet, 3-2-1-1 or step starts, s.
+    #[arg(long, default_value_t = 1.0)]
+    start_s: f64,
+    /// Pulse (doublet), unit (3-2-1-1) or length (sweep), s.
+    #[arg(long, default_value_t = 1.0)]
+    input_s: f64,
+    /// Sweep band, Hz.
+    #[arg(long, default_value_t = 0.1)]
+    from_hz: f64,
+    #[arg(long, default_value_t = 2.0)]
+    to_hz: f64,
+}
+
+impl ShapeArgs {
+    /// The input shape, if one is given.
+    fn input(&self) -> Option<cierva_harness::ident::synth::Input> {
+        use cierva_harness::ident::synth::Input;
+        let (amplitude, start_s, input_s) = (self.amplitude_percent, self.start_s, self.input_s);
+        self.shape.map(|c| match c {
+            InputChoice::Sweep | InputChoice::SweepDown => Input::Sweep {
+                from_hz: self.from_hz,
+                to_hz: self.to_hz,
+                duration_s: input_s,
+                amplitude,
+                descending: c == InputChoice::SweepDown,
+            },
+            InputChoice::Doublet => Input::Doublet {
+                start_s,
+                pulse_s: input_s,
+                amplitude,
+            },
+            InputChoice::ThreeTwoOneOne => Input::ThreeTwoOneOne {
+                start_s,
+                unit_s: input_s,
+                amplitude,
+            },
+            InputChoice::Step => Input::Step { start_s, amplitude },
+        })
+    }
+}
+
+/// The index of a control named on the command line (eta_s, eta_c, eta_p, eta_t).
+fn control_index(control: &str) -> Result<usize, String> {
+    cierva_model::linearise::CONTROLS
+        .iter()
+        .position(|c| *c == control)
+        .ok_or_else(|| format!("unknown control `{control}`: eta_s, eta_c, eta_p or eta_t"))
+}
+
+/// Arguments of `synth-history`.
+#[derive(clap::Args)]
+struct SynthHistoryArgs {
+    #[command(flatten)]
+    flight: FlightArgs,
+    #[command(flatten)]
+    shape: ShapeArgs,
+    /// The model that flies: full-blade (the individual-blade model) or linear.
+    #[arg(long, value_enum, default_value_t = cierva_harness::history::Simulation::FullBlade)]
+    simulation: cierva_harness::history::Simulation,
+    /// Seed 000's propeller blockage factor to fly with (0..1; default the aircraft file's).
+    #[arg(long)]
+    propeller_blockage: Option<f64>,
+    /// Seed 000's hub angle-of-attack factor to fly with (default the aircraft file's).
+    #[arg(long)]
+    hub_aoa_factor: Option<f64>,
+    /// Length of the record, s.
+    #[arg(long, default_value_t = 10.0)]
+    duration_s: f64,
+    #[arg(long, default_value_t = 50.0)]
+    sample_rate_hz: f64,
+    /// Azimuth step of the full model, deg (default: the aircraft file's).
+    #[arg(long)]
+    azimuth_step_deg: Option<f64>,
+    /// Standard deviations of the sensor noise: speeds m/s, rates deg/s, angles deg, rotor rpm.
+    #[arg(long, default_value_t = 0.0)]
+    noise_speed_m_s: f64,
+    #[arg(long, default_value_t = 0.0)]
+    noise_rate_deg_s: f64,
+    #[arg(long, default_value_t = 0.0)]
+    noise_angle_deg: f64,
+    #[arg(long, default_value_t = 0.0)]
+    noise_rpm: f64,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// The record's title (its id is the output file's stem).
+    #[arg(long)]
+    title: Option<String>,
+    /// The record CSV to write (its sidecar YAML goes beside it).
+    #[arg(long)]
+    output: PathBuf,
 }
 
 /// Output of `linearize`.
@@ -468,51 +563,17 @@ fn main() -> ExitCode {
             flight,
             input,
             shape,
-            control,
-            amplitude_percent,
-            start_s,
-            input_s,
-            from_hz,
-            to_hz,
             duration_s,
             azimuth_step_deg,
             every,
             output,
-        } => {
-            let shape = shape.map(|c| match c {
-                InputChoice::Sweep | InputChoice::SweepDown => {
-                    cierva_harness::ident::synth::Input::Sweep {
-                        from_hz,
-                        to_hz,
-                        duration_s: input_s,
-                        amplitude: amplitude_percent,
-                        descending: c == InputChoice::SweepDown,
-                    }
-                }
-                InputChoice::Doublet => cierva_harness::ident::synth::Input::Doublet {
-                    start_s,
-                    pulse_s: input_s,
-                    amplitude: amplitude_percent,
-                },
-                InputChoice::ThreeTwoOneOne => {
-                    cierva_harness::ident::synth::Input::ThreeTwoOneOne {
-                        start_s,
-                        unit_s: input_s,
-                        amplitude: amplitude_percent,
-                    }
-                }
-                InputChoice::Step => cierva_harness::ident::synth::Input::Step {
-                    start_s,
-                    amplitude: amplitude_percent,
-                },
-            });
-            simulate(
-                flight,
-                (input, shape, control),
-                (duration_s, azimuth_step_deg, every),
-                output,
-            )
-        }
+        } => simulate(
+            flight,
+            (input, shape.input(), shape.control),
+            (duration_s, azimuth_step_deg, every),
+            output,
+        ),
+        Command::SynthHistory(a) => synth_history(a),
         Command::Trim {
             flight,
             turn_rate_deg_s,
@@ -558,13 +619,10 @@ fn simulate(
             return ExitCode::from(2);
         }
     };
-    let index = match control.as_str() {
-        "eta_s" => 0,
-        "eta_c" => 1,
-        "eta_p" => 2,
-        "eta_t" => 3,
-        other => {
-            eprintln!("error: unknown control `{other}`: eta_s, eta_c, eta_p or eta_t");
+    let index = match control_index(&control) {
+        Ok(i) => i,
+        Err(e) => {
+            eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
@@ -1674,6 +1732,169 @@ fn new_case(path: PathBuf) -> ExitCode {
         }
         Err(e) => {
             eprintln!("error: cannot write {}: {e}", path.display());
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn synth_history(a: SynthHistoryArgs) -> ExitCode {
+    use cierva_harness::history;
+    let file = match cierva_harness::aircraft_file::load(&a.flight.aircraft) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let corrections = cierva_harness::aircraft_file::AircraftCorrectionsSpec {
+        propeller_blockage: a.propeller_blockage,
+        hub_aoa_factor: a.hub_aoa_factor,
+    };
+    let file = match file.with_corrections(&corrections) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: the corrections: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let Some(shape) = a.shape.input() else {
+        eprintln!("error: give --shape");
+        return ExitCode::from(2);
+    };
+    let index = match control_index(&a.shape.control) {
+        Ok(i) => i,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(a.duration_s) && ok(a.sample_rate_hz)) {
+        eprintln!("error: --duration-s and --sample-rate-hz must be positive");
+        return ExitCode::from(2);
+    }
+    let noise = history::Noise {
+        speed_m_s: a.noise_speed_m_s,
+        rate_deg_s: a.noise_rate_deg_s,
+        angle_deg: a.noise_angle_deg,
+        rpm: a.noise_rpm,
+    };
+    if ![
+        noise.speed_m_s,
+        noise.rate_deg_s,
+        noise.angle_deg,
+        noise.rpm,
+    ]
+    .iter()
+    .all(|v| v.is_finite() && *v >= 0.0)
+    {
+        eprintln!("error: noise standard deviations must be finite and >= 0");
+        return ExitCode::from(2);
+    }
+    let changes = |t: f64| {
+        let mut d = [0.0; 4];
+        d[index] = shape.at(t);
+        d
+    };
+    let sample_s = 1.0 / a.sample_rate_hz;
+    let step = a.azimuth_step_deg.map_or(
+        file.aircraft.main_rotor.numerics.azimuth_step_rad,
+        f64::to_radians,
+    );
+    let (request, loading) = (a.flight.request(0.0), a.flight.loading());
+    let flown = match history::fly(
+        &file.aircraft,
+        request,
+        loading,
+        &changes,
+        history::FlySettings {
+            simulation: a.simulation,
+            sample_s,
+            samples: (a.duration_s / sample_s).round() as usize,
+            azimuth_step_rad: step,
+        },
+    ) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {}: {e}", a.flight.aircraft.display());
+            return ExitCode::from(1);
+        }
+    };
+    let id = a
+        .output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mass = a.flight.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
+    let simulation = match a.simulation {
+        history::Simulation::FullBlade => format!(
+            "the full individual-blade model (RK4, azimuth step {:.1} deg)",
+            step.to_degrees()
+        ),
+        history::Simulation::Linear => "its linearisation about trim".to_string(),
+    };
+    let truth = format!(
+        "{} ({}) with propeller blockage {} and hub AoA factor {}, flown by {simulation}",
+        a.flight.aircraft.display(),
+        file.title,
+        file.aircraft.propeller.propeller.blockage,
+        file.aircraft
+            .hub_aoa_factor
+            .map_or("none".to_string(), |k| k.to_string()),
+    );
+    let mut condition = std::collections::BTreeMap::new();
+    for (k, v) in [
+        ("airspeed_mph", a.flight.airspeed_mph),
+        ("climb_m_s", a.flight.climb_m_s),
+        ("mass_kg", mass),
+        ("density_altitude_ft", a.flight.density_altitude_ft),
+    ] {
+        condition.insert(k.to_string(), serde_yaml::Value::from(v));
+    }
+    let mut settings = std::collections::BTreeMap::new();
+    settings.insert(
+        "input".to_string(),
+        format!("{shape:?} on {}", a.shape.control),
+    );
+    settings.insert(
+        "command".to_string(),
+        std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+    );
+    let spec = history::SyntheticSpec {
+        id: id.clone(),
+        title: a.title.clone().unwrap_or_else(|| {
+            format!(
+                "Synthetic {} response of the {} at {} mph",
+                a.shape.control, file.title, a.flight.airspeed_mph
+            )
+        }),
+        aircraft: file.title.clone(),
+        truth,
+        generator: format!("cierva synth-history {}", env!("CARGO_PKG_VERSION")),
+        seed: a.seed,
+        condition,
+        settings,
+    };
+    let column = cierva_harness::controls_file::CONTROL_COLUMNS[index];
+    let (meta, channels, data) =
+        match history::synthesize(&flown, &changes, &[column], noise, &spec) {
+            Ok(x) => x,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        };
+    match cierva_harness::ident::record::write(&a.output, &meta, &channels, &data) {
+        Ok(()) => {
+            eprintln!(
+                "wrote {} and its sidecar ({} samples)",
+                a.output.display(),
+                flown.time_s.len()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", a.output.display());
             ExitCode::from(2)
         }
     }

@@ -586,6 +586,24 @@ fn m_states(m: &LinearModel) -> &[String] {
     m.states()
 }
 
+/// Time-history metrics of every `time_history` check of a case, response by response (for
+/// snapshots; four significant figures).
+pub fn time_history_table(rows: &[(String, Vec<crate::history::SignalMetrics>)]) -> String {
+    let mut s = format!(
+        "{:<28} {:<10} {:>14} {:>12} {:>10} {:>10}\n",
+        "check", "response", "max |error|", "at s", "rms error", "theil"
+    );
+    for (check, metrics) in rows {
+        for m in metrics {
+            s += &format!(
+                "{:<28} {:<10} {:>14.4} {:>12.2} {:>10.4} {:>10.4}\n",
+                check, m.signal, m.max_abs_error, m.time_of_max_s, m.rms_error, m.theil
+            );
+        }
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::sig;

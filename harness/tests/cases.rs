@@ -85,7 +85,31 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
             .with_kind("snapshot"),
         );
     }
-    if let Subject::Aircraft { .. } = &case.subject {
+    let has = |kind: cierva_harness::case::CheckKind| case.checks.iter().any(|k| k.kind == kind);
+    let time_history = cierva_harness::case::CheckKind::TimeHistory;
+    if let Subject::Aircraft { file, loading } = &case.subject
+        && has(time_history)
+    {
+        let (c, file, loading) = (case.clone(), file.clone(), *loading);
+        trials.push(
+            Trial::test(format!("{}::snapshot-time-histories", case.id), move || {
+                let mut rows = Vec::new();
+                for k in c.checks.iter().filter(|k| k.kind == time_history) {
+                    let m = eval::time_history_metrics(&file, loading, k)?;
+                    rows.push((k.id.clone(), m));
+                }
+                snapshot(&c, "time-histories", Ok(text::time_history_table(&rows)))
+            })
+            .with_kind("snapshot"),
+        );
+    }
+    let trim_requested = case
+        .checks
+        .iter()
+        .any(|k| k.kind != time_history && (k.condition.is_some() || k.sweep_mph.is_some()));
+    if let Subject::Aircraft { .. } = &case.subject
+        && trim_requested
+    {
         let c = case.clone();
         trials.push(
             Trial::test(format!("{}::snapshot-trim", case.id), move || {
@@ -93,7 +117,7 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
                     unreachable!()
                 };
                 let mut requests = Vec::new();
-                for k in &c.checks {
+                for k in c.checks.iter().filter(|k| k.kind != time_history) {
                     if let Some(r) = k.condition {
                         requests.push(r);
                     }
@@ -140,6 +164,7 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
                     k.kind,
                     cierva_harness::case::CheckKind::Trim
                         | cierva_harness::case::CheckKind::TrimSweep
+                        | cierva_harness::case::CheckKind::TimeHistory
                 )
             })
             .filter_map(|k| k.condition)

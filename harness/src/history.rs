@@ -1,0 +1,464 @@
+//! Time histories compared with a reference: a record of control changes and responses (flight,
+//! or synthetic and labelled so), flown again by the model with the same control changes.
+//!
+//! # The reference record
+//! A record CSV with its sidecar YAML ([`crate::ident::record`]). Its `controls` (named in the
+//! sidecar) are among [`crate::controls_file::CONTROL_COLUMNS`]: changes from the trimmed
+//! controls, % of travel. Every other channel but `time_s` is a response among [`SIGNALS`]:
+//! a change from trim, in the units its name carries. Time starts at the record's first sample.
+//!
+//! # What the model's "trim" is
+//! The linear model starts at zero. The full individual-blade model starts on its periodic
+//! orbit, which a two-bladed rotor shakes at 2/rev; its trim values are the means over the first
+//! revolution of the orbit flown with the controls held, so the 2/rev content stays in the
+//! response, as it does in a flight record.
+//!
+//! # Metrics
+//! For every response: the largest absolute error over the record (FAA Part 60 tolerance
+//! bands), the RMS error, and Theil's inequality coefficient
+//! `rms(model - ref) / (rms(model) + rms(ref))` (0 is a perfect match, 1 the worst;
+//! seed 000 Fig. 10 uses it).
+
+use crate::ident::record::{Record, RecordMeta, Synthetic};
+use crate::ident::synth::Normal;
+use crate::refs::Provenance;
+use crate::{Loading, TrimRequest};
+use cierva_model::aircraft::Aircraft;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Responses a reference record may carry (changes from trim).
+pub const SIGNALS: [&str; 10] = [
+    "u_m_s",
+    "v_m_s",
+    "w_m_s",
+    "p_deg_s",
+    "q_deg_s",
+    "r_deg_s",
+    "phi_deg",
+    "theta_deg",
+    "psi_deg",
+    "rotor_rpm",
+];
+
+/// What a `time_history` check computes per response: `<signal>.<metric>`.
+pub const METRICS: [&str; 3] = ["max_abs_error", "rms_error", "theil"];
+
+/// Which model flies the record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Simulation {
+    /// The nonlinear individual-blade model, by RK4 at an azimuth step.
+    #[default]
+    FullBlade,
+    /// The model linearised about trim (quasi-steady blades and inflow), by RK4 at the
+    /// record's sample interval.
+    Linear,
+}
+
+/// A flown time history: responses (changes from trim) at regular times from zero.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flown {
+    pub time_s: Vec<f64>,
+    /// One entry per [`SIGNALS`] name, in that order.
+    pub signals: Vec<Vec<f64>>,
+}
+
+impl Flown {
+    /// The samples of a response.
+    pub fn signal(&self, name: &str) -> Option<&[f64]> {
+        SIGNALS
+            .iter()
+            .position(|s| *s == name)
+            .map(|i| self.signals[i].as_slice())
+    }
+}
+
+/// How to fly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlySettings {
+    pub simulation: Simulation,
+    /// Samples wanted at `k * sample_s`, `k = 0..=n`.
+    pub sample_s: f64,
+    pub samples: usize,
+    /// Azimuth step of the full model, rad.
+    pub azimuth_step_rad: f64,
+}
+
+fn responses(b: &[f64; 12], omega_rad_s: f64) -> [f64; 10] {
+    let d = f64::to_degrees;
+    [
+        b[0],
+        b[1],
+        b[2],
+        d(b[3]),
+        d(b[4]),
+        d(b[5]),
+        d(b[6]),
+        d(b[7]),
+        d(b[8]),
+        omega_rad_s * 30.0 / std::f64::consts::PI,
+    ]
+}
+
+/// Flies the aircraft at a condition with control changes from trim and returns the responses
+/// as changes from trim, sampled at the requested times.
+pub fn fly(
+    aircraft: &Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+    changes: &dyn Fn(f64) -> [f64; 4],
+    s: FlySettings,
+) -> Result<Flown, String> {
+    if !(s.sample_s.is_finite() && s.sample_s > 0.0) || s.samples == 0 {
+        return Err(format!(
+            "the sample interval must be positive and there must be samples (got {} s, {})",
+            s.sample_s, s.samples
+        ));
+    }
+    let duration_s = s.sample_s * s.samples as f64;
+    let time_s: Vec<f64> = (0..=s.samples).map(|k| k as f64 * s.sample_s).collect();
+    match s.simulation {
+        Simulation::Linear => {
+            let (_, lin) =
+                crate::run_linearise(aircraft, request, loading).map_err(|e| e.to_string())?;
+            let m = &lin.model;
+            let x0 = vec![0.0; m.states().len()];
+            let input = |t: f64| changes(t).to_vec();
+            let xs = cierva_model::simulate::simulate(m, &x0, &input, s.sample_s, s.samples);
+            let mut signals = vec![Vec::with_capacity(xs.len()); SIGNALS.len()];
+            for x in &xs {
+                // STATES: u v w p q r phi theta psi Omega.
+                let body = [
+                    x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8], 0.0, 0.0, 0.0,
+                ];
+                for (sig, v) in signals.iter_mut().zip(responses(&body, x[9])) {
+                    sig.push(v);
+                }
+            }
+            Ok(Flown { time_s, signals })
+        }
+        Simulation::FullBlade => {
+            let start = crate::simulation_start(aircraft, request, loading)?;
+            let settings = |duration_s| cierva_model::timehistory::Settings {
+                azimuth_step_rad: s.azimuth_step_rad,
+                duration_s,
+                output_every: 1,
+            };
+            // Trim: the mean over one revolution with the controls held.
+            let revolution_s = 2.0 * std::f64::consts::PI / start.state.rotor_omega_rad_s;
+            let held = start.run(&|_| [0.0; 4], settings(revolution_s))?;
+            let steps = held.samples.len().saturating_sub(1).max(1);
+            let mut trim = [0.0; 10];
+            for x in &held.samples[..steps] {
+                let r = responses(&x.state.body.to_array(), x.state.rotor_omega_rad_s);
+                for (t, v) in trim.iter_mut().zip(r) {
+                    *t += v / steps as f64;
+                }
+            }
+            let h = start.run(changes, settings(duration_s))?;
+            let mut signals = vec![Vec::with_capacity(time_s.len()); SIGNALS.len()];
+            let mut j = 0;
+            for &t in &time_s {
+                while j + 2 < h.samples.len() && h.samples[j + 1].time_s <= t {
+                    j += 1;
+                }
+                let (a, b) = (&h.samples[j], &h.samples[(j + 1).min(h.samples.len() - 1)]);
+                let f = if b.time_s > a.time_s {
+                    ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let ra = responses(&a.state.body.to_array(), a.state.rotor_omega_rad_s);
+                let rb = responses(&b.state.body.to_array(), b.state.rotor_omega_rad_s);
+                for i in 0..SIGNALS.len() {
+                    signals[i].push(ra[i] + f * (rb[i] - ra[i]) - trim[i]);
+                }
+            }
+            Ok(Flown { time_s, signals })
+        }
+    }
+}
+
+/// One response of the model compared with the reference.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SignalMetrics {
+    pub signal: String,
+    pub max_abs_error: f64,
+    pub rms_error: f64,
+    pub theil: f64,
+    /// When the largest error occurs, s from the record's start.
+    pub time_of_max_s: f64,
+}
+
+impl SignalMetrics {
+    /// A metric by name (one of [`METRICS`]).
+    pub fn get(&self, metric: &str) -> Option<f64> {
+        match metric {
+            "max_abs_error" => Some(self.max_abs_error),
+            "rms_error" => Some(self.rms_error),
+            "theil" => Some(self.theil),
+            _ => None,
+        }
+    }
+}
+
+/// The responses a record carries: its channels other than `time_s` and its controls.
+pub fn record_signals(record: &Record) -> Vec<String> {
+    record
+        .channels
+        .iter()
+        .filter(|c| *c != "time_s" && !record.meta.controls.contains(c))
+        .cloned()
+        .collect()
+}
+
+/// Control changes from trim in a record, interpolated linearly and held beyond the ends.
+pub fn record_controls(record: &Record) -> Result<crate::controls_file::ControlTable, String> {
+    use crate::controls_file::{CONTROL_COLUMNS, ControlTable};
+    let t0 = record.channel("time_s").ok_or("the record has no time_s")?;
+    let time_s: Vec<f64> = t0.iter().map(|t| t - t0[0]).collect();
+    let mut changes: [Vec<f64>; 4] = Default::default();
+    for (k, name) in CONTROL_COLUMNS.iter().enumerate() {
+        changes[k] = match record.channel(name) {
+            Some(v) if record.meta.controls.iter().any(|c| c == name) => v.to_vec(),
+            _ => vec![0.0; time_s.len()],
+        };
+    }
+    for c in &record.meta.controls {
+        if !CONTROL_COLUMNS.contains(&c.as_str()) {
+            return Err(format!(
+                "control `{c}` is not one of {}",
+                CONTROL_COLUMNS.join(", ")
+            ));
+        }
+    }
+    Ok(ControlTable { time_s, changes })
+}
+
+/// Compares every response of `flown` that `record` carries. The two are aligned sample by
+/// sample (`flown` is flown at the record's times).
+pub fn compare(record: &Record, flown: &Flown) -> Result<Vec<SignalMetrics>, String> {
+    let t = record.channel("time_s").ok_or("the record has no time_s")?;
+    let mut out = Vec::new();
+    for name in record_signals(record) {
+        let reference = record.channel(&name).expect("a channel of the record");
+        let model = flown
+            .signal(&name)
+            .ok_or_else(|| format!("`{name}` is not a response cierva computes"))?;
+        let n = reference.len().min(model.len());
+        if n == 0 {
+            return Err("nothing to compare".into());
+        }
+        let (mut worst, mut at, mut sq) = (0.0f64, 0.0, 0.0);
+        for k in 0..n {
+            let e = model[k] - reference[k];
+            // NaN never passes: it propagates into every metric.
+            if e.is_nan() || e.abs() > worst {
+                worst = if e.is_nan() { f64::NAN } else { e.abs() };
+                at = t[k] - t[0];
+            }
+            sq += e * e;
+        }
+        out.push(SignalMetrics {
+            signal: name.clone(),
+            max_abs_error: worst,
+            rms_error: (sq / n as f64).sqrt(),
+            theil: crate::ident::theil_inequality(&model[..n], &reference[..n]),
+            time_of_max_s: at,
+        });
+    }
+    Ok(out)
+}
+
+/// Flies `aircraft` through `record`'s control changes and compares its responses.
+pub fn fly_record(
+    aircraft: &Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+    record: &Record,
+    simulation: Simulation,
+    azimuth_step_rad: f64,
+) -> Result<Vec<SignalMetrics>, String> {
+    let table = record_controls(record)?;
+    let samples = table.time_s.len().saturating_sub(1);
+    let flown = fly(
+        aircraft,
+        request,
+        loading,
+        &|t| table.at(t),
+        FlySettings {
+            simulation,
+            sample_s: record.dt_s(),
+            samples,
+            azimuth_step_rad,
+        },
+    )?;
+    compare(record, &flown)
+}
+
+/// Standard deviations of the sensor noise added to a synthetic record.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Noise {
+    pub speed_m_s: f64,
+    pub rate_deg_s: f64,
+    pub angle_deg: f64,
+    pub rpm: f64,
+}
+
+impl Noise {
+    fn of(&self, signal: &str) -> f64 {
+        if signal.ends_with("_m_s") {
+            self.speed_m_s
+        } else if signal.ends_with("_deg_s") {
+            self.rate_deg_s
+        } else if signal.ends_with("_deg") {
+            self.angle_deg
+        } else {
+            self.rpm
+        }
+    }
+}
+
+/// What a synthetic record says about itself.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SyntheticSpec {
+    pub id: String,
+    pub title: String,
+    pub aircraft: String,
+    /// The model that flew, for the sidecar (`../aircraft/vpm-m16.yaml, full-blade, ...`).
+    pub truth: String,
+    pub generator: String,
+    pub seed: u64,
+    pub condition: BTreeMap<String, serde_yaml::Value>,
+    pub settings: BTreeMap<String, String>,
+}
+
+/// A record's sidecar, channel names and one column per channel.
+pub type SyntheticRecord = (RecordMeta, Vec<String>, Vec<Vec<f64>>);
+
+/// A synthetic reference record: the control changes and the flown responses plus seeded
+/// Gaussian sensor noise, with a sidecar that says it is synthetic.
+pub fn synthesize(
+    flown: &Flown,
+    changes: &dyn Fn(f64) -> [f64; 4],
+    controls: &[&str],
+    noise: Noise,
+    spec: &SyntheticSpec,
+) -> Result<SyntheticRecord, String> {
+    use crate::controls_file::CONTROL_COLUMNS;
+    let mut channels = vec!["time_s".to_string()];
+    let mut data = vec![flown.time_s.clone()];
+    for c in controls {
+        let k = CONTROL_COLUMNS
+            .iter()
+            .position(|x| x == c)
+            .ok_or_else(|| format!("`{c}` is not one of {}", CONTROL_COLUMNS.join(", ")))?;
+        channels.push(c.to_string());
+        data.push(flown.time_s.iter().map(|&t| changes(t)[k]).collect());
+    }
+    let mut rng = Normal::new(spec.seed);
+    for (i, name) in SIGNALS.iter().enumerate() {
+        let sd = noise.of(name);
+        channels.push(name.to_string());
+        data.push(
+            flown.signals[i]
+                .iter()
+                .map(|v| v + sd * rng.sample())
+                .collect(),
+        );
+    }
+    let sample_rate_hz = if flown.time_s.len() > 1 {
+        1.0 / (flown.time_s[1] - flown.time_s[0])
+    } else {
+        return Err("a record needs at least two samples".into());
+    };
+    let mut settings = spec.settings.clone();
+    settings.insert(
+        "noise_sd".into(),
+        format!(
+            "speeds {} m/s, rates {} deg/s, angles {} deg, rotor {} rpm",
+            noise.speed_m_s, noise.rate_deg_s, noise.angle_deg, noise.rpm
+        ),
+    );
+    let meta = RecordMeta {
+        id: spec.id.clone(),
+        title: spec.title.clone(),
+        provenance: Provenance {
+            source: format!(
+                "synthetic: generated by {} (seed {}) from {}; responses are changes from trim",
+                spec.generator, spec.seed, spec.truth
+            ),
+            notes: None,
+        },
+        synthetic: Some(Synthetic {
+            generator: spec.generator.clone(),
+            seed: spec.seed,
+            truth: spec.truth.clone(),
+            settings,
+        }),
+        aircraft: spec.aircraft.clone(),
+        sample_rate_hz,
+        sensors: None,
+        condition: spec.condition.clone(),
+        trim: BTreeMap::new(),
+        controls: controls.iter().map(|c| c.to_string()).collect(),
+    };
+    Ok((meta, channels, data))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(signal: &[f64], model: &[f64]) -> (Record, Flown) {
+        let n = signal.len();
+        let time_s: Vec<f64> = (0..n).map(|k| k as f64 * 0.1).collect();
+        let meta = RecordMeta {
+            id: "r".into(),
+            title: "t".into(),
+            provenance: Provenance {
+                source: "test".into(),
+                notes: None,
+            },
+            synthetic: None,
+            aircraft: "a".into(),
+            sample_rate_hz: 10.0,
+            sensors: None,
+            condition: BTreeMap::new(),
+            trim: BTreeMap::new(),
+            controls: vec![],
+        };
+        let rec = Record {
+            path: "r.csv".into(),
+            meta,
+            channels: vec!["time_s".into(), "theta_deg".into()],
+            data: vec![time_s.clone(), signal.to_vec()],
+        };
+        let mut signals = vec![vec![0.0; n]; SIGNALS.len()];
+        signals[7] = model.to_vec();
+        (rec, Flown { time_s, signals })
+    }
+
+    #[test]
+    fn metrics_of_a_known_error() {
+        let (rec, flown) = record(&[0.0, 1.0, 2.0, 1.0], &[0.0, 1.5, 2.0, 1.0]);
+        let m = compare(&rec, &flown).unwrap();
+        assert_eq!(m.len(), 1);
+        assert_eq!(m[0].signal, "theta_deg");
+        assert!((m[0].max_abs_error - 0.5).abs() < 1e-12);
+        assert!((m[0].time_of_max_s - 0.1).abs() < 1e-12);
+        assert!((m[0].rms_error - 0.25).abs() < 1e-12);
+        // rms(p) = sqrt(7.25/4), rms(m) = sqrt(6/4).
+        let theil = 0.25 / ((7.25f64 / 4.0).sqrt() + 1.5f64.sqrt());
+        assert!((m[0].theil - theil).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nan_fails_every_metric() {
+        let (rec, flown) = record(&[0.0, 1.0, 2.0], &[0.0, f64::NAN, 2.0]);
+        let m = compare(&rec, &flown).unwrap();
+        assert!(m[0].max_abs_error.is_nan());
+        assert!(m[0].rms_error.is_nan());
+    }
+}
