@@ -10,6 +10,7 @@ pub mod aircraft_file;
 pub mod case;
 pub mod controls_file;
 pub mod eval;
+pub mod fit;
 pub mod history;
 pub mod ident;
 pub mod refs;
