@@ -808,6 +808,20 @@ fn resolve_check(
             Ok(())
         }
     };
+    let check_condition = |t: &crate::TrimRequest| -> Result<(), InputError> {
+        let ok = t.airspeed_mph.is_finite()
+            && t.airspeed_mph > 0.0
+            && t.climb_m_s.is_finite()
+            && t.turn_rate_deg_s.is_finite();
+        if ok {
+            Ok(())
+        } else {
+            Err(err(
+                &format!("{here}.condition"),
+                "the airspeed must be positive, climb and turn rates finite".into(),
+            ))
+        }
+    };
     match c.kind {
         CheckKind::Mode | CheckKind::Bcar => {
             needs(c.mode.is_some(), "mode")?;
@@ -866,16 +880,7 @@ fn resolve_check(
                 }
             }
             if let Some(t) = &c.condition {
-                let ok = t.airspeed_mph.is_finite()
-                    && t.airspeed_mph > 0.0
-                    && t.climb_m_s.is_finite()
-                    && t.turn_rate_deg_s.is_finite();
-                if !ok {
-                    return Err(err(
-                        &format!("{here}.condition"),
-                        "the airspeed must be positive, climb and turn rates finite".into(),
-                    ));
-                }
+                check_condition(t)?;
             }
         }
         CheckKind::TimeHistory => {
@@ -900,16 +905,7 @@ fn resolve_check(
                 refuses(c.azimuth_step_deg.is_some(), "azimuth_step_deg")?;
             }
             if let Some(t) = &c.condition {
-                let ok = t.airspeed_mph.is_finite()
-                    && t.airspeed_mph > 0.0
-                    && t.climb_m_s.is_finite()
-                    && t.turn_rate_deg_s.is_finite();
-                if !ok {
-                    return Err(err(
-                        &format!("{here}.condition"),
-                        "the airspeed must be positive, climb and turn rates finite".into(),
-                    ));
-                }
+                check_condition(t)?;
                 if c.simulation == Some(crate::history::Simulation::Linear)
                     && t.turn_rate_deg_s != 0.0
                 {

@@ -1079,50 +1079,9 @@ mod tests {
                 air: air(),
             };
             let t = trim::trim(&a, c, Options::default()).unwrap();
-            let mut x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
-            let n = 144;
-            let h = 2.0 * PI / n as f64 / x.rotor_omega_rad_s;
-            let mut mean = [0.0; 7];
+            let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
             let start = x.flap.clone();
-            for _ in 0..n {
-                // RK4 on azimuth and flap only (the rest frozen, as in the trim).
-                let deriv = |x: &FullState| a.derivatives(x, &t.controls, air()).unwrap();
-                let step = |x: &FullState, d: &FullDerivative, f: f64| {
-                    let mut y = x.clone();
-                    y.rotor_azimuth_rad += f * d.rotor_azimuth_rad;
-                    for (s, ds) in y.flap.iter_mut().zip(&d.flap) {
-                        s[0] += f * ds[0];
-                        s[1] += f * ds[1];
-                    }
-                    y
-                };
-                let k1 = deriv(&x);
-                let b = k1.body;
-                for (m, v) in mean.iter_mut().zip([
-                    b.u_m_s,
-                    b.v_m_s,
-                    b.w_m_s,
-                    b.p_rad_s,
-                    b.q_rad_s,
-                    b.r_rad_s,
-                    k1.rotor_omega_rad_s,
-                ]) {
-                    *m += v / n as f64;
-                }
-                let k2 = deriv(&step(&x, &k1, h / 2.0));
-                let k3 = deriv(&step(&x, &k2, h / 2.0));
-                let k4 = deriv(&step(&x, &k3, h));
-                x.rotor_azimuth_rad += h * x.rotor_omega_rad_s;
-                for (j, s) in x.flap.iter_mut().enumerate() {
-                    for (i, si) in s.iter_mut().enumerate() {
-                        *si += h / 6.0
-                            * (k1.flap[j][i]
-                                + 2.0 * k2.flap[j][i]
-                                + 2.0 * k3.flap[j][i]
-                                + k4.flap[j][i]);
-                    }
-                }
-            }
+            let (mean, x) = full_mean(&a, x, &t.controls, 0);
             // Quasi-steady inflow follows the instantaneous loads, so the trim's flapping (with
             // the mean-load inflow) is only nearly periodic under it.
             for (s, e) in x.flap.iter().zip(&start).filter(|_| !qs) {
@@ -1152,9 +1111,15 @@ mod tests {
         }
     }
 
-    /// The revolution mean of the full model's accelerations with the body frozen, after the
-    /// blades have settled on their periodic motion (`settle` revolutions).
-    fn full_mean(a: &Aircraft, mut x: FullState, controls: &Controls, settle: usize) -> [f64; 7] {
+    /// The revolution mean of the full model's accelerations with the body frozen (RK4 on
+    /// azimuth and flap only, as in the trim), after `settle` revolutions for the blades to
+    /// reach their periodic motion; and the state at the end.
+    fn full_mean(
+        a: &Aircraft,
+        mut x: FullState,
+        controls: &Controls,
+        settle: usize,
+    ) -> ([f64; 7], FullState) {
         let n = 144;
         let h = 2.0 * PI / n as f64 / x.rotor_omega_rad_s;
         let mut mean = [0.0; 7];
@@ -1200,7 +1165,7 @@ mod tests {
                 }
             }
         }
-        mean
+        (mean, x)
     }
 
     /// With the body pitching or rolling, the full model's revolution mean gives the averaged
@@ -1225,7 +1190,7 @@ mod tests {
                 .averaged(&s, &t.controls, air(), t.averaged.flap_start)
                 .unwrap();
             let x = a.full_state(&s, &t.controls, air(), avg.flap_start);
-            let m = full_mean(&a, x, &t.controls, 3);
+            let (m, _) = full_mean(&a, x, &t.controls, 3);
             let b = avg.body_dot;
             let g = rigid_body::G_M_S2;
             for (k, want) in [b.u_m_s, b.v_m_s, b.w_m_s].into_iter().enumerate() {
