@@ -519,49 +519,25 @@ fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>
 pub fn fit(problem: &Problem) -> FitResult {
     let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind).collect();
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
-    let nan = vec![f64::NAN; problem.targets.len()];
-    let end =
-        |status, values: Vec<f64>, se, iterations, c0, c, before, after, warnings| FitResult {
-            status,
-            parameters: kinds.clone(),
-            values,
-            standard_errors: se,
-            iterations,
-            cost_start: c0,
-            cost: c,
-            before,
-            after,
-            warnings,
-        };
-    let infinite = vec![f64::INFINITY; start.len()];
+    // A fit that ends before its first iteration: the start, no standard errors.
+    let unstarted = |status| FitResult {
+        status,
+        parameters: kinds.clone(),
+        values: start.clone(),
+        standard_errors: vec![f64::INFINITY; start.len()],
+        iterations: 0,
+        cost_start: f64::NAN,
+        cost: f64::NAN,
+        before: vec![f64::NAN; problem.targets.len()],
+        after: vec![f64::NAN; problem.targets.len()],
+        warnings: vec![],
+    };
     if let Err(e) = check(problem) {
-        return end(
-            Status::BadProblem(e),
-            start,
-            infinite,
-            0,
-            f64::NAN,
-            f64::NAN,
-            nan.clone(),
-            nan,
-            vec![],
-        );
+        return unstarted(Status::BadProblem(e));
     }
     let y0 = match evaluate(problem, &start) {
         Ok(y) => y,
-        Err(e) => {
-            return end(
-                Status::ModelFailure(e),
-                start,
-                infinite,
-                0,
-                f64::NAN,
-                f64::NAN,
-                nan.clone(),
-                nan,
-                vec![],
-            );
-        }
+        Err(e) => return unstarted(Status::ModelFailure(e)),
     };
     let mut p = start.clone();
     let mut y = y0.clone();
@@ -611,20 +587,14 @@ pub fn fit(problem: &Problem) -> FitResult {
                 .map(|((v, di), q)| (v + di).clamp(q.lower, q.upper))
                 .collect();
             // The predicted cost from the linearisation.
-            let predicted: f64 = {
-                let mut rp = r.clone();
-                for (k, t) in problem.targets.iter().enumerate() {
-                    let dy: f64 = jt[k].iter().zip(&d).map(|(a, b)| a * b).sum();
-                    rp[k] += dy / t.standard_error;
-                }
-                let mut extra = problem.targets.len();
-                for (i, q) in problem.parameters.iter().enumerate() {
-                    if q.regularisation > 0.0 {
-                        rp[extra] += q.regularisation.sqrt() * d[i] / (q.upper - q.lower);
-                        extra += 1;
-                    }
-                }
-                cost(&rp)
+            let predicted = {
+                let stepped: Vec<f64> = p.iter().zip(&d).map(|(v, di)| v + di).collect();
+                let linear: Vec<f64> = y
+                    .iter()
+                    .zip(&jt)
+                    .map(|(v, row)| v + row.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>())
+                    .collect();
+                cost(&residuals(problem, &stepped, &linear))
             };
             match evaluate(problem, &trial) {
                 Ok(yt) => {
@@ -675,5 +645,16 @@ pub fn fit(problem: &Problem) -> FitResult {
             ));
         }
     }
-    end(status, p, se, iterations, c0, c, y0, y, warnings)
+    FitResult {
+        status,
+        parameters: kinds,
+        values: p,
+        standard_errors: se,
+        iterations,
+        cost_start: c0,
+        cost: c,
+        before: y0,
+        after: y,
+        warnings,
+    }
 }

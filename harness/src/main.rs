@@ -6,7 +6,7 @@ use cierva_harness::run_autorotation;
 use cierva_harness::{load_cases, refs, text};
 use cierva_model::rotor::{InflowModel, SkewConvention};
 use clap::{Parser, Subcommand, ValueEnum};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Verification and validation of rotorcraft flight-dynamics models against flight references.
@@ -314,6 +314,14 @@ impl ShapeArgs {
     }
 }
 
+/// Loads an aircraft file; a bad file is printed with its location and is exit code 2.
+fn load_aircraft(path: &Path) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
+    cierva_harness::aircraft_file::load(path).map_err(|e| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })
+}
+
 /// The index of a control named on the command line (eta_s, eta_c, eta_p, eta_t).
 fn control_index(control: &str) -> Result<usize, String> {
     cierva_model::linearise::CONTROLS
@@ -598,12 +606,9 @@ fn simulate(
     output: PathBuf,
 ) -> ExitCode {
     use cierva_harness::controls_file;
-    let file = match cierva_harness::aircraft_file::load(&f.aircraft) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
+    let file = match load_aircraft(&f.aircraft) {
+        Ok(f) => f,
+        Err(code) => return code,
     };
     let table = match (&input, &shape) {
         (Some(p), None) => match controls_file::read(p) {
@@ -672,12 +677,9 @@ fn simulate(
 }
 
 fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
-    let file = match cierva_harness::aircraft_file::load(&f.aircraft) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
+    let file = match load_aircraft(&f.aircraft) {
+        Ok(f) => f,
+        Err(code) => return code,
     };
     let (request, loading) = (f.request(0.0), f.loading());
     let (t, lin) = match cierva_harness::run_linearise(&file.aircraft, request, loading) {
@@ -781,12 +783,9 @@ fn trim(
     loading: cierva_harness::Loading,
     format: Format,
 ) -> ExitCode {
-    let file = match cierva_harness::aircraft_file::load(&path) {
+    let file = match load_aircraft(&path) {
         Ok(f) => f,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
+        Err(code) => return code,
     };
     let t = match cierva_harness::run_trim(&file.aircraft, request, loading) {
         Ok(t) => t,
@@ -1739,12 +1738,9 @@ fn new_case(path: PathBuf) -> ExitCode {
 
 fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     use cierva_harness::history;
-    let file = match cierva_harness::aircraft_file::load(&a.flight.aircraft) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
+    let file = match load_aircraft(&a.flight.aircraft) {
+        Ok(f) => f,
+        Err(code) => return code,
     };
     let corrections = cierva_harness::aircraft_file::AircraftCorrectionsSpec {
         propeller_blockage: a.propeller_blockage,
