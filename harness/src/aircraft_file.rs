@@ -38,6 +38,8 @@
 //!   corrections:                       # optional; absent means none
 //!     propeller_blockage: 0.0          # seed 000 Sec. VII.A (0 none, 1 total)
 //!     hub_aoa_factor: 0.5              # seed 000 Sec. VII.B; omit for the kinematic angle
+//!     # and the main rotor's blade corrections, over its rotor file's: profile_drag_scale,
+//!     # profile_drag_increment, pitch_offset_deg, lateral_inflow_offset_m_s
 //! sources:                             # dotted paths; an entry covers everything below it
 //!   mass.mass_kg: "seed 001: maximum all-up mass 450 kg"
 //!   airframe.coefficients: "estimated: ..."
@@ -46,6 +48,7 @@
 //! Every number under `aircraft` must be covered by a `sources` entry (its own path or a
 //! parent's), and every entry must name a path that exists.
 
+use crate::corrections::CorrectionSet;
 use crate::refs::{Provenance, check_id};
 use crate::rotor_file::{self, RotorFile};
 use crate::yaml::{self, InputError};
@@ -187,15 +190,6 @@ pub struct ControlsSpec {
     pub rudder_deg: MapSpec,
 }
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct AircraftCorrectionsSpec {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub propeller_blockage: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub hub_aoa_factor: Option<f64>,
-}
-
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AircraftSpec {
@@ -206,7 +200,7 @@ pub struct AircraftSpec {
     pub airframe: AirframeSpec,
     pub controls: ControlsSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub corrections: Option<AircraftCorrectionsSpec>,
+    pub corrections: Option<CorrectionSet>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -368,6 +362,14 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
     };
     let c = &a.airframe.coefficients;
     let corrections = a.corrections.unwrap_or_default();
+    let mut main_rotor = main_rotor_file.rotor.clone();
+    CorrectionSet {
+        propeller_blockage: None,
+        hub_aoa_factor: None,
+        ..corrections
+    }
+    .apply_to_rotor(&mut main_rotor)
+    .map_err(|m| err("aircraft.corrections", m))?;
     let aircraft = Aircraft {
         mass: MassProperties {
             mass_kg: a.mass.mass_kg,
@@ -378,7 +380,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         },
         cg_m: a.cg_m,
         main_rotor: MainRotor {
-            rotor: main_rotor_file.rotor.clone(),
+            rotor: main_rotor,
             pivot_m: a.main_rotor.pivot_m,
             spindle_length_m: a.main_rotor.spindle_length_m,
             collective_shift_rad: 0.0,
@@ -470,26 +472,12 @@ fn field_of(e: &AircraftError) -> String {
 }
 
 impl AircraftFile {
-    /// A copy with seed 000's corrections set (those given; the rest as in the file), checked.
-    /// Its path is marked with the corrections, so cached results keep them apart.
-    pub fn with_corrections(
-        &self,
-        c: &AircraftCorrectionsSpec,
-    ) -> Result<AircraftFile, AircraftError> {
+    /// A copy with corrections set (those given; the rest as in the file), checked. Its path is
+    /// marked with the corrections, so cached results keep them apart.
+    pub fn with_corrections(&self, c: &CorrectionSet) -> Result<AircraftFile, String> {
         let mut f = self.clone();
-        if let Some(b) = c.propeller_blockage {
-            f.aircraft.propeller.propeller.blockage = b;
-        }
-        if let Some(k) = c.hub_aoa_factor {
-            f.aircraft.hub_aoa_factor = Some(k);
-        }
-        f.aircraft.validate()?;
-        f.path = PathBuf::from(format!(
-            "{}#blockage={:?},hub_aoa_factor={:?}",
-            self.path.display(),
-            c.propeller_blockage,
-            c.hub_aoa_factor
-        ));
+        c.apply_to_aircraft(&mut f.aircraft)?;
+        f.path = PathBuf::from(format!("{}#{}", self.path.display(), c.describe()));
         Ok(f)
     }
 }

@@ -286,7 +286,7 @@ pub struct CheckSpec {
     /// For `derivative` on an aircraft: seed 000's corrections to apply; the check then also
     /// computes `magnitude_change`, `(|corrected| - |uncorrected|) / |uncorrected|`.
     #[serde(default)]
-    pub corrections: Option<crate::aircraft_file::AircraftCorrectionsSpec>,
+    pub corrections: Option<crate::corrections::CorrectionSet>,
     /// For `time_history`: the reference record CSV (its sidecar beside it), relative to the
     /// case file.
     #[serde(default)]
@@ -367,7 +367,7 @@ pub struct Check {
     pub tunnel: Option<TunnelSpec>,
     pub condition: Option<crate::TrimRequest>,
     pub sweep_mph: Option<Vec<f64>>,
-    pub corrections: Option<crate::aircraft_file::AircraftCorrectionsSpec>,
+    pub corrections: Option<crate::corrections::CorrectionSet>,
     /// For `time_history`: the reference record.
     #[serde(skip)]
     pub reference: Option<Box<crate::ident::record::Record>>,

@@ -212,10 +212,19 @@ pub fn trim_quantities(
     request: crate::TrimRequest,
 ) -> Result<Quantities, String> {
     let t = crate::run_trim(&file.aircraft, request, loading).map_err(|e| e.to_string())?;
+    Ok(trim_quantities_of(&file.aircraft, loading, &t))
+}
+
+/// The quantities of a trim of `aircraft` at `loading`.
+pub fn trim_quantities_of(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    loading: crate::Loading,
+    t: &cierva_model::trim::Trim,
+) -> Quantities {
     let d = f64::to_degrees;
     let r = &t.averaged.rotor;
     let c = &t.controls;
-    Ok(vec![
+    vec![
         ("residual_norm", t.residual_norm),
         ("stick_longitudinal_percent", c.stick_longitudinal_percent),
         ("stick_lateral_percent", c.stick_lateral_percent),
@@ -232,7 +241,7 @@ pub fn trim_quantities(
         ("disc_alpha_deg", d(r.disc_alpha_rad)),
         ("tip_speed_ratio", r.tip_speed_ratio),
         ("thrust_coefficient_over_solidity", {
-            let rotor = &file.aircraft.main_rotor.rotor;
+            let rotor = &aircraft.main_rotor.rotor;
             let rho = cierva_model::atmosphere::at_density_altitude(
                 loading.density_altitude_ft * crate::FT_TO_M,
             )
@@ -246,7 +255,7 @@ pub fn trim_quantities(
         ("b1_deg", d(r.b1_rad)),
         ("inflow_v0_m_s", t.state.inflow.v0),
         ("inflow_v1c_m_s", t.state.inflow.v1c),
-    ])
+    ]
 }
 
 /// Trims over a sweep of airspeeds: each point's quantities, or the first failure (named by

@@ -2,20 +2,23 @@
 //!
 //! # Problem
 //! Parameters `p` (corrections with bounds), targets `y_k(p)` (derivatives or trim quantities
-//! at flight conditions) with references `d_k` and standard errors `s_k`. The cost is
+//! of an aircraft at flight conditions, or autorotation quantities of a rotor alone at tunnel
+//! conditions) with references `d_k` and standard errors `s_k`. The cost is
 //!
 //! ```text
 //! C(p) = sum_k ((y_k(p) - d_k) / s_k)^2 + sum_i w_i ((p_i - p0_i) / range_i)^2
 //! ```
 //!
 //! (the second sum is the optional regularisation towards the uncorrected model `p0`), subject
-//! to the parameter bounds and, optionally, hard bounds on targets (`y_k` within its flight
-//! bounds).
+//! to the parameter bounds and, optionally, bounds on targets (`y_k` within its flight bounds),
+//! soft (a violation `v_k` adds `w_k (v_k / s_k)^2`) or hard (the same with a weight of 1e6; a
+//! hard bound still violated at the end makes the fit infeasible).
 //!
 //! # Method
 //! Sequential linearisation: forward-difference sensitivities `J = dy/dp` through trim and
 //! linearisation (conditions in parallel), then a quadratic program for the step, solved by
-//! clarabel, with the parameter bounds, the linearised target bounds and a box trust region.
+//! clarabel, with the parameter bounds, a box trust region and a slack for each bounded target
+//! (the linearised violation).
 //! A step is taken when it lowers the cost; the trust region shrinks when the prediction was
 //! poor and grows when it was good and the step reached it.
 //!
@@ -24,8 +27,11 @@
 //! `(J' J)^-1` at the solution (targets are normalised by their standard errors, so this is
 //! the usual linearised covariance), and every target before and after.
 
+use crate::case::TunnelSpec;
+use crate::corrections::CorrectionSet;
 use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
+use cierva_model::rotor::{InflowModel, Rotor};
 use serde::{Deserialize, Serialize};
 
 /// A correction the fit can move.
@@ -43,10 +49,22 @@ pub enum ParameterKind {
     ProfileDragIncrement,
     /// Added to the main rotor's blade pitch, deg (a pitch-setting offset).
     PitchOffsetDeg,
+    /// Added to the main rotor's lateral induced velocity `v1s`, m/s (seed 003).
+    LateralInflowOffsetMS,
 }
 
 impl ParameterKind {
-    /// The name as written.
+    /// Every parameter, in the order of [`CorrectionSet`]'s fields.
+    pub const ALL: [ParameterKind; 6] = [
+        Self::PropellerBlockage,
+        Self::HubAoaFactor,
+        Self::ProfileDragScale,
+        Self::ProfileDragIncrement,
+        Self::PitchOffsetDeg,
+        Self::LateralInflowOffsetMS,
+    ];
+
+    /// The name as written (the [`CorrectionSet`] field it sets).
     pub fn name(self) -> &'static str {
         match self {
             Self::PropellerBlockage => "propeller_blockage",
@@ -54,28 +72,42 @@ impl ParameterKind {
             Self::ProfileDragScale => "profile_drag_scale",
             Self::ProfileDragIncrement => "profile_drag_increment",
             Self::PitchOffsetDeg => "pitch_offset_deg",
+            Self::LateralInflowOffsetMS => "lateral_inflow_offset_m_s",
         }
+    }
+
+    /// The parameter by name.
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
     /// The uncorrected model's value.
     pub fn neutral(self) -> f64 {
         match self {
-            Self::PropellerBlockage | Self::ProfileDragIncrement | Self::PitchOffsetDeg => 0.0,
+            Self::PropellerBlockage
+            | Self::ProfileDragIncrement
+            | Self::PitchOffsetDeg
+            | Self::LateralInflowOffsetMS => 0.0,
             Self::HubAoaFactor | Self::ProfileDragScale => 1.0,
         }
     }
 
-    /// Sets the parameter on an aircraft.
-    pub fn apply(self, a: &mut Aircraft, value: f64) {
-        match self {
-            Self::PropellerBlockage => a.propeller.propeller.blockage = value,
-            Self::HubAoaFactor => a.hub_aoa_factor = Some(value),
-            Self::ProfileDragScale => a.main_rotor.rotor.corrections.profile_drag_scale = value,
-            Self::ProfileDragIncrement => {
-                a.main_rotor.rotor.corrections.profile_drag_increment = value
-            }
-            Self::PitchOffsetDeg => a.main_rotor.collective_shift_rad = value.to_radians(),
-        }
+    /// Whether it corrects an aircraft (rather than the blades, which a rotor alone has).
+    pub fn needs_aircraft(self) -> bool {
+        matches!(self, Self::PropellerBlockage | Self::HubAoaFactor)
+    }
+
+    /// Sets the parameter in a correction set.
+    pub fn set(self, c: &mut CorrectionSet, value: f64) {
+        let field = match self {
+            Self::PropellerBlockage => &mut c.propeller_blockage,
+            Self::HubAoaFactor => &mut c.hub_aoa_factor,
+            Self::ProfileDragScale => &mut c.profile_drag_scale,
+            Self::ProfileDragIncrement => &mut c.profile_drag_increment,
+            Self::PitchOffsetDeg => &mut c.pitch_offset_deg,
+            Self::LateralInflowOffsetMS => &mut c.lateral_inflow_offset_m_s,
+        };
+        *field = Some(value);
     }
 }
 
@@ -90,38 +122,165 @@ pub struct Parameter {
     pub regularisation: f64,
 }
 
-/// What a target measures.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub enum Measure {
-    /// A derivative of the linearised model (`X_u`, `Q_Omega`).
-    Derivative(String),
-    /// Trimmed rotor speed, rpm.
-    RotorRpm,
-    /// Trimmed pitch attitude, deg.
-    PitchDeg,
-    /// Trimmed longitudinal stick, % of travel.
-    StickLongitudinalPercent,
+/// What is fitted: an aircraft in flight or a rotor alone in a wind tunnel.
+#[derive(Debug, Clone)]
+pub enum Subject {
+    Aircraft {
+        aircraft: Box<Aircraft>,
+        loading: Loading,
+    },
+    Rotor {
+        rotor: Box<Rotor>,
+        inflow: InflowModel,
+    },
 }
 
+/// Where a target is measured: a trimmed flight condition (aircraft) or a tunnel condition
+/// (rotor, autorotating).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Condition {
+    Flight(TrimRequest),
+    Tunnel(TunnelSpec),
+}
+
+impl Condition {
+    /// A short label: `55 mph`, `alpha 8.3 deg mu 0.216`.
+    pub fn label(&self) -> String {
+        match self {
+            Self::Flight(t) => {
+                let mut s = format!("{} mph", t.airspeed_mph);
+                if t.climb_m_s != 0.0 {
+                    s += &format!(" climb {} m/s", t.climb_m_s);
+                }
+                if t.turn_rate_deg_s != 0.0 {
+                    s += &format!(" turn {} deg/s", t.turn_rate_deg_s);
+                }
+                s
+            }
+            Self::Tunnel(t) => {
+                let mut s = format!("alpha {} deg", t.alpha_deg);
+                if let Some(mu) = t.tip_speed_ratio {
+                    s += &format!(" mu {mu}");
+                }
+                if let Some(v) = t.airspeed_m_s {
+                    s += &format!(" V {v} m/s");
+                }
+                s
+            }
+        }
+    }
+}
+
+/// What a target measures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind", content = "name")]
+pub enum Measure {
+    /// A derivative of the linearised model (`X_u`, `Q_Omega`), at a flight condition.
+    Derivative(String),
+    /// A trim quantity ([`crate::case::TRIM_QUANTITIES`]), at a flight condition.
+    Trim(String),
+    /// An autorotation quantity (rpm, lift and drag coefficients, ...), at a tunnel condition.
+    Tunnel(String),
+}
+
+/// The autorotation quantities a tunnel target can fit.
+pub const TUNNEL_QUANTITIES: &[&str] = &[
+    "rpm",
+    "tip_speed_ratio",
+    "lift_coefficient",
+    "drag_coefficient",
+    "lift_to_drag",
+    "thrust_coefficient",
+    "a0_deg",
+    "a1_deg",
+    "b1_deg",
+];
+
 impl Measure {
-    /// The measure by name: a trim quantity (`rotor_rpm`, `pitch_deg`,
-    /// `stick_longitudinal_percent`) or a derivative name.
-    pub fn parse(name: &str) -> Self {
-        match name {
-            "rotor_rpm" => Self::RotorRpm,
-            "pitch_deg" => Self::PitchDeg,
-            "stick_longitudinal_percent" => Self::StickLongitudinalPercent,
-            d => Self::Derivative(d.to_string()),
+    /// The measure by name at a kind of condition: a trim quantity or a derivative in flight,
+    /// an autorotation quantity in a tunnel. An unknown name is an error that suggests the
+    /// nearest.
+    pub fn parse(condition: &Condition, name: &str) -> Result<Self, String> {
+        let hint = |have: &[&str]| {
+            let have: Vec<String> = have.iter().map(|s| s.to_string()).collect();
+            crate::yaml::nearest(name, &have)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default()
+        };
+        match condition {
+            Condition::Flight(_) => {
+                if crate::case::TRIM_QUANTITIES.contains(&name) {
+                    return Ok(Self::Trim(name.into()));
+                }
+                use cierva_model::linearise::{CONTROLS, STATES};
+                let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+                let zero = cierva_model::linear::LinearModel::new(
+                    names(&STATES),
+                    names(&CONTROLS),
+                    nalgebra::DMatrix::zeros(STATES.len(), STATES.len()),
+                    nalgebra::DMatrix::zeros(STATES.len(), CONTROLS.len()),
+                )
+                .map_err(|e| e.to_string())?;
+                match zero.derivative(name) {
+                    Ok(_) => Ok(Self::Derivative(name.into())),
+                    Err(e) => Err(format!(
+                        "`{name}` is neither a trim quantity nor a derivative of the linearised model ({e}){}",
+                        hint(crate::case::TRIM_QUANTITIES)
+                    )),
+                }
+            }
+            Condition::Tunnel(_) => {
+                if TUNNEL_QUANTITIES.contains(&name) {
+                    Ok(Self::Tunnel(name.into()))
+                } else {
+                    Err(format!(
+                        "`{name}` is not an autorotation quantity (one of {}){}",
+                        TUNNEL_QUANTITIES.join(", "),
+                        hint(TUNNEL_QUANTITIES)
+                    ))
+                }
+            }
         }
     }
 
     /// The name as written.
-    pub fn name(&self) -> String {
+    pub fn name(&self) -> &str {
         match self {
-            Self::Derivative(d) => d.clone(),
-            Self::RotorRpm => "rotor_rpm".into(),
-            Self::PitchDeg => "pitch_deg".into(),
-            Self::StickLongitudinalPercent => "stick_longitudinal_percent".into(),
+            Self::Derivative(d) | Self::Trim(d) | Self::Tunnel(d) => d,
+        }
+    }
+}
+
+/// How a target's bounds act.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Enforce {
+    /// The fitted value must lie within them (linearised at each step).
+    Hard,
+    /// A violation costs `weight * (violation / standard_error)^2`.
+    Soft { weight: f64 },
+}
+
+/// Bounds a fitted value should lie within (for example the 95 % flight bounds).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Bounds {
+    pub lower: f64,
+    pub upper: f64,
+    pub enforce: Enforce,
+}
+
+impl Bounds {
+    /// How far `y` lies outside (negative below, positive above, zero within).
+    fn violation(&self, y: f64) -> f64 {
+        if y > self.upper {
+            y - self.upper
+        } else if y < self.lower {
+            y - self.lower
+        } else if y.is_nan() {
+            f64::NAN
+        } else {
+            0.0
         }
     }
 }
@@ -129,14 +288,33 @@ impl Measure {
 /// A flight reference to fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Target {
-    pub condition: TrimRequest,
+    pub condition: Condition,
     pub measure: Measure,
     pub reference: f64,
     /// Its standard error (or a bound width): the residual's scale. Positive.
     pub standard_error: f64,
-    /// Optional hard bounds the fitted value must lie within (for example the 95 % flight
-    /// bounds).
-    pub hard_bounds: Option<[f64; 2]>,
+    /// Optional bounds, hard or soft.
+    pub bounds: Option<Bounds>,
+}
+
+/// The penalty weight that stands for a hard bound: a violation costs as much as being a
+/// thousand standard errors from the reference, so the fit gives up at most a millionth of the
+/// way. A hard bound still violated at the end (by more than [`HARD_SLACK`] standard errors)
+/// makes the fit infeasible.
+const HARD_WEIGHT: f64 = 1e6;
+/// How far (in standard errors) a fitted value may lie outside its hard bounds.
+const HARD_SLACK: f64 = 1e-3;
+
+impl Target {
+    /// The bounds and their penalty weight (hard bounds: [`HARD_WEIGHT`]). The penalty is an
+    /// "elastic" form of the constraint: a step is always possible, even from an iterate that
+    /// overshot a bound, and contradictory bounds show as a violation left at the end.
+    fn penalty(&self) -> Option<(Bounds, f64)> {
+        self.bounds.map(|b| match b.enforce {
+            Enforce::Soft { weight } => (b, weight),
+            Enforce::Hard => (b, HARD_WEIGHT),
+        })
+    }
 }
 
 /// Iteration limits and tolerances.
@@ -177,6 +355,19 @@ pub enum Status {
     BadProblem(String),
 }
 
+impl Status {
+    /// The status's name as written.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Converged => "converged",
+            Self::IterationLimit => "iteration_limit",
+            Self::Infeasible(_) => "infeasible",
+            Self::ModelFailure(_) => "model_failure",
+            Self::BadProblem(_) => "bad_problem",
+        }
+    }
+}
+
 /// A fit's outcome.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitResult {
@@ -186,6 +377,8 @@ pub struct FitResult {
     /// Approximate standard errors (infinite for a parameter the targets do not see).
     pub standard_errors: Vec<f64>,
     pub iterations: usize,
+    /// Model evaluations (each a trim, linearisation or autorotation at every condition).
+    pub evaluations: usize,
     pub cost_start: f64,
     pub cost: f64,
     /// Every target's model value at the start and at the end (NaN where not evaluated).
@@ -195,64 +388,122 @@ pub struct FitResult {
     pub warnings: Vec<String>,
 }
 
+impl FitResult {
+    /// The fitted values as a correction set.
+    pub fn corrections(&self) -> CorrectionSet {
+        let mut c = CorrectionSet::default();
+        for (k, v) in self.parameters.iter().zip(&self.values) {
+            k.set(&mut c, *v);
+        }
+        c
+    }
+}
+
 /// The fit problem.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    pub aircraft: Aircraft,
-    pub loading: Loading,
+    pub subject: Subject,
     pub parameters: Vec<Parameter>,
     pub targets: Vec<Target>,
     pub options: Options,
 }
 
+/// Runs `f` over `items` on every core, in order.
+fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(items.len().max(1));
+    let chunk = items.len().div_ceil(threads).max(1);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = items
+            .chunks(chunk)
+            .map(|c| {
+                let f = &f;
+                s.spawn(move || c.iter().map(f).collect::<Vec<R>>())
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("a fit evaluation thread panicked"))
+            .collect()
+    })
+}
+
+/// One condition's computed quantities, and its linear model where a target needs one.
+type AtCondition = (
+    crate::eval::Quantities,
+    Option<cierva_model::linear::LinearModel>,
+);
+
 /// The model's value of every target at parameter values `p`, conditions in parallel.
 pub fn evaluate(problem: &Problem, p: &[f64]) -> Result<Vec<f64>, String> {
-    let mut a = problem.aircraft.clone();
+    let mut set = CorrectionSet::default();
     for (par, v) in problem.parameters.iter().zip(p) {
-        par.kind.apply(&mut a, *v);
+        par.kind.set(&mut set, *v);
     }
-    let mut conditions: Vec<TrimRequest> = Vec::new();
+    let mut conditions: Vec<Condition> = Vec::new();
     for t in &problem.targets {
         if !conditions.contains(&t.condition) {
             conditions.push(t.condition);
         }
     }
-    let results: Vec<Result<_, String>> = std::thread::scope(|s| {
-        let handles: Vec<_> = conditions
-            .iter()
-            .map(|c| {
-                let a = &a;
-                s.spawn(move || {
-                    crate::run_linearise(a, *c, problem.loading).map_err(|e| {
-                        format!(
-                            "at {} mph with {}: {e}",
-                            c.airspeed_mph,
-                            describe(problem, p)
-                        )
-                    })
-                })
+    let at = |c: &Condition| format!("at {} with {}", c.label(), describe(problem, p));
+    let results: Vec<Result<AtCondition, String>> = match &problem.subject {
+        Subject::Aircraft { aircraft, loading } => {
+            let mut a = aircraft.clone();
+            set.apply_to_aircraft(&mut a)?;
+            parallel_map(&conditions, |c| {
+                let Condition::Flight(request) = c else {
+                    return Err(format!(
+                        "{}: an aircraft flies, it is not in a tunnel",
+                        at(c)
+                    ));
+                };
+                let linear = problem
+                    .targets
+                    .iter()
+                    .any(|t| t.condition == *c && matches!(t.measure, Measure::Derivative(_)));
+                let (trim, lin) = if linear {
+                    let (t, l) = crate::run_linearise(&a, *request, *loading)
+                        .map_err(|e| format!("{}: {e}", at(c)))?;
+                    (t, Some(l.model))
+                } else {
+                    let t = crate::run_trim(&a, *request, *loading)
+                        .map_err(|e| format!("{}: {e}", at(c)))?;
+                    (t, None)
+                };
+                Ok((crate::eval::trim_quantities_of(&a, *loading, &trim), lin))
             })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err("evaluation panicked".into()))
+        }
+        Subject::Rotor { rotor, inflow } => {
+            let mut r = rotor.clone();
+            set.apply_to_rotor(&mut r)?;
+            parallel_map(&conditions, |c| {
+                let Condition::Tunnel(t) = c else {
+                    return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
+                };
+                crate::eval::autorotation_quantities(&r, *inflow, t)
+                    .map(|q| (q, None))
+                    .map_err(|e| format!("{}: {e}", at(c)))
             })
-            .collect()
-    });
+        }
+    };
     let mut out = Vec::with_capacity(problem.targets.len());
     for t in &problem.targets {
         let k = conditions
             .iter()
             .position(|c| *c == t.condition)
             .expect("listed");
-        let (trim, lin) = results[k].as_ref().map_err(Clone::clone)?;
-        let v = match &t.measure {
-            Measure::Derivative(d) => lin.model.derivative_value(d).map_err(|e| e.to_string())?,
-            Measure::RotorRpm => trim.rotor_rpm,
-            Measure::PitchDeg => trim.pitch_rad.to_degrees(),
-            Measure::StickLongitudinalPercent => trim.controls.stick_longitudinal_percent,
+        let (quantities, lin) = results[k].as_ref().map_err(Clone::clone)?;
+        let v = match (&t.measure, lin) {
+            (Measure::Derivative(d), Some(lin)) => {
+                lin.derivative_value(d).map_err(|e| e.to_string())?
+            }
+            (m, _) => quantities
+                .iter()
+                .find(|(n, _)| *n == m.name())
+                .map(|(_, v)| *v)
+                .ok_or_else(|| format!("`{}` is not computed {}", m.name(), at(&t.condition)))?,
         };
         out.push(v);
     }
@@ -269,7 +520,8 @@ fn describe(problem: &Problem, p: &[f64]) -> String {
         .join(", ")
 }
 
-/// Residuals: scaled target misfits, then the regularisation rows.
+/// Residuals: scaled target misfits, bound violations (penalised), then the regularisation
+/// rows.
 fn residuals(problem: &Problem, p: &[f64], y: &[f64]) -> Vec<f64> {
     let mut r: Vec<f64> = problem
         .targets
@@ -277,6 +529,11 @@ fn residuals(problem: &Problem, p: &[f64], y: &[f64]) -> Vec<f64> {
         .zip(y)
         .map(|(t, v)| (v - t.reference) / t.standard_error)
         .collect();
+    for (t, v) in problem.targets.iter().zip(y) {
+        if let Some((b, w)) = t.penalty() {
+            r.push(w.sqrt() * b.violation(*v) / t.standard_error);
+        }
+    }
     for (par, v) in problem.parameters.iter().zip(p) {
         if par.regularisation > 0.0 {
             r.push(par.regularisation.sqrt() * (v - par.start) / (par.upper - par.lower));
@@ -322,18 +579,47 @@ fn check(problem: &Problem) -> Result<(), String> {
         let name = t.measure.name();
         if !(t.reference.is_finite() && t.standard_error.is_finite() && t.standard_error > 0.0) {
             return Err(format!(
-                "target `{name}` at {} mph: the reference must be finite and the standard error positive",
-                t.condition.airspeed_mph
+                "target `{name}` at {}: the reference must be finite and the standard error positive",
+                t.condition.label()
             ));
         }
-        if let Some([lo, hi]) = t.hard_bounds
-            && (lo.is_nan() || hi.is_nan() || lo > hi)
-        {
+        if let Some(b) = t.bounds {
+            if b.lower.is_nan() || b.upper.is_nan() || b.lower > b.upper {
+                return Err(format!(
+                    "target `{name}` at {}: bounds [{}, {}] are empty",
+                    t.condition.label(),
+                    b.lower,
+                    b.upper
+                ));
+            }
+            if let Enforce::Soft { weight } = b.enforce
+                && !(weight.is_finite() && weight > 0.0)
+            {
+                return Err(format!(
+                    "target `{name}` at {}: a soft bound's weight must be positive",
+                    t.condition.label()
+                ));
+            }
+        }
+        let fits = matches!(
+            (&problem.subject, &t.condition),
+            (Subject::Aircraft { .. }, Condition::Flight(_))
+                | (Subject::Rotor { .. }, Condition::Tunnel(_))
+        );
+        if !fits {
             return Err(format!(
-                "target `{name}` at {} mph: hard bounds [{lo}, {hi}] are empty",
-                t.condition.airspeed_mph
+                "target `{name}` at {}: an aircraft is fitted at flight conditions, a rotor at tunnel conditions",
+                t.condition.label()
             ));
         }
+    }
+    if matches!(problem.subject, Subject::Rotor { .. })
+        && let Some(p) = problem.parameters.iter().find(|p| p.kind.needs_aircraft())
+    {
+        return Err(format!(
+            "parameter `{}` corrects an aircraft; a rotor alone cannot take it",
+            p.kind.name()
+        ));
     }
     Ok(())
 }
@@ -360,7 +646,9 @@ fn jacobian(problem: &Problem, p: &[f64], y: &[f64]) -> Result<Vec<Vec<f64>>, St
 }
 
 /// The step's quadratic program: minimise `|r + J d|^2` (rows scaled as the residuals) within
-/// the parameter bounds, the trust region and the linearised hard target bounds.
+/// the parameter bounds and the trust region. Each bounded target gets a slack `s >= 0` with
+/// `lower - s <= y + J d <= upper + s`, costing `weight (s / standard_error)^2`: the
+/// linearised violation, exactly.
 fn qp_step(
     problem: &Problem,
     p: &[f64],
@@ -374,24 +662,32 @@ fn qp_step(
         DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
     };
     let n = p.len();
-    // Residual Jacobian: the targets' rows scaled by their standard errors, then the
-    // regularisation rows.
+    let bounded: Vec<usize> = (0..problem.targets.len())
+        .filter(|&k| problem.targets[k].penalty().is_some())
+        .collect();
+    let nx = n + bounded.len();
+    // Residual Jacobian of the misfit and regularisation rows (the bound rows are the slacks).
     let mut jr: Vec<Vec<f64>> = problem
         .targets
         .iter()
         .zip(jt)
         .map(|(t, row)| row.iter().map(|v| v / t.standard_error).collect())
         .collect();
+    let mut rr: Vec<f64> = r[..problem.targets.len()].to_vec();
+    let regularisation = &r[problem.targets.len() + bounded.len()..];
+    let mut next = 0;
     for (i, par) in problem.parameters.iter().enumerate() {
         if par.regularisation > 0.0 {
             let mut row = vec![0.0; n];
             row[i] = par.regularisation.sqrt() / (par.upper - par.lower);
             jr.push(row);
+            rr.push(regularisation[next]);
+            next += 1;
         }
     }
-    let mut pm = vec![vec![0.0; n]; n];
-    let mut q = vec![0.0; n];
-    for (row, ri) in jr.iter().zip(r) {
+    let mut pm = vec![vec![0.0; nx]; nx];
+    let mut q = vec![0.0; nx];
+    for (row, ri) in jr.iter().zip(&rr) {
         for a in 0..n {
             q[a] += row[a] * ri;
             for b in 0..n {
@@ -399,27 +695,44 @@ fn qp_step(
             }
         }
     }
-    // Constraints A d <= b: upper and lower bounds with the trust region, then the hard target
-    // bounds.
+    for (j, &k) in bounded.iter().enumerate() {
+        let t = &problem.targets[k];
+        let (_, w) = t.penalty().expect("bounded");
+        pm[n + j][n + j] = w / (t.standard_error * t.standard_error);
+    }
+    // Constraints A x <= b: upper and lower bounds with the trust region, then the target
+    // bounds with their slacks.
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut b: Vec<f64> = Vec::new();
     for (i, par) in problem.parameters.iter().enumerate() {
-        let mut up = vec![0.0; n];
+        let mut up = vec![0.0; nx];
         up[i] = 1.0;
         rows.push(up);
         b.push((par.upper - p[i]).min(radius[i]).max(0.0));
-        let mut down = vec![0.0; n];
+        let mut down = vec![0.0; nx];
         down[i] = -1.0;
         rows.push(down);
         b.push((p[i] - par.lower).min(radius[i]).max(0.0));
     }
-    for (k, t) in problem.targets.iter().enumerate() {
-        if let Some([lo, hi]) = t.hard_bounds {
-            rows.push(jt[k].clone());
-            b.push(hi - y[k]);
-            rows.push(jt[k].iter().map(|v| -v).collect());
-            b.push(y[k] - lo);
-        }
+    let padded = |row: &[f64], sign: f64| {
+        let mut v: Vec<f64> = row.iter().map(|x| sign * x).collect();
+        v.resize(nx, 0.0);
+        v
+    };
+    for (j, &k) in bounded.iter().enumerate() {
+        let (bounds, _) = problem.targets[k].penalty().expect("bounded");
+        let mut above = padded(&jt[k], 1.0);
+        above[n + j] = -1.0;
+        rows.push(above);
+        b.push(bounds.upper - y[k]);
+        let mut below = padded(&jt[k], -1.0);
+        below[n + j] = -1.0;
+        rows.push(below);
+        b.push(y[k] - bounds.lower);
+        let mut nonnegative = vec![0.0; nx];
+        nonnegative[n + j] = -1.0;
+        rows.push(nonnegative);
+        b.push(0.0);
     }
     let to_csc = |m: &[Vec<f64>], cols: usize| {
         let mut colptr = vec![0usize];
@@ -436,9 +749,9 @@ fn qp_step(
         CscMatrix::new(m.len(), cols, colptr, rowval, nzval)
     };
     // clarabel takes the upper triangle of P.
-    let upper: Vec<Vec<f64>> = (0..n)
+    let upper: Vec<Vec<f64>> = (0..nx)
         .map(|a| {
-            (0..n)
+            (0..nx)
                 .map(|c| if c >= a { pm[a][c] } else { 0.0 })
                 .collect()
         })
@@ -449,9 +762,9 @@ fn qp_step(
         .map_err(|e| Status::BadProblem(format!("QP settings: {e:?}")))?;
     let cones = [NonnegativeConeT(rows.len())];
     let mut solver = DefaultSolver::new(
-        &to_csc(&upper, n),
+        &to_csc(&upper, nx),
         &q,
-        &to_csc(&rows, n),
+        &to_csc(&rows, nx),
         &b,
         &cones,
         settings,
@@ -459,13 +772,10 @@ fn qp_step(
     .map_err(|e| Status::BadProblem(format!("QP set-up: {e:?}")))?;
     solver.solve();
     match solver.solution.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(solver.solution.x.clone()),
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-            Err(Status::Infeasible(
-                "the parameter bounds, trust region and hard target bounds admit no step (linearised)"
-                    .into(),
-            ))
-        }
+        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(solver.solution.x[..n].to_vec()),
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Err(
+            Status::Infeasible("the parameter bounds and trust region admit no step".into()),
+        ),
         other => Err(Status::ModelFailure(format!(
             "the step's quadratic program ended {other:?}"
         ))),
@@ -526,6 +836,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         values: start.clone(),
         standard_errors: vec![f64::INFINITY; start.len()],
         iterations: 0,
+        evaluations: 0,
         cost_start: f64::NAN,
         cost: f64::NAN,
         before: vec![f64::NAN; problem.targets.len()],
@@ -539,6 +850,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         Ok(y) => y,
         Err(e) => return unstarted(Status::ModelFailure(e)),
     };
+    let mut evaluations = 1;
     let mut p = start.clone();
     let mut y = y0.clone();
     let mut r = residuals(problem, &p, &y);
@@ -554,6 +866,7 @@ pub fn fit(problem: &Problem) -> FitResult {
     let mut iterations = 0;
     for it in 0..problem.options.max_iterations {
         iterations = it + 1;
+        evaluations += p.len();
         jt = match jacobian(problem, &p, &y) {
             Ok(j) => j,
             Err(e) => {
@@ -596,6 +909,7 @@ pub fn fit(problem: &Problem) -> FitResult {
                     .collect();
                 cost(&residuals(problem, &stepped, &linear))
             };
+            evaluations += 1;
             match evaluate(problem, &trial) {
                 Ok(yt) => {
                     let rt = residuals(problem, &trial, &yt);
@@ -635,6 +949,35 @@ pub fn fit(problem: &Problem) -> FitResult {
     } else {
         standard_errors(problem, &jt)
     };
+    // A hard bound left violated: the bounds contradict each other or the model cannot reach
+    // them.
+    if !matches!(status, Status::ModelFailure(_) | Status::BadProblem(_)) {
+        let violated: Vec<String> = problem
+            .targets
+            .iter()
+            .zip(&y)
+            .filter_map(|(t, v)| {
+                let b = t.bounds.filter(|b| b.enforce == Enforce::Hard)?;
+                let by = b.violation(*v) / t.standard_error;
+                (by.abs() > HARD_SLACK || by.is_nan()).then(|| {
+                    format!(
+                        "`{}` at {} ends at {v:.6}, outside its hard bounds [{}, {}] by {:.3} standard errors",
+                        t.measure.name(),
+                        t.condition.label(),
+                        b.lower,
+                        b.upper,
+                        by.abs()
+                    )
+                })
+            })
+            .collect();
+        if !violated.is_empty() {
+            status = Status::Infeasible(format!(
+                "the parameter bounds do not let the model reach every hard bound: {}",
+                violated.join("; ")
+            ));
+        }
+    }
     for (q, v) in problem.parameters.iter().zip(&p) {
         if (v - q.lower).abs() <= 1e-9 * (q.upper - q.lower)
             || (v - q.upper).abs() <= 1e-9 * (q.upper - q.lower)
@@ -651,6 +994,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         values: p,
         standard_errors: se,
         iterations,
+        evaluations,
         cost_start: c0,
         cost: c,
         before: y0,

@@ -9,6 +9,7 @@
 pub mod aircraft_file;
 pub mod case;
 pub mod controls_file;
+pub mod corrections;
 pub mod eval;
 pub mod fit;
 pub mod history;

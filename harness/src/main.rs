@@ -1742,9 +1742,10 @@ fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         Ok(f) => f,
         Err(code) => return code,
     };
-    let corrections = cierva_harness::aircraft_file::AircraftCorrectionsSpec {
+    let corrections = cierva_harness::corrections::CorrectionSet {
         propeller_blockage: a.propeller_blockage,
         hub_aoa_factor: a.hub_aoa_factor,
+        ..Default::default()
     };
     let file = match file.with_corrections(&corrections) {
         Ok(f) => f,

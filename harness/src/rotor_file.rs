@@ -23,7 +23,8 @@
 //!                  cd1_per_rad: 0, cd2_per_rad2: 0, stall_alpha_deg: 12}
 //!     # or table: {alpha_deg: [...], mach: [...], cl: [[...]], cd: [[...]]}
 //!   elements: 20
-//!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0}   # optional
+//!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0,   # optional
+//!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0}
 //! sources:                             # one entry for every field of `rotor`
 //!   blades: "NACA TR 487 p. 12"
 //!   hinge_offset_m: "estimated: ..."
@@ -75,6 +76,10 @@ pub struct CorrectionsSpec {
     pub profile_drag_scale: f64,
     #[serde(default)]
     pub profile_drag_increment: f64,
+    #[serde(default)]
+    pub pitch_offset_deg: f64,
+    #[serde(default)]
+    pub lateral_inflow_offset_m_s: f64,
 }
 
 fn one() -> f64 {
@@ -190,6 +195,8 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         .map_or_else(Corrections::default, |c| Corrections {
             profile_drag_scale: c.profile_drag_scale,
             profile_drag_increment: c.profile_drag_increment,
+            pitch_offset_rad: c.pitch_offset_deg.to_radians(),
+            lateral_inflow_offset_m_s: c.lateral_inflow_offset_m_s,
         });
     let rotor = Rotor {
         hub: r.hub,

@@ -2,7 +2,8 @@
 //! status.
 
 use cierva_harness::fit::{
-    self, Measure, Options, Parameter, ParameterKind, Problem, Status, Target,
+    self, Bounds, Condition, Enforce, Measure, Options, Parameter, ParameterKind, Problem, Status,
+    Subject, Target,
 };
 use cierva_harness::{Loading, TrimRequest};
 
@@ -15,11 +16,18 @@ fn vpm() -> cierva_model::aircraft::Aircraft {
         .aircraft
 }
 
-fn at(mph: f64) -> TrimRequest {
-    TrimRequest {
+fn at(mph: f64) -> Condition {
+    Condition::Flight(TrimRequest {
         airspeed_mph: mph,
         climb_m_s: 0.0,
         turn_rate_deg_s: 0.0,
+    })
+}
+
+fn vpm_subject() -> Subject {
+    Subject::Aircraft {
+        aircraft: Box::new(vpm()),
+        loading: LOADING,
     }
 }
 
@@ -55,8 +63,7 @@ fn a_synthetic_truth_is_recovered() {
     let conditions = [40.0, 55.0, 70.0];
     let names = ["X_u", "Z_w"];
     let mut truth = Problem {
-        aircraft: vpm(),
-        loading: LOADING,
+        subject: vpm_subject(),
         parameters: blockage_and_hub([1.0, 0.5]),
         targets: vec![],
         options: Options::default(),
@@ -68,7 +75,7 @@ fn a_synthetic_truth_is_recovered() {
                 measure: Measure::Derivative(n.into()),
                 reference: 0.0,
                 standard_error: 1.0,
-                hard_bounds: None,
+                bounds: None,
             });
         }
     }
@@ -111,15 +118,14 @@ fn a_synthetic_truth_is_recovered() {
 #[test]
 fn degenerate_problems_end_with_a_status() {
     let base = Problem {
-        aircraft: vpm(),
-        loading: LOADING,
+        subject: vpm_subject(),
         parameters: blockage_and_hub([0.0, 1.0]),
         targets: vec![Target {
             condition: at(60.0),
             measure: Measure::Derivative("X_u".into()),
             reference: -0.1,
             standard_error: 0.01,
-            hard_bounds: None,
+            bounds: None,
         }],
         options: Options {
             max_iterations: 3,
@@ -148,7 +154,11 @@ fn degenerate_problems_end_with_a_status() {
     );
 
     let mut contradictory = base.clone();
-    contradictory.targets[0].hard_bounds = Some([-1e-6, 1e-6]);
+    contradictory.targets[0].bounds = Some(Bounds {
+        lower: -1e-6,
+        upper: 1e-6,
+        enforce: Enforce::Hard,
+    });
     contradictory.targets[0].measure = Measure::Derivative("M_u".into());
     contradictory.parameters.truncate(1);
     contradictory.parameters[0].upper = 0.01;
@@ -164,4 +174,62 @@ fn degenerate_problems_end_with_a_status() {
     bad.parameters[0].lower = 2.0;
     let r = fit::fit(&bad);
     assert!(matches!(r.status, Status::BadProblem(_)), "{r:?}");
+}
+
+/// A bound between the start and the reference: a hard bound stops the fit on it; a soft bound
+/// of weight `w` lets it through by about `1 / (1 + w)` of the way to the reference (for a
+/// locally linear model), and the soft fit's cost counts the violation.
+#[test]
+fn hard_and_soft_bounds_hold_the_fit_back() {
+    let mut problem = Problem {
+        subject: vpm_subject(),
+        parameters: blockage_and_hub([0.0, 1.0]),
+        targets: vec![Target {
+            condition: at(55.0),
+            measure: Measure::Derivative("X_u".into()),
+            reference: 0.0,
+            standard_error: 1.0,
+            bounds: None,
+        }],
+        options: Options::default(),
+    };
+    problem.parameters.truncate(1);
+    let y0 = fit::evaluate(&problem, &[0.0]).unwrap()[0];
+    let y1 = fit::evaluate(&problem, &[1.0]).unwrap()[0];
+    assert!(y1 > y0, "blockage reduces |X_u|: {y0} -> {y1}");
+    let mid = 0.5 * (y0 + y1);
+    problem.targets[0].reference = y1;
+    problem.targets[0].standard_error = (y1 - y0).abs();
+    let with = |enforce| {
+        let mut p = problem.clone();
+        p.targets[0].bounds = Some(Bounds {
+            lower: -10.0,
+            upper: mid,
+            enforce,
+        });
+        let r = fit::fit(&p);
+        assert_eq!(r.status, Status::Converged, "{r:?}");
+        r
+    };
+    let free = fit::fit(&problem);
+    assert!((free.after[0] - y1).abs() < 1e-3 * (y1 - y0), "{free:?}");
+    let hard = with(Enforce::Hard);
+    let gap = y1 - mid;
+    assert!(
+        (hard.after[0] - mid).abs() < 0.02 * gap,
+        "hard: {} against the bound {mid}",
+        hard.after[0]
+    );
+    let weight = 9.0;
+    let soft = with(Enforce::Soft { weight });
+    let through = (soft.after[0] - mid) / gap;
+    assert!(
+        (through - 1.0 / (1.0 + weight)).abs() < 0.03,
+        "soft: {through:.4} of the way past the bound, 1/(1+w) = {:.4}",
+        1.0 / (1.0 + weight)
+    );
+    eprintln!(
+        "free {:.5}, hard {:.5}, soft {:.5} ({through:.4} of the way), bound {mid:.5}; blockage {:.4} {:.4} {:.4}",
+        free.after[0], hard.after[0], soft.after[0], free.values[0], hard.values[0], soft.values[0]
+    );
 }

@@ -20,6 +20,10 @@
 //! is `phi = atan2(U_P, U_T)` and the angle of attack `alpha = theta - phi` (Eq. 10). Lift is
 //! normal and drag parallel to the local flow; no radial flow.
 //!
+//! The empirical [`Corrections`] act here: the section drag coefficient is scaled and
+//! incremented, a pitch offset is added to every element's pitch, and a lateral inflow offset to
+//! `v1s` (on top of the inflow model's state, which is not changed by it).
+//!
 //! # Steady periodic solution
 //! In a steady condition every blade flies the same periodic motion, shifted by `2 pi / N_b`.
 //! One blade is integrated in azimuth (fourth-order Runge-Kutta at a fixed azimuth step) from a
@@ -110,6 +114,13 @@ pub struct Corrections {
     pub profile_drag_scale: f64,
     /// Added to the section drag coefficient.
     pub profile_drag_increment: f64,
+    /// Added to every element's blade pitch, rad: a pitch-setting (rigging) offset, or the
+    /// mean elastic twist a rigid-blade model leaves out.
+    pub pitch_offset_rad: f64,
+    /// Added to the induced velocity's lateral (`sin psi`) component `v1s`, m/s, on top of the
+    /// inflow model's: seed 003 derives `v1s` of about -1 m/s from flight where momentum theory
+    /// gives about zero.
+    pub lateral_inflow_offset_m_s: f64,
 }
 
 impl Default for Corrections {
@@ -117,6 +128,8 @@ impl Default for Corrections {
         Self {
             profile_drag_scale: 1.0,
             profile_drag_increment: 0.0,
+            pitch_offset_rad: 0.0,
+            lateral_inflow_offset_m_s: 0.0,
         }
     }
 }
@@ -337,12 +350,27 @@ impl Rotor {
             "corrections.profile_drag_scale",
             self.corrections.profile_drag_scale,
         )?;
-        if !self.corrections.profile_drag_increment.is_finite() {
-            return Err(RotorError::Invalid {
-                name: "corrections.profile_drag_increment",
-                requirement: "finite",
-                value: self.corrections.profile_drag_increment,
-            });
+        for (name, value) in [
+            (
+                "corrections.profile_drag_increment",
+                self.corrections.profile_drag_increment,
+            ),
+            (
+                "corrections.pitch_offset_rad",
+                self.corrections.pitch_offset_rad,
+            ),
+            (
+                "corrections.lateral_inflow_offset_m_s",
+                self.corrections.lateral_inflow_offset_m_s,
+            ),
+        ] {
+            if !value.is_finite() {
+                return Err(RotorError::Invalid {
+                    name,
+                    requirement: "finite",
+                    value,
+                });
+            }
         }
         if !self.precone_rad.is_finite() {
             return Err(RotorError::Invalid {
@@ -484,7 +512,8 @@ impl<'a> Blade<'a> {
         for el in &self.elements {
             let radial = rot.hinge_offset_m + el.rho * cb; // distance from the shaft axis
             let x = radial / rot.radius_m;
-            let vi = op.inflow.v0 + x * (op.inflow.v1s * sp + op.inflow.v1c * cp);
+            let v1s = op.inflow.v1s + rot.corrections.lateral_inflow_offset_m_s;
+            let vi = op.inflow.v0 + x * (v1s * sp + op.inflow.v1c * cp);
             let mut ut = op.omega_rad_s * radial + hub_t;
             let mut up = -hub_z_blade + el.rho * beta_dot + vi * cb;
             if rotating {
@@ -499,7 +528,7 @@ impl<'a> Blade<'a> {
                 continue;
             }
             let w = w2.sqrt();
-            let theta = el.pitch + op.collective_shift_rad;
+            let theta = el.pitch + op.collective_shift_rad + rot.corrections.pitch_offset_rad;
             let alpha = theta - up.atan2(ut);
             let (cl, cd) = rot.airfoil.coefficients(alpha, w / op.speed_of_sound_m_s);
             let cd =
@@ -754,6 +783,7 @@ impl<'a> Blade<'a> {
             && op.hub.u == 0.0
             && op.hub.v == 0.0
             && op.inflow.v1s == 0.0
+            && self.rotor.corrections.lateral_inflow_offset_m_s == 0.0
             && op.inflow.v1c == 0.0
             && op.hub_rates_rad_s == [0.0; 3];
         if axisymmetric {
@@ -1215,5 +1245,61 @@ mod tests {
         assert!(a.inflow_ratio < 0.0, "flow is up through the disc: {a:#?}");
         assert!(a.a1_rad > 0.0 && a.lift_to_drag > 1.0, "{a:#?}");
         assert!(a.residual_norm <= 1e-9);
+    }
+
+    /// The pitch and lateral-inflow corrections are exactly a collective shift and a
+    /// prescribed `v1s` (they act in the same place), and a lateral offset that makes the
+    /// inflow grow on the advancing side tilts the disc: `b1` changes.
+    #[test]
+    fn pitch_and_lateral_inflow_corrections_act_as_collective_and_v1s() {
+        let rotor = classical(4f64.to_radians(), 0.0);
+        let omega = 40.0;
+        let tip = omega * rotor.radius_m;
+        let op = |shift: f64, v1s: f64| Operating {
+            omega_rad_s: omega,
+            hub: HubVelocity {
+                u: 0.15 * tip,
+                v: 0.0,
+                w: 0.0,
+            },
+            inflow: Inflow {
+                v0: 0.01 * tip,
+                v1s,
+                v1c: 0.0,
+            },
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.0,
+            collective_shift_rad: shift,
+            hub_rates_rad_s: [0.0; 3],
+        };
+        let numerics = Numerics {
+            azimuth_step_rad: 2f64.to_radians(),
+            ..Numerics::default()
+        };
+        let solve =
+            |r: &Rotor, o: Operating| Blade::new(r, numerics).steady(&o, [0.05, 0.0]).unwrap();
+        let mut corrected = rotor.clone();
+        corrected.corrections.pitch_offset_rad = 0.5f64.to_radians();
+        corrected.corrections.lateral_inflow_offset_m_s = -1.0;
+        corrected.validate().unwrap();
+        let by_correction = solve(&corrected, op(0.0, 0.0));
+        let by_state = solve(&rotor, op(0.5f64.to_radians(), -1.0));
+        let plain = solve(&rotor, op(0.0, 0.0));
+        for (a, b) in [
+            (by_correction.thrust_n(), by_state.thrust_n()),
+            (by_correction.a0_rad, by_state.a0_rad),
+            (by_correction.a1_rad, by_state.a1_rad),
+            (by_correction.b1_rad, by_state.b1_rad),
+        ] {
+            assert!((a - b).abs() <= 1e-12 * a.abs().max(1.0), "{a} {b}");
+        }
+        assert!(
+            (by_correction.b1_rad - plain.b1_rad).abs() > 1e-3,
+            "a 1 m/s lateral inflow offset moves b1: {} against {}",
+            by_correction.b1_rad,
+            plain.b1_rad
+        );
+        corrected.corrections.lateral_inflow_offset_m_s = f64::NAN;
+        assert!(corrected.validate().is_err());
     }
 }

@@ -1,0 +1,224 @@
+//! The model's empirical corrections as one set, and the corrections file `cierva fit` writes
+//! and `cierva validate --corrections` reads.
+//!
+//! A [`CorrectionSet`] names the corrections it sets; the rest stay as the aircraft or rotor
+//! file gives them. Aircraft corrections (propeller blockage, hub angle-of-attack factor) need an
+//! aircraft; blade corrections (profile drag, pitch offset, lateral inflow offset) act on the
+//! main rotor wherever it flies, in an aircraft or alone in a tunnel.
+//!
+//! # Corrections file
+//! ```yaml
+//! id: vpm-m16-seed000-fit
+//! title: Propeller blockage and hub factor fitted to seed 000's X_u and Z_w
+//! applies_to: {aircraft: vpm-m16}      # or {rotor: pca-2}: the file id it corrects
+//! corrections: {propeller_blockage: 0.97, hub_aoa_factor: 0.55}
+//! provenance:
+//!   source: "fitted by `cierva fit fits/vpm-m16-seed000.yaml` ..."
+//! fit: {...}                           # optional: the fit's status, standard errors, costs
+//! ```
+
+use crate::refs::Provenance;
+use crate::yaml::{self, InputError};
+use cierva_model::aircraft::Aircraft;
+use cierva_model::rotor::Rotor;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Corrections to set (those given; the others as the file has them).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CorrectionSet {
+    /// Seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the
+    /// propeller disc (0 none, 1 total).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub propeller_blockage: Option<f64>,
+    /// Seed 000 Sec. VII.B: the hub's angle of attack as a factor on the c.g.'s (omit for the
+    /// kinematic angle).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hub_aoa_factor: Option<f64>,
+    /// Multiplies the main rotor's section drag coefficient.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile_drag_scale: Option<f64>,
+    /// Added to the main rotor's section drag coefficient.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile_drag_increment: Option<f64>,
+    /// Added to the main rotor's blade pitch, deg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pitch_offset_deg: Option<f64>,
+    /// Added to the main rotor's lateral induced velocity `v1s`, m/s (seed 003).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lateral_inflow_offset_m_s: Option<f64>,
+}
+
+impl CorrectionSet {
+    /// Whether it names an aircraft correction (which an isolated rotor cannot take).
+    pub fn needs_aircraft(&self) -> bool {
+        self.propeller_blockage.is_some() || self.hub_aoa_factor.is_some()
+    }
+
+    /// The same set with `over`'s corrections replacing this one's where `over` gives them.
+    pub fn overridden_by(&self, over: &CorrectionSet) -> CorrectionSet {
+        CorrectionSet {
+            propeller_blockage: over.propeller_blockage.or(self.propeller_blockage),
+            hub_aoa_factor: over.hub_aoa_factor.or(self.hub_aoa_factor),
+            profile_drag_scale: over.profile_drag_scale.or(self.profile_drag_scale),
+            profile_drag_increment: over.profile_drag_increment.or(self.profile_drag_increment),
+            pitch_offset_deg: over.pitch_offset_deg.or(self.pitch_offset_deg),
+            lateral_inflow_offset_m_s: over
+                .lateral_inflow_offset_m_s
+                .or(self.lateral_inflow_offset_m_s),
+        }
+    }
+
+    /// The corrections given, as `name=value` pairs (for labels and cache keys).
+    pub fn describe(&self) -> String {
+        let all = [
+            ("propeller_blockage", self.propeller_blockage),
+            ("hub_aoa_factor", self.hub_aoa_factor),
+            ("profile_drag_scale", self.profile_drag_scale),
+            ("profile_drag_increment", self.profile_drag_increment),
+            ("pitch_offset_deg", self.pitch_offset_deg),
+            ("lateral_inflow_offset_m_s", self.lateral_inflow_offset_m_s),
+        ];
+        let given: Vec<String> = all
+            .iter()
+            .filter_map(|(n, v)| v.map(|v| format!("{n}={v}")))
+            .collect();
+        if given.is_empty() {
+            "none".into()
+        } else {
+            given.join(",")
+        }
+    }
+
+    /// Sets the blade corrections on a rotor; an aircraft correction is an error.
+    pub fn apply_to_rotor(&self, r: &mut Rotor) -> Result<(), String> {
+        if self.needs_aircraft() {
+            return Err(
+                "propeller_blockage and hub_aoa_factor correct an aircraft, not an isolated rotor"
+                    .into(),
+            );
+        }
+        let c = &mut r.corrections;
+        if let Some(v) = self.profile_drag_scale {
+            c.profile_drag_scale = v;
+        }
+        if let Some(v) = self.profile_drag_increment {
+            c.profile_drag_increment = v;
+        }
+        if let Some(v) = self.pitch_offset_deg {
+            c.pitch_offset_rad = v.to_radians();
+        }
+        if let Some(v) = self.lateral_inflow_offset_m_s {
+            c.lateral_inflow_offset_m_s = v;
+        }
+        r.validate().map_err(|e| e.to_string())
+    }
+
+    /// Sets every given correction on an aircraft (blade corrections on its main rotor).
+    pub fn apply_to_aircraft(&self, a: &mut Aircraft) -> Result<(), String> {
+        if let Some(b) = self.propeller_blockage {
+            a.propeller.propeller.blockage = b;
+        }
+        if let Some(k) = self.hub_aoa_factor {
+            a.hub_aoa_factor = Some(k);
+        }
+        let blade = CorrectionSet {
+            propeller_blockage: None,
+            hub_aoa_factor: None,
+            ..*self
+        };
+        blade.apply_to_rotor(&mut a.main_rotor.rotor)?;
+        a.validate().map_err(|e| e.to_string())
+    }
+}
+
+/// The file id a corrections file corrects: exactly one of the two.
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AppliesTo {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aircraft: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotor: Option<String>,
+}
+
+/// A corrections file as written (and as `cierva fit` writes it).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CorrectionsFileSpec {
+    pub id: String,
+    pub title: String,
+    pub applies_to: AppliesTo,
+    pub corrections: CorrectionSet,
+    pub provenance: Provenance,
+    /// The fit that produced it, for people to read (not used by `validate`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<serde_json::Value>,
+}
+
+/// What a loaded corrections file corrects.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Target {
+    Aircraft(String),
+    Rotor(String),
+}
+
+/// A loaded, checked corrections file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CorrectionsFile {
+    pub path: PathBuf,
+    pub id: String,
+    pub target: Target,
+    pub corrections: CorrectionSet,
+}
+
+/// Loads and checks a corrections file.
+pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
+    let src = yaml::read(path)?;
+    let spec: CorrectionsFileSpec = yaml::parse(path, &src)?;
+    let err = |field: &str, m: String| InputError::field(path, &src, field, m);
+    crate::refs::check_id(path, &src, &spec.id)?;
+    let target = match (&spec.applies_to.aircraft, &spec.applies_to.rotor) {
+        (Some(a), None) => Target::Aircraft(a.clone()),
+        (None, Some(r)) => {
+            if spec.corrections.needs_aircraft() {
+                return Err(err(
+                    "corrections",
+                    "propeller_blockage and hub_aoa_factor correct an aircraft: apply them to `aircraft`, not `rotor`".into(),
+                ));
+            }
+            Target::Rotor(r.clone())
+        }
+        _ => {
+            return Err(err(
+                "applies_to",
+                "give exactly one of `aircraft` or `rotor` (the id of the file to correct)".into(),
+            ));
+        }
+    };
+    let c = &spec.corrections;
+    for (name, v) in [
+        ("propeller_blockage", c.propeller_blockage),
+        ("hub_aoa_factor", c.hub_aoa_factor),
+        ("profile_drag_scale", c.profile_drag_scale),
+        ("profile_drag_increment", c.profile_drag_increment),
+        ("pitch_offset_deg", c.pitch_offset_deg),
+        ("lateral_inflow_offset_m_s", c.lateral_inflow_offset_m_s),
+    ] {
+        if let Some(v) = v
+            && !v.is_finite()
+        {
+            return Err(err(
+                &format!("corrections.{name}"),
+                format!("must be a finite number, not {v}"),
+            ));
+        }
+    }
+    Ok(CorrectionsFile {
+        path: path.to_path_buf(),
+        id: spec.id,
+        target,
+        corrections: spec.corrections,
+    })
+}
