@@ -222,3 +222,47 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         corrections: spec.corrections,
     })
 }
+
+/// A case with corrections files applied to its subject: an aircraft file whose id a file
+/// names, or whose main rotor's id a rotor file names; a rotor (alone, or under a teeter
+/// record) whose id a file names. Returns the case unchanged when none applies, and which files
+/// applied. A check's own `corrections` still act on top.
+pub fn apply_to_case(
+    case: &crate::case::Case,
+    files: &[CorrectionsFile],
+) -> Result<(crate::case::Case, Vec<String>), String> {
+    use crate::case::Subject;
+    let mut c = case.clone();
+    let mut used = Vec::new();
+    for f in files {
+        let here = |e: String| format!("{} on {}: {e}", f.path.display(), case.id);
+        match (&mut c.subject, &f.target) {
+            (Subject::Aircraft { file, .. }, Target::Aircraft(id)) if file.id == *id => {
+                **file = file.with_corrections(&f.corrections).map_err(here)?;
+                used.push(f.id.clone());
+            }
+            (Subject::Aircraft { file, .. }, Target::Rotor(id))
+                if file.main_rotor_file.id == *id =>
+            {
+                **file = file.with_corrections(&f.corrections).map_err(here)?;
+                used.push(f.id.clone());
+            }
+            (Subject::Rotor { file, .. }, Target::Rotor(id))
+            | (Subject::FlapRecord { rotor: file, .. }, Target::Rotor(id))
+                if file.id == *id =>
+            {
+                f.corrections
+                    .apply_to_rotor(&mut file.rotor)
+                    .map_err(here)?;
+                file.path = PathBuf::from(format!(
+                    "{}#{}",
+                    file.path.display(),
+                    f.corrections.describe()
+                ));
+                used.push(f.id.clone());
+            }
+            _ => {}
+        }
+    }
+    Ok((c, used))
+}

@@ -328,6 +328,10 @@ pub struct Options {
     pub difference_step: f64,
     /// Initial trust region as a fraction of each parameter's range.
     pub trust_region: f64,
+    /// Update the Jacobian by Broyden's rank-one formula between finite-difference refreshes
+    /// (`true`), or difference it afresh every iteration (`false`). Convergence is judged,
+    /// and standard errors computed, on a fresh one either way.
+    pub broyden: bool,
 }
 
 impl Default for Options {
@@ -337,6 +341,7 @@ impl Default for Options {
             tolerance: 1e-6,
             difference_step: 1e-3,
             trust_region: 0.5,
+            broyden: true,
         }
     }
 }
@@ -435,8 +440,15 @@ type AtCondition = (
     Option<cierva_model::linear::LinearModel>,
 );
 
-/// The model's value of every target at parameter values `p`, conditions in parallel.
+/// The model's value of every target at parameter values `p`, conditions in parallel; the
+/// first failure if any target cannot be evaluated.
 pub fn evaluate(problem: &Problem, p: &[f64]) -> Result<Vec<f64>, String> {
+    evaluate_each(problem, p)?.into_iter().collect()
+}
+
+/// The model's value of every target at parameter values `p`, each on its own (a condition that
+/// fails leaves the others); an error only when the corrections themselves are invalid.
+pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, String>>, String> {
     let mut set = CorrectionSet::default();
     for (par, v) in problem.parameters.iter().zip(p) {
         par.kind.set(&mut set, *v);
@@ -488,26 +500,24 @@ pub fn evaluate(problem: &Problem, p: &[f64]) -> Result<Vec<f64>, String> {
             })
         }
     };
-    let mut out = Vec::with_capacity(problem.targets.len());
-    for t in &problem.targets {
+    let value = |t: &Target| -> Result<f64, String> {
         let k = conditions
             .iter()
             .position(|c| *c == t.condition)
             .expect("listed");
         let (quantities, lin) = results[k].as_ref().map_err(Clone::clone)?;
-        let v = match (&t.measure, lin) {
+        match (&t.measure, lin) {
             (Measure::Derivative(d), Some(lin)) => {
-                lin.derivative_value(d).map_err(|e| e.to_string())?
+                lin.derivative_value(d).map_err(|e| e.to_string())
             }
             (m, _) => quantities
                 .iter()
                 .find(|(n, _)| *n == m.name())
                 .map(|(_, v)| *v)
-                .ok_or_else(|| format!("`{}` is not computed {}", m.name(), at(&t.condition)))?,
-        };
-        out.push(v);
-    }
-    Ok(out)
+                .ok_or_else(|| format!("`{}` is not computed {}", m.name(), at(&t.condition))),
+        }
+    };
+    Ok(problem.targets.iter().map(value).collect())
 }
 
 fn describe(problem: &Problem, p: &[f64]) -> String {
@@ -547,7 +557,8 @@ fn cost(r: &[f64]) -> f64 {
     if c.is_finite() { c } else { f64::INFINITY }
 }
 
-fn check(problem: &Problem) -> Result<(), String> {
+/// The problem's own consistency: bounds, starts, weights, targets that suit the subject.
+pub fn check(problem: &Problem) -> Result<(), String> {
     if problem.parameters.is_empty() {
         return Err("no parameters to fit".into());
     }
@@ -782,6 +793,23 @@ fn qp_step(
     }
 }
 
+/// Broyden's rank-one update of the Jacobian from an accepted step `p -> q` (`y -> yq`):
+/// `J += (dy - J dp) dp' / (dp' dp)`.
+fn broyden_update(jt: &mut [Vec<f64>], p: &[f64], q: &[f64], y: &[f64], yq: &[f64]) {
+    let dp: Vec<f64> = q.iter().zip(p).map(|(a, b)| a - b).collect();
+    let norm: f64 = dp.iter().map(|v| v * v).sum();
+    if norm <= 0.0 {
+        return;
+    }
+    for (k, row) in jt.iter_mut().enumerate() {
+        let predicted: f64 = row.iter().zip(&dp).map(|(a, b)| a * b).sum();
+        let miss = (yq[k] - y[k]) - predicted;
+        for (j, d) in row.iter_mut().zip(&dp) {
+            *j += miss * d / norm;
+        }
+    }
+}
+
 /// Standard errors from `(J' J)^-1` of the scaled residual Jacobian (targets only).
 fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>) {
     let n = problem.parameters.len();
@@ -861,22 +889,32 @@ pub fn fit(problem: &Problem) -> FitResult {
         .iter()
         .map(|q| problem.options.trust_region * (q.upper - q.lower))
         .collect();
-    let mut jt = Vec::new();
+    let mut jt: Vec<Vec<f64>> = Vec::new();
+    // Whether `jt` is a finite-difference Jacobian at `p` (else a Broyden update of one).
+    let mut fresh = false;
     let mut status = Status::IterationLimit;
     let mut iterations = 0;
+    let refresh = |p: &[f64], y: &[f64], evaluations: &mut usize| {
+        *evaluations += p.len();
+        jacobian(problem, p, y)
+    };
     for it in 0..problem.options.max_iterations {
         iterations = it + 1;
-        evaluations += p.len();
-        jt = match jacobian(problem, &p, &y) {
-            Ok(j) => j,
-            Err(e) => {
-                status = Status::ModelFailure(e);
-                break;
-            }
-        };
-        // Inner loop: shrink the trust region until a step lowers the cost.
+        if !fresh && (jt.is_empty() || !problem.options.broyden) {
+            jt = match refresh(&p, &y, &mut evaluations) {
+                Ok(j) => j,
+                Err(e) => {
+                    status = Status::ModelFailure(e);
+                    break;
+                }
+            };
+            fresh = true;
+        }
+        // Inner loop: shrink the trust region until a step lowers the cost. With an updated
+        // (not fresh) Jacobian, a failed or tiny step first refreshes the Jacobian instead.
         let mut accepted = false;
         let mut small = false;
+        let mut stale = false;
         for _ in 0..8 {
             let d = match qp_step(problem, &p, &y, &r, &jt, &radius) {
                 Ok(d) => d,
@@ -923,11 +961,19 @@ pub fn fit(problem: &Problem) -> FitResult {
                             radius.iter_mut().for_each(|v| *v *= 0.5);
                         }
                         let drop = (c - ct) / c.max(f64::MIN_POSITIVE);
+                        if problem.options.broyden {
+                            broyden_update(&mut jt, &p, &trial, &y, &yt);
+                        }
+                        fresh = false;
                         (p, y, r, c) = (trial, yt, rt, ct);
                         accepted = true;
                         if drop <= problem.options.tolerance {
                             small = true;
                         }
+                        break;
+                    }
+                    if !fresh {
+                        stale = true;
                         break;
                     }
                     radius.iter_mut().for_each(|v| *v *= 0.25);
@@ -939,10 +985,45 @@ pub fn fit(problem: &Problem) -> FitResult {
         if matches!(status, Status::Infeasible(_) | Status::ModelFailure(_)) {
             break;
         }
-        if small || !accepted {
+        if !fresh && (stale || small || !accepted) {
+            // Judge convergence on a finite-difference Jacobian only.
+            if problem.options.broyden && (stale || small) && !accepted {
+                jt = match refresh(&p, &y, &mut evaluations) {
+                    Ok(j) => j,
+                    Err(e) => {
+                        status = Status::ModelFailure(e);
+                        break;
+                    }
+                };
+                fresh = true;
+            }
+            if !accepted {
+                continue;
+            }
+        }
+        if fresh && (small || !accepted) {
             status = Status::Converged;
             break;
         }
+        if small && !fresh {
+            // A tiny accepted step on an updated Jacobian: confirm on a fresh one.
+            jt = match refresh(&p, &y, &mut evaluations) {
+                Ok(j) => j,
+                Err(e) => {
+                    status = Status::ModelFailure(e);
+                    break;
+                }
+            };
+            fresh = true;
+        }
+    }
+    // Standard errors from a finite-difference Jacobian at the solution.
+    if !fresh
+        && !jt.is_empty()
+        && !matches!(status, Status::ModelFailure(_))
+        && let Ok(j) = refresh(&p, &y, &mut evaluations)
+    {
+        jt = j;
     }
     let (se, mut warnings) = if jt.is_empty() {
         (vec![f64::INFINITY; p.len()], vec![])

@@ -12,6 +12,7 @@ pub mod controls_file;
 pub mod corrections;
 pub mod eval;
 pub mod fit;
+pub mod fit_file;
 pub mod history;
 pub mod ident;
 pub mod refs;

@@ -26,9 +26,43 @@ enum Command {
     /// Run validation cases and print a table of every check.
     ///
     /// Example: `cierva validate cases/seed002-vpm-m16-60kn.yaml --format json`
+    ///
+    /// With `--corrections FIT_RESULT.yaml` (as `cierva fit` writes), every case whose aircraft or
+    /// rotor the file names is run with those corrections; expected failures that now pass are
+    /// reported as unexpected passes.
     Validate {
         /// Case files or folders searched for `*.yaml` (default: `cases`).
         paths: Vec<PathBuf>,
+        /// Corrections files to apply (repeatable).
+        #[arg(long)]
+        corrections: Vec<PathBuf>,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// Fit the model's empirical corrections (propeller blockage, hub angle-of-attack factor,
+    /// profile drag, pitch offset, lateral inflow offset) to flight references within bounds,
+    /// and write the fitted corrections and a before/after table.
+    ///
+    /// The fit file names the subject (an aircraft at a mass and density altitude, or a rotor in
+    /// a tunnel), the parameters with their bounds, and the targets: checks of a case (each
+    /// check's expected value, with its tolerance as the standard error) or references written
+    /// out, with optional hard or soft bounds. See harness/src/fit_file.rs for the format.
+    ///
+    /// Writes the corrections file (default `<fit file's folder>/results/<id>.yaml`, for
+    /// `cierva validate --corrections`) and a Markdown report (default `reports/fits/<id>.md`).
+    /// Exit code 0 when the fit converged, 1 when it did not (iteration limit, infeasible, model
+    /// failure), 2 on bad input.
+    ///
+    /// Example: `cierva fit fits/pca-2-tr515.yaml`
+    Fit {
+        /// The fit file.
+        file: PathBuf,
+        /// Where to write the fitted corrections.
+        #[arg(long)]
+        output: Option<PathBuf>,
+        /// Where to write the Markdown before/after report.
+        #[arg(long)]
+        report: Option<PathBuf>,
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
@@ -240,6 +274,9 @@ struct FlightArgs {
     /// Density altitude, ft (ISA).
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
     density_altitude_ft: f64,
+    /// A corrections file (as `cierva fit` writes) to apply to the aircraft.
+    #[arg(long)]
+    corrections: Option<PathBuf>,
 }
 
 impl FlightArgs {
@@ -318,6 +355,38 @@ impl ShapeArgs {
 fn load_aircraft(path: &Path) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
     cierva_harness::aircraft_file::load(path).map_err(|e| {
         eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })
+}
+
+/// The aircraft of a flight command, with its `--corrections` applied (the file must name this
+/// aircraft or its main rotor).
+fn load_flight(f: &FlightArgs) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
+    use cierva_harness::corrections::{self, Target};
+    let file = load_aircraft(&f.aircraft)?;
+    let Some(path) = &f.corrections else {
+        return Ok(file);
+    };
+    let c = corrections::load(path).map_err(|e| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })?;
+    let applies = match &c.target {
+        Target::Aircraft(id) => *id == file.id,
+        Target::Rotor(id) => *id == file.main_rotor_file.id,
+    };
+    if !applies {
+        eprintln!(
+            "error: {} corrects {:?}, not the aircraft {} or its main rotor {}",
+            path.display(),
+            c.target,
+            file.id,
+            file.main_rotor_file.id
+        );
+        return Err(ExitCode::from(2));
+    }
+    file.with_corrections(&c.corrections).map_err(|e| {
+        eprintln!("error: {}: {e}", path.display());
         ExitCode::from(2)
     })
 }
@@ -490,7 +559,17 @@ enum Format {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
-        Command::Validate { paths, format } => validate(paths, format),
+        Command::Validate {
+            paths,
+            corrections,
+            format,
+        } => validate(paths, corrections, format),
+        Command::Fit {
+            file,
+            output,
+            report,
+            format,
+        } => fit(file, output, report, format),
         Command::Modes {
             file,
             sweep,
@@ -587,7 +666,7 @@ fn main() -> ExitCode {
             turn_rate_deg_s,
             format,
         } => trim(
-            flight.aircraft.clone(),
+            &flight,
             flight.request(turn_rate_deg_s),
             flight.loading(),
             format,
@@ -606,7 +685,7 @@ fn simulate(
     output: PathBuf,
 ) -> ExitCode {
     use cierva_harness::controls_file;
-    let file = match load_aircraft(&f.aircraft) {
+    let file = match load_flight(&f) {
         Ok(f) => f,
         Err(code) => return code,
     };
@@ -677,7 +756,7 @@ fn simulate(
 }
 
 fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
-    let file = match load_aircraft(&f.aircraft) {
+    let file = match load_flight(&f) {
         Ok(f) => f,
         Err(code) => return code,
     };
@@ -778,15 +857,16 @@ fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
 }
 
 fn trim(
-    path: PathBuf,
+    flight: &FlightArgs,
     request: cierva_harness::TrimRequest,
     loading: cierva_harness::Loading,
     format: Format,
 ) -> ExitCode {
-    let file = match load_aircraft(&path) {
+    let file = match load_flight(flight) {
         Ok(f) => f,
         Err(code) => return code,
     };
+    let path = &flight.aircraft;
     let t = match cierva_harness::run_trim(&file.aircraft, request, loading) {
         Ok(t) => t,
         Err(e) => {
@@ -804,12 +884,22 @@ fn trim(
     ExitCode::SUCCESS
 }
 
-fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
+fn validate(paths: Vec<PathBuf>, corrections: Vec<PathBuf>, format: Format) -> ExitCode {
     let paths = if paths.is_empty() {
         vec![PathBuf::from("cases")]
     } else {
         paths
     };
+    let mut correction_files = Vec::new();
+    for p in &corrections {
+        match cierva_harness::corrections::load(p) {
+            Ok(f) => correction_files.push(f),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        }
+    }
     let loaded = match load_cases(&paths) {
         Ok(l) => l,
         Err(e) => {
@@ -823,17 +913,37 @@ fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
     }
     let mut results: Vec<CheckResult> = Vec::new();
     let mut errors = Vec::new();
+    let mut corrected: Vec<String> = Vec::new();
     for c in &loaded {
         match c {
-            Ok(case) => results.extend(eval::run_case(case)),
+            Ok(case) => match cierva_harness::corrections::apply_to_case(case, &correction_files) {
+                Ok((case, used)) => {
+                    if !used.is_empty() {
+                        corrected.push(format!("{} ({})", case.id, used.join(", ")));
+                    }
+                    results.extend(eval::run_case(&case));
+                }
+                Err(e) => errors.push(format!("error: the corrections {e}")),
+            },
             Err(e) => errors.push(e.render()),
         }
     }
     let counts = text::counts(&results);
+    let corrections_used: Vec<serde_json::Value> = correction_files
+        .iter()
+        .map(|f| {
+            serde_json::json!({
+                "file": f.path.display().to_string(),
+                "corrections": f.corrections,
+            })
+        })
+        .collect();
     match format {
         Format::Json => {
             let out = serde_json::json!({
                 "cases": loaded.len(),
+                "corrections": corrections_used,
+                "corrected_cases": corrected,
                 "counts": counts,
                 "input_errors": errors,
                 "results": results,
@@ -850,6 +960,23 @@ fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
             }
             for e in &errors {
                 println!("\n{e}");
+            }
+            for f in &correction_files {
+                println!(
+                    "\ncorrections {}: {}",
+                    f.path.display(),
+                    f.corrections.describe()
+                );
+            }
+            if !correction_files.is_empty() {
+                println!(
+                    "cases run with corrections: {}",
+                    if corrected.is_empty() {
+                        "none (no case's aircraft or rotor matches)".to_string()
+                    } else {
+                        corrected.join("; ")
+                    }
+                );
             }
             println!(
                 "\n{} cases, {} checks: {} passed, {} failed, {} expected failures, {} unexpected passes, {} files with errors",
@@ -869,6 +996,80 @@ fn validate(paths: Vec<PathBuf>, format: Format) -> ExitCode {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+fn fit(
+    file: PathBuf,
+    output: Option<PathBuf>,
+    report: Option<PathBuf>,
+    format: Format,
+) -> ExitCode {
+    use cierva_harness::fit_file;
+    let f = match fit_file::load(&file) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let output = output.unwrap_or_else(|| {
+        file.parent()
+            .unwrap_or(Path::new("."))
+            .join("results")
+            .join(format!("{}.yaml", f.id))
+    });
+    let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
+    let run = fit_file::run(&f);
+    let id = output
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or(&f.id)
+        .to_string();
+    let command = format!("cierva fit {}", file.display());
+    let spec = fit_file::corrections_file(&f, &run, &id, &command);
+    let md = fit_file::markdown(&f, &run);
+    let written = (|| -> Result<(), String> {
+        for (path, text) in [
+            (
+                &output,
+                serde_yaml::to_string(&spec).map_err(|e| e.to_string())?,
+            ),
+            (&report, md.clone()),
+        ] {
+            if let Some(dir) = path.parent()
+                && !dir.as_os_str().is_empty()
+            {
+                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            }
+            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        Ok(())
+    })();
+    if let Err(e) = written {
+        eprintln!("error: writing the fit's results: {e}");
+        return ExitCode::from(2);
+    }
+    match format {
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "fit": f.id,
+                "run": run,
+                "corrections_file": output.display().to_string(),
+                "report": report.display().to_string(),
+            }))
+            .expect("serialisable")
+        ),
+        Format::Text => {
+            print!("{md}");
+            println!("wrote {} and {}", output.display(), report.display());
+        }
+    }
+    if run.result.status == cierva_harness::fit::Status::Converged {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
     }
 }
 
@@ -1369,6 +1570,80 @@ fn bench(repeat: usize) -> ExitCode {
             );
         }
     }
+    // Fitting (issue 6's benchmark): 3 parameters over 5 flight conditions, from the
+    // uncorrected model to a synthetic truth (blockage 1.0, hub factor 0.5, drag +15 %), with X_u,
+    // Z_w and the rotor speed at 40-70 mph as targets (at 30 mph the truth needs more than full
+    // throttle).
+    if let Ok(ac) = cierva_harness::aircraft_file::load(
+        &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
+    ) {
+        use cierva_harness::fit::{
+            self, Condition, Measure, Options, Parameter, ParameterKind, Problem, Subject, Target,
+        };
+        let par = |kind, lower, upper| Parameter {
+            kind,
+            lower,
+            upper,
+            start: ParameterKind::neutral(kind),
+            regularisation: 0.0,
+        };
+        let mut problem = Problem {
+            subject: Subject::Aircraft {
+                aircraft: Box::new(ac.aircraft.clone()),
+                loading: cierva_harness::Loading {
+                    mass_kg: Some(425.0),
+                    density_altitude_ft: 2000.0,
+                },
+            },
+            parameters: vec![
+                par(ParameterKind::PropellerBlockage, 0.0, 1.0),
+                par(ParameterKind::HubAoaFactor, 0.0, 1.5),
+                par(ParameterKind::ProfileDragScale, 0.5, 2.0),
+            ],
+            targets: vec![],
+            options: Options::default(),
+        };
+        for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
+            for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {
+                let condition = Condition::Flight(cierva_harness::TrimRequest {
+                    airspeed_mph: mph,
+                    climb_m_s: 0.0,
+                    turn_rate_deg_s: 0.0,
+                });
+                problem.targets.push(Target {
+                    measure: Measure::parse(&condition, m).expect("known"),
+                    condition,
+                    reference: 0.0,
+                    standard_error: se,
+                    bounds: None,
+                });
+            }
+        }
+        let truth = [1.0, 0.5, 1.15];
+        match fit::evaluate(&problem, &truth) {
+            Err(e) => eprintln!("fit benchmark: the truth does not evaluate: {e}"),
+            Ok(y) => {
+                for (t, v) in problem.targets.iter_mut().zip(y) {
+                    t.reference = v;
+                    t.standard_error *= v.abs();
+                }
+                let started = Instant::now();
+                let r = fit::fit(&problem);
+                let total = started.elapsed().as_secs_f64();
+                println!(
+                    "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; issue 6's target: under 5 s |",
+                    r.status.name(),
+                    r.iterations,
+                    total / r.iterations.max(1) as f64,
+                    r.evaluations,
+                    r.values[0],
+                    r.values[1],
+                    r.values[2]
+                );
+            }
+        }
+    }
+
     if !sink.is_finite() {
         eprintln!("(a timed result was not finite)");
     }
@@ -1738,7 +2013,7 @@ fn new_case(path: PathBuf) -> ExitCode {
 
 fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     use cierva_harness::history;
-    let file = match load_aircraft(&a.flight.aircraft) {
+    let file = match load_flight(&a.flight) {
         Ok(f) => f,
         Err(code) => return code,
     };

@@ -486,3 +486,40 @@ fn synth_history_writes_a_record_a_time_history_check_reads() {
     assert_eq!(code, 0, "{out}\n{err}");
     assert!(out.contains("1 passed"), "{out}");
 }
+
+/// `validate --corrections` runs the cases of the corrected aircraft with the fitted
+/// corrections: seed 000's synthetic X_u and Z_w checks, all expected failures of the
+/// uncorrected model, become unexpected passes (exit 1, and said so); a corrections file for
+/// another aircraft changes nothing; a bad one is bad input.
+#[test]
+fn validate_with_fitted_corrections_reports_the_checks_that_now_pass() {
+    let case = "cases/seed000-synthetic-xu-zw-vpm-m16.yaml";
+    let (code, out, err) = cierva(&["validate", case]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(out.contains("8 expected failures"), "{out}");
+    let (code, out, err) = cierva(&[
+        "validate",
+        case,
+        "--corrections",
+        "fits/results/vpm-m16-seed000.yaml",
+    ]);
+    assert_eq!(code, 1, "{out}\n{err}");
+    assert!(out.contains("8 unexpected passes"), "{out}");
+    assert!(
+        out.contains(
+            "cases run with corrections: seed000-synthetic-xu-zw-vpm-m16 (vpm-m16-seed000)"
+        ),
+        "{out}"
+    );
+    let (code, out, err) = cierva(&[
+        "validate",
+        case,
+        "--corrections",
+        "fits/results/pca-2-tr515.yaml",
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(out.contains("no case's aircraft or rotor matches"), "{out}");
+    let (code, _, err) = cierva(&["validate", case, "--corrections", case]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(case), "{err}");
+}

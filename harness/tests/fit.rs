@@ -233,3 +233,120 @@ fn hard_and_soft_bounds_hold_the_fit_back() {
         free.after[0], hard.after[0], soft.after[0], free.values[0], hard.values[0], soft.values[0]
     );
 }
+
+fn repo() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+/// Runs a shipped fit file and checks it against its committed result
+/// (`fits/results/<id>.yaml`): converged, the same corrections within a hundredth of their
+/// standard errors, and the fitted targets closer to their references than before.
+fn shipped_fit(
+    id: &str,
+) -> (
+    cierva_harness::fit_file::FitFile,
+    cierva_harness::fit_file::FitRun,
+) {
+    use cierva_harness::{corrections, fit_file};
+    let f = fit_file::load(&repo().join(format!("fits/{id}.yaml"))).unwrap();
+    let run = fit_file::run(&f);
+    let r = &run.result;
+    eprintln!(
+        "{id}: {:?} after {} iterations ({} evaluations) in {:.2} s: {:?} +- {:?}",
+        r.status, r.iterations, r.evaluations, run.seconds, r.values, r.standard_errors
+    );
+    assert_eq!(r.status, Status::Converged, "{r:?}");
+    let committed = corrections::load(&repo().join(format!("fits/results/{id}.yaml"))).unwrap();
+    assert_eq!(committed.target, f.applies_to);
+    let fresh = r.corrections();
+    for (k, (v, se)) in r
+        .parameters
+        .iter()
+        .zip(r.values.iter().zip(&r.standard_errors))
+    {
+        let mut c = corrections::CorrectionSet::default();
+        k.set(&mut c, 0.0);
+        let pick = |s: &corrections::CorrectionSet| {
+            [
+                s.propeller_blockage,
+                s.hub_aoa_factor,
+                s.profile_drag_scale,
+                s.profile_drag_increment,
+                s.pitch_offset_deg,
+                s.lateral_inflow_offset_m_s,
+            ]
+        };
+        let slot = pick(&c).iter().position(Option::is_some).unwrap();
+        let was = pick(&committed.corrections)[slot].expect("the committed file has it");
+        assert_eq!(pick(&fresh)[slot], Some(*v));
+        assert!(
+            (was - v).abs() <= 0.01 * se,
+            "{}: committed {was}, fitted now {v} (standard error {se}): re-run `cierva fit fits/{id}.yaml`",
+            k.name()
+        );
+    }
+    let (before, after, n) =
+        fit_file::rms_relative_error_percent(&f.problem.targets, &r.before, &r.after);
+    assert_eq!(n, f.problem.targets.len());
+    assert!(after < 0.6 * before, "{before} -> {after}");
+    (f, run)
+}
+
+/// Seed 000's story: from the uncorrected model, the fit finds seed 000's corrections
+/// (blockage at its bound 1, hub factor 0.50 +- 0.016); every derivative ends inside its
+/// (hard) flight bounds, and the phugoid's damping falls at every speed (seed 000 Fig. 14:
+/// "the unmodified simulation predicts too much damping").
+#[test]
+fn seed000_story_fit_brings_x_u_and_z_w_inside_and_lightens_the_phugoid() {
+    let (f, run) = shipped_fit("vpm-m16-seed000");
+    let r = &run.result;
+    assert!(
+        (r.values[0] - 0.5).abs() < 2.0 * r.standard_errors[0],
+        "{r:?}"
+    );
+    assert!((r.values[1] - 1.0).abs() < 1e-6, "{r:?}");
+    for (t, (b, a)) in f.problem.targets.iter().zip(r.before.iter().zip(&r.after)) {
+        let bounds = t.bounds.unwrap();
+        assert!(!(bounds.lower..=bounds.upper).contains(b), "{t:?}: {b}");
+        assert!((bounds.lower..=bounds.upper).contains(a), "{t:?}: {a}");
+    }
+    let phugoids: Vec<_> = run.modes.iter().filter(|m| m.mode == "phugoid").collect();
+    assert_eq!(phugoids.len(), 4);
+    for m in phugoids {
+        assert!(m.after[0] > m.before[0], "{m:?}");
+    }
+}
+
+/// The PCA-2 fit to TR 515: the fitted rows' RMS error falls (20 % to 10 %); the prediction
+/// on the rows not fitted is reported, and it does not improve overall: better below mu 0.3,
+/// worse above (see fits/pca-2-tr515.yaml's notes). This test holds the fitted rows and the
+/// committed result; the prediction error is asserted only to be computed.
+#[test]
+fn pca2_fit_to_tr515_improves_its_rows_and_reports_the_others() {
+    let (f, run) = shipped_fit("pca-2-tr515");
+    assert_eq!(run.predict_before.len(), f.predict.len());
+    let solved = run.predict_after.iter().filter(|v| v.is_finite()).count();
+    assert!(
+        solved + 3 >= f.predict.len(),
+        "{solved} of {}",
+        f.predict.len()
+    );
+}
+
+/// Every shipped fit file loads: its cases, checks and quantities resolve.
+#[test]
+fn every_shipped_fit_file_loads() {
+    let mut n = 0;
+    for e in std::fs::read_dir(repo().join("fits")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "yaml") {
+            let f = cierva_harness::fit_file::load(&p).unwrap_or_else(|e| panic!("{}", e.render()));
+            assert!(!f.problem.targets.is_empty());
+            n += 1;
+        }
+    }
+    assert!(n >= 2);
+}

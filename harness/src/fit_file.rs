@@ -1,0 +1,829 @@
+//! Fit files: what `cierva fit` reads.
+//!
+//! ```yaml
+//! id: pca-2-tr515                        # the file's stem
+//! title: PCA-2 pitch offset and profile drag against NACA TR 515 Table III
+//! provenance: {source: "...", notes: "..."}
+//! subject:                               # exactly one
+//!   rotor: {file: ../aircraft/pca-2-rotor.yaml, inflow: peters_haquang, skew: signed}
+//!   # aircraft: {file: ../aircraft/vpm-m16.yaml, mass_kg: 425, density_altitude_ft: 2000}
+//! parameters:                            # name: bounds, start (default: uncorrected), weight
+//!   pitch_offset_deg: {lower: -3, upper: 3}
+//!   profile_drag_scale: {lower: 0.5, upper: 3, regularisation: 0}
+//! targets:                               # what the fit matches
+//!   - case: ../cases/naca-tr515-table-iii.yaml   # a case's checks: condition, value, tolerance
+//!     checks: [row-01, row-05]           # default: every check
+//!     quantities: [rpm, drag_coefficient]
+//!     bounds: none                       # none | hard | soft (interval tolerances only)
+//!   - condition: {airspeed_mph: 40}      # or written out (tunnel: {alpha_deg: .., ...})
+//!     quantity: X_u
+//!     reference: -0.10
+//!     standard_error: 0.01
+//!     bounds: {lower: -0.12, upper: -0.08, enforce: hard}  # or enforce: {soft: {weight: 10}}
+//!     source: "where the number comes from"
+//! predict: [...]                         # as targets: not fitted, reported before and after
+//! options: {max_iterations: 20, tolerance: 1.0e-6, difference_step: 1.0e-3, trust_region: 0.5,
+//!           broyden: true}             # false: difference the Jacobian every iteration
+//! ```
+//!
+//! A target taken from a case check uses the check's expected value as its reference and its
+//! tolerance as the scale: an absolute tolerance is the standard error, a relative one times
+//! the value, and an interval (95 % flight bounds) gives its midpoint with a standard error of
+//! the half-width over 1.96; such an interval can also be a hard or soft bound.
+
+use crate::case::{self, AircraftModelSpec, CheckKind, RotorModelSpec, ToleranceKind, TunnelSpec};
+use crate::fit::{self, Bounds, Condition, Enforce, Measure, Parameter, ParameterKind};
+use crate::refs::Provenance;
+use crate::yaml::{self, InputError};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SubjectSpec {
+    #[serde(default)]
+    aircraft: Option<AircraftModelSpec>,
+    #[serde(default)]
+    rotor: Option<RotorModelSpec>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ParameterSpec {
+    lower: f64,
+    upper: f64,
+    #[serde(default)]
+    start: Option<f64>,
+    #[serde(default)]
+    regularisation: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum CaseBounds {
+    #[default]
+    None,
+    Hard,
+    Soft,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum EnforceSpec {
+    Hard,
+    Soft { weight: f64 },
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoundsSpec {
+    lower: f64,
+    upper: f64,
+    enforce: EnforceSpec,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TargetSpec {
+    // From a case.
+    #[serde(default)]
+    case: Option<String>,
+    #[serde(default)]
+    checks: Option<Vec<String>>,
+    #[serde(default)]
+    quantities: Option<Vec<String>>,
+    /// For case targets: how interval tolerances act (default none).
+    #[serde(default)]
+    case_bounds: Option<CaseBounds>,
+    /// For case targets: the weight of soft bounds (default 1).
+    #[serde(default)]
+    soft_weight: Option<f64>,
+    // Written out.
+    #[serde(default)]
+    condition: Option<crate::TrimRequest>,
+    #[serde(default)]
+    tunnel: Option<TunnelSpec>,
+    #[serde(default)]
+    quantity: Option<String>,
+    #[serde(default)]
+    reference: Option<f64>,
+    #[serde(default)]
+    standard_error: Option<f64>,
+    #[serde(default)]
+    bounds: Option<BoundsSpec>,
+    #[serde(default)]
+    source: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OptionsSpec {
+    #[serde(default)]
+    max_iterations: Option<usize>,
+    #[serde(default)]
+    tolerance: Option<f64>,
+    #[serde(default)]
+    difference_step: Option<f64>,
+    #[serde(default)]
+    trust_region: Option<f64>,
+    #[serde(default)]
+    broyden: Option<bool>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FitFileSpec {
+    id: String,
+    title: String,
+    provenance: Provenance,
+    subject: SubjectSpec,
+    parameters: BTreeMap<String, ParameterSpec>,
+    targets: Vec<TargetSpec>,
+    #[serde(default)]
+    predict: Vec<TargetSpec>,
+    #[serde(default)]
+    options: Option<OptionsSpec>,
+}
+
+/// Where a target's reference comes from (for the before/after table).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Origin {
+    /// `case-id/check-id`, or the written-out source.
+    pub label: String,
+    /// The tolerance's name and reason, or the source.
+    pub reason: String,
+}
+
+/// A loaded, checked fit file.
+#[derive(Debug, Clone)]
+pub struct FitFile {
+    pub path: PathBuf,
+    pub id: String,
+    pub title: String,
+    pub provenance: Provenance,
+    /// The id of the aircraft or rotor file fitted (what the corrections apply to).
+    pub applies_to: crate::corrections::Target,
+    pub problem: fit::Problem,
+    pub origins: Vec<Origin>,
+    /// Targets reported but not fitted (the fit's prediction error).
+    pub predict: Vec<fit::Target>,
+    pub predict_origins: Vec<Origin>,
+}
+
+/// Loads and checks a fit file (and the cases and model files it names).
+pub fn load(path: &Path) -> Result<FitFile, InputError> {
+    let src = yaml::read(path)?;
+    let spec: FitFileSpec = yaml::parse(path, &src)?;
+    let err = |field: &str, m: String| InputError::field(path, &src, field, m);
+    crate::refs::check_id(path, &src, &spec.id)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let (subject, applies_to, subject_key) = match (&spec.subject.aircraft, &spec.subject.rotor) {
+        (Some(a), None) => {
+            let file = crate::aircraft_file::load(&dir.join(&a.file))?;
+            let loading = crate::Loading {
+                mass_kg: a.mass_kg,
+                density_altitude_ft: a.density_altitude_ft,
+            };
+            let key = SubjectKey::Aircraft(file.id.clone(), loading);
+            (
+                fit::Subject::Aircraft {
+                    aircraft: Box::new(file.aircraft),
+                    loading,
+                },
+                crate::corrections::Target::Aircraft(file.id),
+                key,
+            )
+        }
+        (None, Some(r)) => {
+            let file = crate::rotor_file::load(&dir.join(&r.file))?;
+            let inflow = r.inflow.model(r.skew);
+            let key = SubjectKey::Rotor(file.id.clone(), inflow);
+            (
+                fit::Subject::Rotor {
+                    rotor: Box::new(file.rotor),
+                    inflow,
+                },
+                crate::corrections::Target::Rotor(file.id),
+                key,
+            )
+        }
+        _ => {
+            return Err(err(
+                "subject",
+                "give exactly one of `aircraft` or `rotor`".into(),
+            ));
+        }
+    };
+    let mut parameters = Vec::new();
+    let names: Vec<String> = ParameterKind::ALL
+        .iter()
+        .map(|k| k.name().to_string())
+        .collect();
+    for (name, p) in &spec.parameters {
+        let Some(kind) = ParameterKind::parse(name) else {
+            let hint = yaml::nearest(name, &names)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(err(
+                &format!("parameters.{name}"),
+                format!("unknown parameter; one of {}{hint}", names.join(", ")),
+            ));
+        };
+        parameters.push(Parameter {
+            kind,
+            lower: p.lower,
+            upper: p.upper,
+            start: p.start.unwrap_or(kind.neutral()),
+            regularisation: p.regularisation,
+        });
+    }
+    let mut options = fit::Options::default();
+    if let Some(o) = spec.options {
+        options.max_iterations = o.max_iterations.unwrap_or(options.max_iterations);
+        options.tolerance = o.tolerance.unwrap_or(options.tolerance);
+        options.difference_step = o.difference_step.unwrap_or(options.difference_step);
+        options.trust_region = o.trust_region.unwrap_or(options.trust_region);
+        options.broyden = o.broyden.unwrap_or(options.broyden);
+    }
+    let read = |list: &[TargetSpec], section: &str| {
+        let mut targets = Vec::new();
+        let mut origins = Vec::new();
+        for (i, t) in list.iter().enumerate() {
+            let here = format!("{section}[{i}]");
+            let (ts, os) = targets_of(dir, t, &subject_key).map_err(|m| err(&here, m))?;
+            targets.extend(ts);
+            origins.extend(os);
+        }
+        Ok::<_, InputError>((targets, origins))
+    };
+    let (targets, origins) = read(&spec.targets, "targets")?;
+    let (predict, predict_origins) = read(&spec.predict, "predict")?;
+    let problem = fit::Problem {
+        subject,
+        parameters,
+        targets,
+        options,
+    };
+    // The problem's own checks (bounds, kinds), as a located input error.
+    if let Err(m) = fit::check(&problem) {
+        return Err(err("parameters", m));
+    }
+    Ok(FitFile {
+        path: path.to_path_buf(),
+        id: spec.id,
+        title: spec.title,
+        provenance: spec.provenance,
+        applies_to,
+        problem,
+        origins,
+        predict,
+        predict_origins,
+    })
+}
+
+/// What a case's subject must match: the same file and loading (aircraft) or inflow (rotor).
+#[derive(Debug, Clone, PartialEq)]
+enum SubjectKey {
+    Aircraft(String, crate::Loading),
+    Rotor(String, cierva_model::rotor::InflowModel),
+}
+
+fn targets_of(
+    dir: &Path,
+    t: &TargetSpec,
+    subject: &SubjectKey,
+) -> Result<(Vec<fit::Target>, Vec<Origin>), String> {
+    let written = t.condition.is_some()
+        || t.tunnel.is_some()
+        || t.quantity.is_some()
+        || t.reference.is_some()
+        || t.standard_error.is_some()
+        || t.bounds.is_some();
+    match (&t.case, written) {
+        (Some(c), false) => from_case(dir, c, t, subject),
+        (None, true) => {
+            if t.checks.is_some()
+                || t.quantities.is_some()
+                || t.case_bounds.is_some()
+                || t.soft_weight.is_some()
+            {
+                return Err(
+                    "`checks`, `quantities`, `case_bounds` and `soft_weight` go with `case`".into(),
+                );
+            }
+            let condition = match (t.condition, t.tunnel) {
+                (Some(c), None) => Condition::Flight(c),
+                (None, Some(tu)) => Condition::Tunnel(tu),
+                _ => return Err("give exactly one of `condition` (flight) or `tunnel`".into()),
+            };
+            let (Some(q), Some(reference), Some(standard_error)) =
+                (&t.quantity, t.reference, t.standard_error)
+            else {
+                return Err("a written-out target needs `quantity`, `reference` and `standard_error`".into());
+            };
+            let source = t
+                .source
+                .clone()
+                .ok_or("a written-out target needs its `source` (every number has one)")?;
+            let measure = Measure::parse(&condition, q)?;
+            let bounds = t.bounds.map(|b| Bounds {
+                lower: b.lower,
+                upper: b.upper,
+                enforce: match b.enforce {
+                    EnforceSpec::Hard => Enforce::Hard,
+                    EnforceSpec::Soft { weight } => Enforce::Soft { weight },
+                },
+            });
+            Ok((
+                vec![fit::Target {
+                    condition,
+                    measure,
+                    reference,
+                    standard_error,
+                    bounds,
+                }],
+                vec![Origin {
+                    label: format!("{} at {}", q, condition.label()),
+                    reason: source,
+                }],
+            ))
+        }
+        _ => Err("give either `case` (with optional `checks` and `quantities`) or a written-out target (`condition` or `tunnel`, `quantity`, `reference`, `standard_error`, `source`)".into()),
+    }
+}
+
+fn from_case(
+    dir: &Path,
+    file: &str,
+    t: &TargetSpec,
+    subject: &SubjectKey,
+) -> Result<(Vec<fit::Target>, Vec<Origin>), String> {
+    let path = dir.join(file);
+    let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
+    let key = match &c.subject {
+        case::Subject::Aircraft { file, loading } => {
+            SubjectKey::Aircraft(file.id.clone(), *loading)
+        }
+        case::Subject::Rotor { file, inflow } => SubjectKey::Rotor(file.id.clone(), *inflow),
+        _ => {
+            return Err(format!(
+                "the case {file} checks neither an aircraft nor a rotor"
+            ));
+        }
+    };
+    if key != *subject {
+        return Err(format!(
+            "the case {file} checks {key:?}, but this fit's subject is {subject:?}"
+        ));
+    }
+    if let Some(ids) = &t.checks {
+        for id in ids {
+            if !c.checks.iter().any(|k| &k.id == id) {
+                let have: Vec<String> = c.checks.iter().map(|k| k.id.clone()).collect();
+                let hint = yaml::nearest(id, &have)
+                    .map(|n| format!(" (did you mean `{n}`?)"))
+                    .unwrap_or_default();
+                return Err(format!("the case {file} has no check `{id}`{hint}"));
+            }
+        }
+    }
+    let bounds_kind = t.case_bounds.unwrap_or_default();
+    let weight = t.soft_weight.unwrap_or(1.0);
+    let mut targets = Vec::new();
+    let mut origins = Vec::new();
+    for check in &c.checks {
+        if t.checks
+            .as_ref()
+            .is_some_and(|ids| !ids.contains(&check.id))
+        {
+            continue;
+        }
+        let condition = match (check.kind, check.condition, check.tunnel) {
+            (CheckKind::Derivative | CheckKind::Trim, Some(cond), _) => Condition::Flight(cond),
+            (CheckKind::Autorotation, _, Some(tu)) => Condition::Tunnel(tu),
+            _ if t.checks.is_some() => {
+                return Err(format!(
+                    "check `{}` of {file} is not a derivative, trim or autorotation check at one condition",
+                    check.id
+                ));
+            }
+            _ => continue,
+        };
+        if check.corrections.is_some() || !check.set.is_empty() {
+            if t.checks.is_some() {
+                return Err(format!(
+                    "check `{}` of {file} sets its own corrections or derivatives: it is not a reference to fit",
+                    check.id
+                ));
+            }
+            continue;
+        }
+        for e in &check.expectations {
+            if t.quantities
+                .as_ref()
+                .is_some_and(|qs| !qs.contains(&e.quantity))
+            {
+                continue;
+            }
+            let name = match check.kind {
+                CheckKind::Derivative if e.quantity == "value" => check
+                    .derivative
+                    .clone()
+                    .ok_or_else(|| format!("check `{}` names no derivative", check.id))?,
+                CheckKind::Derivative => continue,
+                _ => e.quantity.clone(),
+            };
+            let measure = Measure::parse(&condition, &name)
+                .map_err(|m| format!("check `{}` of {file}: {m}", check.id))?;
+            let (reference, standard_error, bounds) = match (e.tolerance.kind.clone(), e.value) {
+                (ToleranceKind::Absolute(a), Some(v)) => (v, a, None),
+                (ToleranceKind::Relative(r), Some(v)) => (v, r * v.abs(), None),
+                (ToleranceKind::Interval(lo, hi), _) => {
+                    let b = match bounds_kind {
+                        CaseBounds::None => None,
+                        CaseBounds::Hard => Some(Enforce::Hard),
+                        CaseBounds::Soft => Some(Enforce::Soft { weight }),
+                    };
+                    (
+                        0.5 * (lo + hi),
+                        0.5 * (hi - lo) / 1.96,
+                        b.map(|enforce| Bounds {
+                            lower: lo,
+                            upper: hi,
+                            enforce,
+                        }),
+                    )
+                }
+                (k, _) => {
+                    return Err(format!(
+                        "check `{}` of {file}, `{}`: a {k:?} tolerance gives no standard error to fit with (absolute, relative or interval tolerances do)",
+                        check.id, e.quantity
+                    ));
+                }
+            };
+            targets.push(fit::Target {
+                condition,
+                measure,
+                reference,
+                standard_error,
+                bounds,
+            });
+            origins.push(Origin {
+                label: format!("{}/{}", c.id, check.id),
+                reason: format!("{}: {}", e.tolerance.name, e.tolerance.reason),
+            });
+        }
+    }
+    if targets.is_empty() {
+        return Err(format!(
+            "no targets from {file}: no derivative, trim or autorotation check there has the quantities asked for"
+        ));
+    }
+    Ok((targets, origins))
+}
+
+/// A longitudinal mode's eigenvalue before and after the fit at one flight condition.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ModeShift {
+    pub condition: String,
+    pub mode: &'static str,
+    /// `[re, im]`, 1/s and rad/s; NaN where the model has no such mode.
+    pub before: [f64; 2],
+    pub after: [f64; 2],
+}
+
+/// A fit file's run: the fit, the predictions before and after, and (for an aircraft) how the
+/// longitudinal modes moved.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FitRun {
+    pub result: fit::FitResult,
+    pub seconds: f64,
+    pub predict_before: Vec<f64>,
+    pub predict_after: Vec<f64>,
+    pub modes: Vec<ModeShift>,
+}
+
+/// Runs a fit file's fit, then its predictions and mode shifts.
+pub fn run(f: &FitFile) -> FitRun {
+    let started = std::time::Instant::now();
+    let result = fit::fit(&f.problem);
+    let seconds = started.elapsed().as_secs_f64();
+    let start: Vec<f64> = f.problem.parameters.iter().map(|p| p.start).collect();
+    let mut predict_before = vec![f64::NAN; f.predict.len()];
+    let mut predict_after = predict_before.clone();
+    if !f.predict.is_empty() {
+        let mut p = f.problem.clone();
+        p.targets = f.predict.clone();
+        let each = |values: &[f64]| -> Vec<f64> {
+            fit::evaluate_each(&p, values).map_or(vec![f64::NAN; p.targets.len()], |v| {
+                v.into_iter().map(|y| y.unwrap_or(f64::NAN)).collect()
+            })
+        };
+        predict_before = each(&start);
+        predict_after = each(&result.values);
+    }
+    let mut modes = Vec::new();
+    if let fit::Subject::Aircraft { aircraft, loading } = &f.problem.subject {
+        let mut conditions: Vec<crate::TrimRequest> = Vec::new();
+        for t in &f.problem.targets {
+            if let Condition::Flight(c) = t.condition
+                && !conditions.contains(&c)
+            {
+                conditions.push(c);
+            }
+        }
+        let eig = |values: &[f64], c: crate::TrimRequest| {
+            let mut set = crate::corrections::CorrectionSet::default();
+            for (par, v) in f.problem.parameters.iter().zip(values) {
+                par.kind.set(&mut set, *v);
+            }
+            let mut a = (**aircraft).clone();
+            let analysis = set
+                .apply_to_aircraft(&mut a)
+                .ok()
+                .and_then(|_| crate::run_linearise(&a, c, *loading).ok())
+                .and_then(|(_, lin)| cierva_model::modes::modes(&lin.model).ok());
+            [
+                cierva_model::modes::ModeKind::Phugoid,
+                cierva_model::modes::ModeKind::ShortPeriod,
+            ]
+            .map(|k| {
+                analysis
+                    .as_ref()
+                    .and_then(|m| {
+                        m.of_kind(k)
+                            .next()
+                            .map(|m| [m.eigenvalue.re, m.eigenvalue.im])
+                    })
+                    .unwrap_or([f64::NAN; 2])
+            })
+        };
+        for c in conditions {
+            let (b, a) = (eig(&start, c), eig(&result.values, c));
+            for (k, name) in ["phugoid", "short_period"].into_iter().enumerate() {
+                modes.push(ModeShift {
+                    condition: Condition::Flight(c).label(),
+                    mode: name,
+                    before: b[k],
+                    after: a[k],
+                });
+            }
+        }
+    }
+    FitRun {
+        result,
+        seconds,
+        predict_before,
+        predict_after,
+        modes,
+    }
+}
+
+/// RMS of `(model - reference) / reference`, %, before and after, over the targets with a
+/// non-zero reference that the model solved both before and after (so the two compare like
+/// with like), and how many that is.
+pub fn rms_relative_error_percent(
+    targets: &[fit::Target],
+    before: &[f64],
+    after: &[f64],
+) -> (f64, f64, usize) {
+    let rows: Vec<(f64, f64)> = targets
+        .iter()
+        .zip(before.iter().zip(after))
+        .filter(|(t, (b, a))| t.reference != 0.0 && b.is_finite() && a.is_finite())
+        .map(|(t, (b, a))| {
+            (
+                (b - t.reference) / t.reference,
+                (a - t.reference) / t.reference,
+            )
+        })
+        .collect();
+    let rms = |f: fn(&(f64, f64)) -> f64| {
+        100.0 * (rows.iter().map(|r| f(r).powi(2)).sum::<f64>() / rows.len() as f64).sqrt()
+    };
+    (rms(|r| r.0), rms(|r| r.1), rows.len())
+}
+
+/// The corrections file a fit writes (id: the output file's stem).
+pub fn corrections_file(
+    f: &FitFile,
+    run: &FitRun,
+    id: &str,
+    command: &str,
+) -> crate::corrections::CorrectionsFileSpec {
+    use crate::corrections::{AppliesTo, CorrectionsFileSpec, Target};
+    let r = &run.result;
+    let se: serde_json::Map<String, serde_json::Value> = r
+        .parameters
+        .iter()
+        .zip(&r.standard_errors)
+        .map(|(k, s)| (k.name().to_string(), serde_json::json!(finite_or_null(*s))))
+        .collect();
+    CorrectionsFileSpec {
+        id: id.to_string(),
+        title: format!("Corrections fitted by {}: {}", f.id, f.title),
+        applies_to: match &f.applies_to {
+            Target::Aircraft(a) => AppliesTo {
+                aircraft: Some(a.clone()),
+                rotor: None,
+            },
+            Target::Rotor(a) => AppliesTo {
+                aircraft: None,
+                rotor: Some(a.clone()),
+            },
+        },
+        corrections: r.corrections(),
+        provenance: Provenance {
+            source: format!(
+                "fitted by `{command}` (cierva {})",
+                env!("CARGO_PKG_VERSION")
+            ),
+            notes: Some(format!(
+                "Fit file {}: {}",
+                f.path.display(),
+                f.provenance.source
+            )),
+        },
+        fit: Some(serde_json::json!({
+            "status": r.status.name(),
+            "detail": match &r.status {
+                fit::Status::Infeasible(m) | fit::Status::ModelFailure(m) | fit::Status::BadProblem(m) => m.clone(),
+                _ => String::new(),
+            },
+            "iterations": r.iterations,
+            "evaluations": r.evaluations,
+            "cost_start": finite_or_null(r.cost_start),
+            "cost": finite_or_null(r.cost),
+            "standard_errors": se,
+            "targets": f.problem.targets.len(),
+            "warnings": r.warnings,
+        })),
+    }
+}
+
+fn finite_or_null(v: f64) -> Option<f64> {
+    v.is_finite().then_some(v)
+}
+
+/// The before/after report of a fit, as Markdown.
+pub fn markdown(f: &FitFile, run: &FitRun) -> String {
+    use std::fmt::Write;
+    let r = &run.result;
+    let mut s = String::new();
+    let _ = writeln!(s, "# Fit `{}`: {}\n", f.id, f.title);
+    let _ = writeln!(s, "Source: {}\n", f.provenance.source);
+    if let Some(n) = &f.provenance.notes {
+        let _ = writeln!(s, "{n}\n");
+    }
+    let detail = match &r.status {
+        fit::Status::Infeasible(m) | fit::Status::ModelFailure(m) | fit::Status::BadProblem(m) => {
+            format!(": {m}")
+        }
+        _ => String::new(),
+    };
+    let _ = writeln!(
+        s,
+        "**Status: {}**{detail}. {} iterations, {} model evaluations, {:.2} s. Cost {:.4e} -> {:.4e}.\n",
+        r.status.name(),
+        r.iterations,
+        r.evaluations,
+        run.seconds,
+        r.cost_start,
+        r.cost
+    );
+    let _ = writeln!(s, "## Parameters\n");
+    let _ = writeln!(
+        s,
+        "| parameter | bounds | start | fitted | standard error |"
+    );
+    let _ = writeln!(s, "| --- | --- | ---: | ---: | ---: |");
+    for (p, (v, se)) in f
+        .problem
+        .parameters
+        .iter()
+        .zip(r.values.iter().zip(&r.standard_errors))
+    {
+        let _ = writeln!(
+            s,
+            "| {} | [{}, {}] | {} | {v:.5} | {} |",
+            p.kind.name(),
+            p.lower,
+            p.upper,
+            p.start,
+            if se.is_finite() {
+                format!("{se:.5}")
+            } else {
+                "not identifiable".into()
+            }
+        );
+    }
+    for w in &r.warnings {
+        let _ = writeln!(s, "\n- warning: {w}");
+    }
+    let table = |s: &mut String,
+                 targets: &[fit::Target],
+                 origins: &[Origin],
+                 before: &[f64],
+                 after: &[f64]| {
+        let _ = writeln!(
+            s,
+            "| reference from | quantity | condition | reference | standard error | bounds | before | after | before (SE) | after (SE) |"
+        );
+        let _ = writeln!(
+            s,
+            "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |"
+        );
+        for ((t, o), (b, a)) in targets.iter().zip(origins).zip(before.iter().zip(after)) {
+            let bounds = t.bounds.map_or("-".to_string(), |b| {
+                format!(
+                    "[{:.4}, {:.4}] {}",
+                    b.lower,
+                    b.upper,
+                    match b.enforce {
+                        Enforce::Hard => "hard".to_string(),
+                        Enforce::Soft { weight } => format!("soft, weight {weight}"),
+                    }
+                )
+            });
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.5} | {:.5} | {bounds} | {b:.5} | {a:.5} | {:+.2} | {:+.2} |",
+                o.label,
+                t.measure.name(),
+                t.condition.label(),
+                t.reference,
+                t.standard_error,
+                (b - t.reference) / t.standard_error,
+                (a - t.reference) / t.standard_error,
+            );
+        }
+        let unsolved = |y: &[f64]| y.iter().filter(|v| !v.is_finite()).count();
+        let (rb, ra, n) = rms_relative_error_percent(targets, before, after);
+        let _ = writeln!(
+            s,
+            "\nRMS relative error over the {n} targets solved before and after: {rb:.2} % before, {ra:.2} % after. Not solved: {} before, {} after.\n",
+            unsolved(before),
+            unsolved(after)
+        );
+        let mut names: Vec<&str> = targets.iter().map(|t| t.measure.name()).collect();
+        names.dedup();
+        names.sort_unstable();
+        names.dedup();
+        if names.len() > 1 {
+            for name in names {
+                let keep: Vec<usize> = (0..targets.len())
+                    .filter(|&k| targets[k].measure.name() == name)
+                    .collect();
+                let pick = |y: &[f64]| keep.iter().map(|&k| y[k]).collect::<Vec<f64>>();
+                let sub: Vec<fit::Target> = keep.iter().map(|&k| targets[k].clone()).collect();
+                let (rb, ra, n) = rms_relative_error_percent(&sub, &pick(before), &pick(after));
+                let _ = writeln!(
+                    s,
+                    "- `{name}` ({n} targets): {rb:.2} % before, {ra:.2} % after"
+                );
+            }
+            let _ = writeln!(s);
+        }
+    };
+    let _ = writeln!(s, "\n## Fitted targets\n");
+    table(&mut s, &f.problem.targets, &f.origins, &r.before, &r.after);
+    if !f.predict.is_empty() {
+        let _ = writeln!(s, "## Predicted (not fitted)\n");
+        table(
+            &mut s,
+            &f.predict,
+            &f.predict_origins,
+            &run.predict_before,
+            &run.predict_after,
+        );
+    }
+    if !run.modes.is_empty() {
+        let _ = writeln!(s, "## Longitudinal modes before and after\n");
+        let _ = writeln!(
+            s,
+            "| condition | mode | eigenvalue before | eigenvalue after | damping ratio before | after | period before, s | after, s |"
+        );
+        let _ = writeln!(s, "| --- | --- | --- | --- | ---: | ---: | ---: | ---: |");
+        let zeta = |e: [f64; 2]| -e[0] / e[0].hypot(e[1]);
+        let period = |e: [f64; 2]| 2.0 * std::f64::consts::PI / e[1];
+        for m in &run.modes {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.4} {:+.4}i | {:.4} {:+.4}i | {:.4} | {:.4} | {:.2} | {:.2} |",
+                m.condition,
+                m.mode,
+                m.before[0],
+                m.before[1],
+                m.after[0],
+                m.after[1],
+                zeta(m.before),
+                zeta(m.after),
+                period(m.before),
+                period(m.after)
+            );
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
