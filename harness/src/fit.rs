@@ -898,9 +898,11 @@ pub fn fit(problem: &Problem) -> FitResult {
         *evaluations += p.len();
         jacobian(problem, p, y)
     };
+    // Set when a step's outcome must be judged on a finite-difference Jacobian.
+    let mut want_fresh = false;
     for it in 0..problem.options.max_iterations {
         iterations = it + 1;
-        if !fresh && (jt.is_empty() || !problem.options.broyden) {
+        if !fresh && (jt.is_empty() || want_fresh || !problem.options.broyden) {
             jt = match refresh(&p, &y, &mut evaluations) {
                 Ok(j) => j,
                 Err(e) => {
@@ -985,37 +987,12 @@ pub fn fit(problem: &Problem) -> FitResult {
         if matches!(status, Status::Infeasible(_) | Status::ModelFailure(_)) {
             break;
         }
-        if !fresh && (stale || small || !accepted) {
-            // Judge convergence on a finite-difference Jacobian only.
-            if problem.options.broyden && (stale || small) && !accepted {
-                jt = match refresh(&p, &y, &mut evaluations) {
-                    Ok(j) => j,
-                    Err(e) => {
-                        status = Status::ModelFailure(e);
-                        break;
-                    }
-                };
-                fresh = true;
-            }
-            if !accepted {
-                continue;
-            }
-        }
         if fresh && (small || !accepted) {
             status = Status::Converged;
             break;
         }
-        if small && !fresh {
-            // A tiny accepted step on an updated Jacobian: confirm on a fresh one.
-            jt = match refresh(&p, &y, &mut evaluations) {
-                Ok(j) => j,
-                Err(e) => {
-                    status = Status::ModelFailure(e);
-                    break;
-                }
-            };
-            fresh = true;
-        }
+        // A failed or tiny step on an updated Jacobian: judge it again on a fresh one.
+        want_fresh = !fresh && (stale || small || !accepted);
     }
     // Standard errors from a finite-difference Jacobian at the solution.
     if !fresh
