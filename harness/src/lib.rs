@@ -151,6 +151,16 @@ pub fn run_trim(
     request: TrimRequest,
     loading: Loading,
 ) -> Result<cierva_model::trim::Trim, TrimRunError> {
+    run_trim_from(aircraft, request, loading, None)
+}
+
+/// [`run_trim`] started from a nearby trim's end ([`cierva_model::trim::trim_from`]).
+pub fn run_trim_from(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+    start: Option<&cierva_model::trim::WarmStart>,
+) -> Result<cierva_model::trim::Trim, TrimRunError> {
     use cierva_model::{aircraft::Air, atmosphere, trim};
     let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)?;
     let mut a = aircraft.clone();
@@ -166,7 +176,12 @@ pub fn run_trim(
             speed_of_sound_m_s: air.speed_of_sound_m_s,
         },
     };
-    Ok(trim::trim(&a, condition, trim::Options::default())?)
+    Ok(trim::trim_from(
+        &a,
+        condition,
+        trim::Options::default(),
+        start,
+    )?)
 }
 
 /// Why a linearisation run did not produce a model.
@@ -197,8 +212,24 @@ pub fn run_linearise(
     ),
     LinearRunError,
 > {
+    run_linearise_from(aircraft, request, loading, None)
+}
+
+/// [`run_linearise`] with its trim started from a nearby trim's end.
+pub fn run_linearise_from(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: TrimRequest,
+    loading: Loading,
+    start: Option<&cierva_model::trim::WarmStart>,
+) -> Result<
+    (
+        cierva_model::trim::Trim,
+        cierva_model::linearise::Linearised,
+    ),
+    LinearRunError,
+> {
     use cierva_model::{aircraft::Air, atmosphere, linearise};
-    let trim = run_trim(aircraft, request, loading)?;
+    let trim = run_trim_from(aircraft, request, loading, start)?;
     let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)
         .map_err(TrimRunError::from)?;
     let mut a = aircraft.clone();

@@ -44,6 +44,12 @@ pub struct Converged {
     pub residuals: Vec<f64>,
     pub residual_norm: f64,
     pub iterations: usize,
+    /// Calls of the residual function, finite differences included.
+    pub evaluations: usize,
+    /// The last Jacobian the solver stepped with (finite differences or their Broyden update),
+    /// to start a nearby solve from; `None` when `x0` was already a solution.
+    #[serde(skip)]
+    pub jacobian: Option<DMatrix<f64>>,
 }
 
 /// Why the solver stopped without converging.
@@ -75,21 +81,39 @@ fn norm(r: &[f64]) -> f64 {
 }
 
 /// Solves `f(x) = 0` from `x0`.
-pub fn newton<F>(mut f: F, x0: &[f64], opts: NewtonOptions) -> Result<Converged, SolveError>
+pub fn newton<F>(f: F, x0: &[f64], opts: NewtonOptions) -> Result<Converged, SolveError>
+where
+    F: FnMut(&[f64]) -> Result<Vec<f64>, String>,
+{
+    newton_from(f, x0, None, opts)
+}
+
+/// Solves `f(x) = 0` from `x0`, stepping first with `jacobian` (the Jacobian of a nearby solve,
+/// say) instead of finite differences. A Jacobian of the wrong shape is ignored; one that fails
+/// to give a descent step is replaced by finite differences, as a Broyden update is.
+pub fn newton_from<F>(
+    mut f: F,
+    x0: &[f64],
+    jacobian: Option<DMatrix<f64>>,
+    opts: NewtonOptions,
+) -> Result<Converged, SolveError>
 where
     F: FnMut(&[f64]) -> Result<Vec<f64>, String>,
 {
     let n = x0.len();
     let mut x = x0.to_vec();
-    let eval = |f: &mut F, x: &[f64]| {
+    let calls = std::cell::Cell::new(0usize);
+    let mut eval = |x: &[f64]| {
+        calls.set(calls.get() + 1);
         f(x).map_err(|message| SolveError::Model {
             x: x.to_vec(),
             message,
         })
     };
-    let mut r = eval(&mut f, &x)?;
-    let mut jac: Option<DMatrix<f64>> = None;
-    let mut fresh = false;
+    let mut r = eval(&x)?;
+    let mut jac: Option<DMatrix<f64>> = jacobian.filter(|j| j.nrows() == r.len() && j.ncols() == n);
+    // A Jacobian handed in is treated like a Broyden update: when it misleads, it is replaced.
+    let mut fresh = jac.is_none();
     let mut it = 0;
     while it <= opts.max_iterations {
         let rn = norm(&r);
@@ -99,6 +123,8 @@ where
                 residual_norm: rn,
                 residuals: r,
                 iterations: it,
+                evaluations: calls.get(),
+                jacobian: jac,
             });
         }
         if it == opts.max_iterations {
@@ -111,7 +137,7 @@ where
                 let mut xp = x.clone();
                 let h = opts.fd_step * x[j].abs().max(1.0);
                 xp[j] += h;
-                let rp = eval(&mut f, &xp)?;
+                let rp = eval(&xp)?;
                 for i in 0..m {
                     fd[(i, j)] = (rp[i] - r[i]) / h;
                 }
@@ -142,7 +168,7 @@ where
         let mut accepted = false;
         for _ in 0..=opts.max_halvings {
             let xt: Vec<f64> = x.iter().zip(dx.iter()).map(|(a, d)| a + step * d).collect();
-            if let Ok(rt) = f(&xt)
+            if let Ok(rt) = eval(&xt)
                 && norm(&rt) < rn
             {
                 if opts.broyden {
@@ -166,8 +192,8 @@ where
             step *= 0.5;
         }
         if !accepted {
-            if opts.broyden && !fresh {
-                // The updated Jacobian misled: start again from finite differences.
+            if !fresh {
+                // The updated (or handed-in) Jacobian misled: start again from finite differences.
                 jac = None;
                 continue;
             }
