@@ -68,15 +68,27 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
         .next()
         .ok_or_else(|| InputError::file(path, "the file is empty"))?;
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let at_line = |line: usize, msg: String| {
+    // An error at a line, its caret under the `cell`-th comma-separated field (1-based column).
+    let at_cell = |line: usize, text: &str, cell: usize, msg: String| {
         let mut e = InputError::file(path, msg);
         e.line = Some(line + 1);
-        e.column = Some(1);
+        let start: usize = text
+            .split(',')
+            .take(cell)
+            .map(|c| c.chars().count() + 1)
+            .sum();
+        let pad = text
+            .split(',')
+            .nth(cell)
+            .map_or(0, |c| c.chars().take_while(|ch| ch.is_whitespace()).count());
+        e.column = Some(start + pad + 1);
         e
     };
+    let at_line = |line: usize, text: &str, msg: String| at_cell(line, text, 0, msg);
     let time_col = names.iter().position(|n| *n == "time_s").ok_or_else(|| {
         at_line(
             hline,
+            header,
             format!("no `time_s` column; the header has [{}]", names.join(", ")),
         )
     })?;
@@ -88,10 +100,19 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
         match CONTROL_COLUMNS.iter().position(|c| c == n) {
             Some(c) => cols[c] = Some(k),
             None => {
-                return Err(at_line(
+                let known: Vec<String> = std::iter::once("time_s")
+                    .chain(CONTROL_COLUMNS.iter().copied())
+                    .map(String::from)
+                    .collect();
+                let hint = crate::yaml::nearest(n, &known)
+                    .map(|k| format!(" (did you mean `{k}`?)"))
+                    .unwrap_or_default();
+                return Err(at_cell(
                     hline,
+                    header,
+                    k,
                     format!(
-                        "unknown column `{n}`: expected `time_s` and any of {}",
+                        "unknown column `{n}`{hint}: expected `time_s` and any of {}",
                         CONTROL_COLUMNS.join(", ")
                     ),
                 ));
@@ -107,6 +128,7 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
         if cells.len() != names.len() {
             return Err(at_line(
                 line,
+                l,
                 format!(
                     "{} values where the header has {}",
                     cells.len(),
@@ -120,8 +142,10 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
                 .ok()
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| {
-                    at_line(
+                    at_cell(
                         line,
+                        l,
+                        k,
                         format!(
                             "`{}` in column `{}` is not a finite number",
                             cells[k], names[k]
@@ -133,8 +157,10 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
         if let Some(&last) = table.time_s.last()
             && t <= last
         {
-            return Err(at_line(
+            return Err(at_cell(
                 line,
+                l,
+                time_col,
                 format!("time {t} s does not rise (after {last} s)"),
             ));
         }

@@ -63,6 +63,10 @@ pub struct QuantityResult {
     /// The tolerance in words (`± 1.2e-3`, `[-0.133, -0.044]`).
     pub allowed: String,
     pub reason: String,
+    /// The allowed range as numbers (for plots): `expected ± bound`, the interval, or
+    /// `expected / factor .. expected * factor`.
+    pub lower: f64,
+    pub upper: f64,
     pub margin: f64,
     pub pass: bool,
 }
@@ -80,6 +84,34 @@ pub struct CheckResult {
     /// Why the check could not be computed, if it could not.
     pub error: Option<String>,
     pub expected_failure: Option<String>,
+    /// What the report plots beyond the quantities (not in the JSON results).
+    #[serde(skip)]
+    pub plot: Option<PlotData>,
+}
+
+/// A check's data for the report's plots.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlotData {
+    /// Every eigenvalue of the system the check looked at, and the check's mode.
+    Modes {
+        eigenvalues: Vec<Complex>,
+        selected: Option<Complex>,
+    },
+    /// The reference record and the model's responses, signal by signal.
+    TimeHistory { traces: Vec<Trace> },
+    /// The trims of a sweep: airspeed, mph, and the quantities at it.
+    Sweep { points: Vec<(f64, Quantities)> },
+}
+
+/// One response of a time-history check: the reference, the model, and the allowed error.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    pub signal: String,
+    pub time_s: Vec<f64>,
+    pub reference: Vec<f64>,
+    pub model: Vec<f64>,
+    /// The tolerance on the largest error, where the check sets an absolute one.
+    pub band: Option<f64>,
 }
 
 impl CheckResult {
@@ -135,13 +167,15 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
         verdict: None,
         error: None,
         expected_failure: check.expected_failure.clone(),
+        plot: None,
     };
     let passed = match evaluate(&case.subject, check) {
-        Ok((quantities, verdict)) => {
+        Ok((quantities, verdict, plot)) => {
             let verdict_ok = verdict.is_none_or(|(want, got)| want == got);
             let all = quantities.iter().all(|q| q.pass);
             result.quantities = quantities;
             result.verdict = verdict;
+            result.plot = plot;
             verdict_ok && all
         }
         Err(e) => {
@@ -158,7 +192,11 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
     result
 }
 
-type Evaluated = (Vec<QuantityResult>, Option<(Verdict, Verdict)>);
+type Evaluated = (
+    Vec<QuantityResult>,
+    Option<(Verdict, Verdict)>,
+    Option<PlotData>,
+);
 
 /// The airspeed of a tunnel condition (given, or `mu Omega R / cos alpha`).
 pub fn tunnel_airspeed_m_s(t: &crate::case::TunnelSpec, radius_m: f64) -> f64 {
@@ -317,7 +355,8 @@ pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
 fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
     match subject {
         Subject::Aircraft { file, loading } if check.kind == CheckKind::TimeHistory => {
-            let metrics = time_history_metrics(file, *loading, check)?;
+            let (metrics, flown) = time_history_metrics(file, *loading, check)?;
+            let plot = time_history_plot(check, &flown);
             let values: Vec<(String, f64)> = metrics
                 .iter()
                 .flat_map(|m| {
@@ -327,7 +366,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 })
                 .collect();
             let values: Vec<(&str, f64)> = values.iter().map(|(n, v)| (n.as_str(), *v)).collect();
-            Ok((compare_all(check, &values)?, None))
+            Ok((compare_all(check, &values)?, None, plot))
         }
         Subject::Aircraft { file, loading }
             if check.kind != CheckKind::Trim && check.kind != CheckKind::TrimSweep =>
@@ -382,20 +421,26 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 };
                 out.push(compare(e, value, || Ok(0.0))?);
             }
-            Ok((out, verdict_pair(check, &nominal)?))
+            let plot = modes_plot(&base, check, nominal.anchor);
+            Ok((out, verdict_pair(check, &nominal)?, plot))
         }
         Subject::Aircraft { file, loading } => {
             if let Some(request) = check.condition {
                 let values = trim_quantities(file, *loading, request)?;
-                return Ok((compare_all(check, &values)?, None));
+                return Ok((compare_all(check, &values)?, None, None));
             }
             let sweep = check
                 .sweep_mph
                 .as_deref()
                 .ok_or("a trim_sweep check needs sweep_mph")?;
-            let trends = sweep_trends(&trim_sweep(file, *loading, sweep)?);
+            let points = trim_sweep(file, *loading, sweep)?;
+            let trends = sweep_trends(&points);
             let values: Vec<(&str, f64)> = trends.iter().map(|(n, v)| (n.as_str(), *v)).collect();
-            Ok((compare_all(check, &values)?, None))
+            Ok((
+                compare_all(check, &values)?,
+                None,
+                Some(PlotData::Sweep { points }),
+            ))
         }
         Subject::FlapRecord {
             record,
@@ -411,7 +456,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 ("beta_1c_deg", r.beta_1c_deg),
                 ("beta_1s_deg", r.beta_1s_deg),
             ];
-            Ok((compare_all(check, &values)?, None))
+            Ok((compare_all(check, &values)?, None, None))
         }
         Subject::Rotor { file, inflow } => {
             let t = check
@@ -419,7 +464,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 .as_ref()
                 .ok_or("an autorotation check needs a tunnel")?;
             let values = autorotation_quantities(&file.rotor, *inflow, t)?;
-            Ok((compare_all(check, &values)?, None))
+            Ok((compare_all(check, &values)?, None, None))
         }
         Subject::Table { table, column, .. } => {
             let d = check.derivative.as_deref().unwrap_or_default();
@@ -432,7 +477,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 .iter()
                 .map(|e| compare(e, value, || Ok(0.0)))
                 .collect::<Result<_, _>>()?;
-            Ok((q, None))
+            Ok((q, None, None))
         }
         Subject::Linear { model, .. } => {
             let base = prepare(model, check)?;
@@ -444,7 +489,8 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                     propagated_rounding(model, check, &nominal, &e.quantity, e)
                 })?);
             }
-            Ok((out, verdict_pair(check, &nominal)?))
+            let plot = modes_plot(&base, check, nominal.anchor);
+            Ok((out, verdict_pair(check, &nominal)?, plot))
         }
     }
 }
@@ -455,7 +501,7 @@ pub fn time_history_metrics(
     file: &crate::aircraft_file::AircraftFile,
     loading: crate::Loading,
     check: &Check,
-) -> Result<Vec<crate::history::SignalMetrics>, String> {
+) -> Result<(Vec<crate::history::SignalMetrics>, crate::history::Flown), String> {
     let record = check
         .reference
         .as_deref()
@@ -483,6 +529,50 @@ pub fn time_history_metrics(
         check.simulation,
         step,
     )
+}
+
+/// The eigenvalues of a mode or BCAR check's system, and its mode.
+fn modes_plot(model: &LinearModel, check: &Check, selected: Option<Complex>) -> Option<PlotData> {
+    if !matches!(check.kind, CheckKind::Mode | CheckKind::Bcar) {
+        return None;
+    }
+    let sys = system_model(model, check.system).ok()?;
+    let analysis = modes::modes(&sys).ok()?;
+    Some(PlotData::Modes {
+        eigenvalues: analysis.modes.iter().map(|m| m.eigenvalue).collect(),
+        selected,
+    })
+}
+
+/// The reference and flown responses of a time-history check, with the largest-error
+/// tolerance of each signal where it is absolute.
+fn time_history_plot(check: &Check, flown: &crate::history::Flown) -> Option<PlotData> {
+    let record = check.reference.as_deref()?;
+    let time_s = record.channel("time_s")?.to_vec();
+    let traces = crate::history::record_signals(record)
+        .into_iter()
+        .filter_map(|signal| {
+            let reference = record.channel(&signal)?.to_vec();
+            let model = flown.signal(&signal)?.to_vec();
+            let band = check
+                .expectations
+                .iter()
+                .find(|e| e.quantity == format!("{signal}.max_abs_error"))
+                .and_then(|e| match e.tolerance.kind {
+                    ToleranceKind::Absolute(b) => Some(b),
+                    ToleranceKind::Interval(_, hi) => Some(hi),
+                    _ => None,
+                });
+            Some(Trace {
+                signal,
+                time_s: time_s.clone(),
+                reference,
+                model,
+                band,
+            })
+        })
+        .collect();
+    Some(PlotData::TimeHistory { traces })
 }
 
 /// The expected and computed BCAR verdicts of a check, if it expects one.
@@ -785,18 +875,23 @@ fn compare(
     value: f64,
     rounding: impl FnOnce() -> Result<f64, String>,
 ) -> Result<QuantityResult, String> {
-    let (margin, allowed) = match (e.tolerance.kind.clone(), e.value) {
-        (ToleranceKind::Absolute(b), Some(x)) => (b - (value - x).abs(), format!("± {b:.3e}")),
+    let (margin, allowed, (lower, upper)) = match (e.tolerance.kind.clone(), e.value) {
+        (ToleranceKind::Absolute(b), Some(x)) => {
+            (b - (value - x).abs(), format!("± {b:.3e}"), (x - b, x + b))
+        }
         (ToleranceKind::Relative(r), Some(x)) => {
             let b = r * x.abs();
             (
                 b - (value - x).abs(),
                 format!("± {:.3} % ({b:.3e})", 100.0 * r),
+                (x - b, x + b),
             )
         }
-        (ToleranceKind::Interval(lo, hi), None) => {
-            ((value - lo).min(hi - value), format!("in [{lo}, {hi}]"))
-        }
+        (ToleranceKind::Interval(lo, hi), None) => (
+            (value - lo).min(hi - value),
+            format!("in [{lo}, {hi}]"),
+            (lo, hi),
+        ),
         (ToleranceKind::Rounding(r), Some(x)) => {
             let b = rounding()?;
             (
@@ -805,6 +900,7 @@ fn compare(
                     "± {b:.3e} (rounding to {} / {} decimals)",
                     r.input_decimals, r.output_decimals
                 ),
+                (x - b, x + b),
             )
         }
         (ToleranceKind::Factor(f), Some(x)) => {
@@ -815,7 +911,12 @@ fn compare(
             } else {
                 f64::NAN
             };
-            (margin, format!("same sign, within x{f} (ratio {ratio:.3})"))
+            let (a, b) = (x / f, x * f);
+            (
+                margin,
+                format!("same sign, within x{f} (ratio {ratio:.3})"),
+                (a.min(b), a.max(b)),
+            )
         }
         _ => return Err("expectation and tolerance do not fit (checked at load)".into()),
     };
@@ -827,6 +928,8 @@ fn compare(
         tolerance: e.tolerance.name.clone(),
         allowed,
         reason: e.tolerance.reason.clone(),
+        lower,
+        upper,
         margin,
         pass,
     })

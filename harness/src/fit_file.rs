@@ -827,3 +827,62 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
     }
     s
 }
+
+/// The fit's before/after figure: every target's error in its own standard errors, at the
+/// start and fitted, against the 95 % band (±1.96); predicted targets after a gap.
+pub fn figure(f: &FitFile, run: &FitRun) -> crate::report::plot::Figure {
+    use crate::report::plot::{Band, Figure, Series, Style};
+    let r = &run.result;
+    let z = |t: &fit::Target, v: f64| (v - t.reference) / t.standard_error;
+    let mut before = Vec::new();
+    let mut after = Vec::new();
+    for (i, t) in f.problem.targets.iter().enumerate() {
+        let x = (i + 1) as f64;
+        before.push((x, z(t, r.before.get(i).copied().unwrap_or(f64::NAN))));
+        after.push((x, z(t, r.after.get(i).copied().unwrap_or(f64::NAN))));
+    }
+    let n = f.problem.targets.len();
+    let mut pb = Vec::new();
+    let mut pa = Vec::new();
+    for (i, t) in f.predict.iter().enumerate() {
+        let x = (n + 2 + i) as f64;
+        pb.push((
+            x,
+            z(t, run.predict_before.get(i).copied().unwrap_or(f64::NAN)),
+        ));
+        pa.push((
+            x,
+            z(t, run.predict_after.get(i).copied().unwrap_or(f64::NAN)),
+        ));
+    }
+    let last = (n + 1 + f.predict.len()) as f64 + 0.5;
+    let series = |name: &str, points, colour| Series {
+        name: name.into(),
+        points,
+        style: Style::Markers,
+        colour: Some(colour),
+    };
+    let mut s = vec![
+        series("fitted targets, at the start", before, 7),
+        series("fitted targets, fitted", after, 0),
+    ];
+    if !f.predict.is_empty() {
+        s.push(series("predicted (not fitted), at the start", pb, 4));
+        s.push(series("predicted (not fitted), fitted", pa, 1));
+    }
+    Figure {
+        title: format!("{}: error before and after, in standard errors", f.id),
+        x_label: if f.predict.is_empty() {
+            "target".into()
+        } else {
+            format!("target (1-{n} fitted, then predicted)")
+        },
+        y_label: "(model - reference) / standard error".into(),
+        series: s,
+        bands: vec![Band {
+            name: "95 % (±1.96)".into(),
+            points: vec![(0.5, -1.96, 1.96), (last, -1.96, 1.96)],
+        }],
+        ..Figure::default()
+    }
+}

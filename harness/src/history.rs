@@ -279,7 +279,7 @@ pub fn fly_record(
     record: &Record,
     simulation: Simulation,
     azimuth_step_rad: f64,
-) -> Result<Vec<SignalMetrics>, String> {
+) -> Result<(Vec<SignalMetrics>, Flown), String> {
     let table = record_controls(record)?;
     let samples = table.time_s.len().saturating_sub(1);
     let flown = fly(
@@ -294,7 +294,7 @@ pub fn fly_record(
             azimuth_step_rad,
         },
     )?;
-    compare(record, &flown)
+    Ok((compare(record, &flown)?, flown))
 }
 
 /// Standard deviations of the sensor noise added to a synthetic record.

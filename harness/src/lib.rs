@@ -16,6 +16,7 @@ pub mod fit_file;
 pub mod history;
 pub mod ident;
 pub mod refs;
+pub mod report;
 pub mod rotor_file;
 pub mod text;
 pub mod yaml;

@@ -17,9 +17,54 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(name = "cierva", version)]
 struct Cli {
+    /// No progress bars or progress messages on stderr (results and errors are still printed).
+    /// Progress bars are drawn only when stderr is a terminal.
+    #[arg(long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
+
+/// A progress bar on stderr for `len` steps (hidden with `--quiet` or off a terminal).
+fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix} [{bar:30}] {pos}/{len} {elapsed} {wide_msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.set_prefix(what.to_string());
+    bar
+}
+
+/// A spinner on stderr for work of unknown length (hidden with `--quiet` or off a terminal).
+fn spinner(what: &str) -> indicatif::ProgressBar {
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let s = indicatif::ProgressBar::new_spinner();
+    s.set_message(what.to_string());
+    s.enable_steady_tick(std::time::Duration::from_millis(120));
+    s
+}
+
+/// What a command that writes files prints when it is done: a sentence, or a JSON object.
+fn done(format: Format, text: String, json: serde_json::Value) {
+    match format {
+        Format::Text => println!("{text}"),
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&json).expect("serialisable")
+        ),
+    }
+}
+
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 #[derive(Subcommand)]
 enum Command {
@@ -38,6 +83,13 @@ enum Command {
         corrections: Vec<PathBuf>,
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
+        /// Where to write the report: `index.html` (self-contained, with plots) and
+        /// `summary.md`.
+        #[arg(long, default_value = "reports")]
+        report_dir: PathBuf,
+        /// Write no report.
+        #[arg(long)]
+        no_report: bool,
     },
     /// Fit the model's empirical corrections (propeller blockage, hub angle-of-attack factor,
     /// profile drag, pitch offset, lateral inflow offset) to flight references within bounds,
@@ -152,6 +204,9 @@ enum Command {
         noise_deg: f64,
         #[arg(long)]
         output: PathBuf,
+        /// `text` for people, `json` for programs (what was written, as an object).
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
     },
     /// Write a commented case file to start from (it validates as it is written).
     ///
@@ -159,6 +214,9 @@ enum Command {
     NewCase {
         /// The case file to write; its id is the file name without `.yaml`.
         path: PathBuf,
+        /// `text` for people, `json` for programs (what was written, as an object).
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
     },
     /// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
     /// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
@@ -231,6 +289,9 @@ enum Command {
         /// The CSV to write.
         #[arg(long)]
         output: PathBuf,
+        /// `text` for people, `json` for programs (what was written, as an object).
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
     },
     /// Write a synthetic time-history reference record (for `time_history` checks): the
     /// aircraft flown by the full blade model (or its linearisation) through a test input,
@@ -404,6 +465,10 @@ fn control_index(control: &str) -> Result<usize, String> {
 struct SynthHistoryArgs {
     #[command(flatten)]
     flight: FlightArgs,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+
     #[command(flatten)]
     shape: ShapeArgs,
     /// The model that flies: full-blade (the individual-blade model) or linear.
@@ -496,6 +561,10 @@ enum InputChoice {
 struct SynthArgs {
     /// A reference file with a `linear_model` block (the truth).
     model: PathBuf,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+
     /// The control to excite.
     #[arg(long)]
     control: String,
@@ -549,6 +618,10 @@ struct BenchArgs {
     /// Repeats of each timed operation.
     #[arg(long, default_value_t = 21)]
     repeat: usize,
+    /// `text` (a Markdown table, as in reports/benchmarks.md) or `json` (rows of operation,
+    /// median and notes).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -558,12 +631,21 @@ enum Format {
 }
 
 fn main() -> ExitCode {
-    match Cli::parse().command {
+    let cli = Cli::parse();
+    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    match cli.command {
         Command::Validate {
             paths,
             corrections,
             format,
-        } => validate(paths, corrections, format),
+            report_dir,
+            no_report,
+        } => validate(
+            paths,
+            corrections,
+            format,
+            (!no_report).then_some(report_dir),
+        ),
         Command::Fit {
             file,
             output,
@@ -575,8 +657,8 @@ fn main() -> ExitCode {
             sweep,
             format,
         } => modes(file, sweep, format),
-        Command::Bench(args) => bench(args.repeat),
-        Command::NewCase { path } => new_case(path),
+        Command::Bench(args) => bench(args.repeat, args.format),
+        Command::NewCase { path, format } => new_case(path, format),
         Command::Inflow {
             record,
             rotor,
@@ -609,13 +691,14 @@ fn main() -> ExitCode {
             seed,
             noise_deg,
             output,
+            format,
         } => synth_teeter(
             rotor,
             alpha_deg,
             airspeed_m_s,
             collective_deg,
             (duration_s, sample_rate_hz, seed, noise_deg),
-            output,
+            (output, format),
         ),
         Command::Synth(args) => synth(args),
         Command::Identify {
@@ -654,11 +737,13 @@ fn main() -> ExitCode {
             azimuth_step_deg,
             every,
             output,
+            format,
         } => simulate(
             flight,
             (input, shape.input(), shape.control),
             (duration_s, azimuth_step_deg, every),
             output,
+            format,
         ),
         Command::SynthHistory(a) => synth_history(a),
         Command::Trim {
@@ -683,6 +768,7 @@ fn simulate(
     ),
     (duration_s, azimuth_step_deg, every): (f64, Option<f64>, usize),
     output: PathBuf,
+    format: Format,
 ) -> ExitCode {
     use cierva_harness::controls_file;
     let file = match load_flight(&f) {
@@ -732,19 +818,34 @@ fn simulate(
         output_every: every,
     };
     let started = std::time::Instant::now();
-    match cierva_harness::run_simulation(&file.aircraft, request, loading, &changes, settings) {
+    let busy = spinner(&format!("flying {duration_s} s"));
+    let flown =
+        cierva_harness::run_simulation(&file.aircraft, request, loading, &changes, settings);
+    busy.finish_and_clear();
+    match flown {
         Ok(h) => {
             if let Err(e) = std::fs::write(&output, controls_file::to_csv(&h)) {
                 eprintln!("error: cannot write {}: {e}", output.display());
                 return ExitCode::from(2);
             }
-            eprintln!(
-                "wrote {} ({} samples, step {:.2} ms, {:.2} s of flight in {:.2} s)",
-                output.display(),
-                h.samples.len(),
-                1e3 * h.step_s,
-                duration_s,
-                started.elapsed().as_secs_f64()
+            let seconds = started.elapsed().as_secs_f64();
+            done(
+                format,
+                format!(
+                    "wrote {} ({} samples, step {:.2} ms, {:.2} s of flight in {:.2} s)",
+                    output.display(),
+                    h.samples.len(),
+                    1e3 * h.step_s,
+                    duration_s,
+                    seconds
+                ),
+                serde_json::json!({
+                    "wrote": [output.display().to_string()],
+                    "samples": h.samples.len(),
+                    "step_s": h.step_s,
+                    "duration_s": duration_s,
+                    "seconds": seconds,
+                }),
             );
             ExitCode::SUCCESS
         }
@@ -884,7 +985,14 @@ fn trim(
     ExitCode::SUCCESS
 }
 
-fn validate(paths: Vec<PathBuf>, corrections: Vec<PathBuf>, format: Format) -> ExitCode {
+fn validate(
+    paths: Vec<PathBuf>,
+    corrections: Vec<PathBuf>,
+    format: Format,
+    report_dir: Option<PathBuf>,
+) -> ExitCode {
+    use cierva_harness::report;
+    let started = std::time::Instant::now();
     let paths = if paths.is_empty() {
         vec![PathBuf::from("cases")]
     } else {
@@ -914,20 +1022,52 @@ fn validate(paths: Vec<PathBuf>, corrections: Vec<PathBuf>, format: Format) -> E
     let mut results: Vec<CheckResult> = Vec::new();
     let mut errors = Vec::new();
     let mut corrected: Vec<String> = Vec::new();
+    let mut run = report::Run::default();
+    let bar = progress(loaded.len() as u64, "validate");
     for c in &loaded {
         match c {
             Ok(case) => match cierva_harness::corrections::apply_to_case(case, &correction_files) {
                 Ok((case, used)) => {
+                    bar.set_message(case.id.clone());
                     if !used.is_empty() {
                         corrected.push(format!("{} ({})", case.id, used.join(", ")));
                     }
-                    results.extend(eval::run_case(&case));
+                    let t = std::time::Instant::now();
+                    let r = eval::run_case(&case);
+                    results.extend(r.iter().cloned());
+                    run.cases.push(report::CaseRun {
+                        case,
+                        results: r,
+                        seconds: t.elapsed().as_secs_f64(),
+                        corrections: used,
+                    });
                 }
                 Err(e) => errors.push(format!("error: the corrections {e}")),
             },
             Err(e) => errors.push(e.render()),
         }
+        bar.inc(1);
     }
+    bar.finish_and_clear();
+    run.input_errors = errors.clone();
+    run.corrections = correction_files
+        .iter()
+        .map(|f| (f.path.clone(), f.corrections.describe()))
+        .collect();
+    run.seconds = started.elapsed().as_secs_f64();
+    let written = match &report_dir {
+        Some(dir) => match report::write(&run, dir) {
+            Ok(w) => w,
+            Err(e) => {
+                eprintln!(
+                    "error: could not write the report to {}: {e}",
+                    dir.display()
+                );
+                return ExitCode::from(2);
+            }
+        },
+        None => vec![],
+    };
     let counts = text::counts(&results);
     let corrections_used: Vec<serde_json::Value> = correction_files
         .iter()
@@ -947,6 +1087,7 @@ fn validate(paths: Vec<PathBuf>, corrections: Vec<PathBuf>, format: Format) -> E
                 "counts": counts,
                 "input_errors": errors,
                 "results": results,
+                "report": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
             println!(
                 "{}",
@@ -988,6 +1129,9 @@ fn validate(paths: Vec<PathBuf>, corrections: Vec<PathBuf>, format: Format) -> E
                 counts.unexpected_pass,
                 errors.len()
             );
+            if !written.is_empty() {
+                println!("report: {}", show(&written));
+            }
         }
     }
     if !errors.is_empty() {
@@ -1020,7 +1164,9 @@ fn fit(
             .join(format!("{}.yaml", f.id))
     });
     let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
+    let busy = spinner(&format!("fitting {}", f.id));
     let run = fit_file::run(&f);
+    busy.finish_and_clear();
     let id = output
         .file_stem()
         .and_then(|s| s.to_str())
@@ -1028,15 +1174,28 @@ fn fit(
         .to_string();
     let command = format!("cierva fit {}", file.display());
     let spec = fit_file::corrections_file(&f, &run, &id, &command);
-    let md = fit_file::markdown(&f, &run);
+    let mut md = fit_file::markdown(&f, &run);
+    // The before/after figure beside the Markdown (which shows it), and in `validate`'s report.
+    let svg_path = report.with_extension("svg");
+    let svg = fit_file::figure(&f, &run).svg(640, 380);
+    if let (Some(_), Some(name)) = (&svg, svg_path.file_name()) {
+        md += &format!(
+            "\n![Every target's error before and after, in standard errors]({})\n",
+            name.to_string_lossy()
+        );
+    }
     let written = (|| -> Result<(), String> {
-        for (path, text) in [
+        let mut files = vec![
             (
                 &output,
                 serde_yaml::to_string(&spec).map_err(|e| e.to_string())?,
             ),
             (&report, md.clone()),
-        ] {
+        ];
+        if let Some(svg) = &svg {
+            files.push((&svg_path, svg.clone()));
+        }
+        for (path, text) in files {
             if let Some(dir) = path.parent()
                 && !dir.as_os_str().is_empty()
             {
@@ -1058,12 +1217,22 @@ fn fit(
                 "run": run,
                 "corrections_file": output.display().to_string(),
                 "report": report.display().to_string(),
+                "figure": svg.as_ref().map(|_| svg_path.display().to_string()),
             }))
             .expect("serialisable")
         ),
         Format::Text => {
             print!("{md}");
-            println!("wrote {} and {}", output.display(), report.display());
+            println!(
+                "wrote {}, {}{}",
+                output.display(),
+                report.display(),
+                if svg.is_some() {
+                    format!(" and {}", svg_path.display())
+                } else {
+                    String::new()
+                }
+            );
         }
     }
     if run.result.status == cierva_harness::fit::Status::Converged {
@@ -1294,7 +1463,18 @@ fn autorotate(
     ExitCode::SUCCESS
 }
 
-fn bench(repeat: usize) -> ExitCode {
+fn bench(repeat: usize, format: Format) -> ExitCode {
+    // Rows print as they are measured (text), or are gathered into JSON at the end.
+    let rows = std::cell::RefCell::new(Vec::<String>::new());
+    macro_rules! row {
+        ($($t:tt)*) => {{
+            let line = format!($($t)*);
+            match format {
+                Format::Text => println!("{line}"),
+                Format::Json => rows.borrow_mut().push(line),
+            }
+        }};
+    }
     use cierva_model::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
     use std::time::Instant;
     let path = cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml");
@@ -1366,19 +1546,19 @@ fn bench(repeat: usize) -> ExitCode {
             })
         })
         .collect();
-    println!("| operation | median | notes |");
-    println!("| --- | --- | --- |");
-    println!(
+    row!("| operation | median | notes |");
+    row!("| --- | --- | --- |");
+    row!(
         "| blade right-hand side (flap equation with {} elements) | {:.2} us | one blade at one azimuth; {} blades per rotor evaluation |",
         rotor.elements + 1,
         1e6 * median(rhs),
         rotor.blades
     );
-    println!(
+    row!(
         "| periodic blade solution (warm start, 2.5 deg steps, RK4) | {:.2} ms | one blade to a periodic state, then one revolution of loads |",
         1e3 * median(steady)
     );
-    println!(
+    row!(
         "| PCA-2 autorotation (bracket + Newton on Omega, v0, v1s, v1c) | {:.1} ms | TR 515 row 19 condition, from a cold start |",
         1e3 * median(auto)
     );
@@ -1465,7 +1645,7 @@ fn bench(repeat: usize) -> ExitCode {
                         })
                     })
                     .collect();
-                println!(
+                row!(
                     "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; issue 4's target: under 100 ms |",
                     1e3 * median(lins)
                 );
@@ -1508,31 +1688,31 @@ fn bench(repeat: usize) -> ExitCode {
                         })
                         .collect();
                     let m = median(runs);
-                    println!(
+                    row!(
                         "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; issue 4's target: 200 times with 10 elements |",
                         m,
                         60.0 / m
                     );
                 }
-                println!(
+                row!(
                     "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); issue 3's target: under 50 ms |",
                     1e3 * median(trims),
                     t.iterations
                 );
                 if let Some(w) = warm_last {
-                    println!(
+                    row!(
                         "| VPM M16 trim at 70 mph, 455 kg, warm-started from the 450 kg trim | {:.1} ms | {} model evaluations against {} cold: the last Jacobian carried over, as in a fit |",
                         1e3 * median(warm_trims),
                         w.evaluations,
                         t.evaluations
                     );
                 }
-                println!(
+                row!(
                     "| full model right-hand side (individual blades, {} flap states, inflow, rotorspeed, propeller, airframe, 6-DOF) | {:.1} us | one evaluation at the 70 mph trim, including the propeller's inflow solution |",
                     x.flap.len(),
                     1e6 * median(full)
                 );
-                println!(
+                row!(
                     "| revolution-averaged model evaluation (periodic blade solution, warm) | {:.2} ms | what trim evaluates: the rotor's periodic flapping at 5 deg steps, then its mean loads |",
                     1e3 * median(averaged)
                 );
@@ -1595,7 +1775,7 @@ fn bench(repeat: usize) -> ExitCode {
                     })
                 })
                 .collect();
-            println!(
+            row!(
                 "| identification, 5 states, {seconds} s at 100 Hz, {points} frequencies | {:.1} ms | air data to c.g., chirp-z transforms once, least squares then 2 instrumental-variable passes |",
                 1e3 * median(t)
             );
@@ -1661,7 +1841,7 @@ fn bench(repeat: usize) -> ExitCode {
                 let started = Instant::now();
                 let r = fit::fit(&problem);
                 let total = started.elapsed().as_secs_f64();
-                println!(
+                row!(
                     "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, warm-started from the last at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; issue 6's target: under 5 s |",
                     r.status.name(),
                     r.iterations,
@@ -1678,6 +1858,33 @@ fn bench(repeat: usize) -> ExitCode {
     if !sink.is_finite() {
         eprintln!("(a timed result was not finite)");
     }
+    if format == Format::Json {
+        let cells = |l: &str| -> Vec<String> {
+            l.trim()
+                .trim_matches('|')
+                .split(" | ")
+                .map(|c| c.trim().to_string())
+                .collect()
+        };
+        let measured: Vec<serde_json::Value> = rows
+            .borrow()
+            .iter()
+            .skip(2)
+            .map(|l| {
+                let c = cells(l);
+                serde_json::json!({
+                    "operation": c.first(),
+                    "median": c.get(1),
+                    "notes": c.get(2),
+                })
+            })
+            .collect();
+        done(
+            format,
+            String::new(),
+            serde_json::json!({"repeat": repeat, "rows": measured}),
+        );
+    }
     ExitCode::SUCCESS
 }
 
@@ -1686,7 +1893,7 @@ fn synth(a: SynthArgs) -> ExitCode {
     let r = match refs::load(&a.model) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -1767,12 +1974,23 @@ fn synth(a: SynthArgs) -> ExitCode {
     match synth::generate(&model, &settings) {
         Ok((channels, data, meta)) => match record::write(&a.output, &meta, &channels, &data) {
             Ok(()) => {
-                println!(
-                    "wrote {} and {} ({} samples, seed {})",
-                    a.output.display(),
-                    record::sidecar_path(&a.output).display(),
-                    data[0].len(),
-                    a.seed
+                done(
+                    a.format,
+                    format!(
+                        "wrote {} and {} ({} samples, seed {})",
+                        a.output.display(),
+                        record::sidecar_path(&a.output).display(),
+                        data[0].len(),
+                        a.seed
+                    ),
+                    serde_json::json!({
+                        "wrote": [
+                            a.output.display().to_string(),
+                            record::sidecar_path(&a.output).display().to_string()
+                        ],
+                        "samples": data[0].len(),
+                        "seed": a.seed,
+                    }),
                 );
                 ExitCode::SUCCESS
             }
@@ -1809,7 +2027,7 @@ fn identify(
         {
             Ok(c) => c,
             Err(e) => {
-                eprintln!("error: {e}");
+                eprintln!("{}", e.render());
                 return ExitCode::from(2);
             }
         },
@@ -1900,16 +2118,11 @@ fn inflow(
 ) -> ExitCode {
     use cierva_harness::ident::{flap, record};
     let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
-        .map_err(|e| e.to_string())
-        .and_then(|rec| {
-            cierva_harness::rotor_file::load(&rotor)
-                .map(|r| (rec, r))
-                .map_err(|e| e.to_string())
-        });
+        .and_then(|rec| cierva_harness::rotor_file::load(&rotor).map(|r| (rec, r)));
     let (rec, file) = match loaded {
         Ok(x) => x,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -1950,13 +2163,13 @@ fn synth_teeter(
     airspeed_m_s: f64,
     collective_deg: Option<f64>,
     (duration_s, sample_rate_hz, seed, noise_deg): (f64, f64, u64, f64),
-    output: PathBuf,
+    (output, format): (PathBuf, Format),
 ) -> ExitCode {
     use cierva_harness::ident::{flap, record};
     let file = match cierva_harness::rotor_file::load(&rotor) {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
@@ -1999,13 +2212,24 @@ fn synth_teeter(
     );
     match record::write(&output, &meta, &channels, &data) {
         Ok(()) => {
-            println!(
-                "wrote {} and its sidecar: model inflow v0 {:.4}, v1s {:.4}, v1c {:.4} m/s, coning {:.4} deg",
-                output.display(),
-                a.inflow.v0,
-                a.inflow.v1s,
-                a.inflow.v1c,
-                a.a0_rad.to_degrees()
+            done(
+                format,
+                format!(
+                    "wrote {} and its sidecar: model inflow v0 {:.4}, v1s {:.4}, v1c {:.4} m/s, coning {:.4} deg",
+                    output.display(),
+                    a.inflow.v0,
+                    a.inflow.v1s,
+                    a.inflow.v1c,
+                    a.a0_rad.to_degrees()
+                ),
+                serde_json::json!({
+                    "wrote": [
+                        output.display().to_string(),
+                        record::sidecar_path(&output).display().to_string()
+                    ],
+                    "model_inflow_m_s": {"v0": a.inflow.v0, "v1s": a.inflow.v1s, "v1c": a.inflow.v1c},
+                    "coning_deg": a.a0_rad.to_degrees(),
+                }),
             );
             ExitCode::SUCCESS
         }
@@ -2016,7 +2240,7 @@ fn synth_teeter(
     }
 }
 
-fn new_case(path: PathBuf) -> ExitCode {
+fn new_case(path: PathBuf, format: Format) -> ExitCode {
     let Some(id) = path.file_stem().map(|s| s.to_string_lossy().to_string()) else {
         eprintln!("error: {}: not a file name", path.display());
         return ExitCode::from(2);
@@ -2028,10 +2252,14 @@ fn new_case(path: PathBuf) -> ExitCode {
     let text = include_str!("../templates/case.yaml").replace("CASE_ID", &id);
     match std::fs::write(&path, text) {
         Ok(()) => {
-            println!(
-                "wrote {}: edit it, then `cierva validate {}`",
-                path.display(),
-                path.display()
+            done(
+                format,
+                format!(
+                    "wrote {}: edit it, then `cierva validate {}`",
+                    path.display(),
+                    path.display()
+                ),
+                serde_json::json!({"wrote": [path.display().to_string()], "id": id}),
             );
             ExitCode::SUCCESS
         }
@@ -2105,7 +2333,8 @@ fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         f64::to_radians,
     );
     let (request, loading) = (a.flight.request(0.0), a.flight.loading());
-    let flown = match history::fly(
+    let busy = spinner(&format!("flying {} s", a.duration_s));
+    let flown = history::fly(
         &file.aircraft,
         request,
         loading,
@@ -2116,7 +2345,9 @@ fn synth_history(a: SynthHistoryArgs) -> ExitCode {
             samples: (a.duration_s / sample_s).round() as usize,
             azimuth_step_rad: step,
         },
-    ) {
+    );
+    busy.finish_and_clear();
+    let flown = match flown {
         Ok(f) => f,
         Err(e) => {
             eprintln!("error: {}: {e}", a.flight.aircraft.display());
@@ -2189,10 +2420,20 @@ fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         };
     match cierva_harness::ident::record::write(&a.output, &meta, &channels, &data) {
         Ok(()) => {
-            eprintln!(
-                "wrote {} and its sidecar ({} samples)",
-                a.output.display(),
-                flown.time_s.len()
+            done(
+                a.format,
+                format!(
+                    "wrote {} and its sidecar ({} samples)",
+                    a.output.display(),
+                    flown.time_s.len()
+                ),
+                serde_json::json!({
+                    "wrote": [
+                        a.output.display().to_string(),
+                        cierva_harness::ident::record::sidecar_path(&a.output).display().to_string()
+                    ],
+                    "samples": flown.time_s.len(),
+                }),
             );
             ExitCode::SUCCESS
         }

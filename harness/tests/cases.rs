@@ -95,7 +95,7 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
             Trial::test(format!("{}::snapshot-time-histories", case.id), move || {
                 let mut rows = Vec::new();
                 for k in c.checks.iter().filter(|k| k.kind == time_history) {
-                    let m = eval::time_history_metrics(&file, loading, k)?;
+                    let (m, _) = eval::time_history_metrics(&file, loading, k)?;
                     rows.push((k.id.clone(), m));
                 }
                 snapshot(&c, "time-histories", Ok(text::time_history_table(&rows)))

@@ -10,9 +10,15 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
+/// Runs `cierva` from the repository's root. `validate` writes no report unless the test asks
+/// for one with `--report-dir` (tests run in parallel and must not share `reports/`).
 fn cierva(args: &[&str]) -> (i32, String, String) {
+    let mut args: Vec<&str> = args.to_vec();
+    if args.first() == Some(&"validate") && !args.contains(&"--report-dir") {
+        args.push("--no-report");
+    }
     let out = Command::new(env!("CARGO_BIN_EXE_cierva"))
-        .args(args)
+        .args(&args)
         .current_dir(root())
         .output()
         .expect("runs");
@@ -522,4 +528,113 @@ fn validate_with_fitted_corrections_reports_the_checks_that_now_pass() {
     let (code, _, err) = cierva(&["validate", case, "--corrections", case]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains(case), "{err}");
+}
+
+/// `validate` writes a self-contained HTML report with a section per case and plots that have
+/// data, and a Markdown summary with the counts; the JSON output names the files.
+#[test]
+fn validate_writes_a_report_with_plots_and_a_summary() {
+    let dir = std::env::temp_dir().join(format!("cierva-report-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = cierva(&[
+        "validate",
+        "cases/vpm-m16-stability-max-weight.yaml",
+        "cases/vpm-m16-stability-min-weight.yaml",
+        "cases/synthetic-time-history-vpm-m16-70mph.yaml",
+        "--report-dir",
+        d,
+        "--format",
+        "json",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("valid JSON");
+    assert_eq!(v["report"].as_array().map(Vec::len), Some(2), "{out}");
+    let html = std::fs::read_to_string(dir.join("index.html")).expect("index.html");
+    for id in [
+        "vpm-m16-stability-max-weight",
+        "vpm-m16-stability-min-weight",
+        "synthetic-time-history-vpm-m16-70mph",
+    ] {
+        assert!(
+            html.contains(&format!("id=\"case-{id}\"")),
+            "no section for {id}"
+        );
+    }
+    // Self-contained: nothing fetched from elsewhere.
+    assert!(!html.contains("<link ") && !html.contains(" src="));
+    // Every figure has points and an SVG with marks; nothing drawn from a NaN.
+    let figures: Vec<&str> = html.split("<figure class=\"plot\"").skip(1).collect();
+    assert!(figures.len() >= 20, "{} figures", figures.len());
+    for f in &figures {
+        let svg = &f[..f.find("</figure>").unwrap()];
+        let points: usize = svg
+            .split("data-points=\"")
+            .nth(1)
+            .and_then(|s| s.split('"').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or(0);
+        assert!(
+            points > 0 && svg.contains("<svg"),
+            "{}",
+            &svg[..200.min(svg.len())]
+        );
+        assert!(
+            !svg.contains("NaN"),
+            "a NaN in {}",
+            &svg[..200.min(svg.len())]
+        );
+    }
+    // The plots engineers expect: derivatives against airspeed at both weights, the complex
+    // plane, the BCAR chart, time histories with tolerance bands.
+    for title in [
+        "vpm-m16: Q_u against airspeed",
+        "vpm-m16-stability-max-weight: eigenvalues",
+        "BCAR Section T boundary",
+        "largest error allowed",
+    ] {
+        assert!(html.contains(title), "no `{title}` in the report");
+    }
+    assert!(html.contains("model, 410 kg") && html.contains("model, 450 kg"));
+    let md = std::fs::read_to_string(dir.join("summary.md")).expect("summary.md");
+    assert!(md.contains("3 cases") && md.contains("0 failed"), "{md}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A typo in an input CSV's header, and a bad number: the error names the file, line and
+/// column, puts a caret under the field, and suggests the nearest column name.
+#[test]
+fn a_bad_control_csv_is_located_with_a_caret_and_a_suggestion() {
+    let dir = std::env::temp_dir().join(format!("cierva-csv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let typo = dir.join("typo.csv");
+    std::fs::write(&typo, "time_s,eta_s_percnt\n0,0\n1,1\n").unwrap();
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "time_s, eta_s_percent\n0, 0\n1, abc\n").unwrap();
+    let run = |p: &Path| {
+        cierva(&[
+            "simulate",
+            "aircraft/vpm-m16.yaml",
+            "--airspeed-mph",
+            "70",
+            "--input",
+            p.to_str().unwrap(),
+            "--output",
+            dir.join("out.csv").to_str().unwrap(),
+        ])
+    };
+    let (code, _, err) = run(&typo);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("typo.csv:1:8:"), "{err}");
+    assert!(err.contains("did you mean `eta_s_percent`?"), "{err}");
+    assert!(err.contains("\n  |        ^"), "{err}");
+    let (code, _, err) = run(&bad);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("bad.csv:3:4:") && err.contains("`abc`"),
+        "{err}"
+    );
+    assert!(err.contains("\n  |    ^"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

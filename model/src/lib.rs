@@ -67,4 +67,7 @@ pub mod timehistory;
 pub mod trim;
 
 pub use linear::{Element, LinearModel, LinearModelError};
+
+/// This crate's version, for reports.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub use modes::{Complex, ModalAnalysis, Mode, ModeKind, modes};

@@ -171,6 +171,17 @@ pub fn load_with(
         field: None,
         message: msg,
     };
+    // The same, with the caret under the `k`-th comma-separated field of `text`.
+    let at_field = |line: usize, text: &str, k: usize, msg: String| {
+        let mut e = at(line, msg);
+        let start: usize = text.split(',').take(k).map(|c| c.chars().count() + 1).sum();
+        let pad = text
+            .split(',')
+            .nth(k)
+            .map_or(0, |c| c.chars().take_while(|ch| ch.is_whitespace()).count());
+        e.column = Some(start + pad + 1);
+        e
+    };
     let mut lines = src
         .lines()
         .enumerate()
@@ -223,8 +234,10 @@ pub fn load_with(
         for (k, f) in fields.iter().enumerate() {
             let v = f.trim();
             let x: f64 = v.parse().map_err(|_| {
-                at(
+                at_field(
                     line_no + 1,
+                    line,
+                    k,
                     if v.is_empty() {
                         format!("channel `{}` has a gap (empty value)", channels[k])
                     } else {
@@ -233,7 +246,12 @@ pub fn load_with(
                 )
             })?;
             if !x.is_finite() {
-                return Err(at(line_no + 1, format!("channel `{}` is {x}", channels[k])));
+                return Err(at_field(
+                    line_no + 1,
+                    line,
+                    k,
+                    format!("channel `{}` is {x}", channels[k]),
+                ));
             }
             data[k].push(x);
         }

@@ -1,0 +1,453 @@
+//! The report's figures, built from check results alone.
+//!
+//! - Across cases: every aircraft derivative checked at two airspeeds or more, by aircraft and
+//!   derivative, the model at each mass as a line and the references as bars (seed 001 Fig. 5).
+//! - In a case: trim quantities against airspeed; a trim sweep's controls, attitudes and
+//!   rotorspeed; an isolated rotor's quantities against tip-speed ratio (TR 515); the
+//!   eigenvalues on the complex plane, one series per condition, the checked modes ringed; the
+//!   BCAR Section T chart (seed 000 Figs. 3 and 14: period against damping index, with the
+//!   boundary); time histories, reference and model, with the allowed error as a band.
+
+use super::plot::{Band, Bar, Figure, Series, Style};
+use super::{CaseRun, Run};
+use crate::case::{Check, CheckKind, Subject};
+use crate::eval::{CheckResult, PlotData};
+use std::collections::BTreeMap;
+
+fn check_of<'a>(c: &'a CaseRun, r: &CheckResult) -> Option<&'a Check> {
+    c.case.checks.iter().find(|k| k.id == r.check)
+}
+
+fn bar(x: f64, q: &crate::eval::QuantityResult) -> Bar {
+    Bar {
+        x,
+        lower: q.lower,
+        upper: q.upper,
+        expected: q.expected,
+    }
+}
+
+fn distinct(xs: impl Iterator<Item = f64>) -> usize {
+    let mut v: Vec<f64> = xs.filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    v.len()
+}
+
+fn sorted(mut p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    p.sort_by(|a, b| a.0.total_cmp(&b.0));
+    p
+}
+
+/// The unit of a derivative `X_u`: force or moment per unit of the state or control.
+fn derivative_unit(name: &str) -> String {
+    let Some((f, x)) = name.split_once('_') else {
+        return String::new();
+    };
+    let units = crate::linear_units();
+    let of = units.get(x).map_or("?", |s| s.as_str());
+    let of = if of.starts_with('%') { "%" } else { of };
+    let numerator = match f {
+        "X" | "Y" | "Z" => "m/s^2",
+        "L" | "M" | "N" | "Q" => "rad/s^2",
+        _ => "?",
+    };
+    format!("{numerator} per {of}")
+}
+
+/// Aircraft derivative checks across cases: one figure per aircraft and derivative checked at
+/// two or more airspeeds.
+pub fn across_cases(run: &Run) -> Vec<Figure> {
+    /// (aircraft, derivative) -> (model points by series, reference bars).
+    type Group = (BTreeMap<String, Vec<(f64, f64)>>, Vec<Bar>);
+    let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
+    for c in &run.cases {
+        let Subject::Aircraft { file, loading } = &c.case.subject else {
+            continue;
+        };
+        let mass = loading.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
+        for r in &c.results {
+            let Some(k) = check_of(c, r) else { continue };
+            let (Some(d), Some(cond)) = (&k.derivative, k.condition) else {
+                continue;
+            };
+            if k.kind != CheckKind::Derivative {
+                continue;
+            }
+            let Some(q) = r.quantities.iter().find(|q| q.quantity == "value") else {
+                continue;
+            };
+            let label = match &k.divided_by {
+                Some(by) => format!("{d} / {by}"),
+                None => d.clone(),
+            };
+            let corrected = k.corrections.is_some() || !c.corrections.is_empty();
+            let series = format!(
+                "model, {mass:.0} kg{}",
+                if corrected { ", corrected" } else { "" }
+            );
+            let g = groups.entry((file.id.clone(), label)).or_default();
+            let pts = g.0.entry(series).or_default();
+            if !pts.iter().any(|p| p.0 == cond.airspeed_mph) {
+                pts.push((cond.airspeed_mph, q.value));
+            }
+            g.1.push(bar(cond.airspeed_mph, q));
+        }
+    }
+    groups
+        .into_iter()
+        .filter(|(_, (s, _))| distinct(s.values().flatten().map(|p| p.0)) >= 2)
+        .map(|((aircraft, label), (series, bars))| Figure {
+            y_label: if label.contains('/') {
+                "ratio".into()
+            } else {
+                derivative_unit(&label)
+            },
+            title: format!("{aircraft}: {label} against airspeed"),
+            x_label: "airspeed, mph".into(),
+            series: series
+                .into_iter()
+                .map(|(name, p)| Series {
+                    name,
+                    points: sorted(p),
+                    style: Style::LineMarkers,
+                    colour: None,
+                })
+                .collect(),
+            bars,
+            bars_name: "reference (allowed range)".into(),
+            ..Figure::default()
+        })
+        .collect()
+}
+
+/// A case's figures.
+pub fn of_case(c: &CaseRun) -> Vec<Figure> {
+    let mut out = Vec::new();
+    out.extend(trim_against_airspeed(c));
+    out.extend(sweeps(c));
+    out.extend(tunnel(c));
+    out.extend(eigenvalues(c));
+    out.extend(bcar_chart(c));
+    out.extend(time_histories(c));
+    out
+}
+
+/// Per-quantity figures of `(x, result quantity)` points: the model's values and the
+/// references' ranges.
+fn by_quantity(
+    points: Vec<(f64, &crate::eval::QuantityResult)>,
+    title: impl Fn(&str) -> String,
+    x_label: &str,
+    style: Style,
+) -> Vec<Figure> {
+    let mut groups: BTreeMap<String, Vec<(f64, &crate::eval::QuantityResult)>> = BTreeMap::new();
+    for (x, q) in points {
+        groups.entry(q.quantity.clone()).or_default().push((x, q));
+    }
+    groups
+        .into_iter()
+        .filter(|(_, v)| distinct(v.iter().map(|p| p.0)) >= 2)
+        .map(|(name, v)| Figure {
+            title: title(&name),
+            x_label: x_label.into(),
+            y_label: name.clone(),
+            series: vec![Series {
+                name: "model".into(),
+                points: sorted(v.iter().map(|(x, q)| (*x, q.value)).collect()),
+                style,
+                colour: None,
+            }],
+            bars: v.iter().map(|(x, q)| bar(*x, q)).collect(),
+            bars_name: "reference (allowed range)".into(),
+            ..Figure::default()
+        })
+        .collect()
+}
+
+fn trim_against_airspeed(c: &CaseRun) -> Vec<Figure> {
+    let pts: Vec<(f64, &crate::eval::QuantityResult)> = c
+        .results
+        .iter()
+        .filter(|r| r.kind == CheckKind::Trim)
+        .filter_map(|r| Some((check_of(c, r)?.condition?.airspeed_mph, r)))
+        .flat_map(|(x, r)| r.quantities.iter().map(move |q| (x, q)))
+        .collect();
+    by_quantity(
+        pts,
+        |q| format!("trim: {q} against airspeed"),
+        "airspeed, mph",
+        Style::LineMarkers,
+    )
+}
+
+fn sweeps(c: &CaseRun) -> Vec<Figure> {
+    let groups: [(&str, &str, &[&str]); 3] = [
+        (
+            "controls",
+            "% of travel",
+            &[
+                "stick_longitudinal_percent",
+                "stick_lateral_percent",
+                "pedal_percent",
+                "throttle_percent",
+            ],
+        ),
+        (
+            "attitudes",
+            "deg",
+            &["pitch_deg", "roll_deg", "alpha_deg", "disc_alpha_deg"],
+        ),
+        ("rotorspeed", "rpm", &["rotor_rpm"]),
+    ];
+    let mut out = Vec::new();
+    for r in &c.results {
+        let Some(PlotData::Sweep { points }) = &r.plot else {
+            continue;
+        };
+        for (what, unit, names) in groups {
+            out.push(Figure {
+                title: format!("{}: trimmed {what} against airspeed", r.check),
+                x_label: "airspeed, mph".into(),
+                y_label: unit.into(),
+                series: names
+                    .iter()
+                    .map(|n| Series {
+                        name: (*n).into(),
+                        points: points
+                            .iter()
+                            .filter_map(|(v, q)| {
+                                q.iter().find(|(k, _)| k == n).map(|(_, y)| (*v, *y))
+                            })
+                            .collect(),
+                        style: Style::LineMarkers,
+                        colour: None,
+                    })
+                    .collect(),
+                ..Figure::default()
+            });
+        }
+    }
+    out
+}
+
+fn tunnel(c: &CaseRun) -> Vec<Figure> {
+    let rows: Vec<(&CheckResult, &crate::case::TunnelSpec)> = c
+        .results
+        .iter()
+        .filter(|r| r.kind == CheckKind::Autorotation)
+        .filter_map(|r| Some((r, check_of(c, r)?.tunnel.as_ref()?)))
+        .collect();
+    if rows.is_empty() {
+        return vec![];
+    }
+    let by_mu = rows.iter().all(|(_, t)| t.tip_speed_ratio.is_some());
+    let pts: Vec<(f64, &crate::eval::QuantityResult)> = rows
+        .iter()
+        .flat_map(|(r, t)| {
+            let x = if by_mu {
+                t.tip_speed_ratio.unwrap_or(f64::NAN)
+            } else {
+                t.alpha_deg
+            };
+            r.quantities.iter().map(move |q| (x, q))
+        })
+        .collect();
+    by_quantity(
+        pts,
+        |q| format!("isolated rotor: {q}"),
+        if by_mu {
+            "tip-speed ratio mu"
+        } else {
+            "disc angle of attack, deg"
+        },
+        Style::Markers,
+    )
+}
+
+fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
+    let mut series: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut selected = Vec::new();
+    for r in &c.results {
+        let Some(PlotData::Modes {
+            eigenvalues,
+            selected: s,
+        }) = &r.plot
+        else {
+            continue;
+        };
+        let Some(k) = check_of(c, r) else { continue };
+        let label = match k.condition {
+            Some(cond) => format!("{:>5.1} mph, {:?}", cond.airspeed_mph, k.system),
+            None => format!("{:?} system", k.system),
+        };
+        if !k.set.is_empty() || k.without_rotorspeed_coupling {
+            continue;
+        }
+        // A complex mode is listed once: draw its conjugate too.
+        let both = |e: &cierva_model::Complex| {
+            if e.im == 0.0 {
+                vec![(e.re, 0.0)]
+            } else {
+                vec![(e.re, e.im), (e.re, -e.im)]
+            }
+        };
+        series
+            .entry(label)
+            .or_insert_with(|| eigenvalues.iter().flat_map(both).collect());
+        if let Some(s) = s {
+            selected.extend(both(s));
+        }
+    }
+    if series.is_empty() {
+        return vec![];
+    }
+    let mut s: Vec<Series> = series
+        .into_iter()
+        .map(|(name, points)| Series {
+            name,
+            points,
+            style: Style::Markers,
+            colour: None,
+        })
+        .collect();
+    if s.len() > 7 {
+        s.truncate(7);
+    }
+    s.push(Series {
+        name: "modes the checks select".into(),
+        points: selected,
+        style: Style::Markers,
+        colour: Some(7),
+    });
+    vec![Figure {
+        title: format!("{}: eigenvalues", c.case.id),
+        x_label: "real part, 1/s".into(),
+        y_label: "imaginary part, rad/s".into(),
+        series: s,
+        x_zero: true,
+        ..Figure::default()
+    }]
+}
+
+fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
+    let mut complies = Vec::new();
+    let mut not = Vec::new();
+    for r in c.results.iter().filter(|r| r.kind == CheckKind::Bcar) {
+        let Some(PlotData::Modes {
+            selected: Some(e), ..
+        }) = &r.plot
+        else {
+            continue;
+        };
+        if e.im == 0.0 {
+            continue;
+        }
+        let a =
+            cierva_model::bcar::assess_eigenvalue(e.re, 2.0 * std::f64::consts::PI / e.im.abs());
+        let (x, t) = (a.damping_index, a.period_s);
+        match r.verdict {
+            Some((_, cierva_model::bcar::Verdict::Complies)) => complies.push((x, t)),
+            _ => not.push((x, t)),
+        }
+    }
+    if complies.is_empty() && not.is_empty() {
+        return vec![];
+    }
+    let t_max = complies
+        .iter()
+        .chain(&not)
+        .map(|p| p.1)
+        .fold(25.0f64, f64::max)
+        .min(120.0);
+    let boundary = vec![
+        (1.0, 0.0),
+        (1.0, 5.0),
+        (0.5, 5.0),
+        (0.5, 10.0),
+        (0.0, 10.0),
+        (0.0, 20.0),
+        (-1.0, 20.0),
+        (-t_max / 20.0, t_max),
+    ];
+    vec![Figure {
+        title: format!(
+            "{}: BCAR Section T (complies to the right of the boundary)",
+            c.case.id
+        ),
+        x_label: "damping index T / t_half (1 / cycles to half amplitude)".into(),
+        y_label: "period, s".into(),
+        series: vec![
+            Series {
+                name: "BCAR Section T boundary".into(),
+                points: boundary,
+                style: Style::Line,
+                colour: Some(7),
+            },
+            Series {
+                name: "complies".into(),
+                points: complies,
+                style: Style::Markers,
+                colour: Some(2),
+            },
+            Series {
+                name: "does not comply".into(),
+                points: not,
+                style: Style::Markers,
+                colour: Some(1),
+            },
+        ],
+        x_zero: true,
+        ..Figure::default()
+    }]
+}
+
+fn time_histories(c: &CaseRun) -> Vec<Figure> {
+    let mut out = Vec::new();
+    for r in &c.results {
+        let Some(PlotData::TimeHistory { traces }) = &r.plot else {
+            continue;
+        };
+        for t in traces {
+            let n = t.time_s.len().min(t.reference.len()).min(t.model.len());
+            // At most about 500 points a trace: enough for the eye, and the page stays small.
+            let stride = n.div_ceil(500).max(1);
+            let keep = |i: &usize| i.is_multiple_of(stride) || *i + 1 == n;
+            let pair = |v: &[f64]| -> Vec<(f64, f64)> {
+                (0..n).filter(keep).map(|i| (t.time_s[i], v[i])).collect()
+            };
+            out.push(Figure {
+                title: format!("{}: {}", r.check, t.signal),
+                x_label: "time, s".into(),
+                y_label: t.signal.clone(),
+                series: vec![
+                    Series {
+                        name: "reference".into(),
+                        points: pair(&t.reference),
+                        style: Style::Line,
+                        colour: Some(0),
+                    },
+                    Series {
+                        name: "model".into(),
+                        points: pair(&t.model),
+                        style: Style::Line,
+                        colour: Some(1),
+                    },
+                ],
+                bands: t
+                    .band
+                    .map(|b| Band {
+                        name: format!("reference ± {b} (largest error allowed)"),
+                        points: (0..n)
+                            .filter(keep)
+                            .map(|i| (t.time_s[i], t.reference[i] - b, t.reference[i] + b))
+                            .collect(),
+                    })
+                    .into_iter()
+                    .collect(),
+                ..Figure::default()
+            });
+        }
+    }
+    out
+}

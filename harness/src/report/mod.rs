@@ -1,0 +1,509 @@
+//! What a validation run writes for people: `index.html` (self-contained: inline CSS and SVG,
+//! no fonts, scripts from elsewhere or network) and `summary.md`.
+//!
+//! The HTML gives a summary (counts, the slowest cases, versions, corrections), then one
+//! section per case: its provenance, a link to its file, every check with value, expected,
+//! allowed range, tolerance and reason, margin and verdict, and the case's plots. Plots come
+//! from the results alone (see [`figures`]); nothing is recomputed here.
+//!
+//! A small inline script checks the page once it has loaded: every figure must hold an SVG
+//! with drawn marks, or the page marks itself `data-report-check="empty-plot"`. The
+//! headless-browser check (`scripts/check-report`) reads that mark.
+
+pub mod figures;
+pub mod plot;
+
+use crate::case::Case;
+use crate::eval::{CheckResult, Outcome};
+use crate::text::Counts;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One case as it ran.
+#[derive(Debug, Clone)]
+pub struct CaseRun {
+    pub case: Case,
+    pub results: Vec<CheckResult>,
+    pub seconds: f64,
+    /// The corrections the case ran with (`--corrections`), described.
+    pub corrections: Vec<String>,
+}
+
+/// A whole validation run.
+#[derive(Debug, Clone, Default)]
+pub struct Run {
+    pub cases: Vec<CaseRun>,
+    /// Case files that did not load, rendered.
+    pub input_errors: Vec<String>,
+    /// Correction files given, with what they set.
+    pub corrections: Vec<(PathBuf, String)>,
+    pub seconds: f64,
+}
+
+impl Run {
+    /// Every check's outcome, tallied.
+    pub fn counts(&self) -> Counts {
+        let all: Vec<CheckResult> = self
+            .cases
+            .iter()
+            .flat_map(|c| c.results.iter().cloned())
+            .collect();
+        crate::text::counts(&all)
+    }
+}
+
+/// The versions a report names.
+pub fn versions() -> Vec<(&'static str, String)> {
+    vec![
+        ("cierva", env!("CARGO_PKG_VERSION").to_string()),
+        ("model (cierva-model)", cierva_model::VERSION.to_string()),
+        ("target", std::env::consts::ARCH.to_string()),
+    ]
+}
+
+fn esc(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            _ => o.push(ch),
+        }
+    }
+    o
+}
+
+/// A path relative to `from` (a directory), for links; both are made absolute first.
+pub fn relative_link(target: &Path, from: &Path) -> String {
+    let abs = |p: &Path| {
+        std::fs::canonicalize(p).unwrap_or_else(|_| {
+            std::env::current_dir()
+                .map(|d| d.join(p))
+                .unwrap_or_else(|_| p.to_path_buf())
+        })
+    };
+    let (t, f) = (abs(target), abs(from));
+    let tc: Vec<_> = t.components().collect();
+    let fc: Vec<_> = f.components().collect();
+    let common = tc.iter().zip(&fc).take_while(|(a, b)| a == b).count();
+    let mut parts: Vec<String> = vec!["..".into(); fc.len() - common];
+    parts.extend(
+        tc[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    parts.join("/")
+}
+
+fn num(v: f64) -> String {
+    if v.is_nan() {
+        "NaN".into()
+    } else if v.is_infinite() || v.abs() >= 1e5 {
+        if v > 0.0 {
+            "∞".into()
+        } else {
+            "−∞".into()
+        }
+    } else if v == 0.0 || (1e-3..1e4).contains(&v.abs()) {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+fn outcome_class(o: Outcome) -> &'static str {
+    match o {
+        Outcome::Pass => "pass",
+        Outcome::Fail => "fail",
+        Outcome::ExpectedFailure => "xfail",
+        Outcome::UnexpectedPass => "xpass",
+    }
+}
+
+const CSS: &str = r#"
+body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:0 auto;max-width:1180px;padding:0 18px 60px;color:#1d1d1f;line-height:1.4}
+h1{margin:18px 0 4px}h2{margin-top:40px;border-bottom:2px solid #ddd;padding-bottom:4px}h3{margin:22px 0 6px}
+table{border-collapse:collapse;margin:8px 0;font-size:13px}td,th{border:1px solid #ddd;padding:3px 7px;vertical-align:top}
+th{background:#f4f4f6;text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
+.pass{color:#17692f}.fail{color:#b00020;font-weight:bold}.xfail{color:#8a5a00}.xpass{color:#b00020;font-weight:bold}
+span.badge{display:inline-block;border-radius:9px;padding:0 8px;font-size:12px;border:1px solid currentColor}
+.muted{color:#666;font-size:13px}.prov{background:#f8f8fa;border-left:3px solid #ccc;padding:6px 10px;font-size:13px}
+.plots{display:flex;flex-wrap:wrap;gap:10px}figure.plot{margin:0;border:1px solid #e4e4e4;padding:4px}
+figure.plot figcaption{font-size:12px;color:#555;max-width:460px}
+nav ul{columns:2;font-size:13px}code{font-size:12px}.why{font-size:12px;color:#8a5a00}
+"#;
+
+const CHECK_SCRIPT: &str = r#"
+window.addEventListener('error',function(e){document.body.dataset.reportCheck='error: '+e.message});
+window.addEventListener('load',function(){
+  if((document.body.dataset.reportCheck||'').indexOf('error')===0)return;
+  var figs=document.querySelectorAll('figure.plot'),empty=[];
+  figs.forEach(function(f){var s=f.querySelector('svg');
+    var marks=s?s.querySelectorAll('circle,polyline,polygon,path,line,rect').length:0;
+    var b=s?s.getBBox():{width:0,height:0};
+    if(!s||marks<3||b.width<10||b.height<10||Number(f.dataset.points)<1)empty.push(f.id)});
+  document.body.dataset.figures=String(figs.length);
+  document.body.dataset.reportCheck=empty.length?('empty-plot: '+empty.join(' ')):'ok';
+});
+"#;
+
+/// The report as one HTML page; links to case files are relative to `dir`, where the page is
+/// written.
+pub fn html(run: &Run, dir: &Path) -> String {
+    let counts = run.counts();
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <meta name=\"viewport\" content=\"width=device-width\">\
+         <title>cierva validation report</title><style>{CSS}</style>\
+         <script>{CHECK_SCRIPT}</script></head><body>\n"
+    );
+    let _ = writeln!(
+        h,
+        "<h1>cierva validation report</h1><p class=\"muted\">{} cases, {} checks, {:.1} s. \
+         Validation against outside references; self-regression snapshots are checked by \
+         <code>cargo test</code> and reviewed with <code>cargo insta review</code>.</p>",
+        run.cases.len(),
+        counts.pass + counts.fail + counts.expected_failure + counts.unexpected_pass,
+        run.seconds
+    );
+    h += &summary_html(run, &counts);
+    let cross = figures::across_cases(run);
+    if !cross.is_empty() {
+        h += "<h2 id=\"derivatives-against-airspeed\">Derivatives against airspeed</h2>\
+              <p class=\"muted\">Every aircraft derivative check, by aircraft and derivative: \
+              the model at each mass as a line, the reference's allowed range as a bar \
+              (seed 001 Fig. 5). A bar that runs off the frame is a one-sided (sign) check.</p>";
+        h += &figures_html("all", &cross);
+    }
+    h += &fits_html(dir);
+    h += "<h2>Cases</h2><nav><ul>";
+    for c in &run.cases {
+        let k = crate::text::counts(&c.results);
+        let _ = write!(
+            h,
+            "<li><a href=\"#case-{id}\">{id}</a> <span class=\"muted\">{} pass, {} xfail{}{}</span></li>",
+            k.pass,
+            k.expected_failure,
+            if k.fail > 0 {
+                format!(", <span class=\"fail\">{} FAIL</span>", k.fail)
+            } else {
+                String::new()
+            },
+            if k.unexpected_pass > 0 {
+                format!(", <span class=\"xpass\">{} XPASS</span>", k.unexpected_pass)
+            } else {
+                String::new()
+            },
+            id = esc(&c.case.id)
+        );
+    }
+    h += "</ul></nav>\n";
+    for c in &run.cases {
+        h += &case_html(c, dir);
+    }
+    h += "</body></html>\n";
+    h
+}
+
+/// The fits `cierva fit` has reported into `dir/fits` (its default report folder): each
+/// before/after figure inline, with a link to its Markdown report.
+fn fits_html(dir: &Path) -> String {
+    let Ok(entries) = std::fs::read_dir(dir.join("fits")) else {
+        return String::new();
+    };
+    let mut svgs: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .collect();
+    svgs.sort();
+    let mut h = String::new();
+    for p in svgs {
+        let Ok(svg) = std::fs::read_to_string(&p) else {
+            continue;
+        };
+        if !svg.starts_with("<svg") {
+            continue;
+        }
+        let stem = p
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let md = format!("fits/{stem}.md");
+        let _ = write!(
+            h,
+            "<figure class=\"plot\" id=\"fig-fit-{s}\" data-points=\"{n}\">{svg}<figcaption>fit \
+             <code>{s}</code> (as last run by <code>cierva fit</code>): <a href=\"{md}\">its report</a></figcaption></figure>",
+            s = esc(&stem),
+            n = svg.matches("<circle").count(),
+        );
+    }
+    if h.is_empty() {
+        return h;
+    }
+    format!(
+        "<h2 id=\"fits\">Fitted corrections, before and after</h2><p class=\"muted\">Each fit's \
+         targets in their own standard errors, at the uncorrected start and fitted; the band is \
+         95 %. Rerun a fit with <code>cierva fit FIT.yaml</code>.</p><div class=\"plots\">{h}</div>"
+    )
+}
+
+fn summary_html(run: &Run, counts: &Counts) -> String {
+    let mut h = String::from("<h2 id=\"summary\">Summary</h2><table><tr>");
+    for (label, n, class) in [
+        ("passed", counts.pass, "pass"),
+        ("failed", counts.fail, "fail"),
+        ("expected failures", counts.expected_failure, "xfail"),
+        ("unexpected passes", counts.unexpected_pass, "xpass"),
+        ("files with errors", run.input_errors.len(), "fail"),
+    ] {
+        let _ = write!(
+            h,
+            "<th>{label}</th><td class=\"n {}\">{n}</td>",
+            if n > 0 { class } else { "" }
+        );
+    }
+    h += "</tr></table>";
+    let verdict = if !run.input_errors.is_empty() {
+        ("fail", "bad input: exit code 2")
+    } else if counts.fail + counts.unexpected_pass > 0 {
+        (
+            "fail",
+            "a check failed unexpectedly or an expected failure passed: exit code 1",
+        )
+    } else {
+        (
+            "pass",
+            "every check passed or failed as its case expects: exit code 0",
+        )
+    };
+    let _ = write!(h, "<p class=\"{}\">{}</p>", verdict.0, verdict.1);
+    for e in &run.input_errors {
+        let _ = write!(h, "<pre class=\"fail\">{}</pre>", esc(e));
+    }
+    let mut slow: Vec<&CaseRun> = run.cases.iter().collect();
+    slow.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
+    h += "<h3>Slowest cases</h3><table><tr><th>case</th><th>checks</th><th>wall time, s</th></tr>";
+    for c in slow.iter().take(5) {
+        let _ = write!(
+            h,
+            "<tr><td><a href=\"#case-{id}\">{id}</a></td><td class=\"n\">{}</td><td class=\"n\">{:.2}</td></tr>",
+            c.results.len(),
+            c.seconds,
+            id = esc(&c.case.id)
+        );
+    }
+    h += "</table><h3>Versions and corrections</h3><table>";
+    for (k, v) in versions() {
+        let _ = write!(h, "<tr><th>{k}</th><td>{}</td></tr>", esc(&v));
+    }
+    if run.corrections.is_empty() {
+        h += "<tr><th>corrections</th><td>none given (each case runs as its files say)</td></tr>";
+    }
+    for (p, d) in &run.corrections {
+        let _ = write!(
+            h,
+            "<tr><th>corrections</th><td><code>{}</code>: {}</td></tr>",
+            esc(&p.display().to_string()),
+            esc(d)
+        );
+    }
+    h += "</table>";
+    h
+}
+
+fn figures_html(prefix: &str, figs: &[plot::Figure]) -> String {
+    let mut h = String::from("<div class=\"plots\">");
+    for (i, f) in figs.iter().enumerate() {
+        if let Some(svg) = f.svg(460, 320) {
+            let _ = write!(
+                h,
+                "<figure class=\"plot\" id=\"fig-{}-{i}\" data-points=\"{}\">{svg}<figcaption>{}</figcaption></figure>",
+                esc(prefix),
+                f.points(),
+                esc(&f.title)
+            );
+        }
+    }
+    h += "</div>";
+    h
+}
+
+fn case_html(c: &CaseRun, dir: &Path) -> String {
+    let case = &c.case;
+    let link = relative_link(&case.path, dir);
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<section><h2 id=\"case-{id}\">{id}</h2><p>{title}</p>\
+         <p class=\"muted\">file <a href=\"{link}\"><code>{path}</code></a>; {n} checks in {s:.2} s</p>\
+         <div class=\"prov\"><b>Provenance.</b> {src}{notes}</div>",
+        id = esc(&case.id),
+        title = esc(&case.title),
+        link = esc(&link),
+        path = esc(&case.path.display().to_string()),
+        n = c.results.len(),
+        s = c.seconds,
+        src = esc(&case.provenance.source),
+        notes = case
+            .provenance
+            .notes
+            .as_deref()
+            .map(|n| format!("<br><b>Notes.</b> {}", esc(n)))
+            .unwrap_or_default()
+    );
+    if !c.corrections.is_empty() {
+        let _ = write!(
+            h,
+            "<p class=\"xfail\">Run with corrections: {}</p>",
+            esc(&c.corrections.join("; "))
+        );
+    }
+    let figs = figures::of_case(c);
+    if !figs.is_empty() {
+        h += &figures_html(&case.id, &figs);
+    }
+    h += "<table><tr><th>check</th><th>quantity</th><th>value</th><th>expected</th>\
+          <th>allowed</th><th>tolerance and reason</th><th>margin</th><th>verdict</th></tr>";
+    for r in &c.results {
+        let rows = r.quantities.len().max(1);
+        let class = outcome_class(r.outcome);
+        let head = format!(
+            "<td rowspan=\"{rows}\" id=\"check-{cid}-{k}\"><a href=\"{link}\">{k}</a><br><span class=\"muted\">{kind}</span></td>",
+            cid = esc(&case.id),
+            k = esc(&r.check),
+            kind = r.kind.name(),
+            link = esc(&link)
+        );
+        let mut verdict = format!("<span class=\"badge {class}\">{}</span>", r.outcome.label());
+        if let Some((want, got)) = r.verdict {
+            let _ = write!(
+                verdict,
+                "<br><span class=\"muted\">BCAR: expected {want:?}, computed {got:?}</span>"
+            );
+        }
+        if let Some(why) = &r.expected_failure {
+            let _ = write!(
+                verdict,
+                "<div class=\"why\">expected to fail: {}</div>",
+                esc(why)
+            );
+        }
+        let vcell = format!("<td rowspan=\"{rows}\">{verdict}</td>");
+        if r.quantities.is_empty() {
+            let (class, text) = match (&r.error, &r.plot) {
+                (Some(e), _) => ("fail", esc(e)),
+                (
+                    None,
+                    Some(crate::eval::PlotData::Modes {
+                        selected: Some(e), ..
+                    }),
+                ) => (
+                    "",
+                    format!(
+                        "the verdict only; the mode: eigenvalue {} ± {}i 1/s",
+                        num(e.re),
+                        num(e.im.abs())
+                    ),
+                ),
+                (None, _) => ("", "the verdict only".to_string()),
+            };
+            let _ = write!(
+                h,
+                "<tr>{head}<td colspan=\"6\" class=\"{class}\">{text}</td>{vcell}</tr>"
+            );
+            continue;
+        }
+        for (i, q) in r.quantities.iter().enumerate() {
+            let _ = write!(
+                h,
+                "<tr>{}<td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td>{}</td>\
+                 <td><b>{}</b>: {}</td><td class=\"n {}\">{}</td>{}</tr>",
+                if i == 0 { head.as_str() } else { "" },
+                esc(&q.quantity),
+                num(q.value),
+                q.expected.map_or("-".into(), num),
+                esc(&q.allowed),
+                esc(&q.tolerance),
+                esc(&q.reason),
+                if q.pass { "pass" } else { "fail" },
+                num(q.margin),
+                if i == 0 { vcell.as_str() } else { "" },
+            );
+        }
+    }
+    h += "</table></section>\n";
+    h
+}
+
+/// The summary as Markdown: counts, versions, corrections, the slowest cases, one row per
+/// case, and every check that needs a look (failures and unexpected passes) explained.
+pub fn markdown(run: &Run) -> String {
+    let k = run.counts();
+    let mut m = String::from("# cierva validation summary\n\n");
+    let _ = writeln!(
+        m,
+        "{} cases, {} checks in {:.1} s: **{} passed, {} failed, {} expected failures, {} unexpected passes**, {} files with errors.\n",
+        run.cases.len(),
+        k.pass + k.fail + k.expected_failure + k.unexpected_pass,
+        run.seconds,
+        k.pass,
+        k.fail,
+        k.expected_failure,
+        k.unexpected_pass,
+        run.input_errors.len()
+    );
+    for (name, v) in versions() {
+        let _ = writeln!(m, "- {name}: {v}");
+    }
+    if run.corrections.is_empty() {
+        m += "- corrections: none given\n";
+    }
+    for (p, d) in &run.corrections {
+        let _ = writeln!(m, "- corrections `{}`: {d}", p.display());
+    }
+    m += "\n| case | checks | pass | FAIL | xfail | XPASS | wall time, s |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+    for c in &run.cases {
+        let n = crate::text::counts(&c.results);
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} | {} | {} | {} | {:.2} |",
+            c.case.id,
+            c.results.len(),
+            n.pass,
+            n.fail,
+            n.expected_failure,
+            n.unexpected_pass,
+            c.seconds
+        );
+    }
+    let bad: Vec<&CheckResult> = run
+        .cases
+        .iter()
+        .flat_map(|c| c.results.iter())
+        .filter(|r| !r.outcome.ok())
+        .collect();
+    if !bad.is_empty() {
+        m += "\n## Needs a look\n\n";
+        for r in bad {
+            let _ = writeln!(m, "```\n{}\n```", r.explain());
+        }
+    }
+    for e in &run.input_errors {
+        let _ = writeln!(m, "\n```\n{e}\n```");
+    }
+    m
+}
+
+/// Writes `index.html` and `summary.md` into `dir` (made if missing); the paths written.
+pub fn write(run: &Run, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let index = dir.join("index.html");
+    let summary = dir.join("summary.md");
+    std::fs::write(&index, html(run, dir))?;
+    std::fs::write(&summary, markdown(run))?;
+    Ok(vec![index, summary])
+}

@@ -1,0 +1,340 @@
+//! Figures for the report, drawn as SVG by plotters (no fonts or system libraries: the text is
+//! `<text font-family="sans-serif">`, drawn by the browser).
+//!
+//! A [`Figure`] is data only: lines, markers, vertical bars (a reference's allowed range) and
+//! bands (a tolerance around a reference trace). The axes span the finite data; a bar or band
+//! end far outside it (a sign check's `[0, 1e6]`) is clipped to the frame, so it reads as
+//! "everything above zero". A figure without a finite point is not drawn at all.
+
+use plotters::prelude::*;
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Line,
+    Markers,
+    LineMarkers,
+}
+
+/// One named series of points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+    pub style: Style,
+    /// A colour of the palette (0 blue, 1 red, 2 green, 7 grey), instead of the series' place.
+    pub colour: Option<usize>,
+}
+
+/// A reference's allowed range at one abscissa (a flight 95 % bound, a tolerance).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bar {
+    pub x: f64,
+    pub lower: f64,
+    pub upper: f64,
+    /// The expected value, if there is one (drawn as a tick).
+    pub expected: Option<f64>,
+}
+
+/// A shaded band, `(x, lower, upper)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    pub name: String,
+    pub points: Vec<(f64, f64, f64)>,
+}
+
+/// A figure: axes, series, bars and bands.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Figure {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// The bars and the legend entry they share.
+    pub bars: Vec<Bar>,
+    pub bars_name: String,
+    pub bands: Vec<Band>,
+    /// Draw the vertical axis `x = 0` (the complex plane's imaginary axis).
+    pub x_zero: bool,
+}
+
+/// Values beyond this magnitude are "no bound" (a sign check's interval) and are left out of
+/// the axis ranges.
+const NO_BOUND: f64 = 1e5;
+
+fn colour(i: usize) -> RGBColor {
+    const C: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+        RGBColor(255, 127, 14),
+        RGBColor(23, 190, 207),
+        RGBColor(140, 86, 75),
+        RGBColor(127, 127, 127),
+    ];
+    C[i % C.len()]
+}
+
+fn finite(v: f64) -> bool {
+    v.is_finite() && v.abs() < NO_BOUND
+}
+
+impl Figure {
+    /// The finite data points drawn (series points, bar ends, band points).
+    pub fn points(&self) -> usize {
+        let s: usize = self
+            .series
+            .iter()
+            .map(|s| {
+                s.points
+                    .iter()
+                    .filter(|(x, y)| finite(*x) && finite(*y))
+                    .count()
+            })
+            .sum();
+        let b = self
+            .bars
+            .iter()
+            .filter(|b| finite(b.x) && (finite(b.lower) || finite(b.upper)))
+            .count();
+        let d: usize = self
+            .bands
+            .iter()
+            .map(|b| b.points.iter().filter(|p| finite(p.0)).count())
+            .sum();
+        s + b + d
+    }
+
+    fn ranges(&self) -> Option<((f64, f64), (f64, f64))> {
+        let mut xs = Vec::new();
+        let mut ys = Vec::new();
+        for s in &self.series {
+            for &(x, y) in &s.points {
+                if finite(x) && finite(y) {
+                    xs.push(x);
+                    ys.push(y);
+                }
+            }
+        }
+        for b in &self.bars {
+            if finite(b.x) {
+                xs.push(b.x);
+                ys.extend([b.lower, b.upper].into_iter().filter(|v| finite(*v)));
+            }
+        }
+        for b in &self.bands {
+            for &(x, lo, hi) in &b.points {
+                if finite(x) {
+                    xs.push(x);
+                    ys.extend([lo, hi].into_iter().filter(|v| finite(*v)));
+                }
+            }
+        }
+        if self.x_zero {
+            xs.push(0.0);
+        }
+        // The series set the scale: a reference end far beyond them (a sign check's bound of
+        // 1000) would flatten them to a line, so ends further than twice the series' spread
+        // are left to run off the frame.
+        let own: Vec<f64> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|(x, y)| finite(*x) && finite(*y))
+            .map(|p| p.1)
+            .collect();
+        if !own.is_empty() {
+            let lo = own.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = own.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let spread = (hi - lo).max(0.25 * lo.abs().max(hi.abs())).max(1e-9);
+            ys.retain(|y| *y >= lo - 2.0 * spread && *y <= hi + 2.0 * spread);
+        }
+        let span = |v: &[f64]| -> Option<(f64, f64)> {
+            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if !(lo.is_finite() && hi.is_finite()) {
+                return None;
+            }
+            let pad = if hi > lo {
+                0.06 * (hi - lo)
+            } else {
+                0.1 * lo.abs().max(1.0)
+            };
+            Some((lo - pad, hi + pad))
+        };
+        Some((span(&xs)?, span(&ys)?))
+    }
+
+    /// The figure as an SVG document, or `None` when it has nothing finite to show.
+    pub fn svg(&self, width: u32, height: u32) -> Option<String> {
+        if self.points() == 0 {
+            return None;
+        }
+        let ((x0, x1), (y0, y1)) = self.ranges()?;
+        let mut out = String::new();
+        let drawn = (|| -> Result<(), Box<dyn std::error::Error + '_>> {
+            let root = SVGBackend::with_string(&mut out, (width, height)).into_drawing_area();
+            root.fill(&WHITE)?;
+            let mut chart = ChartBuilder::on(&root)
+                .caption(&self.title, ("sans-serif", 15))
+                .margin(8)
+                .x_label_area_size(36)
+                .y_label_area_size(62)
+                .build_cartesian_2d(x0..x1, y0..y1)?;
+            chart
+                .configure_mesh()
+                .x_desc(self.x_label.as_str())
+                .y_desc(self.y_label.as_str())
+                .label_style(("sans-serif", 11))
+                .max_light_lines(0)
+                .bold_line_style(RGBColor(232, 232, 232))
+                .draw()?;
+            let clip = |v: f64| v.clamp(y0, y1);
+            if self.x_zero {
+                chart.draw_series(std::iter::once(PathElement::new(
+                    vec![(0.0, y0), (0.0, y1)],
+                    BLACK.mix(0.5).stroke_width(1),
+                )))?;
+            }
+            for (i, b) in self.bands.iter().enumerate() {
+                let c = colour(i + 7);
+                let pts: Vec<(f64, f64, f64)> = b
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
+                    .collect();
+                let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, clip(p.2))).collect();
+                poly.extend(pts.iter().rev().map(|p| (p.0, clip(p.1))));
+                chart
+                    .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.25).filled())))?
+                    .label(b.name.as_str())
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.mix(0.25).filled())
+                    });
+            }
+            if !self.bars.is_empty() {
+                let style = BLACK.stroke_width(2);
+                let bars: Vec<Bar> = self
+                    .bars
+                    .iter()
+                    .copied()
+                    .filter(|b| b.x.is_finite() && !b.lower.is_nan() && !b.upper.is_nan())
+                    .collect();
+                let dx = 0.012 * (x1 - x0);
+                chart
+                    .draw_series(bars.iter().map(move |b| {
+                        PathElement::new(vec![(b.x, clip(b.lower)), (b.x, clip(b.upper))], style)
+                    }))?
+                    .label(self.bars_name.as_str())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], style)
+                    });
+                let caps: Vec<(f64, f64)> = bars
+                    .iter()
+                    .flat_map(|b| [(b.x, b.lower), (b.x, b.upper)])
+                    .filter(|(_, v)| *v >= y0 && *v <= y1)
+                    .collect();
+                chart.draw_series(
+                    caps.iter()
+                        .map(|&(x, v)| PathElement::new(vec![(x - dx, v), (x + dx, v)], style)),
+                )?;
+                chart.draw_series(bars.iter().filter_map(move |b| {
+                    let e = b.expected.filter(|v| *v >= y0 && *v <= y1)?;
+                    Some(Cross::new((b.x, e), 4, BLACK.stroke_width(1)))
+                }))?;
+            }
+            for (i, s) in self.series.iter().enumerate() {
+                let c = colour(s.colour.unwrap_or(i));
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .map(|(x, y)| (x, clip(y)))
+                    .collect();
+                let line = matches!(s.style, Style::Line | Style::LineMarkers);
+                let markers = matches!(s.style, Style::Markers | Style::LineMarkers);
+                if line {
+                    chart
+                        .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
+                        .label(s.name.as_str())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
+                        });
+                }
+                if markers {
+                    let a =
+                        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))?;
+                    if !line {
+                        a.label(s.name.as_str())
+                            .legend(move |(x, y)| Circle::new((x + 8, y), 3, c.filled()));
+                    }
+                }
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.4))
+                .label_font(("sans-serif", 11))
+                .draw()?;
+            root.present()?;
+            Ok(())
+        })();
+        drawn.ok()?;
+        Some(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn draws_lines_bars_and_bands_and_refuses_nothing() {
+        let f = Figure {
+            title: "X_u".into(),
+            x_label: "airspeed, mph".into(),
+            y_label: "1/s".into(),
+            series: vec![Series {
+                name: "model".into(),
+                points: vec![(30.0, -0.1), (50.0, -0.2), (70.0, f64::NAN)],
+                style: Style::LineMarkers,
+                colour: None,
+            }],
+            bars: vec![Bar {
+                x: 50.0,
+                lower: -0.3,
+                upper: 1e6,
+                expected: None,
+            }],
+            bars_name: "flight".into(),
+            bands: vec![Band {
+                name: "tolerance".into(),
+                points: vec![(30.0, -0.15, -0.05), (50.0, -0.25, -0.15)],
+            }],
+            x_zero: false,
+        };
+        assert_eq!(f.points(), 5);
+        let svg = f.svg(400, 300).expect("drawn");
+        assert!(
+            svg.starts_with("<svg") && svg.contains("airspeed, mph"),
+            "{svg}"
+        );
+        assert!(svg.contains("<circle") && svg.contains("<polyline"));
+        assert!(!svg.contains("NaN"));
+        let empty = Figure {
+            series: vec![Series {
+                name: "model".into(),
+                points: vec![(f64::NAN, 1.0)],
+                style: Style::Line,
+                colour: None,
+            }],
+            ..Figure::default()
+        };
+        assert_eq!(empty.points(), 0);
+        assert!(empty.svg(400, 300).is_none());
+    }
+}
