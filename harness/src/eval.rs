@@ -92,15 +92,28 @@ pub struct CheckResult {
 /// A check's data for the report's plots.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PlotData {
-    /// Every eigenvalue of the system the check looked at, and the check's mode.
+    /// Every eigenvalue of the system the check looked at, and the check's mode; for a check
+    /// that sets a derivative, the root locus from its nominal value to the one set.
     Modes {
         eigenvalues: Vec<Complex>,
         selected: Option<Complex>,
+        locus: Option<Locus>,
     },
     /// The reference record and the model's responses, signal by signal.
     TimeHistory { traces: Vec<Trace> },
     /// The trims of a sweep: airspeed, mph, and the quantities at it.
     Sweep { points: Vec<(f64, Quantities)> },
+}
+
+/// A root locus (seed 002 Figs. 2, 3, 6-8): the system's eigenvalues as one derivative moves
+/// from its nominal value to the value a check sets, and a quarter of the way beyond both.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Locus {
+    pub derivative: String,
+    pub nominal: f64,
+    pub set: f64,
+    /// `(value, eigenvalues)` along the sweep.
+    pub points: Vec<(f64, Vec<Complex>)>,
 }
 
 /// One response of a time-history check: the reference, the model, and the allowed error.
@@ -421,7 +434,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                 };
                 out.push(compare(e, value, || Ok(0.0))?);
             }
-            let plot = modes_plot(&base, check, nominal.anchor);
+            let plot = modes_plot(&model, &base, check, nominal.anchor);
             Ok((out, verdict_pair(check, &nominal)?, plot))
         }
         Subject::Aircraft { file, loading } => {
@@ -489,7 +502,7 @@ fn evaluate(subject: &Subject, check: &Check) -> Result<Evaluated, String> {
                     propagated_rounding(model, check, &nominal, &e.quantity, e)
                 })?);
             }
-            let plot = modes_plot(&base, check, nominal.anchor);
+            let plot = modes_plot(model, &base, check, nominal.anchor);
             Ok((out, verdict_pair(check, &nominal)?, plot))
         }
     }
@@ -531,16 +544,56 @@ pub fn time_history_metrics(
     )
 }
 
-/// The eigenvalues of a mode or BCAR check's system, and its mode.
-fn modes_plot(model: &LinearModel, check: &Check, selected: Option<Complex>) -> Option<PlotData> {
+/// The eigenvalues of a mode or BCAR check's system (`model` as the check modified it), its
+/// mode, and the root locus when the check sets one derivative of `unmodified`.
+fn modes_plot(
+    unmodified: &LinearModel,
+    model: &LinearModel,
+    check: &Check,
+    selected: Option<Complex>,
+) -> Option<PlotData> {
     if !matches!(check.kind, CheckKind::Mode | CheckKind::Bcar) {
         return None;
     }
     let sys = system_model(model, check.system).ok()?;
     let analysis = modes::modes(&sys).ok()?;
+    let locus = match (check.set.len(), check.without_rotorspeed_coupling) {
+        (1, false) => {
+            let (name, &set) = check.set.iter().next().expect("one");
+            locus_of(unmodified, check, name, set)
+        }
+        _ => None,
+    };
     Some(PlotData::Modes {
         eigenvalues: analysis.modes.iter().map(|m| m.eigenvalue).collect(),
         selected,
+        locus,
+    })
+}
+
+/// Points on a root locus.
+const LOCUS_POINTS: usize = 41;
+
+fn locus_of(model: &LinearModel, check: &Check, name: &str, set: f64) -> Option<Locus> {
+    let e = model.derivative(name).ok()?;
+    let nominal = model.derivative_value(name).ok()?;
+    let (lo, hi) = (nominal.min(set), nominal.max(set));
+    let pad = 0.25 * (hi - lo).max(1e-9);
+    let values = cierva_model::locus::linspace(lo - pad, hi + pad, LOCUS_POINTS);
+    let points = values
+        .iter()
+        .filter_map(|&v| {
+            let m = model.with(e, v).ok()?;
+            let sys = system_model(&m, check.system).ok()?;
+            let a = modes::modes(&sys).ok()?;
+            Some((v, a.modes.iter().map(|m| m.eigenvalue).collect()))
+        })
+        .collect();
+    Some(Locus {
+        derivative: name.to_string(),
+        nominal,
+        set,
+        points,
     })
 }
 

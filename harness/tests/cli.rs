@@ -542,6 +542,7 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
         "cases/vpm-m16-stability-max-weight.yaml",
         "cases/vpm-m16-stability-min-weight.yaml",
         "cases/synthetic-time-history-vpm-m16-70mph.yaml",
+        "cases/seed002-vpm-m16-60kn.yaml",
         "--report-dir",
         d,
         "--format",
@@ -553,6 +554,7 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
     assert_eq!(v["report"].as_array().map(Vec::len), Some(2), "{out}");
     let html = std::fs::read_to_string(dir.join("index.html")).expect("index.html");
     for id in [
+        "seed002-vpm-m16-60kn",
         "vpm-m16-stability-max-weight",
         "vpm-m16-stability-min-weight",
         "synthetic-time-history-vpm-m16-70mph",
@@ -593,12 +595,13 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
         "vpm-m16-stability-max-weight: eigenvalues",
         "BCAR Section T boundary",
         "largest error allowed",
+        "seed002-vpm-m16-60kn: root locus in M_Omega",
     ] {
         assert!(html.contains(title), "no `{title}` in the report");
     }
     assert!(html.contains("model, 410 kg") && html.contains("model, 450 kg"));
     let md = std::fs::read_to_string(dir.join("summary.md")).expect("summary.md");
-    assert!(md.contains("3 cases") && md.contains("0 failed"), "{md}");
+    assert!(md.contains("4 cases") && md.contains("0 failed"), "{md}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -129,6 +129,7 @@ pub fn of_case(c: &CaseRun) -> Vec<Figure> {
     out.extend(tunnel(c));
     out.extend(eigenvalues(c));
     out.extend(bcar_chart(c));
+    out.extend(loci(c));
     out.extend(time_histories(c));
     out
 }
@@ -272,6 +273,7 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
         let Some(PlotData::Modes {
             eigenvalues,
             selected: s,
+            ..
         }) = &r.plot
         else {
             continue;
@@ -317,7 +319,7 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
     s.push(Series {
         name: "modes the checks select".into(),
         points: selected,
-        style: Style::Markers,
+        style: Style::Rings,
         colour: Some(7),
     });
     vec![Figure {
@@ -328,6 +330,88 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
         x_zero: true,
         ..Figure::default()
     }]
+}
+
+/// Root loci of checks that set a derivative, one figure per derivative and value set.
+fn loci(c: &CaseRun) -> Vec<Figure> {
+    let mut seen: Vec<(String, u64)> = Vec::new();
+    let mut out = Vec::new();
+    for r in &c.results {
+        let Some(PlotData::Modes {
+            locus: Some(l),
+            selected,
+            ..
+        }) = &r.plot
+        else {
+            continue;
+        };
+        let key = (l.derivative.clone(), l.set.to_bits());
+        if seen.contains(&key) {
+            continue;
+        }
+        seen.push(key);
+        let both = |e: &cierva_model::Complex| {
+            if e.im == 0.0 {
+                vec![(e.re, 0.0)]
+            } else {
+                vec![(e.re, e.im), (e.re, -e.im)]
+            }
+        };
+        let sweep: Vec<(f64, f64)> = l
+            .points
+            .iter()
+            .flat_map(|(_, es)| es.iter().flat_map(both))
+            .collect();
+        let at = |v: f64| -> Vec<(f64, f64)> {
+            l.points
+                .iter()
+                .min_by(|a, b| (a.0 - v).abs().total_cmp(&(b.0 - v).abs()))
+                .map(|(_, es)| es.iter().flat_map(both).collect())
+                .unwrap_or_default()
+        };
+        let mut series = vec![
+            Series {
+                name: format!(
+                    "{} from {:.4} to {:.4}",
+                    l.derivative,
+                    l.points.first().map_or(f64::NAN, |p| p.0),
+                    l.points.last().map_or(f64::NAN, |p| p.0)
+                ),
+                points: sweep,
+                style: Style::Markers,
+                colour: Some(7),
+            },
+            Series {
+                name: format!("nominal, {} = {:.5}", l.derivative, l.nominal),
+                points: at(l.nominal),
+                style: Style::Markers,
+                colour: Some(0),
+            },
+            Series {
+                name: format!("set, {} = {:.5}", l.derivative, l.set),
+                points: at(l.set),
+                style: Style::Markers,
+                colour: Some(1),
+            },
+        ];
+        if let Some(s) = selected {
+            series.push(Series {
+                name: format!("{}'s mode", r.check),
+                points: both(s),
+                style: Style::Rings,
+                colour: Some(2),
+            });
+        }
+        out.push(Figure {
+            title: format!("{}: root locus in {}", c.case.id, l.derivative),
+            x_label: "real part, 1/s".into(),
+            y_label: "imaginary part, rad/s".into(),
+            series,
+            x_zero: true,
+            ..Figure::default()
+        });
+    }
+    out
 }
 
 fn bcar_chart(c: &CaseRun) -> Vec<Figure> {

@@ -14,6 +14,8 @@ pub enum Style {
     Line,
     Markers,
     LineMarkers,
+    /// Hollow rings, larger than markers: to pick out points drawn by another series.
+    Rings,
 }
 
 /// One named series of points.
@@ -163,7 +165,9 @@ impl Figure {
             };
             Some((lo - pad, hi + pad))
         };
-        Some((span(&xs)?, span(&ys)?))
+        // Headroom at the top for the legend.
+        let (y0, y1) = span(&ys)?;
+        Some((span(&xs)?, (y0, y1 + 0.3 * (y1 - y0))))
     }
 
     /// The figure as an SVG document, or `None` when it has nothing finite to show.
@@ -271,6 +275,13 @@ impl Figure {
                         a.label(s.name.as_str())
                             .legend(move |(x, y)| Circle::new((x + 8, y), 3, c.filled()));
                     }
+                }
+                if s.style == Style::Rings {
+                    let ring = c.stroke_width(2);
+                    chart
+                        .draw_series(pts.iter().map(|p| Circle::new(*p, 7, ring)))?
+                        .label(s.name.as_str())
+                        .legend(move |(x, y)| Circle::new((x + 8, y), 6, ring));
                 }
             }
             chart
