@@ -543,6 +543,8 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
         "cases/vpm-m16-stability-min-weight.yaml",
         "cases/synthetic-time-history-vpm-m16-70mph.yaml",
         "cases/seed002-vpm-m16-60kn.yaml",
+        "cases/seed003-synthetic-vpm-m16-teeter.yaml",
+        "cases/seed003-synthetic-vpm-m16-teeter-20-m-s.yaml",
         "--report-dir",
         d,
         "--format",
@@ -596,12 +598,13 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
         "BCAR Section T boundary",
         "largest error allowed",
         "seed002-vpm-m16-60kn: root locus in M_Omega",
+        "vpm-m16-rotor: v0_m_s from teeter flapping against airspeed",
     ] {
         assert!(html.contains(title), "no `{title}` in the report");
     }
     assert!(html.contains("model, 410 kg") && html.contains("model, 450 kg"));
     let md = std::fs::read_to_string(dir.join("summary.md")).expect("summary.md");
-    assert!(md.contains("4 cases") && md.contains("0 failed"), "{md}");
+    assert!(md.contains("6 cases") && md.contains("0 failed"), "{md}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

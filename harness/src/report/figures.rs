@@ -121,6 +121,58 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
         .collect()
 }
 
+/// Inflow from blade flapping against airspeed (seed 003 Figs. 4-6): every teeter-record case,
+/// by rotor, one figure per component. The airspeed is the record's mean hub speed; the model's
+/// recovered value is the line, each reference's allowed range a bar with its expected value.
+pub fn inflow_against_airspeed(run: &Run) -> Vec<Figure> {
+    type Group = (Vec<(f64, f64)>, Vec<Bar>);
+    let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
+    for c in &run.cases {
+        let Subject::FlapRecord { record, rotor, .. } = &c.case.subject else {
+            continue;
+        };
+        let mean = |n: &str| {
+            record
+                .channel(n)
+                .map_or(f64::NAN, |v| v.iter().sum::<f64>() / v.len().max(1) as f64)
+        };
+        let speed = mean("hub_inplane_speed_m_s").hypot(mean("hub_normal_speed_m_s"));
+        for r in c
+            .results
+            .iter()
+            .filter(|r| r.kind == CheckKind::InflowCoefficients)
+        {
+            for q in &r.quantities {
+                let g = groups
+                    .entry((rotor.id.clone(), q.quantity.clone()))
+                    .or_default();
+                if !g.0.iter().any(|p| p.0 == speed) {
+                    g.0.push((speed, q.value));
+                }
+                g.1.push(bar(speed, q));
+            }
+        }
+    }
+    groups
+        .into_iter()
+        .filter(|(_, (p, _))| distinct(p.iter().map(|p| p.0)) >= 2)
+        .map(|((rotor, quantity), (points, bars))| Figure {
+            title: format!("{rotor}: {quantity} from teeter flapping against airspeed"),
+            x_label: "airspeed at the hub, m/s".into(),
+            y_label: quantity,
+            series: vec![Series {
+                name: "recovered from the record (seed 003 Eqs. 13-19)".into(),
+                points: sorted(points),
+                style: Style::LineMarkers,
+                colour: None,
+            }],
+            bars,
+            bars_name: "reference (allowed range; x the expected value)".into(),
+            ..Figure::default()
+        })
+        .collect()
+}
+
 /// A case's figures.
 pub fn of_case(c: &CaseRun) -> Vec<Figure> {
     let mut out = Vec::new();

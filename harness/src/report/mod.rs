@@ -180,6 +180,13 @@ pub fn html(run: &Run, dir: &Path) -> String {
               (seed 001 Fig. 5). A bar that runs off the frame is a one-sided (sign) check.</p>";
         h += &figures_html("all", &cross);
     }
+    let inflow = figures::inflow_against_airspeed(run);
+    if !inflow.is_empty() {
+        h += "<h2 id=\"inflow-against-airspeed\">Inflow against airspeed</h2>\
+              <p class=\"muted\">Inflow components recovered from blade flapping by seed 003's \
+              method, every teeter record by rotor (seed 003 Figs. 4-6).</p>";
+        h += &figures_html("inflow", &inflow);
+    }
     h += &fits_html(dir);
     h += "<h2>Cases</h2><nav><ul>";
     for c in &run.cases {

@@ -137,8 +137,8 @@ impl Figure {
             xs.push(0.0);
         }
         // The series set the scale: a reference end far beyond them (a sign check's bound of
-        // 1000) would flatten them to a line, so ends further than twice the series' spread
-        // are left to run off the frame.
+        // 1000) would flatten them to a line, so ends further than twice the series' spread or
+        // twice their largest magnitude are left to run off the frame.
         let own: Vec<f64> = self
             .series
             .iter()
@@ -149,8 +149,10 @@ impl Figure {
         if !own.is_empty() {
             let lo = own.iter().copied().fold(f64::INFINITY, f64::min);
             let hi = own.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let spread = (hi - lo).max(0.25 * lo.abs().max(hi.abs())).max(1e-9);
-            ys.retain(|y| *y >= lo - 2.0 * spread && *y <= hi + 2.0 * spread);
+            let reach = (2.0 * (hi - lo))
+                .max(2.0 * lo.abs().max(hi.abs()))
+                .max(1e-9);
+            ys.retain(|y| *y >= lo - reach && *y <= hi + reach);
         }
         let span = |v: &[f64]| -> Option<(f64, f64)> {
             let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
