@@ -72,16 +72,7 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
     let at_cell = |line: usize, text: &str, cell: usize, msg: String| {
         let mut e = InputError::file(path, msg);
         e.line = Some(line + 1);
-        let start: usize = text
-            .split(',')
-            .take(cell)
-            .map(|c| c.chars().count() + 1)
-            .sum();
-        let pad = text
-            .split(',')
-            .nth(cell)
-            .map_or(0, |c| c.chars().take_while(|ch| ch.is_whitespace()).count());
-        e.column = Some(start + pad + 1);
+        e.column = Some(crate::yaml::csv_field_column(text, cell));
         e
     };
     let at_line = |line: usize, text: &str, msg: String| at_cell(line, text, 0, msg);

@@ -1019,7 +1019,6 @@ fn validate(
         eprintln!("error: no case files (*.yaml) under {}", show(&paths));
         return ExitCode::from(2);
     }
-    let mut results: Vec<CheckResult> = Vec::new();
     let mut errors = Vec::new();
     let mut corrected: Vec<String> = Vec::new();
     let mut run = report::Run::default();
@@ -1033,11 +1032,10 @@ fn validate(
                         corrected.push(format!("{} ({})", case.id, used.join(", ")));
                     }
                     let t = std::time::Instant::now();
-                    let r = eval::run_case(&case);
-                    results.extend(r.iter().cloned());
+                    let results = eval::run_case(&case);
                     run.cases.push(report::CaseRun {
                         case,
-                        results: r,
+                        results,
                         seconds: t.elapsed().as_secs_f64(),
                         corrections: used,
                     });
@@ -1055,6 +1053,11 @@ fn validate(
         .map(|f| (f.path.clone(), f.corrections.describe()))
         .collect();
     run.seconds = started.elapsed().as_secs_f64();
+    let results: Vec<CheckResult> = run
+        .cases
+        .iter()
+        .flat_map(|c| c.results.iter().cloned())
+        .collect();
     let written = match &report_dir {
         Some(dir) => match report::write(&run, dir) {
             Ok(w) => w,

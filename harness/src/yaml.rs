@@ -60,6 +60,17 @@ impl InputError {
     }
 }
 
+/// The 1-based column of the `k`-th comma-separated field of a CSV line (after its leading
+/// spaces): where a caret points at a bad value.
+pub fn csv_field_column(line: &str, k: usize) -> usize {
+    let start: usize = line.split(',').take(k).map(|c| c.chars().count() + 1).sum();
+    let pad = line
+        .split(',')
+        .nth(k)
+        .map_or(0, |c| c.chars().take_while(|ch| ch.is_whitespace()).count());
+    start + pad + 1
+}
+
 /// The closest name by edit distance, if it is close enough to be a likely typo.
 pub fn nearest<'a>(want: &str, have: &'a [String]) -> Option<&'a str> {
     have.iter()

@@ -385,28 +385,27 @@ pub fn trim_from(
     if engine {
         x0.push(0.9);
     }
-    let warm = start.filter(|w| w.x.len() == x0.len() && w.tip0 == tip0);
+    // The warm start if it fits, then (or else) the cold one.
+    let warm = start
+        .filter(|w| w.x.len() == x0.len() && w.tip0 == tip0)
+        .map(|w| (w.x.clone(), w.jacobian.clone(), w.flap));
+    let cold = (x0, None, [0.0, 0.0]);
     let mut sol = Err(SolveError::Singular {
         x: Vec::new(),
         residuals: Vec::new(),
     });
-    if let Some(w) = warm {
-        p.warm = w.flap;
+    for (x, jacobian, flap) in warm.into_iter().chain(std::iter::once(cold)) {
+        p.warm = flap;
+        p.last = None;
         sol = solve::newton_from(
             |x| p.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
-            &w.x,
-            w.jacobian.clone(),
+            &x,
+            jacobian,
             options.newton,
         );
-    }
-    if sol.is_err() {
-        p.warm = [0.0, 0.0];
-        p.last = None;
-        sol = solve::newton(
-            |x| p.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
-            &x0,
-            options.newton,
-        );
+        if sol.is_ok() {
+            break;
+        }
     }
     let names = residual_names(engine);
     let sol = match sol {

@@ -174,12 +174,7 @@ pub fn load_with(
     // The same, with the caret under the `k`-th comma-separated field of `text`.
     let at_field = |line: usize, text: &str, k: usize, msg: String| {
         let mut e = at(line, msg);
-        let start: usize = text.split(',').take(k).map(|c| c.chars().count() + 1).sum();
-        let pad = text
-            .split(',')
-            .nth(k)
-            .map_or(0, |c| c.chars().take_while(|ch| ch.is_whitespace()).count());
-        e.column = Some(start + pad + 1);
+        e.column = Some(crate::yaml::csv_field_column(text, k));
         e
     };
     let mut lines = src

@@ -34,6 +34,16 @@ fn distinct(xs: impl Iterator<Item = f64>) -> usize {
     v.len()
 }
 
+/// An eigenvalue as points on the complex plane: a complex mode is listed once, so its
+/// conjugate is drawn too.
+fn with_conjugate(e: &cierva_model::Complex) -> Vec<(f64, f64)> {
+    if e.im == 0.0 {
+        vec![(e.re, 0.0)]
+    } else {
+        vec![(e.re, e.im), (e.re, -e.im)]
+    }
+}
+
 fn sorted(mut p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     p.sort_by(|a, b| a.0.total_cmp(&b.0));
     p
@@ -338,19 +348,11 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
         if !k.set.is_empty() || k.without_rotorspeed_coupling {
             continue;
         }
-        // A complex mode is listed once: draw its conjugate too.
-        let both = |e: &cierva_model::Complex| {
-            if e.im == 0.0 {
-                vec![(e.re, 0.0)]
-            } else {
-                vec![(e.re, e.im), (e.re, -e.im)]
-            }
-        };
         series
             .entry(label)
-            .or_insert_with(|| eigenvalues.iter().flat_map(both).collect());
+            .or_insert_with(|| eigenvalues.iter().flat_map(with_conjugate).collect());
         if let Some(s) = s {
-            selected.extend(both(s));
+            selected.extend(with_conjugate(s));
         }
     }
     if series.is_empty() {
@@ -402,23 +404,16 @@ fn loci(c: &CaseRun) -> Vec<Figure> {
             continue;
         }
         seen.push(key);
-        let both = |e: &cierva_model::Complex| {
-            if e.im == 0.0 {
-                vec![(e.re, 0.0)]
-            } else {
-                vec![(e.re, e.im), (e.re, -e.im)]
-            }
-        };
         let sweep: Vec<(f64, f64)> = l
             .points
             .iter()
-            .flat_map(|(_, es)| es.iter().flat_map(both))
+            .flat_map(|(_, es)| es.iter().flat_map(with_conjugate))
             .collect();
         let at = |v: f64| -> Vec<(f64, f64)> {
             l.points
                 .iter()
                 .min_by(|a, b| (a.0 - v).abs().total_cmp(&(b.0 - v).abs()))
-                .map(|(_, es)| es.iter().flat_map(both).collect())
+                .map(|(_, es)| es.iter().flat_map(with_conjugate).collect())
                 .unwrap_or_default()
         };
         let mut series = vec![
@@ -449,7 +444,7 @@ fn loci(c: &CaseRun) -> Vec<Figure> {
         if let Some(s) = selected {
             series.push(Series {
                 name: format!("{}'s mode", r.check),
-                points: both(s),
+                points: with_conjugate(s),
                 style: Style::Rings,
                 colour: Some(2),
             });

@@ -43,12 +43,15 @@ pub struct Run {
 impl Run {
     /// Every check's outcome, tallied.
     pub fn counts(&self) -> Counts {
-        let all: Vec<CheckResult> = self
-            .cases
-            .iter()
-            .flat_map(|c| c.results.iter().cloned())
-            .collect();
-        crate::text::counts(&all)
+        let mut all = Counts::default();
+        for c in &self.cases {
+            let k = crate::text::counts(&c.results);
+            all.pass += k.pass;
+            all.fail += k.fail;
+            all.expected_failure += k.expected_failure;
+            all.unexpected_pass += k.unexpected_pass;
+        }
+        all
     }
 }
 
