@@ -1,7 +1,8 @@
 //! The report's figures, built from check results alone.
 //!
-//! - Across cases: every aircraft derivative checked at two airspeeds or more, by aircraft and
-//!   derivative, the model at each mass as a line and the references as bars (seed 001 Fig. 5).
+//! - Across cases: every aircraft derivative checked at two airspeeds or more, or at two masses,
+//!   by aircraft and derivative, the model at each mass as a line and the references as bars
+//!   (seed 001 Fig. 5).
 //! - In a case: trim quantities against airspeed; a trim sweep's controls, attitudes and
 //!   rotorspeed; an isolated rotor's quantities against tip-speed ratio (TR 515); the
 //!   eigenvalues on the complex plane, one series per condition, the checked modes ringed; the
@@ -66,7 +67,7 @@ fn derivative_unit(name: &str) -> String {
 }
 
 /// Aircraft derivative checks across cases: one figure per aircraft and derivative checked at
-/// two or more airspeeds.
+/// two or more airspeeds or masses.
 pub fn across_cases(run: &Run) -> Vec<Figure> {
     /// (aircraft, derivative) -> (model points by series, reference bars).
     type Group = (BTreeMap<String, Vec<(f64, f64)>>, Vec<Bar>);
@@ -106,7 +107,9 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
     }
     groups
         .into_iter()
-        .filter(|(_, (s, _))| distinct(s.values().flatten().map(|p| p.0)) >= 2)
+        // Against airspeed, or at one airspeed at two masses or more (seed 001 Table 2's flight
+        // bounds at 70 mph, the model at minimum and maximum weight).
+        .filter(|(_, (s, _))| distinct(s.values().flatten().map(|p| p.0)) >= 2 || s.len() >= 2)
         .map(|((aircraft, label), (series, bars))| Figure {
             y_label: if label.contains('/') {
                 "ratio".into()
