@@ -630,7 +630,27 @@ enum Format {
     Json,
 }
 
+/// Output piped into a reader that stops early (`cierva validate | head`): `println!` panics on
+/// the broken pipe. Leave quietly instead, with the exit status a shell gives a process that
+/// SIGPIPE ended (128 + 13), so a pipeline can still tell the run was cut short.
+fn quiet_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    quiet_on_broken_pipe();
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     match cli.command {

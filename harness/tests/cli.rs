@@ -644,3 +644,37 @@ fn a_bad_control_csv_is_located_with_a_caret_and_a_suggestion() {
     assert!(err.contains("\n  |    ^"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A reader that stops early (`cierva ... | head`) ends the run quietly with the status of a
+/// process SIGPIPE ended (141), not a panic.
+#[test]
+fn a_closed_pipe_ends_the_run_quietly() {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cierva"))
+        .args([
+            "modes",
+            "flight-refs/seed002-vpm-m16-60kn.yaml",
+            "--sweep",
+            "Q_u=0.06:0.26:2000",
+            "--format",
+            "json",
+        ])
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let mut first = [0u8; 16];
+    child
+        .stdout
+        .take()
+        .expect("piped")
+        .read_exact(&mut first)
+        .expect("some output");
+    // The reading end is dropped here, mid-output (the JSON is megabytes long).
+    let out = child.wait_with_output().expect("ends");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
