@@ -399,6 +399,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             propeller: Propeller {
                 rotor: propeller_file.rotor.clone(),
                 blockage: corrections.propeller_blockage.unwrap_or(0.0),
+                map: None,
             },
             position_m: a.propeller.position_m,
             drive,

@@ -1651,6 +1651,30 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
                         }) / n as f64
                     })
                     .collect();
+                // The same with the propeller on its map, as a simulation runs it.
+                let mut mapped = a.clone();
+                let mut map_build = Vec::new();
+                if let Ok(p) = a.propeller.propeller.with_map() {
+                    mapped.propeller.propeller = p;
+                }
+                for _ in 0..repeat.min(5) {
+                    map_build.push(time(&mut || {
+                        sink += a.propeller.propeller.build_map().nodes() as f64;
+                    }));
+                }
+                let full_mapped: Vec<f64> = (0..repeat)
+                    .map(|_| {
+                        time(&mut || {
+                            for k in 0..n {
+                                let mut y = x.clone();
+                                y.rotor_azimuth_rad = k as f64 * 0.01;
+                                sink += mapped
+                                    .derivatives(&y, &t.controls, air)
+                                    .map_or(0.0, |d| d.body.u_m_s);
+                            }
+                        }) / n as f64
+                    })
+                    .collect();
                 let averaged: Vec<f64> = (0..repeat)
                     .map(|_| {
                         time(&mut || {
@@ -1734,6 +1758,11 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
                     "| full model right-hand side (individual blades, {} flap states, inflow, rotorspeed, propeller, airframe, 6-DOF) | {:.1} us | one evaluation at the 70 mph trim, including the propeller's inflow solution |",
                     x.flap.len(),
                     1e6 * median(full)
+                );
+                row!(
+                    "| full model right-hand side, the propeller on its map | {:.1} us | what a simulation evaluates; the map (101 by 61 nodes of the exact solve) takes {:.0} ms to build, once per process and propeller |",
+                    1e6 * median(full_mapped),
+                    1e3 * median(map_build)
                 );
                 row!(
                     "| revolution-averaged model evaluation (periodic blade solution, warm) | {:.2} ms | what trim evaluates: the rotor's periodic flapping at 5 deg steps, then its mean loads |",

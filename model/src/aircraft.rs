@@ -782,6 +782,19 @@ impl Aircraft {
         air: Air,
     ) -> Result<FullDerivative, AircraftError> {
         let mr = &self.main_rotor;
+        self.derivatives_with(&Blade::new(&mr.rotor, mr.numerics), x, controls, air)
+    }
+
+    /// [`Aircraft::derivatives`] with the main rotor's blade elements prepared once
+    /// (`Blade::new(&self.main_rotor.rotor, self.main_rotor.numerics)`), as a simulation does.
+    pub(crate) fn derivatives_with(
+        &self,
+        blade: &Blade,
+        x: &FullState,
+        controls: &Controls,
+        air: Air,
+    ) -> Result<FullDerivative, AircraftError> {
+        let mr = &self.main_rotor;
         let rotor = &mr.rotor;
         let omega = x.rotor_omega_rad_s;
         positive_state("rotor_omega_rad_s", omega)?;
@@ -794,7 +807,6 @@ impl Aircraft {
         }
         let frame = self.rotor_frame(&x.body, controls);
         let op = self.operating(&frame, omega, x.inflow, air);
-        let blade = Blade::new(rotor, mr.numerics);
         let psi1 = x.rotor_azimuth_rad;
         // Blades: (azimuth, beta, beta_dot).
         let mut blades: Vec<(f64, f64, f64)> = Vec::new();

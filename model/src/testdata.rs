@@ -167,6 +167,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
             propeller: Propeller {
                 rotor: prop_rotor,
                 blockage: 0.0,
+                map: None,
             },
             position_m: [-1.3, 0.0, -0.35],
             drive: Drive::Engine {
