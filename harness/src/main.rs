@@ -1638,41 +1638,34 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
                 let a = &ac.aircraft;
                 let x = a.full_state(&t.state, &t.controls, air, t.averaged.flap_start);
                 let n = 1000;
-                let full: Vec<f64> = (0..repeat)
-                    .map(|_| {
-                        time(&mut || {
-                            for k in 0..n {
-                                let mut y = x.clone();
-                                y.rotor_azimuth_rad = k as f64 * 0.01;
-                                sink += a
-                                    .derivatives(&y, &t.controls, air)
-                                    .map_or(0.0, |d| d.body.u_m_s);
-                            }
-                        }) / n as f64
-                    })
-                    .collect();
+                // Median time of one right-hand side of `craft`, over `n` azimuths a repeat.
+                let mut rhs = |craft: &cierva_model::aircraft::Aircraft| -> Vec<f64> {
+                    (0..repeat)
+                        .map(|_| {
+                            time(&mut || {
+                                for k in 0..n {
+                                    let mut y = x.clone();
+                                    y.rotor_azimuth_rad = k as f64 * 0.01;
+                                    sink += craft
+                                        .derivatives(&y, &t.controls, air)
+                                        .map_or(0.0, |d| d.body.u_m_s);
+                                }
+                            }) / n as f64
+                        })
+                        .collect()
+                };
+                let full = rhs(a);
                 // The same with the propeller on its map, as a simulation runs it.
                 let mut mapped = a.clone();
-                let mut map_build = Vec::new();
                 if let Ok(p) = a.propeller.propeller.with_map() {
                     mapped.propeller.propeller = p;
                 }
-                for _ in 0..repeat.min(5) {
-                    map_build.push(time(&mut || {
-                        sink += a.propeller.propeller.build_map().nodes() as f64;
-                    }));
-                }
-                let full_mapped: Vec<f64> = (0..repeat)
+                let full_mapped = rhs(&mapped);
+                let map_build: Vec<f64> = (0..repeat.min(5))
                     .map(|_| {
                         time(&mut || {
-                            for k in 0..n {
-                                let mut y = x.clone();
-                                y.rotor_azimuth_rad = k as f64 * 0.01;
-                                sink += mapped
-                                    .derivatives(&y, &t.controls, air)
-                                    .map_or(0.0, |d| d.body.u_m_s);
-                            }
-                        }) / n as f64
+                            sink += a.propeller.propeller.build_map().nodes() as f64;
+                        })
                     })
                     .collect();
                 let averaged: Vec<f64> = (0..repeat)
