@@ -899,27 +899,34 @@ impl Aircraft {
             Hub::Teetering => vec![flap_dot[0][1], -flap_dot[0][1]],
             Hub::Rigid => vec![0.0; blades.len()],
         };
-        let h_rel = |dt: f64| {
-            let w = omega + omega_dot * dt;
-            let o = Operating {
-                omega_rad_s: w,
-                ..op
-            };
-            let mut h = [0.0; 3];
-            for (k, &(psi, beta, beta_dot)) in blades.iter().enumerate() {
-                let psi_t = psi + omega * dt + 0.5 * omega_dot * dt * dt;
-                let beta_t = beta + beta_dot * dt + 0.5 * beta_ddot[k] * dt * dt;
-                let bd_t = beta_dot + beta_ddot[k] * dt;
-                let hb = blade.angular_momentum_beyond_disc(&o, psi_t, beta_t, bd_t);
+        // The blades' angular momentum beyond the frozen disc, its rate, and the motion of
+        // their centres of mass, along the blades' motion (exact rates: the chain rule).
+        let mut h0 = [0.0; 3];
+        let mut dh = [0.0; 3];
+        let mut f_hub = force;
+        let cg_mass = if rotor.flap_mass_moment_kg_m > 0.0 {
+            let s_m = rotor.flap_mass_moment_kg_m;
+            4.0 * s_m * s_m / (3.0 * rotor.flap_inertia_kg_m2)
+        } else {
+            0.0
+        };
+        for (k, &(psi, beta, beta_dot)) in blades.iter().enumerate() {
+            let (hb, hb_dot) =
+                blade.angular_momentum_and_rate(&op, psi, beta, beta_dot, beta_ddot[k], omega_dot);
+            for j in 0..3 {
+                h0[j] += hb[j];
+                dh[j] += hb_dot[j];
+            }
+            // The blade's centre of mass: relative acceleration and Coriolis.
+            if cg_mass > 0.0 {
+                let [_, v, a] =
+                    blade.centre_of_mass_motion(&op, psi, beta, beta_dot, beta_ddot[k], omega_dot);
+                let cor = cross(frame.hub_rates, v);
                 for j in 0..3 {
-                    h[j] += hb[j];
+                    f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);
                 }
             }
-            h
-        };
-        let dt = 1e-5 / omega.max(1.0);
-        let (hp, hm, h0) = (h_rel(dt), h_rel(-dt), h_rel(0.0));
-        let dh: [f64; 3] = std::array::from_fn(|j| (hp[j] - hm[j]) / (2.0 * dt));
+        }
         let gyro = cross(frame.hub_rates, h0);
         let m_hub = [
             moment[0] - dh[0] - gyro[0],
@@ -927,41 +934,6 @@ impl Aircraft {
             // A free rotor: no torque through the shaft.
             0.0,
         ];
-        let mut f_hub = force;
-        // The blades' centres of mass (first mass moment), relative acceleration and Coriolis.
-        if rotor.flap_mass_moment_kg_m > 0.0 {
-            let (i, s_m, e) = (
-                rotor.flap_inertia_kg_m2,
-                rotor.flap_mass_moment_kg_m,
-                rotor.hinge_offset_m,
-            );
-            let m = 4.0 * s_m * s_m / (3.0 * i);
-            let cg = |psi: f64, beta: f64| {
-                let (sp, cp) = psi.sin_cos();
-                let (sb, cb) = beta.sin_cos();
-                let d = s_m / m;
-                [-(e + d * cb) * cp, (e + d * cb) * sp, -d * sb]
-            };
-            let pos = |dt: f64| {
-                let mut p = Vec::new();
-                for (k, &(psi, beta, beta_dot)) in blades.iter().enumerate() {
-                    let psi_t = psi + omega * dt + 0.5 * omega_dot * dt * dt;
-                    let beta_t = beta + beta_dot * dt + 0.5 * beta_ddot[k] * dt * dt;
-                    p.push(cg(psi_t, beta_t));
-                }
-                p
-            };
-            let (pp, p0, pm) = (pos(dt), pos(0.0), pos(-dt));
-            for k in 0..blades.len() {
-                let v: [f64; 3] = std::array::from_fn(|j| (pp[k][j] - pm[k][j]) / (2.0 * dt));
-                let a: [f64; 3] =
-                    std::array::from_fn(|j| (pp[k][j] - 2.0 * p0[k][j] + pm[k][j]) / (dt * dt));
-                let cor = cross(frame.hub_rates, v);
-                for j in 0..3 {
-                    f_hub[j] -= m * (a[j] + 2.0 * cor[j]);
-                }
-            }
-        }
         let rotor_loads = Self::rotor_to_body(&frame, f_hub, m_hub);
         let driving = inflow::DrivingLoads {
             thrust_n: -force[2],

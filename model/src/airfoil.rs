@@ -72,6 +72,10 @@ pub enum AirfoilError {
 
 /// Wraps an angle to (-pi, pi].
 pub fn wrap_pi(a: f64) -> f64 {
+    // Almost every angle of attack is already in range: no division then.
+    if a > -PI && a <= PI {
+        return a;
+    }
     let mut x = (a + PI).rem_euclid(2.0 * PI) - PI;
     if x <= -PI {
         x += 2.0 * PI;

@@ -510,7 +510,13 @@ fn atan2(y: f64, x: f64) -> f64 {
         1.0 / 29.0,
         -1.0 / 31.0,
     ];
-    let p = C.iter().rev().fold(0.0f64, |p, c| p.mul_add(u2, *c));
+    // Estrin's scheme: four levels of independent multiply-adds instead of a chain of 16
+    // (plain multiplies and adds: `mul_add` without a hardware FMA target is a library call).
+    let u4 = u2 * u2;
+    let u8 = u4 * u4;
+    let q: [f64; 8] = std::array::from_fn(|k| C[2 * k] + C[2 * k + 1] * u2);
+    let r: [f64; 4] = std::array::from_fn(|k| q[2 * k] + q[2 * k + 1] * u4);
+    let p = (r[0] + r[1] * u8) + (r[2] + r[3] * u8) * (u8 * u8);
     let mut a = base + u * p;
     if swap {
         a = FRAC_PI_2 - a;
@@ -557,56 +563,67 @@ impl<'a> Blade<'a> {
         let hub_r = h.u * r_hat[0] + h.v * r_hat[1];
         let hub_t = h.u * t_hat[0] + h.v * t_hat[1];
         let hub_z_blade = sb * hub_r + cb * h.w;
-        let omega_hub = op.hub_rates_rad_s;
-        let rotating = omega_hub.iter().any(|w| *w != 0.0);
-        let mut out = BladeLoads::default();
+        // The velocity from the hub's rotation, omega_hub x position, at position
+        // `radial r_hat - rho sin b z`: linear in `radial` and `rho`, so its in-plane and
+        // normal components are two coefficients each.
+        let om = op.hub_rates_rad_s;
+        let (w_r, w_z) = (cross(om, r_hat), cross(om, [0.0, 0.0, -sb]));
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (ut_r, ut_rho) = (dot(w_r, t_hat), dot(w_z, t_hat));
+        let (up_r, up_rho) = (-dot(w_r, z_hat_blade), -dot(w_z, z_hat_blade));
+        let v1s = op.inflow.v1s + rot.corrections.lateral_inflow_offset_m_s;
+        let harmonic = (v1s * sp + op.inflow.v1c * cp) / rot.radius_m;
+        let theta_shift = op.collective_shift_rad + rot.corrections.pitch_offset_rad;
+        let (drag_scale, drag_add) = (
+            rot.corrections.profile_drag_scale,
+            rot.corrections.profile_drag_increment,
+        );
+        let (half_rho, inv_a) = (0.5 * op.density_kg_m3, 1.0 / op.speed_of_sound_m_s);
+        // Sums over the elements of the in-plane (ft, along t) and normal (fz, along the
+        // blade's normal) forces, and of their moments about the shaft and the hinge.
+        let (mut s_ft, mut s_fz, mut s_rfz, mut s_rho_ft, mut s_rho_fz, mut torque) =
+            (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
         for el in &self.elements {
             let radial = rot.hinge_offset_m + el.rho * cb; // distance from the shaft axis
-            let x = radial / rot.radius_m;
-            let v1s = op.inflow.v1s + rot.corrections.lateral_inflow_offset_m_s;
-            let vi = op.inflow.v0 + x * (v1s * sp + op.inflow.v1c * cp);
-            let mut ut = op.omega_rad_s * radial + hub_t;
-            let mut up = -hub_z_blade + el.rho * beta_dot + vi * cb;
-            if rotating {
-                // The element's velocity from the hub's rotation, omega_hub x position.
-                let pos = [radial * r_hat[0], radial * r_hat[1], -el.rho * sb];
-                let vr = cross(omega_hub, pos);
-                ut += vr[0] * t_hat[0] + vr[1] * t_hat[1];
-                up -= vr[0] * z_hat_blade[0] + vr[1] * z_hat_blade[1] + vr[2] * z_hat_blade[2];
-            }
+            let vi = op.inflow.v0 + radial * harmonic;
+            let ut = op.omega_rad_s * radial + hub_t + ut_r * radial + ut_rho * el.rho;
+            let up = -hub_z_blade + el.rho * beta_dot + vi * cb + up_r * radial + up_rho * el.rho;
             let w2 = ut * ut + up * up;
             if w2 <= 0.0 {
                 continue;
             }
             let w = w2.sqrt();
-            let theta = el.pitch + op.collective_shift_rad + rot.corrections.pitch_offset_rad;
-            let alpha = theta - atan2(up, ut);
-            let (cl, cd) = rot.airfoil.coefficients(alpha, w / op.speed_of_sound_m_s);
-            let cd =
-                cd * rot.corrections.profile_drag_scale + rot.corrections.profile_drag_increment;
-            let q = 0.5 * op.density_kg_m3 * w2 * el.chord * el.dr;
-            let (l, d) = (q * cl * el.lift, q * cd);
-            let ft = (-l * up - d * ut) / w;
-            let fz = (-l * ut + d * up) / w;
-            out.flap_moment += -fz * el.rho;
-            out.torque += ft * radial;
-            let f = [
-                ft * t_hat[0] + fz * z_hat_blade[0],
-                ft * t_hat[1] + fz * z_hat_blade[1],
-                fz * z_hat_blade[2],
-            ];
-            let p = [
-                rot.hinge_offset_m * r_hat[0] + el.rho * cb * r_hat[0],
-                rot.hinge_offset_m * r_hat[1] + el.rho * cb * r_hat[1],
-                -el.rho * sb,
-            ];
-            let m = cross(p, f);
-            for k in 0..3 {
-                out.force[k] += f[k];
-                out.moment[k] += m[k];
-            }
+            let alpha = el.pitch + theta_shift - atan2(up, ut);
+            let (cl, cd) = rot.airfoil.coefficients(alpha, w * inv_a);
+            let cd = cd * drag_scale + drag_add;
+            // q / w: the dynamic pressure times the element's area, over the speed.
+            let q_w = half_rho * w * el.chord * el.dr;
+            let (l, d) = (q_w * cl * el.lift, q_w * cd);
+            let ft = -l * up - d * ut;
+            let fz = -l * ut + d * up;
+            s_ft += ft;
+            s_fz += fz;
+            s_rfz += fz * radial;
+            s_rho_ft += ft * el.rho;
+            s_rho_fz += fz * el.rho;
+            torque += ft * radial;
         }
-        out
+        // Force sum(ft t + fz z_b); moment sum(p x f) with p = radial r - rho sin b z.
+        let z_axis = [0.0, 0.0, 1.0];
+        let (rt, rz, zt, zz) = (
+            cross(r_hat, t_hat),
+            cross(r_hat, z_hat_blade),
+            cross(z_axis, t_hat),
+            cross(z_axis, z_hat_blade),
+        );
+        BladeLoads {
+            flap_moment: -s_rho_fz,
+            force: std::array::from_fn(|k| s_ft * t_hat[k] + s_fz * z_hat_blade[k]),
+            moment: std::array::from_fn(|k| {
+                torque * rt[k] + s_rfz * rz[k] - sb * (s_rho_ft * zt[k] + s_rho_fz * zz[k])
+            }),
+            torque,
+        }
     }
 
     /// The right-hand side of one blade's flap equation, `d/dpsi [beta, beta']`, with the
@@ -811,6 +828,141 @@ impl<'a> Blade<'a> {
                     + i * w_e * e_b[k]);
         }
         h
+    }
+
+    /// [`Self::angular_momentum_beyond_disc`] and its time derivative along the blade's motion:
+    /// the azimuth advancing at `op.omega_rad_s`, the rotorspeed changing at
+    /// `omega_dot_rad_s2`, the flap angle at `beta_dot` and `beta_ddot`; the hub's rates held
+    /// (their change enters the airframe's equations, not the blades'). Exact: the chain rule
+    /// through the blade's unit vectors (`d r/dpsi = t`, `d t/dpsi = -r`,
+    /// `d e_b/dt = Omega cos b t + beta_dot n`, `d n/dt = -Omega sin b t - beta_dot e_b`),
+    /// where central differences of the angular momentum used to cost three evaluations and
+    /// lose half the digits.
+    pub fn angular_momentum_and_rate(
+        &self,
+        op: &Operating,
+        psi_rad: f64,
+        beta: f64,
+        beta_dot: f64,
+        beta_ddot: f64,
+        omega_dot_rad_s2: f64,
+    ) -> ([f64; 3], [f64; 3]) {
+        let rot = self.rotor;
+        let (i, s_m, e) = (
+            rot.flap_inertia_kg_m2,
+            rot.flap_mass_moment_kg_m,
+            rot.hinge_offset_m,
+        );
+        let m = 4.0 * s_m * s_m / (3.0 * i);
+        let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
+        let (sp, cp) = psi_rad.sin_cos();
+        let (sb, cb) = beta.sin_cos();
+        let r_hat = [-cp, sp, 0.0];
+        let t_hat = [sp, cp, 0.0];
+        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
+        let n_hat = [-sb * r_hat[0], -sb * r_hat[1], -cb];
+        let (rt, rn, et, en) = (
+            cross(r_hat, t_hat),
+            cross(r_hat, n_hat),
+            cross(e_b, t_hat),
+            cross(e_b, n_hat),
+        );
+        let om = op.hub_rates_rad_s;
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (w_r, w_e) = (dot(om, r_hat), dot(om, e_b));
+        let (a, b) = (e * e * m + e * s_m * cb, e * s_m + i * cb);
+        let x2 = e * e * m + 2.0 * e * s_m * cb + i;
+        // Rates of the unit vectors, the cross products and the scalars.
+        let r_dot: [f64; 3] = std::array::from_fn(|k| w * t_hat[k]);
+        let e_dot: [f64; 3] = std::array::from_fn(|k| w * cb * t_hat[k] + beta_dot * n_hat[k]);
+        let (tn, rte, nt, er, outer) = (
+            cross(t_hat, n_hat),
+            cross(r_hat, e_b),
+            cross(n_hat, t_hat),
+            cross(e_b, r_hat),
+            cross(e_b, t_hat),
+        );
+        let rn_dot: [f64; 3] =
+            std::array::from_fn(|k| w * tn[k] - sb * w * rt[k] - beta_dot * rte[k]);
+        let et_dot: [f64; 3] = std::array::from_fn(|k| beta_dot * nt[k] - w * er[k]);
+        let en_dot: [f64; 3] = std::array::from_fn(|k| cb * w * tn[k] - sb * w * outer[k]);
+        let w_r_dot = w * dot(om, t_hat);
+        let w_e_dot = w * cb * dot(om, t_hat) + beta_dot * dot(om, n_hat);
+        let (a_dot, b_dot, x2_dot) = (
+            -e * s_m * sb * beta_dot,
+            -i * sb * beta_dot,
+            -2.0 * e * s_m * sb * beta_dot,
+        );
+        let k_disc = m * e * e + 2.0 * e * s_m + i;
+        let mut h = [0.0; 3];
+        let mut h_dot = [0.0; 3];
+        for k in 0..3 {
+            h[k] = w * a * rt[k]
+                + e * s_m * beta_dot * rn[k]
+                + w * b * et[k]
+                + i * beta_dot * en[k]
+                + x2 * om[k]
+                - (e * e * m * w_r * r_hat[k]
+                    + e * s_m * (w_r * e_b[k] + w_e * r_hat[k])
+                    + i * w_e * e_b[k])
+                - if k == 2 { k_disc } else { 0.5 * k_disc } * om[k];
+            h_dot[k] = (w_dot * a + w * a_dot) * rt[k]
+                + e * s_m * (beta_ddot * rn[k] + beta_dot * rn_dot[k])
+                + (w_dot * b + w * b_dot) * et[k]
+                + w * b * et_dot[k]
+                + i * (beta_ddot * en[k] + beta_dot * en_dot[k])
+                + x2_dot * om[k]
+                - (e * e * m * (w_r_dot * r_hat[k] + w_r * r_dot[k])
+                    + e * s_m
+                        * (w_r_dot * e_b[k]
+                            + w_r * e_dot[k]
+                            + w_e_dot * r_hat[k]
+                            + w_e * r_dot[k])
+                    + i * (w_e_dot * e_b[k] + w_e * e_dot[k]));
+        }
+        (h, h_dot)
+    }
+
+    /// The position of one blade's centre of mass relative to the hub centre, hub axes, and
+    /// its velocity and acceleration relative to the hub, along the same motion as
+    /// [`Self::angular_momentum_and_rate`] (thin rigid blade: the centre of mass at
+    /// `S / m` along the blade from the hinge, `m = 4 S^2 / (3 I)`).
+    pub fn centre_of_mass_motion(
+        &self,
+        op: &Operating,
+        psi_rad: f64,
+        beta: f64,
+        beta_dot: f64,
+        beta_ddot: f64,
+        omega_dot_rad_s2: f64,
+    ) -> [[f64; 3]; 3] {
+        let rot = self.rotor;
+        let (i, s_m, e) = (
+            rot.flap_inertia_kg_m2,
+            rot.flap_mass_moment_kg_m,
+            rot.hinge_offset_m,
+        );
+        let d = 3.0 * i / (4.0 * s_m);
+        let (sp, cp) = psi_rad.sin_cos();
+        let (sb, cb) = beta.sin_cos();
+        let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
+        // Distance from the shaft R = e + d cos b, and its rates.
+        let r = e + d * cb;
+        let r_dot = -d * sb * beta_dot;
+        let r_ddot = -d * (cb * beta_dot * beta_dot + sb * beta_ddot);
+        [
+            [-r * cp, r * sp, -d * sb],
+            [
+                -r_dot * cp + r * sp * w,
+                r_dot * sp + r * cp * w,
+                -d * cb * beta_dot,
+            ],
+            [
+                -r_ddot * cp + 2.0 * r_dot * sp * w + r * cp * w * w + r * sp * w_dot,
+                r_ddot * sp + 2.0 * r_dot * cp * w - r * sp * w * w + r * cp * w_dot,
+                d * sb * beta_dot * beta_dot - d * cb * beta_ddot,
+            ],
+        ]
     }
 
     fn step(&self, op: &Operating, psi: f64, s: [f64; 2], h: f64) -> [f64; 2] {
@@ -1286,6 +1438,67 @@ mod tests {
                 ((hz + i_polar * omega) / (i_polar * omega)).abs() < 0.01,
                 "{hz}"
             );
+        }
+    }
+
+    #[test]
+    fn blade_angular_momentum_and_mass_centre_rates_match_differences() {
+        // A hinge offset, a mass moment and hub rates, so that every term is alive.
+        let mut rotor = classical(0.1, 0.0);
+        rotor.hinge_offset_m = 0.25;
+        rotor.flap_mass_moment_kg_m = 45.0;
+        let blade = Blade::new(&rotor, Numerics::default());
+        let omega = 40.0;
+        let op = |w: f64| Operating {
+            omega_rad_s: w,
+            hub: HubVelocity::default(),
+            inflow: Inflow::default(),
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.0,
+            collective_shift_rad: 0.0,
+            hub_rates_rad_s: [0.3, -0.2, 0.15],
+        };
+        for (psi, beta, bd, bdd, wd) in [
+            (0.3, 0.05, 0.8, -30.0, 2.0),
+            (2.4, -0.08, -1.5, 45.0, -3.0),
+            (4.0, 0.12, 0.0, 0.0, 0.0),
+        ] {
+            let (h, h_dot) = blade.angular_momentum_and_rate(&op(omega), psi, beta, bd, bdd, wd);
+            let cm = blade.centre_of_mass_motion(&op(omega), psi, beta, bd, bdd, wd);
+            // The state a time `t` along the motion.
+            let at = |t: f64| {
+                let o = op(omega + wd * t);
+                let (p, b, d) = (
+                    psi + omega * t + 0.5 * wd * t * t,
+                    beta + bd * t + 0.5 * bdd * t * t,
+                    bd + bdd * t,
+                );
+                (
+                    blade.angular_momentum_beyond_disc(&o, p, b, d),
+                    blade.centre_of_mass_motion(&o, p, b, d, bdd, wd)[0],
+                )
+            };
+            let dt = 1e-5;
+            let ((hp, pp), (hm, pm), (h0, p0)) = (at(dt), at(-dt), at(0.0));
+            for j in 0..3 {
+                assert!((h[j] - h0[j]).abs() < 1e-9 * h0[j].abs().max(1.0));
+                let fd = (hp[j] - hm[j]) / (2.0 * dt);
+                assert!(
+                    (h_dot[j] - fd).abs() < 1e-5 * fd.abs().max(10.0),
+                    "{j}: {h_dot:?} vs {fd}"
+                );
+                assert_eq!(cm[0][j], p0[j]);
+                let v = (pp[j] - pm[j]) / (2.0 * dt);
+                let a = (pp[j] - 2.0 * p0[j] + pm[j]) / (dt * dt);
+                assert!(
+                    (cm[1][j] - v).abs() < 1e-6 * v.abs().max(1.0),
+                    "{j}: {cm:?}"
+                );
+                assert!(
+                    (cm[2][j] - a).abs() < 1e-3 * a.abs().max(10.0),
+                    "{j}: {cm:?} vs {a}"
+                );
+            }
         }
     }
 
