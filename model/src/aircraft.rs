@@ -45,7 +45,7 @@ use crate::inflow;
 use crate::propeller::{Propeller, PropellerError, PropellerState};
 use crate::rigid_body::{self, BodyError, BodyState, Loads, MassProperties};
 use crate::rotor::{
-    Blade, Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
+    Angles, Blade, Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
     SteadyLoads,
 };
 use serde::Serialize;
@@ -830,14 +830,19 @@ impl Aircraft {
                 }
             }
         }
+        // Each blade's angles' sines and cosines, once.
+        let angles: Vec<Angles> = blades
+            .iter()
+            .map(|&(psi, beta, _)| Angles::new(psi, beta))
+            .collect();
         let driving_at = |op: &Operating| {
             let mut d = inflow::DrivingLoads {
                 thrust_n: 0.0,
                 roll_n_m: 0.0,
                 pitch_n_m: 0.0,
             };
-            for &(psi, beta, beta_dot) in &blades {
-                let l = blade.blade_loads(op, psi, beta, beta_dot);
+            for (&(_, _, beta_dot), &ang) in blades.iter().zip(&angles) {
+                let l = blade.loads_at(op, ang, beta_dot);
                 d.thrust_n -= l.force[2];
                 d.roll_n_m += l.moment[0];
                 d.pitch_n_m += l.moment[1];
@@ -852,26 +857,26 @@ impl Aircraft {
         // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
         let loads: Vec<crate::rotor::BladeLoads> = blades
             .iter()
-            .map(|&(psi, beta, beta_dot)| blade.blade_loads(&op, psi, beta, beta_dot))
+            .zip(&angles)
+            .map(|(&(_, _, beta_dot), &ang)| blade.loads_at(&op, ang, beta_dot))
             .collect();
         let (i_b, k_b) = (rotor.flap_inertia_kg_m2, rotor.flap_spring_n_m_per_rad);
         let mut flap_dot = Vec::with_capacity(x.flap.len());
         match rotor.hub {
             Hub::Articulated => {
-                for (&(psi, beta, beta_dot), l) in blades.iter().zip(&loads) {
+                for ((&(_, beta, beta_dot), l), &ang) in blades.iter().zip(&loads).zip(&angles) {
                     let m = l.flap_moment
-                        - blade.inertial_flap_moment(&op, psi, beta)
+                        - blade.inertial_flap_moment_at(&op, ang)
                         - k_b * (beta - rotor.precone_rad);
                     flap_dot.push([beta_dot, m / i_b]);
                 }
             }
             Hub::Teetering => {
                 let f = x.flap[0];
-                let ((p1, b1, _), (p2, b2, _)) = (blades[0], blades[1]);
                 let m = loads[0].flap_moment
                     - loads[1].flap_moment
-                    - (blade.inertial_flap_moment(&op, p1, b1)
-                        - blade.inertial_flap_moment(&op, p2, b2))
+                    - (blade.inertial_flap_moment_at(&op, angles[0])
+                        - blade.inertial_flap_moment_at(&op, angles[1]))
                     - k_b * f[0];
                 flap_dot.push([f[1], m / (2.0 * i_b)]);
             }
@@ -910,9 +915,9 @@ impl Aircraft {
         } else {
             0.0
         };
-        for (k, &(psi, beta, beta_dot)) in blades.iter().enumerate() {
+        for (k, (&(_, _, beta_dot), &ang)) in blades.iter().zip(&angles).enumerate() {
             let (hb, hb_dot) =
-                blade.angular_momentum_and_rate(&op, psi, beta, beta_dot, beta_ddot[k], omega_dot);
+                blade.angular_momentum_and_rate_at(&op, ang, beta_dot, beta_ddot[k], omega_dot);
             for j in 0..3 {
                 h0[j] += hb[j];
                 dh[j] += hb_dot[j];
@@ -920,7 +925,7 @@ impl Aircraft {
             // The blade's centre of mass: relative acceleration and Coriolis.
             if cg_mass > 0.0 {
                 let [_, v, a] =
-                    blade.centre_of_mass_motion(&op, psi, beta, beta_dot, beta_ddot[k], omega_dot);
+                    blade.centre_of_mass_motion_at(&op, ang, beta_dot, beta_ddot[k], omega_dot);
                 let cor = cross(frame.hub_rates, v);
                 for j in 0..3 {
                     f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);

@@ -457,6 +457,24 @@ impl Rotor {
     }
 }
 
+/// A blade's azimuth and flap angle with their sines and cosines, computed once and shared
+/// by its loads, inertial moment, angular momentum and mass-centre motion.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Angles {
+    sp: f64,
+    cp: f64,
+    sb: f64,
+    cb: f64,
+}
+
+impl Angles {
+    pub(crate) fn new(psi_rad: f64, beta: f64) -> Self {
+        let (sp, cp) = psi_rad.sin_cos();
+        let (sb, cb) = beta.sin_cos();
+        Self { sp, cp, sb, cb }
+    }
+}
+
 /// Aerodynamic loads of one blade at one azimuth, hub axes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BladeLoads {
@@ -553,9 +571,13 @@ impl<'a> Blade<'a> {
     }
 
     fn loads(&self, op: &Operating, psi: f64, beta: f64, beta_dot: f64) -> BladeLoads {
+        self.loads_at(op, Angles::new(psi, beta), beta_dot)
+    }
+
+    /// [`Self::blade_loads`] with the blade's angles' sines and cosines given.
+    pub(crate) fn loads_at(&self, op: &Operating, angles: Angles, beta_dot: f64) -> BladeLoads {
         let rot = self.rotor;
-        let (sp, cp) = psi.sin_cos();
-        let (sb, cb) = beta.sin_cos();
+        let Angles { sp, cp, sb, cb } = angles;
         let r_hat = [-cp, sp, 0.0];
         let t_hat = [sp, cp, 0.0];
         let z_hat_blade = [sb * r_hat[0], sb * r_hat[1], cb]; // normal to the blade, "down"
@@ -708,12 +730,13 @@ impl<'a> Blade<'a> {
                 // I_t = 2 I_beta; the moments of the two blades oppose about the teeter hinge,
                 // and so do their centrifugal moments: -I Omega^2 (sin b1 cos b1 - sin b2 cos b2).
                 let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
-                let m1 = self.loads(op, psi, b1, d1).flap_moment;
-                let m2 = self.loads(op, psi + PI, b2, d2).flap_moment;
+                let (a1, a2) = (Angles::new(psi, b1), Angles::new(psi + PI, b2));
+                let m1 = self.loads_at(op, a1, d1).flap_moment;
+                let m2 = self.loads_at(op, a2, d2).flap_moment;
                 let i = rot.flap_inertia_kg_m2;
                 // The blades' inertial moments oppose about the teeter hinge.
-                let inertial = self.inertial_flap_moment(op, psi, b1)
-                    - self.inertial_flap_moment(op, psi + PI, b2);
+                let inertial =
+                    self.inertial_flap_moment_at(op, a1) - self.inertial_flap_moment_at(op, a2);
                 let spring = rot.flap_spring_n_m_per_rad * s[0];
                 return [s[1], (m1 - m2 - inertial - spring) / (2.0 * i * w * w)];
             }
@@ -721,8 +744,9 @@ impl<'a> Blade<'a> {
         }
         let beta = s[0];
         let beta_dot = s[1] * w;
-        let m_aero = self.loads(op, psi, beta, beta_dot).flap_moment;
-        let inertial = self.inertial_flap_moment(op, psi, beta);
+        let angles = Angles::new(psi, beta);
+        let m_aero = self.loads_at(op, angles, beta_dot).flap_moment;
+        let inertial = self.inertial_flap_moment_at(op, angles);
         let spring = rot.flap_spring_n_m_per_rad * (beta - rot.precone_rad);
         [
             s[1],
@@ -770,19 +794,23 @@ impl<'a> Blade<'a> {
     /// direction. In hover this gives the classical response to a pitch rate: the disc lags
     /// the shaft by `16 q / (gamma Omega)` (tested).
     pub fn inertial_flap_moment(&self, op: &Operating, psi: f64, beta: f64) -> f64 {
+        self.inertial_flap_moment_at(op, Angles::new(psi, beta))
+    }
+
+    /// [`Self::inertial_flap_moment`] with the blade's angles' sines and cosines given.
+    pub(crate) fn inertial_flap_moment_at(&self, op: &Operating, angles: Angles) -> f64 {
+        let Angles { sp, cp, sb, cb } = angles;
         let rot = self.rotor;
         let (i, es) = (
             rot.flap_inertia_kg_m2,
             rot.hinge_offset_m * rot.flap_mass_moment_kg_m,
         );
         let w = op.omega_rad_s;
-        let (sb, cb) = beta.sin_cos();
         let centrifugal = w * w * sb * (es + i * cb);
         let [p, q, r] = op.hub_rates_rad_s;
         if p == 0.0 && q == 0.0 && r == 0.0 {
             return centrifugal;
         }
-        let (sp, cp) = psi.sin_cos();
         let w_r = -p * cp + q * sp;
         let w_e = cb * w_r - sb * r;
         let w_n = -sb * w_r - cb * r;
@@ -847,6 +875,24 @@ impl<'a> Blade<'a> {
         beta_ddot: f64,
         omega_dot_rad_s2: f64,
     ) -> ([f64; 3], [f64; 3]) {
+        self.angular_momentum_and_rate_at(
+            op,
+            Angles::new(psi_rad, beta),
+            beta_dot,
+            beta_ddot,
+            omega_dot_rad_s2,
+        )
+    }
+
+    /// [`Self::angular_momentum_and_rate`] with the blade's angles' sines and cosines given.
+    pub(crate) fn angular_momentum_and_rate_at(
+        &self,
+        op: &Operating,
+        angles: Angles,
+        beta_dot: f64,
+        beta_ddot: f64,
+        omega_dot_rad_s2: f64,
+    ) -> ([f64; 3], [f64; 3]) {
         let rot = self.rotor;
         let (i, s_m, e) = (
             rot.flap_inertia_kg_m2,
@@ -855,8 +901,7 @@ impl<'a> Blade<'a> {
         );
         let m = 4.0 * s_m * s_m / (3.0 * i);
         let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
-        let (sp, cp) = psi_rad.sin_cos();
-        let (sb, cb) = beta.sin_cos();
+        let Angles { sp, cp, sb, cb } = angles;
         let r_hat = [-cp, sp, 0.0];
         let t_hat = [sp, cp, 0.0];
         let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
@@ -936,6 +981,24 @@ impl<'a> Blade<'a> {
         beta_ddot: f64,
         omega_dot_rad_s2: f64,
     ) -> [[f64; 3]; 3] {
+        self.centre_of_mass_motion_at(
+            op,
+            Angles::new(psi_rad, beta),
+            beta_dot,
+            beta_ddot,
+            omega_dot_rad_s2,
+        )
+    }
+
+    /// [`Self::centre_of_mass_motion`] with the blade's angles' sines and cosines given.
+    pub(crate) fn centre_of_mass_motion_at(
+        &self,
+        op: &Operating,
+        angles: Angles,
+        beta_dot: f64,
+        beta_ddot: f64,
+        omega_dot_rad_s2: f64,
+    ) -> [[f64; 3]; 3] {
         let rot = self.rotor;
         let (i, s_m, e) = (
             rot.flap_inertia_kg_m2,
@@ -943,8 +1006,7 @@ impl<'a> Blade<'a> {
             rot.hinge_offset_m,
         );
         let d = 3.0 * i / (4.0 * s_m);
-        let (sp, cp) = psi_rad.sin_cos();
-        let (sb, cb) = beta.sin_cos();
+        let Angles { sp, cp, sb, cb } = angles;
         let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
         // Distance from the shaft R = e + d cos b, and its rates.
         let r = e + d * cb;
