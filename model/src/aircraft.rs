@@ -771,7 +771,8 @@ impl Aircraft {
     ///
     /// The airframe's mass and inertia include the rotor as a frozen disc; the blades'
     /// motion relative to the hub enters the hub moment as `-(dH_rel/dt + omega_hub x H_rel)`
-    /// (time derivative by a central difference along the state's own rates) and, through
+    /// (time derivative exact along the state's own rates, by the chain rule:
+    /// [`Blade::angular_momentum_and_rate`]) and, through
     /// the blades' first mass moment, the hub force. The flap equations include the hub's
     /// rotation but not its linear acceleration or the blades' weight (both enter through the
     /// first mass moment, and cancel about a teeter hinge). Lag is not modelled.
