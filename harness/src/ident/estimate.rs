@@ -16,7 +16,7 @@
 //! covariance `s^2 (X'X)^-1`; 95 % bounds `+-t(0.975, n - p)` standard errors. The estimator
 //! never panics on data: it returns [`IdentError`] or fits with warnings.
 
-use super::fourier::{hann, transform, transform_uniform};
+use super::fourier::{ChirpZ, hann, transform};
 use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64 as C;
 use serde::Serialize;
@@ -277,10 +277,19 @@ pub fn spectra(
         });
     }
     // Transforms of every variable (F[w v]) and of every state's derivative, per segment.
+    // Evenly spaced frequencies go by chirp-z, prepared once per segment length.
+    let plans: std::cell::RefCell<Vec<ChirpZ>> = Default::default();
     let ft = |v: &[f64]| -> Vec<C> {
         match freqs {
             Frequencies::Band { points, .. } if *points > 1 => {
-                transform_uniform(v, sig.dt_s, omegas[0], omegas[1] - omegas[0], *points)
+                let mut plans = plans.borrow_mut();
+                if let Some(p) = plans.iter().find(|p| p.len() == v.len()) {
+                    return p.apply(v);
+                }
+                let p = ChirpZ::new(v.len(), sig.dt_s, omegas[0], omegas[1] - omegas[0], *points);
+                let out = p.apply(v);
+                plans.push(p);
+                out
             }
             _ => transform(v, sig.dt_s, &omegas),
         }

@@ -40,47 +40,107 @@ pub fn transform(x: &[f64], dt: f64, omegas: &[f64]) -> Vec<C> {
 
 /// The same transform at `m` evenly spaced frequencies `w0 + k dw`, by chirp-z.
 pub fn transform_uniform(x: &[f64], dt: f64, w0: f64, dw: f64, m: usize) -> Vec<C> {
-    let n = x.len();
-    if n == 0 || m == 0 {
-        return vec![C::new(0.0, 0.0); m];
-    }
-    let l = (n + m - 1).next_power_of_two();
-    let (th0, phi) = (w0 * dt, dw * dt);
-    let chirp = |k: usize| C::from_polar(1.0, -phi * (k as f64) * (k as f64) / 2.0);
-    let mut y: Vec<C> = (0..l)
-        .map(|k| {
-            if k < n {
-                C::from_polar(x[k], -th0 * k as f64) * chirp(k)
-            } else {
-                C::new(0.0, 0.0)
+    ChirpZ::new(x.len(), dt, w0, dw, m).apply(x)
+}
+
+/// A chirp-z transform prepared for signals of one length, step and set of frequencies: the
+/// FFT plans, the chirps and the transformed kernel are computed once, so each further signal
+/// costs two FFTs and no trigonometry (an identification transforms a dozen signals per
+/// segment on the same grid).
+pub struct ChirpZ {
+    n: usize,
+    dt: f64,
+    w0: f64,
+    dw: f64,
+    /// `exp(-i th0 k) chirp(k)` for the samples, `k < n`.
+    pre: Vec<C>,
+    /// The FFT of the conjugate chirp, over the FFT's length (the inverse's normalisation).
+    kernel: Vec<C>,
+    /// `chirp(k)` for the outputs, `k < m`.
+    post: Vec<C>,
+    /// `exp(-i w_k (n - 1) dt)`: the trapezoidal rule's end correction at each frequency.
+    end: Vec<C>,
+    fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
+    inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
+}
+
+impl ChirpZ {
+    /// A transform of `n` samples at step `dt` to the `m` frequencies `w0 + k dw` (rad/s).
+    pub fn new(n: usize, dt: f64, w0: f64, dw: f64, m: usize) -> Self {
+        let l = (n + m).saturating_sub(1).max(1).next_power_of_two();
+        let (th0, phi) = (w0 * dt, dw * dt);
+        let chirp = |k: usize| C::from_polar(1.0, -phi * (k as f64) * (k as f64) / 2.0);
+        let mut planner = FftPlanner::new();
+        let (fwd, inv) = (planner.plan_fft_forward(l), planner.plan_fft_inverse(l));
+        let mut kernel = vec![C::new(0.0, 0.0); l];
+        for k in 0..m.max(n) {
+            if k < m {
+                kernel[k] = chirp(k).conj();
             }
-        })
-        .collect();
-    let mut v = vec![C::new(0.0, 0.0); l];
-    for k in 0..m.max(n) {
-        if k < m {
-            v[k] = chirp(k).conj();
+            if k > 0 && k < n {
+                kernel[l - k] = chirp(k).conj();
+            }
         }
-        if k > 0 && k < n {
-            v[l - k] = chirp(k).conj();
+        fwd.process(&mut kernel);
+        for v in &mut kernel {
+            *v /= l as f64;
+        }
+        let last = n.saturating_sub(1) as f64;
+        Self {
+            n,
+            dt,
+            w0,
+            dw,
+            pre: (0..n)
+                .map(|k| C::from_polar(1.0, -th0 * k as f64) * chirp(k))
+                .collect(),
+            kernel,
+            post: (0..m).map(chirp).collect(),
+            end: (0..m)
+                .map(|k| C::from_polar(1.0, -(w0 + k as f64 * dw) * dt * last))
+                .collect(),
+            fwd,
+            inv,
         }
     }
-    let mut planner = FftPlanner::new();
-    let fwd = planner.plan_fft_forward(l);
-    fwd.process(&mut y);
-    fwd.process(&mut v);
-    for (a, b) in y.iter_mut().zip(&v) {
-        *a *= b;
+
+    /// The number of samples this transform takes.
+    pub fn len(&self) -> usize {
+        self.n
     }
-    planner.plan_fft_inverse(l).process(&mut y);
-    (0..m)
-        .map(|k| {
-            let w = w0 + k as f64 * dw;
-            let sum = y[k] * chirp(k) / l as f64;
-            let last = C::from_polar(1.0, -w * dt * (n - 1) as f64) * x[n - 1];
-            (sum - (last + x[0]) * 0.5) * dt
-        })
-        .collect()
+
+    /// Whether it takes no samples.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// The transform of `x`; a signal of another length gets a transform prepared for it.
+    pub fn apply(&self, x: &[f64]) -> Vec<C> {
+        let m = self.post.len();
+        if x.len() != self.n {
+            return Self::new(x.len(), self.dt, self.w0, self.dw, m).apply(x);
+        }
+        let n = self.n;
+        if n == 0 || m == 0 {
+            return vec![C::new(0.0, 0.0); m];
+        }
+        let mut y = vec![C::new(0.0, 0.0); self.kernel.len()];
+        for (k, (a, &v)) in self.pre.iter().zip(x).enumerate() {
+            y[k] = a * v;
+        }
+        self.fwd.process(&mut y);
+        for (a, b) in y.iter_mut().zip(&self.kernel) {
+            *a *= b;
+        }
+        self.inv.process(&mut y);
+        (0..m)
+            .map(|k| {
+                let sum = y[k] * self.post[k];
+                let last = self.end[k] * x[n - 1];
+                (sum - (last + x[0]) * 0.5) * self.dt
+            })
+            .collect()
+    }
 }
 
 /// A Hann taper over `n` samples and its time derivative (per second) at step `dt`.
@@ -131,6 +191,24 @@ mod tests {
         for (a, b) in fast.iter().zip(&slow) {
             assert!((a - b).norm() < 1e-9 * (1.0 + b.norm()), "{a} vs {b}");
         }
+    }
+
+    #[test]
+    fn a_prepared_chirp_z_serves_many_signals_and_other_lengths() {
+        let (w0, dw, m, dt) = (0.2, 0.04, 120, 0.01);
+        let plan = ChirpZ::new(2000, dt, w0, dw, m);
+        let omegas: Vec<f64> = (0..m).map(|k| w0 + k as f64 * dw).collect();
+        for (n, f) in [(2000usize, 0.011), (2000, 0.027), (1500, 0.019)] {
+            let x: Vec<f64> = (0..n).map(|k| (k as f64 * f).cos() + 0.3).collect();
+            let fast = plan.apply(&x);
+            let slow = transform(&x, dt, &omegas);
+            assert_eq!(fast.len(), m);
+            for (a, b) in fast.iter().zip(&slow) {
+                assert!((a - b).norm() < 1e-9 * (1.0 + b.norm()), "n {n}: {a} vs {b}");
+            }
+        }
+        assert_eq!(plan.len(), 2000);
+        assert!(ChirpZ::new(0, dt, w0, dw, m).apply(&[]).iter().all(|c| c.norm() == 0.0));
     }
 
     #[test]
