@@ -693,7 +693,14 @@ impl<'a> Blade<'a> {
         beta: f64,
         beta_dot: f64,
     ) -> [f64; 3] {
-        let mut h = self.angular_momentum(op, psi_rad, beta, beta_dot);
+        let h = self.angular_momentum(op, psi_rad, beta, beta_dot);
+        let disc = self.disc_share(op);
+        std::array::from_fn(|k| h[k] - disc[k])
+    }
+
+    /// The frozen disc's share of one blade's angular momentum, `K diag(1/2, 1/2, 1) omega_hub`
+    /// with `K = m e^2 + 2 e S + I` (see [`Self::angular_momentum_beyond_disc`]).
+    fn disc_share(&self, op: &Operating) -> [f64; 3] {
         let rot = self.rotor;
         let (i, s_m, e) = (
             rot.flap_inertia_kg_m2,
@@ -702,10 +709,7 @@ impl<'a> Blade<'a> {
         );
         let k = 4.0 * s_m * s_m / (3.0 * i) * e * e + 2.0 * e * s_m + i;
         let w = op.hub_rates_rad_s;
-        h[0] -= 0.5 * k * w[0];
-        h[1] -= 0.5 * k * w[1];
-        h[2] -= k * w[2];
-        h
+        [0.5 * k * w[0], 0.5 * k * w[1], k * w[2]]
     }
 
     /// The blade angles `(beta, d beta / dt)` of blade 1 and, for a teetering hub, blade 2
@@ -822,40 +826,8 @@ impl<'a> Blade<'a> {
     /// One blade's angular momentum about the hub centre (thin rigid blade; the blade mass
     /// for the hinge-offset terms from the uniform-rod relation `m = 4 S^2 / (3 I)`).
     fn angular_momentum(&self, op: &Operating, psi: f64, beta: f64, beta_dot: f64) -> [f64; 3] {
-        let rot = self.rotor;
-        let (i, s_m, e) = (
-            rot.flap_inertia_kg_m2,
-            rot.flap_mass_moment_kg_m,
-            rot.hinge_offset_m,
-        );
-        let m = 4.0 * s_m * s_m / (3.0 * i);
-        let w = op.omega_rad_s;
-        let (sp, cp) = psi.sin_cos();
-        let (sb, cb) = beta.sin_cos();
-        let r_hat = [-cp, sp, 0.0];
-        let t_hat = [sp, cp, 0.0];
-        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
-        let n_hat = [-sb * r_hat[0], -sb * r_hat[1], -cb];
-        let rt = cross(r_hat, t_hat);
-        let rn = cross(r_hat, n_hat);
-        let et = cross(e_b, t_hat);
-        let en = cross(e_b, n_hat);
-        let om = op.hub_rates_rad_s;
-        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        let (w_r, w_e) = (dot(om, r_hat), dot(om, e_b));
-        let x2 = e * e * m + 2.0 * e * s_m * cb + i;
-        let mut h = [0.0; 3];
-        for k in 0..3 {
-            h[k] = w * (e * e * m + e * s_m * cb) * rt[k]
-                + e * s_m * beta_dot * rn[k]
-                + w * (e * s_m + i * cb) * et[k]
-                + i * beta_dot * en[k]
-                + x2 * om[k]
-                - (e * e * m * w_r * r_hat[k]
-                    + e * s_m * (w_r * e_b[k] + w_e * r_hat[k])
-                    + i * w_e * e_b[k]);
-        }
-        h
+        self.momentum(op, Angles::new(psi, beta), beta_dot, 0.0, 0.0)
+            .0
     }
 
     /// [`Self::angular_momentum_beyond_disc`] and its time derivative along the blade's motion:
@@ -886,6 +858,22 @@ impl<'a> Blade<'a> {
 
     /// [`Self::angular_momentum_and_rate`] with the blade's angles' sines and cosines given.
     pub(crate) fn angular_momentum_and_rate_at(
+        &self,
+        op: &Operating,
+        angles: Angles,
+        beta_dot: f64,
+        beta_ddot: f64,
+        omega_dot_rad_s2: f64,
+    ) -> ([f64; 3], [f64; 3]) {
+        let (h, h_dot) = self.momentum(op, angles, beta_dot, beta_ddot, omega_dot_rad_s2);
+        let disc = self.disc_share(op);
+        (std::array::from_fn(|k| h[k] - disc[k]), h_dot)
+    }
+
+    /// One blade's whole angular momentum about the hub centre (thin rigid blade; the blade
+    /// mass for the hinge-offset terms from the uniform-rod relation `m = 4 S^2 / (3 I)`) and
+    /// its rate along the blade's motion (see [`Self::angular_momentum_and_rate`]).
+    fn momentum(
         &self,
         op: &Operating,
         angles: Angles,
@@ -938,7 +926,6 @@ impl<'a> Blade<'a> {
             -i * sb * beta_dot,
             -2.0 * e * s_m * sb * beta_dot,
         );
-        let k_disc = m * e * e + 2.0 * e * s_m + i;
         let mut h = [0.0; 3];
         let mut h_dot = [0.0; 3];
         for k in 0..3 {
@@ -949,8 +936,7 @@ impl<'a> Blade<'a> {
                 + x2 * om[k]
                 - (e * e * m * w_r * r_hat[k]
                     + e * s_m * (w_r * e_b[k] + w_e * r_hat[k])
-                    + i * w_e * e_b[k])
-                - if k == 2 { k_disc } else { 0.5 * k_disc } * om[k];
+                    + i * w_e * e_b[k]);
             h_dot[k] = (w_dot * a + w * a_dot) * rt[k]
                 + e * s_m * (beta_ddot * rn[k] + beta_dot * rn_dot[k])
                 + (w_dot * b + w * b_dot) * et[k]

@@ -204,11 +204,19 @@ mod tests {
             let slow = transform(&x, dt, &omegas);
             assert_eq!(fast.len(), m);
             for (a, b) in fast.iter().zip(&slow) {
-                assert!((a - b).norm() < 1e-9 * (1.0 + b.norm()), "n {n}: {a} vs {b}");
+                assert!(
+                    (a - b).norm() < 1e-9 * (1.0 + b.norm()),
+                    "n {n}: {a} vs {b}"
+                );
             }
         }
         assert_eq!(plan.len(), 2000);
-        assert!(ChirpZ::new(0, dt, w0, dw, m).apply(&[]).iter().all(|c| c.norm() == 0.0));
+        assert!(
+            ChirpZ::new(0, dt, w0, dw, m)
+                .apply(&[])
+                .iter()
+                .all(|c| c.norm() == 0.0)
+        );
     }
 
     #[test]
