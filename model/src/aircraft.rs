@@ -918,7 +918,7 @@ impl Aircraft {
         };
         for (k, (&(_, _, beta_dot), &ang)) in blades.iter().zip(&angles).enumerate() {
             let (hb, hb_dot) =
-                blade.angular_momentum_and_rate_at(&op, ang, beta_dot, beta_ddot[k], omega_dot);
+                blade.angular_momentum_and_rate(&op, ang, beta_dot, beta_ddot[k], omega_dot);
             for j in 0..3 {
                 h0[j] += hb[j];
                 dh[j] += hb_dot[j];
@@ -926,7 +926,7 @@ impl Aircraft {
             // The blade's centre of mass: relative acceleration and Coriolis.
             if cg_mass > 0.0 {
                 let [_, v, a] =
-                    blade.centre_of_mass_motion_at(&op, ang, beta_dot, beta_ddot[k], omega_dot);
+                    blade.centre_of_mass_motion(&op, ang, beta_dot, beta_ddot[k], omega_dot);
                 let cor = cross(frame.hub_rates, v);
                 for j in 0..3 {
                     f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);

@@ -457,10 +457,10 @@ impl Rotor {
     }
 }
 
-/// A blade's azimuth and flap angle with their sines and cosines, computed once and shared
-/// by its loads, inertial moment, angular momentum and mass-centre motion.
+/// The sines and cosines of a blade's azimuth and flap angle, computed once and shared by its
+/// loads, inertial moment, angular momentum and mass-centre motion.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Angles {
+pub struct Angles {
     sp: f64,
     cp: f64,
     sb: f64,
@@ -468,7 +468,8 @@ pub(crate) struct Angles {
 }
 
 impl Angles {
-    pub(crate) fn new(psi_rad: f64, beta: f64) -> Self {
+    /// At azimuth `psi_rad` and flap angle `beta` (rad).
+    pub fn new(psi_rad: f64, beta: f64) -> Self {
         let (sp, cp) = psi_rad.sin_cos();
         let (sb, cb) = beta.sin_cos();
         Self { sp, cp, sb, cb }
@@ -841,25 +842,6 @@ impl<'a> Blade<'a> {
     pub fn angular_momentum_and_rate(
         &self,
         op: &Operating,
-        psi_rad: f64,
-        beta: f64,
-        beta_dot: f64,
-        beta_ddot: f64,
-        omega_dot_rad_s2: f64,
-    ) -> ([f64; 3], [f64; 3]) {
-        self.angular_momentum_and_rate_at(
-            op,
-            Angles::new(psi_rad, beta),
-            beta_dot,
-            beta_ddot,
-            omega_dot_rad_s2,
-        )
-    }
-
-    /// [`Self::angular_momentum_and_rate`] with the blade's angles' sines and cosines given.
-    pub(crate) fn angular_momentum_and_rate_at(
-        &self,
-        op: &Operating,
         angles: Angles,
         beta_dot: f64,
         beta_ddot: f64,
@@ -959,25 +941,6 @@ impl<'a> Blade<'a> {
     /// [`Self::angular_momentum_and_rate`] (thin rigid blade: the centre of mass at
     /// `S / m` along the blade from the hinge, `m = 4 S^2 / (3 I)`).
     pub fn centre_of_mass_motion(
-        &self,
-        op: &Operating,
-        psi_rad: f64,
-        beta: f64,
-        beta_dot: f64,
-        beta_ddot: f64,
-        omega_dot_rad_s2: f64,
-    ) -> [[f64; 3]; 3] {
-        self.centre_of_mass_motion_at(
-            op,
-            Angles::new(psi_rad, beta),
-            beta_dot,
-            beta_ddot,
-            omega_dot_rad_s2,
-        )
-    }
-
-    /// [`Self::centre_of_mass_motion`] with the blade's angles' sines and cosines given.
-    pub(crate) fn centre_of_mass_motion_at(
         &self,
         op: &Operating,
         angles: Angles,
@@ -1511,8 +1474,9 @@ mod tests {
             (2.4, -0.08, -1.5, 45.0, -3.0),
             (4.0, 0.12, 0.0, 0.0, 0.0),
         ] {
-            let (h, h_dot) = blade.angular_momentum_and_rate(&op(omega), psi, beta, bd, bdd, wd);
-            let cm = blade.centre_of_mass_motion(&op(omega), psi, beta, bd, bdd, wd);
+            let (h, h_dot) =
+                blade.angular_momentum_and_rate(&op(omega), Angles::new(psi, beta), bd, bdd, wd);
+            let cm = blade.centre_of_mass_motion(&op(omega), Angles::new(psi, beta), bd, bdd, wd);
             // The state a time `t` along the motion.
             let at = |t: f64| {
                 let o = op(omega + wd * t);
@@ -1523,7 +1487,7 @@ mod tests {
                 );
                 (
                     blade.angular_momentum_beyond_disc(&o, p, b, d),
-                    blade.centre_of_mass_motion(&o, p, b, d, bdd, wd)[0],
+                    blade.centre_of_mass_motion(&o, Angles::new(p, b), d, bdd, wd)[0],
                 )
             };
             let dt = 1e-5;
