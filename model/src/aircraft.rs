@@ -910,12 +910,7 @@ impl Aircraft {
         let mut h0 = [0.0; 3];
         let mut dh = [0.0; 3];
         let mut f_hub = force;
-        let cg_mass = if rotor.flap_mass_moment_kg_m > 0.0 {
-            let s_m = rotor.flap_mass_moment_kg_m;
-            4.0 * s_m * s_m / (3.0 * rotor.flap_inertia_kg_m2)
-        } else {
-            0.0
-        };
+        let cg_mass = rotor.blade_mass_kg();
         for (k, (&(_, _, beta_dot), &ang)) in blades.iter().zip(&angles).enumerate() {
             let (hb, hb_dot) =
                 blade.angular_momentum_and_rate(&op, ang, beta_dot, beta_ddot[k], omega_dot);

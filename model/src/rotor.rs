@@ -420,6 +420,18 @@ impl Rotor {
         self.blades as f64 * mean_chord / (PI * self.radius_m)
     }
 
+    /// One blade's mass, kg, for the hinge-offset and mass-centre terms: the uniform rod's
+    /// `m = 4 S^2 / (3 I)` from the flap mass and inertia moments (its centre of mass then at
+    /// `S / m = 3 I / (4 S)` from the hinge). Zero without a mass moment.
+    pub fn blade_mass_kg(&self) -> f64 {
+        let s_m = self.flap_mass_moment_kg_m;
+        if s_m > 0.0 {
+            4.0 * s_m * s_m / (3.0 * self.flap_inertia_kg_m2)
+        } else {
+            0.0
+        }
+    }
+
     /// Lock number `rho a c R^4 / I_beta` with the chord at 0.75 R.
     pub fn lock_number(&self, density_kg_m3: f64) -> f64 {
         density_kg_m3
@@ -708,7 +720,7 @@ impl<'a> Blade<'a> {
             rot.flap_mass_moment_kg_m,
             rot.hinge_offset_m,
         );
-        let k = 4.0 * s_m * s_m / (3.0 * i) * e * e + 2.0 * e * s_m + i;
+        let k = rot.blade_mass_kg() * e * e + 2.0 * e * s_m + i;
         let w = op.hub_rates_rad_s;
         [0.5 * k * w[0], 0.5 * k * w[1], k * w[2]]
     }
@@ -869,7 +881,7 @@ impl<'a> Blade<'a> {
             rot.flap_mass_moment_kg_m,
             rot.hinge_offset_m,
         );
-        let m = 4.0 * s_m * s_m / (3.0 * i);
+        let m = rot.blade_mass_kg();
         let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
         let Angles { sp, cp, sb, cb } = angles;
         let r_hat = [-cp, sp, 0.0];
@@ -949,12 +961,8 @@ impl<'a> Blade<'a> {
         omega_dot_rad_s2: f64,
     ) -> [[f64; 3]; 3] {
         let rot = self.rotor;
-        let (i, s_m, e) = (
-            rot.flap_inertia_kg_m2,
-            rot.flap_mass_moment_kg_m,
-            rot.hinge_offset_m,
-        );
-        let d = 3.0 * i / (4.0 * s_m);
+        let e = rot.hinge_offset_m;
+        let d = rot.flap_mass_moment_kg_m / rot.blade_mass_kg();
         let Angles { sp, cp, sb, cb } = angles;
         let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
         // Distance from the shaft R = e + d cos b, and its rates.
