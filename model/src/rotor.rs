@@ -706,9 +706,8 @@ impl<'a> Blade<'a> {
         beta: f64,
         beta_dot: f64,
     ) -> [f64; 3] {
-        let h = self.angular_momentum(op, psi_rad, beta, beta_dot);
-        let disc = self.disc_share(op);
-        std::array::from_fn(|k| h[k] - disc[k])
+        self.angular_momentum_and_rate(op, Angles::new(psi_rad, beta), beta_dot, 0.0, 0.0)
+            .0
     }
 
     /// The frozen disc's share of one blade's angular momentum, `K diag(1/2, 1/2, 1) omega_hub`
