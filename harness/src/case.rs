@@ -5,6 +5,7 @@
 //! name a quantity that its check kind computes, and a check that is expected to fail says why.
 
 use crate::refs::{self, DerivativeTable, Entry, LinearModelSpec, Provenance};
+pub use crate::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
 use crate::yaml::{self, InputError};
 use cierva_model::bcar::Verdict;
 use cierva_model::{LinearModel, ModeKind};
@@ -18,6 +19,8 @@ use std::path::{Path, PathBuf};
 pub struct CaseSpec {
     pub id: String,
     pub title: String,
+    /// What the case's checks are evidence of (a check may say otherwise for itself).
+    pub class: CheckClass,
     pub provenance: Provenance,
     pub model: ModelSpec,
     #[serde(default)]
@@ -180,16 +183,45 @@ pub struct ToleranceSpec {
     /// The same sign as the expected value and within this factor of it (> 1).
     #[serde(default)]
     pub factor: Option<f64>,
+    /// Strictly positive or strictly negative (no expected value).
+    #[serde(default)]
+    pub sign: Option<Sign>,
     pub reason: String,
 }
 
-/// Tolerance for published numbers that were rounded: the inputs (the model's matrices) to
-/// `input_decimals`, the expected value to `output_decimals`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct RoundingSpec {
-    pub input_decimals: u32,
-    pub output_decimals: u32,
+/// What a check is evidence of. Only `validation` counts as validation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CheckClass {
+    /// The model against measured data (flight or wind tunnel).
+    Validation,
+    /// The model against another model's numbers (RASCAL's, in the seeds).
+    CrossCode,
+    /// A known answer: a closed form, a synthetic truth, or published matrices run through
+    /// cierva's analysis.
+    Verification,
+    /// The model's own earlier output, or a statement without an outside source.
+    Regression,
+}
+
+impl CheckClass {
+    /// The class as written in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Validation => "validation",
+            Self::CrossCode => "cross_code",
+            Self::Verification => "verification",
+            Self::Regression => "regression",
+        }
+    }
+
+    /// Every class, in the order summaries list them.
+    pub const ALL: [CheckClass; 4] = [
+        Self::Validation,
+        Self::CrossCode,
+        Self::Verification,
+        Self::Regression,
+    ];
 }
 
 /// The kinds of check.
@@ -256,6 +288,9 @@ pub enum System {
 pub struct CheckSpec {
     pub id: String,
     pub kind: CheckKind,
+    /// What this check is evidence of, where it differs from the case's `class`.
+    #[serde(default)]
+    pub class: Option<CheckClass>,
     #[serde(default)]
     pub description: Option<String>,
     /// For `mode` and `bcar`.
@@ -321,30 +356,6 @@ pub struct ExpectSpec {
     pub tolerance: String,
 }
 
-/// A resolved tolerance.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Tolerance {
-    pub name: String,
-    pub kind: ToleranceKind,
-    pub reason: String,
-}
-
-/// The kinds of tolerance.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ToleranceKind {
-    /// `|value - expected| <= bound`.
-    Absolute(f64),
-    /// `|value - expected| <= bound |expected|`.
-    Relative(f64),
-    /// `lower <= value <= upper` (no expected value).
-    Interval(f64, f64),
-    /// Published rounding propagated through the computation (see `eval`).
-    Rounding(RoundingSpec),
-    /// The same sign as the expected value and `1/f <= value/expected <= f`.
-    Factor(f64),
-}
-
 /// A resolved expectation on one quantity.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Expectation {
@@ -358,6 +369,7 @@ pub struct Expectation {
 pub struct Check {
     pub id: String,
     pub kind: CheckKind,
+    pub class: CheckClass,
     pub description: Option<String>,
     pub system: System,
     pub mode: Option<ModeKind>,
@@ -418,9 +430,13 @@ pub struct Case {
     pub path: PathBuf,
     pub id: String,
     pub title: String,
+    /// The class of its checks, where a check does not say otherwise.
+    pub class: CheckClass,
     pub provenance: Provenance,
     pub subject: Subject,
     pub checks: Vec<Check>,
+    /// What the model gave for the case's expected failures (see [`crate::discrepancy`]).
+    pub recorded: Option<crate::discrepancy::CaseRecord>,
 }
 
 /// Quantities each check kind computes (the keys allowed under `expect`).
@@ -531,6 +547,10 @@ pub const TRIM_QUANTITIES: &[&str] = &[
     "inflow_v1c_m_s",
 ];
 
+/// Trim quantities the trim enforces (it fails otherwise): computed and snapshotted, never
+/// checked.
+pub const ENFORCED_BY_TRIM: &[&str] = &["residual_norm", "max_residual_norm", "rotor_torque_n_m"];
+
 /// The trim quantities whose trends a `trim_sweep` check reports.
 pub const TREND_QUANTITIES: &[&str] = &[
     "stick_longitudinal_percent",
@@ -599,13 +619,16 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         }
         checks.push(resolve_check(path, &src, dir, &spec, &subject, &here, c)?);
     }
+    let recorded = crate::discrepancy::load(&spec.id)?;
     Ok(Case {
         path: path.to_path_buf(),
         id: spec.id,
         title: spec.title,
+        class: spec.class,
         provenance: spec.provenance,
         subject,
         checks,
+        recorded,
     })
 }
 
@@ -1167,13 +1190,13 @@ fn resolve_check(
                 ),
             ));
         }
-        let interval = matches!(tolerance.kind, ToleranceKind::Interval(..));
+        let interval = tolerance.kind.is_bound_only();
         match (e.value, interval) {
             (Some(_), true) => {
                 return Err(err(
                     &format!("{field}.value"),
                     format!(
-                        "tolerance `{}` is an interval: give no value",
+                        "tolerance `{}` is a bound (an interval or a sign): give no value",
                         tolerance.name
                     ),
                 ));
@@ -1195,9 +1218,13 @@ fn resolve_check(
             tolerance,
         });
     }
+    let class = c.class.unwrap_or(spec.class);
+    refuse_trivial(subject, c, class, reference.as_deref(), &expectations)
+        .map_err(|(field, msg)| err(&format!("{here}{field}"), msg))?;
     Ok(Check {
         id: c.id.clone(),
         kind: c.kind,
+        class,
         description: c.description.clone(),
         system: c.system,
         mode: c.mode,
@@ -1216,6 +1243,120 @@ fn resolve_check(
         expectations,
         expected_failure: c.expected_failure.clone(),
     })
+}
+
+/// Refuses a check that cannot fail: one that reads back its own input, or that a trivial
+/// predictor passes (a zero derivative, a model with no response at all). Regression checks
+/// are the model's own earlier output and exempt. The error is `(field suffix, message)`.
+fn refuse_trivial(
+    subject: &Subject,
+    c: &CheckSpec,
+    class: CheckClass,
+    reference: Option<&crate::ident::record::Record>,
+    expectations: &[Expectation],
+) -> Result<(), (String, String)> {
+    if class == CheckClass::Regression {
+        return Ok(());
+    }
+    match (subject, c.kind) {
+        (Subject::Linear { .. }, CheckKind::Derivative) => {
+            return Err((
+                ".kind".into(),
+                "a `derivative` check on a linear model reads back an entry of the model's own \
+                 file: it cannot fail (check what cierva computes from it: modes, Milne \
+                 values)"
+                    .into(),
+            ));
+        }
+        (Subject::Table { .. }, _) if class != CheckClass::Verification => {
+            return Err((
+                ".class".into(),
+                "a derivative table's checks compare published numbers with published numbers \
+                 and run no model: they are `verification` (of the transcription against the \
+                 paper's statements)"
+                    .into(),
+            ));
+        }
+        _ => {}
+    }
+    if matches!(c.kind, CheckKind::Trim | CheckKind::TrimSweep) {
+        for q in ENFORCED_BY_TRIM {
+            if c.expect.contains_key(*q) {
+                return Err((
+                    format!(".expect.{q}"),
+                    format!(
+                        "`{q}` is what the trim solves for (a trim whose scaled residuals exceed \
+                         1e-7, or whose rotor is not free, is an error): a check of it cannot fail"
+                    ),
+                ));
+            }
+        }
+    }
+    let trivial: Vec<(String, f64, &str)> = match c.kind {
+        // A ratio of two zero derivatives is not a number, which never passes.
+        CheckKind::Derivative
+            if matches!(subject, Subject::Aircraft { .. }) && c.divided_by.is_none() =>
+        {
+            expectations
+                .iter()
+                .map(|e| {
+                    let who = if e.quantity == "magnitude_change" {
+                        "corrections that change nothing"
+                    } else {
+                        "a zero derivative"
+                    };
+                    (e.quantity.clone(), 0.0, who)
+                })
+                .collect()
+        }
+        CheckKind::TrimSweep => expectations
+            .iter()
+            .map(|e| {
+                (
+                    e.quantity.clone(),
+                    0.0,
+                    "a trim that does not change with airspeed",
+                )
+            })
+            .collect(),
+        CheckKind::TimeHistory => {
+            let Some(record) = reference else {
+                return Ok(());
+            };
+            let metrics = crate::history::zero_response_metrics(record)
+                .map_err(|e| (".reference".to_string(), e))?;
+            metrics
+                .iter()
+                .flat_map(|m| {
+                    crate::history::METRICS.iter().map(move |q| {
+                        (
+                            format!("{}.{q}", m.signal),
+                            m.get(q).unwrap_or(f64::NAN),
+                            "a model with no response",
+                        )
+                    })
+                })
+                .collect()
+        }
+        _ => return Ok(()),
+    };
+    for e in expectations {
+        let Some((_, v, who)) = trivial.iter().find(|(q, ..)| *q == e.quantity) else {
+            continue;
+        };
+        if crate::tolerance::admits(&e.tolerance.kind, e.value, *v) == Some(true) {
+            return Err((
+                format!(".expect.{}", e.quantity),
+                format!(
+                    "{who} ({} = {v:.4e}) passes this expectation under tolerance `{}`: the check \
+                     cannot fail. Tighten it with a reason, or remove it (a sign is `sign: \
+                     positive` or `sign: negative`, which refuses zero)",
+                    e.quantity, e.tolerance.name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn check_tunnel(
@@ -1284,11 +1425,12 @@ fn resolve_tolerance(
         t.interval_from.is_some(),
         t.rounding.is_some(),
         t.factor.is_some(),
+        t.sign.is_some(),
     ];
     if kinds.iter().filter(|k| **k).count() != 1 {
         return Err(err(
             &tfield,
-            "give exactly one of `absolute`, `relative`, `interval`, `interval_from`, `rounding` or `factor`"
+            "give exactly one of `absolute`, `relative`, `interval`, `interval_from`, `rounding`, `factor` or `sign`"
                 .into(),
         ));
     }
@@ -1302,7 +1444,9 @@ fn resolve_tolerance(
             ))
         }
     };
-    let kind = if let Some(f) = t.factor {
+    let kind = if let Some(sign) = t.sign {
+        ToleranceKind::Sign(sign)
+    } else if let Some(f) = t.factor {
         if !(f.is_finite() && f > 1.0) {
             return Err(err(
                 &format!("{tfield}.factor"),

@@ -538,9 +538,11 @@ pub fn evaluate_each_from(
                 let Condition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };
-                crate::eval::autorotation_quantities(&r, *inflow, t)
-                    .map(|q| (q, None))
-                    .map_err(|e| format!("{}: {e}", at(c)))
+                crate::eval::quantities_or_reason(crate::eval::autorotation_quantities(
+                    &r, *inflow, t,
+                ))
+                .map(|q| (q, None))
+                .map_err(|e| format!("{}: {e}", at(c)))
             })
         }
     };

@@ -238,6 +238,17 @@ pub fn record_controls(record: &Record) -> Result<crate::controls_file::ControlT
 
 /// Compares every response of `flown` that `record` carries. The two are aligned sample by
 /// sample (`flown` is flown at the record's times).
+/// The metrics a model with no response at all would score against `record` (every response
+/// zero, its change from trim): a check that such a model passes cannot fail.
+pub fn zero_response_metrics(record: &Record) -> Result<Vec<SignalMetrics>, String> {
+    let n = record.channel("time_s").map_or(0, <[f64]>::len);
+    let flown = Flown {
+        time_s: vec![0.0; n],
+        signals: vec![vec![0.0; n]; SIGNALS.len()],
+    };
+    compare(record, &flown)
+}
+
 pub fn compare(record: &Record, flown: &Flown) -> Result<Vec<SignalMetrics>, String> {
     let t = record.channel("time_s").ok_or("the record has no time_s")?;
     let mut out = Vec::new();

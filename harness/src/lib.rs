@@ -10,6 +10,7 @@ pub mod aircraft_file;
 pub mod case;
 pub mod controls_file;
 pub mod corrections;
+pub mod discrepancy;
 pub mod eval;
 pub mod fit;
 pub mod fit_file;
@@ -19,6 +20,7 @@ pub mod refs;
 pub mod report;
 pub mod rotor_file;
 pub mod text;
+pub mod tolerance;
 pub mod yaml;
 
 use case::Case;

@@ -9,6 +9,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod cli;
+
 /// Verification and validation of rotorcraft flight-dynamics models against flight references.
 ///
 /// Exit codes: 0 every check passed (or failed as its case expects); 1 a check failed
@@ -90,6 +92,25 @@ enum Command {
         /// Write no report.
         #[arg(long)]
         no_report: bool,
+    },
+    /// Review the known discrepancies: run every check that is expected to fail and compare
+    /// what the model gives with what is recorded for it in `reports/discrepancies/`.
+    ///
+    /// A check marked `expected_failure` stays one only while the model stays inside its
+    /// recorded bands; when the model moves (better or worse), `cargo test` and `cierva validate`
+    /// fail it as "discrepancy moved". This command lists what moved; `--accept` records the
+    /// model's values as they are now (as `cargo insta review` accepts snapshots). Exit code 0
+    /// when nothing moved or all was accepted, 1 otherwise.
+    ///
+    /// Example: `cierva review cases/naca-tr515-table-iii.yaml`, then `cierva review --accept`
+    Review {
+        /// Case files or folders searched for `*.yaml` (default: `cases`).
+        paths: Vec<PathBuf>,
+        /// Record the model's values as they are now.
+        #[arg(long)]
+        accept: bool,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
     },
     /// Fit the model's empirical corrections (propeller blockage, hub angle-of-attack factor,
     /// profile drag, pitch offset, lateral inflow offset) to flight references within bounds,
@@ -666,6 +687,11 @@ fn main() -> ExitCode {
             format,
             (!no_report).then_some(report_dir),
         ),
+        Command::Review {
+            paths,
+            accept,
+            format,
+        } => cli::review::run(paths, accept, format),
         Command::Fit {
             file,
             output,
@@ -1108,6 +1134,10 @@ fn validate(
                 "corrections": corrections_used,
                 "corrected_cases": corrected,
                 "counts": counts,
+                "counts_by_class": text::counts_by_class(&results)
+                    .into_iter()
+                    .map(|(k, c)| (k.name(), c))
+                    .collect::<std::collections::BTreeMap<_, _>>(),
                 "input_errors": errors,
                 "results": results,
                 "report": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
@@ -1143,14 +1173,12 @@ fn validate(
                 );
             }
             println!(
-                "\n{} cases, {} checks: {} passed, {} failed, {} expected failures, {} unexpected passes, {} files with errors",
+                "\n{} cases, {} checks: {}, {} files with errors\nby class (only validation compares the model with measured data):\n{}",
                 loaded.len(),
                 results.len(),
-                counts.pass,
-                counts.fail,
-                counts.expected_failure,
-                counts.unexpected_pass,
-                errors.len()
+                counts.describe(),
+                errors.len(),
+                text::class_summary(&results).trim_end()
             );
             if !written.is_empty() {
                 println!("report: {}", show(&written));
@@ -1159,7 +1187,7 @@ fn validate(
     }
     if !errors.is_empty() {
         ExitCode::from(2)
-    } else if counts.fail + counts.unexpected_pass > 0 {
+    } else if counts.failing() > 0 {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

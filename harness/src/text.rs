@@ -3,7 +3,8 @@
 //! Numbers are written to a fixed number of significant digits ([`sig`]) so that snapshots do
 //! not churn on the last bits of floating point.
 
-use crate::eval::{CheckResult, Outcome};
+use crate::case::CheckClass;
+use crate::eval::{CheckResult, Finding, Outcome};
 use cierva_model::bcar;
 use cierva_model::milne;
 use cierva_model::{LinearModel, ModalAnalysis};
@@ -266,26 +267,27 @@ pub fn results_table(results: &[CheckResult]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<34} {:<30} {:<6} {:<24} {:>13} {:>13} {:>11}",
-        "case", "check", "result", "quantity", "value", "expected", "margin"
+        "{:<34} {:<30} {:<6} {:<12} {:<24} {:>13} {:>13} {:>11}",
+        "case", "check", "result", "class", "quantity", "value", "expected", "margin"
     );
     for r in results {
+        let head = format!(
+            "{:<34} {:<30} {:<6} {:<12}",
+            r.case,
+            r.check,
+            r.outcome.label(),
+            r.class.name()
+        );
         if let Some(e) = &r.error {
-            let _ = writeln!(
-                s,
-                "{:<34} {:<30} {:<6} error: {e}",
-                r.case,
-                r.check,
-                r.outcome.label()
-            );
+            let _ = writeln!(s, "{head} error: {e}");
+        }
+        if let Some(Finding::NoEquilibrium { reason, .. }) = &r.finding {
+            let _ = writeln!(s, "{head} no equilibrium: {reason}");
         }
         if let Some((want, got)) = r.verdict {
             let _ = writeln!(
                 s,
-                "{:<34} {:<30} {:<6} {:<24} {:>13} {:>13}",
-                r.case,
-                r.check,
-                r.outcome.label(),
+                "{head} {:<24} {:>13} {:>13}",
                 "verdict",
                 format!("{got:?}"),
                 format!("{want:?}")
@@ -298,10 +300,7 @@ pub fn results_table(results: &[CheckResult]) -> String {
             };
             let _ = writeln!(
                 s,
-                "{:<34} {:<30} {:<6} {:<24} {:>13} {:>13} {:>11}{}",
-                r.case,
-                r.check,
-                r.outcome.label(),
+                "{head} {:<24} {:>13} {:>13} {:>11}{}",
                 q.quantity,
                 sig(q.value, 5),
                 expected,
@@ -319,21 +318,105 @@ pub struct Counts {
     pub pass: usize,
     pub fail: usize,
     pub expected_failure: usize,
+    pub discrepancy_moved: usize,
     pub unexpected_pass: usize,
+    pub error: usize,
+}
+
+impl Counts {
+    /// Tallies one outcome.
+    pub fn add(&mut self, o: Outcome) {
+        *self.slot(o) += 1;
+    }
+
+    fn slot(&mut self, o: Outcome) -> &mut usize {
+        match o {
+            Outcome::Pass => &mut self.pass,
+            Outcome::Fail => &mut self.fail,
+            Outcome::ExpectedFailure => &mut self.expected_failure,
+            Outcome::DiscrepancyMoved => &mut self.discrepancy_moved,
+            Outcome::UnexpectedPass => &mut self.unexpected_pass,
+            Outcome::Error => &mut self.error,
+        }
+    }
+
+    /// How many checks had this outcome.
+    pub fn of(&self, o: Outcome) -> usize {
+        let mut c = *self;
+        *c.slot(o)
+    }
+
+    /// Adds another tally to this one.
+    pub fn merge(&mut self, other: &Counts) {
+        for o in Outcome::ALL {
+            *self.slot(o) += other.of(o);
+        }
+    }
+
+    /// Every check counted.
+    pub fn total(&self) -> usize {
+        Outcome::ALL.iter().map(|o| self.of(*o)).sum()
+    }
+
+    /// Checks whose outcome turns the run red.
+    pub fn failing(&self) -> usize {
+        Outcome::ALL
+            .iter()
+            .filter(|o| !o.ok())
+            .map(|o| self.of(*o))
+            .sum()
+    }
+
+    /// "157 passed, 0 failed, ..." in words.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} passed, {} failed, {} expected failures, {} discrepancies moved, {} unexpected passes, {} errors",
+            self.pass,
+            self.fail,
+            self.expected_failure,
+            self.discrepancy_moved,
+            self.unexpected_pass,
+            self.error
+        )
+    }
 }
 
 /// Tallies outcomes.
 pub fn counts(results: &[CheckResult]) -> Counts {
     let mut c = Counts::default();
     for r in results {
-        match r.outcome {
-            Outcome::Pass => c.pass += 1,
-            Outcome::Fail => c.fail += 1,
-            Outcome::ExpectedFailure => c.expected_failure += 1,
-            Outcome::UnexpectedPass => c.unexpected_pass += 1,
-        }
+        c.add(r.outcome);
     }
     c
+}
+
+/// Tallies outcomes by class of check, every class listed (in [`CheckClass::ALL`] order).
+pub fn counts_by_class(results: &[CheckResult]) -> Vec<(CheckClass, Counts)> {
+    CheckClass::ALL
+        .iter()
+        .map(|k| {
+            let mut c = Counts::default();
+            for r in results.iter().filter(|r| r.class == *k) {
+                c.add(r.outcome);
+            }
+            (*k, c)
+        })
+        .collect()
+}
+
+/// One line per class: "validation      101 checks: 3 passed, ...".
+pub fn class_summary(results: &[CheckResult]) -> String {
+    let mut s = String::new();
+    for (k, c) in counts_by_class(results) {
+        let _ = writeln!(
+            s,
+            "  {:<13} {:>4} checks: {}",
+            k.name(),
+            c.total(),
+            c.describe()
+        );
+    }
+    s
 }
 
 /// A trim, for people.

@@ -3,6 +3,10 @@
 //! (`<case-id>::snapshot-derivatives`, `::snapshot-modes`, `::snapshot-milne`) kept in
 //! `reports/snapshots/` and reviewed with `cargo insta review`.
 //!
+//! A case whose expected failures are recorded (`reports/discrepancies/`) also gets
+//! `<case-id>::discrepancy-records`, which fails on a record left for a check that is no longer
+//! an expected failure.
+//!
 //! A case file that does not load is one failing trial, `<file-stem>::load`, whose message
 //! names the file, line, column and field. No case files at all is a failing trial too.
 
@@ -67,6 +71,33 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
             .with_kind("validation"),
         );
     }
+    if let Some(rec) = &case.recorded {
+        let (c, rec) = (case.clone(), rec.clone());
+        trials.push(
+            Trial::test(format!("{}::discrepancy-records", case.id), move || {
+                let stale: Vec<&String> = rec
+                    .checks
+                    .keys()
+                    .filter(|id| {
+                        !c.checks
+                            .iter()
+                            .any(|k| &k.id == *id && k.expected_failure.is_some())
+                    })
+                    .collect();
+                if stale.is_empty() {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "{}: records for checks that are not expected failures of the case: {stale:?}; \
+                         run `cargo run --release -- review --accept`",
+                        cierva_harness::discrepancy::path_for(&c.id).display()
+                    )
+                    .into())
+                }
+            })
+            .with_kind("regression"),
+        );
+    }
     if let Subject::Rotor { .. } = &case.subject {
         let c = case.clone();
         trials.push(
@@ -78,7 +109,10 @@ fn add_case(trials: &mut Vec<Trial>, case: Case) {
                     .checks
                     .iter()
                     .filter_map(|k| k.tunnel.as_ref().map(|t| (k.id.clone(), t)))
-                    .map(|(id, t)| (id, eval::autorotation_quantities(&file.rotor, *inflow, t)))
+                    .map(|(id, t)| {
+                        let q = eval::autorotation_quantities(&file.rotor, *inflow, t);
+                        (id, eval::quantities_or_reason(q))
+                    })
                     .collect();
                 snapshot(&c, "autorotation", Ok(text::autorotation_table(&rows)))
             })

@@ -84,7 +84,7 @@ fn bad_input_exits_2_with_a_located_message() {
     let (code, out, _) = cierva(&["validate", "harness/tests/bad-input/typo-field.yaml"]);
     assert_eq!(code, 2);
     assert!(
-        out.contains("typo-field.yaml:24:") && out.contains("unknown field `tolerence`"),
+        out.contains("typo-field.yaml:25:") && out.contains("unknown field `tolerence`"),
         "{out}"
     );
     let (code, _, err) = cierva(&["validate", "no/such/dir"]);
@@ -480,7 +480,7 @@ fn synth_history_writes_a_record_a_time_history_check_reads() {
     std::fs::write(
         &case,
         format!(
-            "id: c\ntitle: t\nprovenance: {{source: \"test\"}}\nmodel:\n  aircraft: {{file: {}}}\n\
+            "id: c\ntitle: t\nclass: verification\nprovenance: {{source: \"test\"}}\nmodel:\n  aircraft: {{file: {}}}\n\
              tolerances:\n  noise: {{interval: [0.15, 0.25], reason: \"the record's rate noise sd is 0.2 deg/s\"}}\n\
              checks:\n  - id: q\n    kind: time_history\n    simulation: linear\n    condition: {{airspeed_mph: 60.0}}\n\
              \x20   reference: lin-doublet.csv\n    expect:\n      q_deg_s.rms_error: {{tolerance: noise}}\n",

@@ -45,13 +45,17 @@ impl Run {
     pub fn counts(&self) -> Counts {
         let mut all = Counts::default();
         for c in &self.cases {
-            let k = crate::text::counts(&c.results);
-            all.pass += k.pass;
-            all.fail += k.fail;
-            all.expected_failure += k.expected_failure;
-            all.unexpected_pass += k.unexpected_pass;
+            all.merge(&crate::text::counts(&c.results));
         }
         all
+    }
+
+    /// Every check's result, case by case.
+    pub fn results(&self) -> Vec<CheckResult> {
+        self.cases
+            .iter()
+            .flat_map(|c| c.results.iter().cloned())
+            .collect()
     }
 }
 
@@ -122,7 +126,7 @@ fn outcome_class(o: Outcome) -> &'static str {
         Outcome::Pass => "pass",
         Outcome::Fail => "fail",
         Outcome::ExpectedFailure => "xfail",
-        Outcome::UnexpectedPass => "xpass",
+        Outcome::DiscrepancyMoved | Outcome::UnexpectedPass | Outcome::Error => "xpass",
     }
 }
 
@@ -171,7 +175,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
          Validation against outside references; self-regression snapshots are checked by \
          <code>cargo test</code> and reviewed with <code>cargo insta review</code>.</p>",
         run.cases.len(),
-        counts.pass + counts.fail + counts.expected_failure + counts.unexpected_pass,
+        counts.total(),
         run.seconds
     );
     h += &summary_html(run, &counts);
@@ -196,19 +200,14 @@ pub fn html(run: &Run, dir: &Path) -> String {
         let k = crate::text::counts(&c.results);
         let _ = write!(
             h,
-            "<li><a href=\"#case-{id}\">{id}</a> <span class=\"muted\">{} pass, {} xfail{}{}</span></li>",
+            "<li><a href=\"#case-{id}\">{id}</a> <span class=\"muted\">{} pass, {} xfail{}</span></li>",
             k.pass,
             k.expected_failure,
-            if k.fail > 0 {
-                format!(", <span class=\"fail\">{} FAIL</span>", k.fail)
-            } else {
-                String::new()
-            },
-            if k.unexpected_pass > 0 {
-                format!(", <span class=\"xpass\">{} XPASS</span>", k.unexpected_pass)
-            } else {
-                String::new()
-            },
+            Outcome::ALL
+                .iter()
+                .filter(|o| !o.ok() && k.of(**o) > 0)
+                .map(|o| format!(", <span class=\"fail\">{} {}</span>", k.of(*o), o.label()))
+                .collect::<String>(),
             id = esc(&c.case.id)
         );
     }
@@ -262,27 +261,54 @@ fn fits_html(dir: &Path) -> String {
 }
 
 fn summary_html(run: &Run, counts: &Counts) -> String {
-    let mut h = String::from("<h2 id=\"summary\">Summary</h2><table><tr>");
-    for (label, n, class) in [
-        ("passed", counts.pass, "pass"),
-        ("failed", counts.fail, "fail"),
-        ("expected failures", counts.expected_failure, "xfail"),
-        ("unexpected passes", counts.unexpected_pass, "xpass"),
-        ("files with errors", run.input_errors.len(), "fail"),
-    ] {
+    let mut h = String::from(
+        "<h2 id=\"summary\">Summary</h2><p class=\"muted\">Checks by class: only \
+         <b>validation</b> compares the model with measured data; <b>cross-code</b> compares it \
+         with another model, <b>verification</b> with a known answer, <b>regression</b> with its \
+         own earlier output.</p><table><tr><th>class</th><th>checks</th>",
+    );
+    for o in Outcome::ALL {
+        let _ = write!(h, "<th>{}</th>", o.label());
+    }
+    h += "</tr>";
+    let results = run.results();
+    let mut rows = crate::text::counts_by_class(&results);
+    rows.push((crate::case::CheckClass::Regression, *counts));
+    let last = rows.len() - 1;
+    for (i, (k, c)) in rows.iter().enumerate() {
         let _ = write!(
             h,
-            "<th>{label}</th><td class=\"n {}\">{n}</td>",
-            if n > 0 { class } else { "" }
+            "<tr><th>{}</th><td class=\"n\">{}</td>",
+            if i == last { "all" } else { k.name() },
+            c.total()
         );
+        for o in Outcome::ALL {
+            let n = c.of(o);
+            let _ = write!(
+                h,
+                "<td class=\"n {}\">{n}</td>",
+                if n > 0 { outcome_class(o) } else { "" }
+            );
+        }
+        h += "</tr>";
     }
-    h += "</tr></table>";
+    let _ = write!(
+        h,
+        "</table><p>files with errors: <span class=\"n {}\">{}</span></p>",
+        if run.input_errors.is_empty() {
+            ""
+        } else {
+            "fail"
+        },
+        run.input_errors.len()
+    );
     let verdict = if !run.input_errors.is_empty() {
         ("fail", "bad input: exit code 2")
-    } else if counts.fail + counts.unexpected_pass > 0 {
+    } else if counts.failing() > 0 {
         (
             "fail",
-            "a check failed unexpectedly or an expected failure passed: exit code 1",
+            "a check failed unexpectedly, a known discrepancy moved, an expected failure passed \
+             or a check could not be evaluated: exit code 1",
         )
     } else {
         (
@@ -458,16 +484,23 @@ pub fn markdown(run: &Run) -> String {
     let mut m = String::from("# cierva validation summary\n\n");
     let _ = writeln!(
         m,
-        "{} cases, {} checks in {:.1} s: **{} passed, {} failed, {} expected failures, {} unexpected passes**, {} files with errors.\n",
+        "{} cases, {} checks in {:.1} s: **{}**, {} files with errors.\n\nBy class (only validation compares the model with measured data):\n",
         run.cases.len(),
-        k.pass + k.fail + k.expected_failure + k.unexpected_pass,
+        k.total(),
         run.seconds,
-        k.pass,
-        k.fail,
-        k.expected_failure,
-        k.unexpected_pass,
+        k.describe(),
         run.input_errors.len()
     );
+    for (class, c) in crate::text::counts_by_class(&run.results()) {
+        let _ = writeln!(
+            m,
+            "- {}: {} checks: {}",
+            class.name(),
+            c.total(),
+            c.describe()
+        );
+    }
+    m += "\n";
     for (name, v) in versions() {
         let _ = writeln!(m, "- {name}: {v}");
     }
@@ -478,18 +511,21 @@ pub fn markdown(run: &Run) -> String {
         let _ = writeln!(m, "- corrections `{}`: {d}", p.display());
     }
     m += "\nWall time is each case's checks; a linearisation that several cases share is computed \
-          once, by the first case that needs it.\n\n| case | checks | pass | FAIL | xfail | XPASS | wall time, s |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+          once, by the first case that needs it.\n\n| case | class | checks | pass | FAIL | xfail | MOVED | XPASS | ERROR | wall time, s |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for c in &run.cases {
         let n = crate::text::counts(&c.results);
         let _ = writeln!(
             m,
-            "| {} | {} | {} | {} | {} | {} | {:.2} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
             c.case.id,
+            c.case.class.name(),
             c.results.len(),
             n.pass,
             n.fail,
             n.expected_failure,
+            n.discrepancy_moved,
             n.unexpected_pass,
+            n.error,
             c.seconds
         );
     }

@@ -1,0 +1,3 @@
+//! The `cierva` commands, one module each (those not yet moved out of `main.rs` live there).
+
+pub mod review;

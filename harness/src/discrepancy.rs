@@ -1,0 +1,387 @@
+//! Known discrepancies as numbers.
+//!
+//! A check marked `expected_failure` says *why* the model disagrees with its reference. What
+//! the model gives today is recorded here, per quantity, as a value and a band: the check then
+//! stays an expected failure only while the model stays inside every band. A model that moves,
+//! better or worse, fails the check as "discrepancy moved" with both numbers, so a regression
+//! cannot hide behind a known discrepancy.
+//!
+//! The records live in `reports/discrepancies/<case-id>.yaml`, beside the insta snapshots, and
+//! are written by `cierva review --accept`, never by hand (as `cargo insta review` writes
+//! snapshots).
+//!
+//! # The band
+//! Half-width `max(1e-4 |value|, 1e-2 h, 1e-12)`, where `h` is the half-width of the check's
+//! own tolerance (so a move of a hundredth of what the reference can resolve is noticed) and
+//! `1e-4 |value|` covers the model's convergence (trims to 1e-7 scaled residuals, finite
+//! differences in the linearisation, warm and cold starts).
+
+use crate::eval::{CheckResult, Finding};
+use crate::yaml::{self, InputError};
+use cierva_model::bcar::Verdict;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Relative half-width of a recorded band.
+pub const BAND_RELATIVE: f64 = 1e-4;
+/// Half-width of a recorded band as a fraction of the check's tolerance half-width.
+pub const BAND_OF_TOLERANCE: f64 = 1e-2;
+
+/// The records of one case, as written in its file.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseRecord {
+    pub case: String,
+    #[serde(default)]
+    pub checks: BTreeMap<String, Recorded>,
+}
+
+/// What the model gave for one expected failure.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Recorded {
+    /// Quantity -> the model's value and its band.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub quantities: BTreeMap<String, Band>,
+    /// The computed BCAR verdict, for `bcar` checks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<Verdict>,
+    /// The model found no equilibrium (see [`Finding`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub no_equilibrium: bool,
+    /// The check's numbers beyond its expectations (see `CheckResult::fingerprint`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub fingerprint: BTreeMap<String, Band>,
+}
+
+/// A recorded value and the band the model must stay in.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Band {
+    pub value: f64,
+    pub lower: f64,
+    pub upper: f64,
+}
+
+impl Band {
+    /// The band around `value` for a tolerance of half-width `tolerance_half_width` (0 or
+    /// non-finite when the tolerance has none).
+    pub fn around(value: f64, tolerance_half_width: f64) -> Band {
+        let h = if tolerance_half_width.is_finite() {
+            tolerance_half_width.abs()
+        } else {
+            0.0
+        };
+        let half = (BAND_RELATIVE * value.abs())
+            .max(BAND_OF_TOLERANCE * h)
+            .max(1e-12);
+        Band {
+            value,
+            lower: value - half,
+            upper: value + half,
+        }
+    }
+
+    /// Whether `v` lies in the band (never for a non-finite `v`).
+    pub fn holds(&self, v: f64) -> bool {
+        v.is_finite() && self.lower <= v && v <= self.upper
+    }
+}
+
+/// The file holding a case's records.
+pub fn path_for(case_id: &str) -> PathBuf {
+    crate::repo_root()
+        .join("reports/discrepancies")
+        .join(format!("{case_id}.yaml"))
+}
+
+/// Loads a case's records (`None` when it has no file).
+pub fn load(case_id: &str) -> Result<Option<CaseRecord>, InputError> {
+    let path = path_for(case_id);
+    if !path.exists() {
+        return Ok(None);
+    }
+    load_file(&path).map(Some)
+}
+
+/// Loads a record file.
+pub fn load_file(path: &Path) -> Result<CaseRecord, InputError> {
+    let src = yaml::read(path)?;
+    let r: CaseRecord = yaml::parse(path, &src)?;
+    for (id, rec) in &r.checks {
+        let bands = rec.quantities.iter().chain(rec.fingerprint.iter());
+        for (q, b) in bands {
+            if !(b.value.is_finite() && b.lower <= b.value && b.value <= b.upper) {
+                return Err(InputError::field(
+                    path,
+                    &src,
+                    &format!("checks.{id}"),
+                    format!("`{q}`: a recorded band needs lower <= value <= upper, all finite"),
+                ));
+            }
+        }
+    }
+    Ok(r)
+}
+
+/// What the model gives now for a failing check, as a record.
+pub fn record_of(result: &CheckResult) -> Recorded {
+    let quantities = result
+        .quantities
+        .iter()
+        .map(|q| {
+            (
+                q.quantity.clone(),
+                Band::around(q.value, 0.5 * (q.upper - q.lower)),
+            )
+        })
+        .collect();
+    Recorded {
+        quantities,
+        verdict: result.verdict.map(|(_, got)| got),
+        no_equilibrium: matches!(result.finding, Some(Finding::NoEquilibrium { .. })),
+        fingerprint: result
+            .fingerprint
+            .iter()
+            .map(|(n, v)| (n.clone(), Band::around(*v, 0.0)))
+            .collect(),
+    }
+}
+
+/// Every way the model has left its record, in words ("rpm 97.52: recorded 96.91 in [96.90,
+/// 96.92]"); empty when it has not.
+pub fn departures(result: &CheckResult, recorded: &Recorded) -> Vec<String> {
+    let mut out = Vec::new();
+    let fmt = |b: &Band| {
+        format!(
+            "recorded {:.6e} in [{:.6e}, {:.6e}]",
+            b.value, b.lower, b.upper
+        )
+    };
+    for q in &result.quantities {
+        match recorded.quantities.get(&q.quantity) {
+            Some(b) if b.holds(q.value) => {}
+            Some(b) => out.push(format!("{} {:.6e}: {}", q.quantity, q.value, fmt(b))),
+            None => out.push(format!("{} {:.6e}: not recorded", q.quantity, q.value)),
+        }
+    }
+    for q in recorded.quantities.keys() {
+        if !result.quantities.iter().any(|r| &r.quantity == q) {
+            out.push(format!("{q}: recorded, but not computed now"));
+        }
+    }
+    let got = result.verdict.map(|(_, got)| got);
+    if got != recorded.verdict {
+        out.push(format!("verdict {got:?}: recorded {:?}", recorded.verdict));
+    }
+    let no_equilibrium = matches!(result.finding, Some(Finding::NoEquilibrium { .. }));
+    match (no_equilibrium, recorded.no_equilibrium) {
+        (true, false) => out.push("no equilibrium now: recorded with one".into()),
+        (false, true) => out.push("an equilibrium now: recorded without one".into()),
+        _ => {}
+    }
+    for (n, v) in &result.fingerprint {
+        match recorded.fingerprint.get(n) {
+            Some(b) if b.holds(*v) => {}
+            Some(b) => out.push(format!("{n} {v:.6e}: {}", fmt(b))),
+            None => out.push(format!("{n} {v:.6e}: not recorded")),
+        }
+    }
+    out
+}
+
+/// The records of a run's expected failures, by case (cases without expected failures have
+/// none: their file is to be removed).
+pub fn records(case_id: &str, results: &[CheckResult]) -> CaseRecord {
+    CaseRecord {
+        case: case_id.to_string(),
+        checks: results
+            .iter()
+            .filter(|r| r.expected_failure.is_some() && !r.passed && r.error.is_none())
+            .map(|r| (r.check.clone(), record_of(r)))
+            .collect(),
+    }
+}
+
+/// Writes a case's records (or removes its file when it has none). Returns whether the file
+/// changed.
+pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
+    let path = path_for(&record.case);
+    let old = std::fs::read_to_string(&path).ok();
+    if record.checks.is_empty() {
+        if old.is_some() {
+            std::fs::remove_file(&path)?;
+            return Ok(true);
+        }
+        return Ok(false);
+    }
+    let body = render(record);
+    let text = format!(
+        "# Written by `cierva review --accept`: what the model gives today for each check of\n\
+         # `{}` that is expected to fail. Do not edit by hand. A check whose model leaves a band\n\
+         # fails as \"discrepancy moved\". Band half-width: max({BAND_RELATIVE:e} |value|, \
+         {BAND_OF_TOLERANCE:e} x the tolerance's half-width).\n{body}",
+        record.case
+    );
+    if old.as_deref() == Some(text.as_str()) {
+        return Ok(false);
+    }
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    std::fs::write(&path, text)?;
+    Ok(true)
+}
+
+/// What reviewing a case's known discrepancies found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseReview {
+    pub case: String,
+    /// The records as the model gives them now.
+    #[serde(skip)]
+    pub now: CaseRecord,
+    /// Every difference from the committed records, in words (empty: nothing moved).
+    pub changes: Vec<String>,
+    /// Expected failures that could not be evaluated: they cannot be recorded.
+    pub errors: Vec<String>,
+}
+
+/// Runs a case's expected failures and compares what the model gives with its records.
+pub fn review(case: &crate::case::Case) -> CaseReview {
+    let results: Vec<CheckResult> = case
+        .checks
+        .iter()
+        .filter(|c| c.expected_failure.is_some())
+        .map(|c| crate::eval::run_check(case, c))
+        .collect();
+    let now = records(&case.id, &results);
+    let empty = CaseRecord::default();
+    let old = case.recorded.as_ref().unwrap_or(&empty);
+    let mut changes = Vec::new();
+    let mut errors = Vec::new();
+    for r in &results {
+        if let Some(e) = &r.error {
+            errors.push(format!("{}: {e}", r.check));
+        } else if r.passed {
+            changes.push(format!(
+                "{}: passes now; remove its `expected_failure` from the case",
+                r.check
+            ));
+        } else {
+            match old.checks.get(&r.check) {
+                None => changes.push(format!("{}: not recorded yet", r.check)),
+                Some(rec) => {
+                    for d in departures(r, rec) {
+                        changes.push(format!("{}: {d}", r.check));
+                    }
+                }
+            }
+        }
+    }
+    for id in old.checks.keys() {
+        if !now.checks.contains_key(id) && !results.iter().any(|r| &r.check == id) {
+            changes.push(format!(
+                "{id}: recorded, but no longer an expected failure of the case"
+            ));
+        }
+    }
+    CaseReview {
+        case: case.id.clone(),
+        now,
+        changes,
+        errors,
+    }
+}
+
+/// A record file's body: one flow map per band, numbers to 8 significant digits (far finer than
+/// any band).
+fn render(record: &CaseRecord) -> String {
+    use std::fmt::Write as _;
+    let band = |b: &Band| {
+        format!(
+            "{{value: {:.7e}, lower: {:.7e}, upper: {:.7e}}}",
+            b.value, b.lower, b.upper
+        )
+    };
+    let mut o = format!("case: {}\nchecks:\n", record.case);
+    for (id, r) in &record.checks {
+        let _ = write!(o, "  {id}:");
+        o += if r.quantities.is_empty()
+            && r.verdict.is_none()
+            && !r.no_equilibrium
+            && r.fingerprint.is_empty()
+        {
+            " {}\n"
+        } else {
+            "\n"
+        };
+        if !r.quantities.is_empty() {
+            o += "    quantities:\n";
+            for (q, b) in &r.quantities {
+                let _ = writeln!(o, "      {q}: {}", band(b));
+            }
+        }
+        if let Some(v) = r.verdict {
+            let name = match v {
+                Verdict::Complies => "complies",
+                Verdict::DoesNotComply => "does_not_comply",
+            };
+            let _ = writeln!(o, "    verdict: {name}");
+        }
+        if r.no_equilibrium {
+            o += "    no_equilibrium: true\n";
+        }
+
+        if !r.fingerprint.is_empty() {
+            o += "    fingerprint:\n";
+            for (q, b) in &r.fingerprint {
+                let _ = writeln!(o, "      {q}: {}", band(b));
+            }
+        }
+    }
+    o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_written_record_reads_back() {
+        let mut checks = BTreeMap::new();
+        checks.insert(
+            "row-01".to_string(),
+            Recorded {
+                quantities: [("rpm".to_string(), Band::around(96.869352374, 0.99))].into(),
+                verdict: Some(Verdict::DoesNotComply),
+                no_equilibrium: true,
+                fingerprint: [("q".to_string(), Band::around(-5.06e-6, 0.0))].into(),
+            },
+        );
+        let r = CaseRecord {
+            case: "c".into(),
+            checks,
+        };
+        let back: CaseRecord = serde_yaml::from_str(&render(&r)).unwrap();
+        let (a, b) = (&r.checks["row-01"], &back.checks["row-01"]);
+        assert_eq!(a.verdict, b.verdict);
+        let (x, y) = (a.quantities["rpm"], b.quantities["rpm"]);
+        assert!((x.value - y.value).abs() < 1e-6 && (x.lower - y.lower).abs() < 1e-6);
+        assert!(b.no_equilibrium && b.fingerprint["q"].holds(-5.06e-6));
+    }
+
+    #[test]
+    fn a_band_holds_its_value_and_not_nan() {
+        let b = Band::around(96.9, 0.99);
+        assert!(b.holds(96.9));
+        assert!(b.holds(96.905));
+        assert!(!b.holds(96.92));
+        assert!(!b.holds(f64::NAN));
+        // The relative part wins when the tolerance is tight or absent.
+        let c = Band::around(-2.0, 0.0);
+        assert!((c.upper - c.lower - 4e-4).abs() < 1e-15);
+        // A zero value still has a band.
+        assert!(Band::around(0.0, f64::INFINITY).upper > 0.0);
+    }
+}

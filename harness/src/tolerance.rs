@@ -1,0 +1,209 @@
+//! Tolerances: their kinds, and the arithmetic that judges a value against an expectation.
+//!
+//! Case loading uses it to refuse checks that a trivial predictor would pass, and evaluation to
+//! judge the model; neither depends on the other.
+//!
+//! # Margins
+//! Every judgement gives a margin that is positive when the value is admitted:
+//! `absolute`: `bound - |value - expected|`; `relative`: `bound |expected| - |value - expected|`;
+//! `interval`: the distance to the nearer end, `min(value - lower, upper - value)`;
+//! `rounding`: as `absolute`, with the bound computed by evaluation; `factor`: in log units,
+//! `ln f - |ln(value / expected)|` (`-ln f - |ln|value / expected||` across a sign change); `sign`: the value itself, positive for the stated sign, and a
+//! zero value is never admitted. A NaN value, bound or margin is never admitted.
+
+use serde::{Deserialize, Serialize};
+
+/// A resolved tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Tolerance {
+    pub name: String,
+    pub kind: ToleranceKind,
+    pub reason: String,
+}
+
+/// Tolerance for published numbers that were rounded: the inputs (the model's matrices) to
+/// `input_decimals`, the expected value to `output_decimals`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoundingSpec {
+    pub input_decimals: u32,
+    pub output_decimals: u32,
+}
+
+/// The sign a `sign` tolerance asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sign {
+    Positive,
+    Negative,
+}
+
+/// The kinds of tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToleranceKind {
+    /// `|value - expected| <= bound`.
+    Absolute(f64),
+    /// `|value - expected| <= bound |expected|`.
+    Relative(f64),
+    /// `lower <= value <= upper` (no expected value).
+    Interval(f64, f64),
+    /// Published rounding propagated through the computation (see `eval`).
+    Rounding(RoundingSpec),
+    /// The same sign as the expected value and `1/f <= value/expected <= f`.
+    Factor(f64),
+    /// Strictly of the stated sign (no expected value): zero is not admitted.
+    Sign(Sign),
+}
+
+impl ToleranceKind {
+    /// Whether the tolerance takes no expected value.
+    pub fn is_bound_only(&self) -> bool {
+        matches!(self, Self::Interval(..) | Self::Sign(_))
+    }
+}
+
+/// A value judged against an expectation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Judgement {
+    pub margin: f64,
+    /// The tolerance in words (`± 1.2e-3`, `in [-0.133, -0.044]`).
+    pub allowed: String,
+    /// The admitted range as numbers (for plots and records).
+    pub lower: f64,
+    pub upper: f64,
+    pub pass: bool,
+}
+
+/// Judges `value` against `expected` under `kind`; `rounding` gives the bound of a `rounding`
+/// tolerance (computed by evaluation). `None` when the kind needs an expected value and none is
+/// given (refused at load).
+pub fn judge(
+    kind: &ToleranceKind,
+    expected: Option<f64>,
+    value: f64,
+    rounding: Option<f64>,
+) -> Option<Judgement> {
+    let (margin, allowed, (lower, upper)) = match (kind, expected) {
+        (ToleranceKind::Absolute(b), Some(x)) => {
+            (b - (value - x).abs(), format!("± {b:.3e}"), (x - b, x + b))
+        }
+        (ToleranceKind::Relative(r), Some(x)) => {
+            let b = r * x.abs();
+            (
+                b - (value - x).abs(),
+                format!("± {:.3} % ({b:.3e})", 100.0 * r),
+                (x - b, x + b),
+            )
+        }
+        (ToleranceKind::Interval(lo, hi), None) => (
+            (value - lo).min(hi - value),
+            format!("in [{lo}, {hi}]"),
+            (*lo, *hi),
+        ),
+        (ToleranceKind::Rounding(r), Some(x)) => {
+            let b = rounding?;
+            (
+                b - (value - x).abs(),
+                format!(
+                    "± {b:.3e} (rounding to {} / {} decimals)",
+                    r.input_decimals, r.output_decimals
+                ),
+                (x - b, x + b),
+            )
+        }
+        (ToleranceKind::Factor(f), Some(x)) => {
+            // In log units; across a sign change, as far again beyond the factor (a zero value
+            // is infinitely far).
+            let ratio = value / x;
+            let margin = if ratio > 0.0 {
+                f.ln() - ratio.ln().abs()
+            } else {
+                -f.ln() - ratio.abs().ln().abs()
+            };
+            let (a, b) = (x / f, x * f);
+            (
+                margin,
+                format!("same sign, within x{f} (ratio {ratio:.3})"),
+                (a.min(b), a.max(b)),
+            )
+        }
+        (ToleranceKind::Sign(s), None) => match s {
+            Sign::Positive => (value, "> 0".to_string(), (0.0, f64::INFINITY)),
+            Sign::Negative => (-value, "< 0".to_string(), (f64::NEG_INFINITY, 0.0)),
+        },
+        _ => return None,
+    };
+    let strict = matches!(kind, ToleranceKind::Sign(_));
+    let pass = value.is_finite()
+        && margin.is_finite()
+        && if strict { margin > 0.0 } else { margin >= 0.0 };
+    Some(Judgement {
+        margin,
+        allowed,
+        lower,
+        upper,
+        pass,
+    })
+}
+
+/// Whether a trivial prediction `value` would pass (`None` when that cannot be told at load:
+/// a rounding tolerance, whose bound needs the model).
+pub fn admits(kind: &ToleranceKind, expected: Option<f64>, value: f64) -> Option<bool> {
+    if matches!(kind, ToleranceKind::Rounding(_)) {
+        return None;
+    }
+    judge(kind, expected, value, None).map(|j| j.pass)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn margins_are_positive_inside_and_negative_outside() {
+        let a = ToleranceKind::Absolute(0.1);
+        assert!(judge(&a, Some(1.0), 1.05, None).unwrap().pass);
+        assert!(!judge(&a, Some(1.0), 1.2, None).unwrap().pass);
+        let r = ToleranceKind::Relative(0.01);
+        assert!((judge(&r, Some(-2.0), -2.01, None).unwrap().margin - 0.01).abs() < 1e-12);
+        let i = ToleranceKind::Interval(-0.133, -0.044);
+        assert!(!judge(&i, None, -0.194, None).unwrap().pass);
+        assert!(judge(&i, None, -0.1, None).unwrap().pass);
+    }
+
+    #[test]
+    fn a_sign_admits_neither_zero_nor_the_other_sign() {
+        let p = ToleranceKind::Sign(Sign::Positive);
+        assert!(judge(&p, None, 1e-9, None).unwrap().pass);
+        assert!(!judge(&p, None, 0.0, None).unwrap().pass);
+        assert!(!judge(&p, None, -0.0, None).unwrap().pass);
+        assert!(!judge(&p, None, -1.0, None).unwrap().pass);
+        let n = ToleranceKind::Sign(Sign::Negative);
+        assert!(judge(&n, None, -3.0, None).unwrap().pass);
+        assert_eq!(admits(&n, None, 0.0), Some(false));
+    }
+
+    #[test]
+    fn nan_never_passes() {
+        for kind in [
+            ToleranceKind::Absolute(f64::INFINITY),
+            ToleranceKind::Relative(1e300),
+        ] {
+            assert!(!judge(&kind, Some(1.0), f64::NAN, None).unwrap().pass);
+        }
+        let i = ToleranceKind::Interval(f64::NEG_INFINITY, f64::INFINITY);
+        assert!(!judge(&i, None, f64::NAN, None).unwrap().pass);
+        let s = ToleranceKind::Sign(Sign::Positive);
+        assert!(!judge(&s, None, f64::NAN, None).unwrap().pass);
+    }
+
+    #[test]
+    fn rounding_cannot_be_judged_at_load() {
+        let k = ToleranceKind::Rounding(RoundingSpec {
+            input_decimals: 4,
+            output_decimals: 4,
+        });
+        assert_eq!(admits(&k, Some(0.0), 0.0), None);
+    }
+}

@@ -1,0 +1,80 @@
+//! Known discrepancies catch regressions: a case whose checks are all expected failures still
+//! fails when the model moves, and an evaluation error fails whatever the case expects.
+
+use cierva_harness::case::{self, Case, Subject};
+use cierva_harness::eval::{self, Outcome};
+use cierva_model::airfoil::Airfoil;
+
+/// The TR 515 case with only a few rows (the whole table takes seconds).
+fn tr515(rows: &[&str]) -> Case {
+    let mut c = case::load(&cierva_harness::repo_root().join("cases/naca-tr515-table-iii.yaml"))
+        .expect("the shipped case loads");
+    c.checks.retain(|k| rows.contains(&k.id.as_str()));
+    assert_eq!(c.checks.len(), rows.len());
+    assert!(
+        c.recorded.is_some(),
+        "the case's discrepancies are recorded"
+    );
+    c
+}
+
+fn outcomes(c: &Case) -> Vec<(String, Outcome, Vec<String>)> {
+    eval::run_case(c)
+        .into_iter()
+        .map(|r| (r.check, r.outcome, r.departures))
+        .collect()
+}
+
+const ROWS: [&str; 3] = ["row-01", "row-40", "row-81"];
+
+#[test]
+fn the_shipped_rotor_gives_its_recorded_discrepancies() {
+    for (id, o, d) in outcomes(&tr515(&ROWS)) {
+        assert_eq!(o, Outcome::ExpectedFailure, "{id}: {d:?}");
+    }
+}
+
+/// A deliberate regression: the PCA-2's lift slope 2 % lower. Every row is still an expected
+/// failure by its text, and every row now fails as a moved discrepancy.
+#[test]
+fn a_changed_rotor_constant_fails_every_row_as_a_moved_discrepancy() {
+    let mut c = tr515(&ROWS);
+    let Subject::Rotor { file, .. } = &mut c.subject else {
+        panic!("TR 515 is a rotor case")
+    };
+    let Airfoil::Analytical(section) = &mut file.rotor.airfoil else {
+        panic!("the PCA-2 has an analytical section")
+    };
+    section.lift_slope_per_rad *= 0.98;
+    for (id, o, d) in outcomes(&c) {
+        assert_eq!(o, Outcome::DiscrepancyMoved, "{id}");
+        assert!(
+            d.iter().any(|s| s.contains("recorded")),
+            "{id}: the departure names both numbers: {d:?}"
+        );
+    }
+}
+
+/// A broken model (a non-number in the rotor) is an error, even in a check that is expected
+/// to fail.
+#[test]
+fn an_error_fails_an_expected_failure() {
+    let mut c = tr515(&["row-01"]);
+    let Subject::Rotor { file, .. } = &mut c.subject else {
+        panic!("TR 515 is a rotor case")
+    };
+    file.rotor.tip_loss_factor = f64::NAN;
+    let r = eval::run_case(&c);
+    assert_eq!(r[0].outcome, Outcome::Error, "{}", r[0].explain());
+    assert!(!r[0].outcome.ok());
+}
+
+/// Without a record, an expected failure is not taken on trust.
+#[test]
+fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
+    let mut c = tr515(&["row-01"]);
+    c.recorded = None;
+    let (_, o, d) = outcomes(&c).remove(0);
+    assert_eq!(o, Outcome::DiscrepancyMoved);
+    assert!(d[0].contains("nothing is recorded"), "{d:?}");
+}
