@@ -1714,7 +1714,7 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
                     })
                     .collect();
                 row!(
-                    "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; issue 4's target: under 100 ms |",
+                    "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; target: under 100 ms |",
                     1e3 * median(lins)
                 );
                 // Simulation: 60 s of level flight from the full model's periodic trim, with 10
@@ -1757,13 +1757,13 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
                         .collect();
                     let m = median(runs);
                     row!(
-                        "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; issue 4's target: 200 times with 10 elements |",
+                        "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; target: 200 times with 10 elements |",
                         m,
                         60.0 / m
                     );
                 }
                 row!(
-                    "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); issue 3's target: under 50 ms |",
+                    "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); target: under 50 ms |",
                     1e3 * median(trims),
                     t.iterations
                 );
@@ -1793,7 +1793,7 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
         }
     }
     // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
-    // frequencies (issue 5's benchmark), on a synthetic record of seed 002's Eq. 20.
+    // frequencies (the identification benchmark), on a synthetic record of seed 002's Eq. 20.
     use cierva_harness::ident::{self, record, synth};
     let truth =
         refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
@@ -1854,7 +1854,7 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
             );
         }
     }
-    // Fitting (issue 6's benchmark): 3 parameters over 5 flight conditions, from the
+    // Fitting (the fit benchmark): 3 parameters over 5 flight conditions, from the
     // uncorrected model to a synthetic truth (blockage 1.0, hub factor 0.5, drag +15 %), with X_u,
     // Z_w and the rotor speed at 40-70 mph as targets (at 30 mph the truth needs more than full
     // throttle).
@@ -1915,7 +1915,7 @@ fn bench(repeat: usize, format: Format) -> ExitCode {
                 let r = fit::fit(&problem);
                 let total = started.elapsed().as_secs_f64();
                 row!(
-                    "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, warm-started from the last at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; issue 6's target: under 5 s |",
+                    "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, warm-started from the last at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; target: under 5 s |",
                     r.status.name(),
                     r.iterations,
                     total / r.iterations.max(1) as f64,

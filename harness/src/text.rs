@@ -404,6 +404,45 @@ pub fn counts_by_class(results: &[CheckResult]) -> Vec<(CheckClass, Counts)> {
         .collect()
 }
 
+/// The Markdown table of validation checks by case (the README's "Validation" table): checks,
+/// passes and known discrepancies (expected failures), and a total row.
+pub fn validation_table(results: &[CheckResult]) -> String {
+    let mut by_case: Vec<(String, Counts)> = Vec::new();
+    for r in results.iter().filter(|r| r.class == CheckClass::Validation) {
+        match by_case.iter_mut().find(|(c, _)| *c == r.case) {
+            Some((_, k)) => k.add(r.outcome),
+            None => {
+                let mut k = Counts::default();
+                k.add(r.outcome);
+                by_case.push((r.case.clone(), k));
+            }
+        }
+    }
+    by_case.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut s = String::from(
+        "| case | validation checks | pass | known discrepancies |\n| --- | ---: | ---: | ---: |\n",
+    );
+    let mut all = Counts::default();
+    for (case, k) in &by_case {
+        all.merge(k);
+        let _ = writeln!(
+            s,
+            "| `{case}` | {} | {} | {} |",
+            k.total(),
+            k.pass,
+            k.expected_failure
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| **all** | **{}** | **{}** | **{}** |",
+        all.total(),
+        all.pass,
+        all.expected_failure
+    );
+    s
+}
+
 /// One line per class: "validation      101 checks: 3 passed, ...".
 pub fn class_summary(results: &[CheckResult]) -> String {
     let mut s = String::new();

@@ -29,9 +29,14 @@ fn main() {
             )
         })),
         Ok(loaded) => {
+            let mut cases = Vec::new();
             for c in loaded {
                 match c {
-                    Ok(case) => add_case(&mut trials, case),
+                    Ok(case) => {
+                        let case = std::sync::Arc::new(case);
+                        cases.push(case.clone());
+                        add_case(&mut trials, case);
+                    }
                     Err(e) => {
                         let stem = e
                             .path
@@ -46,6 +51,12 @@ fn main() {
                     }
                 }
             }
+            trials.push(
+                Trial::test("readme::validation-table", move || {
+                    readme_validation_table(&cases)
+                })
+                .with_kind("docs"),
+            );
         }
     }
     libtest_mimic::run(&args, trials).exit();
@@ -54,8 +65,42 @@ fn main() {
 /// Renders one snapshot of a linear model.
 type Snapshotter = fn(&cierva_model::LinearModel) -> Result<String, String>;
 
-fn add_case(trials: &mut Vec<Trial>, case: Case) {
-    let case = std::sync::Arc::new(case);
+/// The README's validation table must be what the validation checks give (every case is
+/// loaded here, so the table is the suite's).
+fn readme_validation_table(cases: &[std::sync::Arc<Case>]) -> Result<(), Failed> {
+    let results: Vec<eval::CheckResult> = cases
+        .iter()
+        .flat_map(|c| {
+            c.checks
+                .iter()
+                .filter(|k| k.class == cierva_harness::case::CheckClass::Validation)
+                .map(|k| eval::run_check(c, k))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let want = text::validation_table(&results);
+    let readme = std::fs::read_to_string(repo_root().join("README.md"))?;
+    let start = "<!-- validation-table:start";
+    let got = readme
+        .find(start)
+        .and_then(|a| {
+            let body = &readme[a..];
+            let first = body.find('\n')? + 1;
+            let end = body.find("<!-- validation-table:end -->")?;
+            Some(&body[first..end])
+        })
+        .ok_or("README.md has no validation-table markers")?;
+    if got == want {
+        Ok(())
+    } else {
+        Err(format!(
+            "README.md's validation table is not what the checks give; replace it with:\n{want}"
+        )
+        .into())
+    }
+}
+
+fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
     for check in &case.checks {
         let (c, id) = (case.clone(), check.id.clone());
         trials.push(

@@ -235,7 +235,7 @@ fn identified_model_predicts_a_doublet_it_was_not_fitted_on() {
     assert!(q(&bad) > 3.0 * q(&cmp), "{} vs {}", q(&bad), q(&cmp));
 }
 
-/// Issue 5's statistical check: over 200 seeded records with sensor noise and turbulence, the
+/// The statistical check of the bounds: over 200 seeded records with sensor noise and turbulence, the
 /// 95 % bounds of every parameter contain the truth in 90-99 % of the records. (The records
 /// stay in memory; their CSV round trip is tested above.)
 #[test]
