@@ -26,6 +26,9 @@ pub struct CaseSpec {
     #[serde(default)]
     pub tolerances: BTreeMap<String, ToleranceSpec>,
     pub checks: Vec<CheckSpec>,
+    /// The data set's scores on the scoreboard (see [`crate::scoreboard`]).
+    #[serde(default)]
+    pub scores: Vec<crate::scoreboard::ScoreSpec>,
 }
 
 /// The subject of a case: exactly one of the fields.
@@ -437,6 +440,8 @@ pub struct Case {
     pub checks: Vec<Check>,
     /// What the model gave for the case's expected failures (see [`crate::discrepancy`]).
     pub recorded: Option<crate::discrepancy::CaseRecord>,
+    /// The data set's scores.
+    pub scores: Vec<crate::scoreboard::ScoreSpec>,
 }
 
 /// Quantities each check kind computes (the keys allowed under `expect`).
@@ -620,6 +625,47 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         checks.push(resolve_check(path, &src, dir, &spec, &subject, &here, c)?);
     }
     let recorded = crate::discrepancy::load(&spec.id)?;
+    let mut ids = std::collections::BTreeSet::new();
+    for (i, sc) in spec.scores.iter().enumerate() {
+        let here = format!("scores[{i}]");
+        if !ids.insert(sc.id.clone()) || sc.id.contains("::") || sc.id.trim().is_empty() {
+            return Err(err(
+                &format!("{here}.id"),
+                format!("score id `{}` is empty, used twice or contains `::`", sc.id),
+            ));
+        }
+        if !(sc.noise_floor.is_finite() && sc.noise_floor >= 0.0) {
+            return Err(err(
+                &format!("{here}.noise_floor"),
+                format!("must be finite and >= 0, got {}", sc.noise_floor),
+            ));
+        }
+        if sc.reason.trim().is_empty() {
+            return Err(err(
+                &format!("{here}.reason"),
+                "every score needs a reason".into(),
+            ));
+        }
+        match (&sc.quantity, sc.metric.needs_quantity()) {
+            (None, true) => {
+                return Err(err(
+                    &here,
+                    format!("a `{:?}` score needs a `quantity`", sc.metric),
+                ));
+            }
+            (Some(q), _)
+                if !checks
+                    .iter()
+                    .any(|c| c.expectations.iter().any(|e| &e.quantity == q)) =>
+            {
+                return Err(err(
+                    &format!("{here}.quantity"),
+                    format!("no check of the case expects `{q}`"),
+                ));
+            }
+            _ => {}
+        }
+    }
     Ok(Case {
         path: path.to_path_buf(),
         id: spec.id,
@@ -629,6 +675,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         subject,
         checks,
         recorded,
+        scores: spec.scores,
     })
 }
 

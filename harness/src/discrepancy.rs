@@ -191,19 +191,6 @@ pub fn departures(result: &CheckResult, recorded: &Recorded) -> Vec<String> {
     out
 }
 
-/// The records of a run's expected failures, by case (cases without expected failures have
-/// none: their file is to be removed).
-pub fn records(case_id: &str, results: &[CheckResult]) -> CaseRecord {
-    CaseRecord {
-        case: case_id.to_string(),
-        checks: results
-            .iter()
-            .filter(|r| r.expected_failure.is_some() && !r.passed && r.error.is_none())
-            .map(|r| (r.check.clone(), record_of(r)))
-            .collect(),
-    }
-}
-
 /// Writes a case's records (or removes its file when it has none). Returns whether the file
 /// changed.
 pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
@@ -247,15 +234,21 @@ pub struct CaseReview {
     pub errors: Vec<String>,
 }
 
-/// Runs a case's expected failures and compares what the model gives with its records.
-pub fn review(case: &crate::case::Case) -> CaseReview {
-    let results: Vec<CheckResult> = case
-        .checks
+/// Compares what the model gives for a case's expected failures (among `results`, the case's
+/// results) with its records.
+pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
+    let results: Vec<&CheckResult> = results
         .iter()
-        .filter(|c| c.expected_failure.is_some())
-        .map(|c| crate::eval::run_check(case, c))
+        .filter(|r| r.expected_failure.is_some())
         .collect();
-    let now = records(&case.id, &results);
+    let now = CaseRecord {
+        case: case.id.clone(),
+        checks: results
+            .iter()
+            .filter(|r| !r.passed && r.error.is_none())
+            .map(|r| (r.check.clone(), record_of(r)))
+            .collect(),
+    };
     let empty = CaseRecord::default();
     let old = case.recorded.as_ref().unwrap_or(&empty);
     let mut changes = Vec::new();

@@ -19,6 +19,7 @@ pub mod ident;
 pub mod refs;
 pub mod report;
 pub mod rotor_file;
+pub mod scoreboard;
 pub mod text;
 pub mod tolerance;
 pub mod yaml;

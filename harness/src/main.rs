@@ -1065,9 +1065,17 @@ fn validate(
         eprintln!("error: no case files (*.yaml) under {}", show(&paths));
         return ExitCode::from(2);
     }
+    let board = match cierva_harness::scoreboard::load() {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
     let mut errors = Vec::new();
     let mut corrected: Vec<String> = Vec::new();
     let mut run = report::Run::default();
+    let mut scores = Vec::new();
     let bar = progress(loaded.len() as u64, "validate");
     for c in &loaded {
         match c {
@@ -1079,6 +1087,7 @@ fn validate(
                     }
                     let t = std::time::Instant::now();
                     let results = eval::run_case(&case);
+                    scores.extend(cierva_harness::scoreboard::scores_of(&case, &results));
                     run.cases.push(report::CaseRun {
                         case,
                         results,
@@ -1099,6 +1108,26 @@ fn validate(
         .map(|f| (f.path.clone(), f.corrections.describe()))
         .collect();
     run.seconds = started.elapsed().as_secs_f64();
+    // Scores against corrected models are not the committed model's: shown, never judged.
+    let judged = cierva_harness::scoreboard::judge(&board, scores);
+    let scores_failing: Vec<&cierva_harness::scoreboard::Judged> = if correction_files.is_empty() {
+        judged
+            .iter()
+            .filter(|j| {
+                matches!(
+                    j.change,
+                    cierva_harness::scoreboard::Change::Worse
+                        | cierva_harness::scoreboard::Change::New
+                )
+            })
+            .collect()
+    } else {
+        vec![]
+    };
+    run.scores = judged.clone();
+    if report_dir.is_some() {
+        run.score_versions = cierva_harness::scoreboard::versions();
+    }
     let results: Vec<CheckResult> = run
         .cases
         .iter()
@@ -1134,6 +1163,7 @@ fn validate(
                 "corrections": corrections_used,
                 "corrected_cases": corrected,
                 "counts": counts,
+                "scores": judged,
                 "counts_by_class": text::counts_by_class(&results)
                     .into_iter()
                     .map(|(k, c)| (k.name(), c))
@@ -1149,6 +1179,15 @@ fn validate(
         }
         Format::Text => {
             print!("{}", text::results_table(&results));
+            if !judged.is_empty() {
+                println!(
+                    "\nscoreboard ({}):",
+                    cierva_harness::scoreboard::path().display()
+                );
+                for j in &judged {
+                    println!("  {}", j.describe());
+                }
+            }
             for r in results.iter().filter(|r| !r.outcome.ok()) {
                 println!("\n{}", r.explain());
             }
@@ -1187,7 +1226,17 @@ fn validate(
     }
     if !errors.is_empty() {
         ExitCode::from(2)
-    } else if counts.failing() > 0 {
+    } else if counts.failing() > 0 || !scores_failing.is_empty() {
+        if !scores_failing.is_empty() && format == Format::Text {
+            println!(
+                "scores worse than committed or not committed: {}; if intended, `cierva review --accept`",
+                scores_failing
+                    .iter()
+                    .map(|j| format!("{} {}", j.score.case, j.score.id))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

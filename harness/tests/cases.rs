@@ -116,6 +116,37 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
             .with_kind("validation"),
         );
     }
+    if !case.scores.is_empty() {
+        let c = case.clone();
+        trials.push(
+            Trial::test(format!("{}::scores", case.id), move || {
+                use cierva_harness::scoreboard;
+                let board = scoreboard::load().map_err(|e| e.render())?;
+                let results = eval::run_case(&c);
+                let judged = scoreboard::judge(&board, scoreboard::scores_of(&c, &results));
+                let bad: Vec<String> = judged
+                    .iter()
+                    .filter(|j| {
+                        matches!(j.change, scoreboard::Change::Worse | scoreboard::Change::New)
+                    })
+                    .map(|j| format!("  {}", j.describe()))
+                    .collect();
+                if bad.is_empty() {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "scores worse than committed in {} by more than their noise floor, or not committed:\n{}\n\
+                         if the change is intended, `cargo run --release -- review --accept` commits \
+                         the new values (an improvement is committed the same way); say why in the commit",
+                        scoreboard::path().display(),
+                        bad.join("\n")
+                    )
+                    .into())
+                }
+            })
+            .with_kind("scoreboard"),
+        );
+    }
     if let Some(rec) = &case.recorded {
         let (c, rec) = (case.clone(), rec.clone());
         trials.push(

@@ -78,3 +78,33 @@ fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
     assert_eq!(o, Outcome::DiscrepancyMoved);
     assert!(d[0].contains("nothing is recorded"), "{d:?}");
 }
+
+/// The same regression on the whole table makes its scores worse than committed, which fails
+/// `naca-tr515-table-iii::scores`.
+#[test]
+fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
+    use cierva_harness::scoreboard::{self, Change};
+    let mut c = case::load(&cierva_harness::repo_root().join("cases/naca-tr515-table-iii.yaml"))
+        .expect("the shipped case loads");
+    let board = scoreboard::load().expect("the scoreboard loads");
+    let judge = |c: &Case| scoreboard::judge(&board, scoreboard::scores_of(c, &eval::run_case(c)));
+    for j in judge(&c) {
+        assert_eq!(j.change, Change::Same, "{}", j.describe());
+    }
+    let Subject::Rotor { file, .. } = &mut c.subject else {
+        panic!("TR 515 is a rotor case")
+    };
+    let Airfoil::Analytical(section) = &mut file.rotor.airfoil else {
+        panic!("the PCA-2 has an analytical section")
+    };
+    section.lift_slope_per_rad *= 0.98;
+    let worse: Vec<String> = judge(&c)
+        .iter()
+        .filter(|j| j.change == Change::Worse)
+        .map(|j| j.score.id.clone())
+        .collect();
+    assert!(
+        worse.contains(&"lift-rms".to_string()),
+        "C_L is already low: a smaller lift slope makes it worse ({worse:?})"
+    );
+}

@@ -1,4 +1,5 @@
-//! `cierva review`: what moved in the known discrepancies, and (with `--accept`) recording it.
+//! `cierva review`: what moved in the known discrepancies and on the scoreboard, and (with
+//! `--accept`) recording it.
 //!
 //! The counterpart of `cargo insta review` for the checks that are expected to fail: each one's
 //! values are recorded in `reports/discrepancies/<case-id>.yaml` (see
@@ -6,7 +7,7 @@
 //! moved" until they are reviewed and accepted here.
 
 use crate::{Format, progress, show};
-use cierva_harness::{discrepancy, load_cases};
+use cierva_harness::{discrepancy, eval, load_cases, scoreboard};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -39,15 +40,49 @@ pub fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
             }
         }
     }
+    let board = match scoreboard::load() {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
     let bar = progress(cases.len() as u64, "review");
     let mut reviews = Vec::new();
+    let mut scores = Vec::new();
     for case in &cases {
         bar.set_message(case.id.clone());
-        reviews.push(discrepancy::review(case));
+        // Every check when the case has scores; its expected failures otherwise.
+        let results: Vec<eval::CheckResult> = case
+            .checks
+            .iter()
+            .filter(|c| !case.scores.is_empty() || c.expected_failure.is_some())
+            .map(|c| eval::run_check(case, c))
+            .collect();
+        reviews.push(discrepancy::review(case, &results));
+        scores.extend(scoreboard::scores_of(case, &results));
         bar.inc(1);
     }
     bar.finish_and_clear();
+    let judged = scoreboard::judge(&board, scores.clone());
+    let scores_moved: Vec<&scoreboard::Judged> = judged
+        .iter()
+        .filter(|j| j.change != scoreboard::Change::Same)
+        .collect();
     let mut written = Vec::new();
+    if accept && !scores_moved.is_empty() {
+        match scoreboard::write(&scoreboard::with(&board, &scores)) {
+            Ok(true) => written.push(scoreboard::path()),
+            Ok(false) => {}
+            Err(e) => {
+                eprintln!(
+                    "error: could not write {}: {e}",
+                    scoreboard::path().display()
+                );
+                return ExitCode::from(2);
+            }
+        }
+    }
     if accept {
         for r in reviews.iter().filter(|r| !r.changes.is_empty()) {
             match discrepancy::write(&r.now) {
@@ -63,12 +98,13 @@ pub fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
             }
         }
     }
-    let moved = reviews.iter().filter(|r| !r.changes.is_empty()).count();
+    let moved = reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len();
     let errors = reviews.iter().map(|r| r.errors.len()).sum::<usize>();
     match format {
         Format::Json => {
             let out = serde_json::json!({
                 "cases": reviews,
+                "scores": judged,
                 "accepted": accept,
                 "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
@@ -90,15 +126,22 @@ pub fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
                     println!("  error (cannot be recorded): {e}");
                 }
             }
+            if !scores_moved.is_empty() {
+                println!("scoreboard ({}):", scoreboard::path().display());
+                for j in &scores_moved {
+                    println!("  {}", j.describe());
+                }
+            }
             let recorded: usize = reviews.iter().map(|r| r.now.checks.len()).sum();
             if moved == 0 {
                 println!(
-                    "{} cases, {recorded} known discrepancies: nothing moved",
-                    reviews.len()
+                    "{} cases, {recorded} known discrepancies, {} scores: nothing moved",
+                    reviews.len(),
+                    judged.len()
                 );
             } else if accept {
                 println!(
-                    "{} cases, {recorded} known discrepancies: {moved} cases changed, recorded in {}",
+                    "{} cases, {recorded} known discrepancies: {moved} cases or scores changed, recorded in {}",
                     reviews.len(),
                     if written.is_empty() {
                         "no file".to_string()
@@ -108,9 +151,9 @@ pub fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
                 );
             } else {
                 println!(
-                    "{} cases, {recorded} known discrepancies: {moved} cases moved; if the \
-                     changes are intended, record them with `cierva review --accept` and say why \
-                     in the commit",
+                    "{} cases, {recorded} known discrepancies: {moved} cases or scores moved; if \
+                     the changes are intended, record them with `cierva review --accept` and say \
+                     why in the commit",
                     reviews.len()
                 );
             }

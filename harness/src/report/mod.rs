@@ -38,6 +38,10 @@ pub struct Run {
     /// Correction files given, with what they set.
     pub corrections: Vec<(PathBuf, String)>,
     pub seconds: f64,
+    /// The data sets' scores, judged against the committed scoreboard.
+    pub scores: Vec<crate::scoreboard::Judged>,
+    /// The committed versions of the scoreboard, oldest first (from git, where it is there).
+    pub score_versions: Vec<crate::scoreboard::Version>,
 }
 
 impl Run {
@@ -178,6 +182,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
         counts.total(),
         run.seconds
     );
+    h += &scoreboard_html(run);
     h += &summary_html(run, &counts);
     let cross = figures::across_cases(run);
     if !cross.is_empty() {
@@ -258,6 +263,65 @@ fn fits_html(dir: &Path) -> String {
          targets in their own standard errors, at the uncorrected start and fitted; the band is \
          95 %. Rerun a fit with <code>cierva fit FIT.yaml</code>.</p><div class=\"plots\">{h}</div>"
     )
+}
+
+/// The scoreboard: each data set's scores, committed and now, and their history over the
+/// committed versions.
+fn scoreboard_html(run: &Run) -> String {
+    if run.scores.is_empty() {
+        return String::new();
+    }
+    let mut h = String::from(
+        "<h2 id=\"scoreboard\">Scoreboard</h2><p class=\"muted\">How well the model does \
+         against each outside data set (the <code>scores</code> of its case; metrics in \
+         <code>harness/src/scoreboard.rs</code>). <code>cargo test</code> fails when a score gets \
+         worse than committed in <code>reports/scoreboard.yaml</code> by more than its noise \
+         floor; <code>cierva review --accept</code> commits a new value. History: the value at \
+         each commit that changed the scoreboard, oldest first.</p><table><tr><th>data set</th>\
+         <th>score</th><th>metric</th><th>over</th><th>now</th><th>committed</th><th>change</th>\
+         <th>history</th><th>what it measures</th></tr>",
+    );
+    for j in &run.scores {
+        let s = &j.score;
+        let hist = crate::scoreboard::history(&s.case, &s.id, &run.score_versions)
+            .iter()
+            .map(|(date, commit, v)| {
+                format!(
+                    "<span title=\"{} {}\">{}</span>",
+                    esc(commit),
+                    esc(date),
+                    num(*v)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(" → ");
+        let class = match j.change {
+            crate::scoreboard::Change::Worse | crate::scoreboard::Change::New => "fail",
+            crate::scoreboard::Change::Better => "pass",
+            crate::scoreboard::Change::Same => "",
+        };
+        let _ = write!(
+            h,
+            "<tr><td><a href=\"#case-{c}\">{c}</a></td><td>{id}</td><td>{m}{q}</td>\
+             <td class=\"n\">{n}</td><td class=\"n\">{now}</td><td class=\"n\">{then}</td>\
+             <td class=\"{class}\">{change}</td><td class=\"muted\">{hist}</td>\
+             <td class=\"muted\">{why}</td></tr>",
+            c = esc(&s.case),
+            id = esc(&s.id),
+            m = s.metric.name(),
+            q = s
+                .quantity
+                .as_ref()
+                .map_or(String::new(), |q| format!(" of <code>{}</code>", esc(q))),
+            n = s.count,
+            now = num(s.value),
+            then = j.committed.map_or("—".to_string(), num),
+            change = j.change.label(),
+            why = esc(&s.reason),
+        );
+    }
+    h += "</table>";
+    h
 }
 
 fn summary_html(run: &Run, counts: &Counts) -> String {

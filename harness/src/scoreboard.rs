@@ -1,0 +1,481 @@
+//! The validation scoreboard: a few numbers per outside data set that say how well the model
+//! does against it (an RMS relative error, how many checks are inside their bounds), committed in
+//! `reports/scoreboard.yaml`, so that a change that makes the model worse against a data set
+//! fails `cargo test` even when every check of it is a known discrepancy.
+//!
+//! Scores are declared in the case that holds the data set (`scores:`), computed from that
+//! case's results, and accepted with `cierva review --accept` (with the known discrepancies).
+//!
+//! # Metrics
+//! Over the case's checks that compute the score's `quantity` (every check for `inside` and
+//! `unsolved` without one), with `ref` the expected value or the middle of the allowed range and
+//! `h` the tolerance's half-width:
+//! - `rms_relative_error`: `sqrt(mean(((value - ref) / ref)^2))`, lower is better;
+//! - `rms_error_in_half_widths`: `sqrt(mean(((value - ref) / h)^2))`, lower is better;
+//! - `max_error_in_half_widths`: `max |value - ref| / h`, lower is better (for a 95 % bound,
+//!   1.96 times this is the error in standard errors);
+//! - `inside`: how many are inside their tolerance, higher is better;
+//! - `unsolved`: how many checks found no equilibrium or could not be evaluated, lower is
+//!   better. Checks without a value are left out of the other metrics and counted here.
+
+use crate::eval::CheckResult;
+use crate::yaml::{self, InputError};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The metrics a score can use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Metric {
+    RmsRelativeError,
+    RmsErrorInHalfWidths,
+    MaxErrorInHalfWidths,
+    Inside,
+    Unsolved,
+}
+
+/// Which way is better.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Better {
+    Lower,
+    Higher,
+}
+
+impl Metric {
+    /// Which way the metric is better.
+    pub fn better(self) -> Better {
+        match self {
+            Self::Inside => Better::Higher,
+            _ => Better::Lower,
+        }
+    }
+
+    /// The metric as written in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::RmsRelativeError => "rms_relative_error",
+            Self::RmsErrorInHalfWidths => "rms_error_in_half_widths",
+            Self::MaxErrorInHalfWidths => "max_error_in_half_widths",
+            Self::Inside => "inside",
+            Self::Unsolved => "unsolved",
+        }
+    }
+
+    /// Whether the metric is about one quantity (the others may count whole checks).
+    pub fn needs_quantity(self) -> bool {
+        !matches!(self, Self::Inside | Self::Unsolved)
+    }
+}
+
+/// A score as declared in a case file.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScoreSpec {
+    pub id: String,
+    pub metric: Metric,
+    /// The quantity scored (`rpm`, `lift_coefficient`, `value`); optional for `inside` and
+    /// `unsolved`, which then count whole checks.
+    #[serde(default)]
+    pub quantity: Option<String>,
+    /// Changes smaller than this are noise (the model's convergence), not a change of score.
+    pub noise_floor: f64,
+    /// What the score measures, and why that noise floor.
+    pub reason: String,
+}
+
+/// A score computed from a run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Score {
+    pub case: String,
+    pub id: String,
+    pub metric: Metric,
+    pub quantity: Option<String>,
+    pub value: f64,
+    /// How many values (or checks) it was computed from.
+    pub count: usize,
+    pub noise_floor: f64,
+    pub reason: String,
+}
+
+/// A scored value: the value, its reference, the tolerance's half-width, and whether it passed.
+type Row = (f64, f64, f64, bool);
+
+/// Computes a case's score from its results.
+pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
+    let q = spec.quantity.as_deref();
+    let rows: Vec<Row> = results
+        .iter()
+        .flat_map(|r| r.quantities.iter())
+        .filter(|x| q == Some(x.quantity.as_str()))
+        .map(|x| {
+            let reference = x.expected.unwrap_or(0.5 * (x.lower + x.upper));
+            (x.value, reference, 0.5 * (x.upper - x.lower), x.pass)
+        })
+        .filter(|(v, r, ..)| v.is_finite() && r.is_finite())
+        .collect();
+    let rms = |f: &dyn Fn(&Row) -> f64| {
+        let s: Vec<f64> = rows.iter().map(f).filter(|e| e.is_finite()).collect();
+        if s.is_empty() {
+            f64::NAN
+        } else {
+            (s.iter().map(|e| e * e).sum::<f64>() / s.len() as f64).sqrt()
+        }
+    };
+    let (value, count) = match spec.metric {
+        Metric::RmsRelativeError => (rms(&|(v, r, ..)| (v - r) / r.abs()), rows.len()),
+        Metric::RmsErrorInHalfWidths => (rms(&|(v, r, h, _)| (v - r) / h), rows.len()),
+        Metric::MaxErrorInHalfWidths => (
+            rows.iter()
+                .map(|(v, r, h, _)| ((v - r) / h).abs())
+                .fold(f64::NAN, f64::max),
+            rows.len(),
+        ),
+        Metric::Inside => match q {
+            Some(_) => (rows.iter().filter(|x| x.3).count() as f64, rows.len()),
+            None => (
+                results.iter().filter(|r| r.passed).count() as f64,
+                results.len(),
+            ),
+        },
+        Metric::Unsolved => (
+            results
+                .iter()
+                .filter(|r| r.finding.is_some() || r.error.is_some())
+                .count() as f64,
+            results.len(),
+        ),
+    };
+    Score {
+        case: case.to_string(),
+        id: spec.id.clone(),
+        metric: spec.metric,
+        quantity: spec.quantity.clone(),
+        value,
+        count,
+        noise_floor: spec.noise_floor,
+        reason: spec.reason.clone(),
+    }
+}
+
+/// Every score a case declares, computed from its results.
+pub fn scores_of(case: &crate::case::Case, results: &[CheckResult]) -> Vec<Score> {
+    case.scores
+        .iter()
+        .map(|s| compute(&case.id, s, results))
+        .collect()
+}
+
+/// A score with its committed value and how it compares.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Judged {
+    pub score: Score,
+    pub committed: Option<f64>,
+    pub change: Change,
+}
+
+/// Judges scores against the board.
+pub fn judge(board: &Board, scores: Vec<Score>) -> Vec<Judged> {
+    scores
+        .into_iter()
+        .map(|score| {
+            let c = board.scores.get(&score.case).and_then(|m| m.get(&score.id));
+            Judged {
+                change: change(&score, c),
+                committed: c.map(|c| c.value),
+                score,
+            }
+        })
+        .collect()
+}
+
+impl Judged {
+    /// "naca-tr515-table-iii rpm-rms: 0.1234 (committed 0.1200, WORSE)".
+    pub fn describe(&self) -> String {
+        format!(
+            "{} {}: {:.6} ({}, {})",
+            self.score.case,
+            self.score.id,
+            self.score.value,
+            self.committed
+                .map_or("nothing committed".to_string(), |c| format!(
+                    "committed {c:.6}"
+                )),
+            self.change.label()
+        )
+    }
+}
+
+/// A committed score.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Committed {
+    pub value: f64,
+    pub better: Better,
+    pub noise_floor: f64,
+}
+
+/// The committed scoreboard: case -> score id -> score.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Board {
+    #[serde(default)]
+    pub scores: BTreeMap<String, BTreeMap<String, Committed>>,
+}
+
+/// How a score compares with its committed value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Change {
+    /// Within the noise floor.
+    Same,
+    Better,
+    Worse,
+    /// Nothing committed for it.
+    New,
+}
+
+impl Change {
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Same => "same",
+            Self::Better => "better",
+            Self::Worse => "WORSE",
+            Self::New => "new",
+        }
+    }
+}
+
+/// Compares a score with the committed one. A score that is not a number now, but was one, is
+/// worse.
+pub fn change(score: &Score, committed: Option<&Committed>) -> Change {
+    let Some(c) = committed else {
+        return Change::New;
+    };
+    let (now, then) = (score.value, c.value);
+    match (now.is_nan(), then.is_nan()) {
+        (true, true) => return Change::Same,
+        (true, false) => return Change::Worse,
+        (false, true) => return Change::Better,
+        _ => {}
+    }
+    let d = match c.better {
+        Better::Lower => then - now,
+        Better::Higher => now - then,
+    };
+    if d.abs() <= c.noise_floor {
+        Change::Same
+    } else if d > 0.0 {
+        Change::Better
+    } else {
+        Change::Worse
+    }
+}
+
+/// Where the scoreboard is committed.
+pub fn path() -> PathBuf {
+    crate::repo_root().join("reports/scoreboard.yaml")
+}
+
+/// Loads the committed scoreboard (empty when there is none).
+pub fn load() -> Result<Board, InputError> {
+    load_file(&path())
+}
+
+/// Loads a scoreboard file (empty when it does not exist).
+pub fn load_file(path: &Path) -> Result<Board, InputError> {
+    if !path.exists() {
+        return Ok(Board::default());
+    }
+    let src = yaml::read(path)?;
+    yaml::parse(path, &src)
+}
+
+/// Parses a scoreboard from text (an older version from git, say).
+pub fn parse(text: &str) -> Option<Board> {
+    serde_yaml::from_str(text).ok()
+}
+
+/// The board with these scores set (others kept).
+pub fn with(board: &Board, scores: &[Score]) -> Board {
+    let mut b = board.clone();
+    for s in scores {
+        b.scores.entry(s.case.clone()).or_default().insert(
+            s.id.clone(),
+            Committed {
+                value: s.value,
+                better: s.metric.better(),
+                noise_floor: s.noise_floor,
+            },
+        );
+    }
+    b
+}
+
+/// Writes the scoreboard; returns whether the file changed.
+pub fn write(board: &Board) -> std::io::Result<bool> {
+    let o = render(board);
+    let p = path();
+    if std::fs::read_to_string(&p).ok().as_deref() == Some(o.as_str()) {
+        return Ok(false);
+    }
+    if let Some(d) = p.parent() {
+        std::fs::create_dir_all(d)?;
+    }
+    std::fs::write(&p, o)?;
+    Ok(true)
+}
+
+/// The scoreboard file's text: one flow map per score.
+fn render(board: &Board) -> String {
+    use std::fmt::Write as _;
+    let mut o = String::from(
+        "# Written by `cierva review --accept`: each data set's scores (see harness/src/scoreboard.rs\n\
+         # and the `scores` of its case). `cargo test` fails when a score gets worse than this by\n\
+         # more than its noise floor. Do not edit by hand.\nscores:\n",
+    );
+    for (case, scores) in &board.scores {
+        let _ = writeln!(o, "  {case}:");
+        for (id, c) in scores {
+            let better = match c.better {
+                Better::Lower => "lower",
+                Better::Higher => "higher",
+            };
+            let _ = writeln!(
+                o,
+                "    {id}: {{value: {}, better: {better}, noise_floor: {:e}}}",
+                if c.value.is_nan() {
+                    ".nan".to_string()
+                } else {
+                    format!("{:.7e}", c.value)
+                },
+                c.noise_floor
+            );
+        }
+    }
+    o
+}
+
+/// A committed version of the scoreboard: date, short commit, board.
+pub type Version = (String, String, Board);
+
+/// One score's values over the committed versions of the scoreboard, oldest first: `(date,
+/// short commit, value)`. Empty when git or the history is not there.
+pub fn history(
+    case: &str,
+    id: &str,
+    versions: &[(String, String, Board)],
+) -> Vec<(String, String, f64)> {
+    versions
+        .iter()
+        .filter_map(|(date, commit, b)| {
+            b.scores
+                .get(case)
+                .and_then(|s| s.get(id))
+                .map(|c| (date.clone(), commit.clone(), c.value))
+        })
+        .collect()
+}
+
+/// The committed versions of the scoreboard from git, oldest first: `(date, short commit,
+/// board)`. Empty without git or outside a repository.
+pub fn versions() -> Vec<Version> {
+    let root = crate::repo_root();
+    let run = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(&root)
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    let Some(log) = run(&[
+        "log",
+        "--reverse",
+        "--format=%h %cs",
+        "--",
+        "reports/scoreboard.yaml",
+    ]) else {
+        return vec![];
+    };
+    log.lines()
+        .filter_map(|l| {
+            let (commit, date) = l.split_once(' ')?;
+            let text = run(&["show", &format!("{commit}:reports/scoreboard.yaml")])?;
+            Some((date.to_string(), commit.to_string(), parse(&text)?))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn score(value: f64, metric: Metric) -> Score {
+        Score {
+            case: "c".into(),
+            id: "s".into(),
+            metric,
+            quantity: Some("rpm".into()),
+            value,
+            count: 3,
+            noise_floor: 1e-3,
+            reason: "test".into(),
+        }
+    }
+
+    #[test]
+    fn worse_is_worse_beyond_the_noise_floor_either_way_round() {
+        let c = Committed {
+            value: 0.10,
+            better: Better::Lower,
+            noise_floor: 1e-3,
+        };
+        assert_eq!(
+            change(&score(0.1005, Metric::RmsRelativeError), Some(&c)),
+            Change::Same
+        );
+        assert_eq!(
+            change(&score(0.12, Metric::RmsRelativeError), Some(&c)),
+            Change::Worse
+        );
+        assert_eq!(
+            change(&score(0.08, Metric::RmsRelativeError), Some(&c)),
+            Change::Better
+        );
+        assert_eq!(
+            change(&score(f64::NAN, Metric::RmsRelativeError), Some(&c)),
+            Change::Worse
+        );
+        let h = Committed {
+            value: 4.0,
+            better: Better::Higher,
+            noise_floor: 0.5,
+        };
+        assert_eq!(change(&score(3.0, Metric::Inside), Some(&h)), Change::Worse);
+        assert_eq!(
+            change(&score(5.0, Metric::Inside), Some(&h)),
+            Change::Better
+        );
+        assert_eq!(change(&score(5.0, Metric::Inside), None), Change::New);
+    }
+
+    #[test]
+    fn a_written_board_reads_back() {
+        let b = with(
+            &Board::default(),
+            &[score(0.1234567891, Metric::RmsRelativeError), {
+                let mut s = score(f64::NAN, Metric::Inside);
+                s.id = "t".into();
+                s
+            }],
+        );
+        let text = render(&b);
+        let back = parse(&text).unwrap();
+        assert!((back.scores["c"]["s"].value - 0.1234567891).abs() < 1e-8);
+        assert!(back.scores["c"]["t"].value.is_nan());
+    }
+}
