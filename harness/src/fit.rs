@@ -413,27 +413,6 @@ pub struct Problem {
     pub options: Options,
 }
 
-/// Runs `f` over `items` on every core, in order.
-fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(items.len().max(1));
-    let chunk = items.len().div_ceil(threads).max(1);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = items
-            .chunks(chunk)
-            .map(|c| {
-                let f = &f;
-                s.spawn(move || c.iter().map(f).collect::<Vec<R>>())
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("a fit evaluation thread panicked"))
-            .collect()
-    })
-}
-
 /// One condition's computed quantities, and its linear model where a target needs one.
 type AtCondition = (
     crate::eval::Quantities,
@@ -504,7 +483,7 @@ pub fn evaluate_each_from(
         Subject::Aircraft { aircraft, loading } => {
             let mut a = aircraft.clone();
             set.apply_to_aircraft(&mut a)?;
-            parallel_map(&conditions, |c| {
+            crate::parallel_map(&conditions, |c| {
                 let Condition::Flight(request) = c else {
                     return Err(format!(
                         "{}: an aircraft flies, it is not in a tunnel",
@@ -534,7 +513,7 @@ pub fn evaluate_each_from(
         Subject::Rotor { rotor, inflow } => {
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
-            parallel_map(&conditions, |c| {
+            crate::parallel_map(&conditions, |c| {
                 let Condition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };

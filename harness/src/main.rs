@@ -184,7 +184,7 @@ enum Command {
     /// Inflow components from a teeter record (seed 003): disc tilts by a harmonic fit over
     /// whole revolutions, then v0, v1s, v1c and coning (Eqs. 13-19).
     ///
-    /// Example: `cierva inflow flight-refs/synthetic-vpm-m16-teeter.csv --rotor aircraft/vpm-m16-rotor.yaml`
+    /// Example: `cierva inflow flight-refs/synthetic-vpm-m16-rotor-teeter.csv --rotor aircraft/vpm-m16-rotor.yaml`
     Inflow {
         /// A teeter record (channels time_s, teeter_rad, azimuth_from_front_rad,
         /// omega_rotor_rad_s, hub_inplane_speed_m_s, hub_normal_speed_m_s) with its sidecar.
@@ -1077,29 +1077,48 @@ fn validate(
     let mut run = report::Run::default();
     let mut scores = Vec::new();
     let bar = progress(loaded.len() as u64, "validate");
-    for c in &loaded {
-        match c {
+    // Cases on every core; results in the order the cases were found.
+    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
+    let ran: Vec<Ran> = cierva_harness::parallel_map(&loaded, |c| {
+        let out = match c {
             Ok(case) => match cierva_harness::corrections::apply_to_case(case, &correction_files) {
                 Ok((case, used)) => {
                     bar.set_message(case.id.clone());
-                    if !used.is_empty() {
-                        corrected.push(format!("{} ({})", case.id, used.join(", ")));
-                    }
                     let t = std::time::Instant::now();
                     let results = eval::run_case(&case);
-                    scores.extend(cierva_harness::scoreboard::scores_of(&case, &results));
-                    run.cases.push(report::CaseRun {
-                        case,
-                        results,
-                        seconds: t.elapsed().as_secs_f64(),
-                        corrections: used,
-                    });
+                    let scores = cierva_harness::scoreboard::scores_of(&case, &results);
+                    Ok((
+                        report::CaseRun {
+                            case,
+                            results,
+                            seconds: t.elapsed().as_secs_f64(),
+                            corrections: used,
+                        },
+                        scores,
+                    ))
                 }
-                Err(e) => errors.push(format!("error: the corrections {e}")),
+                Err(e) => Err(format!("error: the corrections {e}")),
             },
-            Err(e) => errors.push(e.render()),
-        }
+            Err(e) => Err(e.render()),
+        };
         bar.inc(1);
+        out
+    });
+    for r in ran {
+        match r {
+            Ok((case_run, case_scores)) => {
+                if !case_run.corrections.is_empty() {
+                    corrected.push(format!(
+                        "{} ({})",
+                        case_run.case.id,
+                        case_run.corrections.join(", ")
+                    ));
+                }
+                scores.extend(case_scores);
+                run.cases.push(case_run);
+            }
+            Err(e) => errors.push(e),
+        }
     }
     bar.finish_and_clear();
     run.input_errors = errors.clone();

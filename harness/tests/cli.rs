@@ -678,3 +678,37 @@ fn a_closed_pipe_ends_the_run_quietly() {
     assert_eq!(out.status.code(), Some(141), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+/// Every example in `--help` names files that exist: a path of the repository (a word with a
+/// `/` that is not under `/tmp` and is not an output) must be there.
+#[test]
+fn help_examples_name_files_that_exist() {
+    let (_, top, _) = cierva(&["--help"]);
+    let commands: Vec<String> = top
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .filter(|c| c != "help")
+        .collect();
+    assert!(commands.len() >= 15, "{top}");
+    let mut missing = Vec::new();
+    for c in &commands {
+        let (_, help, _) = cierva(&[c, "--help"]);
+        for example in help.split("Example: `").skip(1) {
+            let example = example.split('`').next().unwrap_or_default();
+            let mut words = example.split_whitespace().peekable();
+            let mut previous = "";
+            while let Some(w) = words.next() {
+                let output = matches!(previous, "--output" | "--report" | ">" | "new-case");
+                if w.contains('/') && !w.starts_with("/tmp") && !output && !root().join(w).exists()
+                {
+                    missing.push(format!("`cierva {c} --help`: {w} in `{example}`"));
+                }
+                previous = w;
+            }
+        }
+    }
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
+}
