@@ -698,9 +698,8 @@ fn help_examples_name_files_that_exist() {
         let (_, help, _) = cierva(&[c, "--help"]);
         for example in help.split("Example: `").skip(1) {
             let example = example.split('`').next().unwrap_or_default();
-            let mut words = example.split_whitespace().peekable();
             let mut previous = "";
-            while let Some(w) = words.next() {
+            for w in example.split_whitespace() {
                 let output = matches!(previous, "--output" | "--report" | ">" | "new-case");
                 if w.contains('/') && !w.starts_with("/tmp") && !output && !root().join(w).exists()
                 {
