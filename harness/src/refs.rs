@@ -182,8 +182,10 @@ pub fn load(path: &Path) -> Result<Reference, InputError> {
         .unwrap_or_default();
     let table = build_table(path, &src, &spec)?;
     if linear_model.is_none() && table.rows.is_empty() {
-        return Err(InputError::file(
+        return Err(InputError::field(
             path,
+            &src,
+            "derivatives",
             "a reference file needs a `linear_model` or a `derivatives` table",
         ));
     }

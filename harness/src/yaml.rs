@@ -121,9 +121,25 @@ impl InputError {
         }
     }
 
-    /// An error about a field, located by searching the source for its key path.
+    /// An error about a field, located by searching the source for its key path. A field that
+    /// cannot be found (a missing key, an entry inside a flow sequence) is located at its
+    /// nearest enclosing key that can, and a top-level one at the start of the file.
     pub fn field(path: &Path, src: &str, field: &str, message: impl Into<String>) -> Self {
-        let (line, column) = locate(src, field).unzip();
+        let mut at = field;
+        let mut found = locate(src, at);
+        while found.is_none() {
+            match at.rfind(['.', '[']) {
+                Some(i) if i > 0 => {
+                    at = &at[..i];
+                    found = locate(src, at);
+                }
+                _ => break,
+            }
+        }
+        if found.is_none() && !src.trim().is_empty() {
+            found = Some((1, 1));
+        }
+        let (line, column) = found.unzip();
         Self {
             path: path.to_path_buf(),
             line,

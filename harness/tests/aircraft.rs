@@ -1,4 +1,5 @@
-//! The shipped aircraft files: the numerical choices their sources claim hold.
+//! The shipped data files: the numerical choices the aircraft files' sources claim hold, and
+//! the transcriptions the cases are built from.
 
 use cierva_harness::{Loading, TrimRequest, aircraft_file, repo_root, run_trim};
 
@@ -77,5 +78,43 @@ fn vpm_m16_propeller_elements_are_enough() {
             ((a.torque_n_m - b.torque_n_m) / b.torque_n_m).abs() < 0.015,
             "{a:?} vs {b:?}"
         );
+    }
+}
+
+/// The TR 515 case's 81 checks are Table III as transcribed in `flight-refs/naca-tr515-table-iii.csv`:
+/// each row's tunnel condition (mu, alpha, rpm) and expected C_L, C_D, L/D and rotor speed.
+#[test]
+fn tr515_case_rows_are_the_transcribed_table() {
+    use cierva_harness::case;
+    let c = case::load(&repo_root().join("cases/naca-tr515-table-iii.yaml")).unwrap();
+    let csv =
+        std::fs::read_to_string(repo_root().join("flight-refs/naca-tr515-table-iii.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.trim().parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 81);
+    assert_eq!(c.checks.len(), rows.len());
+    for (k, (check, row)) in c.checks.iter().zip(&rows).enumerate() {
+        assert_eq!(check.id, format!("row-{:02}", k + 1));
+        let t = check.tunnel.unwrap();
+        assert_eq!(t.tip_speed_ratio, Some(row[col("mu")]), "{}", check.id);
+        assert_eq!(t.alpha_deg, row[col("alpha_deg")], "{}", check.id);
+        assert_eq!(t.rpm, Some(row[col("N_rpm")]), "{}", check.id);
+        for (quantity, column) in [
+            ("rpm", "N_rpm"),
+            ("lift_coefficient", "CL"),
+            ("drag_coefficient", "CD"),
+            ("lift_to_drag", "L_D"),
+        ] {
+            let e = check
+                .expectations
+                .iter()
+                .find(|e| e.quantity == quantity)
+                .unwrap();
+            assert_eq!(e.value, Some(row[col(column)]), "{} {quantity}", check.id);
+        }
     }
 }

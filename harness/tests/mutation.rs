@@ -1,0 +1,303 @@
+//! Seeded mutation of every shipped input: each YAML and CSV file the loaders read is mutated a
+//! few thousand times in all (a flipped bit, a deleted or duplicated line, a number replaced by
+//! NaN, infinity or 1e308, a truncation) and loaded again, and cases whose subject is cheap (a
+//! linear model, a derivative table) are evaluated too. Nothing may panic, and every error must
+//! name the file it is about and, for a file that was read and parsed, the line and column.
+//!
+//! The files are copied into a scratch tree that mirrors the repository, so that relative
+//! references between them (a case's `../aircraft/...`) still resolve.
+
+use cierva_harness::yaml::InputError;
+use cierva_harness::{
+    aircraft_file, case, corrections, discrepancy, eval, fit_file, ident, refs, repo_root,
+    rotor_file, scoreboard,
+};
+use std::path::{Path, PathBuf};
+
+/// Mutants per file (about 70 files).
+const MUTANTS_PER_FILE: usize = 40;
+
+/// A 64-bit linear congruential generator (Knuth's constants), seeded per file.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        self.0 >> 11
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
+
+/// One mutation of `text`, chosen by `rng`; `None` when it would change nothing.
+fn mutate(text: &[u8], rng: &mut Lcg) -> Option<Vec<u8>> {
+    let lines: Vec<&[u8]> = text.split_inclusive(|b| *b == b'\n').collect();
+    let mut out = text.to_vec();
+    match rng.below(6) {
+        0 => {
+            let i = rng.below(out.len());
+            out[i] ^= 1 << rng.below(8);
+        }
+        1 => {
+            let i = rng.below(lines.len());
+            out = lines
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| *k != i)
+                .flat_map(|(_, l)| l.iter().copied())
+                .collect();
+        }
+        2 => {
+            let i = rng.below(lines.len());
+            out = lines
+                .iter()
+                .enumerate()
+                .flat_map(|(k, l)| {
+                    let n = if k == i { 2 } else { 1 };
+                    std::iter::repeat_n(l.iter().copied(), n).flatten()
+                })
+                .collect();
+        }
+        3 | 4 => {
+            // A number (a run of digits, with its sign, point and exponent) replaced.
+            let starts: Vec<usize> = (0..out.len())
+                .filter(|&i| {
+                    out[i].is_ascii_digit() && (i == 0 || !out[i - 1].is_ascii_alphanumeric())
+                })
+                .collect();
+            if starts.is_empty() {
+                return None;
+            }
+            let a = starts[rng.below(starts.len())];
+            let mut b = a;
+            while b < out.len()
+                && (out[b].is_ascii_digit() || matches!(out[b], b'.' | b'e' | b'E' | b'-' | b'+'))
+            {
+                b += 1;
+            }
+            let csv = text.starts_with(b"time_s") || !text.contains(&b':');
+            let choices: &[&str] = if csv {
+                &["NaN", "inf", "-inf", "1e308", "-1e308", "0", ""]
+            } else {
+                &[".nan", ".inf", "-.inf", "1e308", "-1e308", "0", "NaN"]
+            };
+            let with = choices[rng.below(choices.len())];
+            out.splice(a..b, with.bytes());
+        }
+        _ => {
+            let i = rng.below(out.len());
+            out.truncate(i);
+        }
+    }
+    (out != text).then_some(out)
+}
+
+/// What a file is, by where it lives: how to load it.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Case,
+    Aircraft,
+    Rotor,
+    Reference,
+    /// A time-history record (`time_history` checks) and its sidecar.
+    History,
+    /// A teeter record (seed 003 inflow) and its sidecar.
+    Teeter,
+    Fit,
+    Corrections,
+    Discrepancies,
+    Scoreboard,
+}
+
+fn kind_of(rel: &Path) -> Option<Kind> {
+    let s = rel.to_string_lossy();
+    let ext = rel.extension()?.to_str()?;
+    Some(match (s.split('/').next()?, ext) {
+        ("cases", "yaml") => Kind::Case,
+        ("aircraft", "yaml") if s.ends_with("-rotor.yaml") || s.ends_with("-propeller.yaml") => {
+            Kind::Rotor
+        }
+        ("aircraft", "yaml") => Kind::Aircraft,
+        // Read by no loader (see flight-refs/README.md): the case holds the table's rows and
+        // the synthetic bounds as its own checks and tolerances.
+        _ if s == "flight-refs/naca-tr515-table-iii.csv"
+            || s == "flight-refs/synthetic-seed000-vpm-m16-xu-zw.yaml" =>
+        {
+            return None;
+        }
+        ("flight-refs", "csv") if s.contains("teeter") => Kind::Teeter,
+        ("flight-refs", "csv") => Kind::History,
+        ("flight-refs", "yaml") if repo_root().join(rel).with_extension("csv").exists() => {
+            if s.contains("teeter") {
+                Kind::Teeter
+            } else {
+                Kind::History
+            }
+        }
+        ("flight-refs", "yaml") => Kind::Reference,
+        ("fits", "yaml") if s.starts_with("fits/results/") => Kind::Corrections,
+        ("fits", "yaml") => Kind::Fit,
+        ("corrections", "yaml") => Kind::Corrections,
+        ("reports", "yaml") if s.starts_with("reports/discrepancies/") => Kind::Discrepancies,
+        ("reports", "yaml") if s == "reports/scoreboard.yaml" => Kind::Scoreboard,
+        _ => return None,
+    })
+}
+
+/// Loads `path` as `kind` (evaluating a cheap case), turning the value into `()`.
+fn load(kind: Kind, path: &Path) -> Result<(), InputError> {
+    match kind {
+        Kind::Case => {
+            let c = case::load(path)?;
+            if matches!(
+                c.subject,
+                case::Subject::Linear { .. } | case::Subject::Table { .. }
+            ) {
+                let _ = eval::run_case(&c);
+            }
+        }
+        Kind::Aircraft => drop(aircraft_file::load(path)?),
+        Kind::Rotor => drop(rotor_file::load(path)?),
+        Kind::Reference => drop(refs::load(path)?),
+        Kind::History => drop(ident::record::load_with(
+            &path.with_extension("csv"),
+            &["time_s"],
+            true,
+        )?),
+        Kind::Teeter => drop(ident::record::load_with(
+            &path.with_extension("csv"),
+            &ident::flap::FLAP_REQUIRED,
+            false,
+        )?),
+        Kind::Fit => drop(fit_file::load(path)?),
+        Kind::Corrections => drop(corrections::load(path)?),
+        Kind::Discrepancies => drop(discrepancy::load_file(path)?),
+        Kind::Scoreboard => drop(scoreboard::load_file(path)?),
+    }
+    Ok(())
+}
+
+fn copy_tree(from: &Path, to: &Path, rel: &Path, files: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(from.join(rel)).unwrap() {
+        let p = e.unwrap().path();
+        let r = rel.join(p.file_name().unwrap());
+        if p.is_dir() {
+            std::fs::create_dir_all(to.join(&r)).unwrap();
+            copy_tree(from, to, &r, files);
+        } else if matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "csv")) {
+            std::fs::copy(&p, to.join(&r)).unwrap();
+            files.push(r);
+        }
+    }
+}
+
+#[test]
+fn mutated_inputs_never_panic_and_every_error_is_located() {
+    let root = repo_root();
+    let scratch = std::env::temp_dir().join(format!("cierva-mutation-{}", std::process::id()));
+    let mut files = Vec::new();
+    for dir in [
+        "cases",
+        "aircraft",
+        "flight-refs",
+        "fits",
+        "corrections",
+        "reports",
+    ] {
+        std::fs::create_dir_all(scratch.join(dir)).unwrap();
+        copy_tree(&root, &scratch, Path::new(dir), &mut files);
+    }
+    files.sort();
+    let targets: Vec<(PathBuf, Kind)> = files
+        .iter()
+        .filter_map(|r| kind_of(r).map(|k| (r.clone(), k)))
+        .collect();
+    assert!(targets.len() >= 60, "too few inputs found: {targets:?}");
+
+    let mut problems = Vec::new();
+    let (mut mutants, mut rejected) = (0usize, 0usize);
+    for (n, (rel, kind)) in targets.iter().enumerate() {
+        let path = scratch.join(rel);
+        let original = std::fs::read(&path).unwrap();
+        // The shipped file itself loads.
+        if let Err(e) = load(*kind, &path) {
+            problems.push(format!(
+                "{}: the shipped file does not load: {e}",
+                rel.display()
+            ));
+        }
+        let mut rng = Lcg(0x5eed_0015 ^ (n as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        for _ in 0..MUTANTS_PER_FILE {
+            let Some(m) = mutate(&original, &mut rng) else {
+                continue;
+            };
+            std::fs::write(&path, &m).unwrap();
+            mutants += 1;
+            let outcome = std::panic::catch_unwind(|| load(*kind, &path));
+            match outcome {
+                Err(_) => problems.push(format!(
+                    "{}: panicked on a mutant (kept as {}.panic)",
+                    rel.display(),
+                    path.display()
+                )),
+                Ok(Ok(())) => {}
+                Ok(Err(e)) => {
+                    rejected += 1;
+                    let msg = e.to_string();
+                    // The error names a file of the scratch tree (the mutant, or a file it
+                    // references), and a file that was read has a line and column.
+                    let names_file = msg.contains(scratch.to_string_lossy().as_ref())
+                        || msg.contains(root.to_string_lossy().as_ref());
+                    let read = e.path.exists() && e.path.is_file();
+                    if !names_file || (read && e.line.is_none() && !unlocatable(&e)) {
+                        problems.push(format!("{}: unlocated error: {msg}", rel.display()));
+                    }
+                }
+            }
+            if problems.last().is_some_and(|p| p.contains("panicked")) {
+                std::fs::write(path.with_extension("panic"), &m).unwrap();
+            }
+        }
+        std::fs::write(&path, &original).unwrap();
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    eprintln!(
+        "{} files, {mutants} mutants, {rejected} rejected with an error",
+        targets.len()
+    );
+    assert!(mutants >= 2000, "only {mutants} mutants");
+    assert!(
+        rejected > mutants / 4,
+        "only {rejected} of {mutants} mutants were rejected: the loaders check too little"
+    );
+    problems.dedup();
+    assert!(
+        problems.is_empty(),
+        "{} problems in {mutants} mutants:\n{}",
+        problems.len(),
+        problems.join("\n")
+    );
+}
+
+/// Errors about a whole file, which have no line to point at: bytes that are not UTF-8, an empty
+/// file, a missing file or sidecar, a record with no rows.
+fn unlocatable(e: &InputError) -> bool {
+    let m = e.message.to_lowercase();
+    [
+        "utf-8",
+        "utf8",
+        "empty",
+        "no such file",
+        "cannot read",
+        "sidecar",
+        "no rows",
+        "no data",
+    ]
+    .iter()
+    .any(|k| m.contains(k))
+}
