@@ -1,3 +1,150 @@
-//! The `cierva` commands, one module each (those not yet moved out of `main.rs` live there).
+//! The `cierva` commands, one module each; `main.rs` parses the command line and dispatches
+//! here. This module holds what several commands share: progress on stderr, output as text or
+//! JSON, and loading an aircraft for a flight condition.
 
-pub mod review;
+pub(crate) use cierva_harness::case::{InflowSpec, SkewSpec};
+pub(crate) use cierva_harness::eval::{self, CheckResult};
+pub(crate) use cierva_harness::run_autorotation;
+pub(crate) use cierva_harness::{load_cases, refs, text};
+pub(crate) use cierva_model::rotor::{InflowModel, SkewConvention};
+pub(crate) use clap::{Parser, ValueEnum};
+pub(crate) use std::path::{Path, PathBuf};
+pub(crate) use std::process::ExitCode;
+
+mod args;
+mod autorotate;
+mod bench;
+mod fit;
+mod identify;
+mod inflow;
+mod linearize;
+mod modes;
+mod new_case;
+pub(crate) mod review;
+mod simulate;
+mod synth;
+mod synth_history;
+mod trim;
+mod validate;
+
+pub(crate) use args::*;
+pub(crate) use autorotate::autorotate;
+pub(crate) use bench::bench;
+pub(crate) use fit::fit;
+pub(crate) use identify::identify;
+pub(crate) use inflow::{inflow, synth_teeter};
+pub(crate) use linearize::linearize;
+pub(crate) use modes::modes;
+pub(crate) use new_case::new_case;
+pub(crate) use simulate::simulate;
+pub(crate) use synth::synth;
+pub(crate) use synth_history::synth_history;
+pub(crate) use trim::trim;
+pub(crate) use validate::validate;
+
+/// A progress bar on stderr for `len` steps (hidden with `--quiet` or off a terminal).
+pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix} [{bar:30}] {pos}/{len} {elapsed} {wide_msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.set_prefix(what.to_string());
+    bar
+}
+
+/// A spinner on stderr for work of unknown length (hidden with `--quiet` or off a terminal).
+pub(crate) fn spinner(what: &str) -> indicatif::ProgressBar {
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let s = indicatif::ProgressBar::new_spinner();
+    s.set_message(what.to_string());
+    s.enable_steady_tick(std::time::Duration::from_millis(120));
+    s
+}
+
+/// What a command that writes files prints when it is done: a sentence, or a JSON object.
+pub(crate) fn done(format: Format, text: String, json: serde_json::Value) {
+    match format {
+        Format::Text => println!("{text}"),
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&json).expect("serialisable")
+        ),
+    }
+}
+
+pub(crate) static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Loads an aircraft file; a bad file is printed with its location and is exit code 2.
+pub(crate) fn load_aircraft(
+    path: &Path,
+) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
+    cierva_harness::aircraft_file::load(path).map_err(|e| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })
+}
+
+/// The aircraft of a flight command, with its `--corrections` applied (the file must name this
+/// aircraft or its main rotor).
+pub(crate) fn load_flight(
+    f: &FlightArgs,
+) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
+    use cierva_harness::corrections::{self, Target};
+    let file = load_aircraft(&f.aircraft)?;
+    let Some(path) = &f.corrections else {
+        return Ok(file);
+    };
+    let c = corrections::load(path).map_err(|e| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })?;
+    let applies = match &c.target {
+        Target::Aircraft(id) => *id == file.id,
+        Target::Rotor(id) => *id == file.main_rotor_file.id,
+    };
+    if !applies {
+        eprintln!(
+            "error: {} corrects {:?}, not the aircraft {} or its main rotor {}",
+            path.display(),
+            c.target,
+            file.id,
+            file.main_rotor_file.id
+        );
+        return Err(ExitCode::from(2));
+    }
+    file.with_corrections(&c.corrections).map_err(|e| {
+        eprintln!("error: {}: {e}", path.display());
+        ExitCode::from(2)
+    })
+}
+
+/// The index of a control named on the command line (eta_s, eta_c, eta_p, eta_t).
+pub(crate) fn control_index(control: &str) -> Result<usize, String> {
+    cierva_model::linearise::CONTROLS
+        .iter()
+        .position(|c| *c == control)
+        .ok_or_else(|| format!("unknown control `{control}`: eta_s, eta_c, eta_p or eta_t"))
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Format {
+    Text,
+    Json,
+}
+
+pub(crate) fn show(paths: &[PathBuf]) -> String {
+    paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}

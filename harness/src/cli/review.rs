@@ -6,14 +6,12 @@
 //! [`cierva_harness::discrepancy`]), and a check whose model leaves them fails as "discrepancy
 //! moved" until they are reviewed and accepted here.
 
-use crate::{Format, progress, show};
-use cierva_harness::{discrepancy, eval, load_cases, scoreboard};
-use std::path::PathBuf;
-use std::process::ExitCode;
+use super::*;
+use cierva_harness::{discrepancy, scoreboard};
 
 /// Runs the review. Exit 0 when nothing moved (or everything was accepted), 1 when something
 /// moved and was not accepted or an expected failure could not be evaluated, 2 on bad input.
-pub fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
+pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
     let paths = if paths.is_empty() {
         vec![PathBuf::from("cases")]
     } else {

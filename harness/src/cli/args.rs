@@ -1,0 +1,261 @@
+//! Arguments shared by several commands, and the value enums of the command line.
+
+use super::*;
+
+/// An aircraft and a flight condition (shared by `trim`, `linearize` and `simulate`).
+#[derive(clap::Args)]
+pub(crate) struct FlightArgs {
+    /// An aircraft file (see aircraft/).
+    pub(crate) aircraft: PathBuf,
+    /// True airspeed, mph.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) airspeed_mph: f64,
+    /// Mass, kg (default: the aircraft file's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) mass_kg: Option<f64>,
+    /// Rate of climb, m/s; negative descends.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub(crate) climb_m_s: f64,
+    /// Density altitude, ft (ISA).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub(crate) density_altitude_ft: f64,
+    /// A corrections file (as `cierva fit` writes) to apply to the aircraft.
+    #[arg(long)]
+    pub(crate) corrections: Option<PathBuf>,
+}
+
+impl FlightArgs {
+    /// The flight condition, turning at `turn_rate_deg_s`.
+    pub(crate) fn request(&self, turn_rate_deg_s: f64) -> cierva_harness::TrimRequest {
+        cierva_harness::TrimRequest {
+            airspeed_mph: self.airspeed_mph,
+            climb_m_s: self.climb_m_s,
+            turn_rate_deg_s,
+        }
+    }
+
+    /// The mass and air.
+    pub(crate) fn loading(&self) -> cierva_harness::Loading {
+        cierva_harness::Loading {
+            mass_kg: self.mass_kg,
+            density_altitude_ft: self.density_altitude_ft,
+        }
+    }
+}
+
+/// A test input on one control (shared by `simulate` and `synth-history`).
+#[derive(clap::Args)]
+pub(crate) struct ShapeArgs {
+    /// An input shape on one control (with --control and --amplitude-percent).
+    #[arg(long, value_enum)]
+    pub(crate) shape: Option<InputChoice>,
+    /// eta_s (longitudinal stick), eta_c (lateral stick), eta_p (pedal) or eta_t (throttle).
+    #[arg(long, default_value = "eta_s")]
+    pub(crate) control: String,
+    /// Amplitude, % of travel.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 1.0)]
+    pub(crate) amplitude_percent: f64,
+    /// When a doublet, 3-2-1-1 or step starts, s.
+    #[arg(long, default_value_t = 1.0)]
+    pub(crate) start_s: f64,
+    /// Pulse (doublet), unit (3-2-1-1) or length (sweep), s.
+    #[arg(long, default_value_t = 1.0)]
+    pub(crate) input_s: f64,
+    /// Sweep band, Hz.
+    #[arg(long, default_value_t = 0.1)]
+    pub(crate) from_hz: f64,
+    #[arg(long, default_value_t = 2.0)]
+    pub(crate) to_hz: f64,
+}
+
+impl ShapeArgs {
+    /// The input shape, if one is given.
+    pub(crate) fn input(&self) -> Option<cierva_harness::ident::synth::Input> {
+        use cierva_harness::ident::synth::Input;
+        let (amplitude, start_s, input_s) = (self.amplitude_percent, self.start_s, self.input_s);
+        self.shape.map(|c| match c {
+            InputChoice::Sweep | InputChoice::SweepDown => Input::Sweep {
+                from_hz: self.from_hz,
+                to_hz: self.to_hz,
+                duration_s: input_s,
+                amplitude,
+                descending: c == InputChoice::SweepDown,
+            },
+            InputChoice::Doublet => Input::Doublet {
+                start_s,
+                pulse_s: input_s,
+                amplitude,
+            },
+            InputChoice::ThreeTwoOneOne => Input::ThreeTwoOneOne {
+                start_s,
+                unit_s: input_s,
+                amplitude,
+            },
+            InputChoice::Step => Input::Step { start_s, amplitude },
+        })
+    }
+}
+
+/// Arguments of `synth-history`.
+#[derive(clap::Args)]
+pub(crate) struct SynthHistoryArgs {
+    #[command(flatten)]
+    pub(crate) flight: FlightArgs,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+
+    #[command(flatten)]
+    pub(crate) shape: ShapeArgs,
+    /// The model that flies: full-blade (the individual-blade model) or linear.
+    #[arg(long, value_enum, default_value_t = cierva_harness::history::Simulation::FullBlade)]
+    pub(crate) simulation: cierva_harness::history::Simulation,
+    /// Seed 000's propeller blockage factor to fly with (0..1; default the aircraft file's).
+    #[arg(long)]
+    pub(crate) propeller_blockage: Option<f64>,
+    /// Seed 000's hub angle-of-attack factor to fly with (default the aircraft file's).
+    #[arg(long)]
+    pub(crate) hub_aoa_factor: Option<f64>,
+    /// Length of the record, s.
+    #[arg(long, default_value_t = 10.0)]
+    pub(crate) duration_s: f64,
+    #[arg(long, default_value_t = 50.0)]
+    pub(crate) sample_rate_hz: f64,
+    /// Azimuth step of the full model, deg (default: the aircraft file's).
+    #[arg(long)]
+    pub(crate) azimuth_step_deg: Option<f64>,
+    /// Standard deviations of the sensor noise: speeds m/s, rates deg/s, angles deg, rotor rpm.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_speed_m_s: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_rate_deg_s: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_angle_deg: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_rpm: f64,
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// The record's title (its id is the output file's stem).
+    #[arg(long)]
+    pub(crate) title: Option<String>,
+    /// The record CSV to write (its sidecar YAML goes beside it).
+    #[arg(long)]
+    pub(crate) output: PathBuf,
+}
+
+/// Output of `linearize`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum LinearFormat {
+    Text,
+    Json,
+    Yaml,
+}
+
+/// A rotor in a wind tunnel: the rotor file and the condition (shared by `autorotate` and
+/// `synth-teeter`).
+#[derive(clap::Args)]
+pub(crate) struct TunnelArgs {
+    /// A rotor file (see aircraft/).
+    pub(crate) rotor: PathBuf,
+    /// Rotor angle of attack, deg: between the free stream and the plane normal to the
+    /// shaft, positive with the air meeting the disc from below; 90 is vertical descent.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) alpha_deg: f64,
+    /// Tunnel speed, m/s.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) airspeed_m_s: f64,
+    /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
+    /// distribution (default: the file's distribution as it is).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) collective_deg: Option<f64>,
+}
+
+/// Output of `identify`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum IdentFormat {
+    Text,
+    Json,
+    /// A flight-refs derivative table that cases can check models against.
+    Yaml,
+}
+
+/// Test inputs.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum InputChoice {
+    /// Frequency sweep, low to high.
+    Sweep,
+    /// Frequency sweep, high to low (seed 000 Fig. 5).
+    SweepDown,
+    Doublet,
+    /// 3-2-1-1.
+    ThreeTwoOneOne,
+    Step,
+}
+
+/// Arguments of `synth`.
+#[derive(Parser)]
+pub(crate) struct SynthArgs {
+    /// A reference file with a `linear_model` block (the truth).
+    pub(crate) model: PathBuf,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+
+    /// The control to excite.
+    #[arg(long)]
+    pub(crate) control: String,
+    #[arg(long, value_enum, default_value_t = InputChoice::Sweep)]
+    pub(crate) input: InputChoice,
+    /// Input amplitude, in the control's units.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) amplitude: f64,
+    /// Sweep band, Hz.
+    #[arg(long, default_value_t = 0.02)]
+    pub(crate) from_hz: f64,
+    #[arg(long, default_value_t = 2.5)]
+    pub(crate) to_hz: f64,
+    /// Length of the sweep (or the pulse unit of a doublet or 3-2-1-1, s).
+    #[arg(long, default_value_t = 100.0)]
+    pub(crate) input_s: f64,
+    /// Length of the record, s.
+    #[arg(long, default_value_t = 120.0)]
+    pub(crate) duration_s: f64,
+    #[arg(long, default_value_t = 100.0)]
+    pub(crate) sample_rate_hz: f64,
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Multiplies the default sensor noise (airspeed 0.02 m/s, vanes, rates and attitudes
+    /// 5e-4 rad(/s), rotor 0.01 rad/s); 0 for a noise-free record.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_scale: f64,
+    /// Turbulence intensity on each force equation (acceleration units); 0 for none.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) turbulence: f64,
+    /// Trim about which the record is written (estimated defaults for the VPM M16 at 60 kn).
+    #[arg(long, default_value_t = 30.0)]
+    pub(crate) trim_u_m_s: f64,
+    #[arg(long, default_value_t = 1.5, allow_hyphen_values = true)]
+    pub(crate) trim_w_m_s: f64,
+    #[arg(long, default_value_t = 0.05, allow_hyphen_values = true)]
+    pub(crate) trim_theta_rad: f64,
+    #[arg(long, default_value_t = 38.0)]
+    pub(crate) trim_rotor_rad_s: f64,
+    /// Air-data probe position relative to the c.g., body axes, m: x,y,z.
+    #[arg(long, default_value = "2.0,0.0,-0.3", allow_hyphen_values = true)]
+    pub(crate) probe_m: String,
+    /// The record to write (its sidecar goes beside it, .yaml).
+    #[arg(long)]
+    pub(crate) output: PathBuf,
+}
+
+/// Benchmarks of the model's building blocks (medians over repeats; see reports/benchmarks.md).
+#[derive(Parser)]
+pub(crate) struct BenchArgs {
+    /// Repeats of each timed operation.
+    #[arg(long, default_value_t = 21)]
+    pub(crate) repeat: usize,
+    /// `text` (a Markdown table, as in reports/benchmarks.md) or `json` (rows of operation,
+    /// median and notes).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}

@@ -1,0 +1,450 @@
+//! `cierva bench`: timings of the model and the harness (reports/benchmarks.md).
+
+use super::*;
+
+pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
+    // Rows print as they are measured (text), or are gathered into JSON at the end.
+    let rows = std::cell::RefCell::new(Vec::<String>::new());
+    macro_rules! row {
+        ($($t:tt)*) => {{
+            let line = format!($($t)*);
+            match format {
+                Format::Text => println!("{line}"),
+                Format::Json => rows.borrow_mut().push(line),
+            }
+        }};
+    }
+    use cierva_model::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
+    use std::time::Instant;
+    let path = cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml");
+    let file = match cierva_harness::rotor_file::load(&path) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let rotor = &file.rotor;
+    let repeat = repeat.max(3);
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let time = |f: &mut dyn FnMut()| {
+        let t = Instant::now();
+        f();
+        t.elapsed().as_secs_f64()
+    };
+    // TR 515 Table III row 19 conditions (mu 0.275, alpha 5.5 deg, 100 rpm), 1.9 deg pitch.
+    let omega = 100.0 * std::f64::consts::PI / 30.0;
+    let v = 0.275 * omega * rotor.radius_m / 5.5f64.to_radians().cos();
+    let op = Operating {
+        omega_rad_s: omega,
+        hub: HubVelocity {
+            u: v * 5.5f64.to_radians().cos(),
+            v: 0.0,
+            w: v * 5.5f64.to_radians().sin(),
+        },
+        inflow: Inflow {
+            v0: 0.5,
+            v1s: 0.0,
+            v1c: -0.8,
+        },
+        density_kg_m3: 1.225,
+        speed_of_sound_m_s: 340.3,
+        collective_shift_rad: rotor.collective_shift_for(1.9f64.to_radians()),
+        hub_rates_rad_s: [0.0; 3],
+    };
+    let blade = Blade::new(rotor, Numerics::default());
+    let n_rhs = 10_000;
+    let mut sink = 0.0;
+    let rhs: Vec<f64> = (0..repeat)
+        .map(|_| {
+            time(&mut || {
+                for k in 0..n_rhs {
+                    sink += blade.flap_derivative(&op, k as f64 * 1e-3, [0.1, 0.01])[1];
+                }
+            }) / n_rhs as f64
+        })
+        .collect();
+    let warm = blade
+        .steady(&op, [0.1, 0.0])
+        .map(|l| l.beta0)
+        .unwrap_or([0.1, 0.0]);
+    let steady: Vec<f64> = (0..repeat)
+        .map(|_| time(&mut || sink += blade.steady(&op, warm).map_or(0.0, |l| l.thrust_n())))
+        .collect();
+    let inflow = InflowModel::PetersHaQuang {
+        skew: SkewConvention::Signed,
+    };
+    let auto: Vec<f64> = (0..repeat)
+        .map(|_| {
+            time(&mut || {
+                sink +=
+                    run_autorotation(rotor, 5.5, v, Some(1.9), None, inflow).map_or(0.0, |a| a.rpm)
+            })
+        })
+        .collect();
+    row!("| operation | median | notes |");
+    row!("| --- | --- | --- |");
+    row!(
+        "| blade right-hand side (flap equation with {} elements) | {:.2} us | one blade at one azimuth; {} blades per rotor evaluation |",
+        rotor.elements + 1,
+        1e6 * median(rhs),
+        rotor.blades
+    );
+    row!(
+        "| periodic blade solution (warm start, 2.5 deg steps, RK4) | {:.2} ms | one blade to a periodic state, then one revolution of loads |",
+        1e3 * median(steady)
+    );
+    row!(
+        "| PCA-2 autorotation (bracket + Newton on Omega, v0, v1s, v1c) | {:.1} ms | TR 515 row 19 condition, from a cold start |",
+        1e3 * median(auto)
+    );
+    // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
+    let ac_path = cierva_harness::repo_root().join("aircraft/vpm-m16.yaml");
+    match cierva_harness::aircraft_file::load(&ac_path) {
+        Err(e) => eprintln!("{}", e.render()),
+        Ok(ac) => {
+            let request = cierva_harness::TrimRequest {
+                airspeed_mph: 70.0,
+                climb_m_s: 0.0,
+                turn_rate_deg_s: 0.0,
+            };
+            let loading = cierva_harness::Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            };
+            let mut last = None;
+            let trims: Vec<f64> = (0..repeat)
+                .map(|_| {
+                    time(&mut || {
+                        last = cierva_harness::run_trim(&ac.aircraft, request, loading).ok();
+                    })
+                })
+                .collect();
+            // The fit's case: the same condition with a correction moved a little (here the
+            // mass, by 5 kg), started from the last trim's end.
+            let heavier = cierva_harness::Loading {
+                mass_kg: Some(ac.aircraft.mass.mass_kg + 5.0),
+                ..loading
+            };
+            let mut warm_last = None;
+            let warm_trims: Vec<f64> = match &last {
+                None => vec![],
+                Some(t) => (0..repeat)
+                    .map(|_| {
+                        time(&mut || {
+                            warm_last = cierva_harness::run_trim_from(
+                                &ac.aircraft,
+                                request,
+                                heavier,
+                                Some(&t.warm_start),
+                            )
+                            .ok();
+                        })
+                    })
+                    .collect(),
+            };
+            if let Some(t) = last {
+                let air = cierva_model::aircraft::Air {
+                    density_kg_m3: 1.225,
+                    speed_of_sound_m_s: 340.294,
+                };
+                let a = &ac.aircraft;
+                let x = a.full_state(&t.state, &t.controls, air, t.averaged.flap_start);
+                let n = 1000;
+                // Median time of one right-hand side of `craft`, over `n` azimuths a repeat.
+                let mut rhs = |craft: &cierva_model::aircraft::Aircraft| -> Vec<f64> {
+                    (0..repeat)
+                        .map(|_| {
+                            time(&mut || {
+                                for k in 0..n {
+                                    let mut y = x.clone();
+                                    y.rotor_azimuth_rad = k as f64 * 0.01;
+                                    sink += craft
+                                        .derivatives(&y, &t.controls, air)
+                                        .map_or(0.0, |d| d.body.u_m_s);
+                                }
+                            }) / n as f64
+                        })
+                        .collect()
+                };
+                let full = rhs(a);
+                // The same with the propeller on its map, as a simulation runs it.
+                let mut mapped = a.clone();
+                if let Ok(p) = a.propeller.propeller.with_map() {
+                    mapped.propeller.propeller = p;
+                }
+                let full_mapped = rhs(&mapped);
+                let map_build: Vec<f64> = (0..repeat.min(5))
+                    .map(|_| {
+                        time(&mut || {
+                            sink += a.propeller.propeller.build_map().nodes() as f64;
+                        })
+                    })
+                    .collect();
+                let averaged: Vec<f64> = (0..repeat)
+                    .map(|_| {
+                        time(&mut || {
+                            sink += a
+                                .averaged(&t.state, &t.controls, air, t.averaged.flap_start)
+                                .map_or(0.0, |d| d.body_dot.u_m_s)
+                        })
+                    })
+                    .collect();
+                let lins: Vec<f64> = (0..repeat)
+                    .map(|_| {
+                        time(&mut || {
+                            sink += cierva_harness::run_linearise(&ac.aircraft, request, loading)
+                                .map_or(0.0, |(_, l)| l.model.a()[(0, 0)])
+                        })
+                    })
+                    .collect();
+                row!(
+                    "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; target: under 100 ms |",
+                    1e3 * median(lins)
+                );
+                // Simulation: 60 s of level flight from the full model's periodic trim, with 10
+                // and 20 elements per blade, one thread.
+                for elements in [10usize, 20] {
+                    let mut a2 = ac.aircraft.clone();
+                    a2.main_rotor.rotor.elements = elements;
+                    let c = cierva_model::trim::Condition {
+                        airspeed_m_s: 70.0 * cierva_harness::MPH_TO_M_S,
+                        climb_m_s: 0.0,
+                        turn_rate_rad_s: 0.0,
+                        air,
+                    };
+                    let Ok(t2) = cierva_model::trim::trim(&a2, c, Default::default()) else {
+                        continue;
+                    };
+                    let Ok(pt) = cierva_model::trim::periodic_trim(&a2, c, &t2, Default::default())
+                    else {
+                        continue;
+                    };
+                    let u = pt.controls;
+                    let settings = cierva_model::timehistory::Settings {
+                        azimuth_step_rad: a2.main_rotor.numerics.azimuth_step_rad,
+                        duration_s: 60.0,
+                        output_every: 72,
+                    };
+                    let runs: Vec<f64> = (0..repeat.min(5))
+                        .map(|_| {
+                            time(&mut || {
+                                sink += cierva_model::timehistory::run(
+                                    &a2,
+                                    pt.start.clone(),
+                                    &|_| u,
+                                    air,
+                                    settings,
+                                )
+                                .map_or(0.0, |h| h.step_s)
+                            })
+                        })
+                        .collect();
+                    let m = median(runs);
+                    row!(
+                        "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; target: 200 times with 10 elements |",
+                        m,
+                        60.0 / m
+                    );
+                }
+                row!(
+                    "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); target: under 50 ms |",
+                    1e3 * median(trims),
+                    t.iterations
+                );
+                if let Some(w) = warm_last {
+                    row!(
+                        "| VPM M16 trim at 70 mph, 455 kg, warm-started from the 450 kg trim | {:.1} ms | {} model evaluations against {} cold: the last Jacobian carried over, as in a fit |",
+                        1e3 * median(warm_trims),
+                        w.evaluations,
+                        t.evaluations
+                    );
+                }
+                row!(
+                    "| full model right-hand side (individual blades, {} flap states, inflow, rotorspeed, propeller, airframe, 6-DOF) | {:.1} us | one evaluation at the 70 mph trim, including the propeller's inflow solution |",
+                    x.flap.len(),
+                    1e6 * median(full)
+                );
+                row!(
+                    "| full model right-hand side, the propeller on its map | {:.1} us | what a simulation evaluates; the map (101 by 61 nodes of the exact solve) takes {:.0} ms to build, once per process and propeller |",
+                    1e6 * median(full_mapped),
+                    1e3 * median(map_build)
+                );
+                row!(
+                    "| revolution-averaged model evaluation (periodic blade solution, warm) | {:.2} ms | what trim evaluates: the rotor's periodic flapping at 5 deg steps, then its mean loads |",
+                    1e3 * median(averaged)
+                );
+            }
+        }
+    }
+    // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
+    // frequencies (the identification benchmark), on a synthetic record of seed 002's Eq. 20.
+    use cierva_harness::ident::{self, record, synth};
+    let truth =
+        refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
+            .ok()
+            .and_then(|r| r.linear_model);
+    if let Some(model) = truth {
+        for (seconds, points) in [(120.0, 100), (240.0, 100), (120.0, 200)] {
+            let settings = synth::Settings {
+                id: "bench".into(),
+                aircraft: "VPM M16".into(),
+                truth: "seed 002 Eq. 20".into(),
+                control: "eta_s".into(),
+                input: cierva_harness::ident::synth::Input::Sweep {
+                    from_hz: 0.02,
+                    to_hz: 2.5,
+                    duration_s: seconds - 20.0,
+                    amplitude: 0.01,
+                    descending: false,
+                },
+                duration_s: seconds,
+                sample_rate_hz: 100.0,
+                seed: 1,
+                noise: synth::SensorNoise::NONE,
+                turbulence: None,
+                trim: synth::Trim {
+                    u_m_s: 30.0,
+                    w_m_s: 1.5,
+                    theta_rad: 0.05,
+                    omega_rotor_rad_s: 38.0,
+                },
+                sensors: record::Sensors {
+                    probe_position_m: [2.0, 0.0, -0.3],
+                    cg_position_m: [0.0; 3],
+                },
+            };
+            let Ok((channels, data, meta)) = synth::generate(&model, &settings) else {
+                continue;
+            };
+            let rec = record::Record {
+                path: "bench.csv".into(),
+                meta,
+                channels,
+                data,
+            };
+            let mut cfg = ident::ConfigSpec::longitudinal(&rec);
+            cfg.frequencies.points = Some(points);
+            let t: Vec<f64> = (0..repeat)
+                .map(|_| {
+                    time(&mut || {
+                        sink += ident::identify_record(&rec, &cfg)
+                            .map_or(0.0, |r| r.derivatives.len() as f64)
+                    })
+                })
+                .collect();
+            row!(
+                "| identification, 5 states, {seconds} s at 100 Hz, {points} frequencies | {:.1} ms | air data to c.g., chirp-z transforms once, least squares then 2 instrumental-variable passes |",
+                1e3 * median(t)
+            );
+        }
+    }
+    // Fitting (the fit benchmark): 3 parameters over 5 flight conditions, from the
+    // uncorrected model to a synthetic truth (blockage 1.0, hub factor 0.5, drag +15 %), with X_u,
+    // Z_w and the rotor speed at 40-70 mph as targets (at 30 mph the truth needs more than full
+    // throttle).
+    if let Ok(ac) = cierva_harness::aircraft_file::load(
+        &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
+    ) {
+        use cierva_harness::fit::{
+            self, Condition, Measure, Options, Parameter, ParameterKind, Problem, Subject, Target,
+        };
+        let par = |kind, lower, upper| Parameter {
+            kind,
+            lower,
+            upper,
+            start: ParameterKind::neutral(kind),
+            regularisation: 0.0,
+        };
+        let mut problem = Problem {
+            subject: Subject::Aircraft {
+                aircraft: Box::new(ac.aircraft.clone()),
+                loading: cierva_harness::Loading {
+                    mass_kg: Some(425.0),
+                    density_altitude_ft: 2000.0,
+                },
+            },
+            parameters: vec![
+                par(ParameterKind::PropellerBlockage, 0.0, 1.0),
+                par(ParameterKind::HubAoaFactor, 0.0, 1.5),
+                par(ParameterKind::ProfileDragScale, 0.5, 2.0),
+            ],
+            targets: vec![],
+            options: Options::default(),
+        };
+        for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
+            for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {
+                let condition = Condition::Flight(cierva_harness::TrimRequest {
+                    airspeed_mph: mph,
+                    climb_m_s: 0.0,
+                    turn_rate_deg_s: 0.0,
+                });
+                problem.targets.push(Target {
+                    measure: Measure::parse(&condition, m).expect("known"),
+                    condition,
+                    reference: 0.0,
+                    standard_error: se,
+                    bounds: None,
+                });
+            }
+        }
+        let truth = [1.0, 0.5, 1.15];
+        match fit::evaluate(&problem, &truth) {
+            Err(e) => eprintln!("fit benchmark: the truth does not evaluate: {e}"),
+            Ok(y) => {
+                for (t, v) in problem.targets.iter_mut().zip(y) {
+                    t.reference = v;
+                    t.standard_error *= v.abs();
+                }
+                let started = Instant::now();
+                let r = fit::fit(&problem);
+                let total = started.elapsed().as_secs_f64();
+                row!(
+                    "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, warm-started from the last at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; target: under 5 s |",
+                    r.status.name(),
+                    r.iterations,
+                    total / r.iterations.max(1) as f64,
+                    r.evaluations,
+                    r.values[0],
+                    r.values[1],
+                    r.values[2]
+                );
+            }
+        }
+    }
+
+    if !sink.is_finite() {
+        eprintln!("(a timed result was not finite)");
+    }
+    if format == Format::Json {
+        let cells = |l: &str| -> Vec<String> {
+            l.trim()
+                .trim_matches('|')
+                .split(" | ")
+                .map(|c| c.trim().to_string())
+                .collect()
+        };
+        let measured: Vec<serde_json::Value> = rows
+            .borrow()
+            .iter()
+            .skip(2)
+            .map(|l| {
+                let c = cells(l);
+                serde_json::json!({
+                    "operation": c.first(),
+                    "median": c.get(1),
+                    "notes": c.get(2),
+                })
+            })
+            .collect();
+        done(
+            format,
+            String::new(),
+            serde_json::json!({"repeat": repeat, "rows": measured}),
+        );
+    }
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,102 @@
+//! `cierva fit`: the empirical corrections fitted within bounds, with the fitted file and report.
+
+use super::*;
+
+pub(crate) fn fit(
+    file: PathBuf,
+    output: Option<PathBuf>,
+    report: Option<PathBuf>,
+    format: Format,
+) -> ExitCode {
+    use cierva_harness::fit_file;
+    let f = match fit_file::load(&file) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let output = output.unwrap_or_else(|| {
+        file.parent()
+            .unwrap_or(Path::new("."))
+            .join("results")
+            .join(format!("{}.yaml", f.id))
+    });
+    let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
+    let busy = spinner(&format!("fitting {}", f.id));
+    let run = fit_file::run(&f);
+    busy.finish_and_clear();
+    let id = output
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or(&f.id)
+        .to_string();
+    let command = format!("cierva fit {}", file.display());
+    let spec = fit_file::corrections_file(&f, &run, &id, &command);
+    let mut md = fit_file::markdown(&f, &run);
+    // The before/after figure beside the Markdown (which shows it), and in `validate`'s report.
+    let svg_path = report.with_extension("svg");
+    let svg = fit_file::figure(&f, &run).svg(640, 380);
+    if let (Some(_), Some(name)) = (&svg, svg_path.file_name()) {
+        md += &format!(
+            "\n![Every target's error before and after, in standard errors]({})\n",
+            name.to_string_lossy()
+        );
+    }
+    let written = (|| -> Result<(), String> {
+        let mut files = vec![
+            (
+                &output,
+                serde_yaml::to_string(&spec).map_err(|e| e.to_string())?,
+            ),
+            (&report, md.clone()),
+        ];
+        if let Some(svg) = &svg {
+            files.push((&svg_path, svg.clone()));
+        }
+        for (path, text) in files {
+            if let Some(dir) = path.parent()
+                && !dir.as_os_str().is_empty()
+            {
+                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            }
+            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        Ok(())
+    })();
+    if let Err(e) = written {
+        eprintln!("error: writing the fit's results: {e}");
+        return ExitCode::from(2);
+    }
+    match format {
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "fit": f.id,
+                "run": run,
+                "corrections_file": output.display().to_string(),
+                "report": report.display().to_string(),
+                "figure": svg.as_ref().map(|_| svg_path.display().to_string()),
+            }))
+            .expect("serialisable")
+        ),
+        Format::Text => {
+            print!("{md}");
+            println!(
+                "wrote {}, {}{}",
+                output.display(),
+                report.display(),
+                if svg.is_some() {
+                    format!(" and {}", svg_path.display())
+                } else {
+                    String::new()
+                }
+            );
+        }
+    }
+    if run.result.status == cierva_harness::fit::Status::Converged {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}

@@ -1,0 +1,133 @@
+//! `cierva inflow` and `cierva synth-teeter`: inflow from blade flapping (seed 003), and synthetic teeter records.
+
+use super::*;
+
+pub(crate) fn inflow(
+    path: PathBuf,
+    rotor: PathBuf,
+    settings: cierva_harness::ident::flap::FlapSettings,
+    format: Format,
+) -> ExitCode {
+    use cierva_harness::ident::{flap, record};
+    let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
+        .and_then(|rec| cierva_harness::rotor_file::load(&rotor).map(|r| (rec, r)));
+    let (rec, file) = match loaded {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    match flap::inflow_from_record(&rec, &file.rotor, &settings) {
+        Ok(r) => {
+            match format {
+                Format::Json => println!(
+                    "{}",
+                    serde_json::to_string_pretty(&r).expect("serialisable")
+                ),
+                Format::Text => {
+                    println!(
+                        "{} ({}): {:.1} revolutions, mu {:.4}",
+                        rec.meta.title, rec.meta.id, r.revolutions, r.tip_speed_ratio
+                    );
+                    println!(
+                        "disc tilts   beta_1c {:.4} deg, beta_1s {:.4} deg; coning {:.4} deg",
+                        r.beta_1c_deg, r.beta_1s_deg, r.coning_deg
+                    );
+                    println!(
+                        "inflow       v0 {:.4} m/s, v1s {:.4} m/s, v1c {:.4} m/s (tan(chi/2) = {:.4})",
+                        r.v0_m_s, r.v1s_m_s, r.v1c_m_s, r.tan_half_skew
+                    );
+                }
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+pub(crate) fn synth_teeter(
+    rotor: PathBuf,
+    alpha_deg: f64,
+    airspeed_m_s: f64,
+    collective_deg: Option<f64>,
+    (duration_s, sample_rate_hz, seed, noise_deg): (f64, f64, u64, f64),
+    (output, format): (PathBuf, Format),
+) -> ExitCode {
+    use cierva_harness::ident::{flap, record};
+    let file = match cierva_harness::rotor_file::load(&rotor) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let inflow = InflowModel::PetersHaQuang {
+        skew: SkewConvention::Signed,
+    };
+    let a = match run_autorotation(
+        &file.rotor,
+        alpha_deg,
+        airspeed_m_s,
+        collective_deg,
+        None,
+        inflow,
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+        }
+    };
+    let id = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let (sa, ca) = alpha_deg.to_radians().sin_cos();
+    let truth = format!(
+        "{} at alpha {alpha_deg} deg, {airspeed_m_s} m/s",
+        rotor.display()
+    );
+    let (channels, data, meta) = flap::synthesize_teeter(
+        &id,
+        &truth,
+        &a,
+        airspeed_m_s * ca,
+        airspeed_m_s * sa,
+        duration_s,
+        sample_rate_hz,
+        seed,
+        noise_deg.to_radians(),
+    );
+    match record::write(&output, &meta, &channels, &data) {
+        Ok(()) => {
+            done(
+                format,
+                format!(
+                    "wrote {} and its sidecar: model inflow v0 {:.4}, v1s {:.4}, v1c {:.4} m/s, coning {:.4} deg",
+                    output.display(),
+                    a.inflow.v0,
+                    a.inflow.v1s,
+                    a.inflow.v1c,
+                    a.a0_rad.to_degrees()
+                ),
+                serde_json::json!({
+                    "wrote": [
+                        output.display().to_string(),
+                        record::sidecar_path(&output).display().to_string()
+                    ],
+                    "model_inflow_m_s": {"v0": a.inflow.v0, "v1s": a.inflow.v1s, "v1c": a.inflow.v1c},
+                    "coning_deg": a.a0_rad.to_degrees(),
+                }),
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", output.display());
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,104 @@
+//! `cierva linearize`: the trimmed aircraft linearised (seed 001 Eqs. 10-12), derivatives by component.
+
+use super::*;
+
+pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
+    let file = match load_flight(&f) {
+        Ok(f) => f,
+        Err(code) => return code,
+    };
+    let (request, loading) = (f.request(0.0), f.loading());
+    let (t, lin) = match cierva_harness::run_linearise(&file.aircraft, request, loading) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {}: {e}", f.aircraft.display());
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+        }
+    };
+    let mass = f.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
+    let condition = format!(
+        "{} mph, climb {} m/s, {} kg, density altitude {} ft",
+        f.airspeed_mph, f.climb_m_s, mass, f.density_altitude_ft
+    );
+    match format {
+        LinearFormat::Yaml => {
+            let id = format!("{}-{}mph-{}kg", file.id, f.airspeed_mph, mass.round());
+            print!(
+                "{}",
+                text::linear_reference_yaml(
+                    &id,
+                    &format!("{} linearised at {condition}", file.title),
+                    &format!(
+                        "cierva linearize {} ({}), trim residual {:.1e}",
+                        env!("CARGO_PKG_VERSION"),
+                        f.aircraft.display(),
+                        t.residual_norm
+                    ),
+                    &lin.model,
+                    &cierva_harness::linear_units(),
+                )
+            );
+        }
+        LinearFormat::Json => {
+            let derivs: Vec<serde_json::Value> = text::PRIMARY_DERIVATIVES
+                .iter()
+                .filter_map(|n| {
+                    let v = lin.model.derivative_value(n).ok()?;
+                    let parts: serde_json::Map<String, serde_json::Value> = lin
+                        .breakdown(n)
+                        .ok()?
+                        .into_iter()
+                        .map(|(c, x)| (c, serde_json::json!(x)))
+                        .collect();
+                    Some(serde_json::json!({"name": n, "value": v, "components": parts}))
+                })
+                .collect();
+            let m = &lin.model;
+            let out = serde_json::json!({
+                "condition": condition,
+                "trim": t,
+                "states": m.states(),
+                "controls": m.controls(),
+                "a": (0..m.states().len()).map(|i| (0..m.states().len()).map(|j| m.a()[(i, j)]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "b": (0..m.states().len()).map(|i| (0..m.controls().len()).map(|j| m.b()[(i, j)]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "primary_derivatives": derivs,
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        LinearFormat::Text => {
+            println!("{} at {condition}", file.title);
+            println!(
+                "trim: stick {:.2} % / {:.2} %, pedal {:.2} %, throttle {:.2} %, pitch {:.3} deg, roll {:.3} deg, rotor {:.1} rpm (residual {:.1e})",
+                t.controls.stick_longitudinal_percent,
+                t.controls.stick_lateral_percent,
+                t.controls.pedal_percent,
+                t.controls.throttle_percent,
+                t.pitch_rad.to_degrees(),
+                t.roll_rad.to_degrees(),
+                t.rotor_rpm,
+                t.residual_norm
+            );
+            println!("\nprimary derivatives by component (SI; controls per % of travel):");
+            print!("{}", text::breakdown_table(&lin, text::PRIMARY_DERIVATIVES));
+            match cierva_model::modes(&lin.model) {
+                Ok(a) => {
+                    println!("\nmodes, 10 states:");
+                    print!("{}", text::modes_table(&a));
+                }
+                Err(e) => println!("modes: {e}"),
+            }
+            if let Ok(lon) = lin.longitudinal()
+                && let Ok(a) = cierva_model::modes(&lon)
+            {
+                println!("\nmodes, longitudinal [u w q theta Omega]:");
+                print!("{}", text::modes_table(&a));
+            }
+            println!("\nall derivatives:");
+            print!("{}", text::derivatives_table(&lin.model));
+        }
+    }
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,133 @@
+//! `cierva modes`: modes, BCAR Section T and Milne values of a linear model, or its root locus.
+
+use super::*;
+
+pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> ExitCode {
+    let r = match refs::load(&file) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let Some(model) = r.linear_model else {
+        eprintln!("error: {}: no `linear_model` block", file.display());
+        return ExitCode::from(2);
+    };
+    if let Some(spec) = sweep {
+        return locus(&model, &spec, format);
+    }
+    let analysis = match cierva_model::modes(&model) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("error: {}: {e}", file.display());
+            return ExitCode::from(2);
+        }
+    };
+    match format {
+        Format::Json => {
+            let assessed: Vec<_> = analysis
+                .modes
+                .iter()
+                .map(|m| serde_json::json!({ "mode": m, "bcar": cierva_model::bcar::assess(m) }))
+                .collect();
+            let out = serde_json::json!({
+                "file": file,
+                "id": r.id,
+                "states": analysis.states,
+                "modes": assessed,
+                "milne": milne_json(&model),
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        Format::Text => {
+            println!("{} ({})\n{}\n", r.title, r.id, r.provenance.source);
+            print!("{}", text::modes_table(&analysis));
+            println!();
+            print!("{}", text::milne_table(&model));
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Format) -> ExitCode {
+    use cierva_model::locus;
+    let parsed = spec.split_once('=').and_then(|(d, range)| {
+        let p: Vec<&str> = range.split(':').collect();
+        match p.as_slice() {
+            [a, b, n] => Some((
+                d,
+                a.parse::<f64>().ok()?,
+                b.parse::<f64>().ok()?,
+                n.parse::<usize>().ok()?,
+            )),
+            _ => None,
+        }
+    });
+    let Some((name, from, to, n)) = parsed.filter(|(_, a, b, _)| a.is_finite() && b.is_finite())
+    else {
+        eprintln!(
+            "error: --sweep `{spec}`: expected DERIVATIVE=FROM:TO:POINTS, for example Q_u=0.06:0.26:11"
+        );
+        return ExitCode::from(2);
+    };
+    let element = match model.derivative(name) {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: --sweep: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let points = match locus::root_locus(model, element, &locus::linspace(from, to, n)) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: --sweep: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match format {
+        Format::Json => {
+            let out: Vec<_> = points
+                .iter()
+                .map(|p| serde_json::json!({ "value": p.value, "modes": p.analysis.modes }))
+                .collect();
+            let out = serde_json::json!({ "derivative": name, "points": out });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        Format::Text => {
+            println!("root locus: {name} from {from} to {to} ({n} points)");
+            for p in &points {
+                let modes: Vec<String> = p
+                    .analysis
+                    .modes
+                    .iter()
+                    .map(|m| format!("{} {:.4}", m.kind.name(), m.eigenvalue))
+                    .collect();
+                println!(
+                    "{name} = {:>12}  {}",
+                    text::sig(p.value, 6),
+                    modes.join("; ")
+                );
+            }
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+pub(crate) fn milne_json(m: &cierva_model::LinearModel) -> serde_json::Value {
+    use cierva_model::milne;
+    let eq13 = milne::eq13(m);
+    serde_json::json!({
+        "reduced": milne::reduced(m).and_then(|r| milne::as_array3(&r)).map_err(|e| e.to_string()),
+        "eq13": eq13.as_ref().map_err(|e| e.to_string()),
+        "cubic": eq13.map_err(|e| e.to_string()).and_then(|e| e.cubic().map_err(|e| e.to_string())).map(|c| {
+            serde_json::json!({ "cubic": c, "sensitivity": c.sensitivity() })
+        }),
+    })
+}

@@ -1,0 +1,33 @@
+//! `cierva new-case`: a commented case file to start from.
+
+use super::*;
+
+pub(crate) fn new_case(path: PathBuf, format: Format) -> ExitCode {
+    let Some(id) = path.file_stem().map(|s| s.to_string_lossy().to_string()) else {
+        eprintln!("error: {}: not a file name", path.display());
+        return ExitCode::from(2);
+    };
+    if path.exists() {
+        eprintln!("error: {} exists; not overwritten", path.display());
+        return ExitCode::from(2);
+    }
+    let text = include_str!("../../templates/case.yaml").replace("CASE_ID", &id);
+    match std::fs::write(&path, text) {
+        Ok(()) => {
+            done(
+                format,
+                format!(
+                    "wrote {}: edit it, then `cierva validate {}`",
+                    path.display(),
+                    path.display()
+                ),
+                serde_json::json!({"wrote": [path.display().to_string()], "id": id}),
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            ExitCode::from(2)
+        }
+    }
+}

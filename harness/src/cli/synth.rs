@@ -1,0 +1,121 @@
+//! `cierva synth`: synthetic flight records flown by a linear model, for identification.
+
+use super::*;
+
+pub(crate) fn synth(a: SynthArgs) -> ExitCode {
+    use cierva_harness::ident::{record, synth};
+    let r = match refs::load(&a.model) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let Some(model) = r.linear_model else {
+        eprintln!("error: {}: no `linear_model` block", a.model.display());
+        return ExitCode::from(2);
+    };
+    let probe: Vec<f64> = a
+        .probe_m
+        .split(',')
+        .filter_map(|v| v.trim().parse().ok())
+        .collect();
+    let [px, py, pz] = probe[..] else {
+        eprintln!("error: --probe-m `{}`: expected x,y,z in metres", a.probe_m);
+        return ExitCode::from(2);
+    };
+    let input = match a.input {
+        InputChoice::Sweep | InputChoice::SweepDown => cierva_harness::ident::synth::Input::Sweep {
+            from_hz: a.from_hz,
+            to_hz: a.to_hz,
+            duration_s: a.input_s,
+            amplitude: a.amplitude,
+            descending: a.input == InputChoice::SweepDown,
+        },
+        InputChoice::Doublet => cierva_harness::ident::synth::Input::Doublet {
+            start_s: 2.0,
+            pulse_s: a.input_s,
+            amplitude: a.amplitude,
+        },
+        InputChoice::ThreeTwoOneOne => cierva_harness::ident::synth::Input::ThreeTwoOneOne {
+            start_s: 2.0,
+            unit_s: a.input_s,
+            amplitude: a.amplitude,
+        },
+        InputChoice::Step => cierva_harness::ident::synth::Input::Step {
+            start_s: 2.0,
+            amplitude: a.amplitude,
+        },
+    };
+    let k = a.noise_scale;
+    let id = a
+        .output
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let settings = synth::Settings {
+        id,
+        aircraft: r.title.clone(),
+        truth: a.model.display().to_string(),
+        control: a.control.clone(),
+        input,
+        duration_s: a.duration_s,
+        sample_rate_hz: a.sample_rate_hz,
+        seed: a.seed,
+        noise: synth::SensorNoise {
+            airspeed_m_s: 0.02 * k,
+            vane_rad: 5e-4 * k,
+            rate_rad_s: 5e-4 * k,
+            attitude_rad: 5e-4 * k,
+            rotor_rad_s: 0.01 * k,
+            control: 0.0,
+        },
+        turbulence: (a.turbulence > 0.0).then_some(synth::Turbulence {
+            intensity: a.turbulence,
+            correlation_time_s: 0.5,
+        }),
+        trim: synth::Trim {
+            u_m_s: a.trim_u_m_s,
+            w_m_s: a.trim_w_m_s,
+            theta_rad: a.trim_theta_rad,
+            omega_rotor_rad_s: a.trim_rotor_rad_s,
+        },
+        sensors: record::Sensors {
+            probe_position_m: [px, py, pz],
+            cg_position_m: [0.0, 0.0, 0.0],
+        },
+    };
+    match synth::generate(&model, &settings) {
+        Ok((channels, data, meta)) => match record::write(&a.output, &meta, &channels, &data) {
+            Ok(()) => {
+                done(
+                    a.format,
+                    format!(
+                        "wrote {} and {} ({} samples, seed {})",
+                        a.output.display(),
+                        record::sidecar_path(&a.output).display(),
+                        data[0].len(),
+                        a.seed
+                    ),
+                    serde_json::json!({
+                        "wrote": [
+                            a.output.display().to_string(),
+                            record::sidecar_path(&a.output).display().to_string()
+                        ],
+                        "samples": data[0].len(),
+                        "seed": a.seed,
+                    }),
+                );
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: cannot write {}: {e}", a.output.display());
+                ExitCode::from(2)
+            }
+        },
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

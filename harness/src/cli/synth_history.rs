@@ -1,0 +1,177 @@
+//! `cierva synth-history`: synthetic time-history records flown by the full or linear model.
+
+use super::*;
+
+pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
+    use cierva_harness::history;
+    let file = match load_flight(&a.flight) {
+        Ok(f) => f,
+        Err(code) => return code,
+    };
+    let corrections = cierva_harness::corrections::CorrectionSet {
+        propeller_blockage: a.propeller_blockage,
+        hub_aoa_factor: a.hub_aoa_factor,
+        ..Default::default()
+    };
+    let file = match file.with_corrections(&corrections) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: the corrections: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let Some(shape) = a.shape.input() else {
+        eprintln!("error: give --shape");
+        return ExitCode::from(2);
+    };
+    let index = match control_index(&a.shape.control) {
+        Ok(i) => i,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(a.duration_s) && ok(a.sample_rate_hz)) {
+        eprintln!("error: --duration-s and --sample-rate-hz must be positive");
+        return ExitCode::from(2);
+    }
+    let noise = history::Noise {
+        speed_m_s: a.noise_speed_m_s,
+        rate_deg_s: a.noise_rate_deg_s,
+        angle_deg: a.noise_angle_deg,
+        rpm: a.noise_rpm,
+    };
+    if ![
+        noise.speed_m_s,
+        noise.rate_deg_s,
+        noise.angle_deg,
+        noise.rpm,
+    ]
+    .iter()
+    .all(|v| v.is_finite() && *v >= 0.0)
+    {
+        eprintln!("error: noise standard deviations must be finite and >= 0");
+        return ExitCode::from(2);
+    }
+    let changes = |t: f64| {
+        let mut d = [0.0; 4];
+        d[index] = shape.at(t);
+        d
+    };
+    let sample_s = 1.0 / a.sample_rate_hz;
+    let step = a.azimuth_step_deg.map_or(
+        file.aircraft.main_rotor.numerics.azimuth_step_rad,
+        f64::to_radians,
+    );
+    let (request, loading) = (a.flight.request(0.0), a.flight.loading());
+    let busy = spinner(&format!("flying {} s", a.duration_s));
+    let flown = history::fly(
+        &file.aircraft,
+        request,
+        loading,
+        &changes,
+        history::FlySettings {
+            simulation: a.simulation,
+            sample_s,
+            samples: (a.duration_s / sample_s).round() as usize,
+            azimuth_step_rad: step,
+        },
+    );
+    busy.finish_and_clear();
+    let flown = match flown {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {}: {e}", a.flight.aircraft.display());
+            return ExitCode::from(1);
+        }
+    };
+    let id = a
+        .output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mass = a.flight.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
+    let simulation = match a.simulation {
+        history::Simulation::FullBlade => format!(
+            "the full individual-blade model (RK4, azimuth step {:.1} deg)",
+            step.to_degrees()
+        ),
+        history::Simulation::Linear => "its linearisation about trim".to_string(),
+    };
+    let truth = format!(
+        "{} ({}) with propeller blockage {} and hub AoA factor {}, flown by {simulation}",
+        a.flight.aircraft.display(),
+        file.title,
+        file.aircraft.propeller.propeller.blockage,
+        file.aircraft
+            .hub_aoa_factor
+            .map_or("none".to_string(), |k| k.to_string()),
+    );
+    let mut condition = std::collections::BTreeMap::new();
+    for (k, v) in [
+        ("airspeed_mph", a.flight.airspeed_mph),
+        ("climb_m_s", a.flight.climb_m_s),
+        ("mass_kg", mass),
+        ("density_altitude_ft", a.flight.density_altitude_ft),
+    ] {
+        condition.insert(k.to_string(), serde_yaml::Value::from(v));
+    }
+    let mut settings = std::collections::BTreeMap::new();
+    settings.insert(
+        "input".to_string(),
+        format!("{shape:?} on {}", a.shape.control),
+    );
+    settings.insert(
+        "command".to_string(),
+        std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+    );
+    let spec = history::SyntheticSpec {
+        id: id.clone(),
+        title: a.title.clone().unwrap_or_else(|| {
+            format!(
+                "Synthetic {} response of the {} at {} mph",
+                a.shape.control, file.title, a.flight.airspeed_mph
+            )
+        }),
+        aircraft: file.title.clone(),
+        truth,
+        generator: format!("cierva synth-history {}", env!("CARGO_PKG_VERSION")),
+        seed: a.seed,
+        condition,
+        settings,
+    };
+    let column = cierva_harness::controls_file::CONTROL_COLUMNS[index];
+    let (meta, channels, data) =
+        match history::synthesize(&flown, &changes, &[column], noise, &spec) {
+            Ok(x) => x,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        };
+    match cierva_harness::ident::record::write(&a.output, &meta, &channels, &data) {
+        Ok(()) => {
+            done(
+                a.format,
+                format!(
+                    "wrote {} and its sidecar ({} samples)",
+                    a.output.display(),
+                    flown.time_s.len()
+                ),
+                serde_json::json!({
+                    "wrote": [
+                        a.output.display().to_string(),
+                        cierva_harness::ident::record::sidecar_path(&a.output).display().to_string()
+                    ],
+                    "samples": flown.time_s.len(),
+                }),
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: cannot write {}: {e}", a.output.display());
+            ExitCode::from(2)
+        }
+    }
+}

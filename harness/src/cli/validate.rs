@@ -1,0 +1,234 @@
+//! `cierva validate`: every case run (on every core), the table, the scoreboard and the report.
+
+use super::*;
+
+pub(crate) fn validate(
+    paths: Vec<PathBuf>,
+    corrections: Vec<PathBuf>,
+    format: Format,
+    report_dir: Option<PathBuf>,
+) -> ExitCode {
+    use cierva_harness::report;
+    let started = std::time::Instant::now();
+    let paths = if paths.is_empty() {
+        vec![PathBuf::from("cases")]
+    } else {
+        paths
+    };
+    let mut correction_files = Vec::new();
+    for p in &corrections {
+        match cierva_harness::corrections::load(p) {
+            Ok(f) => correction_files.push(f),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let loaded = match load_cases(&paths) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if loaded.is_empty() {
+        eprintln!("error: no case files (*.yaml) under {}", show(&paths));
+        return ExitCode::from(2);
+    }
+    let board = match cierva_harness::scoreboard::load() {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
+    let mut errors = Vec::new();
+    let mut corrected: Vec<String> = Vec::new();
+    let mut run = report::Run::default();
+    let mut scores = Vec::new();
+    let bar = progress(loaded.len() as u64, "validate");
+    // Cases on every core; results in the order the cases were found.
+    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
+    let ran: Vec<Ran> = cierva_harness::parallel_map(&loaded, |c| {
+        let out = match c {
+            Ok(case) => match cierva_harness::corrections::apply_to_case(case, &correction_files) {
+                Ok((case, used)) => {
+                    bar.set_message(case.id.clone());
+                    let t = std::time::Instant::now();
+                    let results = eval::run_case(&case);
+                    let scores = cierva_harness::scoreboard::scores_of(&case, &results);
+                    Ok((
+                        report::CaseRun {
+                            case,
+                            results,
+                            seconds: t.elapsed().as_secs_f64(),
+                            corrections: used,
+                        },
+                        scores,
+                    ))
+                }
+                Err(e) => Err(format!("error: the corrections {e}")),
+            },
+            Err(e) => Err(e.render()),
+        };
+        bar.inc(1);
+        out
+    });
+    for r in ran {
+        match r {
+            Ok((case_run, case_scores)) => {
+                if !case_run.corrections.is_empty() {
+                    corrected.push(format!(
+                        "{} ({})",
+                        case_run.case.id,
+                        case_run.corrections.join(", ")
+                    ));
+                }
+                scores.extend(case_scores);
+                run.cases.push(case_run);
+            }
+            Err(e) => errors.push(e),
+        }
+    }
+    bar.finish_and_clear();
+    run.input_errors = errors.clone();
+    run.corrections = correction_files
+        .iter()
+        .map(|f| (f.path.clone(), f.corrections.describe()))
+        .collect();
+    run.seconds = started.elapsed().as_secs_f64();
+    // Scores against corrected models are not the committed model's: shown, never judged.
+    let judged = cierva_harness::scoreboard::judge(&board, scores);
+    let scores_failing: Vec<&cierva_harness::scoreboard::Judged> = if correction_files.is_empty() {
+        judged
+            .iter()
+            .filter(|j| {
+                matches!(
+                    j.change,
+                    cierva_harness::scoreboard::Change::Worse
+                        | cierva_harness::scoreboard::Change::New
+                )
+            })
+            .collect()
+    } else {
+        vec![]
+    };
+    run.scores = judged.clone();
+    if report_dir.is_some() {
+        run.score_versions = cierva_harness::scoreboard::versions();
+    }
+    let results: Vec<CheckResult> = run
+        .cases
+        .iter()
+        .flat_map(|c| c.results.iter().cloned())
+        .collect();
+    let written = match &report_dir {
+        Some(dir) => match report::write(&run, dir) {
+            Ok(w) => w,
+            Err(e) => {
+                eprintln!(
+                    "error: could not write the report to {}: {e}",
+                    dir.display()
+                );
+                return ExitCode::from(2);
+            }
+        },
+        None => vec![],
+    };
+    let counts = text::counts(&results);
+    let corrections_used: Vec<serde_json::Value> = correction_files
+        .iter()
+        .map(|f| {
+            serde_json::json!({
+                "file": f.path.display().to_string(),
+                "corrections": f.corrections,
+            })
+        })
+        .collect();
+    match format {
+        Format::Json => {
+            let out = serde_json::json!({
+                "cases": loaded.len(),
+                "corrections": corrections_used,
+                "corrected_cases": corrected,
+                "counts": counts,
+                "scores": judged,
+                "counts_by_class": text::counts_by_class(&results)
+                    .into_iter()
+                    .map(|(k, c)| (k.name(), c))
+                    .collect::<std::collections::BTreeMap<_, _>>(),
+                "input_errors": errors,
+                "results": results,
+                "report": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&out).expect("serialisable")
+            );
+        }
+        Format::Text => {
+            print!("{}", text::results_table(&results));
+            if !judged.is_empty() {
+                println!(
+                    "\nscoreboard ({}):",
+                    cierva_harness::scoreboard::path().display()
+                );
+                for j in &judged {
+                    println!("  {}", j.describe());
+                }
+            }
+            for r in results.iter().filter(|r| !r.outcome.ok()) {
+                println!("\n{}", r.explain());
+            }
+            for e in &errors {
+                println!("\n{e}");
+            }
+            for f in &correction_files {
+                println!(
+                    "\ncorrections {}: {}",
+                    f.path.display(),
+                    f.corrections.describe()
+                );
+            }
+            if !correction_files.is_empty() {
+                println!(
+                    "cases run with corrections: {}",
+                    if corrected.is_empty() {
+                        "none (no case's aircraft or rotor matches)".to_string()
+                    } else {
+                        corrected.join("; ")
+                    }
+                );
+            }
+            println!(
+                "\n{} cases, {} checks: {}, {} files with errors\nby class (only validation compares the model with measured data):\n{}",
+                loaded.len(),
+                results.len(),
+                counts.describe(),
+                errors.len(),
+                text::class_summary(&results).trim_end()
+            );
+            if !written.is_empty() {
+                println!("report: {}", show(&written));
+            }
+        }
+    }
+    if !errors.is_empty() {
+        ExitCode::from(2)
+    } else if counts.failing() > 0 || !scores_failing.is_empty() {
+        if !scores_failing.is_empty() && format == Format::Text {
+            println!(
+                "scores worse than committed or not committed: {}; if intended, `cierva review --accept`",
+                scores_failing
+                    .iter()
+                    .map(|j| format!("{} {}", j.score.case, j.score.id))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
