@@ -81,9 +81,9 @@ pub struct MainRotorSpec {
     pub pivot_m: [f64; 3],
     pub spindle_length_m: f64,
     #[serde(default)]
-    pub inflow: crate::case::InflowSpec,
+    pub inflow: crate::rotor_file::InflowSpec,
     #[serde(default)]
-    pub skew: crate::case::SkewSpec,
+    pub skew: crate::rotor_file::SkewSpec,
     /// In the full model: `dynamic` (seed 001 Eq. 3, the default) or `quasi_steady`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inflow_dynamics: Option<InflowDynamicsSpec>,

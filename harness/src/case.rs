@@ -5,6 +5,7 @@
 //! name a quantity that its check kind computes, and a check that is expected to fail says why.
 
 use crate::refs::{self, DerivativeTable, Entry, LinearModelSpec, Provenance};
+pub use crate::rotor_file::{InflowSpec, SkewSpec};
 pub use crate::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
 use crate::yaml::{self, InputError};
 use cierva_model::bcar::Verdict;
@@ -101,43 +102,6 @@ pub struct RotorModelSpec {
     pub inflow: InflowSpec,
     #[serde(default)]
     pub skew: SkewSpec,
-}
-
-/// Inflow models for rotor subjects (in case files and on the command line).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
-#[serde(rename_all = "snake_case")]
-pub enum InflowSpec {
-    /// Peters-HaQuang, uniform and first harmonics.
-    #[default]
-    PetersHaquang,
-    /// Peters-HaQuang with the harmonics zeroed.
-    Uniform,
-}
-
-/// Skew-angle conventions (in case files and on the command line).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
-#[serde(rename_all = "snake_case")]
-pub enum SkewSpec {
-    /// tan chi = V / (v_i0m - w_hub) (seed 003 Eq. 5).
-    #[default]
-    Signed,
-    /// tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha (seed 003 Eq. 6).
-    Modulus,
-}
-
-impl InflowSpec {
-    /// The model's inflow model with this skew convention.
-    pub fn model(self, skew: SkewSpec) -> cierva_model::rotor::InflowModel {
-        use cierva_model::rotor::{InflowModel, SkewConvention};
-        let skew = match skew {
-            SkewSpec::Signed => SkewConvention::Signed,
-            SkewSpec::Modulus => SkewConvention::Modulus,
-        };
-        match self {
-            Self::PetersHaquang => InflowModel::PetersHaQuang { skew },
-            Self::Uniform => InflowModel::UniformOnly { skew },
-        }
-    }
 }
 
 /// A wind-tunnel condition: the angle of attack and either the airspeed or the tip-speed ratio
@@ -1556,6 +1520,50 @@ fn resolve_tolerance(
         kind,
         reason: t.reason.clone(),
     })
+}
+
+/// A case with corrections files applied to its subject: an aircraft file whose id a file
+/// names, or whose main rotor's id a rotor file names; a rotor (alone, or under a teeter
+/// record) whose id a file names. Returns the case unchanged when none applies, and which files
+/// applied. A check's own `corrections` still act on top.
+pub fn with_corrections(
+    case: &Case,
+    files: &[crate::corrections::CorrectionsFile],
+) -> Result<(Case, Vec<String>), String> {
+    use crate::corrections::Target;
+    let mut c = case.clone();
+    let mut used = Vec::new();
+    for f in files {
+        let here = |e: String| format!("{} on {}: {e}", f.path.display(), case.id);
+        match (&mut c.subject, &f.target) {
+            (Subject::Aircraft { file, .. }, Target::Aircraft(id)) if file.id == *id => {
+                **file = file.with_corrections(&f.corrections).map_err(here)?;
+                used.push(f.id.clone());
+            }
+            (Subject::Aircraft { file, .. }, Target::Rotor(id))
+                if file.main_rotor_file.id == *id =>
+            {
+                **file = file.with_corrections(&f.corrections).map_err(here)?;
+                used.push(f.id.clone());
+            }
+            (Subject::Rotor { file, .. }, Target::Rotor(id))
+            | (Subject::FlapRecord { rotor: file, .. }, Target::Rotor(id))
+                if file.id == *id =>
+            {
+                f.corrections
+                    .apply_to_rotor(&mut file.rotor)
+                    .map_err(here)?;
+                file.path = PathBuf::from(format!(
+                    "{}#{}",
+                    file.path.display(),
+                    f.corrections.describe()
+                ));
+                used.push(f.id.clone());
+            }
+            _ => {}
+        }
+    }
+    Ok((c, used))
 }
 
 /// Finds case files (`*.yaml`, `*.yml`) under the given paths, sorted; a file is taken as given.

@@ -16,7 +16,6 @@
 //! `1e-4 |value|` covers the model's convergence (trims to 1e-7 scaled residuals, finite
 //! differences in the linearisation, warm and cold starts).
 
-use crate::eval::{CheckResult, Finding};
 use crate::yaml::{self, InputError};
 use cierva_model::bcar::Verdict;
 use serde::{Deserialize, Serialize};
@@ -125,72 +124,6 @@ pub fn load_file(path: &Path) -> Result<CaseRecord, InputError> {
     Ok(r)
 }
 
-/// What the model gives now for a failing check, as a record.
-pub fn record_of(result: &CheckResult) -> Recorded {
-    let quantities = result
-        .quantities
-        .iter()
-        .map(|q| {
-            (
-                q.quantity.clone(),
-                Band::around(q.value, 0.5 * (q.upper - q.lower)),
-            )
-        })
-        .collect();
-    Recorded {
-        quantities,
-        verdict: result.verdict.map(|(_, got)| got),
-        no_equilibrium: matches!(result.finding, Some(Finding::NoEquilibrium { .. })),
-        fingerprint: result
-            .fingerprint
-            .iter()
-            .map(|(n, v)| (n.clone(), Band::around(*v, 0.0)))
-            .collect(),
-    }
-}
-
-/// Every way the model has left its record, in words ("rpm 97.52: recorded 96.91 in [96.90,
-/// 96.92]"); empty when it has not.
-pub fn departures(result: &CheckResult, recorded: &Recorded) -> Vec<String> {
-    let mut out = Vec::new();
-    let fmt = |b: &Band| {
-        format!(
-            "recorded {:.6e} in [{:.6e}, {:.6e}]",
-            b.value, b.lower, b.upper
-        )
-    };
-    for q in &result.quantities {
-        match recorded.quantities.get(&q.quantity) {
-            Some(b) if b.holds(q.value) => {}
-            Some(b) => out.push(format!("{} {:.6e}: {}", q.quantity, q.value, fmt(b))),
-            None => out.push(format!("{} {:.6e}: not recorded", q.quantity, q.value)),
-        }
-    }
-    for q in recorded.quantities.keys() {
-        if !result.quantities.iter().any(|r| &r.quantity == q) {
-            out.push(format!("{q}: recorded, but not computed now"));
-        }
-    }
-    let got = result.verdict.map(|(_, got)| got);
-    if got != recorded.verdict {
-        out.push(format!("verdict {got:?}: recorded {:?}", recorded.verdict));
-    }
-    let no_equilibrium = matches!(result.finding, Some(Finding::NoEquilibrium { .. }));
-    match (no_equilibrium, recorded.no_equilibrium) {
-        (true, false) => out.push("no equilibrium now: recorded with one".into()),
-        (false, true) => out.push("an equilibrium now: recorded without one".into()),
-        _ => {}
-    }
-    for (n, v) in &result.fingerprint {
-        match recorded.fingerprint.get(n) {
-            Some(b) if b.holds(*v) => {}
-            Some(b) => out.push(format!("{n} {v:.6e}: {}", fmt(b))),
-            None => out.push(format!("{n} {v:.6e}: not recorded")),
-        }
-    }
-    out
-}
-
 /// Writes a case's records (or removes its file when it has none). Returns whether the file
 /// changed.
 pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
@@ -219,72 +152,6 @@ pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
     }
     std::fs::write(&path, text)?;
     Ok(true)
-}
-
-/// What reviewing a case's known discrepancies found.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct CaseReview {
-    pub case: String,
-    /// The records as the model gives them now.
-    #[serde(skip)]
-    pub now: CaseRecord,
-    /// Every difference from the committed records, in words (empty: nothing moved).
-    pub changes: Vec<String>,
-    /// Expected failures that could not be evaluated: they cannot be recorded.
-    pub errors: Vec<String>,
-}
-
-/// Compares what the model gives for a case's expected failures (among `results`, the case's
-/// results) with its records.
-pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
-    let results: Vec<&CheckResult> = results
-        .iter()
-        .filter(|r| r.expected_failure.is_some())
-        .collect();
-    let now = CaseRecord {
-        case: case.id.clone(),
-        checks: results
-            .iter()
-            .filter(|r| !r.passed && r.error.is_none())
-            .map(|r| (r.check.clone(), record_of(r)))
-            .collect(),
-    };
-    let empty = CaseRecord::default();
-    let old = case.recorded.as_ref().unwrap_or(&empty);
-    let mut changes = Vec::new();
-    let mut errors = Vec::new();
-    for r in &results {
-        if let Some(e) = &r.error {
-            errors.push(format!("{}: {e}", r.check));
-        } else if r.passed {
-            changes.push(format!(
-                "{}: passes now; remove its `expected_failure` from the case",
-                r.check
-            ));
-        } else {
-            match old.checks.get(&r.check) {
-                None => changes.push(format!("{}: not recorded yet", r.check)),
-                Some(rec) => {
-                    for d in departures(r, rec) {
-                        changes.push(format!("{}: {d}", r.check));
-                    }
-                }
-            }
-        }
-    }
-    for id in old.checks.keys() {
-        if !now.checks.contains_key(id) && !results.iter().any(|r| &r.check == id) {
-            changes.push(format!(
-                "{id}: recorded, but no longer an expected failure of the case"
-            ));
-        }
-    }
-    CaseReview {
-        case: case.id.clone(),
-        now,
-        changes,
-        errors,
-    }
 }
 
 /// A record file's body: one flow map per band, numbers to 8 significant digits (far finer than

@@ -231,6 +231,48 @@ impl CheckResult {
     }
 }
 
+/// Every way the model has left its record, in words ("rpm 97.52: recorded 96.91 in [96.90,
+/// 96.92]"); empty when it has not.
+pub fn departures(result: &CheckResult, recorded: &crate::discrepancy::Recorded) -> Vec<String> {
+    let mut out = Vec::new();
+    let fmt = |b: &crate::discrepancy::Band| {
+        format!(
+            "recorded {:.6e} in [{:.6e}, {:.6e}]",
+            b.value, b.lower, b.upper
+        )
+    };
+    for q in &result.quantities {
+        match recorded.quantities.get(&q.quantity) {
+            Some(b) if b.holds(q.value) => {}
+            Some(b) => out.push(format!("{} {:.6e}: {}", q.quantity, q.value, fmt(b))),
+            None => out.push(format!("{} {:.6e}: not recorded", q.quantity, q.value)),
+        }
+    }
+    for q in recorded.quantities.keys() {
+        if !result.quantities.iter().any(|r| &r.quantity == q) {
+            out.push(format!("{q}: recorded, but not computed now"));
+        }
+    }
+    let got = result.verdict.map(|(_, got)| got);
+    if got != recorded.verdict {
+        out.push(format!("verdict {got:?}: recorded {:?}", recorded.verdict));
+    }
+    let no_equilibrium = matches!(result.finding, Some(Finding::NoEquilibrium { .. }));
+    match (no_equilibrium, recorded.no_equilibrium) {
+        (true, false) => out.push("no equilibrium now: recorded with one".into()),
+        (false, true) => out.push("an equilibrium now: recorded without one".into()),
+        _ => {}
+    }
+    for (n, v) in &result.fingerprint {
+        match recorded.fingerprint.get(n) {
+            Some(b) if b.holds(*v) => {}
+            Some(b) => out.push(format!("{n} {v:.6e}: {}", fmt(b))),
+            None => out.push(format!("{n} {v:.6e}: not recorded")),
+        }
+    }
+    out
+}
+
 /// Runs every check of a case.
 pub fn run_case(case: &Case) -> Vec<CheckResult> {
     case.checks.iter().map(|c| run_check(case, c)).collect()
@@ -282,7 +324,7 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
         (false, true) => {
             let recorded = case.recorded.as_ref().and_then(|r| r.checks.get(&check.id));
             result.departures = match recorded {
-                Some(r) => crate::discrepancy::departures(&result, r),
+                Some(r) => departures(&result, r),
                 None => vec![format!(
                     "nothing is recorded for this check in {}",
                     crate::discrepancy::path_for(&case.id).display()

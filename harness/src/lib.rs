@@ -18,6 +18,7 @@ pub mod history;
 pub mod ident;
 pub mod refs;
 pub mod report;
+pub mod review;
 pub mod rotor_file;
 pub mod scoreboard;
 pub mod text;

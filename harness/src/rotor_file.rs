@@ -238,3 +238,40 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         sources: spec.sources,
     })
 }
+
+/// Inflow models for rotor subjects (in case files and on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum InflowSpec {
+    /// Peters-HaQuang, uniform and first harmonics.
+    #[default]
+    PetersHaquang,
+    /// Peters-HaQuang with the harmonics zeroed.
+    Uniform,
+}
+
+/// Skew-angle conventions (in case files and on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum SkewSpec {
+    /// tan chi = V / (v_i0m - w_hub) (seed 003 Eq. 5).
+    #[default]
+    Signed,
+    /// tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha (seed 003 Eq. 6).
+    Modulus,
+}
+
+impl InflowSpec {
+    /// The model's inflow model with this skew convention.
+    pub fn model(self, skew: SkewSpec) -> cierva_model::rotor::InflowModel {
+        use cierva_model::rotor::{InflowModel, SkewConvention};
+        let skew = match skew {
+            SkewSpec::Signed => SkewConvention::Signed,
+            SkewSpec::Modulus => SkewConvention::Modulus,
+        };
+        match self {
+            Self::PetersHaquang => InflowModel::PetersHaQuang { skew },
+            Self::Uniform => InflowModel::UniformOnly { skew },
+        }
+    }
+}

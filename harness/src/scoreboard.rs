@@ -18,7 +18,6 @@
 //! - `unsolved`: how many checks found no equilibrium or could not be evaluated, lower is
 //!   better. Checks without a value are left out of the other metrics and counted here.
 
-use crate::eval::CheckResult;
 use crate::yaml::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -97,114 +96,6 @@ pub struct Score {
     pub count: usize,
     pub noise_floor: f64,
     pub reason: String,
-}
-
-/// A scored value: the value, its reference, the tolerance's half-width, and whether it passed.
-type Row = (f64, f64, f64, bool);
-
-/// Computes a case's score from its results.
-pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
-    let q = spec.quantity.as_deref();
-    let rows: Vec<Row> = results
-        .iter()
-        .flat_map(|r| r.quantities.iter())
-        .filter(|x| q == Some(x.quantity.as_str()))
-        .map(|x| {
-            let reference = x.expected.unwrap_or(0.5 * (x.lower + x.upper));
-            (x.value, reference, 0.5 * (x.upper - x.lower), x.pass)
-        })
-        .filter(|(v, r, ..)| v.is_finite() && r.is_finite())
-        .collect();
-    let rms = |f: &dyn Fn(&Row) -> f64| {
-        let s: Vec<f64> = rows.iter().map(f).filter(|e| e.is_finite()).collect();
-        if s.is_empty() {
-            f64::NAN
-        } else {
-            (s.iter().map(|e| e * e).sum::<f64>() / s.len() as f64).sqrt()
-        }
-    };
-    let (value, count) = match spec.metric {
-        Metric::RmsRelativeError => (rms(&|(v, r, ..)| (v - r) / r.abs()), rows.len()),
-        Metric::RmsErrorInHalfWidths => (rms(&|(v, r, h, _)| (v - r) / h), rows.len()),
-        Metric::MaxErrorInHalfWidths => (
-            rows.iter()
-                .map(|(v, r, h, _)| ((v - r) / h).abs())
-                .fold(f64::NAN, f64::max),
-            rows.len(),
-        ),
-        Metric::Inside => match q {
-            Some(_) => (rows.iter().filter(|x| x.3).count() as f64, rows.len()),
-            None => (
-                results.iter().filter(|r| r.passed).count() as f64,
-                results.len(),
-            ),
-        },
-        Metric::Unsolved => (
-            results
-                .iter()
-                .filter(|r| r.finding.is_some() || r.error.is_some())
-                .count() as f64,
-            results.len(),
-        ),
-    };
-    Score {
-        case: case.to_string(),
-        id: spec.id.clone(),
-        metric: spec.metric,
-        quantity: spec.quantity.clone(),
-        value,
-        count,
-        noise_floor: spec.noise_floor,
-        reason: spec.reason.clone(),
-    }
-}
-
-/// Every score a case declares, computed from its results.
-pub fn scores_of(case: &crate::case::Case, results: &[CheckResult]) -> Vec<Score> {
-    case.scores
-        .iter()
-        .map(|s| compute(&case.id, s, results))
-        .collect()
-}
-
-/// A score with its committed value and how it compares.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Judged {
-    pub score: Score,
-    pub committed: Option<f64>,
-    pub change: Change,
-}
-
-/// Judges scores against the board.
-pub fn judge(board: &Board, scores: Vec<Score>) -> Vec<Judged> {
-    scores
-        .into_iter()
-        .map(|score| {
-            let c = board.scores.get(&score.case).and_then(|m| m.get(&score.id));
-            Judged {
-                change: change(&score, c),
-                committed: c.map(|c| c.value),
-                score,
-            }
-        })
-        .collect()
-}
-
-impl Judged {
-    /// "naca-tr515-table-iii rpm-rms: 0.1234 (committed 0.1200, WORSE)".
-    pub fn describe(&self) -> String {
-        format!(
-            "{} {}: {:.6} ({}, {})",
-            self.score.case,
-            self.score.id,
-            self.score.value,
-            self.committed
-                .map_or("nothing committed".to_string(), |c| format!(
-                    "committed {c:.6}"
-                )),
-            self.change.label()
-        )
-    }
 }
 
 /// A committed score.

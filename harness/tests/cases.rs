@@ -120,10 +120,10 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
         let c = case.clone();
         trials.push(
             Trial::test(format!("{}::scores", case.id), move || {
-                use cierva_harness::scoreboard;
+                use cierva_harness::{review, scoreboard};
                 let board = scoreboard::load().map_err(|e| e.render())?;
                 let results = eval::run_case(&c);
-                let judged = scoreboard::judge(&board, scoreboard::scores_of(&c, &results));
+                let judged = review::judge(&board, review::scores_of(&c, &results));
                 let bad: Vec<String> = judged
                     .iter()
                     .filter(|j| {

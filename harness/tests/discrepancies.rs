@@ -83,11 +83,12 @@ fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
 /// `naca-tr515-table-iii::scores`.
 #[test]
 fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
+    use cierva_harness::review;
     use cierva_harness::scoreboard::{self, Change};
     let mut c = case::load(&cierva_harness::repo_root().join("cases/naca-tr515-table-iii.yaml"))
         .expect("the shipped case loads");
     let board = scoreboard::load().expect("the scoreboard loads");
-    let judge = |c: &Case| scoreboard::judge(&board, scoreboard::scores_of(c, &eval::run_case(c)));
+    let judge = |c: &Case| review::judge(&board, review::scores_of(c, &eval::run_case(c)));
     for j in judge(&c) {
         assert_eq!(j.change, Change::Same, "{}", j.describe());
     }

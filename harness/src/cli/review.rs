@@ -57,13 +57,13 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
             .filter(|c| !case.scores.is_empty() || c.expected_failure.is_some())
             .map(|c| eval::run_check(case, c))
             .collect();
-        reviews.push(discrepancy::review(case, &results));
-        scores.extend(scoreboard::scores_of(case, &results));
+        reviews.push(cierva_harness::review::review(case, &results));
+        scores.extend(cierva_harness::review::scores_of(case, &results));
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let judged = scoreboard::judge(&board, scores.clone());
-    let scores_moved: Vec<&scoreboard::Judged> = judged
+    let judged = cierva_harness::review::judge(&board, scores.clone());
+    let scores_moved: Vec<&cierva_harness::review::Judged> = judged
         .iter()
         .filter(|j| j.change != scoreboard::Change::Same)
         .collect();

@@ -52,12 +52,12 @@ pub(crate) fn validate(
     type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
     let ran: Vec<Ran> = cierva_harness::parallel_map(&loaded, |c| {
         let out = match c {
-            Ok(case) => match cierva_harness::corrections::apply_to_case(case, &correction_files) {
+            Ok(case) => match cierva_harness::case::with_corrections(case, &correction_files) {
                 Ok((case, used)) => {
                     bar.set_message(case.id.clone());
                     let t = std::time::Instant::now();
                     let results = eval::run_case(&case);
-                    let scores = cierva_harness::scoreboard::scores_of(&case, &results);
+                    let scores = cierva_harness::review::scores_of(&case, &results);
                     Ok((
                         report::CaseRun {
                             case,
@@ -99,8 +99,8 @@ pub(crate) fn validate(
         .collect();
     run.seconds = started.elapsed().as_secs_f64();
     // Scores against corrected models are not the committed model's: shown, never judged.
-    let judged = cierva_harness::scoreboard::judge(&board, scores);
-    let scores_failing: Vec<&cierva_harness::scoreboard::Judged> = if correction_files.is_empty() {
+    let judged = cierva_harness::review::judge(&board, scores);
+    let scores_failing: Vec<&cierva_harness::review::Judged> = if correction_files.is_empty() {
         judged
             .iter()
             .filter(|j| {

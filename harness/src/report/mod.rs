@@ -39,7 +39,7 @@ pub struct Run {
     pub corrections: Vec<(PathBuf, String)>,
     pub seconds: f64,
     /// The data sets' scores, judged against the committed scoreboard.
-    pub scores: Vec<crate::scoreboard::Judged>,
+    pub scores: Vec<crate::review::Judged>,
     /// The committed versions of the scoreboard, oldest first (from git, where it is there).
     pub score_versions: Vec<crate::scoreboard::Version>,
 }
