@@ -258,6 +258,7 @@ fn deg(m: MapSpec) -> LinearMap {
 
 /// Loads and checks an aircraft file, with its rotor files.
 pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
+    // Long: the loader checks every field of the file in file order, each with its located error
     let src = yaml::read(path)?;
     let spec: AircraftFileSpec = yaml::parse(path, &src)?;
     check_id(path, &src, &spec.id)?;

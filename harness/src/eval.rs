@@ -559,6 +559,8 @@ pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
 }
 
 fn evaluate(case: &Case, check: &Check) -> Result<Evaluated, String> {
+    // Long: one arm per kind of subject, each a short sequence: compute, compare, keep what the
+    // report plots
     let subject = &case.subject;
     match subject {
         Subject::Aircraft { file, loading } if check.kind == CheckKind::TimeHistory => {

@@ -698,6 +698,8 @@ fn qp_step(
     jt: &[Vec<f64>],
     radius: &[f64],
 ) -> Result<Vec<f64>, Status> {
+    // Long: builds one quadratic program for clarabel (objective, bounds as constraints, soft
+    // bounds as slack) and reads its solution
     use clarabel::algebra::CscMatrix;
     use clarabel::solver::{
         DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
@@ -885,6 +887,8 @@ fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>
 /// Fits the parameters. Never panics on a problem: a malformed problem, a model that will not
 /// trim or an infeasible set of bounds each end with their status.
 pub fn fit(problem: &Problem) -> FitResult {
+    // Long: the fit's outer loop (step, judge, refresh the Jacobian, stop) is one algorithm whose
+    // state every branch shares
     let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind).collect();
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
     // A fit that ends before its first iteration: the start, no standard errors.

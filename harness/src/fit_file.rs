@@ -359,6 +359,7 @@ fn from_case(
     t: &TargetSpec,
     subject: &SubjectKey,
 ) -> Result<(Vec<fit::Target>, Vec<Origin>), String> {
+    // Long: turns each check of a case into fit targets, one tolerance kind at a time
     let path = dir.join(file);
     let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
     let key = match &c.subject {
@@ -668,6 +669,7 @@ fn finite_or_null(v: f64) -> Option<f64> {
 
 /// The before/after report of a fit, as Markdown.
 pub fn markdown(f: &FitFile, run: &FitRun) -> String {
+    // Long: the fit report's sections in reading order
     use std::fmt::Write;
     let r = &run.result;
     let mut s = String::new();

@@ -432,3 +432,6 @@ pub fn run_simulation(
 ) -> Result<cierva_model::timehistory::TimeHistory, String> {
     simulation_start(aircraft, request, loading)?.run(changes, settings)
 }
+
+#[cfg(test)]
+mod architecture_tests;

@@ -314,6 +314,7 @@ fn quiet_on_broken_pipe() {
 }
 
 fn main() -> ExitCode {
+    // Long: one arm per command: the dispatch
     quiet_on_broken_pipe();
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);

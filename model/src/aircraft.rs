@@ -795,6 +795,8 @@ impl Aircraft {
         controls: &Controls,
         air: Air,
     ) -> Result<FullDerivative, AircraftError> {
+        // Long: the full right-hand side, load by load in the order of seed 001 Table 1; a hot
+        // path, kept in one place so that the blades' angles are computed once
         let mr = &self.main_rotor;
         let rotor = &mr.rotor;
         let omega = x.rotor_omega_rad_s;

@@ -210,6 +210,8 @@ pub fn autorotate(
     tunnel: Tunnel,
     options: Options,
 ) -> Result<Autorotation, AutorotationError> {
+    // Long: one algorithm, read top to bottom: bracket the rotorspeed coarsely, then Newton on the
+    // scaled unknowns; the steps share the problem and its warm starts
     rotor.validate()?;
     check(
         "airspeed_m_s",

@@ -167,6 +167,8 @@ pub fn linearise(
     air: Air,
     steps: Steps,
 ) -> Result<Linearised, LinearisationError> {
+    // Long: one algorithm (seed 001 Eqs. 10-12): perturb every state and control, eliminate the
+    // fast states, split by component; the columns share the trim and the rotor solution
     let engine = matches!(aircraft.propeller.drive, Drive::Engine { .. });
     let base_state = trim.state;
     let base_controls = trim.controls;

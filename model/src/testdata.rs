@@ -59,6 +59,7 @@ pub fn puma_eq26() -> LinearModel {
 /// shipped aircraft file `aircraft/vpm-m16.yaml` carries the same kind of numbers with their
 /// provenance).
 pub fn gyroplane() -> crate::aircraft::Aircraft {
+    // Long: a published matrix written out, with its source
     use crate::aircraft::*;
     use crate::airfoil::{Airfoil, AnalyticalSection};
     use crate::airframe::{Airframe, Surface, Table2};

@@ -267,6 +267,8 @@ mod tests {
     /// model was 38 % off in pitch rate and rolled 5 times as much as the linear model.
     #[test]
     fn a_small_doublet_follows_the_linear_model() {
+        // Long: one scenario: trim, fly the full and the linear models through the same doublet,
+        // compare revolution means
         // A governed propeller: the linear model eliminates the propeller speed
         // quasi-steadily, and with the engine drive its lag of about a second (engine and
         // propeller inertia against the torque slopes) alone makes a 6 % difference.

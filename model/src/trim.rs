@@ -296,6 +296,8 @@ pub fn trim_from(
     options: Options,
     start: Option<&WarmStart>,
 ) -> Result<Trim, TrimError> {
+    // Long: one algorithm: the unknowns, their scales, the residuals and the Newton loop with its
+    // warm start share their state
     aircraft.validate()?;
     let checks = [
         (
@@ -526,6 +528,8 @@ pub fn periodic_trim(
     averaged: &Trim,
     options: Options,
 ) -> Result<PeriodicTrim, TrimError> {
+    // Long: one algorithm: the averaged trim as the start, then Newton on the full model's periodic
+    // orbit; its stages share the state layout
     let r = aircraft.main_rotor.rotor.radius_m;
     let omega0 = averaged.state.rotor_omega_rad_s;
     let (engine, prop0) = match aircraft.propeller.drive {

@@ -1,40 +1,105 @@
 //! `cierva bench`: timings of the model and the harness (reports/benchmarks.md).
 
 use super::*;
+use std::time::Instant;
+
+/// The benchmark table: rows print as they are measured (text), or are gathered for JSON.
+pub(crate) struct Rows {
+    format: Format,
+    lines: std::cell::RefCell<Vec<String>>,
+}
+
+impl Rows {
+    fn push(&self, line: String) {
+        match self.format {
+            Format::Text => println!("{line}"),
+            Format::Json => self.lines.borrow_mut().push(line),
+        }
+    }
+}
+
+macro_rules! row {
+    ($out:expr, $($t:tt)*) => {
+        $out.push(format!($($t)*))
+    };
+}
+
+/// The median of repeated timings.
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Seconds `f` takes.
+fn time(f: &mut dyn FnMut()) -> f64 {
+    let t = Instant::now();
+    f();
+    t.elapsed().as_secs_f64()
+}
 
 pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
-    // Rows print as they are measured (text), or are gathered into JSON at the end.
-    let rows = std::cell::RefCell::new(Vec::<String>::new());
-    macro_rules! row {
-        ($($t:tt)*) => {{
-            let line = format!($($t)*);
-            match format {
-                Format::Text => println!("{line}"),
-                Format::Json => rows.borrow_mut().push(line),
-            }
-        }};
+    let out = Rows {
+        format,
+        lines: std::cell::RefCell::new(Vec::new()),
+    };
+    let rows = &out.lines;
+    let repeat = repeat.max(3);
+    row!(out, "| operation | median | notes |");
+    row!(out, "| --- | --- | --- |");
+    let mut sink = match rotor(&out, repeat) {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
+    sink += aircraft(&out, repeat);
+    sink += identification(&out, repeat);
+    fitting(&out);
+
+    if !sink.is_finite() {
+        eprintln!("(a timed result was not finite)");
     }
+    if format == Format::Json {
+        let cells = |l: &str| -> Vec<String> {
+            l.trim()
+                .trim_matches('|')
+                .split(" | ")
+                .map(|c| c.trim().to_string())
+                .collect()
+        };
+        let measured: Vec<serde_json::Value> = rows
+            .borrow()
+            .iter()
+            .skip(2)
+            .map(|l| {
+                let c = cells(l);
+                serde_json::json!({
+                    "operation": c.first(),
+                    "median": c.get(1),
+                    "notes": c.get(2),
+                })
+            })
+            .collect();
+        done(
+            format,
+            String::new(),
+            serde_json::json!({"repeat": repeat, "rows": measured}),
+        );
+    }
+    ExitCode::SUCCESS
+}
+
+/// The isolated rotor: blade right-hand side, periodic blade solution, autorotation (the PCA-2
+/// at TR 515 Table III row 19).
+fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
     use cierva_model::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
-    use std::time::Instant;
     let path = cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml");
     let file = match cierva_harness::rotor_file::load(&path) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("{}", e.render());
-            return ExitCode::from(2);
+            return Err(ExitCode::from(2));
         }
     };
     let rotor = &file.rotor;
-    let repeat = repeat.max(3);
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let time = |f: &mut dyn FnMut()| {
-        let t = Instant::now();
-        f();
-        t.elapsed().as_secs_f64()
-    };
     // TR 515 Table III row 19 conditions (mu 0.275, alpha 5.5 deg, 100 rpm), 1.9 deg pitch.
     let omega = 100.0 * std::f64::consts::PI / 30.0;
     let v = 0.275 * omega * rotor.radius_m / 5.5f64.to_radians().cos();
@@ -85,22 +150,31 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
             })
         })
         .collect();
-    row!("| operation | median | notes |");
-    row!("| --- | --- | --- |");
     row!(
+        out,
         "| blade right-hand side (flap equation with {} elements) | {:.2} us | one blade at one azimuth; {} blades per rotor evaluation |",
         rotor.elements + 1,
         1e6 * median(rhs),
         rotor.blades
     );
     row!(
+        out,
         "| periodic blade solution (warm start, 2.5 deg steps, RK4) | {:.2} ms | one blade to a periodic state, then one revolution of loads |",
         1e3 * median(steady)
     );
     row!(
+        out,
         "| PCA-2 autorotation (bracket + Newton on Omega, v0, v1s, v1c) | {:.1} ms | TR 515 row 19 condition, from a cold start |",
         1e3 * median(auto)
     );
+    Ok(sink)
+}
+
+/// The aircraft: the VPM M16 trim at 70 mph, the model's right-hand sides there, linearisation and simulation.
+fn aircraft(out: &Rows, repeat: usize) -> f64 {
+    // Long: one section of the benchmark table: its timings share the trimmed aircraft and its
+    // right-hand sides
+    let mut sink = 0.0;
     // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
     let ac_path = cierva_harness::repo_root().join("aircraft/vpm-m16.yaml");
     match cierva_harness::aircraft_file::load(&ac_path) {
@@ -202,6 +276,7 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
                     })
                     .collect();
                 row!(
+                    out,
                     "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; target: under 100 ms |",
                     1e3 * median(lins)
                 );
@@ -245,18 +320,21 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
                         .collect();
                     let m = median(runs);
                     row!(
+                        out,
                         "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; target: 200 times with 10 elements |",
                         m,
                         60.0 / m
                     );
                 }
                 row!(
+                    out,
                     "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); target: under 50 ms |",
                     1e3 * median(trims),
                     t.iterations
                 );
                 if let Some(w) = warm_last {
                     row!(
+                        out,
                         "| VPM M16 trim at 70 mph, 455 kg, warm-started from the 450 kg trim | {:.1} ms | {} model evaluations against {} cold: the last Jacobian carried over, as in a fit |",
                         1e3 * median(warm_trims),
                         w.evaluations,
@@ -264,22 +342,31 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
                     );
                 }
                 row!(
+                    out,
                     "| full model right-hand side (individual blades, {} flap states, inflow, rotorspeed, propeller, airframe, 6-DOF) | {:.1} us | one evaluation at the 70 mph trim, including the propeller's inflow solution |",
                     x.flap.len(),
                     1e6 * median(full)
                 );
                 row!(
+                    out,
                     "| full model right-hand side, the propeller on its map | {:.1} us | what a simulation evaluates; the map (101 by 61 nodes of the exact solve) takes {:.0} ms to build, once per process and propeller |",
                     1e6 * median(full_mapped),
                     1e3 * median(map_build)
                 );
                 row!(
+                    out,
                     "| revolution-averaged model evaluation (periodic blade solution, warm) | {:.2} ms | what trim evaluates: the rotor's periodic flapping at 5 deg steps, then its mean loads |",
                     1e3 * median(averaged)
                 );
             }
         }
     }
+    sink
+}
+
+/// Identification (the identification benchmark).
+fn identification(out: &Rows, repeat: usize) -> f64 {
+    let mut sink = 0.0;
     // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
     // frequencies (the identification benchmark), on a synthetic record of seed 002's Eq. 20.
     use cierva_harness::ident::{self, record, synth};
@@ -337,11 +424,17 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
                 })
                 .collect();
             row!(
+                out,
                 "| identification, 5 states, {seconds} s at 100 Hz, {points} frequencies | {:.1} ms | air data to c.g., chirp-z transforms once, least squares then 2 instrumental-variable passes |",
                 1e3 * median(t)
             );
         }
     }
+    sink
+}
+
+/// Fitting (the fit benchmark).
+fn fitting(out: &Rows) {
     // Fitting (the fit benchmark): 3 parameters over 5 flight conditions, from the
     // uncorrected model to a synthetic truth (blockage 1.0, hub factor 0.5, drag +15 %), with X_u,
     // Z_w and the rotor speed at 40-70 mph as targets (at 30 mph the truth needs more than full
@@ -403,6 +496,7 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
                 let r = fit::fit(&problem);
                 let total = started.elapsed().as_secs_f64();
                 row!(
+                    out,
                     "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, warm-started from the last at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; target: under 5 s |",
                     r.status.name(),
                     r.iterations,
@@ -415,36 +509,4 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
             }
         }
     }
-
-    if !sink.is_finite() {
-        eprintln!("(a timed result was not finite)");
-    }
-    if format == Format::Json {
-        let cells = |l: &str| -> Vec<String> {
-            l.trim()
-                .trim_matches('|')
-                .split(" | ")
-                .map(|c| c.trim().to_string())
-                .collect()
-        };
-        let measured: Vec<serde_json::Value> = rows
-            .borrow()
-            .iter()
-            .skip(2)
-            .map(|l| {
-                let c = cells(l);
-                serde_json::json!({
-                    "operation": c.first(),
-                    "median": c.get(1),
-                    "notes": c.get(2),
-                })
-            })
-            .collect();
-        done(
-            format,
-            String::new(),
-            serde_json::json!({"repeat": repeat, "rows": measured}),
-        );
-    }
-    ExitCode::SUCCESS
 }

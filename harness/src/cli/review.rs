@@ -111,55 +111,65 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
                 serde_json::to_string_pretty(&out).expect("serialisable")
             );
         }
-        Format::Text => {
-            for r in &reviews {
-                if r.changes.is_empty() && r.errors.is_empty() {
-                    continue;
-                }
-                println!("{}:", r.case);
-                for c in &r.changes {
-                    println!("  {c}");
-                }
-                for e in &r.errors {
-                    println!("  error (cannot be recorded): {e}");
-                }
-            }
-            if !scores_moved.is_empty() {
-                println!("scoreboard ({}):", scoreboard::path().display());
-                for j in &scores_moved {
-                    println!("  {}", j.describe());
-                }
-            }
-            let recorded: usize = reviews.iter().map(|r| r.now.checks.len()).sum();
-            if moved == 0 {
-                println!(
-                    "{} cases, {recorded} known discrepancies, {} scores: nothing moved",
-                    reviews.len(),
-                    judged.len()
-                );
-            } else if accept {
-                println!(
-                    "{} cases, {recorded} known discrepancies: {moved} cases or scores changed, recorded in {}",
-                    reviews.len(),
-                    if written.is_empty() {
-                        "no file".to_string()
-                    } else {
-                        show(&written)
-                    }
-                );
-            } else {
-                println!(
-                    "{} cases, {recorded} known discrepancies: {moved} cases or scores moved; if \
-                     the changes are intended, record them with `cierva review --accept` and say \
-                     why in the commit",
-                    reviews.len()
-                );
-            }
-        }
+        Format::Text => print_text(&reviews, &judged, &scores_moved, &written, accept),
     }
     if errors > 0 || (moved > 0 && !accept) {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+/// The text output: what moved, case by case and on the scoreboard, and what to do about it.
+fn print_text(
+    reviews: &[cierva_harness::review::CaseReview],
+    judged: &[cierva_harness::review::Judged],
+    scores_moved: &[&cierva_harness::review::Judged],
+    written: &[PathBuf],
+    accept: bool,
+) {
+    let moved = reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len();
+    for r in reviews {
+        if r.changes.is_empty() && r.errors.is_empty() {
+            continue;
+        }
+        println!("{}:", r.case);
+        for c in &r.changes {
+            println!("  {c}");
+        }
+        for e in &r.errors {
+            println!("  error (cannot be recorded): {e}");
+        }
+    }
+    if !scores_moved.is_empty() {
+        println!("scoreboard ({}):", scoreboard::path().display());
+        for j in scores_moved {
+            println!("  {}", j.describe());
+        }
+    }
+    let recorded: usize = reviews.iter().map(|r| r.now.checks.len()).sum();
+    if moved == 0 {
+        println!(
+            "{} cases, {recorded} known discrepancies, {} scores: nothing moved",
+            reviews.len(),
+            judged.len()
+        );
+    } else if accept {
+        println!(
+            "{} cases, {recorded} known discrepancies: {moved} cases or scores changed, recorded in {}",
+            reviews.len(),
+            if written.is_empty() {
+                "no file".to_string()
+            } else {
+                show(written)
+            }
+        );
+    } else {
+        println!(
+            "{} cases, {recorded} known discrepancies: {moved} cases or scores moved; if \
+             the changes are intended, record them with `cierva review --accept` and say \
+             why in the commit",
+            reviews.len()
+        );
     }
 }

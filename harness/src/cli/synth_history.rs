@@ -3,6 +3,8 @@
 use super::*;
 
 pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
+    // Long: one command, in the order it works: fly the record, add the seeded noise, write the CSV
+    // and its sidecar with the truth
     use cierva_harness::history;
     let file = match load_flight(&a.flight) {
         Ok(f) => f,

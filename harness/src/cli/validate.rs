@@ -15,83 +15,11 @@ pub(crate) fn validate(
     } else {
         paths
     };
-    let mut correction_files = Vec::new();
-    for p in &corrections {
-        match cierva_harness::corrections::load(p) {
-            Ok(f) => correction_files.push(f),
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
-            }
-        }
-    }
-    let loaded = match load_cases(&paths) {
-        Ok(l) => l,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
+    let (correction_files, loaded, board) = match inputs(&paths, &corrections) {
+        Ok(i) => i,
+        Err(code) => return code,
     };
-    if loaded.is_empty() {
-        eprintln!("error: no case files (*.yaml) under {}", show(&paths));
-        return ExitCode::from(2);
-    }
-    let board = match cierva_harness::scoreboard::load() {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
-    let mut errors = Vec::new();
-    let mut corrected: Vec<String> = Vec::new();
-    let mut run = report::Run::default();
-    let mut scores = Vec::new();
-    let bar = progress(loaded.len() as u64, "validate");
-    // Cases on every core; results in the order the cases were found.
-    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
-    let ran: Vec<Ran> = cierva_harness::parallel_map(&loaded, |c| {
-        let out = match c {
-            Ok(case) => match cierva_harness::case::with_corrections(case, &correction_files) {
-                Ok((case, used)) => {
-                    bar.set_message(case.id.clone());
-                    let t = std::time::Instant::now();
-                    let results = eval::run_case(&case);
-                    let scores = cierva_harness::review::scores_of(&case, &results);
-                    Ok((
-                        report::CaseRun {
-                            case,
-                            results,
-                            seconds: t.elapsed().as_secs_f64(),
-                            corrections: used,
-                        },
-                        scores,
-                    ))
-                }
-                Err(e) => Err(format!("error: the corrections {e}")),
-            },
-            Err(e) => Err(e.render()),
-        };
-        bar.inc(1);
-        out
-    });
-    for r in ran {
-        match r {
-            Ok((case_run, case_scores)) => {
-                if !case_run.corrections.is_empty() {
-                    corrected.push(format!(
-                        "{} ({})",
-                        case_run.case.id,
-                        case_run.corrections.join(", ")
-                    ));
-                }
-                scores.extend(case_scores);
-                run.cases.push(case_run);
-            }
-            Err(e) => errors.push(e),
-        }
-    }
-    bar.finish_and_clear();
+    let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files);
     run.input_errors = errors.clone();
     run.corrections = correction_files
         .iter()
@@ -167,52 +95,14 @@ pub(crate) fn validate(
                 serde_json::to_string_pretty(&out).expect("serialisable")
             );
         }
-        Format::Text => {
-            print!("{}", text::results_table(&results));
-            if !judged.is_empty() {
-                println!(
-                    "\nscoreboard ({}):",
-                    cierva_harness::scoreboard::path().display()
-                );
-                for j in &judged {
-                    println!("  {}", j.describe());
-                }
-            }
-            for r in results.iter().filter(|r| !r.outcome.ok()) {
-                println!("\n{}", r.explain());
-            }
-            for e in &errors {
-                println!("\n{e}");
-            }
-            for f in &correction_files {
-                println!(
-                    "\ncorrections {}: {}",
-                    f.path.display(),
-                    f.corrections.describe()
-                );
-            }
-            if !correction_files.is_empty() {
-                println!(
-                    "cases run with corrections: {}",
-                    if corrected.is_empty() {
-                        "none (no case's aircraft or rotor matches)".to_string()
-                    } else {
-                        corrected.join("; ")
-                    }
-                );
-            }
-            println!(
-                "\n{} cases, {} checks: {}, {} files with errors\nby class (only validation compares the model with measured data):\n{}",
-                loaded.len(),
-                results.len(),
-                counts.describe(),
-                errors.len(),
-                text::class_summary(&results).trim_end()
-            );
-            if !written.is_empty() {
-                println!("report: {}", show(&written));
-            }
-        }
+        Format::Text => print_text(
+            &results,
+            &judged,
+            &errors,
+            &correction_files,
+            &corrected,
+            (loaded.len(), &written),
+        ),
     }
     if !errors.is_empty() {
         ExitCode::from(2)
@@ -231,4 +121,168 @@ pub(crate) fn validate(
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// Every case run on every core (with the corrections that apply), in the order the cases were
+/// found: the run, the cases that ran corrected, the files that did not load, and the scores.
+fn run_cases(
+    loaded: &[Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>],
+    correction_files: &[cierva_harness::corrections::CorrectionsFile],
+) -> (
+    cierva_harness::report::Run,
+    Vec<String>,
+    Vec<String>,
+    Vec<cierva_harness::scoreboard::Score>,
+) {
+    use cierva_harness::report;
+    let mut errors = Vec::new();
+    let mut corrected: Vec<String> = Vec::new();
+    let mut run = report::Run::default();
+    let mut scores = Vec::new();
+    let bar = progress(loaded.len() as u64, "validate");
+    // Cases on every core; results in the order the cases were found.
+    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
+    let ran: Vec<Ran> = cierva_harness::parallel_map(loaded, |c| {
+        let out = match c {
+            Ok(case) => match cierva_harness::case::with_corrections(case, correction_files) {
+                Ok((case, used)) => {
+                    bar.set_message(case.id.clone());
+                    let t = std::time::Instant::now();
+                    let results = eval::run_case(&case);
+                    let scores = cierva_harness::review::scores_of(&case, &results);
+                    Ok((
+                        report::CaseRun {
+                            case,
+                            results,
+                            seconds: t.elapsed().as_secs_f64(),
+                            corrections: used,
+                        },
+                        scores,
+                    ))
+                }
+                Err(e) => Err(format!("error: the corrections {e}")),
+            },
+            Err(e) => Err(e.render()),
+        };
+        bar.inc(1);
+        out
+    });
+    for r in ran {
+        match r {
+            Ok((case_run, case_scores)) => {
+                if !case_run.corrections.is_empty() {
+                    corrected.push(format!(
+                        "{} ({})",
+                        case_run.case.id,
+                        case_run.corrections.join(", ")
+                    ));
+                }
+                scores.extend(case_scores);
+                run.cases.push(case_run);
+            }
+            Err(e) => errors.push(e),
+        }
+    }
+    bar.finish_and_clear();
+    (run, corrected, errors, scores)
+}
+
+/// The text output: every check, the scoreboard, what needs a look, the counts by class.
+fn print_text(
+    results: &[CheckResult],
+    judged: &[cierva_harness::review::Judged],
+    errors: &[String],
+    correction_files: &[cierva_harness::corrections::CorrectionsFile],
+    corrected: &[String],
+    (cases, written): (usize, &[PathBuf]),
+) {
+    print!("{}", text::results_table(results));
+    if !judged.is_empty() {
+        println!(
+            "\nscoreboard ({}):",
+            cierva_harness::scoreboard::path().display()
+        );
+        for j in judged {
+            println!("  {}", j.describe());
+        }
+    }
+    for r in results.iter().filter(|r| !r.outcome.ok()) {
+        println!("\n{}", r.explain());
+    }
+    for e in errors {
+        println!("\n{e}");
+    }
+    for f in correction_files {
+        println!(
+            "\ncorrections {}: {}",
+            f.path.display(),
+            f.corrections.describe()
+        );
+    }
+    if !correction_files.is_empty() {
+        println!(
+            "cases run with corrections: {}",
+            if corrected.is_empty() {
+                "none (no case's aircraft or rotor matches)".to_string()
+            } else {
+                corrected.join("; ")
+            }
+        );
+    }
+    println!(
+        "\n{} cases, {} checks: {}, {} files with errors\nby class (only validation compares the model with measured data):\n{}",
+        cases,
+        results.len(),
+        text::counts(results).describe(),
+        errors.len(),
+        text::class_summary(results).trim_end()
+    );
+    if !written.is_empty() {
+        println!("report: {}", show(written));
+    }
+}
+
+/// What `validate` reads before it runs: the corrections files, the cases and the committed
+/// scoreboard (exit code 2 on bad input).
+#[allow(clippy::type_complexity)]
+fn inputs(
+    paths: &[PathBuf],
+    corrections: &[PathBuf],
+) -> Result<
+    (
+        Vec<cierva_harness::corrections::CorrectionsFile>,
+        Vec<Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>>,
+        cierva_harness::scoreboard::Board,
+    ),
+    ExitCode,
+> {
+    let mut correction_files = Vec::new();
+    for p in corrections {
+        match cierva_harness::corrections::load(p) {
+            Ok(f) => correction_files.push(f),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return Err(ExitCode::from(2));
+            }
+        }
+    }
+    let loaded = match load_cases(paths) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Err(ExitCode::from(2));
+        }
+    };
+    if loaded.is_empty() {
+        eprintln!("error: no case files (*.yaml) under {}", show(paths));
+        return Err(ExitCode::from(2));
+    }
+    let board = match cierva_harness::scoreboard::load() {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return Err(ExitCode::from(2));
+        }
+    };
+    Ok((correction_files, loaded, board))
 }

@@ -391,6 +391,8 @@ fn fit(
     cols: &[usize],
     fixed: &[(usize, f64)],
 ) -> Result<EquationFit, IdentError> {
+    // Long: one estimator: regressors in the frequency domain, least squares, then the
+    // instrumental-variable passes and their sandwich covariance
     let m = y_c.len();
     let (rows, p) = (2 * m, cols.len());
     if p == 0 || rows <= p {

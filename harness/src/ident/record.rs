@@ -150,6 +150,8 @@ pub fn load_with(
     required: &[&str],
     with_controls: bool,
 ) -> Result<Record, InputError> {
+    // Long: the record loader checks every fault in the order it reads the file, each with its
+    // located error
     let side = sidecar_path(csv_path);
     let side_src = yaml::read(&side)?;
     let meta: RecordMeta = yaml::parse(&side, &side_src)?;

@@ -208,6 +208,8 @@ pub type Generated = (Vec<String>, Vec<Vec<f64>>, RecordMeta);
 
 /// The record's channel names and data, and its sidecar.
 pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> {
+    // Long: one algorithm: the input shape, the linear model flown with turbulence, the sensors
+    // with noise and offsets, the record
     let ci = model
         .controls()
         .iter()

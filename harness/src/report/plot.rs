@@ -174,6 +174,7 @@ impl Figure {
 
     /// The figure as an SVG document, or `None` when it has nothing finite to show.
     pub fn svg(&self, width: u32, height: u32) -> Option<String> {
+        // Long: draws one figure with plotters: axes, series, bands, legend
         if self.points() == 0 {
             return None;
         }

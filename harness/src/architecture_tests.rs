@@ -1,0 +1,183 @@
+//! The layout's rules, checked on the source: no module of the harness library depends on
+//! itself through others, `main.rs` is dispatch only, and no function runs past 120 lines
+//! without saying why in a comment that starts `Long:` (in its doc comment or first lines).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The harness library's top-level modules and the ones each names as `crate::<module>`.
+fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
+    let src = crate::repo_root().join("harness/src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for f in &files {
+        let rel = f
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .replace('\\', "/");
+        if rel == "lib.rs"
+            || rel == "main.rs"
+            || rel.starts_with("cli/")
+            || rel.ends_with("_tests.rs")
+        {
+            continue;
+        }
+        let module = rel
+            .split('/')
+            .next()
+            .unwrap()
+            .trim_end_matches(".rs")
+            .to_string();
+        let text = std::fs::read_to_string(f).unwrap();
+        let deps = graph.entry(module.clone()).or_default();
+        for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+            for part in line.split("crate::").skip(1) {
+                let name: String = part
+                    .chars()
+                    .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                    .collect();
+                if !name.is_empty() && name != module {
+                    deps.insert(name);
+                }
+            }
+        }
+    }
+    let names: BTreeSet<String> = graph.keys().cloned().collect();
+    for deps in graph.values_mut() {
+        deps.retain(|d| names.contains(d));
+    }
+    graph
+}
+
+#[test]
+fn no_module_depends_on_itself_through_others() {
+    let graph = module_graph();
+    assert!(graph.len() >= 15, "{graph:?}");
+    let mut cycles = Vec::new();
+    for start in graph.keys() {
+        let mut stack = vec![vec![start.clone()]];
+        while let Some(path) = stack.pop() {
+            let last = path.last().unwrap();
+            for d in &graph[last] {
+                if d == start {
+                    cycles.push(format!("{} -> {start}", path.join(" -> ")));
+                } else if !path.contains(d) {
+                    let mut p = path.clone();
+                    p.push(d.clone());
+                    stack.push(p);
+                }
+            }
+        }
+    }
+    assert!(cycles.is_empty(), "import cycles:\n{}", cycles.join("\n"));
+}
+
+/// Functions (name, file, first line, length in lines) over `limit` lines without a `Long:`
+/// comment in their doc comment or their first three lines.
+fn long_functions(limit: usize) -> Vec<(String, String, usize, usize)> {
+    let root = crate::repo_root();
+    let mut files = Vec::new();
+    rust_files(&root.join("harness/src"), &mut files);
+    rust_files(&root.join("model/src"), &mut files);
+    let mut out = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let mut i = 0;
+        while i < lines.len() {
+            let l = lines[i];
+            let indent = l.len() - l.trim_start().len();
+            let t = l.trim_start();
+            let t = t
+                .strip_prefix("pub(crate) ")
+                .or_else(|| t.strip_prefix("pub "))
+                .unwrap_or(t);
+            let Some(rest) = t
+                .strip_prefix("fn ")
+                .or_else(|| t.strip_prefix("const fn "))
+            else {
+                i += 1;
+                continue;
+            };
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            let mut open = i;
+            while open < lines.len() && !lines[open].trim_end().ends_with('{') {
+                if lines[open].trim_end().ends_with(';') {
+                    break;
+                }
+                open += 1;
+            }
+            if open >= lines.len() || !lines[open].trim_end().ends_with('{') {
+                i += 1;
+                continue;
+            }
+            let close = (open + 1..lines.len())
+                .find(|&k| {
+                    let l = lines[k];
+                    l.trim() == "}" && l.len() - l.trim_start().len() == indent
+                })
+                .unwrap_or(lines.len() - 1);
+            let length = close - i + 1;
+            let doc = (0..i)
+                .rev()
+                .take_while(|&k| {
+                    let s = lines[k].trim_start();
+                    s.starts_with("///") || s.starts_with("#[") || s.starts_with("//")
+                })
+                .any(|k| lines[k].contains("Long:"));
+            let first = lines[open + 1..(open + 4).min(close)]
+                .iter()
+                .any(|s| s.contains("Long:"));
+            if length > limit && !doc && !first {
+                let rel = f
+                    .strip_prefix(&root)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
+                out.push((name, rel, i + 1, length));
+            }
+            i = open + 1;
+        }
+    }
+    out.sort_by_key(|f| std::cmp::Reverse(f.3));
+    out
+}
+
+#[test]
+fn no_function_runs_past_120_lines_without_a_reason() {
+    let long = long_functions(120);
+    assert!(
+        long.is_empty(),
+        "functions over 120 lines with no `Long:` comment saying why:\n{}",
+        long.iter()
+            .map(|(n, f, l, len)| format!("  {f}:{l} {n}: {len} lines"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
+
+#[test]
+fn main_is_dispatch_only() {
+    let main = std::fs::read_to_string(crate::repo_root().join("harness/src/main.rs")).unwrap();
+    let functions = main.lines().filter(|l| l.starts_with("fn ")).count();
+    assert!(
+        functions <= 2,
+        "main.rs has {functions} functions: commands belong in harness/src/cli/"
+    );
+}
