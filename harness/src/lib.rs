@@ -136,9 +136,11 @@ pub fn run_autorotation(
     )?)
 }
 
-/// A trim request in the units people fly in.
+/// A trim request in the units people fly in. As written (in a case's `condition`), the airspeed
+/// may be in any of `airspeed_mph`, `airspeed_kn` or `airspeed_m_s` (exactly one); it is held in
+/// mph.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "ConditionSpec")]
 pub struct TrimRequest {
     /// True airspeed, mph.
     pub airspeed_mph: f64,
@@ -148,6 +150,48 @@ pub struct TrimRequest {
     /// Rate of turn, deg/s (positive to starboard).
     #[serde(default)]
     pub turn_rate_deg_s: f64,
+}
+
+/// Miles per hour in a knot (1852 m / 1609.344 m).
+pub const MPH_PER_KN: f64 = 1852.0 / 1609.344;
+
+/// A flight condition as written: one airspeed in the unit of its key.
+#[derive(Debug, Clone, Copy, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConditionSpec {
+    #[serde(default)]
+    airspeed_mph: Option<f64>,
+    #[serde(default)]
+    airspeed_kn: Option<f64>,
+    #[serde(default)]
+    airspeed_m_s: Option<f64>,
+    #[serde(default)]
+    climb_m_s: f64,
+    #[serde(default)]
+    turn_rate_deg_s: f64,
+}
+
+impl TryFrom<ConditionSpec> for TrimRequest {
+    type Error = String;
+
+    fn try_from(c: ConditionSpec) -> Result<Self, String> {
+        let airspeed_mph = match (c.airspeed_mph, c.airspeed_kn, c.airspeed_m_s) {
+            (Some(v), None, None) => v,
+            (None, Some(v), None) => v * MPH_PER_KN,
+            (None, None, Some(v)) => v / MPH_TO_M_S,
+            _ => {
+                return Err(
+                    "give exactly one airspeed: `airspeed_mph`, `airspeed_kn` or `airspeed_m_s`"
+                        .into(),
+                );
+            }
+        };
+        Ok(Self {
+            airspeed_mph,
+            climb_m_s: c.climb_m_s,
+            turn_rate_deg_s: c.turn_rate_deg_s,
+        })
+    }
 }
 
 /// Where and how heavy: the air (ISA at a density altitude) and the mass (the aircraft file's
@@ -435,3 +479,20 @@ pub fn run_simulation(
 
 #[cfg(test)]
 mod architecture_tests;
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_condition_takes_its_airspeed_in_any_unit() {
+        let parse = |s: &str| serde_yaml::from_str::<super::TrimRequest>(s);
+        let kn = parse("{airspeed_kn: 60.0}").unwrap();
+        assert!((kn.airspeed_mph - 69.0468).abs() < 1e-4, "{kn:?}");
+        let ms = parse("{airspeed_m_s: 31.2928, climb_m_s: -1.0}").unwrap();
+        assert!((ms.airspeed_mph - 70.0).abs() < 1e-9 && ms.climb_m_s == -1.0);
+        assert_eq!(parse("{airspeed_mph: 70.0}").unwrap().airspeed_mph, 70.0);
+        let two = parse("{airspeed_mph: 70.0, airspeed_kn: 60.0}").unwrap_err();
+        assert!(two.to_string().contains("exactly one airspeed"), "{two}");
+        assert!(parse("{climb_m_s: 1.0}").is_err());
+        assert!(parse("{airspeed_knots: 60.0}").is_err());
+    }
+}
