@@ -128,9 +128,8 @@ pub fn load_file(path: &Path) -> Result<CaseRecord, InputError> {
 /// changed.
 pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
     let path = path_for(&record.case);
-    let old = std::fs::read_to_string(&path).ok();
     if record.checks.is_empty() {
-        if old.is_some() {
+        if path.exists() {
             std::fs::remove_file(&path)?;
             return Ok(true);
         }
@@ -144,14 +143,7 @@ pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
          {BAND_OF_TOLERANCE:e} x the tolerance's half-width).\n{body}",
         record.case
     );
-    if old.as_deref() == Some(text.as_str()) {
-        return Ok(false);
-    }
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    std::fs::write(&path, text)?;
-    Ok(true)
+    yaml::write_if_changed(&path, &text)
 }
 
 /// A record file's body: one flow map per band, numbers to 8 significant digits (far finer than

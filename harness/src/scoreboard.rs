@@ -206,16 +206,7 @@ pub fn with(board: &Board, scores: &[Score]) -> Board {
 
 /// Writes the scoreboard; returns whether the file changed.
 pub fn write(board: &Board) -> std::io::Result<bool> {
-    let o = render(board);
-    let p = path();
-    if std::fs::read_to_string(&p).ok().as_deref() == Some(o.as_str()) {
-        return Ok(false);
-    }
-    if let Some(d) = p.parent() {
-        std::fs::create_dir_all(d)?;
-    }
-    std::fs::write(&p, o)?;
-    Ok(true)
+    yaml::write_if_changed(&path(), &render(board))
 }
 
 /// The scoreboard file's text: one flow map per score.

@@ -150,6 +150,20 @@ impl InputError {
     }
 }
 
+/// Writes `text` to `path` (making its folder) unless the file already holds it; returns whether
+/// the file changed. For the files `cierva review --accept` writes, so that accepting what did
+/// not move leaves them untouched.
+pub fn write_if_changed(path: &Path, text: &str) -> std::io::Result<bool> {
+    if std::fs::read_to_string(path).ok().as_deref() == Some(text) {
+        return Ok(false);
+    }
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    std::fs::write(path, text)?;
+    Ok(true)
+}
+
 /// Reads a file to a string, with an error naming the file.
 pub fn read(path: &Path) -> Result<String, InputError> {
     std::fs::read_to_string(path).map_err(|e| InputError::file(path, format!("cannot read: {e}")))
