@@ -33,10 +33,7 @@ pub(crate) fn autorotate(
         }
     };
     match format {
-        Format::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&a).expect("serialisable")
-        ),
+        Format::Json => print_json(&a),
         Format::Text => {
             let d = |r: f64| r.to_degrees();
             println!(

@@ -69,17 +69,13 @@ pub(crate) fn fit(
         return ExitCode::from(2);
     }
     match format {
-        Format::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&serde_json::json!({
-                "fit": f.id,
-                "run": run,
-                "corrections_file": output.display().to_string(),
-                "report": report.display().to_string(),
-                "figure": svg.as_ref().map(|_| svg_path.display().to_string()),
-            }))
-            .expect("serialisable")
-        ),
+        Format::Json => print_json(&serde_json::json!({
+            "fit": f.id,
+            "run": run,
+            "corrections_file": output.display().to_string(),
+            "report": report.display().to_string(),
+            "figure": svg.as_ref().map(|_| svg_path.display().to_string()),
+        })),
         Format::Text => {
             print!("{md}");
             println!(

@@ -36,10 +36,7 @@ pub(crate) fn identify(
         }
     };
     match format {
-        IdentFormat::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&result).expect("serialisable")
-        ),
+        IdentFormat::Json => print_json(&result),
         IdentFormat::Yaml => print!(
             "{}",
             ident::reference_yaml(&format!("{}-derivatives", rec.meta.id), &result, &rec)

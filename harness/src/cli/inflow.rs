@@ -21,10 +21,7 @@ pub(crate) fn inflow(
     match flap::inflow_from_record(&rec, &file.rotor, &settings) {
         Ok(r) => {
             match format {
-                Format::Json => println!(
-                    "{}",
-                    serde_json::to_string_pretty(&r).expect("serialisable")
-                ),
+                Format::Json => print_json(&r),
                 Format::Text => {
                     println!(
                         "{} ({}): {:.1} revolutions, mu {:.4}",

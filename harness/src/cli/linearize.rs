@@ -63,10 +63,7 @@ pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
                 "b": (0..m.states().len()).map(|i| (0..m.controls().len()).map(|j| m.b()[(i, j)]).collect::<Vec<_>>()).collect::<Vec<_>>(),
                 "primary_derivatives": derivs,
             });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&out).expect("serialisable")
-            );
+            print_json(&out);
         }
         LinearFormat::Text => {
             println!("{} at {condition}", file.title);

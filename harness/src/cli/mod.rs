@@ -70,14 +70,19 @@ pub(crate) fn spinner(what: &str) -> indicatif::ProgressBar {
     s
 }
 
+/// Prints a value as pretty JSON on stdout (what `--format json` gives).
+pub(crate) fn print_json(value: &impl serde::Serialize) {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(value).expect("serialisable")
+    );
+}
+
 /// What a command that writes files prints when it is done: a sentence, or a JSON object.
 pub(crate) fn done(format: Format, text: String, json: serde_json::Value) {
     match format {
         Format::Text => println!("{text}"),
-        Format::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&json).expect("serialisable")
-        ),
+        Format::Json => print_json(&json),
     }
 }
 

@@ -38,10 +38,7 @@ pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> Exi
                 "modes": assessed,
                 "milne": milne_json(&model),
             });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&out).expect("serialisable")
-            );
+            print_json(&out);
         }
         Format::Text => {
             println!("{} ({})\n{}\n", r.title, r.id, r.provenance.source);
@@ -95,10 +92,7 @@ pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Forma
                 .map(|p| serde_json::json!({ "value": p.value, "modes": p.analysis.modes }))
                 .collect();
             let out = serde_json::json!({ "derivative": name, "points": out });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&out).expect("serialisable")
-            );
+            print_json(&out);
         }
         Format::Text => {
             println!("root locus: {name} from {from} to {to} ({n} points)");

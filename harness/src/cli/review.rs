@@ -106,10 +106,7 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
                 "accepted": accept,
                 "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&out).expect("serialisable")
-            );
+            print_json(&out);
         }
         Format::Text => print_text(&reviews, &judged, &scores_moved, &written, accept),
     }

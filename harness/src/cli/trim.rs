@@ -21,10 +21,7 @@ pub(crate) fn trim(
         }
     };
     match format {
-        Format::Json => println!(
-            "{}",
-            serde_json::to_string_pretty(&t).expect("serialisable")
-        ),
+        Format::Json => print_json(&t),
         Format::Text => print!("{}", text::trim_report(&file.title, request, loading, &t)),
     }
     ExitCode::SUCCESS

@@ -90,10 +90,7 @@ pub(crate) fn validate(
                 "results": results,
                 "report": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&out).expect("serialisable")
-            );
+            print_json(&out);
         }
         Format::Text => print_text(
             &results,
@@ -126,7 +123,7 @@ pub(crate) fn validate(
 /// Every case run on every core (with the corrections that apply), in the order the cases were
 /// found: the run, the cases that ran corrected, the files that did not load, and the scores.
 fn run_cases(
-    loaded: &[Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>],
+    loaded: &Loaded,
     correction_files: &[cierva_harness::corrections::CorrectionsFile],
 ) -> (
     cierva_harness::report::Run,
@@ -242,20 +239,19 @@ fn print_text(
     }
 }
 
+/// Every case file found, loaded or the error that stopped it.
+type Loaded = Vec<Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>>;
+
+/// The corrections files, the cases and the committed scoreboard.
+type Inputs = (
+    Vec<cierva_harness::corrections::CorrectionsFile>,
+    Loaded,
+    cierva_harness::scoreboard::Board,
+);
+
 /// What `validate` reads before it runs: the corrections files, the cases and the committed
 /// scoreboard (exit code 2 on bad input).
-#[allow(clippy::type_complexity)]
-fn inputs(
-    paths: &[PathBuf],
-    corrections: &[PathBuf],
-) -> Result<
-    (
-        Vec<cierva_harness::corrections::CorrectionsFile>,
-        Vec<Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>>,
-        cierva_harness::scoreboard::Board,
-    ),
-    ExitCode,
-> {
+fn inputs(paths: &[PathBuf], corrections: &[PathBuf]) -> Result<Inputs, ExitCode> {
     let mut correction_files = Vec::new();
     for p in corrections {
         match cierva_harness::corrections::load(p) {
