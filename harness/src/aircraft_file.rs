@@ -56,10 +56,10 @@ use cierva_model::aircraft::{
     Aircraft, AircraftError, ControlMaps, Drive, InflowDynamics, LinearMap, MainRotor,
     PropellerInstallation, Rotation,
 };
-use cierva_model::airframe::{Airframe, AirframeError, Surface, Table2};
-use cierva_model::propeller::Propeller;
-use cierva_model::rigid_body::MassProperties;
-use cierva_model::rotor::{Hub, Numerics};
+use cierva_model::components::airframe::{Airframe, AirframeError, Surface, Table2};
+use cierva_model::components::propeller::Propeller;
+use cierva_model::components::rigid_body::MassProperties;
+use cierva_model::components::rotor::{Hub, Numerics};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -181,3 +181,43 @@ fn main_is_dispatch_only() {
         "main.rs has {functions} functions: commands belong in harness/src/cli/"
     );
 }
+
+/// The model's groups are layered: the components know nothing of the assembled aircraft, the
+/// analyses or the simulations; analysis knows nothing of the aircraft or simulation. (Unit
+/// tests, after `#[cfg(test)]`, may reach across: a component's test may check itself against
+/// an analysis.)
+#[test]
+fn the_model_groups_are_layered() {
+    let src = crate::repo_root().join("model/src");
+    let rules: [(&str, &[&str]); 2] = [
+        ("components", &["aircraft", "analysis", "simulation"]),
+        ("analysis", &["aircraft", "simulation"]),
+    ];
+    let mut breaches = Vec::new();
+    for (group, forbidden) in rules {
+        let mut files = Vec::new();
+        rust_files(&src.join(group), &mut files);
+        assert!(!files.is_empty(), "model/src/{group} has files");
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            let code = text.split("#[cfg(test)]").next().unwrap_or("");
+            for (n, line) in code.lines().enumerate() {
+                if line.trim_start().starts_with("//") {
+                    continue;
+                }
+                for other in forbidden {
+                    if line.contains(&format!("crate::{other}::"))
+                        || line.contains(&format!("crate::{other};"))
+                    {
+                        breaches.push(format!("{}:{}: {}", f.display(), n + 1, line.trim()));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        breaches.is_empty(),
+        "a lower group reaches up:\n{}",
+        breaches.join("\n")
+    );
+}

@@ -8,7 +8,7 @@ use crate::refs::{self, DerivativeTable, Entry, LinearModelSpec, Provenance};
 pub use crate::rotor_file::{InflowSpec, SkewSpec};
 pub use crate::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
 use crate::yaml::{self, InputError};
-use cierva_model::bcar::Verdict;
+use cierva_model::analysis::bcar::Verdict;
 use cierva_model::{LinearModel, ModeKind};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -376,7 +376,7 @@ pub enum Subject {
     /// An isolated rotor, run with the given inflow model.
     Rotor {
         file: Box<crate::rotor_file::RotorFile>,
-        inflow: cierva_model::rotor::InflowModel,
+        inflow: cierva_model::components::rotor::InflowModel,
     },
     /// An aircraft, its mass and air.
     Aircraft {
@@ -1029,11 +1029,11 @@ fn resolve_check(
             ));
         }
         let template = cierva_model::LinearModel::from_rows(
-            cierva_model::linearise::STATES
+            cierva_model::aircraft::linearise::STATES
                 .iter()
                 .map(|s| s.to_string())
                 .collect(),
-            cierva_model::linearise::CONTROLS
+            cierva_model::aircraft::linearise::CONTROLS
                 .iter()
                 .map(|s| s.to_string())
                 .collect(),

@@ -7,7 +7,7 @@
 
 use crate::yaml::InputError;
 use cierva_model::aircraft::Controls;
-use cierva_model::timehistory::TimeHistory;
+use cierva_model::simulation::timehistory::TimeHistory;
 use std::path::Path;
 
 /// The control columns an input CSV may carry.

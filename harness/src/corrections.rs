@@ -20,7 +20,7 @@
 use crate::refs::Provenance;
 use crate::yaml::{self, InputError};
 use cierva_model::aircraft::Aircraft;
-use cierva_model::rotor::Rotor;
+use cierva_model::components::rotor::Rotor;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

@@ -20,9 +20,9 @@ use crate::case::{
     Case, Check, CheckClass, CheckKind, Expectation, Subject, System, ToleranceKind,
 };
 use crate::refs::Entry;
-use cierva_model::bcar::{self, Verdict};
-use cierva_model::milne;
-use cierva_model::modes::{self, Complex, Mode};
+use cierva_model::analysis::bcar::{self, Verdict};
+use cierva_model::analysis::milne;
+use cierva_model::analysis::modes::{self, Complex, Mode};
 use cierva_model::{Element, LinearModel};
 use serde::Serialize;
 
@@ -379,11 +379,11 @@ pub type Found = (Finding, Vec<(String, f64)>);
 /// The quantities of an autorotation check, or what the model found instead (no
 /// equilibrium). An error is a condition the model could not be run at.
 pub fn autorotation_quantities(
-    rotor: &cierva_model::rotor::Rotor,
-    inflow: cierva_model::rotor::InflowModel,
+    rotor: &cierva_model::components::rotor::Rotor,
+    inflow: cierva_model::components::rotor::InflowModel,
     t: &crate::case::TunnelSpec,
 ) -> Result<Result<Quantities, Found>, String> {
-    use cierva_model::autorotation::AutorotationError as A;
+    use cierva_model::components::autorotation::AutorotationError as A;
     use cierva_model::solve::SolveError;
     let v = tunnel_airspeed_m_s(t, rotor.radius_m);
     let run = crate::run_autorotation(
@@ -463,7 +463,7 @@ pub fn trim_quantities(
 pub fn trim_quantities_of(
     aircraft: &cierva_model::aircraft::Aircraft,
     loading: crate::Loading,
-    t: &cierva_model::trim::Trim,
+    t: &cierva_model::aircraft::trim::Trim,
 ) -> Quantities {
     let d = f64::to_degrees;
     let r = &t.averaged.rotor;
@@ -486,7 +486,7 @@ pub fn trim_quantities_of(
         ("tip_speed_ratio", r.tip_speed_ratio),
         ("thrust_coefficient_over_solidity", {
             let rotor = &aircraft.main_rotor.rotor;
-            let rho = cierva_model::atmosphere::at_density_altitude(
+            let rho = cierva_model::components::atmosphere::at_density_altitude(
                 loading.density_altitude_ft * crate::FT_TO_M,
             )
             .map_or(f64::NAN, |a| a.density_kg_m3);
@@ -845,7 +845,7 @@ fn locus_of(model: &LinearModel, check: &Check, name: &str, set: f64) -> Option<
     let nominal = model.derivative_value(name).ok()?;
     let (lo, hi) = (nominal.min(set), nominal.max(set));
     let pad = 0.25 * (hi - lo).max(1e-9);
-    let values = cierva_model::locus::linspace(lo - pad, hi + pad, LOCUS_POINTS);
+    let values = cierva_model::analysis::locus::linspace(lo - pad, hi + pad, LOCUS_POINTS);
     let points = values
         .iter()
         .filter_map(|&v| {

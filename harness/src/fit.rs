@@ -31,7 +31,7 @@ use crate::case::TunnelSpec;
 use crate::corrections::CorrectionSet;
 use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
-use cierva_model::rotor::{InflowModel, Rotor};
+use cierva_model::components::rotor::{InflowModel, Rotor};
 use serde::{Deserialize, Serialize};
 
 /// A correction the fit can move.
@@ -213,9 +213,9 @@ impl Measure {
                 if crate::case::TRIM_QUANTITIES.contains(&name) {
                     return Ok(Self::Trim(name.into()));
                 }
-                use cierva_model::linearise::{CONTROLS, STATES};
+                use cierva_model::aircraft::linearise::{CONTROLS, STATES};
                 let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-                let zero = cierva_model::linear::LinearModel::new(
+                let zero = cierva_model::analysis::linear::LinearModel::new(
                     names(&STATES),
                     names(&CONTROLS),
                     nalgebra::DMatrix::zeros(STATES.len(), STATES.len()),
@@ -416,7 +416,7 @@ pub struct Problem {
 /// One condition's computed quantities, and its linear model where a target needs one.
 type AtCondition = (
     crate::eval::Quantities,
-    Option<cierva_model::linear::LinearModel>,
+    Option<cierva_model::analysis::linear::LinearModel>,
 );
 
 /// The last trim at each flight condition of a fit, to start the next trim there from: the
@@ -424,15 +424,15 @@ type AtCondition = (
 /// evaluations of a cold one. Each condition's trims run on one thread in the order the fit asks
 /// for them, so a fit stays deterministic.
 #[derive(Debug, Default)]
-pub struct WarmStarts(std::sync::Mutex<Vec<(Condition, cierva_model::trim::WarmStart)>>);
+pub struct WarmStarts(std::sync::Mutex<Vec<(Condition, cierva_model::aircraft::trim::WarmStart)>>);
 
 impl WarmStarts {
-    fn get(&self, c: &Condition) -> Option<cierva_model::trim::WarmStart> {
+    fn get(&self, c: &Condition) -> Option<cierva_model::aircraft::trim::WarmStart> {
         let v = self.0.lock().unwrap_or_else(|e| e.into_inner());
         v.iter().find(|(k, _)| k == c).map(|(_, w)| w.clone())
     }
 
-    fn put(&self, c: Condition, w: cierva_model::trim::WarmStart) {
+    fn put(&self, c: Condition, w: cierva_model::aircraft::trim::WarmStart) {
         let mut v = self.0.lock().unwrap_or_else(|e| e.into_inner());
         match v.iter_mut().find(|(k, _)| *k == c) {
             Some(slot) => slot.1 = w,

@@ -286,7 +286,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
 #[derive(Debug, Clone, PartialEq)]
 enum SubjectKey {
     Aircraft(String, crate::Loading),
-    Rotor(String, cierva_model::rotor::InflowModel),
+    Rotor(String, cierva_model::components::rotor::InflowModel),
 }
 
 fn targets_of(
@@ -544,10 +544,10 @@ pub fn run(f: &FitFile) -> FitRun {
                 .apply_to_aircraft(&mut a)
                 .ok()
                 .and_then(|_| crate::run_linearise(&a, c, *loading).ok())
-                .and_then(|(_, lin)| cierva_model::modes::modes(&lin.model).ok());
+                .and_then(|(_, lin)| cierva_model::analysis::modes::modes(&lin.model).ok());
             [
-                cierva_model::modes::ModeKind::Phugoid,
-                cierva_model::modes::ModeKind::ShortPeriod,
+                cierva_model::analysis::modes::ModeKind::Phugoid,
+                cierva_model::analysis::modes::ModeKind::ShortPeriod,
             ]
             .map(|k| {
                 analysis

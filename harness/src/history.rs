@@ -125,7 +125,8 @@ pub fn fly(
             let m = &lin.model;
             let x0 = vec![0.0; m.states().len()];
             let input = |t: f64| changes(t).to_vec();
-            let xs = cierva_model::simulate::simulate(m, &x0, &input, s.sample_s, s.samples);
+            let xs =
+                cierva_model::simulation::simulate::simulate(m, &x0, &input, s.sample_s, s.samples);
             let mut signals = vec![Vec::with_capacity(xs.len()); SIGNALS.len()];
             for x in &xs {
                 // STATES: u v w p q r phi theta psi Omega.
@@ -140,7 +141,7 @@ pub fn fly(
         }
         Simulation::FullBlade => {
             let start = crate::simulation_start(aircraft, request, loading)?;
-            let settings = |duration_s| cierva_model::timehistory::Settings {
+            let settings = |duration_s| cierva_model::simulation::timehistory::Settings {
                 azimuth_step_rad: s.azimuth_step_rad,
                 duration_s,
                 output_every: 1,

@@ -85,15 +85,15 @@ pub fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -
 #[derive(Debug, thiserror::Error)]
 pub enum AutorotateError {
     #[error("{0}")]
-    Atmosphere(#[from] cierva_model::atmosphere::AtmosphereError),
+    Atmosphere(#[from] cierva_model::components::atmosphere::AtmosphereError),
     #[error("{0}")]
-    Autorotation(#[from] cierva_model::autorotation::AutorotationError),
+    Autorotation(#[from] cierva_model::components::autorotation::AutorotationError),
 }
 
 impl AutorotateError {
     /// Whether the inputs were at fault (rather than the solution).
     pub fn is_input(&self) -> bool {
-        use cierva_model::autorotation::AutorotationError as A;
+        use cierva_model::components::autorotation::AutorotationError as A;
         matches!(
             self,
             Self::Atmosphere(_) | Self::Autorotation(A::Condition { .. } | A::Rotor(_))
@@ -105,15 +105,15 @@ impl AutorotateError {
 /// reference station set to `collective_deg` (or the file's pitch as it is) and the density
 /// given (or ISA sea level; the speed of sound follows from the density altitude).
 pub fn run_autorotation(
-    rotor: &cierva_model::rotor::Rotor,
+    rotor: &cierva_model::components::rotor::Rotor,
     alpha_deg: f64,
     airspeed_m_s: f64,
     collective_deg: Option<f64>,
     density_kg_m3: Option<f64>,
-    inflow: cierva_model::rotor::InflowModel,
-) -> Result<cierva_model::autorotation::Autorotation, AutorotateError> {
-    use cierva_model::atmosphere;
-    use cierva_model::autorotation::{Options, Tunnel, autorotate};
+    inflow: cierva_model::components::rotor::InflowModel,
+) -> Result<cierva_model::components::autorotation::Autorotation, AutorotateError> {
+    use cierva_model::components::atmosphere;
+    use cierva_model::components::autorotation::{Options, Tunnel, autorotate};
     let air = match density_kg_m3 {
         Some(rho) => atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho)?)?,
         None => atmosphere::Atmosphere::standard().at(0.0)?,
@@ -206,15 +206,15 @@ pub struct Loading {
 #[derive(Debug, thiserror::Error)]
 pub enum TrimRunError {
     #[error("{0}")]
-    Atmosphere(#[from] cierva_model::atmosphere::AtmosphereError),
+    Atmosphere(#[from] cierva_model::components::atmosphere::AtmosphereError),
     #[error("{0}")]
-    Trim(#[from] cierva_model::trim::TrimError),
+    Trim(#[from] cierva_model::aircraft::trim::TrimError),
 }
 
 impl TrimRunError {
     /// Whether the inputs were at fault (rather than the solution).
     pub fn is_input(&self) -> bool {
-        use cierva_model::trim::TrimError as T;
+        use cierva_model::aircraft::trim::TrimError as T;
         matches!(
             self,
             Self::Atmosphere(_) | Self::Trim(T::Condition { .. } | T::Aircraft(_))
@@ -232,18 +232,18 @@ pub fn run_trim(
     aircraft: &cierva_model::aircraft::Aircraft,
     request: TrimRequest,
     loading: Loading,
-) -> Result<cierva_model::trim::Trim, TrimRunError> {
+) -> Result<cierva_model::aircraft::trim::Trim, TrimRunError> {
     run_trim_from(aircraft, request, loading, None)
 }
 
-/// [`run_trim`] started from a nearby trim's end ([`cierva_model::trim::trim_from`]).
+/// [`run_trim`] started from a nearby trim's end ([`cierva_model::aircraft::trim::trim_from`]).
 pub fn run_trim_from(
     aircraft: &cierva_model::aircraft::Aircraft,
     request: TrimRequest,
     loading: Loading,
-    start: Option<&cierva_model::trim::WarmStart>,
-) -> Result<cierva_model::trim::Trim, TrimRunError> {
-    use cierva_model::{aircraft::Air, atmosphere, trim};
+    start: Option<&cierva_model::aircraft::trim::WarmStart>,
+) -> Result<cierva_model::aircraft::trim::Trim, TrimRunError> {
+    use cierva_model::{aircraft::Air, aircraft::trim, components::atmosphere};
     let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)?;
     let mut a = aircraft.clone();
     if let Some(m) = loading.mass_kg {
@@ -272,7 +272,7 @@ pub enum LinearRunError {
     #[error("{0}")]
     Trim(#[from] TrimRunError),
     #[error("linearisation: {0}")]
-    Linearise(#[from] cierva_model::linearise::LinearisationError),
+    Linearise(#[from] cierva_model::aircraft::linearise::LinearisationError),
 }
 
 impl LinearRunError {
@@ -282,15 +282,15 @@ impl LinearRunError {
     }
 }
 
-/// Trims and linearises an aircraft (seed 001 Eqs. 10-12; see `cierva_model::linearise`).
+/// Trims and linearises an aircraft (seed 001 Eqs. 10-12; see `cierva_model::aircraft::linearise`).
 pub fn run_linearise(
     aircraft: &cierva_model::aircraft::Aircraft,
     request: TrimRequest,
     loading: Loading,
 ) -> Result<
     (
-        cierva_model::trim::Trim,
-        cierva_model::linearise::Linearised,
+        cierva_model::aircraft::trim::Trim,
+        cierva_model::aircraft::linearise::Linearised,
     ),
     LinearRunError,
 > {
@@ -302,15 +302,15 @@ pub fn run_linearise_from(
     aircraft: &cierva_model::aircraft::Aircraft,
     request: TrimRequest,
     loading: Loading,
-    start: Option<&cierva_model::trim::WarmStart>,
+    start: Option<&cierva_model::aircraft::trim::WarmStart>,
 ) -> Result<
     (
-        cierva_model::trim::Trim,
-        cierva_model::linearise::Linearised,
+        cierva_model::aircraft::trim::Trim,
+        cierva_model::aircraft::linearise::Linearised,
     ),
     LinearRunError,
 > {
-    use cierva_model::{aircraft::Air, atmosphere, linearise};
+    use cierva_model::{aircraft::Air, aircraft::linearise, components::atmosphere};
     let trim = run_trim_from(aircraft, request, loading, start)?;
     let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)
         .map_err(TrimRunError::from)?;
@@ -354,8 +354,8 @@ pub fn linear_units() -> std::collections::BTreeMap<String, String> {
 }
 
 type Linearisation = (
-    cierva_model::trim::Trim,
-    cierva_model::linearise::Linearised,
+    cierva_model::aircraft::trim::Trim,
+    cierva_model::aircraft::linearise::Linearised,
 );
 
 /// `run_linearise`, remembered per aircraft file, condition and loading (a case's checks at
@@ -399,7 +399,7 @@ pub fn simulation_start(
     request: TrimRequest,
     loading: Loading,
 ) -> Result<SimulationStart, String> {
-    use cierva_model::{aircraft::Air, atmosphere, trim};
+    use cierva_model::{aircraft::Air, aircraft::trim, components::atmosphere};
     let mut a = aircraft.clone();
     if let Some(m) = loading.mass_kg {
         a.mass.mass_kg = m;
@@ -441,8 +441,8 @@ impl SimulationStart {
     pub fn run(
         &self,
         changes: &dyn Fn(f64) -> [f64; 4],
-        settings: cierva_model::timehistory::Settings,
-    ) -> Result<cierva_model::timehistory::TimeHistory, String> {
+        settings: cierva_model::simulation::timehistory::Settings,
+    ) -> Result<cierva_model::simulation::timehistory::TimeHistory, String> {
         let u0 = self.controls;
         let controls = |time: f64| {
             let d = changes(time);
@@ -453,7 +453,7 @@ impl SimulationStart {
                 throttle_percent: u0.throttle_percent + d[3],
             }
         };
-        cierva_model::timehistory::run(
+        cierva_model::simulation::timehistory::run(
             &self.aircraft,
             self.state.clone(),
             &controls,
@@ -472,8 +472,8 @@ pub fn run_simulation(
     request: TrimRequest,
     loading: Loading,
     changes: &dyn Fn(f64) -> [f64; 4],
-    settings: cierva_model::timehistory::Settings,
-) -> Result<cierva_model::timehistory::TimeHistory, String> {
+    settings: cierva_model::simulation::timehistory::Settings,
+) -> Result<cierva_model::simulation::timehistory::TimeHistory, String> {
     simulation_start(aircraft, request, loading)?.run(changes, settings)
 }
 

@@ -32,8 +32,8 @@
 
 use crate::refs::{Provenance, check_id};
 use crate::yaml::{self, InputError};
-use cierva_model::airfoil::{Airfoil, AnalyticalSection, SectionTable};
-use cierva_model::rotor::{Corrections, Distribution, Rotor};
+use cierva_model::components::airfoil::{Airfoil, AnalyticalSection, SectionTable};
+use cierva_model::components::rotor::{Corrections, Distribution, Rotor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -90,7 +90,7 @@ fn one() -> f64 {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotorSpec {
-    pub hub: cierva_model::rotor::Hub,
+    pub hub: cierva_model::components::rotor::Hub,
     pub blades: usize,
     pub radius_m: f64,
     pub root_cutout_m: f64,
@@ -218,13 +218,13 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
     };
     rotor.validate().map_err(|e| {
         let field = match &e {
-            cierva_model::rotor::RotorError::Invalid { name, .. } => {
+            cierva_model::components::rotor::RotorError::Invalid { name, .. } => {
                 format!("rotor.{}", name.trim_end_matches("_rad"))
             }
-            cierva_model::rotor::RotorError::Distribution(n) => {
+            cierva_model::components::rotor::RotorError::Distribution(n) => {
                 format!("rotor.{}", if *n == "pitch_rad" { "pitch_deg" } else { n })
             }
-            cierva_model::rotor::RotorError::Airfoil(_) => "rotor.airfoil".into(),
+            cierva_model::components::rotor::RotorError::Airfoil(_) => "rotor.airfoil".into(),
             _ => "rotor".into(),
         };
         err(&field, e.to_string())
@@ -263,8 +263,8 @@ pub enum SkewSpec {
 
 impl InflowSpec {
     /// The model's inflow model with this skew convention.
-    pub fn model(self, skew: SkewSpec) -> cierva_model::rotor::InflowModel {
-        use cierva_model::rotor::{InflowModel, SkewConvention};
+    pub fn model(self, skew: SkewSpec) -> cierva_model::components::rotor::InflowModel {
+        use cierva_model::components::rotor::{InflowModel, SkewConvention};
         let skew = match skew {
             SkewSpec::Signed => SkewConvention::Signed,
             SkewSpec::Modulus => SkewConvention::Modulus,

@@ -5,8 +5,8 @@
 
 use crate::case::CheckClass;
 use crate::eval::{CheckResult, Finding, Outcome};
-use cierva_model::bcar;
-use cierva_model::milne;
+use cierva_model::analysis::bcar;
+use cierva_model::analysis::milne;
 use cierva_model::{LinearModel, ModalAnalysis};
 use std::fmt::Write;
 
@@ -463,7 +463,7 @@ pub fn trim_report(
     title: &str,
     request: crate::TrimRequest,
     loading: crate::Loading,
-    t: &cierva_model::trim::Trim,
+    t: &cierva_model::aircraft::trim::Trim,
 ) -> String {
     use std::fmt::Write;
     let d = |r: f64| r.to_degrees();
@@ -619,10 +619,13 @@ pub fn trim_table(columns: &[(String, Result<crate::eval::Quantities, String>)])
 }
 
 /// The primary derivatives of a linearised aircraft split by component (seed 000 Tables 1-2).
-pub fn breakdown_table(lin: &cierva_model::linearise::Linearised, names: &[&str]) -> String {
+pub fn breakdown_table(
+    lin: &cierva_model::aircraft::linearise::Linearised,
+    names: &[&str],
+) -> String {
     let mut s = String::new();
     let _ = write!(s, "{:<12} {:>12}", "derivative", "total");
-    for c in cierva_model::linearise::COMPONENTS {
+    for c in cierva_model::aircraft::linearise::COMPONENTS {
         let _ = write!(s, " {c:>12}");
     }
     s.push('\n');

@@ -3,7 +3,7 @@
 
 use cierva_harness::case::{self, Case, Subject};
 use cierva_harness::eval::{self, Outcome};
-use cierva_model::airfoil::Airfoil;
+use cierva_model::components::airfoil::Airfoil;
 
 /// The TR 515 case with only a few rows (the whole table takes seconds).
 fn tr515(rows: &[&str]) -> Case {
@@ -80,7 +80,8 @@ fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
 }
 
 /// The same regression on the whole table makes its scores worse than committed, which fails
-/// `naca-tr515-table-iii::scores`.
+/// `naca-tr515-table-iii::scores`. (That the shipped rotor scores as committed is that trial's
+/// own check; it is not run a second time here.)
 #[test]
 fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
     use cierva_harness::review;
@@ -89,9 +90,6 @@ fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
         .expect("the shipped case loads");
     let board = scoreboard::load().expect("the scoreboard loads");
     let judge = |c: &Case| review::judge(&board, review::scores_of(c, &eval::run_case(c)));
-    for j in judge(&c) {
-        assert_eq!(j.change, Change::Same, "{}", j.describe());
-    }
     let Subject::Rotor { file, .. } = &mut c.subject else {
         panic!("TR 515 is a rotor case")
     };

@@ -368,9 +368,9 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
         cierva_harness::rotor_file::load(&repo_root().join("aircraft/vpm-m16-rotor.yaml")).unwrap();
     file.rotor.root_cutout_m = 0.0;
     file.rotor.tip_loss_factor = 1.0;
-    file.rotor.hub = cierva_model::rotor::Hub::Articulated;
-    let inflow = cierva_model::rotor::InflowModel::PetersHaQuang {
-        skew: cierva_model::rotor::SkewConvention::Signed,
+    file.rotor.hub = cierva_model::components::rotor::Hub::Articulated;
+    let inflow = cierva_model::components::rotor::InflowModel::PetersHaQuang {
+        skew: cierva_model::components::rotor::SkewConvention::Signed,
     };
     let a = cierva_harness::run_autorotation(&file.rotor, 10.0, 30.0, None, None, inflow).unwrap();
     let (sa, ca) = 10f64.to_radians().sin_cos();

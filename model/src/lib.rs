@@ -1,12 +1,15 @@
 //! # cierva-model
 //!
-//! The flight-dynamics side of cierva: linear-model analysis now (modes, BCAR Section T,
-//! weakly coupled systems with the rotorspeed degree of freedom, root loci), the atmosphere,
-//! blade sections, the individual-blade rotor (articulated, teetering or rigid hubs) with
-//! Peters-HaQuang inflow (static gains and the dynamic time constants), the isolated rotor in
-//! autorotation, the propeller with blockage, the airframe, the 6-DOF rigid body, inflow from
-//! blade flapping, the assembled autogyro ([`aircraft`]) with its revolution-averaged and full
-//! individual-blade equations, and trim ([`trim`]). Linearisation is to come.
+//! The flight-dynamics side of cierva, in four groups:
+//! * [`components`]: the atmosphere, blade sections, the individual-blade rotor (articulated,
+//!   teetering or rigid hubs) with Peters-HaQuang inflow (static gains and the dynamic time
+//!   constants), the isolated rotor in autorotation, the propeller with blockage, the airframe,
+//!   the 6-DOF rigid body;
+//! * [`aircraft`]: the assembled autogyro with its revolution-averaged and full individual-blade
+//!   equations, its trim ([`aircraft::trim`]) and linearisation ([`aircraft::linearise`]);
+//! * [`analysis`]: linear models, their modes, BCAR Section T, weakly coupled systems with the
+//!   rotorspeed degree of freedom, root loci, and inflow from blade flapping;
+//! * [`simulation`]: time histories of the full and the linear model.
 //!
 //! This crate does no I/O and knows nothing about case files: it takes numbers and returns
 //! numbers, statuses and errors. It never panics on data.
@@ -24,7 +27,7 @@
 //!   source states them), `theta_0` collective.
 //! * **Signs.** A positive real part is an unstable mode. Oscillatory modes are reported once,
 //!   by the member of the conjugate pair with positive imaginary part.
-//! * **Rotor hub axes and azimuth** (module [`rotor`]): `x` forward, `y` starboard, `z` down
+//! * **Rotor hub axes and azimuth** (module [`components::rotor`]): `x` forward, `y` starboard, `z` down
 //!   the shaft; the rotor turns anticlockwise seen from above; azimuth is zero with the blade
 //!   over the tail and increases with rotation, so the blade advances at 90 deg. Flapping is
 //!   positive up, `beta = a0 - a1 cos psi - b1 sin psi`; induced velocity is positive down,
@@ -43,31 +46,45 @@
 //!   the track, climbing at the given rate), sideslip a result.
 //! * **Units.** SI throughout (m, s, kg, N, rad); names carry units where they are not obvious.
 
+/// The parts of an autogyro, each on its own: the atmosphere, blade sections, the rotor and
+/// its inflow, the isolated rotor in autorotation, the propeller, the airframe, the rigid body.
+pub mod components {
+    pub mod airfoil;
+    pub mod airframe;
+    pub mod atmosphere;
+    pub mod autorotation;
+    pub mod inflow;
+    pub mod propeller;
+    pub mod rigid_body;
+    pub mod rotor;
+}
+
+// The assembled autogyro, its trim and its linearisation (documented in the module).
 pub mod aircraft;
-pub mod airfoil;
-pub mod airframe;
-pub mod atmosphere;
-pub mod autorotation;
-pub mod bcar;
-pub mod flapping_inflow;
-pub mod inflow;
-pub mod linear;
-pub mod linearise;
-pub mod locus;
-pub mod milne;
-pub mod modes;
-pub mod propeller;
-pub mod rigid_body;
-pub mod rotor;
-pub mod simulate;
+
+/// Analysis of linear models (modes, BCAR Section T, weakly coupled systems, root loci) and of
+/// blade flapping (inflow from flapping).
+pub mod analysis {
+    pub mod bcar;
+    pub mod flapping_inflow;
+    pub mod linear;
+    pub mod locus;
+    pub mod milne;
+    pub mod modes;
+}
+
+/// Flying the models in time: the full individual-blade model and the linear model.
+pub mod simulation {
+    pub mod simulate;
+    pub mod timehistory;
+}
+
 pub mod solve;
 #[cfg(test)]
 pub(crate) mod testdata;
-pub mod timehistory;
-pub mod trim;
 
-pub use linear::{Element, LinearModel, LinearModelError};
+pub use analysis::linear::{Element, LinearModel, LinearModelError};
 
 /// This crate's version, for reports.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
-pub use modes::{Complex, ModalAnalysis, Mode, ModeKind, modes};
+pub use analysis::modes::{Complex, ModalAnalysis, Mode, ModeKind, modes};

@@ -1,7 +1,7 @@
 //! Published linear models used by the unit tests (the case files carry the same numbers in
 //! `flight-refs/`; model/ does no I/O, so the tests keep their own copy).
 
-use crate::linear::LinearModel;
+use crate::analysis::linear::LinearModel;
 
 fn names(v: &[&str]) -> Vec<String> {
     v.iter().map(|s| s.to_string()).collect()
@@ -61,11 +61,11 @@ pub fn puma_eq26() -> LinearModel {
 pub fn gyroplane() -> crate::aircraft::Aircraft {
     // Long: a published matrix written out, with its source
     use crate::aircraft::*;
-    use crate::airfoil::{Airfoil, AnalyticalSection};
-    use crate::airframe::{Airframe, Surface, Table2};
-    use crate::propeller::Propeller;
-    use crate::rigid_body::MassProperties;
-    use crate::rotor::{
+    use crate::components::airfoil::{Airfoil, AnalyticalSection};
+    use crate::components::airframe::{Airframe, Surface, Table2};
+    use crate::components::propeller::Propeller;
+    use crate::components::rigid_body::MassProperties;
+    use crate::components::rotor::{
         Corrections, Distribution, Hub, InflowModel, Numerics, Rotor, SkewConvention,
     };
     let d = f64::to_radians;

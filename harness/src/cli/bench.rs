@@ -90,7 +90,7 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
 /// The isolated rotor: blade right-hand side, periodic blade solution, autorotation (the PCA-2
 /// at TR 515 Table III row 19).
 fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
-    use cierva_model::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
+    use cierva_model::components::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
     let path = cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml");
     let file = match cierva_harness::rotor_file::load(&path) {
         Ok(f) => f,
@@ -285,21 +285,26 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                 for elements in [10usize, 20] {
                     let mut a2 = ac.aircraft.clone();
                     a2.main_rotor.rotor.elements = elements;
-                    let c = cierva_model::trim::Condition {
+                    let c = cierva_model::aircraft::trim::Condition {
                         airspeed_m_s: 70.0 * cierva_harness::MPH_TO_M_S,
                         climb_m_s: 0.0,
                         turn_rate_rad_s: 0.0,
                         air,
                     };
-                    let Ok(t2) = cierva_model::trim::trim(&a2, c, Default::default()) else {
-                        continue;
-                    };
-                    let Ok(pt) = cierva_model::trim::periodic_trim(&a2, c, &t2, Default::default())
+                    let Ok(t2) = cierva_model::aircraft::trim::trim(&a2, c, Default::default())
                     else {
                         continue;
                     };
+                    let Ok(pt) = cierva_model::aircraft::trim::periodic_trim(
+                        &a2,
+                        c,
+                        &t2,
+                        Default::default(),
+                    ) else {
+                        continue;
+                    };
                     let u = pt.controls;
-                    let settings = cierva_model::timehistory::Settings {
+                    let settings = cierva_model::simulation::timehistory::Settings {
                         azimuth_step_rad: a2.main_rotor.numerics.azimuth_step_rad,
                         duration_s: 60.0,
                         output_every: 72,
@@ -307,7 +312,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                     let runs: Vec<f64> = (0..repeat.min(5))
                         .map(|_| {
                             time(&mut || {
-                                sink += cierva_model::timehistory::run(
+                                sink += cierva_model::simulation::timehistory::run(
                                     &a2,
                                     pt.start.clone(),
                                     &|_| u,

@@ -6,7 +6,7 @@ pub(crate) use cierva_harness::case::{InflowSpec, SkewSpec};
 pub(crate) use cierva_harness::eval::{self, CheckResult};
 pub(crate) use cierva_harness::run_autorotation;
 pub(crate) use cierva_harness::{load_cases, refs, text};
-pub(crate) use cierva_model::rotor::{InflowModel, SkewConvention};
+pub(crate) use cierva_model::components::rotor::{InflowModel, SkewConvention};
 pub(crate) use clap::{Parser, ValueEnum};
 pub(crate) use std::path::{Path, PathBuf};
 pub(crate) use std::process::ExitCode;
@@ -134,7 +134,7 @@ pub(crate) fn load_flight(
 
 /// The index of a control named on the command line (eta_s, eta_c, eta_p, eta_t).
 pub(crate) fn control_index(control: &str) -> Result<usize, String> {
-    cierva_model::linearise::CONTROLS
+    cierva_model::aircraft::linearise::CONTROLS
         .iter()
         .position(|c| *c == control)
         .ok_or_else(|| format!("unknown control `{control}`: eta_s, eta_c, eta_p or eta_t"))

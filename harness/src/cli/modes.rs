@@ -29,7 +29,7 @@ pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> Exi
             let assessed: Vec<_> = analysis
                 .modes
                 .iter()
-                .map(|m| serde_json::json!({ "mode": m, "bcar": cierva_model::bcar::assess(m) }))
+                .map(|m| serde_json::json!({ "mode": m, "bcar": cierva_model::analysis::bcar::assess(m) }))
                 .collect();
             let out = serde_json::json!({
                 "file": file,
@@ -51,7 +51,7 @@ pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> Exi
 }
 
 pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Format) -> ExitCode {
-    use cierva_model::locus;
+    use cierva_model::analysis::locus;
     let parsed = spec.split_once('=').and_then(|(d, range)| {
         let p: Vec<&str> = range.split(':').collect();
         match p.as_slice() {
@@ -115,7 +115,7 @@ pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Forma
 }
 
 pub(crate) fn milne_json(m: &cierva_model::LinearModel) -> serde_json::Value {
-    use cierva_model::milne;
+    use cierva_model::analysis::milne;
     let eq13 = milne::eq13(m);
     serde_json::json!({
         "reduced": milne::reduced(m).and_then(|r| milne::as_array3(&r)).map_err(|e| e.to_string()),

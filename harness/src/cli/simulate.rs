@@ -55,7 +55,7 @@ pub(crate) fn simulate(
         f64::to_radians,
     );
     let (request, loading) = (f.request(0.0), f.loading());
-    let settings = cierva_model::timehistory::Settings {
+    let settings = cierva_model::simulation::timehistory::Settings {
         azimuth_step_rad: step,
         duration_s,
         output_every: every,

@@ -10,9 +10,9 @@
 use super::record::{Record, RecordMeta, Synthetic};
 use super::synth::Normal;
 use crate::refs::Provenance;
-use cierva_model::autorotation::Autorotation;
-use cierva_model::flapping_inflow::{FlapMeasurement, inflow_from_flapping};
-use cierva_model::rotor::Rotor;
+use cierva_model::analysis::flapping_inflow::{FlapMeasurement, inflow_from_flapping};
+use cierva_model::components::autorotation::Autorotation;
+use cierva_model::components::rotor::Rotor;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -134,7 +134,7 @@ pub fn inflow_from_record(
         .map_or(0.0, |d| rotor.collective_shift_for(d.to_radians()));
     let (theta_0, theta_tw) = linear_pitch(rotor, shift);
     let (a0, a1) = match &rotor.airfoil {
-        cierva_model::airfoil::Airfoil::Analytical(a) => (
+        cierva_model::components::airfoil::Airfoil::Analytical(a) => (
             -a.lift_slope_per_rad * a.zero_lift_alpha_rad,
             a.lift_slope_per_rad,
         ),

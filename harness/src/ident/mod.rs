@@ -12,7 +12,7 @@ pub mod record;
 pub mod synth;
 
 use cierva_model::LinearModel;
-use cierva_model::linear::FORCE_STATES;
+use cierva_model::analysis::linear::FORCE_STATES;
 use estimate::{Equation, EquationFit, Frequencies, IdentError, Signals, Windowing};
 use record::Record;
 use serde::{Deserialize, Serialize};
@@ -491,7 +491,7 @@ pub fn predict(
             .collect()
     };
     let x0: Vec<f64> = xs.iter().map(|x| x[0]).collect();
-    let sim = cierva_model::simulate::simulate(&model, &x0, &input, dt, n - 1);
+    let sim = cierva_model::simulation::simulate::simulate(&model, &x0, &input, dt, n - 1);
     Ok(config
         .states
         .iter()

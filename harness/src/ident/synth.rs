@@ -280,7 +280,13 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         }
         u
     };
-    let xs = cierva_model::simulate::simulate(&augmented, &vec![0.0; n], &input_fn, dt, steps);
+    let xs = cierva_model::simulation::simulate::simulate(
+        &augmented,
+        &vec![0.0; n],
+        &input_fn,
+        dt,
+        steps,
+    );
     let state = |name: &str, k: usize| model.state_index(name).map_or(0.0, |i| xs[k][i]);
     let r = [
         s.sensors.probe_position_m[0] - s.sensors.cg_position_m[0],

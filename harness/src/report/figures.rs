@@ -477,11 +477,13 @@ fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
         if e.im == 0.0 {
             continue;
         }
-        let a =
-            cierva_model::bcar::assess_eigenvalue(e.re, 2.0 * std::f64::consts::PI / e.im.abs());
+        let a = cierva_model::analysis::bcar::assess_eigenvalue(
+            e.re,
+            2.0 * std::f64::consts::PI / e.im.abs(),
+        );
         let (x, t) = (a.damping_index, a.period_s);
         match r.verdict {
-            Some((_, cierva_model::bcar::Verdict::Complies)) => complies.push((x, t)),
+            Some((_, cierva_model::analysis::bcar::Verdict::Complies)) => complies.push((x, t)),
             _ => not.push((x, t)),
         }
     }

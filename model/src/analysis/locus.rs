@@ -1,8 +1,8 @@
 //! Root-locus sweeps: the modes of a model as one derivative varies over a range
 //! (seed 002 Figs. 2, 3, 6-8).
 
-use crate::linear::{Element, LinearModel, LinearModelError};
-use crate::modes::{self, ModalAnalysis, ModesError};
+use crate::analysis::linear::{Element, LinearModel, LinearModelError};
+use crate::analysis::modes::{self, ModalAnalysis, ModesError};
 use serde::Serialize;
 use thiserror::Error;
 
@@ -66,7 +66,7 @@ pub fn root_locus(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::modes::ModeKind;
+    use crate::analysis::modes::ModeKind;
     use crate::testdata::vpm_eq20;
 
     #[test]

@@ -19,8 +19,8 @@
 //! name.
 
 use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, FullState, State};
-use crate::rigid_body::{BodyState, G_M_S2};
-use crate::rotor::{Inflow, InflowModel};
+use crate::components::rigid_body::{BodyState, G_M_S2};
+use crate::components::rotor::{Inflow, InflowModel};
 use crate::solve::{self, NewtonOptions, SolveError};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -611,7 +611,7 @@ pub fn periodic_trim(
                         mean_x[i] += sx[i] / n as f64;
                         mean_d[i] += sd[i] / n as f64;
                     }
-                    x = crate::timehistory::step(
+                    x = crate::simulation::timehistory::step(
                         aircraft,
                         &x,
                         k as f64 * dt,
@@ -654,7 +654,7 @@ pub fn periodic_trim(
         }
         if !converged {
             return Err(AircraftError::Rotor(
-                crate::rotor::RotorError::FlapNotPeriodic {
+                crate::components::rotor::RotorError::FlapNotPeriodic {
                     revolutions: 60,
                     change: f64::NAN,
                 },
@@ -663,7 +663,7 @@ pub fn periodic_trim(
         warm_flap = fs.flap.clone();
         warm_inflow = fs.inflow;
         last_start = Some(fs.clone());
-        let g = crate::rigid_body::G_M_S2;
+        let g = crate::components::rigid_body::G_M_S2;
         let m = mean_rates;
         let mut res = vec![
             m[0] / g,

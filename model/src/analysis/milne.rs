@@ -29,8 +29,8 @@
 //! text prints the common denominator as `lambda_Omega A - b_ph`, which does not follow from
 //! Eq. 16; the form above is checked against finite differences of the cubic's roots.
 
-use crate::linear::{LinearModel, LinearModelError};
-use crate::modes::{self, Complex, ModesError};
+use crate::analysis::linear::{LinearModel, LinearModelError};
+use crate::analysis::modes::{self, Complex, ModesError};
 use nalgebra::{DMatrix, Matrix3};
 use serde::Serialize;
 use thiserror::Error;

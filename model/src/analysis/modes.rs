@@ -23,7 +23,7 @@
 //! [`ModeKind::Unclassified`]. When the eigenvector matrix is numerically singular (a defective
 //! matrix), participation factors do not exist and every mode is unclassified.
 
-use crate::linear::LinearModel;
+use crate::analysis::linear::LinearModel;
 use faer::Mat;
 use faer::linalg::solvers::DenseSolveCore;
 use serde::Serialize;

@@ -31,7 +31,7 @@
 //! times that blade's average over a revolution: exact for the mean, since the mean of a
 //! periodic blade's inertial loads is zero. Blade weight is neglected here.
 
-use crate::airfoil::{Airfoil, AirfoilError};
+use crate::components::airfoil::{Airfoil, AirfoilError};
 use serde::Serialize;
 use std::f64::consts::PI;
 use thiserror::Error;
@@ -1136,8 +1136,8 @@ mod tests {
         }
         assert!(worst < 1e-14, "{worst:e}");
     }
-    use crate::airfoil::AnalyticalSection;
-    use crate::autorotation::{self, Options, Tunnel};
+    use crate::components::airfoil::AnalyticalSection;
+    use crate::components::autorotation::{self, Options, Tunnel};
 
     /// A rotor in the classical limit: constant chord, linear lift, no drag, no tip loss, zero
     /// hinge offset and cut-out, rigid blades.
@@ -1272,7 +1272,7 @@ mod tests {
     /// mu = 0.25, consistent with the scatter seed 003 finds in flight-derived v1s.
     #[test]
     fn seed003_eqs_15_17_hold_for_the_models_own_flapping() {
-        use crate::flapping_inflow::{FlapMeasurement, inflow_from_flapping};
+        use crate::analysis::flapping_inflow::{FlapMeasurement, inflow_from_flapping};
         for (alpha_deg, v) in [(10.0f64, 30.0), (12.0, 25.0)] {
             let theta = 2f64.to_radians();
             let rotor = autorotating(theta, 40, 0.0);

@@ -16,7 +16,9 @@
 //! for quadratics); a simulation carries one so each right-hand side costs one interpolation
 //! instead of about seven blade solutions. Outside the table the exact solve runs.
 
-use crate::rotor::{Blade, Hub, HubVelocity, Inflow, Numerics, Operating, Rotor, RotorError};
+use crate::components::rotor::{
+    Blade, Hub, HubVelocity, Inflow, Numerics, Operating, Rotor, RotorError,
+};
 use crate::solve::SolveError;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -294,7 +296,7 @@ impl Propeller {
         v_disc: f64,
         density_kg_m3: f64,
         speed_of_sound_m_s: f64,
-    ) -> Result<(crate::rotor::SteadyLoads, f64), PropellerError> {
+    ) -> Result<(crate::components::rotor::SteadyLoads, f64), PropellerError> {
         // The air comes along +z (the hub moves along -z at v_disc).
         let hub = HubVelocity {
             u: 0.0,
@@ -370,8 +372,8 @@ impl Propeller {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::airfoil::{Airfoil, AnalyticalSection};
-    use crate::rotor::{Corrections, Distribution};
+    use crate::components::airfoil::{Airfoil, AnalyticalSection};
+    use crate::components::rotor::{Corrections, Distribution};
 
     /// A test propeller: three constant-chord blades twisted for a roughly uniform inflow angle.
     fn propeller(blockage: f64) -> Propeller {

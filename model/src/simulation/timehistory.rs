@@ -7,7 +7,7 @@
 //! time, so steps and ramps in the inputs are followed exactly where they fall on a stage.
 
 use crate::aircraft::{Air, Aircraft, AircraftError, Controls, FullDerivative, FullState};
-use crate::rotor::Inflow;
+use crate::components::rotor::Inflow;
 use serde::Serialize;
 
 /// Integration settings.
@@ -43,7 +43,7 @@ fn add(x: &FullState, d: &FullDerivative, h: f64) -> FullState {
         body[k] = b[k] + h * db[k];
     }
     FullState {
-        body: crate::rigid_body::BodyState::from_array(body),
+        body: crate::components::rigid_body::BodyState::from_array(body),
         rotor_azimuth_rad: x.rotor_azimuth_rad + h * d.rotor_azimuth_rad,
         rotor_omega_rad_s: x.rotor_omega_rad_s + h * d.rotor_omega_rad_s,
         flap: x
@@ -73,7 +73,7 @@ pub fn step(
     let mr = &aircraft.main_rotor;
     step_with(
         aircraft,
-        &crate::rotor::Blade::new(&mr.rotor, mr.numerics),
+        &crate::components::rotor::Blade::new(&mr.rotor, mr.numerics),
         x,
         t,
         dt,
@@ -85,7 +85,7 @@ pub fn step(
 /// [`step`] with the main rotor's blade elements prepared once for a run.
 fn step_with(
     aircraft: &Aircraft,
-    blade: &crate::rotor::Blade,
+    blade: &crate::components::rotor::Blade,
     x: &FullState,
     t: f64,
     dt: f64,
@@ -105,7 +105,7 @@ fn step_with(
 
 /// Runs the full model from `start` for `settings.duration_s`.
 ///
-/// The propeller runs on its map ([`crate::propeller::Map`]: within 3e-5 of the exact solve's
+/// The propeller runs on its map ([`crate::components::propeller::Map`]: within 3e-5 of the exact solve's
 /// thrust and torque, at a seventh of the cost), built once for the run; outside the map the
 /// exact solve runs. Fails with the model's error, or with a non-finite state, naming the time.
 pub fn run(
@@ -122,7 +122,10 @@ pub fn run(
         mapped.propeller.propeller = p;
     }
     let aircraft = &mapped;
-    let blade = crate::rotor::Blade::new(&aircraft.main_rotor.rotor, aircraft.main_rotor.numerics);
+    let blade = crate::components::rotor::Blade::new(
+        &aircraft.main_rotor.rotor,
+        aircraft.main_rotor.numerics,
+    );
     let bad = |t: f64, name: &'static str, value: f64| {
         (
             t,
@@ -182,8 +185,8 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::aircraft::trim::{self, Condition, Options};
     use crate::testdata::gyroplane;
-    use crate::trim::{self, Condition, Options};
     use std::f64::consts::PI;
 
     fn air() -> Air {
@@ -286,7 +289,7 @@ mod tests {
             air: air(),
         };
         let t = trim::trim(&a, c, Options::default()).unwrap();
-        let lin = crate::linearise::linearise(&a, &t, air(), Default::default()).unwrap();
+        let lin = crate::aircraft::linearise::linearise(&a, &t, air(), Default::default()).unwrap();
         let amp = 0.5;
         let doublet = |time: f64| {
             if (0.5..1.5).contains(&time) {
@@ -311,7 +314,7 @@ mod tests {
             x
         };
         let unpack = |x: &X| crate::aircraft::State {
-            body: crate::rigid_body::BodyState::from_array(x[..12].try_into().unwrap()),
+            body: crate::components::rigid_body::BodyState::from_array(x[..12].try_into().unwrap()),
             rotor_omega_rad_s: x[12],
             inflow: Inflow {
                 v0: x[13],
@@ -342,7 +345,7 @@ mod tests {
         let steps = 600;
         let x0 = pack(&t.state);
         let mut x = x0;
-        let xs = crate::simulate::simulate(
+        let xs = crate::simulation::simulate::simulate(
             &lin.model,
             &[0.0; 10],
             &|time| vec![doublet(time), 0.0, 0.0, 0.0],

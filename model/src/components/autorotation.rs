@@ -11,8 +11,8 @@
 //! torque coefficient over solidity, and the inflow's departure from its static equilibrium over
 //! the tip speed), started from a rotorspeed bracketed by the sign of the torque.
 
-use crate::inflow;
-use crate::rotor::{
+use crate::components::inflow;
+use crate::components::rotor::{
     Blade, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError, SteadyLoads,
 };
 use crate::solve::{self, NewtonOptions, SolveError};
@@ -43,7 +43,7 @@ impl Default for Options {
     fn default() -> Self {
         Self {
             inflow: InflowModel::PetersHaQuang {
-                skew: crate::rotor::SkewConvention::Signed,
+                skew: crate::components::rotor::SkewConvention::Signed,
             },
             numerics: Numerics::default(),
             newton: NewtonOptions::default(),

@@ -1,7 +1,7 @@
 //! Time response of a linear model, `x' = A x + B u(t)`, by fourth-order Runge-Kutta with the
 //! input evaluated exactly at every stage (inputs are functions of time, not samples).
 
-use crate::linear::LinearModel;
+use crate::analysis::linear::LinearModel;
 use nalgebra::DVector;
 
 /// States at `t = k dt` for `k = 0..=steps`, from `x0`.

@@ -8,7 +8,7 @@
 //! velocity at the centre of mass (body axes: x forward, y starboard, z down). Angles outside a
 //! table are an error naming the table, never a silent clamp.
 
-use crate::rigid_body::Loads;
+use crate::components::rigid_body::Loads;
 use serde::Serialize;
 use thiserror::Error;
 

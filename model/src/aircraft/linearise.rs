@@ -35,10 +35,10 @@
 //! eliminated fast states do to it, mapped through the mass and inertia. What remains (gravity
 //! and the rigid-body kinematics) is the `inertial` part. The contributions add up to the total.
 
+use crate::aircraft::trim::Trim;
 use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, RotorCache, State};
-use crate::linear::{LinearModel, LinearModelError};
-use crate::rigid_body::{Loads, MassProperties};
-use crate::trim::Trim;
+use crate::analysis::linear::{LinearModel, LinearModelError};
+use crate::components::rigid_body::{Loads, MassProperties};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use thiserror::Error;
@@ -353,8 +353,8 @@ pub fn linearise(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::aircraft::trim::{self, Condition, Options};
     use crate::testdata::gyroplane;
-    use crate::trim::{self, Condition, Options};
 
     fn air() -> Air {
         Air {

@@ -23,7 +23,7 @@
 //! `re_b(T) - re` in 1/s, where `re_b = -x_b ln 2 / T` is the largest real part that complies at
 //! this period. Both are positive when the mode complies.
 
-use crate::modes::Mode;
+use crate::analysis::modes::Mode;
 use serde::Serialize;
 use std::f64::consts::LN_2;
 

@@ -19,7 +19,7 @@
 //! Wind axes are hub axes turned about the shaft so that `x` points along the hub's in-plane
 //! motion; wind azimuth is `psi + psi_w`, with `psi_w = atan2(v, u)`.
 
-use crate::rotor::{HubVelocity, Inflow, SkewConvention};
+use crate::components::rotor::{HubVelocity, Inflow, SkewConvention};
 use serde::Serialize;
 use std::f64::consts::PI;
 

@@ -16,7 +16,7 @@
 //! Hub axes follow from body axes by a pitch of `theta_s` (back) and then a roll of `phi_s`
 //! (right): `v_hub = R_x(phi_s) R_y(theta_s) v_body`, so the shaft's "up" (`-z_hub`) leans back
 //! with `theta_s > 0`. Blade pitch is fixed (an autogyro has no cyclic); a helicopter's
-//! collective would enter as a collective shift of the rotor ([`MainRotor::collective_shift_rad`]).
+//! collective would enter as a collective shift of the rotor ([`crate::components::rotor::Operating::collective_shift_rad`]).
 //!
 //! # The revolution-averaged model
 //! [`Aircraft::averaged`] evaluates the rigid-body, rotorspeed, propeller-speed and inflow
@@ -40,11 +40,14 @@
 //! body x-z plane and its sideslip, and its angle is `k alpha_cg`. `None` is the kinematic
 //! value (no correction).
 
-use crate::airframe::{Airframe, AirframeError};
-use crate::inflow;
-use crate::propeller::{Propeller, PropellerError, PropellerState};
-use crate::rigid_body::{self, BodyError, BodyState, Loads, MassProperties};
-use crate::rotor::{
+pub mod linearise;
+pub mod trim;
+
+use crate::components::airframe::{Airframe, AirframeError};
+use crate::components::inflow;
+use crate::components::propeller::{Propeller, PropellerError, PropellerState};
+use crate::components::rigid_body::{self, BodyError, BodyState, Loads, MassProperties};
+use crate::components::rotor::{
     Angles, Blade, Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
     SteadyLoads,
 };
@@ -468,7 +471,11 @@ impl Aircraft {
         match mr.inflow {
             InflowModel::Prescribed { v0, v1s, v1c } => (
                 Inflow { v0, v1s, v1c },
-                inflow::wake(frame.hub, v0, crate::rotor::SkewConvention::Signed),
+                inflow::wake(
+                    frame.hub,
+                    v0,
+                    crate::components::rotor::SkewConvention::Signed,
+                ),
                 Inflow::default(),
             ),
             InflowModel::PetersHaQuang { skew } | InflowModel::UniformOnly { skew } => {
@@ -858,7 +865,7 @@ impl Aircraft {
         }
         let op = op;
         // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
-        let loads: Vec<crate::rotor::BladeLoads> = blades
+        let loads: Vec<crate::components::rotor::BladeLoads> = blades
             .iter()
             .zip(&angles)
             .map(|(&(_, _, beta_dot), &ang)| blade.loads_at(&op, ang, beta_dot))
@@ -1027,8 +1034,8 @@ pub type FullDerivative = FullState;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::aircraft::trim::{self, Condition, Options};
     use crate::testdata::gyroplane;
-    use crate::trim::{self, Condition, Options};
 
     fn air() -> Air {
         Air {
