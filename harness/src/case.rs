@@ -115,7 +115,7 @@ pub struct TunnelSpec {
     #[serde(default)]
     pub tip_speed_ratio: Option<f64>,
     #[serde(default)]
-    pub rpm: Option<f64>,
+    pub rotor_rpm: Option<f64>,
     /// Blade pitch at the rotor's reference station, deg (default: the file's pitch as it is).
     #[serde(default)]
     pub collective_deg: Option<f64>,
@@ -408,149 +408,24 @@ pub struct Case {
     pub scores: Vec<crate::scoreboard::ScoreSpec>,
 }
 
-/// Quantities each check kind computes (the keys allowed under `expect`).
-pub fn quantities(kind: CheckKind) -> &'static [&'static str] {
-    match kind {
-        CheckKind::Mode => &[
-            "eigenvalue_real_per_s",
-            "eigenvalue_imag_rad_s",
-            "damping_ratio",
-            "natural_frequency_rad_s",
-            "period_s",
-            "time_to_half_s",
-            "time_to_double_s",
-        ],
-        CheckKind::Bcar => &[
-            "damping_index",
-            "boundary_index",
-            "margin_index",
-            "margin_real_per_s",
-            "period_s",
-        ],
-        CheckKind::Milne => &[
-            "omega_sp_squared",
-            "eq13_a11",
-            "eq13_a12",
-            "eq13_a13",
-            "eq13_a21",
-            "eq13_a23",
-            "eq13_a31",
-            "eq13_a33",
-            "schur_a11",
-            "schur_a12",
-            "schur_a13",
-            "schur_a21",
-            "schur_a22",
-            "schur_a23",
-            "schur_a31",
-            "schur_a32",
-            "schur_a33",
-            "cubic_a",
-            "cubic_b",
-            "cubic_c",
-            "delta_b",
-            "delta_c",
-            "delta_a_ph",
-            "delta_b_ph",
-            "delta_lambda_omega",
-            "m_omega_eq24",
-            "m_omega_eq25",
-        ],
-        CheckKind::Derivative => &[
-            "value",
-            "rotor",
-            "propeller",
-            "airframe",
-            "inertial",
-            "magnitude_change",
-        ],
-        CheckKind::Autorotation => &[
-            "rpm",
-            "omega_rad_s",
-            "tip_speed_ratio",
-            "lift_coefficient",
-            "drag_coefficient",
-            "lift_to_drag",
-            "thrust_coefficient",
-            "inflow_v0_m_s",
-            "a0_deg",
-            "a1_deg",
-            "b1_deg",
-        ],
-        CheckKind::InflowCoefficients => &[
-            "v0_m_s",
-            "v1s_m_s",
-            "v1c_m_s",
-            "coning_deg",
-            "beta_1c_deg",
-            "beta_1s_deg",
-        ],
-        CheckKind::Trim => TRIM_QUANTITIES,
-        CheckKind::TrimSweep => TRIM_SWEEP_QUANTITIES,
-        // `<signal>.<metric>`, for the signals its record carries.
+/// Names of the quantities each check kind computes (the keys allowed under `expect`; a
+/// `time_history` check's `<signal>.<metric>` names come from its record). The quantities
+/// themselves are defined in [`crate::quantity`].
+pub fn quantities(kind: CheckKind) -> Vec<String> {
+    use crate::quantity as q;
+    let list: &[q::Quantity] = match kind {
+        CheckKind::Mode => q::MODE,
+        CheckKind::Bcar => q::BCAR,
+        CheckKind::Milne => q::MILNE,
+        CheckKind::Derivative => q::DERIVATIVE,
+        CheckKind::Autorotation => q::AUTOROTATION,
+        CheckKind::InflowCoefficients => q::INFLOW_COEFFICIENTS,
+        CheckKind::Trim => q::TRIM,
+        CheckKind::TrimSweep => return q::sweep_names(),
         CheckKind::TimeHistory => &[],
-    }
+    };
+    list.iter().map(|x| x.name().to_string()).collect()
 }
-
-/// What a `trim` check computes.
-pub const TRIM_QUANTITIES: &[&str] = &[
-    "residual_norm",
-    "stick_longitudinal_percent",
-    "stick_lateral_percent",
-    "pedal_percent",
-    "throttle_percent",
-    "pitch_deg",
-    "roll_deg",
-    "alpha_deg",
-    "sideslip_deg",
-    "rotor_rpm",
-    "propeller_rpm",
-    "rotor_torque_n_m",
-    "thrust_n",
-    "disc_alpha_deg",
-    "tip_speed_ratio",
-    "thrust_coefficient_over_solidity",
-    "a1_deg",
-    "b1_deg",
-    "inflow_v0_m_s",
-    "inflow_v1c_m_s",
-];
-
-/// Trim quantities the trim enforces (it fails otherwise): computed and snapshotted, never
-/// checked.
-pub const ENFORCED_BY_TRIM: &[&str] = &["residual_norm", "max_residual_norm", "rotor_torque_n_m"];
-
-/// The trim quantities whose trends a `trim_sweep` check reports.
-pub const TREND_QUANTITIES: &[&str] = &[
-    "stick_longitudinal_percent",
-    "stick_lateral_percent",
-    "pedal_percent",
-    "throttle_percent",
-    "pitch_deg",
-    "roll_deg",
-    "rotor_rpm",
-];
-
-/// What a `trim_sweep` check computes: `max_residual_norm`, and for every trend quantity `q`
-/// the least and greatest slope between neighbouring airspeeds, `q_per_mph_min` and
-/// `q_per_mph_max` (so "decreasing" is `q_per_mph_max <= 0`).
-pub const TRIM_SWEEP_QUANTITIES: &[&str] = &[
-    "max_residual_norm",
-    "stick_longitudinal_percent_per_mph_min",
-    "stick_longitudinal_percent_per_mph_max",
-    "stick_lateral_percent_per_mph_min",
-    "stick_lateral_percent_per_mph_max",
-    "pedal_percent_per_mph_min",
-    "pedal_percent_per_mph_max",
-    "throttle_percent_per_mph_min",
-    "throttle_percent_per_mph_max",
-    "pitch_deg_per_mph_min",
-    "pitch_deg_per_mph_max",
-    "roll_deg_per_mph_min",
-    "roll_deg_per_mph_max",
-    "rotor_rpm_per_mph_min",
-    "rotor_rpm_per_mph_max",
-];
 
 /// Loads and checks a case file.
 pub fn load(path: &Path) -> Result<Case, InputError> {
@@ -1168,7 +1043,7 @@ fn resolve_check(
         }
     }
 
-    let mut allowed: Vec<String> = quantities(c.kind).iter().map(|q| q.to_string()).collect();
+    let mut allowed: Vec<String> = quantities(c.kind);
     if let Some(rec) = &reference {
         for s in crate::history::record_signals(rec) {
             for m in crate::history::METRICS {
@@ -1294,8 +1169,8 @@ fn refuse_trivial(
         _ => {}
     }
     if matches!(c.kind, CheckKind::Trim | CheckKind::TrimSweep) {
-        for q in ENFORCED_BY_TRIM {
-            if c.expect.contains_key(*q) {
+        for q in crate::quantity::ENFORCED_BY_TRIM {
+            if c.expect.contains_key(q.name()) {
                 return Err((
                     format!(".expect.{q}"),
                     format!(
@@ -1383,7 +1258,7 @@ fn check_tunnel(
     if !t.alpha_deg.is_finite()
         || !finite(t.airspeed_m_s)
         || !finite(t.tip_speed_ratio)
-        || !finite(t.rpm)
+        || !finite(t.rotor_rpm)
         || !finite(t.collective_deg)
         || !finite(t.density_kg_m3)
     {
@@ -1392,11 +1267,11 @@ fn check_tunnel(
             "every number of the tunnel condition must be finite".into(),
         ));
     }
-    match (t.airspeed_m_s, t.tip_speed_ratio, t.rpm) {
+    match (t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm) {
         (Some(_), None, None) | (None, Some(_), Some(_)) => Ok(()),
         _ => Err(err(
             &field,
-            "give either `airspeed_m_s`, or `tip_speed_ratio` with `rpm` (the airspeed then follows as mu Omega R / cos alpha)"
+            "give either `airspeed_m_s`, or `tip_speed_ratio` with `rotor_rpm` (the airspeed then follows as mu Omega R / cos alpha)"
                 .into(),
         )),
     }

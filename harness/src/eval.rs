@@ -19,6 +19,7 @@
 use crate::case::{
     Case, Check, CheckClass, CheckKind, Expectation, Subject, System, ToleranceKind,
 };
+use crate::quantity::Quantity as Q;
 use crate::refs::Entry;
 use cierva_model::analysis::bcar::{self, Verdict};
 use cierva_model::analysis::milne;
@@ -361,7 +362,7 @@ impl Evaluated {
 
 /// The airspeed of a tunnel condition (given, or `mu Omega R / cos alpha`).
 pub fn tunnel_airspeed_m_s(t: &crate::case::TunnelSpec, radius_m: f64) -> f64 {
-    match (t.airspeed_m_s, t.tip_speed_ratio, t.rpm) {
+    match (t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm) {
         (Some(v), _, _) => v,
         (None, Some(mu), Some(rpm)) => {
             mu * rpm * std::f64::consts::PI / 30.0 * radius_m / t.alpha_deg.to_radians().cos()
@@ -425,17 +426,17 @@ pub fn autorotation_quantities(
         Err(e) => return Err(e.to_string()),
     };
     Ok(Ok(vec![
-        ("rpm", a.rpm),
-        ("omega_rad_s", a.omega_rad_s),
-        ("tip_speed_ratio", a.tip_speed_ratio),
-        ("lift_coefficient", a.lift_coefficient),
-        ("drag_coefficient", a.drag_coefficient),
-        ("lift_to_drag", a.lift_to_drag),
-        ("thrust_coefficient", a.thrust_coefficient),
-        ("inflow_v0_m_s", a.inflow.v0),
-        ("a0_deg", a.a0_rad.to_degrees()),
-        ("a1_deg", a.a1_rad.to_degrees()),
-        ("b1_deg", a.b1_rad.to_degrees()),
+        (Q::RotorRpm.name(), a.rpm),
+        (Q::RotorOmegaRadS.name(), a.omega_rad_s),
+        (Q::TipSpeedRatio.name(), a.tip_speed_ratio),
+        (Q::LiftCoefficient.name(), a.lift_coefficient),
+        (Q::DragCoefficient.name(), a.drag_coefficient),
+        (Q::LiftToDrag.name(), a.lift_to_drag),
+        (Q::ThrustCoefficient.name(), a.thrust_coefficient),
+        (Q::InflowV0MS.name(), a.inflow.v0),
+        (Q::ConingDeg.name(), a.a0_rad.to_degrees()),
+        (Q::A1Deg.name(), a.a1_rad.to_degrees()),
+        (Q::B1Deg.name(), a.b1_rad.to_degrees()),
     ]))
 }
 
@@ -469,22 +470,25 @@ pub fn trim_quantities_of(
     let r = &t.averaged.rotor;
     let c = &t.controls;
     vec![
-        ("residual_norm", t.residual_norm),
-        ("stick_longitudinal_percent", c.stick_longitudinal_percent),
-        ("stick_lateral_percent", c.stick_lateral_percent),
-        ("pedal_percent", c.pedal_percent),
-        ("throttle_percent", c.throttle_percent),
-        ("pitch_deg", d(t.pitch_rad)),
-        ("roll_deg", d(t.roll_rad)),
-        ("alpha_deg", d(t.alpha_rad)),
-        ("sideslip_deg", d(t.sideslip_rad)),
-        ("rotor_rpm", t.rotor_rpm),
-        ("propeller_rpm", t.propeller_rpm),
-        ("rotor_torque_n_m", r.driving_torque_n_m),
-        ("thrust_n", r.thrust_n),
-        ("disc_alpha_deg", d(r.disc_alpha_rad)),
-        ("tip_speed_ratio", r.tip_speed_ratio),
-        ("thrust_coefficient_over_solidity", {
+        (Q::ResidualNorm.name(), t.residual_norm),
+        (
+            Q::StickLongitudinalPercent.name(),
+            c.stick_longitudinal_percent,
+        ),
+        (Q::StickLateralPercent.name(), c.stick_lateral_percent),
+        (Q::PedalPercent.name(), c.pedal_percent),
+        (Q::ThrottlePercent.name(), c.throttle_percent),
+        (Q::PitchDeg.name(), d(t.pitch_rad)),
+        (Q::RollDeg.name(), d(t.roll_rad)),
+        (Q::AlphaDeg.name(), d(t.alpha_rad)),
+        (Q::SideslipDeg.name(), d(t.sideslip_rad)),
+        (Q::RotorRpm.name(), t.rotor_rpm),
+        (Q::PropellerRpm.name(), t.propeller_rpm),
+        (Q::RotorTorqueNM.name(), r.driving_torque_n_m),
+        (Q::ThrustN.name(), r.thrust_n),
+        (Q::DiscAlphaDeg.name(), d(r.disc_alpha_rad)),
+        (Q::TipSpeedRatio.name(), r.tip_speed_ratio),
+        (Q::ThrustCoefficientOverSolidity.name(), {
             let rotor = &aircraft.main_rotor.rotor;
             let rho = cierva_model::components::atmosphere::at_density_altitude(
                 loading.density_altitude_ft * crate::FT_TO_M,
@@ -495,10 +499,10 @@ pub fn trim_quantities_of(
                 / (rho * std::f64::consts::PI * rotor.radius_m.powi(2) * tip * tip)
                 / rotor.solidity()
         }),
-        ("a1_deg", d(r.a1_rad)),
-        ("b1_deg", d(r.b1_rad)),
-        ("inflow_v0_m_s", t.state.inflow.v0),
-        ("inflow_v1c_m_s", t.state.inflow.v1c),
+        (Q::A1Deg.name(), d(r.a1_rad)),
+        (Q::B1Deg.name(), d(r.b1_rad)),
+        (Q::InflowV0MS.name(), t.state.inflow.v0),
+        (Q::InflowV1cMS.name(), t.state.inflow.v1c),
     ]
 }
 
@@ -524,7 +528,7 @@ pub fn trim_sweep(
         .collect()
 }
 
-/// The trend quantities of a sweep (see [`crate::case::TRIM_SWEEP_QUANTITIES`]).
+/// The trend quantities of a sweep (see [`crate::quantity::sweep_names`]).
 pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
     let get = |q: &Quantities, name: &str| {
         q.iter()
@@ -532,13 +536,13 @@ pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
             .map_or(f64::NAN, |(_, v)| *v)
     };
     let mut out = vec![(
-        "max_residual_norm".to_string(),
+        Q::MaxResidualNorm.name().to_string(),
         points
             .iter()
-            .map(|(_, q)| get(q, "residual_norm"))
+            .map(|(_, q)| get(q, Q::ResidualNorm.name()))
             .fold(0.0f64, |m, v| if v.is_nan() { f64::NAN } else { m.max(v) }),
     )];
-    for name in crate::case::TREND_QUANTITIES {
+    for name in crate::quantity::TREND.iter().map(|q| q.name()) {
         let slopes: Vec<f64> = points
             .windows(2)
             .map(|w| (get(&w[1].1, name) - get(&w[0].1, name)) / (w[1].0 - w[0].0))
@@ -675,12 +679,12 @@ fn evaluate(case: &Case, check: &Check) -> Result<Evaluated, String> {
         } => {
             let r = crate::ident::flap::inflow_from_record(record, &rotor.rotor, settings)?;
             let values = [
-                ("v0_m_s", r.v0_m_s),
-                ("v1s_m_s", r.v1s_m_s),
-                ("v1c_m_s", r.v1c_m_s),
-                ("coning_deg", r.coning_deg),
-                ("beta_1c_deg", r.beta_1c_deg),
-                ("beta_1s_deg", r.beta_1s_deg),
+                (Q::InflowV0MS.name(), r.v0_m_s),
+                (Q::InflowV1sMS.name(), r.v1s_m_s),
+                (Q::InflowV1cMS.name(), r.v1c_m_s),
+                (Q::ConingDeg.name(), r.coning_deg),
+                (Q::Beta1cDeg.name(), r.beta_1c_deg),
+                (Q::Beta1sDeg.name(), r.beta_1s_deg),
             ];
             Ok(Evaluated::of(compare_all(check, &values)?))
         }
@@ -950,15 +954,18 @@ impl Computed {
             return vec![];
         }
         [
-            "eigenvalue_real_per_s",
-            "eigenvalue_imag_rad_s",
-            "margin_real_per_s",
+            Q::EigenvalueRealPerS,
+            Q::EigenvalueImagRadS,
+            Q::MarginRealPerS,
         ]
         .iter()
-        .filter_map(|n| match *n {
-            "eigenvalue_real_per_s" => self.anchor.map(|a| (n.to_string(), a.re)),
-            "eigenvalue_imag_rad_s" => self.anchor.map(|a| (n.to_string(), a.im)),
-            _ => self.get(n).ok().map(|v| (n.to_string(), v)),
+        .filter_map(|q| {
+            let n = q.name().to_string();
+            match q {
+                Q::EigenvalueRealPerS => self.anchor.map(|a| (n, a.re)),
+                Q::EigenvalueImagRadS => self.anchor.map(|a| (n, a.im)),
+                _ => self.get(q.name()).ok().map(|v| (n, v)),
+            }
         })
         .collect()
     }
@@ -1074,14 +1081,14 @@ fn compute(
     match check.kind {
         CheckKind::Mode => {
             let m = select_mode(model, check, anchor, unmodified)?;
-            values.push(("eigenvalue_real_per_s", m.eigenvalue.re));
-            values.push(("eigenvalue_imag_rad_s", m.eigenvalue.im));
-            values.push(("natural_frequency_rad_s", m.natural_frequency_rad_s));
+            values.push((Q::EigenvalueRealPerS.name(), m.eigenvalue.re));
+            values.push((Q::EigenvalueImagRadS.name(), m.eigenvalue.im));
+            values.push((Q::NaturalFrequencyRadS.name(), m.natural_frequency_rad_s));
             let optional = [
-                ("damping_ratio", m.damping_ratio),
-                ("period_s", m.period_s),
-                ("time_to_half_s", m.time_to_half_s),
-                ("time_to_double_s", m.time_to_double_s),
+                (Q::DampingRatio.name(), m.damping_ratio),
+                (Q::PeriodS.name(), m.period_s),
+                (Q::TimeToHalfS.name(), m.time_to_half_s),
+                (Q::TimeToDoubleS.name(), m.time_to_double_s),
             ];
             values.extend(optional.into_iter().filter_map(|(n, v)| v.map(|v| (n, v))));
             selected = Some(m.eigenvalue);
@@ -1089,11 +1096,11 @@ fn compute(
         CheckKind::Bcar => {
             let m = select_mode(model, check, anchor, unmodified)?;
             if let Some(a) = bcar::assess(&m) {
-                values.push(("damping_index", a.damping_index));
-                values.push(("boundary_index", a.boundary_index));
-                values.push(("margin_index", a.margin_index));
-                values.push(("margin_real_per_s", a.margin_real_per_s));
-                values.push(("period_s", a.period_s));
+                values.push((Q::DampingIndex.name(), a.damping_index));
+                values.push((Q::BoundaryIndex.name(), a.boundary_index));
+                values.push((Q::MarginIndex.name(), a.margin_index));
+                values.push((Q::MarginRealPerS.name(), a.margin_real_per_s));
+                values.push((Q::PeriodS.name(), a.period_s));
                 verdict = Some(a.verdict);
             }
             selected = Some(m.eigenvalue);
@@ -1112,7 +1119,7 @@ fn compute(
             if let Some(by) = &check.divided_by {
                 v /= model.derivative_value(by).map_err(|e| e.to_string())?;
             }
-            values.push(("value", v));
+            values.push((Q::Value.name(), v));
         }
         CheckKind::Autorotation => return Err("an autorotation check needs a rotor".into()),
         CheckKind::Trim | CheckKind::TrimSweep | CheckKind::TimeHistory => {
@@ -1128,11 +1135,7 @@ fn compute(
 }
 
 fn static_name(q: &str) -> &'static str {
-    crate::case::quantities(CheckKind::Milne)
-        .iter()
-        .find(|n| **n == q)
-        .copied()
-        .unwrap_or("unknown")
+    crate::quantity::Quantity::parse(q).map_or("unknown", |q| q.name())
 }
 
 fn milne_quantity(model: &LinearModel, q: &str) -> Result<f64, String> {

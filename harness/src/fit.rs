@@ -178,30 +178,36 @@ impl Condition {
 pub enum Measure {
     /// A derivative of the linearised model (`X_u`, `Q_Omega`), at a flight condition.
     Derivative(String),
-    /// A trim quantity ([`crate::case::TRIM_QUANTITIES`]), at a flight condition.
+    /// A trim quantity ([`crate::quantity::TRIM`]), at a flight condition.
     Trim(String),
-    /// An autorotation quantity (rpm, lift and drag coefficients, ...), at a tunnel condition.
+    /// An autorotation quantity ([`TUNNEL_QUANTITIES`]), at a tunnel condition.
     Tunnel(String),
 }
 
-/// The autorotation quantities a tunnel target can fit.
-pub const TUNNEL_QUANTITIES: &[&str] = &[
-    "rpm",
-    "tip_speed_ratio",
-    "lift_coefficient",
-    "drag_coefficient",
-    "lift_to_drag",
-    "thrust_coefficient",
-    "a0_deg",
-    "a1_deg",
-    "b1_deg",
-];
+/// The autorotation quantities a tunnel target can fit (all but the rotor speed in rad/s,
+/// which is `rotor_rpm` again, and the inflow, which a tunnel does not measure).
+pub const TUNNEL_QUANTITIES: &[crate::quantity::Quantity] = {
+    use crate::quantity::Quantity as Q;
+    &[
+        Q::RotorRpm,
+        Q::TipSpeedRatio,
+        Q::LiftCoefficient,
+        Q::DragCoefficient,
+        Q::LiftToDrag,
+        Q::ThrustCoefficient,
+        Q::ConingDeg,
+        Q::A1Deg,
+        Q::B1Deg,
+    ]
+};
 
 impl Measure {
     /// The measure by name at a kind of condition: a trim quantity or a derivative in flight,
     /// an autorotation quantity in a tunnel. An unknown name is an error that suggests the
     /// nearest.
     pub fn parse(condition: &Condition, name: &str) -> Result<Self, String> {
+        let trim = crate::quantity::names(crate::quantity::TRIM);
+        let tunnel = crate::quantity::names(TUNNEL_QUANTITIES);
         let hint = |have: &[&str]| {
             let have: Vec<String> = have.iter().map(|s| s.to_string()).collect();
             crate::yaml::nearest(name, &have)
@@ -210,7 +216,7 @@ impl Measure {
         };
         match condition {
             Condition::Flight(_) => {
-                if crate::case::TRIM_QUANTITIES.contains(&name) {
+                if trim.contains(&name) {
                     return Ok(Self::Trim(name.into()));
                 }
                 use cierva_model::aircraft::linearise::{CONTROLS, STATES};
@@ -226,18 +232,18 @@ impl Measure {
                     Ok(_) => Ok(Self::Derivative(name.into())),
                     Err(e) => Err(format!(
                         "`{name}` is neither a trim quantity nor a derivative of the linearised model ({e}){}",
-                        hint(crate::case::TRIM_QUANTITIES)
+                        hint(&trim)
                     )),
                 }
             }
             Condition::Tunnel(_) => {
-                if TUNNEL_QUANTITIES.contains(&name) {
+                if tunnel.contains(&name) {
                     Ok(Self::Tunnel(name.into()))
                 } else {
                     Err(format!(
                         "`{name}` is not an autorotation quantity (one of {}){}",
-                        TUNNEL_QUANTITIES.join(", "),
-                        hint(TUNNEL_QUANTITIES)
+                        tunnel.join(", "),
+                        hint(&tunnel)
                     ))
                 }
             }

@@ -13,7 +13,7 @@
 //! targets:                               # what the fit matches
 //!   - case: ../cases/naca-tr515-table-iii.yaml   # a case's checks: condition, value, tolerance
 //!     checks: [row-01, row-05]           # default: every check
-//!     quantities: [rpm, drag_coefficient]
+//!     quantities: [rotor_rpm, drag_coefficient]
 //!     bounds: none                       # none | hard | soft (interval tolerances only)
 //!   - condition: {airspeed_mph: 40}      # or written out (tunnel: {alpha_deg: .., ...})
 //!     quantity: X_u

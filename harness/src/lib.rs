@@ -16,6 +16,7 @@ pub mod fit;
 pub mod fit_file;
 pub mod history;
 pub mod ident;
+pub mod quantity;
 pub mod refs;
 pub mod report;
 pub mod review;

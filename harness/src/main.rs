@@ -114,8 +114,8 @@ enum Command {
     /// (RECORD.csv and its sidecar RECORD.yaml), labelled synthetic with its generator, seed and
     /// truth.
     ///
-    /// Example: `cierva synth flight-refs/seed002-vpm-m16-60kn.yaml --control eta_s --input sweep
-    /// --amplitude 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
+    /// Example: `cierva synth flight-refs/seed002-vpm-m16-60kn.yaml --control eta_s --shape sweep
+    /// --amplitude-model-units 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
     Synth(SynthArgs),
     /// Identify stability and control derivatives from a flight record (frequency-domain
     /// equation error, seed 000 Sec. IV): estimates, standard errors, 95 % bounds, fit quality,
@@ -250,7 +250,7 @@ enum Command {
         /// A CSV of control changes from trim (time_s and any of eta_s_percent, eta_c_percent,
         /// eta_p_percent, eta_t_percent); instead of --shape.
         #[arg(long)]
-        input: Option<PathBuf>,
+        controls_csv: Option<PathBuf>,
         #[command(flatten)]
         shape: ShapeArgs,
         /// Length of the run, s.
@@ -421,7 +421,7 @@ fn main() -> ExitCode {
         Command::Linearize { flight, format } => linearize(flight, format),
         Command::Simulate {
             flight,
-            input,
+            controls_csv,
             shape,
             duration_s,
             azimuth_step_deg,
@@ -430,7 +430,7 @@ fn main() -> ExitCode {
             format,
         } => simulate(
             flight,
-            (input, shape.input(), shape.control),
+            (controls_csv, shape.input(), shape.control),
             (duration_s, azimuth_step_deg, every),
             output,
             format,

@@ -235,9 +235,9 @@ pub fn milne_table(m: &LinearModel) -> String {
 /// iterate is not reproducible to the digit across platforms).
 pub fn autorotation_table(rows: &[(String, Result<crate::eval::Quantities, String>)]) -> String {
     let mut s = String::new();
-    let names = crate::case::quantities(crate::case::CheckKind::Autorotation);
+    let names = crate::quantity::names(crate::quantity::AUTOROTATION);
     let _ = write!(s, "{:<10}", "check");
-    for n in names {
+    for n in &names {
         let _ = write!(s, " {n:>12}");
     }
     s.push('\n');
@@ -245,7 +245,7 @@ pub fn autorotation_table(rows: &[(String, Result<crate::eval::Quantities, Strin
         let _ = write!(s, "{id:<10}");
         match r {
             Ok(values) => {
-                for n in names {
+                for n in &names {
                     let v = values
                         .iter()
                         .find(|(q, _)| q == n)

@@ -102,9 +102,9 @@ fn tr515_case_rows_are_the_transcribed_table() {
         let t = check.tunnel.unwrap();
         assert_eq!(t.tip_speed_ratio, Some(row[col("mu")]), "{}", check.id);
         assert_eq!(t.alpha_deg, row[col("alpha_deg")], "{}", check.id);
-        assert_eq!(t.rpm, Some(row[col("N_rpm")]), "{}", check.id);
+        assert_eq!(t.rotor_rpm, Some(row[col("N_rpm")]), "{}", check.id);
         for (quantity, column) in [
-            ("rpm", "N_rpm"),
+            ("rotor_rpm", "N_rpm"),
             ("lift_coefficient", "CL"),
             ("drag_coefficient", "CD"),
             ("lift_to_drag", "L_D"),

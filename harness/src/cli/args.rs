@@ -46,7 +46,8 @@ impl FlightArgs {
 /// A test input on one control (shared by `simulate` and `synth-history`).
 #[derive(clap::Args)]
 pub(crate) struct ShapeArgs {
-    /// An input shape on one control (with --control and --amplitude-percent).
+    /// An input shape on one control (with --control and --amplitude-percent; `simulate` takes
+    /// a CSV of control changes with --controls-csv instead).
     #[arg(long, value_enum)]
     pub(crate) shape: Option<InputChoice>,
     /// eta_s (longitudinal stick), eta_c (lateral stick), eta_p (pedal) or eta_t (throttle).
@@ -204,11 +205,13 @@ pub(crate) struct SynthArgs {
     /// The control to excite.
     #[arg(long)]
     pub(crate) control: String,
+    /// The input shape (as `--shape` of `simulate` and `synth-history`).
     #[arg(long, value_enum, default_value_t = InputChoice::Sweep)]
-    pub(crate) input: InputChoice,
-    /// Input amplitude, in the control's units.
+    pub(crate) shape: InputChoice,
+    /// Input amplitude, in the control's own units as the model file's `units` gives them
+    /// (a linear model's controls need not be in percent of travel).
     #[arg(long, allow_hyphen_values = true)]
-    pub(crate) amplitude: f64,
+    pub(crate) amplitude_model_units: f64,
     /// Sweep band, Hz.
     #[arg(long, default_value_t = 0.02)]
     pub(crate) from_hz: f64,
@@ -228,9 +231,10 @@ pub(crate) struct SynthArgs {
     /// 5e-4 rad(/s), rotor 0.01 rad/s); 0 for a noise-free record.
     #[arg(long, default_value_t = 0.0)]
     pub(crate) noise_scale: f64,
-    /// Turbulence intensity on each force equation (acceleration units); 0 for none.
+    /// Turbulence: the standard deviation of a random forcing on each equation of u, v, w, p, q,
+    /// r and Omega, in that equation's SI acceleration unit (m/s^2 or rad/s^2); 0 for none.
     #[arg(long, default_value_t = 0.0)]
-    pub(crate) turbulence: f64,
+    pub(crate) turbulence_si: f64,
     /// Trim about which the record is written (estimated defaults for the VPM M16 at 60 kn).
     #[arg(long, default_value_t = 30.0)]
     pub(crate) trim_u_m_s: f64,

@@ -28,7 +28,7 @@ pub(crate) fn simulate(
         },
         (None, Some(_)) => None,
         _ => {
-            eprintln!("error: give exactly one of --input CSV or --shape");
+            eprintln!("error: give exactly one of --controls-csv or --shape");
             return ExitCode::from(2);
         }
     };

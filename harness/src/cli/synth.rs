@@ -24,27 +24,27 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
         eprintln!("error: --probe-m `{}`: expected x,y,z in metres", a.probe_m);
         return ExitCode::from(2);
     };
-    let input = match a.input {
+    let input = match a.shape {
         InputChoice::Sweep | InputChoice::SweepDown => cierva_harness::ident::synth::Input::Sweep {
             from_hz: a.from_hz,
             to_hz: a.to_hz,
             duration_s: a.input_s,
-            amplitude: a.amplitude,
-            descending: a.input == InputChoice::SweepDown,
+            amplitude: a.amplitude_model_units,
+            descending: a.shape == InputChoice::SweepDown,
         },
         InputChoice::Doublet => cierva_harness::ident::synth::Input::Doublet {
             start_s: 2.0,
             pulse_s: a.input_s,
-            amplitude: a.amplitude,
+            amplitude: a.amplitude_model_units,
         },
         InputChoice::ThreeTwoOneOne => cierva_harness::ident::synth::Input::ThreeTwoOneOne {
             start_s: 2.0,
             unit_s: a.input_s,
-            amplitude: a.amplitude,
+            amplitude: a.amplitude_model_units,
         },
         InputChoice::Step => cierva_harness::ident::synth::Input::Step {
             start_s: 2.0,
-            amplitude: a.amplitude,
+            amplitude: a.amplitude_model_units,
         },
     };
     let k = a.noise_scale;
@@ -70,8 +70,8 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
             rotor_rad_s: 0.01 * k,
             control: 0.0,
         },
-        turbulence: (a.turbulence > 0.0).then_some(synth::Turbulence {
-            intensity: a.turbulence,
+        turbulence: (a.turbulence_si > 0.0).then_some(synth::Turbulence {
+            intensity: a.turbulence_si,
             correlation_time_s: 0.5,
         }),
         trim: synth::Trim {
