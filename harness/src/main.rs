@@ -76,7 +76,7 @@ enum Command {
     /// check's expected value, with its tolerance as the standard error) or references written
     /// out, with optional hard or soft bounds. See harness/src/fit_file.rs for the format.
     ///
-    /// Writes the corrections file (default `<fit file's folder>/results/<id>.yaml`, for
+    /// Writes the corrections file (default `corrections/fitted/<id>.yaml`, for
     /// `cierva validate --corrections`) and a Markdown report (default `reports/fits/<id>.md`).
     /// Exit code 0 when the fit converged, 1 when it did not (iteration limit, infeasible, model
     /// failure), 2 on bad input.

@@ -521,7 +521,7 @@ fn validate_with_fitted_corrections_reports_the_checks_that_now_pass() {
         "validate",
         case,
         "--corrections",
-        "fits/results/vpm-m16-seed000.yaml",
+        "corrections/fitted/vpm-m16-seed000.yaml",
     ]);
     assert_eq!(code, 1, "{out}\n{err}");
     assert!(out.contains("8 unexpected passes"), "{out}");
@@ -535,7 +535,7 @@ fn validate_with_fitted_corrections_reports_the_checks_that_now_pass() {
         "validate",
         case,
         "--corrections",
-        "fits/results/pca-2-tr515.yaml",
+        "corrections/fitted/pca-2-tr515.yaml",
     ]);
     assert_eq!(code, 0, "{out}\n{err}");
     assert!(out.contains("no case's aircraft or rotor matches"), "{out}");

@@ -242,7 +242,7 @@ fn repo() -> std::path::PathBuf {
 }
 
 /// Runs a shipped fit file and checks it against its committed result
-/// (`fits/results/<id>.yaml`): converged, the same corrections within a hundredth of their
+/// (`corrections/fitted/<id>.yaml`): converged, the same corrections within a hundredth of their
 /// standard errors, and the fitted targets closer to their references than before.
 fn shipped_fit(
     id: &str,
@@ -259,7 +259,7 @@ fn shipped_fit(
         r.status, r.iterations, r.evaluations, run.seconds, r.values, r.standard_errors
     );
     assert_eq!(r.status, Status::Converged, "{r:?}");
-    let committed = corrections::load(&repo().join(format!("fits/results/{id}.yaml"))).unwrap();
+    let committed = corrections::load(&repo().join(format!("corrections/fitted/{id}.yaml"))).unwrap();
     assert_eq!(committed.target, f.applies_to);
     let fresh = r.corrections();
     for (k, (v, se)) in r

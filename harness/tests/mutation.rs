@@ -140,7 +140,6 @@ fn kind_of(rel: &Path) -> Option<Kind> {
             }
         }
         ("flight-refs", "yaml") => Kind::Reference,
-        ("fits", "yaml") if s.starts_with("fits/results/") => Kind::Corrections,
         ("fits", "yaml") => Kind::Fit,
         ("corrections", "yaml") => Kind::Corrections,
         ("reports", "yaml") if s.starts_with("reports/discrepancies/") => Kind::Discrepancies,

@@ -16,12 +16,8 @@ pub(crate) fn fit(
             return ExitCode::from(2);
         }
     };
-    let output = output.unwrap_or_else(|| {
-        file.parent()
-            .unwrap_or(Path::new("."))
-            .join("results")
-            .join(format!("{}.yaml", f.id))
-    });
+    let output =
+        output.unwrap_or_else(|| PathBuf::from(format!("corrections/fitted/{}.yaml", f.id)));
     let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
     let busy = spinner(&format!("fitting {}", f.id));
     let run = fit_file::run(&f);
