@@ -441,6 +441,24 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         ));
     }
 
+    let library = match find_library(dir) {
+        Some(p) => Some(load_library(&p)?),
+        None => None,
+    };
+    if let Some(lib) = &library
+        && let Some(name) = spec
+            .tolerances
+            .keys()
+            .find(|n| lib.tolerances.contains_key(*n))
+    {
+        return Err(err(
+            &format!("tolerances.{name}"),
+            format!(
+                "`{name}` is a shared tolerance ({}): use it as it is, or give yours another name",
+                lib.path.display()
+            ),
+        ));
+    }
     let subject = load_subject(path, &src, dir, &spec.model)?;
     let mut seen = std::collections::BTreeSet::new();
     let mut checks = Vec::new();
@@ -461,7 +479,16 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
                 "a check id must be non-empty and contain neither `::` nor `__`".into(),
             ));
         }
-        checks.push(resolve_check(path, &src, dir, &spec, &subject, &here, c)?);
+        checks.push(resolve_check(
+            path,
+            &src,
+            dir,
+            &spec,
+            library.as_ref(),
+            &subject,
+            &here,
+            c,
+        )?);
     }
     let recorded = crate::discrepancy::load(&spec.id)?;
     let mut ids = std::collections::BTreeSet::new();
@@ -688,11 +715,13 @@ fn load_table(
     Ok(r.table)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn resolve_check(
     path: &Path,
     src: &str,
     dir: &Path,
     spec: &CaseSpec,
+    library: Option<&Library>,
     subject: &Subject,
     here: &str,
     c: &CheckSpec,
@@ -1067,7 +1096,7 @@ fn resolve_check(
                 ),
             ));
         }
-        let tolerance = resolve_tolerance(path, src, dir, spec, c, &field, &e.tolerance)?;
+        let tolerance = resolve_tolerance(path, src, dir, spec, library, c, &field, &e.tolerance)?;
         if matches!(tolerance.kind, ToleranceKind::Rounding(_))
             && !matches!(subject, Subject::Linear { .. })
         {
@@ -1277,30 +1306,57 @@ fn check_tunnel(
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn resolve_tolerance(
     path: &Path,
     src: &str,
     dir: &Path,
     spec: &CaseSpec,
+    library: Option<&Library>,
     check: &CheckSpec,
+    field: &str,
+    name: &str,
+) -> Result<Tolerance, InputError> {
+    let Some(t) = spec.tolerances.get(name) else {
+        if let Some(t) = library.and_then(|l| l.tolerances.get(name)) {
+            return Ok(t.clone());
+        }
+        let mut names: Vec<String> = spec.tolerances.keys().cloned().collect();
+        let shared: Vec<String> = library
+            .map(|l| l.tolerances.keys().cloned().collect())
+            .unwrap_or_default();
+        let hint = crate::yaml::nearest(name, &[names.clone(), shared.clone()].concat())
+            .map(|n| format!(" (did you mean `{n}`?)"))
+            .unwrap_or_default();
+        names.sort();
+        return Err(InputError::field(
+            path,
+            src,
+            &format!("{field}.tolerance"),
+            format!(
+                "no tolerance named `{name}`{hint}; the case defines [{}] and the shared library [{}]",
+                names.join(", "),
+                shared.join(", ")
+            ),
+        ));
+    };
+    tolerance_of(path, src, dir, t, check.derivative.as_deref(), field, name)
+}
+
+/// A tolerance as written, checked: exactly one kind, sound numbers, a reason. `derivative` is
+/// the check's derivative, for a tolerance that takes its interval from a derivative table
+/// (`None` in the shared library, which refuses those).
+fn tolerance_of(
+    path: &Path,
+    src: &str,
+    dir: &Path,
+    t: &ToleranceSpec,
+    derivative: Option<&str>,
     field: &str,
     name: &str,
 ) -> Result<Tolerance, InputError> {
     // Long: one arm per tolerance kind, each checking its numbers
     let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
-    let t = spec.tolerances.get(name).ok_or_else(|| {
-        err(
-            &format!("{field}.tolerance"),
-            format!(
-                "no tolerance named `{name}`; the case defines [{}]",
-                spec.tolerances
-                    .keys()
-                    .cloned()
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        )
-    })?;
     let tfield = format!("tolerances.{name}");
     if t.reason.trim().is_empty() {
         return Err(err(
@@ -1366,7 +1422,7 @@ fn resolve_tolerance(
         ToleranceKind::Rounding(r)
     } else {
         let from = t.interval_from.as_ref().expect("one kind is given");
-        let d = check.derivative.as_deref().ok_or_else(|| {
+        let d = derivative.ok_or_else(|| {
             err(
                 &format!("{field}.tolerance"),
                 format!("`{name}` takes its interval from a derivative table, so it only applies to `derivative` checks"),
@@ -1446,6 +1502,73 @@ pub fn with_corrections(
 }
 
 /// Finds case files (`*.yaml`, `*.yml`) under the given paths, sorted; a file is taken as given.
+/// The file name of the shared tolerance library.
+pub const LIBRARY_FILE: &str = "tolerances.yaml";
+
+/// The shared tolerance library as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LibrarySpec {
+    #[allow(dead_code)]
+    title: String,
+    tolerances: BTreeMap<String, ToleranceSpec>,
+}
+
+/// The shared tolerance library (`cases/tolerances.yaml`): tolerances common to many cases
+/// (a sign, printed decimals, FAA Part 60 bands), each with its reason. A case names them as it
+/// names its own; a case may not define a tolerance of the same name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Library {
+    pub path: PathBuf,
+    pub tolerances: BTreeMap<String, Tolerance>,
+}
+
+/// The library that applies to cases in `dir`: the nearest `tolerances.yaml` in `dir` or a
+/// folder above it.
+pub fn find_library(dir: &Path) -> Option<PathBuf> {
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let start = dir.canonicalize().ok()?;
+    start
+        .ancestors()
+        .map(|d| d.join(LIBRARY_FILE))
+        .find(|p| p.is_file())
+}
+
+/// Loads and checks a tolerance library. Its tolerances cannot take intervals from a table
+/// (that depends on the check).
+pub fn load_library(path: &Path) -> Result<Library, InputError> {
+    let src = yaml::read(path)?;
+    let spec: LibrarySpec = yaml::parse(path, &src)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut tolerances = BTreeMap::new();
+    for (name, t) in &spec.tolerances {
+        let field = format!("tolerances.{name}");
+        if t.interval_from.is_some() {
+            return Err(InputError::field(
+                path,
+                &src,
+                &format!("{field}.interval_from"),
+                "a shared tolerance cannot take its interval from a table (it depends on the check)"
+                    .to_string(),
+            ));
+        }
+        tolerances.insert(
+            name.clone(),
+            tolerance_of(path, &src, dir, t, None, &field, name)?,
+        );
+    }
+    Ok(Library {
+        path: path.to_path_buf(),
+        tolerances,
+    })
+}
+
+/// The case files among `paths` (files as given; folders searched for `.yaml` files, except the
+/// tolerance library).
 pub fn discover(paths: &[PathBuf]) -> Result<Vec<PathBuf>, InputError> {
     let mut out = Vec::new();
     for p in paths {
@@ -1471,7 +1594,9 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), InputError> {
             .path();
         if p.is_dir() {
             walk(&p, out)?;
-        } else if matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml")) {
+        } else if matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml"))
+            && p.file_name().is_none_or(|n| n != LIBRARY_FILE)
+        {
             out.push(p);
         }
     }

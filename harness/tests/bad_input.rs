@@ -13,3 +13,62 @@ fn every_bad_case_gets_its_located_error() {
     let problems = common::check_fixtures(&dir, 25, case::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// The shared tolerance library: a case uses its tolerances by name, may not define one of the
+/// same name, and the library itself is checked (a table interval depends on the check, so the
+/// library refuses one). The shipped library loads, and `discover` does not take it for a case.
+#[test]
+fn shared_tolerances_are_used_and_never_shadowed() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let dir = std::env::temp_dir().join(format!("cierva-library-{}", std::process::id()));
+    let cases = dir.join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    std::fs::copy(
+        root.join("cases").join(case::LIBRARY_FILE),
+        dir.join(case::LIBRARY_FILE),
+    )
+    .unwrap();
+    let model = root.join("flight-refs/seed002-vpm-m16-60kn.yaml");
+    let case_text = |local: &str| {
+        format!(
+            "id: uses-library\ntitle: t\nclass: verification\nprovenance: {{source: seed 002 Table 1}}\n\
+             model: {{linear_model_file: {}}}\n{local}checks:\n  - id: phugoid\n    kind: mode\n    \
+             mode: phugoid\n    expect:\n      eigenvalue_real_per_s: {{value: -0.0737, tolerance: printed-4dp}}\n",
+            model.display()
+        )
+    };
+    let path = cases.join("uses-library.yaml");
+    std::fs::write(&path, case_text("")).unwrap();
+    let c = case::load(&path).expect("a case uses the shared library found above its folder");
+    let t = &c.checks[0].expectations[0].tolerance;
+    assert_eq!(t.name, "printed-4dp");
+    assert!(t.reason.contains("4 decimals"), "{}", t.reason);
+
+    std::fs::write(
+        &path,
+        case_text("tolerances:\n  printed-4dp: {absolute: 1.0, reason: wide}\n"),
+    )
+    .unwrap();
+    let e = case::load(&path).unwrap_err().render();
+    assert!(
+        e.contains("uses-library.yaml:7:") && e.contains("is a shared tolerance"),
+        "{e}"
+    );
+
+    std::fs::write(
+        dir.join(case::LIBRARY_FILE),
+        "title: t\ntolerances:\n  flight:\n    interval_from: {file: x.yaml, column: c}\n    reason: r\n",
+    )
+    .unwrap();
+    let e = case::load(&path).unwrap_err().render();
+    assert!(
+        e.contains("tolerances.yaml:4:") && e.contains("cannot take its interval from a table"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+
+    let shipped = case::load_library(&root.join("cases").join(case::LIBRARY_FILE)).unwrap();
+    assert!(shipped.tolerances.len() >= 7);
+    let found = case::discover(&[root.join("cases")]).unwrap();
+    assert!(found.iter().all(|p| !p.ends_with(case::LIBRARY_FILE)));
+}

@@ -289,6 +289,12 @@ fn new_case_writes_a_template_that_validates() {
         dir.join("flight-refs/seed002-vpm-m16-60kn.yaml"),
     )
     .unwrap();
+    // The template uses the shared tolerance library: give the new cases folder one.
+    std::fs::copy(
+        root().join("cases/tolerances.yaml"),
+        cases.join("tolerances.yaml"),
+    )
+    .unwrap();
     let path = cases.join("my-first-case.yaml");
     let (code, _, err) = cierva(&["new-case", path.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");

@@ -259,7 +259,8 @@ fn shipped_fit(
         r.status, r.iterations, r.evaluations, run.seconds, r.values, r.standard_errors
     );
     assert_eq!(r.status, Status::Converged, "{r:?}");
-    let committed = corrections::load(&repo().join(format!("corrections/fitted/{id}.yaml"))).unwrap();
+    let committed =
+        corrections::load(&repo().join(format!("corrections/fitted/{id}.yaml"))).unwrap();
     assert_eq!(committed.target, f.applies_to);
     let fresh = r.corrections();
     for (k, (v, se)) in r

@@ -101,6 +101,8 @@ fn mutate(text: &[u8], rng: &mut Lcg) -> Option<Vec<u8>> {
 #[derive(Clone, Copy, Debug)]
 enum Kind {
     Case,
+    /// The shared tolerance library.
+    Library,
     Aircraft,
     Rotor,
     Reference,
@@ -118,6 +120,7 @@ fn kind_of(rel: &Path) -> Option<Kind> {
     let s = rel.to_string_lossy();
     let ext = rel.extension()?.to_str()?;
     Some(match (s.split('/').next()?, ext) {
+        ("cases", "yaml") if s.ends_with(case::LIBRARY_FILE) => Kind::Library,
         ("cases", "yaml") => Kind::Case,
         ("aircraft", "yaml") if s.ends_with("-rotor.yaml") || s.ends_with("-propeller.yaml") => {
             Kind::Rotor
@@ -175,6 +178,7 @@ fn load(kind: Kind, path: &Path) -> Result<(), InputError> {
         )?),
         Kind::Fit => drop(fit_file::load(path)?),
         Kind::Corrections => drop(corrections::load(path)?),
+        Kind::Library => drop(case::load_library(path)?),
         Kind::Discrepancies => drop(discrepancy::load_file(path)?),
         Kind::Scoreboard => drop(scoreboard::load_file(path)?),
     }
