@@ -1241,16 +1241,23 @@ fn refuse_trivial(
             let Some(record) = reference else {
                 return Ok(());
             };
-            let metrics = crate::history::zero_response_metrics(record)
+            let zero = crate::history::zero_response_metrics(record)
                 .map_err(|e| (".reference".to_string(), e))?;
-            metrics
-                .iter()
-                .flat_map(|m| {
+            let mean = crate::history::mean_response_metrics(record)
+                .map_err(|e| (".reference".to_string(), e))?;
+            let who = [
+                "a model with no response",
+                "a model that holds still at the record's own mean",
+            ];
+            zero.iter()
+                .map(|m| (m, who[0]))
+                .chain(mean.iter().map(|m| (m, who[1])))
+                .flat_map(|(m, who)| {
                     crate::history::METRICS.iter().map(move |q| {
                         (
                             format!("{}.{q}", m.signal),
                             m.get(q).unwrap_or(f64::NAN),
-                            "a model with no response",
+                            who,
                         )
                     })
                 })
@@ -1259,10 +1266,10 @@ fn refuse_trivial(
         _ => return Ok(()),
     };
     for e in expectations {
-        let Some((_, v, who)) = trivial.iter().find(|(q, ..)| *q == e.quantity) else {
-            continue;
-        };
-        if crate::tolerance::admits(&e.tolerance.kind, e.value, *v) == Some(true) {
+        for (_, v, who) in trivial.iter().filter(|(q, ..)| *q == e.quantity) {
+            if crate::tolerance::admits(&e.tolerance.kind, e.value, *v) != Some(true) {
+                continue;
+            }
             return Err((
                 format!(".expect.{}", e.quantity),
                 format!(

@@ -250,6 +250,33 @@ pub fn zero_response_metrics(record: &Record) -> Result<Vec<SignalMetrics>, Stri
     compare(record, &flown)
 }
 
+/// The metrics a model whose every response holds still at the reference's own mean (over the
+/// record) would score: the second trivial predictor. A check that it passes only asks the
+/// model to get the record's average, not its motion.
+pub fn mean_response_metrics(record: &Record) -> Result<Vec<SignalMetrics>, String> {
+    let n = record.channel("time_s").map_or(0, <[f64]>::len);
+    let signals = SIGNALS
+        .iter()
+        .map(|name| {
+            let mean = record.channel(name).map_or(0.0, |c| {
+                if c.is_empty() {
+                    0.0
+                } else {
+                    c.iter().sum::<f64>() / c.len() as f64
+                }
+            });
+            vec![mean; n]
+        })
+        .collect();
+    compare(
+        record,
+        &Flown {
+            time_s: vec![0.0; n],
+            signals,
+        },
+    )
+}
+
 pub fn compare(record: &Record, flown: &Flown) -> Result<Vec<SignalMetrics>, String> {
     let t = record.channel("time_s").ok_or("the record has no time_s")?;
     let mut out = Vec::new();
