@@ -29,10 +29,10 @@ pub(crate) fn fit(
         .to_string();
     let command = format!("cierva fit {}", file.display());
     let spec = fit_file::corrections_file(&f, &run, &id, &command);
-    let mut md = fit_file::markdown(&f, &run);
+    let mut md = cierva_harness::report::fit::markdown(&f, &run);
     // The before/after figure beside the Markdown (which shows it), and in `validate`'s report.
     let svg_path = report.with_extension("svg");
-    let svg = fit_file::figure(&f, &run).svg(640, 380);
+    let svg = cierva_harness::report::fit::figure(&f, &run).svg(640, 380);
     if let (Some(_), Some(name)) = (&svg, svg_path.file_name()) {
         md += &format!(
             "\n![Every target's error before and after, in standard errors]({})\n",

@@ -11,6 +11,7 @@
 //! headless-browser check (`scripts/check-report`) reads that mark.
 
 pub mod figures;
+pub mod fit;
 pub mod plot;
 
 use crate::case::Case;

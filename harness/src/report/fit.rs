@@ -1,0 +1,228 @@
+//! The before/after report of a fit (`cierva fit`): Markdown for people (`reports/fits/<id>.md`)
+//! and one figure of every target's error before and after (`reports/fits/<id>.svg`). Reads a
+//! fit file and its run; computes nothing of its own.
+
+use crate::fit::{self, Enforce};
+use crate::fit_file::{FitFile, FitRun, Origin, rms_relative_error_percent};
+
+/// The before/after report of a fit, as Markdown.
+pub fn markdown(f: &FitFile, run: &FitRun) -> String {
+    // Long: the fit report's sections in reading order
+    use std::fmt::Write;
+    let r = &run.result;
+    let mut s = String::new();
+    let _ = writeln!(s, "# Fit `{}`: {}\n", f.id, f.title);
+    let _ = writeln!(s, "Source: {}\n", f.provenance.source);
+    if let Some(n) = &f.provenance.notes {
+        let _ = writeln!(s, "{n}\n");
+    }
+    let detail = match &r.status {
+        fit::Status::Infeasible(m) | fit::Status::ModelFailure(m) | fit::Status::BadProblem(m) => {
+            format!(": {m}")
+        }
+        _ => String::new(),
+    };
+    let _ = writeln!(
+        s,
+        "**Status: {}**{detail}. {} iterations, {} model evaluations, {:.2} s. Cost {:.4e} -> {:.4e}.\n",
+        r.status.name(),
+        r.iterations,
+        r.evaluations,
+        run.seconds,
+        r.cost_start,
+        r.cost
+    );
+    let _ = writeln!(s, "## Parameters\n");
+    let _ = writeln!(
+        s,
+        "| parameter | bounds | start | fitted | standard error |"
+    );
+    let _ = writeln!(s, "| --- | --- | ---: | ---: | ---: |");
+    for (p, (v, se)) in f
+        .problem
+        .parameters
+        .iter()
+        .zip(r.values.iter().zip(&r.standard_errors))
+    {
+        let _ = writeln!(
+            s,
+            "| {} | [{}, {}] | {} | {v:.5} | {} |",
+            p.kind.name(),
+            p.lower,
+            p.upper,
+            p.start,
+            if se.is_finite() {
+                format!("{se:.5}")
+            } else {
+                "not identifiable".into()
+            }
+        );
+    }
+    for w in &r.warnings {
+        let _ = writeln!(s, "\n- warning: {w}");
+    }
+    let table = |s: &mut String,
+                 targets: &[fit::Target],
+                 origins: &[Origin],
+                 before: &[f64],
+                 after: &[f64]| {
+        let _ = writeln!(
+            s,
+            "| reference from | quantity | condition | reference | standard error | bounds | before | after | before (SE) | after (SE) |"
+        );
+        let _ = writeln!(
+            s,
+            "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |"
+        );
+        for ((t, o), (b, a)) in targets.iter().zip(origins).zip(before.iter().zip(after)) {
+            let bounds = t.bounds.map_or("-".to_string(), |b| {
+                format!(
+                    "[{:.4}, {:.4}] {}",
+                    b.lower,
+                    b.upper,
+                    match b.enforce {
+                        Enforce::Hard => "hard".to_string(),
+                        Enforce::Soft { weight } => format!("soft, weight {weight}"),
+                    }
+                )
+            });
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.5} | {:.5} | {bounds} | {b:.5} | {a:.5} | {:+.2} | {:+.2} |",
+                o.label,
+                t.measure.name(),
+                t.condition.label(),
+                t.reference,
+                t.standard_error,
+                (b - t.reference) / t.standard_error,
+                (a - t.reference) / t.standard_error,
+            );
+        }
+        let unsolved = |y: &[f64]| y.iter().filter(|v| !v.is_finite()).count();
+        let (rb, ra, n) = rms_relative_error_percent(targets, before, after);
+        let _ = writeln!(
+            s,
+            "\nRMS relative error over the {n} targets solved before and after: {rb:.2} % before, {ra:.2} % after. Not solved: {} before, {} after.\n",
+            unsolved(before),
+            unsolved(after)
+        );
+        let mut names: Vec<&str> = targets.iter().map(|t| t.measure.name()).collect();
+        names.dedup();
+        names.sort_unstable();
+        names.dedup();
+        if names.len() > 1 {
+            for name in names {
+                let keep: Vec<usize> = (0..targets.len())
+                    .filter(|&k| targets[k].measure.name() == name)
+                    .collect();
+                let pick = |y: &[f64]| keep.iter().map(|&k| y[k]).collect::<Vec<f64>>();
+                let sub: Vec<fit::Target> = keep.iter().map(|&k| targets[k].clone()).collect();
+                let (rb, ra, n) = rms_relative_error_percent(&sub, &pick(before), &pick(after));
+                let _ = writeln!(
+                    s,
+                    "- `{name}` ({n} targets): {rb:.2} % before, {ra:.2} % after"
+                );
+            }
+            let _ = writeln!(s);
+        }
+    };
+    let _ = writeln!(s, "\n## Fitted targets\n");
+    table(&mut s, &f.problem.targets, &f.origins, &r.before, &r.after);
+    if !f.predict.is_empty() {
+        let _ = writeln!(s, "## Predicted (not fitted)\n");
+        table(
+            &mut s,
+            &f.predict,
+            &f.predict_origins,
+            &run.predict_before,
+            &run.predict_after,
+        );
+    }
+    if !run.modes.is_empty() {
+        let _ = writeln!(s, "## Longitudinal modes before and after\n");
+        let _ = writeln!(
+            s,
+            "| condition | mode | eigenvalue before | eigenvalue after | damping ratio before | after | period before, s | after, s |"
+        );
+        let _ = writeln!(s, "| --- | --- | --- | --- | ---: | ---: | ---: | ---: |");
+        let zeta = |e: [f64; 2]| -e[0] / e[0].hypot(e[1]);
+        let period = |e: [f64; 2]| 2.0 * std::f64::consts::PI / e[1];
+        for m in &run.modes {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.4} {:+.4}i | {:.4} {:+.4}i | {:.4} | {:.4} | {:.2} | {:.2} |",
+                m.condition,
+                m.mode,
+                m.before[0],
+                m.before[1],
+                m.after[0],
+                m.after[1],
+                zeta(m.before),
+                zeta(m.after),
+                period(m.before),
+                period(m.after)
+            );
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+/// The fit's before/after figure: every target's error in its own standard errors, at the
+/// start and fitted, against the 95 % band (±1.96); predicted targets after a gap.
+pub fn figure(f: &FitFile, run: &FitRun) -> crate::report::plot::Figure {
+    use crate::report::plot::{Band, Figure, Series, Style};
+    let r = &run.result;
+    let z = |t: &fit::Target, v: f64| (v - t.reference) / t.standard_error;
+    let mut before = Vec::new();
+    let mut after = Vec::new();
+    for (i, t) in f.problem.targets.iter().enumerate() {
+        let x = (i + 1) as f64;
+        before.push((x, z(t, r.before.get(i).copied().unwrap_or(f64::NAN))));
+        after.push((x, z(t, r.after.get(i).copied().unwrap_or(f64::NAN))));
+    }
+    let n = f.problem.targets.len();
+    let mut pb = Vec::new();
+    let mut pa = Vec::new();
+    for (i, t) in f.predict.iter().enumerate() {
+        let x = (n + 2 + i) as f64;
+        pb.push((
+            x,
+            z(t, run.predict_before.get(i).copied().unwrap_or(f64::NAN)),
+        ));
+        pa.push((
+            x,
+            z(t, run.predict_after.get(i).copied().unwrap_or(f64::NAN)),
+        ));
+    }
+    let last = (n + 1 + f.predict.len()) as f64 + 0.5;
+    let series = |name: &str, points, colour| Series {
+        name: name.into(),
+        points,
+        style: Style::Markers,
+        colour: Some(colour),
+    };
+    let mut s = vec![
+        series("fitted targets, at the start", before, 7),
+        series("fitted targets, fitted", after, 0),
+    ];
+    if !f.predict.is_empty() {
+        s.push(series("predicted (not fitted), at the start", pb, 4));
+        s.push(series("predicted (not fitted), fitted", pa, 1));
+    }
+    Figure {
+        title: format!("{}: error before and after, in standard errors", f.id),
+        x_label: if f.predict.is_empty() {
+            "target".into()
+        } else {
+            format!("target (1-{n} fitted, then predicted)")
+        },
+        y_label: "(model - reference) / standard error".into(),
+        series: s,
+        bands: vec![Band {
+            name: "95 % (±1.96)".into(),
+            points: vec![(0.5, -1.96, 1.96), (last, -1.96, 1.96)],
+        }],
+        ..Figure::default()
+    }
+}
