@@ -22,7 +22,9 @@ pub enum Airfoil {
 /// * `|alpha| <= stall`: `cl = a (alpha - alpha_0)`, `cd = cd0 + cd1 alpha + cd2 alpha^2`;
 /// * `stall < |alpha| <= pi/2`: `cl` falls linearly from its stall value to zero at 90 deg;
 ///   `cd` rises as `cd_stall + 2 (sin^2 alpha - sin^2 stall)` (a flat plate's 2 at 90 deg);
-/// * `|alpha| > pi/2` (reverse flow): flat plate, `cl = sin 2 alpha`, drag as above.
+/// * `|alpha| > pi/2` (reverse flow): flat plate, `cl = sin 2 alpha`; the drag is the mirror
+///   image of the above about 90 deg (the flow meets the reversed section at `pi - |alpha|`),
+///   so it falls back to the polar near 180 deg and is never below the section's least drag.
 ///
 /// Both coefficients are continuous in `alpha`; Mach number is ignored.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -118,13 +120,24 @@ impl AnalyticalSection {
             );
         }
         let sign = a.signum();
-        let cd_stall = polar(sign * s);
-        let cd = cd_stall + 2.0 * (a.sin().powi(2) - s.sin().powi(2));
+        // Drag beyond stall, and in reverse flow its mirror image about 90 deg: the flow meets
+        // the reversed section at `pi - |alpha|`, so the drag falls back to the polar's near
+        // 180 deg and never below the section's least drag.
+        let forward = |x: f64| {
+            if x.abs() <= s {
+                polar(x)
+            } else {
+                polar(x.signum() * s) + 2.0 * (x.sin().powi(2) - s.sin().powi(2))
+            }
+        };
         if a.abs() <= FRAC_PI_2 {
             let cl_stall = self.lift_slope_per_rad * (sign * s - self.zero_lift_alpha_rad);
-            (cl_stall * (FRAC_PI_2 - a.abs()) / (FRAC_PI_2 - s), cd)
+            (
+                cl_stall * (FRAC_PI_2 - a.abs()) / (FRAC_PI_2 - s),
+                forward(a),
+            )
         } else {
-            ((2.0 * a).sin(), cd)
+            ((2.0 * a).sin(), forward(sign * (PI - a.abs())))
         }
     }
 }
@@ -253,6 +266,39 @@ mod tests {
                 .abs()
                 < 1e-12
         );
+    }
+
+    /// Section drag never falls below the section's least forward drag, at any angle: a drag
+    /// below it (negative at 180 deg, as the reverse-flow extension once gave) is a spurious
+    /// forward force and driving torque on the retreating side.
+    #[test]
+    fn analytical_drag_never_falls_below_its_minimum() {
+        let cambered = AnalyticalSection {
+            zero_lift_alpha_rad: -2f64.to_radians(),
+            cd1_per_rad: -0.02,
+            cd2_per_rad2: 0.9,
+            ..section()
+        };
+        for s in [section(), cambered] {
+            let n = 36_000;
+            let forward_min = (0..=n)
+                .map(|k| -s.stall_alpha_rad + 2.0 * s.stall_alpha_rad * k as f64 / n as f64)
+                .map(|a| s.coefficients(a).1)
+                .fold(f64::INFINITY, f64::min);
+            assert!(forward_min > 0.0);
+            for k in 0..=n {
+                let a = -PI + 2.0 * PI * k as f64 / n as f64;
+                let cd = s.coefficients(a).1;
+                assert!(
+                    cd >= forward_min - 1e-12,
+                    "cd {cd} below the minimum {forward_min} at {:.2} deg",
+                    a.to_degrees()
+                );
+            }
+            // Reverse flow along the chord is the section's least drag again, not a thrust.
+            let (cl, cd) = s.coefficients(PI);
+            assert!(cl.abs() < 1e-12 && cd > 0.0, "{cl} {cd}");
+        }
     }
 
     #[test]
