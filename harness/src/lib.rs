@@ -137,6 +137,42 @@ pub fn run_autorotation(
     )?)
 }
 
+/// The isolated rotor at a tip-speed ratio and rotor speed (rpm): the angle of attack and
+/// airspeed at which it autorotates there, with the equilibrium (the collective and air as
+/// [`run_autorotation`] takes them).
+pub fn run_autorotation_at_tip_speed_ratio(
+    rotor: &cierva_model::components::rotor::Rotor,
+    tip_speed_ratio: f64,
+    rotor_rpm: f64,
+    collective_deg: Option<f64>,
+    density_kg_m3: Option<f64>,
+    inflow: cierva_model::components::rotor::InflowModel,
+) -> Result<cierva_model::components::autorotation::AtTipSpeedRatio, AutorotateError> {
+    use cierva_model::components::atmosphere;
+    use cierva_model::components::autorotation::{
+        Options, TipSpeedCondition, autorotate_at_tip_speed_ratio,
+    };
+    let air = match density_kg_m3 {
+        Some(rho) => atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho)?)?,
+        None => atmosphere::Atmosphere::standard().at(0.0)?,
+    };
+    Ok(autorotate_at_tip_speed_ratio(
+        rotor,
+        TipSpeedCondition {
+            tip_speed_ratio,
+            omega_rad_s: rotor_rpm * std::f64::consts::PI / 30.0,
+            density_kg_m3: air.density_kg_m3,
+            speed_of_sound_m_s: air.speed_of_sound_m_s,
+            collective_shift_rad: collective_deg
+                .map_or(0.0, |c| rotor.collective_shift_for(c.to_radians())),
+        },
+        Options {
+            inflow,
+            ..Options::default()
+        },
+    )?)
+}
+
 /// A trim request in the units people fly in. As written (in a case's `condition`), the airspeed
 /// may be in any of `airspeed_mph`, `airspeed_kn` or `airspeed_m_s` (exactly one); it is held in
 /// mph.

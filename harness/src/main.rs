@@ -205,22 +205,11 @@ enum Command {
     ///
     /// Example: `cierva autorotate aircraft/pca-2-rotor.yaml --alpha-deg 6.6 --airspeed-m-s 17.7
     /// --collective-deg 1.9`. `--alpha-deg 90` is vertical descent.
-    Autorotate {
-        #[command(flatten)]
-        tunnel: TunnelArgs,
-        /// Air density, kg/m^3 (default 1.225, ISA sea level); the speed of sound is taken
-        /// from the standard atmosphere at that density altitude.
-        #[arg(long, allow_hyphen_values = true)]
-        density_kg_m3: Option<f64>,
-        /// Inflow model.
-        #[arg(long, value_enum, default_value_t = InflowSpec::PetersHaquang)]
-        inflow: InflowSpec,
-        /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
-        #[arg(long, value_enum, default_value_t = SkewSpec::Signed)]
-        skew: SkewSpec,
-        #[arg(long, value_enum, default_value_t = Format::Text)]
-        format: Format,
-    },
+    ///
+    /// With `--tip-speed-ratio` and `--rotor-rpm` instead, finds the angle of attack at which the
+    /// rotor autorotates there (how TR 515 plots its data): `cierva autorotate
+    /// aircraft/pca-2-rotor.yaml --tip-speed-ratio 0.5 --rotor-rpm 140 --collective-deg 1.9`.
+    Autorotate(AutorotateArgs),
     /// Trim and linearise an aircraft (seed 001 Eqs. 10-12): the nine rigid-body states and the
     /// rotorspeed, controls in % of travel, blades and inflow quasi-steady. Prints the
     /// derivatives, the modes with BCAR Section T, the longitudinal subset's modes and the
@@ -397,27 +386,7 @@ fn main() -> ExitCode {
             format,
             predict,
         } => identify(record, config, format, predict),
-        Command::Autorotate {
-            tunnel:
-                TunnelArgs {
-                    rotor,
-                    alpha_deg,
-                    airspeed_m_s,
-                    collective_deg,
-                },
-            density_kg_m3,
-            inflow,
-            skew,
-            format,
-        } => autorotate(
-            rotor,
-            alpha_deg,
-            airspeed_m_s,
-            collective_deg,
-            density_kg_m3,
-            inflow.model(skew),
-            format,
-        ),
+        Command::Autorotate(a) => autorotate(a),
         Command::Linearize { flight, format } => linearize(flight, format),
         Command::Simulate {
             flight,

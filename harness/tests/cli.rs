@@ -213,6 +213,69 @@ fn autorotate_finds_the_pca2_equilibrium() {
     assert!(err.contains("unknown field"), "{err}");
 }
 
+/// The tip-speed-ratio mode finds the angle back: the equilibrium at 6.6 deg and 18.16 m/s,
+/// asked for at its own mu and rotor speed, is at 6.6 deg again; the fitted corrections apply;
+/// half a condition is refused.
+#[test]
+fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
+    let json = |args: &[&str]| {
+        let mut a = vec![
+            "autorotate",
+            "aircraft/pca-2-rotor.yaml",
+            "--collective-deg",
+            "1.9",
+        ];
+        a.extend(args);
+        a.extend(["--format", "json"]);
+        let (code, out, err) = cierva(&a);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let at = json(&["--alpha-deg", "6.6", "--airspeed-m-s", "18.16"]);
+    let (mu, rpm) = (
+        at["tip_speed_ratio"].as_f64().unwrap(),
+        at["rpm"].as_f64().unwrap(),
+    );
+    let back = json(&[
+        "--tip-speed-ratio",
+        &mu.to_string(),
+        "--rotor-rpm",
+        &rpm.to_string(),
+    ]);
+    for key in [
+        "alpha_deg",
+        "rpm",
+        "lift_coefficient",
+        "drag_coefficient",
+        "lift_to_drag",
+    ] {
+        assert!(back[key].is_f64(), "{key}: {back}");
+    }
+    let alpha = back["alpha_deg"].as_f64().unwrap();
+    assert!((alpha - 6.6).abs() < 1e-4, "{alpha}");
+    assert!((back["airspeed_m_s"].as_f64().unwrap() - 18.16).abs() < 1e-3);
+    let corrected = json(&[
+        "--tip-speed-ratio",
+        &mu.to_string(),
+        "--rotor-rpm",
+        &rpm.to_string(),
+        "--corrections",
+        "corrections/fitted/pca-2-tr515.yaml",
+    ]);
+    assert!(
+        (corrected["alpha_deg"].as_f64().unwrap() - alpha).abs() > 0.01,
+        "the fitted pitch offset moves the angle: {corrected}"
+    );
+    let (code, _, err) = cierva(&[
+        "autorotate",
+        "aircraft/pca-2-rotor.yaml",
+        "--tip-speed-ratio",
+        "0.3",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--tip-speed-ratio with --rotor-rpm"), "{err}");
+}
+
 #[test]
 fn synth_then_identify_round_trips() {
     let dir = std::env::temp_dir().join(format!("cierva-cli-{}", std::process::id()));

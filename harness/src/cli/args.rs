@@ -171,6 +171,48 @@ pub(crate) struct TunnelArgs {
     pub(crate) collective_deg: Option<f64>,
 }
 
+/// Arguments of `autorotate`: a tunnel condition as an angle and an airspeed, or as a tip-speed
+/// ratio and a rotor speed (the angle then found).
+#[derive(clap::Args)]
+pub(crate) struct AutorotateArgs {
+    /// A rotor file (see aircraft/).
+    pub(crate) rotor: PathBuf,
+    /// Rotor angle of attack, deg: between the free stream and the plane normal to the
+    /// shaft, positive with the air meeting the disc from below; 90 is vertical descent (with
+    /// --airspeed-m-s).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) alpha_deg: Option<f64>,
+    /// Tunnel speed, m/s (with --alpha-deg).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) airspeed_m_s: Option<f64>,
+    /// Tip-speed ratio mu (with --rotor-rpm, instead of --alpha-deg and --airspeed-m-s): finds
+    /// the angle of attack at which the rotor autorotates at this mu and rotor speed.
+    #[arg(long)]
+    pub(crate) tip_speed_ratio: Option<f64>,
+    /// Rotor speed, rpm (with --tip-speed-ratio).
+    #[arg(long)]
+    pub(crate) rotor_rpm: Option<f64>,
+    /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
+    /// distribution (default: the file's distribution as it is).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) collective_deg: Option<f64>,
+    /// A corrections file for this rotor (as `cierva fit` writes), applied before solving.
+    #[arg(long)]
+    pub(crate) corrections: Option<PathBuf>,
+    /// Air density, kg/m^3 (default 1.225, ISA sea level); the speed of sound is taken
+    /// from the standard atmosphere at that density altitude.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) density_kg_m3: Option<f64>,
+    /// Inflow model.
+    #[arg(long, value_enum, default_value_t = InflowSpec::PetersHaquang)]
+    pub(crate) inflow: InflowSpec,
+    /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
+    #[arg(long, value_enum, default_value_t = SkewSpec::Signed)]
+    pub(crate) skew: SkewSpec,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 /// Output of `identify`.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum IdentFormat {

@@ -1,81 +1,136 @@
-//! `cierva autorotate`: the isolated rotor's autorotative equilibrium in a wind tunnel.
+//! `cierva autorotate`: the isolated rotor's autorotative equilibrium in a wind tunnel, at a
+//! given angle and airspeed, or at a given tip-speed ratio and rotor speed (the angle found).
 
 use super::*;
 
-pub(crate) fn autorotate(
-    path: PathBuf,
-    alpha_deg: f64,
-    airspeed_m_s: f64,
-    collective_deg: Option<f64>,
-    density_kg_m3: Option<f64>,
-    inflow: InflowModel,
-    format: Format,
-) -> ExitCode {
-    let file = match cierva_harness::rotor_file::load(&path) {
+pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
+    let mut file = match cierva_harness::rotor_file::load(&a.rotor) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
-    let a = match run_autorotation(
-        &file.rotor,
-        alpha_deg,
-        airspeed_m_s,
-        collective_deg,
-        density_kg_m3,
-        inflow,
-    ) {
-        Ok(a) => a,
-        Err(e) => {
+    if let Some(path) = &a.corrections {
+        use cierva_harness::corrections::{self, Target};
+        let c = match corrections::load(path) {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        };
+        if c.target != Target::Rotor(file.id.clone()) {
+            eprintln!(
+                "error: {} corrects {:?}, not the rotor {}",
+                path.display(),
+                c.target,
+                file.id
+            );
+            return ExitCode::from(2);
+        }
+        if let Err(e) = c.corrections.apply_to_rotor(&mut file.rotor) {
             eprintln!("error: {}: {e}", path.display());
-            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+            return ExitCode::from(2);
+        }
+    }
+    let inflow = a.inflow.model(a.skew);
+    let (alpha_deg, airspeed_m_s, e) = match (
+        a.alpha_deg,
+        a.airspeed_m_s,
+        a.tip_speed_ratio,
+        a.rotor_rpm,
+    ) {
+        (Some(alpha_deg), Some(airspeed_m_s), None, None) => {
+            match run_autorotation(
+                &file.rotor,
+                alpha_deg,
+                airspeed_m_s,
+                a.collective_deg,
+                a.density_kg_m3,
+                inflow,
+            ) {
+                Ok(e) => (alpha_deg, airspeed_m_s, e),
+                Err(e) => {
+                    eprintln!("error: {}: {e}", a.rotor.display());
+                    return ExitCode::from(if e.is_input() { 2 } else { 1 });
+                }
+            }
+        }
+        (None, None, Some(mu), Some(rpm)) => {
+            match cierva_harness::run_autorotation_at_tip_speed_ratio(
+                &file.rotor,
+                mu,
+                rpm,
+                a.collective_deg,
+                a.density_kg_m3,
+                inflow,
+            ) {
+                Ok(f) => (f.alpha_rad.to_degrees(), f.airspeed_m_s, f.autorotation),
+                Err(e) => {
+                    eprintln!("error: {}: {e}", a.rotor.display());
+                    return ExitCode::from(if e.is_input() { 2 } else { 1 });
+                }
+            }
+        }
+        _ => {
+            eprintln!(
+                "error: give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm"
+            );
+            return ExitCode::from(2);
         }
     };
-    match format {
-        Format::Json => print_json(&a),
+    match a.format {
+        Format::Json => {
+            let mut v = serde_json::to_value(&e).unwrap_or_default();
+            if let Some(m) = v.as_object_mut() {
+                m.insert("alpha_deg".into(), serde_json::json!(alpha_deg));
+                m.insert("airspeed_m_s".into(), serde_json::json!(airspeed_m_s));
+            }
+            print_json(&v)
+        }
         Format::Text => {
             let d = |r: f64| r.to_degrees();
             println!(
-                "{} ({}) at alpha {alpha_deg} deg, {airspeed_m_s} m/s",
+                "{} ({}) at alpha {alpha_deg:.4} deg, {airspeed_m_s:.4} m/s",
                 file.title, file.id
             );
             println!(
                 "rotorspeed           {:.3} rad/s ({:.1} rpm)",
-                a.omega_rad_s, a.rpm
+                e.omega_rad_s, e.rpm
             );
-            println!("tip-speed ratio mu   {:.4}", a.tip_speed_ratio);
+            println!("tip-speed ratio mu   {:.4}", e.tip_speed_ratio);
             println!(
                 "lift coefficient     {:.5}  (on q pi R^2)",
-                a.lift_coefficient
+                e.lift_coefficient
             );
-            println!("drag coefficient     {:.5}", a.drag_coefficient);
-            println!("L/D                  {:.3}", a.lift_to_drag);
+            println!("drag coefficient     {:.5}", e.drag_coefficient);
+            println!("L/D                  {:.3}", e.lift_to_drag);
             println!(
                 "thrust coefficient   {:.6}  (T / rho pi R^2 (Omega R)^2)",
-                a.thrust_coefficient
+                e.thrust_coefficient
             );
             println!(
                 "thrust, H-force      {:.1} N, {:.1} N",
-                a.thrust_n, a.h_force_n
+                e.thrust_n, e.h_force_n
             );
             println!(
                 "flapping a0 a1 b1    {:.3} {:.3} {:.3} deg",
-                d(a.a0_rad),
-                d(a.a1_rad),
-                d(a.b1_rad)
+                d(e.a0_rad),
+                d(e.a1_rad),
+                d(e.b1_rad)
             );
             println!(
                 "inflow v0 v1s v1c    {:.3} {:.3} {:.3} m/s; lambda {:.5}; skew {:.2} deg",
-                a.inflow.v0,
-                a.inflow.v1s,
-                a.inflow.v1c,
-                a.inflow_ratio,
-                d(a.skew_rad)
+                e.inflow.v0,
+                e.inflow.v1s,
+                e.inflow.v1c,
+                e.inflow_ratio,
+                d(e.skew_rad)
             );
             println!(
                 "converged            residual {:.1e} in {} Newton iterations",
-                a.residual_norm, a.iterations
+                e.residual_norm, e.iterations
             );
         }
     }

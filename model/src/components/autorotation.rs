@@ -104,6 +104,13 @@ pub enum AutorotationError {
     },
     #[error("the equilibrium did not converge: {0}")]
     Solve(#[from] SolveError),
+    #[error(
+        "no angle of attack between 0.25 and 40 deg autorotates at tip-speed ratio {tip_speed_ratio}: (alpha deg, mu) found {found:?}"
+    )]
+    NoAngle {
+        tip_speed_ratio: f64,
+        found: Vec<(f64, f64)>,
+    },
 }
 
 fn check(
@@ -411,5 +418,209 @@ pub fn autorotate(
         b1_rad: loads.b1_rad,
         residual_norm: sol.residual_norm,
         iterations: sol.iterations,
+    })
+}
+
+/// A tunnel condition given as the tunnel reports its rows: tip-speed ratio and rotor speed,
+/// the angle of attack to be found (see [`autorotate_at_tip_speed_ratio`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TipSpeedCondition {
+    pub tip_speed_ratio: f64,
+    pub omega_rad_s: f64,
+    pub density_kg_m3: f64,
+    pub speed_of_sound_m_s: f64,
+    /// Added to the blade pitch everywhere, rad.
+    pub collective_shift_rad: f64,
+}
+
+/// The angle of attack and airspeed at which a rotor autorotates at a given tip-speed ratio
+/// and rotor speed, with the equilibrium there.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AtTipSpeedRatio {
+    pub alpha_rad: f64,
+    pub airspeed_m_s: f64,
+    pub autorotation: Autorotation,
+    /// Equilibria solved on the way (each one [`autorotate`]).
+    pub evaluations: usize,
+}
+
+/// Finds the angle of attack at which `rotor` autorotates at the condition's tip-speed ratio
+/// and rotor speed: how the tunnel data of NACA TR 515 are plotted, and at small angles the
+/// well-conditioned comparison (a fixed-angle comparison moves mu by 0.1-0.3 per degree there).
+///
+/// At a fixed angle the equilibrium's tip-speed ratio hardly depends on the airspeed (only
+/// through Mach number), and it falls as the angle rises. So: bracket the angle on a grid from
+/// 0.25 to 40 deg (angles where no equilibrium exists are skipped), refine it by the Illinois
+/// method on `ln mu`, then scale the airspeed so that the rotor speed matches, and refine again
+/// from there until both agree to 1e-7.
+pub fn autorotate_at_tip_speed_ratio(
+    rotor: &Rotor,
+    c: TipSpeedCondition,
+    options: Options,
+) -> Result<AtTipSpeedRatio, AutorotationError> {
+    check(
+        "tip_speed_ratio",
+        c.tip_speed_ratio,
+        c.tip_speed_ratio > 0.0 && c.tip_speed_ratio < 2.0,
+        "in (0, 2)",
+    )?;
+    check(
+        "omega_rad_s",
+        c.omega_rad_s,
+        c.omega_rad_s > 0.0,
+        "positive",
+    )?;
+    let r = rotor.radius_m;
+    let mut evaluations = 0;
+    let mut at = |alpha: f64, v: f64| {
+        evaluations += 1;
+        autorotate(
+            rotor,
+            Tunnel {
+                alpha_rad: alpha,
+                airspeed_m_s: v,
+                density_kg_m3: c.density_kg_m3,
+                speed_of_sound_m_s: c.speed_of_sound_m_s,
+                collective_shift_rad: c.collective_shift_rad,
+            },
+            options,
+        )
+    };
+    let target = c.tip_speed_ratio.ln();
+    let mut alpha = 5f64.to_radians();
+    let mut v = c.tip_speed_ratio * c.omega_rad_s * r / alpha.cos();
+    let mut bracket: Option<[(f64, f64); 2]> = None;
+    for _ in 0..8 {
+        // Bracket ln(mu) - ln(mu_target) in alpha: near the last angle if there is one.
+        let mut f = |a: f64| -> Result<Option<(f64, Autorotation)>, AutorotationError> {
+            match at(a, v) {
+                Ok(e) => Ok(Some((e.tip_speed_ratio.ln() - target, e))),
+                Err(AutorotationError::NoBracket { .. } | AutorotationError::Solve(_)) => Ok(None),
+                Err(e) => Err(e),
+            }
+        };
+        let mut found = Vec::new();
+        let mut lo_hi = None;
+        if let Some([(a0, _), (a1, _)]) = bracket {
+            let (fa, fb) = (f(a0)?, f(a1)?);
+            if let (Some((x, _)), Some((y, _))) = (&fa, &fb)
+                && x * y <= 0.0
+            {
+                lo_hi = Some([(a0, *x), (a1, *y)]);
+            }
+        }
+        if lo_hi.is_none() {
+            let grid: Vec<f64> = (0..12)
+                .map(|k| 0.25f64 * (40.0f64 / 0.25).powf(k as f64 / 11.0))
+                .map(f64::to_radians)
+                .collect();
+            let mut last: Option<(f64, f64)> = None;
+            let mut last_none: Option<f64> = None;
+            for &a in &grid {
+                let Some((y, e)) = f(a)? else {
+                    last_none = Some(a);
+                    continue;
+                };
+                found.push((a.to_degrees(), e.tip_speed_ratio));
+                if let Some((ap, yp)) = last
+                    && yp * y <= 0.0
+                {
+                    lo_hi = Some([(ap, yp), (a, y)]);
+                    break;
+                }
+                // The first equilibrium above angles without one, and already below the target
+                // mu: the target may lie between, near the smallest angle that autorotates.
+                if last.is_none()
+                    && y < 0.0
+                    && let Some(mut none) = last_none
+                {
+                    let (mut a1, mut y1) = (a, y);
+                    for _ in 0..40 {
+                        let m = 0.5 * (none + a1);
+                        match f(m)? {
+                            None => none = m,
+                            Some((ym, em)) => {
+                                found.push((m.to_degrees(), em.tip_speed_ratio));
+                                if ym >= 0.0 {
+                                    lo_hi = Some([(m, ym), (a1, y1)]);
+                                    break;
+                                }
+                                (a1, y1) = (m, ym);
+                            }
+                        }
+                        if a1 - none < 1e-7 {
+                            break;
+                        }
+                    }
+                    if lo_hi.is_some() {
+                        break;
+                    }
+                }
+                last = Some((a, y));
+            }
+        }
+        let Some([(mut a0, mut y0), (mut a1, mut y1)]) = lo_hi else {
+            return Err(AutorotationError::NoAngle {
+                tip_speed_ratio: c.tip_speed_ratio,
+                found,
+            });
+        };
+        // Illinois refinement.
+        let mut best: Option<Autorotation> = None;
+        for _ in 0..60 {
+            let a = if (y1 - y0).abs() > 0.0 {
+                a1 - y1 * (a1 - a0) / (y1 - y0)
+            } else {
+                0.5 * (a0 + a1)
+            };
+            let Some((y, e)) = f(a)? else {
+                // No equilibrium inside a bracket of equilibria: halve instead.
+                let m = 0.5 * (a0 + a1);
+                let Some((ym, em)) = f(m)? else {
+                    return Err(AutorotationError::NoAngle {
+                        tip_speed_ratio: c.tip_speed_ratio,
+                        found,
+                    });
+                };
+                if ym * y1 < 0.0 {
+                    (a0, y0) = (m, ym);
+                } else {
+                    (a1, y1) = (m, ym);
+                }
+                best = Some(em);
+                continue;
+            };
+            best = Some(e);
+            if y.abs() < 1e-9 || (a1 - a0).abs() < 1e-10 {
+                alpha = a;
+                break;
+            }
+            if y * y1 < 0.0 {
+                (a0, y0) = (a1, y1);
+            } else {
+                // Illinois: the end kept twice running has its value halved.
+                y0 *= 0.5;
+            }
+            (a1, y1) = (a, y);
+            alpha = a;
+        }
+        let e = best.expect("the refinement evaluates at least once");
+        let ratio = c.omega_rad_s / e.omega_rad_s;
+        if (ratio - 1.0).abs() < 1e-7 {
+            return Ok(AtTipSpeedRatio {
+                alpha_rad: alpha,
+                airspeed_m_s: v,
+                autorotation: e,
+                evaluations,
+            });
+        }
+        v *= ratio;
+        let w = 0.02 * alpha.max(1e-3);
+        bracket = Some([(alpha - w, 0.0), (alpha + w, 0.0)]);
+    }
+    Err(AutorotationError::Condition {
+        name: "rotor speed",
+        requirement: "matched by scaling the airspeed within 8 passes",
+        value: c.omega_rad_s,
     })
 }

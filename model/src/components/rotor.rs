@@ -1562,6 +1562,58 @@ mod tests {
         assert!(a.residual_norm <= 1e-9);
     }
 
+    /// The tip-speed-ratio mode finds the angle of attack back: an equilibrium solved at 10 deg
+    /// and 30 m/s, given as its mu and rotor speed, returns 10 deg and 30 m/s.
+    #[test]
+    fn autorotation_at_a_tip_speed_ratio_finds_the_angle_back() {
+        let rotor = autorotating(2f64.to_radians(), 20, 0.5);
+        let tunnel = Tunnel {
+            alpha_rad: 10f64.to_radians(),
+            airspeed_m_s: 30.0,
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.0,
+            collective_shift_rad: 0.0,
+        };
+        let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+        let found = autorotation::autorotate_at_tip_speed_ratio(
+            &rotor,
+            autorotation::TipSpeedCondition {
+                tip_speed_ratio: a.tip_speed_ratio,
+                omega_rad_s: a.omega_rad_s,
+                density_kg_m3: 1.225,
+                speed_of_sound_m_s: 340.0,
+                collective_shift_rad: 0.0,
+            },
+            Options::default(),
+        )
+        .unwrap();
+        assert!(
+            (found.alpha_rad - tunnel.alpha_rad).abs() < 1e-6,
+            "{} deg",
+            found.alpha_rad.to_degrees()
+        );
+        assert!((found.airspeed_m_s - 30.0).abs() < 1e-4, "{found:#?}");
+        let e = &found.autorotation;
+        assert!((e.omega_rad_s / a.omega_rad_s - 1.0).abs() < 1e-6);
+        assert!((e.tip_speed_ratio / a.tip_speed_ratio - 1.0).abs() < 1e-6);
+        // A ratio no angle reaches is an error with what was found, not a panic.
+        let none = autorotation::autorotate_at_tip_speed_ratio(
+            &rotor,
+            autorotation::TipSpeedCondition {
+                tip_speed_ratio: 1.9,
+                omega_rad_s: a.omega_rad_s,
+                density_kg_m3: 1.225,
+                speed_of_sound_m_s: 340.0,
+                collective_shift_rad: 0.0,
+            },
+            Options::default(),
+        );
+        assert!(
+            matches!(none, Err(autorotation::AutorotationError::NoAngle { .. })),
+            "{none:?}"
+        );
+    }
+
     /// The pitch and lateral-inflow corrections are exactly a collective shift and a
     /// prescribed `v1s` (they act in the same place), and a lateral offset that makes the
     /// inflow grow on the advancing side tilts the disc: `b1` changes.
