@@ -3,37 +3,39 @@
 
 use super::*;
 
-pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
-    let mut file = match cierva_harness::rotor_file::load(&a.rotor) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
+/// The rotor file with `--corrections` applied (the file must name this rotor).
+fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::rotor_file::RotorFile, ExitCode> {
+    use cierva_harness::corrections::{self, Target};
+    let located = |e: cierva_harness::yaml::InputError| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
     };
-    if let Some(path) = &a.corrections {
-        use cierva_harness::corrections::{self, Target};
-        let c = match corrections::load(path) {
-            Ok(c) => c,
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
-            }
-        };
-        if c.target != Target::Rotor(file.id.clone()) {
-            eprintln!(
-                "error: {} corrects {:?}, not the rotor {}",
-                path.display(),
-                c.target,
-                file.id
-            );
-            return ExitCode::from(2);
-        }
-        if let Err(e) = c.corrections.apply_to_rotor(&mut file.rotor) {
-            eprintln!("error: {}: {e}", path.display());
-            return ExitCode::from(2);
-        }
+    let mut file = cierva_harness::rotor_file::load(&a.rotor).map_err(located)?;
+    let Some(path) = &a.corrections else {
+        return Ok(file);
+    };
+    let c = corrections::load(path).map_err(located)?;
+    if c.target != Target::Rotor(file.id.clone()) {
+        eprintln!(
+            "error: {} corrects {:?}, not the rotor {}",
+            path.display(),
+            c.target,
+            file.id
+        );
+        return Err(ExitCode::from(2));
     }
+    c.corrections.apply_to_rotor(&mut file.rotor).map_err(|e| {
+        eprintln!("error: {}: {e}", path.display());
+        ExitCode::from(2)
+    })?;
+    Ok(file)
+}
+
+pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
+    let file = match load_rotor(&a) {
+        Ok(f) => f,
+        Err(code) => return code,
+    };
     let inflow = a.inflow.model(a.skew);
     let (alpha_deg, airspeed_m_s, e) = match (
         a.alpha_deg,
@@ -89,50 +91,57 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             }
             print_json(&v)
         }
-        Format::Text => {
-            let d = |r: f64| r.to_degrees();
-            println!(
-                "{} ({}) at alpha {alpha_deg:.4} deg, {airspeed_m_s:.4} m/s",
-                file.title, file.id
-            );
-            println!(
-                "rotorspeed           {:.3} rad/s ({:.1} rpm)",
-                e.omega_rad_s, e.rpm
-            );
-            println!("tip-speed ratio mu   {:.4}", e.tip_speed_ratio);
-            println!(
-                "lift coefficient     {:.5}  (on q pi R^2)",
-                e.lift_coefficient
-            );
-            println!("drag coefficient     {:.5}", e.drag_coefficient);
-            println!("L/D                  {:.3}", e.lift_to_drag);
-            println!(
-                "thrust coefficient   {:.6}  (T / rho pi R^2 (Omega R)^2)",
-                e.thrust_coefficient
-            );
-            println!(
-                "thrust, H-force      {:.1} N, {:.1} N",
-                e.thrust_n, e.h_force_n
-            );
-            println!(
-                "flapping a0 a1 b1    {:.3} {:.3} {:.3} deg",
-                d(e.a0_rad),
-                d(e.a1_rad),
-                d(e.b1_rad)
-            );
-            println!(
-                "inflow v0 v1s v1c    {:.3} {:.3} {:.3} m/s; lambda {:.5}; skew {:.2} deg",
-                e.inflow.v0,
-                e.inflow.v1s,
-                e.inflow.v1c,
-                e.inflow_ratio,
-                d(e.skew_rad)
-            );
-            println!(
-                "converged            residual {:.1e} in {} Newton iterations",
-                e.residual_norm, e.iterations
-            );
-        }
+        Format::Text => print_text(&file, alpha_deg, airspeed_m_s, &e),
     }
     ExitCode::SUCCESS
+}
+
+fn print_text(
+    file: &cierva_harness::rotor_file::RotorFile,
+    alpha_deg: f64,
+    airspeed_m_s: f64,
+    e: &cierva_model::components::autorotation::Autorotation,
+) {
+    let d = |r: f64| r.to_degrees();
+    println!(
+        "{} ({}) at alpha {alpha_deg:.4} deg, {airspeed_m_s:.4} m/s",
+        file.title, file.id
+    );
+    println!(
+        "rotorspeed           {:.3} rad/s ({:.1} rpm)",
+        e.omega_rad_s, e.rpm
+    );
+    println!("tip-speed ratio mu   {:.4}", e.tip_speed_ratio);
+    println!(
+        "lift coefficient     {:.5}  (on q pi R^2)",
+        e.lift_coefficient
+    );
+    println!("drag coefficient     {:.5}", e.drag_coefficient);
+    println!("L/D                  {:.3}", e.lift_to_drag);
+    println!(
+        "thrust coefficient   {:.6}  (T / rho pi R^2 (Omega R)^2)",
+        e.thrust_coefficient
+    );
+    println!(
+        "thrust, H-force      {:.1} N, {:.1} N",
+        e.thrust_n, e.h_force_n
+    );
+    println!(
+        "flapping a0 a1 b1    {:.3} {:.3} {:.3} deg",
+        d(e.a0_rad),
+        d(e.a1_rad),
+        d(e.b1_rad)
+    );
+    println!(
+        "inflow v0 v1s v1c    {:.3} {:.3} {:.3} m/s; lambda {:.5}; skew {:.2} deg",
+        e.inflow.v0,
+        e.inflow.v1s,
+        e.inflow.v1c,
+        e.inflow_ratio,
+        d(e.skew_rad)
+    );
+    println!(
+        "converged            residual {:.1e} in {} Newton iterations",
+        e.residual_norm, e.iterations
+    );
 }

@@ -470,129 +470,181 @@ pub fn autorotate_at_tip_speed_ratio(
         c.omega_rad_s > 0.0,
         "positive",
     )?;
-    let r = rotor.radius_m;
-    let mut evaluations = 0;
-    let mut at = |alpha: f64, v: f64| {
-        evaluations += 1;
-        autorotate(
-            rotor,
-            Tunnel {
-                alpha_rad: alpha,
-                airspeed_m_s: v,
-                density_kg_m3: c.density_kg_m3,
-                speed_of_sound_m_s: c.speed_of_sound_m_s,
-                collective_shift_rad: c.collective_shift_rad,
-            },
-            options,
-        )
+    let alpha0 = 5f64.to_radians();
+    let mut search = AngleSearch {
+        rotor,
+        c,
+        options,
+        target: c.tip_speed_ratio.ln(),
+        airspeed_m_s: c.tip_speed_ratio * c.omega_rad_s * rotor.radius_m / alpha0.cos(),
+        evaluations: 0,
+        found: Vec::new(),
     };
-    let target = c.tip_speed_ratio.ln();
-    let mut alpha = 5f64.to_radians();
-    let mut v = c.tip_speed_ratio * c.omega_rad_s * r / alpha.cos();
-    let mut bracket: Option<[(f64, f64); 2]> = None;
+    let mut near: Option<f64> = None;
     for _ in 0..8 {
-        // Bracket ln(mu) - ln(mu_target) in alpha: near the last angle if there is one.
-        let mut f = |a: f64| -> Result<Option<(f64, Autorotation)>, AutorotationError> {
-            match at(a, v) {
-                Ok(e) => Ok(Some((e.tip_speed_ratio.ln() - target, e))),
-                Err(AutorotationError::NoBracket { .. } | AutorotationError::Solve(_)) => Ok(None),
-                Err(e) => Err(e),
-            }
+        let bracket = match near {
+            Some(alpha) => search.bracket_near(alpha)?,
+            None => None,
         };
-        let mut found = Vec::new();
-        let mut lo_hi = None;
-        if let Some([(a0, _), (a1, _)]) = bracket {
-            let (fa, fb) = (f(a0)?, f(a1)?);
-            if let (Some((x, _)), Some((y, _))) = (&fa, &fb)
-                && x * y <= 0.0
-            {
-                lo_hi = Some([(a0, *x), (a1, *y)]);
-            }
-        }
-        if lo_hi.is_none() {
-            let grid: Vec<f64> = (0..12)
-                .map(|k| 0.25f64 * (40.0f64 / 0.25).powf(k as f64 / 11.0))
-                .map(f64::to_radians)
-                .collect();
-            let mut last: Option<(f64, f64)> = None;
-            let mut last_none: Option<f64> = None;
-            for &a in &grid {
-                let Some((y, e)) = f(a)? else {
-                    last_none = Some(a);
-                    continue;
-                };
-                found.push((a.to_degrees(), e.tip_speed_ratio));
-                if let Some((ap, yp)) = last
-                    && yp * y <= 0.0
-                {
-                    lo_hi = Some([(ap, yp), (a, y)]);
-                    break;
-                }
-                // The first equilibrium above angles without one, and already below the target
-                // mu: the target may lie between, near the smallest angle that autorotates.
-                if last.is_none()
-                    && y < 0.0
-                    && let Some(mut none) = last_none
-                {
-                    let (mut a1, mut y1) = (a, y);
-                    for _ in 0..40 {
-                        let m = 0.5 * (none + a1);
-                        match f(m)? {
-                            None => none = m,
-                            Some((ym, em)) => {
-                                found.push((m.to_degrees(), em.tip_speed_ratio));
-                                if ym >= 0.0 {
-                                    lo_hi = Some([(m, ym), (a1, y1)]);
-                                    break;
-                                }
-                                (a1, y1) = (m, ym);
-                            }
-                        }
-                        if a1 - none < 1e-7 {
-                            break;
-                        }
-                    }
-                    if lo_hi.is_some() {
-                        break;
-                    }
-                }
-                last = Some((a, y));
-            }
-        }
-        let Some([(mut a0, mut y0), (mut a1, mut y1)]) = lo_hi else {
-            return Err(AutorotationError::NoAngle {
-                tip_speed_ratio: c.tip_speed_ratio,
-                found,
+        let bracket = match bracket {
+            Some(b) => b,
+            None => search
+                .bracket_on_grid()?
+                .ok_or_else(|| AutorotationError::NoAngle {
+                    tip_speed_ratio: c.tip_speed_ratio,
+                    found: search.found.clone(),
+                })?,
+        };
+        let (alpha, e) = search.refine(bracket)?;
+        let ratio = c.omega_rad_s / e.omega_rad_s;
+        if (ratio - 1.0).abs() < 1e-7 {
+            return Ok(AtTipSpeedRatio {
+                alpha_rad: alpha,
+                airspeed_m_s: search.airspeed_m_s,
+                autorotation: e,
+                evaluations: search.evaluations,
             });
+        }
+        // The rotor speed scales with the airspeed at a fixed angle: scale, and look again
+        // near the angle just found.
+        search.airspeed_m_s *= ratio;
+        near = Some(alpha);
+    }
+    Err(AutorotationError::Condition {
+        name: "rotor speed",
+        requirement: "matched by scaling the airspeed within 8 passes",
+        value: c.omega_rad_s,
+    })
+}
+
+/// The search of [`autorotate_at_tip_speed_ratio`] at one airspeed: `ln mu - ln mu_target` as
+/// a function of the angle of attack, bracketed and refined.
+struct AngleSearch<'a> {
+    rotor: &'a Rotor,
+    c: TipSpeedCondition,
+    options: Options,
+    target: f64,
+    airspeed_m_s: f64,
+    evaluations: usize,
+    /// (angle deg, mu) of every equilibrium found, for the error when none fits.
+    found: Vec<(f64, f64)>,
+}
+
+type Point = (f64, f64);
+
+impl AngleSearch<'_> {
+    /// `ln mu - ln mu_target` and the equilibrium at `alpha`, or `None` where the rotor has
+    /// no equilibrium.
+    fn at(&mut self, alpha: f64) -> Result<Option<(f64, Autorotation)>, AutorotationError> {
+        self.evaluations += 1;
+        let tunnel = Tunnel {
+            alpha_rad: alpha,
+            airspeed_m_s: self.airspeed_m_s,
+            density_kg_m3: self.c.density_kg_m3,
+            speed_of_sound_m_s: self.c.speed_of_sound_m_s,
+            collective_shift_rad: self.c.collective_shift_rad,
         };
-        // Illinois refinement.
-        let mut best: Option<Autorotation> = None;
+        match autorotate(self.rotor, tunnel, self.options) {
+            Ok(e) => {
+                self.found.push((alpha.to_degrees(), e.tip_speed_ratio));
+                Ok(Some((e.tip_speed_ratio.ln() - self.target, e)))
+            }
+            Err(AutorotationError::NoBracket { .. } | AutorotationError::Solve(_)) => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// A bracket within 2 % of `alpha`, if the sign changes there.
+    fn bracket_near(&mut self, alpha: f64) -> Result<Option<[Point; 2]>, AutorotationError> {
+        let w = 0.02 * alpha.max(1e-3);
+        let (lo, hi) = (self.at(alpha - w)?, self.at(alpha + w)?);
+        Ok(match (lo, hi) {
+            (Some((x, _)), Some((y, _))) if x * y <= 0.0 => Some([(alpha - w, x), (alpha + w, y)]),
+            _ => None,
+        })
+    }
+
+    /// A bracket on a grid from 0.25 to 40 deg. Mu falls as the angle rises; below some angle
+    /// the rotor has no equilibrium, so when the first equilibrium is already below the target
+    /// the edge between is searched too.
+    fn bracket_on_grid(&mut self) -> Result<Option<[Point; 2]>, AutorotationError> {
+        let grid: Vec<f64> = (0..12)
+            .map(|k| 0.25f64 * (40.0f64 / 0.25).powf(k as f64 / 11.0))
+            .map(f64::to_radians)
+            .collect();
+        let mut last: Option<Point> = None;
+        let mut last_none: Option<f64> = None;
+        for &a in &grid {
+            let Some((y, _)) = self.at(a)? else {
+                last_none = Some(a);
+                continue;
+            };
+            if let Some((ap, yp)) = last
+                && yp * y <= 0.0
+            {
+                return Ok(Some([(ap, yp), (a, y)]));
+            }
+            if last.is_none()
+                && y < 0.0
+                && let Some(none) = last_none
+                && let Some(b) = self.bracket_at_edge(none, (a, y))?
+            {
+                return Ok(Some(b));
+            }
+            last = Some((a, y));
+        }
+        Ok(None)
+    }
+
+    /// Between an angle without an equilibrium and `first`, the first with one (below the
+    /// target): halves towards the edge for an equilibrium above the target.
+    fn bracket_at_edge(
+        &mut self,
+        mut none: f64,
+        first: Point,
+    ) -> Result<Option<[Point; 2]>, AutorotationError> {
+        let (mut a1, mut y1) = first;
+        for _ in 0..40 {
+            let m = 0.5 * (none + a1);
+            match self.at(m)? {
+                None => none = m,
+                Some((ym, _)) if ym >= 0.0 => return Ok(Some([(m, ym), (a1, y1)])),
+                Some((ym, _)) => (a1, y1) = (m, ym),
+            }
+            if a1 - none < 1e-7 {
+                break;
+            }
+        }
+        Ok(None)
+    }
+
+    /// The angle inside a bracket where mu is the target (the Illinois method), and the
+    /// equilibrium there.
+    fn refine(&mut self, bracket: [Point; 2]) -> Result<(f64, Autorotation), AutorotationError> {
+        let [(mut a0, mut y0), (mut a1, mut y1)] = bracket;
+        let mut best = None;
         for _ in 0..60 {
             let a = if (y1 - y0).abs() > 0.0 {
                 a1 - y1 * (a1 - a0) / (y1 - y0)
             } else {
                 0.5 * (a0 + a1)
             };
-            let Some((y, e)) = f(a)? else {
+            let Some((y, e)) = self.at(a)? else {
                 // No equilibrium inside a bracket of equilibria: halve instead.
                 let m = 0.5 * (a0 + a1);
-                let Some((ym, em)) = f(m)? else {
-                    return Err(AutorotationError::NoAngle {
-                        tip_speed_ratio: c.tip_speed_ratio,
-                        found,
-                    });
+                let Some((ym, em)) = self.at(m)? else {
+                    break;
                 };
                 if ym * y1 < 0.0 {
                     (a0, y0) = (m, ym);
                 } else {
                     (a1, y1) = (m, ym);
                 }
-                best = Some(em);
+                best = Some((m, em));
                 continue;
             };
-            best = Some(e);
+            best = Some((a, e));
             if y.abs() < 1e-9 || (a1 - a0).abs() < 1e-10 {
-                alpha = a;
                 break;
             }
             if y * y1 < 0.0 {
@@ -602,25 +654,10 @@ pub fn autorotate_at_tip_speed_ratio(
                 y0 *= 0.5;
             }
             (a1, y1) = (a, y);
-            alpha = a;
         }
-        let e = best.expect("the refinement evaluates at least once");
-        let ratio = c.omega_rad_s / e.omega_rad_s;
-        if (ratio - 1.0).abs() < 1e-7 {
-            return Ok(AtTipSpeedRatio {
-                alpha_rad: alpha,
-                airspeed_m_s: v,
-                autorotation: e,
-                evaluations,
-            });
-        }
-        v *= ratio;
-        let w = 0.02 * alpha.max(1e-3);
-        bracket = Some([(alpha - w, 0.0), (alpha + w, 0.0)]);
+        best.ok_or_else(|| AutorotationError::NoAngle {
+            tip_speed_ratio: self.c.tip_speed_ratio,
+            found: self.found.clone(),
+        })
     }
-    Err(AutorotationError::Condition {
-        name: "rotor speed",
-        requirement: "matched by scaling the airspeed within 8 passes",
-        value: c.omega_rad_s,
-    })
 }
