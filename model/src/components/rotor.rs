@@ -1575,18 +1575,20 @@ mod tests {
             collective_shift_rad: 0.0,
         };
         let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
-        let found = autorotation::autorotate_at_tip_speed_ratio(
-            &rotor,
-            autorotation::TipSpeedCondition {
-                tip_speed_ratio: a.tip_speed_ratio,
-                omega_rad_s: a.omega_rad_s,
-                density_kg_m3: 1.225,
-                speed_of_sound_m_s: 340.0,
-                collective_shift_rad: 0.0,
-            },
-            Options::default(),
-        )
-        .unwrap();
+        let at = |tip_speed_ratio: f64| {
+            autorotation::autorotate_at_tip_speed_ratio(
+                &rotor,
+                autorotation::TipSpeedCondition {
+                    tip_speed_ratio,
+                    omega_rad_s: a.omega_rad_s,
+                    density_kg_m3: 1.225,
+                    speed_of_sound_m_s: 340.0,
+                    collective_shift_rad: 0.0,
+                },
+                Options::default(),
+            )
+        };
+        let found = at(a.tip_speed_ratio).unwrap();
         assert!(
             (found.alpha_rad - tunnel.alpha_rad).abs() < 1e-6,
             "{} deg",
@@ -1597,17 +1599,7 @@ mod tests {
         assert!((e.omega_rad_s / a.omega_rad_s - 1.0).abs() < 1e-6);
         assert!((e.tip_speed_ratio / a.tip_speed_ratio - 1.0).abs() < 1e-6);
         // A ratio no angle reaches is an error with what was found, not a panic.
-        let none = autorotation::autorotate_at_tip_speed_ratio(
-            &rotor,
-            autorotation::TipSpeedCondition {
-                tip_speed_ratio: 1.9,
-                omega_rad_s: a.omega_rad_s,
-                density_kg_m3: 1.225,
-                speed_of_sound_m_s: 340.0,
-                collective_shift_rad: 0.0,
-            },
-            Options::default(),
-        );
+        let none = at(1.9);
         assert!(
             matches!(none, Err(autorotation::AutorotationError::NoAngle { .. })),
             "{none:?}"
