@@ -109,7 +109,10 @@ pub struct RotorModelSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TunnelSpec {
-    pub alpha_deg: f64,
+    /// Absent: the angle is found at `tip_speed_ratio` and `rotor_rpm` (how TR 515 plots its
+    /// data), and the check computes it as `rotor_alpha_deg`.
+    #[serde(default)]
+    pub alpha_deg: Option<f64>,
     #[serde(default)]
     pub airspeed_m_s: Option<f64>,
     #[serde(default)]
@@ -1072,6 +1075,16 @@ fn resolve_check(
         }
     }
 
+    if let Some(t) = &c.tunnel
+        && t.alpha_deg.is_some()
+        && c.expect
+            .contains_key(crate::quantity::Quantity::RotorAlphaDeg.name())
+    {
+        return Err(err(
+            &format!("{here}.expect.rotor_alpha_deg"),
+            "the tunnel gives `alpha_deg`, so `rotor_alpha_deg` reads it back: check it with the angle left out (`tunnel: {tip_speed_ratio, rotor_rpm}`), where it is found".into(),
+        ));
+    }
     let mut allowed: Vec<String> = quantities(c.kind);
     if let Some(rec) = &reference {
         for s in crate::history::record_signals(rec) {
@@ -1291,7 +1304,7 @@ fn check_tunnel(
 ) -> Result<(), InputError> {
     let field = format!("{here}.tunnel");
     let finite = |v: Option<f64>| v.is_none_or(f64::is_finite);
-    if !t.alpha_deg.is_finite()
+    if !finite(t.alpha_deg)
         || !finite(t.airspeed_m_s)
         || !finite(t.tip_speed_ratio)
         || !finite(t.rotor_rpm)
@@ -1303,11 +1316,11 @@ fn check_tunnel(
             "every number of the tunnel condition must be finite".into(),
         ));
     }
-    match (t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm) {
-        (Some(_), None, None) | (None, Some(_), Some(_)) => Ok(()),
+    match (t.alpha_deg, t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm) {
+        (Some(_), Some(_), None, None) | (_, None, Some(_), Some(_)) => Ok(()),
         _ => Err(err(
             &field,
-            "give either `airspeed_m_s`, or `tip_speed_ratio` with `rotor_rpm` (the airspeed then follows as mu Omega R / cos alpha)"
+            "give `alpha_deg` with either `airspeed_m_s`, or `tip_speed_ratio` with `rotor_rpm` (the airspeed then follows as mu Omega R / cos alpha); or `tip_speed_ratio` with `rotor_rpm` alone (the angle is then found)"
                 .into(),
         )),
     }

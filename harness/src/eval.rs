@@ -360,12 +360,13 @@ impl Evaluated {
     }
 }
 
-/// The airspeed of a tunnel condition (given, or `mu Omega R / cos alpha`).
+/// The airspeed of a tunnel condition (given, or `mu Omega R / cos alpha`; unknown, NaN, while
+/// the angle is to be found).
 pub fn tunnel_airspeed_m_s(t: &crate::case::TunnelSpec, radius_m: f64) -> f64 {
-    match (t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm) {
-        (Some(v), _, _) => v,
-        (None, Some(mu), Some(rpm)) => {
-            mu * rpm * std::f64::consts::PI / 30.0 * radius_m / t.alpha_deg.to_radians().cos()
+    match (t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm, t.alpha_deg) {
+        (Some(v), _, _, _) => v,
+        (None, Some(mu), Some(rpm), Some(alpha)) => {
+            mu * rpm * std::f64::consts::PI / 30.0 * radius_m / alpha.to_radians().cos()
         }
         _ => f64::NAN,
     }
@@ -386,17 +387,41 @@ pub fn autorotation_quantities(
 ) -> Result<Result<Quantities, Found>, String> {
     use cierva_model::components::autorotation::AutorotationError as A;
     use cierva_model::solve::SolveError;
-    let v = tunnel_airspeed_m_s(t, rotor.radius_m);
-    let run = crate::run_autorotation(
-        rotor,
-        t.alpha_deg,
-        v,
-        t.collective_deg,
-        t.density_kg_m3,
-        inflow,
-    );
-    let a = match run {
+    let run = match (t.alpha_deg, t.tip_speed_ratio, t.rotor_rpm) {
+        (Some(alpha), ..) => crate::run_autorotation(
+            rotor,
+            alpha,
+            tunnel_airspeed_m_s(t, rotor.radius_m),
+            t.collective_deg,
+            t.density_kg_m3,
+            inflow,
+        )
+        .map(|a| (alpha, a)),
+        (None, Some(mu), Some(rpm)) => crate::run_autorotation_at_tip_speed_ratio(
+            rotor,
+            mu,
+            rpm,
+            t.collective_deg,
+            t.density_kg_m3,
+            inflow,
+        )
+        .map(|f| (f.alpha_rad.to_degrees(), f.autorotation)),
+        _ => return Err("the tunnel condition is incomplete".into()),
+    };
+    let (alpha_deg, a) = match run {
         Ok(a) => a,
+        Err(crate::AutorotateError::Autorotation(e @ A::NoAngle { .. })) => {
+            let A::NoAngle { found, .. } = &e else {
+                unreachable!()
+            };
+            let largest = found.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
+            return Ok(Err((
+                Finding::NoEquilibrium {
+                    reason: e.to_string(),
+                },
+                vec![("largest_tip_speed_ratio_found".into(), largest)],
+            )));
+        }
         Err(crate::AutorotateError::Autorotation(e @ A::NoBracket { .. })) => {
             let A::NoBracket { torques, .. } = &e else {
                 unreachable!()
@@ -426,6 +451,7 @@ pub fn autorotation_quantities(
         Err(e) => return Err(e.to_string()),
     };
     Ok(Ok(vec![
+        (Q::RotorAlphaDeg.name(), alpha_deg),
         (Q::RotorRpm.name(), a.rpm),
         (Q::RotorOmegaRadS.name(), a.omega_rad_s),
         (Q::TipSpeedRatio.name(), a.tip_speed_ratio),

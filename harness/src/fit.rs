@@ -159,7 +159,10 @@ impl Condition {
                 s
             }
             Self::Tunnel(t) => {
-                let mut s = format!("alpha {} deg", t.alpha_deg);
+                let mut s = match t.alpha_deg {
+                    Some(a) => format!("alpha {a} deg"),
+                    None => "alpha found".to_string(),
+                };
                 if let Some(mu) = t.tip_speed_ratio {
                     s += &format!(" mu {mu}");
                 }
@@ -185,10 +188,12 @@ pub enum Measure {
 }
 
 /// The autorotation quantities a tunnel target can fit (all but the rotor speed in rad/s,
-/// which is `rotor_rpm` again, and the inflow, which a tunnel does not measure).
+/// which is `rotor_rpm` again, and the inflow, which a tunnel does not measure; the angle only
+/// where the tunnel condition leaves it out).
 pub const TUNNEL_QUANTITIES: &[crate::quantity::Quantity] = {
     use crate::quantity::Quantity as Q;
     &[
+        Q::RotorAlphaDeg,
         Q::RotorRpm,
         Q::TipSpeedRatio,
         Q::LiftCoefficient,

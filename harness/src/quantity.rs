@@ -97,6 +97,7 @@ quantities! {
     MagnitudeChange => "magnitude_change", "-", "(|corrected| - |uncorrected|) / |uncorrected|";
     // The rotor (in a tunnel, in trim, from flapping).
     RotorRpm => "rotor_rpm", "rpm", "main rotor speed";
+    RotorAlphaDeg => "rotor_alpha_deg", "deg", "rotor angle of attack in a tunnel, free stream to the plane normal to the shaft";
     RotorOmegaRadS => "rotor_omega_rad_s", "rad/s", "main rotor speed";
     TipSpeedRatio => "tip_speed_ratio", "-", "advance ratio mu, in-plane speed over tip speed";
     LiftCoefficient => "lift_coefficient", "-", "rotor lift / (rho/2 V^2 pi R^2), TR 515's C_L";
@@ -208,6 +209,7 @@ pub const DERIVATIVE: &[Quantity] = &[
 /// What an `autorotation` check computes (an isolated rotor in a tunnel); also what a fit's
 /// tunnel target can fit.
 pub const AUTOROTATION: &[Quantity] = &[
+    Q::RotorAlphaDeg,
     Q::RotorRpm,
     Q::RotorOmegaRadS,
     Q::TipSpeedRatio,

@@ -101,7 +101,7 @@ fn tr515_case_rows_are_the_transcribed_table() {
         assert_eq!(check.id, format!("row-{:02}", k + 1));
         let t = check.tunnel.unwrap();
         assert_eq!(t.tip_speed_ratio, Some(row[col("mu")]), "{}", check.id);
-        assert_eq!(t.alpha_deg, row[col("alpha_deg")], "{}", check.id);
+        assert_eq!(t.alpha_deg, Some(row[col("alpha_deg")]), "{}", check.id);
         assert_eq!(t.rotor_rpm, Some(row[col("N_rpm")]), "{}", check.id);
         for (quantity, column) in [
             ("rotor_rpm", "N_rpm"),
@@ -117,4 +117,22 @@ fn tr515_case_rows_are_the_transcribed_table() {
             assert_eq!(e.value, Some(row[col(column)]), "{} {quantity}", check.id);
         }
     }
+}
+
+/// An autorotation check without the angle finds it: the known answer of
+/// `tests/fixtures/tip-speed-ratio-mode.yaml` (6.6 deg, from the fixed-angle equilibrium's own
+/// mu and rotor speed) passes.
+#[test]
+fn an_autorotation_check_at_a_tip_speed_ratio_finds_its_angle() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/tip-speed-ratio-mode.yaml");
+    let c = cierva_harness::case::load(&path).expect("the fixture loads");
+    let r = cierva_harness::eval::run_case(&c);
+    assert_eq!(r.len(), 1);
+    assert_eq!(
+        r[0].outcome,
+        cierva_harness::eval::Outcome::Pass,
+        "{}",
+        r[0].explain()
+    );
 }

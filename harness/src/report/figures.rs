@@ -314,7 +314,7 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
             let x = if by_mu {
                 t.tip_speed_ratio.unwrap_or(f64::NAN)
             } else {
-                t.alpha_deg
+                t.alpha_deg.unwrap_or(f64::NAN)
             };
             r.quantities.iter().map(move |q| (x, q))
         })
