@@ -385,8 +385,6 @@ pub fn autorotation_quantities(
     inflow: cierva_model::components::rotor::InflowModel,
     t: &crate::case::TunnelSpec,
 ) -> Result<Result<Quantities, Found>, String> {
-    use cierva_model::components::autorotation::AutorotationError as A;
-    use cierva_model::solve::SolveError;
     let run = match (t.alpha_deg, t.tip_speed_ratio, t.rotor_rpm) {
         (Some(alpha), ..) => crate::run_autorotation(
             rotor,
@@ -410,43 +408,16 @@ pub fn autorotation_quantities(
     };
     let (alpha_deg, a) = match run {
         Ok(a) => a,
-        Err(crate::AutorotateError::Autorotation(e @ A::NoAngle { .. })) => {
-            let A::NoAngle { found, .. } = &e else {
-                unreachable!()
+        Err(crate::AutorotateError::Autorotation(e)) => {
+            return match no_equilibrium(&e) {
+                Some(numbers) => Ok(Err((
+                    Finding::NoEquilibrium {
+                        reason: e.to_string(),
+                    },
+                    numbers,
+                ))),
+                None => Err(e.to_string()),
             };
-            let largest = found.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
-            return Ok(Err((
-                Finding::NoEquilibrium {
-                    reason: e.to_string(),
-                },
-                vec![("largest_tip_speed_ratio_found".into(), largest)],
-            )));
-        }
-        Err(crate::AutorotateError::Autorotation(e @ A::NoBracket { .. })) => {
-            let A::NoBracket { torques, .. } = &e else {
-                unreachable!()
-            };
-            let largest = torques.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            return Ok(Err((
-                Finding::NoEquilibrium {
-                    reason: e.to_string(),
-                },
-                vec![("largest_torque_coefficient_over_solidity".into(), largest)],
-            )));
-        }
-        Err(crate::AutorotateError::Autorotation(
-            e @ A::Solve(SolveError::NoConvergence { .. }),
-        )) => {
-            let A::Solve(SolveError::NoConvergence { residuals, .. }) = &e else {
-                unreachable!()
-            };
-            let norm = residuals.iter().fold(0.0f64, |m, r| m.max(r.abs()));
-            return Ok(Err((
-                Finding::NoEquilibrium {
-                    reason: e.to_string(),
-                },
-                vec![("largest_scaled_residual".into(), norm)],
-            )));
         }
         Err(e) => return Err(e.to_string()),
     };
@@ -474,6 +445,32 @@ pub fn quantities_or_reason(
         Ok(Ok(q)) => Ok(q),
         Ok(Err((Finding::NoEquilibrium { reason }, _))) | Err(reason) => Err(reason),
     }
+}
+
+/// When an autorotation error is the model finding no equilibrium (not a condition it cannot
+/// be run at): the number that says how far it was from one.
+fn no_equilibrium(
+    e: &cierva_model::components::autorotation::AutorotationError,
+) -> Option<Vec<(String, f64)>> {
+    use cierva_model::components::autorotation::AutorotationError as A;
+    use cierva_model::solve::SolveError;
+    let largest = |v: &mut dyn Iterator<Item = f64>| v.fold(f64::NEG_INFINITY, f64::max);
+    let (name, value) = match e {
+        A::NoAngle { found, .. } => (
+            "largest_tip_speed_ratio_found",
+            largest(&mut found.iter().map(|f| f.1)),
+        ),
+        A::NoBracket { torques, .. } => (
+            "largest_torque_coefficient_over_solidity",
+            largest(&mut torques.iter().copied()),
+        ),
+        A::Solve(SolveError::NoConvergence { residuals, .. }) => (
+            "largest_scaled_residual",
+            residuals.iter().fold(0.0f64, |m, r| m.max(r.abs())),
+        ),
+        _ => return None,
+    };
+    Some(vec![(name.to_string(), value)])
 }
 
 /// The quantities of one trim (see [`crate::case::TRIM_QUANTITIES`]).

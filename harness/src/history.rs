@@ -237,36 +237,35 @@ pub fn record_controls(record: &Record) -> Result<crate::controls_file::ControlT
     Ok(ControlTable { time_s, changes })
 }
 
-/// Compares every response of `flown` that `record` carries. The two are aligned sample by
-/// sample (`flown` is flown at the record's times).
 /// The metrics a model with no response at all would score against `record` (every response
 /// zero, its change from trim): a check that such a model passes cannot fail.
 pub fn zero_response_metrics(record: &Record) -> Result<Vec<SignalMetrics>, String> {
-    let n = record.channel("time_s").map_or(0, <[f64]>::len);
-    let flown = Flown {
-        time_s: vec![0.0; n],
-        signals: vec![vec![0.0; n]; SIGNALS.len()],
-    };
-    compare(record, &flown)
+    constant_response_metrics(record, |_| 0.0)
 }
 
 /// The metrics a model whose every response holds still at the reference's own mean (over the
 /// record) would score: the second trivial predictor. A check that it passes only asks the
 /// model to get the record's average, not its motion.
 pub fn mean_response_metrics(record: &Record) -> Result<Vec<SignalMetrics>, String> {
+    constant_response_metrics(record, |c| {
+        if c.is_empty() {
+            0.0
+        } else {
+            c.iter().sum::<f64>() / c.len() as f64
+        }
+    })
+}
+
+/// The metrics of a model holding each response at `level(the record's channel)` (0 for a
+/// response the record does not carry) throughout.
+fn constant_response_metrics(
+    record: &Record,
+    level: impl Fn(&[f64]) -> f64,
+) -> Result<Vec<SignalMetrics>, String> {
     let n = record.channel("time_s").map_or(0, <[f64]>::len);
     let signals = SIGNALS
         .iter()
-        .map(|name| {
-            let mean = record.channel(name).map_or(0.0, |c| {
-                if c.is_empty() {
-                    0.0
-                } else {
-                    c.iter().sum::<f64>() / c.len() as f64
-                }
-            });
-            vec![mean; n]
-        })
+        .map(|name| vec![record.channel(name).map_or(0.0, &level); n])
         .collect();
     compare(
         record,
@@ -277,6 +276,8 @@ pub fn mean_response_metrics(record: &Record) -> Result<Vec<SignalMetrics>, Stri
     )
 }
 
+/// Compares every response of `flown` that `record` carries. The two are aligned sample by
+/// sample (`flown` is flown at the record's times).
 pub fn compare(record: &Record, flown: &Flown) -> Result<Vec<SignalMetrics>, String> {
     let t = record.channel("time_s").ok_or("the record has no time_s")?;
     let mut out = Vec::new();

@@ -113,19 +113,14 @@ pub fn run_autorotation(
     density_kg_m3: Option<f64>,
     inflow: cierva_model::components::rotor::InflowModel,
 ) -> Result<cierva_model::components::autorotation::Autorotation, AutorotateError> {
-    use cierva_model::components::atmosphere;
     use cierva_model::components::autorotation::{Options, Tunnel, autorotate};
-    let air = match density_kg_m3 {
-        Some(rho) => atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho)?)?,
-        None => atmosphere::Atmosphere::standard().at(0.0)?,
-    };
+    let (air, collective_shift_rad) = tunnel_air(rotor, collective_deg, density_kg_m3)?;
     let tunnel = Tunnel {
         alpha_rad: alpha_deg.to_radians(),
         airspeed_m_s,
         density_kg_m3: air.density_kg_m3,
         speed_of_sound_m_s: air.speed_of_sound_m_s,
-        collective_shift_rad: collective_deg
-            .map_or(0.0, |c| rotor.collective_shift_for(c.to_radians())),
+        collective_shift_rad,
     };
     Ok(autorotate(
         rotor,
@@ -135,6 +130,23 @@ pub fn run_autorotation(
             ..Options::default()
         },
     )?)
+}
+
+/// A tunnel's air (at `density_kg_m3`, or ISA sea level; the speed of sound from the density
+/// altitude) and the pitch shift that sets the rotor's reference pitch to `collective_deg`
+/// (none: the file's pitch as it is).
+fn tunnel_air(
+    rotor: &cierva_model::components::rotor::Rotor,
+    collective_deg: Option<f64>,
+    density_kg_m3: Option<f64>,
+) -> Result<(cierva_model::components::atmosphere::AirState, f64), AutorotateError> {
+    use cierva_model::components::atmosphere;
+    let air = match density_kg_m3 {
+        Some(rho) => atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho)?)?,
+        None => atmosphere::Atmosphere::standard().at(0.0)?,
+    };
+    let shift = collective_deg.map_or(0.0, |c| rotor.collective_shift_for(c.to_radians()));
+    Ok((air, shift))
 }
 
 /// The isolated rotor at a tip-speed ratio and rotor speed (rpm): the angle of attack and
@@ -148,14 +160,10 @@ pub fn run_autorotation_at_tip_speed_ratio(
     density_kg_m3: Option<f64>,
     inflow: cierva_model::components::rotor::InflowModel,
 ) -> Result<cierva_model::components::autorotation::AtTipSpeedRatio, AutorotateError> {
-    use cierva_model::components::atmosphere;
     use cierva_model::components::autorotation::{
         Options, TipSpeedCondition, autorotate_at_tip_speed_ratio,
     };
-    let air = match density_kg_m3 {
-        Some(rho) => atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho)?)?,
-        None => atmosphere::Atmosphere::standard().at(0.0)?,
-    };
+    let (air, collective_shift_rad) = tunnel_air(rotor, collective_deg, density_kg_m3)?;
     Ok(autorotate_at_tip_speed_ratio(
         rotor,
         TipSpeedCondition {
@@ -163,8 +171,7 @@ pub fn run_autorotation_at_tip_speed_ratio(
             omega_rad_s: rotor_rpm * std::f64::consts::PI / 30.0,
             density_kg_m3: air.density_kg_m3,
             speed_of_sound_m_s: air.speed_of_sound_m_s,
-            collective_shift_rad: collective_deg
-                .map_or(0.0, |c| rotor.collective_shift_for(c.to_radians())),
+            collective_shift_rad,
         },
         Options {
             inflow,

@@ -37,49 +37,37 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
         Err(code) => return code,
     };
     let inflow = a.inflow.model(a.skew);
-    let (alpha_deg, airspeed_m_s, e) = match (
-        a.alpha_deg,
-        a.airspeed_m_s,
-        a.tip_speed_ratio,
-        a.rotor_rpm,
-    ) {
-        (Some(alpha_deg), Some(airspeed_m_s), None, None) => {
-            match run_autorotation(
-                &file.rotor,
-                alpha_deg,
-                airspeed_m_s,
-                a.collective_deg,
-                a.density_kg_m3,
-                inflow,
-            ) {
-                Ok(e) => (alpha_deg, airspeed_m_s, e),
-                Err(e) => {
-                    eprintln!("error: {}: {e}", a.rotor.display());
-                    return ExitCode::from(if e.is_input() { 2 } else { 1 });
-                }
-            }
-        }
-        (None, None, Some(mu), Some(rpm)) => {
-            match cierva_harness::run_autorotation_at_tip_speed_ratio(
-                &file.rotor,
-                mu,
-                rpm,
-                a.collective_deg,
-                a.density_kg_m3,
-                inflow,
-            ) {
-                Ok(f) => (f.alpha_rad.to_degrees(), f.airspeed_m_s, f.autorotation),
-                Err(e) => {
-                    eprintln!("error: {}: {e}", a.rotor.display());
-                    return ExitCode::from(if e.is_input() { 2 } else { 1 });
-                }
-            }
-        }
+    let run = match (a.alpha_deg, a.airspeed_m_s, a.tip_speed_ratio, a.rotor_rpm) {
+        (Some(alpha_deg), Some(airspeed_m_s), None, None) => run_autorotation(
+            &file.rotor,
+            alpha_deg,
+            airspeed_m_s,
+            a.collective_deg,
+            a.density_kg_m3,
+            inflow,
+        )
+        .map(|e| (alpha_deg, airspeed_m_s, e)),
+        (None, None, Some(mu), Some(rpm)) => cierva_harness::run_autorotation_at_tip_speed_ratio(
+            &file.rotor,
+            mu,
+            rpm,
+            a.collective_deg,
+            a.density_kg_m3,
+            inflow,
+        )
+        .map(|f| (f.alpha_rad.to_degrees(), f.airspeed_m_s, f.autorotation)),
         _ => {
             eprintln!(
                 "error: give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm"
             );
             return ExitCode::from(2);
+        }
+    };
+    let (alpha_deg, airspeed_m_s, e) = match run {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {}: {e}", a.rotor.display());
+            return ExitCode::from(if e.is_input() { 2 } else { 1 });
         }
     };
     match a.format {

@@ -1543,11 +1543,8 @@ mod tests {
         assert!(r.validate().is_err());
     }
 
-    #[test]
-    fn autorotation_slows_the_flow_and_balances_torque() {
-        // A light-gyroplane-like rotor at 10 deg and 30 m/s: in autorotation the flow slows
-        // through the rotor, v0 > 0 (seed 001), the mean torque vanishes and the disc tilts back.
-        let rotor = autorotating(2f64.to_radians(), 20, 0.5);
+    /// A light-gyroplane-like rotor in a tunnel at 10 deg and 30 m/s.
+    fn gyroplane_rotor_at_10_deg_30_m_s() -> (Rotor, Tunnel) {
         let tunnel = Tunnel {
             alpha_rad: 10f64.to_radians(),
             airspeed_m_s: 30.0,
@@ -1555,6 +1552,14 @@ mod tests {
             speed_of_sound_m_s: 340.0,
             collective_shift_rad: 0.0,
         };
+        (autorotating(2f64.to_radians(), 20, 0.5), tunnel)
+    }
+
+    #[test]
+    fn autorotation_slows_the_flow_and_balances_torque() {
+        // A light-gyroplane-like rotor at 10 deg and 30 m/s: in autorotation the flow slows
+        // through the rotor, v0 > 0 (seed 001), the mean torque vanishes and the disc tilts back.
+        let (rotor, tunnel) = gyroplane_rotor_at_10_deg_30_m_s();
         let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
         assert!(a.inflow.v0 > 0.0, "{a:#?}");
         assert!(a.inflow_ratio < 0.0, "flow is up through the disc: {a:#?}");
@@ -1566,14 +1571,7 @@ mod tests {
     /// and 30 m/s, given as its mu and rotor speed, returns 10 deg and 30 m/s.
     #[test]
     fn autorotation_at_a_tip_speed_ratio_finds_the_angle_back() {
-        let rotor = autorotating(2f64.to_radians(), 20, 0.5);
-        let tunnel = Tunnel {
-            alpha_rad: 10f64.to_radians(),
-            airspeed_m_s: 30.0,
-            density_kg_m3: 1.225,
-            speed_of_sound_m_s: 340.0,
-            collective_shift_rad: 0.0,
-        };
+        let (rotor, tunnel) = gyroplane_rotor_at_10_deg_30_m_s();
         let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
         let at = |tip_speed_ratio: f64| {
             autorotation::autorotate_at_tip_speed_ratio(
