@@ -426,7 +426,7 @@ pub struct Problem {
 
 /// One condition's computed quantities, and its linear model where a target needs one.
 type AtCondition = (
-    crate::eval::Quantities,
+    crate::checks::result::Quantities,
     Option<cierva_model::analysis::linear::LinearModel>,
 );
 
@@ -518,7 +518,10 @@ pub fn evaluate_each_from(
                 if let Some(w) = warm {
                     w.put(*c, trim.warm_start.clone());
                 }
-                Ok((crate::eval::trim_quantities_of(&a, *loading, &trim), lin))
+                Ok((
+                    crate::checks::trim::trim_quantities_of(&a, *loading, &trim),
+                    lin,
+                ))
             })
         }
         Subject::Rotor { rotor, inflow } => {
@@ -528,9 +531,9 @@ pub fn evaluate_each_from(
                 let Condition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };
-                crate::eval::quantities_or_reason(crate::eval::autorotation_quantities(
-                    &r, *inflow, t,
-                ))
+                crate::checks::autorotation::quantities_or_reason(
+                    crate::checks::autorotation::autorotation_quantities(&r, *inflow, t),
+                )
                 .map(|q| (q, None))
                 .map_err(|e| format!("{}: {e}", at(c)))
             })

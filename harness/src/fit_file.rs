@@ -32,7 +32,8 @@
 //! the value, and an interval (95 % flight bounds) gives its midpoint with a standard error of
 //! the half-width over 1.96; such an interval can also be a hard or soft bound.
 
-use crate::case::{self, AircraftModelSpec, CheckKind, RotorModelSpec, ToleranceKind, TunnelSpec};
+use crate::case::{self, AircraftModelSpec, RotorModelSpec, ToleranceKind, TunnelSpec};
+use crate::checks::What;
 use crate::fit::{self, Bounds, Condition, Enforce, Measure, Parameter, ParameterKind};
 use crate::refs::Provenance;
 use crate::yaml::{self, InputError};
@@ -401,9 +402,9 @@ fn from_case(
         {
             continue;
         }
-        let condition = match (check.kind, check.condition, check.tunnel) {
-            (CheckKind::Derivative | CheckKind::Trim, Some(cond), _) => Condition::Flight(cond),
-            (CheckKind::Autorotation, _, Some(tu)) => Condition::Tunnel(tu),
+        let condition = match (&check.what, check.condition()) {
+            (What::Derivative(_) | What::Trim(_), Some(cond)) => Condition::Flight(cond),
+            (What::Autorotation(a), _) => Condition::Tunnel(a.tunnel),
             _ if t.checks.is_some() => {
                 return Err(format!(
                     "check `{}` of {file} is not a derivative, trim or autorotation check at one condition",
@@ -412,7 +413,8 @@ fn from_case(
             }
             _ => continue,
         };
-        if check.corrections.is_some() || !check.set.is_empty() {
+        let modified = check.linear().is_some_and(|l| !l.set.is_empty());
+        if check.corrections().is_some() || modified {
             if t.checks.is_some() {
                 return Err(format!(
                     "check `{}` of {file} sets its own corrections or derivatives: it is not a reference to fit",
@@ -428,12 +430,9 @@ fn from_case(
             {
                 continue;
             }
-            let name = match check.kind {
-                CheckKind::Derivative if e.quantity == "value" => check
-                    .derivative
-                    .clone()
-                    .ok_or_else(|| format!("check `{}` names no derivative", check.id))?,
-                CheckKind::Derivative => continue,
+            let name = match &check.what {
+                What::Derivative(d) if e.quantity == "value" => d.derivative.clone(),
+                What::Derivative(_) => continue,
                 _ => e.quantity.clone(),
             };
             let measure = Measure::parse(&condition, &name)

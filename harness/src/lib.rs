@@ -8,6 +8,7 @@
 
 pub mod aircraft_file;
 pub mod case;
+pub mod checks;
 pub mod controls_file;
 pub mod corrections;
 pub mod discrepancy;
@@ -22,6 +23,7 @@ pub mod report;
 pub mod review;
 pub mod rotor_file;
 pub mod scoreboard;
+pub mod subject;
 pub mod text;
 pub mod tolerance;
 pub mod yaml;

@@ -233,7 +233,9 @@ pub fn milne_table(m: &LinearModel) -> String {
 ///
 /// A check whose equilibrium was not found shows the kind of failure only (the solver's last
 /// iterate is not reproducible to the digit across platforms).
-pub fn autorotation_table(rows: &[(String, Result<crate::eval::Quantities, String>)]) -> String {
+pub fn autorotation_table(
+    rows: &[(String, Result<crate::checks::result::Quantities, String>)],
+) -> String {
     let mut s = String::new();
     let names = crate::quantity::names(crate::quantity::AUTOROTATION);
     let _ = write!(s, "{:<10}", "check");
@@ -556,7 +558,9 @@ pub fn trim_report(
 /// Trim values over a set of conditions, one row per quantity and one column per condition,
 /// at fixed decimals (three for angles, percent and m/s, one for rpm and N): the trim's own
 /// convergence (scaled residuals at most 1e-7) settles them far below the last digit.
-pub fn trim_table(columns: &[(String, Result<crate::eval::Quantities, String>)]) -> String {
+pub fn trim_table(
+    columns: &[(String, Result<crate::checks::result::Quantities, String>)],
+) -> String {
     let rows: [(&str, usize); 18] = [
         ("stick_longitudinal_percent", 3),
         ("stick_lateral_percent", 3),

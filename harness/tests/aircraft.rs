@@ -1,6 +1,7 @@
 //! The shipped data files: the numerical choices the aircraft files' sources claim hold, and
 //! the transcriptions the cases are built from.
 
+use cierva_harness::checks::What;
 use cierva_harness::{Loading, TrimRequest, aircraft_file, repo_root, run_trim};
 
 fn request(airspeed_mph: f64) -> TrimRequest {
@@ -99,7 +100,10 @@ fn tr515_case_rows_are_the_transcribed_table() {
     assert_eq!(c.checks.len(), rows.len());
     for (k, (check, row)) in c.checks.iter().zip(&rows).enumerate() {
         assert_eq!(check.id, format!("row-{:02}", k + 1));
-        let t = check.tunnel.unwrap();
+        let What::Autorotation(a) = &check.what else {
+            panic!("{} is an autorotation check", check.id)
+        };
+        let t = a.tunnel;
         assert_eq!(t.tip_speed_ratio, Some(row[col("mu")]), "{}", check.id);
         assert_eq!(t.alpha_deg, Some(row[col("alpha_deg")]), "{}", check.id);
         assert_eq!(t.rotor_rpm, Some(row[col("N_rpm")]), "{}", check.id);

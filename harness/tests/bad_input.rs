@@ -10,7 +10,7 @@ use std::path::Path;
 #[test]
 fn every_bad_case_gets_its_located_error() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-input");
-    let problems = common::check_fixtures(&dir, 25, case::load);
+    let problems = common::check_fixtures(&dir, 30, case::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 

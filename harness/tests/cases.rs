@@ -11,7 +11,8 @@
 //! names the file, line, column and field. No case files at all is a failing trial too.
 
 use cierva_harness::case::{Case, Subject};
-use cierva_harness::{eval, load_cases, repo_root, text};
+use cierva_harness::checks::What;
+use cierva_harness::{checks, eval, load_cases, repo_root, text};
 use libtest_mimic::{Arguments, Failed, Trial};
 
 fn main() {
@@ -184,10 +185,14 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                 let rows: Vec<_> = c
                     .checks
                     .iter()
-                    .filter_map(|k| k.tunnel.as_ref().map(|t| (k.id.clone(), t)))
+                    .filter_map(|k| match &k.what {
+                        What::Autorotation(a) => Some((k.id.clone(), &a.tunnel)),
+                        _ => None,
+                    })
                     .map(|(id, t)| {
-                        let q = eval::autorotation_quantities(&file.rotor, *inflow, t);
-                        (id, eval::quantities_or_reason(q))
+                        let q =
+                            checks::autorotation::autorotation_quantities(&file.rotor, *inflow, t);
+                        (id, checks::autorotation::quantities_or_reason(q))
                     })
                     .collect();
                 snapshot(&c, "autorotation", Ok(text::autorotation_table(&rows)))
@@ -195,28 +200,32 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
             .with_kind("snapshot"),
         );
     }
-    let has = |kind: cierva_harness::case::CheckKind| case.checks.iter().any(|k| k.kind == kind);
-    let time_history = cierva_harness::case::CheckKind::TimeHistory;
+    let has_time_history = case
+        .checks
+        .iter()
+        .any(|k| matches!(k.what, What::TimeHistory(_)));
     if let Subject::Aircraft { file, loading } = &case.subject
-        && has(time_history)
+        && has_time_history
     {
         let (c, file, loading) = (case.clone(), file.clone(), *loading);
         trials.push(
             Trial::test(format!("{}::snapshot-time-histories", case.id), move || {
                 let mut rows = Vec::new();
-                for k in c.checks.iter().filter(|k| k.kind == time_history) {
-                    let (m, _) = eval::time_history_metrics(&file, loading, k)?;
-                    rows.push((k.id.clone(), m));
+                for k in &c.checks {
+                    if let What::TimeHistory(t) = &k.what {
+                        let (m, _) = checks::time_history::time_history_metrics(&file, loading, t)?;
+                        rows.push((k.id.clone(), m));
+                    }
                 }
                 snapshot(&c, "time-histories", Ok(text::time_history_table(&rows)))
             })
             .with_kind("snapshot"),
         );
     }
-    let trim_requested = case
-        .checks
-        .iter()
-        .any(|k| k.kind != time_history && (k.condition.is_some() || k.sweep_mph.is_some()));
+    let trim_requested = case.checks.iter().any(|k| {
+        matches!(k.what, What::Trim(_) | What::TrimSweep(_))
+            || k.linear().is_some_and(|l| l.condition.is_some())
+    });
     if let Subject::Aircraft { .. } = &case.subject
         && trim_requested
     {
@@ -227,11 +236,18 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                     unreachable!()
                 };
                 let mut requests = Vec::new();
-                for k in c.checks.iter().filter(|k| k.kind != time_history) {
-                    if let Some(r) = k.condition {
+                for k in c.checks.iter() {
+                    if matches!(k.what, What::TimeHistory(_)) {
+                        continue;
+                    }
+                    if let Some(r) = k.condition() {
                         requests.push(r);
                     }
-                    for v in k.sweep_mph.iter().flatten() {
+                    let sweep = match &k.what {
+                        What::TrimSweep(s) => s.sweep_mph.as_slice(),
+                        _ => &[],
+                    };
+                    for v in sweep {
                         requests.push(cierva_harness::TrimRequest {
                             airspeed_mph: *v,
                             climb_m_s: 0.0,
@@ -255,7 +271,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                         if r.turn_rate_deg_s != 0.0 {
                             label += &format!(" {:+} deg/s", r.turn_rate_deg_s);
                         }
-                        (label, eval::trim_quantities(file, *loading, *r))
+                        (label, checks::trim::trim_quantities(file, *loading, *r))
                     })
                     .collect();
                 snapshot(&c, "trim", Ok(text::trim_table(&columns)))
@@ -269,15 +285,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
         let mut conditions: Vec<cierva_harness::TrimRequest> = case
             .checks
             .iter()
-            .filter(|k| {
-                !matches!(
-                    k.kind,
-                    cierva_harness::case::CheckKind::Trim
-                        | cierva_harness::case::CheckKind::TrimSweep
-                        | cierva_harness::case::CheckKind::TimeHistory
-                )
-            })
-            .filter_map(|k| k.condition)
+            .filter_map(|k| k.linear()?.condition)
             .collect();
         conditions.sort_by(|a, b| {
             (a.airspeed_mph, a.climb_m_s)

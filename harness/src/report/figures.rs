@@ -12,6 +12,7 @@
 use super::plot::{Band, Bar, Figure, Series, Style};
 use super::{CaseRun, Run};
 use crate::case::{Check, CheckKind, Subject};
+use crate::checks::What;
 use crate::eval::{CheckResult, PlotData};
 use std::collections::BTreeMap;
 
@@ -79,20 +80,18 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
         let mass = loading.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
         for r in &c.results {
             let Some(k) = check_of(c, r) else { continue };
-            let (Some(d), Some(cond)) = (&k.derivative, k.condition) else {
+            let (What::Derivative(dk), Some(cond)) = (&k.what, k.condition()) else {
                 continue;
             };
-            if k.kind != CheckKind::Derivative {
-                continue;
-            }
+            let d = &dk.derivative;
             let Some(q) = r.quantities.iter().find(|q| q.quantity == "value") else {
                 continue;
             };
-            let label = match &k.divided_by {
+            let label = match &dk.divided_by {
                 Some(by) => format!("{d} / {by}"),
                 None => d.clone(),
             };
-            let corrected = k.corrections.is_some() || !c.corrections.is_empty();
+            let corrected = dk.corrections.is_some() || !c.corrections.is_empty();
             let series = format!(
                 "model, {mass:.0} kg{}",
                 if corrected { ", corrected" } else { "" }
@@ -236,7 +235,7 @@ fn trim_against_airspeed(c: &CaseRun) -> Vec<Figure> {
         .results
         .iter()
         .filter(|r| r.kind == CheckKind::Trim)
-        .filter_map(|r| Some((check_of(c, r)?.condition?.airspeed_mph, r)))
+        .filter_map(|r| Some((check_of(c, r)?.condition()?.airspeed_mph, r)))
         .flat_map(|(x, r)| r.quantities.iter().map(move |q| (x, q)))
         .collect();
     by_quantity(
@@ -302,7 +301,10 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
         .results
         .iter()
         .filter(|r| r.kind == CheckKind::Autorotation)
-        .filter_map(|r| Some((r, check_of(c, r)?.tunnel.as_ref()?)))
+        .filter_map(|r| match &check_of(c, r)?.what {
+            What::Autorotation(a) => Some((r, &a.tunnel)),
+            _ => None,
+        })
         .collect();
     if rows.is_empty() {
         return vec![];
@@ -344,11 +346,18 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
             continue;
         };
         let Some(k) = check_of(c, r) else { continue };
-        let label = match k.condition {
-            Some(cond) => format!("{:>5.1} mph, {:?}", cond.airspeed_mph, k.system),
-            None => format!("{:?} system", k.system),
+        let system = match &k.what {
+            What::Mode(m) => m.system,
+            What::Bcar(b) => b.system,
+            _ => continue,
         };
-        if !k.set.is_empty() || k.without_rotorspeed_coupling {
+        let label = match k.condition() {
+            Some(cond) => format!("{:>5.1} mph, {system:?}", cond.airspeed_mph),
+            None => format!("{system:?} system"),
+        };
+        if k.linear()
+            .is_some_and(|l| !l.set.is_empty() || l.without_rotorspeed_coupling)
+        {
             continue;
         }
         series

@@ -1,0 +1,108 @@
+//! `bcar`: the BCAR Section T verdict of one oscillatory mode, with its damping, boundary and
+//! margin indices (see [`cierva_model::analysis::bcar`]).
+
+use super::linear::{self, Computed, LinearSetup, OnLinear, System};
+use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind};
+use crate::quantity::{self as q, Quantity as Q};
+use crate::subject::Subject;
+use crate::yaml::InputError;
+use cierva_model::analysis::bcar::{self, Verdict};
+use cierva_model::analysis::modes::Complex;
+use cierva_model::{LinearModel, ModeKind};
+
+/// A `bcar` check: the mode, and the verdict expected of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BcarCheck {
+    pub mode: ModeKind,
+    pub system: System,
+    pub verdict: Verdict,
+    pub linear: LinearSetup,
+}
+
+impl Kind for BcarCheck {
+    const KIND: CheckKind = CheckKind::Bcar;
+    const FIELDS: &'static [&'static str] = &[
+        "mode",
+        "system",
+        "verdict",
+        "condition",
+        "set",
+        "without_rotorspeed_coupling",
+    ];
+    const SUBJECTS: &'static str = linear::SUBJECTS;
+
+    fn runs_on(subject: &Subject) -> bool {
+        linear::runs_on(subject)
+    }
+
+    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
+        Ok(Self {
+            mode: cx.needs(&spec.mode, "mode")?,
+            system: spec.system,
+            verdict: cx.needs(&spec.verdict, "verdict")?,
+            linear: linear::resolve_setup(cx, spec)?,
+        })
+    }
+}
+
+impl Evaluate for BcarCheck {
+    fn quantities(&self) -> Vec<String> {
+        super::names(q::BCAR)
+    }
+
+    fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
+        linear::evaluate(self, at, expectations)
+    }
+}
+
+impl OnLinear for BcarCheck {
+    fn setup(&self) -> &LinearSetup {
+        &self.linear
+    }
+
+    fn mode(&self) -> Option<(ModeKind, System)> {
+        Some((self.mode, self.system))
+    }
+
+    fn verdict(&self) -> Option<Verdict> {
+        Some(self.verdict)
+    }
+
+    fn compute(
+        &self,
+        model: &LinearModel,
+        anchor: Option<Complex>,
+        unmodified: &LinearModel,
+        _expectations: &[Expectation],
+    ) -> Result<Computed, String> {
+        let m = linear::select_mode(model, (self.mode, self.system), anchor, unmodified)?;
+        let mut c = Computed {
+            anchor: Some(m.eigenvalue),
+            ..Computed::values(vec![])
+        };
+        if let Some(a) = bcar::assess(&m) {
+            c.values = vec![
+                (Q::DampingIndex.name(), a.damping_index),
+                (Q::BoundaryIndex.name(), a.boundary_index),
+                (Q::MarginIndex.name(), a.margin_index),
+                (Q::MarginRealPerS.name(), a.margin_real_per_s),
+                (Q::PeriodS.name(), a.period_s),
+            ];
+            c.verdict = Some(a.verdict);
+        }
+        Ok(c)
+    }
+
+    /// The mode's eigenvalue and its margin from the boundary, beyond the verdict.
+    fn fingerprint(&self, c: &Computed) -> Vec<(String, f64)> {
+        let mut out = Vec::new();
+        if let Some(a) = c.anchor {
+            out.push((Q::EigenvalueRealPerS.name().to_string(), a.re));
+            out.push((Q::EigenvalueImagRadS.name().to_string(), a.im));
+        }
+        if let Ok(v) = c.get(Q::MarginRealPerS.name()) {
+            out.push((Q::MarginRealPerS.name().to_string(), v));
+        }
+        out
+    }
+}

@@ -1,0 +1,249 @@
+//! `derivative`: one stability or control derivative, of a linearised aircraft (with its
+//! components and, under corrections, the change of its magnitude), of a published table, or
+//! the ratio of two derivatives of a model.
+
+use super::linear::{self, Computed, LinearSetup, OnLinear};
+use super::{
+    At, CheckClass, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal,
+    Trivial, is_aircraft,
+};
+use crate::quantity::{self as q, Quantity as Q};
+use crate::refs::Entry;
+use crate::subject::Subject;
+use crate::yaml::InputError;
+use cierva_model::LinearModel;
+use cierva_model::analysis::modes::Complex;
+
+/// A `derivative` check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DerivativeCheck {
+    /// The derivative's name (`M_w`).
+    pub derivative: String,
+    /// On a model: the check is of the ratio `derivative / divided_by`.
+    pub divided_by: Option<String>,
+    /// On an aircraft: corrections applied before it is linearised.
+    pub corrections: Option<crate::corrections::CorrectionSet>,
+    pub linear: LinearSetup,
+}
+
+impl Kind for DerivativeCheck {
+    const KIND: CheckKind = CheckKind::Derivative;
+    const FIELDS: &'static [&'static str] = &[
+        "derivative",
+        "divided_by",
+        "corrections",
+        "condition",
+        "set",
+        "without_rotorspeed_coupling",
+    ];
+    const SUBJECTS: &'static str =
+        "a linear model, a derivative table, or an aircraft linearised at the check's `condition`";
+
+    fn runs_on(subject: &Subject) -> bool {
+        matches!(
+            subject,
+            Subject::Linear { .. } | Subject::Table { .. } | Subject::Aircraft { .. }
+        )
+    }
+
+    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
+        let derivative = cx.needs(&spec.derivative, "derivative")?;
+        let linear = match cx.subject {
+            Subject::Table { table, column, .. } => {
+                resolve_on_table(cx, spec, table, column, &derivative)?;
+                LinearSetup::default()
+            }
+            _ => {
+                let setup = linear::resolve_setup(cx, spec)?;
+                for name in std::iter::once(&derivative).chain(spec.divided_by.iter()) {
+                    linear::check_derivative(cx, name, ".derivative")?;
+                }
+                setup
+            }
+        };
+        if let Some(k) = &spec.corrections {
+            let Subject::Aircraft { file, .. } = cx.subject else {
+                return Err(cx.err(
+                    ".corrections",
+                    "`corrections` apply to a case whose model is an aircraft",
+                ));
+            };
+            file.with_corrections(k)
+                .map_err(|e| cx.err(".corrections", e.to_string()))?;
+        }
+        let magnitude = Q::MagnitudeChange.name();
+        if spec.corrections.is_none() && spec.expect.contains_key(magnitude) {
+            return Err(cx.err(
+                &format!(".expect.{magnitude}"),
+                "`magnitude_change` compares with corrections: give `corrections`",
+            ));
+        }
+        if spec.divided_by.is_some() && spec.expect.keys().any(|q| q != Q::Value.name()) {
+            return Err(cx.err(".divided_by", "a ratio of derivatives has only a `value`"));
+        }
+        if !is_aircraft(cx.subject)
+            && let Some(q) = spec.expect.keys().find(|q| *q != Q::Value.name())
+        {
+            return Err(cx.err(
+                &format!(".expect.{q}"),
+                format!(
+                    "`{q}` (a component of the derivative) is computed for aircraft cases only; this case computes [value]"
+                ),
+            ));
+        }
+        Ok(Self {
+            derivative,
+            divided_by: spec.divided_by.clone(),
+            corrections: spec.corrections,
+            linear,
+        })
+    }
+}
+
+/// A check of a published table: the table has the derivative, nothing modifies it, and it is
+/// `verification` (of the transcription against the paper's statements).
+fn resolve_on_table(
+    cx: &Cx,
+    spec: &CheckSpec,
+    table: &crate::refs::DerivativeTable,
+    column: &str,
+    derivative: &str,
+) -> Result<(), InputError> {
+    if !spec.set.is_empty() || spec.without_rotorspeed_coupling {
+        return Err(cx.err("", "a published derivative table cannot be modified"));
+    }
+    for field in ["divided_by", "condition"] {
+        let given = match field {
+            "divided_by" => spec.divided_by.is_some(),
+            _ => spec.condition.is_some(),
+        };
+        if given {
+            return Err(cx.err(
+                &format!(".{field}"),
+                format!("`{field}` does not apply to a check of a derivative table"),
+            ));
+        }
+    }
+    if table.entry(derivative, column).is_none() {
+        return Err(cx.err(
+            ".derivative",
+            format!("the table has no `{derivative}` in column `{column}`"),
+        ));
+    }
+    if !matches!(cx.class, CheckClass::Verification | CheckClass::Regression) {
+        return Err(cx.err(
+            ".class",
+            "a derivative table's checks compare published numbers with published numbers and \
+             run no model: they are `verification` (of the transcription against the paper's \
+             statements)",
+        ));
+    }
+    Ok(())
+}
+
+impl Evaluate for DerivativeCheck {
+    fn quantities(&self) -> Vec<String> {
+        super::names(q::DERIVATIVE)
+    }
+
+    fn trivial(
+        &self,
+        subject: &Subject,
+        expectations: &[Expectation],
+    ) -> Result<Vec<Trivial>, Refusal> {
+        match subject {
+            Subject::Linear { .. } => Err((
+                ".kind".into(),
+                "a `derivative` check on a linear model reads back an entry of the model's own \
+                 file: it cannot fail (check what cierva computes from it: modes, Milne \
+                 values)"
+                    .into(),
+            )),
+            // A ratio of two zero derivatives is not a number, which never passes.
+            Subject::Aircraft { .. } if self.divided_by.is_none() => Ok(expectations
+                .iter()
+                .map(|e| Trivial {
+                    quantity: e.quantity.clone(),
+                    value: 0.0,
+                    predictor: if e.quantity == Q::MagnitudeChange.name() {
+                        "corrections that change nothing"
+                    } else {
+                        "a zero derivative"
+                    },
+                })
+                .collect()),
+            _ => Ok(vec![]),
+        }
+    }
+
+    fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
+        let Subject::Table { table, column, .. } = at.subject else {
+            return linear::evaluate(self, at, expectations);
+        };
+        let d = &self.derivative;
+        let value = match table.entry(d, column) {
+            Some(Entry::Value(v)) => v,
+            _ => return Err(format!("no value of `{d}` in column `{column}`")),
+        };
+        let q = expectations
+            .iter()
+            .map(|e| super::result::compare(e, value, || Ok(0.0)))
+            .collect::<Result<_, _>>()?;
+        Ok(Evaluated::of(q))
+    }
+}
+
+impl OnLinear for DerivativeCheck {
+    fn setup(&self) -> &LinearSetup {
+        &self.linear
+    }
+
+    fn corrections(&self) -> Option<&crate::corrections::CorrectionSet> {
+        self.corrections.as_ref()
+    }
+
+    fn compute(
+        &self,
+        model: &LinearModel,
+        _anchor: Option<Complex>,
+        _unmodified: &LinearModel,
+        _expectations: &[Expectation],
+    ) -> Result<Computed, String> {
+        let mut v = model
+            .derivative_value(&self.derivative)
+            .map_err(|e| e.to_string())?;
+        if let Some(by) = &self.divided_by {
+            v /= model.derivative_value(by).map_err(|e| e.to_string())?;
+        }
+        Ok(Computed::values(vec![(Q::Value.name(), v)]))
+    }
+
+    /// `magnitude_change`, `(|corrected| - |uncorrected|) / |uncorrected|`, and the
+    /// derivative's components (rotor, propeller, airframe...).
+    fn of_linearisation(
+        &self,
+        q: &str,
+        lin: &cierva_model::aircraft::linearise::Linearised,
+        uncorrected: &dyn Fn(&str) -> Result<f64, String>,
+    ) -> Option<Result<f64, String>> {
+        let d = &self.derivative;
+        if q == Q::MagnitudeChange.name() {
+            return Some((|| {
+                let b = uncorrected(d)?;
+                let c = lin.model.derivative_value(d).map_err(|e| e.to_string())?;
+                Ok((c.abs() - b.abs()) / b.abs())
+            })());
+        }
+        if q == Q::Value.name() {
+            return None;
+        }
+        Some((|| {
+            let parts = lin.breakdown(d).map_err(|e| e.to_string())?;
+            parts
+                .iter()
+                .find(|(c, _)| c == q)
+                .map(|(_, v)| *v)
+                .ok_or_else(|| format!("no component `{q}`"))
+        })())
+    }
+}

@@ -1,0 +1,53 @@
+//! `inflow_coefficients`: the inflow components found from a teeter record's blade flapping
+//! (seed 003), with the coning and flapping they are found from.
+
+use super::result::{Evaluated, compare_all};
+use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind};
+use crate::quantity::{self as q, Quantity as Q};
+use crate::subject::Subject;
+use crate::yaml::InputError;
+
+/// An `inflow_coefficients` check (everything it needs is its case's teeter record).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InflowCoefficientsCheck;
+
+impl Kind for InflowCoefficientsCheck {
+    const KIND: CheckKind = CheckKind::InflowCoefficients;
+    const FIELDS: &'static [&'static str] = &[];
+    const SUBJECTS: &'static str = "a teeter record (`flap_record`)";
+
+    fn runs_on(subject: &Subject) -> bool {
+        matches!(subject, Subject::FlapRecord { .. })
+    }
+
+    fn resolve(_cx: &Cx, _spec: &CheckSpec) -> Result<Self, InputError> {
+        Ok(Self)
+    }
+}
+
+impl Evaluate for InflowCoefficientsCheck {
+    fn quantities(&self) -> Vec<String> {
+        super::names(q::INFLOW_COEFFICIENTS)
+    }
+
+    fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
+        let Subject::FlapRecord {
+            record,
+            rotor,
+            settings,
+        } = at.subject
+        else {
+            return Err("an inflow check needs a teeter record".into());
+        };
+        let r = crate::ident::flap::inflow_from_record(record, &rotor.rotor, settings)?;
+        let values = [
+            (Q::InflowV0MS.name(), r.v0_m_s),
+            (Q::InflowV1sMS.name(), r.v1s_m_s),
+            (Q::InflowV1cMS.name(), r.v1c_m_s),
+            (Q::ConingDeg.name(), r.coning_deg),
+            (Q::Beta1cDeg.name(), r.beta_1c_deg),
+            (Q::Beta1sDeg.name(), r.beta_1s_deg),
+        ];
+        Ok(Evaluated::of(compare_all(expectations, &values)?))
+    }
+}

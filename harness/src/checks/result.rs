@@ -1,0 +1,147 @@
+//! What evaluating a check gives: each quantity compared with its expectation, what the
+//! model found instead of an answer, and what the report plots.
+
+use super::Expectation;
+use crate::tolerance::ToleranceKind;
+use cierva_model::analysis::bcar::Verdict;
+use cierva_model::analysis::modes::Complex;
+use serde::Serialize;
+
+/// Named computed values of a check.
+pub type Quantities = Vec<(&'static str, f64)>;
+
+/// What the model found instead of a check's quantities, with the numbers that describe it.
+pub type Found = (Finding, Vec<(String, f64)>);
+
+/// What the model found instead of the quantities a check asks for: a physical answer, not an
+/// evaluation error.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "finding", rename_all = "snake_case")]
+pub enum Finding {
+    /// The model has no equilibrium where the reference has one (an isolated rotor whose
+    /// driving torque never changes sign, or whose inflow has no solution). A validation
+    /// failure; the check's `fingerprint` holds the numbers that describe it (the largest
+    /// driving-torque coefficient over the bracket, the solver's last residual).
+    NoEquilibrium { reason: String },
+}
+
+/// One quantity compared with its expectation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct QuantityResult {
+    pub quantity: String,
+    pub value: f64,
+    pub expected: Option<f64>,
+    pub tolerance: String,
+    /// The tolerance in words (`± 1.2e-3`, `[-0.133, -0.044]`).
+    pub allowed: String,
+    pub reason: String,
+    /// The allowed range as numbers (for plots): `expected ± bound`, the interval, or
+    /// `expected / factor .. expected * factor`.
+    pub lower: f64,
+    pub upper: f64,
+    pub margin: f64,
+    pub pass: bool,
+}
+
+/// A check's data for the report's plots.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlotData {
+    /// Every eigenvalue of the system the check looked at, and the check's mode; for a check
+    /// that sets a derivative, the root locus from its nominal value to the one set.
+    Modes {
+        eigenvalues: Vec<Complex>,
+        selected: Option<Complex>,
+        locus: Option<Locus>,
+    },
+    /// The reference record and the model's responses, signal by signal.
+    TimeHistory { traces: Vec<Trace> },
+    /// The trims of a sweep: airspeed, mph, and the quantities at it.
+    Sweep { points: Vec<(f64, Quantities)> },
+}
+
+/// A root locus (seed 002 Figs. 2, 3, 6-8): the system's eigenvalues as one derivative moves
+/// from its nominal value to the value a check sets, and a quarter of the way beyond both.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Locus {
+    pub derivative: String,
+    pub nominal: f64,
+    pub set: f64,
+    /// `(value, eigenvalues)` along the sweep.
+    pub points: Vec<(f64, Vec<Complex>)>,
+}
+
+/// One response of a time-history check: the reference, the model, and the allowed error.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    pub signal: String,
+    pub time_s: Vec<f64>,
+    pub reference: Vec<f64>,
+    pub model: Vec<f64>,
+    /// The tolerance on the largest error, where the check sets an absolute one.
+    pub band: Option<f64>,
+}
+
+/// What evaluating a check gives.
+#[derive(Default)]
+pub struct Evaluated {
+    pub quantities: Vec<QuantityResult>,
+    pub verdict: Option<(Verdict, Verdict)>,
+    pub plot: Option<PlotData>,
+    pub finding: Option<Finding>,
+    pub fingerprint: Vec<(String, f64)>,
+}
+
+impl Evaluated {
+    pub fn of(quantities: Vec<QuantityResult>) -> Self {
+        Self {
+            quantities,
+            ..Self::default()
+        }
+    }
+}
+
+/// Compares one computed value with its expectation; `rounding` gives the bound of a
+/// `rounding` tolerance (asked only for one).
+pub fn compare(
+    e: &Expectation,
+    value: f64,
+    rounding: impl FnOnce() -> Result<f64, String>,
+) -> Result<QuantityResult, String> {
+    let bound = match e.tolerance.kind {
+        ToleranceKind::Rounding(_) => Some(rounding()?),
+        _ => None,
+    };
+    let j = crate::tolerance::judge(&e.tolerance.kind, e.value, value, bound)
+        .ok_or("expectation and tolerance do not fit (checked at load)")?;
+    Ok(QuantityResult {
+        quantity: e.quantity.clone(),
+        value,
+        expected: e.value,
+        tolerance: e.tolerance.name.clone(),
+        allowed: j.allowed,
+        reason: e.tolerance.reason.clone(),
+        lower: j.lower,
+        upper: j.upper,
+        margin: j.margin,
+        pass: j.pass,
+    })
+}
+
+/// Compares every expectation with its value among `values` (quantities computed without a
+/// rounding tolerance).
+pub fn compare_all(
+    expectations: &[Expectation],
+    values: &[(&str, f64)],
+) -> Result<Vec<QuantityResult>, String> {
+    expectations
+        .iter()
+        .map(|e| {
+            let v = values
+                .iter()
+                .find(|(n, _)| *n == e.quantity)
+                .map(|(_, v)| *v)
+                .ok_or_else(|| format!("`{}` is not computed", e.quantity))?;
+            compare(e, v, || Ok(0.0))
+        })
+        .collect()
+}

@@ -1,0 +1,215 @@
+//! `time_history`: a reference record's control changes flown again by the model from trim,
+//! its responses compared with the record's, signal by signal (`<signal>.<metric>`, see
+//! [`crate::history`]).
+
+use super::result::{Evaluated, PlotData, Trace, compare_all};
+use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use crate::history::{self, Simulation};
+use crate::ident::record::Record;
+use crate::subject::Subject;
+use crate::tolerance::ToleranceKind;
+use crate::yaml::InputError;
+
+/// A `time_history` check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimeHistoryCheck {
+    /// The reference record (loaded, its channels checked).
+    pub reference: Box<Record>,
+    /// The trim the record starts from.
+    pub condition: crate::TrimRequest,
+    /// The model that flies it.
+    pub simulation: Simulation,
+    /// The full blade model's azimuth step, deg (default the aircraft file's).
+    pub azimuth_step_deg: Option<f64>,
+    /// Corrections applied to the aircraft first.
+    pub corrections: Option<crate::corrections::CorrectionSet>,
+}
+
+impl Kind for TimeHistoryCheck {
+    const KIND: CheckKind = CheckKind::TimeHistory;
+    const FIELDS: &'static [&'static str] = &[
+        "reference",
+        "condition",
+        "simulation",
+        "azimuth_step_deg",
+        "corrections",
+    ];
+    const SUBJECTS: &'static str = "an aircraft";
+
+    fn runs_on(subject: &Subject) -> bool {
+        super::is_aircraft(subject)
+    }
+
+    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
+        let reference = cx.needs(&spec.reference, "reference")?;
+        let condition = cx.needs(&spec.condition, "condition")?;
+        let simulation = spec.simulation.unwrap_or_default();
+        let linear = simulation == Simulation::Linear;
+        if let Some(a) = spec.azimuth_step_deg {
+            if linear {
+                return Err(cx.err(
+                    ".azimuth_step_deg",
+                    "`azimuth_step_deg` applies to the full blade model only",
+                ));
+            }
+            if !(a.is_finite() && a > 0.0 && a <= 30.0) {
+                return Err(cx.err(
+                    ".azimuth_step_deg",
+                    format!("must be in (0, 30] deg, got {a}"),
+                ));
+            }
+        }
+        super::check_condition(cx, &condition, linear)?;
+        if let (Some(k), Subject::Aircraft { file, .. }) = (&spec.corrections, cx.subject) {
+            file.with_corrections(k)
+                .map_err(|e| cx.err(".corrections", e.to_string()))?;
+        }
+        Ok(Self {
+            reference: Box::new(load_reference(cx, &reference)?),
+            condition,
+            simulation,
+            azimuth_step_deg: spec.azimuth_step_deg,
+            corrections: spec.corrections,
+        })
+    }
+}
+
+/// The record, whose channels are controls (named in the sidecar) or responses cierva
+/// computes.
+fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
+    let rec = crate::ident::record::load_with(&cx.dir.join(file), &["time_s"], true)
+        .map_err(|e| cx.err(".reference", format!("in the referenced record: {e}")))?;
+    for ch in history::record_signals(&rec) {
+        if !history::SIGNALS.contains(&ch.as_str()) {
+            return Err(cx.err(
+                ".reference",
+                format!(
+                    "the record's channel `{ch}` is neither a control (the sidecar's `controls`) nor a response cierva computes ({})",
+                    history::SIGNALS.join(", ")
+                ),
+            ));
+        }
+    }
+    history::record_controls(&rec).map_err(|e| cx.err(".reference", e))?;
+    Ok(rec)
+}
+
+impl Evaluate for TimeHistoryCheck {
+    /// `<signal>.<metric>` for every response of the record.
+    fn quantities(&self) -> Vec<String> {
+        history::record_signals(&self.reference)
+            .iter()
+            .flat_map(|s| history::METRICS.iter().map(move |m| format!("{s}.{m}")))
+            .collect()
+    }
+
+    /// A model with no response, and one that holds still at the record's own mean.
+    fn trivial(
+        &self,
+        _subject: &Subject,
+        _expectations: &[Expectation],
+    ) -> Result<Vec<Trivial>, Refusal> {
+        let record = &self.reference;
+        let zero =
+            history::zero_response_metrics(record).map_err(|e| (".reference".to_string(), e))?;
+        let mean =
+            history::mean_response_metrics(record).map_err(|e| (".reference".to_string(), e))?;
+        let who = [
+            "a model with no response",
+            "a model that holds still at the record's own mean",
+        ];
+        Ok(zero
+            .iter()
+            .map(|m| (m, who[0]))
+            .chain(mean.iter().map(|m| (m, who[1])))
+            .flat_map(|(m, predictor)| {
+                history::METRICS.iter().map(move |q| Trivial {
+                    quantity: format!("{}.{q}", m.signal),
+                    value: m.get(q).unwrap_or(f64::NAN),
+                    predictor,
+                })
+            })
+            .collect())
+    }
+
+    fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
+        let Subject::Aircraft { file, loading } = at.subject else {
+            return Err("a time_history check needs an aircraft".into());
+        };
+        let (metrics, flown) = time_history_metrics(file, *loading, self)?;
+        let values: Vec<(String, f64)> = metrics
+            .iter()
+            .flat_map(|m| {
+                history::METRICS
+                    .iter()
+                    .map(|q| (format!("{}.{q}", m.signal), m.get(q).unwrap_or(f64::NAN)))
+            })
+            .collect();
+        let values: Vec<(&str, f64)> = values.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        Ok(Evaluated {
+            plot: self.plot(expectations, &flown),
+            ..Evaluated::of(compare_all(expectations, &values)?)
+        })
+    }
+}
+
+impl TimeHistoryCheck {
+    /// The reference and flown responses, with the largest-error tolerance of each signal
+    /// where it is absolute.
+    fn plot(&self, expectations: &[Expectation], flown: &history::Flown) -> Option<PlotData> {
+        let record = &self.reference;
+        let time_s = record.channel("time_s")?.to_vec();
+        let traces = history::record_signals(record)
+            .into_iter()
+            .filter_map(|signal| {
+                let reference = record.channel(&signal)?.to_vec();
+                let model = flown.signal(&signal)?.to_vec();
+                let band = expectations
+                    .iter()
+                    .find(|e| e.quantity == format!("{signal}.max_abs_error"))
+                    .and_then(|e| match e.tolerance.kind {
+                        ToleranceKind::Absolute(b) => Some(b),
+                        ToleranceKind::Interval(_, hi) => Some(hi),
+                        _ => None,
+                    });
+                Some(Trace {
+                    signal,
+                    time_s: time_s.clone(),
+                    reference,
+                    model,
+                    band,
+                })
+            })
+            .collect();
+        Some(PlotData::TimeHistory { traces })
+    }
+}
+
+/// A `time_history` check's record flown by its model (with its corrections), compared
+/// response by response.
+pub fn time_history_metrics(
+    file: &crate::aircraft_file::AircraftFile,
+    loading: crate::Loading,
+    check: &TimeHistoryCheck,
+) -> Result<(Vec<history::SignalMetrics>, history::Flown), String> {
+    let corrected;
+    let file = match &check.corrections {
+        Some(c) => {
+            corrected = file.with_corrections(c).map_err(|e| e.to_string())?;
+            &corrected
+        }
+        None => file,
+    };
+    let step = check.azimuth_step_deg.map_or(
+        file.aircraft.main_rotor.numerics.azimuth_step_rad,
+        f64::to_radians,
+    );
+    history::fly_record(
+        &file.aircraft,
+        check.condition,
+        loading,
+        &check.reference,
+        check.simulation,
+        step,
+    )
+}
