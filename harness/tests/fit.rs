@@ -297,7 +297,7 @@ fn shipped_fit(
 }
 
 /// Seed 000's story: from the uncorrected model, the fit finds seed 000's corrections
-/// (blockage at its bound 1, hub factor 0.50 +- 0.016); every derivative ends inside its
+/// (blockage at its bound 1, hub factor 0.50 +- 0.012); every derivative ends inside its
 /// (hard) flight bounds, and the phugoid's damping falls at every speed (seed 000 Fig. 14:
 /// "the unmodified simulation predicts too much damping").
 #[test]

@@ -38,7 +38,7 @@
 use crate::aircraft::trim::Trim;
 use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, RotorCache, State};
 use crate::analysis::linear::{LinearModel, LinearModelError};
-use crate::components::rigid_body::{Loads, MassProperties};
+use crate::components::rigid_body::{self, FreeSpin, Loads, MassProperties};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use thiserror::Error;
@@ -147,17 +147,22 @@ struct Sample {
     parts: [[f64; 6]; 3],
 }
 
-/// Accelerations `[u v w p q r]` that loads alone produce (no gravity, no rates).
-fn accelerations(m: &MassProperties, l: &Loads) -> [f64; 6] {
-    let gamma = m.ixx_kg_m2 * m.izz_kg_m2 - m.ixz_kg_m2 * m.ixz_kg_m2;
-    [
+/// Accelerations `[u v w p q r]` that loads alone produce (no gravity, no rates), with the
+/// free rotors' polar moments out of the inertia, as in the equations of motion.
+fn accelerations(
+    m: &MassProperties,
+    free: &[FreeSpin],
+    l: &Loads,
+) -> Result<[f64; 6], AircraftError> {
+    let [p, q, r] = rigid_body::angular_accelerations(m, [l.l_n_m, l.m_n_m, l.n_n_m], free)?;
+    Ok([
         l.x_n / m.mass_kg,
         l.y_n / m.mass_kg,
         l.z_n / m.mass_kg,
-        (m.izz_kg_m2 * l.l_n_m + m.ixz_kg_m2 * l.n_n_m) / gamma,
-        l.m_n_m / m.iyy_kg_m2,
-        (m.ixz_kg_m2 * l.l_n_m + m.ixx_kg_m2 * l.n_n_m) / gamma,
-    ]
+        p,
+        q,
+        r,
+    ])
 }
 
 /// Linearises the aircraft about a trim.
@@ -201,10 +206,11 @@ pub fn linearise(
             fast.push(a.propeller_omega_dot_rad_s2);
         }
         let l = &a.loads;
+        let free = aircraft.free_spins(controls);
         let parts = [
-            accelerations(&aircraft.mass, &l.rotor),
-            accelerations(&aircraft.mass, &l.propeller),
-            accelerations(&aircraft.mass, &l.airframe),
+            accelerations(&aircraft.mass, &free, &l.rotor)?,
+            accelerations(&aircraft.mass, &free, &l.propeller)?,
+            accelerations(&aircraft.mass, &free, &l.airframe)?,
         ];
         Ok(Sample { slow, fast, parts })
     };

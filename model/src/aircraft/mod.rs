@@ -23,15 +23,26 @@
 //! equations with the rotor in its steady periodic motion at the present body state (the
 //! trim model: every load is a mean over one rotor revolution). The rotor's mean forces and
 //! aerodynamic moments reach the airframe at the hub, plus the gyroscopic couple
-//! `-omega_hub x H` when the body rotates. The rotor turns freely (no shaft torque: an
-//! autogyro), so the mean aerodynamic torque accelerates it: `I_R dOmega/dt = Q`.
+//! `-omega_hub x H` when the body rotates. The rotor turns freely on its bearing (no torque
+//! about the shaft: an autogyro), so only the aerodynamic torque changes its absolute spin.
+//! `Omega` is the rotor speed relative to the airframe (as a rotor tachometer reads it), and
+//! the rotor turns about `-z_hub`, so its absolute spin is `Omega - r_hub` and
+//! `I_R (dOmega/dt - dr_hub/dt) = Q`. The airframe's angular accelerations see the aircraft's
+//! inertia without the rotor's polar moment about the shaft
+//! ([`rigid_body::derivatives_with_free_spins`]): yawing the airframe does not drag the rotor
+//! round with it.
 //!
 //! # Propeller and engine
 //! The propeller thrusts along body `+x` (a pusher), in the axial component of the local air
 //! velocity (non-axial inflow effects are not modelled). Its speed is governed (rpm from
 //! throttle by a linear map) or driven by an engine whose shaft torque is
 //! `throttle x P_max / Omega_rated`, a constant-torque piston engine; the torque reaction
-//! rolls the airframe against the propeller's rotation.
+//! rolls the airframe against the propeller's rotation. The engine's shaft carries only that
+//! torque, so an engine-driven propeller is a free rotor about `x` as the main rotor is about
+//! its shaft: `I_p (dOmega_p/dt + dp/dt) = Q_engine - Q_propeller` for a propeller turning
+//! clockwise seen from behind, and its polar moment is out of the airframe's roll inertia. A
+//! governed propeller is held at its speed relative to the airframe, so it rolls with the
+//! airframe as part of its inertia.
 //!
 //! # Hub angle-of-attack correction
 //! Seed 000 Sec. VII replaces the kinematic angle of attack at the hub by a factor times the
@@ -46,7 +57,7 @@ pub mod trim;
 use crate::components::airframe::{Airframe, AirframeError};
 use crate::components::inflow;
 use crate::components::propeller::{Propeller, PropellerError, PropellerState};
-use crate::components::rigid_body::{self, BodyError, BodyState, Loads, MassProperties};
+use crate::components::rigid_body::{self, BodyError, BodyState, FreeSpin, Loads, MassProperties};
 use crate::components::rotor::{
     Angles, Blade, Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
     SteadyLoads,
@@ -376,6 +387,17 @@ impl Aircraft {
                 && m.at_0_percent != m.at_100_percent;
             check(name, m.at_100_percent, ok, "finite with distinct ends")?;
         }
+        // The airframe without its free rotors must keep a positive-definite inertia at every
+        // stick position (the shaft tilts with the stick; the corners bound it).
+        for (lon, lat) in [(0.0, 0.0), (0.0, 100.0), (100.0, 0.0), (100.0, 100.0)] {
+            let stick = Controls {
+                stick_longitudinal_percent: lon,
+                stick_lateral_percent: lat,
+                pedal_percent: 50.0,
+                throttle_percent: 50.0,
+            };
+            rigid_body::angular_accelerations(&self.mass, [0.0; 3], &self.free_spins(&stick))?;
+        }
         Ok(())
     }
 
@@ -409,9 +431,8 @@ impl Aircraft {
     }
 
     /// The main rotor's frame at a body state and stick setting.
-    fn rotor_frame(&self, b: &BodyState, controls: &Controls) -> RotorFrame {
-        let uvw = [b.u_m_s, b.v_m_s, b.w_m_s];
-        let pqr = [b.p_rad_s, b.q_rad_s, b.r_rad_s];
+    /// The shaft's tilt `(theta_s, phi_s)` at a stick position.
+    fn shaft_tilt(&self, controls: &Controls) -> (f64, f64) {
         let theta_s = self
             .controls
             .shaft_pitch_rad
@@ -420,6 +441,19 @@ impl Aircraft {
             .controls
             .shaft_roll_rad
             .at(controls.stick_lateral_percent);
+        (theta_s, phi_s)
+    }
+
+    /// The body-to-hub rotation at a stick position (rows: the hub axes in body axes).
+    fn rotor_frame_rotation(&self, controls: &Controls) -> [[f64; 3]; 3] {
+        let (theta_s, phi_s) = self.shaft_tilt(controls);
+        body_to_hub(theta_s, phi_s)
+    }
+
+    fn rotor_frame(&self, b: &BodyState, controls: &Controls) -> RotorFrame {
+        let uvw = [b.u_m_s, b.v_m_s, b.w_m_s];
+        let pqr = [b.p_rad_s, b.q_rad_s, b.r_rad_s];
+        let (theta_s, phi_s) = self.shaft_tilt(controls);
         let c = body_to_hub(theta_s, phi_s);
         let arm = sub(self.hub_position_m(theta_s, phi_s), self.cg_m);
         let rot = cross(pqr, arm);
@@ -507,6 +541,60 @@ impl Aircraft {
                 m_body[2] + transfer[2],
             ],
         )
+    }
+
+    /// The rotors that turn freely about their shafts (see [`rigid_body::derivatives_with_free_spins`]):
+    /// the main rotor, on a bearing that carries no torque about its shaft (an autogyro's rotor
+    /// is driven by the air alone), and the propeller when an engine drives it at a set torque.
+    /// A governed propeller is held at its speed relative to the airframe, so it turns with the
+    /// airframe as part of it (its polar moment 0 here).
+    pub fn free_spins(&self, controls: &Controls) -> [FreeSpin; 2] {
+        let propeller = match self.propeller.drive {
+            Drive::Engine {
+                polar_inertia_kg_m2,
+                ..
+            } => polar_inertia_kg_m2,
+            Drive::Governed { .. } => 0.0,
+        };
+        [
+            FreeSpin {
+                axis: self.rotor_frame_rotation(controls)[2],
+                polar_inertia_kg_m2: self.rotor_polar_inertia_kg_m2(),
+            },
+            FreeSpin {
+                axis: [1.0, 0.0, 0.0],
+                polar_inertia_kg_m2: propeller,
+            },
+        ]
+    }
+
+    /// The rotor and propeller speeds' rates, relative to the airframe, from their rates under
+    /// their own torques (`driven`: `Q / I`) and the airframe's angular acceleration. The
+    /// rotor's absolute spin about the shaft is `Omega - r_hub` (it turns about `-z_hub`), so
+    /// `I_R (Omega' - r_hub') = Q`; an engine-driven propeller turning clockwise seen from
+    /// behind spins about `+x` at `Omega_p + p`, so `I_p (Omega_p' + p') = Q_e - Q_p`. The
+    /// shaft's tilt rate is neglected, as in the hub's rates.
+    fn spin_rates(
+        &self,
+        frame: &RotorFrame,
+        rotor_driven: f64,
+        propeller_driven: f64,
+        body_dot: &BodyState,
+    ) -> (f64, f64) {
+        let w = [body_dot.p_rad_s, body_dot.q_rad_s, body_dot.r_rad_s];
+        let z = frame.c[2];
+        let r_hub_dot = z[0] * w[0] + z[1] * w[1] + z[2] * w[2];
+        let propeller = match self.propeller.drive {
+            Drive::Engine { .. } => {
+                let sense = match self.propeller.rotation {
+                    Rotation::Clockwise => 1.0,
+                    Rotation::Anticlockwise => -1.0,
+                };
+                propeller_driven - sense * w[0]
+            }
+            Drive::Governed { .. } => propeller_driven,
+        };
+        (rotor_driven + r_hub_dot, propeller)
     }
 
     /// Propeller and airframe: (propeller state, its loads, propeller acceleration, airframe loads).
@@ -617,12 +705,22 @@ impl Aircraft {
         // would change the rotorspeed, as in the full model.
         let m_hub = [rl.moment_n_m[0] - gyro[0], rl.moment_n_m[1] - gyro[1], 0.0];
         let rotor_loads = Self::rotor_to_body(&frame, rl.force_n, m_hub);
-        let rotor_omega_dot = rl.driving_torque_n_m / self.rotor_polar_inertia_kg_m2();
         let prop_omega = self.propeller_omega(state, controls);
         let (ps, prop_loads, prop_omega_dot, af) =
             self.propeller_and_airframe(b, prop_omega, controls, air)?;
         let total = sum_loads(&[rotor_loads, prop_loads, af]);
-        let body_dot = rigid_body::derivatives(&self.mass, b, &total)?;
+        let body_dot = rigid_body::derivatives_with_free_spins(
+            &self.mass,
+            b,
+            &total,
+            &self.free_spins(controls),
+        )?;
+        let (rotor_omega_dot, prop_omega_dot) = self.spin_rates(
+            &frame,
+            rl.driving_torque_n_m / self.rotor_polar_inertia_kg_m2(),
+            prop_omega_dot,
+            &body_dot,
+        );
         let hub = frame.hub;
         let v_inplane = hub.u.hypot(hub.v);
         Ok(Averaged {
@@ -961,7 +1059,14 @@ impl Aircraft {
         let (_, prop_loads, prop_omega_dot, af) =
             self.propeller_and_airframe(&x.body, prop_omega, controls, air)?;
         let total = sum_loads(&[rotor_loads, prop_loads, af]);
-        let body_dot = rigid_body::derivatives(&self.mass, &x.body, &total)?;
+        let body_dot = rigid_body::derivatives_with_free_spins(
+            &self.mass,
+            &x.body,
+            &total,
+            &self.free_spins(controls),
+        )?;
+        let (omega_dot, prop_omega_dot) =
+            self.spin_rates(&frame, omega_dot, prop_omega_dot, &body_dot);
         Ok(FullDerivative {
             body: body_dot,
             rotor_azimuth_rad: omega,
@@ -1208,5 +1313,112 @@ mod tests {
                 m[6]
             );
         }
+    }
+
+    /// The main rotor turns freely on a frictionless bearing, and the engine drives the
+    /// propeller with a set torque: neither bearing transmits a torque about its shaft. So a
+    /// yawing moment on the airframe alone (a pedal step from trim, which the rotor does not
+    /// feel at that instant) changes neither rotor's absolute spin, `Omega - r_hub` for the
+    /// main rotor (`U_T = (Omega - omega_z) r`) and `Omega_p + p` for the propeller turning
+    /// about `+x`; and the airframe that accelerates is the aircraft without the two rotors'
+    /// polar moments about their shafts. Averaged and full models alike.
+    #[test]
+    fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
+        let a = gyroplane();
+        let c = Condition {
+            airspeed_m_s: 31.3,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air: air(),
+        };
+        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let mut stepped = t.controls;
+        stepped.pedal_percent += 10.0;
+        let frame = a.rotor_frame(&t.state.body, &t.controls);
+        let shaft = frame.c[2];
+        let i_r = a.rotor_polar_inertia_kg_m2();
+        let Drive::Engine {
+            polar_inertia_kg_m2: i_p,
+            ..
+        } = a.propeller.drive
+        else {
+            panic!("the test aircraft's engine drives its propeller")
+        };
+        let sense = match a.propeller.rotation {
+            Rotation::Clockwise => 1.0,
+            Rotation::Anticlockwise => -1.0,
+        };
+        let m = &a.mass;
+        let airframe = |axis: [f64; 3], i: f64, k: usize, l: usize| -> f64 {
+            let full = [
+                [m.ixx_kg_m2, 0.0, -m.ixz_kg_m2],
+                [0.0, m.iyy_kg_m2, 0.0],
+                [-m.ixz_kg_m2, 0.0, m.izz_kg_m2],
+            ];
+            full[k][l] - i * axis[k] * axis[l] - i_p * [1.0, 0.0, 0.0][k] * [1.0, 0.0, 0.0][l]
+        };
+        let rates = |b: &BodyState| [b.p_rad_s, b.q_rad_s, b.r_rad_s];
+        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+
+        let before = a
+            .averaged(&t.state, &t.controls, air(), t.averaged.flap_start)
+            .unwrap();
+        let after = a
+            .averaged(&t.state, &stepped, air(), t.averaged.flap_start)
+            .unwrap();
+        let dw = {
+            let (x, y) = (rates(&after.body_dot), rates(&before.body_dot));
+            [x[0] - y[0], x[1] - y[1], x[2] - y[2]]
+        };
+        assert!(
+            dw[2].abs() > 1e-3,
+            "the pedal step yaws the airframe: {dw:?}"
+        );
+        // The airframe's moment balance with the free rotors' polar moments taken out.
+        let dm = {
+            let (x, y) = (after.loads.airframe, before.loads.airframe);
+            [x.l_n_m - y.l_n_m, x.m_n_m - y.m_n_m, x.n_n_m - y.n_n_m]
+        };
+        for k in 0..3 {
+            let got: f64 = (0..3).map(|l| airframe(shaft, i_r, k, l) * dw[l]).sum();
+            assert!(
+                (got - dm[k]).abs() < 1e-6 * dm[2].abs(),
+                "moment {k}: airframe inertia x acceleration {got}, applied {}",
+                dm[k]
+            );
+        }
+        let d_omega = after.rotor_omega_dot_rad_s2 - before.rotor_omega_dot_rad_s2;
+        assert!(
+            (d_omega - dot(shaft, dw)).abs() < 1e-9,
+            "main rotor: d(Omega)/dt changed by {d_omega}, r_hub by {}",
+            dot(shaft, dw)
+        );
+        let d_prop = after.propeller_omega_dot_rad_s2 - before.propeller_omega_dot_rad_s2;
+        assert!(
+            (d_prop + sense * dw[0]).abs() < 1e-9,
+            "propeller: d(Omega_p)/dt changed by {d_prop}, p by {}",
+            dw[0]
+        );
+
+        // The same in the individual-blade model, at one instant of its periodic motion.
+        let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
+        let f0 = a.derivatives(&x, &t.controls, air()).unwrap();
+        let f1 = a.derivatives(&x, &stepped, air()).unwrap();
+        let dw = {
+            let (x, y) = (rates(&f1.body), rates(&f0.body));
+            [x[0] - y[0], x[1] - y[1], x[2] - y[2]]
+        };
+        let d_omega = f1.rotor_omega_rad_s - f0.rotor_omega_rad_s;
+        assert!(
+            (d_omega - dot(shaft, dw)).abs() < 1e-9,
+            "full model, main rotor: {d_omega} against {}",
+            dot(shaft, dw)
+        );
+        let d_prop = f1.propeller_omega_rad_s - f0.propeller_omega_rad_s;
+        assert!(
+            (d_prop + sense * dw[0]).abs() < 1e-9,
+            "full model, propeller: {d_prop} against {}",
+            -sense * dw[0]
+        );
     }
 }

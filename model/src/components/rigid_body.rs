@@ -7,6 +7,16 @@
 //! `h_z = I_zz r - I_xz p`. Euler angles are the 3-2-1
 //! sequence `psi, theta, phi` from north-east-down axes; they are singular at `theta = +-90 deg`,
 //! which is an error here, never a NaN.
+//!
+//! # Free rotors
+//! `MassProperties` are the whole aircraft's, with every rotor as a frozen (non-spinning) disc.
+//! A rotor on a bearing that carries no torque about its shaft (an autogyro's main rotor, a
+//! propeller driven at a set engine torque) does not follow the airframe's angular acceleration
+//! about its shaft: only the rest of the aircraft does. [`derivatives_with_free_spins`] solves
+//! the moment equations with each such rotor's polar moment taken out about its shaft,
+//! `(I - sum I_k s_k s_k^T) omega' = M - omega x (I omega)`. The gyroscopic term keeps the whole
+//! inertia: the rotors' angular momentum about their shafts stays in the balance, and the loads
+//! carry what they have beyond the frozen disc (their spin relative to the airframe).
 
 use serde::Serialize;
 use thiserror::Error;
@@ -180,9 +190,119 @@ pub fn derivatives(m: &MassProperties, s: &BodyState, f: &Loads) -> Result<BodyS
     })
 }
 
+/// A rotor that turns freely about its shaft: the shaft's direction in body axes (a unit
+/// vector, either sense) and the rotor's polar moment of inertia about it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeSpin {
+    pub axis: [f64; 3],
+    pub polar_inertia_kg_m2: f64,
+}
+
+/// The state derivative for given loads, with free rotors' polar moments taken out of the
+/// inertia the angular accelerations see (see the module docs). The same as [`derivatives`]
+/// with no free rotors; an error if what is left of the inertia is not positive definite.
+pub fn derivatives_with_free_spins(
+    m: &MassProperties,
+    s: &BodyState,
+    f: &Loads,
+    free: &[FreeSpin],
+) -> Result<BodyState, BodyError> {
+    let mut d = derivatives(m, s, f)?;
+    if free.is_empty() {
+        return Ok(d);
+    }
+    // `M - omega x (I omega)` is `I omega'` of the frozen-disc solution.
+    let rhs = whole_inertia(m) * nalgebra::Vector3::new(d.p_rad_s, d.q_rad_s, d.r_rad_s);
+    let w = airframe_inertia(m, free)?.solve(&rhs);
+    (d.p_rad_s, d.q_rad_s, d.r_rad_s) = (w[0], w[1], w[2]);
+    Ok(d)
+}
+
+/// The angular accelerations `[p' q' r']` that moments alone give (no rates), with free
+/// rotors' polar moments taken out (see [`derivatives_with_free_spins`]).
+pub fn angular_accelerations(
+    m: &MassProperties,
+    moments_n_m: [f64; 3],
+    free: &[FreeSpin],
+) -> Result<[f64; 3], BodyError> {
+    let w = airframe_inertia(m, free)?.solve(&nalgebra::Vector3::from(moments_n_m));
+    Ok([w[0], w[1], w[2]])
+}
+
+fn whole_inertia(m: &MassProperties) -> nalgebra::Matrix3<f64> {
+    nalgebra::Matrix3::new(
+        m.ixx_kg_m2,
+        0.0,
+        -m.ixz_kg_m2,
+        0.0,
+        m.iyy_kg_m2,
+        0.0,
+        -m.ixz_kg_m2,
+        0.0,
+        m.izz_kg_m2,
+    )
+}
+
+/// The inertia the angular accelerations see, factorised: the whole aircraft's without its
+/// free rotors' polar moments about their shafts.
+fn airframe_inertia(
+    m: &MassProperties,
+    free: &[FreeSpin],
+) -> Result<nalgebra::Cholesky<f64, nalgebra::U3>, BodyError> {
+    let mut airframe = whole_inertia(m);
+    for k in free {
+        let a = nalgebra::Vector3::from(k.axis);
+        if !(k.polar_inertia_kg_m2.is_finite()
+            && k.polar_inertia_kg_m2 >= 0.0
+            && a.iter().all(|v| v.is_finite()))
+        {
+            return Err(BodyError::NotFinite);
+        }
+        airframe -= k.polar_inertia_kg_m2 * a * a.transpose();
+    }
+    airframe.cholesky().ok_or(BodyError::MassProperties(
+        "the airframe's inertia without its free rotors' polar moments is not positive definite",
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A free rotor about the z axis, with no product of inertia: a yawing moment accelerates
+    /// only what is left, `r' = N / (I_zz - I_R)`; the roll and pitch equations do not change;
+    /// with no free rotor the result is the frozen-disc one.
+    #[test]
+    fn a_free_rotor_is_taken_out_of_the_yaw_inertia() {
+        let m = MassProperties {
+            ixz_kg_m2: 0.0,
+            ..mass()
+        };
+        let s = BodyState::default();
+        let f = Loads {
+            l_n_m: 30.0,
+            m_n_m: -20.0,
+            n_n_m: 100.0,
+            ..Loads::default()
+        };
+        let free = [FreeSpin {
+            axis: [0.0, 0.0, 1.0],
+            polar_inertia_kg_m2: 110.0,
+        }];
+        let d = derivatives_with_free_spins(&m, &s, &f, &free).unwrap();
+        assert!((d.r_rad_s - 100.0 / (580.0 - 110.0)).abs() < 1e-12);
+        assert!((d.p_rad_s - 30.0 / 220.0).abs() < 1e-12);
+        assert!((d.q_rad_s + 20.0 / 870.0).abs() < 1e-12);
+        assert_eq!(
+            derivatives_with_free_spins(&mass(), &s, &f, &[]).unwrap(),
+            derivatives(&mass(), &s, &f).unwrap()
+        );
+        let too_big = [FreeSpin {
+            axis: [0.0, 0.0, 1.0],
+            polar_inertia_kg_m2: 600.0,
+        }];
+        assert!(derivatives_with_free_spins(&m, &s, &f, &too_big).is_err());
+    }
 
     fn mass() -> MassProperties {
         // Test values of light-gyroplane size (estimated), with a product of inertia.
