@@ -43,10 +43,13 @@
 //! sources:                             # dotted paths; an entry covers everything below it
 //!   mass.mass_kg: "seed 001: maximum all-up mass 450 kg"
 //!   airframe.coefficients: "estimated: ..."
+//! ranges:                              # optional: plausible ranges for `cierva sensitivity`
+//!   mass.izz_kg_m2: {lower: 380, upper: 560, source: "estimated: ..."}
 //! ```
 //!
 //! Every number under `aircraft` must be covered by a `sources` entry (its own path or a
-//! parent's), and every entry must name a path that exists.
+//! parent's), and every entry must name a path that exists. A range names a parameter of
+//! [`PARAMETERS`], holds the file's value and has a source.
 
 use crate::corrections::CorrectionSet;
 use crate::refs::{Provenance, check_id};
@@ -211,6 +214,153 @@ pub struct AircraftFileSpec {
     pub provenance: Provenance,
     pub aircraft: AircraftSpec,
     pub sources: BTreeMap<String, String>,
+    /// Plausible ranges of parameters (names of [`PARAMETERS`]), each with its source: what
+    /// `cierva sensitivity` weighs a needed change against.
+    #[serde(default)]
+    pub ranges: BTreeMap<String, RangeSpec>,
+}
+
+/// A parameter's plausible range as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RangeSpec {
+    pub lower: f64,
+    pub upper: f64,
+    pub source: String,
+}
+
+/// A parameter's plausible range, checked: `lower <= value <= upper`, with a source.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Range {
+    pub lower: f64,
+    pub upper: f64,
+    pub source: String,
+}
+
+/// A physical parameter of an assembled aircraft that `cierva sensitivity` can move, by its
+/// dotted name in the aircraft file (`.x`, `.z` pick a position's component).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ParameterInfo {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub meaning: &'static str,
+}
+
+/// Every parameter [`parameter_mut`] reaches.
+pub const PARAMETERS: &[ParameterInfo] = &[
+    ParameterInfo {
+        name: "mass.ixx_kg_m2",
+        unit: "kg m^2",
+        meaning: "roll moment of inertia (whole aircraft, rotors as frozen discs)",
+    },
+    ParameterInfo {
+        name: "mass.iyy_kg_m2",
+        unit: "kg m^2",
+        meaning: "pitch moment of inertia",
+    },
+    ParameterInfo {
+        name: "mass.izz_kg_m2",
+        unit: "kg m^2",
+        meaning: "yaw moment of inertia",
+    },
+    ParameterInfo {
+        name: "mass.ixz_kg_m2",
+        unit: "kg m^2",
+        meaning: "product of inertia",
+    },
+    ParameterInfo {
+        name: "main_rotor.pivot_m.x",
+        unit: "m",
+        meaning: "spindle pivot ahead of the datum",
+    },
+    ParameterInfo {
+        name: "main_rotor.pivot_m.z",
+        unit: "m",
+        meaning: "spindle pivot below the datum (negative: above)",
+    },
+    ParameterInfo {
+        name: "propeller.position_m.z",
+        unit: "m",
+        meaning: "propeller disc centre below the datum (the thrust line)",
+    },
+    ParameterInfo {
+        name: "airframe.reference_point_m.x",
+        unit: "m",
+        meaning: "where the pod's coefficient forces act, ahead of the datum",
+    },
+    ParameterInfo {
+        name: "airframe.reference_point_m.z",
+        unit: "m",
+        meaning: "where the pod's coefficient forces act, below the datum (its side force's height)",
+    },
+    ParameterInfo {
+        name: "airframe.fin.area_m2",
+        unit: "m^2",
+        meaning: "fin and rudder area",
+    },
+    ParameterInfo {
+        name: "airframe.fin.position_m.x",
+        unit: "m",
+        meaning: "fin's aerodynamic centre ahead of the datum (negative: behind)",
+    },
+    ParameterInfo {
+        name: "airframe.fin.position_m.z",
+        unit: "m",
+        meaning: "fin's aerodynamic centre below the datum (negative: above)",
+    },
+    ParameterInfo {
+        name: "airframe.fin.lift_slope_per_rad",
+        unit: "1/rad",
+        meaning: "fin lift-curve slope (effectiveness, sidewash)",
+    },
+    ParameterInfo {
+        name: "airframe.tailplane.area_m2",
+        unit: "m^2",
+        meaning: "tailplane area",
+    },
+    ParameterInfo {
+        name: "airframe.tailplane.position_m.x",
+        unit: "m",
+        meaning: "tailplane's aerodynamic centre ahead of the datum",
+    },
+    ParameterInfo {
+        name: "airframe.tailplane.lift_slope_per_rad",
+        unit: "1/rad",
+        meaning: "tailplane lift-curve slope",
+    },
+    ParameterInfo {
+        name: "corrections.propeller_blockage",
+        unit: "-",
+        meaning: "seed 000's propeller blockage (0 none, 1 total)",
+    },
+];
+
+/// The parameter `name` of an aircraft, to read or set; `None` for an unknown name or a part
+/// the aircraft does not have (a fin).
+pub fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64> {
+    let surface = |s: &'a mut Option<Surface>| s.as_mut();
+    Some(match name {
+        "mass.ixx_kg_m2" => &mut a.mass.ixx_kg_m2,
+        "mass.iyy_kg_m2" => &mut a.mass.iyy_kg_m2,
+        "mass.izz_kg_m2" => &mut a.mass.izz_kg_m2,
+        "mass.ixz_kg_m2" => &mut a.mass.ixz_kg_m2,
+        "main_rotor.pivot_m.x" => &mut a.main_rotor.pivot_m[0],
+        "main_rotor.pivot_m.z" => &mut a.main_rotor.pivot_m[2],
+        "propeller.position_m.z" => &mut a.propeller.position_m[2],
+        "airframe.reference_point_m.x" => &mut a.airframe.reference_point_m[0],
+        "airframe.reference_point_m.z" => &mut a.airframe.reference_point_m[2],
+        "airframe.fin.area_m2" => &mut surface(&mut a.airframe.fin)?.area_m2,
+        "airframe.fin.position_m.x" => &mut surface(&mut a.airframe.fin)?.position_m[0],
+        "airframe.fin.position_m.z" => &mut surface(&mut a.airframe.fin)?.position_m[2],
+        "airframe.fin.lift_slope_per_rad" => &mut surface(&mut a.airframe.fin)?.lift_slope_per_rad,
+        "airframe.tailplane.area_m2" => &mut surface(&mut a.airframe.tailplane)?.area_m2,
+        "airframe.tailplane.position_m.x" => &mut surface(&mut a.airframe.tailplane)?.position_m[0],
+        "airframe.tailplane.lift_slope_per_rad" => {
+            &mut surface(&mut a.airframe.tailplane)?.lift_slope_per_rad
+        }
+        "corrections.propeller_blockage" => &mut a.propeller.propeller.blockage,
+        _ => return None,
+    })
 }
 
 /// A loaded aircraft file.
@@ -224,6 +374,8 @@ pub struct AircraftFile {
     pub main_rotor_file: RotorFile,
     pub propeller_file: RotorFile,
     pub sources: BTreeMap<String, String>,
+    /// Plausible ranges of parameters, by name.
+    pub ranges: BTreeMap<String, Range>,
 }
 
 /// Dotted paths of the leaves of a YAML value (a coefficient table is one leaf, as is a
@@ -435,6 +587,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
     aircraft
         .validate()
         .map_err(|e| err(&field_of(&e), e.to_string()))?;
+    let ranges = check_ranges(&spec.ranges, &mut aircraft.clone(), &err)?;
     Ok(AircraftFile {
         path: path.to_path_buf(),
         id: spec.id,
@@ -444,7 +597,57 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         main_rotor_file,
         propeller_file,
         sources: spec.sources,
+        ranges,
     })
+}
+
+/// The ranges, checked: each names a parameter, holds the file's value, and has a source.
+fn check_ranges(
+    spec: &BTreeMap<String, RangeSpec>,
+    aircraft: &mut Aircraft,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<BTreeMap<String, Range>, InputError> {
+    let mut out = BTreeMap::new();
+    for (name, r) in spec {
+        let field = format!("ranges.{name}");
+        let Some(value) = parameter_mut(aircraft, name).map(|v| *v) else {
+            let names: Vec<String> = PARAMETERS.iter().map(|p| p.name.to_string()).collect();
+            let hint = crate::yaml::nearest(name, &names)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(err(
+                &field,
+                format!("`{name}` is not a parameter of this aircraft{hint}"),
+            ));
+        };
+        if !(r.lower.is_finite() && r.upper.is_finite() && r.lower < r.upper) {
+            return Err(err(&field, "give finite `lower` < `upper`".into()));
+        }
+        if !(r.lower..=r.upper).contains(&value) {
+            return Err(err(
+                &field,
+                format!(
+                    "the file's value {value} is outside its own plausible range [{}, {}]",
+                    r.lower, r.upper
+                ),
+            ));
+        }
+        if r.source.trim().is_empty() {
+            return Err(err(
+                &format!("{field}.source"),
+                "say where the range comes from (or \"estimated: why\")".into(),
+            ));
+        }
+        out.insert(
+            name.clone(),
+            Range {
+                lower: r.lower,
+                upper: r.upper,
+                source: r.source.clone(),
+            },
+        );
+    }
+    Ok(out)
 }
 
 /// The field of the aircraft file an error points at.

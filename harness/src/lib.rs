@@ -23,6 +23,7 @@ pub mod report;
 pub mod review;
 pub mod rotor_file;
 pub mod scoreboard;
+pub mod sensitivity;
 pub mod subject;
 pub mod text;
 pub mod tolerance;
@@ -242,7 +243,7 @@ impl TryFrom<ConditionSpec> for TrimRequest {
 
 /// Where and how heavy: the air (ISA at a density altitude) and the mass (the aircraft file's
 /// unless given; inertias stay as the file gives them, a fuel-state change near the c.g.).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Loading {
     pub mass_kg: Option<f64>,
     pub density_altitude_ft: f64,

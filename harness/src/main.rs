@@ -210,6 +210,17 @@ enum Command {
     /// rotor autorotates there (how TR 515 plots its data): `cierva autorotate
     /// aircraft/pca-2-rotor.yaml --tip-speed-ratio 0.5 --rotor-rpm 140 --collective-deg 1.9`.
     Autorotate(AutorotateArgs),
+    /// Which physical parameter would close a discrepancy, and is the value it would need
+    /// plausible? Trims and linearises the aircraft with each parameter moved a step either way
+    /// and prints every quantity's derivative with respect to each; for a quantity outside its
+    /// check's bound, the change of each parameter alone that would bring it to the nearer edge
+    /// (a linear estimate), against the parameter's plausible range from the aircraft file
+    /// (`ranges:`).
+    ///
+    /// Example: `cierva sensitivity --case cases/cierva-table2-vpm-m16-70mph-max-weight.yaml`,
+    /// or `cierva sensitivity aircraft/vpm-m16.yaml --airspeed-mph 70 --quantities N_v,L_v
+    /// --parameters airframe.fin.area_m2,mass.izz_kg_m2 --format json`.
+    Sensitivity(SensitivityArgs),
     /// Trim and linearise an aircraft (seed 001 Eqs. 10-12): the nine rigid-body states and the
     /// rotorspeed, controls in % of travel, blades and inflow quasi-steady. Prints the
     /// derivatives, the modes with BCAR Section T, the longitudinal subset's modes and the
@@ -387,6 +398,7 @@ fn main() -> ExitCode {
             predict,
         } => identify(record, config, format, predict),
         Command::Autorotate(a) => autorotate(a),
+        Command::Sensitivity(a) => sensitivity(a),
         Command::Linearize { flight, format } => linearize(flight, format),
         Command::Simulate {
             flight,

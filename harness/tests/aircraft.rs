@@ -140,3 +140,48 @@ fn an_autorotation_check_at_a_tip_speed_ratio_finds_its_angle() {
         r[0].explain()
     );
 }
+
+/// `cierva sensitivity`'s linear estimate, verified on a quantity that is nearly linear in its
+/// parameter: the fin's share of N_v is proportional to its area, so the fin area that the study
+/// says would bring N_v to the flight bound's upper edge (0.063, seed 001 Table 2) does, when
+/// the aircraft is linearised again with it (within 2 % of the band's edge). The derivative's
+/// sign is the physics' (more fin, more weathercock stability), and a quantity that does not
+/// move with a parameter (Y_v with I_zz) gets no needed change.
+#[test]
+fn sensitivity_finds_the_fin_area_that_brings_n_v_to_its_bound() {
+    use cierva_harness::sensitivity::{self, Quantity};
+    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    let loading = Loading {
+        mass_kg: Some(450.0),
+        density_altitude_ft: 2000.0,
+    };
+    let quantities = [
+        Quantity {
+            name: "N_v".into(),
+            bound: Some([0.055, 0.063]),
+        },
+        Quantity {
+            name: "Y_v".into(),
+            bound: Some([-0.10, -0.05]),
+        },
+    ];
+    let parameters = ["airframe.fin.area_m2".to_string(), "mass.izz_kg_m2".into()];
+    let study = sensitivity::run(&file, request(70.0), loading, &parameters, &quantities).unwrap();
+    let n_v = &study.rows[0];
+    assert_eq!(n_v.inside, Some(false));
+    let fin = &n_v.effects[0];
+    assert!(fin.derivative > 0.0, "{fin:?}");
+    let area = fin.needed_value.unwrap();
+    assert!(area > 0.0 && area < 0.7, "{fin:?}");
+    assert_eq!(fin.plausible, Some(false), "outside [0.5, 0.9]");
+    let mut a = file.aircraft.clone();
+    a.airframe.fin.as_mut().unwrap().area_m2 = area;
+    let (_, lin) = cierva_harness::run_linearise(&a, request(70.0), loading).unwrap();
+    let got = lin.model.derivative_value("N_v").unwrap();
+    assert!(
+        (got - 0.063).abs() < 0.02 * 0.063,
+        "N_v {got} with the fin at {area} m^2"
+    );
+    let y_v_izz = &study.rows[1].effects[1];
+    assert_eq!(y_v_izz.needed_change, None, "{y_v_izz:?}");
+}

@@ -305,3 +305,33 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
+
+/// What `sensitivity` studies: an aircraft at a condition, or a case's aircraft and checks.
+#[derive(clap::Args)]
+pub(crate) struct SensitivityArgs {
+    /// An aircraft file (see aircraft/); or give --case.
+    pub(crate) aircraft: Option<PathBuf>,
+    /// A case of an aircraft: its aircraft, loading and condition, and the quantities of its
+    /// derivative and trim checks with their bounds.
+    #[arg(long)]
+    pub(crate) case: Option<PathBuf>,
+    /// True airspeed, mph (with a case: picks one of its conditions).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) airspeed_mph: Option<f64>,
+    /// Mass, kg (default: the aircraft file's); with an aircraft file.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) mass_kg: Option<f64>,
+    /// Density altitude, ft (ISA); with an aircraft file.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub(crate) density_altitude_ft: f64,
+    /// Parameters to move, by their names in the aircraft file (default: those the file gives
+    /// a plausible range, or every one it has).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) parameters: Vec<String>,
+    /// Quantities to differentiate: derivatives or trim quantities (default: the case's, or the
+    /// primary derivatives).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) quantities: Vec<String>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}

@@ -1,0 +1,106 @@
+//! `cierva sensitivity`: which parameter would close a discrepancy, and is the value it would
+//! need plausible (see [`cierva_harness::sensitivity`]).
+
+use super::*;
+use cierva_harness::sensitivity::{self, Quantity};
+
+pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
+    let (file, loading, request, quantities) = match (&a.case, &a.aircraft) {
+        (Some(path), None) => {
+            let case = match cierva_harness::case::load(path) {
+                Ok(c) => c,
+                Err(e) => {
+                    eprintln!("{}", e.render());
+                    return ExitCode::from(2);
+                }
+            };
+            match sensitivity::from_case(&case, a.airspeed_mph) {
+                Ok(x) => x,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            }
+        }
+        (None, Some(path)) => {
+            let Some(v) = a.airspeed_mph else {
+                eprintln!("error: give --airspeed-mph with an aircraft file");
+                return ExitCode::from(2);
+            };
+            let file = match load_aircraft(path) {
+                Ok(f) => f,
+                Err(code) => return code,
+            };
+            let loading = cierva_harness::Loading {
+                mass_kg: a.mass_kg,
+                density_altitude_ft: a.density_altitude_ft,
+            };
+            let request = cierva_harness::TrimRequest {
+                airspeed_mph: v,
+                climb_m_s: 0.0,
+                turn_rate_deg_s: 0.0,
+            };
+            let quantities = text::PRIMARY_DERIVATIVES
+                .iter()
+                .map(|n| Quantity {
+                    name: n.to_string(),
+                    bound: None,
+                })
+                .collect();
+            (file, loading, request, quantities)
+        }
+        _ => {
+            eprintln!("error: give an aircraft file or --case, not both");
+            return ExitCode::from(2);
+        }
+    };
+    let quantities: Vec<Quantity> = if a.quantities.is_empty() {
+        quantities
+    } else {
+        a.quantities
+            .iter()
+            .map(|n| {
+                quantities
+                    .iter()
+                    .find(|q| &q.name == n)
+                    .cloned()
+                    .unwrap_or(Quantity {
+                        name: n.clone(),
+                        bound: None,
+                    })
+            })
+            .collect()
+    };
+    let parameters: Vec<String> = if !a.parameters.is_empty() {
+        a.parameters.clone()
+    } else if !file.ranges.is_empty() {
+        file.ranges.keys().cloned().collect()
+    } else {
+        let mut air = file.aircraft.clone();
+        cierva_harness::aircraft_file::PARAMETERS
+            .iter()
+            .filter(|p| cierva_harness::aircraft_file::parameter_mut(&mut air, p.name).is_some())
+            .map(|p| p.name.to_string())
+            .collect()
+    };
+    if let Err(e) = sensitivity::check_names(&file, &parameters, &quantities) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
+    match sensitivity::run(&file, request, loading, &parameters, &quantities) {
+        Ok(study) => {
+            match a.format {
+                Format::Text => print!("{}", sensitivity::table(&study)),
+                Format::Json => println!(
+                    "{}",
+                    serde_json::to_string_pretty(&study).expect("a study serialises")
+                ),
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
