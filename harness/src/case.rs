@@ -33,6 +33,19 @@ pub struct CaseSpec {
     /// The data set's scores on the scoreboard (see [`crate::scoreboard`]).
     #[serde(default)]
     pub scores: Vec<crate::scoreboard::ScoreSpec>,
+    /// A sensitivity study for the report (an aircraft case): what would close each
+    /// discrepancy (see [`crate::sensitivity`]).
+    #[serde(default)]
+    pub sensitivity: Option<SensitivitySpec>,
+}
+
+/// A case's sensitivity study as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensitivitySpec {
+    /// The parameters to move (default: those the aircraft file gives plausible ranges).
+    #[serde(default)]
+    pub parameters: Option<Vec<String>>,
 }
 
 /// A named tolerance as written: exactly one of the kinds, and a reason.
@@ -73,6 +86,9 @@ pub struct Case {
     pub recorded: Option<crate::discrepancy::CaseRecord>,
     /// The data set's scores.
     pub scores: Vec<crate::scoreboard::ScoreSpec>,
+    /// The parameters of a sensitivity study `validate` runs for the report, if the case asks
+    /// for one.
+    pub sensitivity: Option<Vec<String>>,
 }
 
 /// Loads and checks a case file.
@@ -151,6 +167,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         checks.push(crate::checks::resolve(&cx, c, &tolerance)?);
     }
     check_scores(path, &src, &spec, &checks)?;
+    let sensitivity = check_sensitivity(path, &src, &spec, &subject)?;
     let recorded = crate::discrepancy::load(&spec.id)?;
     Ok(Case {
         path: path.to_path_buf(),
@@ -162,7 +179,52 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         checks,
         recorded,
         scores: spec.scores,
+        sensitivity,
     })
+}
+
+/// A sensitivity study's parameters: an aircraft case, parameters the aircraft has (default:
+/// those its file gives plausible ranges, which must then exist).
+fn check_sensitivity(
+    path: &Path,
+    src: &str,
+    spec: &CaseSpec,
+    subject: &Subject,
+) -> Result<Option<Vec<String>>, InputError> {
+    let Some(s) = &spec.sensitivity else {
+        return Ok(None);
+    };
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
+    let Subject::Aircraft { file, .. } = subject else {
+        return Err(err(
+            "sensitivity",
+            "a sensitivity study moves an aircraft's parameters: give it in an aircraft case"
+                .into(),
+        ));
+    };
+    let names: Vec<String> = match &s.parameters {
+        Some(p) => p.clone(),
+        None => file.ranges.keys().cloned().collect(),
+    };
+    if names.is_empty() {
+        return Err(err(
+            "sensitivity",
+            format!(
+                "name the `parameters`: {} gives no plausible ranges to take them from",
+                file.path.display()
+            ),
+        ));
+    }
+    let mut a = file.aircraft.clone();
+    for (i, n) in names.iter().enumerate() {
+        if crate::aircraft_file::parameter_mut(&mut a, n).is_none() {
+            return Err(err(
+                &format!("sensitivity.parameters[{i}]"),
+                format!("`{n}` is not a parameter of {}", file.id),
+            ));
+        }
+    }
+    Ok(Some(names))
 }
 
 /// A case's scores: unique ids, a noise floor, a reason, and a quantity that a check expects

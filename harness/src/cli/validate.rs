@@ -147,12 +147,24 @@ fn run_cases(
                     let t = std::time::Instant::now();
                     let results = eval::run_case(&case);
                     let scores = cierva_harness::review::scores_of(&case, &results);
+                    let sensitivity = case.sensitivity.as_ref().map(|parameters| {
+                        let (file, loading, request, quantities) =
+                            cierva_harness::sensitivity::from_case(&case, None)?;
+                        cierva_harness::sensitivity::run(
+                            &file,
+                            request,
+                            loading,
+                            parameters,
+                            &quantities,
+                        )
+                    });
                     Ok((
                         report::CaseRun {
                             case,
                             results,
                             seconds: t.elapsed().as_secs_f64(),
                             corrections: used,
+                            sensitivity,
                         },
                         scores,
                     ))
