@@ -18,10 +18,12 @@
 //! * **Axes.** Body axes with the origin at the centre of mass: x forward along the keel,
 //!   y to starboard, z down (right-handed), as in seeds 000-002. Velocities `u, v, w` (m/s),
 //!   rates `p, q, r` (rad/s), Euler attitudes `phi, theta, psi` (rad), rotorspeed `Omega`
-//!   (rad/s).
+//!   (rad/s), relative to the airframe as a rotor tachometer reads it. The rotor turns freely
+//!   on its shaft: the airframe's inertia excludes its polar moment about the shaft, and `Q`
+//!   (below) includes the airframe's acceleration about the shaft (see [`aircraft`]).
 //! * **Derivatives.** Accelerations per unit perturbation, named `<force>_<variable>`:
 //!   `X, Y, Z` act on `u, v, w`; `L, M, N` on `p, q, r`; `Q` on `Omega` (rotor torque divided
-//!   by rotor inertia). So `X_u` is in 1/s, `M_w` in 1/(m s), `Q_u` in rad/(m s) and `Q_Omega`
+//!   by rotor inertia, plus the airframe's angular acceleration about the shaft). So `X_u` is in 1/s, `M_w` in 1/(m s), `Q_u` in rad/(m s) and `Q_Omega`
 //!   in 1/s. Control columns use the control's name (`M_eta_s`).
 //! * **Controls.** `eta_s` longitudinal, `eta_c` lateral (stick or shaft tilt, units as the
 //!   source states them), `theta_0` collective.
