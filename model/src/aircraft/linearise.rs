@@ -319,8 +319,13 @@ pub fn linearise(
     };
     let (a, b) = split(&total);
     let model = LinearModel::from_rows(names(&STATES), names(&CONTROLS), &a, &b)?;
-    // Component models: the six acceleration rows of each part; the rotor also owns the
-    // rotorspeed row; the kinematic rows and the rest are inertial.
+    // Component models: the six acceleration rows of each part. The rotorspeed is relative to
+    // the airframe, so its row holds the airframe's angular acceleration about the shaft: the
+    // propeller and airframe own their share of it, and the rotor the rest (its torque, and
+    // the gyroscopic terms). The kinematic rows and the rest are inertial.
+    let shaft = aircraft.free_spins(&base_controls)[0].axis;
+    let about_shaft =
+        |p: &DMatrix<f64>, j: usize| (0..3).map(|k| shaft[k] * p[(3 + k, j)]).sum::<f64>();
     let mut comps = Vec::new();
     let mut accounted = DMatrix::<f64>::zeros(10, 14);
     for (c, p) in parts.iter().enumerate() {
@@ -330,10 +335,12 @@ pub fn linearise(
                 m[(i, j)] = p[(i, j)];
             }
         }
-        if c == 0 {
-            for j in 0..14 {
-                m[(9, j)] = total[(9, j)];
-            }
+        for j in 0..14 {
+            m[(9, j)] = if c == 0 {
+                total[(9, j)] - about_shaft(&parts[1], j) - about_shaft(&parts[2], j)
+            } else {
+                about_shaft(p, j)
+            };
         }
         accounted += &m;
         comps.push((COMPONENTS[c].to_string(), m));
