@@ -187,10 +187,10 @@ fn autorotate_finds_the_pca2_equilibrium() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     // TR 515 Table III row 15 was run near this condition at 98.8 rpm.
-    let rpm = v["rpm"].as_f64().unwrap();
+    let rpm = v["rotor_rpm"].as_f64().unwrap();
     assert!((90.0..110.0).contains(&rpm), "{rpm}");
-    assert!(v["inflow"]["v0"].as_f64().unwrap() > 0.0);
-    assert!(v["residual_norm"].as_f64().unwrap() <= 1e-9);
+    assert!(v["inflow_v0_m_s"].as_f64().unwrap() > 0.0);
+    assert!(v["equilibrium"]["residual_norm"].as_f64().unwrap() <= 1e-9);
     let (code, _, err) = cierva(&[
         "autorotate",
         "aircraft/pca-2-rotor.yaml",
@@ -234,7 +234,7 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
     let at = json(&["--alpha-deg", "6.6", "--airspeed-m-s", "18.16"]);
     let (mu, rpm) = (
         at["tip_speed_ratio"].as_f64().unwrap(),
-        at["rpm"].as_f64().unwrap(),
+        at["rotor_rpm"].as_f64().unwrap(),
     );
     let back = json(&[
         "--tip-speed-ratio",
@@ -243,15 +243,15 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
         &rpm.to_string(),
     ]);
     for key in [
-        "alpha_deg",
-        "rpm",
+        "rotor_alpha_deg",
+        "rotor_rpm",
         "lift_coefficient",
         "drag_coefficient",
         "lift_to_drag",
     ] {
         assert!(back[key].is_f64(), "{key}: {back}");
     }
-    let alpha = back["alpha_deg"].as_f64().unwrap();
+    let alpha = back["rotor_alpha_deg"].as_f64().unwrap();
     assert!((alpha - 6.6).abs() < 1e-4, "{alpha}");
     assert!((back["airspeed_m_s"].as_f64().unwrap() - 18.16).abs() < 1e-3);
     let corrected = json(&[
@@ -263,7 +263,7 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
         "corrections/fitted/pca-2-tr515.yaml",
     ]);
     assert!(
-        (corrected["alpha_deg"].as_f64().unwrap() - alpha).abs() > 0.01,
+        (corrected["rotor_alpha_deg"].as_f64().unwrap() - alpha).abs() > 0.01,
         "the fitted pitch offset moves the angle: {corrected}"
     );
     let (code, _, err) = cierva(&[

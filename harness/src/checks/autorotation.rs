@@ -158,7 +158,15 @@ pub fn autorotation_quantities(
         }
         Err(e) => return Err(e.to_string()),
     };
-    Ok(Ok(vec![
+    Ok(Ok(quantities_of(alpha_deg, &a)))
+}
+
+/// The quantities of an autorotative equilibrium at `alpha_deg`, by the names checks use.
+pub fn quantities_of(
+    alpha_deg: f64,
+    a: &cierva_model::components::autorotation::Autorotation,
+) -> Quantities {
+    vec![
         (Q::RotorAlphaDeg.name(), alpha_deg),
         (Q::RotorRpm.name(), a.rpm),
         (Q::RotorOmegaRadS.name(), a.omega_rad_s),
@@ -171,7 +179,7 @@ pub fn autorotation_quantities(
         (Q::ConingDeg.name(), a.a0_rad.to_degrees()),
         (Q::A1Deg.name(), a.a1_rad.to_degrees()),
         (Q::B1Deg.name(), a.b1_rad.to_degrees()),
-    ]))
+    ]
 }
 
 /// An autorotation's quantities, or why there are none in words (a finding or an error).

@@ -72,12 +72,20 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
     };
     match a.format {
         Format::Json => {
-            let mut v = serde_json::to_value(&e).unwrap_or_default();
-            if let Some(m) = v.as_object_mut() {
-                m.insert("alpha_deg".into(), serde_json::json!(alpha_deg));
-                m.insert("airspeed_m_s".into(), serde_json::json!(airspeed_m_s));
+            // The quantities by the names cases and fits use; the model's whole equilibrium
+            // (its own field names, SI) under `equilibrium`.
+            let mut m = serde_json::Map::new();
+            m.insert("rotor".into(), serde_json::json!(file.id));
+            m.insert("airspeed_m_s".into(), serde_json::json!(airspeed_m_s));
+            for (name, value) in cierva_harness::checks::autorotation::quantities_of(alpha_deg, &e)
+            {
+                m.insert(name.into(), serde_json::json!(value));
             }
-            print_json(&v)
+            m.insert(
+                "equilibrium".into(),
+                serde_json::to_value(&e).unwrap_or_default(),
+            );
+            print_json(&serde_json::Value::Object(m))
         }
         Format::Text => print_text(&file, alpha_deg, airspeed_m_s, &e),
     }
