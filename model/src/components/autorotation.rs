@@ -217,8 +217,21 @@ pub fn autorotate(
     tunnel: Tunnel,
     options: Options,
 ) -> Result<Autorotation, AutorotationError> {
-    // Long: one algorithm, read top to bottom: bracket the rotorspeed coarsely, then Newton on the
-    // scaled unknowns; the steps share the problem and its warm starts
+    autorotate_from(rotor, tunnel, options, None)
+}
+
+/// [`autorotate`] from a guess of the equilibrium, `(Omega, inflow)` (a neighbouring
+/// condition's equilibrium): Newton from the guess first, and the bracket from a fast rotor
+/// only if that does not converge. The same equilibrium as [`autorotate`] wherever the guess
+/// lies on its branch.
+pub fn autorotate_from(
+    rotor: &Rotor,
+    tunnel: Tunnel,
+    options: Options,
+    guess: Option<(f64, Inflow)>,
+) -> Result<Autorotation, AutorotationError> {
+    // Long: one algorithm, read top to bottom: bracket the rotorspeed coarsely (unless a guess
+    // converges), then Newton on the scaled unknowns; the steps share the problem
     rotor.validate()?;
     check(
         "airspeed_m_s",
@@ -266,6 +279,13 @@ pub fn autorotate(
         model: options.inflow,
         warm: [0.05, 0.0],
     };
+    if let Some((omega, inflow)) = guess
+        && omega.is_finite()
+        && omega > 0.0
+        && let Ok(a) = solve_from(&mut p, options, omega, inflow)
+    {
+        return Ok(a);
+    }
 
     // Bracket the rotorspeed, from a fast rotor (the torque is negative: profile drag wins) to
     // a slow one, with coarse numerics (only the torque's sign matters here) and the inflow
@@ -335,6 +355,20 @@ pub fn autorotate(
         torques: torques.clone(),
     })?;
 
+    solve_from(&mut p, options, omega0, inflow0)
+}
+
+/// Newton on the rotor speed and inflow from `(omega0, inflow0)`, and the equilibrium's loads
+/// and coefficients.
+fn solve_from(
+    p: &mut Problem,
+    options: Options,
+    omega0: f64,
+    inflow0: Inflow,
+) -> Result<Autorotation, AutorotationError> {
+    let (tunnel, hub, r) = (p.tunnel, p.hub, p.rotor.radius_m);
+    let (sa, ca) = tunnel.alpha_rad.sin_cos();
+    let v = tunnel.airspeed_m_s;
     // Newton on the scaled unknowns [Omega / omega0, v0 / Vs, v1s / Vs, v1c / Vs].
     let vs = v.max(1.0);
     let free = match options.inflow {
@@ -479,6 +513,7 @@ pub fn autorotate_at_tip_speed_ratio(
         airspeed_m_s: c.tip_speed_ratio * c.omega_rad_s * rotor.radius_m / alpha0.cos(),
         evaluations: 0,
         found: Vec::new(),
+        equilibria: Vec::new(),
     };
     let mut near: Option<f64> = None;
     for _ in 0..8 {
@@ -497,7 +532,9 @@ pub fn autorotate_at_tip_speed_ratio(
         };
         let (alpha, e) = search.refine(bracket)?;
         let ratio = c.omega_rad_s / e.omega_rad_s;
-        if (ratio - 1.0).abs() < 1e-7 {
+        // Within a millionth: an equilibrium started from a neighbour's can meet the solver's
+        // tolerance with the rotor speed a few parts in ten million off.
+        if (ratio - 1.0).abs() < 1e-6 {
             return Ok(AtTipSpeedRatio {
                 alpha_rad: alpha,
                 airspeed_m_s: search.airspeed_m_s,
@@ -528,6 +565,9 @@ struct AngleSearch<'a> {
     evaluations: usize,
     /// (angle deg, mu) of every equilibrium found, for the error when none fits.
     found: Vec<(f64, f64)>,
+    /// (angle, airspeed, rotor speed, inflow) of every equilibrium found, to start the next
+    /// one from the nearest.
+    equilibria: Vec<(f64, f64, f64, Inflow)>,
 }
 
 type Point = (f64, f64);
@@ -544,8 +584,26 @@ impl AngleSearch<'_> {
             speed_of_sound_m_s: self.c.speed_of_sound_m_s,
             collective_shift_rad: self.c.collective_shift_rad,
         };
-        match autorotate(self.rotor, tunnel, self.options) {
+        // Start from the equilibrium found nearest in angle (within 2 deg), scaled to this
+        // airspeed: the rotor speed and inflow scale with it at a fixed angle.
+        let guess = self
+            .equilibria
+            .iter()
+            .filter(|(a, ..)| (a - alpha).abs() < 2f64.to_radians())
+            .min_by(|x, y| (x.0 - alpha).abs().total_cmp(&(y.0 - alpha).abs()))
+            .map(|&(_, v, omega, inflow)| {
+                let k = self.airspeed_m_s / v;
+                let i = Inflow {
+                    v0: inflow.v0 * k,
+                    v1s: inflow.v1s * k,
+                    v1c: inflow.v1c * k,
+                };
+                (omega * k, i)
+            });
+        match autorotate_from(self.rotor, tunnel, self.options, guess) {
             Ok(e) => {
+                self.equilibria
+                    .push((alpha, self.airspeed_m_s, e.omega_rad_s, e.inflow));
                 self.found.push((alpha.to_degrees(), e.tip_speed_ratio));
                 Ok(Some((e.tip_speed_ratio.ln() - self.target, e)))
             }
