@@ -224,16 +224,7 @@ impl Measure {
                 if trim.contains(&name) {
                     return Ok(Self::Trim(name.into()));
                 }
-                use cierva_model::aircraft::linearise::{CONTROLS, STATES};
-                let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-                let zero = cierva_model::analysis::linear::LinearModel::new(
-                    names(&STATES),
-                    names(&CONTROLS),
-                    nalgebra::DMatrix::zeros(STATES.len(), STATES.len()),
-                    nalgebra::DMatrix::zeros(STATES.len(), CONTROLS.len()),
-                )
-                .map_err(|e| e.to_string())?;
-                match zero.derivative(name) {
+                match crate::checks::linear::linearised_template().derivative(name) {
                     Ok(_) => Ok(Self::Derivative(name.into())),
                     Err(e) => Err(format!(
                         "`{name}` is neither a trim quantity nor a derivative of the linearised model ({e}){}",

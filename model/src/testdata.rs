@@ -211,3 +211,21 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         hub_aoa_factor: None,
     }
 }
+
+/// Sea-level air for the tests (ISA density; the speed of sound at 15 deg C, rounded).
+pub fn sea_level_air() -> crate::aircraft::Air {
+    crate::aircraft::Air {
+        density_kg_m3: 1.225,
+        speed_of_sound_m_s: 340.3,
+    }
+}
+
+/// The test gyroplane's level-flight condition at 31.3 m/s (70 mph) in sea-level air.
+pub fn level_70mph() -> crate::aircraft::trim::Condition {
+    crate::aircraft::trim::Condition {
+        airspeed_m_s: 31.3,
+        climb_m_s: 0.0,
+        turn_rate_rad_s: 0.0,
+        air: sea_level_air(),
+    }
+}

@@ -106,8 +106,8 @@ pub fn check_derivative(cx: &Cx, name: &str, field: &str) -> Result<(), InputErr
     found.map_err(|e| cx.err(field, e.to_string()))
 }
 
-/// A model with the linearised aircraft's states and controls (for checking names).
-fn linearised_template() -> LinearModel {
+/// A model with the linearised aircraft's states and controls, all zero (for checking names).
+pub fn linearised_template() -> LinearModel {
     use cierva_model::aircraft::linearise::{CONTROLS, STATES};
     LinearModel::from_rows(
         STATES.iter().map(|s| s.to_string()).collect(),

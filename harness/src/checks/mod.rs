@@ -300,11 +300,7 @@ impl Check {
         match &self.what {
             What::Trim(t) => Some(t.condition),
             What::TimeHistory(t) => Some(t.condition),
-            What::Mode(mode::ModeCheck { linear, .. })
-            | What::Bcar(bcar::BcarCheck { linear, .. })
-            | What::Milne(milne::MilneCheck { linear })
-            | What::Derivative(derivative::DerivativeCheck { linear, .. }) => linear.condition,
-            _ => None,
+            _ => self.linear()?.condition,
         }
     }
 

@@ -369,12 +369,7 @@ mod tests {
     use crate::aircraft::trim::{self, Condition, Options};
     use crate::testdata::gyroplane;
 
-    fn air() -> Air {
-        Air {
-            density_kg_m3: 1.225,
-            speed_of_sound_m_s: 340.3,
-        }
-    }
+    use crate::testdata::sea_level_air as air;
 
     fn at(airspeed_m_s: f64) -> (Aircraft, Trim) {
         let a = gyroplane();

@@ -134,6 +134,16 @@ pub enum Rotation {
     Anticlockwise,
 }
 
+impl Rotation {
+    /// The sign of the propeller's angular velocity along body `+x`.
+    pub fn sense(self) -> f64 {
+        match self {
+            Self::Clockwise => 1.0,
+            Self::Anticlockwise => -1.0,
+        }
+    }
+}
+
 /// The propeller and its installation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PropellerInstallation {
@@ -549,6 +559,11 @@ impl Aircraft {
     /// A governed propeller is held at its speed relative to the airframe, so it turns with the
     /// airframe as part of it (its polar moment 0 here).
     pub fn free_spins(&self, controls: &Controls) -> [FreeSpin; 2] {
+        self.free_spins_at(&self.rotor_frame_rotation(controls))
+    }
+
+    /// [`Aircraft::free_spins`] with the shaft from a body-to-hub rotation already formed.
+    fn free_spins_at(&self, c: &[[f64; 3]; 3]) -> [FreeSpin; 2] {
         let propeller = match self.propeller.drive {
             Drive::Engine {
                 polar_inertia_kg_m2,
@@ -558,7 +573,7 @@ impl Aircraft {
         };
         [
             FreeSpin {
-                axis: self.rotor_frame_rotation(controls)[2],
+                axis: c[2],
                 polar_inertia_kg_m2: self.rotor_polar_inertia_kg_m2(),
             },
             FreeSpin {
@@ -585,13 +600,7 @@ impl Aircraft {
         let z = frame.c[2];
         let r_hub_dot = z[0] * w[0] + z[1] * w[1] + z[2] * w[2];
         let propeller = match self.propeller.drive {
-            Drive::Engine { .. } => {
-                let sense = match self.propeller.rotation {
-                    Rotation::Clockwise => 1.0,
-                    Rotation::Anticlockwise => -1.0,
-                };
-                propeller_driven - sense * w[0]
-            }
+            Drive::Engine { .. } => propeller_driven - self.propeller.rotation.sense() * w[0],
             Drive::Governed { .. } => propeller_driven,
         };
         (rotor_driven + r_hub_dot, propeller)
@@ -624,10 +633,7 @@ impl Aircraft {
             air.density_kg_m3,
             air.speed_of_sound_m_s,
         )?;
-        let sense = match pi.rotation {
-            Rotation::Clockwise => 1.0,
-            Rotation::Anticlockwise => -1.0,
-        };
+        let sense = pi.rotation.sense();
         let (engine_torque, prop_omega_dot) = match pi.drive {
             Drive::Governed { .. } => (ps.torque_n_m, 0.0),
             Drive::Engine {
@@ -713,7 +719,7 @@ impl Aircraft {
             &self.mass,
             b,
             &total,
-            &self.free_spins(controls),
+            &self.free_spins_at(&frame.c),
         )?;
         let (rotor_omega_dot, prop_omega_dot) = self.spin_rates(
             &frame,
@@ -1063,7 +1069,7 @@ impl Aircraft {
             &self.mass,
             &x.body,
             &total,
-            &self.free_spins(controls),
+            &self.free_spins_at(&frame.c),
         )?;
         let (omega_dot, prop_omega_dot) =
             self.spin_rates(&frame, omega_dot, prop_omega_dot, &body_dot);
@@ -1142,12 +1148,7 @@ mod tests {
     use crate::aircraft::trim::{self, Condition, Options};
     use crate::testdata::gyroplane;
 
-    fn air() -> Air {
-        Air {
-            density_kg_m3: 1.225,
-            speed_of_sound_m_s: 340.3,
-        }
-    }
+    use crate::testdata::sea_level_air as air;
 
     /// The individual-blade right-hand side, averaged over one revolution along the blades'
     /// own periodic motion, gives back the trim: the revolution-averaged and full models are
@@ -1274,12 +1275,7 @@ mod tests {
     #[test]
     fn the_full_model_averages_to_the_averaged_model_under_body_rates() {
         let a = gyroplane();
-        let c = Condition {
-            airspeed_m_s: 31.3,
-            climb_m_s: 0.0,
-            turn_rate_rad_s: 0.0,
-            air: air(),
-        };
+        let c = crate::testdata::level_70mph();
         let t = trim::trim(&a, c, Options::default()).unwrap();
         for (dp, dq) in [(0.0, 0.05), (0.05, 0.0)] {
             let mut s = t.state;
@@ -1325,12 +1321,7 @@ mod tests {
     #[test]
     fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
         let a = gyroplane();
-        let c = Condition {
-            airspeed_m_s: 31.3,
-            climb_m_s: 0.0,
-            turn_rate_rad_s: 0.0,
-            air: air(),
-        };
+        let c = crate::testdata::level_70mph();
         let t = trim::trim(&a, c, Options::default()).unwrap();
         let mut stepped = t.controls;
         stepped.pedal_percent += 10.0;
@@ -1344,10 +1335,7 @@ mod tests {
         else {
             panic!("the test aircraft's engine drives its propeller")
         };
-        let sense = match a.propeller.rotation {
-            Rotation::Clockwise => 1.0,
-            Rotation::Anticlockwise => -1.0,
-        };
+        let sense = a.propeller.rotation.sense();
         let m = &a.mass;
         let airframe = |axis: [f64; 3], i: f64, k: usize, l: usize| -> f64 {
             let full = [

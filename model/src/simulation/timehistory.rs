@@ -190,12 +190,7 @@ mod tests {
     use crate::testdata::gyroplane;
     use std::f64::consts::PI;
 
-    fn air() -> Air {
-        Air {
-            density_kg_m3: 1.225,
-            speed_of_sound_m_s: 340.3,
-        }
-    }
+    use crate::testdata::sea_level_air as air;
 
     fn trimmed() -> (
         crate::aircraft::Aircraft,
@@ -204,12 +199,7 @@ mod tests {
         trim::PeriodicTrim,
     ) {
         let a = gyroplane();
-        let c = Condition {
-            airspeed_m_s: 31.3,
-            climb_m_s: 0.0,
-            turn_rate_rad_s: 0.0,
-            air: air(),
-        };
+        let c = crate::testdata::level_70mph();
         let t = trim::trim(&a, c, Options::default()).unwrap();
         let pt = trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
         (a, c, t, pt)
@@ -283,12 +273,7 @@ mod tests {
                 at_100_percent: 4500.0,
             },
         };
-        let c = Condition {
-            airspeed_m_s: 31.3,
-            climb_m_s: 0.0,
-            turn_rate_rad_s: 0.0,
-            air: air(),
-        };
+        let c = crate::testdata::level_70mph();
         let t = trim::trim(&a, c, Options::default()).unwrap();
         let lin = crate::aircraft::linearise::linearise(&a, &t, air(), Default::default()).unwrap();
         let amp = 0.5;
