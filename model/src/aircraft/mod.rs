@@ -34,7 +34,11 @@
 //!
 //! # Propeller and engine
 //! The propeller thrusts along body `+x` (a pusher), in the axial component of the local air
-//! velocity (non-axial inflow effects are not modelled). Its speed is governed (rpm from
+//! velocity. The air crossing its disc (angle of attack and sideslip at the propeller, body
+//! rates included) gives an in-plane force and hub moments to first order in the crossing
+//! speed ([`crate::components::propeller`], "At incidence"); the propeller's hub axes are body
+//! `z`, body `y` and body `-x` for a propeller turning clockwise seen from behind (the rotor
+//! module's sense), mirrored in the `x-z` plane for one turning anticlockwise. Its speed is governed (rpm from
 //! throttle by a linear map) or driven by an engine whose shaft torque is
 //! `throttle x P_max / Omega_rated`, a constant-torque piston engine; the torque reaction
 //! rolls the airframe against the propeller's rotation. The engine's shaft carries only that
@@ -626,14 +630,19 @@ impl Aircraft {
         }
         let parm = sub(pi.position_m, self.cg_m);
         let prot = cross(pqr, parm);
-        let axial = (uvw[0] + prot[0]).max(0.0);
+        let local = [uvw[0] + prot[0], uvw[1] + prot[1], uvw[2] + prot[2]];
+        let axial = local[0].max(0.0);
+        // The propeller's hub axes (module docs): x_h = body z, y_h = sense x body y, z_h =
+        // -body x, so that it turns about -z_h as the rotor module's rotors do; an anticlockwise
+        // propeller is the mirror image of a clockwise one in the body's x-z plane.
+        let sense = pi.rotation.sense();
         let ps = pi.propeller.operate_checked(
             prop_omega,
             axial,
+            [local[2], sense * local[1]],
             air.density_kg_m3,
             air.speed_of_sound_m_s,
         )?;
-        let sense = pi.rotation.sense();
         let (engine_torque, prop_omega_dot) = match pi.drive {
             Drive::Governed { .. } => (ps.torque_n_m, 0.0),
             Drive::Engine {
@@ -645,11 +654,21 @@ impl Aircraft {
                 (q, (q - ps.torque_n_m) / polar_inertia_kg_m2)
             }
         };
-        let pf = [ps.thrust_n, 0.0, 0.0];
+        let [fx_h, fy_h] = ps.inplane_force_n;
+        let [mx_h, my_h] = ps.inplane_moment_n_m;
+        let pf = [ps.thrust_n, sense * fy_h, fx_h];
         let pm = cross(parm, pf);
         // Propeller turning clockwise seen from behind: its angular velocity is along +x, the
-        // engine's reaction on the airframe along -x.
-        let prop_loads = as_loads(pf, [pm[0] - sense * engine_torque, pm[1], pm[2]]);
+        // engine's reaction on the airframe along -x. Its hub moments: hub x is body z, hub y
+        // body y (mirrored with the propeller's sense).
+        let prop_loads = as_loads(
+            pf,
+            [
+                pm[0] - sense * engine_torque,
+                pm[1] + my_h,
+                pm[2] + sense * mx_h,
+            ],
+        );
         let rudder = self.controls.rudder_rad.at(controls.pedal_percent);
         let af = self
             .airframe
@@ -1209,6 +1228,66 @@ mod tests {
                 "{hub:?}: {mean:?}"
             );
         }
+    }
+
+    /// The pusher propeller at incidence: air from starboard (sideslip) pushes the disc to
+    /// port behind the c.g., a weathercock yawing moment like the fin's; air from below (angle
+    /// of attack) pushes it up behind the c.g., nose down. An anticlockwise propeller is the
+    /// mirror image: the same weathercock moment, the opposite yawing moment from angle of attack.
+    #[test]
+    fn the_pusher_at_incidence_weathercocks_and_pitches_nose_down() {
+        let a = gyroplane();
+        let c = Condition {
+            airspeed_m_s: 31.3,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air: air(),
+        };
+        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let loads = |a: &Aircraft, dv: f64, dw: f64| {
+            let mut x = t.state;
+            x.body.v_m_s += dv;
+            x.body.w_m_s += dw;
+            a.averaged(&x, &t.controls, air(), t.averaged.flap_start)
+                .unwrap()
+                .loads
+                .propeller
+        };
+        let (base, side, up) = (
+            loads(&a, 0.0, 0.0),
+            loads(&a, 1.0, 0.0),
+            loads(&a, 0.0, 1.0),
+        );
+        assert!(
+            side.y_n - base.y_n < 0.0 && side.n_n_m - base.n_n_m > 0.0,
+            "{side:?}"
+        );
+        assert!(
+            up.z_n - base.z_n < 0.0 && up.m_n_m - base.m_n_m < 0.0,
+            "{up:?}"
+        );
+        // Measured for the test aircraft at 70 mph: -3.5 N and +3.3 N m per m/s of sideslip
+        // velocity, -3.5 N and -3.3 N m per m/s of w, and a yawing moment of -5.9 N m per m/s
+        // of w.
+        assert!((side.y_n - base.y_n).abs() > 1.0, "{side:?}");
+        let mut mirrored = a.clone();
+        mirrored.propeller.rotation = match a.propeller.rotation {
+            Rotation::Clockwise => Rotation::Anticlockwise,
+            Rotation::Anticlockwise => Rotation::Clockwise,
+        };
+        let (mb, ms, mu) = (
+            loads(&mirrored, 0.0, 0.0),
+            loads(&mirrored, 1.0, 0.0),
+            loads(&mirrored, 0.0, 1.0),
+        );
+        // Sideslip and yaw are mirrored together, so the weathercock moment does not depend on
+        // the sense; the yawing moment from angle of attack (the "P-factor": the advancing
+        // blades' extra thrust on one side) does, and changes sign.
+        assert!(((ms.y_n - mb.y_n) - (side.y_n - base.y_n)).abs() < 1e-9);
+        assert!(((ms.n_n_m - mb.n_n_m) - (side.n_n_m - base.n_n_m)).abs() < 1e-9);
+        let p_factor = up.n_n_m - base.n_n_m;
+        assert!(p_factor.abs() > 0.1, "{p_factor}");
+        assert!(((mu.n_n_m - mb.n_n_m) + p_factor).abs() < 1e-9);
     }
 
     /// The revolution mean of the full model's accelerations with the body frozen (RK4 on

@@ -880,7 +880,11 @@ mod tests {
             Options::default(),
         );
         match steep {
-            Err(TrimError::OutsideTravel { control, .. }) => assert_eq!(control, "throttle"),
+            // The climb needs more power than the engine has; the stick may leave its travel
+            // first (it does with the propeller's normal force, 148 % against 158 % throttle).
+            Err(TrimError::OutsideTravel { ref trim, .. }) => {
+                assert!(trim.controls.throttle_percent > 100.0, "{steep:#?}")
+            }
             Err(TrimError::NoConvergence { residuals, .. }) => assert_eq!(residuals.len(), 11),
             other => panic!("{other:?}"),
         }
