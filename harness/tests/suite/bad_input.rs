@@ -2,7 +2,7 @@
 //! broken case whose header says what the error must contain and on which line it must point
 //! (see `common`).
 
-mod common;
+use crate::common;
 
 use cierva_harness::case;
 use std::path::Path;

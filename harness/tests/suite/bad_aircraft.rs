@@ -2,7 +2,7 @@
 //! `tests/bad-aircraft/` is a broken copy of `aircraft/vpm-m16.yaml` whose header says what the
 //! error must contain and on which line of the file it must point (see `common`).
 
-mod common;
+use crate::common;
 
 use cierva_harness::aircraft_file;
 use std::path::Path;

@@ -1,0 +1,13 @@
+//! The harness's integration tests, one module per subject, in one test binary: one link
+//! instead of eight, and their tests run side by side on the cores instead of one binary after
+//! another. The validation suite (`tests/cases.rs`, libtest-mimic) is its own binary.
+
+mod aircraft;
+mod bad_aircraft;
+mod bad_input;
+mod cli;
+mod common;
+mod discrepancies;
+mod fit;
+mod identification;
+mod mutation;
