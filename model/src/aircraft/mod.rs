@@ -715,11 +715,7 @@ impl Aircraft {
                 l
             }
         };
-        let driving = inflow::DrivingLoads {
-            thrust_n: rl.thrust_n(),
-            roll_n_m: rl.moment_n_m[0],
-            pitch_n_m: rl.moment_n_m[1],
-        };
+        let driving = inflow::DrivingLoads::of(&rl);
         let (equilibrium, wake, inflow_dot) =
             self.inflow_response(&frame, driving, state.inflow, air);
         // Loads on the airframe at the hub: mean force, mean aerodynamic moment with no shaft

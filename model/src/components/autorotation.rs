@@ -168,11 +168,7 @@ impl Problem<'_> {
             InflowModel::UniformOnly { skew } => (skew, false),
         };
         inflow::static_inflow(
-            inflow::DrivingLoads {
-                thrust_n: loads.thrust_n(),
-                roll_n_m: loads.moment_n_m[0],
-                pitch_n_m: loads.moment_n_m[1],
-            },
+            inflow::DrivingLoads::of(loads),
             self.hub,
             current.v0,
             self.tunnel.density_kg_m3,

@@ -19,7 +19,7 @@
 //! Wind axes are hub axes turned about the shaft so that `x` points along the hub's in-plane
 //! motion; wind azimuth is `psi + psi_w`, with `psi_w = atan2(v, u)`.
 
-use crate::components::rotor::{HubVelocity, Inflow, SkewConvention};
+use crate::components::rotor::{HubVelocity, Inflow, SkewConvention, SteadyLoads};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -63,6 +63,17 @@ pub struct DrivingLoads {
     pub roll_n_m: f64,
     /// Moment about `y` (nose up positive), N m.
     pub pitch_n_m: f64,
+}
+
+impl DrivingLoads {
+    /// The driving loads of a rotor's revolution-mean loads.
+    pub fn of(loads: &SteadyLoads) -> Self {
+        Self {
+            thrust_n: loads.thrust_n(),
+            roll_n_m: loads.moment_n_m[0],
+            pitch_n_m: loads.moment_n_m[1],
+        }
+    }
 }
 
 /// The equilibrium induced velocity (hub axes) for given loads, at the current uniform

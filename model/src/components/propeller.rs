@@ -453,6 +453,26 @@ impl Propeller {
         }
     }
 
+    /// The static Peters-HaQuang inflow (uniform and first harmonic) that a propeller's loads
+    /// call for with its hub moving at `hub`, at the uniform component `v0` (for the wake).
+    fn equilibrium_inflow(
+        &self,
+        loads: &SteadyLoads,
+        hub: HubVelocity,
+        v0: f64,
+        density_kg_m3: f64,
+    ) -> Inflow {
+        inflow::static_inflow(
+            DrivingLoads::of(loads),
+            hub,
+            v0,
+            density_kg_m3,
+            self.rotor.radius_m,
+            (SkewConvention::Signed, true),
+        )
+        .0
+    }
+
     /// The in-plane coefficients `[k_f, k_c, k_m, k_n]` of the module docs at a disc airspeed
     /// and uniform inflow `v0` (the axial solution's): the loads at a small in-plane speed
     /// along hub `x`, with `v1s` and `v1c` solved to their static equilibrium. In-plane loads
@@ -484,19 +504,7 @@ impl Propeller {
         let (l0, ls, lc) = (loads(0.0, 0.0)?, loads(dv, 0.0)?, loads(0.0, dv)?);
         // The static first-harmonic inflow each set of loads asks for, less the inflow given.
         let residual = |l: &SteadyLoads, v1s: f64, v1c: f64| {
-            let driving = DrivingLoads {
-                thrust_n: l.thrust_n(),
-                roll_n_m: l.moment_n_m[0],
-                pitch_n_m: l.moment_n_m[1],
-            };
-            let (eq, _) = inflow::static_inflow(
-                driving,
-                hub,
-                v0,
-                density_kg_m3,
-                r,
-                (SkewConvention::Signed, true),
-            );
+            let eq = self.equilibrium_inflow(l, hub, v0, density_kg_m3);
             [eq.v1s - v1s, eq.v1c - v1c]
         };
         let (r0, rs, rc) = (
@@ -755,20 +763,7 @@ mod tests {
                 .map_err(|e| e.to_string())
         };
         let residual = |x: &[f64]| {
-            let l = loads(x)?;
-            let driving = DrivingLoads {
-                thrust_n: l.thrust_n(),
-                roll_n_m: l.moment_n_m[0],
-                pitch_n_m: l.moment_n_m[1],
-            };
-            let (eq, _) = inflow::static_inflow(
-                driving,
-                hub,
-                x[0] * tip,
-                rho,
-                r,
-                (SkewConvention::Signed, true),
-            );
+            let eq = p.equilibrium_inflow(&loads(x)?, hub, x[0] * tip, rho);
             Ok(vec![
                 eq.v0 / tip - x[0],
                 eq.v1s / tip - x[1],
