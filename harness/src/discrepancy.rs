@@ -148,7 +148,7 @@ pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
 
 /// A record file's body: one flow map per band, numbers to 8 significant digits (far finer than
 /// any band).
-fn render(record: &CaseRecord) -> String {
+pub fn render(record: &CaseRecord) -> String {
     use std::fmt::Write as _;
     let band = |b: &Band| {
         format!(
@@ -193,47 +193,4 @@ fn render(record: &CaseRecord) -> String {
         }
     }
     o
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_written_record_reads_back() {
-        let mut checks = BTreeMap::new();
-        checks.insert(
-            "row-01".to_string(),
-            Recorded {
-                quantities: [("rpm".to_string(), Band::around(96.869352374, 0.99))].into(),
-                verdict: Some(Verdict::DoesNotComply),
-                no_equilibrium: true,
-                fingerprint: [("q".to_string(), Band::around(-5.06e-6, 0.0))].into(),
-            },
-        );
-        let r = CaseRecord {
-            case: "c".into(),
-            checks,
-        };
-        let back: CaseRecord = serde_yaml::from_str(&render(&r)).unwrap();
-        let (a, b) = (&r.checks["row-01"], &back.checks["row-01"]);
-        assert_eq!(a.verdict, b.verdict);
-        let (x, y) = (a.quantities["rpm"], b.quantities["rpm"]);
-        assert!((x.value - y.value).abs() < 1e-6 && (x.lower - y.lower).abs() < 1e-6);
-        assert!(b.no_equilibrium && b.fingerprint["q"].holds(-5.06e-6));
-    }
-
-    #[test]
-    fn a_band_holds_its_value_and_not_nan() {
-        let b = Band::around(96.9, 0.99);
-        assert!(b.holds(96.9));
-        assert!(b.holds(96.905));
-        assert!(!b.holds(96.92));
-        assert!(!b.holds(f64::NAN));
-        // The relative part wins when the tolerance is tight or absent.
-        let c = Band::around(-2.0, 0.0);
-        assert!((c.upper - c.lower - 4e-4).abs() < 1e-15);
-        // A zero value still has a band.
-        assert!(Band::around(0.0, f64::INFINITY).upper > 0.0);
-    }
 }

@@ -523,23 +523,3 @@ pub fn run_simulation(
 ) -> Result<cierva_model::simulation::timehistory::TimeHistory, String> {
     simulation_start(aircraft, request, loading)?.run(changes, settings)
 }
-
-#[cfg(test)]
-mod architecture_tests;
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn a_condition_takes_its_airspeed_in_any_unit() {
-        let parse = |s: &str| serde_yaml::from_str::<super::TrimRequest>(s);
-        let kn = parse("{airspeed_kn: 60.0}").unwrap();
-        assert!((kn.airspeed_mph - 69.0468).abs() < 1e-4, "{kn:?}");
-        let ms = parse("{airspeed_m_s: 31.2928, climb_m_s: -1.0}").unwrap();
-        assert!((ms.airspeed_mph - 70.0).abs() < 1e-9 && ms.climb_m_s == -1.0);
-        assert_eq!(parse("{airspeed_mph: 70.0}").unwrap().airspeed_mph, 70.0);
-        let two = parse("{airspeed_mph: 70.0, airspeed_kn: 60.0}").unwrap_err();
-        assert!(two.to_string().contains("exactly one airspeed"), "{two}");
-        assert!(parse("{climb_m_s: 1.0}").is_err());
-        assert!(parse("{airspeed_knots: 60.0}").is_err());
-    }
-}

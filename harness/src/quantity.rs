@@ -288,36 +288,3 @@ pub fn sweep_names() -> Vec<String> {
 pub fn names(list: &[Quantity]) -> Vec<&'static str> {
     list.iter().map(|q| q.name()).collect()
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names_are_unique_and_unit_suffixed_where_they_have_units() {
-        let mut seen = std::collections::BTreeSet::new();
-        for q in Quantity::ALL {
-            assert!(seen.insert(q.name()), "{} twice", q.name());
-            assert_eq!(Quantity::parse(q.name()), Some(*q));
-            let suffix = match q.unit() {
-                "deg" => Some("_deg"),
-                "m/s" => Some("_m_s"),
-                "rad/s" => Some("_rad_s"),
-                "rpm" => Some("_rpm"),
-                "s" => Some("_s"),
-                "N" => Some("_n"),
-                "N m" => Some("_n_m"),
-                "%" => Some("_percent"),
-                _ => None,
-            };
-            if let Some(s) = suffix {
-                assert!(
-                    q.name().ends_with(s),
-                    "{} ({}) lacks {s}",
-                    q.name(),
-                    q.unit()
-                );
-            }
-        }
-    }
-}

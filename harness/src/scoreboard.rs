@@ -210,7 +210,7 @@ pub fn write(board: &Board) -> std::io::Result<bool> {
 }
 
 /// The scoreboard file's text: one flow map per score.
-fn render(board: &Board) -> String {
+pub fn render(board: &Board) -> String {
     use std::fmt::Write as _;
     let mut o = String::from(
         "# Written by `cierva review --accept`: each data set's scores (see harness/src/scoreboard.rs\n\
@@ -290,74 +290,4 @@ pub fn versions() -> Vec<Version> {
             Some((date.to_string(), commit.to_string(), parse(&text)?))
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn score(value: f64, metric: Metric) -> Score {
-        Score {
-            case: "c".into(),
-            id: "s".into(),
-            metric,
-            quantity: Some("rpm".into()),
-            value,
-            count: 3,
-            noise_floor: 1e-3,
-            reason: "test".into(),
-        }
-    }
-
-    #[test]
-    fn worse_is_worse_beyond_the_noise_floor_either_way_round() {
-        let c = Committed {
-            value: 0.10,
-            better: Better::Lower,
-            noise_floor: 1e-3,
-        };
-        assert_eq!(
-            change(&score(0.1005, Metric::RmsRelativeError), Some(&c)),
-            Change::Same
-        );
-        assert_eq!(
-            change(&score(0.12, Metric::RmsRelativeError), Some(&c)),
-            Change::Worse
-        );
-        assert_eq!(
-            change(&score(0.08, Metric::RmsRelativeError), Some(&c)),
-            Change::Better
-        );
-        assert_eq!(
-            change(&score(f64::NAN, Metric::RmsRelativeError), Some(&c)),
-            Change::Worse
-        );
-        let h = Committed {
-            value: 4.0,
-            better: Better::Higher,
-            noise_floor: 0.5,
-        };
-        assert_eq!(change(&score(3.0, Metric::Inside), Some(&h)), Change::Worse);
-        assert_eq!(
-            change(&score(5.0, Metric::Inside), Some(&h)),
-            Change::Better
-        );
-        assert_eq!(change(&score(5.0, Metric::Inside), None), Change::New);
-    }
-
-    #[test]
-    fn a_written_board_reads_back() {
-        let b = with(
-            &Board::default(),
-            &[score(0.1234567891, Metric::RmsRelativeError), {
-                let mut s = score(f64::NAN, Metric::Inside);
-                s.id = "t".into();
-                s
-            }],
-        );
-        let text = render(&b);
-        let back = parse(&text).unwrap();
-        assert!((back.scores["c"]["s"].value - 0.1234567891).abs() < 1e-8);
-        assert!(back.scores["c"]["t"].value.is_nan());
-    }
 }

@@ -732,19 +732,3 @@ pub fn time_history_table(rows: &[(String, Vec<crate::history::SignalMetrics>)])
     }
     s
 }
-
-#[cfg(test)]
-mod tests {
-    use super::sig;
-
-    #[test]
-    fn significant_digits() {
-        assert_eq!(sig(-1.064475117, 6), "-1.06448");
-        assert_eq!(sig(0.0023217, 3), "0.00232");
-        assert_eq!(sig(28.6824, 6), "28.6824");
-        assert_eq!(sig(-0.0, 6), "0");
-        assert_eq!(sig(1.5e-7, 3), "1.50e-7");
-        assert_eq!(sig(-4e-20, 3), "-4.00e-20");
-        assert_eq!(sig(123456789.0, 3), "1.23e8");
-    }
-}

@@ -97,7 +97,7 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
 
 /// For serde's "unknown field `x`, expected one of `a`, `b`, ..." a suggestion of the nearest
 /// expected field.
-fn suggestion(message: &str) -> Option<String> {
+pub fn suggestion(message: &str) -> Option<String> {
     let rest = message.strip_prefix("unknown field `")?;
     let (unknown, tail) = rest.split_once('`')?;
     let expected: Vec<String> = tail
@@ -365,61 +365,4 @@ fn find_item(lines: &[&str], start: usize, parent: isize, n: usize) -> Option<(u
         }
     }
     None
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const SRC: &str = "id: x\nchecks:\n  - id: a\n    kind: mode\n  - id: b\n    expect:\n      period_s:\n        value: 3\n";
-
-    #[test]
-    fn locates_nested_fields() {
-        assert_eq!(locate(SRC, "id"), Some((1, 1)));
-        assert_eq!(locate(SRC, "checks[1]"), Some((5, 5)));
-        assert_eq!(locate(SRC, "checks[1].expect.period_s"), Some((7, 7)));
-        assert_eq!(locate(SRC, "checks[0].kind"), Some((4, 5)));
-        assert_eq!(locate(SRC, "checks[3]"), None);
-        let flow = "a:\n  mass: {mass_kg: 1, ixx: 2,\n         iyy: 3}\n  drive: {engine: {p: 1}}\nsources:\n  mass.ixx: x\n";
-        assert_eq!(locate(flow, "a.mass.ixx"), Some((2, 22)));
-        assert_eq!(locate(flow, "a.mass.iyy"), Some((3, 10)));
-        assert_eq!(locate(flow, "a.drive.engine.p"), Some((4, 20)));
-        assert_eq!(locate(flow, "sources.mass.ixx"), Some((6, 3)));
-        assert_eq!(locate(flow, "a.mass.izz"), None);
-    }
-
-    #[derive(Debug, serde::Deserialize)]
-    #[serde(deny_unknown_fields)]
-    #[allow(dead_code)]
-    struct T {
-        id: String,
-        mass_kg: f64,
-    }
-
-    #[test]
-    fn typos_get_a_suggestion_and_a_caret() {
-        let dir = std::env::temp_dir().join(format!("cierva-yaml-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("t.yaml");
-        std::fs::write(&path, "id: a\nmas_kg: 3\n").unwrap();
-        let e = parse::<T>(&path, "id: a\nmas_kg: 3\n").unwrap_err();
-        assert!(e.message.contains("did you mean `mass_kg`?"), "{e}");
-        let r = e.render();
-        assert!(r.contains("2 | mas_kg: 3") && r.ends_with("| ^"), "{r}");
-        assert_eq!(
-            suggestion("unknown field `zzzzzz`, expected `id` or `mass_kg`"),
-            None
-        );
-    }
-
-    #[test]
-    fn parse_errors_carry_field_line_and_column() {
-        let e = parse::<T>(Path::new("f.yaml"), "id: a\nmass_kg: heavy\n").unwrap_err();
-        assert_eq!(e.line, Some(2));
-        assert_eq!(e.field.as_deref(), Some("mass_kg"));
-        assert!(e.to_string().starts_with("f.yaml:2:"), "{e}");
-        let e = parse::<T>(Path::new("f.yaml"), "id: a\nmass: 3\n").unwrap_err();
-        assert!(e.message.contains("unknown field `mass`"), "{e}");
-        assert_eq!(e.line, Some(2));
-    }
 }

@@ -287,7 +287,20 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         dt,
         steps,
     );
-    let state = |name: &str, k: usize| model.state_index(name).map_or(0.0, |i| xs[k][i]);
+    // Each state's column, looked up once (a state the model lacks reads as zero).
+    let column = |name: &str| model.state_index(name).ok();
+    let [
+        p_col,
+        q_col,
+        r_col,
+        u_col,
+        v_col,
+        w_col,
+        phi_col,
+        theta_col,
+        omega_col,
+    ] = ["p", "q", "r", "u", "v", "w", "phi", "theta", "Omega"].map(column);
+    let state = |col: Option<usize>, k: usize| col.map_or(0.0, |i| xs[k][i]);
     let r = [
         s.sensors.probe_position_m[0] - s.sensors.cg_position_m[0],
         s.sensors.probe_position_m[1] - s.sensors.cg_position_m[1],
@@ -303,10 +316,10 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
     let nz = s.noise;
     for k in 0..=steps {
         let t = k as f64 * dt;
-        let (p, q, rr) = (state("p", k), state("q", k), state("r", k));
-        let u = s.trim.u_m_s + state("u", k);
-        let v = state("v", k);
-        let w = s.trim.w_m_s + state("w", k);
+        let (p, q, rr) = (state(p_col, k), state(q_col, k), state(r_col, k));
+        let u = s.trim.u_m_s + state(u_col, k);
+        let v = state(v_col, k);
+        let w = s.trim.w_m_s + state(w_col, k);
         // Probe velocity: c.g. velocity plus omega x r.
         let up = u + q * r[2] - rr * r[1];
         let vp = v + rr * r[0] - p * r[2];
@@ -320,9 +333,9 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
             p + nz.rate_rad_s * rng.sample(),
             q + nz.rate_rad_s * rng.sample(),
             rr + nz.rate_rad_s * rng.sample(),
-            state("phi", k) + nz.attitude_rad * rng.sample(),
-            s.trim.theta_rad + state("theta", k) + nz.attitude_rad * rng.sample(),
-            s.trim.omega_rotor_rad_s + state("Omega", k) + nz.rotor_rad_s * rng.sample(),
+            state(phi_col, k) + nz.attitude_rad * rng.sample(),
+            s.trim.theta_rad + state(theta_col, k) + nz.attitude_rad * rng.sample(),
+            s.trim.omega_rotor_rad_s + state(omega_col, k) + nz.rotor_rad_s * rng.sample(),
             input.at(t) + nz.control * rng.sample(),
         ];
         for (col, v) in data.iter_mut().zip(row) {

@@ -1,8 +1,11 @@
 //! The harness's integration tests, one module per subject, in one test binary: one link
 //! instead of eight, and their tests run side by side on the cores instead of one binary after
-//! another. The validation suite (`tests/cases.rs`, libtest-mimic) is its own binary.
+//! another. The validation suite (`tests/cases.rs`, libtest-mimic) is its own binary. The
+//! library has no unit tests of its own (`[lib] test = false`): its parts are tested here
+//! (`units`, `architecture`), which saves a second optimised build of the whole library.
 
 mod aircraft;
+mod architecture;
 mod bad_aircraft;
 mod bad_input;
 mod cli;
@@ -11,3 +14,4 @@ mod discrepancies;
 mod fit;
 mod identification;
 mod mutation;
+mod units;

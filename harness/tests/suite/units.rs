@@ -1,0 +1,569 @@
+//! Tests of the harness library's parts, one module per source module (they were its unit
+//! tests; here they build into the one test binary instead of a second build of the library).
+
+mod quantity {
+    use cierva_harness::quantity::*;
+
+    #[test]
+    fn names_are_unique_and_unit_suffixed_where_they_have_units() {
+        let mut seen = std::collections::BTreeSet::new();
+        for q in Quantity::ALL {
+            assert!(seen.insert(q.name()), "{} twice", q.name());
+            assert_eq!(Quantity::parse(q.name()), Some(*q));
+            let suffix = match q.unit() {
+                "deg" => Some("_deg"),
+                "m/s" => Some("_m_s"),
+                "rad/s" => Some("_rad_s"),
+                "rpm" => Some("_rpm"),
+                "s" => Some("_s"),
+                "N" => Some("_n"),
+                "N m" => Some("_n_m"),
+                "%" => Some("_percent"),
+                _ => None,
+            };
+            if let Some(s) = suffix {
+                assert!(
+                    q.name().ends_with(s),
+                    "{} ({}) lacks {s}",
+                    q.name(),
+                    q.unit()
+                );
+            }
+        }
+    }
+}
+
+mod scoreboard {
+    use cierva_harness::scoreboard::*;
+
+    fn score(value: f64, metric: Metric) -> Score {
+        Score {
+            case: "c".into(),
+            id: "s".into(),
+            metric,
+            quantity: Some("rpm".into()),
+            value,
+            count: 3,
+            noise_floor: 1e-3,
+            reason: "test".into(),
+        }
+    }
+
+    #[test]
+    fn worse_is_worse_beyond_the_noise_floor_either_way_round() {
+        let c = Committed {
+            value: 0.10,
+            better: Better::Lower,
+            noise_floor: 1e-3,
+        };
+        assert_eq!(
+            change(&score(0.1005, Metric::RmsRelativeError), Some(&c)),
+            Change::Same
+        );
+        assert_eq!(
+            change(&score(0.12, Metric::RmsRelativeError), Some(&c)),
+            Change::Worse
+        );
+        assert_eq!(
+            change(&score(0.08, Metric::RmsRelativeError), Some(&c)),
+            Change::Better
+        );
+        assert_eq!(
+            change(&score(f64::NAN, Metric::RmsRelativeError), Some(&c)),
+            Change::Worse
+        );
+        let h = Committed {
+            value: 4.0,
+            better: Better::Higher,
+            noise_floor: 0.5,
+        };
+        assert_eq!(change(&score(3.0, Metric::Inside), Some(&h)), Change::Worse);
+        assert_eq!(
+            change(&score(5.0, Metric::Inside), Some(&h)),
+            Change::Better
+        );
+        assert_eq!(change(&score(5.0, Metric::Inside), None), Change::New);
+    }
+
+    #[test]
+    fn a_written_board_reads_back() {
+        let b = with(
+            &Board::default(),
+            &[score(0.1234567891, Metric::RmsRelativeError), {
+                let mut s = score(f64::NAN, Metric::Inside);
+                s.id = "t".into();
+                s
+            }],
+        );
+        let text = render(&b);
+        let back = parse(&text).unwrap();
+        assert!((back.scores["c"]["s"].value - 0.1234567891).abs() < 1e-8);
+        assert!(back.scores["c"]["t"].value.is_nan());
+    }
+}
+
+mod history {
+    use cierva_harness::history::*;
+    use cierva_harness::ident::record::{Record, RecordMeta};
+    use cierva_harness::refs::Provenance;
+    use std::collections::BTreeMap;
+
+    fn record(signal: &[f64], model: &[f64]) -> (Record, Flown) {
+        let n = signal.len();
+        let time_s: Vec<f64> = (0..n).map(|k| k as f64 * 0.1).collect();
+        let meta = RecordMeta {
+            id: "r".into(),
+            title: "t".into(),
+            provenance: Provenance {
+                source: "test".into(),
+                notes: None,
+            },
+            synthetic: None,
+            aircraft: "a".into(),
+            sample_rate_hz: 10.0,
+            sensors: None,
+            condition: BTreeMap::new(),
+            trim: BTreeMap::new(),
+            controls: vec![],
+        };
+        let rec = Record {
+            path: "r.csv".into(),
+            meta,
+            channels: vec!["time_s".into(), "theta_deg".into()],
+            data: vec![time_s.clone(), signal.to_vec()],
+        };
+        let mut signals = vec![vec![0.0; n]; SIGNALS.len()];
+        signals[7] = model.to_vec();
+        (rec, Flown { time_s, signals })
+    }
+
+    #[test]
+    fn metrics_of_a_known_error() {
+        let (rec, flown) = record(&[0.0, 1.0, 2.0, 1.0], &[0.0, 1.5, 2.0, 1.0]);
+        let m = compare(&rec, &flown).unwrap();
+        assert_eq!(m.len(), 1);
+        assert_eq!(m[0].signal, "theta_deg");
+        assert!((m[0].max_abs_error - 0.5).abs() < 1e-12);
+        assert!((m[0].time_of_max_s - 0.1).abs() < 1e-12);
+        assert!((m[0].rms_error - 0.25).abs() < 1e-12);
+        // rms(p) = sqrt(7.25/4), rms(m) = sqrt(6/4).
+        let theil = 0.25 / ((7.25f64 / 4.0).sqrt() + 1.5f64.sqrt());
+        assert!((m[0].theil - theil).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nan_fails_every_metric() {
+        let (rec, flown) = record(&[0.0, 1.0, 2.0], &[0.0, f64::NAN, 2.0]);
+        let m = compare(&rec, &flown).unwrap();
+        assert!(m[0].max_abs_error.is_nan());
+        assert!(m[0].rms_error.is_nan());
+    }
+}
+
+mod fourier {
+    use cierva_harness::ident::fourier::*;
+    use rustfft::num_complex::Complex64 as C;
+
+    #[test]
+    fn direct_transform_matches_an_analytic_pair() {
+        // x(t) = exp(-a t) on [0, T]: X(w) = (1 - exp(-(a + i w) T)) / (a + i w).
+        let (a, dt, n) = (0.7, 0.01, 4001);
+        let x: Vec<f64> = (0..n).map(|k| (-a * k as f64 * dt).exp()).collect();
+        let t = (n - 1) as f64 * dt;
+        for w in [0.1, 1.0, 5.0] {
+            let s = C::new(a, w);
+            let exact = (C::new(1.0, 0.0) - (-s * t).exp()) / s;
+            let got = transform(&x, dt, &[w])[0];
+            // The trapezoidal rule's error is about dt^2 |f'(T) - f'(0)| / 12, here
+            // dt^2 |s| / 12 against |X| ~ 1 / |s|: relative dt^2 |s|^2 / 12. Allow twice that.
+            let bound = dt * dt * s.norm_sqr() / 6.0;
+            assert!(
+                (got - exact).norm() < bound * exact.norm(),
+                "w {w}: {got} vs {exact}"
+            );
+        }
+    }
+
+    #[test]
+    fn chirp_z_equals_the_direct_sum() {
+        let x: Vec<f64> = (0..3000)
+            .map(|k| ((k as f64) * 0.013).sin() * (1.0 + 0.001 * k as f64))
+            .collect();
+        let (w0, dw, m) = (0.3, 0.05, 200);
+        let fast = transform_uniform(&x, 0.01, w0, dw, m);
+        let omegas: Vec<f64> = (0..m).map(|k| w0 + k as f64 * dw).collect();
+        let slow = transform(&x, 0.01, &omegas);
+        for (a, b) in fast.iter().zip(&slow) {
+            assert!((a - b).norm() < 1e-9 * (1.0 + b.norm()), "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn a_prepared_chirp_z_serves_many_signals_and_other_lengths() {
+        let (w0, dw, m, dt) = (0.2, 0.04, 120, 0.01);
+        let plan = ChirpZ::new(2000, dt, w0, dw, m);
+        let omegas: Vec<f64> = (0..m).map(|k| w0 + k as f64 * dw).collect();
+        for (n, f) in [(2000usize, 0.011), (2000, 0.027), (1500, 0.019)] {
+            let x: Vec<f64> = (0..n).map(|k| (k as f64 * f).cos() + 0.3).collect();
+            let fast = plan.apply(&x);
+            let slow = transform(&x, dt, &omegas);
+            assert_eq!(fast.len(), m);
+            for (a, b) in fast.iter().zip(&slow) {
+                assert!(
+                    (a - b).norm() < 1e-9 * (1.0 + b.norm()),
+                    "n {n}: {a} vs {b}"
+                );
+            }
+        }
+        assert_eq!(plan.len(), 2000);
+        assert!(
+            ChirpZ::new(0, dt, w0, dw, m)
+                .apply(&[])
+                .iter()
+                .all(|c| c.norm() == 0.0)
+        );
+    }
+
+    #[test]
+    fn hann_derivative_is_consistent() {
+        let (w, dw) = hann(1001, 0.01);
+        for k in 1..1000 {
+            let fd = (w[k + 1] - w[k - 1]) / 0.02;
+            assert!((fd - dw[k]).abs() < 1e-3);
+        }
+        assert_eq!(w[0], 0.0);
+    }
+}
+
+mod estimate {
+    use cierva_harness::ident::estimate::*;
+
+    #[test]
+    fn t_quantiles_match_the_tables() {
+        // Tables of Student's t, 97.5 %: dof 5, 10, 30, 120.
+        for (dof, t) in [(5, 2.571), (10, 2.228), (30, 2.042), (120, 1.980)] {
+            assert!(
+                (student_t_975(dof) - t).abs() < 0.01 * t,
+                "{dof}: {}",
+                student_t_975(dof)
+            );
+        }
+    }
+}
+
+mod linear {
+    use cierva_harness::checks::Expectation;
+    use cierva_harness::checks::linear::*;
+    use cierva_harness::checks::mode::ModeCheck;
+    use cierva_harness::tolerance::{RoundingSpec, Tolerance, ToleranceKind};
+    use cierva_model::{LinearModel, ModeKind};
+
+    /// The `rounding` bound is a first-order worst case over every sign combination, so random
+    /// corner perturbations of the printed matrix (every entry moved by +-half a unit) must stay
+    /// within it (allowing 10 % for second-order effects), and the worst of them should come
+    /// close to it (the bound is not loose).
+    #[test]
+    fn rounding_bound_covers_random_corner_perturbations() {
+        let r = cierva_harness::refs::load(
+            &cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
+        )
+        .unwrap();
+        let model = r.linear_model.unwrap();
+        let spec = RoundingSpec {
+            input_decimals: 4,
+            output_decimals: 12,
+        };
+        let e = Expectation {
+            quantity: "eigenvalue_imag_rad_s".into(),
+            value: Some(0.0),
+            tolerance: Tolerance {
+                name: "t".into(),
+                kind: ToleranceKind::Rounding(spec),
+                reason: "test".into(),
+            },
+        };
+        let es = [e.clone()];
+        for (system, mode) in [
+            (System::Full, ModeKind::Phugoid),
+            (System::Eq13, ModeKind::Phugoid),
+            (System::Full, ModeKind::ShortPeriod),
+        ] {
+            let check = ModeCheck {
+                mode,
+                system,
+                linear: LinearSetup::default(),
+            };
+            let nominal = check.compute(&model, None, &model, &es).unwrap();
+            let v0 = nominal.get(&e.quantity).unwrap();
+            let bound = propagated_rounding(&model, &check, &nominal, &es, &e).unwrap();
+            // Deterministic pseudo-random signs (64-bit LCG, fixed seed).
+            let mut state: u64 = 0x5eed_0002;
+            let mut worst = 0.0f64;
+            for _ in 0..400 {
+                let mut a = model.a().clone();
+                let mut b = model.b().clone();
+                for i in [0usize, 1, 2, 4] {
+                    for j in 0..5 {
+                        state = state
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        a[(i, j)] += if state >> 63 == 1 { 0.5e-4 } else { -0.5e-4 };
+                    }
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    b[(i, 0)] += if state >> 63 == 1 { 0.5e-4 } else { -0.5e-4 };
+                }
+                let m = LinearModel::new(model.states().to_vec(), model.controls().to_vec(), a, b)
+                    .unwrap();
+                let v = check
+                    .compute(&m, nominal.anchor, &m, &es)
+                    .unwrap()
+                    .get(&e.quantity)
+                    .unwrap();
+                worst = worst.max((v - v0).abs());
+            }
+            assert!(
+                worst <= 1.1 * bound,
+                "{system:?} {mode:?}: worst {worst:e} > bound {bound:e}"
+            );
+            assert!(
+                worst >= 0.3 * bound,
+                "{system:?} {mode:?}: worst {worst:e} << bound {bound:e}"
+            );
+        }
+    }
+}
+
+mod plot {
+    use cierva_harness::report::plot::*;
+
+    #[test]
+    fn draws_lines_bars_and_bands_and_refuses_nothing() {
+        let f = Figure {
+            title: "X_u".into(),
+            x_label: "airspeed, mph".into(),
+            y_label: "1/s".into(),
+            series: vec![Series {
+                name: "model".into(),
+                points: vec![(30.0, -0.1), (50.0, -0.2), (70.0, f64::NAN)],
+                style: Style::LineMarkers,
+                colour: None,
+            }],
+            bars: vec![Bar {
+                x: 50.0,
+                lower: -0.3,
+                upper: 1e6,
+                expected: None,
+            }],
+            bars_name: "flight".into(),
+            bands: vec![Band {
+                name: "tolerance".into(),
+                points: vec![(30.0, -0.15, -0.05), (50.0, -0.25, -0.15)],
+            }],
+            x_zero: false,
+        };
+        assert_eq!(f.points(), 5);
+        let svg = f.svg(400, 300).expect("drawn");
+        assert!(
+            svg.starts_with("<svg") && svg.contains("airspeed, mph"),
+            "{svg}"
+        );
+        assert!(svg.contains("<circle") && svg.contains("<polyline"));
+        assert!(!svg.contains("NaN"));
+        let empty = Figure {
+            series: vec![Series {
+                name: "model".into(),
+                points: vec![(f64::NAN, 1.0)],
+                style: Style::Line,
+                colour: None,
+            }],
+            ..Figure::default()
+        };
+        assert_eq!(empty.points(), 0);
+        assert!(empty.svg(400, 300).is_none());
+    }
+}
+
+mod text {
+    use cierva_harness::text::sig;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(sig(-1.064475117, 6), "-1.06448");
+        assert_eq!(sig(0.0023217, 3), "0.00232");
+        assert_eq!(sig(28.6824, 6), "28.6824");
+        assert_eq!(sig(-0.0, 6), "0");
+        assert_eq!(sig(1.5e-7, 3), "1.50e-7");
+        assert_eq!(sig(-4e-20, 3), "-4.00e-20");
+        assert_eq!(sig(123456789.0, 3), "1.23e8");
+    }
+}
+
+mod discrepancy {
+    use cierva_harness::discrepancy::*;
+    use cierva_model::analysis::bcar::Verdict;
+    use std::collections::BTreeMap;
+
+    #[test]
+    fn a_written_record_reads_back() {
+        let mut checks = BTreeMap::new();
+        checks.insert(
+            "row-01".to_string(),
+            Recorded {
+                quantities: [("rpm".to_string(), Band::around(96.869352374, 0.99))].into(),
+                verdict: Some(Verdict::DoesNotComply),
+                no_equilibrium: true,
+                fingerprint: [("q".to_string(), Band::around(-5.06e-6, 0.0))].into(),
+            },
+        );
+        let r = CaseRecord {
+            case: "c".into(),
+            checks,
+        };
+        let back: CaseRecord = serde_yaml::from_str(&render(&r)).unwrap();
+        let (a, b) = (&r.checks["row-01"], &back.checks["row-01"]);
+        assert_eq!(a.verdict, b.verdict);
+        let (x, y) = (a.quantities["rpm"], b.quantities["rpm"]);
+        assert!((x.value - y.value).abs() < 1e-6 && (x.lower - y.lower).abs() < 1e-6);
+        assert!(b.no_equilibrium && b.fingerprint["q"].holds(-5.06e-6));
+    }
+
+    #[test]
+    fn a_band_holds_its_value_and_not_nan() {
+        let b = Band::around(96.9, 0.99);
+        assert!(b.holds(96.9));
+        assert!(b.holds(96.905));
+        assert!(!b.holds(96.92));
+        assert!(!b.holds(f64::NAN));
+        // The relative part wins when the tolerance is tight or absent.
+        let c = Band::around(-2.0, 0.0);
+        assert!((c.upper - c.lower - 4e-4).abs() < 1e-15);
+        // A zero value still has a band.
+        assert!(Band::around(0.0, f64::INFINITY).upper > 0.0);
+    }
+}
+
+mod tolerance {
+    use cierva_harness::tolerance::*;
+
+    #[test]
+    fn margins_are_positive_inside_and_negative_outside() {
+        let a = ToleranceKind::Absolute(0.1);
+        assert!(judge(&a, Some(1.0), 1.05, None).unwrap().pass);
+        assert!(!judge(&a, Some(1.0), 1.2, None).unwrap().pass);
+        let r = ToleranceKind::Relative(0.01);
+        assert!((judge(&r, Some(-2.0), -2.01, None).unwrap().margin - 0.01).abs() < 1e-12);
+        let i = ToleranceKind::Interval(-0.133, -0.044);
+        assert!(!judge(&i, None, -0.194, None).unwrap().pass);
+        assert!(judge(&i, None, -0.1, None).unwrap().pass);
+    }
+
+    #[test]
+    fn a_sign_admits_neither_zero_nor_the_other_sign() {
+        let p = ToleranceKind::Sign(Sign::Positive);
+        assert!(judge(&p, None, 1e-9, None).unwrap().pass);
+        assert!(!judge(&p, None, 0.0, None).unwrap().pass);
+        assert!(!judge(&p, None, -0.0, None).unwrap().pass);
+        assert!(!judge(&p, None, -1.0, None).unwrap().pass);
+        let n = ToleranceKind::Sign(Sign::Negative);
+        assert!(judge(&n, None, -3.0, None).unwrap().pass);
+        assert_eq!(admits(&n, None, 0.0), Some(false));
+    }
+
+    #[test]
+    fn nan_never_passes() {
+        for kind in [
+            ToleranceKind::Absolute(f64::INFINITY),
+            ToleranceKind::Relative(1e300),
+        ] {
+            assert!(!judge(&kind, Some(1.0), f64::NAN, None).unwrap().pass);
+        }
+        let i = ToleranceKind::Interval(f64::NEG_INFINITY, f64::INFINITY);
+        assert!(!judge(&i, None, f64::NAN, None).unwrap().pass);
+        let s = ToleranceKind::Sign(Sign::Positive);
+        assert!(!judge(&s, None, f64::NAN, None).unwrap().pass);
+    }
+
+    #[test]
+    fn rounding_cannot_be_judged_at_load() {
+        let k = ToleranceKind::Rounding(RoundingSpec {
+            input_decimals: 4,
+            output_decimals: 4,
+        });
+        assert_eq!(admits(&k, Some(0.0), 0.0), None);
+    }
+}
+
+mod yaml {
+    use cierva_harness::yaml::*;
+    use std::path::Path;
+
+    const SRC: &str = "id: x\nchecks:\n  - id: a\n    kind: mode\n  - id: b\n    expect:\n      period_s:\n        value: 3\n";
+
+    #[test]
+    fn locates_nested_fields() {
+        assert_eq!(locate(SRC, "id"), Some((1, 1)));
+        assert_eq!(locate(SRC, "checks[1]"), Some((5, 5)));
+        assert_eq!(locate(SRC, "checks[1].expect.period_s"), Some((7, 7)));
+        assert_eq!(locate(SRC, "checks[0].kind"), Some((4, 5)));
+        assert_eq!(locate(SRC, "checks[3]"), None);
+        let flow = "a:\n  mass: {mass_kg: 1, ixx: 2,\n         iyy: 3}\n  drive: {engine: {p: 1}}\nsources:\n  mass.ixx: x\n";
+        assert_eq!(locate(flow, "a.mass.ixx"), Some((2, 22)));
+        assert_eq!(locate(flow, "a.mass.iyy"), Some((3, 10)));
+        assert_eq!(locate(flow, "a.drive.engine.p"), Some((4, 20)));
+        assert_eq!(locate(flow, "sources.mass.ixx"), Some((6, 3)));
+        assert_eq!(locate(flow, "a.mass.izz"), None);
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct T {
+        id: String,
+        mass_kg: f64,
+    }
+
+    #[test]
+    fn typos_get_a_suggestion_and_a_caret() {
+        let dir = std::env::temp_dir().join(format!("cierva-yaml-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.yaml");
+        std::fs::write(&path, "id: a\nmas_kg: 3\n").unwrap();
+        let e = parse::<T>(&path, "id: a\nmas_kg: 3\n").unwrap_err();
+        assert!(e.message.contains("did you mean `mass_kg`?"), "{e}");
+        let r = e.render();
+        assert!(r.contains("2 | mas_kg: 3") && r.ends_with("| ^"), "{r}");
+        assert_eq!(
+            suggestion("unknown field `zzzzzz`, expected `id` or `mass_kg`"),
+            None
+        );
+    }
+
+    #[test]
+    fn parse_errors_carry_field_line_and_column() {
+        let e = parse::<T>(Path::new("f.yaml"), "id: a\nmass_kg: heavy\n").unwrap_err();
+        assert_eq!(e.line, Some(2));
+        assert_eq!(e.field.as_deref(), Some("mass_kg"));
+        assert!(e.to_string().starts_with("f.yaml:2:"), "{e}");
+        let e = parse::<T>(Path::new("f.yaml"), "id: a\nmass: 3\n").unwrap_err();
+        assert!(e.message.contains("unknown field `mass`"), "{e}");
+        assert_eq!(e.line, Some(2));
+    }
+}
+
+mod condition {
+    #[test]
+    fn a_condition_takes_its_airspeed_in_any_unit() {
+        let parse = |s: &str| serde_yaml::from_str::<cierva_harness::TrimRequest>(s);
+        let kn = parse("{airspeed_kn: 60.0}").unwrap();
+        assert!((kn.airspeed_mph - 69.0468).abs() < 1e-4, "{kn:?}");
+        let ms = parse("{airspeed_m_s: 31.2928, climb_m_s: -1.0}").unwrap();
+        assert!((ms.airspeed_mph - 70.0).abs() < 1e-9 && ms.climb_m_s == -1.0);
+        assert_eq!(parse("{airspeed_mph: 70.0}").unwrap().airspeed_mph, 70.0);
+        let two = parse("{airspeed_mph: 70.0, airspeed_kn: 60.0}").unwrap_err();
+        assert!(two.to_string().contains("exactly one airspeed"), "{two}");
+        assert!(parse("{climb_m_s: 1.0}").is_err());
+        assert!(parse("{airspeed_knots: 60.0}").is_err());
+    }
+}
