@@ -9,11 +9,40 @@
 //!
 //! A case file that does not load is one failing trial, `<file-stem>::load`, whose message
 //! names the file, line, column and field. No case files at all is a failing trial too.
+//!
+//! Each check is evaluated once, however many trials read its result (its own, the case's
+//! `::scores`, `readme::validation-table`).
 
 use cierva_harness::case::{Case, Subject};
 use cierva_harness::checks::What;
 use cierva_harness::{checks, eval, load_cases, repo_root, text};
 use libtest_mimic::{Arguments, Failed, Trial};
+use std::sync::{Arc, OnceLock};
+
+/// A case and its checks' results, each computed on first use by whichever trial needs it first
+/// (a trial that needs one being computed waits for it).
+struct Evaluated {
+    case: Case,
+    results: Vec<OnceLock<eval::CheckResult>>,
+}
+
+impl Evaluated {
+    fn new(case: Case) -> Self {
+        let results = case.checks.iter().map(|_| OnceLock::new()).collect();
+        Self { case, results }
+    }
+
+    fn result(&self, index: usize) -> &eval::CheckResult {
+        self.results[index].get_or_init(|| eval::run_check(&self.case, &self.case.checks[index]))
+    }
+
+    /// Every check's result, in the case's order.
+    fn all(&self) -> Vec<eval::CheckResult> {
+        (0..self.results.len())
+            .map(|i| self.result(i).clone())
+            .collect()
+    }
+}
 
 fn main() {
     let args = Arguments::from_args();
@@ -34,7 +63,7 @@ fn main() {
             for c in loaded {
                 match c {
                     Ok(case) => {
-                        let case = std::sync::Arc::new(case);
+                        let case = Arc::new(Evaluated::new(case));
                         cases.push(case.clone());
                         add_case(&mut trials, case);
                     }
@@ -68,14 +97,18 @@ type Snapshotter = fn(&cierva_model::LinearModel) -> Result<String, String>;
 
 /// The README's validation table must be what the validation checks give (every case is
 /// loaded here, so the table is the suite's).
-fn readme_validation_table(cases: &[std::sync::Arc<Case>]) -> Result<(), Failed> {
+fn readme_validation_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
     let results: Vec<eval::CheckResult> = cases
         .iter()
-        .flat_map(|c| {
-            c.checks
+        .flat_map(|e| {
+            let validation = e
+                .case
+                .checks
                 .iter()
-                .filter(|k| k.class == cierva_harness::case::CheckClass::Validation)
-                .map(|k| eval::run_check(c, k))
+                .enumerate()
+                .filter(|(_, k)| k.class == cierva_harness::case::CheckClass::Validation);
+            validation
+                .map(|(i, _)| e.result(i).clone())
                 .collect::<Vec<_>>()
         })
         .collect();
@@ -101,13 +134,13 @@ fn readme_validation_table(cases: &[std::sync::Arc<Case>]) -> Result<(), Failed>
     }
 }
 
-fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
-    for check in &case.checks {
-        let (c, id) = (case.clone(), check.id.clone());
+fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
+    let case = &evaluated.case;
+    for (index, check) in case.checks.iter().enumerate() {
+        let e = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::{}", case.id, check.id), move || {
-                let check = c.checks.iter().find(|k| k.id == id).expect("check exists");
-                let r = eval::run_check(&c, check);
+                let r = e.result(index);
                 if r.outcome.ok() {
                     Ok(())
                 } else {
@@ -118,13 +151,13 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
         );
     }
     if !case.scores.is_empty() {
-        let c = case.clone();
+        let e = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::scores", case.id), move || {
                 use cierva_harness::{review, scoreboard};
                 let board = scoreboard::load().map_err(|e| e.render())?;
-                let results = eval::run_case(&c);
-                let judged = review::judge(&board, review::scores_of(&c, &results));
+                let results = e.all();
+                let judged = review::judge(&board, review::scores_of(&e.case, &results));
                 let bad: Vec<String> = judged
                     .iter()
                     .filter(|j| {
@@ -149,9 +182,10 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
         );
     }
     if let Some(rec) = &case.recorded {
-        let (c, rec) = (case.clone(), rec.clone());
+        let (ev, rec) = (evaluated.clone(), rec.clone());
         trials.push(
             Trial::test(format!("{}::discrepancy-records", case.id), move || {
+                let c = &ev.case;
                 let stale: Vec<&String> = rec
                     .checks
                     .keys()
@@ -176,9 +210,10 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
         );
     }
     if let Subject::Rotor { .. } = &case.subject {
-        let c = case.clone();
+        let ev = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::snapshot-autorotation", case.id), move || {
+                let c = &ev.case;
                 let Subject::Rotor { file, inflow } = &c.subject else {
                     unreachable!()
                 };
@@ -195,7 +230,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                         (id, checks::autorotation::quantities_or_reason(q))
                     })
                     .collect();
-                snapshot(&c, "autorotation", Ok(text::autorotation_table(&rows)))
+                snapshot(c, "autorotation", Ok(text::autorotation_table(&rows)))
             })
             .with_kind("snapshot"),
         );
@@ -207,9 +242,10 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
     if let Subject::Aircraft { file, loading } = &case.subject
         && has_time_history
     {
-        let (c, file, loading) = (case.clone(), file.clone(), *loading);
+        let (ev, file, loading) = (evaluated.clone(), file.clone(), *loading);
         trials.push(
             Trial::test(format!("{}::snapshot-time-histories", case.id), move || {
+                let c = &ev.case;
                 let mut rows = Vec::new();
                 for k in &c.checks {
                     if let What::TimeHistory(t) = &k.what {
@@ -217,7 +253,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                         rows.push((k.id.clone(), m));
                     }
                 }
-                snapshot(&c, "time-histories", Ok(text::time_history_table(&rows)))
+                snapshot(c, "time-histories", Ok(text::time_history_table(&rows)))
             })
             .with_kind("snapshot"),
         );
@@ -229,9 +265,10 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
     if let Subject::Aircraft { .. } = &case.subject
         && trim_requested
     {
-        let c = case.clone();
+        let ev = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::snapshot-trim", case.id), move || {
+                let c = &ev.case;
                 let Subject::Aircraft { file, loading } = &c.subject else {
                     unreachable!()
                 };
@@ -274,7 +311,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                         (label, checks::trim::trim_quantities(file, *loading, *r))
                     })
                     .collect();
-                snapshot(&c, "trim", Ok(text::trim_table(&columns)))
+                snapshot(c, "trim", Ok(text::trim_table(&columns)))
             })
             .with_kind("snapshot"),
         );
@@ -294,7 +331,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
         });
         conditions.dedup();
         for r in conditions {
-            let c = case.clone();
+            let ev = evaluated.clone();
             let label = format!("{}mph", r.airspeed_mph)
                 + &if r.climb_m_s != 0.0 {
                     format!("-climb{}", r.climb_m_s)
@@ -304,6 +341,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
             let what = format!("linear-{label}");
             trials.push(
                 Trial::test(format!("{}::snapshot-{what}", case.id), move || {
+                    let c = &ev.case;
                     let Subject::Aircraft { file, loading } = &c.subject else {
                         unreachable!()
                     };
@@ -316,7 +354,7 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
                             text::derivatives_table(&l.1.model)
                         ))
                     });
-                    snapshot(&c, &what, body)
+                    snapshot(c, &what, body)
                 })
                 .with_kind("snapshot"),
             );
@@ -336,10 +374,11 @@ fn add_case(trials: &mut Vec<Trial>, case: std::sync::Arc<Case>) {
             if what == "milne" && !model.has_state("Omega") {
                 continue;
             }
-            let (m, c) = (model.clone(), case.clone());
+            let (m, ev) = (model.clone(), evaluated.clone());
             trials.push(
                 Trial::test(format!("{}::snapshot-{what}", case.id), move || {
-                    snapshot(&c, what, f(&m))
+                    let c = &ev.case;
+                    snapshot(c, what, f(&m))
                 })
                 .with_kind("snapshot"),
             );
