@@ -26,6 +26,8 @@
 //!     reference_length_m: 1.0
 //!     reference_span_m: 1.0
 //!     reference_point_m: [0, 0, 0]
+//!     side_force_centre_m: [0.1, 0, 0.2]   # optional: where cy acts (default the reference
+//!                                          # point); cl and cn then exclude its moments
 //!     coefficients: {cx: TABLE, cy: TABLE, cz: TABLE, cl: TABLE, cm: TABLE, cn: TABLE}
 //!     #   TABLE = {alpha_deg: [...], beta_deg: [...], values: [[...] one row per alpha]}
 //!     tailplane: {position_m: [..], area_m2: .., lift_slope_per_rad: .., incidence_deg: ..,
@@ -178,6 +180,9 @@ pub struct AirframeSpec {
     pub reference_length_m: f64,
     pub reference_span_m: f64,
     pub reference_point_m: [f64; 3],
+    /// Where the side force acts (the pod's side-area centre); absent: the reference point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side_force_centre_m: Option<[f64; 3]>,
     pub coefficients: CoefficientsSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tailplane: Option<SurfaceSpec>,
@@ -291,7 +296,17 @@ pub const PARAMETERS: &[ParameterInfo] = &[
     ParameterInfo {
         name: "airframe.reference_point_m.z",
         unit: "m",
-        meaning: "where the pod's coefficient forces act, below the datum (its side force's height)",
+        meaning: "where the pod's coefficient forces act, below the datum",
+    },
+    ParameterInfo {
+        name: "airframe.side_force_centre_m.x",
+        unit: "m",
+        meaning: "where the pod's side force acts (its side-area centre), ahead of the datum",
+    },
+    ParameterInfo {
+        name: "airframe.side_force_centre_m.z",
+        unit: "m",
+        meaning: "where the pod's side force acts (its side-area centre), below the datum",
     },
     ParameterInfo {
         name: "airframe.fin.area_m2",
@@ -349,6 +364,8 @@ pub fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64>
         "propeller.position_m.z" => &mut a.propeller.position_m[2],
         "airframe.reference_point_m.x" => &mut a.airframe.reference_point_m[0],
         "airframe.reference_point_m.z" => &mut a.airframe.reference_point_m[2],
+        "airframe.side_force_centre_m.x" => &mut a.airframe.side_force_centre_m.as_mut()?[0],
+        "airframe.side_force_centre_m.z" => &mut a.airframe.side_force_centre_m.as_mut()?[2],
         "airframe.fin.area_m2" => &mut surface(&mut a.airframe.fin)?.area_m2,
         "airframe.fin.position_m.x" => &mut surface(&mut a.airframe.fin)?.position_m[0],
         "airframe.fin.position_m.z" => &mut surface(&mut a.airframe.fin)?.position_m[2],
@@ -566,6 +583,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             reference_length_m: a.airframe.reference_length_m,
             reference_span_m: a.airframe.reference_span_m,
             reference_point_m: a.airframe.reference_point_m,
+            side_force_centre_m: a.airframe.side_force_centre_m,
             coefficients: [
                 c.cx.clone(),
                 c.cy.clone(),

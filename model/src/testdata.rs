@@ -183,6 +183,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
             reference_length_m: 1.0,
             reference_span_m: 1.0,
             reference_point_m: [0.0, 0.0, 0.0],
+            side_force_centre_m: None,
             coefficients: [
                 table(&|a, _| -0.6 - 0.8 * a.sin().powi(2)),
                 table(&|_, b| -0.8 * b),

@@ -4,7 +4,9 @@
 //!
 //! Coefficients are on the dynamic pressure of the free stream, a reference area, and a
 //! reference length (pitch) or span (roll, yaw), about a reference point; the loads are moved
-//! to the centre of mass. `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative
+//! to the centre of mass. The side force may act at a point of its own, the centre of the
+//! pod's side area (`side_force_centre_m`): then the `cl` and `cn` tables hold only the moments
+//! the side force does not make. `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative
 //! velocity at the centre of mass (body axes: x forward, y starboard, z down). Angles outside a
 //! table are an error naming the table, never a silent clamp.
 
@@ -49,6 +51,10 @@ pub struct Airframe {
     pub reference_span_m: f64,
     /// Moment reference point, body axes from the datum, m.
     pub reference_point_m: [f64; 3],
+    /// Where the side force (`cy`) acts, body axes from the datum, m; `None`: the reference
+    /// point. A side area low on the airframe rolls it away from the sideslip (positive `L_v`),
+    /// one ahead of the centre of mass yaws it into the sideslip.
+    pub side_force_centre_m: Option<[f64; 3]>,
     /// Body-axis coefficients: `cx, cy, cz, cl, cm, cn`.
     pub coefficients: [Table2; 6],
     pub tailplane: Option<Surface>,
@@ -164,6 +170,12 @@ impl Airframe {
         if refs.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
             return Err(AirframeError::Surface("reference area and lengths"));
         }
+        let points = [Some(self.reference_point_m), self.side_force_centre_m];
+        if points.iter().flatten().flatten().any(|x| !x.is_finite()) {
+            return Err(AirframeError::Surface(
+                "reference point and side-force centre",
+            ));
+        }
         Ok(())
     }
 
@@ -196,12 +208,18 @@ impl Airframe {
             q * s * self.reference_length_m * c[4],
             q * s * self.reference_span_m * c[5],
         ];
-        let arm = [
-            self.reference_point_m[0] - cg_m[0],
-            self.reference_point_m[1] - cg_m[1],
-            self.reference_point_m[2] - cg_m[2],
-        ];
-        let transfer = cross(arm, f);
+        let arm_from = |p: [f64; 3]| [p[0] - cg_m[0], p[1] - cg_m[1], p[2] - cg_m[2]];
+        let arm = arm_from(self.reference_point_m);
+        let transfer = match self.side_force_centre_m {
+            None => cross(arm, f),
+            Some(centre) => {
+                let (along, side) = (
+                    cross(arm, [f[0], 0.0, f[2]]),
+                    cross(arm_from(centre), [0.0, f[1], 0.0]),
+                );
+                [along[0] + side[0], along[1] + side[1], along[2] + side[2]]
+            }
+        };
         let mut total = [
             f[0],
             f[1],
@@ -312,6 +330,7 @@ mod tests {
             reference_length_m: 1.0,
             reference_span_m: 1.0,
             reference_point_m: [0.0; 3],
+            side_force_centre_m: None,
             coefficients: std::array::from_fn(|_| zero_table()),
             tailplane: Some(surface([-3.0, 0.0, 0.0], 0.6)),
             fin: Some(surface([-3.0, 0.0, -0.5], 0.5)),
@@ -335,6 +354,68 @@ mod tests {
             ..t
         };
         assert_eq!(bad.validate("cz"), Err(AirframeError::Table("cz")));
+    }
+
+    /// A side force acting at its own centre makes the moments a `cl`, `cn` table pair would
+    /// have to carry otherwise: `cy = -0.8 sin(beta)` at 0.125 m ahead of and 0.0625 m above
+    /// the c.g. is `cl = -0.05 sin(beta)`, `cn = -0.1 sin(beta)` about the c.g. (the VPM M16's
+    /// estimated pod, written both ways). Low on the airframe, the same force rolls it the
+    /// other way: away from the sideslip, flight's positive `L_v`.
+    #[test]
+    fn a_side_force_at_its_own_centre_makes_its_moments() {
+        let sine = |k: f64| Table2 {
+            alpha_deg: vec![-30.0, 30.0],
+            beta_deg: vec![-30.0, -15.0, 0.0, 15.0, 30.0],
+            values: vec![
+                [-30.0f64, -15.0, 0.0, 15.0, 30.0]
+                    .map(|b| k * b.to_radians().sin())
+                    .to_vec();
+                2
+            ],
+        };
+        let mut tables = airframe();
+        tables.tailplane = None;
+        tables.fin = None;
+        tables.coefficients[1] = sine(-0.8);
+        tables.coefficients[3] = sine(-0.05);
+        tables.coefficients[5] = sine(-0.1);
+        let mut centred = tables.clone();
+        centred.coefficients[3] = zero_table();
+        centred.coefficients[5] = zero_table();
+        centred.side_force_centre_m = Some([0.125, 0.0, -0.0625]);
+        let flow = |a: &Airframe, cg: [f64; 3]| {
+            a.loads([30.0, 4.0, 1.0], [0.0; 3], 1.2, cg, [0.0; 2])
+                .unwrap()
+        };
+        // The three tables are proportional node by node, so their interpolations are too:
+        // the two ways agree to rounding, about the datum and about a displaced c.g.
+        for cg in [[0.0; 3], [0.1, 0.0, 0.05]] {
+            let (t, c) = (flow(&tables, cg), flow(&centred, cg));
+            assert!((t.y_n - c.y_n).abs() < 1e-12, "{t:?} {c:?}");
+            assert!(
+                (t.l_n_m - c.l_n_m).abs() < 1e-9 * t.l_n_m.abs(),
+                "{t:?} {c:?}"
+            );
+            assert!(
+                (t.n_n_m - c.n_n_m).abs() < 1e-9 * t.n_n_m.abs(),
+                "{t:?} {c:?}"
+            );
+            assert!(
+                (t.m_n_m - c.m_n_m).abs() < 1e-12,
+                "pitch unchanged: {t:?} {c:?}"
+            );
+        }
+        let l = flow(&centred, [0.0; 3]);
+        assert!(l.y_n < 0.0 && l.l_n_m < 0.0 && l.n_n_m < 0.0, "{l:?}");
+        let mut low = centred.clone();
+        low.side_force_centre_m = Some([0.125, 0.0, 0.3]);
+        let l = flow(&low, [0.0; 3]);
+        assert!(
+            (l.l_n_m + 0.3 * l.y_n).abs() < 1e-9 && l.l_n_m > 0.0,
+            "{l:?}"
+        );
+        low.side_force_centre_m = Some([f64::NAN, 0.0, 0.0]);
+        assert!(low.validate().is_err());
     }
 
     #[test]
