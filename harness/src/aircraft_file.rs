@@ -31,7 +31,8 @@
 //!     coefficients: {cx: TABLE, cy: TABLE, cz: TABLE, cl: TABLE, cm: TABLE, cn: TABLE}
 //!     #   TABLE = {alpha_deg: [...], beta_deg: [...], values: [[...] one row per alpha]}
 //!     tailplane: {position_m: [..], area_m2: .., lift_slope_per_rad: .., incidence_deg: ..,
-//!                 stall_alpha_deg: .., cd0: .., control_effectiveness: ..}
+//!                 stall_alpha_deg: .., cd0: .., control_effectiveness: ..,
+//!                 slipstream_fraction: ..}  # optional: share of its area in the slipstream
 //!     fin: {...}
 //!   controls:                          # linear maps from % of travel
 //!     shaft_pitch_deg: {at_0_percent: -2, at_100_percent: 18}    # stick fwd -> aft
@@ -160,6 +161,9 @@ pub struct SurfaceSpec {
     pub stall_alpha_deg: f64,
     pub cd0: f64,
     pub control_effectiveness: f64,
+    /// Fraction of the surface's area in the propeller's slipstream (0 to 1; absent: 0).
+    #[serde(default)]
+    pub slipstream_fraction: f64,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -329,6 +333,16 @@ pub const PARAMETERS: &[ParameterInfo] = &[
         meaning: "fin lift-curve slope (effectiveness, sidewash)",
     },
     ParameterInfo {
+        name: "airframe.fin.slipstream_fraction",
+        unit: "-",
+        meaning: "share of the fin's area in the propeller's slipstream",
+    },
+    ParameterInfo {
+        name: "airframe.tailplane.slipstream_fraction",
+        unit: "-",
+        meaning: "share of the tailplane's area in the propeller's slipstream",
+    },
+    ParameterInfo {
         name: "airframe.tailplane.area_m2",
         unit: "m^2",
         meaning: "tailplane area",
@@ -370,6 +384,12 @@ pub fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64>
         "airframe.fin.position_m.x" => &mut surface(&mut a.airframe.fin)?.position_m[0],
         "airframe.fin.position_m.z" => &mut surface(&mut a.airframe.fin)?.position_m[2],
         "airframe.fin.lift_slope_per_rad" => &mut surface(&mut a.airframe.fin)?.lift_slope_per_rad,
+        "airframe.fin.slipstream_fraction" => {
+            &mut surface(&mut a.airframe.fin)?.slipstream_fraction
+        }
+        "airframe.tailplane.slipstream_fraction" => {
+            &mut surface(&mut a.airframe.tailplane)?.slipstream_fraction
+        }
         "airframe.tailplane.area_m2" => &mut surface(&mut a.airframe.tailplane)?.area_m2,
         "airframe.tailplane.position_m.x" => &mut surface(&mut a.airframe.tailplane)?.position_m[0],
         "airframe.tailplane.lift_slope_per_rad" => {
@@ -510,6 +530,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         stall_alpha_rad: s.stall_alpha_deg.to_radians(),
         cd0: s.cd0,
         control_effectiveness: s.control_effectiveness,
+        slipstream_fraction: s.slipstream_fraction,
     };
     let drive = match (a.propeller.drive.engine, a.propeller.drive.governed) {
         (Some(e), None) => Drive::Engine {

@@ -139,6 +139,8 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         stall_alpha_rad: d(20.0),
         cd0: 0.012,
         control_effectiveness,
+        // Out of the slipstream: the tests that need it set it (the aircraft's tests).
+        slipstream_fraction: 0.0,
     };
     Aircraft {
         mass: MassProperties {

@@ -58,7 +58,7 @@
 pub mod linearise;
 pub mod trim;
 
-use crate::components::airframe::{Airframe, AirframeError};
+use crate::components::airframe::{Airframe, AirframeError, Slipstream};
 use crate::components::inflow;
 use crate::components::propeller::{Propeller, PropellerError, PropellerState};
 use crate::components::rigid_body::{self, BodyError, BodyState, FreeSpin, Loads, MassProperties};
@@ -670,9 +670,22 @@ impl Aircraft {
             ],
         );
         let rudder = self.controls.rudder_rad.at(controls.pedal_percent);
-        let af = self
-            .airframe
-            .loads(uvw, pqr, air.density_kg_m3, self.cg_m, [0.0, rudder])?;
+        let slipstream = Slipstream::of_propeller(
+            pi.position_m,
+            pi.propeller.rotor.radius_m,
+            sense,
+            (ps.disc_airspeed_m_s, ps.v0_m_s),
+            ps.torque_n_m,
+            air.density_kg_m3,
+        );
+        let af = self.airframe.loads(
+            uvw,
+            pqr,
+            air.density_kg_m3,
+            self.cg_m,
+            [0.0, rudder],
+            Some(&slipstream),
+        )?;
         Ok((ps, prop_loads, prop_omega_dot, af))
     }
 
@@ -1284,6 +1297,52 @@ mod tests {
         let p_factor = up.n_n_m - base.n_n_m;
         assert!(p_factor.abs() > 0.1, "{p_factor}");
         assert!(((mu.n_n_m - mb.n_n_m) + p_factor).abs() < 1e-9);
+    }
+
+    /// The assembled aircraft passes its propeller's slipstream to the tail: a fin wholly in it
+    /// meets sideslip at the slipstream's speed, so its side force per m/s of sideslip grows by
+    /// between `1 + v0 / u` (at the disc) and `1 + 2 v0 / u` (far behind); and the swirl, which
+    /// runs to starboard above a clockwise pusher's shaft, pushes a fin above the shaft to
+    /// starboard, a nose-left yawing moment that changes sign with the sense of rotation.
+    #[test]
+    fn the_pusher_slipstream_stiffens_the_fin_and_its_swirl_yaws_the_aircraft() {
+        let c = Condition {
+            airspeed_m_s: 31.3,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air: air(),
+        };
+        let dry = gyroplane();
+        let t = trim::trim(&dry, c, Options::default()).unwrap();
+        let mut wet = dry.clone();
+        wet.airframe.fin.as_mut().unwrap().slipstream_fraction = 1.0;
+        let airframe = |a: &Aircraft, dv: f64| {
+            let mut x = t.state;
+            x.body.v_m_s += dv;
+            let m = a
+                .averaged(&x, &t.controls, air(), t.averaged.flap_start)
+                .unwrap();
+            (m.loads.airframe, m.propeller)
+        };
+        let side = |a: &Aircraft| (airframe(a, 0.1).0.y_n - airframe(a, -0.1).0.y_n) / 0.2;
+        let (y_dry, y_wet) = (side(&dry), side(&wet));
+        let (_, prop) = airframe(&dry, 0.0);
+        let (u, v0) = (t.state.body.u_m_s, prop.v0_m_s);
+        let ratio = y_wet / y_dry;
+        assert!(v0 > 1.0, "{prop:?}");
+        // The pod's side force is in both: the fin's share grows, so the whole grows by less.
+        assert!(
+            ratio > 1.0 && ratio < 1.0 + 2.0 * v0 / u,
+            "{ratio} (v0 {v0}, u {u})"
+        );
+        let mut mirrored = wet.clone();
+        mirrored.propeller.rotation = Rotation::Anticlockwise;
+        let n = |a: &Aircraft| airframe(a, 0.0).0.n_n_m;
+        let swirl = 0.5 * (n(&wet) - n(&mirrored));
+        assert!(
+            swirl < -1.0,
+            "clockwise pusher's swirl yaws nose left: {swirl} N m"
+        );
     }
 
     /// The revolution mean of the full model's accelerations with the body frozen (RK4 on

@@ -6,12 +6,25 @@
 //! reference length (pitch) or span (roll, yaw), about a reference point; the loads are moved
 //! to the centre of mass. The side force may act at a point of its own, the centre of the
 //! pod's side area (`side_force_centre_m`): then the `cl` and `cn` tables hold only the moments
-//! the side force does not make. `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative
+//! the side force does not make.
+//!
+//! A surface may sit partly in the propeller's slipstream ([`Slipstream`]): on that fraction
+//! of its area the air arrives faster along the shaft, by the momentum-theory excess (the
+//! induced velocity at the disc, growing to twice it far behind, as an actuator disc's does
+//! along its axis), and turning with the propeller's swirl (the torque's angular momentum, as a
+//! solid-body rotation: linear across the slipstream, so that its value at a surface's centre
+//! is its mean over a surface centred there, which a free vortex's is not near the shaft; this
+//! is a choice for a one-point surface, not a claim about the swirl's profile). Slipstream and
+//! free stream are
+//! blended by area, velocity by velocity, so the surface sees a higher dynamic pressure and a
+//! flow turned toward the shaft. The slipstream is taken along the shaft: its drift with the
+//! sideslip or the angle of attack before it reaches the tail is not modelled. `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative
 //! velocity at the centre of mass (body axes: x forward, y starboard, z down). Angles outside a
 //! table are an error naming the table, never a silent clamp.
 
 use crate::components::rigid_body::Loads;
 use serde::Serialize;
+use std::f64::consts::PI;
 use thiserror::Error;
 
 /// A table in angle of attack (rows) and sideslip (columns), degrees; bilinear interpolation.
@@ -41,6 +54,76 @@ pub struct Surface {
     /// trailing edge to starboard, elevator trailing edge down) adds to the angle: for a
     /// surface behind the c.g., a yawing moment to starboard or a nose-down pitching moment.
     pub control_effectiveness: f64,
+    /// Fraction of its area in the propeller's slipstream, 0 to 1.
+    pub slipstream_fraction: f64,
+}
+
+/// The propeller's slipstream, as the tail surfaces meet it (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Slipstream {
+    /// Centre of the propeller disc, body axes from the datum, m.
+    pub disc_centre_m: [f64; 3],
+    pub disc_radius_m: f64,
+    /// Momentum theory's induced velocity at the disc, m/s (negative when the propeller
+    /// windmills and slows the air).
+    pub induced_m_s: f64,
+    /// The swirl's angular velocity, rad/s, positive right-handed about body x (a propeller
+    /// turning clockwise seen from behind).
+    pub swirl_rad_s: f64,
+}
+
+impl Slipstream {
+    /// The slipstream of a propeller of radius `disc_radius_m` centred at `disc_centre_m`,
+    /// turning right-handed about body x (`sense` +1, clockwise seen from behind) or
+    /// left-handed (-1), with the axial speed `disc_airspeed_m_s` reaching the disc, the induced
+    /// velocity `induced_m_s` and the absorbed torque `torque_n_m`.
+    ///
+    /// The swirl carries the torque's angular momentum away: with the mass flow through the
+    /// disc `rho (V + v) dA` and `v_theta = w r`, `Q = rho (V + v) w pi R^4 / 2`.
+    pub fn of_propeller(
+        disc_centre_m: [f64; 3],
+        disc_radius_m: f64,
+        sense: f64,
+        (disc_airspeed_m_s, induced_m_s): (f64, f64),
+        torque_n_m: f64,
+        density_kg_m3: f64,
+    ) -> Self {
+        let r2 = disc_radius_m * disc_radius_m;
+        let flux = density_kg_m3 * (disc_airspeed_m_s + induced_m_s) * PI * r2 * r2 / 2.0;
+        let swirl_rad_s = if flux > 1e-9 {
+            sense * torque_n_m / flux
+        } else {
+            0.0
+        };
+        Self {
+            disc_centre_m,
+            disc_radius_m,
+            induced_m_s,
+            swirl_rad_s,
+        }
+    }
+
+    /// The velocity of the slipstream's air relative to the free stream at `point_m` (body
+    /// axes from the datum), m/s: the excess along -x from the disc's plane aft, and the swirl.
+    /// Zero ahead of the disc.
+    pub fn velocity_at(&self, point_m: [f64; 3]) -> [f64; 3] {
+        let behind = self.disc_centre_m[0] - point_m[0];
+        if behind <= 0.0 {
+            return [0.0; 3];
+        }
+        let r = self.disc_radius_m;
+        let excess = self.induced_m_s * (1.0 + behind / (behind * behind + r * r).sqrt());
+        let (dy, dz) = (
+            point_m[1] - self.disc_centre_m[1],
+            point_m[2] - self.disc_centre_m[2],
+        );
+        // Beyond the slipstream's edge the swirl is held at the edge's (a surface there is
+        // outside it, and its slipstream fraction says how much).
+        let radius = (dy * dy + dz * dz).sqrt();
+        let k = self.swirl_rad_s * if radius > r { r / radius } else { 1.0 };
+        // w x r with w along +x: (0, -dz, dy).
+        [-excess, -k * dz, k * dy]
+    }
 }
 
 /// The airframe.
@@ -156,7 +239,8 @@ impl Airframe {
                     && sf.cd0 >= 0.0
                     && sf.position_m.iter().all(|x| x.is_finite())
                     && sf.incidence_rad.is_finite()
-                    && sf.control_effectiveness.is_finite();
+                    && sf.control_effectiveness.is_finite()
+                    && (0.0..=1.0).contains(&sf.slipstream_fraction);
                 if !ok {
                     return Err(AirframeError::Surface(name));
                 }
@@ -181,7 +265,8 @@ impl Airframe {
 
     /// Loads about the centre of mass for the air-relative velocity `uvw` (m/s) and body rates
     /// `pqr` (rad/s) at the centre of mass `cg_m` (body axes from the datum), with the
-    /// tailplane's and fin's control surfaces at `deflections_rad` (elevator, rudder).
+    /// tailplane's and fin's control surfaces at `deflections_rad` (elevator, rudder), and the
+    /// propeller's slipstream if there is one.
     pub fn loads(
         &self,
         uvw: [f64; 3],
@@ -189,6 +274,7 @@ impl Airframe {
         density_kg_m3: f64,
         cg_m: [f64; 3],
         deflections_rad: [f64; 2],
+        slipstream: Option<&Slipstream>,
     ) -> Result<Loads, AirframeError> {
         let speed = (uvw[0] * uvw[0] + uvw[1] * uvw[1] + uvw[2] * uvw[2]).sqrt();
         if speed.is_nan() || speed <= 1e-9 {
@@ -233,8 +319,14 @@ impl Airframe {
             (&self.fin, true, deflections_rad[1]),
         ] {
             if let Some(sf) = surface {
+                let stream = match slipstream {
+                    Some(st) if sf.slipstream_fraction > 0.0 => st
+                        .velocity_at(sf.position_m)
+                        .map(|c| sf.slipstream_fraction * c),
+                    _ => [0.0; 3],
+                };
                 let flow = (uvw, pqr, density_kg_m3);
-                let (fs, ms) = surface_loads(sf, vertical, flow, cg_m, deflection);
+                let (fs, ms) = surface_loads(sf, vertical, flow, stream, cg_m, deflection);
                 for k in 0..3 {
                     total[k] += fs[k];
                     total[k + 3] += ms[k];
@@ -253,11 +345,13 @@ impl Airframe {
 }
 
 /// A surface's force and moment about the centre of mass: lift normal to its local flow in its
-/// plane (x-z for the tailplane, x-y for the fin), drag along the local flow.
+/// plane (x-z for the tailplane, x-y for the fin), drag along the local flow. `stream` is the
+/// velocity of the air at the surface relative to the free stream (the slipstream's share).
 fn surface_loads(
     s: &Surface,
     vertical: bool,
     (uvw, pqr, rho): ([f64; 3], [f64; 3], f64),
+    stream: [f64; 3],
     cg_m: [f64; 3],
     deflection_rad: f64,
 ) -> ([f64; 3], [f64; 3]) {
@@ -267,7 +361,12 @@ fn surface_loads(
         s.position_m[2] - cg_m[2],
     ];
     let rot = cross(pqr, arm);
-    let vl = [uvw[0] + rot[0], uvw[1] + rot[1], uvw[2] + rot[2]];
+    // The surface's velocity relative to the air around it.
+    let vl = [
+        uvw[0] + rot[0] - stream[0],
+        uvw[1] + rot[1] - stream[1],
+        uvw[2] + rot[2] - stream[2],
+    ];
     // In-plane components: (along x, normal) with normal = z (tailplane) or y (fin).
     let (ux, un) = if vertical {
         (vl[0], vl[1])
@@ -324,6 +423,7 @@ mod tests {
             stall_alpha_rad: 0.3,
             cd0: 0.01,
             control_effectiveness: 0.5,
+            slipstream_fraction: 0.0,
         };
         Airframe {
             reference_area_m2: 1.0,
@@ -384,7 +484,7 @@ mod tests {
         centred.coefficients[5] = zero_table();
         centred.side_force_centre_m = Some([0.125, 0.0, -0.0625]);
         let flow = |a: &Airframe, cg: [f64; 3]| {
-            a.loads([30.0, 4.0, 1.0], [0.0; 3], 1.2, cg, [0.0; 2])
+            a.loads([30.0, 4.0, 1.0], [0.0; 3], 1.2, cg, [0.0; 2], None)
                 .unwrap()
         };
         // The three tables are proportional node by node, so their interpolations are too:
@@ -418,10 +518,81 @@ mod tests {
         assert!(low.validate().is_err());
     }
 
+    /// Momentum theory's slipstream: the excess is the induced velocity at the disc and twice
+    /// it far behind, nothing ahead; the swirl carries away the torque's angular momentum, and
+    /// turns with the propeller.
+    #[test]
+    fn the_slipstream_carries_the_thrust_and_the_torque() {
+        let (rho, v_disc, v0, q, r) = (1.2, 30.0, 5.0, 150.0, 0.75);
+        let st = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (v_disc, v0), q, rho);
+        let behind = |d: f64, y: f64, z: f64| st.velocity_at([-1.3 - d, y, -0.05 + z]);
+        assert_eq!(st.velocity_at([-1.0, 0.0, 0.0]), [0.0; 3]);
+        assert!((behind(1e-9, 0.0, 0.0)[0] + v0).abs() < 1e-6);
+        assert!((behind(1e4, 0.0, 0.0)[0] + 2.0 * v0).abs() < 1e-6);
+        // Angular momentum through the disc: rho (V + v) r v_theta over its area (midpoint
+        // rule in radius; on the y axis the swirl is along z).
+        let n = 20_000;
+        let flux: f64 = (0..n)
+            .map(|k| {
+                let y = (k as f64 + 0.5) / n as f64 * r;
+                let v_theta = behind(1e-6, y, 0.0)[2];
+                rho * (v_disc + v0) * y * v_theta * 2.0 * PI * y * (r / n as f64)
+            })
+            .sum();
+        assert!((flux - q).abs() < 1e-3 * q, "{flux} vs {q}");
+        // Above the shaft a clockwise propeller's swirl (seen from behind) runs to starboard.
+        assert!(behind(1.5, 0.0, -0.45)[1] > 0.0);
+        let mirror = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, -1.0, (v_disc, v0), q, rho);
+        let (a, b) = (
+            behind(1.5, 0.0, -0.45),
+            mirror.velocity_at([-2.8, 0.0, -0.5]),
+        );
+        assert!((a[1] + b[1]).abs() < 1e-12 && a[0] == b[0], "{a:?} {b:?}");
+    }
+
+    /// A fin wholly in a developed slipstream meets sideslip and yaw rate at the slipstream's
+    /// speed: its dynamic pressure grows as the speed squared and its flow angle falls as the
+    /// speed, so `Y_v` and `N_r` grow by the speed ratio. Half in the slipstream, half the
+    /// excess.
+    #[test]
+    fn a_fin_in_the_slipstream_is_stiffer_by_the_speed_ratio() {
+        let mut a = airframe();
+        a.tailplane = None;
+        let (u, v0) = (30.0, 5.0);
+        // No swirl, and far enough behind for the excess to be 2 v0 within 2e-6.
+        let far = Slipstream::of_propeller([600.0, 0.0, -0.5], 0.75, 1.0, (u, v0), 0.0, 1.2);
+        let derivatives = |a: &Airframe, st: Option<&Slipstream>| {
+            let at = |v: f64, r: f64| {
+                a.loads([u, v, 0.0], [0.0, 0.0, r], 1.2, [0.0; 3], [0.0; 2], st)
+                    .unwrap()
+            };
+            let (h, hr) = (1e-4, 1e-5);
+            let y_v = (at(h, 0.0).y_n - at(-h, 0.0).y_n) / (2.0 * h);
+            let n_r = (at(0.0, hr).n_n_m - at(0.0, -hr).n_n_m) / (2.0 * hr);
+            (y_v, n_r)
+        };
+        let (y0, n0) = derivatives(&a, None);
+        for fraction in [1.0, 0.5] {
+            a.fin.as_mut().unwrap().slipstream_fraction = fraction;
+            let (y1, n1) = derivatives(&a, Some(&far));
+            let ratio = (u + fraction * 2.0 * v0) / u;
+            assert!(
+                (y1 / y0 - ratio).abs() < 1e-4,
+                "{fraction}: Y_v {y1} / {y0}"
+            );
+            assert!(
+                (n1 / n0 - ratio).abs() < 1e-4,
+                "{fraction}: N_r {n1} / {n0}"
+            );
+        }
+        a.fin.as_mut().unwrap().slipstream_fraction = 1.5;
+        assert!(a.validate().is_err());
+    }
+
     #[test]
     fn symmetric_flight_has_no_lateral_loads() {
         let l = airframe()
-            .loads([30.0, 0.0, 2.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2])
+            .loads([30.0, 0.0, 2.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2], None)
             .unwrap();
         assert!(
             l.y_n.abs() < 1e-12 && l.l_n_m.abs() < 1e-12 && l.n_n_m.abs() < 1e-12,
@@ -433,39 +604,60 @@ mod tests {
     fn the_tail_damps_pitch_and_the_fin_weathercocks() {
         let a = airframe();
         let m = |q: f64| {
-            a.loads([30.0, 0.0, 0.0], [0.0, q, 0.0], 1.225, [0.0; 3], [0.0; 2])
-                .unwrap()
-                .m_n_m
+            a.loads(
+                [30.0, 0.0, 0.0],
+                [0.0, q, 0.0],
+                1.225,
+                [0.0; 3],
+                [0.0; 2],
+                None,
+            )
+            .unwrap()
+            .m_n_m
         };
         // Nose-up pitch rate: the tail meets the air from below, lifts, and pitches the nose down.
         assert!(m(0.1) < 0.0 && m(-0.1) > 0.0);
         // Angle of attack stability from the tailplane: w > 0 (nose up relative to the flow)
         // gives a nose-down moment.
         let mw = a
-            .loads([30.0, 0.0, 1.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2])
+            .loads([30.0, 0.0, 1.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2], None)
             .unwrap()
             .m_n_m;
         assert!(mw < 0.0);
         // Sideslip with the wind from starboard (v > 0): the fin yaws the nose into it, N > 0.
         let nv = a
-            .loads([30.0, 1.0, 0.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2])
+            .loads([30.0, 1.0, 0.0], [0.0; 3], 1.225, [0.0; 3], [0.0; 2], None)
             .unwrap()
             .n_n_m;
         assert!(nv > 0.0);
         // Yaw rate: damped by the fin.
         let nr = a
-            .loads([30.0, 0.0, 0.0], [0.0, 0.0, 0.1], 1.225, [0.0; 3], [0.0; 2])
+            .loads(
+                [30.0, 0.0, 0.0],
+                [0.0, 0.0, 0.1],
+                1.225,
+                [0.0; 3],
+                [0.0; 2],
+                None,
+            )
             .unwrap()
             .n_n_m;
         assert!(nr < 0.0);
         // Rudder trailing edge to starboard: nose to starboard.
         let nr = a
-            .loads([30.0, 0.0, 0.0], [0.0; 3], 1.225, [0.0; 3], [0.0, 0.1])
+            .loads(
+                [30.0, 0.0, 0.0],
+                [0.0; 3],
+                1.225,
+                [0.0; 3],
+                [0.0, 0.1],
+                None,
+            )
             .unwrap()
             .n_n_m;
         assert!(nr > 0.0);
         assert_eq!(
-            a.loads([0.0; 3], [0.0; 3], 1.225, [0.0; 3], [0.0; 2]),
+            a.loads([0.0; 3], [0.0; 3], 1.225, [0.0; 3], [0.0; 2], None),
             Err(AirframeError::NoAirspeed)
         );
     }
