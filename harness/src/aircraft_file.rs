@@ -32,7 +32,8 @@
 //!     #   TABLE = {alpha_deg: [...], beta_deg: [...], values: [[...] one row per alpha]}
 //!     tailplane: {position_m: [..], area_m2: .., lift_slope_per_rad: .., incidence_deg: ..,
 //!                 stall_alpha_deg: .., cd0: .., control_effectiveness: ..,
-//!                 slipstream_fraction: ..}  # optional: share of its area in the slipstream
+//!                 slipstream_fraction: ..,  # optional: share of its area in the slipstream
+//!                 wash_gradient: ..}        # optional: sidewash (fin) or downwash gradient
 //!     fin: {...}
 //!   controls:                          # linear maps from % of travel
 //!     shaft_pitch_deg: {at_0_percent: -2, at_100_percent: 18}    # stick fwd -> aft
@@ -164,6 +165,9 @@ pub struct SurfaceSpec {
     /// Fraction of the surface's area in the propeller's slipstream (0 to 1; absent: 0).
     #[serde(default)]
     pub slipstream_fraction: f64,
+    /// Sidewash (fin) or downwash (tailplane) gradient from the airframe ahead (absent: 0).
+    #[serde(default)]
+    pub wash_gradient: f64,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -338,6 +342,16 @@ pub const PARAMETERS: &[ParameterInfo] = &[
         meaning: "share of the fin's area in the propeller's slipstream",
     },
     ParameterInfo {
+        name: "airframe.fin.wash_gradient",
+        unit: "-",
+        meaning: "sidewash gradient at the fin from the pod ahead (share of the sideslip taken)",
+    },
+    ParameterInfo {
+        name: "airframe.tailplane.wash_gradient",
+        unit: "-",
+        meaning: "downwash gradient at the tailplane (share of the angle of attack taken)",
+    },
+    ParameterInfo {
         name: "airframe.tailplane.slipstream_fraction",
         unit: "-",
         meaning: "share of the tailplane's area in the propeller's slipstream",
@@ -386,6 +400,10 @@ pub fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64>
         "airframe.fin.lift_slope_per_rad" => &mut surface(&mut a.airframe.fin)?.lift_slope_per_rad,
         "airframe.fin.slipstream_fraction" => {
             &mut surface(&mut a.airframe.fin)?.slipstream_fraction
+        }
+        "airframe.fin.wash_gradient" => &mut surface(&mut a.airframe.fin)?.wash_gradient,
+        "airframe.tailplane.wash_gradient" => {
+            &mut surface(&mut a.airframe.tailplane)?.wash_gradient
         }
         "airframe.tailplane.slipstream_fraction" => {
             &mut surface(&mut a.airframe.tailplane)?.slipstream_fraction
@@ -531,6 +549,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         cd0: s.cd0,
         control_effectiveness: s.control_effectiveness,
         slipstream_fraction: s.slipstream_fraction,
+        wash_gradient: s.wash_gradient,
     };
     let drive = match (a.propeller.drive.engine, a.propeller.drive.governed) {
         (Some(e), None) => Drive::Engine {

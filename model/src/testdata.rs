@@ -141,6 +141,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         control_effectiveness,
         // Out of the slipstream: the tests that need it set it (the aircraft's tests).
         slipstream_fraction: 0.0,
+        wash_gradient: 0.0,
     };
     Aircraft {
         mass: MassProperties {

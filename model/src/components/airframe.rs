@@ -56,6 +56,11 @@ pub struct Surface {
     pub control_effectiveness: f64,
     /// Fraction of its area in the propeller's slipstream, 0 to 1.
     pub slipstream_fraction: f64,
+    /// Share of the free stream's flow angle at the c.g. that the airframe ahead turns away
+    /// before the surface: the sidewash gradient `d sigma / d beta` of a fin behind a pod, the
+    /// downwash gradient `d epsilon / d alpha` of a tailplane (0: none). It acts on the
+    /// free stream's angle only, not on the flow the body's rotation makes at the surface.
+    pub wash_gradient: f64,
 }
 
 /// The propeller's slipstream, as the tail surfaces meet it (module docs).
@@ -240,7 +245,9 @@ impl Airframe {
                     && sf.position_m.iter().all(|x| x.is_finite())
                     && sf.incidence_rad.is_finite()
                     && sf.control_effectiveness.is_finite()
-                    && (0.0..=1.0).contains(&sf.slipstream_fraction);
+                    && (0.0..=1.0).contains(&sf.slipstream_fraction)
+                    && sf.wash_gradient.is_finite()
+                    && sf.wash_gradient < 1.0;
                 if !ok {
                     return Err(AirframeError::Surface(name));
                 }
@@ -361,12 +368,15 @@ fn surface_loads(
         s.position_m[2] - cg_m[2],
     ];
     let rot = cross(pqr, arm);
-    // The surface's velocity relative to the air around it.
-    let vl = [
+    // The surface's velocity relative to the air around it, the free stream's flow angle in
+    // the surface's plane reduced by the wash ahead of it.
+    let normal = if vertical { 1 } else { 2 };
+    let mut vl = [
         uvw[0] + rot[0] - stream[0],
         uvw[1] + rot[1] - stream[1],
         uvw[2] + rot[2] - stream[2],
     ];
+    vl[normal] -= s.wash_gradient * uvw[normal];
     // In-plane components: (along x, normal) with normal = z (tailplane) or y (fin).
     let (ux, un) = if vertical {
         (vl[0], vl[1])
@@ -424,6 +434,7 @@ mod tests {
             cd0: 0.01,
             control_effectiveness: 0.5,
             slipstream_fraction: 0.0,
+            wash_gradient: 0.0,
         };
         Airframe {
             reference_area_m2: 1.0,
@@ -587,6 +598,33 @@ mod tests {
         }
         a.fin.as_mut().unwrap().slipstream_fraction = 1.5;
         assert!(a.validate().is_err());
+    }
+
+    /// Sidewash ahead of a fin takes its share of the sideslip and none of the yaw rate's flow:
+    /// the fin's `Y_v` falls by `1 - d sigma / d beta` and its `N_r` stays.
+    #[test]
+    fn sidewash_weakens_the_fin_in_sideslip_not_in_yaw() {
+        let mut a = airframe();
+        a.tailplane = None;
+        let derivatives = |a: &Airframe| {
+            let at = |v: f64, r: f64| {
+                a.loads([30.0, v, 0.0], [0.0, 0.0, r], 1.2, [0.0; 3], [0.0; 2], None)
+                    .unwrap()
+            };
+            let y_v = (at(1e-4, 0.0).y_n - at(-1e-4, 0.0).y_n) / 2e-4;
+            let n_r = (at(0.0, 1e-5).n_n_m - at(0.0, -1e-5).n_n_m) / 2e-5;
+            (y_v, n_r)
+        };
+        let (y0, n0) = derivatives(&a);
+        a.fin.as_mut().unwrap().wash_gradient = 0.4;
+        let (y1, n1) = derivatives(&a);
+        assert!((y1 / y0 - 0.6).abs() < 1e-6, "{y1} / {y0}");
+        assert!((n1 / n0 - 1.0).abs() < 1e-9, "{n1} / {n0}");
+        a.fin.as_mut().unwrap().wash_gradient = 1.0;
+        assert!(
+            a.validate().is_err(),
+            "a fin that sees no sideslip at all is refused"
+        );
     }
 
     #[test]
