@@ -479,6 +479,10 @@ impl Aircraft {
             v_hub_body = [vxz * ca, v_hub_body[1], vxz * sa];
         }
         let vh = apply(&c, v_hub_body);
+        let (st, ct) = b.theta_rad.sin_cos();
+        let (sf, cf) = b.phi_rad.sin_cos();
+        let g = crate::components::atmosphere::G0_M_S2;
+        let gravity = apply(&c, [-g * st, g * sf * ct, g * cf * ct]);
         RotorFrame {
             theta_s,
             phi_s,
@@ -490,6 +494,7 @@ impl Aircraft {
                 w: vh[2],
             },
             hub_rates: apply(&c, pqr),
+            gravity,
         }
     }
 
@@ -502,6 +507,7 @@ impl Aircraft {
             speed_of_sound_m_s: air.speed_of_sound_m_s,
             collective_shift_rad: self.main_rotor.collective_shift_rad,
             hub_rates_rad_s: frame.hub_rates,
+            gravity_m_s2: frame.gravity,
         }
     }
 
@@ -1121,6 +1127,8 @@ struct RotorFrame {
     arm: [f64; 3],
     hub: HubVelocity,
     hub_rates: [f64; 3],
+    /// Gravity in hub axes, m/s^2.
+    gravity: [f64; 3],
 }
 
 fn positive_state(name: &'static str, value: f64) -> Result<(), AircraftError> {

@@ -130,6 +130,19 @@ fn check(
     }
 }
 
+/// Gravity in hub axes for a rotor in a horizontal free stream (a wind tunnel, or level
+/// flight), its shaft tilted back by the disc's angle of attack: earth's down is normal to the
+/// hub's velocity, toward the shaft's foot. In purely axial flow (vertical descent) the shaft
+/// is upright.
+fn gravity_in_tunnel(hub: HubVelocity) -> [f64; 3] {
+    let g = crate::components::atmosphere::G0_M_S2;
+    let speed = (hub.u * hub.u + hub.w * hub.w).sqrt();
+    if hub.u.abs() <= 1e-9 * speed.max(1.0) {
+        return [0.0, 0.0, g];
+    }
+    [-g * hub.w / speed, 0.0, g * hub.u / speed]
+}
+
 struct Problem<'a> {
     rotor: &'a Rotor,
     blade: Blade<'a>,
@@ -149,6 +162,7 @@ impl Problem<'_> {
             speed_of_sound_m_s: self.tunnel.speed_of_sound_m_s,
             collective_shift_rad: self.tunnel.collective_shift_rad,
             hub_rates_rad_s: [0.0; 3],
+            gravity_m_s2: gravity_in_tunnel(self.hub),
         }
     }
 

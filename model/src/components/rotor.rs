@@ -29,7 +29,9 @@
 //! One blade is integrated in azimuth (fourth-order Runge-Kutta at a fixed azimuth step) from a
 //! warm start until its flapping is periodic, and the rotor's mean forces and moments are `N_b`
 //! times that blade's average over a revolution: exact for the mean, since the mean of a
-//! periodic blade's inertial loads is zero. Blade weight is neglected here.
+//! periodic blade's inertial loads is zero. The blades' weight acts on their flapping (through
+//! their first mass moment about the hinge, with gravity in hub axes from the operating
+//! condition); its force on the hub is the aircraft's weight, not the rotor's load.
 
 use crate::components::airfoil::{Airfoil, AirfoilError};
 use serde::Serialize;
@@ -265,6 +267,9 @@ pub struct Operating {
     /// Angular velocity of the hub (the non-rotating shaft frame) in hub axes, rad/s: the
     /// body's rates seen along the hub axes. Zero in a wind tunnel; constant in a steady turn.
     pub hub_rates_rad_s: [f64; 3],
+    /// Gravity in hub axes, m/s^2 (`[0, 0, g]` with the shaft upright): the blades' weight
+    /// acts on their flapping through their first mass moment. Zero: weightless blades.
+    pub gravity_m_s2: [f64; 3],
 }
 
 /// Mean loads of the whole rotor in hub axes and the blade motion, over one revolution.
@@ -753,8 +758,14 @@ impl<'a> Blade<'a> {
                 // The blades' inertial moments oppose about the teeter hinge.
                 let inertial =
                     self.inertial_flap_moment_at(op, a1) - self.inertial_flap_moment_at(op, a2);
+                // Their weights too: they cancel about the hinge unless the blades are coned.
+                let weight =
+                    self.weight_flap_moment_at(op, a1) - self.weight_flap_moment_at(op, a2);
                 let spring = rot.flap_spring_n_m_per_rad * s[0];
-                return [s[1], (m1 - m2 - inertial - spring) / (2.0 * i * w * w)];
+                return [
+                    s[1],
+                    (m1 - m2 - inertial + weight - spring) / (2.0 * i * w * w),
+                ];
             }
             Hub::Articulated => {}
         }
@@ -763,11 +774,26 @@ impl<'a> Blade<'a> {
         let angles = Angles::new(psi, beta);
         let m_aero = self.loads_at(op, angles, beta_dot).flap_moment;
         let inertial = self.inertial_flap_moment_at(op, angles);
+        let weight = self.weight_flap_moment_at(op, angles);
         let spring = rot.flap_spring_n_m_per_rad * (beta - rot.precone_rad);
         [
             s[1],
-            (m_aero - inertial - spring) / (rot.flap_inertia_kg_m2 * w * w),
+            (m_aero - inertial + weight - spring) / (rot.flap_inertia_kg_m2 * w * w),
         ]
+    }
+
+    /// The blade's weight moment about its flap hinge, positive flapping up: `S (g . n)`, with
+    /// `S` its first mass moment about the hinge and `n = d e_b / d beta` (the flapped blade's
+    /// direction `e_b = (-cos b cos psi, cos b sin psi, -sin b)` in hub axes). With the shaft
+    /// upright it is `-S g cos b`: the blade droops.
+    pub(crate) fn weight_flap_moment_at(&self, op: &Operating, angles: Angles) -> f64 {
+        let Angles { sp, cp, sb, cb } = angles;
+        let g = op.gravity_m_s2;
+        if g == [0.0; 3] {
+            return 0.0;
+        }
+        let n = [sb * cp, -sb * sp, -cb];
+        self.rotor.flap_mass_moment_kg_m * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2])
     }
 
     /// A rigid rotor in axial flow (a propeller): every blade sees the same flow at every
@@ -1239,6 +1265,7 @@ mod tests {
                 speed_of_sound_m_s: 1e9,
                 collective_shift_rad: 0.0,
                 hub_rates_rad_s: [0.0; 3],
+                gravity_m_s2: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -1379,6 +1406,7 @@ mod tests {
             speed_of_sound_m_s: 1e9,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
+            gravity_m_s2: [0.0; 3],
         };
         let l = Blade::new(&rigid, Numerics::default())
             .steady(&op, [0.0, 0.0])
@@ -1428,6 +1456,7 @@ mod tests {
                 speed_of_sound_m_s: 1e9,
                 collective_shift_rad: 0.0,
                 hub_rates_rad_s: [p, q, 0.0],
+                gravity_m_s2: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -1459,6 +1488,60 @@ mod tests {
         }
     }
 
+    /// The blades' weight: an articulated blade at zero pitch in still air (so no lift once it
+    /// is steady; the air only damps it) droops until the centrifugal moment holds its weight,
+    /// `sin(a0) = -S g / (I Omega^2)`; a teetering pair's weights
+    /// cancel about the teeter hinge, so its teeter does not move; and with the shaft tilted
+    /// the weight's in-plane share flaps the blade once per revolution.
+    #[test]
+    fn blade_weight_droops_an_articulated_rotor_and_cancels_on_a_teetering_one() {
+        let mut rotor = classical(0.0, 0.0);
+        rotor.flap_mass_moment_kg_m = 60.0;
+        let omega = 20.0;
+        let op = |gravity: [f64; 3]| Operating {
+            omega_rad_s: omega,
+            hub: HubVelocity::default(),
+            inflow: Inflow::default(),
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.0,
+            collective_shift_rad: 0.0,
+            hub_rates_rad_s: [0.0; 3],
+            gravity_m_s2: gravity,
+        };
+        let g = crate::components::atmosphere::G0_M_S2;
+        let droop = -(60.0 * g / (rotor.flap_inertia_kg_m2 * omega * omega)).asin();
+        let blade = Blade::new(&rotor, Numerics::default());
+        let upright = blade.steady(&op([0.0, 0.0, g]), [0.0; 2]).unwrap();
+        assert!(
+            (upright.a0_rad - droop).abs() < 1e-6,
+            "{} vs {droop}",
+            upright.a0_rad
+        );
+        assert!(upright.a1_rad.abs() < 1e-9 && upright.b1_rad.abs() < 1e-9);
+        let weightless = blade.steady(&op([0.0; 3]), [0.0; 2]).unwrap();
+        assert!(weightless.a0_rad.abs() < 1e-9);
+        // Shaft tilted back 10 deg: gravity has a share along -x in hub axes.
+        let (s10, c10) = 10f64.to_radians().sin_cos();
+        let tilted = blade
+            .steady(&op([-g * s10, 0.0, g * c10]), [0.0; 2])
+            .unwrap();
+        assert!((tilted.a0_rad - droop * c10).abs() < 1e-4, "{tilted:?}");
+        assert!(
+            tilted.a1_rad.abs() + tilted.b1_rad.abs() > 1e-5,
+            "{tilted:?}"
+        );
+        let mut teeter = rotor.clone();
+        teeter.hub = Hub::Teetering;
+        teeter.blades = 2;
+        teeter.precone_rad = 0.0;
+        let blade = Blade::new(&teeter, Numerics::default());
+        let (a, b) = (
+            blade.steady(&op([0.0, 0.0, g]), [0.0; 2]).unwrap(),
+            blade.steady(&op([0.0; 3]), [0.0; 2]).unwrap(),
+        );
+        assert!((a.a1_rad - b.a1_rad).abs() < 1e-9 && (a.b1_rad - b.b1_rad).abs() < 1e-9);
+    }
+
     #[test]
     fn blade_angular_momentum_and_mass_centre_rates_match_differences() {
         // A hinge offset, a mass moment and hub rates, so that every term is alive.
@@ -1475,6 +1558,7 @@ mod tests {
             speed_of_sound_m_s: 340.0,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.3, -0.2, 0.15],
+            gravity_m_s2: [0.0; 3],
         };
         for (psi, beta, bd, bdd, wd) in [
             (0.3, 0.05, 0.8, -30.0, 2.0),
@@ -1628,6 +1712,7 @@ mod tests {
             speed_of_sound_m_s: 340.0,
             collective_shift_rad: shift,
             hub_rates_rad_s: [0.0; 3],
+            gravity_m_s2: [0.0; 3],
         };
         let numerics = Numerics {
             azimuth_step_rad: 2f64.to_radians(),
