@@ -787,13 +787,14 @@ impl<'a> Blade<'a> {
     /// direction `e_b = (-cos b cos psi, cos b sin psi, -sin b)` in hub axes). With the shaft
     /// upright it is `-S g cos b`: the blade droops.
     pub(crate) fn weight_flap_moment_at(&self, op: &Operating, angles: Angles) -> f64 {
-        let Angles { sp, cp, sb, cb } = angles;
+        let s_m = self.rotor.flap_mass_moment_kg_m;
         let g = op.gravity_m_s2;
-        if g == [0.0; 3] {
+        if s_m == 0.0 || g == [0.0; 3] {
             return 0.0;
         }
+        let Angles { sp, cp, sb, cb } = angles;
         let n = [sb * cp, -sb * sp, -cb];
-        self.rotor.flap_mass_moment_kg_m * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2])
+        s_m * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2])
     }
 
     /// A rigid rotor in axial flow (a propeller): every blade sees the same flow at every
