@@ -15,12 +15,13 @@
 //! solid-body rotation: linear across the slipstream, so that its value at a surface's centre
 //! is its mean over a surface centred there, which a free vortex's is not near the shaft; this
 //! is a choice for a one-point surface, not a claim about the swirl's profile). Slipstream and
-//! free stream are
-//! blended by area, velocity by velocity, so the surface sees a higher dynamic pressure and a
-//! flow turned toward the shaft. The slipstream is taken along the shaft: its drift with the
-//! sideslip or the angle of attack before it reaches the tail is not modelled. `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative
-//! velocity at the centre of mass (body axes: x forward, y starboard, z down). Angles outside a
-//! table are an error naming the table, never a silent clamp.
+//! free stream are blended by area, velocity by velocity, so the surface sees a higher dynamic
+//! pressure and a flow turned toward the shaft. The slipstream is taken along the shaft: its
+//! drift with the sideslip or the angle of attack before it reaches the tail is not modelled.
+//!
+//! `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative velocity at the centre of
+//! mass (body axes: x forward, y starboard, z down). Angles outside a table are an error naming
+//! the table, never a silent clamp.
 
 use crate::components::rigid_body::Loads;
 use serde::Serialize;
@@ -140,8 +141,9 @@ pub struct Airframe {
     /// Moment reference point, body axes from the datum, m.
     pub reference_point_m: [f64; 3],
     /// Where the side force (`cy`) acts, body axes from the datum, m; `None`: the reference
-    /// point. A side area low on the airframe rolls it away from the sideslip (positive `L_v`),
-    /// one ahead of the centre of mass yaws it into the sideslip.
+    /// point. In sideslip, a side area below the centre of mass rolls the aircraft toward the
+    /// wind (positive `L_v`, as flight's), one above it away from the wind; one ahead of the
+    /// centre of mass yaws the nose away from the wind (less weathercock stability).
     pub side_force_centre_m: Option<[f64; 3]>,
     /// Body-axis coefficients: `cx, cy, cz, cl, cm, cn`.
     pub coefficients: [Table2; 6],
@@ -471,7 +473,7 @@ mod tests {
     /// have to carry otherwise: `cy = -0.8 sin(beta)` at 0.125 m ahead of and 0.0625 m above
     /// the c.g. is `cl = -0.05 sin(beta)`, `cn = -0.1 sin(beta)` about the c.g. (the VPM M16's
     /// estimated pod, written both ways). Low on the airframe, the same force rolls it the
-    /// other way: away from the sideslip, flight's positive `L_v`.
+    /// other way: toward the wind, flight's positive `L_v`.
     #[test]
     fn a_side_force_at_its_own_centre_makes_its_moments() {
         let sine = |k: f64| Table2 {
