@@ -303,18 +303,13 @@ impl Airframe {
             q * s * self.reference_length_m * c[4],
             q * s * self.reference_span_m * c[5],
         ];
+        // The drag and normal force act at the reference point, the side force at its own
+        // centre (the reference point unless one is given).
         let arm_from = |p: [f64; 3]| [p[0] - cg_m[0], p[1] - cg_m[1], p[2] - cg_m[2]];
-        let arm = arm_from(self.reference_point_m);
-        let transfer = match self.side_force_centre_m {
-            None => cross(arm, f),
-            Some(centre) => {
-                let (along, side) = (
-                    cross(arm, [f[0], 0.0, f[2]]),
-                    cross(arm_from(centre), [0.0, f[1], 0.0]),
-                );
-                [along[0] + side[0], along[1] + side[1], along[2] + side[2]]
-            }
-        };
+        let side_centre = self.side_force_centre_m.unwrap_or(self.reference_point_m);
+        let along = cross(arm_from(self.reference_point_m), [f[0], 0.0, f[2]]);
+        let side = cross(arm_from(side_centre), [0.0, f[1], 0.0]);
+        let transfer = [along[0] + side[0], along[1] + side[1], along[2] + side[2]];
         let mut total = [
             f[0],
             f[1],
