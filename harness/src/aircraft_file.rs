@@ -571,12 +571,18 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         }
     };
     let c = &a.airframe.coefficients;
-    let corrections = a.corrections.unwrap_or_default();
+    let corrections = a.corrections.clone().unwrap_or_default();
+    if !corrections.estimated.is_empty() {
+        return Err(err(
+            "aircraft.corrections.estimated",
+            "an aircraft file gives its physical parameters where they belong (with their sources); `estimated` is for a corrections file's fitted values".into(),
+        ));
+    }
     let mut main_rotor = main_rotor_file.rotor.clone();
     CorrectionSet {
         propeller_blockage: None,
         hub_aoa_factor: None,
-        ..corrections
+        ..corrections.clone()
     }
     .apply_to_rotor(&mut main_rotor)
     .map_err(|m| err("aircraft.corrections", m))?;
@@ -735,6 +741,21 @@ fn field_of(e: &AircraftError) -> String {
 }
 
 impl AircraftFile {
+    /// The source the file gives a parameter of [`PARAMETERS`]: its own entry or the nearest
+    /// parent's (`airframe.fin.position_m.x` is covered by `airframe.fin.position_m`,
+    /// `airframe.fin` or `airframe`); `None` where nothing covers it.
+    pub fn source_of(&self, parameter: &str) -> Option<&str> {
+        let path = ["x", "y", "z"]
+            .iter()
+            .find_map(|c| parameter.strip_suffix(&format!(".{c}")))
+            .unwrap_or(parameter);
+        self.sources
+            .iter()
+            .filter(|(k, _)| covers(k, path))
+            .max_by_key(|(k, _)| k.len())
+            .map(|(_, v)| v.as_str())
+    }
+
     /// A copy with corrections set (those given; the rest as in the file), checked. Its path is
     /// marked with the corrections, so cached results keep them apart.
     pub fn with_corrections(&self, c: &CorrectionSet) -> Result<AircraftFile, String> {

@@ -6,12 +6,22 @@
 //! aircraft; blade corrections (profile drag, pitch offset, lateral inflow offset) act on the
 //! main rotor wherever it flies, in an aircraft or alone in a tunnel.
 //!
+//! A set can also carry values of an aircraft file's *estimated* physical parameters (the
+//! names of [`crate::aircraft_file::PARAMETERS`]: a fin's area, the pod's side-force centre, an
+//! inertia), as a fit of them writes; they too need an aircraft. The aircraft file itself keeps
+//! its estimates: a fitted value is an overlay that `cierva validate --corrections` applies and
+//! the report names.
+//!
 //! # Corrections file
 //! ```yaml
 //! id: vpm-m16-seed000-fit
 //! title: Propeller blockage and hub factor fitted to seed 000's X_u and Z_w
 //! applies_to: {aircraft: vpm-m16}      # or {rotor: pca-2}: the file id it corrects
-//! corrections: {propeller_blockage: 0.97, hub_aoa_factor: 0.55}
+//! corrections:
+//!   propeller_blockage: 0.97
+//!   hub_aoa_factor: 0.55
+//!   estimated: {airframe.fin.area_m2: 0.64}   # optional: estimated physical parameters
+//!                                             # (an aircraft's; names as `cierva sensitivity`)
 //! provenance:
 //!   source: "fitted by `cierva fit fits/vpm-m16-seed000.yaml` ..."
 //! fit: {...}                           # optional: the fit's status, standard errors, costs
@@ -22,10 +32,11 @@ use crate::yaml::{self, InputError};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::Rotor;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Corrections to set (those given; the others as the file has them).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CorrectionSet {
     /// Seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the
@@ -48,12 +59,19 @@ pub struct CorrectionSet {
     /// Added to the main rotor's lateral induced velocity `v1s`, m/s (seed 003).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral_inflow_offset_m_s: Option<f64>,
+    /// An aircraft's estimated physical parameters, by their names in
+    /// [`crate::aircraft_file::PARAMETERS`].
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub estimated: BTreeMap<String, f64>,
 }
 
 impl CorrectionSet {
-    /// Whether it names an aircraft correction (which an isolated rotor cannot take).
+    /// Whether it names an aircraft correction or parameter (which an isolated rotor cannot
+    /// take).
     pub fn needs_aircraft(&self) -> bool {
-        self.propeller_blockage.is_some() || self.hub_aoa_factor.is_some()
+        self.propeller_blockage.is_some()
+            || self.hub_aoa_factor.is_some()
+            || !self.estimated.is_empty()
     }
 
     /// The same set with `over`'s corrections replacing this one's where `over` gives them.
@@ -67,6 +85,11 @@ impl CorrectionSet {
             lateral_inflow_offset_m_s: over
                 .lateral_inflow_offset_m_s
                 .or(self.lateral_inflow_offset_m_s),
+            estimated: {
+                let mut e = self.estimated.clone();
+                e.extend(over.estimated.iter().map(|(k, v)| (k.clone(), *v)));
+                e
+            },
         }
     }
 
@@ -83,6 +106,7 @@ impl CorrectionSet {
         let given: Vec<String> = all
             .iter()
             .filter_map(|(n, v)| v.map(|v| format!("{n}={v}")))
+            .chain(self.estimated.iter().map(|(n, v)| format!("{n}={v}")))
             .collect();
         if given.is_empty() {
             "none".into()
@@ -95,7 +119,7 @@ impl CorrectionSet {
     pub fn apply_to_rotor(&self, r: &mut Rotor) -> Result<(), String> {
         if self.needs_aircraft() {
             return Err(
-                "propeller_blockage and hub_aoa_factor correct an aircraft, not an isolated rotor"
+                "propeller_blockage, hub_aoa_factor and estimated physical parameters correct an aircraft, not an isolated rotor"
                     .into(),
             );
         }
@@ -123,10 +147,17 @@ impl CorrectionSet {
         if let Some(k) = self.hub_aoa_factor {
             a.hub_aoa_factor = Some(k);
         }
+        for (name, v) in &self.estimated {
+            let slot = crate::aircraft_file::parameter_mut(a, name).ok_or_else(|| {
+                format!("`{name}` is not a physical parameter this aircraft has")
+            })?;
+            *slot = *v;
+        }
         let blade = CorrectionSet {
             propeller_blockage: None,
             hub_aoa_factor: None,
-            ..*self
+            estimated: BTreeMap::new(),
+            ..self.clone()
         };
         blade.apply_to_rotor(&mut a.main_rotor.rotor)?;
         a.validate().map_err(|e| e.to_string())
@@ -185,7 +216,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
             if spec.corrections.needs_aircraft() {
                 return Err(err(
                     "corrections",
-                    "propeller_blockage and hub_aoa_factor correct an aircraft: apply them to `aircraft`, not `rotor`".into(),
+                    "propeller_blockage, hub_aoa_factor and estimated physical parameters correct an aircraft: apply them to `aircraft`, not `rotor`".into(),
                 ));
             }
             Target::Rotor(r.clone())
@@ -213,6 +244,25 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
                 &format!("corrections.{name}"),
                 format!("must be a finite number, not {v}"),
             ));
+        }
+    }
+    for (name, v) in &c.estimated {
+        let field = format!("corrections.estimated.{name}");
+        if !crate::aircraft_file::PARAMETERS
+            .iter()
+            .any(|p| p.name == name && !name.starts_with("corrections."))
+        {
+            let names = crate::fit::ParameterKind::names();
+            let hint = yaml::nearest(name, &names)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(err(
+                "corrections.estimated",
+                format!("`{name}` is not a physical parameter{hint}"),
+            ));
+        }
+        if !v.is_finite() {
+            return Err(err(&field, format!("must be a finite number, not {v}")));
         }
     }
     Ok(CorrectionsFile {

@@ -32,11 +32,15 @@ use crate::corrections::CorrectionSet;
 use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::{InflowModel, Rotor};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-/// A correction the fit can move.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// A parameter the fit can move: one of the model's empirical corrections, or an aircraft
+/// file's estimated physical parameter (a name of [`crate::aircraft_file::PARAMETERS`]).
+///
+/// A fit file may name a physical parameter only where the aircraft file's source for it says
+/// "estimated", and only within the plausible range the file gives it (see
+/// [`crate::fit_file`]): a parameter with a published value is not the fit's to move.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ParameterKind {
     /// Seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the
     /// propeller disc (0..1).
@@ -51,10 +55,19 @@ pub enum ParameterKind {
     PitchOffsetDeg,
     /// Added to the main rotor's lateral induced velocity `v1s`, m/s (seed 003).
     LateralInflowOffsetMS,
+    /// An aircraft's estimated physical parameter, by its name in
+    /// [`crate::aircraft_file::PARAMETERS`] (`airframe.fin.area_m2`).
+    Estimated(&'static str),
+}
+
+impl serde::Serialize for ParameterKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
 }
 
 impl ParameterKind {
-    /// Every parameter, in the order of [`CorrectionSet`]'s fields.
+    /// Every correction, in the order of [`CorrectionSet`]'s fields.
     pub const ALL: [ParameterKind; 6] = [
         Self::PropellerBlockage,
         Self::HubAoaFactor,
@@ -64,7 +77,8 @@ impl ParameterKind {
         Self::LateralInflowOffsetMS,
     ];
 
-    /// The name as written (the [`CorrectionSet`] field it sets).
+    /// The name as written (the [`CorrectionSet`] field it sets, or the physical parameter's
+    /// dotted name).
     pub fn name(self) -> &'static str {
         match self {
             Self::PropellerBlockage => "propeller_blockage",
@@ -73,28 +87,65 @@ impl ParameterKind {
             Self::ProfileDragIncrement => "profile_drag_increment",
             Self::PitchOffsetDeg => "pitch_offset_deg",
             Self::LateralInflowOffsetMS => "lateral_inflow_offset_m_s",
+            Self::Estimated(name) => name,
         }
     }
 
-    /// The parameter by name.
+    /// The parameter by name: a correction, or a physical parameter of
+    /// [`crate::aircraft_file::PARAMETERS`] (`corrections.propeller_blockage` is the
+    /// correction `propeller_blockage`).
     pub fn parse(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
+        let name = name.strip_prefix("corrections.").unwrap_or(name);
+        Self::ALL.into_iter().find(|k| k.name() == name).or_else(|| {
+            crate::aircraft_file::PARAMETERS
+                .iter()
+                .find(|p| p.name == name)
+                .map(|p| Self::Estimated(p.name))
+        })
     }
 
-    /// The uncorrected model's value.
-    pub fn neutral(self) -> f64 {
+    /// Every name [`Self::parse`] knows, for error messages.
+    pub fn names() -> Vec<String> {
+        let corrections = Self::ALL.iter().map(|k| k.name().to_string());
+        let physical = crate::aircraft_file::PARAMETERS
+            .iter()
+            .filter(|p| !p.name.starts_with("corrections."))
+            .map(|p| p.name.to_string());
+        corrections.chain(physical).collect()
+    }
+
+    /// The uncorrected model's value of a correction; `None` for a physical parameter, whose
+    /// start is the aircraft file's value.
+    pub fn neutral(self) -> Option<f64> {
         match self {
             Self::PropellerBlockage
             | Self::ProfileDragIncrement
             | Self::PitchOffsetDeg
-            | Self::LateralInflowOffsetMS => 0.0,
-            Self::HubAoaFactor | Self::ProfileDragScale => 1.0,
+            | Self::LateralInflowOffsetMS => Some(0.0),
+            Self::HubAoaFactor | Self::ProfileDragScale => Some(1.0),
+            Self::Estimated(_) => None,
         }
     }
 
-    /// Whether it corrects an aircraft (rather than the blades, which a rotor alone has).
+    /// Whether it needs an aircraft (rather than the blades, which a rotor alone has).
     pub fn needs_aircraft(self) -> bool {
-        matches!(self, Self::PropellerBlockage | Self::HubAoaFactor)
+        matches!(
+            self,
+            Self::PropellerBlockage | Self::HubAoaFactor | Self::Estimated(_)
+        )
+    }
+
+    /// The parameter's value in a correction set, where the set gives it.
+    pub fn get(self, c: &CorrectionSet) -> Option<f64> {
+        match self {
+            Self::PropellerBlockage => c.propeller_blockage,
+            Self::HubAoaFactor => c.hub_aoa_factor,
+            Self::ProfileDragScale => c.profile_drag_scale,
+            Self::ProfileDragIncrement => c.profile_drag_increment,
+            Self::PitchOffsetDeg => c.pitch_offset_deg,
+            Self::LateralInflowOffsetMS => c.lateral_inflow_offset_m_s,
+            Self::Estimated(name) => c.estimated.get(name).copied(),
+        }
     }
 
     /// Sets the parameter in a correction set.
@@ -106,6 +157,10 @@ impl ParameterKind {
             Self::ProfileDragIncrement => &mut c.profile_drag_increment,
             Self::PitchOffsetDeg => &mut c.pitch_offset_deg,
             Self::LateralInflowOffsetMS => &mut c.lateral_inflow_offset_m_s,
+            Self::Estimated(name) => {
+                c.estimated.insert(name.to_string(), value);
+                return;
+            }
         };
         *field = Some(value);
     }
@@ -125,31 +180,32 @@ pub struct Parameter {
 /// What is fitted: an aircraft in flight or a rotor alone in a wind tunnel.
 #[derive(Debug, Clone)]
 pub enum Subject {
-    Aircraft {
-        aircraft: Box<Aircraft>,
-        loading: Loading,
-    },
+    /// An aircraft, flown at each target's loading.
+    Aircraft { aircraft: Box<Aircraft> },
     Rotor {
         rotor: Box<Rotor>,
         inflow: InflowModel,
     },
 }
 
-/// Where a target is measured: a trimmed flight condition (aircraft) or a tunnel condition
-/// (rotor, autorotating).
+/// Where a target is measured: a trimmed flight condition at a loading (aircraft) or a tunnel
+/// condition (rotor, autorotating).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Condition {
-    Flight(TrimRequest),
+    Flight(TrimRequest, Loading),
     Tunnel(TunnelSpec),
 }
 
 impl Condition {
-    /// A short label: `55 mph`, `alpha 8.3 deg mu 0.216`.
+    /// A short label: `55 mph 425 kg`, `alpha 8.3 deg mu 0.216`.
     pub fn label(&self) -> String {
         match self {
-            Self::Flight(t) => {
+            Self::Flight(t, loading) => {
                 let mut s = format!("{} mph", t.airspeed_mph);
+                if let Some(m) = loading.mass_kg {
+                    s += &format!(" {m} kg");
+                }
                 if t.climb_m_s != 0.0 {
                     s += &format!(" climb {} m/s", t.climb_m_s);
                 }
@@ -220,7 +276,7 @@ impl Measure {
                 .unwrap_or_default()
         };
         match condition {
-            Condition::Flight(_) => {
+            Condition::Flight(..) => {
                 if trim.contains(&name) {
                     return Ok(Self::Trim(name.into()));
                 }
@@ -482,11 +538,11 @@ pub fn evaluate_each_from(
     }
     let at = |c: &Condition| format!("at {} with {}", c.label(), describe(problem, p));
     let results: Vec<Result<AtCondition, String>> = match &problem.subject {
-        Subject::Aircraft { aircraft, loading } => {
+        Subject::Aircraft { aircraft } => {
             let mut a = aircraft.clone();
             set.apply_to_aircraft(&mut a)?;
             crate::parallel_map(&conditions, |c| {
-                let Condition::Flight(request) = c else {
+                let Condition::Flight(request, loading) = c else {
                     return Err(format!(
                         "{}: an aircraft flies, it is not in a tunnel",
                         at(c)
@@ -644,7 +700,7 @@ pub fn check(problem: &Problem) -> Result<(), String> {
         }
         let fits = matches!(
             (&problem.subject, &t.condition),
-            (Subject::Aircraft { .. }, Condition::Flight(_))
+            (Subject::Aircraft { .. }, Condition::Flight(..))
                 | (Subject::Rotor { .. }, Condition::Tunnel(_))
         );
         if !fits {
@@ -876,15 +932,34 @@ fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>
     }
     let seen: Vec<usize> = (0..n).filter(|i| !blind.contains(i)).collect();
     let sub = nalgebra::DMatrix::from_fn(seen.len(), seen.len(), |a, b| m[(seen[a], seen[b])]);
+    // Identifiable only where J'J is well conditioned: as many independent directions as
+    // parameters seen. More parameters than targets, or two that act alike, leave it singular
+    // (in floating point, an inverse of garbage).
+    let (lo, hi) = if seen.is_empty() {
+        (1.0, 1.0)
+    } else if !sub.iter().all(|v| v.is_finite()) {
+        (f64::NAN, f64::NAN)
+    } else {
+        let singular = sub.clone().singular_values();
+        (singular.min(), singular.max())
+    };
+    let conditioned = lo.is_finite() && hi > 0.0 && lo > 1e-12 * hi;
     match sub.clone().try_inverse() {
-        Some(inv) if inv.iter().all(|v| v.is_finite()) => {
+        Some(inv)
+            if conditioned
+                && inv.iter().all(|v| v.is_finite())
+                && (0..seen.len()).all(|a| inv[(a, a)] > 0.0) =>
+        {
             for (a, &i) in seen.iter().enumerate() {
-                se[i] = inv[(a, a)].max(0.0).sqrt();
+                se[i] = inv[(a, a)].sqrt();
             }
         }
-        _ => warnings.push(
-            "the fitted parameters are not separately identifiable from these targets (J'J is singular): standard errors are infinite".into(),
-        ),
+        _ => warnings.push(format!(
+            "the fitted parameters are not separately identifiable from these targets (J'J is singular: {} parameters seen by {} targets, condition {:.1e}): standard errors are infinite",
+            seen.len(),
+            problem.targets.len(),
+            hi / lo
+        )),
     }
     (se, warnings)
 }

@@ -11,6 +11,8 @@
 //! parameters:                            # name: bounds, start (default: uncorrected), weight
 //!   pitch_offset_deg: {lower: -3, upper: 3}
 //!   profile_drag_scale: {lower: 0.5, upper: 3, regularisation: 0}
+//!   airframe.fin.area_m2: {}              # an aircraft's estimated physical parameter: bounds
+//!                                          # default to (and must lie in) its file's range
 //! targets:                               # what the fit matches
 //!   - case: ../cases/naca-tr515-table-iii.yaml   # a case's checks: condition, value, tolerance
 //!     checks: [row-01, row-05]           # default: every check
@@ -26,6 +28,12 @@
 //! options: {max_iterations: 20, tolerance: 1.0e-6, difference_step: 1.0e-3, trust_region: 0.5,
 //!           broyden: true}             # false: difference the Jacobian every iteration
 //! ```
+//!
+//! A physical parameter (a name of [`crate::aircraft_file::PARAMETERS`]) can be fitted only
+//! where the aircraft file's source for it begins "estimated" and the file gives it a plausible
+//! range with a source: the fit moves what nobody measured, and no further than its sources
+//! allow. It starts from the file's value. An aircraft's targets are flown at their own loading
+//! (a case's mass and density altitude; written-out ones at the subject's).
 //!
 //! A target taken from a case check uses the check's expected value as its reference and its
 //! tolerance as the scale: an absolute tolerance is the standard error, a relative one times
@@ -53,8 +61,11 @@ struct SubjectSpec {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ParameterSpec {
-    lower: f64,
-    upper: f64,
+    /// Required for a correction; a physical parameter's default to its plausible range.
+    #[serde(default)]
+    lower: Option<f64>,
+    #[serde(default)]
+    upper: Option<f64>,
     #[serde(default)]
     start: Option<f64>,
     #[serde(default)]
@@ -180,6 +191,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     let err = |field: &str, m: String| InputError::field(path, &src, field, m);
     crate::refs::check_id(path, &src, &spec.id)?;
     let dir = path.parent().unwrap_or(Path::new("."));
+    let mut aircraft_file = None;
     let (subject, applies_to, subject_key) = match (&spec.subject.aircraft, &spec.subject.rotor) {
         (Some(a), None) => {
             let file = crate::aircraft_file::load(&dir.join(&a.file))?;
@@ -188,14 +200,12 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
                 density_altitude_ft: a.density_altitude_ft,
             };
             let key = SubjectKey::Aircraft(file.id.clone(), loading);
-            (
-                fit::Subject::Aircraft {
-                    aircraft: Box::new(file.aircraft),
-                    loading,
-                },
-                crate::corrections::Target::Aircraft(file.id),
-                key,
-            )
+            let subject = fit::Subject::Aircraft {
+                aircraft: Box::new(file.aircraft.clone()),
+            };
+            let applies = crate::corrections::Target::Aircraft(file.id.clone());
+            aircraft_file = Some(file);
+            (subject, applies, key)
         }
         (None, Some(r)) => {
             let file = crate::rotor_file::load(&dir.join(&r.file))?;
@@ -218,25 +228,36 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         }
     };
     let mut parameters = Vec::new();
-    let names: Vec<String> = ParameterKind::ALL
-        .iter()
-        .map(|k| k.name().to_string())
-        .collect();
+    let names = ParameterKind::names();
     for (name, p) in &spec.parameters {
+        let field = format!("parameters.{name}");
         let Some(kind) = ParameterKind::parse(name) else {
             let hint = yaml::nearest(name, &names)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
             return Err(err(
-                &format!("parameters.{name}"),
+                &field,
                 format!("unknown parameter; one of {}{hint}", names.join(", ")),
             ));
         };
+        let (lower, upper, start) = match kind.neutral() {
+            Some(neutral) => {
+                let (Some(lower), Some(upper)) = (p.lower, p.upper) else {
+                    return Err(err(
+                        &field,
+                        "a correction needs its bounds, `lower` and `upper`".into(),
+                    ));
+                };
+                (lower, upper, p.start.unwrap_or(neutral))
+            }
+            None => estimated_parameter(aircraft_file.as_ref(), name, p)
+                .map_err(|m| err(&field, m))?,
+        };
         parameters.push(Parameter {
             kind,
-            lower: p.lower,
-            upper: p.upper,
-            start: p.start.unwrap_or(kind.neutral()),
+            lower,
+            upper,
+            start,
             regularisation: p.regularisation,
         });
     }
@@ -284,7 +305,50 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     })
 }
 
-/// What a case's subject must match: the same file and loading (aircraft) or inflow (rotor).
+/// A physical parameter's bounds and start: the aircraft file must call it estimated and give
+/// it a plausible range, which the bounds default to and must lie within; it starts at the
+/// file's value.
+fn estimated_parameter(
+    file: Option<&crate::aircraft_file::AircraftFile>,
+    name: &str,
+    p: &ParameterSpec,
+) -> Result<(f64, f64, f64), String> {
+    let Some(file) = file else {
+        return Err("a physical parameter belongs to an aircraft: the subject is a rotor".into());
+    };
+    let mut a = file.aircraft.clone();
+    let Some(value) = crate::aircraft_file::parameter_mut(&mut a, name).map(|v| *v) else {
+        return Err(format!("{} has no `{name}`", file.id));
+    };
+    let source = file.source_of(name).unwrap_or_default();
+    if !source.trim_start().to_lowercase().starts_with("estimated") {
+        return Err(format!(
+            "{}'s source for `{name}` is not an estimate (\"{source}\"): a fit moves estimated parameters only",
+            file.id
+        ));
+    }
+    let Some(range) = file.ranges.get(name) else {
+        return Err(format!(
+            "{} gives `{name}` no plausible range (`ranges.{name}` with its source): a fit needs bounds from the sources",
+            file.id
+        ));
+    };
+    let (lower, upper) = (
+        p.lower.unwrap_or(range.lower),
+        p.upper.unwrap_or(range.upper),
+    );
+    if lower < range.lower || upper > range.upper {
+        return Err(format!(
+            "bounds [{lower}, {upper}] reach outside {}'s plausible range [{}, {}] ({})",
+            file.id, range.lower, range.upper, range.source
+        ));
+    }
+    Ok((lower, upper, p.start.unwrap_or(value)))
+}
+
+/// What a case's subject must match: the same file (aircraft; each case flies at its own
+/// loading) or the same file and inflow (rotor). The aircraft's loading is the one written-out
+/// targets fly at.
 #[derive(Debug, Clone, PartialEq)]
 enum SubjectKey {
     Aircraft(String, crate::Loading),
@@ -314,9 +378,12 @@ fn targets_of(
                     "`checks`, `quantities`, `case_bounds` and `soft_weight` go with `case`".into(),
                 );
             }
-            let condition = match (t.condition, t.tunnel) {
-                (Some(c), None) => Condition::Flight(c),
-                (None, Some(tu)) => Condition::Tunnel(tu),
+            let condition = match (t.condition, t.tunnel, subject) {
+                (Some(c), None, SubjectKey::Aircraft(_, loading)) => Condition::Flight(c, *loading),
+                (Some(_), None, SubjectKey::Rotor(..)) => {
+                    return Err("a rotor alone is fitted at `tunnel` conditions, not in flight".into());
+                }
+                (None, Some(tu), _) => Condition::Tunnel(tu),
                 _ => return Err("give exactly one of `condition` (flight) or `tunnel`".into()),
             };
             let (Some(q), Some(reference), Some(standard_error)) =
@@ -364,18 +431,24 @@ fn from_case(
     // Long: turns each check of a case into fit targets, one tolerance kind at a time
     let path = dir.join(file);
     let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
-    let key = match &c.subject {
+    let (key, case_loading) = match &c.subject {
         case::Subject::Aircraft { file, loading } => {
-            SubjectKey::Aircraft(file.id.clone(), *loading)
+            (SubjectKey::Aircraft(file.id.clone(), *loading), Some(*loading))
         }
-        case::Subject::Rotor { file, inflow } => SubjectKey::Rotor(file.id.clone(), *inflow),
+        case::Subject::Rotor { file, inflow } => {
+            (SubjectKey::Rotor(file.id.clone(), *inflow), None)
+        }
         _ => {
             return Err(format!(
                 "the case {file} checks neither an aircraft nor a rotor"
             ));
         }
     };
-    if key != *subject {
+    let same = match (&key, subject) {
+        (SubjectKey::Aircraft(a, _), SubjectKey::Aircraft(b, _)) => a == b,
+        _ => key == *subject,
+    };
+    if !same {
         return Err(format!(
             "the case {file} checks {key:?}, but this fit's subject is {subject:?}"
         ));
@@ -402,9 +475,11 @@ fn from_case(
         {
             continue;
         }
-        let condition = match (&check.what, check.condition()) {
-            (What::Derivative(_) | What::Trim(_), Some(cond)) => Condition::Flight(cond),
-            (What::Autorotation(a), _) => Condition::Tunnel(a.tunnel),
+        let condition = match (&check.what, check.condition(), case_loading) {
+            (What::Derivative(_) | What::Trim(_), Some(cond), Some(loading)) => {
+                Condition::Flight(cond, loading)
+            }
+            (What::Autorotation(a), _, _) => Condition::Tunnel(a.tunnel),
             _ if t.checks.is_some() => {
                 return Err(format!(
                     "check `{}` of {file} is not a derivative, trim or autorotation check at one condition",
@@ -525,16 +600,16 @@ pub fn run(f: &FitFile) -> FitRun {
         predict_after = each(&result.values);
     }
     let mut modes = Vec::new();
-    if let fit::Subject::Aircraft { aircraft, loading } = &f.problem.subject {
-        let mut conditions: Vec<crate::TrimRequest> = Vec::new();
+    if let fit::Subject::Aircraft { aircraft } = &f.problem.subject {
+        let mut conditions: Vec<(crate::TrimRequest, crate::Loading)> = Vec::new();
         for t in &f.problem.targets {
-            if let Condition::Flight(c) = t.condition
-                && !conditions.contains(&c)
+            if let Condition::Flight(c, l) = t.condition
+                && !conditions.contains(&(c, l))
             {
-                conditions.push(c);
+                conditions.push((c, l));
             }
         }
-        let eig = |values: &[f64], c: crate::TrimRequest| {
+        let eig = |values: &[f64], (c, loading): (crate::TrimRequest, crate::Loading)| {
             let mut set = crate::corrections::CorrectionSet::default();
             for (par, v) in f.problem.parameters.iter().zip(values) {
                 par.kind.set(&mut set, *v);
@@ -543,7 +618,7 @@ pub fn run(f: &FitFile) -> FitRun {
             let analysis = set
                 .apply_to_aircraft(&mut a)
                 .ok()
-                .and_then(|_| crate::run_linearise(&a, c, *loading).ok())
+                .and_then(|_| crate::run_linearise(&a, c, loading).ok())
                 .and_then(|(_, lin)| cierva_model::analysis::modes::modes(&lin.model).ok());
             [
                 cierva_model::analysis::modes::ModeKind::Phugoid,
@@ -564,7 +639,7 @@ pub fn run(f: &FitFile) -> FitRun {
             let (b, a) = (eig(&start, c), eig(&result.values, c));
             for (k, name) in ["phugoid", "short_period"].into_iter().enumerate() {
                 modes.push(ModeShift {
-                    condition: Condition::Flight(c).label(),
+                    condition: Condition::Flight(c.0, c.1).label(),
                     mode: name,
                     before: b[k],
                     after: a[k],

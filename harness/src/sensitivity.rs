@@ -122,11 +122,17 @@ pub fn check_names(
             ));
         }
     }
-    let flight = crate::fit::Condition::Flight(TrimRequest {
-        airspeed_mph: 50.0,
-        climb_m_s: 0.0,
-        turn_rate_deg_s: 0.0,
-    });
+    let flight = crate::fit::Condition::Flight(
+        TrimRequest {
+            airspeed_mph: 50.0,
+            climb_m_s: 0.0,
+            turn_rate_deg_s: 0.0,
+        },
+        Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+    );
     for q in quantities {
         crate::fit::Measure::parse(&flight, &q.name)?;
     }

@@ -94,7 +94,7 @@ impl Kind for DerivativeCheck {
         Ok(Self {
             derivative,
             divided_by: spec.divided_by.clone(),
-            corrections: spec.corrections,
+            corrections: spec.corrections.clone(),
             linear,
         })
     }

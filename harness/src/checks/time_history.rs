@@ -69,7 +69,7 @@ impl Kind for TimeHistoryCheck {
             condition,
             simulation,
             azimuth_step_deg: spec.azimuth_step_deg,
-            corrections: spec.corrections,
+            corrections: spec.corrections.clone(),
         })
     }
 }

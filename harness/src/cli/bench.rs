@@ -451,20 +451,20 @@ fn fitting(out: &Rows) {
         use cierva_harness::fit::{
             self, Condition, Measure, Options, Parameter, ParameterKind, Problem, Subject, Target,
         };
-        let par = |kind, lower, upper| Parameter {
+        let par = |kind: ParameterKind, lower, upper| Parameter {
             kind,
             lower,
             upper,
-            start: ParameterKind::neutral(kind),
+            start: kind.neutral().unwrap_or(lower),
             regularisation: 0.0,
+        };
+        let loading = cierva_harness::Loading {
+            mass_kg: Some(425.0),
+            density_altitude_ft: 2000.0,
         };
         let mut problem = Problem {
             subject: Subject::Aircraft {
                 aircraft: Box::new(ac.aircraft.clone()),
-                loading: cierva_harness::Loading {
-                    mass_kg: Some(425.0),
-                    density_altitude_ft: 2000.0,
-                },
             },
             parameters: vec![
                 par(ParameterKind::PropellerBlockage, 0.0, 1.0),
@@ -476,11 +476,14 @@ fn fitting(out: &Rows) {
         };
         for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
             for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {
-                let condition = Condition::Flight(cierva_harness::TrimRequest {
-                    airspeed_mph: mph,
-                    climb_m_s: 0.0,
-                    turn_rate_deg_s: 0.0,
-                });
+                let condition = Condition::Flight(
+                    cierva_harness::TrimRequest {
+                        airspeed_mph: mph,
+                        climb_m_s: 0.0,
+                        turn_rate_deg_s: 0.0,
+                    },
+                    loading,
+                );
                 problem.targets.push(Target {
                     measure: Measure::parse(&condition, m).expect("known"),
                     condition,
