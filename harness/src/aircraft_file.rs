@@ -53,9 +53,10 @@
 //!
 //! Every number under `aircraft` must be covered by a `sources` entry (its own path or a
 //! parent's), and every entry must name a path that exists. A range names a parameter of
-//! [`PARAMETERS`], holds the file's value and has a source.
+//! [`crate::parameters::PARAMETERS`], holds the file's value and has a source.
 
 use crate::corrections::CorrectionSet;
+use crate::parameters::{PARAMETERS, parameter};
 use crate::refs::{Provenance, check_id};
 use crate::rotor_file::{self, RotorFile};
 use crate::yaml::{self, InputError};
@@ -248,174 +249,6 @@ pub struct Range {
     pub lower: f64,
     pub upper: f64,
     pub source: String,
-}
-
-/// A physical parameter of an assembled aircraft that `cierva sensitivity` can move, by its
-/// dotted name in the aircraft file (`.x`, `.z` pick a position's component).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ParameterInfo {
-    pub name: &'static str,
-    pub unit: &'static str,
-    pub meaning: &'static str,
-}
-
-/// Every parameter [`parameter_mut`] reaches.
-pub const PARAMETERS: &[ParameterInfo] = &[
-    ParameterInfo {
-        name: "mass.ixx_kg_m2",
-        unit: "kg m^2",
-        meaning: "roll moment of inertia (whole aircraft, rotors as frozen discs)",
-    },
-    ParameterInfo {
-        name: "mass.iyy_kg_m2",
-        unit: "kg m^2",
-        meaning: "pitch moment of inertia",
-    },
-    ParameterInfo {
-        name: "mass.izz_kg_m2",
-        unit: "kg m^2",
-        meaning: "yaw moment of inertia",
-    },
-    ParameterInfo {
-        name: "mass.ixz_kg_m2",
-        unit: "kg m^2",
-        meaning: "product of inertia",
-    },
-    ParameterInfo {
-        name: "main_rotor.pivot_m.x",
-        unit: "m",
-        meaning: "spindle pivot ahead of the datum",
-    },
-    ParameterInfo {
-        name: "main_rotor.pivot_m.z",
-        unit: "m",
-        meaning: "spindle pivot below the datum (negative: above)",
-    },
-    ParameterInfo {
-        name: "propeller.position_m.z",
-        unit: "m",
-        meaning: "propeller disc centre below the datum (the thrust line)",
-    },
-    ParameterInfo {
-        name: "airframe.reference_point_m.x",
-        unit: "m",
-        meaning: "where the pod's coefficient forces act, ahead of the datum",
-    },
-    ParameterInfo {
-        name: "airframe.reference_point_m.z",
-        unit: "m",
-        meaning: "where the pod's coefficient forces act, below the datum",
-    },
-    ParameterInfo {
-        name: "airframe.side_force_centre_m.x",
-        unit: "m",
-        meaning: "where the pod's side force acts (its side-area centre), ahead of the datum",
-    },
-    ParameterInfo {
-        name: "airframe.side_force_centre_m.z",
-        unit: "m",
-        meaning: "where the pod's side force acts (its side-area centre), below the datum",
-    },
-    ParameterInfo {
-        name: "airframe.fin.area_m2",
-        unit: "m^2",
-        meaning: "fin and rudder area",
-    },
-    ParameterInfo {
-        name: "airframe.fin.position_m.x",
-        unit: "m",
-        meaning: "fin's aerodynamic centre ahead of the datum (negative: behind)",
-    },
-    ParameterInfo {
-        name: "airframe.fin.position_m.z",
-        unit: "m",
-        meaning: "fin's aerodynamic centre below the datum (negative: above)",
-    },
-    ParameterInfo {
-        name: "airframe.fin.lift_slope_per_rad",
-        unit: "1/rad",
-        meaning: "fin lift-curve slope (effectiveness, sidewash)",
-    },
-    ParameterInfo {
-        name: "airframe.fin.slipstream_fraction",
-        unit: "-",
-        meaning: "share of the fin's area in the propeller's slipstream",
-    },
-    ParameterInfo {
-        name: "airframe.fin.wash_gradient",
-        unit: "-",
-        meaning: "sidewash gradient at the fin from the pod ahead (share of the sideslip taken)",
-    },
-    ParameterInfo {
-        name: "airframe.tailplane.wash_gradient",
-        unit: "-",
-        meaning: "downwash gradient at the tailplane (share of the angle of attack taken)",
-    },
-    ParameterInfo {
-        name: "airframe.tailplane.slipstream_fraction",
-        unit: "-",
-        meaning: "share of the tailplane's area in the propeller's slipstream",
-    },
-    ParameterInfo {
-        name: "airframe.tailplane.area_m2",
-        unit: "m^2",
-        meaning: "tailplane area",
-    },
-    ParameterInfo {
-        name: "airframe.tailplane.position_m.x",
-        unit: "m",
-        meaning: "tailplane's aerodynamic centre ahead of the datum",
-    },
-    ParameterInfo {
-        name: "airframe.tailplane.lift_slope_per_rad",
-        unit: "1/rad",
-        meaning: "tailplane lift-curve slope",
-    },
-    ParameterInfo {
-        name: "corrections.propeller_blockage",
-        unit: "-",
-        meaning: "seed 000's propeller blockage (0 none, 1 total)",
-    },
-];
-
-/// The parameter `name` of an aircraft, to read or set; `None` for an unknown name or a part
-/// the aircraft does not have (a fin).
-pub fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64> {
-    let surface = |s: &'a mut Option<Surface>| s.as_mut();
-    Some(match name {
-        "mass.ixx_kg_m2" => &mut a.mass.ixx_kg_m2,
-        "mass.iyy_kg_m2" => &mut a.mass.iyy_kg_m2,
-        "mass.izz_kg_m2" => &mut a.mass.izz_kg_m2,
-        "mass.ixz_kg_m2" => &mut a.mass.ixz_kg_m2,
-        "main_rotor.pivot_m.x" => &mut a.main_rotor.pivot_m[0],
-        "main_rotor.pivot_m.z" => &mut a.main_rotor.pivot_m[2],
-        "propeller.position_m.z" => &mut a.propeller.position_m[2],
-        "airframe.reference_point_m.x" => &mut a.airframe.reference_point_m[0],
-        "airframe.reference_point_m.z" => &mut a.airframe.reference_point_m[2],
-        "airframe.side_force_centre_m.x" => &mut a.airframe.side_force_centre_m.as_mut()?[0],
-        "airframe.side_force_centre_m.z" => &mut a.airframe.side_force_centre_m.as_mut()?[2],
-        "airframe.fin.area_m2" => &mut surface(&mut a.airframe.fin)?.area_m2,
-        "airframe.fin.position_m.x" => &mut surface(&mut a.airframe.fin)?.position_m[0],
-        "airframe.fin.position_m.z" => &mut surface(&mut a.airframe.fin)?.position_m[2],
-        "airframe.fin.lift_slope_per_rad" => &mut surface(&mut a.airframe.fin)?.lift_slope_per_rad,
-        "airframe.fin.slipstream_fraction" => {
-            &mut surface(&mut a.airframe.fin)?.slipstream_fraction
-        }
-        "airframe.fin.wash_gradient" => &mut surface(&mut a.airframe.fin)?.wash_gradient,
-        "airframe.tailplane.wash_gradient" => {
-            &mut surface(&mut a.airframe.tailplane)?.wash_gradient
-        }
-        "airframe.tailplane.slipstream_fraction" => {
-            &mut surface(&mut a.airframe.tailplane)?.slipstream_fraction
-        }
-        "airframe.tailplane.area_m2" => &mut surface(&mut a.airframe.tailplane)?.area_m2,
-        "airframe.tailplane.position_m.x" => &mut surface(&mut a.airframe.tailplane)?.position_m[0],
-        "airframe.tailplane.lift_slope_per_rad" => {
-            &mut surface(&mut a.airframe.tailplane)?.lift_slope_per_rad
-        }
-        "corrections.propeller_blockage" => &mut a.propeller.propeller.blockage,
-        _ => return None,
-    })
 }
 
 /// A loaded aircraft file.
@@ -674,7 +507,7 @@ fn check_ranges(
     let mut out = BTreeMap::new();
     for (name, r) in spec {
         let field = format!("ranges.{name}");
-        let Some(value) = parameter_mut(aircraft, name).map(|v| *v) else {
+        let Some(value) = parameter(aircraft, name) else {
             let names: Vec<String> = PARAMETERS.iter().map(|p| p.name.to_string()).collect();
             let hint = crate::yaml::nearest(name, &names)
                 .map(|n| format!(" (did you mean `{n}`?)"))

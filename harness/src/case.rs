@@ -215,9 +215,8 @@ fn check_sensitivity(
             ),
         ));
     }
-    let mut a = file.aircraft.clone();
     for (i, n) in names.iter().enumerate() {
-        if crate::aircraft_file::parameter_mut(&mut a, n).is_none() {
+        if crate::parameters::parameter(&file.aircraft, n).is_none() {
             return Err(err(
                 &format!("sensitivity.parameters[{i}]"),
                 format!("`{n}` is not a parameter of {}", file.id),

@@ -7,7 +7,7 @@
 //! main rotor wherever it flies, in an aircraft or alone in a tunnel.
 //!
 //! A set can also carry values of an aircraft file's *estimated* physical parameters (the
-//! names of [`crate::aircraft_file::PARAMETERS`]: a fin's area, the pod's side-force centre, an
+//! names of [`crate::parameters::PARAMETERS`]: a fin's area, the pod's side-force centre, an
 //! inertia), as a fit of them writes; they too need an aircraft. The aircraft file itself keeps
 //! its estimates: a fitted value is an overlay that `cierva validate --corrections` applies and
 //! the report names.
@@ -60,7 +60,7 @@ pub struct CorrectionSet {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral_inflow_offset_m_s: Option<f64>,
     /// An aircraft's estimated physical parameters, by their names in
-    /// [`crate::aircraft_file::PARAMETERS`].
+    /// [`crate::parameters::PARAMETERS`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub estimated: BTreeMap<String, f64>,
 }
@@ -148,10 +148,8 @@ impl CorrectionSet {
             a.hub_aoa_factor = Some(k);
         }
         for (name, v) in &self.estimated {
-            let slot = crate::aircraft_file::parameter_mut(a, name).ok_or_else(|| {
-                format!("`{name}` is not a physical parameter this aircraft has")
-            })?;
-            *slot = *v;
+            crate::parameters::set_parameter(a, name, *v)
+                .ok_or_else(|| format!("`{name}` is not a physical parameter this aircraft has"))?;
         }
         let blade = CorrectionSet {
             propeller_blockage: None,
@@ -248,11 +246,8 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
     }
     for (name, v) in &c.estimated {
         let field = format!("corrections.estimated.{name}");
-        if !crate::aircraft_file::PARAMETERS
-            .iter()
-            .any(|p| p.name == name && !name.starts_with("corrections."))
-        {
-            let names = crate::fit::ParameterKind::names();
+        let names = crate::parameters::physical_names();
+        if !names.contains(name) {
             let hint = yaml::nearest(name, &names)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();

@@ -29,7 +29,7 @@
 //!           broyden: true}             # false: difference the Jacobian every iteration
 //! ```
 //!
-//! A physical parameter (a name of [`crate::aircraft_file::PARAMETERS`]) can be fitted only
+//! A physical parameter (a name of [`crate::parameters::PARAMETERS`]) can be fitted only
 //! where the aircraft file's source for it begins "estimated" and the file gives it a plausible
 //! range with a source: the fit moves what nobody measured, and no further than its sources
 //! allow. It starts from the file's value. An aircraft's targets are flown at their own loading
@@ -250,8 +250,9 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
                 };
                 (lower, upper, p.start.unwrap_or(neutral))
             }
-            None => estimated_parameter(aircraft_file.as_ref(), name, p)
-                .map_err(|m| err(&field, m))?,
+            None => {
+                estimated_parameter(aircraft_file.as_ref(), name, p).map_err(|m| err(&field, m))?
+            }
         };
         parameters.push(Parameter {
             kind,
@@ -316,8 +317,7 @@ fn estimated_parameter(
     let Some(file) = file else {
         return Err("a physical parameter belongs to an aircraft: the subject is a rotor".into());
     };
-    let mut a = file.aircraft.clone();
-    let Some(value) = crate::aircraft_file::parameter_mut(&mut a, name).map(|v| *v) else {
+    let Some(value) = crate::parameters::parameter(&file.aircraft, name) else {
         return Err(format!("{} has no `{name}`", file.id));
     };
     let source = file.source_of(name).unwrap_or_default();
@@ -432,9 +432,10 @@ fn from_case(
     let path = dir.join(file);
     let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
     let (key, case_loading) = match &c.subject {
-        case::Subject::Aircraft { file, loading } => {
-            (SubjectKey::Aircraft(file.id.clone(), *loading), Some(*loading))
-        }
+        case::Subject::Aircraft { file, loading } => (
+            SubjectKey::Aircraft(file.id.clone(), *loading),
+            Some(*loading),
+        ),
         case::Subject::Rotor { file, inflow } => {
             (SubjectKey::Rotor(file.id.clone(), *inflow), None)
         }

@@ -17,6 +17,7 @@ pub mod fit;
 pub mod fit_file;
 pub mod history;
 pub mod ident;
+pub mod parameters;
 pub mod quantity;
 pub mod refs;
 pub mod report;

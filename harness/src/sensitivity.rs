@@ -9,7 +9,8 @@
 //! answer: a change that is large against the step is an extrapolation, and the table says by
 //! how many steps.
 
-use crate::aircraft_file::{AircraftFile, PARAMETERS, Range, parameter_mut};
+use crate::aircraft_file::{AircraftFile, Range};
+use crate::parameters::{PARAMETERS, parameter, set_parameter};
 use crate::{Loading, TrimRequest};
 use serde::Serialize;
 
@@ -108,9 +109,8 @@ pub fn check_names(
     parameters: &[String],
     quantities: &[Quantity],
 ) -> Result<(), String> {
-    let mut a = file.aircraft.clone();
     for p in parameters {
-        if parameter_mut(&mut a, p).is_none() {
+        if parameter(&file.aircraft, p).is_none() {
             let names: Vec<String> = PARAMETERS.iter().map(|p| p.name.to_string()).collect();
             let hint = crate::yaml::nearest(p, &names)
                 .map(|n| format!(" (did you mean `{n}`?)"))
@@ -153,8 +153,7 @@ pub fn run(
     let moved: Vec<Parameter> = parameters
         .iter()
         .map(|name| {
-            let mut a = file.aircraft.clone();
-            let value = *parameter_mut(&mut a, name).expect("checked above");
+            let value = parameter(&file.aircraft, name).expect("checked above");
             let info = PARAMETERS
                 .iter()
                 .find(|p| p.name == name)
@@ -175,7 +174,7 @@ pub fn run(
             return Ok(base.clone());
         }
         let mut f = file.clone();
-        *parameter_mut(&mut f.aircraft, &p.name).expect("checked above") = x;
+        set_parameter(&mut f.aircraft, &p.name, x).expect("checked above");
         f.aircraft
             .validate()
             .map_err(|e| format!("{} at {x}: {e}", p.name))?;

@@ -76,10 +76,9 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
     } else if !file.ranges.is_empty() {
         file.ranges.keys().cloned().collect()
     } else {
-        let mut air = file.aircraft.clone();
-        cierva_harness::aircraft_file::PARAMETERS
+        cierva_harness::parameters::PARAMETERS
             .iter()
-            .filter(|p| cierva_harness::aircraft_file::parameter_mut(&mut air, p.name).is_some())
+            .filter(|p| cierva_harness::parameters::parameter(&file.aircraft, p.name).is_some())
             .map(|p| p.name.to_string())
             .collect()
     };
