@@ -1543,6 +1543,57 @@ mod tests {
         assert!((a.a1_rad - b.a1_rad).abs() < 1e-9 && (a.b1_rad - b.b1_rad).abs() < 1e-9);
     }
 
+    /// Why a teetering rotor's blade weight matters only through its precone: the coned pair's
+    /// weights no longer cancel about the teeter hinge when the shaft is tilted, leaving a
+    /// once-per-revolution teeter moment `2 S sin(b0) g_x` (g_x gravity's share across the
+    /// shaft). A teeter is tuned to once per revolution, so only the air's damping (`gamma / 8`)
+    /// resists it: in still air the teeter answers with `8 S sin(b0) g_x / (gamma I Omega^2)`,
+    /// far more than the static `S g sin(b0) / (I Omega^2)` of a stiffness change would suggest.
+    /// (On the VPM M16, S = 20 kg m tilts the disc by 5e-5 rad and moves its trim by 0.03 deg.)
+    #[test]
+    fn a_coned_teetering_pairs_weight_forces_its_teeter_at_resonance() {
+        let mut rotor = classical(0.0, 0.0);
+        rotor.hub = Hub::Teetering;
+        rotor.blades = 2;
+        rotor.precone_rad = 3f64.to_radians();
+        rotor.flap_mass_moment_kg_m = 60.0;
+        let omega = 40.0;
+        let op = |gravity: [f64; 3]| Operating {
+            omega_rad_s: omega,
+            hub: HubVelocity::default(),
+            inflow: Inflow::default(),
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.0,
+            collective_shift_rad: 0.0,
+            hub_rates_rad_s: [0.0; 3],
+            gravity_m_s2: gravity,
+        };
+        let g = crate::components::atmosphere::G0_M_S2;
+        let (s20, c20) = 20f64.to_radians().sin_cos();
+        let blade = Blade::new(&rotor, Numerics::default());
+        let tilted = blade
+            .steady(&op([-g * s20, 0.0, g * c20]), [0.0; 2])
+            .unwrap();
+        let weightless = blade.steady(&op([0.0; 3]), [0.0; 2]).unwrap();
+        let answer = (tilted.a1_rad - weightless.a1_rad).hypot(tilted.b1_rad - weightless.b1_rad);
+        let gamma = rotor.lock_number(1.225);
+        let expected = 8.0 * 60.0 * rotor.precone_rad.sin() * g * s20
+            / (gamma * rotor.flap_inertia_kg_m2 * omega * omega);
+        assert!(
+            (answer / expected - 1.0).abs() < 0.03,
+            "{answer:e} against {expected:e}"
+        );
+        // Without precone the pair's weights cancel, tilted shaft or not.
+        rotor.precone_rad = 0.0;
+        let blade = Blade::new(&rotor, Numerics::default());
+        let tilted = blade
+            .steady(&op([-g * s20, 0.0, g * c20]), [0.0; 2])
+            .unwrap();
+        let weightless = blade.steady(&op([0.0; 3]), [0.0; 2]).unwrap();
+        assert!((tilted.a1_rad - weightless.a1_rad).abs() < 1e-12);
+        assert!((tilted.b1_rad - weightless.b1_rad).abs() < 1e-12);
+    }
+
     #[test]
     fn blade_angular_momentum_and_mass_centre_rates_match_differences() {
         // A hinge offset, a mass moment and hub rates, so that every term is alive.
