@@ -23,6 +23,7 @@
 //!                  cd1_per_rad: 0, cd2_per_rad2: 0, stall_alpha_deg: 12}
 //!     # or table: {alpha_deg: [...], mach: [...], cl: [[...]], cd: [[...]]}
 //!   elements: 20
+//!   yawed_flow_drag: false                           # optional: drag sees the radial flow too
 //!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0,   # optional
 //!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0}
 //! sources:                             # one entry for every field of `rotor`
@@ -107,6 +108,9 @@ pub struct RotorSpec {
     pub elements: usize,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corrections: Option<CorrectionsSpec>,
+    /// Section drag along the whole relative flow, radial share included (optional, off).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yawed_flow_drag: Option<bool>,
 }
 
 /// A rotor file as written.
@@ -215,6 +219,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         airfoil,
         elements: r.elements,
         corrections,
+        yawed_flow_drag: r.yawed_flow_drag.unwrap_or(false),
     };
     rotor.validate().map_err(|e| {
         let field = match &e {

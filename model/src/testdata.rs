@@ -96,6 +96,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         airfoil: section(0.011, 0.4, 12.0),
         elements: 10,
         corrections: Corrections::default(),
+        yawed_flow_drag: false,
     };
     let prop_rotor = Rotor {
         hub: Hub::Rigid,
@@ -117,6 +118,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         airfoil: section(0.012, 0.5, 14.0),
         elements: 8,
         corrections: Corrections::default(),
+        yawed_flow_drag: false,
     };
     let table = |f: &dyn Fn(f64, f64) -> f64| {
         let alpha: Vec<f64> = (-6..=6).map(|k| 10.0 * k as f64).collect();

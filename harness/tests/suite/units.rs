@@ -567,3 +567,34 @@ mod condition {
         assert!(parse("{airspeed_knots: 60.0}").is_err());
     }
 }
+
+mod rotor_file {
+    /// `yawed_flow_drag` is optional and off; set, it needs a source like every field.
+    #[test]
+    fn yawed_flow_drag_is_optional_and_sourced() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .unwrap();
+        let text = std::fs::read_to_string(root.join("aircraft/pca-2-rotor.yaml")).unwrap();
+        let shipped =
+            cierva_harness::rotor_file::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
+        assert!(!shipped.rotor.yawed_flow_drag);
+        let dir = std::env::temp_dir().join(format!("cierva-yawed-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("pca-2-rotor.yaml");
+        let on = text.replacen("\n  elements:", "\n  yawed_flow_drag: true\n  elements:", 1);
+        std::fs::write(&path, &on).unwrap();
+        let e = cierva_harness::rotor_file::load(&path)
+            .unwrap_err()
+            .render();
+        assert!(e.contains("rotor.yawed_flow_drag"), "{e}");
+        let sourced = on.replacen(
+            "\nsources:\n",
+            "\nsources:\n  yawed_flow_drag: \"Johnson 1980, ch. 5\"\n",
+            1,
+        );
+        std::fs::write(&path, sourced).unwrap();
+        let f = cierva_harness::rotor_file::load(&path).unwrap();
+        assert!(f.rotor.yawed_flow_drag);
+    }
+}

@@ -649,6 +649,7 @@ mod tests {
                 }),
                 elements: 20,
                 corrections: Corrections::default(),
+                yawed_flow_drag: false,
             },
             blockage,
             map: None,
