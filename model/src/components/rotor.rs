@@ -626,7 +626,7 @@ impl<'a> Blade<'a> {
         let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
         let hub_e = cb * hub_r - sb * h.w;
         let (ur_r, ur_rho) = (-dot(w_r, e_b), -dot(w_z, e_b));
-        let yawed = if rot.yawed_flow_drag { 1.0 } else { 0.0 };
+        let yawed = rot.yawed_flow_drag;
         let v1s = op.inflow.v1s + rot.corrections.lateral_inflow_offset_m_s;
         let harmonic = (v1s * sp + op.inflow.v1c * cp) / rot.radius_m;
         let theta_shift = op.collective_shift_rad + rot.corrections.pitch_offset_rad;
@@ -657,8 +657,12 @@ impl<'a> Blade<'a> {
             let q_w = half_rho * w * el.chord * el.dr;
             // Lift from the flow normal to the span (independence principle); drag along the
             // whole flow, radial share included, with its dynamic pressure (yawed flow).
-            let ur = yawed * (-hub_e - sb * vi + ur_r * radial + ur_rho * el.rho);
-            let u = (w2 + ur * ur).sqrt();
+            let (u, ur) = if yawed {
+                let ur = -hub_e - sb * vi + ur_r * radial + ur_rho * el.rho;
+                ((w2 + ur * ur).sqrt(), ur)
+            } else {
+                (w, 0.0)
+            };
             let (l, d) = (q_w * cl * el.lift, half_rho * u * el.chord * el.dr * cd);
             let ft = -l * up - d * ut;
             let fz = -l * ut + d * up;
