@@ -1,7 +1,8 @@
-//! Constrained fitting of the model's empirical corrections against flight references.
+//! Constrained fitting of the model's empirical corrections, and of an aircraft's estimated
+//! physical parameters, against flight (or tunnel) references.
 //!
 //! # Problem
-//! Parameters `p` (corrections with bounds), targets `y_k(p)` (derivatives or trim quantities
+//! Parameters `p` (corrections or estimated physical parameters, with bounds), targets `y_k(p)` (derivatives or trim quantities
 //! of an aircraft at flight conditions, or autorotation quantities of a rotor alone at tunnel
 //! conditions) with references `d_k` and standard errors `s_k`. The cost is
 //!

@@ -168,6 +168,8 @@ pub fn parameter(a: &Aircraft, name: &str) -> Option<f64> {
             let m = pick(&mut controls);
             Some((m.at_100_percent - m.at_0_percent).to_degrees())
         }
+        // One accessor serves reading and setting; a read clones the aircraft (a few kB), which
+        // the callers (loading, a study's setup) can afford.
         None => parameter_mut(&mut a.clone(), name).map(|v| *v),
     }
 }
