@@ -244,9 +244,9 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
             ));
         }
     }
+    let names = crate::parameters::physical_names();
     for (name, v) in &c.estimated {
         let field = format!("corrections.estimated.{name}");
-        let names = crate::parameters::physical_names();
         if !names.contains(name) {
             let hint = yaml::nearest(name, &names)
                 .map(|n| format!(" (did you mean `{n}`?)"))
