@@ -928,7 +928,25 @@ impl Aircraft {
         air: Air,
     ) -> Result<FullDerivative, AircraftError> {
         let mr = &self.main_rotor;
-        self.derivatives_with(&Blade::new(&mr.rotor, mr.numerics), x, controls, air)
+        let blade = Blade::new(&mr.rotor, mr.numerics);
+        self.derivatives_with(&blade, x, controls, air, [0.0; 3])
+    }
+
+    /// [`Aircraft::derivatives`] in moving air: `wind_body_m_s` is the air's velocity over the
+    /// ground in body axes (a gust; `+x` a tailwind, `+z` a downdraught). Every aerodynamic
+    /// load (rotor, propeller, airframe and tail) sees the body's velocity less the wind's; the
+    /// rigid-body equations keep the body's own. The wind is uniform over the aircraft: the
+    /// gust's gradients (its rotational components) are not modelled.
+    pub fn derivatives_in_wind(
+        &self,
+        x: &FullState,
+        controls: &Controls,
+        air: Air,
+        wind_body_m_s: [f64; 3],
+    ) -> Result<FullDerivative, AircraftError> {
+        let mr = &self.main_rotor;
+        let blade = Blade::new(&mr.rotor, mr.numerics);
+        self.derivatives_with(&blade, x, controls, air, wind_body_m_s)
     }
 
     /// [`Aircraft::derivatives`] with the main rotor's blade elements prepared once
@@ -939,6 +957,7 @@ impl Aircraft {
         x: &FullState,
         controls: &Controls,
         air: Air,
+        wind_body_m_s: [f64; 3],
     ) -> Result<FullDerivative, AircraftError> {
         // Long: the full right-hand side, load by load in the order of seed 001 Table 1; a hot
         // path, kept in one place so that the blades' angles are computed once
@@ -953,7 +972,14 @@ impl Aircraft {
                 value: x.flap.len() as f64,
             });
         }
-        let frame = self.rotor_frame(&x.body, controls);
+        // The air's velocity relative to the body: what every aerodynamic load sees.
+        let air_body = BodyState {
+            u_m_s: x.body.u_m_s - wind_body_m_s[0],
+            v_m_s: x.body.v_m_s - wind_body_m_s[1],
+            w_m_s: x.body.w_m_s - wind_body_m_s[2],
+            ..x.body
+        };
+        let frame = self.rotor_frame(&air_body, controls);
         let op = self.operating(&frame, omega, x.inflow, air);
         let psi1 = x.rotor_azimuth_rad;
         // Blades: (azimuth, beta, beta_dot).
@@ -1097,7 +1123,7 @@ impl Aircraft {
             Drive::Engine { .. } => x.propeller_omega_rad_s,
         };
         let (_, prop_loads, prop_omega_dot, af) =
-            self.propeller_and_airframe(&x.body, prop_omega, controls, air)?;
+            self.propeller_and_airframe(&air_body, prop_omega, controls, air)?;
         let total = sum_loads(&[rotor_loads, prop_loads, af]);
         let body_dot = rigid_body::derivatives_with_free_spins(
             &self.mass,
@@ -1245,6 +1271,63 @@ mod tests {
                 "{hub:?}: {mean:?}"
             );
         }
+    }
+
+    /// A gust is air-relative velocity: flying at body velocity `V` in a wind `W` loads the
+    /// aircraft exactly as flying at `V - W` in still air. Only the rigid body's kinematic terms
+    /// (`r v - q w` and the like, and the position rates) see the body's own velocity. And a
+    /// downdraught (air moving down) unloads the rotor: the body accelerates downward.
+    #[test]
+    fn a_gust_loads_the_aircraft_as_the_air_relative_velocity_does() {
+        let a = gyroplane();
+        let c = Condition {
+            airspeed_m_s: 31.3,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air: air(),
+        };
+        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let mut x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
+        (x.body.p_rad_s, x.body.q_rad_s, x.body.r_rad_s) = (0.05, 0.03, -0.04);
+        let wind = [1.5, -0.8, 2.0];
+        let in_wind = a.derivatives_in_wind(&x, &t.controls, air(), wind).unwrap();
+        let mut relative = x.clone();
+        relative.body.u_m_s -= wind[0];
+        relative.body.v_m_s -= wind[1];
+        relative.body.w_m_s -= wind[2];
+        let still = a.derivatives(&relative, &t.controls, air()).unwrap();
+        let (p, q, r) = (x.body.p_rad_s, x.body.q_rad_s, x.body.r_rad_s);
+        let [du, dv, dw] = wind;
+        // u' = X/m + r v - q w, v' = Y/m + p w - r u, w' = Z/m + q u - p v.
+        let kinematic = [r * dv - q * dw, p * dw - r * du, q * du - p * dv];
+        let (dw_, ds_) = (in_wind.body.to_array(), still.body.to_array());
+        for k in 0..3 {
+            assert!(
+                (dw_[k] - ds_[k] - kinematic[k]).abs() < 1e-9,
+                "axis {k}: {} vs {} + {}",
+                dw_[k],
+                ds_[k],
+                kinematic[k]
+            );
+        }
+        for k in 3..9 {
+            assert!((dw_[k] - ds_[k]).abs() < 1e-12, "{k}: {dw_:?} vs {ds_:?}");
+        }
+        assert_eq!(in_wind.rotor_omega_rad_s, still.rotor_omega_rad_s);
+        assert_eq!(in_wind.flap, still.flap);
+        assert_eq!(in_wind.inflow, still.inflow);
+        assert_eq!(in_wind.propeller_omega_rad_s, still.propeller_omega_rad_s);
+        // A 2 m/s downdraught: the rotor and airframe lose lift, the body accelerates down.
+        let calm = a.derivatives(&x, &t.controls, air()).unwrap();
+        let down = a
+            .derivatives_in_wind(&x, &t.controls, air(), [0.0, 0.0, 2.0])
+            .unwrap();
+        assert!(
+            down.body.w_m_s > calm.body.w_m_s + 1.0,
+            "{} vs {}",
+            down.body.w_m_s,
+            calm.body.w_m_s
+        );
     }
 
     /// The pusher propeller at incidence: air from starboard (sideslip) pushes the disc to

@@ -77,10 +77,19 @@ pub fn step(
         x,
         t,
         dt,
-        controls,
+        (controls, &still),
         air,
     )
 }
+
+/// Still air: no wind at any time.
+fn still(_: f64) -> [f64; 3] {
+    [0.0; 3]
+}
+
+/// Control and wind time histories: `controls(t)`, and `wind(t)`, the air's velocity over the
+/// ground in body axes, m/s ([`Aircraft::derivatives_in_wind`]).
+type Drivers<'a> = (&'a dyn Fn(f64) -> Controls, &'a dyn Fn(f64) -> [f64; 3]);
 
 /// [`step`] with the main rotor's blade elements prepared once for a run.
 fn step_with(
@@ -89,10 +98,11 @@ fn step_with(
     x: &FullState,
     t: f64,
     dt: f64,
-    controls: &dyn Fn(f64) -> Controls,
+    (controls, wind): Drivers,
     air: Air,
 ) -> Result<FullState, AircraftError> {
-    let f = |y: &FullState, tt: f64| aircraft.derivatives_with(blade, y, &controls(tt), air);
+    let f =
+        |y: &FullState, tt: f64| aircraft.derivatives_with(blade, y, &controls(tt), air, wind(tt));
     let k1 = f(x, t)?;
     let k2 = f(&add(x, &k1, dt / 2.0), t + dt / 2.0)?;
     let k3 = f(&add(x, &k2, dt / 2.0), t + dt / 2.0)?;
@@ -112,6 +122,19 @@ pub fn run(
     aircraft: &Aircraft,
     start: FullState,
     controls: &dyn Fn(f64) -> Controls,
+    air: Air,
+    settings: Settings,
+) -> Result<TimeHistory, (f64, AircraftError)> {
+    run_in_wind(aircraft, start, controls, &still, air, settings)
+}
+
+/// [`run`] in moving air: `wind(t)` is the air's velocity over the ground in body axes, m/s,
+/// evaluated at each Runge-Kutta stage's time, as the controls are.
+pub fn run_in_wind(
+    aircraft: &Aircraft,
+    start: FullState,
+    controls: &dyn Fn(f64) -> Controls,
+    wind: &dyn Fn(f64) -> [f64; 3],
     air: Air,
     settings: Settings,
 ) -> Result<TimeHistory, (f64, AircraftError)> {
@@ -157,7 +180,7 @@ pub fn run(
     });
     for k in 0..n {
         let t = k as f64 * dt;
-        x = step_with(aircraft, &blade, &x, t, dt, controls, air).map_err(|e| (t, e))?;
+        x = step_with(aircraft, &blade, &x, t, dt, (controls, wind), air).map_err(|e| (t, e))?;
         let finite = x.body.to_array().iter().all(|v| v.is_finite())
             && x.rotor_omega_rad_s.is_finite()
             && x.flap.iter().all(|f| f[0].is_finite() && f[1].is_finite());
