@@ -15,6 +15,7 @@ pub mod discrepancy;
 pub mod eval;
 pub mod fit;
 pub mod fit_file;
+pub mod flight_test;
 pub mod history;
 pub mod ident;
 pub mod parameters;

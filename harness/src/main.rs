@@ -122,12 +122,29 @@ enum Command {
     /// correlations and warnings.
     ///
     /// Example: `cierva identify /tmp/vpm-sweep.csv --format yaml > flight-refs/my-derivatives.yaml`
+    ///
+    /// Against the model: `cierva identify /tmp/vpm-m16-70mph-sweep.csv --against aircraft/vpm-m16.yaml`
+    /// (the record from the `synth-flight` example).
     Identify {
-        /// A record CSV with its sidecar YAML beside it.
-        record: PathBuf,
-        /// Identification set-up (default: longitudinal [u w q theta Omega], 0.05-2 Hz, 100 points).
+        /// Record CSVs, each with its sidecar YAML beside it; several records of one condition
+        /// are identified together (their spectra concatenated).
+        #[arg(required = true, num_args = 1..)]
+        records: Vec<PathBuf>,
+        /// Identification set-up file (overrides --setup).
         #[arg(long)]
         config: Option<PathBuf>,
+        /// A built-in set-up, 0.05-2 Hz at 100 points (default: longitudinal for one record,
+        /// coupled for several).
+        #[arg(long, value_enum)]
+        setup: Option<cierva_harness::ident::Setup>,
+        /// Linearise this aircraft at the records' condition (their sidecars' `condition`) and
+        /// print its derivatives beside the identified ones, marking those inside the 95 %
+        /// bounds.
+        #[arg(long)]
+        against: Option<PathBuf>,
+        /// A corrections file to apply to the aircraft of --against.
+        #[arg(long, requires = "against")]
+        corrections: Option<PathBuf>,
         /// text, json, or yaml (a flight-refs derivative table).
         #[arg(long, value_enum, default_value_t = IdentFormat::Text)]
         format: IdentFormat,
@@ -278,6 +295,17 @@ enum Command {
     /// --amplitude-percent 2 --duration-s 8 --noise-rate-deg-s 0.2 --seed 7
     /// --output flight-refs/synthetic-vpm-m16-70mph-doublet.csv`
     SynthHistory(SynthHistoryArgs),
+    /// Fly a flight test with the full individual-blade model and record it in the
+    /// identification format (`cierva identify` reads it): a pilot flies the input on one
+    /// control with a loose attitude hold about slowly drifting references, through Dryden
+    /// turbulence, and instruments with noise, bias and lag record air data at the probe,
+    /// rates, attitudes, rotorspeed and every control at 100 Hz. The sidecar says it is
+    /// synthetic, with the command, seed and truth.
+    ///
+    /// Example: `cierva synth-flight aircraft/vpm-m16.yaml --airspeed-mph 70 --manoeuvre sweep
+    /// --control eta_s --amplitude-percent 4 --turbulence-m-s 0.3 --seed 1
+    /// --output /tmp/vpm-m16-70mph-sweep.csv`
+    SynthFlight(SynthFlightArgs),
     /// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
     /// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
     /// Newton solver reached (converged when every scaled residual is at most 1e-7).
@@ -392,11 +420,24 @@ fn main() -> ExitCode {
         ),
         Command::Synth(args) => synth(args),
         Command::Identify {
-            record,
+            records,
             config,
+            setup,
+            against,
+            corrections,
             format,
             predict,
-        } => identify(record, config, format, predict),
+        } => identify(
+            IdentifyArgs {
+                records,
+                config,
+                setup,
+                against,
+                corrections,
+            },
+            format,
+            predict,
+        ),
         Command::Autorotate(a) => autorotate(a),
         Command::Sensitivity(a) => sensitivity(a),
         Command::Linearize { flight, format } => linearize(flight, format),
@@ -417,6 +458,7 @@ fn main() -> ExitCode {
             format,
         ),
         Command::SynthHistory(a) => synth_history(a),
+        Command::SynthFlight(a) => synth_flight(a),
         Command::Trim {
             flight,
             turn_rate_deg_s,

@@ -1,25 +1,48 @@
-//! `cierva identify`: frequency-domain equation-error identification of a flight record.
+//! `cierva identify`: frequency-domain equation-error identification of flight records, alone
+//! or beside a model's linearisation.
 
 use super::*;
+use cierva_harness::ident::{self, record};
 
-pub(crate) fn identify(
-    path: PathBuf,
-    config: Option<PathBuf>,
-    format: IdentFormat,
-    predict: Option<PathBuf>,
-) -> ExitCode {
-    use cierva_harness::ident::{self, record};
-    let rec = match record::load(&path) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
+/// What to identify and what to compare it with.
+pub(crate) struct IdentifyArgs {
+    pub(crate) records: Vec<PathBuf>,
+    pub(crate) config: Option<PathBuf>,
+    pub(crate) setup: Option<ident::Setup>,
+    pub(crate) against: Option<PathBuf>,
+    pub(crate) corrections: Option<PathBuf>,
+}
+
+pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<PathBuf>) -> ExitCode {
+    // Long: one command in the order it works: load, set up, identify, compare, print, predict
+    let mut recs = Vec::with_capacity(a.records.len());
+    for p in &a.records {
+        match record::load(p) {
+            Ok(r) => recs.push(r),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
         }
-    };
-    let cfg = match config {
-        None => ident::ConfigSpec::longitudinal(&rec),
-        Some(p) => match cierva_harness::yaml::read(&p)
-            .and_then(|src| cierva_harness::yaml::parse(&p, &src))
+    }
+    let rec = &recs[0];
+    let cfg = match &a.config {
+        None => {
+            let setup = a.setup.unwrap_or(if recs.len() > 1 {
+                ident::Setup::Coupled
+            } else {
+                ident::Setup::Longitudinal
+            });
+            match ident::ConfigSpec::for_setup(setup, rec) {
+                Ok(c) => c,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            }
+        }
+        Some(p) => match cierva_harness::yaml::read(p)
+            .and_then(|src| cierva_harness::yaml::parse(p, &src))
         {
             Ok(c) => c,
             Err(e) => {
@@ -28,52 +51,33 @@ pub(crate) fn identify(
             }
         },
     };
-    let result = match ident::identify_record(&rec, &cfg) {
+    let result = match ident::identify_records(&recs, &cfg) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
+    let compared = match &a.against {
+        None => None,
+        Some(aircraft) => match linearised_against(aircraft, a.corrections.as_ref(), &recs) {
+            Ok(model) => Some(ident::against(&result, &model)),
+            Err(code) => return code,
+        },
+    };
     match format {
-        IdentFormat::Json => print_json(&result),
+        IdentFormat::Json => match &compared {
+            None => print_json(&result),
+            Some(c) => print_json(&serde_json::json!({
+                "identification": result,
+                "against": c,
+            })),
+        },
         IdentFormat::Yaml => print!(
             "{}",
-            ident::reference_yaml(&format!("{}-derivatives", rec.meta.id), &result, &rec)
+            ident::reference_yaml(&format!("{}-derivatives", rec.meta.id), &result, rec)
         ),
-        IdentFormat::Text => {
-            println!(
-                "{} ({}): {}",
-                rec.meta.title, rec.meta.id, rec.meta.provenance.source
-            );
-            println!(
-                "{:<14} {:>13} {:>12} {:>26}",
-                "derivative", "estimate", "std error", "95 % bounds"
-            );
-            for d in &result.derivatives {
-                println!(
-                    "{:<14} {:>13} {:>12} {:>26}",
-                    d.name,
-                    text::sig(d.estimate, 5),
-                    text::sig(d.standard_error, 3),
-                    format!(
-                        "[{}, {}]",
-                        text::sig(d.lower_95, 4),
-                        text::sig(d.upper_95, 4)
-                    )
-                );
-            }
-            for f in &result.fits {
-                println!(
-                    "equation {}: R^2 {:.5}, condition number {:.2e}, {} dof",
-                    f.state, f.r_squared, f.condition_number, f.dof
-                );
-                for w in &f.warnings {
-                    println!("  warning: {w}");
-                }
-            }
-            println!("status: {}", result.status);
-        }
+        IdentFormat::Text => print_text(&recs, &result, compared.as_deref()),
     }
     if let Some(other) = predict {
         let outcome = record::load(&other)
@@ -101,4 +105,124 @@ pub(crate) fn identify(
         }
     }
     ExitCode::SUCCESS
+}
+
+/// The aircraft (with its corrections) linearised at the records' condition, which must be
+/// one condition.
+fn linearised_against(
+    aircraft: &Path,
+    corrections: Option<&PathBuf>,
+    recs: &[record::Record],
+) -> Result<cierva_model::LinearModel, ExitCode> {
+    let conditions = recs
+        .iter()
+        .map(ident::record_condition)
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        })?;
+    let (request, loading) = conditions[0];
+    if let Some((k, _)) = conditions
+        .iter()
+        .enumerate()
+        .find(|(_, c)| **c != conditions[0])
+    {
+        eprintln!(
+            "error: {} and {} are not at one condition ({:?} against {:?}): identify each condition on its own",
+            recs[0].path.display(),
+            recs[k].path.display(),
+            conditions[0],
+            conditions[k]
+        );
+        return Err(ExitCode::from(2));
+    }
+    let flight = FlightArgs {
+        aircraft: aircraft.to_path_buf(),
+        airspeed_mph: request.airspeed_mph,
+        mass_kg: loading.mass_kg,
+        climb_m_s: request.climb_m_s,
+        density_altitude_ft: loading.density_altitude_ft,
+        corrections: corrections.cloned(),
+    };
+    let file = load_flight(&flight)?;
+    cierva_harness::run_linearise(&file.aircraft, request, loading)
+        .map(|(_, lin)| lin.model)
+        .map_err(|e| {
+            eprintln!("error: {}: {e}", aircraft.display());
+            ExitCode::from(1)
+        })
+}
+
+fn print_text(
+    recs: &[record::Record],
+    result: &ident::Identification,
+    compared: Option<&[ident::Against]>,
+) {
+    for rec in recs {
+        println!(
+            "{} ({}): {}",
+            rec.meta.title, rec.meta.id, rec.meta.provenance.source
+        );
+    }
+    match compared {
+        None => {
+            println!(
+                "{:<14} {:>13} {:>12} {:>26}",
+                "derivative", "estimate", "std error", "95 % bounds"
+            );
+            for d in &result.derivatives {
+                println!(
+                    "{:<14} {:>13} {:>12} {:>26}",
+                    d.name,
+                    text::sig(d.estimate, 5),
+                    text::sig(d.standard_error, 3),
+                    format!(
+                        "[{}, {}]",
+                        text::sig(d.lower_95, 4),
+                        text::sig(d.upper_95, 4)
+                    )
+                );
+            }
+        }
+        Some(rows) => {
+            println!(
+                "{:<14} {:>13} {:>26} {:>13}  model inside?",
+                "derivative", "identified", "95 % bounds", "model"
+            );
+            for r in rows {
+                println!(
+                    "{:<14} {:>13} {:>26} {:>13}  {}{}",
+                    r.name,
+                    text::sig(r.estimate, 5),
+                    format!(
+                        "[{}, {}]",
+                        text::sig(r.lower_95, 4),
+                        text::sig(r.upper_95, 4)
+                    ),
+                    text::sig(r.model, 5),
+                    if r.inside { "inside" } else { "OUTSIDE" },
+                    if r.primary { " (primary)" } else { "" }
+                );
+            }
+            let primary: Vec<&ident::Against> = rows.iter().filter(|r| r.primary).collect();
+            println!(
+                "model inside the identified bounds: {} of {} derivatives, {} of {} primary",
+                rows.iter().filter(|r| r.inside).count(),
+                rows.len(),
+                primary.iter().filter(|r| r.inside).count(),
+                primary.len()
+            );
+        }
+    }
+    for f in &result.fits {
+        println!(
+            "equation {}: R^2 {:.5}, condition number {:.2e}, {} dof",
+            f.state, f.r_squared, f.condition_number, f.dof
+        );
+        for w in &f.warnings {
+            println!("  warning: {w}");
+        }
+    }
+    println!("status: {}", result.status);
 }

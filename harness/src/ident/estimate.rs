@@ -183,6 +183,33 @@ pub struct Spectra {
     der_ft: Vec<Vec<C>>,
 }
 
+impl Spectra {
+    /// Several records' spectra as one: their (segment, frequency) points stacked, as the
+    /// segments of one record are. This is how flight testers identify one condition from
+    /// several runs (a longitudinal and a lateral sweep): each run excites what the others do
+    /// not, and the equations hold in all of them. The parts must have the same variables.
+    pub fn concatenate(parts: Vec<Spectra>) -> Result<Spectra, IdentError> {
+        let mut parts = parts.into_iter();
+        let mut out = parts.next().ok_or(IdentError::NoFrequencies)?;
+        for p in parts {
+            if p.names != out.names || p.states != out.states {
+                return Err(IdentError::Setting(format!(
+                    "records with different variables cannot be identified together ({:?} and {:?})",
+                    out.names, p.names
+                )));
+            }
+            out.omegas.extend(p.omegas);
+            for (a, b) in out.var_ft.iter_mut().zip(p.var_ft) {
+                a.extend(b);
+            }
+            for (a, b) in out.der_ft.iter_mut().zip(p.der_ft) {
+                a.extend(b);
+            }
+        }
+        Ok(out)
+    }
+}
+
 /// Identifies each equation by least squares.
 pub fn identify(
     sig: Signals<'_>,

@@ -139,6 +139,159 @@ impl ConfigSpec {
     }
 }
 
+/// The identification set-ups `identify --setup` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Setup {
+    /// `[u w q theta Omega]` with the first record's first control (seeds 000 and 002).
+    Longitudinal,
+    /// `[v p r phi Omega]` with the lateral stick and the pedals.
+    Lateral,
+    /// `[u v w p q r phi theta Omega]` with stick and pedals: the teetering rotor couples the
+    /// axes (`M_p`, `L_q`), and a longitudinal set-up leaves that coupling in the residual.
+    /// Needs records that excite every axis (a longitudinal and a lateral sweep, identified
+    /// together).
+    Coupled,
+}
+
+/// A record's channel for a control (`eta_s` -> `eta_s_pct` or `eta_s_rad`).
+fn control_channel(record: &Record, control: &str) -> Option<String> {
+    [format!("{control}_pct"), format!("{control}_rad")]
+        .into_iter()
+        .find(|c| record.meta.controls.contains(c))
+}
+
+impl ConfigSpec {
+    /// A set-up for records, 0.05-2 Hz at 100 points, instrumental variables. The coupled and
+    /// lateral set-ups need the records to carry the controls they name.
+    pub fn for_setup(setup: Setup, record: &Record) -> Result<Self, String> {
+        let (states, controls, kinematics): (&[&str], &[&str], &[(&str, &str)]) = match setup {
+            Setup::Longitudinal => return Ok(Self::longitudinal(record)),
+            Setup::Lateral => (
+                &["v", "p", "r", "phi", "Omega"],
+                &["eta_c", "eta_p"],
+                &[("phi", "p")],
+            ),
+            Setup::Coupled => (
+                &["u", "v", "w", "p", "q", "r", "phi", "theta", "Omega"],
+                &["eta_s", "eta_c", "eta_p"],
+                &[("theta", "q"), ("phi", "p")],
+            ),
+        };
+        let mut map = BTreeMap::new();
+        for c in controls {
+            let ch = control_channel(record, c).ok_or_else(|| {
+                format!(
+                    "{}: the {setup:?} set-up needs the control `{c}` ({c}_pct or {c}_rad among the sidecar's controls)",
+                    record.path.display()
+                )
+            })?;
+            map.insert(c.to_string(), ch);
+        }
+        Ok(Self {
+            states: states.iter().map(|s| s.to_string()).collect(),
+            controls: map,
+            frequencies: BandSpec {
+                from_hz: Some(0.05),
+                to_hz: Some(2.0),
+                points: Some(100),
+                list_hz: None,
+            },
+            windowing: WindowingSpec::default(),
+            equations: vec![],
+            kinematics: kinematics
+                .iter()
+                .map(|(a, b)| (a.to_string(), b.to_string()))
+                .collect(),
+            method: Method::default(),
+        })
+    }
+}
+
+/// The flight condition a record's sidecar gives (`condition`: one airspeed, and optionally
+/// `climb_m_s`, `turn_rate_deg_s`, `mass_kg`, `density_altitude_ft`), for linearising a model
+/// there.
+pub fn record_condition(record: &Record) -> Result<(crate::TrimRequest, crate::Loading), String> {
+    let c = &record.meta.condition;
+    let number = |k: &str| -> Result<Option<f64>, String> {
+        match c.get(k) {
+            None => Ok(None),
+            Some(v) => v.as_f64().map(Some).ok_or_else(|| {
+                format!("{}: condition `{k}` is not a number", sidecar_name(record))
+            }),
+        }
+    };
+    let mut flight = serde_yaml::Mapping::new();
+    for k in [
+        "airspeed_mph",
+        "airspeed_kn",
+        "airspeed_m_s",
+        "climb_m_s",
+        "turn_rate_deg_s",
+    ] {
+        if let Some(v) = number(k)? {
+            flight.insert(k.into(), v.into());
+        }
+    }
+    let request: crate::TrimRequest = serde_yaml::from_value(serde_yaml::Value::Mapping(flight))
+        .map_err(|e| format!("{}: condition: {e}", sidecar_name(record)))?;
+    Ok((
+        request,
+        crate::Loading {
+            mass_kg: number("mass_kg")?,
+            density_altitude_ft: number("density_altitude_ft")?.unwrap_or(0.0),
+        },
+    ))
+}
+
+fn sidecar_name(record: &Record) -> String {
+    record::sidecar_path(&record.path).display().to_string()
+}
+
+/// The derivatives issue 18 and seed 000 call primary: the damping and stiffness of each axis,
+/// the rotorspeed's own derivative, and each control's moment.
+pub const PRIMARY: [&str; 13] = [
+    "X_u", "Z_w", "M_q", "M_w", "Q_Omega", "Y_v", "L_p", "L_v", "N_v", "N_r", "M_eta_s", "L_eta_c",
+    "N_eta_p",
+];
+
+/// An identified derivative beside a model's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Against {
+    pub name: String,
+    pub estimate: f64,
+    pub standard_error: f64,
+    pub lower_95: f64,
+    pub upper_95: f64,
+    /// The model's value (NaN where the model has no such derivative).
+    pub model: f64,
+    /// The model's value lies within the identified 95 % bounds (false for NaN).
+    pub inside: bool,
+    pub primary: bool,
+}
+
+/// Every identified derivative beside the model's (a linearisation with the identification's
+/// state, control and derivative names).
+pub fn against(ident: &Identification, model: &LinearModel) -> Vec<Against> {
+    ident
+        .derivatives
+        .iter()
+        .map(|d| {
+            let m = model.derivative_value(&d.name).unwrap_or(f64::NAN);
+            Against {
+                name: d.name.clone(),
+                estimate: d.estimate,
+                standard_error: d.standard_error,
+                lower_95: d.lower_95,
+                upper_95: d.upper_95,
+                model: m,
+                inside: m.is_finite() && d.lower_95 <= m && m <= d.upper_95,
+                primary: PRIMARY.contains(&d.name.as_str()),
+            }
+        })
+        .collect()
+}
+
 /// One identified derivative, for tables.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Derivative {
@@ -234,7 +387,17 @@ pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String
 
 /// Identifies a record with a set-up.
 pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identification, String> {
-    let (xs, us) = signals(record, config)?;
+    identify_records(std::slice::from_ref(record), config)
+}
+
+/// Identifies several records of one condition together (their spectra concatenated,
+/// [`estimate::Spectra::concatenate`]) with one set-up.
+pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Identification, String> {
+    // Long: one estimation, in the order it runs: the equations, the frequencies, each record's
+    // transforms, least squares, then the instrumental-variable passes
+    if records.is_empty() {
+        return Err("no record to identify".into());
+    }
     let controls: Vec<String> = config.controls.keys().cloned().collect();
     let all: Vec<String> = config.states.iter().chain(&controls).cloned().collect();
     // Every force equation with every state and control free: the default, and the first model
@@ -275,21 +438,32 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
                 .into(),
         ),
     };
-    let sig = Signals {
-        states: &config.states,
-        controls: &controls,
-        x: &xs,
-        u: &us,
-        dt_s: record.dt_s(),
-    };
     let w = Windowing {
         segments: config.windowing.segments,
         overlap: config.windowing.overlap,
         hann: config.windowing.hann,
     };
-    let err = |e: IdentError| format!("{}: {e}", record.path.display());
+    let names: Vec<String> = records
+        .iter()
+        .map(|r| r.path.display().to_string())
+        .collect();
+    let err = |e: IdentError| format!("{}: {e}", names.join(" + "));
     // The transforms are computed once; least squares and each instrumental-variable pass use them.
-    let spectra = estimate::spectra(sig, &freqs, w).map_err(err)?;
+    let mut parts = Vec::with_capacity(records.len());
+    for r in records {
+        let (xs, us) = signals(r, config)?;
+        let sig = Signals {
+            states: &config.states,
+            controls: &controls,
+            x: &xs,
+            u: &us,
+            dt_s: r.dt_s(),
+        };
+        parts.push(
+            estimate::spectra(sig, &freqs, w).map_err(|e| format!("{}: {e}", r.path.display()))?,
+        );
+    }
+    let spectra = estimate::Spectra::concatenate(parts).map_err(err)?;
     let mut fits = estimate::fit_equations(&spectra, &equations, None).map_err(err)?;
     if config.method == Method::InstrumentalVariables {
         // The first model: the full least-squares fit, with the user's equations in their rows
@@ -335,7 +509,11 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
         "ok"
     };
     Ok(Identification {
-        record: record.meta.id.clone(),
+        record: records
+            .iter()
+            .map(|r| r.meta.id.as_str())
+            .collect::<Vec<_>>()
+            .join(" + "),
         fits,
         derivatives,
         status,

@@ -61,6 +61,18 @@ pub enum Input {
         amplitude: f64,
         descending: bool,
     },
+    /// An exponential sweep from `from_hz` to `to_hz`, starting at `start_s` and lasting
+    /// `duration_s`: the frequency `w0 + K (w1 - w0)` with `K = 0.0187 (exp(4 t / T) - 1)`, which
+    /// dwells at the low frequencies a linear sweep rushes through (Tischler and Remple,
+    /// *Aircraft and Rotorcraft System Identification*, 2nd ed., Sec. 5.6). Faded in and out
+    /// over its first and last 2 s.
+    ExponentialSweep {
+        start_s: f64,
+        from_hz: f64,
+        to_hz: f64,
+        duration_s: f64,
+        amplitude: f64,
+    },
     /// `+a` for `pulse_s`, then `-a` for `pulse_s`, starting at `start_s`.
     Doublet {
         start_s: f64,
@@ -99,6 +111,27 @@ impl Input {
                 let phase = 2.0 * PI * (f0 * t + (f1 - f0) * t * t / (2.0 * duration_s));
                 let fade = 2.0f64.min(duration_s / 4.0);
                 let edge = (t / fade).min((duration_s - t) / fade).min(1.0);
+                let taper = 0.5 - 0.5 * (PI * edge).cos();
+                amplitude * taper * phase.sin()
+            }
+            Self::ExponentialSweep {
+                start_s,
+                from_hz,
+                to_hz,
+                duration_s,
+                amplitude,
+            } => {
+                let s = t - start_s;
+                if !(0.0..=duration_s).contains(&s) {
+                    return 0.0;
+                }
+                let (c1, c2) = (4.0, 0.0187);
+                let (w0, w1) = (2.0 * PI * from_hz, 2.0 * PI * to_hz);
+                // The phase: the integral of w0 + c2 (exp(c1 s / T) - 1) (w1 - w0).
+                let k_integral = c2 * (duration_s / c1 * ((c1 * s / duration_s).exp() - 1.0) - s);
+                let phase = w0 * s + (w1 - w0) * k_integral;
+                let fade = 2.0f64.min(duration_s / 4.0);
+                let edge = (s / fade).min((duration_s - s) / fade).min(1.0);
                 let taper = 0.5 - 0.5 * (PI * edge).cos();
                 amplitude * taper * phase.sin()
             }

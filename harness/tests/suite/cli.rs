@@ -872,3 +872,79 @@ fn linearize_applies_fitted_estimated_parameters() {
     assert!(own > -2.0 && own < -1.9, "{own}");
     assert!((-2.727..=-2.377).contains(&fitted), "{fitted}");
 }
+
+/// `synth-flight` writes a record `identify` reads, with a sidecar that says synthetic and
+/// names its seed, turbulence and instruments; two records identified together `--against` the
+/// aircraft print the model beside the identified derivatives. Bad arguments are errors.
+#[test]
+fn synth_flight_records_identify_against_the_aircraft() {
+    let dir = std::env::temp_dir().join(format!("cierva-synth-flight-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut paths = Vec::new();
+    for (control, amplitude) in [("eta_s", "4"), ("eta_c", "3")] {
+        let out = dir.join(format!("vpm-{control}.csv"));
+        let (code, stdout, stderr) = cierva(&[
+            "synth-flight",
+            "aircraft/vpm-m16.yaml",
+            "--airspeed-mph",
+            "70",
+            "--manoeuvre",
+            "sweep",
+            "--control",
+            control,
+            "--amplitude-percent",
+            amplitude,
+            "--duration-s",
+            "50",
+            "--from-hz",
+            "0.1",
+            "--turbulence-m-s",
+            "0.31",
+            "--seed",
+            "3",
+            "--output",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        assert!(stdout.contains("5001 samples"), "{stdout}");
+        paths.push(out.to_str().unwrap().to_string());
+    }
+    let side = std::fs::read_to_string(dir.join("vpm-eta_s.yaml")).unwrap();
+    for want in [
+        "synthetic:",
+        "seed: 3",
+        "Dryden",
+        "sensor.q_rad_s",
+        "pilot:",
+    ] {
+        assert!(side.contains(want), "{want} missing from\n{side}");
+    }
+    let mut args = vec!["identify"];
+    args.extend(paths.iter().map(String::as_str));
+    args.extend(["--setup", "coupled", "--against", "aircraft/vpm-m16.yaml"]);
+    let (code, stdout, stderr) = cierva(&args);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(
+        stdout.contains("model inside the identified bounds"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("N_r"), "{stdout}");
+    let (code, _, stderr) = cierva(&[
+        "synth-flight",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        "70",
+        "--manoeuvre",
+        "doublet",
+        "--control",
+        "eta_x",
+        "--amplitude-percent",
+        "2",
+        "--seed",
+        "1",
+        "--output",
+        dir.join("bad.csv").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("unknown control `eta_x`"), "{stderr}");
+}

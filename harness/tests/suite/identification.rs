@@ -434,3 +434,55 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
             .contains("revolutions")
     );
 }
+
+/// Records identified together stack their frequency points: two records of the same
+/// turbulent flight with different seeds give one estimate with the degrees of freedom of both
+/// and smaller standard errors than either alone; no record at all is an error.
+#[test]
+fn records_identified_together_pool_their_information() {
+    let turb = Some(synth::Turbulence {
+        intensity: 0.05,
+        correlation_time_s: 0.5,
+    });
+    let noise = SensorNoise {
+        airspeed_m_s: 0.05,
+        vane_rad: 0.001,
+        rate_rad_s: 0.0005,
+        attitude_rad: 0.0005,
+        rotor_rad_s: 0.05,
+        control: 0.0,
+    };
+    let a = record::load(&write_record(
+        "pool-a",
+        &settings("pool-a", 21, noise, turb),
+    ))
+    .unwrap();
+    let b = record::load(&write_record(
+        "pool-b",
+        &settings("pool-b", 22, noise, turb),
+    ))
+    .unwrap();
+    let config = ConfigSpec::longitudinal(&a);
+    let one = identify_record(&a, &config).unwrap();
+    let both = cierva_harness::ident::identify_records(&[a.clone(), b.clone()], &config).unwrap();
+    assert_eq!(both.record, "pool-a + pool-b");
+    for (f1, f2) in one.fits.iter().zip(&both.fits) {
+        assert!(f2.dof > 2 * f1.dof - 20, "{} against {}", f2.dof, f1.dof);
+    }
+    let se = |i: &cierva_harness::ident::Identification, name: &str| {
+        i.derivatives
+            .iter()
+            .find(|d| d.name == name)
+            .unwrap()
+            .standard_error
+    };
+    for name in ["X_u", "Z_w", "M_q", "M_w", "Q_Omega"] {
+        assert!(
+            se(&both, name) < se(&one, name),
+            "{name}: {} together against {} alone",
+            se(&both, name),
+            se(&one, name)
+        );
+    }
+    assert!(cierva_harness::ident::identify_records(&[], &config).is_err());
+}

@@ -12,6 +12,7 @@ mod cli;
 mod common;
 mod discrepancies;
 mod fit;
+mod flight_test;
 mod identification;
 mod mutation;
 mod units;

@@ -77,7 +77,10 @@ pub fn step(
         x,
         t,
         dt,
-        (controls, &still),
+        Drivers {
+            controls: &|t, _| controls(t),
+            wind: &still,
+        },
         air,
     )
 }
@@ -87,9 +90,16 @@ fn still(_: f64) -> [f64; 3] {
     [0.0; 3]
 }
 
-/// Control and wind time histories: `controls(t)`, and `wind(t)`, the air's velocity over the
-/// ground in body axes, m/s ([`Aircraft::derivatives_in_wind`]).
-type Drivers<'a> = (&'a dyn Fn(f64) -> Controls, &'a dyn Fn(f64) -> [f64; 3]);
+/// What drives a run besides its start.
+#[derive(Clone, Copy)]
+pub struct Drivers<'a> {
+    /// The controls at a time and state: a schedule, or a pilot or controller closing a loop
+    /// on the state (evaluated at every Runge-Kutta stage, so a continuous-time law).
+    pub controls: &'a dyn Fn(f64, &FullState) -> Controls,
+    /// The air's velocity over the ground in body axes at a time, m/s
+    /// ([`Aircraft::derivatives_in_wind`]).
+    pub wind: &'a dyn Fn(f64) -> [f64; 3],
+}
 
 /// [`step`] with the main rotor's blade elements prepared once for a run.
 fn step_with(
@@ -98,11 +108,12 @@ fn step_with(
     x: &FullState,
     t: f64,
     dt: f64,
-    (controls, wind): Drivers,
+    d: Drivers,
     air: Air,
 ) -> Result<FullState, AircraftError> {
-    let f =
-        |y: &FullState, tt: f64| aircraft.derivatives_with(blade, y, &controls(tt), air, wind(tt));
+    let f = |y: &FullState, tt: f64| {
+        aircraft.derivatives_with(blade, y, &(d.controls)(tt, y), air, (d.wind)(tt))
+    };
     let k1 = f(x, t)?;
     let k2 = f(&add(x, &k1, dt / 2.0), t + dt / 2.0)?;
     let k3 = f(&add(x, &k2, dt / 2.0), t + dt / 2.0)?;
@@ -125,16 +136,19 @@ pub fn run(
     air: Air,
     settings: Settings,
 ) -> Result<TimeHistory, (f64, AircraftError)> {
-    run_in_wind(aircraft, start, controls, &still, air, settings)
+    let drivers = Drivers {
+        controls: &|t, _| controls(t),
+        wind: &still,
+    };
+    run_with(aircraft, start, drivers, air, settings)
 }
 
-/// [`run`] in moving air: `wind(t)` is the air's velocity over the ground in body axes, m/s,
-/// evaluated at each Runge-Kutta stage's time, as the controls are.
-pub fn run_in_wind(
+/// [`run`] with controls that may close a loop on the state, in moving air (both evaluated at
+/// each Runge-Kutta stage's time).
+pub fn run_with(
     aircraft: &Aircraft,
     start: FullState,
-    controls: &dyn Fn(f64) -> Controls,
-    wind: &dyn Fn(f64) -> [f64; 3],
+    drivers: Drivers,
     air: Air,
     settings: Settings,
 ) -> Result<TimeHistory, (f64, AircraftError)> {
@@ -175,12 +189,12 @@ pub fn run_in_wind(
     let mut x = start;
     samples.push(Sample {
         time_s: 0.0,
-        controls: controls(0.0),
+        controls: (drivers.controls)(0.0, &x),
         state: x.clone(),
     });
     for k in 0..n {
         let t = k as f64 * dt;
-        x = step_with(aircraft, &blade, &x, t, dt, (controls, wind), air).map_err(|e| (t, e))?;
+        x = step_with(aircraft, &blade, &x, t, dt, drivers, air).map_err(|e| (t, e))?;
         let finite = x.body.to_array().iter().all(|v| v.is_finite())
             && x.rotor_omega_rad_s.is_finite()
             && x.flap.iter().all(|f| f[0].is_finite() && f[1].is_finite());
@@ -194,7 +208,7 @@ pub fn run_in_wind(
         if (k + 1) % every == 0 || k + 1 == n {
             samples.push(Sample {
                 time_s: t + dt,
-                controls: controls(t + dt),
+                controls: (drivers.controls)(t + dt, &x),
                 state: x.clone(),
             });
         }

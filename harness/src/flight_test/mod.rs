@@ -1,0 +1,273 @@
+//! Flight tests flown by the full individual-blade model: a pilot flying a test input
+//! ([`pilot`]) through turbulence ([`turbulence`]), recorded by instruments ([`sensors`]) in the
+//! identification format ([`crate::ident::record`]).
+//!
+//! The record is what a flight-test installation gives (seed 000 Sec. II): airspeed and the
+//! vanes' angles at the air-data probe (air-relative, so the gusts are in them), body rates,
+//! attitudes, rotorspeed, and every control in % of travel, sampled at a regular rate. The
+//! rotor's blades are individual, so the 2/rev shaking of a two-bladed rotor is in the record,
+//! as in flight.
+
+pub mod pilot;
+pub mod sensors;
+pub mod turbulence;
+
+use crate::ident::synth::{Input, Normal};
+use crate::{Loading, MPH_TO_M_S, TrimRequest};
+use cierva_model::aircraft::{Aircraft, Controls, FullState};
+use cierva_model::simulation::timehistory::{self, Drivers};
+use pilot::Pilot;
+use sensors::Instrumentation;
+use std::collections::BTreeMap;
+use turbulence::Dryden;
+
+/// The record's control channels, in the order of the model's controls.
+pub const CONTROL_CHANNELS: [&str; 4] = ["eta_s_pct", "eta_c_pct", "eta_p_pct", "eta_t_pct"];
+
+/// A flight test to fly.
+#[derive(Debug, Clone)]
+pub struct FlightTest {
+    pub request: TrimRequest,
+    pub loading: Loading,
+    /// The test input, in % of travel.
+    pub input: Input,
+    /// The control it moves (index into [`CONTROL_CHANNELS`]).
+    pub control: usize,
+    pub duration_s: f64,
+    pub sample_rate_hz: f64,
+    pub turbulence: Option<Dryden>,
+    pub instrumentation: Instrumentation,
+    /// Fly with the pilot's attitude hold (otherwise the input alone, open loop).
+    pub pilot: bool,
+    pub seed: u64,
+    /// Azimuth step of the full model, rad.
+    pub azimuth_step_rad: f64,
+}
+
+/// A flown test: the record's channels and samples, the trim, and what flew it.
+#[derive(Debug, Clone)]
+pub struct Flown {
+    pub channels: Vec<String>,
+    pub data: Vec<Vec<f64>>,
+    /// Trim values of the record's channels and of the c.g. velocities (`u_m_s`, `w_m_s`).
+    pub trim: BTreeMap<String, f64>,
+    /// The air-data probe's position in the aircraft's datum, and the c.g.'s, m.
+    pub probe_position_m: [f64; 3],
+    pub cg_position_m: [f64; 3],
+    pub pilot: Option<Pilot>,
+    /// The true (noise-free, unlagged) samples of the same channels, for tests.
+    pub truth: Vec<Vec<f64>>,
+}
+
+/// What the record holds, in order (the identification format's required channels, then the
+/// controls).
+fn channel_names() -> Vec<String> {
+    crate::ident::record::REQUIRED
+        .iter()
+        .chain(CONTROL_CHANNELS.iter())
+        .map(|c| c.to_string())
+        .collect()
+}
+
+/// Derived seeds for the independent random sources of one test.
+fn seed_for(seed: u64, source: u64) -> u64 {
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(source.wrapping_mul(0xD1B5_4A32_D192_ED03))
+}
+
+/// Flies the test with the full model and records it.
+pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
+    // Long: one flight in the order it happens: trim, pilot, turbulence, the run, then the
+    // instruments sampling it
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(test.duration_s) && ok(test.sample_rate_hz) && ok(test.azimuth_step_rad)) {
+        return Err("the duration, sample rate and azimuth step must be positive".into());
+    }
+    if test.control >= CONTROL_CHANNELS.len() {
+        return Err(format!("no control {}", test.control));
+    }
+    let start = crate::simulation_start(aircraft, test.request, test.loading)?;
+    let dt = 1.0 / test.sample_rate_hz;
+    let n = (test.duration_s * test.sample_rate_hz).round() as usize;
+    let pilot = if test.pilot {
+        let (_, lin) = crate::run_linearise(&start.aircraft, test.request, test.loading)
+            .map_err(|e| format!("linearising for the pilot's gains: {e}"))?;
+        Some(Pilot::new(
+            &lin.model,
+            test.duration_s,
+            seed_for(test.seed, 1),
+        )?)
+    } else {
+        None
+    };
+    let airspeed = test.request.airspeed_mph * MPH_TO_M_S;
+    let gusts = match &test.turbulence {
+        Some(d) => d.realise(airspeed, dt, n + 1, seed_for(test.seed, 2))?,
+        None => vec![[0.0; 3]; n + 2],
+    };
+    let wind = |t: f64| -> [f64; 3] {
+        let pos = (t / dt).max(0.0);
+        let k = (pos.floor() as usize).min(gusts.len() - 2);
+        let f = (pos - k as f64).min(1.0);
+        [0, 1, 2].map(|i| gusts[k][i] + f * (gusts[k + 1][i] - gusts[k][i]))
+    };
+    let u0 = start.controls;
+    let b0 = start.state.body;
+    let trim_pct = [
+        u0.stick_longitudinal_percent,
+        u0.stick_lateral_percent,
+        u0.pedal_percent,
+        u0.throttle_percent,
+    ];
+    let controls = |t: f64, x: &FullState| -> Controls {
+        let mut d = [0.0; 4];
+        d[test.control] = test.input.at(t);
+        if let Some(p) = &pilot {
+            let b = &x.body;
+            let c = p.corrections(
+                t,
+                [
+                    b.theta_rad - b0.theta_rad,
+                    b.phi_rad - b0.phi_rad,
+                    b.psi_rad - b0.psi_rad,
+                ],
+                [b.p_rad_s, b.q_rad_s, b.r_rad_s],
+            );
+            for k in 0..3 {
+                d[k] += c[k];
+            }
+        }
+        // The controls stop at the ends of their travel.
+        let at = |k: usize| (trim_pct[k] + d[k]).clamp(0.0, 100.0);
+        Controls {
+            stick_longitudinal_percent: at(0),
+            stick_lateral_percent: at(1),
+            pedal_percent: at(2),
+            throttle_percent: at(3),
+        }
+    };
+    let settings = timehistory::Settings {
+        azimuth_step_rad: test.azimuth_step_rad,
+        duration_s: test.duration_s + dt,
+        output_every: 1,
+    };
+    let drivers = Drivers {
+        controls: &controls,
+        wind: &wind,
+    };
+    let h = timehistory::run_with(
+        &start.aircraft,
+        start.state.clone(),
+        drivers,
+        start.air,
+        settings,
+    )
+    .map_err(|(t, e)| format!("the flight diverged at {t:.2} s: {e}"))?;
+    // The true channels at each sample time, interpolated between the integration steps.
+    let cg = start.aircraft.cg_m;
+    let probe = start_probe(&test.instrumentation, cg);
+    let arm = [probe[0] - cg[0], probe[1] - cg[1], probe[2] - cg[2]];
+    let names = channel_names();
+    let mut truth = vec![Vec::with_capacity(n + 1); names.len()];
+    let mut j = 0;
+    for k in 0..=n {
+        let t = k as f64 * dt;
+        while j + 2 < h.samples.len() && h.samples[j + 1].time_s <= t {
+            j += 1;
+        }
+        let (a, b) = (&h.samples[j], &h.samples[(j + 1).min(h.samples.len() - 1)]);
+        let f = if b.time_s > a.time_s {
+            ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let row_a = true_row(&a.state, &a.controls, wind(a.time_s), arm);
+        let row_b = true_row(&b.state, &b.controls, wind(b.time_s), arm);
+        truth[0].push(t);
+        for i in 1..names.len() {
+            truth[i].push(row_a[i - 1] + f * (row_b[i - 1] - row_a[i - 1]));
+        }
+    }
+    if truth.iter().flatten().any(|v| !v.is_finite()) {
+        return Err("the flight's record is not finite".into());
+    }
+    // The instruments.
+    let mut rng = Normal::new(seed_for(test.seed, 3));
+    let mut data = vec![truth[0].clone()];
+    for (name, series) in names.iter().zip(&truth).skip(1) {
+        let ch = test
+            .instrumentation
+            .channel(name)
+            .ok_or_else(|| format!("no sensor for the channel `{name}`"))?;
+        data.push(ch.measure(series, dt, &mut rng));
+    }
+    // The trim: the mean over one revolution of the periodic orbit, controls held, calm air.
+    let revolution = timehistory::run(
+        &start.aircraft,
+        start.state.clone(),
+        &|_| u0,
+        start.air,
+        timehistory::Settings {
+            duration_s: 2.0 * std::f64::consts::PI / start.state.rotor_omega_rad_s,
+            ..settings
+        },
+    )
+    .map_err(|(t, e)| format!("the trim's revolution failed at {t:.3} s: {e}"))?;
+    let steps = &revolution.samples[..revolution.samples.len().saturating_sub(1).max(1)];
+    let mut mean = [0.0; 16];
+    for x in steps {
+        let row = true_row(&x.state, &x.controls, [0.0; 3], arm);
+        let b = &x.state.body;
+        let extra = [b.u_m_s, b.v_m_s, b.w_m_s];
+        for (m, v) in mean.iter_mut().zip(row.into_iter().chain(extra)) {
+            *m += v / steps.len() as f64;
+        }
+    }
+    let keys = names
+        .iter()
+        .skip(1)
+        .map(String::as_str)
+        .chain(["u_m_s", "v_m_s", "w_m_s"]);
+    let trim: BTreeMap<String, f64> = keys.zip(mean).map(|(k, v)| (k.to_string(), v)).collect();
+    Ok(Flown {
+        channels: names,
+        data,
+        trim,
+        probe_position_m: probe,
+        cg_position_m: cg,
+        pilot,
+        truth,
+    })
+}
+
+/// The probe's position in the datum.
+fn start_probe(inst: &Instrumentation, cg: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| cg[i] + inst.probe_from_cg_m[i])
+}
+
+/// The true record channels after `time_s` (see [`channel_names`]) at a state: the air data at
+/// the probe from the air-relative velocity (seed 000 Eqs. 5-6 read backwards).
+fn true_row(x: &FullState, c: &Controls, wind: [f64; 3], arm: [f64; 3]) -> [f64; 13] {
+    let b = &x.body;
+    let (p, q, r) = (b.p_rad_s, b.q_rad_s, b.r_rad_s);
+    let air = [b.u_m_s - wind[0], b.v_m_s - wind[1], b.w_m_s - wind[2]];
+    let up = air[0] + q * arm[2] - r * arm[1];
+    let vp = air[1] + r * arm[0] - p * arm[2];
+    let wp = air[2] + p * arm[1] - q * arm[0];
+    let airspeed = (up * up + vp * vp + wp * wp).sqrt();
+    [
+        airspeed,
+        wp.atan2(up),
+        (vp / airspeed).asin(),
+        p,
+        q,
+        r,
+        b.phi_rad,
+        b.theta_rad,
+        x.rotor_omega_rad_s,
+        c.stick_longitudinal_percent,
+        c.stick_lateral_percent,
+        c.pedal_percent,
+        c.throttle_percent,
+    ]
+}

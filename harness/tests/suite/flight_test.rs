@@ -1,0 +1,256 @@
+//! Flight tests flown by the full model: the turbulence against MIL-F-8785C's Dryden forms, the
+//! instruments against their specification, a pilot holding trim, and records of several runs
+//! identified together.
+
+use cierva_harness::flight_test::sensors::{Channel, Instrumentation};
+use cierva_harness::flight_test::turbulence::Dryden;
+use cierva_harness::flight_test::{self, FlightTest};
+use cierva_harness::ident::synth::{Input, Normal};
+use cierva_harness::{Loading, TrimRequest, repo_root};
+
+/// MIL-F-8785C's low-altitude scales at 500 ft: L_w = 500 ft, L_u = L_v = 500 / 0.5885^1.2 ft
+/// (944.6 ft), sigma_u = sigma_v = sigma_w / 0.5885^0.4 (1.2362 sigma_w).
+#[test]
+fn low_altitude_scales_are_mil_f_8785c() {
+    let d = Dryden::low_altitude(0.3, 500.0 * 0.3048).unwrap();
+    assert!((d.scale_m[2] - 152.4).abs() < 1e-9);
+    assert!(
+        (d.scale_m[0] / 0.3048 - 944.6).abs() < 0.1,
+        "{:?}",
+        d.scale_m
+    );
+    assert_eq!(d.scale_m[0], d.scale_m[1]);
+    assert!(
+        (d.sigma_m_s[0] / 0.3 - 1.2362).abs() < 1e-4,
+        "{:?}",
+        d.sigma_m_s
+    );
+    assert!(Dryden::low_altitude(0.3, 2000.0 * 0.3048).is_err());
+    assert!(Dryden::low_altitude(-0.1, 150.0).is_err());
+    assert!(Dryden::low_altitude(f64::NAN, 150.0).is_err());
+}
+
+/// A long realisation has the Dryden variance and autocorrelation: `sigma^2` at lag 0, and at a
+/// lag of one scale time `T = L/V`, `exp(-1)` (first-order u) and `exp(-1) / 2` (second-order
+/// v and w). Over 20 000 scale times the sampling error of each is about 0.01.
+#[test]
+fn a_realisation_has_the_dryden_variance_and_correlation() {
+    let d = Dryden {
+        sigma_m_s: [1.0, 0.5, 2.0],
+        scale_m: [30.0, 15.0, 15.0],
+    };
+    let (v, dt) = (30.0, 0.05);
+    let n = 400_000;
+    let g = d.realise(v, dt, n, 7).unwrap();
+    for axis in 0..3 {
+        let x: Vec<f64> = g.iter().map(|s| s[axis]).collect();
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        let var = x.iter().map(|a| (a - mean).powi(2)).sum::<f64>() / x.len() as f64;
+        let s2 = d.sigma_m_s[axis].powi(2);
+        assert!(
+            (var / s2 - 1.0).abs() < 0.05,
+            "axis {axis}: variance {var} against {s2}"
+        );
+        let lag = (d.scale_m[axis] / v / dt).round() as usize;
+        let r = (0..x.len() - lag)
+            .map(|k| (x[k] - mean) * (x[k + lag] - mean))
+            .sum::<f64>()
+            / (x.len() - lag) as f64
+            / var;
+        let want = if axis == 0 {
+            (-1.0f64).exp()
+        } else {
+            0.5 * (-1.0f64).exp()
+        };
+        assert!(
+            (r - want).abs() < 0.03,
+            "axis {axis}: correlation {r} against {want}"
+        );
+    }
+    // Seeded: the same seed gives the same air, another seed other air.
+    assert_eq!(d.realise(v, dt, n, 7).unwrap(), g);
+    assert_ne!(d.realise(v, dt, 100, 8).unwrap(), g[..101].to_vec());
+    assert!(d.realise(0.0, dt, 10, 7).is_err());
+}
+
+/// A channel measures `lag(truth) + bias + noise`: the bias and noise as specified, and a step
+/// reaching 1 - exp(-1) of its height after one lag time constant.
+#[test]
+fn an_instrument_lags_biases_and_adds_noise() {
+    let ch = Channel {
+        noise: 0.2,
+        bias: 0.5,
+        lag_s: 0.0,
+    };
+    let mut rng = Normal::new(3);
+    let y = ch.measure(&vec![1.0; 200_000], 0.01, &mut rng);
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let sd = (y.iter().map(|a| (a - mean).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+    assert!((mean - 1.5).abs() < 0.005, "{mean}");
+    assert!((sd - 0.2).abs() < 0.005, "{sd}");
+    let lagged = Channel {
+        noise: 0.0,
+        bias: 0.0,
+        lag_s: 0.1,
+    };
+    let step: Vec<f64> = (0..100).map(|k| if k == 0 { 0.0 } else { 1.0 }).collect();
+    let y = lagged.measure(&step, 0.01, &mut rng);
+    // Ten samples of 0.01 s after the step: one time constant.
+    assert!((y[10] - (1.0 - (-1.0f64).exp())).abs() < 1e-12, "{}", y[10]);
+}
+
+fn write(name: &str, text: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("cierva-sensors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(format!("{name}.yaml"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// A sensors file overrides the defaults value by value, each with a source; an unsourced value
+/// and an unknown channel are located errors.
+#[test]
+fn a_sensors_file_needs_a_source_for_every_value() {
+    let ok = write(
+        "boom",
+        "id: boom\ntitle: t\nprobe_from_cg_m: [2.0, 0.0, -0.4]\nchannels:\n  alpha_vane_rad: {noise: 0.003}\nsources:\n  probe_from_cg_m: \"estimated: test\"\n  channels.alpha_vane_rad.noise: \"estimated: test\"\n",
+    );
+    let i = Instrumentation::load(&ok).unwrap();
+    assert_eq!(i.probe_from_cg_m, [2.0, 0.0, -0.4]);
+    assert_eq!(i.channels["alpha_vane_rad"].noise, 0.003);
+    // The rest of the channel stays at its default.
+    let d = Instrumentation::default();
+    assert_eq!(
+        i.channels["alpha_vane_rad"].lag_s,
+        d.channels["alpha_vane_rad"].lag_s
+    );
+    assert_eq!(i.channels["q_rad_s"], d.channels["q_rad_s"]);
+    let unsourced = write(
+        "unsourced",
+        "id: unsourced\ntitle: t\nchannels:\n  q_rad_s: {bias: 0.01}\n",
+    );
+    let e = Instrumentation::load(&unsourced).unwrap_err();
+    assert!(e.message.contains("no entry under `sources`"), "{e:?}");
+    assert_eq!(e.line, Some(4), "{e:?}");
+    let unknown = write(
+        "unknown",
+        "id: unknown\ntitle: t\nchannels:\n  q_rad: {noise: 0.01}\nsources:\n  channels: \"estimated: test\"\n",
+    );
+    let e = Instrumentation::load(&unknown).unwrap_err();
+    assert!(e.message.contains("did you mean `q_rad_s`"), "{e:?}");
+    let negative = write(
+        "negative",
+        "id: negative\ntitle: t\nchannels:\n  q_rad_s: {noise: -0.01}\nsources:\n  channels: \"estimated: test\"\n",
+    );
+    assert!(
+        Instrumentation::load(&negative)
+            .unwrap_err()
+            .message
+            .contains("not negative")
+    );
+}
+
+fn perfect() -> Instrumentation {
+    let mut i = Instrumentation::default();
+    for ch in i.channels.values_mut() {
+        *ch = Channel {
+            noise: 0.0,
+            bias: 0.0,
+            lag_s: 0.0,
+        };
+    }
+    i
+}
+
+fn vpm_m16() -> cierva_model::aircraft::Aircraft {
+    cierva_harness::aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml"))
+        .unwrap()
+        .aircraft
+}
+
+fn test(input: Input, control: usize, duration_s: f64) -> FlightTest {
+    FlightTest {
+        request: TrimRequest {
+            airspeed_mph: 70.0,
+            climb_m_s: 0.0,
+            turn_rate_deg_s: 0.0,
+        },
+        loading: Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+        input,
+        control,
+        duration_s,
+        sample_rate_hz: 100.0,
+        turbulence: None,
+        instrumentation: perfect(),
+        pilot: true,
+        seed: 5,
+        azimuth_step_rad: 5f64.to_radians(),
+    }
+}
+
+/// In calm air with no input, the pilot's drifting references move the aircraft by a fraction
+/// of a degree, and the record's means are the trim: the record starts on the trim's periodic
+/// orbit and the sidecar's trim is that orbit's mean.
+#[test]
+fn with_no_input_the_record_holds_its_trim() {
+    let t = test(
+        Input::Step {
+            start_s: 0.0,
+            amplitude: 0.0,
+        },
+        0,
+        10.0,
+    );
+    let f = flight_test::fly(&vpm_m16(), &t).unwrap();
+    let col = |name: &str| {
+        let i = f.channels.iter().position(|c| c == name).unwrap();
+        &f.data[i]
+    };
+    // The first second, before the drift has moved anything: the orbit's 2/rev only.
+    for (name, tol) in [
+        ("airspeed_m_s", 0.01),
+        ("theta_rad", 2e-4),
+        ("q_rad_s", 5e-3),
+        ("omega_rotor_rad_s", 0.01),
+    ] {
+        let x = &col(name)[..100];
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        assert!(
+            (mean - f.trim[name]).abs() < tol,
+            "{name}: {mean} against trim {}",
+            f.trim[name]
+        );
+    }
+    // Ten seconds of the pilot's drift: within a degree of trim in pitch and roll.
+    for name in ["theta_rad", "phi_rad"] {
+        let worst = col(name)
+            .iter()
+            .map(|v| (v - f.trim[name]).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1f64.to_radians(), "{name}: {worst}");
+    }
+}
+
+/// A doublet on the stick moves the record the way the stick's derivative says: aft stick
+/// (positive eta_s for this aircraft, M_eta_s > 0) pitches the nose up first.
+#[test]
+fn a_stick_doublet_pitches_the_nose_up_first() {
+    let t = test(
+        Input::Doublet {
+            start_s: 1.0,
+            pulse_s: 1.0,
+            amplitude: 2.0,
+        },
+        0,
+        3.0,
+    );
+    let f = flight_test::fly(&vpm_m16(), &t).unwrap();
+    let q = &f.data[f.channels.iter().position(|c| c == "q_rad_s").unwrap()];
+    let eta = &f.data[f.channels.iter().position(|c| c == "eta_s_pct").unwrap()];
+    // Half a second into the first pulse (the pilot's pitch hold takes a little back).
+    assert!(eta[150] - f.trim["eta_s_pct"] > 1.0, "{}", eta[150]);
+    assert!(q[150] > 0.01, "q {}", q[150]);
+}
