@@ -250,9 +250,8 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
                 };
                 (lower, upper, p.start.unwrap_or(neutral))
             }
-            None => {
-                estimated_parameter(aircraft_file.as_ref(), name, p).map_err(|m| err(&field, m))?
-            }
+            None => estimated_parameter(aircraft_file.as_ref(), name, (p.lower, p.upper, p.start))
+                .map_err(|m| err(&field, m))?,
         };
         parameters.push(Parameter {
             kind,
@@ -309,10 +308,14 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
 /// A physical parameter's bounds and start: the aircraft file must call it estimated and give
 /// it a plausible range, which the bounds default to and must lie within; it starts at the
 /// file's value.
-fn estimated_parameter(
+/// A physical parameter's bounds and start, `(lower, upper, start)`, from the bounds and start
+/// asked for (each optional): admitted only where the aircraft file's source for it says
+/// estimated and the file gives it a plausible range, which the bounds default to and may not
+/// leave; the start defaults to the file's value.
+pub fn estimated_parameter(
     file: Option<&crate::aircraft_file::AircraftFile>,
     name: &str,
-    p: &ParameterSpec,
+    (lower, upper, start): (Option<f64>, Option<f64>, Option<f64>),
 ) -> Result<(f64, f64, f64), String> {
     let Some(file) = file else {
         return Err("a physical parameter belongs to an aircraft: the subject is a rotor".into());
@@ -333,17 +336,14 @@ fn estimated_parameter(
             file.id
         ));
     };
-    let (lower, upper) = (
-        p.lower.unwrap_or(range.lower),
-        p.upper.unwrap_or(range.upper),
-    );
+    let (lower, upper) = (lower.unwrap_or(range.lower), upper.unwrap_or(range.upper));
     if lower < range.lower || upper > range.upper {
         return Err(format!(
             "bounds [{lower}, {upper}] reach outside {}'s plausible range [{}, {}] ({})",
             file.id, range.lower, range.upper, range.source
         ));
     }
-    Ok((lower, upper, p.start.unwrap_or(value)))
+    Ok((lower, upper, start.unwrap_or(value)))
 }
 
 /// What a case's subject must match: the same file (aircraft; each case flies at its own

@@ -22,6 +22,7 @@ pub mod parameters;
 pub mod quantity;
 pub mod refs;
 pub mod report;
+pub mod retune;
 pub mod review;
 pub mod rotor_file;
 pub mod scoreboard;

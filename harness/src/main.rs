@@ -306,6 +306,16 @@ enum Command {
     /// --control eta_s --amplitude-percent 4 --turbulence-m-s 0.3 --seed 1
     /// --output /tmp/vpm-m16-70mph-sweep.csv`
     SynthFlight(SynthFlightArgs),
+    /// Retune corrections from flight records in one command: identify the records (each
+    /// condition's together), fit the named corrections with clarabel so that the model's
+    /// derivatives match the identified ones (weighted by their standard errors, within
+    /// bounds), write the corrections file and a before/after report (derivatives against the
+    /// bounds, modes, predictions of records not used), and run the validation suite's cases
+    /// for this aircraft with the new corrections.
+    ///
+    /// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
+    /// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
+    Retune(RetuneArgs),
     /// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
     /// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
     /// Newton solver reached (converged when every scaled residual is at most 1e-7).
@@ -459,6 +469,7 @@ fn main() -> ExitCode {
         ),
         Command::SynthHistory(a) => synth_history(a),
         Command::SynthFlight(a) => synth_flight(a),
+        Command::Retune(a) => retune(a),
         Command::Trim {
             flight,
             turn_rate_deg_s,

@@ -403,3 +403,41 @@ pub(crate) struct SynthFlightArgs {
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
+
+/// `cierva retune`.
+#[derive(clap::Args)]
+pub(crate) struct RetuneArgs {
+    /// The aircraft file whose corrections to retune.
+    pub(crate) aircraft: PathBuf,
+    /// Flight records (CSV with sidecars): records at one condition are identified together,
+    /// records at several conditions fit one set of corrections across them.
+    #[arg(long, required = true, num_args = 1..)]
+    pub(crate) records: Vec<PathBuf>,
+    /// The corrections (or estimated physical parameters) to fit.
+    #[arg(long, required = true, num_args = 1..)]
+    pub(crate) fit: Vec<String>,
+    /// Bounds as NAME=LO:HI (default: each correction's sourced range, a physical parameter's
+    /// plausible range from the aircraft file).
+    #[arg(long, num_args = 1..)]
+    pub(crate) bounds: Vec<String>,
+    /// The identified derivatives to fit to, comma-separated (default: the primary ones).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) derivatives: Vec<String>,
+    /// The identification set-up (default: by the controls the records excite).
+    #[arg(long, value_enum)]
+    pub(crate) setup: Option<cierva_harness::ident::Setup>,
+    /// Records not used in the fit, predicted before and after.
+    #[arg(long, num_args = 1..)]
+    pub(crate) predict: Vec<PathBuf>,
+    /// The corrections file to write (default: corrections/retuned/<aircraft id>.yaml).
+    #[arg(long)]
+    pub(crate) output: Option<PathBuf>,
+    /// The before/after report (default: reports/retune/<output's stem>.md).
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+    /// Skip running the validation suite's cases with the new corrections.
+    #[arg(long)]
+    pub(crate) no_validate: bool,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}

@@ -168,7 +168,10 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
             None => "none: the input open loop".into(),
         },
     );
-    settings.insert("sensors".into(), instrumentation.id.clone());
+    settings.insert(
+        "sensors".into(),
+        format!("{}: {}", instrumentation.id, instrumentation.title),
+    );
     for (name, ch) in &instrumentation.channels {
         settings.insert(
             format!("sensor.{name}"),

@@ -55,8 +55,6 @@ pub struct Flown {
     pub probe_position_m: [f64; 3],
     pub cg_position_m: [f64; 3],
     pub pilot: Option<Pilot>,
-    /// The true (noise-free, unlagged) samples of the same channels, for tests.
-    pub truth: Vec<Vec<f64>>,
 }
 
 /// What the record holds, in order (the identification format's required channels, then the
@@ -236,7 +234,6 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
         probe_position_m: probe,
         cg_position_m: cg,
         pilot,
-        truth,
     })
 }
 

@@ -138,6 +138,7 @@ const PROBE: ([f64; 3], &str) = (
 pub struct Instrumentation {
     /// Where it came from: `defaults`, or the sensors file's id.
     pub id: String,
+    pub title: String,
     /// The air-data probe from the centre of mass, body axes, m.
     pub probe_from_cg_m: [f64; 3],
     pub channels: BTreeMap<String, Channel>,
@@ -159,6 +160,7 @@ impl Default for Instrumentation {
         sources.insert("probe_from_cg_m".into(), PROBE.1.into());
         Self {
             id: "defaults".into(),
+            title: "cierva's default flight-test instrumentation (estimated)".into(),
             probe_from_cg_m: PROBE.0,
             channels,
             sources,
@@ -195,9 +197,9 @@ impl Instrumentation {
         let src = yaml::read(path)?;
         let f: SensorsFile = yaml::parse(path, &src)?;
         crate::refs::check_id(path, &src, &f.id)?;
-        let _ = &f.title;
         let mut out = Self {
             id: f.id.clone(),
+            title: f.title.clone(),
             ..Self::default()
         };
         let sourced = |key: &str| -> Option<&String> {

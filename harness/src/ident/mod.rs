@@ -292,6 +292,32 @@ pub fn against(ident: &Identification, model: &LinearModel) -> Vec<Against> {
         .collect()
 }
 
+/// A model (an aircraft's linearisation) cut to a set-up's states and controls, in the
+/// set-up's order, for flying a record's measured controls ([`predict`]).
+pub fn model_for(model: &LinearModel, config: &ConfigSpec) -> Result<LinearModel, String> {
+    let states: Vec<&str> = config.states.iter().map(String::as_str).collect();
+    let sub = model.subsystem(&states).map_err(|e| e.to_string())?;
+    let cols = config
+        .controls
+        .keys()
+        .map(|c| {
+            model
+                .controls()
+                .iter()
+                .position(|m| m == c)
+                .ok_or_else(|| format!("the model has no control `{c}`"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let b = nalgebra::DMatrix::from_fn(sub.a().nrows(), cols.len(), |i, j| sub.b()[(i, cols[j])]);
+    LinearModel::new(
+        sub.states().to_vec(),
+        config.controls.keys().cloned().collect(),
+        sub.a().clone(),
+        b,
+    )
+    .map_err(|e| e.to_string())
+}
+
 /// One identified derivative, for tables.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Derivative {

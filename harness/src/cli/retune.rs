@@ -1,0 +1,251 @@
+//! `cierva retune`: from flight records to retuned corrections in one command.
+
+use super::*;
+use cierva_harness::corrections::{AppliesTo, CorrectionsFile, CorrectionsFileSpec, Target};
+use cierva_harness::ident::record;
+use cierva_harness::retune::{self, Request};
+
+pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
+    // Long: one command in the order it works: inputs, the fit, the corrections file, the
+    // assessment (modes, predictions, the suite), the report and the summary
+    let fail = |msg: String| {
+        eprintln!("error: {msg}");
+        ExitCode::from(2)
+    };
+    let file = match load_aircraft(&a.aircraft) {
+        Ok(f) => f,
+        Err(code) => return code,
+    };
+    let mut records = Vec::new();
+    for p in &a.records {
+        match record::load(p) {
+            Ok(r) => records.push(r),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let requests = match requests(&a.fit, &a.bounds) {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    let derivatives = (!a.derivatives.is_empty()).then_some(a.derivatives.as_slice());
+    let busy = spinner("identifying and fitting");
+    let outcome = retune::retune(&file, &records, &requests, derivatives, a.setup);
+    busy.finish_and_clear();
+    let r = match outcome {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("corrections/retuned").join(format!("{}.yaml", file.id)));
+    let id = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let corrections = r.result.corrections();
+    let standard_errors: serde_json::Map<String, serde_json::Value> = r
+        .result
+        .parameters
+        .iter()
+        .zip(&r.result.standard_errors)
+        .map(|(k, s)| {
+            (
+                k.name().to_string(),
+                serde_json::json!(s.is_finite().then_some(*s)),
+            )
+        })
+        .collect();
+    let command = std::env::args().skip(1).collect::<Vec<_>>().join(" ");
+    let spec = CorrectionsFileSpec {
+        id: id.clone(),
+        title: format!("Corrections of {} retuned from flight records", file.title),
+        applies_to: AppliesTo {
+            aircraft: Some(file.id.clone()),
+            rotor: None,
+        },
+        corrections: corrections.clone(),
+        provenance: cierva_harness::refs::Provenance {
+            source: format!(
+                "retuned by `cierva {command}` (cierva {})",
+                env!("CARGO_PKG_VERSION")
+            ),
+            notes: Some(format!(
+                "Records: {}",
+                records
+                    .iter()
+                    .map(|x| format!("{} ({})", x.meta.id, x.meta.provenance.source))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            )),
+        },
+        fit: Some(serde_json::json!({
+            "status": r.result.status.name(),
+            "iterations": r.result.iterations,
+            "evaluations": r.result.evaluations,
+            "standard_errors": standard_errors,
+            "targets": r.problem.targets.len(),
+            "warnings": r.result.warnings,
+        })),
+    };
+    let write = |path: &Path, text: &str| -> Result<(), String> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    let yaml = match serde_yaml::to_string(&spec) {
+        Ok(y) => y,
+        Err(e) => return fail(e.to_string()),
+    };
+    if let Err(e) = write(&output, &yaml) {
+        return fail(e);
+    }
+    // The assessment: the corrected aircraft beside the uncorrected one.
+    let after = match file.with_corrections(&corrections) {
+        Ok(f) => f,
+        Err(e) => return fail(format!("the fitted corrections: {e}")),
+    };
+    let modes = retune::modes(&file, &after, &r.groups);
+    let mut predictions = Vec::new();
+    for p in &a.predict {
+        let rec = match record::load(p) {
+            Ok(x) => x,
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        };
+        match retune::predict(&file, &after, &rec) {
+            Ok(x) => predictions.extend(x),
+            Err(e) => return fail(format!("predicting {}: {e}", p.display())),
+        }
+    }
+    let revalidation = if a.no_validate {
+        None
+    } else {
+        let busy = spinner("the validation suite with the new corrections");
+        let cases: Vec<_> = match load_cases(&[PathBuf::from("cases")]) {
+            Ok(l) => l.into_iter().filter_map(Result::ok).collect(),
+            Err(e) => return fail(format!("the validation suite: {e}")),
+        };
+        let loaded = CorrectionsFile {
+            path: output.clone(),
+            id: id.clone(),
+            target: Target::Aircraft(file.id.clone()),
+            corrections: corrections.clone(),
+        };
+        let v = retune::revalidate(&cases, &loaded);
+        busy.finish_and_clear();
+        match v {
+            Ok(v) => Some(v),
+            Err(e) => return fail(e),
+        }
+    };
+    let report = a
+        .report
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("reports/retune").join(format!("{id}.md")));
+    let md = retune::markdown(
+        &r,
+        &a.aircraft.display().to_string(),
+        &modes,
+        &predictions,
+        revalidation.as_ref(),
+    );
+    if let Err(e) = write(&report, &md) {
+        return fail(e);
+    }
+    let rows = retune::rows(&r);
+    let values: serde_json::Map<String, serde_json::Value> = r
+        .result
+        .parameters
+        .iter()
+        .zip(&r.result.values)
+        .map(|(k, v)| (k.name().to_string(), serde_json::json!(v)))
+        .collect();
+    match a.format {
+        Format::Json => print_json(&serde_json::json!({
+            "corrections": values,
+            "standard_errors": standard_errors,
+            "status": r.result.status.name(),
+            "targets": rows,
+            "modes": modes,
+            "predictions": predictions,
+            "revalidation": revalidation,
+            "wrote": [output.display().to_string(), report.display().to_string()],
+        })),
+        Format::Text => {
+            println!(
+                "retuned {} from {} records at {} conditions: {}",
+                file.id,
+                records.len(),
+                r.groups.len(),
+                r.result.status.name()
+            );
+            for ((k, v), se) in r
+                .result
+                .parameters
+                .iter()
+                .zip(&r.result.values)
+                .zip(&r.result.standard_errors)
+            {
+                println!(
+                    "  {:<28} {:>12} +- {} (95 %: +- {})",
+                    k.name(),
+                    text::sig(*v, 5),
+                    text::sig(*se, 3),
+                    text::sig(1.96 * se, 3)
+                );
+            }
+            println!(
+                "derivatives inside the identified 95 % bounds: {} of {} before, {} after",
+                rows.iter().filter(|x| x.inside_before).count(),
+                rows.len(),
+                rows.iter().filter(|x| x.inside_after).count()
+            );
+            if let Some(v) = &revalidation {
+                for (class, [n, b, a]) in &v.classes {
+                    println!("  suite, {class}: {n} checks, {b} inside before, {a} after");
+                }
+                for c in &v.changed {
+                    println!(
+                        "  changed: {} ({}) {} -> {}",
+                        c.check,
+                        c.class,
+                        if c.passed_before { "inside" } else { "outside" },
+                        if c.passed_after { "inside" } else { "outside" }
+                    );
+                }
+            }
+            println!("wrote {} and {}", output.display(), report.display());
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// The parameters asked for, with `NAME=LO:HI` bounds.
+fn requests(fit: &[String], bounds: &[String]) -> Result<Vec<Request>, String> {
+    let mut parsed = Vec::new();
+    for b in bounds {
+        let bad = || format!("--bounds `{b}`: write NAME=LO:HI");
+        let (name, range) = b.split_once('=').ok_or_else(bad)?;
+        let (lo, hi) = range.split_once(':').ok_or_else(bad)?;
+        let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
+        let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
+        if !fit.iter().any(|f| f == name) {
+            return Err(format!("--bounds names `{name}`, which --fit does not"));
+        }
+        parsed.push((name.to_string(), (lo, hi)));
+    }
+    Ok(fit
+        .iter()
+        .map(|name| Request {
+            name: name.clone(),
+            bounds: parsed.iter().find(|(n, _)| n == name).map(|(_, b)| *b),
+        })
+        .collect())
+}

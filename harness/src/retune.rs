@@ -1,0 +1,590 @@
+//! From flight records to retuned corrections (`cierva retune`): identify each condition's
+//! records together, then fit the named corrections (or estimated physical parameters) so that
+//! the model's linearised derivatives match the identified ones, weighted by their standard
+//! errors, within bounds from their sources.
+//!
+//! Records at several conditions fit one set of corrections across all of them: each condition
+//! is identified on its own (its records' spectra concatenated), and its derivatives are
+//! targets at that condition.
+
+use crate::aircraft_file::AircraftFile;
+use crate::fit::{self, Condition, Measure, Parameter, ParameterKind, Problem, Subject, Target};
+use crate::ident::{self, Identification, Setup, record::Record};
+use crate::{Loading, TrimRequest};
+use serde::Serialize;
+
+/// A correction's default bounds when the command line gives none, with their source.
+pub const DEFAULT_BOUNDS: [(ParameterKind, f64, f64, &str); 6] = [
+    (
+        ParameterKind::PropellerBlockage,
+        0.0,
+        1.0,
+        "seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the propeller disc",
+    ),
+    (
+        ParameterKind::HubAoaFactor,
+        0.0,
+        1.0,
+        "seed 000 Sec. VII.B: the hub sees a fraction of the c.g.'s angle of attack (the wake of the pod and mast slows and turns the flow), none to all of it",
+    ),
+    (
+        ParameterKind::ProfileDragScale,
+        0.5,
+        2.0,
+        "estimated: a section's drag from half to twice its tabulated value",
+    ),
+    (
+        ParameterKind::ProfileDragIncrement,
+        -0.005,
+        0.02,
+        "estimated: a blade's roughness and fittings add up to 0.02 to the section drag; -0.005 for a smoother blade than tabulated",
+    ),
+    (
+        ParameterKind::PitchOffsetDeg,
+        -2.0,
+        2.0,
+        "estimated: a blade's rigging is known to a degree or two",
+    ),
+    (
+        ParameterKind::LateralInflowOffsetMS,
+        -1.0,
+        1.0,
+        "estimated: seed 003's lateral inflow departs from the model's by up to about 1 m/s",
+    ),
+];
+
+/// A parameter to retune: its name and optional bounds (`None`: the defaults above, or an
+/// estimated physical parameter's plausible range from the aircraft file).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Request {
+    pub name: String,
+    pub bounds: Option<(f64, f64)>,
+}
+
+/// The records of one flight condition and what they identified.
+#[derive(Debug, Clone, Serialize)]
+pub struct Group {
+    pub condition: Condition,
+    pub records: Vec<String>,
+    pub setup: Setup,
+    pub identification: Identification,
+}
+
+/// A retune: the groups, the fit problem and its result.
+#[derive(Debug, Clone)]
+pub struct Retune {
+    pub groups: Vec<Group>,
+    pub problem: Problem,
+    pub result: fit::FitResult,
+}
+
+/// The set-up for records by the controls they excite (each record's first control): the
+/// stick alone is longitudinal, the lateral stick and pedals lateral, a mix coupled.
+pub fn setup_for(records: &[&Record]) -> Setup {
+    let excited: Vec<&str> = records
+        .iter()
+        .filter_map(|r| r.meta.controls.first().map(String::as_str))
+        .collect();
+    let lon = |c: &str| c.starts_with("eta_s");
+    let lat = |c: &str| c.starts_with("eta_c") || c.starts_with("eta_p");
+    if excited.iter().all(|c| lon(c)) {
+        Setup::Longitudinal
+    } else if excited.iter().all(|c| lat(c)) {
+        Setup::Lateral
+    } else {
+        Setup::Coupled
+    }
+}
+
+/// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
+/// physical parameter's within the aircraft file's plausible range.
+pub fn parameters(file: &AircraftFile, requests: &[Request]) -> Result<Vec<Parameter>, String> {
+    requests
+        .iter()
+        .map(|r| {
+            let kind = ParameterKind::parse(&r.name).ok_or_else(|| {
+                format!(
+                    "`{}` is not a correction or parameter (known: {})",
+                    r.name,
+                    ParameterKind::names().join(", ")
+                )
+            })?;
+            let (lower, upper, start) = match kind {
+                ParameterKind::Estimated(name) => crate::fit_file::estimated_parameter(
+                    Some(file),
+                    name,
+                    (r.bounds.map(|b| b.0), r.bounds.map(|b| b.1), None),
+                )?,
+                _ => {
+                    let (lo, hi) = r.bounds.unwrap_or_else(|| {
+                        DEFAULT_BOUNDS
+                            .iter()
+                            .find(|d| d.0 == kind)
+                            .map_or((0.0, 0.0), |d| (d.1, d.2))
+                    });
+                    // From the uncorrected model.
+                    let start = kind.neutral().unwrap_or(0.5 * (lo + hi));
+                    (lo, hi, start.clamp(lo, hi))
+                }
+            };
+            if !(lower.is_finite() && upper.is_finite() && lower < upper) {
+                return Err(format!(
+                    "`{}`: bounds [{lower}, {upper}] must be finite with lower < upper",
+                    r.name
+                ));
+            }
+            Ok(Parameter {
+                kind,
+                lower,
+                upper,
+                start,
+                regularisation: 0.0,
+            })
+        })
+        .collect()
+}
+
+/// Groups records by flight condition (in the order they come) and identifies each group.
+pub fn identify_groups(records: &[Record], setup: Option<Setup>) -> Result<Vec<Group>, String> {
+    let mut keyed: Vec<((TrimRequest, Loading), Vec<&Record>)> = Vec::new();
+    for r in records {
+        let c = ident::record_condition(r)?;
+        match keyed.iter_mut().find(|(k, _)| *k == c) {
+            Some((_, v)) => v.push(r),
+            None => keyed.push((c, vec![r])),
+        }
+    }
+    keyed
+        .into_iter()
+        .map(|((request, loading), recs)| {
+            let setup = setup.unwrap_or_else(|| setup_for(&recs));
+            let config = ident::ConfigSpec::for_setup(setup, recs[0])?;
+            let owned: Vec<Record> = recs.iter().map(|r| (*r).clone()).collect();
+            let identification = ident::identify_records(&owned, &config)?;
+            Ok(Group {
+                condition: Condition::Flight(request, loading),
+                records: recs.iter().map(|r| r.meta.id.clone()).collect(),
+                setup,
+                identification,
+            })
+        })
+        .collect()
+}
+
+/// The fit's targets: each group's identified derivatives among `names` (default: the primary
+/// ones, [`ident::PRIMARY`]), the estimate as the reference and its standard error as the
+/// weight. A derivative without a finite, positive standard error is left out.
+pub fn targets(groups: &[Group], names: Option<&[String]>) -> Vec<Target> {
+    let wanted = |n: &str| match names {
+        Some(list) => list.iter().any(|w| w == n),
+        None => ident::PRIMARY.contains(&n),
+    };
+    groups
+        .iter()
+        .flat_map(|g| {
+            g.identification
+                .derivatives
+                .iter()
+                .filter(|d| {
+                    wanted(&d.name)
+                        && d.estimate.is_finite()
+                        && d.standard_error.is_finite()
+                        && d.standard_error > 0.0
+                })
+                .map(|d| Target {
+                    condition: g.condition,
+                    measure: Measure::Derivative(d.name.clone()),
+                    reference: d.estimate,
+                    standard_error: d.standard_error,
+                    bounds: None,
+                })
+        })
+        .collect()
+}
+
+/// Identifies the records and fits the parameters.
+pub fn retune(
+    file: &AircraftFile,
+    records: &[Record],
+    requests: &[Request],
+    derivatives: Option<&[String]>,
+    setup: Option<Setup>,
+) -> Result<Retune, String> {
+    if records.is_empty() {
+        return Err("no records to retune from".into());
+    }
+    let parameters = parameters(file, requests)?;
+    if parameters.is_empty() {
+        return Err("name at least one correction or parameter to fit".into());
+    }
+    let groups = identify_groups(records, setup)?;
+    let targets = targets(&groups, derivatives);
+    if targets.is_empty() {
+        return Err(
+            "the records identified none of the derivatives asked for with a finite standard error"
+                .into(),
+        );
+    }
+    let problem = Problem {
+        subject: Subject::Aircraft {
+            aircraft: Box::new(file.aircraft.clone()),
+        },
+        parameters,
+        targets,
+        options: fit::Options::default(),
+    };
+    let result = fit::fit(&problem);
+    Ok(Retune {
+        groups,
+        problem,
+        result,
+    })
+}
+
+/// A check whose verdict the corrections changed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Changed {
+    /// `case::check`.
+    pub check: String,
+    pub class: &'static str,
+    pub passed_before: bool,
+    pub passed_after: bool,
+}
+
+/// The validation suite's cases that the corrections apply to, run without and with them.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Revalidation {
+    /// Cases the corrections apply to (the others are unchanged by construction).
+    pub cases: Vec<String>,
+    /// Per class: checks, passed before, passed after.
+    pub classes: std::collections::BTreeMap<&'static str, [usize; 3]>,
+    pub changed: Vec<Changed>,
+    /// Scores (`case::score`) before and after.
+    pub scores: Vec<(String, f64, f64)>,
+}
+
+/// Runs every case the corrections apply to without and with them, and says what changed.
+pub fn revalidate(
+    cases: &[crate::case::Case],
+    corrections: &crate::corrections::CorrectionsFile,
+) -> Result<Revalidation, String> {
+    let files = std::slice::from_ref(corrections);
+    let touched: Vec<(&crate::case::Case, crate::case::Case)> = cases
+        .iter()
+        .map(|c| crate::case::with_corrections(c, files).map(|(after, used)| (c, after, used)))
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .filter(|(_, _, used)| !used.is_empty())
+        .map(|(c, after, _)| (c, after))
+        .collect();
+    let ran = crate::parallel_map(&touched, |(before, after)| {
+        let (rb, ra) = (crate::eval::run_case(before), crate::eval::run_case(after));
+        let sb = crate::review::scores_of(before, &rb);
+        let sa = crate::review::scores_of(after, &ra);
+        (before.id.clone(), rb, ra, sb, sa)
+    });
+    let mut out = Revalidation::default();
+    for (id, rb, ra, sb, sa) in ran {
+        out.cases.push(id);
+        for (b, a) in rb.iter().zip(&ra) {
+            let class = b.class.name();
+            let row = out.classes.entry(class).or_insert([0; 3]);
+            row[0] += 1;
+            row[1] += usize::from(b.passed);
+            row[2] += usize::from(a.passed);
+            if b.passed != a.passed {
+                out.changed.push(Changed {
+                    check: format!("{}::{}", b.case, b.check),
+                    class,
+                    passed_before: b.passed,
+                    passed_after: a.passed,
+                });
+            }
+        }
+        for (b, a) in sb.iter().zip(&sa) {
+            out.scores
+                .push((format!("{}::{}", b.case, b.id), b.value, a.value));
+        }
+    }
+    Ok(out)
+}
+
+/// One target before and after the retune.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Row {
+    pub condition: String,
+    pub derivative: String,
+    pub identified: f64,
+    pub lower_95: f64,
+    pub upper_95: f64,
+    pub before: f64,
+    pub after: f64,
+    pub inside_before: bool,
+    pub inside_after: bool,
+}
+
+/// Every target's identified value and bounds beside the model's before and after.
+pub fn rows(r: &Retune) -> Vec<Row> {
+    r.problem
+        .targets
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let name = t.measure.name().to_string();
+            let d = r
+                .groups
+                .iter()
+                .filter(|g| g.condition == t.condition)
+                .flat_map(|g| &g.identification.derivatives)
+                .find(|d| d.name == name);
+            let (lo, hi) = d.map_or((f64::NAN, f64::NAN), |d| (d.lower_95, d.upper_95));
+            let inside = |v: f64| v.is_finite() && lo <= v && v <= hi;
+            let (before, after) = (
+                r.result.before.get(i).copied().unwrap_or(f64::NAN),
+                r.result.after.get(i).copied().unwrap_or(f64::NAN),
+            );
+            Row {
+                condition: t.condition.label(),
+                derivative: name,
+                identified: t.reference,
+                lower_95: lo,
+                upper_95: hi,
+                before,
+                after,
+                inside_before: inside(before),
+                inside_after: inside(after),
+            }
+        })
+        .collect()
+}
+
+/// A mode's eigenvalue before and after, at a condition.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModeRow {
+    pub condition: String,
+    pub mode: String,
+    /// Real and imaginary parts, 1/s.
+    pub before: [f64; 2],
+    pub after: [f64; 2],
+}
+
+/// Each condition's modes (the first of each kind) before and after.
+pub fn modes(before: &AircraftFile, after: &AircraftFile, groups: &[Group]) -> Vec<ModeRow> {
+    use cierva_model::analysis::modes;
+    let mut out = Vec::new();
+    for g in groups {
+        let Condition::Flight(request, loading) = g.condition else {
+            continue;
+        };
+        let analyse = |f: &AircraftFile| {
+            crate::run_linearise(&f.aircraft, request, loading)
+                .ok()
+                .and_then(|(_, lin)| modes::modes(&lin.model).ok())
+        };
+        let (Some(mb), Some(ma)) = (analyse(before), analyse(after)) else {
+            continue;
+        };
+        let mut seen = Vec::new();
+        for m in &mb.modes {
+            if seen.contains(&m.kind) || m.eigenvalue.im < 0.0 {
+                continue;
+            }
+            seen.push(m.kind);
+            if let Some(n) = ma
+                .modes
+                .iter()
+                .find(|n| n.kind == m.kind && n.eigenvalue.im >= 0.0)
+            {
+                out.push(ModeRow {
+                    condition: g.condition.label(),
+                    mode: m.kind.name().to_string(),
+                    before: [m.eigenvalue.re, m.eigenvalue.im],
+                    after: [n.eigenvalue.re, n.eigenvalue.im],
+                });
+            }
+        }
+    }
+    out
+}
+
+/// How well the model before and after predicts one signal of a record not used in the fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Prediction {
+    pub record: String,
+    pub signal: String,
+    pub theil_before: f64,
+    pub theil_after: f64,
+    pub rms_error_before: f64,
+    pub rms_error_after: f64,
+}
+
+/// Flies a record's measured controls (changes from its trim) through the model linearised at
+/// its condition, before and after, and compares the states with the record's (seed 000
+/// Fig. 10; Theil's inequality coefficient, 0 a perfect match).
+pub fn predict(
+    before: &AircraftFile,
+    after: &AircraftFile,
+    record: &Record,
+) -> Result<Vec<Prediction>, String> {
+    let (request, loading) = ident::record_condition(record)?;
+    let config = ident::ConfigSpec::for_setup(setup_for(&[record]), record)?;
+    let fly = |f: &AircraftFile| -> Result<Vec<ident::SignalComparison>, String> {
+        let (_, lin) =
+            crate::run_linearise(&f.aircraft, request, loading).map_err(|e| e.to_string())?;
+        let model = ident::model_for(&lin.model, &config)?;
+        ident::predict(&model, record, &config)
+    };
+    let (b, a) = (fly(before)?, fly(after)?);
+    Ok(b.iter()
+        .zip(&a)
+        .map(|(b, a)| Prediction {
+            record: record.meta.id.clone(),
+            signal: b.signal.clone(),
+            theil_before: b.theil,
+            theil_after: a.theil,
+            rms_error_before: b.rms_error,
+            rms_error_after: a.rms_error,
+        })
+        .collect())
+}
+
+/// The before/after report for people (markdown).
+pub fn markdown(
+    r: &Retune,
+    aircraft: &str,
+    modes: &[ModeRow],
+    predictions: &[Prediction],
+    revalidation: Option<&Revalidation>,
+) -> String {
+    // Long: one report, section by section in the order people read it
+    use std::fmt::Write;
+    let g = crate::text::sig;
+    let mut s = String::new();
+    let _ = writeln!(s, "# Retune of {aircraft}\n");
+    let _ = writeln!(
+        s,
+        "Written by `cierva retune` (cierva {}). Fit status: **{}**, {} iterations, {} model evaluations; cost {} -> {}.\n",
+        env!("CARGO_PKG_VERSION"),
+        r.result.status.name(),
+        r.result.iterations,
+        r.result.evaluations,
+        g(r.result.cost_start, 4),
+        g(r.result.cost, 4)
+    );
+    let _ = writeln!(s, "## Records\n");
+    for grp in &r.groups {
+        let _ = writeln!(
+            s,
+            "- {}: {} ({:?} set-up, identification {})",
+            grp.condition.label(),
+            grp.records.join(", "),
+            grp.setup,
+            grp.identification.status
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n## Fitted\n\n| parameter | value | standard error |\n| --- | --- | --- |"
+    );
+    for ((k, v), se) in r
+        .result
+        .parameters
+        .iter()
+        .zip(&r.result.values)
+        .zip(&r.result.standard_errors)
+    {
+        let _ = writeln!(s, "| {} | {} | {} |", k.name(), g(*v, 5), g(*se, 3));
+    }
+    for w in &r.result.warnings {
+        let _ = writeln!(s, "\nWarning: {w}");
+    }
+    let rows = rows(r);
+    let _ = writeln!(
+        s,
+        "\n## Derivatives against the identified 95 % bounds\n\n{} of {} inside before, {} after.\n\n| condition | derivative | identified | 95 % bounds | before | after |\n| --- | --- | --- | --- | --- | --- |",
+        rows.iter().filter(|x| x.inside_before).count(),
+        rows.len(),
+        rows.iter().filter(|x| x.inside_after).count()
+    );
+    let mark = |inside: bool| if inside { "" } else { " (outside)" };
+    for x in &rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | [{}, {}] | {}{} | {}{} |",
+            x.condition,
+            x.derivative,
+            g(x.identified, 4),
+            g(x.lower_95, 4),
+            g(x.upper_95, 4),
+            g(x.before, 4),
+            mark(x.inside_before),
+            g(x.after, 4),
+            mark(x.inside_after)
+        );
+    }
+    if !modes.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n## Modes (eigenvalues, 1/s)\n\n| condition | mode | before | after |\n| --- | --- | --- | --- |"
+        );
+        for m in modes {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} ± {}i | {} ± {}i |",
+                m.condition,
+                m.mode,
+                g(m.before[0], 4),
+                g(m.before[1], 4),
+                g(m.after[0], 4),
+                g(m.after[1], 4)
+            );
+        }
+    }
+    if !predictions.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n## Prediction of records not used in the fit\n\nTheil's inequality coefficient (0 a perfect match) of the linearised model flown with the record's measured controls.\n\n| record | state | Theil before | Theil after |\n| --- | --- | --- | --- |"
+        );
+        for p in predictions {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.4} | {:.4} |",
+                p.record, p.signal, p.theil_before, p.theil_after
+            );
+        }
+    }
+    if let Some(v) = revalidation {
+        let _ = writeln!(
+            s,
+            "\n## The validation suite with the new corrections\n\n{} cases use this aircraft.\n\n| class | checks | passed before | passed after |\n| --- | --- | --- | --- |",
+            v.cases.len()
+        );
+        for (class, [n, b, a]) in &v.classes {
+            let _ = writeln!(s, "| {class} | {n} | {b} | {a} |");
+        }
+        if !v.changed.is_empty() {
+            let _ = writeln!(s, "\nChecks that changed:\n");
+            for c in &v.changed {
+                let _ = writeln!(
+                    s,
+                    "- {} ({}): {} -> {}",
+                    c.check,
+                    c.class,
+                    if c.passed_before { "inside" } else { "outside" },
+                    if c.passed_after { "inside" } else { "outside" }
+                );
+            }
+        }
+        let moved: Vec<&(String, f64, f64)> = v.scores.iter().filter(|(_, b, a)| b != a).collect();
+        if !moved.is_empty() {
+            let _ = writeln!(
+                s,
+                "\nScores that moved (not judged: these are not the committed model's):\n"
+            );
+            for (id, b, a) in moved {
+                let _ = writeln!(s, "- {id}: {} -> {}", g(*b, 5), g(*a, 5));
+            }
+        }
+    }
+    s
+}
