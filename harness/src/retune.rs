@@ -4,13 +4,13 @@
 //! errors, within bounds from their sources.
 //!
 //! Records at several conditions fit one set of corrections across all of them: each condition
-//! is identified on its own (its records' spectra concatenated), and its derivatives are
-//! targets at that condition.
+//! is identified on its own (its records' spectra concatenated, [`ident::identify_groups`]),
+//! and its derivatives are targets at that condition ([`crate::fit_file::record_targets`]; a
+//! fit file's `records:` targets are the same).
 
 use crate::aircraft_file::AircraftFile;
-use crate::fit::{self, Condition, Measure, Parameter, ParameterKind, Problem, Subject, Target};
-use crate::ident::{self, Identification, Setup, record::Record};
-use crate::{Loading, TrimRequest};
+use crate::fit::{self, Condition, Parameter, ParameterKind, Problem, Subject};
+use crate::ident::{self, Group, Setup, record::Record};
 use serde::Serialize;
 
 /// A correction's default bounds when the command line gives none, with their source.
@@ -61,13 +61,9 @@ pub struct Request {
     pub bounds: Option<(f64, f64)>,
 }
 
-/// The records of one flight condition and what they identified.
-#[derive(Debug, Clone, Serialize)]
-pub struct Group {
-    pub condition: Condition,
-    pub records: Vec<String>,
-    pub setup: Setup,
-    pub identification: Identification,
+/// A group's flight condition, as the fit names it.
+fn condition(g: &Group) -> Condition {
+    Condition::Flight(g.request, g.loading)
 }
 
 /// A retune: the groups, the fit problem and its result.
@@ -76,24 +72,6 @@ pub struct Retune {
     pub groups: Vec<Group>,
     pub problem: Problem,
     pub result: fit::FitResult,
-}
-
-/// The set-up for records by the controls they excite (each record's first control): the
-/// stick alone is longitudinal, the lateral stick and pedals lateral, a mix coupled.
-pub fn setup_for(records: &[&Record]) -> Setup {
-    let excited: Vec<&str> = records
-        .iter()
-        .filter_map(|r| r.meta.controls.first().map(String::as_str))
-        .collect();
-    let lon = |c: &str| c.starts_with("eta_s");
-    let lat = |c: &str| c.starts_with("eta_c") || c.starts_with("eta_p");
-    if excited.iter().all(|c| lon(c)) {
-        Setup::Longitudinal
-    } else if excited.iter().all(|c| lat(c)) {
-        Setup::Lateral
-    } else {
-        Setup::Coupled
-    }
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
@@ -144,64 +122,6 @@ pub fn parameters(file: &AircraftFile, requests: &[Request]) -> Result<Vec<Param
         .collect()
 }
 
-/// Groups records by flight condition (in the order they come) and identifies each group.
-pub fn identify_groups(records: &[Record], setup: Option<Setup>) -> Result<Vec<Group>, String> {
-    let mut keyed: Vec<((TrimRequest, Loading), Vec<&Record>)> = Vec::new();
-    for r in records {
-        let c = ident::record_condition(r)?;
-        match keyed.iter_mut().find(|(k, _)| *k == c) {
-            Some((_, v)) => v.push(r),
-            None => keyed.push((c, vec![r])),
-        }
-    }
-    keyed
-        .into_iter()
-        .map(|((request, loading), recs)| {
-            let setup = setup.unwrap_or_else(|| setup_for(&recs));
-            let config = ident::ConfigSpec::for_setup(setup, recs[0])?;
-            let owned: Vec<Record> = recs.iter().map(|r| (*r).clone()).collect();
-            let identification = ident::identify_records(&owned, &config)?;
-            Ok(Group {
-                condition: Condition::Flight(request, loading),
-                records: recs.iter().map(|r| r.meta.id.clone()).collect(),
-                setup,
-                identification,
-            })
-        })
-        .collect()
-}
-
-/// The fit's targets: each group's identified derivatives among `names` (default: the primary
-/// ones, [`ident::PRIMARY`]), the estimate as the reference and its standard error as the
-/// weight. A derivative without a finite, positive standard error is left out.
-pub fn targets(groups: &[Group], names: Option<&[String]>) -> Vec<Target> {
-    let wanted = |n: &str| match names {
-        Some(list) => list.iter().any(|w| w == n),
-        None => ident::PRIMARY.contains(&n),
-    };
-    groups
-        .iter()
-        .flat_map(|g| {
-            g.identification
-                .derivatives
-                .iter()
-                .filter(|d| {
-                    wanted(&d.name)
-                        && d.estimate.is_finite()
-                        && d.standard_error.is_finite()
-                        && d.standard_error > 0.0
-                })
-                .map(|d| Target {
-                    condition: g.condition,
-                    measure: Measure::Derivative(d.name.clone()),
-                    reference: d.estimate,
-                    standard_error: d.standard_error,
-                    bounds: None,
-                })
-        })
-        .collect()
-}
-
 /// Identifies the records and fits the parameters.
 pub fn retune(
     file: &AircraftFile,
@@ -217,8 +137,8 @@ pub fn retune(
     if parameters.is_empty() {
         return Err("name at least one correction or parameter to fit".into());
     }
-    let groups = identify_groups(records, setup)?;
-    let targets = targets(&groups, derivatives);
+    let groups = ident::identify_groups(records, setup)?;
+    let targets = crate::fit_file::record_targets(&groups, derivatives);
     if targets.is_empty() {
         return Err(
             "the records identified none of the derivatives asked for with a finite standard error"
@@ -334,7 +254,7 @@ pub fn rows(r: &Retune) -> Vec<Row> {
             let d = r
                 .groups
                 .iter()
-                .filter(|g| g.condition == t.condition)
+                .filter(|g| condition(g) == t.condition)
                 .flat_map(|g| &g.identification.derivatives)
                 .find(|d| d.name == name);
             let (lo, hi) = d.map_or((f64::NAN, f64::NAN), |d| (d.lower_95, d.upper_95));
@@ -373,9 +293,7 @@ pub fn modes(before: &AircraftFile, after: &AircraftFile, groups: &[Group]) -> V
     use cierva_model::analysis::modes;
     let mut out = Vec::new();
     for g in groups {
-        let Condition::Flight(request, loading) = g.condition else {
-            continue;
-        };
+        let (request, loading) = (g.request, g.loading);
         let analyse = |f: &AircraftFile| {
             crate::run_linearise(&f.aircraft, request, loading)
                 .ok()
@@ -396,7 +314,7 @@ pub fn modes(before: &AircraftFile, after: &AircraftFile, groups: &[Group]) -> V
                 .find(|n| n.kind == m.kind && n.eigenvalue.im >= 0.0)
             {
                 out.push(ModeRow {
-                    condition: g.condition.label(),
+                    condition: condition(g).label(),
                     mode: m.kind.name().to_string(),
                     before: [m.eigenvalue.re, m.eigenvalue.im],
                     after: [n.eigenvalue.re, n.eigenvalue.im],
@@ -427,7 +345,7 @@ pub fn predict(
     record: &Record,
 ) -> Result<Vec<Prediction>, String> {
     let (request, loading) = ident::record_condition(record)?;
-    let config = ident::ConfigSpec::for_setup(setup_for(&[record]), record)?;
+    let config = ident::ConfigSpec::for_setup(ident::setup_for(&[record]), record)?;
     let fly = |f: &AircraftFile| -> Result<Vec<ident::SignalComparison>, String> {
         let (_, lin) =
             crate::run_linearise(&f.aircraft, request, loading).map_err(|e| e.to_string())?;
@@ -476,7 +394,7 @@ pub fn markdown(
         let _ = writeln!(
             s,
             "- {}: {} ({:?} set-up, identification {})",
-            grp.condition.label(),
+            condition(grp).label(),
             grp.records.join(", "),
             grp.setup,
             grp.identification.status

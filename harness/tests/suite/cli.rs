@@ -1046,6 +1046,34 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
     assert!(loaded.corrections.hub_aoa_factor.is_some());
     let md = std::fs::read_to_string(&report).unwrap();
     assert!(md.contains("profile_drag_scale"), "{md}");
+    // A fit file naming the same records as targets poses the same problem: the same answer.
+    let fit_file = dir.join("from-records.yaml");
+    std::fs::write(
+        &fit_file,
+        format!(
+            "id: from-records\ntitle: t\nprovenance: {{source: \"test\"}}\nsubject:\n  aircraft: {{file: {}}}\nparameters:\n  hub_aoa_factor: {{lower: 0, upper: 1}}\n  profile_drag_scale: {{lower: 0.5, upper: 2}}\ntargets:\n  - records: [lon-50.csv, lon-60.csv, lon-70.csv]\n    derivatives: [X_u, X_w, Z_u, Z_w, Q_u, Q_w, Q_Omega]\n",
+            root().join("aircraft/vpm-m16.yaml").display()
+        ),
+    )
+    .unwrap();
+    let (code, stdout, stderr) = cierva(&[
+        "fit",
+        fit_file.to_str().unwrap(),
+        "--output",
+        dir.join("fitted.yaml").to_str().unwrap(),
+        "--report",
+        dir.join("fitted.md").to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let f: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let values = f["run"]["result"]["values"].as_array().unwrap();
+    for (k, (name, _)) in truth.iter().enumerate() {
+        let a = values[k].as_f64().unwrap();
+        let b = v["corrections"][name].as_f64().unwrap();
+        assert!((a - b).abs() < 1e-6, "{name}: fit file {a}, retune {b}");
+    }
     // A bound the fit does not name, and a malformed one, are errors.
     let (code, _, stderr) = cierva(&[
         "retune",
