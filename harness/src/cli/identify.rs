@@ -75,7 +75,7 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
         },
         IdentFormat::Yaml => print!(
             "{}",
-            ident::reference_yaml(&format!("{}-derivatives", rec.meta.id), &result, rec)
+            ident::reference_yaml(&format!("{}-derivatives", rec.meta.id), &result, &recs)
         ),
         IdentFormat::Text => print_text(&recs, &result, compared.as_deref()),
     }

@@ -664,28 +664,40 @@ pub fn identified_model(
 }
 
 /// The identified derivatives as a flight-refs derivative table (YAML text).
-pub fn reference_yaml(id: &str, ident: &Identification, record: &Record) -> String {
+pub fn reference_yaml(id: &str, ident: &Identification, records: &[Record]) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let synthetic = record.meta.synthetic.is_some();
+    let synthetic = records.iter().any(|r| r.meta.synthetic.is_some());
     let _ = writeln!(s, "id: {id}");
     let _ = writeln!(
         s,
         "title: Derivatives identified from {}{}",
-        record.meta.id,
-        if synthetic { " (synthetic record)" } else { "" }
+        ident.record,
+        if synthetic {
+            " (synthetic records)"
+        } else {
+            ""
+        }
     );
     let _ = writeln!(s, "provenance:");
     let _ = writeln!(
         s,
         "  source: \"cierva identify {}: frequency-domain equation error (seed 000 Sec. IV) on {}\"",
         env!("CARGO_PKG_VERSION"),
-        record.path.display()
+        records
+            .iter()
+            .map(|r| r.path.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     let _ = writeln!(
         s,
-        "  notes: \"record provenance: {}\"",
-        record.meta.provenance.source.replace('"', "'")
+        "  notes: \"records' provenance: {}\"",
+        records
+            .iter()
+            .map(|r| r.meta.provenance.source.replace('"', "'"))
+            .collect::<Vec<_>>()
+            .join("; ")
     );
     let _ = writeln!(s, "columns:");
     let _ = writeln!(

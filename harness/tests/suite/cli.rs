@@ -1088,3 +1088,79 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
     assert_eq!(code, 2);
     assert!(stderr.contains("which --fit does not"), "{stderr}");
 }
+
+/// The self-consistency case's identified tables are the model's own flights: regenerating the
+/// 70 mph one as `scripts/self-consistency-records` does gives the committed numbers. When the
+/// model moves, this fails: rerun the script and commit its tables.
+#[test]
+fn the_self_consistency_tables_are_the_models_own_flights() {
+    let dir = std::env::temp_dir().join(format!("cierva-self-consistency-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let specs = [
+        ("eta_s", "4", "701"),
+        ("eta_c", "3", "702"),
+        ("eta_p", "5", "703"),
+    ];
+    let paths: Vec<String> = specs
+        .iter()
+        .map(|(c, _, _)| {
+            dir.join(format!("vpm-m16-70mph-{c}.csv"))
+                .to_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    std::thread::scope(|s| {
+        for ((control, amplitude, seed), out) in specs.iter().zip(&paths) {
+            s.spawn(move || {
+                let (code, stdout, stderr) = cierva(&[
+                    "synth-flight",
+                    "aircraft/vpm-m16.yaml",
+                    "--airspeed-mph",
+                    "70",
+                    "--manoeuvre",
+                    "sweep",
+                    "--control",
+                    control,
+                    "--amplitude-percent",
+                    amplitude,
+                    "--turbulence-m-s",
+                    "0.313",
+                    "--seed",
+                    seed,
+                    "--output",
+                    out,
+                ]);
+                assert_eq!(code, 0, "{stdout}{stderr}");
+            });
+        }
+    });
+    let mut args = vec!["identify"];
+    args.extend(paths.iter().map(String::as_str));
+    args.extend(["--setup", "coupled", "--format", "json"]);
+    let (code, stdout, stderr) = cierva(&args);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let now: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let committed: serde_yaml::Value = serde_yaml::from_str(
+        &std::fs::read_to_string(
+            root().join("flight-refs/synthetic-flight-vpm-m16-70mph-identified.yaml"),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let table = committed["derivatives"].as_sequence().unwrap();
+    let fresh = now["derivatives"].as_array().unwrap();
+    assert_eq!(table.len(), fresh.len());
+    for (c, f) in table.iter().zip(fresh) {
+        let name = c["name"].as_str().unwrap();
+        assert_eq!(name, f["name"].as_str().unwrap());
+        let (a, b) = (
+            c["estimate"].as_f64().unwrap(),
+            f["estimate"].as_f64().unwrap(),
+        );
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs().max(1e-6),
+            "{name}: committed {a}, regenerated {b}: the model moved; rerun scripts/self-consistency-records"
+        );
+    }
+}
