@@ -86,7 +86,7 @@ pub fn step(
 }
 
 /// Still air: no wind at any time.
-fn still(_: f64) -> [f64; 3] {
+pub(crate) fn still(_: f64) -> [f64; 3] {
     [0.0; 3]
 }
 
@@ -102,7 +102,7 @@ pub struct Drivers<'a> {
 }
 
 /// [`step`] with the main rotor's blade elements prepared once for a run.
-fn step_with(
+pub(crate) fn step_with(
     aircraft: &Aircraft,
     blade: &crate::components::rotor::Blade,
     x: &FullState,
