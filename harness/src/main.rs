@@ -145,6 +145,11 @@ enum Command {
         /// A corrections file to apply to the aircraft of --against.
         #[arg(long, requires = "against")]
         corrections: Option<PathBuf>,
+        /// Average the rotor's blade-passage shaking (N_b per revolution) out of every signal
+        /// before the fit: the number of blades (a moving average over one blade-passage period
+        /// at the trim's rotorspeed, the same on every signal).
+        #[arg(long)]
+        blades: Option<u32>,
         /// text, json, or yaml (a flight-refs derivative table).
         #[arg(long, value_enum, default_value_t = IdentFormat::Text)]
         format: IdentFormat,
@@ -435,6 +440,7 @@ fn main() -> ExitCode {
             setup,
             against,
             corrections,
+            blades,
             format,
             predict,
         } => identify(
@@ -444,6 +450,7 @@ fn main() -> ExitCode {
                 setup,
                 against,
                 corrections,
+                blades,
             },
             format,
             predict,

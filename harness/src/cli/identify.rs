@@ -11,6 +11,7 @@ pub(crate) struct IdentifyArgs {
     pub(crate) setup: Option<ident::Setup>,
     pub(crate) against: Option<PathBuf>,
     pub(crate) corrections: Option<PathBuf>,
+    pub(crate) blades: Option<u32>,
 }
 
 pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<PathBuf>) -> ExitCode {
@@ -51,6 +52,10 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
             }
         },
     };
+    let mut cfg = cfg;
+    if a.blades.is_some() {
+        cfg.blade_passage_blades = a.blades;
+    }
     let result = match ident::identify_records(&recs, &cfg) {
         Ok(r) => r,
         Err(e) => {
