@@ -57,12 +57,25 @@ pub struct Flown {
     pub pilot: Option<Pilot>,
 }
 
-/// What the record holds, in order (the identification format's required channels, then the
-/// controls).
-fn channel_names() -> Vec<String> {
+/// The rotor channels of a teetering rotor's record: the teeter angle (blade 1 up), its
+/// azimuth from the front of the disc, and the hub's air speeds in shaft axes, as seed 003's
+/// teeter records have them ([`crate::ident::flap::FLAP_REQUIRED`]), so that `cierva inflow`
+/// reads the record.
+pub const TEETER_CHANNELS: [&str; 4] = [
+    "teeter_rad",
+    "azimuth_from_front_rad",
+    "hub_inplane_speed_m_s",
+    "hub_normal_speed_m_s",
+];
+
+/// What the record holds, in order (the identification format's required channels, the
+/// controls, and a teetering rotor's channels).
+fn channel_names(teetering: bool) -> Vec<String> {
+    let rotor: &[&str] = if teetering { &TEETER_CHANNELS } else { &[] };
     crate::ident::record::REQUIRED
         .iter()
         .chain(CONTROL_CHANNELS.iter())
+        .chain(rotor)
         .map(|c| c.to_string())
         .collect()
 }
@@ -165,7 +178,14 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
     let cg = start.aircraft.cg_m;
     let probe = start_probe(&test.instrumentation, cg);
     let arm = [probe[0] - cg[0], probe[1] - cg[1], probe[2] - cg[2]];
-    let names = channel_names();
+    let teetering = matches!(
+        start.aircraft.main_rotor.rotor.hub,
+        cierva_model::components::rotor::Hub::Teetering
+    );
+    let names = channel_names(teetering);
+    let row = |x: &FullState, c: &Controls, wind: [f64; 3]| {
+        true_row(&start.aircraft, x, c, wind, arm, teetering)
+    };
     let mut truth = vec![Vec::with_capacity(n + 1); names.len()];
     let mut j = 0;
     for k in 0..=n {
@@ -179,8 +199,8 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
         } else {
             0.0
         };
-        let row_a = true_row(&a.state, &a.controls, wind(a.time_s), arm);
-        let row_b = true_row(&b.state, &b.controls, wind(b.time_s), arm);
+        let row_a = row(&a.state, &a.controls, wind(a.time_s));
+        let row_b = row(&b.state, &b.controls, wind(b.time_s));
         truth[0].push(t);
         for i in 1..names.len() {
             truth[i].push(row_a[i - 1] + f * (row_b[i - 1] - row_a[i - 1]));
@@ -197,7 +217,13 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
             .instrumentation
             .channel(name)
             .ok_or_else(|| format!("no sensor for the channel `{name}`"))?;
-        data.push(ch.measure(series, dt, &mut rng));
+        let mut measured = ch.measure(series, dt, &mut rng);
+        if name == "azimuth_from_front_rad" {
+            for a in &mut measured {
+                *a = a.rem_euclid(2.0 * std::f64::consts::PI);
+            }
+        }
+        data.push(measured);
     }
     // The trim: the mean over one revolution of the periodic orbit, controls held, calm air.
     let revolution = timehistory::run(
@@ -212,20 +238,26 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
     )
     .map_err(|(t, e)| format!("the trim's revolution failed at {t:.3} s: {e}"))?;
     let steps = &revolution.samples[..revolution.samples.len().saturating_sub(1).max(1)];
-    let mut mean = [0.0; 16];
+    let mut mean = vec![0.0; names.len() + 5];
     for x in steps {
-        let row = true_row(&x.state, &x.controls, [0.0; 3], arm);
         let b = &x.state.body;
-        let extra = [b.u_m_s, b.v_m_s, b.w_m_s];
-        for (m, v) in mean.iter_mut().zip(row.into_iter().chain(extra)) {
+        let i = &x.state.inflow;
+        let extra = [b.u_m_s, b.v_m_s, b.w_m_s, i.v0, i.v1s, i.v1c];
+        let all = row(&x.state, &x.controls, [0.0; 3])
+            .into_iter()
+            .chain(extra);
+        for (m, v) in mean.iter_mut().zip(all) {
             *m += v / steps.len() as f64;
         }
     }
-    let keys = names
-        .iter()
-        .skip(1)
-        .map(String::as_str)
-        .chain(["u_m_s", "v_m_s", "w_m_s"]);
+    let keys = names.iter().skip(1).map(String::as_str).chain([
+        "u_m_s",
+        "v_m_s",
+        "w_m_s",
+        "inflow_v0_m_s",
+        "inflow_v1s_m_s",
+        "inflow_v1c_m_s",
+    ]);
     let trim: BTreeMap<String, f64> = keys.zip(mean).map(|(k, v)| (k.to_string(), v)).collect();
     Ok(Flown {
         channels: names,
@@ -243,8 +275,16 @@ fn start_probe(inst: &Instrumentation, cg: [f64; 3]) -> [f64; 3] {
 }
 
 /// The true record channels after `time_s` (see [`channel_names`]) at a state: the air data at
-/// the probe from the air-relative velocity (seed 000 Eqs. 5-6 read backwards).
-fn true_row(x: &FullState, c: &Controls, wind: [f64; 3], arm: [f64; 3]) -> [f64; 13] {
+/// the probe from the air-relative velocity (seed 000 Eqs. 5-6 read backwards), and a
+/// teetering rotor's channels (the azimuth unwrapped: the caller wraps it).
+fn true_row(
+    aircraft: &Aircraft,
+    x: &FullState,
+    c: &Controls,
+    wind: [f64; 3],
+    arm: [f64; 3],
+    teetering: bool,
+) -> Vec<f64> {
     let b = &x.body;
     let (p, q, r) = (b.p_rad_s, b.q_rad_s, b.r_rad_s);
     let air = [b.u_m_s - wind[0], b.v_m_s - wind[1], b.w_m_s - wind[2]];
@@ -252,7 +292,7 @@ fn true_row(x: &FullState, c: &Controls, wind: [f64; 3], arm: [f64; 3]) -> [f64;
     let vp = air[1] + r * arm[0] - p * arm[2];
     let wp = air[2] + p * arm[1] - q * arm[0];
     let airspeed = (up * up + vp * vp + wp * wp).sqrt();
-    [
+    let mut row = vec![
         airspeed,
         wp.atan2(up),
         (vp / airspeed).asin(),
@@ -266,5 +306,16 @@ fn true_row(x: &FullState, c: &Controls, wind: [f64; 3], arm: [f64; 3]) -> [f64;
         c.stick_lateral_percent,
         c.pedal_percent,
         c.throttle_percent,
-    ]
+    ];
+    if teetering {
+        let hub = aircraft.hub_air_velocity(&x.body, c, wind);
+        row.extend([
+            x.flap.first().map_or(0.0, |f| f[0]),
+            // Azimuth from the front: the model's is zero over the tail.
+            x.rotor_azimuth_rad + std::f64::consts::PI,
+            hub.u.hypot(hub.v),
+            hub.w,
+        ]);
+    }
+    row
 }

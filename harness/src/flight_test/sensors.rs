@@ -17,7 +17,8 @@
 //! A channel is measured as `lag(truth) + bias + noise`: a first-order lag of time constant
 //! `lag_s` (the anti-aliasing filter, exact for samples held over an interval), a constant bias,
 //! and seeded Gaussian noise of standard deviation `noise`, all in the channel's units.
-//! `controls_pct` applies to every control channel (`eta_*_pct`).
+//! `controls_pct` applies to every control channel (`eta_*_pct`); a teetering rotor's hub
+//! speeds take the airspeed's sensor, and its azimuth is exact (a once-per-revolution pulse).
 
 use crate::ident::synth::Normal;
 use crate::yaml::{self, InputError};
@@ -36,7 +37,7 @@ pub struct Channel {
 }
 
 /// The channels a sensors file may name (as in the record; `controls_pct` for all controls).
-pub const CHANNELS: [&str; 10] = [
+pub const CHANNELS: [&str; 11] = [
     "airspeed_m_s",
     "alpha_vane_rad",
     "beta_vane_rad",
@@ -47,6 +48,7 @@ pub const CHANNELS: [&str; 10] = [
     "theta_rad",
     "omega_rotor_rad_s",
     "controls_pct",
+    "teeter_rad",
 ];
 
 const ANTI_ALIAS: &str = "estimated: seed 000 Sec. II says anti-aliasing filters were fitted but not their corner; a first-order lag of 0.02 s (an 8 Hz corner) suits sampling at 100 Hz";
@@ -54,7 +56,7 @@ const ANTI_ALIAS: &str = "estimated: seed 000 Sec. II says anti-aliasing filters
 /// The defaults: `(channel, noise, bias, lag_s, source of the noise)`. Seed 000 Sec. II names
 /// the sensors (a nose boom with vanes, an inertial unit for the rates, a vertical gyro for the
 /// attitudes, potentiometers on the controls, a rotorspeed pick-up) but not their accuracy.
-const DEFAULTS: [(&str, f64, f64, f64, &str); 10] = [
+const DEFAULTS: [(&str, f64, f64, f64, &str); 11] = [
     (
         "airspeed_m_s",
         0.15,
@@ -125,6 +127,13 @@ const DEFAULTS: [(&str, f64, f64, f64, &str); 10] = [
         0.02,
         "estimated: a potentiometer's noise, 0.05 % of travel",
     ),
+    (
+        "teeter_rad",
+        0.000_873,
+        0.0,
+        0.0,
+        "estimated: a teeter-angle potentiometer's noise, 0.05 deg, sampled without a lag (seed 003 reads the disc's tilt from the 1/rev signal's phase, which a 0.02 s lag would turn by 40 deg)",
+    ),
 ];
 
 /// The air-data probe's default position from the centre of mass, and its source.
@@ -152,9 +161,14 @@ impl Default for Instrumentation {
         let mut sources = BTreeMap::new();
         for (name, noise, bias, lag_s, source) in DEFAULTS {
             channels.insert(name.to_string(), Channel { noise, bias, lag_s });
+            let lag = if lag_s > 0.0 {
+                format!("lag {ANTI_ALIAS}")
+            } else {
+                "no lag".to_string()
+            };
             sources.insert(
                 format!("channels.{name}"),
-                format!("{source}; no bias; lag {ANTI_ALIAS}"),
+                format!("{source}; no bias; {lag}"),
             );
         }
         sources.insert("probe_from_cg_m".into(), PROBE.1.into());
@@ -287,12 +301,21 @@ impl Instrumentation {
         Ok(out)
     }
 
-    /// The sensor of a record channel (`eta_*_pct` use `controls_pct`).
+    /// The sensor of a record channel: `eta_*_pct` use `controls_pct`; the hub's speeds are
+    /// derived from the air data, so they take the airspeed's sensor; the rotor's azimuth comes
+    /// from a once-per-revolution pulse, exact.
     pub fn channel(&self, name: &str) -> Option<Channel> {
-        let key = if name.ends_with("_pct") {
-            "controls_pct"
-        } else {
-            name
+        let key = match name {
+            n if n.ends_with("_pct") => "controls_pct",
+            "hub_inplane_speed_m_s" | "hub_normal_speed_m_s" => "airspeed_m_s",
+            "azimuth_from_front_rad" => {
+                return Some(Channel {
+                    noise: 0.0,
+                    bias: 0.0,
+                    lag_s: 0.0,
+                });
+            }
+            n => n,
         };
         self.channels.get(key).copied()
     }

@@ -464,6 +464,25 @@ impl Aircraft {
         body_to_hub(theta_s, phi_s)
     }
 
+    /// The main rotor hub's velocity through the air in hub axes (shaft axes: `w` along the
+    /// shaft downwards, positive with the air coming up through the disc), at a body state and
+    /// stick setting in a wind (body axes, m/s): what a flight test derives from air data,
+    /// attitudes and the shaft's tilt (seed 003).
+    pub fn hub_air_velocity(
+        &self,
+        body: &BodyState,
+        controls: &Controls,
+        wind_body_m_s: [f64; 3],
+    ) -> HubVelocity {
+        let air_body = BodyState {
+            u_m_s: body.u_m_s - wind_body_m_s[0],
+            v_m_s: body.v_m_s - wind_body_m_s[1],
+            w_m_s: body.w_m_s - wind_body_m_s[2],
+            ..*body
+        };
+        self.rotor_frame(&air_body, controls).hub
+    }
+
     fn rotor_frame(&self, b: &BodyState, controls: &Controls) -> RotorFrame {
         let uvw = [b.u_m_s, b.v_m_s, b.w_m_s];
         let pqr = [b.p_rad_s, b.q_rad_s, b.r_rad_s];
