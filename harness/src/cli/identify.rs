@@ -27,7 +27,7 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
         }
     }
     let rec = &recs[0];
-    let cfg = match &a.config {
+    let mut cfg = match &a.config {
         None => {
             let setup = a.setup.unwrap_or(if recs.len() > 1 {
                 ident::Setup::Coupled
@@ -52,7 +52,7 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
             }
         },
     };
-    let mut cfg = cfg;
+    // The command line's blade count over the set-up's.
     if a.blades.is_some() {
         cfg.blade_passage_blades = a.blades;
     }
