@@ -72,11 +72,16 @@ pub struct Retune {
     pub groups: Vec<Group>,
     pub problem: Problem,
     pub result: fit::FitResult,
+    /// Where each parameter's bounds come from, in the order of the problem's parameters.
+    pub bounds_sources: Vec<String>,
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
 /// physical parameter's within the aircraft file's plausible range.
-pub fn parameters(file: &AircraftFile, requests: &[Request]) -> Result<Vec<Parameter>, String> {
+pub fn parameters(
+    file: &AircraftFile,
+    requests: &[Request],
+) -> Result<Vec<(Parameter, String)>, String> {
     requests
         .iter()
         .map(|r| {
@@ -87,22 +92,34 @@ pub fn parameters(file: &AircraftFile, requests: &[Request]) -> Result<Vec<Param
                     ParameterKind::names().join(", ")
                 )
             })?;
-            let (lower, upper, start) = match kind {
-                ParameterKind::Estimated(name) => crate::fit_file::estimated_parameter(
-                    Some(file),
-                    name,
-                    (r.bounds.map(|b| b.0), r.bounds.map(|b| b.1), None),
-                )?,
+            let asked = "asked for on the command line (--bounds)".to_string();
+            let ((lower, upper, start), source) = match kind {
+                ParameterKind::Estimated(name) => (
+                    crate::fit_file::estimated_parameter(
+                        Some(file),
+                        name,
+                        (r.bounds.map(|b| b.0), r.bounds.map(|b| b.1), None),
+                    )?,
+                    match r.bounds {
+                        Some(_) => asked,
+                        None => file
+                            .ranges
+                            .get(name)
+                            .map_or(String::new(), |x| x.source.clone()),
+                    },
+                ),
                 _ => {
-                    let (lo, hi) = r.bounds.unwrap_or_else(|| {
-                        DEFAULT_BOUNDS
-                            .iter()
-                            .find(|d| d.0 == kind)
-                            .map_or((0.0, 0.0), |d| (d.1, d.2))
-                    });
+                    let default = DEFAULT_BOUNDS.iter().find(|d| d.0 == kind);
+                    let (lo, hi) = r
+                        .bounds
+                        .unwrap_or_else(|| default.map_or((0.0, 0.0), |d| (d.1, d.2)));
                     // From the uncorrected model.
                     let start = kind.neutral().unwrap_or(0.5 * (lo + hi));
-                    (lo, hi, start.clamp(lo, hi))
+                    let source = match r.bounds {
+                        Some(_) => asked,
+                        None => default.map_or(String::new(), |d| d.3.to_string()),
+                    };
+                    ((lo, hi, start.clamp(lo, hi)), source)
                 }
             };
             if !(lower.is_finite() && upper.is_finite() && lower < upper) {
@@ -111,13 +128,16 @@ pub fn parameters(file: &AircraftFile, requests: &[Request]) -> Result<Vec<Param
                     r.name
                 ));
             }
-            Ok(Parameter {
-                kind,
-                lower,
-                upper,
-                start,
-                regularisation: 0.0,
-            })
+            Ok((
+                Parameter {
+                    kind,
+                    lower,
+                    upper,
+                    start,
+                    regularisation: 0.0,
+                },
+                source,
+            ))
         })
         .collect()
 }
@@ -133,7 +153,8 @@ pub fn retune(
     if records.is_empty() {
         return Err("no records to retune from".into());
     }
-    let parameters = parameters(file, requests)?;
+    let (parameters, bounds_sources): (Vec<Parameter>, Vec<String>) =
+        parameters(file, requests)?.into_iter().unzip();
     if parameters.is_empty() {
         return Err("name at least one correction or parameter to fit".into());
     }
@@ -158,6 +179,7 @@ pub fn retune(
         groups,
         problem,
         result,
+        bounds_sources,
     })
 }
 
@@ -402,16 +424,25 @@ pub fn markdown(
     }
     let _ = writeln!(
         s,
-        "\n## Fitted\n\n| parameter | value | standard error |\n| --- | --- | --- |"
+        "\n## Fitted\n\n| parameter | value | standard error | bounds | the bounds' source |\n| --- | --- | --- | --- | --- |"
     );
-    for ((k, v), se) in r
-        .result
+    for (((p, v), se), source) in r
+        .problem
         .parameters
         .iter()
         .zip(&r.result.values)
         .zip(&r.result.standard_errors)
+        .zip(&r.bounds_sources)
     {
-        let _ = writeln!(s, "| {} | {} | {} |", k.name(), g(*v, 5), g(*se, 3));
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | [{}, {}] | {source} |",
+            p.kind.name(),
+            g(*v, 5),
+            g(*se, 3),
+            g(p.lower, 4),
+            g(p.upper, 4)
+        );
     }
     for w in &r.result.warnings {
         let _ = writeln!(s, "\nWarning: {w}");

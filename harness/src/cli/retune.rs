@@ -83,6 +83,18 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             )),
         },
         fit: Some(serde_json::json!({
+            "bounds": r
+                .problem
+                .parameters
+                .iter()
+                .zip(&r.bounds_sources)
+                .map(|(p, source)| {
+                    (
+                        p.kind.name().to_string(),
+                        serde_json::json!({"lower": p.lower, "upper": p.upper, "source": source}),
+                    )
+                })
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
             "status": r.result.status.name(),
             "iterations": r.result.iterations,
             "evaluations": r.result.evaluations,

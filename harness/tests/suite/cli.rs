@@ -1046,6 +1046,10 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
     assert!(loaded.corrections.hub_aoa_factor.is_some());
     let md = std::fs::read_to_string(&report).unwrap();
     assert!(md.contains("profile_drag_scale"), "{md}");
+    // Every bound names its source: the hub factor's is seed 000's.
+    assert!(md.contains("seed 000 Sec. VII.B"), "{md}");
+    let written = std::fs::read_to_string(&output).unwrap();
+    assert!(written.contains("seed 000 Sec. VII.B"), "{written}");
     // A fit file naming the same records as targets poses the same problem: the same answer.
     let fit_file = dir.join("from-records.yaml");
     std::fs::write(
