@@ -24,6 +24,7 @@ use crate::ident::synth::Normal;
 use crate::refs::Provenance;
 use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
+use cierva_model::simulation::timehistory::{Sample, TimeHistory};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -148,37 +149,69 @@ pub fn fly(
             };
             // Trim: the mean over one revolution with the controls held.
             let revolution_s = 2.0 * std::f64::consts::PI / start.state.rotor_omega_rad_s;
+            let row = |x: &Sample| {
+                responses(&x.state.body.to_array(), x.state.rotor_omega_rad_s).to_vec()
+            };
             let held = start.run(&|_| [0.0; 4], settings(revolution_s))?;
-            let steps = held.samples.len().saturating_sub(1).max(1);
-            let mut trim = [0.0; 10];
-            for x in &held.samples[..steps] {
-                let r = responses(&x.state.body.to_array(), x.state.rotor_omega_rad_s);
-                for (t, v) in trim.iter_mut().zip(r) {
-                    *t += v / steps as f64;
-                }
-            }
+            let trim = revolution_mean(&held, &row);
             let h = start.run(changes, settings(duration_s))?;
             let mut signals = vec![Vec::with_capacity(time_s.len()); SIGNALS.len()];
-            let mut j = 0;
-            for &t in &time_s {
-                while j + 2 < h.samples.len() && h.samples[j + 1].time_s <= t {
-                    j += 1;
-                }
-                let (a, b) = (&h.samples[j], &h.samples[(j + 1).min(h.samples.len() - 1)]);
-                let f = if b.time_s > a.time_s {
-                    ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let ra = responses(&a.state.body.to_array(), a.state.rotor_omega_rad_s);
-                let rb = responses(&b.state.body.to_array(), b.state.rotor_omega_rad_s);
+            for r in resample(&h, &time_s, &row) {
                 for i in 0..SIGNALS.len() {
-                    signals[i].push(ra[i] + f * (rb[i] - ra[i]) - trim[i]);
+                    signals[i].push(r[i] - trim[i]);
                 }
             }
             Ok(Flown { time_s, signals })
         }
     }
+}
+
+/// `row` at each of `times`, interpolated linearly between the run's samples on either side
+/// (held at the run's ends), each sample's row computed once.
+pub fn resample(
+    h: &TimeHistory,
+    times: &[f64],
+    row: &dyn Fn(&Sample) -> Vec<f64>,
+) -> Vec<Vec<f64>> {
+    let mut j = 0;
+    let mut rows: Option<(usize, Vec<f64>, Vec<f64>)> = None;
+    times
+        .iter()
+        .map(|&t| {
+            while j + 2 < h.samples.len() && h.samples[j + 1].time_s <= t {
+                j += 1;
+            }
+            let (a, b) = (&h.samples[j], &h.samples[(j + 1).min(h.samples.len() - 1)]);
+            let f = if b.time_s > a.time_s {
+                ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            if rows.as_ref().is_none_or(|(k, _, _)| *k != j) {
+                rows = Some((j, row(a), row(b)));
+            }
+            let (_, ra, rb) = rows.as_ref().expect("just set");
+            ra.iter()
+                .zip(rb)
+                .map(|(ra, rb)| ra + f * (rb - ra))
+                .collect()
+        })
+        .collect()
+}
+
+/// The mean of `row` over one revolution's run: every sample but the last, which closes the
+/// revolution.
+pub fn revolution_mean(h: &TimeHistory, row: &dyn Fn(&Sample) -> Vec<f64>) -> Vec<f64> {
+    let steps = &h.samples[..h.samples.len().saturating_sub(1).max(1)];
+    let mut mean: Vec<f64> = Vec::new();
+    for x in steps {
+        let r = row(x);
+        mean.resize(r.len(), 0.0);
+        for (m, v) in mean.iter_mut().zip(r) {
+            *m += v / steps.len() as f64;
+        }
+    }
+    mean
 }
 
 /// One response of the model compared with the reference.

@@ -488,13 +488,7 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
                 started.elapsed().as_secs_f64()
             );
         }
-        let mut controls = vec![flight_test::CONTROL_CHANNELS[control].to_string()];
-        controls.extend(
-            flight_test::CONTROL_CHANNELS
-                .iter()
-                .filter(|c| **c != flight_test::CONTROL_CHANNELS[control])
-                .map(|c| c.to_string()),
-        );
+        let controls = flight_test::record_controls(control);
         let mut condition = std::collections::BTreeMap::new();
         condition.insert("airspeed_mph".to_string(), serde_yaml::Value::from(70.0));
         records.push(record::Record {

@@ -207,13 +207,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
     ] {
         condition.insert(k.to_string(), serde_yaml::Value::from(v));
     }
-    let mut controls = vec![CONTROL_CHANNELS[control].to_string()];
-    controls.extend(
-        CONTROL_CHANNELS
-            .iter()
-            .filter(|c| **c != CONTROL_CHANNELS[control])
-            .map(|c| c.to_string()),
-    );
+    let controls = flight_test::record_controls(control);
     let generator = format!("cierva synth-flight {}", env!("CARGO_PKG_VERSION"));
     let meta = RecordMeta {
         id: id.clone(),

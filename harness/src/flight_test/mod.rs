@@ -24,6 +24,19 @@ use turbulence::Dryden;
 /// The record's control channels, in the order of the model's controls.
 pub const CONTROL_CHANNELS: [&str; 4] = ["eta_s_pct", "eta_c_pct", "eta_p_pct", "eta_t_pct"];
 
+/// A record's controls as its sidecar lists them: the one the test input moves first (what a
+/// longitudinal or lateral set-up takes as the excited control), then the others.
+pub fn record_controls(control: usize) -> Vec<String> {
+    let mut out = vec![CONTROL_CHANNELS[control].to_string()];
+    out.extend(
+        CONTROL_CHANNELS
+            .iter()
+            .filter(|c| **c != CONTROL_CHANNELS[control])
+            .map(|c| c.to_string()),
+    );
+    out
+}
+
 /// A flight test to fly.
 #[derive(Debug, Clone)]
 pub struct FlightTest {
@@ -186,24 +199,15 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
     let row = |x: &FullState, c: &Controls, wind: [f64; 3]| {
         true_row(&start.aircraft, x, c, wind, arm, teetering)
     };
+    let times: Vec<f64> = (0..=n).map(|k| k as f64 * dt).collect();
+    let rows = crate::history::resample(&h, &times, &|s: &timehistory::Sample| {
+        row(&s.state, &s.controls, wind(s.time_s))
+    });
     let mut truth = vec![Vec::with_capacity(n + 1); names.len()];
-    let mut j = 0;
-    for k in 0..=n {
-        let t = k as f64 * dt;
-        while j + 2 < h.samples.len() && h.samples[j + 1].time_s <= t {
-            j += 1;
-        }
-        let (a, b) = (&h.samples[j], &h.samples[(j + 1).min(h.samples.len() - 1)]);
-        let f = if b.time_s > a.time_s {
-            ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let row_a = row(&a.state, &a.controls, wind(a.time_s));
-        let row_b = row(&b.state, &b.controls, wind(b.time_s));
+    for (&t, r) in times.iter().zip(rows) {
         truth[0].push(t);
-        for i in 1..names.len() {
-            truth[i].push(row_a[i - 1] + f * (row_b[i - 1] - row_a[i - 1]));
+        for (column, v) in truth[1..].iter_mut().zip(r) {
+            column.push(v);
         }
     }
     if truth.iter().flatten().any(|v| !v.is_finite()) {
@@ -237,19 +241,13 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
         },
     )
     .map_err(|(t, e)| format!("the trim's revolution failed at {t:.3} s: {e}"))?;
-    let steps = &revolution.samples[..revolution.samples.len().saturating_sub(1).max(1)];
-    let mut mean = vec![0.0; names.len() + 5];
-    for x in steps {
+    let mean = crate::history::revolution_mean(&revolution, &|x: &timehistory::Sample| {
         let b = &x.state.body;
         let i = &x.state.inflow;
-        let extra = [b.u_m_s, b.v_m_s, b.w_m_s, i.v0, i.v1s, i.v1c];
-        let all = row(&x.state, &x.controls, [0.0; 3])
-            .into_iter()
-            .chain(extra);
-        for (m, v) in mean.iter_mut().zip(all) {
-            *m += v / steps.len() as f64;
-        }
-    }
+        let mut r = row(&x.state, &x.controls, [0.0; 3]);
+        r.extend([b.u_m_s, b.v_m_s, b.w_m_s, i.v0, i.v1s, i.v1c]);
+        r
+    });
     let keys = names.iter().skip(1).map(String::as_str).chain([
         "u_m_s",
         "v_m_s",

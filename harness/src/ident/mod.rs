@@ -107,6 +107,17 @@ pub struct BandSpec {
     pub list_hz: Option<Vec<f64>>,
 }
 
+impl BandSpec {
+    /// 0.05-2 Hz at 100 points: the band of seeds 000 and 002's identifications, and the
+    /// built-in set-ups'.
+    pub const SEED_000: Self = Self {
+        from_hz: Some(0.05),
+        to_hz: Some(2.0),
+        points: Some(100),
+        list_hz: None,
+    };
+}
+
 /// Segments and taper.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -160,12 +171,7 @@ impl ConfigSpec {
         Self {
             states: ["u", "w", "q", "theta", "Omega"].map(String::from).to_vec(),
             controls,
-            frequencies: BandSpec {
-                from_hz: Some(0.05),
-                to_hz: Some(2.0),
-                points: Some(100),
-                list_hz: None,
-            },
+            frequencies: BandSpec::SEED_000,
             windowing: WindowingSpec::default(),
             equations: vec![],
             kinematics,
@@ -227,12 +233,7 @@ impl ConfigSpec {
         Ok(Self {
             states: states.iter().map(|s| s.to_string()).collect(),
             controls: map,
-            frequencies: BandSpec {
-                from_hz: Some(0.05),
-                to_hz: Some(2.0),
-                points: Some(100),
-                list_hz: None,
-            },
+            frequencies: BandSpec::SEED_000,
             windowing: WindowingSpec::default(),
             equations: vec![],
             kinematics: kinematics

@@ -289,13 +289,7 @@ fn primary_outside(a: &cierva_model::aircraft::Aircraft) -> Vec<String> {
         .into_iter()
         .enumerate()
         .map(|(k, f)| {
-            let mut controls = vec![flight_test::CONTROL_CHANNELS[k].to_string()];
-            controls.extend(
-                flight_test::CONTROL_CHANNELS
-                    .iter()
-                    .filter(|c| **c != flight_test::CONTROL_CHANNELS[k])
-                    .map(|c| c.to_string()),
-            );
+            let controls = flight_test::record_controls(k);
             record::Record {
                 path: format!("sweep-{k}.csv").into(),
                 meta: record::RecordMeta {
