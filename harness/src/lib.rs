@@ -433,6 +433,81 @@ pub fn linearise_cached(
     result
 }
 
+/// The aircraft linearised at a trim with its blades' flapping, its inflow and (with an engine)
+/// its propeller speed as states ([`cierva_model::aircraft::flapping`]), at the trim
+/// [`run_linearise`] finds.
+pub fn run_linearise_with_flapping(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    trim: &cierva_model::aircraft::trim::Trim,
+    loading: Loading,
+) -> Result<cierva_model::aircraft::flapping::WithFlapping, String> {
+    use cierva_model::{
+        aircraft::Air, aircraft::flapping, aircraft::linearise, components::atmosphere,
+    };
+    let air = atmosphere::at_density_altitude(loading.density_altitude_ft * FT_TO_M)
+        .map_err(|e| e.to_string())?;
+    let mut a = aircraft.clone();
+    if let Some(m) = loading.mass_kg {
+        a.mass.mass_kg = m;
+    }
+    flapping::with_flapping(
+        &a,
+        trim,
+        Air {
+            density_kg_m3: air.density_kg_m3,
+            speed_of_sound_m_s: air.speed_of_sound_m_s,
+        },
+        linearise::Steps::default(),
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// The derivatives a set-up identifies from the aircraft's linearisation with its flapping
+/// states ([`run_linearise_with_flapping`]), over the set-up's band from the periodic model's
+/// baseband frequency response (harmonic balance,
+/// [`cierva_model::aircraft::flapping::WithFlapping::baseband_response`];
+/// [`ident::equivalent::identify_response`]): what the identification of a
+/// flight of the full model should find, where the quasi-static linearisation leaves the
+/// blades' lag out. Remembered per aircraft file, condition, loading and set-up.
+pub fn identified_in_band_cached(
+    file: &aircraft_file::AircraftFile,
+    request: TrimRequest,
+    loading: Loading,
+    setup: ident::Setup,
+) -> Result<std::sync::Arc<cierva_model::LinearModel>, String> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex, OnceLock};
+    type Cache = Mutex<HashMap<String, Result<Arc<cierva_model::LinearModel>, String>>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let key = format!("{}|{request:?}|{loading:?}|{setup:?}", file.path.display());
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return hit;
+    }
+    let result = (|| {
+        let lin = linearise_cached(file, request, loading)?;
+        let flapping = run_linearise_with_flapping(&file.aircraft, &lin.0, loading)?;
+        let config = ident::ConfigSpec::for_model(setup);
+        let at = |w: f64| flapping.baseband_response(w).map_err(|e| e.to_string());
+        let identified = ident::equivalent::identify_response(
+            &config,
+            ident::equivalent::Response {
+                states: flapping.model.states(),
+                controls: flapping.model.controls(),
+                at: &at,
+            },
+        )?;
+        identified
+            .model
+            .map(Arc::new)
+            .ok_or_else(|| "the set-up's identified model could not be assembled".to_string())
+    })();
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, result.clone());
+    }
+    result
+}
+
 /// Where a simulation of the full model starts: the aircraft at its mass, the state on the
 /// full model's periodic orbit (blade 1 at azimuth zero), the trimmed controls and the air.
 #[derive(Debug, Clone)]

@@ -35,6 +35,7 @@ impl Kind for DerivativeCheck {
         "condition",
         "set",
         "without_rotorspeed_coupling",
+        "as_identified",
     ];
     const SUBJECTS: &'static str =
         "a linear model, a derivative table, or an aircraft linearised at the check's `condition`";
@@ -54,9 +55,13 @@ impl Kind for DerivativeCheck {
                 LinearSetup::default()
             }
             _ => {
-                let setup = linear::resolve_setup(cx, spec)?;
+                let mut setup = linear::resolve_setup(cx, spec)?;
                 for name in std::iter::once(&derivative).chain(spec.divided_by.iter()) {
                     linear::check_derivative(cx, name, ".derivative")?;
+                }
+                if let Some(s) = spec.as_identified {
+                    resolve_as_identified(cx, spec, s, &derivative)?;
+                    setup.as_identified = Some(s);
                 }
                 setup
             }
@@ -98,6 +103,46 @@ impl Kind for DerivativeCheck {
             linear,
         })
     }
+}
+
+/// `as_identified`: on an aircraft, unmodified, of a derivative the set-up identifies, and only
+/// its value (the components and the corrections' change belong to the quasi-static
+/// linearisation).
+fn resolve_as_identified(
+    cx: &Cx,
+    spec: &CheckSpec,
+    setup: crate::ident::Setup,
+    derivative: &str,
+) -> Result<(), InputError> {
+    if !is_aircraft(cx.subject) {
+        return Err(cx.err(
+            ".as_identified",
+            "`as_identified` applies to a case whose model is an aircraft",
+        ));
+    }
+    if !spec.set.is_empty() || spec.without_rotorspeed_coupling || spec.divided_by.is_some() {
+        return Err(cx.err(
+            ".as_identified",
+            "`as_identified` takes the identified model as it is: no `set`, \
+             `without_rotorspeed_coupling` or `divided_by`",
+        ));
+    }
+    if let Some(q) = spec.expect.keys().find(|q| *q != Q::Value.name()) {
+        return Err(cx.err(
+            &format!(".expect.{q}"),
+            "an identified derivative has only a `value`",
+        ));
+    }
+    let config = crate::ident::ConfigSpec::for_model(setup);
+    let template =
+        crate::ident::identified_template(&config).map_err(|e| cx.err(".as_identified", e))?;
+    template.derivative(derivative).map_err(|e| {
+        cx.err(
+            ".derivative",
+            format!("the {setup:?} set-up does not identify `{derivative}`: {e}"),
+        )
+    })?;
+    Ok(())
 }
 
 /// A check of a published table: the table has the derivative, nothing modifies it, and it is

@@ -59,6 +59,9 @@ pub struct LinearSetup {
     pub set: BTreeMap<String, f64>,
     /// Zero every rotorspeed coupling derivative first (seed 002 Tables 2 and 5).
     pub without_rotorspeed_coupling: bool,
+    /// On an aircraft: the model is what this set-up identifies from the aircraft linearised
+    /// with its flapping states ([`crate::identified_in_band_cached`]).
+    pub as_identified: Option<crate::ident::Setup>,
 }
 
 /// Resolves the shared fields: a condition exactly on an aircraft, in straight flight; `set`
@@ -93,6 +96,7 @@ pub fn resolve_setup(cx: &Cx, spec: &CheckSpec) -> Result<LinearSetup, InputErro
         condition: spec.condition,
         set: spec.set.clone(),
         without_rotorspeed_coupling: spec.without_rotorspeed_coupling,
+        as_identified: None,
     })
 }
 
@@ -250,7 +254,11 @@ fn on_aircraft<K: OnLinear>(
         None => plain,
     };
     let lin = crate::linearise_cached(file, request, loading)?;
-    let model = if k.longitudinal() {
+    let model = if let Some(setup) = k.setup().as_identified {
+        crate::identified_in_band_cached(file, request, loading, setup)?
+            .as_ref()
+            .clone()
+    } else if k.longitudinal() {
         lin.1.longitudinal().map_err(|e| e.to_string())?
     } else {
         lin.1.model.clone()

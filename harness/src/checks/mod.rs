@@ -174,6 +174,11 @@ pub struct CheckSpec {
     /// file's).
     #[serde(default)]
     pub azimuth_step_deg: Option<f64>,
+    /// `derivative` on an aircraft: the derivative as this identification set-up finds it in
+    /// the aircraft linearised with its flapping states, over the set-up's band
+    /// ([`crate::identified_in_band_cached`]), not the quasi-static linearisation's.
+    #[serde(default)]
+    pub as_identified: Option<crate::ident::Setup>,
     /// Linear kinds: derivatives set to these values before the check (a what-if variant).
     #[serde(default)]
     pub set: BTreeMap<String, f64>,
@@ -204,6 +209,7 @@ impl CheckSpec {
             ("reference", self.reference.is_some()),
             ("simulation", self.simulation.is_some()),
             ("azimuth_step_deg", self.azimuth_step_deg.is_some()),
+            ("as_identified", self.as_identified.is_some()),
             ("set", !self.set.is_empty()),
             (
                 "without_rotorspeed_coupling",

@@ -66,7 +66,18 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
     let compared = match &a.against {
         None => None,
         Some(aircraft) => match linearised_against(aircraft, a.corrections.as_ref(), &recs) {
-            Ok(model) => Some(ident::against(&result, &model)),
+            Ok((model, flapping)) => {
+                let mut rows = ident::against(&result, &model);
+                // The model with its flapping states, flown with these records' controls and
+                // identified by the same set-up: what the identification should find.
+                match flapping.and_then(|f| ident::equivalent::identify_periodic(&recs, &cfg, &f)) {
+                    Ok(as_identified) => ident::add_with_flapping(&mut rows, &as_identified),
+                    Err(e) => {
+                        eprintln!("note: no comparison with the model's flapping states: {e}")
+                    }
+                }
+                Some(rows)
+            }
             Err(code) => return code,
         },
     };
@@ -113,12 +124,18 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
 }
 
 /// The aircraft (with its corrections) linearised at the records' condition, which must be
-/// one condition.
+/// one condition: quasi-statically, and with its flapping states (or why not).
 fn linearised_against(
     aircraft: &Path,
     corrections: Option<&PathBuf>,
     recs: &[record::Record],
-) -> Result<cierva_model::LinearModel, ExitCode> {
+) -> Result<
+    (
+        cierva_model::LinearModel,
+        Result<cierva_model::aircraft::flapping::WithFlapping, String>,
+    ),
+    ExitCode,
+> {
     let conditions = recs
         .iter()
         .map(ident::record_condition)
@@ -152,7 +169,11 @@ fn linearised_against(
     };
     let file = load_flight(&flight)?;
     cierva_harness::run_linearise(&file.aircraft, request, loading)
-        .map(|(_, lin)| lin.model)
+        .map(|(trim, lin)| {
+            let flapping =
+                cierva_harness::run_linearise_with_flapping(&file.aircraft, &trim, loading);
+            (lin.model, flapping)
+        })
         .map_err(|e| {
             eprintln!("error: {}: {e}", aircraft.display());
             ExitCode::from(1)
@@ -191,13 +212,14 @@ fn print_text(
             }
         }
         Some(rows) => {
+            let inside = |b: bool| if b { "inside" } else { "OUTSIDE" };
             println!(
-                "{:<14} {:>13} {:>26} {:>13}  model inside?",
-                "derivative", "identified", "95 % bounds", "model"
+                "{:<14} {:>13} {:>26} {:>13} {:>8} {:>15} {:>8}",
+                "derivative", "identified", "95 % bounds", "model", "", "with flapping", ""
             );
             for r in rows {
                 println!(
-                    "{:<14} {:>13} {:>26} {:>13}  {}{}",
+                    "{:<14} {:>13} {:>26} {:>13} {:>8} {:>15} {:>8}{}",
                     r.name,
                     text::sig(r.estimate, 5),
                     format!(
@@ -206,18 +228,35 @@ fn print_text(
                         text::sig(r.upper_95, 4)
                     ),
                     text::sig(r.model, 5),
-                    if r.inside { "inside" } else { "OUTSIDE" },
+                    inside(r.inside),
+                    r.with_flapping.map_or("-".into(), |v| text::sig(v, 5)),
+                    r.inside_with_flapping.map_or("", inside),
                     if r.primary { " (primary)" } else { "" }
                 );
             }
             let primary: Vec<&ident::Against> = rows.iter().filter(|r| r.primary).collect();
             println!(
-                "model inside the identified bounds: {} of {} derivatives, {} of {} primary",
+                "model (quasi-static linearisation) inside the identified bounds: {} of {} derivatives, {} of {} primary",
                 rows.iter().filter(|r| r.inside).count(),
                 rows.len(),
                 primary.iter().filter(|r| r.inside).count(),
                 primary.len()
             );
+            if rows.iter().any(|r| r.with_flapping.is_some()) {
+                let count = |rs: &[&ident::Against]| {
+                    rs.iter()
+                        .filter(|r| r.inside_with_flapping == Some(true))
+                        .count()
+                };
+                let all: Vec<&ident::Against> = rows.iter().collect();
+                println!(
+                    "model with flapping states, identified from its response to these records' controls: {} of {} derivatives, {} of {} primary",
+                    count(&all),
+                    rows.len(),
+                    count(&primary),
+                    primary.len()
+                );
+            }
         }
     }
     for f in &result.fits {

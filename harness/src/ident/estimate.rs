@@ -18,7 +18,7 @@
 
 use super::fourier::{ChirpZ, hann, transform};
 use nalgebra::{DMatrix, DVector};
-use rustfft::num_complex::Complex64 as C;
+pub use rustfft::num_complex::Complex64 as C;
 use serde::Serialize;
 use thiserror::Error;
 
@@ -184,6 +184,46 @@ pub struct Spectra {
 }
 
 impl Spectra {
+    /// The spectra of a known frequency response: `var_ft[variable][k]`, the transform of every
+    /// state and control (states first, `states` of them) at `omegas[k]`, rad/s. The rates'
+    /// transforms are `i w X`, exactly.
+    pub fn from_response(
+        names: Vec<String>,
+        states: usize,
+        omegas: &[f64],
+        var_ft: Vec<Vec<C>>,
+    ) -> Result<Spectra, IdentError> {
+        if var_ft.len() != names.len()
+            || states > names.len()
+            || var_ft.iter().any(|v| v.len() != omegas.len())
+        {
+            return Err(IdentError::Setting(format!(
+                "a frequency response needs every variable ({}) at every frequency ({})",
+                names.len(),
+                omegas.len()
+            )));
+        }
+        if omegas.is_empty() {
+            return Err(IdentError::NoFrequencies);
+        }
+        let der_ft = var_ft[..states]
+            .iter()
+            .map(|x| {
+                x.iter()
+                    .zip(omegas)
+                    .map(|(v, w)| C::new(0.0, *w) * v)
+                    .collect()
+            })
+            .collect();
+        Ok(Spectra {
+            names,
+            states,
+            omegas: omegas.to_vec(),
+            var_ft,
+            der_ft,
+        })
+    }
+
     /// Several records' spectra as one: their (segment, frequency) points stacked, as the
     /// segments of one record are. This is how flight testers identify one condition from
     /// several runs (a longitudinal and a lateral sweep): each run excites what the others do

@@ -5,6 +5,7 @@
 //! takes perturbations about the sidecar's trim, and identifies each force equation in the
 //! frequency domain.
 
+pub mod equivalent;
 pub mod estimate;
 pub mod flap;
 pub mod fourier;
@@ -197,7 +198,7 @@ pub enum Setup {
 }
 
 /// A record's channel for a control (`eta_s` -> `eta_s_pct` or `eta_s_rad`).
-fn control_channel(record: &Record, control: &str) -> Option<String> {
+pub(crate) fn control_channel(record: &Record, control: &str) -> Option<String> {
     [format!("{control}_pct"), format!("{control}_rad")]
         .into_iter()
         .find(|c| record.meta.controls.contains(c))
@@ -207,8 +208,68 @@ impl ConfigSpec {
     /// A set-up for records, 0.05-2 Hz at 100 points, instrumental variables. The coupled and
     /// lateral set-ups need the records to carry the controls they name.
     pub fn for_setup(setup: Setup, record: &Record) -> Result<Self, String> {
-        let (states, controls, kinematics): (&[&str], &[&str], &[(&str, &str)]) = match setup {
-            Setup::Longitudinal => return Ok(Self::longitudinal(record)),
+        if setup == Setup::Longitudinal {
+            return Ok(Self::longitudinal(record));
+        }
+        let mut map = BTreeMap::new();
+        for c in setup.layout().1 {
+            let channel = control_channel(record, c).ok_or_else(|| {
+                format!(
+                    "{}: the {setup:?} set-up needs the control `{c}` ({c}_pct or {c}_rad among the sidecar's controls)",
+                    record.path.display()
+                )
+            })?;
+            map.insert(c.to_string(), channel);
+        }
+        Ok(Self::with_controls(setup, map))
+    }
+
+    /// A set-up for a model rather than records: the longitudinal one with the longitudinal
+    /// stick, every control read from `<control>_pct`.
+    pub fn for_model(setup: Setup) -> Self {
+        let map = setup
+            .layout()
+            .1
+            .iter()
+            .map(|c| (c.to_string(), format!("{c}_pct")))
+            .collect();
+        Self::with_controls(setup, map)
+    }
+
+    fn with_controls(setup: Setup, controls: BTreeMap<String, String>) -> Self {
+        let (states, _, kinematics) = setup.layout();
+        Self {
+            states: states.iter().map(|s| s.to_string()).collect(),
+            controls,
+            frequencies: BandSpec::SEED_000,
+            windowing: WindowingSpec::default(),
+            equations: vec![],
+            kinematics: kinematics
+                .iter()
+                .map(|(a, b)| (a.to_string(), b.to_string()))
+                .collect(),
+            method: Method::default(),
+            blade_passage_blades: None,
+        }
+    }
+}
+
+impl Setup {
+    /// The set-up's states, controls and kinematic rows.
+    #[allow(clippy::type_complexity)]
+    fn layout(
+        self,
+    ) -> (
+        &'static [&'static str],
+        &'static [&'static str],
+        &'static [(&'static str, &'static str)],
+    ) {
+        match self {
+            Setup::Longitudinal => (
+                &["u", "w", "q", "theta", "Omega"],
+                &["eta_s"],
+                &[("theta", "q")],
+            ),
             Setup::Lateral => (
                 &["v", "p", "r", "phi", "Omega"],
                 &["eta_c", "eta_p"],
@@ -219,30 +280,7 @@ impl ConfigSpec {
                 &["eta_s", "eta_c", "eta_p"],
                 &[("theta", "q"), ("phi", "p")],
             ),
-        };
-        let mut map = BTreeMap::new();
-        for c in controls {
-            let ch = control_channel(record, c).ok_or_else(|| {
-                format!(
-                    "{}: the {setup:?} set-up needs the control `{c}` ({c}_pct or {c}_rad among the sidecar's controls)",
-                    record.path.display()
-                )
-            })?;
-            map.insert(c.to_string(), ch);
         }
-        Ok(Self {
-            states: states.iter().map(|s| s.to_string()).collect(),
-            controls: map,
-            frequencies: BandSpec::SEED_000,
-            windowing: WindowingSpec::default(),
-            equations: vec![],
-            kinematics: kinematics
-                .iter()
-                .map(|(a, b)| (a.to_string(), b.to_string()))
-                .collect(),
-            method: Method::default(),
-            blade_passage_blades: None,
-        })
     }
 }
 
@@ -306,6 +344,27 @@ pub struct Against {
     /// The model's value lies within the identified 95 % bounds (false for NaN).
     pub inside: bool,
     pub primary: bool,
+    /// What the same set-up identifies from the model with its flapping states flown with the
+    /// records' controls ([`equivalent::identify`]), where it was computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub with_flapping: Option<f64>,
+    /// That value lies within the identified 95 % bounds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub inside_with_flapping: Option<bool>,
+}
+
+/// Adds to each row what the set-up identifies from the model with its flapping states
+/// (`as_identified`, from [`equivalent::identify`] or [`equivalent::identify_in_band`]).
+pub fn add_with_flapping(rows: &mut [Against], as_identified: &Identification) {
+    for r in rows {
+        let v = as_identified
+            .derivatives
+            .iter()
+            .find(|d| d.name == r.name)
+            .map(|d| d.estimate);
+        r.with_flapping = v;
+        r.inside_with_flapping = v.map(|v| v.is_finite() && r.lower_95 <= v && v <= r.upper_95);
+    }
 }
 
 /// Every identified derivative beside the model's (a linearisation with the identification's
@@ -325,6 +384,8 @@ pub fn against(ident: &Identification, model: &LinearModel) -> Vec<Against> {
                 model: m,
                 inside: m.is_finite() && d.lower_95 <= m && m <= d.upper_95,
                 primary: PRIMARY.contains(&d.name.as_str()),
+                with_flapping: None,
+                inside_with_flapping: None,
             }
         })
         .collect()
@@ -538,11 +599,72 @@ pub fn identify_record(record: &Record, config: &ConfigSpec) -> Result<Identific
 /// Identifies several records of one condition together (their spectra concatenated,
 /// [`estimate::Spectra::concatenate`]) with one set-up.
 pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Identification, String> {
-    // Long: one estimation, in the order it runs: the equations, the frequencies, each record's
-    // transforms, least squares, then the instrumental-variable passes
     if records.is_empty() {
         return Err("no record to identify".into());
     }
+    let parts = records
+        .iter()
+        .map(|r| Ok((r.path.display().to_string(), signals(r, config)?, r.dt_s())))
+        .collect::<Result<Vec<_>, String>>()?;
+    let id = records
+        .iter()
+        .map(|r| r.meta.id.as_str())
+        .collect::<Vec<_>>()
+        .join(" + ");
+    identify_histories(&id, parts, config)
+}
+
+/// One run's perturbation histories for [`identify_histories`]: its name (for messages), the
+/// configured states' and controls' histories ([`signals`]), and the sample interval, s.
+pub type Run = (String, Histories, f64);
+
+/// Identifies runs of one condition together from their histories: what
+/// [`identify_records`] does after reading the records.
+pub fn identify_histories(
+    id: &str,
+    runs: Vec<Run>,
+    config: &ConfigSpec,
+) -> Result<Identification, String> {
+    if runs.is_empty() {
+        return Err("no record to identify".into());
+    }
+    identify_from(id, Source::Runs(runs), config)
+}
+
+/// The set-up's frequencies.
+pub(crate) fn frequencies(config: &ConfigSpec) -> Result<Frequencies, String> {
+    let f = &config.frequencies;
+    match (f.from_hz, f.to_hz, f.points, &f.list_hz) {
+        (Some(a), Some(b), Some(n), None) if a > 0.0 && b > a && n >= 2 => Ok(Frequencies::Band {
+            from_hz: a,
+            to_hz: b,
+            points: n,
+        }),
+        (None, None, None, Some(l)) if !l.is_empty() => Ok(Frequencies::List(l.clone())),
+        _ => Err(
+            "frequencies: give `from_hz` < `to_hz` with `points` >= 2, or a non-empty `list_hz`"
+                .into(),
+        ),
+    }
+}
+
+/// What an identification's transforms come from.
+pub(crate) enum Source {
+    /// Time histories, transformed as the set-up says.
+    Runs(Vec<Run>),
+    /// A frequency response already at the set-up's frequencies: per excitation, the states'
+    /// and controls' transforms `[variable][frequency]`.
+    Response(Vec<Vec<Vec<estimate::C>>>),
+}
+
+/// The estimation proper, from either source.
+pub(crate) fn identify_from(
+    id: &str,
+    source: Source,
+    config: &ConfigSpec,
+) -> Result<Identification, String> {
+    // Long: one estimation, in the order it runs: the equations, the frequencies, each run's
+    // transforms, least squares, then the instrumental-variable passes
     let controls: Vec<String> = config.controls.keys().cloned().collect();
     let all: Vec<String> = config.states.iter().chain(&controls).cloned().collect();
     // Every force equation with every state and control free: the default, and the first model
@@ -570,43 +692,42 @@ pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Ident
             })
             .collect()
     };
-    let f = &config.frequencies;
-    let freqs = match (f.from_hz, f.to_hz, f.points, &f.list_hz) {
-        (Some(a), Some(b), Some(n), None) if a > 0.0 && b > a && n >= 2 => Frequencies::Band {
-            from_hz: a,
-            to_hz: b,
-            points: n,
-        },
-        (None, None, None, Some(l)) if !l.is_empty() => Frequencies::List(l.clone()),
-        _ => return Err(
-            "frequencies: give `from_hz` < `to_hz` with `points` >= 2, or a non-empty `list_hz`"
-                .into(),
-        ),
-    };
+    let freqs = frequencies(config)?;
     let w = Windowing {
         segments: config.windowing.segments,
         overlap: config.windowing.overlap,
         hann: config.windowing.hann,
     };
-    let names: Vec<String> = records
-        .iter()
-        .map(|r| r.path.display().to_string())
-        .collect();
-    let err = |e: IdentError| format!("{}: {e}", names.join(" + "));
+    let err = |e: IdentError| format!("{id}: {e}");
     // The transforms are computed once; least squares and each instrumental-variable pass use them.
-    let mut parts = Vec::with_capacity(records.len());
-    for r in records {
-        let (xs, us) = signals(r, config)?;
-        let sig = Signals {
-            states: &config.states,
-            controls: &controls,
-            x: &xs,
-            u: &us,
-            dt_s: r.dt_s(),
-        };
-        parts.push(
-            estimate::spectra(sig, &freqs, w).map_err(|e| format!("{}: {e}", r.path.display()))?,
-        );
+    let mut parts = Vec::new();
+    match source {
+        Source::Runs(runs) => {
+            for (name, (xs, us), dt_s) in &runs {
+                let sig = Signals {
+                    states: &config.states,
+                    controls: &controls,
+                    x: xs,
+                    u: us,
+                    dt_s: *dt_s,
+                };
+                parts.push(estimate::spectra(sig, &freqs, w).map_err(|e| format!("{name}: {e}"))?);
+            }
+        }
+        Source::Response(excitations) => {
+            let omegas = freqs.omegas();
+            for var_ft in excitations {
+                parts.push(
+                    estimate::Spectra::from_response(
+                        all.clone(),
+                        config.states.len(),
+                        &omegas,
+                        var_ft,
+                    )
+                    .map_err(err)?,
+                );
+            }
+        }
     }
     let spectra = estimate::Spectra::concatenate(parts).map_err(err)?;
     let mut fits = estimate::fit_equations(&spectra, &equations, None).map_err(err)?;
@@ -654,16 +775,25 @@ pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Ident
         "ok"
     };
     Ok(Identification {
-        record: records
-            .iter()
-            .map(|r| r.meta.id.as_str())
-            .collect::<Vec<_>>()
-            .join(" + "),
+        record: id.to_string(),
         fits,
         derivatives,
         status,
         model,
     })
+}
+
+/// A model of the set-up's states and controls with every entry zero: what names a set-up's
+/// derivatives can take, before anything is identified.
+pub fn identified_template(config: &ConfigSpec) -> Result<LinearModel, String> {
+    let (n, m) = (config.states.len(), config.controls.len());
+    LinearModel::new(
+        config.states.clone(),
+        config.controls.keys().cloned().collect(),
+        nalgebra::DMatrix::zeros(n, n),
+        nalgebra::DMatrix::zeros(n, m),
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// The identified linear model: estimated and fixed rows, kinematic rows from the set-up; rows

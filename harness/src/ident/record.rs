@@ -258,9 +258,13 @@ pub fn load_with(
         .position(|c| c == "time_s")
         .expect("checked")];
     if t.len() < 2 {
-        return Err(InputError::file(
-            csv_path,
-            "a record needs at least two samples",
+        // Where the missing second sample would be (the header is line 1).
+        return Err(at(
+            t.len() + 2,
+            format!(
+                "a record needs at least two samples; it ends after {}",
+                t.len()
+            ),
         ));
     }
     let dt = 1.0 / meta.sample_rate_hz;

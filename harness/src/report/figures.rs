@@ -93,8 +93,13 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
             };
             let corrected = dk.corrections.is_some() || !c.corrections.is_empty();
             let series = format!(
-                "model, {mass:.0} kg{}",
-                if corrected { ", corrected" } else { "" }
+                "model, {mass:.0} kg{}{}",
+                if corrected { ", corrected" } else { "" },
+                if dk.linear.as_identified.is_some() {
+                    ", with flapping, as identified"
+                } else {
+                    ""
+                }
             );
             let g = groups.entry((file.id.clone(), label)).or_default();
             let pts = g.0.entry(series).or_default();

@@ -924,11 +924,13 @@ fn synth_flight_records_identify_against_the_aircraft() {
     args.extend(["--setup", "coupled", "--against", "aircraft/vpm-m16.yaml"]);
     let (code, stdout, stderr) = cierva(&args);
     assert_eq!(code, 0, "{stdout}{stderr}");
-    assert!(
-        stdout.contains("model inside the identified bounds"),
-        "{stdout}"
-    );
-    assert!(stdout.contains("N_r"), "{stdout}");
+    for want in [
+        "model (quasi-static linearisation) inside the identified bounds",
+        "model with flapping states, identified from its response to these records' controls",
+        "N_r",
+    ] {
+        assert!(stdout.contains(want), "{want} missing from\n{stdout}");
+    }
     let (code, _, stderr) = cierva(&[
         "synth-flight",
         "aircraft/vpm-m16.yaml",

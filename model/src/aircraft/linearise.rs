@@ -60,6 +60,9 @@ pub struct Steps {
     pub control_percent: f64,
     pub inflow_m_s: f64,
     pub propeller_rad_s: f64,
+    /// The tip-path plane's tilt, for the linearisation with flapping states
+    /// ([`crate::aircraft::flapping`]).
+    pub flap_rad: f64,
 }
 
 impl Default for Steps {
@@ -72,6 +75,7 @@ impl Default for Steps {
             control_percent: 0.5,
             inflow_m_s: 0.01,
             propeller_rad_s: 0.01,
+            flap_rad: 0.002,
         }
     }
 }
@@ -87,6 +91,7 @@ impl Steps {
             control_percent: self.control_percent * k,
             inflow_m_s: self.inflow_m_s * k,
             propeller_rad_s: self.propeller_rad_s * k,
+            flap_rad: self.flap_rad * k,
         }
     }
 }

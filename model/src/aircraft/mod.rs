@@ -55,6 +55,7 @@
 //! body x-z plane and its sideslip, and its angle is `k alpha_cg`. `None` is the kinematic
 //! value (no correction).
 
+pub mod flapping;
 pub mod linearise;
 pub mod trim;
 

@@ -1,0 +1,742 @@
+//! Linearisation with the rotor's flapping and inflow as states: the individual-blade model
+//! averaged over the azimuth in tip-path-plane coordinates.
+//!
+//! The quasi-static linearisation ([`crate::aircraft::linearise`]) holds the blades in their
+//! periodic motion at every perturbed state: the flapping follows the body without lag. The
+//! blades' own dynamics (the regressing flap mode, time constant about `16 / (gamma Omega)`)
+//! and the inflow's lag are then outside the linear model, while a flight (or the full model's
+//! simulation) has them. This module keeps them.
+//!
+//! # Coordinates
+//! A teetering rotor's one degree of freedom, the teeter angle `beta` of blade 1 (blade 1 up),
+//! is written at blade 1's azimuth `psi` as a first harmonic with slowly varying coefficients
+//! (variation of parameters, the osculating form of a multiblade transformation):
+//!
+//! ```text
+//! beta     = beta_1c cos(psi) + beta_1s sin(psi)
+//! beta_dot = Omega (-beta_1c sin(psi) + beta_1s cos(psi))        (so  beta_1c' cos + beta_1s' sin = 0)
+//! beta_1c' = -g sin(psi),  beta_1s' = g cos(psi),  g = (beta_ddot + Omega^2 beta - Omega_dot (-beta_1c sin + beta_1s cos)) / Omega
+//! ```
+//!
+//! `beta_1c` tilts the tip-path plane down at the front (blade 1 up over the tail at `psi = 0`),
+//! `beta_1s` down on the left (blade 1 up on the advancing side, `psi = 90 deg`), as the
+//! flapping of blade 1 `a cos psi + b sin psi`: a teeter rotor's disc tilts back by `beta_1c`
+//! and to the left by `beta_1s`.
+//!
+//! # Averaging
+//! The full model's right-hand side ([`Aircraft::derivatives`]) is evaluated at `N` azimuths
+//! of blade 1 spread evenly over a revolution, with the teeter angle and rate of those
+//! coefficients, and every rate (the rigid body's, the rotorspeed's, the inflow's, the
+//! propeller's, and the coefficients' from the teeter acceleration) is averaged over them: the
+//! time-invariant approximation of a periodic system (constant-coefficient approximation,
+//! Johnson, Helicopter Theory, ch. 12). What it leaves out are the periodic coefficients'
+//! couplings through the 2/rev and higher harmonics, and the teeter's own higher harmonics.
+//!
+//! # States, equilibrium and derivatives
+//! States: the ten of the quasi-static model ([`STATES`]), then `beta_1c`, `beta_1s` (rad), then
+//! the inflow `v0`, `v1s`, `v1c` (m/s, hub axes) when the inflow is dynamic, then the
+//! propeller speed `Omega_p` (rad/s) when an engine drives it. The equilibrium is found at the
+//! trim's body state and controls: Newton on the averaged flap, inflow and propeller rates from
+//! the trim's periodic solution. The averaged rigid-body and rotorspeed rates left there are
+//! the approximation's residual (reported). The derivatives are central differences about
+//! that point with [`Steps`] (flapping perturbed by `Steps::flap_rad`).
+//!
+//! Only a teetering hub is supported: a hinged rotor of `N` blades needs the full multiblade
+//! transformation (coning, cyclic and reactionless modes), which no aircraft in this project
+//! flies with. [`with_flapping`] says so rather than guessing.
+
+use crate::aircraft::linearise::{CONTROLS, LinearisationError, STATES, Steps};
+use crate::aircraft::trim::Trim;
+use crate::aircraft::{Air, Aircraft, AircraftError, Controls, Drive, FullState, InflowDynamics};
+use crate::analysis::linear::LinearModel;
+use crate::components::rigid_body::BodyState;
+use crate::components::rotor::{Blade, Hub, Inflow};
+use nalgebra::{Complex, DMatrix, DVector};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// The flapping states' names, in order.
+pub const FLAP_STATES: [&str; 2] = ["beta_1c", "beta_1s"];
+/// The inflow states' names, in order (hub axes, m/s).
+pub const INFLOW_STATES: [&str; 3] = ["v0", "v1s", "v1c"];
+/// The engine-driven propeller's speed.
+pub const PROPELLER_STATE: &str = "Omega_p";
+/// Azimuths of blade 1 the right-hand side is averaged over (every 7.5 deg: harmonics below
+/// 48/rev average exactly).
+pub const AZIMUTH_SAMPLES: usize = 48;
+
+/// The equilibrium of the averaged model at the trim's body state and controls.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Equilibrium {
+    pub beta_1c_rad: f64,
+    pub beta_1s_rad: f64,
+    pub inflow: Inflow,
+    pub propeller_omega_rad_s: f64,
+    /// The averaged rates of the ten quasi-static states there (`u v w p q r`, m/s^2 and
+    /// rad/s^2; `phi theta psi`, rad/s; `Omega`, rad/s^2): zero for the trim, so these measure
+    /// what the constant-coefficient approximation leaves out.
+    pub residual: [f64; 10],
+    /// Newton iterations to the equilibrium.
+    pub iterations: usize,
+}
+
+/// The aircraft linearised with its flapping (and inflow, and propeller speed) as states.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WithFlapping {
+    /// States: [`STATES`], [`FLAP_STATES`], then [`INFLOW_STATES`] (dynamic inflow) and
+    /// [`PROPELLER_STATE`] (an engine drive); controls [`CONTROLS`].
+    pub model: LinearModel,
+    /// The periodic system `model` is the average of, in the same states and controls.
+    pub periodic: Periodic,
+    pub equilibrium: Equilibrium,
+    pub steps: Steps,
+}
+
+/// The sidebands harmonic balance keeps for the aircraft's baseband response
+/// ([`WithFlapping::baseband_response`]): up to 4/rev on either side. For the VPM M16 at 70 mph,
+/// 8 changes no derivative identified from the response in its fifth digit; none (the average
+/// alone) moves L_p by 0.3 % and M_p by 3 %.
+pub const SIDEBANDS: usize = 4;
+
+impl WithFlapping {
+    /// The periodic model's baseband response at `omega` rad/s ([`Periodic::baseband_response`]
+    /// with [`SIDEBANDS`]): states x controls, in the order of [`WithFlapping::model`].
+    pub fn baseband_response(&self, omega: f64) -> Result<DMatrix<Complex<f64>>, PeriodicError> {
+        self.periodic.baseband_response(omega, SIDEBANDS)
+    }
+
+    /// The quasi-static model of the same states as [`crate::aircraft::linearise`]: every
+    /// state beyond [`STATES`] eliminated at its own equilibrium (`A11 - A12 A22^-1 A21`,
+    /// `B1 - A12 A22^-1 B2`).
+    pub fn quasi_static(&self) -> Result<LinearModel, LinearisationError> {
+        let n = STATES.len();
+        let a = self.model.a();
+        let b = self.model.b();
+        let nf = a.nrows() - n;
+        let a22 = a.view((n, n), (nf, nf)).into_owned();
+        let lu = a22.lu();
+        let a21 = a.view((n, 0), (nf, n)).into_owned();
+        let b2 = b.rows(n, nf).into_owned();
+        let za = lu.solve(&a21).ok_or(LinearisationError::Singular)?;
+        let zb = lu.solve(&b2).ok_or(LinearisationError::Singular)?;
+        let a12 = a.view((0, n), (n, nf));
+        let a_qs = a.view((0, 0), (n, n)) - a12 * za;
+        let b_qs = b.rows(0, n) - a12 * zb;
+        Ok(LinearModel::new(
+            self.model.states()[..n].to_vec(),
+            self.model.controls().to_vec(),
+            a_qs,
+            b_qs,
+        )?)
+    }
+}
+
+/// The averaged right-hand side over a state vector laid out as [`WithFlapping::model`]'s.
+struct Averager<'a> {
+    aircraft: &'a Aircraft,
+    blade: Blade<'a>,
+    air: Air,
+    dynamic_inflow: bool,
+    engine: bool,
+    /// The inflow to start the full model's quasi-steady inflow from (quasi-steady inflow).
+    inflow_start: Inflow,
+    /// The propeller speed when it is not a state.
+    propeller_omega_rad_s: f64,
+}
+
+impl Averager<'_> {
+    fn len(&self) -> usize {
+        STATES.len() + 2 + if self.dynamic_inflow { 3 } else { 0 } + usize::from(self.engine)
+    }
+
+    /// The averaged rates.
+    fn rates(&self, z: &[f64], controls: &Controls) -> Result<Vec<f64>, AircraftError> {
+        let per = self.rates_by_azimuth(z, controls)?;
+        let mut mean = vec![0.0; self.len()];
+        for r in &per {
+            for (m, v) in mean.iter_mut().zip(r) {
+                *m += v / AZIMUTH_SAMPLES as f64;
+            }
+        }
+        Ok(mean)
+    }
+
+    /// The rates at each of the [`AZIMUTH_SAMPLES`] azimuths of blade 1.
+    fn rates_by_azimuth(
+        &self,
+        z: &[f64],
+        controls: &Controls,
+    ) -> Result<Vec<Vec<f64>>, AircraftError> {
+        let n = STATES.len();
+        let (a, b) = (z[n], z[n + 1]);
+        let omega = z[9];
+        let mut k = n + 2;
+        let inflow = if self.dynamic_inflow {
+            k += 3;
+            Inflow {
+                v0: z[n + 2],
+                v1s: z[n + 3],
+                v1c: z[n + 4],
+            }
+        } else {
+            self.inflow_start
+        };
+        let prop = if self.engine {
+            z[k]
+        } else {
+            self.propeller_omega_rad_s
+        };
+        let body = BodyState {
+            u_m_s: z[0],
+            v_m_s: z[1],
+            w_m_s: z[2],
+            p_rad_s: z[3],
+            q_rad_s: z[4],
+            r_rad_s: z[5],
+            phi_rad: z[6],
+            theta_rad: z[7],
+            psi_rad: z[8],
+            north_m: 0.0,
+            east_m: 0.0,
+            down_m: 0.0,
+        };
+        let mut out = Vec::with_capacity(AZIMUTH_SAMPLES);
+        for j in 0..AZIMUTH_SAMPLES {
+            let mut sum = vec![0.0; self.len()];
+            let psi = 2.0 * PI * j as f64 / AZIMUTH_SAMPLES as f64;
+            let (s, c) = psi.sin_cos();
+            let beta = a * c + b * s;
+            let beta_rate_per_omega = -a * s + b * c;
+            let x = FullState {
+                body,
+                rotor_azimuth_rad: psi,
+                rotor_omega_rad_s: omega,
+                flap: vec![[beta, omega * beta_rate_per_omega]],
+                inflow,
+                propeller_omega_rad_s: prop,
+            };
+            let d =
+                self.aircraft
+                    .derivatives_with(&self.blade, &x, controls, self.air, [0.0; 3])?;
+            let bd = &d.body;
+            let slow = [
+                bd.u_m_s,
+                bd.v_m_s,
+                bd.w_m_s,
+                bd.p_rad_s,
+                bd.q_rad_s,
+                bd.r_rad_s,
+                bd.phi_rad,
+                bd.theta_rad,
+                bd.psi_rad,
+                d.rotor_omega_rad_s,
+            ];
+            for (acc, v) in sum.iter_mut().zip(slow) {
+                *acc = v;
+            }
+            let g = (d.flap[0][1] + omega * omega * beta
+                - d.rotor_omega_rad_s * beta_rate_per_omega)
+                / omega;
+            sum[n] = -g * s;
+            sum[n + 1] = g * c;
+            let mut k = n + 2;
+            if self.dynamic_inflow {
+                sum[k] = d.inflow.v0;
+                sum[k + 1] = d.inflow.v1s;
+                sum[k + 2] = d.inflow.v1c;
+                k += 3;
+            }
+            if self.engine {
+                sum[k] = d.propeller_omega_rad_s;
+            }
+            out.push(sum);
+        }
+        Ok(out)
+    }
+}
+
+/// A linear time-periodic system `x' = A(psi) x + B(psi) u`, `psi = Omega t`: the aircraft
+/// linearised about its periodic motion, sampled at evenly spaced azimuths of blade 1 over one
+/// revolution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Periodic {
+    pub omega_rad_s: f64,
+    /// `A` at azimuths `2 pi k / N`, `k = 0 .. N - 1`.
+    pub a_at: Vec<DMatrix<f64>>,
+    /// `B` at the same azimuths.
+    pub b_at: Vec<DMatrix<f64>>,
+}
+
+/// Why a periodic system's response could not be found.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PeriodicError {
+    #[error(
+        "a periodic system needs matrices at two azimuths or more, A square and B with A's rows"
+    )]
+    Shape,
+    #[error("the harmonic-balance equations are singular at {omega_rad_s} rad/s")]
+    Singular { omega_rad_s: f64 },
+}
+
+impl Periodic {
+    /// The time-invariant approximation: the mean of `A` and of `B` over a revolution (the
+    /// constant-coefficient approximation).
+    pub fn average(&self) -> (DMatrix<f64>, DMatrix<f64>) {
+        let k = self.a_at.len() as f64;
+        let mut a = self.a_at[0].clone() * 0.0;
+        let mut b = self.b_at[0].clone() * 0.0;
+        for (x, y) in self.a_at.iter().zip(&self.b_at) {
+            a += x / k;
+            b += y / k;
+        }
+        (a, b)
+    }
+
+    /// The `m`th complex Fourier coefficient of a periodic matrix over its samples.
+    fn harmonic(samples: &[DMatrix<f64>], m: i64) -> DMatrix<Complex<f64>> {
+        let k = samples.len();
+        let (r, c) = samples[0].shape();
+        let mut out = DMatrix::<Complex<f64>>::zeros(r, c);
+        for (j, x) in samples.iter().enumerate() {
+            let psi = -2.0 * PI * (m * j as i64) as f64 / k as f64;
+            let e = Complex::new(psi.cos(), psi.sin()) / k as f64;
+            out += x.map(|v| e * v);
+        }
+        out
+    }
+
+    /// The baseband frequency response at `omega` rad/s: the part of the states' response at
+    /// the input's own frequency to an input `u = U exp(i omega t)`, per unit `U` (states x
+    /// controls). A periodic system answers a sinusoid at `omega` with sidebands at
+    /// `omega + n Omega` as well; the baseband is what a record's low-frequency analysis sees
+    /// (Wereley's harmonic transfer function, its zeroth entry). Found by harmonic balance with
+    /// the sidebands `n = -harmonics ..= harmonics`: `i (omega + n Omega) X_n - sum_m A_m
+    /// X_(n-m) = B_n`, with `A_m`, `B_m` the samples' Fourier coefficients (exact for a system
+    /// whose coefficients have no harmonic above `N/2`).
+    pub fn baseband_response(
+        &self,
+        omega: f64,
+        harmonics: usize,
+    ) -> Result<DMatrix<Complex<f64>>, PeriodicError> {
+        let nz = self.a_at.first().map_or(0, |a| a.nrows());
+        if self.a_at.len() < 2
+            || self.a_at.len() != self.b_at.len()
+            || self.a_at.iter().any(|a| a.shape() != (nz, nz))
+            || self.b_at.iter().any(|b| b.nrows() != nz)
+        {
+            return Err(PeriodicError::Shape);
+        }
+        let m = self.b_at[0].ncols();
+        let h = harmonics as i64;
+        let blocks = 2 * harmonics + 1;
+        let a_m: Vec<DMatrix<Complex<f64>>> = (-2 * h..=2 * h)
+            .map(|q| Self::harmonic(&self.a_at, q))
+            .collect();
+        let mut big = DMatrix::<Complex<f64>>::zeros(blocks * nz, blocks * nz);
+        let mut rhs = DMatrix::<Complex<f64>>::zeros(blocks * nz, m);
+        for (bi, n) in (-h..=h).enumerate() {
+            let w = Complex::new(0.0, omega + n as f64 * self.omega_rad_s);
+            for (bj, p) in (-h..=h).enumerate() {
+                // A_(n - p) couples sideband p into sideband n.
+                let coupling = &a_m[(n - p + 2 * h) as usize];
+                for i in 0..nz {
+                    for j in 0..nz {
+                        let mut v = -coupling[(i, j)];
+                        if bi == bj && i == j {
+                            v += w;
+                        }
+                        big[(bi * nz + i, bj * nz + j)] = v;
+                    }
+                }
+            }
+            let b_n = Self::harmonic(&self.b_at, n);
+            rhs.view_mut((bi * nz, 0), (nz, m)).copy_from(&b_n);
+        }
+        let x = big
+            .lu()
+            .solve(&rhs)
+            .ok_or(PeriodicError::Singular { omega_rad_s: omega })?;
+        Ok(x.view((harmonics * nz, 0), (nz, m)).into_owned())
+    }
+}
+
+/// Linearises the aircraft about a trim with the rotor's flapping, inflow and (with an engine)
+/// propeller speed as states. See the module's documentation for the coordinates, the averaging
+/// and what it leaves out.
+pub fn with_flapping(
+    aircraft: &Aircraft,
+    trim: &Trim,
+    air: Air,
+    steps: Steps,
+) -> Result<WithFlapping, LinearisationError> {
+    // Long: one algorithm in the order it runs: the simulation's model, the state layout, the
+    // equilibrium of the fast states, then central differences over states and controls
+    if aircraft.main_rotor.rotor.hub != Hub::Teetering {
+        return Err(LinearisationError::Aircraft(AircraftError::Invalid {
+            name: "main rotor hub for a linearisation with flapping states (only a teetering hub is supported)",
+            requirement: "teetering",
+            value: aircraft.flap_dofs() as f64,
+        }));
+    }
+    // The model a simulation flies: the propeller on its map.
+    let mut mapped = aircraft.clone();
+    if mapped.propeller.propeller.map.is_none()
+        && let Ok(p) = mapped.propeller.propeller.with_map()
+    {
+        mapped.propeller.propeller = p;
+    }
+    let aircraft = &mapped;
+    let mr = &aircraft.main_rotor;
+    let engine = matches!(aircraft.propeller.drive, Drive::Engine { .. });
+    let dynamic_inflow = mr.inflow_dynamics == InflowDynamics::Dynamic;
+    let state = &trim.state;
+    let controls = trim.controls;
+    let avg = Averager {
+        aircraft,
+        blade: Blade::new(&mr.rotor, mr.numerics),
+        air,
+        dynamic_inflow,
+        engine,
+        inflow_start: state.inflow,
+        propeller_omega_rad_s: aircraft.propeller_omega(state, &controls),
+    };
+    let nz = avg.len();
+    let n = STATES.len();
+    let b0 = &state.body;
+    let mut z = vec![
+        b0.u_m_s,
+        b0.v_m_s,
+        b0.w_m_s,
+        b0.p_rad_s,
+        b0.q_rad_s,
+        b0.r_rad_s,
+        b0.phi_rad,
+        b0.theta_rad,
+        b0.psi_rad,
+        state.rotor_omega_rad_s,
+        // The periodic solution's teeter angle and slope at psi = 0 are its first harmonic's
+        // coefficients.
+        trim.averaged.flap_start[0],
+        trim.averaged.flap_start[1],
+    ];
+    if dynamic_inflow {
+        z.extend([state.inflow.v0, state.inflow.v1s, state.inflow.v1c]);
+    }
+    if engine {
+        z.push(avg.propeller_omega_rad_s);
+    }
+    let fast: Vec<usize> = (n..nz).collect();
+    let step_of = |i: usize| -> f64 {
+        match i {
+            0..=2 => steps.velocity_m_s,
+            3..=5 => steps.rate_rad_s,
+            6..=8 => steps.angle_rad,
+            9 => steps.omega_rad_s,
+            10 | 11 => steps.flap_rad,
+            _ if dynamic_inflow && i < n + 5 => steps.inflow_m_s,
+            _ => steps.propeller_rad_s,
+        }
+    };
+    // Newton on the fast states' averaged rates, with a central-difference Jacobian.
+    let tip = state.rotor_omega_rad_s * mr.rotor.radius_m;
+    let mut iterations = 0;
+    let mut rates = avg.rates(&z, &controls)?;
+    loop {
+        let norm = fast
+            .iter()
+            .map(|&i| (rates[i] / if i < n + 2 { 1.0 } else { tip }).abs())
+            .fold(0.0, f64::max);
+        if norm < 1e-10 {
+            break;
+        }
+        if iterations >= 20 {
+            return Err(LinearisationError::Aircraft(AircraftError::Invalid {
+                name: "averaged flapping equilibrium (no convergence in 20 Newton iterations), largest scaled rate",
+                requirement: "below 1e-10",
+                value: norm,
+            }));
+        }
+        let mut jac = DMatrix::<f64>::zeros(fast.len(), fast.len());
+        for (c, &i) in fast.iter().enumerate() {
+            let h = step_of(i) * 0.1;
+            let mut zp = z.clone();
+            zp[i] += h;
+            let mut zm = z.clone();
+            zm[i] -= h;
+            let (rp, rm) = (avg.rates(&zp, &controls)?, avg.rates(&zm, &controls)?);
+            for (r, &k) in fast.iter().enumerate() {
+                jac[(r, c)] = (rp[k] - rm[k]) / (2.0 * h);
+            }
+        }
+        let rhs = DVector::from_iterator(fast.len(), fast.iter().map(|&k| -rates[k]));
+        let dz = jac.lu().solve(&rhs).ok_or(LinearisationError::Singular)?;
+        for (c, &i) in fast.iter().enumerate() {
+            z[i] += dz[c];
+        }
+        rates = avg.rates(&z, &controls)?;
+        iterations += 1;
+    }
+    let mut residual = [0.0; 10];
+    residual.copy_from_slice(&rates[..n]);
+    // Central differences: every state, then every control.
+    let nv = nz + CONTROLS.len();
+    let column = |j: usize| -> Result<Vec<Vec<f64>>, AircraftError> {
+        let eval = |sign: f64| -> Result<(Vec<Vec<f64>>, f64), AircraftError> {
+            let mut zz = z.clone();
+            let mut cc = controls;
+            let h = if j < nz {
+                let h = step_of(j);
+                zz[j] += sign * h;
+                h
+            } else {
+                let h = steps.control_percent;
+                match j - nz {
+                    0 => cc.stick_longitudinal_percent += sign * h,
+                    1 => cc.stick_lateral_percent += sign * h,
+                    2 => cc.pedal_percent += sign * h,
+                    _ => cc.throttle_percent += sign * h,
+                }
+                h
+            };
+            Ok((avg.rates_by_azimuth(&zz, &cc)?, h))
+        };
+        let ((p, h), (m, _)) = (eval(1.0)?, eval(-1.0)?);
+        Ok(p.iter()
+            .zip(&m)
+            .map(|(p, m)| p.iter().zip(m).map(|(a, b)| (a - b) / (2.0 * h)).collect())
+            .collect())
+    };
+    let (even, odd): (Vec<usize>, Vec<usize>) = (0..nv).partition(|j| j % 2 == 0);
+    // Each variable's column: the rates' derivatives at every azimuth.
+    type Columns = Vec<(usize, Vec<Vec<f64>>)>;
+    let run = |js: Vec<usize>| -> Result<Columns, AircraftError> {
+        js.into_iter().map(|j| Ok((j, column(j)?))).collect()
+    };
+    let (mine, other) = std::thread::scope(|scope| {
+        let other = scope.spawn(|| run(odd));
+        (run(even), other.join())
+    });
+    let other = other.map_err(|_| LinearisationError::Worker)?;
+    // The periodic system's matrices at each azimuth, then averaged to second order.
+    let mut a_at = vec![DMatrix::<f64>::zeros(nz, nz); AZIMUTH_SAMPLES];
+    let mut b_at = vec![DMatrix::<f64>::zeros(nz, CONTROLS.len()); AZIMUTH_SAMPLES];
+    for (j, col) in mine?.into_iter().chain(other?) {
+        for (k, rates) in col.into_iter().enumerate() {
+            for (i, v) in rates.into_iter().enumerate() {
+                if j < nz {
+                    a_at[k][(i, j)] = v;
+                } else {
+                    b_at[k][(i, j - nz)] = v;
+                }
+            }
+        }
+    }
+    let periodic = Periodic {
+        omega_rad_s: state.rotor_omega_rad_s,
+        a_at,
+        b_at,
+    };
+    let (a, b) = periodic.average();
+    let mut names: Vec<String> = STATES.iter().map(|s| s.to_string()).collect();
+    names.extend(FLAP_STATES.iter().map(|s| s.to_string()));
+    if dynamic_inflow {
+        names.extend(INFLOW_STATES.iter().map(|s| s.to_string()));
+    }
+    if engine {
+        names.push(PROPELLER_STATE.to_string());
+    }
+    let model = LinearModel::new(
+        names,
+        CONTROLS.iter().map(|s| s.to_string()).collect(),
+        a,
+        b,
+    )?;
+    let k_inflow = n + 2;
+    Ok(WithFlapping {
+        model,
+        periodic,
+        equilibrium: Equilibrium {
+            beta_1c_rad: z[n],
+            beta_1s_rad: z[n + 1],
+            inflow: if dynamic_inflow {
+                Inflow {
+                    v0: z[k_inflow],
+                    v1s: z[k_inflow + 1],
+                    v1c: z[k_inflow + 2],
+                }
+            } else {
+                state.inflow
+            },
+            propeller_omega_rad_s: if engine {
+                z[nz - 1]
+            } else {
+                avg.propeller_omega_rad_s
+            },
+            residual,
+            iterations,
+        },
+        steps,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aircraft::linearise::linearise;
+    use crate::aircraft::trim::{self, Condition, Options};
+    use crate::testdata::{gyroplane, sea_level_air as air};
+
+    fn at(airspeed_m_s: f64) -> (Aircraft, Trim) {
+        let a = gyroplane();
+        let c = Condition {
+            airspeed_m_s,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air: air(),
+        };
+        let t = trim::trim(&a, c, Options::default()).unwrap();
+        (a, t)
+    }
+
+    /// Eliminating the flapping, inflow and propeller states of the averaged model at their
+    /// equilibrium gives back the quasi-static linearisation: the two are one physics, held
+    /// differently. What the constant-coefficient approximation leaves out (the teeter's higher
+    /// harmonics, the periodic coefficients' products) shows as at most 1.1 % of a row's
+    /// largest derivative (L_q); 2 % is allowed.
+    #[test]
+    fn eliminating_the_flapping_gives_back_the_quasi_static_linearisation() {
+        let (a, t) = at(31.3);
+        let wf = with_flapping(&a, &t, air(), Steps::default()).unwrap();
+        let qs = wf.quasi_static().unwrap();
+        let lin = linearise(&a, &t, air(), Steps::default()).unwrap();
+        assert_eq!(qs.states(), lin.model.states());
+        let (a1, a2) = (lin.model.a(), qs.a());
+        let (b1, b2) = (lin.model.b(), qs.b());
+        for i in 0..10 {
+            let scale = (0..10).map(|j| a1[(i, j)].abs()).fold(0.0, f64::max);
+            for j in 0..10 {
+                let d = (a1[(i, j)] - a2[(i, j)]).abs();
+                assert!(
+                    d <= 0.02 * scale + 1e-6,
+                    "A[{},{}]: {} quasi-static, {} averaged",
+                    STATES[i],
+                    STATES[j],
+                    a1[(i, j)],
+                    a2[(i, j)]
+                );
+            }
+            let scale = (0..4).map(|j| b1[(i, j)].abs()).fold(0.0, f64::max);
+            for j in 0..4 {
+                let d = (b1[(i, j)] - b2[(i, j)]).abs();
+                assert!(d <= 0.02 * scale + 1e-9, "B[{},{}]", STATES[i], CONTROLS[j]);
+            }
+        }
+    }
+
+    /// The averaged model's equilibrium tilts the tip-path plane as the periodic solution's
+    /// first harmonic does (`beta_1c = -a1`, `beta_1s = -b1`, within 0.5 %), and leaves the
+    /// body almost unaccelerated (the approximation's residual: below 0.005 m/s^2 and rad/s^2).
+    #[test]
+    fn the_equilibrium_is_the_periodic_solution_s_first_harmonic() {
+        let (a, t) = at(31.3);
+        let e = with_flapping(&a, &t, air(), Steps::default())
+            .unwrap()
+            .equilibrium;
+        let r = &t.averaged.rotor;
+        assert!(
+            (e.beta_1c_rad + r.a1_rad).abs() < 5e-3 * r.a1_rad.abs(),
+            "{e:?} {r:?}"
+        );
+        assert!(
+            (e.beta_1s_rad + r.b1_rad).abs() < 5e-3 * r.b1_rad.abs(),
+            "{e:?} {r:?}"
+        );
+        assert!(
+            e.residual.iter().all(|v| v.abs() < 5e-3),
+            "{:?}",
+            e.residual
+        );
+    }
+
+    /// The blades' flap damping: with the body and inflow held, the teeter's two coordinates
+    /// decay at `gamma Omega / 16` each, the Lock number's (Johnson, Helicopter Theory, ch. 9)
+    /// over the blade's lifting span (tip loss `B` and root cut-out `x_r`: a factor `B^4 -
+    /// x_r^4`): the flap block's trace is `-(gamma Omega / 8) (B^4 - x_r^4)` within 2 % (the
+    /// blade element's local inflow angle; measured 0.3 % at 31 m/s).
+    #[test]
+    fn the_flap_block_has_the_lock_number_s_damping() {
+        let (a, t) = at(31.3);
+        let wf = with_flapping(&a, &t, air(), Steps::default()).unwrap();
+        let m = wf.model.a();
+        let trace = m[(10, 10)] + m[(11, 11)];
+        let rotor = &a.main_rotor.rotor;
+        let x_r = rotor.root_cutout_m / rotor.radius_m;
+        let span = rotor.tip_loss_factor.powi(4) - x_r.powi(4);
+        let want = -rotor.lock_number(air().density_kg_m3) * t.state.rotor_omega_rad_s / 8.0 * span;
+        assert!((trace / want - 1.0).abs() < 0.02, "{trace} against {want}");
+    }
+
+    /// Harmonic balance against a periodic system solved in closed form: `x' = (a0 - k Omega
+    /// sin(Omega t)) x + u` has the fundamental solution `exp(a0 t + k cos(Omega t))`, so its
+    /// baseband response is `sum_m (-1)^m I_m(k)^2 / (i (omega + m Omega) - a0)` (modified
+    /// Bessel functions). With constant coefficients it is `(i omega I - A)^-1 B`.
+    #[test]
+    fn harmonic_balance_finds_a_periodic_system_s_baseband_response() {
+        let (a0, k, big_omega) = (-3.0, 0.8, 40.0);
+        let samples = 32;
+        let p = Periodic {
+            omega_rad_s: big_omega,
+            a_at: (0..samples)
+                .map(|j| {
+                    let psi = 2.0 * PI * j as f64 / samples as f64;
+                    DMatrix::from_element(1, 1, a0 - k * big_omega * psi.sin())
+                })
+                .collect(),
+            b_at: vec![DMatrix::from_element(1, 1, 1.0); samples],
+        };
+        let bessel_i = |m: i32, x: f64| -> f64 {
+            let m = m.unsigned_abs() as i32;
+            let mut term = (x / 2.0).powi(m) / (1..=m).map(f64::from).product::<f64>();
+            let mut sum = term;
+            for j in 1..40 {
+                term *= (x / 2.0).powi(2) / (f64::from(j) * f64::from(j + m));
+                sum += term;
+            }
+            sum
+        };
+        for omega in [0.5, 3.0, 12.0] {
+            let want: Complex<f64> = (-12..=12)
+                .map(|m: i32| {
+                    let c = if m % 2 == 0 { 1.0 } else { -1.0 } * bessel_i(m, k).powi(2);
+                    Complex::new(c, 0.0) / Complex::new(-a0, omega + f64::from(m) * big_omega)
+                })
+                .sum();
+            let got = p.baseband_response(omega, 8).unwrap()[(0, 0)];
+            assert!(
+                (got - want).norm() < 1e-9 * want.norm(),
+                "{omega}: {got} against {want}"
+            );
+            let first = p.baseband_response(omega, 0).unwrap()[(0, 0)];
+            let lti = Complex::new(1.0, 0.0) / Complex::new(-a0, omega);
+            assert!((first - lti).norm() < 1e-12, "{first} against {lti}");
+        }
+        assert_eq!(
+            Periodic {
+                omega_rad_s: 1.0,
+                a_at: vec![DMatrix::zeros(2, 2)],
+                b_at: vec![DMatrix::zeros(2, 1)],
+            }
+            .baseband_response(1.0, 2),
+            Err(PeriodicError::Shape)
+        );
+    }
+
+    /// A hinged rotor is refused with a reason, not linearised wrongly.
+    #[test]
+    fn only_a_teetering_hub_is_supported() {
+        let (mut a, t) = at(31.3);
+        a.main_rotor.rotor.hub = Hub::Articulated;
+        let e = with_flapping(&a, &t, air(), Steps::default()).unwrap_err();
+        assert!(e.to_string().contains("teetering"), "{e}");
+    }
+}
