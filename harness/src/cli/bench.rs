@@ -532,14 +532,25 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
         "| identification of three 120 s records together (full-model flights, coupled set-up: 9 states, 3 controls, 100 frequencies) | {:.1} ms | transforms of every record, stacked, least squares then 2 instrumental-variable passes; target: under 50 ms |",
         1e3 * median(t)
     );
-    // The linearisation with flapping states, and what the set-up identifies from it: over
-    // the band by harmonic balance (the case's check), and flown with the three records'
-    // controls (`identify --against`).
-    let (req, loading) = match ident::record_condition(&records[0]) {
-        Ok(c) => c,
-        Err(_) => return sink,
+    sink + flapping(out, repeat, &file.aircraft, &records, &cfg)
+}
+
+/// The linearisation with flapping states at the records' condition, and what the set-up
+/// identifies from it: over the band by harmonic balance (the case's check), and flown with the
+/// records' controls (`identify --against`).
+fn flapping(
+    out: &Rows,
+    repeat: usize,
+    aircraft: &cierva_model::aircraft::Aircraft,
+    records: &[cierva_harness::ident::record::Record],
+    cfg: &cierva_harness::ident::ConfigSpec,
+) -> f64 {
+    use cierva_harness::ident;
+    let mut sink = 0.0;
+    let Some(Ok((req, loading))) = records.first().map(ident::record_condition) else {
+        return sink;
     };
-    let Ok(trim) = cierva_harness::run_trim(&file.aircraft, req, loading) else {
+    let Ok(trim) = cierva_harness::run_trim(aircraft, req, loading) else {
         return sink;
     };
     let mut flapping = None;
@@ -547,8 +558,7 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
         .map(|_| {
             time(&mut || {
                 flapping =
-                    cierva_harness::run_linearise_with_flapping(&file.aircraft, &trim, loading)
-                        .ok();
+                    cierva_harness::run_linearise_with_flapping(aircraft, &trim, loading).ok();
             })
         })
         .collect();
@@ -585,7 +595,7 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
     let flown: Vec<f64> = (0..repeat)
         .map(|_| {
             time(&mut || {
-                sink += ident::equivalent::identify_periodic(&records, &cfg, &wf)
+                sink += ident::equivalent::identify_periodic(records, cfg, &wf)
                     .map_or(0.0, |r| r.derivatives.len() as f64)
             })
         })

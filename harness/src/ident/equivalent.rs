@@ -222,8 +222,13 @@ fn identify_flown(
         }
         let response = fly(&inputs, r.dt_s());
         let mut xs: Vec<Vec<f64>> = index.iter().map(|&i| response[i].clone()).collect();
+        // The same averaging the records' signals had (`signals`), on the response.
+        if let Some(window) = super::flapping_window(r, config)? {
+            for s in &mut xs {
+                *s = super::blade_passage_average(s, window);
+            }
+        }
         if let Some(blades) = config.blade_passage_blades {
-            // The same averaging the records' signals had (`signals`), on the response.
             let omega = r.meta.trim.get("omega_rotor_rad_s").copied().unwrap_or(0.0);
             if blades > 0 && omega > 0.0 {
                 let window = 2.0 * std::f64::consts::PI / (f64::from(blades) * omega) / r.dt_s();

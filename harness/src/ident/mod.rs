@@ -195,7 +195,15 @@ pub enum Setup {
     /// Needs records that excite every axis (a longitudinal and a lateral sweep, identified
     /// together).
     Coupled,
+    /// The coupled set-up with the tip-path plane's tilts `beta_1c`, `beta_1s` as states (a
+    /// hybrid model: the rotor's flapping in its own equations, the moments on it), from a
+    /// teetering rotor's teeter channel ([`flapping_window`]). Needs `teeter_rad`,
+    /// `azimuth_from_front_rad` and the trim's rotor speed.
+    Flapping,
 }
+
+/// The flapping states a set-up may have.
+pub const FLAP_STATES: [&str; 2] = ["beta_1c", "beta_1s"];
 
 /// A record's channel for a control (`eta_s` -> `eta_s_pct` or `eta_s_rad`).
 pub(crate) fn control_channel(record: &Record, control: &str) -> Option<String> {
@@ -277,6 +285,13 @@ impl Setup {
             ),
             Setup::Coupled => (
                 &["u", "v", "w", "p", "q", "r", "phi", "theta", "Omega"],
+                &["eta_s", "eta_c", "eta_p"],
+                &[("theta", "q"), ("phi", "p")],
+            ),
+            Setup::Flapping => (
+                &[
+                    "u", "v", "w", "p", "q", "r", "phi", "theta", "Omega", "beta_1c", "beta_1s",
+                ],
                 &["eta_s", "eta_c", "eta_p"],
                 &[("theta", "q"), ("phi", "p")],
             ),
@@ -557,6 +572,15 @@ pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String
                 ch("omega_rotor_rad_s")?.to_vec(),
                 "omega_rotor_rad_s".into(),
             ),
+            "beta_1c" | "beta_1s" => {
+                let (c, s) = flapping_products(record)?;
+                let raw = if st == "beta_1c" { c } else { s };
+                // No trim value is recorded for the tilts: the record's mean is taken off (the
+                // band starts well above the frequencies a mean leaks to).
+                let mean = raw.iter().sum::<f64>() / raw.len().max(1) as f64;
+                xs.push(raw.iter().map(|x| x - mean).collect());
+                continue;
+            }
             other => return Err(format!("no measurement gives the state `{other}`")),
         };
         let t0 = trim(&key);
@@ -566,6 +590,11 @@ pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String
     for channel in config.controls.values() {
         let t0 = trim(channel);
         us.push(ch(channel)?.iter().map(|x| x - t0).collect());
+    }
+    if let Some(window) = flapping_window(record, config)? {
+        for s in xs.iter_mut().chain(us.iter_mut()) {
+            *s = blade_passage_average(s, window);
+        }
     }
     if let Some(blades) = config.blade_passage_blades {
         let omega = record
@@ -589,6 +618,83 @@ pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String
         }
     }
     Ok((xs, us))
+}
+
+/// The teeter channel demodulated at the rotor's azimuth, before averaging:
+/// `-2 teeter cos(psi_f)` and `-2 teeter sin(psi_f)` with `psi_f` the azimuth from the front
+/// (seed 003's convention: `teeter = -beta_1c cos(psi_f) - beta_1s sin(psi_f)`, so the model's
+/// `beta = beta_1c cos(psi) + beta_1s sin(psi)` with `psi = psi_f - pi`). Their mean over a
+/// revolution is the tip-path plane's tilt ([`flapping_window`]).
+fn flapping_products(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let ch = |name: &str| {
+        record.channel(name).ok_or_else(|| {
+            format!(
+                "{}: the flapping states need the channel `{name}` (a teetering rotor's record)",
+                record.path.display()
+            )
+        })
+    };
+    let (teeter, az) = (ch("teeter_rad")?, ch("azimuth_from_front_rad")?);
+    Ok(teeter
+        .iter()
+        .zip(az)
+        .map(|(b, a)| (-2.0 * b * a.cos(), -2.0 * b * a.sin()))
+        .unzip())
+}
+
+/// The tip-path plane's tilts `(beta_1c, beta_1s)` through a teetering rotor's record, rad:
+/// the teeter channel demodulated at the azimuth and averaged over a revolution at the trim's
+/// rotor speed (what a set-up with flapping states identifies from, before its mean is taken
+/// off).
+pub fn tip_path_plane(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let (c, s) = flapping_products(record)?;
+    let omega = record
+        .meta
+        .trim
+        .get("omega_rotor_rad_s")
+        .copied()
+        .filter(|w| w.is_finite() && *w > 0.0)
+        .ok_or_else(|| {
+            format!(
+                "{}: the tip-path plane needs the trim's `omega_rotor_rad_s` in the sidecar (to average over a revolution)",
+                record.path.display()
+            )
+        })?;
+    let window = 2.0 * std::f64::consts::PI / omega / record.dt_s();
+    Ok((
+        blade_passage_average(&c, window),
+        blade_passage_average(&s, window),
+    ))
+}
+
+/// With flapping states in the set-up, the window (in samples) of one revolution at the
+/// trim's rotor speed: every signal is averaged over it ([`blade_passage_average`] with one
+/// blade), which turns the demodulated teeter into the tip-path plane's tilts (the products'
+/// 2/rev parts average to nothing over a revolution) and treats every other signal alike, so
+/// the equations hold as they did (they are linear in the signals). The average keeps
+/// `sin(pi f T) / (pi f T)` of a signal at `f`: 0.87 at 2 Hz for the VPM M16's 0.14 s
+/// revolution, the same for every signal. `None` without flapping states.
+pub fn flapping_window(record: &Record, config: &ConfigSpec) -> Result<Option<f64>, String> {
+    if !config
+        .states
+        .iter()
+        .any(|s| FLAP_STATES.contains(&s.as_str()))
+    {
+        return Ok(None);
+    }
+    let omega = record
+        .meta
+        .trim
+        .get("omega_rotor_rad_s")
+        .copied()
+        .filter(|w| w.is_finite() && *w > 0.0)
+        .ok_or_else(|| {
+            format!(
+                "{}: the flapping states need the trim's `omega_rotor_rad_s` in the sidecar (to average over a revolution)",
+                record.path.display()
+            )
+        })?;
+    Ok(Some(2.0 * std::f64::consts::PI / omega / record.dt_s()))
 }
 
 /// Identifies a record with a set-up.
@@ -672,7 +778,7 @@ pub(crate) fn identify_from(
     let full: Vec<Equation> = config
         .states
         .iter()
-        .filter(|s| force_letter(s).is_some())
+        .filter(|s| force_letter(s).is_some() || FLAP_STATES.contains(&s.as_str()))
         .map(|s| Equation {
             state: s.clone(),
             estimate: all.clone(),

@@ -931,6 +931,15 @@ fn synth_flight_records_identify_against_the_aircraft() {
     ] {
         assert!(stdout.contains(want), "{want} missing from\n{stdout}");
     }
+    // The hybrid set-up: the tip-path plane from the teeter channel, in its own equations.
+    let mut args = vec!["identify"];
+    args.extend(paths.iter().map(String::as_str));
+    args.extend(["--setup", "flapping", "--against", "aircraft/vpm-m16.yaml"]);
+    let (code, stdout, stderr) = cierva(&args);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    for want in ["beta_1c_q", "L_beta_1s", "equation beta_1s"] {
+        assert!(stdout.contains(want), "{want} missing from\n{stdout}");
+    }
     let (code, _, stderr) = cierva(&[
         "synth-flight",
         "aircraft/vpm-m16.yaml",
