@@ -536,8 +536,8 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
 }
 
 /// The linearisation with flapping states at the records' condition, and what the set-up
-/// identifies from it: over the band by harmonic balance (the case's check), and flown with the
-/// records' controls (`identify --against`).
+/// identifies from it: over the band by harmonic balance (the case's check), and from its
+/// response to the records' controls (`identify --against`).
 fn flapping(
     out: &Rows,
     repeat: usize,
@@ -595,14 +595,14 @@ fn flapping(
     let flown: Vec<f64> = (0..repeat)
         .map(|_| {
             time(&mut || {
-                sink += ident::equivalent::identify_periodic(records, cfg, &wf)
+                sink += ident::equivalent::identify_flapping(records, cfg, &wf)
                     .map_or(0.0, |r| r.derivatives.len() as f64)
             })
         })
         .collect();
     row!(
         out,
-        "| the same flown as a periodic system with the three records' controls, then identified | {:.1} ms | 120 s each on the 48-azimuth grid (exact steps of the piecewise-constant system), then the records' identification: what `identify --against` adds |",
+        "| the same from its response to the three records' controls | {:.1} ms | the records' control transforms at the estimator's points, times the baseband response (harmonic balance), then the fit: what `identify --against` adds |",
         1e3 * median(flown)
     );
     sink

@@ -68,9 +68,9 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
         Some(aircraft) => match linearised_against(aircraft, a.corrections.as_ref(), &recs) {
             Ok((model, flapping)) => {
                 let mut rows = ident::against(&result, &model);
-                // The model with its flapping states, flown with these records' controls and
-                // identified by the same set-up: what the identification should find.
-                match flapping.and_then(|f| ident::equivalent::identify_periodic(&recs, &cfg, &f)) {
+                // The model with its flapping states: what the same set-up identifies from its
+                // response to these records' controls, as the flights' identification should.
+                match flapping.and_then(|f| ident::equivalent::identify_flapping(&recs, &cfg, &f)) {
                     Ok(as_identified) => ident::add_with_flapping(&mut rows, &as_identified),
                     Err(e) => {
                         eprintln!("note: no comparison with the model's flapping states: {e}")

@@ -184,6 +184,16 @@ pub struct Spectra {
 }
 
 impl Spectra {
+    /// The frequency of each stacked (segment, frequency) point, rad/s.
+    pub fn omegas(&self) -> &[f64] {
+        &self.omegas
+    }
+
+    /// The transforms of every state and control (states first) at each point.
+    pub fn transforms(&self) -> &[Vec<C>] {
+        &self.var_ft
+    }
+
     /// The spectra of a known frequency response: `var_ft[variable][k]`, the transform of every
     /// state and control (states first, `states` of them) at `omegas[k]`, rad/s. The rates'
     /// transforms are `i w X`, exactly.

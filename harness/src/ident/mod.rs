@@ -359,8 +359,8 @@ pub struct Against {
     /// The model's value lies within the identified 95 % bounds (false for NaN).
     pub inside: bool,
     pub primary: bool,
-    /// What the same set-up identifies from the model with its flapping states flown with the
-    /// records' controls ([`equivalent::identify`]), where it was computed.
+    /// What the same set-up identifies from the model with its flapping states, its response
+    /// to the records' controls ([`equivalent::identify_flapping`]), where it was computed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub with_flapping: Option<f64>,
     /// That value lies within the identified 95 % bounds.
@@ -369,7 +369,7 @@ pub struct Against {
 }
 
 /// Adds to each row what the set-up identifies from the model with its flapping states
-/// (`as_identified`, from [`equivalent::identify`] or [`equivalent::identify_in_band`]).
+/// (`as_identified`, from [`equivalent::identify_flapping`] or [`equivalent::identify_response`]).
 pub fn add_with_flapping(rows: &mut [Against], as_identified: &Identification) {
     for r in rows {
         let v = as_identified
@@ -758,9 +758,9 @@ pub(crate) fn frequencies(config: &ConfigSpec) -> Result<Frequencies, String> {
 pub(crate) enum Source {
     /// Time histories, transformed as the set-up says.
     Runs(Vec<Run>),
-    /// A frequency response already at the set-up's frequencies: per excitation, the states'
-    /// and controls' transforms `[variable][frequency]`.
-    Response(Vec<Vec<Vec<estimate::C>>>),
+    /// Transforms already computed: per excitation, its frequencies (rad/s) and the states'
+    /// and controls' transforms at them, `[variable][frequency]`.
+    Response(Vec<(Vec<f64>, Vec<Vec<estimate::C>>)>),
 }
 
 /// The estimation proper, from either source.
@@ -821,8 +821,7 @@ pub(crate) fn identify_from(
             }
         }
         Source::Response(excitations) => {
-            let omegas = freqs.omegas();
-            for var_ft in excitations {
+            for (omegas, var_ft) in excitations {
                 parts.push(
                     estimate::Spectra::from_response(
                         all.clone(),
