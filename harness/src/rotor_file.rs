@@ -259,10 +259,14 @@ pub enum InflowSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum SkewSpec {
-    /// tan chi = V / (v_i0m - w_hub) (seed 003 Eq. 5).
+    /// Seed 001 Eq. 15: chi = atan(V / (v_i0m - w_hub)), negative in autorotation;
+    /// discontinuous where the flow through the disc changes direction.
     #[default]
     Signed,
-    /// tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha (seed 003 Eq. 6).
+    /// Seed 003 Eq. 5 as Chen presents it: chi = atan2(V, v_i0m - w_hub), above 90 deg in
+    /// autorotation; singular in axial upflow (vertical descent).
+    Geometric,
+    /// Seed 003 Eq. 6: tan alpha = |v_i0m - w_hub| / V, chi = 90 deg - alpha.
     Modulus,
 }
 
@@ -272,6 +276,7 @@ impl InflowSpec {
         use cierva_model::components::rotor::{InflowModel, SkewConvention};
         let skew = match skew {
             SkewSpec::Signed => SkewConvention::Signed,
+            SkewSpec::Geometric => SkewConvention::Geometric,
             SkewSpec::Modulus => SkewConvention::Modulus,
         };
         match self {

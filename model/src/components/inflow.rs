@@ -13,8 +13,10 @@
 //! with `v_T = sqrt(V^2 + (v_i0m - w_hub)^2)`, `v_m = (V^2 + (v_i0m - w_hub)(2 v_i0m - w_hub)) / v_T`,
 //! `V` the hub's in-plane speed, `w_hub` its speed along the shaft (down) and `v_i0m` the
 //! momentum induced velocity, taken as the uniform component `v0` (at equilibrium the first
-//! row is Glauert's momentum theory). The skew angle follows seed 003 Eq. 5 (signed, negative
-//! when the flow is up through the disc, as in autorotation) or Eq. 6 (modulus).
+//! row is Glauert's momentum theory). The skew angle takes one of three forms
+//! ([`SkewConvention`]): seed 001 Eq. 15 (signed, negative when the flow is up through the
+//! disc, as in autorotation), seed 003 Eq. 5 as Chen presents it (geometric, above 90 deg
+//! then), or seed 003 Eq. 6 (modulus, Peters and HaQuang's disc angle).
 //!
 //! Wind axes are hub axes turned about the shaft so that `x` points along the hub's in-plane
 //! motion; wind azimuth is `psi + psi_w`, with `psi_w = atan2(v, u)`.
@@ -45,6 +47,7 @@ pub fn wake(hub: HubVelocity, v0: f64, skew: SkewConvention) -> Wake {
                 (v_inplane / d).atan()
             }
         }
+        SkewConvention::Geometric => v_inplane.atan2(d),
         SkewConvention::Modulus => v_inplane.atan2(d.abs()),
     };
     Wake {
@@ -222,6 +225,52 @@ mod tests {
         assert!((inflow.v0 - vh).abs() < 1e-12);
         assert_eq!((inflow.v1s, inflow.v1c), (0.0, 0.0));
         assert!((w.v_t_m_s - vh).abs() < 1e-12);
+    }
+
+    /// Where the flow through the disc changes direction (`d = v0 - w_hub` through zero at 30
+    /// m/s in-plane), the geometric and modulus forms move by no more than the flow does
+    /// (continuous), and the signed form jumps by 180 deg (seed 001's form is discontinuous
+    /// there, and says so). In upflow the geometric angle is 180 deg less the modulus one, the
+    /// signed angle minus it.
+    #[test]
+    fn the_skew_forms_where_the_flow_changes_direction() {
+        let at = |d: f64, skew| {
+            wake(
+                HubVelocity {
+                    u: 30.0,
+                    v: 0.0,
+                    w: 2.0 - d,
+                },
+                2.0,
+                skew,
+            )
+            .skew_rad
+        };
+        let eps = 1e-7;
+        for skew in [SkewConvention::Geometric, SkewConvention::Modulus] {
+            let jump = (at(eps, skew) - at(-eps, skew)).abs();
+            assert!(jump < 1e-8, "{skew:?}: {jump}");
+            assert!((at(0.0, skew) - PI / 2.0).abs() < 1e-12);
+        }
+        let jump = at(eps, SkewConvention::Signed) - at(-eps, SkewConvention::Signed);
+        assert!((jump - PI).abs() < 1e-6, "signed: {jump}");
+        for d in [-5.0, -0.5] {
+            let (s, g, m) = (
+                at(d, SkewConvention::Signed),
+                at(d, SkewConvention::Geometric),
+                at(d, SkewConvention::Modulus),
+            );
+            assert!(
+                (g - (PI - m)).abs() < 1e-12 && (s + m).abs() < 1e-12,
+                "{s} {g} {m}"
+            );
+            assert!(g > PI / 2.0 && s < 0.0 && m < PI / 2.0);
+        }
+        for d in [0.5, 5.0] {
+            let s = at(d, SkewConvention::Signed);
+            assert!((at(d, SkewConvention::Geometric) - s).abs() < 1e-12);
+            assert!((at(d, SkewConvention::Modulus) - s).abs() < 1e-12);
+        }
     }
 
     #[test]

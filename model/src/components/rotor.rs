@@ -106,12 +106,27 @@ pub enum InflowModel {
     Prescribed { v0: f64, v1s: f64, v1c: f64 },
 }
 
-/// The wake skew angle in autorotation.
+/// The wake skew angle `chi` from the hub's in-plane speed `V` and the flow through the disc
+/// `d = v_i0m - w_hub` (down positive). All three agree when the flow is down through the disc
+/// (`d > 0`, a helicopter's rotor); they part when it is up (`d < 0`, autorotation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum SkewConvention {
-    /// `tan chi = V / (v_i0m - w_hub)` (seed 003 Eq. 5): `chi < 0` when the flow is up through the disc.
+    /// Seed 001 Eq. 15: `chi = atan(V / d)` on the principal branch, so `chi < 0` in
+    /// autorotation, as seed 001's text after Eq. 15 says. Discontinuous where the flow through
+    /// the disc changes direction: `chi` jumps from +90 deg (`d` just above 0) to -90 deg (just
+    /// below), and `tan(chi/2)` from +1 to -1, a trap for Newton and for finite differences
+    /// there (tested).
     Signed,
-    /// `tan alpha = |v_i0m - w_hub| / V`, `chi = 90 deg - alpha` (seed 003 Eq. 6).
+    /// Seed 003 Eq. 5 as Chen presents it, the wake's geometric angle: `chi = atan2(V, d)` in
+    /// `[0, 180 deg]`, above 90 deg when the wake skews above the disc (seed 003's closing
+    /// discussion). Continuous where the flow changes direction (through 90 deg); singular as
+    /// the flow turns straight up (`V = 0`, `d < 0`: vertical autorotative descent), where
+    /// `tan(chi/2)` and `1 / (1 + cos chi)` diverge, so not for axial descent.
+    Geometric,
+    /// Seed 003 Eq. 6, Peters and HaQuang's disc angle: `tan alpha = |d| / V`,
+    /// `chi = 90 deg - alpha`, in `[0, 90 deg]`. Continuous everywhere (a kink at `d = 0`); the
+    /// form seed 003 finds agrees best with the longitudinal inflow from flight flapping
+    /// (its Fig. 5).
     Modulus,
 }
 
