@@ -21,6 +21,8 @@
 //!   airfoil:
 //!     analytical: {lift_slope_per_rad: 5.85, zero_lift_alpha_deg: 0, cd0: 0.012,
 //!                  cd1_per_rad: 0, cd2_per_rad2: 0, stall_alpha_deg: 12}
+//!     # optional in `analytical`: drag_divergence_mach (compressibility: Prandtl-Glauert
+//!     # lift and Lock's drag rise above it)
 //!     # or table: {alpha_deg: [...], mach: [...], cl: [[...]], cd: [[...]]}
 //!   elements: 20
 //!   yawed_flow_drag: false                           # optional: drag sees the radial flow too
@@ -57,6 +59,10 @@ pub struct AnalyticalSpec {
     pub cd1_per_rad: f64,
     pub cd2_per_rad2: f64,
     pub stall_alpha_deg: f64,
+    /// Compressibility: Prandtl-Glauert lift and Lock's drag rise above this drag-divergence
+    /// Mach number (absent: an incompressible section).
+    #[serde(default)]
+    pub drag_divergence_mach: Option<f64>,
 }
 
 /// A section: exactly one of the two.
@@ -184,6 +190,11 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
             cd1_per_rad: a.cd1_per_rad,
             cd2_per_rad2: a.cd2_per_rad2,
             stall_alpha_rad: a.stall_alpha_deg.to_radians(),
+            compressibility: a.drag_divergence_mach.map(|m| {
+                cierva_model::components::airfoil::Compressibility {
+                    drag_divergence_mach: m,
+                }
+            }),
         }),
         (None, Some(t)) => Airfoil::Table(t.clone()),
         _ => {

@@ -77,6 +77,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
             cd1_per_rad: 0.0,
             cd2_per_rad2: cd2,
             stall_alpha_rad: d(stall_deg),
+            compressibility: None,
         })
     };
     let rotor = Rotor {

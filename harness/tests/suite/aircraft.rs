@@ -217,3 +217,37 @@ fn the_vpm_m16_tail_in_the_slipstream_is_stiffer_in_yaw_and_pitch() {
         );
     }
 }
+
+/// With compressible sections (Prandtl-Glauert lift, Lock's drag rise above Mach 0.75) the
+/// PCA-2 rotor still autorotates at TR 515 row 60's condition (2.3 deg, 36.9 m/s, mu 0.44):
+/// the rotorspeed bracket starts from a rotor so fast that its tips are supersonic, where the
+/// drag rise leaves no periodic flapping, and now steps past those speeds instead of giving
+/// up (it found no bracket before, and 64 of Table III's 81 rows had no equilibrium).
+#[test]
+fn a_compressible_rotor_autorotates_at_high_mu() {
+    use cierva_model::components::airfoil::{Airfoil, Compressibility};
+    use cierva_model::components::rotor::{InflowModel, SkewConvention};
+    let mut rotor =
+        cierva_harness::rotor_file::load(&repo_root().join("aircraft/pca-2-rotor.yaml"))
+            .unwrap()
+            .rotor;
+    let Airfoil::Analytical(s) = &mut rotor.airfoil else {
+        panic!("the PCA-2's section is analytical");
+    };
+    s.compressibility = Some(Compressibility {
+        drag_divergence_mach: 0.75,
+    });
+    let a = cierva_harness::run_autorotation(
+        &rotor,
+        2.3,
+        36.9,
+        Some(1.9),
+        None,
+        InflowModel::PetersHaQuang {
+            skew: SkewConvention::Signed,
+        },
+    )
+    .unwrap();
+    let rpm = a.omega_rad_s * 30.0 / std::f64::consts::PI;
+    assert!((rpm / 117.2 - 1.0).abs() < 0.2, "{rpm} rpm");
+}

@@ -26,7 +26,8 @@ pub enum Airfoil {
 ///   image of the above about 90 deg (the flow meets the reversed section at `pi - |alpha|`),
 ///   so it falls back to the polar near 180 deg and is never below the section's least drag.
 ///
-/// Both coefficients are continuous in `alpha`; Mach number is ignored.
+/// Both coefficients are continuous in `alpha`. Mach number is ignored unless the section has
+/// [`Compressibility`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct AnalyticalSection {
     pub lift_slope_per_rad: f64,
@@ -35,6 +36,40 @@ pub struct AnalyticalSection {
     pub cd1_per_rad: f64,
     pub cd2_per_rad2: f64,
     pub stall_alpha_rad: f64,
+    /// Compressibility (none: the incompressible section at every Mach number).
+    pub compressibility: Option<Compressibility>,
+}
+
+/// Compressibility of an analytical section, below the speed of sound:
+///
+/// * lift: Prandtl-Glauert, the lift of the attached and stalling section (to 90 deg) divided
+///   by `sqrt(1 - M^2)` (Glauert 1928), with `M` held at [`PRANDTL_GLAUERT_MACH_LIMIT`] above
+///   it (the small-disturbance rule fails as the flow goes transonic);
+/// * drag: Lock's fourth-power drag rise above the drag-divergence Mach number `M_dd`,
+///   `cd += 20 (M - M_dd)^4` (Lock 1951, as Leishman gives it), at every angle of attack.
+///
+/// The stall angle does not move with Mach number, and reverse flow (a flat plate) is left as
+/// it is: both are beyond what the two rules describe.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Compressibility {
+    pub drag_divergence_mach: f64,
+}
+
+/// The Mach number above which Prandtl-Glauert's factor is held (its value there, 2.29).
+pub const PRANDTL_GLAUERT_MACH_LIMIT: f64 = 0.9;
+
+impl Compressibility {
+    /// Prandtl-Glauert's lift factor `1 / sqrt(1 - M^2)`, held above the limit.
+    pub fn lift_factor(&self, mach: f64) -> f64 {
+        let m = mach.abs().min(PRANDTL_GLAUERT_MACH_LIMIT);
+        1.0 / (1.0 - m * m).sqrt()
+    }
+
+    /// Lock's drag rise `20 (M - M_dd)^4` above drag divergence, zero below.
+    pub fn drag_rise(&self, mach: f64) -> f64 {
+        let excess = (mach.abs() - self.drag_divergence_mach).max(0.0);
+        20.0 * excess.powi(4)
+    }
 }
 
 /// Coefficient tables: `cl[m][a]` and `cd[m][a]` at `mach[m]` and `alpha_deg[a]`.
@@ -62,6 +97,8 @@ pub enum AirfoilError {
     AlphaRange { first: f64, last: f64 },
     #[error("table Mach numbers must rise strictly from a value >= 0")]
     MachRange,
+    #[error("the drag-divergence Mach number must be in (0, 1), got {0}")]
+    DragDivergence(f64),
     #[error(
         "table `{name}` must be {rows} rows (one per Mach number) of {cols} values (one per angle)"
     )]
@@ -106,7 +143,30 @@ impl AnalyticalSection {
         if !(0.0 < self.stall_alpha_rad && self.stall_alpha_rad < FRAC_PI_2) {
             return Err(AirfoilError::StallAngle(self.stall_alpha_rad));
         }
+        if let Some(c) = self.compressibility {
+            let m = c.drag_divergence_mach;
+            if !(m.is_finite() && 0.0 < m && m < 1.0) {
+                return Err(AirfoilError::DragDivergence(m));
+            }
+        }
         Ok(())
+    }
+
+    /// The coefficients at a Mach number: the incompressible section's, with
+    /// [`Compressibility`] where the section has it.
+    fn coefficients_at(&self, alpha: f64, mach: f64) -> (f64, f64) {
+        let (cl, cd) = self.coefficients(alpha);
+        match self.compressibility {
+            None => (cl, cd),
+            Some(c) => {
+                let lift = if wrap_pi(alpha).abs() <= FRAC_PI_2 {
+                    c.lift_factor(mach)
+                } else {
+                    1.0
+                };
+                (cl * lift, cd + c.drag_rise(mach))
+            }
+        }
     }
 
     fn coefficients(&self, alpha: f64) -> (f64, f64) {
@@ -214,7 +274,7 @@ impl Airfoil {
     /// Table Mach numbers outside the table are clamped to its first or last column.
     pub fn coefficients(&self, alpha_rad: f64, mach: f64) -> (f64, f64) {
         match self {
-            Self::Analytical(s) => s.coefficients(alpha_rad),
+            Self::Analytical(s) => s.coefficients_at(alpha_rad, mach),
             Self::Table(t) => t.coefficients(alpha_rad, mach),
         }
     }
@@ -243,6 +303,55 @@ mod tests {
             cd1_per_rad: 0.0,
             cd2_per_rad2: 0.0,
             stall_alpha_rad: 12f64.to_radians(),
+            compressibility: None,
+        }
+    }
+
+    /// Compressibility: at Mach 0 the section is the incompressible one; at Mach 0.6 the lift
+    /// slope is Prandtl-Glauert's 1.25 times, held at the limit beyond 0.9; the drag rises as
+    /// Lock's `20 (M - M_dd)^4` from drag divergence (0.002 at 0.1 above it), continuously, at
+    /// any angle; lift stays continuous through stall and 90 deg; a drag-divergence Mach number
+    /// outside (0, 1) is refused.
+    #[test]
+    fn compressibility_is_prandtl_glauert_lift_and_lock_s_drag_rise() {
+        let plain = section();
+        let s = AnalyticalSection {
+            compressibility: Some(Compressibility {
+                drag_divergence_mach: 0.7,
+            }),
+            ..plain
+        };
+        let a = Airfoil::Analytical(s);
+        let p = Airfoil::Analytical(plain);
+        for alpha in [-0.3, 0.05, 0.5, 2.0, 3.0] {
+            assert_eq!(a.coefficients(alpha, 0.0), p.coefficients(alpha, 0.0));
+        }
+        let slope = |m: f64| (a.coefficients(0.01, m).0 - a.coefficients(-0.01, m).0) / 0.02;
+        assert!((slope(0.6) / slope(0.0) - 1.25).abs() < 1e-12);
+        let held = 1.0 / (1.0 - 0.81f64).sqrt();
+        assert!((slope(0.95) / slope(0.0) - held).abs() < 1e-12);
+        for alpha in [0.05, 0.3, 2.5] {
+            let rise = |m: f64| a.coefficients(alpha, m).1 - p.coefficients(alpha, m).1;
+            assert_eq!(rise(0.7), 0.0);
+            assert!((rise(0.8) - 0.002).abs() < 1e-12, "{}", rise(0.8));
+            assert!(rise(0.7 + 1e-6) < 1e-20);
+        }
+        let stall = s.stall_alpha_rad;
+        for at in [stall, FRAC_PI_2] {
+            let (below, above) = (
+                a.coefficients(at - 1e-9, 0.6).0,
+                a.coefficients(at + 1e-9, 0.6).0,
+            );
+            assert!((below - above).abs() < 1e-6, "{at}: {below} {above}");
+        }
+        for bad in [0.0, 1.0, f64::NAN] {
+            let s = AnalyticalSection {
+                compressibility: Some(Compressibility {
+                    drag_divergence_mach: bad,
+                }),
+                ..plain
+            };
+            assert!(s.validate().is_err(), "{bad}");
         }
     }
 

@@ -342,6 +342,16 @@ pub fn autorotate_from(
         previous_omega = omega;
         let q = match coarse.rough_torque(omega, &mut inflow) {
             Ok(q) => q,
+            // A very fast rotor may have no periodic flapping either (compressible sections
+            // with supersonic tips, where the drag rise runs away): the bracket lies below it.
+            Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_))
+                if torques.is_empty() =>
+            {
+                if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
+                    inflow = Inflow::default();
+                }
+                continue;
+            }
             // A very slow rotor may not flap periodically: the bracket lies above it.
             Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_)) => break,
             Err(e) => return Err(e.into()),

@@ -646,6 +646,7 @@ mod tests {
                     cd1_per_rad: 0.0,
                     cd2_per_rad2: 0.5,
                     stall_alpha_rad: 0.25,
+                    compressibility: None,
                 }),
                 elements: 20,
                 corrections: Corrections::default(),

@@ -1239,6 +1239,7 @@ mod tests {
                 cd1_per_rad: 0.0,
                 cd2_per_rad2: 0.0,
                 stall_alpha_rad: 0.6,
+                compressibility: None,
             }),
             elements: 100,
             corrections: Corrections::default(),
@@ -1272,6 +1273,7 @@ mod tests {
                 cd1_per_rad: 0.0,
                 cd2_per_rad2: cd2,
                 stall_alpha_rad: 0.25,
+                compressibility: None,
             }),
             ..classical(theta0, 0.0)
         }
@@ -1612,6 +1614,7 @@ mod tests {
             cd1_per_rad: 0.0,
             cd2_per_rad2: 0.0,
             stall_alpha_rad: 0.6,
+            compressibility: None,
         });
         let (omega, rho) = (40.0, 1.225);
         let tip = omega * rotor.radius_m;
