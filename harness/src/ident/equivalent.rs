@@ -72,11 +72,7 @@ pub fn identify_with_records(
                 dt_s: r.dt_s(),
             },
             &super::frequencies(config)?,
-            super::estimate::Windowing {
-                segments: config.windowing.segments,
-                overlap: config.windowing.overlap,
-                hann: config.windowing.hann,
-            },
+            config.windowing.settings(),
         )
         .map_err(|e| format!("{}: {e}", r.path.display()))?;
         let (omegas, ft) = (spectra.omegas(), spectra.transforms());

@@ -131,6 +131,17 @@ pub struct WindowingSpec {
     pub hann: bool,
 }
 
+impl WindowingSpec {
+    /// The estimator's settings.
+    pub fn settings(&self) -> Windowing {
+        Windowing {
+            segments: self.segments,
+            overlap: self.overlap,
+            hann: self.hann,
+        }
+    }
+}
+
 fn one() -> usize {
     1
 }
@@ -799,11 +810,7 @@ pub(crate) fn identify_from(
             .collect()
     };
     let freqs = frequencies(config)?;
-    let w = Windowing {
-        segments: config.windowing.segments,
-        overlap: config.windowing.overlap,
-        hann: config.windowing.hann,
-    };
+    let w = config.windowing.settings();
     let err = |e: IdentError| format!("{id}: {e}");
     // The transforms are computed once; least squares and each instrumental-variable pass use them.
     let mut parts = Vec::new();
