@@ -213,8 +213,8 @@ pub enum Setup {
     Flapping,
 }
 
-/// The flapping states a set-up may have.
-pub const FLAP_STATES: [&str; 2] = ["beta_1c", "beta_1s"];
+/// The flapping states a set-up may have: the model's tip-path-plane tilts.
+pub use cierva_model::aircraft::flapping::FLAP_STATES;
 
 /// A record's channel for a control (`eta_s` -> `eta_s_pct` or `eta_s_rad`).
 pub(crate) fn control_channel(record: &Record, control: &str) -> Option<String> {
@@ -659,6 +659,15 @@ fn flapping_products(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
 /// off).
 pub fn tip_path_plane(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
     let (c, s) = flapping_products(record)?;
+    let window = revolution_window(record)?;
+    Ok((
+        blade_passage_average(&c, window),
+        blade_passage_average(&s, window),
+    ))
+}
+
+/// One revolution at the trim's rotor speed, in samples.
+fn revolution_window(record: &Record) -> Result<f64, String> {
     let omega = record
         .meta
         .trim
@@ -671,11 +680,7 @@ pub fn tip_path_plane(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
                 record.path.display()
             )
         })?;
-    let window = 2.0 * std::f64::consts::PI / omega / record.dt_s();
-    Ok((
-        blade_passage_average(&c, window),
-        blade_passage_average(&s, window),
-    ))
+    Ok(2.0 * std::f64::consts::PI / omega / record.dt_s())
 }
 
 /// With flapping states in the set-up, the window (in samples) of one revolution at the
@@ -686,26 +691,15 @@ pub fn tip_path_plane(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
 /// `sin(pi f T) / (pi f T)` of a signal at `f`: 0.87 at 2 Hz for the VPM M16's 0.14 s
 /// revolution, the same for every signal. `None` without flapping states.
 pub fn flapping_window(record: &Record, config: &ConfigSpec) -> Result<Option<f64>, String> {
-    if !config
+    if config
         .states
         .iter()
         .any(|s| FLAP_STATES.contains(&s.as_str()))
     {
-        return Ok(None);
+        revolution_window(record).map(Some)
+    } else {
+        Ok(None)
     }
-    let omega = record
-        .meta
-        .trim
-        .get("omega_rotor_rad_s")
-        .copied()
-        .filter(|w| w.is_finite() && *w > 0.0)
-        .ok_or_else(|| {
-            format!(
-                "{}: the flapping states need the trim's `omega_rotor_rad_s` in the sidecar (to average over a revolution)",
-                record.path.display()
-            )
-        })?;
-    Ok(Some(2.0 * std::f64::consts::PI / omega / record.dt_s()))
 }
 
 /// Identifies a record with a set-up.
