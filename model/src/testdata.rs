@@ -227,6 +227,22 @@ pub fn sea_level_air() -> crate::aircraft::Air {
     }
 }
 
+/// The test gyroplane trimmed in level flight at `airspeed_m_s` in sea-level air.
+pub fn trimmed_gyroplane(
+    airspeed_m_s: f64,
+) -> (crate::aircraft::Aircraft, crate::aircraft::trim::Trim) {
+    let a = gyroplane();
+    let c = crate::aircraft::trim::Condition {
+        airspeed_m_s,
+        climb_m_s: 0.0,
+        turn_rate_rad_s: 0.0,
+        air: sea_level_air(),
+    };
+    let t = crate::aircraft::trim::trim(&a, c, Default::default())
+        .expect("the test gyroplane trims in level flight");
+    (a, t)
+}
+
 /// The test gyroplane's level-flight condition at 31.3 m/s (70 mph) in sea-level air.
 pub fn level_70mph() -> crate::aircraft::trim::Condition {
     crate::aircraft::trim::Condition {

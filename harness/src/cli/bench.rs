@@ -443,7 +443,7 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
 /// stick and pedal at 70 mph, 1 % turbulence), identified together with the coupled set-up.
 fn records_together(out: &Rows, repeat: usize) -> f64 {
     use cierva_harness::flight_test::{self, FlightTest, sensors::Instrumentation, turbulence};
-    use cierva_harness::ident::{self, record, synth::Input};
+    use cierva_harness::ident::{self, synth::Input};
     let Ok(file) = cierva_harness::aircraft_file::load(
         &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
     ) else {
@@ -488,32 +488,15 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
                 started.elapsed().as_secs_f64()
             );
         }
-        let controls = flight_test::record_controls(control);
         let mut condition = std::collections::BTreeMap::new();
         condition.insert("airspeed_mph".to_string(), serde_yaml::Value::from(70.0));
-        records.push(record::Record {
-            path: format!("bench-{control}.csv").into(),
-            meta: record::RecordMeta {
-                id: format!("bench-{control}"),
-                title: "bench".into(),
-                provenance: refs::Provenance {
-                    source: "synthetic: the benchmark".into(),
-                    notes: None,
-                },
-                synthetic: None,
-                aircraft: "VPM M16".into(),
-                sample_rate_hz: 100.0,
-                sensors: Some(record::Sensors {
-                    probe_position_m: f.probe_position_m,
-                    cg_position_m: f.cg_position_m,
-                }),
-                condition,
-                trim: f.trim.clone(),
-                controls,
-            },
-            channels: f.channels,
-            data: f.data,
-        });
+        records.push(f.into_record(
+            &format!("bench-{control}"),
+            control,
+            100.0,
+            "synthetic: the benchmark",
+            condition,
+        ));
     }
     let Ok(cfg) = ident::ConfigSpec::for_setup(ident::Setup::Coupled, &records[0]) else {
         return 0.0;

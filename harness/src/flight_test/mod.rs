@@ -70,6 +70,46 @@ pub struct Flown {
     pub pilot: Option<Pilot>,
 }
 
+impl Flown {
+    /// The flight as a record in memory, for the identifier: `id` (its path `<id>.csv`), the
+    /// `control`th of [`CONTROL_CHANNELS`] the one moved, sampled at `sample_rate_hz`, with
+    /// `source` as its provenance and `condition` as its sidecar's. (`cierva synth-flight`
+    /// writes the full sidecar, with the synthetic settings and truth.)
+    pub fn into_record(
+        self,
+        id: &str,
+        control: usize,
+        sample_rate_hz: f64,
+        source: &str,
+        condition: BTreeMap<String, serde_yaml::Value>,
+    ) -> crate::ident::record::Record {
+        use crate::ident::record::{Record, RecordMeta, Sensors};
+        Record {
+            path: format!("{id}.csv").into(),
+            meta: RecordMeta {
+                id: id.to_string(),
+                title: id.to_string(),
+                provenance: crate::refs::Provenance {
+                    source: source.to_string(),
+                    notes: None,
+                },
+                synthetic: None,
+                aircraft: String::new(),
+                sample_rate_hz,
+                sensors: Some(Sensors {
+                    probe_position_m: self.probe_position_m,
+                    cg_position_m: self.cg_position_m,
+                }),
+                condition,
+                trim: self.trim,
+                controls: record_controls(control),
+            },
+            channels: self.channels,
+            data: self.data,
+        }
+    }
+}
+
 /// The rotor channels of a teetering rotor's record: the teeter angle (blade 1 up), its
 /// azimuth from the front of the disc, and the hub's air speeds in shaft axes, as seed 003's
 /// teeter records have them ([`crate::ident::flap::FLAP_REQUIRED`]), so that `cierva inflow`

@@ -251,6 +251,20 @@ pub fn identify_response(
 mod tests {
     use super::*;
 
+    /// `found` has `count` derivatives, each the model's own to 1e-9.
+    fn assert_identified_as_itself(found: &Identification, model: &LinearModel, count: usize) {
+        assert_eq!(found.derivatives.len(), count);
+        for d in &found.derivatives {
+            let want = model.derivative_value(&d.name).unwrap();
+            assert!(
+                (d.estimate - want).abs() < 1e-9 * (1.0 + want.abs()),
+                "{}: {} against {want}",
+                d.name,
+                d.estimate
+            );
+        }
+    }
+
     /// A model of the set-up's own form is identified as itself from its frequency response
     /// (no noise, an exact structure): every derivative within 1e-9 of its own value.
     #[test]
@@ -279,16 +293,7 @@ mod tests {
         .unwrap();
         let config = ConfigSpec::for_model(super::super::Setup::Longitudinal);
         let found = identify_in_band(&config, &model).unwrap();
-        assert_eq!(found.derivatives.len(), 4 * 6);
-        for d in &found.derivatives {
-            let want = model.derivative_value(&d.name).unwrap();
-            assert!(
-                (d.estimate - want).abs() < 1e-9 * (1.0 + want.abs()),
-                "{}: {} against {want}",
-                d.name,
-                d.estimate
-            );
-        }
+        assert_identified_as_itself(&found, &model, 4 * 6);
     }
 
     /// The same model is identified as itself from its response to a record's controls (a
@@ -325,20 +330,10 @@ mod tests {
             .collect();
         let pedal: Vec<f64> = t.iter().map(|t| 50.0 + (1.3 * t).sin()).collect();
         let constant = |v: f64| vec![v; n];
-        let channels = names(&[
-            "time_s",
-            "airspeed_m_s",
-            "alpha_vane_rad",
-            "beta_vane_rad",
-            "p_rad_s",
-            "q_rad_s",
-            "r_rad_s",
-            "phi_rad",
-            "theta_rad",
-            "omega_rotor_rad_s",
-            "eta_s_pct",
-            "eta_p_pct",
-        ]);
+        let channels = names(&super::super::record::REQUIRED)
+            .into_iter()
+            .chain(names(&["eta_s_pct", "eta_p_pct"]))
+            .collect();
         let mut data = vec![t.clone()];
         data.extend([30.0, 0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.05, 40.0].map(constant));
         data.extend([sweep, pedal]);
@@ -383,15 +378,6 @@ mod tests {
             },
         )
         .unwrap();
-        assert_eq!(found.derivatives.len(), 4 * 7);
-        for d in &found.derivatives {
-            let want = model.derivative_value(&d.name).unwrap();
-            assert!(
-                (d.estimate - want).abs() < 1e-9 * (1.0 + want.abs()),
-                "{}: {} against {want}",
-                d.name,
-                d.estimate
-            );
-        }
+        assert_identified_as_itself(&found, &model, 4 * 7);
     }
 }

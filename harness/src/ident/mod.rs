@@ -608,22 +608,11 @@ pub fn signals(record: &Record, config: &ConfigSpec) -> Result<Histories, String
         }
     }
     if let Some(blades) = config.blade_passage_blades {
-        let omega = record
-            .meta
-            .trim
-            .get("omega_rotor_rad_s")
-            .copied()
-            .filter(|w| w.is_finite() && *w > 0.0)
-            .ok_or_else(|| {
-                format!(
-                    "{}: averaging out the blade passage needs the trim's `omega_rotor_rad_s` in the sidecar",
-                    record.path.display()
-                )
-            })?;
+        let revolution = revolution_window(record, "averaging out the blade passage")?;
         if blades == 0 {
             return Err("blade_passage_blades must be at least 1".into());
         }
-        let window = 2.0 * std::f64::consts::PI / (f64::from(blades) * omega) / record.dt_s();
+        let window = revolution / f64::from(blades);
         for s in xs.iter_mut().chain(us.iter_mut()) {
             *s = blade_passage_average(s, window);
         }
@@ -659,15 +648,16 @@ fn flapping_products(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
 /// off).
 pub fn tip_path_plane(record: &Record) -> Result<(Vec<f64>, Vec<f64>), String> {
     let (c, s) = flapping_products(record)?;
-    let window = revolution_window(record)?;
+    let window = revolution_window(record, "the tip-path plane")?;
     Ok((
         blade_passage_average(&c, window),
         blade_passage_average(&s, window),
     ))
 }
 
-/// One revolution at the trim's rotor speed, in samples.
-fn revolution_window(record: &Record) -> Result<f64, String> {
+/// One revolution at the trim's rotor speed, in samples; `what` needs it (for the message when
+/// the sidecar does not give the speed).
+fn revolution_window(record: &Record, what: &str) -> Result<f64, String> {
     let omega = record
         .meta
         .trim
@@ -676,7 +666,7 @@ fn revolution_window(record: &Record) -> Result<f64, String> {
         .filter(|w| w.is_finite() && *w > 0.0)
         .ok_or_else(|| {
             format!(
-                "{}: the tip-path plane needs the trim's `omega_rotor_rad_s` in the sidecar (to average over a revolution)",
+                "{}: {what} needs the trim's `omega_rotor_rad_s` in the sidecar",
                 record.path.display()
             )
         })?;
@@ -696,7 +686,11 @@ pub fn flapping_window(record: &Record, config: &ConfigSpec) -> Result<Option<f6
         .iter()
         .any(|s| FLAP_STATES.contains(&s.as_str()))
     {
-        revolution_window(record).map(Some)
+        revolution_window(
+            record,
+            "averaging over a revolution for the flapping states",
+        )
+        .map(Some)
     } else {
         Ok(None)
     }

@@ -919,27 +919,27 @@ fn synth_flight_records_identify_against_the_aircraft() {
     ] {
         assert!(side.contains(want), "{want} missing from\n{side}");
     }
-    let mut args = vec!["identify"];
-    args.extend(paths.iter().map(String::as_str));
-    args.extend(["--setup", "coupled", "--against", "aircraft/vpm-m16.yaml"]);
-    let (code, stdout, stderr) = cierva(&args);
-    assert_eq!(code, 0, "{stdout}{stderr}");
-    for want in [
-        "model (quasi-static linearisation) inside the identified bounds",
-        "model with flapping states, identified from its response to these records' controls",
-        "N_r",
-    ] {
-        assert!(stdout.contains(want), "{want} missing from\n{stdout}");
-    }
+    // The records identified with a set-up, beside the aircraft: the output has every `wants`.
+    let identified_with = |setup: &str, wants: &[&str]| {
+        let mut args = vec!["identify"];
+        args.extend(paths.iter().map(String::as_str));
+        args.extend(["--setup", setup, "--against", "aircraft/vpm-m16.yaml"]);
+        let (code, stdout, stderr) = cierva(&args);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        for want in wants {
+            assert!(stdout.contains(want), "{want} missing from\n{stdout}");
+        }
+    };
+    identified_with(
+        "coupled",
+        &[
+            "model (quasi-static linearisation) inside the identified bounds",
+            "model with flapping states, identified from its response to these records' controls",
+            "N_r",
+        ],
+    );
     // The hybrid set-up: the tip-path plane from the teeter channel, in its own equations.
-    let mut args = vec!["identify"];
-    args.extend(paths.iter().map(String::as_str));
-    args.extend(["--setup", "flapping", "--against", "aircraft/vpm-m16.yaml"]);
-    let (code, stdout, stderr) = cierva(&args);
-    assert_eq!(code, 0, "{stdout}{stderr}");
-    for want in ["beta_1c_q", "L_beta_1s", "equation beta_1s"] {
-        assert!(stdout.contains(want), "{want} missing from\n{stdout}");
-    }
+    identified_with("flapping", &["beta_1c_q", "L_beta_1s", "equation beta_1s"]);
     let (code, _, stderr) = cierva(&[
         "synth-flight",
         "aircraft/vpm-m16.yaml",

@@ -257,30 +257,7 @@ fn a_stick_doublet_pitches_the_nose_up_first() {
 
 /// A flight as a record (for the identifier), its `k`th control the one moved.
 fn as_record(k: usize, f: flight_test::Flown) -> cierva_harness::ident::record::Record {
-    use cierva_harness::ident::record;
-    record::Record {
-        path: format!("sweep-{k}.csv").into(),
-        meta: record::RecordMeta {
-            id: format!("sweep-{k}"),
-            title: "t".into(),
-            provenance: cierva_harness::refs::Provenance {
-                source: "test".into(),
-                notes: None,
-            },
-            synthetic: None,
-            aircraft: "VPM M16".into(),
-            sample_rate_hz: 100.0,
-            sensors: Some(record::Sensors {
-                probe_position_m: f.probe_position_m,
-                cg_position_m: f.cg_position_m,
-            }),
-            condition: Default::default(),
-            trim: f.trim.clone(),
-            controls: flight_test::record_controls(k),
-        },
-        channels: f.channels,
-        data: f.data,
-    }
+    f.into_record(&format!("sweep-{k}"), k, 100.0, "test", Default::default())
 }
 
 /// The teeter channel demodulated at the azimuth and averaged over a revolution

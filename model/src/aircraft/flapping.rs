@@ -590,20 +590,7 @@ pub fn with_flapping(
 mod tests {
     use super::*;
     use crate::aircraft::linearise::linearise;
-    use crate::aircraft::trim::{self, Condition, Options};
-    use crate::testdata::{gyroplane, sea_level_air as air};
-
-    fn at(airspeed_m_s: f64) -> (Aircraft, Trim) {
-        let a = gyroplane();
-        let c = Condition {
-            airspeed_m_s,
-            climb_m_s: 0.0,
-            turn_rate_rad_s: 0.0,
-            air: air(),
-        };
-        let t = trim::trim(&a, c, Options::default()).unwrap();
-        (a, t)
-    }
+    use crate::testdata::{sea_level_air as air, trimmed_gyroplane};
 
     /// Eliminating the flapping, inflow and propeller states of the averaged model at their
     /// equilibrium gives back the quasi-static linearisation: the two are one physics, held
@@ -612,7 +599,7 @@ mod tests {
     /// largest derivative (L_q); 2 % is allowed.
     #[test]
     fn eliminating_the_flapping_gives_back_the_quasi_static_linearisation() {
-        let (a, t) = at(31.3);
+        let (a, t) = trimmed_gyroplane(31.3);
         let wf = with_flapping(&a, &t, air(), Steps::default()).unwrap();
         let qs = wf.quasi_static().unwrap();
         let lin = linearise(&a, &t, air(), Steps::default()).unwrap();
@@ -645,7 +632,7 @@ mod tests {
     /// body almost unaccelerated (the approximation's residual: below 0.005 m/s^2 and rad/s^2).
     #[test]
     fn the_equilibrium_is_the_periodic_solution_s_first_harmonic() {
-        let (a, t) = at(31.3);
+        let (a, t) = trimmed_gyroplane(31.3);
         let e = with_flapping(&a, &t, air(), Steps::default())
             .unwrap()
             .equilibrium;
@@ -672,7 +659,7 @@ mod tests {
     /// blade element's local inflow angle; measured 0.3 % at 31 m/s).
     #[test]
     fn the_flap_block_has_the_lock_number_s_damping() {
-        let (a, t) = at(31.3);
+        let (a, t) = trimmed_gyroplane(31.3);
         let wf = with_flapping(&a, &t, air(), Steps::default()).unwrap();
         let m = wf.model.a();
         let trace = m[(10, 10)] + m[(11, 11)];
@@ -741,7 +728,7 @@ mod tests {
     /// A hinged rotor is refused with a reason, not linearised wrongly.
     #[test]
     fn only_a_teetering_hub_is_supported() {
-        let (mut a, t) = at(31.3);
+        let (mut a, t) = trimmed_gyroplane(31.3);
         a.main_rotor.rotor.hub = Hub::Articulated;
         let e = with_flapping(&a, &t, air(), Steps::default()).unwrap_err();
         assert!(e.to_string().contains("teetering"), "{e}");

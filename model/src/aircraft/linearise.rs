@@ -371,29 +371,14 @@ pub fn linearise(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::aircraft::trim::{self, Condition, Options};
-    use crate::testdata::gyroplane;
-
-    use crate::testdata::sea_level_air as air;
-
-    fn at(airspeed_m_s: f64) -> (Aircraft, Trim) {
-        let a = gyroplane();
-        let c = Condition {
-            airspeed_m_s,
-            climb_m_s: 0.0,
-            turn_rate_rad_s: 0.0,
-            air: air(),
-        };
-        let t = trim::trim(&a, c, Options::default()).unwrap();
-        (a, t)
-    }
+    use crate::testdata::{sea_level_air as air, trimmed_gyroplane};
 
     /// Halving every step changes no derivative by more than 0.5 % of its row's largest
     /// state derivative (and 1e-6 absolute), at two airspeeds.
     #[test]
     fn two_step_sizes_agree() {
         for v in [20.0, 31.3] {
-            let (a, t) = at(v);
+            let (a, t) = trimmed_gyroplane(v);
             let l1 = linearise(&a, &t, air(), Steps::default()).unwrap();
             let l2 = linearise(&a, &t, air(), Steps::default().scaled(0.5)).unwrap();
             let (a1, a2) = (l1.model.a(), l2.model.a());
@@ -430,7 +415,7 @@ mod tests {
     /// (seed 002: Q_u > 0, Q_w > 0, Q_u < Q_w; damping derivatives negative).
     #[test]
     fn breakdown_and_signs() {
-        let (a, t) = at(31.3);
+        let (a, t) = trimmed_gyroplane(31.3);
         let l = linearise(&a, &t, air(), Steps::default()).unwrap();
         for d in ["X_u", "Z_w", "M_q", "L_p", "N_r", "Y_v"] {
             let total = l.model.derivative_value(d).unwrap();
