@@ -13,6 +13,7 @@
 //!     spindle_length_m: 0.2
 //!     inflow: peters_haquang           # or uniform (harmonics zeroed, seed 001 Fig. 4)
 //!     skew: signed                     # or modulus (seed 003 Eq. 5 or Eq. 6)
+//!     descent: momentum                # optional: or johnson (empirical vortex-ring inflow)
 //!     inflow_dynamics: dynamic         # optional: or quasi_steady (full model only)
 //!     azimuth_step_deg: 5
 //!   propeller:
@@ -92,6 +93,13 @@ pub struct MainRotorSpec {
     pub inflow: crate::rotor_file::InflowSpec,
     #[serde(default)]
     pub skew: crate::rotor_file::SkewSpec,
+    /// Left out of the sources check while momentum theory (the default): an aircraft file
+    /// that asks for the empirical curve says why.
+    #[serde(
+        default,
+        skip_serializing_if = "crate::rotor_file::DescentSpec::is_momentum"
+    )]
+    pub descent: crate::rotor_file::DescentSpec,
     /// In the full model: `dynamic` (seed 001 Eq. 3, the default) or `quasi_steady`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inflow_dynamics: Option<InflowDynamicsSpec>,
@@ -433,7 +441,10 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             pivot_m: a.main_rotor.pivot_m,
             spindle_length_m: a.main_rotor.spindle_length_m,
             collective_shift_rad: 0.0,
-            inflow: a.main_rotor.inflow.model(a.main_rotor.skew),
+            inflow: a
+                .main_rotor
+                .inflow
+                .model(a.main_rotor.skew, a.main_rotor.descent),
             inflow_dynamics: match a.main_rotor.inflow_dynamics {
                 Some(InflowDynamicsSpec::QuasiSteady) => InflowDynamics::QuasiSteady,
                 _ => InflowDynamics::Dynamic,

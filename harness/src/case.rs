@@ -8,8 +8,8 @@ pub use crate::checks::autorotation::TunnelSpec;
 pub use crate::checks::{Check, CheckClass, CheckKind, CheckSpec, ExpectSpec, Expectation, System};
 use crate::refs::{self, Entry, Provenance};
 pub use crate::subject::{
-    AircraftModelSpec, FlapRecordSpec, InflowSpec, ModelSpec, RotorModelSpec, SkewSpec, Subject,
-    TableColumnSpec,
+    AircraftModelSpec, DescentSpec, FlapRecordSpec, InflowSpec, ModelSpec, RotorModelSpec,
+    SkewSpec, Subject, TableColumnSpec,
 };
 pub use crate::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
 use crate::yaml::{self, InputError};

@@ -219,7 +219,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         }
         (None, Some(r)) => {
             let file = crate::rotor_file::load(&dir.join(&r.file))?;
-            let inflow = r.inflow.model(r.skew);
+            let inflow = r.inflow.model(r.skew, r.descent);
             let key = SubjectKey::Rotor(file.id.clone(), inflow);
             (
                 fit::Subject::Rotor {

@@ -281,18 +281,50 @@ pub enum SkewSpec {
     Modulus,
 }
 
+/// The wake's mass flow in descent (in case, aircraft and fit files and on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum DescentSpec {
+    /// Momentum theory throughout (Peters and HaQuang as published): no physical solution in
+    /// the vortex-ring and turbulent-wake states.
+    #[default]
+    Momentum,
+    /// Johnson's empirical induced velocity in axial descent (Helicopter Theory, 1980),
+    /// blended into the mass flow below an in-plane speed of v_h.
+    Johnson,
+}
+
+impl DescentSpec {
+    /// Momentum theory (the default).
+    pub fn is_momentum(&self) -> bool {
+        *self == Self::Momentum
+    }
+}
+
 impl InflowSpec {
-    /// The model's inflow model with this skew convention.
-    pub fn model(self, skew: SkewSpec) -> cierva_model::components::rotor::InflowModel {
-        use cierva_model::components::rotor::{InflowModel, SkewConvention};
-        let skew = match skew {
-            SkewSpec::Signed => SkewConvention::Signed,
-            SkewSpec::Geometric => SkewConvention::Geometric,
-            SkewSpec::Modulus => SkewConvention::Modulus,
+    /// The model's inflow model with this skew convention and descent mass flow.
+    pub fn model(
+        self,
+        skew: SkewSpec,
+        descent: DescentSpec,
+    ) -> cierva_model::components::rotor::InflowModel {
+        use cierva_model::components::rotor::{
+            DescentInflow, InflowModel, SkewConvention, WakeModel,
+        };
+        let wake = WakeModel {
+            skew: match skew {
+                SkewSpec::Signed => SkewConvention::Signed,
+                SkewSpec::Geometric => SkewConvention::Geometric,
+                SkewSpec::Modulus => SkewConvention::Modulus,
+            },
+            descent: match descent {
+                DescentSpec::Momentum => DescentInflow::Momentum,
+                DescentSpec::Johnson => DescentInflow::Johnson,
+            },
         };
         match self {
-            Self::PetersHaquang => InflowModel::PetersHaQuang { skew },
-            Self::Uniform => InflowModel::UniformOnly { skew },
+            Self::PetersHaquang => InflowModel::PetersHaQuang { wake },
+            Self::Uniform => InflowModel::UniformOnly { wake },
         }
     }
 }

@@ -2,7 +2,7 @@
 //! an isolated rotor, a teeter record, or an aircraft), as written and as loaded.
 
 use crate::refs::{self, DerivativeTable, LinearModelSpec};
-pub use crate::rotor_file::{InflowSpec, SkewSpec};
+pub use crate::rotor_file::{DescentSpec, InflowSpec, SkewSpec};
 use crate::yaml::InputError;
 use cierva_model::LinearModel;
 use serde::Deserialize;
@@ -79,6 +79,9 @@ pub struct RotorModelSpec {
     pub inflow: InflowSpec,
     #[serde(default)]
     pub skew: SkewSpec,
+    /// The wake's mass flow in descent (default momentum theory).
+    #[serde(default)]
+    pub descent: DescentSpec,
 }
 
 /// A column of a derivative table in a reference file.
@@ -227,7 +230,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
             .map_err(|e| err("model.rotor.file", format!("in the referenced file: {e}")))?;
         return Ok(Subject::Rotor {
             file: Box::new(file),
-            inflow: r.inflow.model(r.skew),
+            inflow: r.inflow.model(r.skew, r.descent),
         });
     }
     if let Some(file) = &m.linear_model_file {

@@ -66,7 +66,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
     use crate::components::propeller::Propeller;
     use crate::components::rigid_body::MassProperties;
     use crate::components::rotor::{
-        Corrections, Distribution, Hub, InflowModel, Numerics, Rotor, SkewConvention,
+        Corrections, Distribution, Hub, InflowModel, Numerics, Rotor, WakeModel,
     };
     let d = f64::to_radians;
     let section = |cd0: f64, cd2: f64, stall_deg: f64| {
@@ -161,7 +161,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
             spindle_length_m: 0.2,
             collective_shift_rad: 0.0,
             inflow: InflowModel::PetersHaQuang {
-                skew: SkewConvention::Signed,
+                wake: WakeModel::SEED_001,
             },
             inflow_dynamics: Default::default(),
             numerics: Numerics {

@@ -209,6 +209,10 @@ pub(crate) struct AutorotateArgs {
     /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
     #[arg(long, value_enum, default_value_t = SkewSpec::Signed)]
     pub(crate) skew: SkewSpec,
+    /// The wake's mass flow in descent: momentum theory, or Johnson's empirical curve in the
+    /// vortex-ring and turbulent-wake states.
+    #[arg(long, value_enum, default_value_t = DescentSpec::Momentum)]
+    pub(crate) descent: DescentSpec,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }

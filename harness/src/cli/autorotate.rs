@@ -36,7 +36,7 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
         Ok(f) => f,
         Err(code) => return code,
     };
-    let inflow = a.inflow.model(a.skew);
+    let inflow = a.inflow.model(a.skew, a.descent);
     let run = match (a.alpha_deg, a.airspeed_m_s, a.tip_speed_ratio, a.rotor_rpm) {
         (Some(alpha_deg), Some(airspeed_m_s), None, None) => run_autorotation(
             &file.rotor,

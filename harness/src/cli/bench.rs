@@ -141,7 +141,7 @@ fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
         .map(|_| time(&mut || sink += blade.steady(&op, warm).map_or(0.0, |l| l.thrust_n())))
         .collect();
     let inflow = InflowModel::PetersHaQuang {
-        skew: SkewConvention::Signed,
+        wake: WakeModel::SEED_001,
     };
     let auto: Vec<f64> = (0..repeat)
         .map(|_| {

@@ -63,7 +63,7 @@ pub(crate) fn synth_teeter(
         }
     };
     let inflow = InflowModel::PetersHaQuang {
-        skew: SkewConvention::Signed,
+        wake: WakeModel::SEED_001,
     };
     let a = match run_autorotation(
         &file.rotor,

@@ -2,11 +2,11 @@
 //! here. This module holds what several commands share: progress on stderr, output as text or
 //! JSON, and loading an aircraft for a flight condition.
 
-pub(crate) use cierva_harness::case::{InflowSpec, SkewSpec};
+pub(crate) use cierva_harness::case::{DescentSpec, InflowSpec, SkewSpec};
 pub(crate) use cierva_harness::eval::{self, CheckResult};
 pub(crate) use cierva_harness::run_autorotation;
 pub(crate) use cierva_harness::{load_cases, refs, text};
-pub(crate) use cierva_model::components::rotor::{InflowModel, SkewConvention};
+pub(crate) use cierva_model::components::rotor::{InflowModel, WakeModel};
 pub(crate) use clap::{Parser, ValueEnum};
 pub(crate) use std::path::{Path, PathBuf};
 pub(crate) use std::process::ExitCode;

@@ -226,7 +226,7 @@ fn the_vpm_m16_tail_in_the_slipstream_is_stiffer_in_yaw_and_pitch() {
 #[test]
 fn a_compressible_rotor_autorotates_at_high_mu() {
     use cierva_model::components::airfoil::{Airfoil, Compressibility};
-    use cierva_model::components::rotor::{InflowModel, SkewConvention};
+    use cierva_model::components::rotor::{InflowModel, WakeModel};
     let mut rotor =
         cierva_harness::rotor_file::load(&repo_root().join("aircraft/pca-2-rotor.yaml"))
             .unwrap()
@@ -244,7 +244,7 @@ fn a_compressible_rotor_autorotates_at_high_mu() {
         Some(1.9),
         None,
         InflowModel::PetersHaQuang {
-            skew: SkewConvention::Signed,
+            wake: WakeModel::SEED_001,
         },
     )
     .unwrap();

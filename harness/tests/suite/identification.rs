@@ -370,7 +370,7 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
     file.rotor.tip_loss_factor = 1.0;
     file.rotor.hub = cierva_model::components::rotor::Hub::Articulated;
     let inflow = cierva_model::components::rotor::InflowModel::PetersHaQuang {
-        skew: cierva_model::components::rotor::SkewConvention::Signed,
+        wake: cierva_model::components::rotor::WakeModel::SEED_001,
     };
     let a = cierva_harness::run_autorotation(&file.rotor, 10.0, 30.0, None, None, inflow).unwrap();
     let (sa, ca) = 10f64.to_radians().sin_cos();

@@ -548,11 +548,12 @@ impl Aircraft {
                 inflow::wake(
                     frame.hub,
                     v0,
-                    crate::components::rotor::SkewConvention::Signed,
+                    crate::components::rotor::WakeModel::SEED_001,
+                    0.0,
                 ),
                 Inflow::default(),
             ),
-            InflowModel::PetersHaQuang { skew } | InflowModel::UniformOnly { skew } => {
+            InflowModel::PetersHaQuang { wake } | InflowModel::UniformOnly { wake } => {
                 let harmonics = matches!(mr.inflow, InflowModel::PetersHaQuang { .. });
                 let (eq, wake) = inflow::static_inflow(
                     loads,
@@ -560,7 +561,7 @@ impl Aircraft {
                     current.v0,
                     air.density_kg_m3,
                     r,
-                    (skew, harmonics),
+                    (wake, harmonics),
                 );
                 let rate = inflow::inflow_rate(current, eq, frame.hub, wake, r);
                 (eq, wake, rate)

@@ -43,7 +43,7 @@ impl Default for Options {
     fn default() -> Self {
         Self {
             inflow: InflowModel::PetersHaQuang {
-                skew: crate::components::rotor::SkewConvention::Signed,
+                wake: crate::components::rotor::WakeModel::SEED_001,
             },
             numerics: Numerics::default(),
             newton: NewtonOptions::default(),
@@ -178,8 +178,8 @@ impl Problem<'_> {
     fn equilibrium_inflow(&self, loads: &SteadyLoads, current: Inflow) -> Inflow {
         let (skew, harmonics) = match self.model {
             InflowModel::Prescribed { v0, v1s, v1c } => return Inflow { v0, v1s, v1c },
-            InflowModel::PetersHaQuang { skew } => (skew, true),
-            InflowModel::UniformOnly { skew } => (skew, false),
+            InflowModel::PetersHaQuang { wake } => (wake, true),
+            InflowModel::UniformOnly { wake } => (wake, false),
         };
         inflow::static_inflow(
             inflow::DrivingLoads::of(loads),
@@ -444,8 +444,9 @@ fn solve_from(
     let drag = thrust * sa + h * ca;
     let q_area = 0.5 * tunnel.density_kg_m3 * v * v * PI * r * r;
     let skew = match options.inflow {
-        InflowModel::PetersHaQuang { skew } | InflowModel::UniformOnly { skew } => {
-            inflow::wake(hub, inflow.v0, skew).skew_rad
+        InflowModel::PetersHaQuang { wake } | InflowModel::UniformOnly { wake } => {
+            let v_h = inflow::hover_induced_m_s(thrust, tunnel.density_kg_m3, r);
+            inflow::wake(hub, inflow.v0, wake, v_h).skew_rad
         }
         InflowModel::Prescribed { .. } => f64::NAN,
     };

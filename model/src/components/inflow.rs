@@ -18,10 +18,20 @@
 //! disc, as in autorotation), seed 003 Eq. 5 as Chen presents it (geometric, above 90 deg
 //! then), or seed 003 Eq. 6 (modulus, Peters and HaQuang's disc angle).
 //!
+//! **Descent through the own wake.** Between hover and a descent of twice the hover induced
+//! velocity `v_h` (the vortex-ring and turbulent-wake states) momentum theory has no physical
+//! solution, and its `v_m` falls to zero and below. [`DescentInflow::Johnson`] forms the mass
+//! flow from Johnson's empirical curve of the induced velocity in axial descent instead
+//! ([`wake`], [`descent_axial_flow`]), with weight one in axial descent and none in edgewise
+//! flight above `v_h` or in climb ([`descent_weight`]); [`DescentInflow::Momentum`] is the
+//! published theory, bit for bit.
+//!
 //! Wind axes are hub axes turned about the shaft so that `x` points along the hub's in-plane
 //! motion; wind azimuth is `psi + psi_w`, with `psi_w = atan2(v, u)`.
 
-use crate::components::rotor::{HubVelocity, Inflow, SkewConvention, SteadyLoads};
+use crate::components::rotor::{
+    DescentInflow, HubVelocity, Inflow, SkewConvention, SteadyLoads, WakeModel,
+};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -33,13 +43,36 @@ pub struct Wake {
     pub skew_rad: f64,
 }
 
-/// Wake velocities and skew for a hub motion and a uniform induced velocity.
-pub fn wake(hub: HubVelocity, v0: f64, skew: SkewConvention) -> Wake {
+/// Wake velocities and skew for a hub motion, a uniform induced velocity `v0` and the hover
+/// induced velocity of the present thrust, `v_h = sqrt(|T| / (2 rho pi R^2))` (used by the
+/// descent model only).
+///
+/// The mass flow is `v_T = sqrt(V^2 + psi^2)`, with `psi^2 = w psi_e^2 + (1 - w) d^2`: `d` is
+/// momentum theory's axial flow through the disc and `psi_e` the axial mass-flow velocity of
+/// the empirical curve ([`descent_axial_flow`]), blended by the weight `w` of
+/// [`descent_weight`] (zero with [`DescentInflow::Momentum`]). `v_m` is Peters and HaQuang's
+/// `d(v0 v_T)/d(v0)` of the same mass flow, `(V^2 + psi^2 + (1 - w) d v0) / v_T`, which at
+/// `w = 0` is their `(V^2 + d (2 v0 - w_hub)) / v_T`.
+pub fn wake(hub: HubVelocity, v0: f64, model: WakeModel, v_h: f64) -> Wake {
     let v_inplane = hub.u.hypot(hub.v);
     let d = v0 - hub.w;
-    let v_t = v_inplane.hypot(d).max(1e-9);
-    let v_m = (v_inplane * v_inplane + d * (2.0 * v0 - hub.w)) / v_t;
-    let skew_rad = match skew {
+    let w = match model.descent {
+        DescentInflow::Momentum => 0.0,
+        DescentInflow::Johnson => descent_weight(v_inplane, -hub.w, v_h),
+    };
+    let (v_t, v_m) = if w == 0.0 {
+        let v_t = v_inplane.hypot(d).max(1e-9);
+        (v_t, (v_inplane * v_inplane + d * (2.0 * v0 - hub.w)) / v_t)
+    } else {
+        let psi_e = descent_axial_flow(-hub.w, v_h);
+        let psi2 = w * psi_e * psi_e + (1.0 - w) * d * d;
+        let v_t = (v_inplane * v_inplane + psi2).sqrt().max(1e-9);
+        (
+            v_t,
+            (v_inplane * v_inplane + psi2 + (1.0 - w) * d * v0) / v_t,
+        )
+    };
+    let skew_rad = match model.skew {
         SkewConvention::Signed => {
             if d == 0.0 {
                 PI / 2.0
@@ -55,6 +88,80 @@ pub fn wake(hub: HubVelocity, v0: f64, skew: SkewConvention) -> Wake {
         v_m_m_s: v_m,
         skew_rad,
     }
+}
+
+/// Johnson's curve of the induced velocity in axial descent, `v / v_h` against
+/// `x = V_z / v_h` (climb positive) for `-2 <= x <= 0` (Johnson, Helicopter Theory, 1980, on
+/// the vortex-ring and turbulent-wake states of vertical flight; the coefficients as
+/// Leishman's Principles of Helicopter Aerodynamics quotes them: REFERENCES.md):
+///
+/// ```text
+/// v / v_h = kappa + k1 x + k2 x^2 + k3 x^3 + k4 x^4,
+/// kappa = 1.15, k1 = -1.125, k2 = -1.372, k3 = -1.718, k4 = -0.655
+/// ```
+///
+/// a fit to measured rotor power in the vortex-ring and turbulent-wake states, with the
+/// induced-power factor `kappa` of the measurements in it.
+pub fn johnson_descent_curve(x: f64) -> f64 {
+    const K: [f64; 5] = [1.15, -1.125, -1.372, -1.718, -0.655];
+    K[0] + x * (K[1] + x * (K[2] + x * (K[3] + x * K[4])))
+}
+
+/// The curve as this model uses it, `v / v_h` for `-2 <= x <= 0`: Johnson's curve over its
+/// hover value `kappa` (the blade-element model carries its own non-uniformity and tip loss,
+/// and its momentum theory has no induced-power factor), less a linear ramp of at most
+/// `0.023` (0 at hover, the whole at `x = -2`) so that it meets momentum theory at both ends:
+/// `1` at hover and at the windmill-brake boundary. The ramp is a fiftieth of the curve's value
+/// there, well inside the scatter of the measurements it fits.
+pub fn descent_induced_ratio(x: f64) -> f64 {
+    let kappa = johnson_descent_curve(0.0);
+    let end = johnson_descent_curve(-2.0) / kappa;
+    johnson_descent_curve(x) / kappa + (1.0 - end) * (-x / 2.0)
+}
+
+/// The axial mass-flow velocity `psi_e` at a climb rate `V_z` (descent negative) for a hover
+/// induced velocity `v_h`: `v_h^2 / v` with `v` the axial equilibrium induced velocity, so that
+/// in axial flow the equilibrium `v0 = T / (2 rho A psi_e)` is that `v`. Momentum theory in
+/// climb (`psi_e = V_z / 2 + sqrt(V_z^2 / 4 + v_h^2)`) and in the windmill-brake state
+/// (`|V_z| / 2 + sqrt(V_z^2 / 4 - v_h^2)`, `V_z <= -2 v_h`); [`descent_induced_ratio`]
+/// between. Continuous in `V_z`; positive wherever `v_h > 0` or `V_z != 0`.
+pub fn descent_axial_flow(v_z: f64, v_h: f64) -> f64 {
+    if v_z >= 0.0 {
+        v_z / 2.0 + (v_z * v_z / 4.0 + v_h * v_h).sqrt()
+    } else if v_z <= -2.0 * v_h {
+        -v_z / 2.0 + (v_z * v_z / 4.0 - v_h * v_h).max(0.0).sqrt()
+    } else {
+        v_h / descent_induced_ratio(v_z / v_h)
+    }
+}
+
+/// In-plane speed over `v_h` above which the empirical descent curve has no weight, and below
+/// which it fades in. Estimated: the vortex-ring boundaries measured in edgewise flow close at
+/// an in-plane speed of the order of the hover induced velocity (the light gyroplanes of seeds 000-003 fly at two and more), and the axial data it rests on say
+/// nothing of edgewise flow; an axial descent does not depend on it.
+pub const DESCENT_INPLANE_LIMIT: f64 = 1.0;
+
+/// Climb rate over `v_h` over which the curve's weight fades out in climb (`x` in
+/// `[0, 0.25]`), so that the mass flow moves continuously away from the axial equilibrium
+/// too. Estimated: an eighth of the curve's range.
+pub const DESCENT_FADE: f64 = 0.25;
+
+/// The weight `w` of the empirical mass flow: `1` in axial descent at any rate (beyond
+/// `2 v_h` it is momentum theory's windmill-brake root, and it keeps the solution off
+/// momentum theory's other, unphysical root `v0 = V/2 + sqrt(V^2/4 - v_h^2)`), fading smoothly
+/// (cubic smoothstep) to `0` over [`DESCENT_FADE`] in climb and as the in-plane speed rises to
+/// [`DESCENT_INPLANE_LIMIT`] `v_h`. Zero when `v_h = 0`.
+pub fn descent_weight(v_inplane: f64, v_z: f64, v_h: f64) -> f64 {
+    if v_h.is_nan() || v_h <= 0.0 {
+        return 0.0;
+    }
+    let fade = |t: f64| {
+        let t = t.clamp(0.0, 1.0);
+        1.0 - t * t * (3.0 - 2.0 * t)
+    };
+    let x = v_z / v_h;
+    let axial = if x > 0.0 { fade(x / DESCENT_FADE) } else { 1.0 };
+    axial * fade(v_inplane / (DESCENT_INPLANE_LIMIT * v_h))
 }
 
 /// The rotor's aerodynamic loads that drive the inflow, hub axes.
@@ -87,14 +194,19 @@ pub fn static_inflow(
     v0: f64,
     density_kg_m3: f64,
     radius_m: f64,
-    (skew, harmonics): (SkewConvention, bool),
+    (model, harmonics): (WakeModel, bool),
 ) -> (Inflow, Wake) {
     let DrivingLoads {
         thrust_n: t_n,
         roll_n_m,
         pitch_n_m,
     } = loads;
-    let wk = wake(hub, v0, skew);
+    let wk = wake(
+        hub,
+        v0,
+        model,
+        hover_induced_m_s(t_n, density_kg_m3, radius_m),
+    );
     let (sw, cw) = wind_azimuth(hub).sin_cos();
     let l_w = roll_n_m * cw + pitch_n_m * sw;
     let m_w = -roll_n_m * sw + pitch_n_m * cw;
@@ -129,6 +241,11 @@ pub fn static_inflow(
         },
         wk,
     )
+}
+
+/// The hover induced velocity of a thrust, `sqrt(|T| / (2 rho pi R^2))`, m/s.
+pub fn hover_induced_m_s(thrust_n: f64, density_kg_m3: f64, radius_m: f64) -> f64 {
+    (thrust_n.abs() / (2.0 * density_kg_m3 * PI * radius_m * radius_m)).sqrt()
 }
 
 /// The wind-axis azimuth `psi_w = atan2(v, u)` of the hub's in-plane motion (zero in hover).
@@ -204,6 +321,13 @@ pub fn inflow_rate(
 mod tests {
     use super::*;
 
+    fn momentum(skew: SkewConvention) -> WakeModel {
+        WakeModel {
+            skew,
+            descent: DescentInflow::Momentum,
+        }
+    }
+
     #[test]
     fn hover_reduces_to_momentum_theory() {
         // Hover: v0 = sqrt(T / (2 rho A)) at the fixed point.
@@ -220,7 +344,7 @@ mod tests {
             vh,
             rho,
             r,
-            (SkewConvention::Signed, true),
+            (WakeModel::SEED_001, true),
         );
         assert!((inflow.v0 - vh).abs() < 1e-12);
         assert_eq!((inflow.v1s, inflow.v1c), (0.0, 0.0));
@@ -242,7 +366,8 @@ mod tests {
                     w: 2.0 - d,
                 },
                 2.0,
-                skew,
+                momentum(skew),
+                0.0,
             )
             .skew_rad
         };
@@ -280,8 +405,8 @@ mod tests {
             v: 0.0,
             w: -2.0,
         };
-        let a = wake(hub, 3.0, SkewConvention::Signed);
-        let b = wake(hub, 3.0, SkewConvention::Modulus);
+        let a = wake(hub, 3.0, momentum(SkewConvention::Signed), 0.0);
+        let b = wake(hub, 3.0, momentum(SkewConvention::Modulus), 0.0);
         assert!((a.skew_rad - b.skew_rad).abs() < 1e-15 && a.skew_rad > 0.0);
         // Flow up through the disc (w_hub > v0): Eq. 5 gives chi < 0, Eq. 6 chi > 0.
         let up = HubVelocity {
@@ -289,8 +414,8 @@ mod tests {
             v: 0.0,
             w: 5.0,
         };
-        let a = wake(up, 2.0, SkewConvention::Signed);
-        let b = wake(up, 2.0, SkewConvention::Modulus);
+        let a = wake(up, 2.0, momentum(SkewConvention::Signed), 0.0);
+        let b = wake(up, 2.0, momentum(SkewConvention::Modulus), 0.0);
         assert!(a.skew_rad < 0.0 && b.skew_rad > 0.0);
         assert!((a.skew_rad.abs() - b.skew_rad).abs() < 1e-15);
     }
@@ -306,7 +431,7 @@ mod tests {
                 roll_n_m,
                 pitch_n_m,
             };
-            static_inflow(loads, hub, 2.0, 1.225, 5.0, (SkewConvention::Signed, true))
+            static_inflow(loads, hub, 2.0, 1.225, 5.0, (WakeModel::SEED_001, true))
         };
         let hub = HubVelocity {
             u: 40.0,
@@ -368,7 +493,7 @@ mod tests {
                 SkewConvention::Modulus,
             ),
         ] {
-            let wk = wake(hub, v0, skew);
+            let wk = wake(hub, v0, momentum(skew), 0.0);
             let psi_w = hub.v.atan2(hub.u);
             let (sw, cw) = psi_w.sin_cos();
             // Columns of L in wind axes: unit thrust, unit wind-axis roll, unit wind-axis pitch.
@@ -378,7 +503,7 @@ mod tests {
                     roll_n_m: l_w * cw - m_w * sw,
                     pitch_n_m: l_w * sw + m_w * cw,
                 };
-                let (v, _) = static_inflow(loads, hub, v0, rho, r, (skew, true));
+                let (v, _) = static_inflow(loads, hub, v0, rho, r, (momentum(skew), true));
                 [v.v0, v.v1s * cw + v.v1c * sw, -v.v1s * sw + v.v1c * cw]
             };
             let cols = [
@@ -426,8 +551,205 @@ mod tests {
             }
         }
         let vh = 9.0;
-        let hover = time_constants(wake(HubVelocity::default(), vh, SkewConvention::Signed), r);
+        let hover = time_constants(
+            wake(HubVelocity::default(), vh, WakeModel::SEED_001, 0.0),
+            r,
+        );
         assert!((hover[0][0] - 4.0 * r / (3.0 * PI * vh)).abs() < 1e-12);
         assert!(hover[0][2].abs() < 1e-15 && hover[2][0].abs() < 1e-15);
+    }
+
+    fn johnson() -> WakeModel {
+        WakeModel {
+            skew: SkewConvention::Signed,
+            descent: DescentInflow::Johnson,
+        }
+    }
+
+    fn axial(v_z: f64) -> HubVelocity {
+        HubVelocity {
+            u: 0.0,
+            v: 0.0,
+            w: -v_z,
+        }
+    }
+
+    /// The curve as used is Johnson's over its hover value, within 0.023 of it (the ramp), and
+    /// meets momentum theory at hover and at the windmill-brake boundary; the axial mass flow
+    /// built on it is continuous there and positive throughout.
+    #[test]
+    fn the_descent_curve_is_johnsons_and_meets_momentum_theory() {
+        assert_eq!(johnson_descent_curve(0.0), 1.15);
+        // Hand-evaluated: 1.15 + 1.125 - 1.372 + 1.718 - 0.655 at x = -1.
+        assert!((johnson_descent_curve(-1.0) - 1.966).abs() < 1e-12);
+        assert!((descent_induced_ratio(0.0) - 1.0).abs() < 1e-15);
+        assert!((descent_induced_ratio(-2.0) - 1.0).abs() < 1e-12);
+        for k in 0..=40 {
+            let x = -2.0 * k as f64 / 40.0;
+            let gap = descent_induced_ratio(x) - johnson_descent_curve(x) / 1.15;
+            assert!(gap <= 0.0 && gap > -0.0227, "x = {x}: {gap}");
+        }
+        // Continuous at both ends (at the windmill-brake boundary momentum theory's root has
+        // a square-root slope, so a step of 1e-12 moves it by about 1e-6).
+        let v_h = 6.0;
+        for v_z in [0.0, -2.0 * v_h] {
+            let (a, b) = (
+                descent_axial_flow(v_z + 1e-12, v_h),
+                descent_axial_flow(v_z - 1e-12, v_h),
+            );
+            assert!((a - b).abs() < 1e-5, "V_z = {v_z}: {a} vs {b}");
+            assert!((a - v_h).abs() < 1e-5);
+        }
+        for k in 0..=60 {
+            let v_z = -3.0 * v_h + k as f64 * 0.1 * v_h;
+            assert!(descent_axial_flow(v_z, v_h) > 0.0);
+        }
+    }
+
+    /// In axial descent between hover and `2 v_h` the equilibrium uniform inflow is the curve's,
+    /// `v_h` times [`descent_induced_ratio`], whatever `v0` it starts from; momentum theory's
+    /// is not (it depends on the `v0` it is given, and has no consistent solution there).
+    #[test]
+    fn an_axial_descent_has_the_curves_induced_velocity() {
+        let (rho, r, t) = (1.08, 6.86, 10_000.0);
+        let v_h = hover_induced_m_s(t, rho, r);
+        let loads = DrivingLoads {
+            thrust_n: t,
+            roll_n_m: 0.0,
+            pitch_n_m: 0.0,
+        };
+        for x in [-0.3, -1.0, -1.5, -1.81, -1.95] {
+            for start in [0.5, 1.0, 1.8] {
+                let (v, _) = static_inflow(
+                    loads,
+                    axial(x * v_h),
+                    start * v_h,
+                    rho,
+                    r,
+                    (johnson(), true),
+                );
+                let expect = v_h * descent_induced_ratio(x);
+                assert!(
+                    (v.v0 - expect).abs() < 1e-9 * v_h,
+                    "x {x}: {} vs {expect}",
+                    v.v0
+                );
+            }
+        }
+    }
+
+    /// The fault the curve removes: in the turbulent-wake state momentum theory's `v_m`
+    /// (`d (2 v0 - w_hub) / v_T` in axial flow) is negative for an induced velocity between the
+    /// descent rate and half of it, so the harmonic inflow's time constants are negative. With
+    /// the curve every time constant is positive at every descent rate and inflow.
+    #[test]
+    fn descent_time_constants_stay_positive_with_the_curve() {
+        let (r, v_h) = (6.86, 6.0);
+        let momentum_wake = wake(axial(-1.5 * v_h), 1.0 * v_h, WakeModel::SEED_001, v_h);
+        assert!(momentum_wake.v_m_m_s < 0.0, "{momentum_wake:?}");
+        for i in 0..=35 {
+            let v_z = (-3.0 + 0.1 * i as f64) * v_h;
+            for j in 0..=25 {
+                let v0 = 0.1 * j as f64 * v_h;
+                for v_x in [0.0, 0.3 * v_h, 0.7 * v_h] {
+                    let hub = HubVelocity {
+                        u: v_x,
+                        v: 0.0,
+                        w: -v_z,
+                    };
+                    let wk = wake(hub, v0, johnson(), v_h);
+                    let tau = time_constants(wk, r);
+                    assert!(
+                        wk.v_t_m_s > 0.0 && wk.v_m_m_s > 0.0 && tau[0][0] > 0.0 && tau[1][1] > 0.0,
+                        "V_z {v_z}, v0 {v0}, V_x {v_x}: {wk:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The curve changes nothing in edgewise flight (in-plane speed at or above
+    /// [`DESCENT_INPLANE_LIMIT`] `v_h`, where the gyroplanes fly) nor in climb beyond the fade,
+    /// and the mass flow is continuous across every edge of its weight.
+    #[test]
+    fn the_curve_fades_out_continuously_into_momentum_theory() {
+        let v_h = 5.0;
+        for (hub, v0) in [
+            (
+                HubVelocity {
+                    u: 13.0,
+                    v: 0.0,
+                    w: 2.7,
+                },
+                3.0,
+            ),
+            (
+                HubVelocity {
+                    u: v_h,
+                    v: 0.0,
+                    w: 8.0,
+                },
+                1.5,
+            ),
+            (
+                HubVelocity {
+                    u: 0.0,
+                    v: 0.0,
+                    w: -2.0,
+                },
+                4.0,
+            ),
+        ] {
+            assert_eq!(
+                wake(hub, v0, johnson(), v_h),
+                wake(hub, v0, WakeModel::SEED_001, v_h)
+            );
+        }
+        // A step of 1e-10 m/s moves the mass flow by at most about 1e-5 m/s (the square-root
+        // slope of momentum theory's windmill-brake root at V_z = -2 v_h).
+        let eps = 1e-10;
+        let close = |a: Wake, b: Wake| {
+            (a.v_t_m_s - b.v_t_m_s).abs() < 1e-4 && (a.v_m_m_s - b.v_m_m_s).abs() < 1e-4
+        };
+        for v0 in [1.0, 4.0, 9.0] {
+            for v_z in [-12.0, -7.0, -3.0] {
+                let at = |v_x: f64| {
+                    wake(
+                        HubVelocity {
+                            u: v_x,
+                            v: 0.0,
+                            w: -v_z,
+                        },
+                        v0,
+                        johnson(),
+                        v_h,
+                    )
+                };
+                assert!(
+                    close(at(v_h - eps), at(v_h + eps)),
+                    "V_x = v_h, V_z {v_z}, v0 {v0}"
+                );
+            }
+            for v_x in [0.0, 2.0] {
+                let at = |v_z: f64| {
+                    wake(
+                        HubVelocity {
+                            u: v_x,
+                            v: 0.0,
+                            w: -v_z,
+                        },
+                        v0,
+                        johnson(),
+                        v_h,
+                    )
+                };
+                for edge in [0.0, DESCENT_FADE * v_h, -2.0 * v_h] {
+                    assert!(
+                        close(at(edge - eps), at(edge + eps)),
+                        "V_z = {edge}, V_x {v_x}, v0 {v0}"
+                    );
+                }
+            }
+        }
     }
 }

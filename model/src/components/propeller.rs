@@ -40,8 +40,7 @@
 
 use crate::components::inflow::{self, DrivingLoads};
 use crate::components::rotor::{
-    Blade, Hub, HubVelocity, Inflow, Numerics, Operating, Rotor, RotorError, SkewConvention,
-    SteadyLoads,
+    Blade, Hub, HubVelocity, Inflow, Numerics, Operating, Rotor, RotorError, SteadyLoads, WakeModel,
 };
 use crate::solve::SolveError;
 use serde::Serialize;
@@ -469,7 +468,7 @@ impl Propeller {
             v0,
             density_kg_m3,
             self.rotor.radius_m,
-            (SkewConvention::Signed, true),
+            (WakeModel::SEED_001, true),
         )
         .0
     }

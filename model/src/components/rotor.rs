@@ -99,9 +99,9 @@ impl Distribution {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub enum InflowModel {
     /// Peters-HaQuang, uniform and first harmonics (seed 001 Eqs. 2-5).
-    PetersHaQuang { skew: SkewConvention },
+    PetersHaQuang { wake: WakeModel },
     /// Peters-HaQuang with the harmonics set to zero (seed 001 Fig. 4).
-    UniformOnly { skew: SkewConvention },
+    UniformOnly { wake: WakeModel },
     /// Given components (m/s), for verification against closed-form theory.
     Prescribed { v0: f64, v1s: f64, v1c: f64 },
 }
@@ -128,6 +128,36 @@ pub enum SkewConvention {
     /// form seed 003 finds agrees best with the longitudinal inflow from flight flapping
     /// (its Fig. 5).
     Modulus,
+}
+
+/// How the inflow model forms its wake: the skew angle and the mass flow in descent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct WakeModel {
+    pub skew: SkewConvention,
+    pub descent: DescentInflow,
+}
+
+impl WakeModel {
+    /// Seed 001's wake: the signed skew and momentum theory throughout.
+    pub const SEED_001: Self = Self {
+        skew: SkewConvention::Signed,
+        descent: DescentInflow::Momentum,
+    };
+}
+
+/// How the wake's mass flow is formed where the rotor descends into its own wake (between
+/// hover and the windmill-brake state, the vortex-ring and turbulent-wake states), where
+/// momentum theory has no physical solution. See [`crate::components::inflow`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum DescentInflow {
+    /// Momentum theory throughout, as Peters and HaQuang publish it. In those states its mass
+    /// flow parameter `v_m` can fall to zero and below (negative inflow time constants), and
+    /// an axial descent between `0` and `2 v_h` has no equilibrium but a rotor with almost no
+    /// flow through it.
+    Momentum,
+    /// Johnson's empirical induced velocity for axial descent (Helicopter Theory, 1980),
+    /// blended into the mass flow below an in-plane speed of `v_h`.
+    Johnson,
 }
 
 /// Correction parameters (seed 000 Sec. VII), defaulting to no correction.
@@ -1823,6 +1853,52 @@ mod tests {
         assert!(a.inflow_ratio < 0.0, "flow is up through the disc: {a:#?}");
         assert!(a.a1_rad > 0.0 && a.lift_to_drag > 1.0, "{a:#?}");
         assert!(a.residual_norm <= 1e-9);
+    }
+
+    /// Vertical autorotative descent (TR 487's flight point is one): momentum theory finds no
+    /// equilibrium for this weightless-bladed rotor, or one with its uniform inflow on the
+    /// unphysical root (`v0 > V/2`, most of the descent rate cancelled: the PCA-2's, see the
+    /// TR 487 case); with Johnson's curve the equilibrium's `v0` is the curve's at its own
+    /// thrust, in the turbulent-wake state (`-2 < V_z / v_h < -1`).
+    #[test]
+    fn vertical_descent_autorotates_on_the_empirical_curve() {
+        use crate::components::inflow;
+        let rotor = autorotating(2f64.to_radians(), 20, 0.5);
+        let v = 10.0;
+        let tunnel = Tunnel {
+            alpha_rad: PI / 2.0,
+            airspeed_m_s: v,
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.0,
+            collective_shift_rad: 0.0,
+        };
+        let solve = |descent| {
+            let options = Options {
+                inflow: InflowModel::PetersHaQuang {
+                    wake: WakeModel {
+                        skew: SkewConvention::Signed,
+                        descent,
+                    },
+                },
+                ..Options::default()
+            };
+            autorotation::autorotate(&rotor, tunnel, options)
+        };
+        match solve(DescentInflow::Momentum) {
+            Err(_) => {}
+            Ok(m) => assert!(m.inflow.v0 > v / 2.0, "momentum: {m:#?}"),
+        }
+        let j = solve(DescentInflow::Johnson).unwrap();
+        let v_h = inflow::hover_induced_m_s(j.thrust_n, 1.225, rotor.radius_m);
+        let x = -v / v_h;
+        assert!(x > -2.0 && x < -1.0, "x = {x}: {j:#?}");
+        let curve = v_h * inflow::descent_induced_ratio(x);
+        assert!(
+            (j.inflow.v0 - curve).abs() < 1e-6 * curve,
+            "{} vs {curve}",
+            j.inflow.v0
+        );
+        assert!(j.residual_norm <= 1e-9);
     }
 
     /// The tip-speed-ratio mode finds the angle of attack back: an equilibrium solved at 10 deg
