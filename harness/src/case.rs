@@ -256,6 +256,18 @@ fn check_scores(
                 "every score needs a reason".into(),
             ));
         }
+        let scored: Vec<&Check> = match &sc.checks {
+            None => checks.iter().collect(),
+            Some(ids) => {
+                if let Some(missing) = ids.iter().find(|id| !checks.iter().any(|c| &c.id == *id)) {
+                    return Err(err(
+                        &format!("{here}.checks"),
+                        format!("the case has no check `{missing}`"),
+                    ));
+                }
+                checks.iter().filter(|c| ids.contains(&c.id)).collect()
+            }
+        };
         match (&sc.quantity, sc.metric.needs_quantity()) {
             (None, true) => {
                 return Err(err(
@@ -264,13 +276,13 @@ fn check_scores(
                 ));
             }
             (Some(q), _)
-                if !checks
+                if !scored
                     .iter()
                     .any(|c| c.expectations.iter().any(|e| &e.quantity == q)) =>
             {
                 return Err(err(
                     &format!("{here}.quantity"),
-                    format!("no check of the case expects `{q}`"),
+                    format!("no check the score is over expects `{q}`"),
                 ));
             }
             _ => {}

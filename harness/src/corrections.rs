@@ -59,6 +59,10 @@ pub struct CorrectionSet {
     /// Added to the main rotor's lateral induced velocity `v1s`, m/s (seed 003).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral_inflow_offset_m_s: Option<f64>,
+    /// The main rotor's elastic torsion: the tip's pitch change (nose up) per kPa of tip
+    /// dynamic pressure in hover, deg/kPa.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elastic_twist_deg_per_kpa: Option<f64>,
     /// An aircraft's estimated physical parameters, by their names in
     /// [`crate::parameters::PARAMETERS`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -85,6 +89,9 @@ impl CorrectionSet {
             lateral_inflow_offset_m_s: over
                 .lateral_inflow_offset_m_s
                 .or(self.lateral_inflow_offset_m_s),
+            elastic_twist_deg_per_kpa: over
+                .elastic_twist_deg_per_kpa
+                .or(self.elastic_twist_deg_per_kpa),
             estimated: {
                 let mut e = self.estimated.clone();
                 e.extend(over.estimated.iter().map(|(k, v)| (k.clone(), *v)));
@@ -102,6 +109,7 @@ impl CorrectionSet {
             ("profile_drag_increment", self.profile_drag_increment),
             ("pitch_offset_deg", self.pitch_offset_deg),
             ("lateral_inflow_offset_m_s", self.lateral_inflow_offset_m_s),
+            ("elastic_twist_deg_per_kpa", self.elastic_twist_deg_per_kpa),
         ];
         let given: Vec<String> = all
             .iter()
@@ -135,6 +143,9 @@ impl CorrectionSet {
         }
         if let Some(v) = self.lateral_inflow_offset_m_s {
             c.lateral_inflow_offset_m_s = v;
+        }
+        if let Some(v) = self.elastic_twist_deg_per_kpa {
+            c.elastic_twist_rad_per_pa = v.to_radians() / 1000.0;
         }
         r.validate().map_err(|e| e.to_string())
     }
@@ -234,6 +245,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         ("profile_drag_increment", c.profile_drag_increment),
         ("pitch_offset_deg", c.pitch_offset_deg),
         ("lateral_inflow_offset_m_s", c.lateral_inflow_offset_m_s),
+        ("elastic_twist_deg_per_kpa", c.elastic_twist_deg_per_kpa),
     ] {
         if let Some(v) = v
             && !v.is_finite()

@@ -56,6 +56,9 @@ pub enum ParameterKind {
     PitchOffsetDeg,
     /// Added to the main rotor's lateral induced velocity `v1s`, m/s (seed 003).
     LateralInflowOffsetMS,
+    /// The main rotor's elastic torsion: the tip's pitch change (nose up) per kPa of tip
+    /// dynamic pressure in hover, deg/kPa.
+    ElasticTwistDegPerKpa,
     /// An aircraft's estimated physical parameter, by its name in
     /// [`crate::parameters::PARAMETERS`] (`airframe.fin.area_m2`).
     Estimated(&'static str),
@@ -69,13 +72,14 @@ impl serde::Serialize for ParameterKind {
 
 impl ParameterKind {
     /// Every correction, in the order of [`CorrectionSet`]'s fields.
-    pub const ALL: [ParameterKind; 6] = [
+    pub const ALL: [ParameterKind; 7] = [
         Self::PropellerBlockage,
         Self::HubAoaFactor,
         Self::ProfileDragScale,
         Self::ProfileDragIncrement,
         Self::PitchOffsetDeg,
         Self::LateralInflowOffsetMS,
+        Self::ElasticTwistDegPerKpa,
     ];
 
     /// The name as written (the [`CorrectionSet`] field it sets, or the physical parameter's
@@ -88,6 +92,7 @@ impl ParameterKind {
             Self::ProfileDragIncrement => "profile_drag_increment",
             Self::PitchOffsetDeg => "pitch_offset_deg",
             Self::LateralInflowOffsetMS => "lateral_inflow_offset_m_s",
+            Self::ElasticTwistDegPerKpa => "elastic_twist_deg_per_kpa",
             Self::Estimated(name) => name,
         }
     }
@@ -123,7 +128,8 @@ impl ParameterKind {
             Self::PropellerBlockage
             | Self::ProfileDragIncrement
             | Self::PitchOffsetDeg
-            | Self::LateralInflowOffsetMS => Some(0.0),
+            | Self::LateralInflowOffsetMS
+            | Self::ElasticTwistDegPerKpa => Some(0.0),
             Self::HubAoaFactor | Self::ProfileDragScale => Some(1.0),
             Self::Estimated(_) => None,
         }
@@ -146,6 +152,7 @@ impl ParameterKind {
             Self::ProfileDragIncrement => c.profile_drag_increment,
             Self::PitchOffsetDeg => c.pitch_offset_deg,
             Self::LateralInflowOffsetMS => c.lateral_inflow_offset_m_s,
+            Self::ElasticTwistDegPerKpa => c.elastic_twist_deg_per_kpa,
             Self::Estimated(name) => c.estimated.get(name).copied(),
         }
     }
@@ -159,6 +166,7 @@ impl ParameterKind {
             Self::ProfileDragIncrement => &mut c.profile_drag_increment,
             Self::PitchOffsetDeg => &mut c.pitch_offset_deg,
             Self::LateralInflowOffsetMS => &mut c.lateral_inflow_offset_m_s,
+            Self::ElasticTwistDegPerKpa => &mut c.elastic_twist_deg_per_kpa,
             Self::Estimated(name) => {
                 c.estimated.insert(name.to_string(), value);
                 return;

@@ -103,6 +103,18 @@ type Row = (f64, f64, f64, bool);
 /// Computes a case's score from its results.
 pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
     let q = spec.quantity.as_deref();
+    let chosen: Vec<CheckResult>;
+    let results = match &spec.checks {
+        None => results,
+        Some(ids) => {
+            chosen = results
+                .iter()
+                .filter(|r| ids.contains(&r.check))
+                .cloned()
+                .collect();
+            &chosen[..]
+        }
+    };
     let rows: Vec<Row> = results
         .iter()
         .flat_map(|r| r.quantities.iter())

@@ -27,7 +27,8 @@
 //!   elements: 20
 //!   yawed_flow_drag: false                           # optional: drag sees the radial flow too
 //!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0,   # optional
-//!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0}
+//!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0,
+//!                 elastic_twist_deg_per_kpa: 0.0}
 //! sources:                             # one entry for every field of `rotor`
 //!   blades: "NACA TR 487 p. 12"
 //!   hinge_offset_m: "estimated: ..."
@@ -87,6 +88,10 @@ pub struct CorrectionsSpec {
     pub pitch_offset_deg: f64,
     #[serde(default)]
     pub lateral_inflow_offset_m_s: f64,
+    /// Elastic torsion: the tip's pitch change (nose up) per kPa of tip dynamic pressure in
+    /// hover, deg/kPa (`cierva_model::components::rotor::elastic_twist_rad`).
+    #[serde(default)]
+    pub elastic_twist_deg_per_kpa: f64,
 }
 
 fn one() -> f64 {
@@ -212,6 +217,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
             profile_drag_increment: c.profile_drag_increment,
             pitch_offset_rad: c.pitch_offset_deg.to_radians(),
             lateral_inflow_offset_m_s: c.lateral_inflow_offset_m_s,
+            elastic_twist_rad_per_pa: c.elastic_twist_deg_per_kpa.to_radians() / 1000.0,
         });
     let rotor = Rotor {
         hub: r.hub,

@@ -8,7 +8,7 @@
 //!
 //! # Metrics
 //! Over the case's checks that compute the score's `quantity` (every check for `inside` and
-//! `unsolved` without one), with `ref` the expected value or the middle of the allowed range and
+//! `unsolved` without one), or those of them its `checks` list names, with `ref` the expected value or the middle of the allowed range and
 //! `h` the tolerance's half-width:
 //! - `rms_relative_error`: `sqrt(mean(((value - ref) / ref)^2))`, lower is better;
 //! - `rms_error_in_half_widths`: `sqrt(mean(((value - ref) / h)^2))`, lower is better;
@@ -82,6 +82,10 @@ pub struct ScoreSpec {
     pub noise_floor: f64,
     /// What the score measures, and why that noise floor.
     pub reason: String,
+    /// The checks it is computed over, by id (absent: every check of the case): a regime of
+    /// a data set, say.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checks: Option<Vec<String>>,
 }
 
 /// A score computed from a run.
