@@ -287,6 +287,20 @@ fn check_scores(
             }
             _ => {}
         }
+        if sc.metric == crate::scoreboard::Metric::PeakTipSpeedRatioOffset
+            && let Some(c) = scored.iter().find(|c| match &c.what {
+                crate::checks::What::Autorotation(a) => a.tunnel.tip_speed_ratio.is_none(),
+                _ => true,
+            })
+        {
+            return Err(err(
+                &format!("{here}.metric"),
+                format!(
+                    "check `{}` states no tunnel `tip_speed_ratio` to place a peak at",
+                    c.id
+                ),
+            ));
+        }
     }
     Ok(())
 }

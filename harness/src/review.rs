@@ -100,8 +100,14 @@ pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
 /// A scored value: the value, its reference, the tolerance's half-width, and whether it passed.
 type Row = (f64, f64, f64, bool);
 
-/// Computes a case's score from its results.
-pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
+/// Computes a case's score from its results. `tip_speed_ratio` gives a check's tip-speed
+/// ratio where its condition states one (for `peak_tip_speed_ratio_offset`).
+pub fn compute(
+    case: &str,
+    spec: &ScoreSpec,
+    results: &[CheckResult],
+    tip_speed_ratio: &dyn Fn(&str) -> Option<f64>,
+) -> Score {
     let q = spec.quantity.as_deref();
     let chosen: Vec<CheckResult>;
     let results = match &spec.checks {
@@ -115,16 +121,20 @@ pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
             &chosen[..]
         }
     };
-    let rows: Vec<Row> = results
+    let named: Vec<(&str, Row)> = results
         .iter()
-        .flat_map(|r| r.quantities.iter())
-        .filter(|x| q == Some(x.quantity.as_str()))
-        .map(|x| {
+        .flat_map(|r| r.quantities.iter().map(move |x| (r.check.as_str(), x)))
+        .filter(|(_, x)| q == Some(x.quantity.as_str()))
+        .map(|(check, x)| {
             let reference = x.expected.unwrap_or(0.5 * (x.lower + x.upper));
-            (x.value, reference, 0.5 * (x.upper - x.lower), x.pass)
+            (
+                check,
+                (x.value, reference, 0.5 * (x.upper - x.lower), x.pass),
+            )
         })
-        .filter(|(v, r, ..)| v.is_finite() && r.is_finite())
+        .filter(|(_, (v, r, ..))| v.is_finite() && r.is_finite())
         .collect();
+    let rows: Vec<Row> = named.iter().map(|(_, r)| *r).collect();
     let rms = |f: &dyn Fn(&Row) -> f64| {
         let s: Vec<f64> = rows.iter().map(f).filter(|e| e.is_finite()).collect();
         if s.is_empty() {
@@ -133,13 +143,34 @@ pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
             (s.iter().map(|e| e * e).sum::<f64>() / s.len() as f64).sqrt()
         }
     };
+    // The check with the largest value, and the one with the largest reference.
+    let peak = |of: fn(&Row) -> f64| {
+        named
+            .iter()
+            .max_by(|a, b| of(&a.1).total_cmp(&of(&b.1)))
+            .map(|(check, row)| (*check, of(row)))
+    };
+    let peaks = peak(|r| r.0).zip(peak(|r| r.1));
     let (value, count) = match spec.metric {
         Metric::RmsRelativeError => (rms(&|(v, r, ..)| (v - r) / r.abs()), rows.len()),
+        Metric::RmsError => (rms(&|(v, r, ..)| v - r), rows.len()),
         Metric::RmsErrorInHalfWidths => (rms(&|(v, r, h, _)| (v - r) / h), rows.len()),
         Metric::MaxErrorInHalfWidths => (
             rows.iter()
                 .map(|(v, r, h, _)| ((v - r) / h).abs())
                 .fold(f64::NAN, f64::max),
+            rows.len(),
+        ),
+        Metric::PeakRelativeError => (
+            peaks.map_or(f64::NAN, |((_, v), (_, r))| ((v - r) / r).abs()),
+            rows.len(),
+        ),
+        Metric::PeakTipSpeedRatioOffset => (
+            peaks
+                .and_then(|((model, _), (reference, _))| {
+                    Some((tip_speed_ratio(model)? - tip_speed_ratio(reference)?).abs())
+                })
+                .unwrap_or(f64::NAN),
             rows.len(),
         ),
         Metric::Inside => match q {
@@ -171,9 +202,13 @@ pub fn compute(case: &str, spec: &ScoreSpec, results: &[CheckResult]) -> Score {
 
 /// Every score a case declares, computed from its results.
 pub fn scores_of(case: &crate::case::Case, results: &[CheckResult]) -> Vec<Score> {
+    let tip_speed_ratio = |id: &str| match &case.checks.iter().find(|c| c.id == id)?.what {
+        crate::checks::What::Autorotation(a) => a.tunnel.tip_speed_ratio,
+        _ => None,
+    };
     case.scores
         .iter()
-        .map(|s| compute(&case.id, s, results))
+        .map(|s| compute(&case.id, s, results, &tip_speed_ratio))
         .collect()
 }
 

@@ -11,9 +11,16 @@
 //! `unsolved` without one), or those of them its `checks` list names, with `ref` the expected value or the middle of the allowed range and
 //! `h` the tolerance's half-width:
 //! - `rms_relative_error`: `sqrt(mean(((value - ref) / ref)^2))`, lower is better;
+//! - `rms_error`: `sqrt(mean((value - ref)^2))`, in the quantity's unit (an angle's RMS error
+//!   in degrees), lower is better;
 //! - `rms_error_in_half_widths`: `sqrt(mean(((value - ref) / h)^2))`, lower is better;
 //! - `max_error_in_half_widths`: `max |value - ref| / h`, lower is better (for a 95 % bound,
 //!   1.96 times this is the error in standard errors);
+//! - `peak_relative_error`: `|max(value) - max(ref)| / max(ref)`, the error of the peak (of
+//!   L/D over a tunnel sweep, say) wherever each falls, lower is better;
+//! - `peak_tip_speed_ratio_offset`: `|mu(argmax value) - mu(argmax ref)|`, how far apart in
+//!   tip-speed ratio the two peaks are, each at its check's stated `tip_speed_ratio` (the
+//!   tunnel's), lower is better;
 //! - `inside`: how many are inside their tolerance, higher is better;
 //! - `unsolved`: how many checks found no equilibrium or could not be evaluated, lower is
 //!   better. Checks without a value are left out of the other metrics and counted here.
@@ -28,8 +35,11 @@ use std::path::{Path, PathBuf};
 #[serde(rename_all = "snake_case")]
 pub enum Metric {
     RmsRelativeError,
+    RmsError,
     RmsErrorInHalfWidths,
     MaxErrorInHalfWidths,
+    PeakRelativeError,
+    PeakTipSpeedRatioOffset,
     Inside,
     Unsolved,
 }
@@ -55,8 +65,11 @@ impl Metric {
     pub fn name(self) -> &'static str {
         match self {
             Self::RmsRelativeError => "rms_relative_error",
+            Self::RmsError => "rms_error",
             Self::RmsErrorInHalfWidths => "rms_error_in_half_widths",
             Self::MaxErrorInHalfWidths => "max_error_in_half_widths",
+            Self::PeakRelativeError => "peak_relative_error",
+            Self::PeakTipSpeedRatioOffset => "peak_tip_speed_ratio_offset",
             Self::Inside => "inside",
             Self::Unsolved => "unsolved",
         }
@@ -192,9 +205,13 @@ pub fn parse(text: &str) -> Option<Board> {
     serde_yaml::from_str(text).ok()
 }
 
-/// The board with these scores set (others kept).
-pub fn with(board: &Board, scores: &[Score]) -> Board {
+/// The board with these cases' scores replaced by these: a score a reviewed case no longer
+/// declares is dropped; cases not reviewed keep theirs.
+pub fn with(board: &Board, cases: &[&str], scores: &[Score]) -> Board {
     let mut b = board.clone();
+    for case in cases {
+        b.scores.remove(*case);
+    }
     for s in scores {
         b.scores.entry(s.case.clone()).or_default().insert(
             s.id.clone(),

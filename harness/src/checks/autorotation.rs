@@ -201,7 +201,7 @@ fn no_equilibrium(
     use cierva_model::solve::SolveError;
     let largest = |v: &mut dyn Iterator<Item = f64>| v.fold(f64::NEG_INFINITY, f64::max);
     let (name, value) = match e {
-        A::NoAngle { found, .. } => (
+        A::NoAngle { found, .. } | A::Unsettled { found, .. } => (
             "largest_tip_speed_ratio_found",
             largest(&mut found.iter().map(|f| f.1)),
         ),

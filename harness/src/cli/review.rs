@@ -67,9 +67,20 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
         .iter()
         .filter(|j| j.change != scoreboard::Change::Same)
         .collect();
+    // Committed scores that a reviewed case no longer declares: `--accept` drops them.
+    let reviewed: Vec<&str> = cases.iter().map(|c| c.id.as_str()).collect();
+    let stale: Vec<String> = reviewed
+        .iter()
+        .filter_map(|case| board.scores.get(*case).map(|m| (case, m)))
+        .flat_map(|(case, m)| {
+            m.keys()
+                .filter(|id| !scores.iter().any(|s| s.case == **case && s.id == **id))
+                .map(move |id| format!("{case} {id}"))
+        })
+        .collect();
     let mut written = Vec::new();
-    if accept && !scores_moved.is_empty() {
-        match scoreboard::write(&scoreboard::with(&board, &scores)) {
+    if accept && !(scores_moved.is_empty() && stale.is_empty()) {
+        match scoreboard::write(&scoreboard::with(&board, &reviewed, &scores)) {
             Ok(true) => written.push(scoreboard::path()),
             Ok(false) => {}
             Err(e) => {
@@ -96,19 +107,21 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
             }
         }
     }
-    let moved = reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len();
+    let moved =
+        reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len() + stale.len();
     let errors = reviews.iter().map(|r| r.errors.len()).sum::<usize>();
     match format {
         Format::Json => {
             let out = serde_json::json!({
                 "cases": reviews,
                 "scores": judged,
+                "scores_no_longer_declared": stale,
                 "accepted": accept,
                 "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
             print_json(&out);
         }
-        Format::Text => print_text(&reviews, &judged, &scores_moved, &written, accept),
+        Format::Text => print_text(&reviews, &judged, &scores_moved, &stale, &written, accept),
     }
     if errors > 0 || (moved > 0 && !accept) {
         ExitCode::from(1)
@@ -122,10 +135,12 @@ fn print_text(
     reviews: &[cierva_harness::review::CaseReview],
     judged: &[cierva_harness::review::Judged],
     scores_moved: &[&cierva_harness::review::Judged],
+    stale: &[String],
     written: &[PathBuf],
     accept: bool,
 ) {
-    let moved = reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len();
+    let moved =
+        reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len() + stale.len();
     for r in reviews {
         if r.changes.is_empty() && r.errors.is_empty() {
             continue;
@@ -138,10 +153,18 @@ fn print_text(
             println!("  error (cannot be recorded): {e}");
         }
     }
-    if !scores_moved.is_empty() {
+    if !(scores_moved.is_empty() && stale.is_empty()) {
         println!("scoreboard ({}):", scoreboard::path().display());
         for j in scores_moved {
             println!("  {}", j.describe());
+        }
+        for s in stale {
+            let what = if accept {
+                "dropped"
+            } else {
+                "would be dropped"
+            };
+            println!("  {s}: committed, no longer declared by its case ({what})");
         }
     }
     let recorded: usize = reviews.iter().map(|r| r.now.checks.len()).sum();

@@ -276,6 +276,27 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
     assert!(err.contains("--tip-speed-ratio with --rotor-rpm"), "{err}");
 }
 
+/// At the edge of autorotation (TR 515 row 71's mu 0.591 at 100 rpm, beyond the model's reach
+/// of about 0.597) two rotor speeds autorotate at one angle and the angle search cannot settle:
+/// a model failure (exit 1) that says so and what it found, not a refused input, and after
+/// one pass rather than eight.
+#[test]
+fn autorotate_past_the_edge_of_autorotation_says_what_it_found() {
+    let (code, _, err) = cierva(&[
+        "autorotate",
+        "aircraft/pca-2-rotor.yaml",
+        "--tip-speed-ratio",
+        "0.591",
+        "--rotor-rpm",
+        "100",
+        "--collective-deg",
+        "1.9",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("does not settle"), "{err}");
+    assert!(err.contains("largest mu found 0.59"), "{err}");
+}
+
 #[test]
 fn synth_then_identify_round_trips() {
     let dir = std::env::temp_dir().join(format!("cierva-cli-{}", std::process::id()));

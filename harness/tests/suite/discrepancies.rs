@@ -103,7 +103,7 @@ fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
         .map(|j| j.score.id.clone())
         .collect();
     assert!(
-        worse.contains(&"lift-rms".to_string()),
+        worse.contains(&"low-mu-lift-rms".to_string()),
         "C_L is already low: a smaller lift slope makes it worse ({worse:?})"
     );
 }

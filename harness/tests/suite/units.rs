@@ -85,10 +85,85 @@ mod scoreboard {
         assert_eq!(change(&score(5.0, Metric::Inside), None), Change::New);
     }
 
+    /// A score over a named subset of the checks (a regime of a data set) is computed from
+    /// those checks alone; a peak's scores compare the largest value with the largest
+    /// reference wherever each falls, and where in tip-speed ratio.
+    #[test]
+    fn a_score_over_named_checks_uses_those_alone() {
+        use cierva_harness::case::{CheckClass, CheckKind};
+        use cierva_harness::checks::result::QuantityResult;
+        use cierva_harness::eval::{CheckResult, Outcome};
+        let result = |check: &str, value: f64| CheckResult {
+            case: "c".into(),
+            check: check.into(),
+            kind: CheckKind::Autorotation,
+            class: CheckClass::Validation,
+            outcome: Outcome::Fail,
+            passed: false,
+            quantities: vec![QuantityResult {
+                quantity: "lift_coefficient".into(),
+                value,
+                expected: Some(1.0),
+                tolerance: "t".into(),
+                allowed: "a".into(),
+                reason: "r".into(),
+                lower: 0.99,
+                upper: 1.01,
+                margin: -1.0,
+                pass: false,
+            }],
+            verdict: None,
+            error: None,
+            finding: None,
+            expected_failure: None,
+            fingerprint: vec![],
+            departures: vec![],
+            plot: None,
+        };
+        let results = [result("low", 1.1), result("high", 1.5)];
+        let spec = |checks: Option<Vec<String>>| ScoreSpec {
+            id: "s".into(),
+            metric: Metric::RmsRelativeError,
+            quantity: Some("lift_coefficient".into()),
+            noise_floor: 1e-4,
+            reason: "test".into(),
+            checks,
+        };
+        let at = |_: &str| None;
+        let all = cierva_harness::review::compute("c", &spec(None), &results, &at);
+        let low =
+            cierva_harness::review::compute("c", &spec(Some(vec!["low".into()])), &results, &at);
+        assert!(
+            (all.value - (0.5f64 * (0.01 + 0.25)).sqrt()).abs() < 1e-12,
+            "{all:?}"
+        );
+        assert!((low.value - 0.1).abs() < 1e-12 && low.count == 1, "{low:?}");
+        // The peaks, each placed at its check's tip-speed ratio: the model's largest value is
+        // 0.9 at "high" (mu 0.45), the largest reference 1.0 at "low" (mu 0.3).
+        let results = [result("low", 0.7), {
+            let mut r = result("high", 0.9);
+            r.quantities[0].expected = Some(0.5);
+            r
+        }];
+        let mu = |id: &str| Some(if id == "low" { 0.3 } else { 0.45 });
+        let peak = |metric, at: &dyn Fn(&str) -> Option<f64>| {
+            let s = ScoreSpec {
+                metric,
+                ..spec(None)
+            };
+            cierva_harness::review::compute("c", &s, &results, at).value
+        };
+        assert!((peak(Metric::PeakRelativeError, &mu) - 0.1).abs() < 1e-12);
+        assert!((peak(Metric::PeakTipSpeedRatioOffset, &mu) - 0.15).abs() < 1e-12);
+        // Without a tip-speed ratio there is no offset to give, and NaN passes nothing.
+        assert!(peak(Metric::PeakTipSpeedRatioOffset, &|_| None).is_nan());
+    }
+
     #[test]
     fn a_written_board_reads_back() {
         let b = with(
             &Board::default(),
+            &["c"],
             &[score(0.1234567891, Metric::RmsRelativeError), {
                 let mut s = score(f64::NAN, Metric::Inside);
                 s.id = "t".into();
@@ -99,6 +174,20 @@ mod scoreboard {
         let back = parse(&text).unwrap();
         assert!((back.scores["c"]["s"].value - 0.1234567891).abs() < 1e-8);
         assert!(back.scores["c"]["t"].value.is_nan());
+    }
+
+    /// Accepting a case's scores drops the ones it no longer declares (a renamed score does
+    /// not linger on the board) and leaves the cases not reviewed alone.
+    #[test]
+    fn accepting_a_case_replaces_its_scores() {
+        let mut old = score(0.2, Metric::RmsRelativeError);
+        old.id = "old".into();
+        let mut other = score(0.3, Metric::RmsRelativeError);
+        other.case = "d".into();
+        let board = with(&Board::default(), &["c", "d"], &[old, other]);
+        let b = with(&board, &["c"], &[score(0.1, Metric::RmsRelativeError)]);
+        assert_eq!(b.scores["c"].keys().collect::<Vec<_>>(), ["s"]);
+        assert_eq!(b.scores["d"]["s"].value, 0.3);
     }
 }
 

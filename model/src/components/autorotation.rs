@@ -111,6 +111,16 @@ pub enum AutorotationError {
         tip_speed_ratio: f64,
         found: Vec<(f64, f64)>,
     },
+    #[error(
+        "no angle of attack autorotates at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s: at the edge of autorotation two rotor speeds autorotate at one angle and the search does not settle on either (largest mu found {largest:.4} in {count} equilibria)",
+        largest = .found.iter().map(|f| f.1).fold(f64::NAN, f64::max),
+        count = .found.len()
+    )]
+    Unsettled {
+        tip_speed_ratio: f64,
+        omega_rad_s: f64,
+        found: Vec<(f64, f64)>,
+    },
 }
 
 fn check(
@@ -552,6 +562,12 @@ pub fn autorotate_at_tip_speed_ratio(
                 })?,
         };
         let (alpha, e) = search.refine(bracket)?;
+        // A bracket whose refinement ends off the target: the equilibria inside it fold (two
+        // rotor speeds autorotate at one angle, at the edge of autorotation), and no airspeed
+        // scaling settles it.
+        if (e.tip_speed_ratio.ln() - search.target).abs() > 1e-6 {
+            break;
+        }
         let ratio = c.omega_rad_s / e.omega_rad_s;
         // Within a millionth: an equilibrium started from a neighbour's can meet the solver's
         // tolerance with the rotor speed a few parts in ten million off.
@@ -568,10 +584,10 @@ pub fn autorotate_at_tip_speed_ratio(
         search.airspeed_m_s *= ratio;
         near = Some(alpha);
     }
-    Err(AutorotationError::Condition {
-        name: "rotor speed",
-        requirement: "matched by scaling the airspeed within 8 passes",
-        value: c.omega_rad_s,
+    Err(AutorotationError::Unsettled {
+        tip_speed_ratio: c.tip_speed_ratio,
+        omega_rad_s: c.omega_rad_s,
+        found: search.found,
     })
 }
 
