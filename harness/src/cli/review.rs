@@ -45,23 +45,7 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
             return ExitCode::from(2);
         }
     };
-    let bar = progress(cases.len() as u64, "review");
-    let mut reviews = Vec::new();
-    let mut scores = Vec::new();
-    for case in &cases {
-        bar.set_message(case.id.clone());
-        // Every check when the case has scores; its expected failures otherwise.
-        let results: Vec<eval::CheckResult> = case
-            .checks
-            .iter()
-            .filter(|c| !case.scores.is_empty() || c.expected_failure.is_some())
-            .map(|c| eval::run_check(case, c))
-            .collect();
-        reviews.push(cierva_harness::review::review(case, &results));
-        scores.extend(cierva_harness::review::scores_of(case, &results));
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
+    let (reviews, scores) = review_cases(&cases);
     let judged = cierva_harness::review::judge(&board, scores.clone());
     let scores_moved: Vec<&cierva_harness::review::Judged> = judged
         .iter()
@@ -192,4 +176,35 @@ fn print_text(
             reviews.len()
         );
     }
+}
+
+/// Every case's review and scores: every check when the case has scores, its expected failures
+/// otherwise. Checks on every core, shared out one at a time.
+fn review_cases(
+    cases: &[cierva_harness::case::Case],
+) -> (
+    Vec<cierva_harness::review::CaseReview>,
+    Vec<cierva_harness::scoreboard::Score>,
+) {
+    let select = |case: &cierva_harness::case::Case, check: &cierva_harness::checks::Check| {
+        !case.scores.is_empty() || check.expected_failure.is_some()
+    };
+    let selected: usize = cases
+        .iter()
+        .map(|case| case.checks.iter().filter(|c| select(case, c)).count())
+        .sum();
+    let bar = progress(selected as u64, "review");
+    let all: Vec<&cierva_harness::case::Case> = cases.iter().collect();
+    let ran = eval::run_cases(&all, select, |case, _| {
+        bar.set_message(case.id.clone());
+        bar.inc(1);
+    });
+    bar.finish_and_clear();
+    let mut reviews = Vec::new();
+    let mut scores = Vec::new();
+    for (case, (results, _)) in cases.iter().zip(ran) {
+        reviews.push(cierva_harness::review::review(case, &results));
+        scores.extend(cierva_harness::review::scores_of(case, &results));
+    }
+    (reviews, scores)
 }

@@ -136,46 +136,71 @@ fn run_cases(
     let mut corrected: Vec<String> = Vec::new();
     let mut run = report::Run::default();
     let mut scores = Vec::new();
-    let bar = progress(loaded.len() as u64, "validate");
-    // Cases on every core; results in the order the cases were found.
-    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
-    let ran: Vec<Ran> = cierva_harness::parallel_map(loaded, |c| {
-        let out = match c {
-            Ok(case) => match cierva_harness::case::with_corrections(case, correction_files) {
-                Ok((case, used)) => {
-                    bar.set_message(case.id.clone());
-                    let t = std::time::Instant::now();
-                    let results = eval::run_case(&case);
-                    let scores = cierva_harness::review::scores_of(&case, &results);
-                    let sensitivity = case.sensitivity.as_ref().map(|parameters| {
-                        let (file, loading, request, quantities) =
-                            cierva_harness::sensitivity::from_case(&case, None)?;
-                        cierva_harness::sensitivity::run(
-                            &file,
-                            request,
-                            loading,
-                            parameters,
-                            &quantities,
-                        )
-                    });
-                    Ok((
-                        report::CaseRun {
-                            case,
-                            results,
-                            seconds: t.elapsed().as_secs_f64(),
-                            corrections: used,
-                            sensitivity,
-                        },
-                        scores,
-                    ))
-                }
-                Err(e) => Err(format!("error: the corrections {e}")),
-            },
+    // Each case with the corrections that apply to it, or the error that stopped it.
+    let prepared: Vec<Result<(cierva_harness::case::Case, Vec<String>), String>> = loaded
+        .iter()
+        .map(|c| match c {
+            Ok(case) => cierva_harness::case::with_corrections(case, correction_files)
+                .map_err(|e| format!("error: the corrections {e}")),
             Err(e) => Err(e.render()),
-        };
-        bar.inc(1);
-        out
-    });
+        })
+        .collect();
+    let cases: Vec<&cierva_harness::case::Case> =
+        prepared.iter().flatten().map(|(case, _)| case).collect();
+    let checks: usize = cases.iter().map(|c| c.checks.len()).sum();
+    let bar = progress(checks as u64, "validate");
+    // Checks on every core, shared out one at a time: a case of many slow checks is spread
+    // over the cores rather than left to one.
+    let mut ran = eval::run_cases(
+        &cases,
+        |_, _| true,
+        |case, _| {
+            bar.set_message(case.id.clone());
+            bar.inc(1);
+        },
+    )
+    .into_iter();
+    // The sensitivity studies, one per case that asks for one, on every core.
+    let studies: Vec<&cierva_harness::case::Case> = cases
+        .iter()
+        .copied()
+        .filter(|c| c.sensitivity.is_some())
+        .collect();
+    let mut studied = cierva_harness::parallel_map(&studies, |case| {
+        let parameters = case.sensitivity.as_ref()?;
+        Some(cierva_harness::sensitivity::from_case(case, None).and_then(
+            |(file, loading, request, quantities)| {
+                cierva_harness::sensitivity::run(&file, request, loading, parameters, &quantities)
+            },
+        ))
+    })
+    .into_iter();
+    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
+    let ran: Vec<Ran> = prepared
+        .into_iter()
+        .map(|p| {
+            let (case, used) = p?;
+            let (results, seconds) = ran.next().expect("one result set per prepared case");
+            let sensitivity = if case.sensitivity.is_some() {
+                studied
+                    .next()
+                    .expect("one study per case that asks for one")
+            } else {
+                None
+            };
+            let scores = cierva_harness::review::scores_of(&case, &results);
+            Ok((
+                report::CaseRun {
+                    case,
+                    results,
+                    seconds,
+                    corrections: used,
+                    sensitivity,
+                },
+                scores,
+            ))
+        })
+        .collect();
     for r in ran {
         match r {
             Ok((case_run, case_scores)) => {

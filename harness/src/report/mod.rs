@@ -389,9 +389,9 @@ fn summary_html(run: &Run, counts: &Counts) -> String {
     }
     let mut slow: Vec<&CaseRun> = run.cases.iter().collect();
     slow.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
-    h += "<h3>Slowest cases</h3><p class=\"muted\">Wall time of each case's checks; a \
-          linearisation that several cases share is computed once, by the first case that needs \
-          it.</p><table><tr><th>case</th><th>checks</th><th>wall time, s</th></tr>";
+    h += "<h3>Slowest cases</h3><p class=\"muted\">Time of each case's checks, summed over \
+          the threads that ran them; a linearisation that several cases share is computed once, by the first case that needs \
+          it.</p><table><tr><th>case</th><th>checks</th><th>time, s</th></tr>";
     for c in slow.iter().take(5) {
         let _ = write!(
             h,
@@ -665,8 +665,8 @@ pub fn markdown(run: &Run) -> String {
     for (p, d) in &run.corrections {
         let _ = writeln!(m, "- corrections `{}`: {d}", p.display());
     }
-    m += "\nWall time is each case's checks; a linearisation that several cases share is computed \
-          once, by the first case that needs it.\n\n| case | class | checks | pass | FAIL | xfail | MOVED | XPASS | ERROR | wall time, s |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+    m += "\nTime is each case's checks, summed over the threads that ran them; a linearisation that several cases share is computed \
+          once, by the first case that needs it.\n\n| case | class | checks | pass | FAIL | xfail | MOVED | XPASS | ERROR | time, s |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for c in &run.cases {
         let n = crate::text::counts(&c.results);
         let _ = writeln!(

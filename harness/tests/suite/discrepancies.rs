@@ -107,3 +107,32 @@ fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
         "C_L is already low: a smaller lift slope makes it worse ({worse:?})"
     );
 }
+
+/// Checks shared out across cores give each case what running it alone gives: its selected
+/// checks, in its order, with the same values and outcomes.
+#[test]
+fn checks_run_on_every_core_give_each_case_its_own_results() {
+    let (a, b) = (
+        tr515(&["row-01", "row-40", "row-81"]),
+        tr515(&["row-02", "row-33"]),
+    );
+    let skip = "row-40";
+    let ran = eval::run_cases(&[&a, &b], |_, k| k.id != skip, |_, _| {});
+    assert_eq!(ran.len(), 2);
+    for (case, (results, seconds)) in [&a, &b].into_iter().zip(&ran) {
+        let alone: Vec<_> = eval::run_case(case)
+            .into_iter()
+            .filter(|r| r.check != skip)
+            .collect();
+        assert_eq!(results.len(), alone.len(), "{}", case.id);
+        assert!(*seconds > 0.0);
+        for (r, s) in results.iter().zip(&alone) {
+            assert_eq!((&r.check, r.outcome), (&s.check, s.outcome));
+            let values = |r: &eval::CheckResult| -> Vec<u64> {
+                r.quantities.iter().map(|q| q.value.to_bits()).collect()
+            };
+            assert_eq!(values(r), values(s), "{}", r.check);
+        }
+        assert!(results.iter().any(|r| !r.quantities.is_empty()));
+    }
+}
