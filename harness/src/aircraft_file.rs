@@ -45,7 +45,7 @@
 //!     hub_aoa_factor: 0.5              # seed 000 Sec. VII.B; omit for the kinematic angle
 //!     # and the main rotor's blade corrections, over its rotor file's: profile_drag_scale,
 //!     # profile_drag_increment, pitch_offset_deg, lateral_inflow_offset_m_s,
-//!     # elastic_twist_deg_per_kpa
+//!     # elastic_twist_deg_per_kpa, hub_drag_area_m2 (the hub's flat-plate area)
 //! sources:                             # dotted paths; an entry covers everything below it
 //!   mass.mass_kg: "seed 001: maximum all-up mass 450 kg"
 //!   airframe.coefficients: "estimated: ..."
@@ -353,6 +353,15 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             "aircraft.propeller.rotor_file",
             format!(
                 "the propeller's rotor file `{}` must have `hub: rigid` (a propeller's blades do not flap)",
+                a.propeller.rotor_file
+            ),
+        ));
+    }
+    if propeller_file.rotor.hub_drag_area_m2 != 0.0 {
+        return Err(err(
+            "aircraft.propeller.rotor_file",
+            format!(
+                "the propeller's rotor file `{}` gives hub_drag_area_m2: a spinner's drag is the airframe's (its drag table), not the propeller's",
                 a.propeller.rotor_file
             ),
         ));

@@ -3,8 +3,9 @@
 //!
 //! A [`CorrectionSet`] names the corrections it sets; the rest stay as the aircraft or rotor
 //! file gives them. Aircraft corrections (propeller blockage, hub angle-of-attack factor) need an
-//! aircraft; blade corrections (profile drag, pitch offset, lateral inflow offset) act on the
-//! main rotor wherever it flies, in an aircraft or alone in a tunnel.
+//! aircraft; blade corrections (profile drag, pitch offset, lateral inflow offset, elastic
+//! twist) and the hub's drag area act on the main rotor wherever it flies, in an aircraft or
+//! alone in a tunnel.
 //!
 //! A set can also carry values of an aircraft file's *estimated* physical parameters (the
 //! names of [`crate::parameters::PARAMETERS`]: a fin's area, the pod's side-force centre, an
@@ -63,6 +64,10 @@ pub struct CorrectionSet {
     /// dynamic pressure in hover, deg/kPa.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elastic_twist_deg_per_kpa: Option<f64>,
+    /// The main rotor's hub drag as an equivalent flat-plate area, m^2 (replaces the rotor
+    /// file's `hub_drag_area_m2`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hub_drag_area_m2: Option<f64>,
     /// An aircraft's estimated physical parameters, by their names in
     /// [`crate::parameters::PARAMETERS`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -92,6 +97,7 @@ impl CorrectionSet {
             elastic_twist_deg_per_kpa: over
                 .elastic_twist_deg_per_kpa
                 .or(self.elastic_twist_deg_per_kpa),
+            hub_drag_area_m2: over.hub_drag_area_m2.or(self.hub_drag_area_m2),
             estimated: {
                 let mut e = self.estimated.clone();
                 e.extend(over.estimated.iter().map(|(k, v)| (k.clone(), *v)));
@@ -110,6 +116,7 @@ impl CorrectionSet {
             ("pitch_offset_deg", self.pitch_offset_deg),
             ("lateral_inflow_offset_m_s", self.lateral_inflow_offset_m_s),
             ("elastic_twist_deg_per_kpa", self.elastic_twist_deg_per_kpa),
+            ("hub_drag_area_m2", self.hub_drag_area_m2),
         ];
         let given: Vec<String> = all
             .iter()
@@ -146,6 +153,9 @@ impl CorrectionSet {
         }
         if let Some(v) = self.elastic_twist_deg_per_kpa {
             c.elastic_twist_rad_per_pa = v.to_radians() / 1000.0;
+        }
+        if let Some(v) = self.hub_drag_area_m2 {
+            r.hub_drag_area_m2 = v;
         }
         r.validate().map_err(|e| e.to_string())
     }
@@ -246,6 +256,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         ("pitch_offset_deg", c.pitch_offset_deg),
         ("lateral_inflow_offset_m_s", c.lateral_inflow_offset_m_s),
         ("elastic_twist_deg_per_kpa", c.elastic_twist_deg_per_kpa),
+        ("hub_drag_area_m2", c.hub_drag_area_m2),
     ] {
         if let Some(v) = v
             && !v.is_finite()

@@ -59,6 +59,8 @@ pub enum ParameterKind {
     /// The main rotor's elastic torsion: the tip's pitch change (nose up) per kPa of tip
     /// dynamic pressure in hover, deg/kPa.
     ElasticTwistDegPerKpa,
+    /// The main rotor's hub drag as an equivalent flat-plate area, m^2.
+    HubDragAreaM2,
     /// An aircraft's estimated physical parameter, by its name in
     /// [`crate::parameters::PARAMETERS`] (`airframe.fin.area_m2`).
     Estimated(&'static str),
@@ -72,7 +74,7 @@ impl serde::Serialize for ParameterKind {
 
 impl ParameterKind {
     /// Every correction, in the order of [`CorrectionSet`]'s fields.
-    pub const ALL: [ParameterKind; 7] = [
+    pub const ALL: [ParameterKind; 8] = [
         Self::PropellerBlockage,
         Self::HubAoaFactor,
         Self::ProfileDragScale,
@@ -80,6 +82,7 @@ impl ParameterKind {
         Self::PitchOffsetDeg,
         Self::LateralInflowOffsetMS,
         Self::ElasticTwistDegPerKpa,
+        Self::HubDragAreaM2,
     ];
 
     /// The name as written (the [`CorrectionSet`] field it sets, or the physical parameter's
@@ -93,6 +96,7 @@ impl ParameterKind {
             Self::PitchOffsetDeg => "pitch_offset_deg",
             Self::LateralInflowOffsetMS => "lateral_inflow_offset_m_s",
             Self::ElasticTwistDegPerKpa => "elastic_twist_deg_per_kpa",
+            Self::HubDragAreaM2 => "hub_drag_area_m2",
             Self::Estimated(name) => name,
         }
     }
@@ -129,7 +133,8 @@ impl ParameterKind {
             | Self::ProfileDragIncrement
             | Self::PitchOffsetDeg
             | Self::LateralInflowOffsetMS
-            | Self::ElasticTwistDegPerKpa => Some(0.0),
+            | Self::ElasticTwistDegPerKpa
+            | Self::HubDragAreaM2 => Some(0.0),
             Self::HubAoaFactor | Self::ProfileDragScale => Some(1.0),
             Self::Estimated(_) => None,
         }
@@ -153,6 +158,7 @@ impl ParameterKind {
             Self::PitchOffsetDeg => c.pitch_offset_deg,
             Self::LateralInflowOffsetMS => c.lateral_inflow_offset_m_s,
             Self::ElasticTwistDegPerKpa => c.elastic_twist_deg_per_kpa,
+            Self::HubDragAreaM2 => c.hub_drag_area_m2,
             Self::Estimated(name) => c.estimated.get(name).copied(),
         }
     }
@@ -167,6 +173,7 @@ impl ParameterKind {
             Self::PitchOffsetDeg => &mut c.pitch_offset_deg,
             Self::LateralInflowOffsetMS => &mut c.lateral_inflow_offset_m_s,
             Self::ElasticTwistDegPerKpa => &mut c.elastic_twist_deg_per_kpa,
+            Self::HubDragAreaM2 => &mut c.hub_drag_area_m2,
             Self::Estimated(name) => {
                 c.estimated.insert(name.to_string(), value);
                 return;
@@ -768,7 +775,17 @@ fn jacobian(
         }
         let mut q = p.to_vec();
         q[i] += h;
-        let yq = evaluate_from(problem, &q, Some(warm))?;
+        let yq = match evaluate_from(problem, &q, Some(warm)) {
+            Ok(yq) => yq,
+            // Near the edge of the model's domain (a rotor at the edge of autorotation) the
+            // model can fail on one side of a point it solves: difference the other way.
+            Err(first) if (par.lower..=par.upper).contains(&(p[i] - h)) => {
+                h = -h;
+                q[i] = p[i] + h;
+                evaluate_from(problem, &q, Some(warm)).map_err(|_| first)?
+            }
+            Err(first) => return Err(first),
+        };
         for k in 0..y.len() {
             j[k][i] = (yq[k] - y[k]) / h;
         }

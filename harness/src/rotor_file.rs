@@ -26,6 +26,7 @@
 //!     # or table: {alpha_deg: [...], mach: [...], cl: [[...]], cd: [[...]]}
 //!   elements: 20
 //!   yawed_flow_drag: false                           # optional: drag sees the radial flow too
+//!   hub_drag_area_m2: 0.0                            # optional: the hub's flat-plate area
 //!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0,   # optional
 //!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0,
 //!                 elastic_twist_deg_per_kpa: 0.0}
@@ -122,6 +123,9 @@ pub struct RotorSpec {
     /// Section drag along the whole relative flow, radial share included (optional, off).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub yawed_flow_drag: Option<bool>,
+    /// The hub's drag as an equivalent flat-plate area, m^2 (optional, none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hub_drag_area_m2: Option<f64>,
 }
 
 /// A rotor file as written.
@@ -237,6 +241,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         elements: r.elements,
         corrections,
         yawed_flow_drag: r.yawed_flow_drag.unwrap_or(false),
+        hub_drag_area_m2: r.hub_drag_area_m2.unwrap_or(0.0),
     };
     rotor.validate().map_err(|e| {
         let field = match &e {

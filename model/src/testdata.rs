@@ -98,6 +98,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         elements: 10,
         corrections: Corrections::default(),
         yawed_flow_drag: false,
+        hub_drag_area_m2: 0.0,
     };
     let prop_rotor = Rotor {
         hub: Hub::Rigid,
@@ -120,6 +121,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         elements: 8,
         corrections: Corrections::default(),
         yawed_flow_drag: false,
+        hub_drag_area_m2: 0.0,
     };
     let table = |f: &dyn Fn(f64, f64) -> f64| {
         let alpha: Vec<f64> = (-6..=6).map(|k| 10.0 * k as f64).collect();

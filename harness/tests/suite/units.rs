@@ -686,4 +686,68 @@ mod rotor_file {
         let f = cierva_harness::rotor_file::load(&path).unwrap();
         assert!(f.rotor.yawed_flow_drag);
     }
+
+    /// `hub_drag_area_m2` is optional (none), needs a source when given, and refuses a
+    /// negative area with its field; a corrections set replaces it.
+    #[test]
+    fn hub_drag_area_is_optional_sourced_and_correctable() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .unwrap();
+        let text = std::fs::read_to_string(root.join("aircraft/pca-2-rotor.yaml")).unwrap();
+        let shipped =
+            cierva_harness::rotor_file::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
+        assert_eq!(shipped.rotor.hub_drag_area_m2, 0.0);
+        // The shipped file without the key and its (folded, four-space indented) source:
+        // none, and it loads.
+        let mut in_source = false;
+        let bare: String = text
+            .lines()
+            .filter(|l| {
+                in_source = *l == "  hub_drag_area_m2: >-" || (in_source && l.starts_with("    "));
+                !in_source && *l != "  hub_drag_area_m2: 0.0"
+            })
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert!(!bare.contains("hub_drag"), "{bare}");
+        let dir = std::env::temp_dir().join(format!("cierva-hub-drag-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("pca-2-rotor.yaml");
+        std::fs::write(&path, &bare).unwrap();
+        let f =
+            cierva_harness::rotor_file::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+        assert_eq!(f.rotor.hub_drag_area_m2, 0.0);
+        let with = |area: &str, source: bool| {
+            let mut t = bare.replacen(
+                "\n  elements:",
+                &format!("\n  hub_drag_area_m2: {area}\n  elements:"),
+                1,
+            );
+            if source {
+                t = t.replacen(
+                    "\nsources:\n",
+                    "\nsources:\n  hub_drag_area_m2: \"estimated: a test\"\n",
+                    1,
+                );
+            }
+            std::fs::write(&path, t).unwrap();
+            cierva_harness::rotor_file::load(&path)
+        };
+        let e = with("0.3", false).unwrap_err().render();
+        assert!(e.contains("rotor.hub_drag_area_m2"), "{e}");
+        let e = with("-0.3", true).unwrap_err().render();
+        assert!(
+            e.contains("hub_drag_area_m2") && e.contains("non-negative"),
+            "{e}"
+        );
+        let mut f = with("0.3", true).unwrap();
+        assert_eq!(f.rotor.hub_drag_area_m2, 0.3);
+        let set = cierva_harness::corrections::CorrectionSet {
+            hub_drag_area_m2: Some(0.45),
+            ..Default::default()
+        };
+        set.apply_to_rotor(&mut f.rotor).unwrap();
+        assert_eq!(f.rotor.hub_drag_area_m2, 0.45);
+        assert_eq!(set.describe(), "hub_drag_area_m2=0.45");
+    }
 }

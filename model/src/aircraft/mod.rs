@@ -569,6 +569,16 @@ impl Aircraft {
         }
     }
 
+    /// The force on the airframe at the hub, hub axes: the rotor's `force` and the hub's own
+    /// drag in the air it moves through.
+    fn hub_force(&self, force: [f64; 3], frame: &RotorFrame, air: Air) -> [f64; 3] {
+        let drag = self
+            .main_rotor
+            .rotor
+            .hub_drag_n(air.density_kg_m3, frame.hub);
+        [force[0] + drag[0], force[1] + drag[1], force[2] + drag[2]]
+    }
+
     /// Rotor hub loads (hub axes, with no shaft torque: a free rotor) to body loads about the c.g.
     fn rotor_to_body(frame: &RotorFrame, force_hub: [f64; 3], moment_hub: [f64; 3]) -> Loads {
         let f_body = apply_t(&frame.c, force_hub);
@@ -765,7 +775,8 @@ impl Aircraft {
         // The shaft's bearing carries no torque about the shaft: that part of the couple
         // would change the rotorspeed, as in the full model.
         let m_hub = [rl.moment_n_m[0] - gyro[0], rl.moment_n_m[1] - gyro[1], 0.0];
-        let rotor_loads = Self::rotor_to_body(&frame, rl.force_n, m_hub);
+        let rotor_loads =
+            Self::rotor_to_body(&frame, self.hub_force(rl.force_n, &frame, air), m_hub);
         let prop_omega = self.propeller_omega(state, controls);
         let (ps, prop_loads, prop_omega_dot, af) =
             self.propeller_and_airframe(b, prop_omega, controls, air)?;
@@ -1129,7 +1140,7 @@ impl Aircraft {
             // A free rotor: no torque through the shaft.
             0.0,
         ];
-        let rotor_loads = Self::rotor_to_body(&frame, f_hub, m_hub);
+        let rotor_loads = Self::rotor_to_body(&frame, self.hub_force(f_hub, &frame, air), m_hub);
         let driving = inflow::DrivingLoads {
             thrust_n: -force[2],
             roll_n_m: moment[0],
@@ -1292,6 +1303,54 @@ mod tests {
                 "{hub:?}: {mean:?}"
             );
         }
+    }
+
+    /// The hub's drag (a flat plate of area `f` at the hub) adds `-(rho/2) f |V| V` at the
+    /// hub in both models, the revolution-averaged and the individual-blade one, and changes
+    /// nothing else: at the trim (no rates, still air) the hub moves with the body, so the
+    /// force lies along the body's velocity, and with the hub above the c.g. its moment is nose
+    /// up.
+    #[test]
+    fn the_hubs_drag_is_a_flat_plate_at_the_hub_in_both_models() {
+        let (a, t) = crate::testdata::trimmed_gyroplane(31.3);
+        let f = 0.4;
+        let mut dragged = a.clone();
+        dragged.main_rotor.rotor.hub_drag_area_m2 = f;
+        let b = &t.state.body;
+        let v = [b.u_m_s, b.v_m_s, b.w_m_s];
+        let speed = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let want = v.map(|c| -0.5 * air().density_kg_m3 * f * speed * c);
+        // 0.5 x 1.225 x 0.4 x 31.3^2: about 240 N against the flight path.
+        assert!((want[0] + 240.0).abs() < 5.0, "{want:?}");
+        let warm = t.averaged.flap_start;
+        let before = a.averaged(&t.state, &t.controls, air(), warm).unwrap();
+        let after = dragged
+            .averaged(&t.state, &t.controls, air(), warm)
+            .unwrap();
+        let (l0, l1) = (before.loads.rotor, after.loads.rotor);
+        let got = [l1.x_n - l0.x_n, l1.y_n - l0.y_n, l1.z_n - l0.z_n];
+        for j in 0..3 {
+            assert!(
+                (got[j] - want[j]).abs() < 1e-9 * want[0].abs(),
+                "{got:?} {want:?}"
+            );
+        }
+        assert!(l1.m_n_m > l0.m_n_m, "{l0:?} {l1:?}");
+        assert_eq!(before.rotor.thrust_n, after.rotor.thrust_n);
+        assert_eq!(before.loads.airframe, after.loads.airframe);
+        let x = a.full_state(&t.state, &t.controls, air(), warm);
+        let d0 = a.derivatives(&x, &t.controls, air()).unwrap();
+        let d1 = dragged.derivatives(&x, &t.controls, air()).unwrap();
+        let m = a.mass.mass_kg;
+        let du = [
+            d1.body.u_m_s - d0.body.u_m_s,
+            d1.body.v_m_s - d0.body.v_m_s,
+            d1.body.w_m_s - d0.body.w_m_s,
+        ];
+        for j in 0..3 {
+            assert!((du[j] - want[j] / m).abs() < 1e-9, "{du:?} {want:?}");
+        }
+        assert!(d1.body.q_rad_s > d0.body.q_rad_s);
     }
 
     /// A gust is air-relative velocity: flying at body velocity `V` in a wind `W` loads the

@@ -62,10 +62,14 @@ pub struct Autorotation {
     /// Inflow ratio through the disc `lambda = (v0 - w_hub) / (Omega R)`, positive down.
     pub inflow_ratio: f64,
     pub skew_rad: f64,
+    /// The blades' thrust (the hub's drag is not in it).
     pub thrust_n: f64,
-    /// In-plane force, positive rearwards.
+    /// The blades' in-plane force, positive rearwards.
     pub h_force_n: f64,
     pub side_force_n: f64,
+    /// The hub's own drag, along the free stream ([`crate::components::rotor::Rotor::hub_drag_n`]).
+    pub hub_drag_n: f64,
+    /// Lift and drag in wind axes, of the blades and the hub together (what a balance weighs).
     pub lift_n: f64,
     pub drag_n: f64,
     pub lift_coefficient: f64,
@@ -450,8 +454,11 @@ fn solve_from(
     let loads = p.steady(omega, inflow)?;
     let thrust = loads.thrust_n();
     let h = -loads.force_n[0];
-    let lift = thrust * ca - h * sa;
-    let drag = thrust * sa + h * ca;
+    // The balance weighs the hub too: its drag, along the free stream, joins the blades' loads.
+    let hub_drag = p.rotor.hub_drag_n(tunnel.density_kg_m3, hub);
+    let (thrust_all, h_all) = (thrust - hub_drag[2], h - hub_drag[0]);
+    let lift = thrust_all * ca - h_all * sa;
+    let drag = thrust_all * sa + h_all * ca;
     let q_area = 0.5 * tunnel.density_kg_m3 * v * v * PI * r * r;
     let skew = match options.inflow {
         InflowModel::PetersHaQuang { wake } | InflowModel::UniformOnly { wake } => {
@@ -470,6 +477,7 @@ fn solve_from(
         thrust_n: thrust,
         h_force_n: h,
         side_force_n: loads.force_n[1],
+        hub_drag_n: hub_drag[0].hypot(hub_drag[2]),
         lift_n: lift,
         drag_n: drag,
         lift_coefficient: lift / q_area,

@@ -650,6 +650,7 @@ mod tests {
                 elements: 20,
                 corrections: Corrections::default(),
                 yawed_flow_drag: false,
+                hub_drag_area_m2: 0.0,
             },
             blockage,
             map: None,

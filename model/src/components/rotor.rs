@@ -38,6 +38,17 @@
 //! periodic blade's inertial loads is zero. The blades' weight acts on their flapping (through
 //! their first mass moment about the hinge, with gravity in hub axes from the operating
 //! condition); its force on the hub is the aircraft's weight, not the rotor's load.
+//!
+//! # The hub's own drag
+//! The hub, blade-root fittings and spindle head are bluff bodies in the free stream. Their
+//! drag is an equivalent flat-plate area `f` ([`Rotor::hub_drag_area_m2`]): a force
+//! `-(rho/2) f |V| V` at the hub centre, `V` the hub's velocity through the air (the parasite
+//! drag of Hoerner, Fluid-Dynamic Drag, 1965, ch. 13 and 14; Johnson, Helicopter Theory, 1980,
+//! ch. 6). It is the hub's, not the blades': it is left out of the rotor's loads
+//! ([`SteadyLoads`], which drive the inflow and the flapping) and added by whoever puts the
+//! rotor on a body ([`Rotor::hub_drag_n`]: the aircraft, the tunnel's balance). The induced
+//! velocity through the disc does not reach it (the hub sits at the disc's centre, in the
+//! free stream's flow past it; its own wake is left out).
 
 use crate::components::airfoil::{Airfoil, AirfoilError};
 use serde::Serialize;
@@ -268,6 +279,9 @@ pub struct Rotor {
     /// Yawed-flow profile drag: section drag along the whole relative flow, the component
     /// along the blade included (see the module's docs). Off, drag sees `U_T` and `U_P` only.
     pub yawed_flow_drag: bool,
+    /// The hub's drag as an equivalent flat-plate area, m^2 (see the module's docs): zero, no
+    /// hub drag.
+    pub hub_drag_area_m2: f64,
 }
 
 /// Rotor data or conditions that cannot be used.
@@ -413,6 +427,18 @@ impl Default for Numerics {
 }
 
 impl Rotor {
+    /// The hub's drag, hub axes, N: `-(rho/2) f |V| V` for a hub moving at `hub` through air of
+    /// density `density_kg_m3` (the module's docs). Acts at the hub centre.
+    pub fn hub_drag_n(&self, density_kg_m3: f64, hub: HubVelocity) -> [f64; 3] {
+        let f = self.hub_drag_area_m2;
+        if f == 0.0 {
+            return [0.0; 3];
+        }
+        let speed = (hub.u * hub.u + hub.v * hub.v + hub.w * hub.w).sqrt();
+        let k = -0.5 * density_kg_m3 * f * speed;
+        [k * hub.u, k * hub.v, k * hub.w]
+    }
+
     /// Checks every number of the rotor.
     pub fn validate(&self) -> Result<(), RotorError> {
         if self.blades == 0 {
@@ -442,6 +468,7 @@ impl Rotor {
         non_negative("root_cutout_m", self.root_cutout_m)?;
         non_negative("flap_mass_moment_kg_m", self.flap_mass_moment_kg_m)?;
         non_negative("flap_spring_n_m_per_rad", self.flap_spring_n_m_per_rad)?;
+        non_negative("hub_drag_area_m2", self.hub_drag_area_m2)?;
         positive(
             "corrections.profile_drag_scale",
             self.corrections.profile_drag_scale,
@@ -1323,6 +1350,7 @@ mod tests {
             elements: 100,
             corrections: Corrections::default(),
             yawed_flow_drag: false,
+            hub_drag_area_m2: 0.0,
         }
     }
 
@@ -1487,6 +1515,77 @@ mod tests {
                 a.inflow
             );
         }
+    }
+
+    /// The hub's drag is a flat plate in the free stream: `(rho/2) f V^2` against the hub's
+    /// motion, whatever its direction. In a tunnel it adds `f / (pi R^2)` to the drag
+    /// coefficient and nothing to the lift, and leaves the blades alone: the same rotor speed,
+    /// thrust and flapping, bit for bit.
+    #[test]
+    fn the_hubs_drag_adds_a_flat_plate_to_the_drag_alone() {
+        let mut rotor = autorotating(2f64.to_radians(), 20, 0.0);
+        assert_eq!(
+            rotor.hub_drag_n(
+                1.2,
+                HubVelocity {
+                    u: 30.0,
+                    v: 0.0,
+                    w: 3.0
+                }
+            ),
+            [0.0; 3]
+        );
+        let f = 0.3;
+        let plain = rotor.clone();
+        rotor.hub_drag_area_m2 = f;
+        for hub in [
+            HubVelocity {
+                u: 30.0,
+                v: 0.0,
+                w: 0.0,
+            },
+            HubVelocity {
+                u: 20.0,
+                v: -5.0,
+                w: 8.0,
+            },
+            HubVelocity {
+                u: 0.0,
+                v: 0.0,
+                w: -12.0,
+            },
+        ] {
+            let d = rotor.hub_drag_n(1.2, hub);
+            let speed2 = hub.u * hub.u + hub.v * hub.v + hub.w * hub.w;
+            let size = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            assert!(
+                (size - 0.5 * 1.2 * f * speed2).abs() < 1e-12 * size,
+                "{d:?}"
+            );
+            // Against the motion: along -V.
+            let along = (d[0] * hub.u + d[1] * hub.v + d[2] * hub.w) / speed2.sqrt();
+            assert!((along + size).abs() < 1e-12 * size, "{d:?} {hub:?}");
+        }
+        let mut bad = rotor.clone();
+        bad.hub_drag_area_m2 = -0.1;
+        assert!(bad.validate().is_err());
+        let tunnel = Tunnel {
+            alpha_rad: 8f64.to_radians(),
+            airspeed_m_s: 30.0,
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 1e9,
+            collective_shift_rad: 0.0,
+        };
+        let a = autorotation::autorotate(&plain, tunnel, Options::default()).unwrap();
+        let b = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+        assert_eq!(
+            (a.omega_rad_s, a.thrust_n, a.a1_rad),
+            (b.omega_rad_s, b.thrust_n, b.a1_rad)
+        );
+        let area = PI * rotor.radius_m.powi(2);
+        assert!(((b.drag_coefficient - a.drag_coefficient) - f / area).abs() < 1e-12);
+        assert!((b.lift_coefficient - a.lift_coefficient).abs() < 1e-12);
+        assert!((b.hub_drag_n - 0.5 * 1.225 * 900.0 * f).abs() < 1e-9);
     }
 
     /// A teetering rotor behaves as an articulated rotor with zero hinge offset in its
