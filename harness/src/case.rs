@@ -288,10 +288,7 @@ fn check_scores(
             _ => {}
         }
         if sc.metric == crate::scoreboard::Metric::PeakTipSpeedRatioOffset
-            && let Some(c) = scored.iter().find(|c| match &c.what {
-                crate::checks::What::Autorotation(a) => a.tunnel.tip_speed_ratio.is_none(),
-                _ => true,
-            })
+            && let Some(c) = scored.iter().find(|c| c.tunnel_tip_speed_ratio().is_none())
         {
             return Err(err(
                 &format!("{here}.metric"),

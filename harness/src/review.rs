@@ -202,9 +202,11 @@ pub fn compute(
 
 /// Every score a case declares, computed from its results.
 pub fn scores_of(case: &crate::case::Case, results: &[CheckResult]) -> Vec<Score> {
-    let tip_speed_ratio = |id: &str| match &case.checks.iter().find(|c| c.id == id)?.what {
-        crate::checks::What::Autorotation(a) => a.tunnel.tip_speed_ratio,
-        _ => None,
+    let tip_speed_ratio = |id: &str| {
+        case.checks
+            .iter()
+            .find(|c| c.id == id)?
+            .tunnel_tip_speed_ratio()
     };
     case.scores
         .iter()

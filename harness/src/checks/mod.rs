@@ -301,6 +301,15 @@ impl Check {
         self.what.kind()
     }
 
+    /// The tip-speed ratio the check's tunnel condition states, if it states one (where a
+    /// score places a peak).
+    pub fn tunnel_tip_speed_ratio(&self) -> Option<f64> {
+        match &self.what {
+            What::Autorotation(a) => a.tunnel.tip_speed_ratio,
+            _ => None,
+        }
+    }
+
     /// The flight condition the check runs at (a check on an aircraft, at one condition).
     pub fn condition(&self) -> Option<crate::TrimRequest> {
         match &self.what {
