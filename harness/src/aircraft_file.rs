@@ -45,7 +45,8 @@
 //!     hub_aoa_factor: 0.5              # seed 000 Sec. VII.B; omit for the kinematic angle
 //!     # and the main rotor's blade corrections, over its rotor file's: profile_drag_scale,
 //!     # profile_drag_increment, pitch_offset_deg, lateral_inflow_offset_m_s,
-//!     # elastic_twist_deg_per_kpa, hub_drag_area_m2 (the hub's flat-plate area)
+//!     # elastic_twist_deg_per_kpa, hub_drag_area_m2 (the hub's flat-plate area),
+//!     # profile_drag_reynolds_exponent (needs the rotor's drag_reynolds_number)
 //! sources:                             # dotted paths; an entry covers everything below it
 //!   mass.mass_kg: "seed 001: maximum all-up mass 450 kg"
 //!   airframe.coefficients: "estimated: ..."

@@ -68,6 +68,10 @@ pub struct CorrectionSet {
     /// file's `hub_drag_area_m2`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hub_drag_area_m2: Option<f64>,
+    /// The main rotor's section-drag Reynolds-number exponent `n`: drag times
+    /// `(Re / Re_ref)^-n`, `Re_ref` the rotor file's `drag_reynolds_number`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile_drag_reynolds_exponent: Option<f64>,
     /// An aircraft's estimated physical parameters, by their names in
     /// [`crate::parameters::PARAMETERS`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -98,6 +102,9 @@ impl CorrectionSet {
                 .elastic_twist_deg_per_kpa
                 .or(self.elastic_twist_deg_per_kpa),
             hub_drag_area_m2: over.hub_drag_area_m2.or(self.hub_drag_area_m2),
+            profile_drag_reynolds_exponent: over
+                .profile_drag_reynolds_exponent
+                .or(self.profile_drag_reynolds_exponent),
             estimated: {
                 let mut e = self.estimated.clone();
                 e.extend(over.estimated.iter().map(|(k, v)| (k.clone(), *v)));
@@ -117,6 +124,10 @@ impl CorrectionSet {
             ("lateral_inflow_offset_m_s", self.lateral_inflow_offset_m_s),
             ("elastic_twist_deg_per_kpa", self.elastic_twist_deg_per_kpa),
             ("hub_drag_area_m2", self.hub_drag_area_m2),
+            (
+                "profile_drag_reynolds_exponent",
+                self.profile_drag_reynolds_exponent,
+            ),
         ];
         let given: Vec<String> = all
             .iter()
@@ -156,6 +167,9 @@ impl CorrectionSet {
         }
         if let Some(v) = self.hub_drag_area_m2 {
             r.hub_drag_area_m2 = v;
+        }
+        if let Some(v) = self.profile_drag_reynolds_exponent {
+            c.profile_drag_reynolds_exponent = v;
         }
         r.validate().map_err(|e| e.to_string())
     }
@@ -257,6 +271,10 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         ("lateral_inflow_offset_m_s", c.lateral_inflow_offset_m_s),
         ("elastic_twist_deg_per_kpa", c.elastic_twist_deg_per_kpa),
         ("hub_drag_area_m2", c.hub_drag_area_m2),
+        (
+            "profile_drag_reynolds_exponent",
+            c.profile_drag_reynolds_exponent,
+        ),
     ] {
         if let Some(v) = v
             && !v.is_finite()

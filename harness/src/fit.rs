@@ -61,6 +61,9 @@ pub enum ParameterKind {
     ElasticTwistDegPerKpa,
     /// The main rotor's hub drag as an equivalent flat-plate area, m^2.
     HubDragAreaM2,
+    /// The main rotor's section-drag Reynolds-number exponent (needs the rotor file's
+    /// `drag_reynolds_number`).
+    ProfileDragReynoldsExponent,
     /// An aircraft's estimated physical parameter, by its name in
     /// [`crate::parameters::PARAMETERS`] (`airframe.fin.area_m2`).
     Estimated(&'static str),
@@ -74,7 +77,7 @@ impl serde::Serialize for ParameterKind {
 
 impl ParameterKind {
     /// Every correction, in the order of [`CorrectionSet`]'s fields.
-    pub const ALL: [ParameterKind; 8] = [
+    pub const ALL: [ParameterKind; 9] = [
         Self::PropellerBlockage,
         Self::HubAoaFactor,
         Self::ProfileDragScale,
@@ -83,6 +86,7 @@ impl ParameterKind {
         Self::LateralInflowOffsetMS,
         Self::ElasticTwistDegPerKpa,
         Self::HubDragAreaM2,
+        Self::ProfileDragReynoldsExponent,
     ];
 
     /// The name as written (the [`CorrectionSet`] field it sets, or the physical parameter's
@@ -97,6 +101,7 @@ impl ParameterKind {
             Self::LateralInflowOffsetMS => "lateral_inflow_offset_m_s",
             Self::ElasticTwistDegPerKpa => "elastic_twist_deg_per_kpa",
             Self::HubDragAreaM2 => "hub_drag_area_m2",
+            Self::ProfileDragReynoldsExponent => "profile_drag_reynolds_exponent",
             Self::Estimated(name) => name,
         }
     }
@@ -134,7 +139,8 @@ impl ParameterKind {
             | Self::PitchOffsetDeg
             | Self::LateralInflowOffsetMS
             | Self::ElasticTwistDegPerKpa
-            | Self::HubDragAreaM2 => Some(0.0),
+            | Self::HubDragAreaM2
+            | Self::ProfileDragReynoldsExponent => Some(0.0),
             Self::HubAoaFactor | Self::ProfileDragScale => Some(1.0),
             Self::Estimated(_) => None,
         }
@@ -159,6 +165,7 @@ impl ParameterKind {
             Self::LateralInflowOffsetMS => c.lateral_inflow_offset_m_s,
             Self::ElasticTwistDegPerKpa => c.elastic_twist_deg_per_kpa,
             Self::HubDragAreaM2 => c.hub_drag_area_m2,
+            Self::ProfileDragReynoldsExponent => c.profile_drag_reynolds_exponent,
             Self::Estimated(name) => c.estimated.get(name).copied(),
         }
     }
@@ -174,6 +181,7 @@ impl ParameterKind {
             Self::LateralInflowOffsetMS => &mut c.lateral_inflow_offset_m_s,
             Self::ElasticTwistDegPerKpa => &mut c.elastic_twist_deg_per_kpa,
             Self::HubDragAreaM2 => &mut c.hub_drag_area_m2,
+            Self::ProfileDragReynoldsExponent => &mut c.profile_drag_reynolds_exponent,
             Self::Estimated(name) => {
                 c.estimated.insert(name.to_string(), value);
                 return;

@@ -27,9 +27,11 @@
 //!   elements: 20
 //!   yawed_flow_drag: false                           # optional: drag sees the radial flow too
 //!   hub_drag_area_m2: 0.0                            # optional: the hub's flat-plate area
+//!   drag_reynolds_number: 2.7e6                      # optional: the Re the section drag holds at
 //!   corrections: {profile_drag_scale: 1.0, profile_drag_increment: 0.0,   # optional
 //!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0,
-//!                 elastic_twist_deg_per_kpa: 0.0}
+//!                 elastic_twist_deg_per_kpa: 0.0,
+//!                 profile_drag_reynolds_exponent: 0.0}   # needs drag_reynolds_number
 //! sources:                             # one entry for every field of `rotor`
 //!   blades: "NACA TR 487 p. 12"
 //!   hinge_offset_m: "estimated: ..."
@@ -93,6 +95,10 @@ pub struct CorrectionsSpec {
     /// hover, deg/kPa (`cierva_model::components::rotor::elastic_twist_rad`).
     #[serde(default)]
     pub elastic_twist_deg_per_kpa: f64,
+    /// The section drag's Reynolds-number exponent `n`: drag times `(Re / Re_ref)^-n`
+    /// (`cierva_model::components::rotor::Corrections::profile_drag_reynolds_exponent`).
+    #[serde(default)]
+    pub profile_drag_reynolds_exponent: f64,
 }
 
 fn one() -> f64 {
@@ -126,6 +132,10 @@ pub struct RotorSpec {
     /// The hub's drag as an equivalent flat-plate area, m^2 (optional, none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hub_drag_area_m2: Option<f64>,
+    /// The chord Reynolds number at which the airfoil's drag coefficients hold (optional; the
+    /// reference of the drag's Reynolds-number exponent, which needs it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drag_reynolds_number: Option<f64>,
 }
 
 /// A rotor file as written.
@@ -222,6 +232,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
             pitch_offset_rad: c.pitch_offset_deg.to_radians(),
             lateral_inflow_offset_m_s: c.lateral_inflow_offset_m_s,
             elastic_twist_rad_per_pa: c.elastic_twist_deg_per_kpa.to_radians() / 1000.0,
+            profile_drag_reynolds_exponent: c.profile_drag_reynolds_exponent,
         });
     let rotor = Rotor {
         hub: r.hub,
@@ -242,6 +253,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         corrections,
         yawed_flow_drag: r.yawed_flow_drag.unwrap_or(false),
         hub_drag_area_m2: r.hub_drag_area_m2.unwrap_or(0.0),
+        drag_reynolds_number: r.drag_reynolds_number,
     };
     rotor.validate().map_err(|e| {
         let field = match &e {

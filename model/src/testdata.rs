@@ -99,6 +99,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         corrections: Corrections::default(),
         yawed_flow_drag: false,
         hub_drag_area_m2: 0.0,
+        drag_reynolds_number: None,
     };
     let prop_rotor = Rotor {
         hub: Hub::Rigid,
@@ -122,6 +123,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         corrections: Corrections::default(),
         yawed_flow_drag: false,
         hub_drag_area_m2: 0.0,
+        drag_reynolds_number: None,
     };
     let table = |f: &dyn Fn(f64, f64) -> f64| {
         let alpha: Vec<f64> = (-6..=6).map(|k| 10.0 * k as f64).collect();

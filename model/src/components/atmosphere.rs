@@ -154,9 +154,38 @@ pub fn density_altitude_m(density_kg_m3: f64) -> Result<f64, AtmosphereError> {
 /// Feet to metres.
 pub const FT_TO_M: f64 = 0.3048;
 
+/// Sutherland's constant `beta_s` of ICAO Doc 7488's viscosity law, kg/(m s K^0.5).
+pub const SUTHERLAND_BETA: f64 = 1.458e-6;
+/// Sutherland's temperature `S` of ICAO Doc 7488's viscosity law, K.
+pub const SUTHERLAND_S_K: f64 = 110.4;
+
+/// The dynamic viscosity of air at a temperature, Pa s: Sutherland's law as ICAO Doc 7488
+/// gives it, `beta_s T^1.5 / (T + S)` (1.7894e-5 Pa s at 288.15 K).
+pub fn dynamic_viscosity_pa_s(temperature_k: f64) -> f64 {
+    SUTHERLAND_BETA * temperature_k.powf(1.5) / (temperature_k + SUTHERLAND_S_K)
+}
+
+/// The temperature of air whose speed of sound is `a`: `a^2 / (gamma R)`, K. The rotor's
+/// operating condition carries the speed of sound; this recovers the temperature its
+/// viscosity needs.
+pub fn temperature_from_speed_of_sound_k(speed_of_sound_m_s: f64) -> f64 {
+    speed_of_sound_m_s * speed_of_sound_m_s / (GAMMA * R_J_KG_K)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn viscosity_is_the_standard_atmosphere_s() {
+        // ICAO Doc 7488's tabulated viscosity: 1.7894e-5 Pa s at sea level, 1.4216e-5 Pa s at
+        // 11 km (216.65 K); printed to 5 figures.
+        assert!((dynamic_viscosity_pa_s(T0_K) - 1.7894e-5).abs() < 0.00005e-5);
+        assert!((dynamic_viscosity_pa_s(216.65) - 1.4216e-5).abs() < 0.00005e-5);
+        let sea = Atmosphere::standard().at(0.0).unwrap();
+        let t = temperature_from_speed_of_sound_k(sea.speed_of_sound_m_s);
+        assert!((t - T0_K).abs() < 1e-9, "{t}");
+    }
 
     #[test]
     fn standard_values_match_the_icao_table() {

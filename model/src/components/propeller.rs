@@ -651,6 +651,7 @@ mod tests {
                 corrections: Corrections::default(),
                 yawed_flow_drag: false,
                 hub_drag_area_m2: 0.0,
+                drag_reynolds_number: None,
             },
             blockage,
             map: None,

@@ -28,7 +28,11 @@
 //!
 //! The empirical [`Corrections`] act here: the section drag coefficient is scaled and
 //! incremented, a pitch offset is added to every element's pitch, and a lateral inflow offset to
-//! `v1s` (on top of the inflow model's state, which is not changed by it).
+//! `v1s` (on top of the inflow model's state, which is not changed by it). The drag can also
+//! depend on the element's chord Reynolds number `Re = w c / nu`, as `(Re / Re_ref)^-n`
+//! ([`Corrections::profile_drag_reynolds_exponent`], [`Rotor::drag_reynolds_number`]), with the
+//! air's kinematic viscosity `nu` from Sutherland's law at the temperature the operating
+//! condition's speed of sound gives.
 //!
 //! # Steady periodic solution
 //! In a steady condition every blade flies the same periodic motion, shifted by `2 pi / N_b`.
@@ -51,6 +55,7 @@
 //! free stream's flow past it; its own wake is left out).
 
 use crate::components::airfoil::{Airfoil, AirfoilError};
+use crate::components::atmosphere;
 use serde::Serialize;
 use std::f64::consts::PI;
 use thiserror::Error;
@@ -191,6 +196,12 @@ pub struct Corrections {
     /// the advancing blade's dynamic pressure (a mean rise with `mu^2` and a once-per-revolution
     /// part). Zero: rigid blades.
     pub elastic_twist_rad_per_pa: f64,
+    /// The section drag's Reynolds-number dependence: each element's drag coefficient is
+    /// multiplied by `(Re / Re_ref)^-n`, `Re` the element's chord Reynolds number in the flow
+    /// normal to its span and `Re_ref` [`Rotor::drag_reynolds_number`]. Zero: drag independent
+    /// of Reynolds number. A turbulent flat plate's skin friction goes as `Re^-0.2`, a laminar
+    /// one's as `Re^-0.5` (Schlichting, Boundary-Layer Theory, ch. 2 and 21).
+    pub profile_drag_reynolds_exponent: f64,
 }
 
 impl Default for Corrections {
@@ -201,6 +212,7 @@ impl Default for Corrections {
             pitch_offset_rad: 0.0,
             lateral_inflow_offset_m_s: 0.0,
             elastic_twist_rad_per_pa: 0.0,
+            profile_drag_reynolds_exponent: 0.0,
         }
     }
 }
@@ -282,6 +294,10 @@ pub struct Rotor {
     /// The hub's drag as an equivalent flat-plate area, m^2 (see the module's docs): zero, no
     /// hub drag.
     pub hub_drag_area_m2: f64,
+    /// The chord Reynolds number at which the airfoil's drag coefficients hold, when the rotor
+    /// file gives one: the reference of [`Corrections::profile_drag_reynolds_exponent`], which
+    /// needs it.
+    pub drag_reynolds_number: Option<f64>,
 }
 
 /// Rotor data or conditions that cannot be used.
@@ -469,6 +485,24 @@ impl Rotor {
         non_negative("flap_mass_moment_kg_m", self.flap_mass_moment_kg_m)?;
         non_negative("flap_spring_n_m_per_rad", self.flap_spring_n_m_per_rad)?;
         non_negative("hub_drag_area_m2", self.hub_drag_area_m2)?;
+        if let Some(re) = self.drag_reynolds_number {
+            positive("drag_reynolds_number", re)?;
+        }
+        let n = self.corrections.profile_drag_reynolds_exponent;
+        if !(0.0..=1.0).contains(&n) {
+            return Err(RotorError::Invalid {
+                name: "corrections.profile_drag_reynolds_exponent",
+                requirement: "in [0, 1]",
+                value: n,
+            });
+        }
+        if n != 0.0 && self.drag_reynolds_number.is_none() {
+            return Err(RotorError::Invalid {
+                name: "corrections.profile_drag_reynolds_exponent",
+                requirement: "zero unless the rotor gives drag_reynolds_number (the Reynolds number its section drag holds at)",
+                value: n,
+            });
+        }
         positive(
             "corrections.profile_drag_scale",
             self.corrections.profile_drag_scale,
@@ -750,6 +784,18 @@ impl<'a> Blade<'a> {
             rot.corrections.profile_drag_increment,
         );
         let (half_rho, inv_a) = (0.5 * op.density_kg_m3, 1.0 / op.speed_of_sound_m_s);
+        // The drag's Reynolds-number factor is `(w c / (nu Re_ref))^-n`: `nu Re_ref` once here.
+        let reynolds = match (
+            rot.drag_reynolds_number,
+            rot.corrections.profile_drag_reynolds_exponent,
+        ) {
+            (Some(re_ref), n) if n != 0.0 => {
+                let t = atmosphere::temperature_from_speed_of_sound_k(op.speed_of_sound_m_s);
+                let nu = atmosphere::dynamic_viscosity_pa_s(t) / op.density_kg_m3;
+                Some((nu * re_ref, -n))
+            }
+            _ => None,
+        };
         // Sums over the elements of the in-plane (ft, along t) and normal (fz, along the
         // blade's normal) forces, and of their moments about the shaft and the hinge.
         let (mut s_ft, mut s_fz, mut s_rfz, mut s_rho_ft, mut s_rho_fz, mut torque) =
@@ -773,6 +819,10 @@ impl<'a> Blade<'a> {
             };
             let alpha = el.pitch + theta_shift + elastic - atan2(up, ut);
             let (cl, cd) = rot.airfoil.coefficients(alpha, w * inv_a);
+            let cd = match reynolds {
+                None => cd,
+                Some((nu_re_ref, minus_n)) => cd * (w * el.chord / nu_re_ref).powf(minus_n),
+            };
             let cd = cd * drag_scale + drag_add;
             // q / w: the dynamic pressure times the element's area, over the speed.
             let q_w = half_rho * w * el.chord * el.dr;
@@ -1351,6 +1401,7 @@ mod tests {
             corrections: Corrections::default(),
             yawed_flow_drag: false,
             hub_drag_area_m2: 0.0,
+            drag_reynolds_number: None,
         }
     }
 
@@ -1586,6 +1637,79 @@ mod tests {
         assert!(((b.drag_coefficient - a.drag_coefficient) - f / area).abs() < 1e-12);
         assert!((b.lift_coefficient - a.lift_coefficient).abs() < 1e-12);
         assert!((b.hub_drag_n - 0.5 * 1.225 * 900.0 * f).abs() < 1e-9);
+    }
+
+    /// The drag's Reynolds-number factor `(Re / Re_ref)^-n` multiplies every element's drag
+    /// coefficient, `Re = w c / nu` with `nu` from Sutherland's law at the temperature the speed
+    /// of sound gives: at a reference `k` times one element's Reynolds number, a one-element
+    /// blade's loads are those of the drag scaled by `k^n`; the exponent needs a reference.
+    #[test]
+    fn the_drag_scales_with_the_elements_reynolds_number() {
+        let mut rotor = autorotating(0.0, 1, 0.0);
+        rotor.tip_loss_factor = 1.0;
+        rotor.validate().unwrap();
+        let mut op = still_air(30.0, [0.0; 3]);
+        op.speed_of_sound_m_s = 340.294; // the standard sea-level air's (288.15 K)
+        let el = rotor.elements()[0];
+        let w = op.omega_rad_s * (rotor.hinge_offset_m + el.rho);
+        let nu = 1.7894e-5 / op.density_kg_m3;
+        let re = w * el.chord / nu;
+        let (n, k) = (0.3, 1.7);
+        let mut with_re = rotor.clone();
+        with_re.drag_reynolds_number = Some(k * re);
+        with_re.corrections.profile_drag_reynolds_exponent = n;
+        let mut scaled = rotor.clone();
+        scaled.corrections.profile_drag_scale = k.powf(n);
+        let (a, b) = (
+            Blade::new(&with_re, Numerics::default()).blade_loads(&op, 0.4, 0.0, 0.0),
+            Blade::new(&scaled, Numerics::default()).blade_loads(&op, 0.4, 0.0, 0.0),
+        );
+        let plain = Blade::new(&rotor, Numerics::default()).blade_loads(&op, 0.4, 0.0, 0.0);
+        // Sutherland's viscosity is printed to 5 figures: the factor agrees to about 1e-5 n.
+        assert!(
+            ((a.torque - b.torque) / b.torque).abs() < 2e-5,
+            "{a:?} {b:?}"
+        );
+        assert!((a.torque / plain.torque - k.powf(n)).abs() < 2e-5);
+        // No reference, no exponent; none of either, the rotor as it was.
+        let mut orphan = rotor.clone();
+        orphan.corrections.profile_drag_reynolds_exponent = 0.2;
+        assert!(orphan.validate().is_err());
+        with_re.corrections.profile_drag_reynolds_exponent = 0.0;
+        assert_eq!(
+            Blade::new(&with_re, Numerics::default()).blade_loads(&op, 0.4, 0.0, 0.0),
+            plain
+        );
+    }
+
+    /// With drag that falls as the Reynolds number rises, a rotor in a tunnel at a fixed angle
+    /// of attack turns relatively faster (a smaller tip-speed ratio) and lifts more at the
+    /// higher tunnel speed, as Table III of NACA TR 515 shows between its runs; a rotor
+    /// whose drag does not depend on Reynolds number has the same tip-speed ratio at both.
+    #[test]
+    fn drag_that_falls_with_reynolds_number_makes_a_faster_tunnel_spin_the_rotor_relatively_faster()
+    {
+        let mut rotor = autorotating(2f64.to_radians(), 12, 0.0);
+        rotor.drag_reynolds_number = Some(1.0e6);
+        let at = |rotor: &Rotor, v: f64| {
+            let tunnel = Tunnel {
+                alpha_rad: 6f64.to_radians(),
+                airspeed_m_s: v,
+                density_kg_m3: 1.225,
+                speed_of_sound_m_s: 340.294,
+                collective_shift_rad: 0.0,
+            };
+            autorotation::autorotate(rotor, tunnel, Options::default()).unwrap()
+        };
+        let (slow, fast) = (at(&rotor, 25.0), at(&rotor, 40.0));
+        let rel = (fast.tip_speed_ratio - slow.tip_speed_ratio) / slow.tip_speed_ratio;
+        assert!(rel.abs() < 1e-6, "{rel}");
+        rotor.corrections.profile_drag_reynolds_exponent = 0.2;
+        let (slow, fast) = (at(&rotor, 25.0), at(&rotor, 40.0));
+        let rel = (fast.tip_speed_ratio - slow.tip_speed_ratio) / slow.tip_speed_ratio;
+        // (40/25)^-0.2 = 0.91 of the drag: a few per cent faster.
+        assert!(rel < -0.01, "{rel}");
+        assert!(fast.lift_coefficient > slow.lift_coefficient * 1.01);
     }
 
     /// A teetering rotor behaves as an articulated rotor with zero hinge offset in its
