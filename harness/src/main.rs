@@ -68,8 +68,9 @@ enum Command {
         format: Format,
     },
     /// Fit the model's empirical corrections (propeller blockage, hub angle-of-attack factor,
-    /// profile drag, pitch offset, lateral inflow offset) to flight references within bounds,
-    /// and write the fitted corrections and a before/after table.
+    /// profile drag and its Reynolds-number exponent, pitch offset, lateral inflow offset,
+    /// elastic twist, hub drag) to flight references within bounds, and write the fitted
+    /// corrections and a before/after table.
     ///
     /// The fit file names the subject (an aircraft at a mass and density altitude, or a rotor in
     /// a tunnel), the parameters with their bounds, and the targets: checks of a case (each
