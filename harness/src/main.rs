@@ -229,9 +229,13 @@ enum Command {
     /// Example: `cierva autorotate aircraft/pca-2-rotor.yaml --alpha-deg 6.6 --airspeed-m-s 17.7
     /// --collective-deg 1.9`. `--alpha-deg 90` is vertical descent.
     ///
-    /// With `--tip-speed-ratio` and `--rotor-rpm` instead, finds the angle of attack at which the
-    /// rotor autorotates there (how TR 515 plots its data): `cierva autorotate
+    /// With `--tip-speed-ratio` and `--rotor-rpm` (or `--rpm`) instead, finds the angle of attack
+    /// at which the rotor autorotates there (how TR 515 plots its data): `cierva autorotate
     /// aircraft/pca-2-rotor.yaml --tip-speed-ratio 0.5 --rotor-rpm 140 --collective-deg 1.9`.
+    ///
+    /// `--format json` gives the condition (`airspeed_m_s`, `alpha_deg`, `rpm`), the quantities
+    /// by the names cases use (`rotor_alpha_deg`, `rotor_rpm`, `lift_coefficient`,
+    /// `drag_coefficient`, `lift_to_drag`, ...) and the model's whole equilibrium.
     Autorotate(AutorotateArgs),
     /// Which physical parameter would close a discrepancy, and is the value it would need
     /// plausible? Trims and linearises the aircraft with each parameter moved a step either way

@@ -189,8 +189,8 @@ pub(crate) struct AutorotateArgs {
     /// the angle of attack at which the rotor autorotates at this mu and rotor speed.
     #[arg(long)]
     pub(crate) tip_speed_ratio: Option<f64>,
-    /// Rotor speed, rpm (with --tip-speed-ratio).
-    #[arg(long)]
+    /// Rotor speed, rpm (with --tip-speed-ratio; `--rpm` is the same).
+    #[arg(long, alias = "rpm")]
     pub(crate) rotor_rpm: Option<f64>,
     /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
     /// distribution (default: the file's distribution as it is).

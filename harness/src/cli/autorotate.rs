@@ -76,7 +76,10 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             // (its own field names, SI) under `equilibrium`.
             let mut m = serde_json::Map::new();
             m.insert("rotor".into(), serde_json::json!(file.id));
+            // The condition, given or found, as the tunnel plots it: angle and rotor speed.
             m.insert("airspeed_m_s".into(), serde_json::json!(airspeed_m_s));
+            m.insert("alpha_deg".into(), serde_json::json!(alpha_deg));
+            m.insert("rpm".into(), serde_json::json!(e.rpm));
             for (name, value) in cierva_harness::checks::autorotation::quantities_of(alpha_deg, &e)
             {
                 m.insert(name.into(), serde_json::json!(value));

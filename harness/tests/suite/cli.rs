@@ -239,10 +239,12 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
     let back = json(&[
         "--tip-speed-ratio",
         &mu.to_string(),
-        "--rotor-rpm",
+        "--rpm",
         &rpm.to_string(),
     ]);
     for key in [
+        "alpha_deg",
+        "rpm",
         "rotor_alpha_deg",
         "rotor_rpm",
         "lift_coefficient",
@@ -253,6 +255,8 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
     }
     let alpha = back["rotor_alpha_deg"].as_f64().unwrap();
     assert!((alpha - 6.6).abs() < 1e-4, "{alpha}");
+    assert_eq!(back["alpha_deg"], back["rotor_alpha_deg"]);
+    assert_eq!(back["rpm"], back["rotor_rpm"]);
     assert!((back["airspeed_m_s"].as_f64().unwrap() - 18.16).abs() < 1e-3);
     let corrected = json(&[
         "--tip-speed-ratio",
