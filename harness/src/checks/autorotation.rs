@@ -22,7 +22,8 @@ pub struct TunnelSpec {
     pub airspeed_m_s: Option<f64>,
     #[serde(default)]
     pub tip_speed_ratio: Option<f64>,
-    #[serde(default)]
+    /// Rotor speed, rpm (`rpm` is the same key).
+    #[serde(default, alias = "rpm")]
     pub rotor_rpm: Option<f64>,
     /// Blade pitch at the rotor's reference station, deg (default: the file's pitch as it is).
     #[serde(default)]
