@@ -113,9 +113,9 @@ impl CorrectionSet {
         }
     }
 
-    /// The corrections given, as `name=value` pairs (for labels and cache keys).
-    pub fn describe(&self) -> String {
-        let all = [
+    /// Every correction by its name as written, with its value where the set gives it.
+    fn named(&self) -> [(&'static str, Option<f64>); 9] {
+        [
             ("propeller_blockage", self.propeller_blockage),
             ("hub_aoa_factor", self.hub_aoa_factor),
             ("profile_drag_scale", self.profile_drag_scale),
@@ -128,7 +128,12 @@ impl CorrectionSet {
                 "profile_drag_reynolds_exponent",
                 self.profile_drag_reynolds_exponent,
             ),
-        ];
+        ]
+    }
+
+    /// The corrections given, as `name=value` pairs (for labels and cache keys).
+    pub fn describe(&self) -> String {
+        let all = self.named();
         let given: Vec<String> = all
             .iter()
             .filter_map(|(n, v)| v.map(|v| format!("{n}={v}")))
@@ -262,20 +267,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         }
     };
     let c = &spec.corrections;
-    for (name, v) in [
-        ("propeller_blockage", c.propeller_blockage),
-        ("hub_aoa_factor", c.hub_aoa_factor),
-        ("profile_drag_scale", c.profile_drag_scale),
-        ("profile_drag_increment", c.profile_drag_increment),
-        ("pitch_offset_deg", c.pitch_offset_deg),
-        ("lateral_inflow_offset_m_s", c.lateral_inflow_offset_m_s),
-        ("elastic_twist_deg_per_kpa", c.elastic_twist_deg_per_kpa),
-        ("hub_drag_area_m2", c.hub_drag_area_m2),
-        (
-            "profile_drag_reynolds_exponent",
-            c.profile_drag_reynolds_exponent,
-        ),
-    ] {
+    for (name, v) in c.named() {
         if let Some(v) = v
             && !v.is_finite()
         {
