@@ -52,6 +52,9 @@
 //!   airframe.coefficients: "estimated: ..."
 //! ranges:                              # optional: plausible ranges for `cierva sensitivity`
 //!   mass.izz_kg_m2: {lower: 380, upper: 560, source: "estimated: ..."}
+//!   # and the distribution `cierva uncertainty` samples: uniform (the default), triangular
+//!   # (mode at the file's value) or normal (mean at the file's value, truncated to the range)
+//!   mass.ixx_kg_m2: {lower: 200, upper: 320, distribution: normal, sigma: 25, source: "..."}
 //! ```
 //!
 //! Every number under `aircraft` must be covered by a `sources` entry (its own path or a
@@ -251,6 +254,28 @@ pub struct RangeSpec {
     pub lower: f64,
     pub upper: f64,
     pub source: String,
+    /// How likely the values in the range are (`cierva uncertainty` samples it): uniform
+    /// unless the source gives a central value and a spread.
+    #[serde(default)]
+    pub distribution: Shape,
+    /// The standard deviation of a `normal` distribution, in the parameter's unit.
+    #[serde(default)]
+    pub sigma: Option<f64>,
+}
+
+/// The shape of a parameter's distribution over its plausible range. The file's value is the
+/// centre (the mode of a triangle, the mean of a normal), and the range bounds every shape (a
+/// normal is truncated to it).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shape {
+    /// Every value in the range equally likely: what a range without a central value says.
+    #[default]
+    Uniform,
+    /// Most likely at the file's value, falling linearly to zero at the range's ends.
+    Triangular,
+    /// Normal about the file's value with the range's `sigma`, truncated to the range.
+    Normal,
 }
 
 /// A parameter's plausible range, checked: `lower <= value <= upper`, with a source.
@@ -259,6 +284,11 @@ pub struct Range {
     pub lower: f64,
     pub upper: f64,
     pub source: String,
+    /// Its distribution's shape (the file's value is its centre).
+    pub distribution: Shape,
+    /// A normal distribution's standard deviation (`None` for the other shapes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<f64>,
 }
 
 /// A loaded aircraft file.
@@ -557,12 +587,36 @@ fn check_ranges(
                 "say where the range comes from (or \"estimated: why\")".into(),
             ));
         }
+        let sigma = match (r.distribution, r.sigma) {
+            (Shape::Normal, Some(s)) if s.is_finite() && s > 0.0 => Some(s),
+            (Shape::Normal, Some(s)) => {
+                return Err(err(
+                    &format!("{field}.sigma"),
+                    format!("a normal distribution's sigma must be finite and > 0, got {s}"),
+                ));
+            }
+            (Shape::Normal, None) => {
+                return Err(err(
+                    &format!("{field}.sigma"),
+                    "a normal distribution needs `sigma` (its standard deviation, in the parameter's unit)".into(),
+                ));
+            }
+            (_, Some(_)) => {
+                return Err(err(
+                    &format!("{field}.sigma"),
+                    "only a `normal` distribution takes `sigma`".into(),
+                ));
+            }
+            (_, None) => None,
+        };
         out.insert(
             name.clone(),
             Range {
                 lower: r.lower,
                 upper: r.upper,
                 source: r.source.clone(),
+                distribution: r.distribution,
+                sigma,
             },
         );
     }

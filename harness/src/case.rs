@@ -68,6 +68,11 @@ pub struct ToleranceSpec {
     /// Strictly positive or strictly negative (no expected value).
     #[serde(default)]
     pub sign: Option<Sign>,
+    /// For an interval that is a confidence interval of the measurement: its level (0.95 for a
+    /// 95 % flight bound). The data's standard uncertainty is then the half-width over the
+    /// normal quantile (`cierva uncertainty`).
+    #[serde(default)]
+    pub confidence: Option<f64>,
     pub reason: String,
 }
 
@@ -446,10 +451,25 @@ fn tolerance_of(
             }
         }
     };
+    if let Some(c) = t.confidence {
+        if !matches!(kind, ToleranceKind::Interval(..)) {
+            return Err(err(
+                &format!("{tfield}.confidence"),
+                "only an interval (`interval` or `interval_from`) is a confidence interval".into(),
+            ));
+        }
+        if !(c > 0.0 && c < 1.0) {
+            return Err(err(
+                &format!("{tfield}.confidence"),
+                format!("a confidence level is between 0 and 1 (0.95 for 95 %), got {c}"),
+            ));
+        }
+    }
     Ok(Tolerance {
         name: name.to_string(),
         kind,
         reason: t.reason.clone(),
+        confidence: t.confidence,
     })
 }
 

@@ -30,6 +30,7 @@ pub mod sensitivity;
 pub mod subject;
 pub mod text;
 pub mod tolerance;
+pub mod uncertainty;
 pub mod yaml;
 
 use case::Case;
@@ -408,6 +409,11 @@ type Linearisation = (
     cierva_model::aircraft::linearise::Linearised,
 );
 
+type LinearisationCache = std::sync::Mutex<
+    std::collections::HashMap<String, Result<std::sync::Arc<Linearisation>, String>>,
+>;
+static LINEARISATIONS: std::sync::OnceLock<LinearisationCache> = std::sync::OnceLock::new();
+
 /// `run_linearise`, remembered per aircraft file, condition and loading (a case's checks at
 /// one condition share one linearisation).
 pub fn linearise_cached(
@@ -415,22 +421,39 @@ pub fn linearise_cached(
     request: TrimRequest,
     loading: Loading,
 ) -> Result<std::sync::Arc<Linearisation>, String> {
-    use std::collections::HashMap;
-    use std::sync::{Arc, Mutex, OnceLock};
-    type Cache = Mutex<HashMap<String, Result<Arc<Linearisation>, String>>>;
-    static CACHE: OnceLock<Cache> = OnceLock::new();
+    linearise_cached_from(file, request, loading, None)
+}
+
+/// [`linearise_cached`], its trim (where not remembered yet) started from a nearby trim's end:
+/// a sampled aircraft starts from the nominal one's trim (`cierva uncertainty`).
+pub fn linearise_cached_from(
+    file: &aircraft_file::AircraftFile,
+    request: TrimRequest,
+    loading: Loading,
+    start: Option<&cierva_model::aircraft::trim::WarmStart>,
+) -> Result<std::sync::Arc<Linearisation>, String> {
+    use std::sync::{Arc, Mutex};
     let key = format!("{}|{request:?}|{loading:?}", file.path.display());
-    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let cache = LINEARISATIONS.get_or_init(|| Mutex::new(Default::default()));
     if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
         return hit;
     }
-    let result = run_linearise(&file.aircraft, request, loading)
+    let result = run_linearise_from(&file.aircraft, request, loading, start)
         .map(Arc::new)
         .map_err(|e| e.to_string());
     if let Ok(mut c) = cache.lock() {
         c.insert(key, result.clone());
     }
     result
+}
+
+/// Forgets the remembered linearisations of one aircraft file (by its path): a sampled
+/// aircraft's, once its checks have run, so that thousands of samples do not fill the memory.
+pub fn forget_linearisations(file: &aircraft_file::AircraftFile) {
+    let prefix = format!("{}|", file.path.display());
+    if let Some(Ok(mut c)) = LINEARISATIONS.get().map(|c| c.lock()) {
+        c.retain(|k, _| !k.starts_with(&prefix));
+    }
 }
 
 /// The aircraft linearised at a trim with its blades' flapping, its inflow and (with an engine)

@@ -248,6 +248,17 @@ enum Command {
     /// or `cierva sensitivity aircraft/vpm-m16.yaml --airspeed-mph 70 --quantities N_v,L_v
     /// --parameters airframe.fin.area_m2,mass.izz_kg_m2 --format json`.
     Sensitivity(SensitivityArgs),
+    /// The uncertainty of every check's quantities: the aircraft's estimated inputs sampled over
+    /// their distributions (the aircraft file's `ranges:`; corrections excluded) on
+    /// Owen-scrambled Sobol' points in a Saltelli design, every check evaluated at every point
+    /// on every core; the numerical uncertainty from a refined discretisation; the data's from a
+    /// tolerance's confidence level. For each validation check the comparison of ASME V&V 20:
+    /// E = S - D, u_val = sqrt(u_num^2 + u_input^2 + u_D^2) and a verdict (agrees, model-form
+    /// error, inconclusive), whether a pass is fragile, and the inputs by Sobol' total index.
+    ///
+    /// Example: `cierva uncertainty cases/cierva-table2-vpm-m16-70mph-max-weight.yaml --samples
+    /// 256 --format json`
+    Uncertainty(UncertaintyArgs),
     /// Trim and linearise an aircraft (seed 001 Eqs. 10-12): the nine rigid-body states and the
     /// rotorspeed, controls in % of travel, blades and inflow quasi-steady. Prints the
     /// derivatives, the modes with BCAR Section T, the longitudinal subset's modes and the
@@ -462,6 +473,7 @@ fn main() -> ExitCode {
         ),
         Command::Autorotate(a) => autorotate(a),
         Command::Sensitivity(a) => sensitivity(a),
+        Command::Uncertainty(a) => uncertainty(a),
         Command::Linearize { flight, format } => linearize(flight, format),
         Command::Simulate {
             flight,

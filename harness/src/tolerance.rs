@@ -19,6 +19,10 @@ pub struct Tolerance {
     pub name: String,
     pub kind: ToleranceKind,
     pub reason: String,
+    /// The level of an interval that is a confidence interval of the measured value (0.95):
+    /// where the data's standard uncertainty comes from.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<f64>,
 }
 
 /// Tolerance for published numbers that were rounded: the inputs (the model's matrices) to

@@ -445,3 +445,22 @@ pub(crate) struct RetuneArgs {
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
+
+/// `cierva uncertainty`.
+#[derive(clap::Args)]
+pub(crate) struct UncertaintyArgs {
+    /// Case files or folders (default: cases/).
+    pub(crate) paths: Vec<PathBuf>,
+    /// Base points of the Saltelli design (at least 8; a power of two balances the Sobol'
+    /// points best): a case of d uncertain inputs takes samples x (d + 2) evaluations.
+    #[arg(long, default_value_t = 256)]
+    pub(crate) samples: usize,
+    /// Seed of the scrambled Sobol' sequence (a whole number, 0 to 4294967295).
+    #[arg(long, default_value_t = 0)]
+    pub(crate) seed: u32,
+    /// Only validation checks in the text table (JSON always holds every check).
+    #[arg(long)]
+    pub(crate) validation_only: bool,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}

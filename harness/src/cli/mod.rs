@@ -28,6 +28,7 @@ mod synth;
 mod synth_flight;
 mod synth_history;
 mod trim;
+mod uncertainty;
 mod validate;
 
 pub(crate) use args::*;
@@ -46,6 +47,7 @@ pub(crate) use synth::synth;
 pub(crate) use synth_flight::synth_flight;
 pub(crate) use synth_history::synth_history;
 pub(crate) use trim::trim;
+pub(crate) use uncertainty::uncertainty;
 pub(crate) use validate::validate;
 
 /// A progress bar on stderr for `len` steps (hidden with `--quiet` or off a terminal).

@@ -15,4 +15,5 @@ mod fit;
 mod flight_test;
 mod identification;
 mod mutation;
+mod uncertainty;
 mod units;

@@ -369,6 +369,7 @@ mod linear {
                 name: "t".into(),
                 kind: ToleranceKind::Rounding(spec),
                 reason: "test".into(),
+                confidence: None,
             },
         };
         let es = [e.clone()];

@@ -1,0 +1,236 @@
+//! `cierva uncertainty`: every check's quantities with the uncertainty of the model's estimated
+//! inputs, its numerics and the data, and the V&V 20 verdict of each validation check (see
+//! [`cierva_harness::uncertainty`]).
+
+use super::*;
+use cierva_harness::uncertainty::design::MIN_SAMPLES;
+use cierva_harness::uncertainty::propagate::{self, CaseUncertainty, Settings};
+use cierva_harness::uncertainty::vv20::Verdict;
+
+/// What `--format json` prints: every case's propagation, and every quantity's result in one
+/// list.
+#[derive(serde::Serialize)]
+struct Output<'a> {
+    samples: usize,
+    seed: u32,
+    cases: Vec<CaseSummary<'a>>,
+    results: Vec<&'a propagate::QuantityUncertainty>,
+    verdicts: Counts,
+}
+
+#[derive(serde::Serialize)]
+struct CaseSummary<'a> {
+    case: &'a str,
+    method: &'a str,
+    inputs: &'a [cierva_harness::uncertainty::distribution::Input],
+    evaluations: usize,
+    failed_points: usize,
+    first_error: Option<&'a str>,
+    refinement: &'a str,
+    seconds: f64,
+}
+
+/// The verdicts of the validation quantities, counted.
+#[derive(serde::Serialize, Default)]
+pub(crate) struct Counts {
+    pub(crate) agrees: usize,
+    pub(crate) model_form_error: usize,
+    pub(crate) inconclusive: usize,
+    /// Nominal passes whose verdict flips within the input distribution.
+    pub(crate) fragile: usize,
+    /// Validation quantities without a verdict (no reference value).
+    pub(crate) without_verdict: usize,
+}
+
+pub(crate) fn count(results: &[&propagate::QuantityUncertainty]) -> Counts {
+    let mut c = Counts::default();
+    for r in results
+        .iter()
+        .filter(|r| r.class == cierva_harness::checks::CheckClass::Validation)
+    {
+        match r.verdict {
+            Some(Verdict::Agrees) => c.agrees += 1,
+            Some(Verdict::ModelFormError) => c.model_form_error += 1,
+            Some(Verdict::Inconclusive) => c.inconclusive += 1,
+            None => c.without_verdict += 1,
+        }
+        c.fragile += usize::from(r.fragile);
+    }
+    c
+}
+
+pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
+    if a.samples < MIN_SAMPLES {
+        eprintln!(
+            "error: --samples {}: give at least {MIN_SAMPLES} (the percentiles and Sobol' indices of fewer mean nothing)",
+            a.samples
+        );
+        return ExitCode::from(2);
+    }
+    let paths = if a.paths.is_empty() {
+        vec![PathBuf::from("cases")]
+    } else {
+        a.paths.clone()
+    };
+    let cases = match load_all(&paths) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let settings = Settings {
+        samples: a.samples,
+        seed: a.seed,
+    };
+    let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
+    for case in &cases {
+        let d = propagate::inputs(case).len();
+        let bar = progress(
+            if d == 0 {
+                0
+            } else {
+                (a.samples * (d + 2)) as u64
+            },
+            &case.id,
+        );
+        let started = std::time::Instant::now();
+        match propagate::propagate(case, settings, || bar.inc(1)) {
+            Ok(u) => done.push((u, started.elapsed().as_secs_f64())),
+            Err(e) => {
+                bar.finish_and_clear();
+                eprintln!("error: {}: {e}", case.path.display());
+                return ExitCode::from(2);
+            }
+        }
+        bar.finish_and_clear();
+    }
+    let results: Vec<&propagate::QuantityUncertainty> =
+        done.iter().flat_map(|(u, _)| &u.results).collect();
+    let verdicts = count(&results);
+    match a.format {
+        Format::Json => print_json(&Output {
+            samples: a.samples,
+            seed: a.seed,
+            cases: done
+                .iter()
+                .map(|(u, s)| CaseSummary {
+                    case: &u.case,
+                    method: &u.method,
+                    inputs: &u.inputs,
+                    evaluations: u.evaluations,
+                    failed_points: u.failed_points,
+                    first_error: u.first_error.as_deref(),
+                    refinement: &u.refinement,
+                    seconds: *s,
+                })
+                .collect(),
+            results: results.clone(),
+            verdicts,
+        }),
+        Format::Text => {
+            for (u, s) in &done {
+                print!("{}", text_of(u, *s, a.validation_only));
+            }
+            println!(
+                "validation quantities: {} agree, {} model-form error, {} inconclusive, {} without a verdict; {} fragile passes",
+                verdicts.agrees,
+                verdicts.model_form_error,
+                verdicts.inconclusive,
+                verdicts.without_verdict,
+                verdicts.fragile
+            );
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// Every case under `paths`, loaded; exit 2 on the first that does not load.
+fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::case::Case>, ExitCode> {
+    let loaded = match load_cases(paths) {
+        Ok(l) if !l.is_empty() => l,
+        Ok(_) => {
+            eprintln!("error: no case files (*.yaml) under {}", show(paths));
+            return Err(ExitCode::from(2));
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Err(ExitCode::from(2));
+        }
+    };
+    loaded
+        .into_iter()
+        .map(|c| {
+            c.map_err(|e| {
+                eprintln!("{}", e.render());
+                ExitCode::from(2)
+            })
+        })
+        .collect()
+}
+
+/// A case's propagation as text: the inputs, then a row per quantity.
+fn text_of(u: &CaseUncertainty, seconds: f64, validation_only: bool) -> String {
+    let mut out = format!(
+        "{}\n  inputs ({}): {}\n  numerics: refined {}\n  {} evaluations in {seconds:.1} s; {} points failed{}\n",
+        u.case,
+        u.method,
+        u.inputs.len(),
+        u.refinement,
+        u.evaluations,
+        u.failed_points,
+        u.first_error
+            .as_ref()
+            .map_or(String::new(), |e| format!(" (first: {e})"))
+    );
+    for i in &u.inputs {
+        out += &format!(
+            "    {:38} {:>10.4}  {}\n",
+            i.name,
+            i.nominal,
+            i.distribution.describe()
+        );
+    }
+    out += &format!(
+        "  {:24} {:>11} {:>11} {:>23} {:>10} {:>9} {:>9} {:>9} {:>9}  {:16} {}\n",
+        "check",
+        "nominal S",
+        "E = S - D",
+        "95 % of inputs",
+        "u_input",
+        "u_num",
+        "u_D",
+        "u_val",
+        "passes",
+        "verdict",
+        "largest contributor (total index)"
+    );
+    for r in u
+        .results
+        .iter()
+        .filter(|r| !validation_only || r.class == cierva_harness::checks::CheckClass::Validation)
+    {
+        let num = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.3e}"));
+        let verdict = match (r.verdict, r.fragile) {
+            (Some(v), true) => format!("{}, FRAGILE", v.label()),
+            (Some(v), false) => v.label().to_string(),
+            (None, _) => "-".into(),
+        };
+        let top = r
+            .contributors
+            .first()
+            .map_or("-".to_string(), |c| format!("{} ({:.2})", c.input, c.total));
+        out += &format!(
+            "  {:24} {:>11.4e} {:>11} [{:>10.3e}, {:>10.3e}] {:>10.3e} {:>9.2e} {:>9} {:>9} {:>8.0}%  {:16} {top}\n",
+            format!("{} {}", r.check, r.quantity),
+            r.nominal,
+            num(r.estimate_error),
+            r.p2_5,
+            r.p97_5,
+            r.u_input,
+            r.u_num,
+            num(r.u_data),
+            num(r.u_val),
+            100.0 * r.pass_fraction,
+            verdict
+        );
+    }
+    out + "\n"
+}

@@ -1,0 +1,15 @@
+//! Uncertainty of the model's answers (`cierva uncertainty`).
+//!
+//! - [`distribution`]: an uncertain input, its distribution (from an aircraft file's `ranges:`)
+//!   and its quantiles.
+//! - [`design`]: Saltelli's sampling design on Owen-scrambled Sobol' points.
+//! - [`sobol`]: Sobol' first-order and total indices (Saltelli 2010, Jansen 1999).
+//! - [`vv20`]: the validation comparison of ASME V&V 20-2009 and its verdicts.
+//! - [`propagate`]: all of it through a case: statistics, indices, the numerical uncertainty
+//!   from a refined discretisation, the data's from the tolerance, and the verdicts.
+
+pub mod design;
+pub mod distribution;
+pub mod propagate;
+pub mod sobol;
+pub mod vv20;

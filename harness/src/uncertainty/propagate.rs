@@ -1,0 +1,546 @@
+//! Propagation through a case: its aircraft's estimated inputs sampled over their distributions
+//! (a Saltelli design of Sobol' points), every check evaluated at every sample, each quantity's
+//! statistics and Sobol' indices; a grid study of the discretisation for the numerical
+//! uncertainty; and, for each validation check, the comparison of ASME V&V 20 ([`super::vv20`]).
+//!
+//! The inputs are the parameters the aircraft file gives a plausible range (`ranges:`), except
+//! corrections (`corrections.*`): a correction is a choice of model form, fitted or not, not an
+//! input whose value is uncertain. Each sample is a copy of the case whose aircraft has the
+//! sampled values (checked as the file's loader checks them) and its own path, so no cached
+//! linearisation of another sample is reused.
+
+use super::design::Design;
+use super::distribution::{Distribution, Input};
+use super::sobol;
+use super::vv20::{self, Comparison, Verdict};
+use crate::case::Case;
+use crate::checks::CheckClass;
+use crate::eval::CheckResult;
+use crate::parameters::{parameter, set_parameter};
+use crate::subject::Subject;
+use serde::Serialize;
+use statrs::distribution::{ContinuousCDF, Normal};
+
+/// What to sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Base points `n` of the design: `n (d + 2)` evaluations for `d` inputs.
+    pub samples: usize,
+    pub seed: u32,
+}
+
+/// The share of samples in which a passing check must fail to be called fragile: its verdict
+/// flips inside the central 95 % of the input distribution.
+pub const FRAGILE_FAIL_FRACTION: f64 = 0.05;
+/// The total Sobol' index above which an input is named among those that flip a fragile check.
+pub const FLIPPING_TOTAL_INDEX: f64 = 0.1;
+
+/// One input's share of a quantity's variance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contributor {
+    pub input: String,
+    /// Sobol' total index.
+    pub total: f64,
+    /// Sobol' first-order index.
+    pub first: f64,
+}
+
+/// One quantity of one check, propagated and (for a validation check with a reference value)
+/// compared.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct QuantityUncertainty {
+    pub case: String,
+    pub check: String,
+    pub class: CheckClass,
+    pub quantity: String,
+    /// The model's value with every input at its nominal value (`S`).
+    pub nominal: f64,
+    /// The reference value `D`: the expected value, or the middle of an interval.
+    pub reference: Option<f64>,
+    /// Over the samples of the inputs.
+    pub mean: f64,
+    pub p2_5: f64,
+    pub p97_5: f64,
+    /// `E = S - D`.
+    pub estimate_error: Option<f64>,
+    pub u_input: f64,
+    pub u_num: f64,
+    pub u_data: Option<f64>,
+    /// Where `u_data` comes from, or why there is none.
+    pub u_data_source: String,
+    pub u_val: Option<f64>,
+    /// The verdict of V&V 20 (validation checks with a reference value only).
+    pub verdict: Option<Verdict>,
+    /// Why the verdict is what it is (or why there is none), with its numbers.
+    pub reason: String,
+    /// Whether the check passes with the nominal inputs.
+    pub passes_nominal: bool,
+    /// The share of evaluated samples in which the check passes.
+    pub pass_fraction: f64,
+    /// A nominal pass that fails in at least [`FRAGILE_FAIL_FRACTION`] of the samples.
+    pub fragile: bool,
+    /// For a fragile check: the inputs whose total index reaches [`FLIPPING_TOTAL_INDEX`].
+    pub flipped_by: Vec<String>,
+    /// Inputs by their total index, largest first.
+    pub contributors: Vec<Contributor>,
+    /// Samples the model could not evaluate for this quantity (left out of every statistic).
+    pub failed_samples: usize,
+}
+
+/// A case's propagation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseUncertainty {
+    pub case: String,
+    /// How `u_input` was obtained, in words.
+    pub method: String,
+    pub inputs: Vec<Input>,
+    /// Model evaluations of the case (every check at a point counts once).
+    pub evaluations: usize,
+    /// Points at which some check could not be evaluated, and the first such error.
+    pub failed_points: usize,
+    pub first_error: Option<String>,
+    /// The refinement the numerical uncertainty comes from.
+    pub refinement: String,
+    pub results: Vec<QuantityUncertainty>,
+}
+
+/// The case's uncertain inputs: its aircraft's ranged parameters other than corrections, in the
+/// file's order. Empty for a subject that is not an aircraft.
+pub fn inputs(case: &Case) -> Vec<Input> {
+    let Subject::Aircraft { file, .. } = &case.subject else {
+        return Vec::new();
+    };
+    file.ranges
+        .iter()
+        .filter(|(name, _)| !name.starts_with("corrections."))
+        .filter_map(|(name, r)| {
+            let nominal = parameter(&file.aircraft, name)?;
+            Some(Input {
+                name: name.clone(),
+                nominal,
+                distribution: Distribution::of_range(nominal, r),
+                source: r.source.clone(),
+            })
+        })
+        .collect()
+}
+
+/// The case with its aircraft's inputs at `values` (in the order of `inputs`), checked, under
+/// a path of its own (`tag`).
+fn with_values(case: &Case, inputs: &[Input], values: &[f64], tag: &str) -> Result<Case, String> {
+    let mut c = case.clone();
+    if let Subject::Aircraft { file, .. } = &mut c.subject {
+        for (input, v) in inputs.iter().zip(values) {
+            set_parameter(&mut file.aircraft, &input.name, *v)
+                .ok_or_else(|| format!("`{}` is not a parameter of {}", input.name, file.id))?;
+        }
+        file.aircraft.validate().map_err(|e| e.to_string())?;
+        file.path = format!("{}#{tag}", file.path.display()).into();
+    }
+    Ok(c)
+}
+
+/// The case with its discretisation refined, and the refinement in words (`None` for a
+/// subject without one here). For an aircraft: the main rotor's azimuth step halved, the blade
+/// elements of both rotors doubled and the periodicity tolerance a tenth.
+pub fn refined(case: &Case) -> Option<(Case, String)> {
+    let mut c = case.clone();
+    let Subject::Aircraft { file, .. } = &mut c.subject else {
+        return None;
+    };
+    let main = &mut file.aircraft.main_rotor;
+    let words = format!(
+        "azimuth step {:.3} -> {:.3} deg, main rotor elements {} -> {}, propeller elements {} -> {}, periodicity tolerance {:e} -> {:e}",
+        main.numerics.azimuth_step_rad.to_degrees(),
+        0.5 * main.numerics.azimuth_step_rad.to_degrees(),
+        main.rotor.elements,
+        2 * main.rotor.elements,
+        file.aircraft.propeller.propeller.rotor.elements,
+        2 * file.aircraft.propeller.propeller.rotor.elements,
+        main.numerics.periodic_tolerance,
+        0.1 * main.numerics.periodic_tolerance,
+    );
+    main.numerics.azimuth_step_rad *= 0.5;
+    main.numerics.periodic_tolerance *= 0.1;
+    main.rotor.elements *= 2;
+    file.aircraft.propeller.propeller.rotor.elements *= 2;
+    file.path = format!("{}#refined", file.path.display()).into();
+    Some((c, words))
+}
+
+/// One evaluation of every check: each quantity's value (NaN where it could not be computed)
+/// and whether the check passed, by check then quantity, in the nominal results' order.
+struct Point {
+    values: Vec<Vec<f64>>,
+    passed: Vec<Option<bool>>,
+    error: Option<String>,
+}
+
+fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Point {
+    let mut error = None;
+    let mut values = Vec::new();
+    let mut passed = Vec::new();
+    for (n, r) in nominal.iter().zip(results) {
+        if let Some(e) = r.error.as_ref().or(r
+            .finding
+            .as_ref()
+            .map(|crate::eval::Finding::NoEquilibrium { reason }| reason))
+        {
+            error.get_or_insert_with(|| format!("{}: {e}", r.check));
+        }
+        let evaluated = r.error.is_none();
+        passed.push(evaluated.then_some(r.passed));
+        values.push(
+            n.quantities
+                .iter()
+                .map(|q| {
+                    r.quantities
+                        .iter()
+                        .find(|x| x.quantity == q.quantity && x.tolerance == q.tolerance)
+                        .filter(|_| evaluated && r.finding.is_none())
+                        .map_or(f64::NAN, |x| x.value)
+                })
+                .collect(),
+        );
+    }
+    Point {
+        values,
+        passed,
+        error,
+    }
+}
+
+/// The `p`-th percentile (0-100) of finite values, by linear interpolation between order
+/// statistics (NaN for none).
+pub fn percentile(values: &[f64], p: f64) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let h = (v.len() - 1) as f64 * p / 100.0;
+    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    v[lo] + (h - lo as f64) * (v[hi] - v[lo])
+}
+
+/// Mean and sample standard deviation of the finite values.
+pub fn mean_std(values: &[f64]) -> (f64, f64) {
+    let v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, var.sqrt())
+}
+
+/// Runs the propagation of one case. `done` is called after each evaluation (a progress bar).
+pub fn propagate(
+    case: &Case,
+    settings: Settings,
+    done: impl Fn() + Sync,
+) -> Result<CaseUncertainty, String> {
+    let inputs = inputs(case);
+    let nominal = crate::eval::run_case(case);
+    let (u_num_results, refinement) = match refined(case) {
+        Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
+        None => (None, "none: no grid study for this subject".to_string()),
+    };
+    let (points, design) = if inputs.is_empty() {
+        (Vec::new(), None)
+    } else {
+        let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
+        let starts = warm_starts(case);
+        let units = design.points();
+        let points = crate::parallel_map(&units, |u| {
+            let k = units.len();
+            let values: Vec<f64> = inputs
+                .iter()
+                .zip(u)
+                .map(|(i, &x)| i.distribution.quantile(x))
+                .collect();
+            let tag = format!("u{}-{k}-{:x}", settings.seed, hash(&values));
+            let p = match with_values(case, &inputs, &values, &tag) {
+                Ok(c) => {
+                    prime(&c, &starts);
+                    let p = point_of(&nominal, &crate::eval::run_case(&c));
+                    if let Subject::Aircraft { file, .. } = &c.subject {
+                        crate::forget_linearisations(file);
+                    }
+                    p
+                }
+                Err(e) => point_of(&nominal, &[]).with_error(e),
+            };
+            done();
+            p
+        });
+        (points, Some(design))
+    };
+    let failed_points = points.iter().filter(|p| p.error.is_some()).count();
+    let first_error = points.iter().find_map(|p| p.error.clone());
+    let mut results = Vec::new();
+    for (j, (check, n)) in case.checks.iter().zip(&nominal).enumerate() {
+        for (k, q) in n.quantities.iter().enumerate() {
+            let all: Vec<f64> = points.iter().map(|p| p.values[j][k]).collect();
+            let refined = u_num_results
+                .as_ref()
+                .and_then(|r| r.get(j))
+                .and_then(|r| r.quantities.get(k))
+                .map(|x| x.value);
+            let mut r = summarise(case, check, n, q, &all, refined, design.as_ref(), &inputs);
+            let evaluated: Vec<bool> = match &design {
+                Some(d) => points[..2 * d.n]
+                    .iter()
+                    .filter_map(|p| p.passed[j])
+                    .collect(),
+                None => Vec::new(),
+            };
+            r.pass_fraction = if evaluated.is_empty() {
+                if n.passed { 1.0 } else { 0.0 }
+            } else {
+                evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
+            };
+            r.fragile = r.passes_nominal && 1.0 - r.pass_fraction >= FRAGILE_FAIL_FRACTION;
+            if r.fragile {
+                r.flipped_by = r
+                    .contributors
+                    .iter()
+                    .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
+                    .map(|c| c.input.clone())
+                    .collect();
+            }
+            results.push(r);
+        }
+    }
+    let method = match &design {
+        Some(d) => format!(
+            "sampled: {} Sobol' points (seed {}) of {} inputs in a Saltelli design, {} evaluations; statistics over the {} points of A and B",
+            d.n,
+            settings.seed,
+            d.d,
+            points.len(),
+            2 * d.n
+        ),
+        None => "none: the case's subject has no uncertain inputs".to_string(),
+    };
+    Ok(CaseUncertainty {
+        case: case.id.clone(),
+        method,
+        inputs,
+        evaluations: points.len() + 1 + usize::from(u_num_results.is_some()),
+        failed_points,
+        first_error,
+        refinement,
+        results,
+    })
+}
+
+/// The nominal aircraft's trim at each condition its checks linearise at: where each sample's
+/// trim starts.
+fn warm_starts(case: &Case) -> Vec<(crate::TrimRequest, cierva_model::aircraft::trim::WarmStart)> {
+    let Subject::Aircraft { file, loading } = &case.subject else {
+        return Vec::new();
+    };
+    let mut out: Vec<(crate::TrimRequest, _)> = Vec::new();
+    for request in case.checks.iter().filter_map(|k| k.condition()) {
+        if out.iter().any(|(r, _)| *r == request) {
+            continue;
+        }
+        if let Ok(lin) = crate::linearise_cached(file, request, *loading) {
+            out.push((request, lin.0.warm_start.clone()));
+        }
+    }
+    out
+}
+
+/// A sample's linearisations at the nominal conditions, each trim started from the nominal
+/// one's; its checks then find them remembered. A trim that fails here is remembered as failed
+/// and the check says so.
+fn prime(case: &Case, starts: &[(crate::TrimRequest, cierva_model::aircraft::trim::WarmStart)]) {
+    if let Subject::Aircraft { file, loading } = &case.subject {
+        for (request, start) in starts {
+            let _ = crate::linearise_cached_from(file, *request, *loading, Some(start));
+        }
+    }
+}
+
+impl Point {
+    fn with_error(mut self, e: String) -> Self {
+        self.error = Some(e);
+        self
+    }
+}
+
+/// A stable hash of sampled values: a sample's path, so cached linearisations never mix
+/// samples.
+fn hash(values: &[f64]) -> u64 {
+    values.iter().fold(0xcbf2_9ce4_8422_2325, |h, v| {
+        v.to_bits()
+            .to_le_bytes()
+            .iter()
+            .fold(h, |h, b| (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3))
+    })
+}
+
+/// The data's standard uncertainty from a check's tolerance, and where it comes from.
+fn data_uncertainty(
+    check: &crate::checks::Check,
+    q: &crate::eval::QuantityResult,
+) -> (Option<f64>, String) {
+    let tolerance = check
+        .expectations
+        .iter()
+        .find(|e| e.tolerance.name == q.tolerance)
+        .map(|e| &e.tolerance);
+    match tolerance.and_then(|t| t.confidence) {
+        Some(c) => {
+            let z = Normal::standard().inverse_cdf(0.5 + 0.5 * c);
+            let half = 0.5 * (q.upper - q.lower);
+            (
+                Some(half / z),
+                format!(
+                    "the half-width of the {} % confidence interval ({half:.4e}) over {z:.3}",
+                    100.0 * c
+                ),
+            )
+        }
+        None => (
+            None,
+            format!(
+                "not stated: tolerance `{}` gives no confidence level",
+                q.tolerance
+            ),
+        ),
+    }
+}
+
+/// One quantity's statistics, indices and comparison (pass fraction and fragility are the
+/// caller's).
+#[allow(clippy::too_many_arguments)]
+fn summarise(
+    case: &Case,
+    check: &crate::checks::Check,
+    n: &CheckResult,
+    q: &crate::eval::QuantityResult,
+    all: &[f64],
+    refined: Option<f64>,
+    design: Option<&Design>,
+    inputs: &[Input],
+) -> QuantityUncertainty {
+    let (stats, contributors, failed) = match design {
+        Some(d) => {
+            let ab = &all[..2 * d.n];
+            let (f_a, f_b, f_ab) = d.split(all);
+            let contributors = sobol::estimate(f_a, f_b, &f_ab)
+                .map(|e| {
+                    let mut c: Vec<Contributor> = inputs
+                        .iter()
+                        .zip(e.indices)
+                        .map(|(i, x)| Contributor {
+                            input: i.name.clone(),
+                            total: x.total,
+                            first: x.first,
+                        })
+                        .collect();
+                    c.sort_by(|a, b| b.total.total_cmp(&a.total));
+                    c
+                })
+                .unwrap_or_default();
+            let (mean, std) = mean_std(ab);
+            (
+                (mean, percentile(ab, 2.5), percentile(ab, 97.5), std),
+                contributors,
+                all.iter().filter(|x| !x.is_finite()).count(),
+            )
+        }
+        None => ((q.value, q.value, q.value, 0.0), Vec::new(), 0),
+    };
+    let (mean, p2_5, p97_5, u_input) = stats;
+    let u_num = refined.map_or(0.0, |r| (r - q.value).abs());
+    let reference = q.expected.or_else(|| {
+        let mid = 0.5 * (q.lower + q.upper);
+        mid.is_finite().then_some(mid)
+    });
+    let (u_data, u_data_source) = data_uncertainty(check, q);
+    let mut out = QuantityUncertainty {
+        case: case.id.clone(),
+        check: check.id.clone(),
+        class: check.class,
+        quantity: q.quantity.clone(),
+        nominal: q.value,
+        reference,
+        mean,
+        p2_5,
+        p97_5,
+        estimate_error: reference.map(|d| q.value - d),
+        u_input,
+        u_num,
+        u_data,
+        u_data_source,
+        u_val: None,
+        verdict: None,
+        reason: String::new(),
+        passes_nominal: n.passed,
+        pass_fraction: 0.0,
+        fragile: false,
+        flipped_by: Vec::new(),
+        contributors,
+        failed_samples: failed,
+    };
+    judge(&mut out, q);
+    out
+}
+
+/// The V&V 20 verdict of a validation quantity, or why there is none.
+fn judge(out: &mut QuantityUncertainty, q: &crate::eval::QuantityResult) {
+    let half = 0.5 * (q.upper - q.lower);
+    out.reason = match (out.class, out.reference, out.u_data) {
+        (CheckClass::Validation, Some(d), Some(u_d)) => {
+            match vv20::compare(out.nominal, d, out.u_num, out.u_input, u_d, half) {
+                Some(c) => {
+                    out.u_val = Some(c.u_val);
+                    out.verdict = Some(c.verdict);
+                    explain(&c)
+                }
+                None => "no verdict: a number of the comparison is not finite".into(),
+            }
+        }
+        (CheckClass::Validation, Some(d), None) => {
+            let model = (out.u_num.powi(2) + out.u_input.powi(2)).sqrt();
+            out.u_val = Some(model);
+            out.verdict = Some(Verdict::Inconclusive);
+            format!(
+                "inconclusive: the data's uncertainty is not stated, so E = {:.4e} cannot be weighed (the model's own u = {model:.3e})",
+                out.nominal - d
+            )
+        }
+        (CheckClass::Validation, None, _) => {
+            "no verdict: the check has no reference value (a sign or a one-sided bound)".into()
+        }
+        (class, _, _) => format!(
+            "no verdict: a {} check is not compared with measured data",
+            class.name()
+        ),
+    };
+}
+
+fn explain(c: &Comparison) -> String {
+    let [lo, hi] = c.model_form_interval;
+    match c.verdict {
+        Verdict::ModelFormError => format!(
+            "|E| = {:.3e} > 2 u_val = {:.3e}: the model-form error lies in [{lo:.3e}, {hi:.3e}]",
+            c.estimate_error.abs(),
+            vv20::COVERAGE * c.u_val
+        ),
+        Verdict::Inconclusive => format!(
+            "|E| = {:.3e} <= 2 u_val = {:.3e}, but the model's own 2 sqrt(u_num^2 + u_input^2) = {:.3e} exceeds the tolerance's half-width {:.3e}",
+            c.estimate_error.abs(),
+            vv20::COVERAGE * c.u_val,
+            vv20::COVERAGE * (c.u_num.powi(2) + c.u_input.powi(2)).sqrt(),
+            c.tolerance_half_width
+        ),
+        Verdict::Agrees => format!(
+            "|E| = {:.3e} <= 2 u_val = {:.3e}, and the model's uncertainty is inside the tolerance",
+            c.estimate_error.abs(),
+            vv20::COVERAGE * c.u_val
+        ),
+    }
+}

@@ -1,0 +1,235 @@
+//! Known answers for `cierva uncertainty`'s parts (`cierva_harness::uncertainty`): the Sobol'
+//! indices of the Ishigami function, propagation through a linear model of Gaussian inputs, the
+//! distributions' quantiles, the design, and the verdicts of V&V 20.
+
+use cierva_harness::uncertainty::design::Design;
+use cierva_harness::uncertainty::distribution::Distribution;
+use cierva_harness::uncertainty::propagate::{mean_std, percentile};
+use cierva_harness::uncertainty::sobol;
+use cierva_harness::uncertainty::vv20::{self, Verdict};
+use std::f64::consts::PI;
+
+/// Values of `f` at every point of a design whose unit points are mapped through `dists`.
+fn evaluate(design: &Design, dists: &[Distribution], f: impl Fn(&[f64]) -> f64) -> Vec<f64> {
+    design
+        .points()
+        .iter()
+        .map(|u| {
+            let x: Vec<f64> = dists.iter().zip(u).map(|(d, &u)| d.quantile(u)).collect();
+            f(&x)
+        })
+        .collect()
+}
+
+/// The Ishigami function (a = 7, b = 0.1) on [-pi, pi]^3, whose indices are known in closed form
+/// (Ishigami and Homma 1990; Saltelli et al. 2010 use it): with V = a^2/8 + b pi^4/5 +
+/// b^2 pi^8/18 + 1/2, V1 = (1 + b pi^4/5)^2 / 2, V2 = a^2/8, V13 = b^2 pi^8 (1/18 - 1/50).
+#[test]
+fn the_ishigami_indices_come_within_0_02_of_the_analytic_values() {
+    let (a, b) = (7.0, 0.1);
+    let v1 = 0.5 * (1.0 + b * PI.powi(4) / 5.0).powi(2);
+    let v2 = a * a / 8.0;
+    let v13 = b * b * PI.powi(8) * (1.0 / 18.0 - 1.0 / 50.0);
+    let v = v1 + v2 + v13;
+    let first = [v1 / v, v2 / v, 0.0];
+    let total = [(v1 + v13) / v, v2 / v, v13 / v];
+    let uniform = Distribution::Uniform {
+        lower: -PI,
+        upper: PI,
+    };
+    let f = |x: &[f64]| x[0].sin() + a * x[1].sin().powi(2) + b * x[2].powi(4) * x[0].sin();
+    // Several seeds: the answer must hold for the sequence, not one lucky scramble.
+    for seed in [0, 1, 7, 42, 1234] {
+        let design = Design::sobol(4096, 3, seed).unwrap();
+        let y = evaluate(&design, &[uniform; 3], f);
+        let (fa, fb, fab) = design.split(&y);
+        let e = sobol::estimate(fa, fb, &fab).unwrap();
+        assert!(
+            (e.variance - v).abs() < 0.02 * v,
+            "seed {seed}: V {} against {v}",
+            e.variance
+        );
+        for i in 0..3 {
+            assert!(
+                (e.indices[i].first - first[i]).abs() < 0.02,
+                "seed {seed}: S_{} = {} against {}",
+                i + 1,
+                e.indices[i].first,
+                first[i]
+            );
+            assert!(
+                (e.indices[i].total - total[i]).abs() < 0.02,
+                "seed {seed}: S_T{} = {} against {}",
+                i + 1,
+                e.indices[i].total,
+                total[i]
+            );
+        }
+    }
+}
+
+/// `y = c0 + sum c_i x_i` with independent normal inputs: mean `c0 + sum c_i mu_i`, variance
+/// `sum c_i^2 sigma_i^2`, first-order and total index of input `i` both `c_i^2 sigma_i^2 / V`,
+/// and the 2.5 and 97.5 percentiles at the mean -+ 1.96 standard deviations.
+#[test]
+fn propagation_through_a_linear_model_of_gaussian_inputs_gives_the_analytic_moments() {
+    let c0 = 3.0;
+    let c = [2.0, -1.0, 0.5, 4.0];
+    let mu = [1.0, -2.0, 10.0, 0.0];
+    let sigma = [0.3, 1.0, 2.0, 0.05];
+    let dists: Vec<Distribution> = mu
+        .iter()
+        .zip(&sigma)
+        .map(|(&mean, &sigma)| Distribution::Normal {
+            mean,
+            sigma,
+            lower: f64::NEG_INFINITY,
+            upper: f64::INFINITY,
+        })
+        .collect();
+    let mean = c0 + c.iter().zip(&mu).map(|(c, m)| c * m).sum::<f64>();
+    let var: f64 = c.iter().zip(&sigma).map(|(c, s)| (c * s).powi(2)).sum();
+    let f = |x: &[f64]| c0 + c.iter().zip(x).map(|(c, x)| c * x).sum::<f64>();
+    for seed in [3, 11, 99] {
+        let design = Design::sobol(1024, 4, seed).unwrap();
+        let y = evaluate(&design, &dists, f);
+        let sample = &y[..2 * design.n];
+        let (m, s) = mean_std(sample);
+        let n = sample.len() as f64;
+        // Three standard errors of plain Monte Carlo: the Sobol' points do better.
+        assert!(
+            (m - mean).abs() < 3.0 * var.sqrt() / n.sqrt(),
+            "seed {seed}: mean {m} against {mean}"
+        );
+        assert!(
+            (s * s - var).abs() < 3.0 * var * (2.0 / n).sqrt(),
+            "seed {seed}: variance {} against {var}",
+            s * s
+        );
+        let (lo, hi) = (percentile(sample, 2.5), percentile(sample, 97.5));
+        let z = 1.959_963_985;
+        for (got, want) in [(lo, mean - z * var.sqrt()), (hi, mean + z * var.sqrt())] {
+            assert!(
+                (got - want).abs() < 0.05 * var.sqrt(),
+                "seed {seed}: percentile {got} against {want}"
+            );
+        }
+        let (fa, fb, fab) = design.split(&y);
+        let e = sobol::estimate(fa, fb, &fab).unwrap();
+        for i in 0..4 {
+            let share = (c[i] * sigma[i]).powi(2) / var;
+            assert!(
+                (e.indices[i].first - share).abs() < 0.02,
+                "seed {seed}: S_{i} {} against {share}",
+                e.indices[i].first
+            );
+            assert!(
+                (e.indices[i].total - share).abs() < 0.02,
+                "seed {seed}: S_T{i} {} against {share}",
+                e.indices[i].total
+            );
+        }
+    }
+}
+
+/// Each distribution's sampled mean and standard deviation against its closed form, and a
+/// truncated normal never leaves its range.
+#[test]
+fn the_distributions_sample_their_own_moments_and_stay_in_range() {
+    let cases = [
+        (
+            Distribution::Uniform {
+                lower: 200.0,
+                upper: 320.0,
+            },
+            260.0,
+            120.0 / 12f64.sqrt(),
+        ),
+        (
+            Distribution::Triangular {
+                lower: 0.0,
+                mode: 1.0,
+                upper: 4.0,
+            },
+            5.0 / 3.0,
+            ((0.0 + 1.0 + 16.0 - 0.0 - 0.0 - 4.0) / 18f64).sqrt(),
+        ),
+    ];
+    for (d, mean, std) in cases {
+        let u: Vec<f64> = (0..4096).map(|i| (i as f64 + 0.5) / 4096.0).collect();
+        let x: Vec<f64> = u.iter().map(|&u| d.quantile(u)).collect();
+        let (m, s) = mean_std(&x);
+        assert!(
+            (m - mean).abs() < 1e-3 * std,
+            "{d:?}: mean {m} against {mean}"
+        );
+        assert!((s - std).abs() < 1e-3 * std, "{d:?}: std {s} against {std}");
+        assert!((d.std_dev() - std).abs() < 1e-12 * std, "{d:?}");
+    }
+    let truncated = Distribution::Normal {
+        mean: 1.0,
+        sigma: 2.0,
+        lower: 0.0,
+        upper: 2.0,
+    };
+    for i in 0..=1000 {
+        let x = truncated.quantile(i as f64 / 1000.0);
+        assert!((0.0..=2.0).contains(&x), "{x}");
+    }
+    assert_eq!(truncated.quantile(0.5), 1.0);
+}
+
+/// The design: `n (d + 2)` points in the unit cube, `A_B^(i)` equal to `A` but in column `i`,
+/// and the same seed giving the same points.
+#[test]
+fn the_saltelli_design_has_its_structure_and_refuses_too_few_samples() {
+    let d = Design::sobol(16, 3, 5).unwrap();
+    let p = d.points();
+    assert_eq!(p.len(), 16 * 5);
+    assert!(p.iter().flatten().all(|u| (0.0..1.0).contains(u)));
+    for i in 0..3 {
+        for j in 0..16 {
+            let (a, b, ab) = (&p[j], &p[16 + j], &p[(2 + i) * 16 + j]);
+            for k in 0..3 {
+                assert_eq!(ab[k], if k == i { b[k] } else { a[k] });
+            }
+        }
+    }
+    assert_eq!(Design::sobol(16, 3, 5).unwrap(), d);
+    assert_ne!(Design::sobol(16, 3, 6).unwrap(), d);
+    assert!(Design::sobol(7, 3, 0).unwrap_err().contains("at least 8"));
+    assert!(Design::sobol(16, 0, 0).is_err());
+}
+
+/// The verdicts at their boundaries, and none from a number that is not finite.
+#[test]
+fn the_vv20_verdicts_follow_their_definitions() {
+    // |E| = 0.3 > 2 u_val = 0.2: model-form error, whatever the tolerance.
+    let c = vv20::compare(1.3, 1.0, 0.0, 0.06, 0.08, 1.0).unwrap();
+    assert_eq!(c.verdict, Verdict::ModelFormError);
+    assert!((c.u_val - 0.1).abs() < 1e-12);
+    assert!((c.model_form_interval[0] - 0.1).abs() < 1e-12);
+    // |E| = 0.1 <= 0.2, model's own 2 u = 0.12 <= 0.15: agrees.
+    assert_eq!(
+        vv20::compare(1.1, 1.0, 0.0, 0.06, 0.08, 0.15)
+            .unwrap()
+            .verdict,
+        Verdict::Agrees
+    );
+    // The same with a tolerance of 0.1 narrower than 0.12: inconclusive.
+    assert_eq!(
+        vv20::compare(1.1, 1.0, 0.0, 0.06, 0.08, 0.1)
+            .unwrap()
+            .verdict,
+        Verdict::Inconclusive
+    );
+    // The numerical part counts with the input part.
+    assert_eq!(
+        vv20::compare(1.0, 1.0, 0.05, 0.0, 0.0, 0.09)
+            .unwrap()
+            .verdict,
+        Verdict::Inconclusive
+    );
+    assert!(vv20::compare(f64::NAN, 1.0, 0.0, 0.1, 0.1, 1.0).is_none());
+    assert!(vv20::compare(1.0, 1.0, 0.0, f64::INFINITY, 0.1, 1.0).is_none());
+}
