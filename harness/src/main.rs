@@ -47,6 +47,17 @@ enum Command {
         /// Write no report.
         #[arg(long)]
         no_report: bool,
+        /// Also each check's uncertainty and, for validation checks, its V&V 20 verdict (as
+        /// `cierva uncertainty`, with --samples and --seed): under `uncertainty` in the JSON,
+        /// and in the report.
+        #[arg(long)]
+        uncertainty: bool,
+        /// With --uncertainty: base points of the Saltelli design (at least 8).
+        #[arg(long, default_value_t = 64, requires = "uncertainty")]
+        samples: usize,
+        /// With --uncertainty: the Sobol' sequence's seed.
+        #[arg(long, default_value_t = 0, requires = "uncertainty")]
+        seed: u32,
     },
     /// Review the known discrepancies: run every check that is expected to fail and compare
     /// what the model gives with what is recorded for it in `reports/discrepancies/`.
@@ -384,12 +395,26 @@ fn main() -> ExitCode {
             format,
             report_dir,
             no_report,
-        } => validate(
-            paths,
-            corrections,
-            format,
-            (!no_report).then_some(report_dir),
-        ),
+            uncertainty,
+            samples,
+            seed,
+        } => {
+            if uncertainty && samples < cierva_harness::uncertainty::design::MIN_SAMPLES {
+                eprintln!(
+                    "error: --samples {samples}: give at least {}",
+                    cierva_harness::uncertainty::design::MIN_SAMPLES
+                );
+                return ExitCode::from(2);
+            }
+            validate(
+                paths,
+                corrections,
+                format,
+                (!no_report).then_some(report_dir),
+                uncertainty
+                    .then_some(cierva_harness::uncertainty::propagate::Settings { samples, seed }),
+            )
+        }
         Command::Review {
             paths,
             accept,

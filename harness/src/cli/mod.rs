@@ -28,7 +28,7 @@ mod synth;
 mod synth_flight;
 mod synth_history;
 mod trim;
-mod uncertainty;
+pub(crate) mod uncertainty;
 mod validate;
 
 pub(crate) use args::*;

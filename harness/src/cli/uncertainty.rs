@@ -4,8 +4,7 @@
 
 use super::*;
 use cierva_harness::uncertainty::design::MIN_SAMPLES;
-use cierva_harness::uncertainty::propagate::{self, CaseUncertainty, Settings};
-use cierva_harness::uncertainty::vv20::Verdict;
+use cierva_harness::uncertainty::propagate::{self, CaseUncertainty, Settings, VerdictCounts};
 
 /// What `--format json` prints: every case's propagation, and every quantity's result in one
 /// list.
@@ -15,7 +14,7 @@ struct Output<'a> {
     seed: u32,
     cases: Vec<CaseSummary<'a>>,
     results: Vec<&'a propagate::QuantityUncertainty>,
-    verdicts: Counts,
+    verdicts: VerdictCounts,
 }
 
 #[derive(serde::Serialize)]
@@ -28,35 +27,6 @@ struct CaseSummary<'a> {
     first_error: Option<&'a str>,
     refinement: &'a str,
     seconds: f64,
-}
-
-/// The verdicts of the validation quantities, counted.
-#[derive(serde::Serialize, Default)]
-pub(crate) struct Counts {
-    pub(crate) agrees: usize,
-    pub(crate) model_form_error: usize,
-    pub(crate) inconclusive: usize,
-    /// Nominal passes whose verdict flips within the input distribution.
-    pub(crate) fragile: usize,
-    /// Validation quantities without a verdict (no reference value).
-    pub(crate) without_verdict: usize,
-}
-
-pub(crate) fn count(results: &[&propagate::QuantityUncertainty]) -> Counts {
-    let mut c = Counts::default();
-    for r in results
-        .iter()
-        .filter(|r| r.class == cierva_harness::checks::CheckClass::Validation)
-    {
-        match r.verdict {
-            Some(Verdict::Agrees) => c.agrees += 1,
-            Some(Verdict::ModelFormError) => c.model_form_error += 1,
-            Some(Verdict::Inconclusive) => c.inconclusive += 1,
-            None => c.without_verdict += 1,
-        }
-        c.fragile += usize::from(r.fragile);
-    }
-    c
 }
 
 pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
@@ -104,7 +74,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
     }
     let results: Vec<&propagate::QuantityUncertainty> =
         done.iter().flat_map(|(u, _)| &u.results).collect();
-    let verdicts = count(&results);
+    let verdicts = VerdictCounts::of(results.iter().copied());
     match a.format {
         Format::Json => print_json(&Output {
             samples: a.samples,
@@ -129,14 +99,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
             for (u, s) in &done {
                 print!("{}", text_of(u, *s, a.validation_only));
             }
-            println!(
-                "validation quantities: {} agree, {} model-form error, {} inconclusive, {} without a verdict; {} fragile passes",
-                verdicts.agrees,
-                verdicts.model_form_error,
-                verdicts.inconclusive,
-                verdicts.without_verdict,
-                verdicts.fragile
-            );
+            println!("validation quantities: {}", verdicts.describe());
         }
     }
     ExitCode::SUCCESS

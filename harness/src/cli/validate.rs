@@ -7,6 +7,7 @@ pub(crate) fn validate(
     corrections: Vec<PathBuf>,
     format: Format,
     report_dir: Option<PathBuf>,
+    uncertainty: Option<cierva_harness::uncertainty::propagate::Settings>,
 ) -> ExitCode {
     use cierva_harness::report;
     let started = std::time::Instant::now();
@@ -20,6 +21,12 @@ pub(crate) fn validate(
         Err(code) => return code,
     };
     let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files);
+    if let Some(settings) = uncertainty {
+        if let Err(e) = attach_uncertainty(&mut run, settings) {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    }
     run.input_errors = errors.clone();
     run.corrections = correction_files
         .iter()
@@ -87,19 +94,24 @@ pub(crate) fn validate(
                     .map(|(k, c)| (k.name(), c))
                     .collect::<std::collections::BTreeMap<_, _>>(),
                 "input_errors": errors,
-                "results": results,
+                "results": with_uncertainty(&run, &results),
                 "report": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
             print_json(&out);
         }
-        Format::Text => print_text(
-            &results,
-            &judged,
-            &errors,
-            &correction_files,
-            &corrected,
-            (loaded.len(), &written),
-        ),
+        Format::Text => {
+            print_text(
+                &results,
+                &judged,
+                &errors,
+                &correction_files,
+                &corrected,
+                (loaded.len(), &written),
+            );
+            if uncertainty.is_some() {
+                print_uncertainty(&run);
+            }
+        }
     }
     if !errors.is_empty() {
         ExitCode::from(2)
@@ -196,6 +208,7 @@ fn run_cases(
                     seconds,
                     corrections: used,
                     sensitivity,
+                    uncertainty: None,
                 },
                 scores,
             ))
@@ -318,4 +331,79 @@ fn inputs(paths: &[PathBuf], corrections: &[PathBuf]) -> Result<Inputs, ExitCode
         }
     };
     Ok((correction_files, loaded, board))
+}
+
+/// Every case's uncertainty (`--uncertainty`): the cases one after another, each one's samples
+/// on every core.
+fn attach_uncertainty(
+    run: &mut cierva_harness::report::Run,
+    settings: cierva_harness::uncertainty::propagate::Settings,
+) -> Result<(), String> {
+    use cierva_harness::uncertainty::propagate;
+    for c in &mut run.cases {
+        let d = propagate::inputs(&c.case).len();
+        let bar = progress(
+            if d == 0 {
+                0
+            } else {
+                (settings.samples * (d + 2)) as u64
+            },
+            &format!("uncertainty {}", c.case.id),
+        );
+        let u = propagate::propagate_from(&c.case, &c.results, settings, || bar.inc(1))
+            .map_err(|e| format!("{}: {e}", c.case.path.display()))?;
+        bar.finish_and_clear();
+        c.uncertainty = Some(u);
+    }
+    Ok(())
+}
+
+/// The results as JSON, each with its quantities' uncertainty under `uncertainty` when it was
+/// computed (`--uncertainty`); as they are otherwise.
+fn with_uncertainty(
+    run: &cierva_harness::report::Run,
+    results: &[CheckResult],
+) -> Vec<serde_json::Value> {
+    let of =
+        |r: &CheckResult| -> Vec<&cierva_harness::uncertainty::propagate::QuantityUncertainty> {
+            run.cases
+                .iter()
+                .filter(|c| c.case.id == r.case)
+                .filter_map(|c| c.uncertainty.as_ref())
+                .flat_map(|u| u.results.iter().filter(|q| q.check == r.check))
+                .collect()
+        };
+    results
+        .iter()
+        .map(|r| {
+            let mut v = serde_json::to_value(r).unwrap_or(serde_json::Value::Null);
+            let u = of(r);
+            if let (serde_json::Value::Object(m), false) = (&mut v, u.is_empty()) {
+                m.insert(
+                    "uncertainty".into(),
+                    serde_json::to_value(u).unwrap_or(serde_json::Value::Null),
+                );
+            }
+            v
+        })
+        .collect()
+}
+
+/// The verdicts of the validation quantities, per case and in all.
+fn print_uncertainty(run: &cierva_harness::report::Run) {
+    use cierva_harness::uncertainty::propagate::VerdictCounts;
+    let cases: Vec<_> = run
+        .cases
+        .iter()
+        .filter_map(|c| c.uncertainty.as_ref())
+        .collect();
+    println!("\nuncertainty (ASME V&V 20; validation quantities):");
+    for c in &cases {
+        let k = VerdictCounts::of(&c.results);
+        if k.total() > 0 {
+            println!("  {:48} {}", c.case, k.describe());
+        }
+    }
+    let all = VerdictCounts::of(cases.iter().flat_map(|c| &c.results));
+    println!("  {:48} {}", "all", all.describe());
 }

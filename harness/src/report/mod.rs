@@ -30,6 +30,8 @@ pub struct CaseRun {
     pub corrections: Vec<String>,
     /// The case's sensitivity study, if it asks for one (or why it could not be run).
     pub sensitivity: Option<Result<crate::sensitivity::Study, String>>,
+    /// The case's uncertainty (`validate --uncertainty`).
+    pub uncertainty: Option<crate::uncertainty::propagate::CaseUncertainty>,
 }
 
 /// A whole validation run.

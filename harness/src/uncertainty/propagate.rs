@@ -238,15 +238,26 @@ pub fn propagate(
     settings: Settings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
+    propagate_from(case, &crate::eval::run_case(case), settings, done)
+}
+
+/// [`propagate`] about results already computed with the nominal inputs (`validate`'s). A case
+/// without uncertain inputs is not re-run: its quantities get no verdict, and say why.
+pub fn propagate_from(
+    case: &Case,
+    nominal: &[CheckResult],
+    settings: Settings,
+    done: impl Fn() + Sync,
+) -> Result<CaseUncertainty, String> {
     let inputs = inputs(case);
-    let nominal = crate::eval::run_case(case);
+    if inputs.is_empty() {
+        return Ok(without_inputs(case, nominal));
+    }
     let (u_num_results, refinement) = match refined(case) {
         Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
         None => (None, "none: no grid study for this subject".to_string()),
     };
-    let (points, design) = if inputs.is_empty() {
-        (Vec::new(), None)
-    } else {
+    let (points, design) = {
         let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
         let starts = warm_starts(case);
         let units = design.points();
@@ -261,13 +272,13 @@ pub fn propagate(
             let p = match with_values(case, &inputs, &values, &tag) {
                 Ok(c) => {
                     prime(&c, &starts);
-                    let p = point_of(&nominal, &crate::eval::run_case(&c));
+                    let p = point_of(nominal, &crate::eval::run_case(&c));
                     if let Subject::Aircraft { file, .. } = &c.subject {
                         crate::forget_linearisations(file);
                     }
                     p
                 }
-                Err(e) => point_of(&nominal, &[]).with_error(e),
+                Err(e) => point_of(nominal, &[]).with_error(e),
             };
             done();
             p
@@ -277,7 +288,7 @@ pub fn propagate(
     let failed_points = points.iter().filter(|p| p.error.is_some()).count();
     let first_error = points.iter().find_map(|p| p.error.clone());
     let mut results = Vec::new();
-    for (j, (check, n)) in case.checks.iter().zip(&nominal).enumerate() {
+    for (j, (check, n)) in case.checks.iter().zip(nominal).enumerate() {
         for (k, q) in n.quantities.iter().enumerate() {
             let all: Vec<f64> = points.iter().map(|p| p.values[j][k]).collect();
             let refined = u_num_results
@@ -359,6 +370,42 @@ fn prime(case: &Case, starts: &[(crate::TrimRequest, cierva_model::aircraft::tri
         for (request, start) in starts {
             let _ = crate::linearise_cached_from(file, *request, *loading, Some(start));
         }
+    }
+}
+
+/// A case whose subject has no uncertain inputs: each quantity with its reference and the
+/// data's uncertainty, but no verdict (an unsampled estimate is not a known input).
+fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
+    let why = match &case.subject {
+        Subject::Aircraft { file, .. } => format!(
+            "no verdict: {} gives none of its estimated parameters a plausible range (`ranges:`), so the inputs' uncertainty is unknown",
+            file.id
+        ),
+        s => format!(
+            "no verdict: the estimated inputs of {} carry no distributions yet (only an aircraft file's ranges are sampled), so the inputs' uncertainty is unknown",
+            s.describe()
+        ),
+    };
+    let mut results = Vec::new();
+    for (check, n) in case.checks.iter().zip(nominal) {
+        for q in &n.quantities {
+            let mut r = summarise(case, check, n, q, &[], None, None, &[]);
+            r.verdict = None;
+            r.u_val = None;
+            r.reason = why.clone();
+            r.pass_fraction = if n.passed { 1.0 } else { 0.0 };
+            results.push(r);
+        }
+    }
+    CaseUncertainty {
+        case: case.id.clone(),
+        method: "none: the case's subject has no uncertain inputs".into(),
+        inputs: Vec::new(),
+        evaluations: 0,
+        failed_points: 0,
+        first_error: None,
+        refinement: "none".into(),
+        results,
     }
 }
 
@@ -542,5 +589,54 @@ fn explain(c: &Comparison) -> String {
             c.estimate_error.abs(),
             vv20::COVERAGE * c.u_val
         ),
+    }
+}
+
+/// The verdicts of validation quantities, counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct VerdictCounts {
+    pub agrees: usize,
+    pub model_form_error: usize,
+    pub inconclusive: usize,
+    /// Nominal passes whose verdict flips within the input distribution.
+    pub fragile: usize,
+    /// Validation quantities without a verdict (no reference value, or inputs not sampled).
+    pub without_verdict: usize,
+}
+
+impl VerdictCounts {
+    /// The validation quantities among `results`, tallied.
+    pub fn of<'a>(results: impl IntoIterator<Item = &'a QuantityUncertainty>) -> Self {
+        let mut c = Self::default();
+        for r in results
+            .into_iter()
+            .filter(|r| r.class == CheckClass::Validation)
+        {
+            match r.verdict {
+                Some(Verdict::Agrees) => c.agrees += 1,
+                Some(Verdict::ModelFormError) => c.model_form_error += 1,
+                Some(Verdict::Inconclusive) => c.inconclusive += 1,
+                None => c.without_verdict += 1,
+            }
+            c.fragile += usize::from(r.fragile);
+        }
+        c
+    }
+
+    /// Validation quantities counted.
+    pub fn total(&self) -> usize {
+        self.agrees + self.model_form_error + self.inconclusive + self.without_verdict
+    }
+
+    /// In words, for summaries.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} agree, {} model-form error, {} inconclusive, {} without a verdict; {} fragile passes",
+            self.agrees,
+            self.model_form_error,
+            self.inconclusive,
+            self.without_verdict,
+            self.fragile
+        )
     }
 }
