@@ -342,8 +342,8 @@ fn acceptances_html(log: &[crate::review::Acceptance]) -> String {
     let mut h = format!(
         "<h2 id=\"acceptances\">Acceptances</h2><p class=\"muted\">The last {} of {} entries \
          of <code>reports/acceptances.yaml</code>, newest first: each <code>cierva review \
-         --accept --reason TEXT</code> that changed the scoreboard or the discrepancy records, \
-         with its reason. <code>cargo test</code> fails when the committed files are not what \
+         --accept --reason TEXT</code>, with its reason and what it changed on the scoreboard and \
+         in the discrepancy records. <code>cargo test</code> fails when the committed files are not what \
          the last entry accepted.</p><table><tr><th>date</th><th>commit</th><th>reason</th>\
          <th>changes</th></tr>",
         log.len().min(ACCEPTANCES_SHOWN),

@@ -710,6 +710,21 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
             "no section for {id}"
         );
     }
+    // The acceptance log's last entry, newest first, beside the scoreboard.
+    let log = cierva_harness::review::load_log(&cierva_harness::review::log_path()).unwrap();
+    let last = log.acceptances.last().expect("the log has entries");
+    let section = html
+        .split("<h2 id=\"acceptances\">")
+        .nth(1)
+        .expect("an acceptances section");
+    assert!(
+        section.contains(&format!(
+            "<tr><td>{}</td><td><code>{}</code></td>",
+            last.date, last.commit
+        )),
+        "{}",
+        &section[..600.min(section.len())]
+    );
     // Self-contained: nothing fetched from elsewhere.
     assert!(!html.contains("<link ") && !html.contains(" src="));
     // Every figure has points and an SVG with marks; nothing drawn from a NaN.
