@@ -487,7 +487,9 @@ pub fn fingerprint(reports: &Path) -> Result<BTreeMap<String, String>, String> {
     for f in files {
         let path = reports.join(&f);
         match std::fs::read(&path) {
-            Ok(bytes) => drop(out.insert(f, format!("fnv1a64:{:016x}", fnv1a64(&bytes)))),
+            Ok(bytes) => {
+                out.insert(f, format!("fnv1a64:{:016x}", fnv1a64(&bytes)));
+            }
             Err(e) if e.kind() == std::io::ErrorKind::NotFound && f == "scoreboard.yaml" => {}
             Err(e) => return Err(format!("cannot read {}: {e}", path.display())),
         }
