@@ -65,16 +65,24 @@ enum Command {
     /// A check marked `expected_failure` stays one only while the model stays inside its
     /// recorded bands; when the model moves (better or worse), `cargo test` and `cierva validate`
     /// fail it as "discrepancy moved". This command lists what moved; `--accept` records the
-    /// model's values as they are now (as `cargo insta review` accepts snapshots). Exit code 0
-    /// when nothing moved or all was accepted, 1 otherwise.
+    /// model's values as they are now (as `cargo insta review` accepts snapshots), with a
+    /// reason (`--reason`), appending an entry to `reports/acceptances.yaml`: the date, commit,
+    /// reason, each change (old, new, better or worse) and the fingerprint of the files
+    /// written. Exit code 0 when nothing moved or all was accepted, 1 otherwise, 2 on bad input
+    /// (`--accept` without `--reason`).
     ///
-    /// Example: `cierva review cases/naca-tr515-table-iii.yaml`, then `cierva review --accept`
+    /// Example: `cierva review cases/naca-tr515-table-iii.yaml`, then `cierva review --accept
+    /// --reason "hub drag from the fitted corrections"`
     Review {
         /// Case files or folders searched for `*.yaml` (default: `cases`).
         paths: Vec<PathBuf>,
-        /// Record the model's values as they are now.
+        /// Record the model's values as they are now (needs `--reason`).
         #[arg(long)]
         accept: bool,
+        /// Why the scores and records may change (required with `--accept`): logged in
+        /// `reports/acceptances.yaml` with what changed.
+        #[arg(long, value_name = "TEXT")]
+        reason: Option<String>,
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
@@ -418,8 +426,9 @@ fn main() -> ExitCode {
         Command::Review {
             paths,
             accept,
+            reason,
             format,
-        } => cli::review::run(paths, accept, format),
+        } => cli::review::run(paths, accept, reason, format),
         Command::Fit {
             file,
             output,

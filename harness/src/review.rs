@@ -1,11 +1,23 @@
 //! Reviewing a run against what is committed: the known discrepancies' records
 //! ([`crate::discrepancy`]) and the scoreboard ([`crate::scoreboard`]). What `cierva review`
 //! shows and, with `--accept`, writes; what `cierva validate` and the scoreboard trials judge.
+//!
+//! # The acceptance log
+//! Every `cierva review --accept --reason TEXT` appends one entry to `reports/acceptances.yaml`
+//! ([`Acceptance`]): when (UTC), on which commit, why, what changed (each score and record, old
+//! and new, and which way), and the fingerprint of what it left: the FNV-1a 64 hash of the
+//! bytes of `reports/scoreboard.yaml` and of every `reports/discrepancies/*.yaml`. The log is
+//! only ever appended to ([`append_log`]); [`acceptance_state`] tells whether the committed
+//! files are still what its last entry accepted, so that a score or a record never changes
+//! without a logged reason.
 
 use crate::discrepancy::{Band, CaseRecord, Recorded};
 use crate::eval::{CheckResult, Finding, departures};
 use crate::scoreboard::{Board, Change, Metric, Score, ScoreSpec, change};
-use serde::Serialize;
+use crate::yaml::{self, InputError};
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
 
 /// What the model gives now for a failing check, as a record.
 pub fn record_of(result: &CheckResult) -> Recorded {
@@ -38,6 +50,12 @@ pub struct CaseReview {
     /// The records as the model gives them now.
     #[serde(skip)]
     pub now: CaseRecord,
+    /// The records as committed.
+    #[serde(skip)]
+    pub old: CaseRecord,
+    /// The recorded checks whose model left their record.
+    #[serde(skip)]
+    pub moved: BTreeSet<String>,
     /// Every difference from the committed records, in words (empty: nothing moved).
     pub changes: Vec<String>,
     /// Expected failures that could not be evaluated: they cannot be recorded.
@@ -63,6 +81,7 @@ pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
     let old = case.recorded.as_ref().unwrap_or(&empty);
     let mut changes = Vec::new();
     let mut errors = Vec::new();
+    let mut moved = BTreeSet::new();
     for r in &results {
         if let Some(e) = &r.error {
             errors.push(format!("{}: {e}", r.check));
@@ -76,6 +95,7 @@ pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
                 None => changes.push(format!("{}: not recorded yet", r.check)),
                 Some(rec) => {
                     for d in departures(r, rec) {
+                        moved.insert(r.check.clone());
                         changes.push(format!("{}: {d}", r.check));
                     }
                 }
@@ -92,6 +112,8 @@ pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
     CaseReview {
         case: case.id.clone(),
         now,
+        old: old.clone(),
+        moved,
         changes,
         errors,
     }
@@ -251,5 +273,392 @@ impl Judged {
                 )),
             self.change.label()
         )
+    }
+}
+
+/// The acceptance log's file name, in `reports/` beside what it accepts.
+pub const LOG_FILE: &str = "acceptances.yaml";
+
+/// Where the acceptance log is committed.
+pub fn log_path() -> PathBuf {
+    crate::repo_root().join("reports").join(LOG_FILE)
+}
+
+/// The acceptance log as written: every acceptance, oldest first.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Log {
+    #[serde(default)]
+    pub acceptances: Vec<Acceptance>,
+}
+
+/// One `cierva review --accept`: when, where, why, what changed and what it left.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Acceptance {
+    /// UTC, ISO 8601, from the system clock.
+    pub date: String,
+    /// The short commit the run was made on, with `+dirty` when the tree had changes
+    /// (`unknown` without git).
+    pub commit: String,
+    pub reason: String,
+    #[serde(default)]
+    pub changes: Vec<Accepted>,
+    /// Each accepted file (relative to `reports/`) and the hash of its bytes after writing.
+    pub fingerprint: BTreeMap<String, String>,
+}
+
+/// One score or record an acceptance changed.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Accepted {
+    pub case: String,
+    /// A score's id, or the id of a check with a discrepancy record.
+    pub item: String,
+    /// A score's value, a record in short; none for a new one.
+    pub old: Option<Value>,
+    /// None for a dropped one.
+    pub new: Option<Value>,
+    pub direction: Direction,
+}
+
+/// A logged value: a score's number, or a record in short.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum Value {
+    Number(f64),
+    Text(String),
+}
+
+/// Which way an accepted item went.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Direction {
+    Better,
+    Worse,
+    New,
+    Dropped,
+    /// A record whose model left it (records have no better or worse).
+    Moved,
+}
+
+impl Direction {
+    /// The direction as written in the log.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Better => "better",
+            Self::Worse => "worse",
+            Self::New => "new",
+            Self::Dropped => "dropped",
+            Self::Moved => "moved",
+        }
+    }
+}
+
+impl Value {
+    /// The value as a person reads it.
+    pub fn show(&self) -> String {
+        match self {
+            Self::Number(x) => crate::text::sig(*x, 6),
+            Self::Text(t) => t.clone(),
+        }
+    }
+}
+
+/// What accepting changes: the scores that moved beyond their noise floor (`judged` against
+/// `board`), the committed scores a reviewed case no longer declares (`dropped`, case and id),
+/// and the records of the reviews that moved.
+pub fn changes(
+    board: &Board,
+    judged: &[Judged],
+    dropped: &[(String, String)],
+    reviews: &[CaseReview],
+) -> Vec<Accepted> {
+    let scores = judged.iter().filter_map(|j| {
+        let direction = match j.change {
+            Change::Same => return None,
+            Change::Better => Direction::Better,
+            Change::Worse => Direction::Worse,
+            Change::New => Direction::New,
+        };
+        Some(Accepted {
+            case: j.score.case.clone(),
+            item: j.score.id.clone(),
+            old: j.committed.map(Value::Number),
+            new: Some(Value::Number(j.score.value)),
+            direction,
+        })
+    });
+    let gone = dropped.iter().map(|(case, id)| Accepted {
+        case: case.clone(),
+        item: id.clone(),
+        old: board
+            .scores
+            .get(case)
+            .and_then(|s| s.get(id))
+            .map(|c| Value::Number(c.value)),
+        new: None,
+        direction: Direction::Dropped,
+    });
+    scores
+        .chain(gone)
+        .chain(reviews.iter().flat_map(record_changes))
+        .collect()
+}
+
+/// The records a case's review changes when accepted (none when nothing moved): new, dropped,
+/// and moved ones.
+pub fn record_changes(r: &CaseReview) -> Vec<Accepted> {
+    if r.changes.is_empty() {
+        return vec![];
+    }
+    let ids: BTreeSet<&String> = r.old.checks.keys().chain(r.now.checks.keys()).collect();
+    ids.into_iter()
+        .filter_map(|id| {
+            let (old, new) = (r.old.checks.get(id), r.now.checks.get(id));
+            let direction = match (old, new) {
+                (None, Some(_)) => Direction::New,
+                (Some(_), None) => Direction::Dropped,
+                (Some(_), Some(_)) if r.moved.contains(id) => Direction::Moved,
+                _ => return None,
+            };
+            Some(Accepted {
+                case: r.case.clone(),
+                item: id.clone(),
+                old: old.map(summary),
+                new: new.map(summary),
+                direction,
+            })
+        })
+        .collect()
+}
+
+/// A record in short: its quantities' values, its verdict, no equilibrium.
+fn summary(r: &Recorded) -> Value {
+    let mut parts: Vec<String> = r
+        .quantities
+        .iter()
+        .map(|(q, b)| format!("{q} {}", crate::text::sig(b.value, 6)))
+        .collect();
+    if let Some(v) = r.verdict {
+        parts.push(match v {
+            cierva_model::analysis::bcar::Verdict::Complies => "complies".into(),
+            cierva_model::analysis::bcar::Verdict::DoesNotComply => "does not comply".into(),
+        });
+    }
+    if r.no_equilibrium {
+        parts.push("no equilibrium".into());
+    }
+    if !r.fingerprint.is_empty() {
+        parts.push(format!("{} fingerprint numbers", r.fingerprint.len()));
+    }
+    Value::Text(parts.join("; "))
+}
+
+/// FNV-1a, 64 bits: the hash of an accepted file's bytes.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// The accepted files under `reports` (the scoreboard and every discrepancy record, relative
+/// to `reports`) and the hash of each one's bytes.
+pub fn fingerprint(reports: &Path) -> Result<BTreeMap<String, String>, String> {
+    let mut files = vec!["scoreboard.yaml".to_string()];
+    let records = reports.join("discrepancies");
+    match std::fs::read_dir(&records) {
+        Ok(entries) => {
+            for e in entries {
+                let name = e
+                    .map_err(|e| format!("cannot list {}: {e}", records.display()))?
+                    .file_name()
+                    .to_string_lossy()
+                    .into_owned();
+                if name.ends_with(".yaml") {
+                    files.push(format!("discrepancies/{name}"));
+                }
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(format!("cannot list {}: {e}", records.display())),
+    }
+    let mut out = BTreeMap::new();
+    for f in files {
+        let path = reports.join(&f);
+        match std::fs::read(&path) {
+            Ok(bytes) => {
+                out.insert(f, format!("fnv1a64:{:016x}", fnv1a64(&bytes)));
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound && f == "scoreboard.yaml" => {}
+            Err(e) => return Err(format!("cannot read {}: {e}", path.display())),
+        }
+    }
+    Ok(out)
+}
+
+/// Whether the scoreboard and the discrepancy records under `reports` are what the acceptance
+/// log there (`reports/acceptances.yaml`) last accepted: an error names every file that
+/// differs, is missing or was never accepted.
+pub fn acceptance_state(reports: &Path) -> Result<(), String> {
+    let path = reports.join(LOG_FILE);
+    let log = load_log(&path).map_err(|e| e.to_string())?;
+    let Some(last) = log.acceptances.last() else {
+        return Err(format!(
+            "{}: no acceptance logged; accept with `cierva review --accept --reason TEXT`",
+            path.display()
+        ));
+    };
+    let now = fingerprint(reports)?;
+    let mut wrong = Vec::new();
+    for (f, hash) in &last.fingerprint {
+        match now.get(f) {
+            None => wrong.push(format!("{f}: accepted, now missing")),
+            Some(h) if h != hash => wrong.push(format!("{f}: differs from what was accepted")),
+            Some(_) => {}
+        }
+    }
+    for f in now.keys().filter(|f| !last.fingerprint.contains_key(*f)) {
+        wrong.push(format!("{f}: never accepted"));
+    }
+    if wrong.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "under {}, {}; the last acceptance ({}, {}) left them otherwise. Scores and records \
+         change only through `cierva review --accept --reason TEXT`, never by hand",
+        reports.display(),
+        wrong.join("; "),
+        last.date,
+        last.commit
+    ))
+}
+
+/// Loads an acceptance log (empty when there is none). Every entry needs a reason.
+pub fn load_log(path: &Path) -> Result<Log, InputError> {
+    if !path.exists() {
+        return Ok(Log::default());
+    }
+    let src = yaml::read(path)?;
+    if src.trim().is_empty() {
+        return Ok(Log::default());
+    }
+    let log: Log = yaml::parse(path, &src)?;
+    if let Some(i) = log
+        .acceptances
+        .iter()
+        .position(|a| a.reason.trim().is_empty())
+    {
+        return Err(InputError::field(
+            path,
+            &src,
+            &format!("acceptances[{i}].reason"),
+            "an acceptance needs a reason",
+        ));
+    }
+    Ok(log)
+}
+
+/// The log's header, written once when the log is created.
+const LOG_HEADER: &str = "# Written by `cierva review --accept --reason TEXT`, one entry per acceptance, appended:\n\
+     # never rewritten, never edited by hand. Each entry's fingerprint is the FNV-1a 64 hash of\n\
+     # the bytes of reports/scoreboard.yaml and of each reports/discrepancies/*.yaml as it left\n\
+     # them; `cargo test` fails when the committed files are not what the last entry accepted.\n\
+     acceptances:\n";
+
+/// Appends `entry` to the log at `path` (creating it): the bytes already there are never
+/// rewritten (the file is opened for appending), and a log that does not load, or that would
+/// not read back as its earlier entries followed by this one, is refused untouched.
+pub fn append_log(path: &Path, entry: &Acceptance) -> Result<(), String> {
+    use std::io::Write as _;
+    let before = load_log(path).map_err(|e| e.to_string())?;
+    let old = std::fs::read_to_string(path).unwrap_or_default();
+    let mut added = String::new();
+    if old.trim().is_empty() {
+        added += LOG_HEADER;
+    } else if !old.ends_with('\n') {
+        added.push('\n');
+    }
+    added += &serde_yaml::to_string(std::slice::from_ref(entry))
+        .map_err(|e| format!("cannot write the entry: {e}"))?;
+    let after: Log = serde_yaml::from_str(&format!("{old}{added}"))
+        .map_err(|e| format!("{}: the entry would not read back: {e}", path.display()))?;
+    let same = |a: &Acceptance, b: &Acceptance| {
+        serde_yaml::to_string(a)
+            .ok()
+            .zip(serde_yaml::to_string(b).ok())
+            .is_some_and(|(a, b)| a == b)
+    };
+    let n = before.acceptances.len();
+    let kept = after.acceptances.len() == n + 1
+        && before
+            .acceptances
+            .iter()
+            .zip(&after.acceptances)
+            .all(|(a, b)| same(a, b))
+        && same(&after.acceptances[n], entry);
+    if !kept {
+        return Err(format!(
+            "{}: appending would not keep the earlier entries and add this one; refused",
+            path.display()
+        ));
+    }
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    file.write_all(added.as_bytes())
+        .map_err(|e| format!("cannot append to {}: {e}", path.display()))
+}
+
+/// The civil date and time in UTC, ISO 8601, of a time in seconds since 1970 (Howard Hinnant's
+/// `civil_from_days`).
+pub fn utc_iso8601(unix_seconds: u64) -> String {
+    let (days, secs) = ((unix_seconds / 86_400) as i64, unix_seconds % 86_400);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        secs / 3600,
+        secs % 3600 / 60,
+        secs % 60
+    )
+}
+
+/// Now, in UTC (ISO 8601), from the system clock.
+pub fn now_utc() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    utc_iso8601(secs)
+}
+
+/// The repository's short HEAD commit, with `+dirty` when its tree has changes; `unknown`
+/// without git or outside a repository.
+pub fn head_commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(crate::repo_root())
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "--short", "HEAD"]) {
+        Some(c) if !c.is_empty() => match git(&["status", "--porcelain"]) {
+            Some(s) if s.is_empty() => c,
+            _ => format!("{c}+dirty"),
+        },
+        _ => "unknown".to_string(),
     }
 }

@@ -170,8 +170,8 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                 } else {
                     Err(format!(
                         "scores worse than committed in {} by more than their noise floor, or not committed:\n{}\n\
-                         if the change is intended, `cargo run --release -- review --accept` commits \
-                         the new values (an improvement is committed the same way); say why in the commit",
+                         if the change is intended, `cargo run --release -- review --accept --reason TEXT` \
+                         commits the new values (an improvement is committed the same way) and logs why",
                         scoreboard::path().display(),
                         bad.join("\n")
                     )
@@ -200,7 +200,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                 } else {
                     Err(format!(
                         "{}: records for checks that are not expected failures of the case: {stale:?}; \
-                         run `cargo run --release -- review --accept`",
+                         run `cargo run --release -- review --accept --reason TEXT`",
                         cierva_harness::discrepancy::path_for(&c.id).display()
                     )
                     .into())

@@ -5,13 +5,58 @@
 //! values are recorded in `reports/discrepancies/<case-id>.yaml` (see
 //! [`cierva_harness::discrepancy`]), and a check whose model leaves them fails as "discrepancy
 //! moved" until they are reviewed and accepted here.
+//!
+//! Accepting needs a reason (`--accept --reason TEXT`): each acceptance is appended to
+//! `reports/acceptances.yaml` with what changed and the fingerprint of what it wrote (see
+//! [`cierva_harness::review`]).
 
 use super::*;
+use cierva_harness::review::{self as rv, Acceptance};
 use cierva_harness::{discrepancy, scoreboard};
 
+/// The reason to log when accepting, or why the arguments are refused: `--accept` needs a
+/// reason that says something, and `--reason` goes only with `--accept`.
+fn reason_for(accept: bool, reason: Option<String>) -> Result<Option<String>, &'static str> {
+    match (accept, reason) {
+        (false, None) => Ok(None),
+        (false, Some(_)) => Err(
+            "`--reason` goes with `--accept` (it is the reason logged for accepting); without \
+             `--accept` nothing is written",
+        ),
+        (true, None) => Err(
+            "`--accept` needs `--reason TEXT`: say why the scores and records may change; the \
+             reason is logged with what changed in reports/acceptances.yaml. Nothing was written",
+        ),
+        (true, Some(r)) if r.trim().is_empty() => Err(
+            "`--reason` is empty: say why the scores and records may change. Nothing was written",
+        ),
+        (true, Some(r)) => Ok(Some(r.trim().to_string())),
+    }
+}
+
 /// Runs the review. Exit 0 when nothing moved (or everything was accepted), 1 when something
-/// moved and was not accepted or an expected failure could not be evaluated, 2 on bad input.
-pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode {
+/// moved and was not accepted or an expected failure could not be evaluated, 2 on bad input
+/// (`--accept` without `--reason` among it).
+pub(crate) fn run(
+    paths: Vec<PathBuf>,
+    accept: bool,
+    reason: Option<String>,
+    format: Format,
+) -> ExitCode {
+    let reason = match reason_for(accept, reason) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let log = match rv::load_log(&rv::log_path()) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return ExitCode::from(2);
+        }
+    };
     let paths = if paths.is_empty() {
         vec![PathBuf::from("cases")]
     } else {
@@ -53,41 +98,33 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
         .collect();
     // Committed scores that a reviewed case no longer declares: `--accept` drops them.
     let reviewed: Vec<&str> = cases.iter().map(|c| c.id.as_str()).collect();
-    let stale: Vec<String> = reviewed
+    let dropped: Vec<(String, String)> = reviewed
         .iter()
         .filter_map(|case| board.scores.get(*case).map(|m| (case, m)))
         .flat_map(|(case, m)| {
             m.keys()
                 .filter(|id| !scores.iter().any(|s| s.case == **case && s.id == **id))
-                .map(move |id| format!("{case} {id}"))
+                .map(move |id| (case.to_string(), id.clone()))
         })
         .collect();
+    let stale: Vec<String> = dropped.iter().map(|(c, id)| format!("{c} {id}")).collect();
     let mut written = Vec::new();
-    if accept && !(scores_moved.is_empty() && stale.is_empty()) {
-        match scoreboard::write(&scoreboard::with(&board, &reviewed, &scores)) {
-            Ok(true) => written.push(scoreboard::path()),
-            Ok(false) => {}
-            Err(e) => {
-                eprintln!(
-                    "error: could not write {}: {e}",
-                    scoreboard::path().display()
-                );
-                return ExitCode::from(2);
-            }
+    let mut logged = None;
+    if let Some(reason) = reason {
+        // The commit is read before anything is written: the files written make the tree dirty.
+        let commit = rv::head_commit();
+        let changes = rv::changes(&board, &judged, &dropped, &reviews);
+        let board = (!(scores_moved.is_empty() && stale.is_empty()))
+            .then(|| scoreboard::with(&board, &reviewed, &scores));
+        if let Err(e) = write_accepted(board.as_ref(), &reviews, &mut written) {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
         }
-    }
-    if accept {
-        for r in reviews.iter().filter(|r| !r.changes.is_empty()) {
-            match discrepancy::write(&r.now) {
-                Ok(true) => written.push(discrepancy::path_for(&r.case)),
-                Ok(false) => {}
-                Err(e) => {
-                    eprintln!(
-                        "error: could not write {}: {e}",
-                        discrepancy::path_for(&r.case).display()
-                    );
-                    return ExitCode::from(2);
-                }
+        match log_acceptance(&log, reason, commit, changes) {
+            Ok(entry) => logged = Some(entry),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
             }
         }
     }
@@ -102,10 +139,14 @@ pub(crate) fn run(paths: Vec<PathBuf>, accept: bool, format: Format) -> ExitCode
                 "scores_no_longer_declared": stale,
                 "accepted": accept,
                 "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+                "logged": logged.as_ref().and_then(|l| l.as_ref()),
             });
             print_json(&out);
         }
-        Format::Text => print_text(&reviews, &judged, &scores_moved, &stale, &written, accept),
+        Format::Text => {
+            print_text(&reviews, &judged, &scores_moved, &stale, &written, accept);
+            print_logged(logged.as_ref(), &log);
+        }
     }
     if errors > 0 || (moved > 0 && !accept) {
         ExitCode::from(1)
@@ -171,10 +212,88 @@ fn print_text(
     } else {
         println!(
             "{} cases, {recorded} known discrepancies: {moved} cases or scores moved; if \
-             the changes are intended, record them with `cierva review --accept` and say \
-             why in the commit",
+             the changes are intended, record them with `cierva review --accept --reason \
+             TEXT` (the reason is logged in reports/acceptances.yaml)",
             reviews.len()
         );
+    }
+}
+
+/// Writes what is accepted: the scoreboard (when given) and the records of every review that
+/// moved; each file that changed is added to `written`.
+fn write_accepted(
+    board: Option<&scoreboard::Board>,
+    reviews: &[rv::CaseReview],
+    written: &mut Vec<PathBuf>,
+) -> Result<(), String> {
+    if let Some(board) = board {
+        match scoreboard::write(board) {
+            Ok(true) => written.push(scoreboard::path()),
+            Ok(false) => {}
+            Err(e) => {
+                return Err(format!(
+                    "could not write {}: {e}",
+                    scoreboard::path().display()
+                ));
+            }
+        }
+    }
+    for r in reviews.iter().filter(|r| !r.changes.is_empty()) {
+        let path = discrepancy::path_for(&r.case);
+        match discrepancy::write(&r.now) {
+            Ok(true) => written.push(path),
+            Ok(false) => {}
+            Err(e) => return Err(format!("could not write {}: {e}", path.display())),
+        }
+    }
+    Ok(())
+}
+
+/// Appends the acceptance to the log, with the fingerprint of the files as now written.
+/// Nothing is logged (`None`) when nothing changed and the log's last entry already holds that
+/// fingerprint; with no changes, an entry is logged only for a missing log or files that
+/// differ from its last entry.
+fn log_acceptance(
+    log: &rv::Log,
+    reason: String,
+    commit: String,
+    changes: Vec<rv::Accepted>,
+) -> Result<Option<Acceptance>, String> {
+    let fingerprint = rv::fingerprint(&cierva_harness::repo_root().join("reports"))?;
+    let last = log.acceptances.last();
+    if changes.is_empty() && last.is_some_and(|l| l.fingerprint == fingerprint) {
+        return Ok(None);
+    }
+    let entry = Acceptance {
+        date: rv::now_utc(),
+        commit,
+        reason,
+        changes,
+        fingerprint,
+    };
+    rv::append_log(&rv::log_path(), &entry)?;
+    Ok(Some(entry))
+}
+
+/// The text output's last line for an acceptance: what was logged, or that nothing was.
+fn print_logged(logged: Option<&Option<Acceptance>>, log: &rv::Log) {
+    match logged {
+        None => {}
+        Some(Some(entry)) => println!(
+            "logged in {}: {} at {}, {} changes: {}",
+            rv::log_path().display(),
+            entry.date,
+            entry.commit,
+            entry.changes.len(),
+            entry.reason
+        ),
+        Some(None) => println!(
+            "nothing to accept: the scoreboard and the records are as last accepted{}; nothing \
+             written",
+            log.acceptances
+                .last()
+                .map_or(String::new(), |l| format!(" ({}, {})", l.date, l.commit))
+        ),
     }
 }
 

@@ -16,7 +16,7 @@ pub(crate) fn validate(
     } else {
         paths
     };
-    let (correction_files, loaded, board) = match inputs(&paths, &corrections) {
+    let (correction_files, loaded, board, log) = match inputs(&paths, &corrections) {
         Ok(i) => i,
         Err(code) => return code,
     };
@@ -53,6 +53,7 @@ pub(crate) fn validate(
     if report_dir.is_some() {
         run.score_versions = cierva_harness::scoreboard::versions();
     }
+    run.acceptances = log.acceptances;
     let results: Vec<CheckResult> = run
         .cases
         .iter()
@@ -118,7 +119,7 @@ pub(crate) fn validate(
     } else if counts.failing() > 0 || !scores_failing.is_empty() {
         if !scores_failing.is_empty() && format == Format::Text {
             println!(
-                "scores worse than committed or not committed: {}; if intended, `cierva review --accept`",
+                "scores worse than committed or not committed: {}; if intended, `cierva review --accept --reason TEXT`",
                 scores_failing
                     .iter()
                     .map(|j| format!("{} {}", j.score.case, j.score.id))
@@ -292,15 +293,16 @@ fn print_text(
 /// Every case file found, loaded or the error that stopped it.
 type Loaded = Vec<Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>>;
 
-/// The corrections files, the cases and the committed scoreboard.
+/// The corrections files, the cases, the committed scoreboard and the acceptance log.
 type Inputs = (
     Vec<cierva_harness::corrections::CorrectionsFile>,
     Loaded,
     cierva_harness::scoreboard::Board,
+    cierva_harness::review::Log,
 );
 
-/// What `validate` reads before it runs: the corrections files, the cases and the committed
-/// scoreboard (exit code 2 on bad input).
+/// What `validate` reads before it runs: the corrections files, the cases, the committed
+/// scoreboard and the acceptance log (exit code 2 on bad input).
 fn inputs(paths: &[PathBuf], corrections: &[PathBuf]) -> Result<Inputs, ExitCode> {
     let mut correction_files = Vec::new();
     for p in corrections {
@@ -330,7 +332,14 @@ fn inputs(paths: &[PathBuf], corrections: &[PathBuf]) -> Result<Inputs, ExitCode
             return Err(ExitCode::from(2));
         }
     };
-    Ok((correction_files, loaded, board))
+    let log = match cierva_harness::review::load_log(&cierva_harness::review::log_path()) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("{}", e.render());
+            return Err(ExitCode::from(2));
+        }
+    };
+    Ok((correction_files, loaded, board, log))
 }
 
 /// Every case's uncertainty (`--uncertainty`): the cases one after another, each one's samples

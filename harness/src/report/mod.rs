@@ -47,6 +47,8 @@ pub struct Run {
     pub scores: Vec<crate::review::Judged>,
     /// The committed versions of the scoreboard, oldest first (from git, where it is there).
     pub score_versions: Vec<crate::scoreboard::Version>,
+    /// The acceptance log's entries, oldest first (`reports/acceptances.yaml`).
+    pub acceptances: Vec<crate::review::Acceptance>,
 }
 
 impl Run {
@@ -188,6 +190,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
         run.seconds
     );
     h += &scoreboard_html(run);
+    h += &acceptances_html(&run.acceptances);
     h += &summary_html(run, &counts);
     let cross = figures::across_cases(run);
     if !cross.is_empty() {
@@ -281,7 +284,8 @@ fn scoreboard_html(run: &Run) -> String {
          against each outside data set (the <code>scores</code> of its case; metrics in \
          <code>harness/src/scoreboard.rs</code>). <code>cargo test</code> fails when a score gets \
          worse than committed in <code>reports/scoreboard.yaml</code> by more than its noise \
-         floor; <code>cierva review --accept</code> commits a new value. History: the value at \
+         floor; <code>cierva review --accept --reason TEXT</code> commits a new value and logs \
+         why (below). History: the value at \
          each commit that changed the scoreboard, oldest first.</p><table><tr><th>data set</th>\
          <th>score</th><th>metric</th><th>over</th><th>now</th><th>committed</th><th>change</th>\
          <th>history</th><th>what it measures</th></tr>",
@@ -323,6 +327,56 @@ fn scoreboard_html(run: &Run) -> String {
             then = j.committed.map_or("—".to_string(), num),
             change = j.change.label(),
             why = esc(&s.reason),
+        );
+    }
+    h += "</table>";
+    h
+}
+
+/// How many of the acceptance log's entries the report shows, newest first.
+const ACCEPTANCES_SHOWN: usize = 10;
+
+/// The acceptance log's last entries, newest first: when, on which commit, why, what changed.
+fn acceptances_html(log: &[crate::review::Acceptance]) -> String {
+    if log.is_empty() {
+        return String::new();
+    }
+    let mut h = format!(
+        "<h2 id=\"acceptances\">Acceptances</h2><p class=\"muted\">The last {} of {} entries \
+         of <code>reports/acceptances.yaml</code>, newest first: each <code>cierva review \
+         --accept --reason TEXT</code>, with its reason and what it changed on the scoreboard and \
+         in the discrepancy records. <code>cargo test</code> fails when the committed files are not what \
+         the last entry accepted.</p><table><tr><th>date</th><th>commit</th><th>reason</th>\
+         <th>changes</th></tr>",
+        log.len().min(ACCEPTANCES_SHOWN),
+        log.len()
+    );
+    for a in log.iter().rev().take(ACCEPTANCES_SHOWN) {
+        let show = |v: &Option<crate::review::Value>| v.as_ref().map_or("—".into(), |v| v.show());
+        let changes = if a.changes.is_empty() {
+            "none".to_string()
+        } else {
+            a.changes
+                .iter()
+                .map(|c| {
+                    format!(
+                        "{} {}: {} → {} ({})",
+                        esc(&c.case),
+                        esc(&c.item),
+                        esc(&show(&c.old)),
+                        esc(&show(&c.new)),
+                        c.direction.name()
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join("<br>")
+        };
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td><code>{}</code></td><td>{}</td><td class=\"muted\">{changes}</td></tr>",
+            esc(&a.date),
+            esc(&a.commit),
+            esc(&a.reason)
         );
     }
     h += "</table>";

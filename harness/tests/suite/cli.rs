@@ -109,6 +109,42 @@ fn bad_input_exits_2_with_a_located_message() {
     assert!(err.contains("no case files"), "{err}");
 }
 
+/// `review --accept` needs a reason, and `--reason` needs `--accept`: each refused with exit 2
+/// before any case runs, and nothing written.
+#[test]
+fn review_accept_needs_a_reason() {
+    let watched = ["reports/scoreboard.yaml", "reports/acceptances.yaml"];
+    let before: Vec<Option<Vec<u8>>> = watched
+        .iter()
+        .map(|f| std::fs::read(root().join(f)).ok())
+        .collect();
+    let case = "cases/seed002-vpm-m16-60kn.yaml";
+    for (args, says) in [
+        (
+            vec!["review", "--accept", case],
+            "`--accept` needs `--reason TEXT`",
+        ),
+        (
+            vec!["review", "--accept", "--reason", " ", case],
+            "`--reason` is empty",
+        ),
+        (
+            vec!["review", "--reason", "why", case],
+            "`--reason` goes with `--accept`",
+        ),
+    ] {
+        let (code, out, err) = cierva(&args);
+        assert_eq!(code, 2, "{args:?}: {out}\n{err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(out.is_empty(), "{args:?}: nothing runs: {out}");
+    }
+    let after: Vec<Option<Vec<u8>>> = watched
+        .iter()
+        .map(|f| std::fs::read(root().join(f)).ok())
+        .collect();
+    assert_eq!(before, after, "nothing was written");
+}
+
 #[test]
 fn modes_prints_modes_bcar_and_milne() {
     let (code, out, err) = cierva(&["modes", "flight-refs/seed002-vpm-m16-60kn.yaml"]);
@@ -674,6 +710,21 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
             "no section for {id}"
         );
     }
+    // The acceptance log's last entry, newest first, beside the scoreboard.
+    let log = cierva_harness::review::load_log(&cierva_harness::review::log_path()).unwrap();
+    let last = log.acceptances.last().expect("the log has entries");
+    let section = html
+        .split("<h2 id=\"acceptances\">")
+        .nth(1)
+        .expect("an acceptances section");
+    assert!(
+        section.contains(&format!(
+            "<tr><td>{}</td><td><code>{}</code></td>",
+            last.date, last.commit
+        )),
+        "{}",
+        &section[..600.min(section.len())]
+    );
     // Self-contained: nothing fetched from elsewhere.
     assert!(!html.contains("<link ") && !html.contains(" src="));
     // Every figure has points and an SVG with marks; nothing drawn from a NaN.

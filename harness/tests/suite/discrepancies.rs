@@ -146,3 +146,66 @@ fn checks_run_on_every_core_give_each_case_its_own_results() {
         assert!(results.iter().any(|r| !r.quantities.is_empty()));
     }
 }
+
+/// The committed scoreboard and discrepancy records are what the acceptance log's last entry
+/// accepted (`reports/acceptances.yaml`): a score or a record changed by hand, or accepted
+/// without its log entry, fails here.
+#[test]
+fn the_committed_scores_and_records_are_the_last_accepted() {
+    let reports = cierva_harness::repo_root().join("reports");
+    if let Err(e) = cierva_harness::review::acceptance_state(&reports) {
+        panic!("{e}");
+    }
+}
+
+/// The check above catches a hand edit: the committed files copied, the copy passes; a value
+/// changed in the scoreboard, a record changed, added or removed, or the log's last entry
+/// missing, each fails it with the file named.
+#[test]
+fn a_hand_edited_scoreboard_is_not_what_was_accepted() {
+    use cierva_harness::review::{LOG_FILE, acceptance_state};
+    let from = cierva_harness::repo_root().join("reports");
+    let dir = std::env::temp_dir().join(format!("cierva-accepted-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("discrepancies")).unwrap();
+    for f in ["scoreboard.yaml", LOG_FILE] {
+        std::fs::copy(from.join(f), dir.join(f)).unwrap();
+    }
+    let mut records = Vec::new();
+    for e in std::fs::read_dir(from.join("discrepancies")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dir.join("discrepancies").join(p.file_name().unwrap())).unwrap();
+        records.push(p.file_name().unwrap().to_string_lossy().into_owned());
+    }
+    assert!(!records.is_empty());
+    assert_eq!(acceptance_state(&dir), Ok(()), "the copy is as accepted");
+    let fails_naming = |file: &str, why: &str| {
+        let e = acceptance_state(&dir).expect_err("an edit fails the check");
+        assert!(e.contains(&format!("{file}: {why}")), "{e}");
+    };
+    // A score edited by hand: 5.2e-2 becomes 15.2e-2.
+    let board = dir.join("scoreboard.yaml");
+    let text = std::fs::read_to_string(&board).unwrap();
+    assert!(text.contains("{value: "));
+    std::fs::write(&board, text.replacen("{value: ", "{value: 1", 1)).unwrap();
+    fails_naming("scoreboard.yaml", "differs from what was accepted");
+    std::fs::write(&board, &text).unwrap();
+    assert_eq!(acceptance_state(&dir), Ok(()));
+    // A record edited, removed, or one never accepted.
+    let record = dir.join("discrepancies").join(&records[0]);
+    let rec = std::fs::read_to_string(&record).unwrap();
+    std::fs::write(&record, rec.replacen("value: ", "value: 1", 1)).unwrap();
+    fails_naming(&format!("discrepancies/{}", records[0]), "differs");
+    std::fs::remove_file(&record).unwrap();
+    fails_naming(
+        &format!("discrepancies/{}", records[0]),
+        "accepted, now missing",
+    );
+    std::fs::write(dir.join("discrepancies/new-case.yaml"), &rec).unwrap();
+    fails_naming("discrepancies/new-case.yaml", "never accepted");
+    // No log, no acceptance.
+    std::fs::remove_file(dir.join(LOG_FILE)).unwrap();
+    let e = acceptance_state(&dir).unwrap_err();
+    assert!(e.contains("no acceptance logged"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

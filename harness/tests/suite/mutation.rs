@@ -9,7 +9,7 @@
 
 use cierva_harness::yaml::InputError;
 use cierva_harness::{
-    aircraft_file, case, corrections, discrepancy, eval, fit_file, ident, refs, repo_root,
+    aircraft_file, case, corrections, discrepancy, eval, fit_file, ident, refs, repo_root, review,
     rotor_file, scoreboard,
 };
 use std::path::{Path, PathBuf};
@@ -114,6 +114,8 @@ enum Kind {
     Corrections,
     Discrepancies,
     Scoreboard,
+    /// The acceptance log.
+    Acceptances,
 }
 
 fn kind_of(rel: &Path) -> Option<Kind> {
@@ -147,6 +149,7 @@ fn kind_of(rel: &Path) -> Option<Kind> {
         ("corrections", "yaml") => Kind::Corrections,
         ("reports", "yaml") if s.starts_with("reports/discrepancies/") => Kind::Discrepancies,
         ("reports", "yaml") if s == "reports/scoreboard.yaml" => Kind::Scoreboard,
+        ("reports", "yaml") if s == "reports/acceptances.yaml" => Kind::Acceptances,
         _ => return None,
     })
 }
@@ -181,6 +184,7 @@ fn load(kind: Kind, path: &Path) -> Result<(), InputError> {
         Kind::Library => drop(case::load_library(path)?),
         Kind::Discrepancies => drop(discrepancy::load_file(path)?),
         Kind::Scoreboard => drop(scoreboard::load_file(path)?),
+        Kind::Acceptances => drop(review::load_log(path)?),
     }
     Ok(())
 }

@@ -534,6 +534,93 @@ mod discrepancy {
     }
 }
 
+mod acceptance_log {
+    use cierva_harness::review::*;
+    use std::collections::BTreeMap;
+
+    fn entry(reason: &str, old: f64) -> Acceptance {
+        Acceptance {
+            date: utc_iso8601(1_700_000_000),
+            commit: "1234567+dirty".into(),
+            reason: reason.into(),
+            changes: vec![
+                Accepted {
+                    case: "naca-tr515-table-iii".into(),
+                    item: "low-mu-rpm-rms".into(),
+                    old: Some(Value::Number(old)),
+                    new: Some(Value::Number(0.05)),
+                    direction: Direction::Better,
+                },
+                Accepted {
+                    case: "c".into(),
+                    item: "row-01".into(),
+                    old: None,
+                    new: Some(Value::Text("rotor_rpm 96.8694; no equilibrium".into())),
+                    direction: Direction::New,
+                },
+            ],
+            fingerprint: BTreeMap::from([("scoreboard.yaml".into(), "fnv1a64:00ff".into())]),
+        }
+    }
+
+    /// The civil date from seconds since 1970, across a leap day and a century.
+    #[test]
+    fn dates_are_utc_iso_8601() {
+        assert_eq!(utc_iso8601(0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc_iso8601(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(utc_iso8601(1_700_000_000), "2023-11-14T22:13:20Z");
+        assert_eq!(utc_iso8601(4_107_542_399), "2100-02-28T23:59:59Z");
+        let now = now_utc();
+        assert!(now.as_str() > "2024-01-01" && now.ends_with('Z'), "{now}");
+    }
+
+    /// FNV-1a 64's published test values.
+    #[test]
+    fn fnv1a64_is_fnv1a64() {
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    /// Entries are appended: the bytes already written stay as they were, each entry reads
+    /// back (a reason with quotes and a colon, a NaN score), and a log that does not load is
+    /// refused untouched rather than rewritten.
+    #[test]
+    fn the_log_is_only_appended_to() {
+        let dir = std::env::temp_dir().join(format!("cierva-acceptances-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(LOG_FILE);
+        let _ = std::fs::remove_file(&path);
+        let first = entry("initial: \"as committed\"", f64::NAN);
+        append_log(&path, &first).unwrap();
+        let once = std::fs::read_to_string(&path).unwrap();
+        let second = entry("a smaller hub drag", 0.06);
+        append_log(&path, &second).unwrap();
+        let twice = std::fs::read_to_string(&path).unwrap();
+        assert!(twice.starts_with(&once) && twice.len() > once.len());
+        let log = load_log(&path).unwrap();
+        assert_eq!(log.acceptances.len(), 2);
+        assert_eq!(log.acceptances[1], second);
+        assert_eq!(log.acceptances[0].reason, first.reason);
+        assert!(matches!(log.acceptances[0].changes[0].old, Some(Value::Number(x)) if x.is_nan()));
+        // A hand-broken log is refused, and left as it was.
+        let broken = twice.replacen("reason:", "reasn:", 1);
+        std::fs::write(&path, &broken).unwrap();
+        let e = append_log(&path, &second).unwrap_err();
+        assert!(e.contains("reasn"), "{e}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), broken);
+        // An entry without a reason does not load.
+        std::fs::write(
+            &path,
+            twice.replacen("reason: a smaller hub drag", "reason: ' '", 1),
+        )
+        .unwrap();
+        let e = load_log(&path).unwrap_err().to_string();
+        assert!(e.contains("needs a reason"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
 mod tolerance {
     use cierva_harness::tolerance::*;
 
