@@ -70,8 +70,13 @@ fn derivative_unit(name: &str) -> String {
 /// Aircraft derivative checks across cases: one figure per aircraft and derivative checked at
 /// two or more airspeeds or masses.
 pub fn across_cases(run: &Run) -> Vec<Figure> {
-    /// (aircraft, derivative) -> (model points by series, reference bars).
-    type Group = (BTreeMap<String, Vec<(f64, f64)>>, Vec<Bar>);
+    /// (aircraft, derivative) -> (model points by series, reference bars, the model's 95 %
+    /// band over its inputs by series).
+    type Group = (
+        BTreeMap<String, Vec<(f64, f64)>>,
+        Vec<Bar>,
+        BTreeMap<String, Vec<(f64, f64, f64)>>,
+    );
     let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
     for c in &run.cases {
         let Subject::Aircraft { file, loading } = &c.case.subject else {
@@ -102,6 +107,23 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
                 }
             );
             let g = groups.entry((file.id.clone(), label)).or_default();
+            let spread = c
+                .uncertainty
+                .as_ref()
+                .and_then(|u| {
+                    u.results
+                        .iter()
+                        .find(|x| x.check == r.check && x.quantity == q.quantity)
+                })
+                .filter(|x| {
+                    x.p2_5.is_finite() && x.p97_5.is_finite() && !x.contributors.is_empty()
+                });
+            if let Some(x) = spread {
+                let band = g.2.entry(series.clone()).or_default();
+                if !band.iter().any(|p| p.0 == cond.airspeed_mph) {
+                    band.push((cond.airspeed_mph, x.p2_5, x.p97_5));
+                }
+            }
             let pts = g.0.entry(series).or_default();
             if !pts.iter().any(|p| p.0 == cond.airspeed_mph) {
                 pts.push((cond.airspeed_mph, q.value));
@@ -113,8 +135,8 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
         .into_iter()
         // Against airspeed, or at one airspeed at two masses or more (seed 001 Table 2's flight
         // bounds at 70 mph, the model at minimum and maximum weight).
-        .filter(|(_, (s, _))| distinct(s.values().flatten().map(|p| p.0)) >= 2 || s.len() >= 2)
-        .map(|((aircraft, label), (series, bars))| Figure {
+        .filter(|(_, (s, _, _))| distinct(s.values().flatten().map(|p| p.0)) >= 2 || s.len() >= 2)
+        .map(|((aircraft, label), (series, bars, bands))| Figure {
             y_label: if label.contains('/') {
                 "ratio".into()
             } else {
@@ -133,6 +155,16 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
                 .collect(),
             bars,
             bars_name: "reference (allowed range)".into(),
+            bands: bands
+                .into_iter()
+                .map(|(name, mut points)| {
+                    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    Band {
+                        name: format!("{name}: 95 % of its inputs"),
+                        points,
+                    }
+                })
+                .collect(),
             ..Figure::default()
         })
         .collect()

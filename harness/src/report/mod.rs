@@ -13,6 +13,7 @@
 pub mod figures;
 pub mod fit;
 pub mod plot;
+pub mod uncertainty;
 
 use crate::case::Case;
 use crate::eval::{CheckResult, Outcome};
@@ -142,6 +143,7 @@ fn outcome_class(o: Outcome) -> &'static str {
 }
 
 const CSS: &str = r#"
+.bars{display:inline-block;vertical-align:top;margin:6px 18px 6px 0;font-size:12px}.bar-row{display:flex;align-items:center;gap:6px}.bar-name{width:240px;text-align:right}.bar-track{position:relative;display:inline-block;width:160px;height:10px;background:#f4f4f6}.bar-total{position:absolute;left:0;top:0;height:10px;background:#1f5fa8}.bar-first{position:absolute;left:0;top:3px;height:4px;background:#9cc3ee}
 body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:0 auto;max-width:1180px;padding:0 18px 60px;color:#1d1d1f;line-height:1.4}
 h1{margin:18px 0 4px}h2{margin-top:40px;border-bottom:2px solid #ddd;padding-bottom:4px}h3{margin:22px 0 6px}
 table{border-collapse:collapse;margin:8px 0;font-size:13px}td,th{border:1px solid #ddd;padding:3px 7px;vertical-align:top}
@@ -191,6 +193,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
     );
     h += &scoreboard_html(run);
     h += &acceptances_html(&run.acceptances);
+    h += &uncertainty::html(run);
     h += &summary_html(run, &counts);
     let cross = figures::across_cases(run);
     if !cross.is_empty() {
@@ -709,6 +712,19 @@ pub fn markdown(run: &Run) -> String {
             class.name(),
             c.total(),
             c.describe()
+        );
+    }
+    let verdicts = crate::uncertainty::propagate::VerdictCounts::of(
+        run.cases
+            .iter()
+            .filter_map(|c| c.uncertainty.as_ref())
+            .flat_map(|u| &u.results),
+    );
+    if verdicts.total() > 0 {
+        let _ = writeln!(
+            m,
+            "\nUncertainty (ASME V&V 20), validation quantities: {}.",
+            verdicts.describe()
         );
     }
     m += "\n";

@@ -541,7 +541,13 @@ fn judge(out: &mut QuantityUncertainty, q: &crate::eval::QuantityResult) {
     let half = 0.5 * (q.upper - q.lower);
     out.reason = match (out.class, out.reference, out.u_data) {
         (CheckClass::Validation, Some(d), Some(u_d)) => {
-            match vv20::compare(out.nominal, d, out.u_num, out.u_input, u_d, half) {
+            let u = vv20::Uncertainties {
+                u_num: out.u_num,
+                u_input: out.u_input,
+                u_data: u_d,
+            };
+            let sampled = (!out.contributors.is_empty()).then_some([out.p2_5, out.p97_5]);
+            match vv20::compare(out.nominal, d, u, half, sampled) {
                 Some(c) => {
                     out.u_val = Some(c.u_val);
                     out.verdict = Some(c.verdict);
@@ -572,11 +578,19 @@ fn judge(out: &mut QuantityUncertainty, q: &crate::eval::QuantityResult) {
 fn explain(c: &Comparison) -> String {
     let [lo, hi] = c.model_form_interval;
     match c.verdict {
-        Verdict::ModelFormError => format!(
+        Verdict::ModelFormError if c.estimate_error.abs() > vv20::COVERAGE * c.u_val => format!(
             "|E| = {:.3e} > 2 u_val = {:.3e}: the model-form error lies in [{lo:.3e}, {hi:.3e}]",
             c.estimate_error.abs(),
             vv20::COVERAGE * c.u_val
         ),
+        Verdict::ModelFormError => {
+            let [a, b] = c.sampled_interval.unwrap_or([f64::NAN; 2]);
+            format!(
+                "|E| = {:.3e} <= 2 u_val = {:.3e}, but the inputs spread the model one way: D lies outside the sampled 95 % interval widened by the numerics and the data, [{a:.4e}, {b:.4e}], so no plausible input explains it",
+                c.estimate_error.abs(),
+                vv20::COVERAGE * c.u_val
+            )
+        }
         Verdict::Inconclusive => format!(
             "|E| = {:.3e} <= 2 u_val = {:.3e}, but the model's own 2 sqrt(u_num^2 + u_input^2) = {:.3e} exceeds the tolerance's half-width {:.3e}",
             c.estimate_error.abs(),

@@ -201,35 +201,55 @@ fn the_saltelli_design_has_its_structure_and_refuses_too_few_samples() {
     assert!(Design::sobol(16, 0, 0).is_err());
 }
 
+fn u(u_num: f64, u_input: f64, u_data: f64) -> vv20::Uncertainties {
+    vv20::Uncertainties {
+        u_num,
+        u_input,
+        u_data,
+    }
+}
+
 /// The verdicts at their boundaries, and none from a number that is not finite.
 #[test]
 fn the_vv20_verdicts_follow_their_definitions() {
     // |E| = 0.3 > 2 u_val = 0.2: model-form error, whatever the tolerance.
-    let c = vv20::compare(1.3, 1.0, 0.0, 0.06, 0.08, 1.0).unwrap();
+    let c = vv20::compare(1.3, 1.0, u(0.0, 0.06, 0.08), 1.0, None).unwrap();
     assert_eq!(c.verdict, Verdict::ModelFormError);
     assert!((c.u_val - 0.1).abs() < 1e-12);
     assert!((c.model_form_interval[0] - 0.1).abs() < 1e-12);
+    let verdict = |s, d, us, half| vv20::compare(s, d, us, half, None).unwrap().verdict;
     // |E| = 0.1 <= 0.2, model's own 2 u = 0.12 <= 0.15: agrees.
-    assert_eq!(
-        vv20::compare(1.1, 1.0, 0.0, 0.06, 0.08, 0.15)
-            .unwrap()
-            .verdict,
-        Verdict::Agrees
-    );
+    assert_eq!(verdict(1.1, 1.0, u(0.0, 0.06, 0.08), 0.15), Verdict::Agrees);
     // The same with a tolerance of 0.1 narrower than 0.12: inconclusive.
     assert_eq!(
-        vv20::compare(1.1, 1.0, 0.0, 0.06, 0.08, 0.1)
-            .unwrap()
-            .verdict,
+        verdict(1.1, 1.0, u(0.0, 0.06, 0.08), 0.1),
         Verdict::Inconclusive
     );
     // The numerical part counts with the input part.
     assert_eq!(
-        vv20::compare(1.0, 1.0, 0.05, 0.0, 0.0, 0.09)
-            .unwrap()
-            .verdict,
+        verdict(1.0, 1.0, u(0.05, 0.0, 0.0), 0.09),
         Verdict::Inconclusive
     );
-    assert!(vv20::compare(f64::NAN, 1.0, 0.0, 0.1, 0.1, 1.0).is_none());
-    assert!(vv20::compare(1.0, 1.0, 0.0, f64::INFINITY, 0.1, 1.0).is_none());
+    assert!(vv20::compare(f64::NAN, 1.0, u(0.0, 0.1, 0.1), 1.0, None).is_none());
+    assert!(vv20::compare(1.0, 1.0, u(0.0, f64::INFINITY, 0.1), 1.0, None).is_none());
+}
+
+/// A quantity the inputs spread one way (every sample above the data) is a model-form error
+/// though |E| <= 2 u_val: the sampled interval, widened by the numerics and the data, decides.
+/// Where it reaches the data, the symmetric test stands.
+#[test]
+fn a_one_sided_spread_that_misses_the_data_is_a_model_form_error() {
+    // N_v-like: S = 0.32, D = 0.059, u_input = 0.14 (2 u_val = 0.28 > E = 0.26), samples in
+    // [0.145, 0.66].
+    let us = u(0.0, 0.14, 0.002);
+    let c = vv20::compare(0.32, 0.059, us, 0.004, Some([0.145, 0.66])).unwrap();
+    assert_eq!(c.verdict, Verdict::ModelFormError);
+    let [lo, _] = c.sampled_interval.unwrap();
+    assert!((lo - (0.145 - 0.004)).abs() < 1e-12);
+    // The same spread reaching down past the data: inconclusive (the inputs might explain it).
+    let c = vv20::compare(0.32, 0.059, us, 0.004, Some([0.05, 0.66])).unwrap();
+    assert_eq!(c.verdict, Verdict::Inconclusive);
+    // Not sampled: the symmetric test alone.
+    let c = vv20::compare(0.32, 0.059, us, 0.004, None).unwrap();
+    assert_eq!(c.verdict, Verdict::Inconclusive);
 }
