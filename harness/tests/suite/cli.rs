@@ -1318,3 +1318,76 @@ fn a_flight_records_teeter_gives_seed_003s_inflow() {
     let v1s = got["v1s_m_s"].as_f64().unwrap();
     assert!(v1s.abs() < 0.25, "v1s {v1s}");
 }
+
+/// `cierva uncertainty --format json`: the keys on every result, a verdict on every
+/// validation quantity of seed 001 Table 2, and N_v's (every sampled input combination above
+/// flight's bound) a model-form error.
+#[test]
+fn uncertainty_json_gives_each_validation_quantity_its_verdict() {
+    let (code, out, err) = cierva(&[
+        "uncertainty",
+        "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml",
+        "--samples",
+        "8",
+        "--format",
+        "json",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let results = v["results"].as_array().unwrap();
+    let validation: Vec<&serde_json::Value> = results
+        .iter()
+        .filter(|r| r["class"] == "validation")
+        .collect();
+    assert_eq!(validation.len(), 6, "{out}");
+    for r in &validation {
+        for key in [
+            "case",
+            "check",
+            "quantity",
+            "nominal",
+            "estimate_error",
+            "u_input",
+            "u_num",
+            "u_data",
+            "u_val",
+            "verdict",
+            "fragile",
+            "contributors",
+        ] {
+            assert!(r.get(key).is_some(), "{key} missing in {r}");
+        }
+        assert!(
+            ["agrees", "model_form_error", "inconclusive"]
+                .contains(&r["verdict"].as_str().unwrap()),
+            "{r}"
+        );
+        assert!(r["u_input"].as_f64().unwrap() > 0.0, "{r}");
+        let c = r["contributors"].as_array().unwrap();
+        assert_eq!(c.len(), 13, "{r}");
+        assert!(c[0]["input"].is_string() && c[0]["total"].is_f64(), "{r}");
+    }
+    let n_v = validation.iter().find(|r| r["check"] == "N_v").unwrap();
+    assert_eq!(n_v["verdict"], "model_form_error", "{n_v}");
+    assert_eq!(v["cases"][0]["evaluations"], 8 * 15 + 2, "{}", v["cases"]);
+}
+
+/// Bad sampling input is refused with exit code 2: too few samples, a seed that is not a whole
+/// number, and --samples without --uncertainty.
+#[test]
+fn uncertainty_refuses_bad_sampling_input() {
+    let case = "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml";
+    let (code, _, err) = cierva(&["uncertainty", case, "--samples", "7"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("at least 8"), "{err}");
+    let (code, _, err) = cierva(&["uncertainty", case, "--seed", "1.5"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--seed"), "{err}");
+    let (code, _, err) = cierva(&["validate", case, "--uncertainty", "--samples", "4"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("at least 8"), "{err}");
+    let (code, _, err) = cierva(&["validate", case, "--samples", "64"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--uncertainty"), "{err}");
+}
