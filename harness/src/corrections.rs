@@ -224,6 +224,12 @@ pub struct CorrectionsFileSpec {
     /// The fit that produced it, for people to read (not used by `validate`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<serde_json::Value>,
+    /// What the fit predicts for data it did not see (`cierva fit`'s cross-validation,
+    /// [`crate::uncertainty::calibration::summary`]): per quantity and regime, the RMS relative
+    /// error held out, the uncorrected model's on the same data, the model-discrepancy term, and
+    /// the regimes it makes worse.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cross_validation: Option<serde_json::Value>,
 }
 
 /// What a loaded corrections file corrects.

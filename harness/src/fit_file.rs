@@ -167,6 +167,27 @@ struct FitFileSpec {
     predict: Vec<TargetSpec>,
     #[serde(default)]
     options: Option<OptionsSpec>,
+    #[serde(default)]
+    cross_validation: Option<CrossValidationSpec>,
+}
+
+/// Named checks (ids within their case): a cross-validation group or a regime.
+#[derive(Debug, Clone, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct NamedChecks {
+    pub name: String,
+    pub checks: Vec<String>,
+}
+
+/// How a fit is cross-validated (`cierva fit`; [`crate::uncertainty::calibration`]): the
+/// groups of its targets left out one at a time, and the regimes its predictive error is
+/// reported for (of the targets and the predictions).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CrossValidationSpec {
+    pub groups: Vec<NamedChecks>,
+    #[serde(default)]
+    pub regimes: Vec<NamedChecks>,
 }
 
 /// Where a target's reference comes from (for the before/after table).
@@ -192,6 +213,8 @@ pub struct FitFile {
     /// Targets reported but not fitted (the fit's prediction error).
     pub predict: Vec<fit::Target>,
     pub predict_origins: Vec<Origin>,
+    /// How the fit is cross-validated, if it is.
+    pub cross_validation: Option<CrossValidationSpec>,
 }
 
 /// Loads and checks a fit file (and the cases and model files it names).
@@ -302,6 +325,10 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     if let Err(m) = fit::check(&problem) {
         return Err(err("parameters", m));
     }
+    if let Some(cv) = &spec.cross_validation {
+        check_cross_validation(cv, &origins, &predict_origins)
+            .map_err(|(field, m)| err(&format!("cross_validation.{field}"), m))?;
+    }
     Ok(FitFile {
         path: path.to_path_buf(),
         id: spec.id,
@@ -312,7 +339,63 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         origins,
         predict,
         predict_origins,
+        cross_validation: spec.cross_validation,
     })
+}
+
+/// A cross-validation's groups and regimes, checked: each group names targets of the fit and
+/// leaves some to fit, no check is in two groups, and each regime names targets or predictions.
+fn check_cross_validation(
+    cv: &CrossValidationSpec,
+    origins: &[Origin],
+    predict_origins: &[Origin],
+) -> Result<(), (String, String)> {
+    let check_of = |o: &Origin| o.label.rsplit('/').next().unwrap_or(&o.label).to_string();
+    let fitted: Vec<String> = origins.iter().map(check_of).collect();
+    let predicted: Vec<String> = predict_origins.iter().map(check_of).collect();
+    if cv.groups.len() < 2 {
+        return Err((
+            "groups".into(),
+            "give at least two groups to leave out one at a time".into(),
+        ));
+    }
+    let mut seen: Vec<&String> = Vec::new();
+    for (i, g) in cv.groups.iter().enumerate() {
+        for c in &g.checks {
+            if !fitted.contains(c) {
+                return Err((
+                    format!("groups[{i}].checks"),
+                    format!("`{c}` is not a check the fit's targets take"),
+                ));
+            }
+            if seen.contains(&c) {
+                return Err((
+                    format!("groups[{i}].checks"),
+                    format!("`{c}` is in two groups"),
+                ));
+            }
+            seen.push(c);
+        }
+        if fitted.iter().all(|c| g.checks.contains(c)) {
+            return Err((
+                format!("groups[{i}]"),
+                "the group holds every target: nothing would be left to fit".into(),
+            ));
+        }
+    }
+    for (i, r) in cv.regimes.iter().enumerate() {
+        if let Some(c) = r
+            .checks
+            .iter()
+            .find(|c| !fitted.contains(c) && !predicted.contains(c))
+        {
+            return Err((
+                format!("regimes[{i}].checks"),
+                format!("`{c}` is neither a target nor a prediction of the fit"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A physical parameter's bounds and start: the aircraft file must call it estimated and give
@@ -834,6 +917,7 @@ pub fn corrections_file(
             "targets": f.problem.targets.len(),
             "warnings": r.warnings,
         })),
+        cross_validation: None,
     }
 }
 

@@ -21,15 +21,32 @@ pub(crate) fn fit(
     let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
     let busy = spinner(&format!("fitting {}", f.id));
     let run = fit_file::run(&f);
+    busy.set_message(format!("cross-validating {}", f.id));
+    let cv = cierva_harness::uncertainty::calibration::cross_validate(&f, &run, |g| {
+        busy.set_message(format!("cross-validating {}: {g} done", f.id))
+    });
     busy.finish_and_clear();
+    let cv = match cv {
+        Ok(cv) => cv,
+        Err(e) => {
+            eprintln!("error: cross-validation of {}: {e}", f.id);
+            return ExitCode::from(1);
+        }
+    };
     let id = output
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or(&f.id)
         .to_string();
     let command = format!("cierva fit {}", file.display());
-    let spec = fit_file::corrections_file(&f, &run, &id, &command);
+    let mut spec = fit_file::corrections_file(&f, &run, &id, &command);
+    spec.cross_validation = cv
+        .as_ref()
+        .map(cierva_harness::uncertainty::calibration::summary);
     let mut md = cierva_harness::report::fit::markdown(&f, &run);
+    if let Some(cv) = &cv {
+        md += &cierva_harness::report::fit::cross_validation_markdown(cv);
+    }
     // The before/after figure beside the Markdown (which shows it), and in `validate`'s report.
     let svg_path = report.with_extension("svg");
     let svg = cierva_harness::report::fit::figure(&f, &run).svg(640, 380);
@@ -68,6 +85,7 @@ pub(crate) fn fit(
         Format::Json => print_json(&serde_json::json!({
             "fit": f.id,
             "run": run,
+            "cross_validation": cv,
             "corrections_file": output.display().to_string(),
             "report": report.display().to_string(),
             "figure": svg.as_ref().map(|_| svg_path.display().to_string()),

@@ -102,6 +102,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             "targets": r.problem.targets.len(),
             "warnings": r.result.warnings,
         })),
+        cross_validation: None,
     };
     let write = |path: &Path, text: &str| -> Result<(), String> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {

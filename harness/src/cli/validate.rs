@@ -21,11 +21,11 @@ pub(crate) fn validate(
         Err(code) => return code,
     };
     let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files);
-    if let Some(settings) = uncertainty {
-        if let Err(e) = attach_uncertainty(&mut run, settings) {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
+    if let Some(settings) = uncertainty
+        && let Err(e) = attach_uncertainty(&mut run, settings)
+    {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
     }
     run.input_errors = errors.clone();
     run.corrections = correction_files

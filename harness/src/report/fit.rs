@@ -226,3 +226,47 @@ pub fn figure(f: &FitFile, run: &FitRun) -> crate::report::plot::Figure {
         ..Figure::default()
     }
 }
+
+/// A fit's cross-validation, for its Markdown report: per regime and quantity, the held-out
+/// RMS relative error against the uncorrected model's on the same targets, the discrepancy
+/// term, and which regimes the calibration makes worse.
+pub fn cross_validation_markdown(cv: &crate::uncertainty::calibration::CrossValidation) -> String {
+    let mut m = format!(
+        "\n## Predictive error (cross-validation)\n\nEach of {} groups of the fitted targets left \
+         out and the fit redone on the rest ({}), plus the fit file's predictions by the whole \
+         fit: data the calibration did not see. Relative errors, RMS over the targets both \
+         models solved; the discrepancy term is the spread beyond the data's scatter.\n\n\
+         | regime | quantity | targets | held-out RMS | uncorrected RMS | discrepancy sd | \
+         unsolved (uncorrected) | verdict |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | --- |\n",
+        cv.groups.len(),
+        cv.fits
+            .iter()
+            .map(|(g, s)| format!("{g}: {s}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let rows =
+        std::iter::once(("all", &cv.all)).chain(cv.regimes.iter().map(|(k, v)| (k.as_str(), v)));
+    for (regime, e) in rows {
+        for (q, n) in &e.targets {
+            let pct = |map: &std::collections::BTreeMap<String, f64>| {
+                map.get(q)
+                    .map_or("-".to_string(), |v| format!("{:.1} %", 100.0 * v))
+            };
+            m += &format!(
+                "| {regime} | {q} | {n} | {} | {} | {} | {} ({}) | {} |\n",
+                pct(&e.rms_relative_error),
+                pct(&e.uncorrected_rms_relative_error),
+                pct(&e.discrepancy_relative_sd),
+                e.unsolved.get(q).copied().unwrap_or(0),
+                e.uncorrected_unsolved.get(q).copied().unwrap_or(0),
+                if e.worse_than_uncorrected.contains(q) {
+                    "**worse than uncorrected**"
+                } else {
+                    "better"
+                }
+            );
+        }
+    }
+    m
+}

@@ -1,5 +1,7 @@
 //! Uncertainty of the model's answers (`cierva uncertainty`).
 //!
+//! - [`calibration`]: a fit's predictive error by cross-validation, and the model-discrepancy
+//!   term that makes its intervals cover held-out data.
 //! - [`distribution`]: an uncertain input, its distribution (from an aircraft file's `ranges:`)
 //!   and its quantiles.
 //! - [`design`]: Saltelli's sampling design on Owen-scrambled Sobol' points.
@@ -8,6 +10,7 @@
 //! - [`propagate`]: all of it through a case: statistics, indices, the numerical uncertainty
 //!   from a refined discretisation, the data's from the tolerance, and the verdicts.
 
+pub mod calibration;
 pub mod design;
 pub mod distribution;
 pub mod propagate;
