@@ -419,8 +419,11 @@ fn main() -> ExitCode {
                 corrections,
                 format,
                 (!no_report).then_some(report_dir),
-                uncertainty
-                    .then_some(cierva_harness::uncertainty::propagate::Settings { samples, seed }),
+                uncertainty.then_some(cierva_harness::uncertainty::propagate::Settings {
+                    samples,
+                    seed,
+                    validation_only: true,
+                }),
             )
         }
         Command::Review {

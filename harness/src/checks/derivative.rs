@@ -205,18 +205,37 @@ impl Evaluate for DerivativeCheck {
                     .into(),
             )),
             // A ratio of two zero derivatives is not a number, which never passes.
-            Subject::Aircraft { .. } if self.divided_by.is_none() => Ok(expectations
-                .iter()
-                .map(|e| Trivial {
-                    quantity: e.quantity.clone(),
-                    value: 0.0,
-                    predictor: if e.quantity == Q::MagnitudeChange.name() {
-                        "corrections that change nothing"
-                    } else {
-                        "a zero derivative"
-                    },
-                })
-                .collect()),
+            Subject::Aircraft { .. } if self.divided_by.is_none() => {
+                let mut out: Vec<Trivial> = expectations
+                    .iter()
+                    .map(|e| Trivial {
+                        quantity: e.quantity.clone(),
+                        value: 0.0,
+                        predictor: if e.quantity == Q::MagnitudeChange.name() {
+                            "corrections that change nothing"
+                        } else {
+                            "a zero derivative"
+                        },
+                    })
+                    .collect();
+                let kinematic = self
+                    .linear
+                    .condition
+                    .and_then(|c| kinematic_or_gravity(&self.derivative, c.airspeed_mph));
+                if let Some((value, predictor)) = kinematic {
+                    out.extend(
+                        expectations
+                            .iter()
+                            .filter(|e| e.quantity == Q::Value.name())
+                            .map(|e| Trivial {
+                                quantity: e.quantity.clone(),
+                                value,
+                                predictor,
+                            }),
+                    );
+                }
+                Ok(out)
+            }
             _ => Ok(vec![]),
         }
     }
@@ -290,5 +309,25 @@ impl OnLinear for DerivativeCheck {
                 .map(|(_, v)| *v)
                 .ok_or_else(|| format!("no component `{q}`"))
         })())
+    }
+}
+
+/// What any aircraft that trims at `airspeed_mph` gives for a derivative that is (nearly) a
+/// kinematic or gravity term of the body equations, with the trim's attitude and angle of attack
+/// taken as small: `Z_q = u0`, `Y_r = -u0`, `X_theta = -g cos theta0`, `Y_phi = g cos theta0`
+/// (`u0` the airspeed). A check such a predictor passes is a check of the trim speed or of
+/// gravity, not of the aircraft.
+pub fn kinematic_or_gravity(derivative: &str, airspeed_mph: f64) -> Option<(f64, &'static str)> {
+    const G: f64 = 9.80665;
+    let u0 = airspeed_mph * crate::MPH_TO_M_S;
+    match derivative {
+        "Z_q" => Some((u0, "the kinematic term alone (Z_q = u0, the trim airspeed)")),
+        "Y_r" => Some((
+            -u0,
+            "the kinematic term alone (Y_r = -u0, the trim airspeed)",
+        )),
+        "X_theta" => Some((-G, "gravity alone (X_theta = -g cos theta0, level)")),
+        "Y_phi" => Some((G, "gravity alone (Y_phi = g cos theta0, level)")),
+        _ => None,
     }
 }

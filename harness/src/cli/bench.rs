@@ -53,6 +53,7 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
     sink += aircraft(&out, repeat);
     sink += identification(&out, repeat);
     fitting(&out);
+    uncertainty(&out);
 
     if !sink.is_finite() {
         eprintln!("(a timed result was not finite)");
@@ -670,4 +671,41 @@ fn fitting(out: &Rows) {
             }
         }
     }
+}
+
+/// `cierva uncertainty` on seed 001 Table 2's two cases (cierva's VPM M16 at both weights) at 32
+/// base samples: the design's evaluations on both cores, and the cost of one.
+fn uncertainty(out: &Rows) {
+    use cierva_harness::uncertainty::propagate::{self, Settings};
+    let root = cierva_harness::repo_root();
+    let settings = Settings {
+        samples: 32,
+        seed: 0,
+        validation_only: false,
+    };
+    let (mut seconds, mut evaluations) = (0.0, 0);
+    for weight in ["max", "min"] {
+        let path = root.join(format!(
+            "cases/cierva-table2-vpm-m16-70mph-{weight}-weight.yaml"
+        ));
+        let Ok(case) = cierva_harness::case::load(&path) else {
+            eprintln!("uncertainty benchmark: {} does not load", path.display());
+            return;
+        };
+        let started = Instant::now();
+        match propagate::propagate(&case, settings, || {}) {
+            Ok(u) => evaluations += u.evaluations,
+            Err(e) => {
+                eprintln!("uncertainty benchmark: {e}");
+                return;
+            }
+        }
+        seconds += started.elapsed().as_secs_f64();
+    }
+    let per = seconds / evaluations.max(1) as f64;
+    row!(
+        out,
+        "| uncertainty: seed 001 Table 2 at both weights, 32 samples (13 inputs) | {seconds:.1} s | {evaluations} evaluations (a trim, warm-started from the nominal one, and a linearisation) on both cores, {:.1} ms each of wall time; 256 samples are 8 times as many: target under 2 minutes |",
+        1e3 * per
+    );
 }

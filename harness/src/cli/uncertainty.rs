@@ -49,6 +49,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
     let settings = Settings {
         samples: a.samples,
         seed: a.seed,
+        validation_only: false,
     };
     let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
     for case in &cases {

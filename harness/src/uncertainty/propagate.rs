@@ -27,6 +27,9 @@ pub struct Settings {
     /// Base points `n` of the design: `n (d + 2)` evaluations for `d` inputs.
     pub samples: usize,
     pub seed: u32,
+    /// Only the validation checks (`validate --uncertainty`: the comparison of V&V 20 is of the
+    /// model against measured data; a case with none is not sampled).
+    pub validation_only: bool,
 }
 
 /// The share of samples in which a passing check must fail to be called fragile: its verdict
@@ -249,6 +252,36 @@ pub fn propagate_from(
     settings: Settings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
+    if settings.validation_only {
+        let keep: Vec<bool> = case
+            .checks
+            .iter()
+            .map(|k| k.class == CheckClass::Validation)
+            .collect();
+        let mut only = case.clone();
+        only.checks = case
+            .checks
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(c, _)| c.clone())
+            .collect();
+        let results: Vec<CheckResult> = nominal
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(r, _)| r.clone())
+            .collect();
+        let settings = Settings {
+            validation_only: false,
+            ..settings
+        };
+        return if only.checks.is_empty() {
+            Ok(without_inputs(&only, &results))
+        } else {
+            propagate_from(&only, &results, settings, done)
+        };
+    }
     let inputs = inputs(case);
     if inputs.is_empty() {
         return Ok(without_inputs(case, nominal));
@@ -289,14 +322,36 @@ pub fn propagate_from(
     let first_error = points.iter().find_map(|p| p.error.clone());
     let mut results = Vec::new();
     for (j, (check, n)) in case.checks.iter().zip(nominal).enumerate() {
-        for (k, q) in n.quantities.iter().enumerate() {
-            let all: Vec<f64> = points.iter().map(|p| p.values[j][k]).collect();
-            let refined = u_num_results
-                .as_ref()
-                .and_then(|r| r.get(j))
-                .and_then(|r| r.quantities.get(k))
-                .map(|x| x.value);
+        // A check with no number (a BCAR verdict) is propagated as whether it passes: its pass
+        // fraction, and the Sobol' indices of the pass (1) or fail (0) say which inputs flip it.
+        let verdict_only = n.quantities.is_empty();
+        let quantities = if verdict_only {
+            vec![passes(n)]
+        } else {
+            n.quantities.clone()
+        };
+        for (k, q) in quantities.iter().enumerate() {
+            let all: Vec<f64> = points
+                .iter()
+                .map(|p| {
+                    if verdict_only {
+                        p.passed[j].map_or(f64::NAN, |b| f64::from(u8::from(b)))
+                    } else {
+                        p.values[j][k]
+                    }
+                })
+                .collect();
+            let refined = u_num_results.as_ref().and_then(|r| r.get(j)).and_then(|r| {
+                if verdict_only {
+                    Some(f64::from(u8::from(r.passed)))
+                } else {
+                    r.quantities.get(k).map(|x| x.value)
+                }
+            });
             let mut r = summarise(case, check, n, q, &all, refined, design.as_ref(), &inputs);
+            if verdict_only {
+                r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
+            }
             let evaluated: Vec<bool> = match &design {
                 Some(d) => points[..2 * d.n]
                     .iter()
@@ -388,7 +443,12 @@ fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
     };
     let mut results = Vec::new();
     for (check, n) in case.checks.iter().zip(nominal) {
-        for q in &n.quantities {
+        let quantities = if n.quantities.is_empty() {
+            vec![passes(n)]
+        } else {
+            n.quantities.clone()
+        };
+        for q in &quantities {
             let mut r = summarise(case, check, n, q, &[], None, None, &[]);
             r.verdict = None;
             r.u_val = None;
@@ -406,6 +466,22 @@ fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
         first_error: None,
         refinement: "none".into(),
         results,
+    }
+}
+
+/// A verdict-only check as a quantity: `passes`, 1 when it passes.
+fn passes(n: &CheckResult) -> crate::eval::QuantityResult {
+    crate::eval::QuantityResult {
+        quantity: "passes".into(),
+        value: f64::from(u8::from(n.passed)),
+        expected: None,
+        tolerance: String::new(),
+        allowed: "1 (passes)".into(),
+        reason: "the check's verdict".into(),
+        lower: f64::NAN,
+        upper: f64::NAN,
+        margin: f64::NAN,
+        pass: n.passed,
     }
 }
 
