@@ -183,7 +183,13 @@ fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Point {
     let mut error = None;
     let mut values = Vec::new();
     let mut passed = Vec::new();
-    for (n, r) in nominal.iter().zip(results) {
+    for (j, n) in nominal.iter().enumerate() {
+        // A point whose case could not be made (an input the aircraft refuses) has no results.
+        let Some(r) = results.get(j) else {
+            passed.push(None);
+            values.push(vec![f64::NAN; n.quantities.len()]);
+            continue;
+        };
         if let Some(e) = r.error.as_ref().or(r
             .finding
             .as_ref()
@@ -191,17 +197,28 @@ fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Point {
         {
             error.get_or_insert_with(|| format!("{}: {e}", r.check));
         }
-        let evaluated = r.error.is_none();
-        passed.push(evaluated.then_some(r.passed));
+        let evaluated = r.error.is_none() && r.finding.is_none();
+        passed.push((r.error.is_none()).then_some(r.passed));
+        // The same quantities in the same order as the nominal run's, or (a check whose list
+        // varies) found by name and tolerance.
+        let same = r.quantities.len() == n.quantities.len()
+            && r.quantities
+                .iter()
+                .zip(&n.quantities)
+                .all(|(x, q)| x.quantity == q.quantity && x.tolerance == q.tolerance);
         values.push(
             n.quantities
                 .iter()
-                .map(|q| {
-                    r.quantities
-                        .iter()
-                        .find(|x| x.quantity == q.quantity && x.tolerance == q.tolerance)
-                        .filter(|_| evaluated && r.finding.is_none())
-                        .map_or(f64::NAN, |x| x.value)
+                .enumerate()
+                .map(|(k, q)| {
+                    let found = if same {
+                        r.quantities.get(k)
+                    } else {
+                        r.quantities
+                            .iter()
+                            .find(|x| x.quantity == q.quantity && x.tolerance == q.tolerance)
+                    };
+                    found.filter(|_| evaluated).map_or(f64::NAN, |x| x.value)
                 })
                 .collect(),
         );

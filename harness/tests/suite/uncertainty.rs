@@ -359,3 +359,39 @@ fn calibration_coverage(seed: u64) -> (f64, f64) {
     let without = inside_without as f64 / total as f64;
     (rate, without)
 }
+
+/// A sample the aircraft refuses (a range reaching a negative roll inertia) is counted as a
+/// failed point with its first error, and left out of the statistics: never a panic, never a
+/// silent drop.
+#[test]
+fn samples_the_model_refuses_are_counted_with_their_first_error() {
+    use cierva_harness::uncertainty::propagate::{self, Settings};
+    let root = cierva_harness::repo_root();
+    let mut case =
+        cierva_harness::case::load(&root.join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml"))
+            .unwrap();
+    let cierva_harness::subject::Subject::Aircraft { file, .. } = &mut case.subject else {
+        panic!("an aircraft case");
+    };
+    // Only the roll inertia, from -250 to 750: a third of the samples negative.
+    let mut r = file.ranges["mass.ixx_kg_m2"].clone();
+    (r.lower, r.upper) = (-250.0, 750.0);
+    file.ranges.clear();
+    file.ranges.insert("mass.ixx_kg_m2".into(), r);
+    case.checks.retain(|k| k.id == "L_p");
+    let settings = Settings {
+        samples: 16,
+        seed: 3,
+        validation_only: false,
+    };
+    let u = propagate::propagate(&case, settings, || {}).unwrap();
+    assert_eq!(u.evaluations, 16 * 3 + 2);
+    assert!(u.failed_points > 0 && u.failed_points < 48, "{u:?}");
+    assert!(
+        u.first_error.as_deref().is_some_and(|e| !e.is_empty()),
+        "{u:?}"
+    );
+    let l_p = &u.results[0];
+    assert!(l_p.failed_samples > 0, "{l_p:?}");
+    assert!(l_p.mean.is_finite() && l_p.u_input.is_finite(), "{l_p:?}");
+}
