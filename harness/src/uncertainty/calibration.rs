@@ -258,6 +258,8 @@ pub fn summary(cv: &CrossValidation) -> serde_json::Value {
     let mut all = errors(&cv.all);
     if let serde_json::Value::Object(m) = &mut all {
         m.insert("groups".into(), serde_json::json!(cv.groups));
+        // Each group's refit: one that did not converge predicted from its last iterate.
+        m.insert("group_fits".into(), serde_json::json!(cv.fits));
         m.insert(
             "method".into(),
             serde_json::json!(format!(
