@@ -98,6 +98,10 @@ pub(crate) fn validate(
                 "results": with_uncertainty(&run, &results),
                 "report": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
             });
+            let mut out = out;
+            if let (Some(_), serde_json::Value::Object(m)) = (uncertainty, &mut out) {
+                m.insert("uncertainty".into(), uncertainty_cases(&run));
+            }
             print_json(&out);
         }
         Format::Text => {
@@ -415,4 +419,24 @@ fn print_uncertainty(run: &cierva_harness::report::Run) {
     }
     let all = VerdictCounts::of(cases.iter().flat_map(|c| &c.results));
     println!("  {:48} {}", "all", all.describe());
+}
+
+/// Each case's propagation in the JSON (`--uncertainty`): how, what it cost, what failed.
+fn uncertainty_cases(run: &cierva_harness::report::Run) -> serde_json::Value {
+    run.cases
+        .iter()
+        .filter_map(|c| c.uncertainty.as_ref())
+        .map(|u| {
+            serde_json::json!({
+                "case": u.case,
+                "method": u.method,
+                "inputs": u.inputs,
+                "evaluations": u.evaluations,
+                "failed_points": u.failed_points,
+                "first_error": u.first_error,
+                "refinement": u.refinement,
+                "verdicts": cierva_harness::uncertainty::propagate::VerdictCounts::of(&u.results),
+            })
+        })
+        .collect()
 }
