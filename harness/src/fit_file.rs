@@ -322,13 +322,9 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         options,
     };
     // The problem's own checks (bounds, kinds), as a located input error.
-    if let Err(m) = fit::check(&problem) {
-        return Err(err("parameters", m));
-    }
-    if let Some(cv) = &spec.cross_validation {
-        check_cross_validation(cv, &origins, &predict_origins)
-            .map_err(|(field, m)| err(&format!("cross_validation.{field}"), m))?;
-    }
+    fit::check(&problem).map_err(|m| err("parameters", m))?;
+    check_cross_validation(spec.cross_validation.as_ref(), &origins, &predict_origins)
+        .map_err(|(field, m)| err(&format!("cross_validation.{field}"), m))?;
     Ok(FitFile {
         path: path.to_path_buf(),
         id: spec.id,
@@ -346,10 +342,11 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
 /// A cross-validation's groups and regimes, checked: each group names targets of the fit and
 /// leaves some to fit, no check is in two groups, and each regime names targets or predictions.
 fn check_cross_validation(
-    cv: &CrossValidationSpec,
+    cv: Option<&CrossValidationSpec>,
     origins: &[Origin],
     predict_origins: &[Origin],
 ) -> Result<(), (String, String)> {
+    let Some(cv) = cv else { return Ok(()) };
     let check_of = |o: &Origin| o.label.rsplit('/').next().unwrap_or(&o.label).to_string();
     let fitted: Vec<String> = origins.iter().map(check_of).collect();
     let predicted: Vec<String> = predict_origins.iter().map(check_of).collect();

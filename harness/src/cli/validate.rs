@@ -9,7 +9,6 @@ pub(crate) fn validate(
     report_dir: Option<PathBuf>,
     uncertainty: Option<cierva_harness::uncertainty::propagate::Settings>,
 ) -> ExitCode {
-    use cierva_harness::report;
     let started = std::time::Instant::now();
     let paths = if paths.is_empty() {
         vec![PathBuf::from("cases")]
@@ -35,20 +34,7 @@ pub(crate) fn validate(
     run.seconds = started.elapsed().as_secs_f64();
     // Scores against corrected models are not the committed model's: shown, never judged.
     let judged = cierva_harness::review::judge(&board, scores);
-    let scores_failing: Vec<&cierva_harness::review::Judged> = if correction_files.is_empty() {
-        judged
-            .iter()
-            .filter(|j| {
-                matches!(
-                    j.change,
-                    cierva_harness::scoreboard::Change::Worse
-                        | cierva_harness::scoreboard::Change::New
-                )
-            })
-            .collect()
-    } else {
-        vec![]
-    };
+    let scores_failing = failing_scores(&judged, !correction_files.is_empty());
     run.scores = judged.clone();
     if report_dir.is_some() {
         run.score_versions = cierva_harness::scoreboard::versions();
@@ -59,18 +45,9 @@ pub(crate) fn validate(
         .iter()
         .flat_map(|c| c.results.iter().cloned())
         .collect();
-    let written = match &report_dir {
-        Some(dir) => match report::write(&run, dir) {
-            Ok(w) => w,
-            Err(e) => {
-                eprintln!(
-                    "error: could not write the report to {}: {e}",
-                    dir.display()
-                );
-                return ExitCode::from(2);
-            }
-        },
-        None => vec![],
+    let written = match write_report(&run, report_dir.as_deref()) {
+        Ok(w) => w,
+        Err(code) => return code,
     };
     let counts = text::counts(&results);
     let corrections_used: Vec<serde_json::Value> = correction_files
@@ -439,4 +416,32 @@ fn uncertainty_cases(run: &cierva_harness::report::Run) -> serde_json::Value {
             })
         })
         .collect()
+}
+
+/// The scores that fail the run: worse than committed, or not committed. None with corrections
+/// (a corrected model's scores are not the committed model's: shown, never judged).
+fn failing_scores(
+    judged: &[cierva_harness::review::Judged],
+    corrected: bool,
+) -> Vec<&cierva_harness::review::Judged> {
+    use cierva_harness::scoreboard::Change;
+    judged
+        .iter()
+        .filter(|j| !corrected && matches!(j.change, Change::Worse | Change::New))
+        .collect()
+}
+
+/// The report written into `dir` (nothing without one); exit 2 when it cannot be written.
+fn write_report(
+    run: &cierva_harness::report::Run,
+    dir: Option<&Path>,
+) -> Result<Vec<PathBuf>, ExitCode> {
+    let Some(dir) = dir else { return Ok(vec![]) };
+    cierva_harness::report::write(run, dir).map_err(|e| {
+        eprintln!(
+            "error: could not write the report to {}: {e}",
+            dir.display()
+        );
+        ExitCode::from(2)
+    })
 }

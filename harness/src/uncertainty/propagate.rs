@@ -307,103 +307,29 @@ pub fn propagate_from(
         Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
         None => (None, "none: no grid study for this subject".to_string()),
     };
-    let (points, design) = {
-        let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
-        let starts = warm_starts(case);
-        let units = design.points();
-        let points = crate::parallel_map(&units, |u| {
-            let k = units.len();
-            let values: Vec<f64> = inputs
-                .iter()
-                .zip(u)
-                .map(|(i, &x)| i.distribution.quantile(x))
-                .collect();
-            let tag = format!("u{}-{k}-{:x}", settings.seed, hash(&values));
-            let p = match with_values(case, &inputs, &values, &tag) {
-                Ok(c) => {
-                    prime(&c, &starts);
-                    let p = point_of(nominal, &crate::eval::run_case(&c));
-                    if let Subject::Aircraft { file, .. } = &c.subject {
-                        crate::forget_linearisations(file);
-                    }
-                    p
-                }
-                Err(e) => point_of(nominal, &[]).with_error(e),
-            };
-            done();
-            p
-        });
-        (points, Some(design))
-    };
+    let (points, design) = sample(case, nominal, &inputs, settings, done)?;
     let failed_points = points.iter().filter(|p| p.error.is_some()).count();
     let first_error = points.iter().find_map(|p| p.error.clone());
     let mut results = Vec::new();
     for (j, (check, n)) in case.checks.iter().zip(nominal).enumerate() {
-        // A check with no number (a BCAR verdict) is propagated as whether it passes: its pass
-        // fraction, and the Sobol' indices of the pass (1) or fail (0) say which inputs flip it.
-        let verdict_only = n.quantities.is_empty();
-        let quantities = if verdict_only {
-            vec![passes(n)]
-        } else {
-            n.quantities.clone()
-        };
-        for (k, q) in quantities.iter().enumerate() {
-            let all: Vec<f64> = points
-                .iter()
-                .map(|p| {
-                    if verdict_only {
-                        p.passed[j].map_or(f64::NAN, |b| f64::from(u8::from(b)))
-                    } else {
-                        p.values[j][k]
-                    }
-                })
-                .collect();
-            let refined = u_num_results.as_ref().and_then(|r| r.get(j)).and_then(|r| {
-                if verdict_only {
-                    Some(f64::from(u8::from(r.passed)))
-                } else {
-                    r.quantities.get(k).map(|x| x.value)
-                }
-            });
-            let mut r = summarise(case, check, n, q, &all, refined, design.as_ref(), &inputs);
-            if verdict_only {
-                r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
-            }
-            let evaluated: Vec<bool> = match &design {
-                Some(d) => points[..2 * d.n]
-                    .iter()
-                    .filter_map(|p| p.passed[j])
-                    .collect(),
-                None => Vec::new(),
-            };
-            r.pass_fraction = if evaluated.is_empty() {
-                if n.passed { 1.0 } else { 0.0 }
-            } else {
-                evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
-            };
-            r.fragile = r.passes_nominal && 1.0 - r.pass_fraction >= FRAGILE_FAIL_FRACTION;
-            if r.fragile {
-                r.flipped_by = r
-                    .contributors
-                    .iter()
-                    .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
-                    .map(|c| c.input.clone())
-                    .collect();
-            }
-            results.push(r);
-        }
+        let refined = u_num_results.as_ref().and_then(|r| r.get(j));
+        results.extend(check_results(
+            case,
+            (j, check, n),
+            &points,
+            &design,
+            refined,
+            &inputs,
+        ));
     }
-    let method = match &design {
-        Some(d) => format!(
-            "sampled: {} Sobol' points (seed {}) of {} inputs in a Saltelli design, {} evaluations; statistics over the {} points of A and B",
-            d.n,
-            settings.seed,
-            d.d,
-            points.len(),
-            2 * d.n
-        ),
-        None => "none: the case's subject has no uncertain inputs".to_string(),
-    };
+    let method = format!(
+        "sampled: {} Sobol' points (seed {}) of {} inputs in a Saltelli design, {} evaluations; statistics over the {} points of A and B",
+        design.n,
+        settings.seed,
+        design.d,
+        points.len(),
+        2 * design.n
+    );
     Ok(CaseUncertainty {
         case: case.id.clone(),
         method,
@@ -414,6 +340,100 @@ pub fn propagate_from(
         refinement,
         results,
     })
+}
+
+/// Every point of the case's design evaluated, on every core.
+fn sample(
+    case: &Case,
+    nominal: &[CheckResult],
+    inputs: &[Input],
+    settings: Settings,
+    done: impl Fn() + Sync,
+) -> Result<(Vec<Point>, Design), String> {
+    let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
+    let starts = warm_starts(case);
+    let units = design.points();
+    let points = crate::parallel_map(&units, |u| {
+        let values: Vec<f64> = inputs
+            .iter()
+            .zip(u)
+            .map(|(i, &x)| i.distribution.quantile(x))
+            .collect();
+        let tag = format!("u{}-{}-{:x}", settings.seed, units.len(), hash(&values));
+        let p = match with_values(case, inputs, &values, &tag) {
+            Ok(c) => {
+                prime(&c, &starts);
+                let p = point_of(nominal, &crate::eval::run_case(&c));
+                if let Subject::Aircraft { file, .. } = &c.subject {
+                    crate::forget_linearisations(file);
+                }
+                p
+            }
+            Err(e) => point_of(nominal, &[]).with_error(e),
+        };
+        done();
+        p
+    });
+    Ok((points, design))
+}
+
+/// One check's quantities over the samples: statistics, indices, comparison, pass fraction
+/// and fragility. A check with no number (a BCAR verdict) is propagated as whether it passes:
+/// its pass fraction, and the Sobol' indices of the pass (1) or fail (0) say which inputs flip
+/// it. `refined` is its result with the discretisation refined.
+fn check_results(
+    case: &Case,
+    (j, check, n): (usize, &crate::checks::Check, &CheckResult),
+    points: &[Point],
+    design: &Design,
+    refined: Option<&CheckResult>,
+    inputs: &[Input],
+) -> Vec<QuantityUncertainty> {
+    let verdict_only = n.quantities.is_empty();
+    let quantities = if verdict_only {
+        vec![passes(n)]
+    } else {
+        n.quantities.clone()
+    };
+    let as_number = |b: bool| f64::from(u8::from(b));
+    let evaluated: Vec<bool> = points[..2 * design.n]
+        .iter()
+        .filter_map(|p| p.passed[j])
+        .collect();
+    let mut out = Vec::new();
+    for (k, q) in quantities.iter().enumerate() {
+        let all: Vec<f64> = points
+            .iter()
+            .map(|p| match verdict_only {
+                true => p.passed[j].map_or(f64::NAN, as_number),
+                false => p.values[j][k],
+            })
+            .collect();
+        let refined = refined.and_then(|r| match verdict_only {
+            true => Some(as_number(r.passed)),
+            false => r.quantities.get(k).map(|x| x.value),
+        });
+        let mut r = summarise(case, check, n, q, &all, refined, Some(design), inputs);
+        if verdict_only {
+            r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
+        }
+        r.pass_fraction = if evaluated.is_empty() {
+            as_number(n.passed)
+        } else {
+            evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
+        };
+        r.fragile = r.passes_nominal && 1.0 - r.pass_fraction >= FRAGILE_FAIL_FRACTION;
+        if r.fragile {
+            r.flipped_by = r
+                .contributors
+                .iter()
+                .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
+                .map(|c| c.input.clone())
+                .collect();
+        }
+        out.push(r);
+    }
+    out
 }
 
 /// The nominal aircraft's trim at each condition its checks linearise at: where each sample's
