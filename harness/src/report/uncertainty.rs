@@ -14,6 +14,7 @@ pub fn html(run: &Run) -> String {
         .cases
         .iter()
         .filter_map(|c| c.uncertainty.as_ref())
+        .filter(|u| !u.results.is_empty())
         .collect();
     if cases.is_empty() {
         return String::new();

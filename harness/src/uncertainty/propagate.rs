@@ -294,7 +294,9 @@ pub fn propagate_from(
             ..settings
         };
         return if only.checks.is_empty() {
-            Ok(without_inputs(&only, &results))
+            let mut none = without_inputs(&only, &results);
+            none.method = "none: the case has no validation checks".into();
+            Ok(none)
         } else {
             propagate_from(&only, &results, settings, done)
         };
