@@ -458,7 +458,10 @@ pub(crate) struct UncertaintyArgs {
     /// Seed of the scrambled Sobol' sequence (a whole number, 0 to 4294967295).
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u32,
-    /// Only validation checks in the text table (JSON always holds every check).
+    /// Only the validation checks (the comparison with measured data), as `validate
+    /// --uncertainty` samples them: much cheaper on cases whose other checks are slow (the
+    /// self-consistency cases' flapping linearisations), and what a run over the whole suite
+    /// wants.
     #[arg(long)]
     pub(crate) validation_only: bool,
     #[arg(long, value_enum, default_value_t = Format::Text)]

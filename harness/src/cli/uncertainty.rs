@@ -49,7 +49,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
     let settings = Settings {
         samples: a.samples,
         seed: a.seed,
-        validation_only: false,
+        validation_only: a.validation_only,
     };
     let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
     for case in &cases {
@@ -98,7 +98,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
         }),
         Format::Text => {
             for (u, s) in &done {
-                print!("{}", text_of(u, *s, a.validation_only));
+                print!("{}", text_of(u, *s));
             }
             println!("validation quantities: {}", verdicts.describe());
         }
@@ -131,7 +131,7 @@ fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::case::Case>, ExitCo
 }
 
 /// A case's propagation as text: the inputs, then a row per quantity.
-fn text_of(u: &CaseUncertainty, seconds: f64, validation_only: bool) -> String {
+fn text_of(u: &CaseUncertainty, seconds: f64) -> String {
     let mut out = format!(
         "{}\n  inputs ({}): {}\n  numerics: refined {}\n  {} evaluations in {seconds:.1} s; {} points failed{}\n",
         u.case,
@@ -166,16 +166,13 @@ fn text_of(u: &CaseUncertainty, seconds: f64, validation_only: bool) -> String {
         "verdict",
         "largest contributor (total index)"
     );
-    for r in u
-        .results
-        .iter()
-        .filter(|r| !validation_only || r.class == cierva_harness::checks::CheckClass::Validation)
-    {
+    for r in &u.results {
         let num = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.3e}"));
         let verdict = match (r.verdict, r.fragile) {
             (Some(v), true) => format!("{}, FRAGILE", v.label()),
             (Some(v), false) => v.label().to_string(),
-            (None, _) => "-".into(),
+            (None, true) => "-, FRAGILE".into(),
+            (None, false) => "-".into(),
         };
         let top = r
             .contributors

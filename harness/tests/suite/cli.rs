@@ -1391,3 +1391,28 @@ fn uncertainty_refuses_bad_sampling_input() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--uncertainty"), "{err}");
 }
+
+/// `--validation-only` samples the validation checks alone: Table 2's BCAR regression check is
+/// left out, and a verdict-only check shows as `passes`.
+#[test]
+fn uncertainty_validation_only_leaves_other_classes_out() {
+    let (code, out, err) = cierva(&[
+        "uncertainty",
+        "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml",
+        "--validation-only",
+        "--samples",
+        "8",
+        "--format",
+        "json",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let results = v["results"].as_array().unwrap();
+    assert_eq!(results.len(), 6, "{out}");
+    assert!(results.iter().all(|r| r["class"] == "validation"), "{out}");
+    assert!(
+        results.iter().all(|r| r["check"] != "dutch-roll-bcar"),
+        "{out}"
+    );
+}
