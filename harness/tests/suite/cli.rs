@@ -1319,12 +1319,10 @@ fn a_flight_records_teeter_gives_seed_003s_inflow() {
     assert!(v1s.abs() < 0.25, "v1s {v1s}");
 }
 
-/// `cierva uncertainty --format json`: the keys on every result, a verdict on every
-/// validation quantity of seed 001 Table 2, and N_v's (every sampled input combination above
-/// flight's bound) a model-form error.
-#[test]
-fn uncertainty_json_gives_each_validation_quantity_its_verdict() {
-    let (code, out, err) = cierva(&[
+/// `cierva uncertainty` of seed 001 Table 2's maximum weight at 8 samples, with `extra`
+/// arguments: its JSON (and the text, for messages).
+fn table2_uncertainty(extra: &[&str]) -> (serde_json::Value, String) {
+    let mut args = vec![
         "uncertainty",
         "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml",
         "--samples",
@@ -1332,9 +1330,19 @@ fn uncertainty_json_gives_each_validation_quantity_its_verdict() {
         "--format",
         "json",
         "--quiet",
-    ]);
+    ];
+    args.extend(extra);
+    let (code, out, err) = cierva(&args);
     assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    (serde_json::from_str(&out).unwrap(), out)
+}
+
+/// `cierva uncertainty --format json`: the keys on every result, a verdict on every
+/// validation quantity of seed 001 Table 2, and N_v's (every sampled input combination above
+/// flight's bound) a model-form error.
+#[test]
+fn uncertainty_json_gives_each_validation_quantity_its_verdict() {
+    let (v, out) = table2_uncertainty(&[]);
     let results = v["results"].as_array().unwrap();
     let validation: Vec<&serde_json::Value> = results
         .iter()
@@ -1396,18 +1404,7 @@ fn uncertainty_refuses_bad_sampling_input() {
 /// left out, and a verdict-only check shows as `passes`.
 #[test]
 fn uncertainty_validation_only_leaves_other_classes_out() {
-    let (code, out, err) = cierva(&[
-        "uncertainty",
-        "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml",
-        "--validation-only",
-        "--samples",
-        "8",
-        "--format",
-        "json",
-        "--quiet",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (v, out) = table2_uncertainty(&["--validation-only"]);
     let results = v["results"].as_array().unwrap();
     assert_eq!(results.len(), 6, "{out}");
     assert!(results.iter().all(|r| r["class"] == "validation"), "{out}");
