@@ -449,7 +449,8 @@ pub(crate) struct RetuneArgs {
 /// `cierva uncertainty`.
 #[derive(clap::Args)]
 pub(crate) struct UncertaintyArgs {
-    /// Case files or folders (default: cases/).
+    /// Case files or folders (default: cases/, and then only their validation checks, as with
+    /// --validation-only).
     pub(crate) paths: Vec<PathBuf>,
     /// Base points of the Saltelli design (at least 8; a power of two balances the Sobol'
     /// points best): a case of d uncertain inputs takes samples x (d + 2) evaluations.
