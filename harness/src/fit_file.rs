@@ -339,6 +339,11 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     })
 }
 
+/// A check's id from a target's label (`case-id/check-id`).
+pub fn check_of(label: &str) -> String {
+    label.rsplit('/').next().unwrap_or(label).to_string()
+}
+
 /// A cross-validation's groups and regimes, checked: each group names targets of the fit and
 /// leaves some to fit, no check is in two groups, and each regime names targets or predictions.
 fn check_cross_validation(
@@ -347,7 +352,7 @@ fn check_cross_validation(
     predict_origins: &[Origin],
 ) -> Result<(), (String, String)> {
     let Some(cv) = cv else { return Ok(()) };
-    let check_of = |o: &Origin| o.label.rsplit('/').next().unwrap_or(&o.label).to_string();
+    let check_of = |o: &Origin| check_of(&o.label);
     let fitted: Vec<String> = origins.iter().map(check_of).collect();
     let predicted: Vec<String> = predict_origins.iter().map(check_of).collect();
     if cv.groups.len() < 2 {

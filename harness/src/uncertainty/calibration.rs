@@ -10,7 +10,7 @@
 //! fit's own before/after table has them, and over the targets the model solved.
 
 use crate::fit;
-use crate::fit_file::{FitFile, FitRun, NamedChecks};
+use crate::fit_file::{FitFile, FitRun, NamedChecks, check_of};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -219,11 +219,6 @@ pub fn cross_validate(
         regimes,
         held_out,
     }))
-}
-
-/// A check's id from a target's label (`case-id/check-id`).
-fn check_of(label: &str) -> String {
-    label.rsplit('/').next().unwrap_or(label).to_string()
 }
 
 /// A held-out target's row: the calibrated and uncorrected values as relative errors.

@@ -531,15 +531,14 @@ impl Point {
     }
 }
 
-/// A stable hash of sampled values: a sample's path, so cached linearisations never mix
-/// samples.
+/// A stable hash of sampled values (the acceptance log's FNV-1a over their bits): a sample's
+/// path, so cached linearisations never mix samples.
 fn hash(values: &[f64]) -> u64 {
-    values.iter().fold(0xcbf2_9ce4_8422_2325, |h, v| {
-        v.to_bits()
-            .to_le_bytes()
-            .iter()
-            .fold(h, |h, b| (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3))
-    })
+    let bytes: Vec<u8> = values
+        .iter()
+        .flat_map(|v| v.to_bits().to_le_bytes())
+        .collect();
+    crate::review::fnv1a64(&bytes)
 }
 
 /// The data's standard uncertainty from a check's tolerance, and where it comes from.
