@@ -1181,8 +1181,9 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
 }
 
 /// The self-consistency case's identified tables are the model's own flights: regenerating the
-/// 70 mph one as `scripts/self-consistency-records` does gives the committed numbers. When the
-/// model moves, this fails: rerun the script and commit its tables.
+/// 70 mph one as `scripts/self-consistency-records` does gives the committed table bit for bit
+/// (every estimate, standard error and bound). When the model moves, this fails: run
+/// `scripts/regenerate-references` and commit what it rewrites.
 #[test]
 fn the_self_consistency_tables_are_the_models_own_flights() {
     let dir = std::env::temp_dir().join(format!("cierva-self-consistency-{}", std::process::id()));
@@ -1228,32 +1229,93 @@ fn the_self_consistency_tables_are_the_models_own_flights() {
     });
     let mut args = vec!["identify"];
     args.extend(paths.iter().map(String::as_str));
-    args.extend(["--setup", "coupled", "--format", "json"]);
+    args.extend(["--setup", "coupled", "--format", "yaml"]);
     let (code, stdout, stderr) = cierva(&args);
     assert_eq!(code, 0, "{stdout}{stderr}");
-    let now: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let committed: serde_yaml::Value = serde_yaml::from_str(
-        &std::fs::read_to_string(
-            root().join("flight-refs/synthetic-flight-vpm-m16-70mph-identified.yaml"),
-        )
-        .unwrap(),
+    // As the script writes it: the records' directory dropped, the table's id set; its three
+    // comment lines say where it came from.
+    let prefix = format!("{}/", dir.to_str().unwrap());
+    let fresh: String = stdout
+        .replace(&prefix, "")
+        .lines()
+        .map(|l| {
+            if l.starts_with("id: ") {
+                "id: synthetic-flight-vpm-m16-70mph-identified".to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .map(|l| l + "\n")
+        .collect();
+    let committed = std::fs::read_to_string(
+        root().join("flight-refs/synthetic-flight-vpm-m16-70mph-identified.yaml"),
     )
     .unwrap();
-    let table = committed["derivatives"].as_sequence().unwrap();
-    let fresh = now["derivatives"].as_array().unwrap();
-    assert_eq!(table.len(), fresh.len());
-    for (c, f) in table.iter().zip(fresh) {
-        let name = c["name"].as_str().unwrap();
-        assert_eq!(name, f["name"].as_str().unwrap());
-        let (a, b) = (
-            c["estimate"].as_f64().unwrap(),
-            f["estimate"].as_f64().unwrap(),
-        );
-        assert!(
-            (a - b).abs() <= 1e-9 * a.abs().max(1e-6),
-            "{name}: committed {a}, regenerated {b}: the model moved; rerun scripts/self-consistency-records"
+    let body: String = committed
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::remove_dir_all(&dir).ok();
+    if fresh != body {
+        let first = fresh
+            .lines()
+            .zip(body.lines())
+            .find(|(a, b)| a != b)
+            .map(|(a, b)| format!("regenerated `{a}`, committed `{b}`"))
+            .unwrap_or_else(|| "the tables differ in length".into());
+        panic!(
+            "the 70 mph self-consistency table does not regenerate bit for bit ({first}): the \
+             model moved; run scripts/regenerate-references and commit what it rewrites"
         );
     }
+}
+
+/// The synthetic teeter records regenerate bit for bit from committed code with the command
+/// scripts/regenerate-references gives (the record and its sidecar, byte for byte).
+#[test]
+fn a_synthetic_teeter_record_regenerates_bit_for_bit() {
+    let dir = std::env::temp_dir().join(format!("cierva-teeter-regen-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("flight-refs")).unwrap();
+    let link = dir.join("aircraft");
+    if !link.exists() {
+        std::os::unix::fs::symlink(root().join("aircraft"), &link).unwrap();
+    }
+    let name = "flight-refs/synthetic-vpm-m16-rotor-teeter-15-m-s";
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cierva"))
+        .current_dir(&dir)
+        .args([
+            "synth-teeter",
+            "aircraft/vpm-m16-rotor.yaml",
+            "--alpha-deg",
+            "25.8",
+            "--airspeed-m-s",
+            "15",
+            "--seed",
+            "12",
+            "--noise-deg",
+            "0.05",
+            "--duration-s",
+            "10",
+            "--sample-rate-hz",
+            "100",
+            "--output",
+            &format!("{name}.csv"),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    for ext in ["csv", "yaml"] {
+        let fresh = std::fs::read(dir.join(format!("{name}.{ext}"))).unwrap();
+        let committed = std::fs::read(root().join(format!("{name}.{ext}"))).unwrap();
+        assert!(
+            fresh == committed,
+            "{name}.{ext} does not regenerate bit for bit: run scripts/regenerate-references \
+             and commit what it rewrites"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A flight record of the teetering VPM M16 carries the rotor's channels (teeter angle,
