@@ -171,6 +171,8 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         };
         checks.push(crate::checks::resolve(&cx, c, &tolerance)?);
     }
+    crate::checks::refuse_reference_mean(&checks)
+        .map_err(|(i, msg)| err(&format!("checks[{i}].expect"), msg))?;
     check_scores(path, &src, &spec, &checks)?;
     let sensitivity = check_sensitivity(path, &src, &spec, &subject)?;
     let recorded = crate::discrepancy::load(&spec.id)?;

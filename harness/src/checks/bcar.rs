@@ -2,7 +2,9 @@
 //! margin indices (see [`cierva_model::analysis::bcar`]).
 
 use super::linear::{self, Computed, LinearSetup, OnLinear, System};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind};
+use super::{
+    At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal, Trivial,
+};
 use crate::quantity::{self as q, Quantity as Q};
 use crate::subject::Subject;
 use crate::yaml::InputError;
@@ -10,12 +12,14 @@ use cierva_model::analysis::bcar::{self, Verdict};
 use cierva_model::analysis::modes::Complex;
 use cierva_model::{LinearModel, ModeKind};
 
-/// A `bcar` check: the mode, and the verdict expected of it.
+/// A `bcar` check: the mode, and the verdict expected of it (if any) and its indices.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BcarCheck {
     pub mode: ModeKind,
     pub system: System,
-    pub verdict: Verdict,
+    /// The verdict expected. A constant verdict passes it, so it is accepted only in a
+    /// `verification` check (see [`super::Trivial::verdict`]).
+    pub verdict: Option<Verdict>,
     pub linear: LinearSetup,
 }
 
@@ -39,7 +43,7 @@ impl Kind for BcarCheck {
         Ok(Self {
             mode: cx.needs(&spec.mode, "mode")?,
             system: spec.system,
-            verdict: cx.needs(&spec.verdict, "verdict")?,
+            verdict: spec.verdict,
             linear: linear::resolve_setup(cx, spec)?,
         })
     }
@@ -48,6 +52,25 @@ impl Kind for BcarCheck {
 impl Evaluate for BcarCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::BCAR)
+    }
+
+    /// A constant verdict (every mode complies, or every mode fails): it passes the expected
+    /// verdict and a margin's sign.
+    fn trivial(
+        &self,
+        _subject: &Subject,
+        expectations: &[Expectation],
+    ) -> Result<Vec<Trivial>, Refusal> {
+        let predictor = "a constant verdict (every mode complies, or every mode fails)";
+        let mut out = super::constant_verdicts(
+            expectations,
+            &[Q::MarginIndex, Q::MarginRealPerS],
+            predictor,
+        );
+        if self.verdict.is_some() {
+            out.push(Trivial::verdict(super::VERDICT, 0.0, predictor));
+        }
+        Ok(out)
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
@@ -65,7 +88,7 @@ impl OnLinear for BcarCheck {
     }
 
     fn verdict(&self) -> Option<Verdict> {
-        Some(self.verdict)
+        self.verdict
     }
 
     fn compute(

@@ -216,6 +216,7 @@ impl Evaluate for DerivativeCheck {
                         } else {
                             "a zero derivative"
                         },
+                        verdict: false,
                     })
                     .collect();
                 let kinematic = self
@@ -231,6 +232,7 @@ impl Evaluate for DerivativeCheck {
                                 quantity: e.quantity.clone(),
                                 value,
                                 predictor,
+                                verdict: false,
                             }),
                     );
                 }

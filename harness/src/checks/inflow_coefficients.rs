@@ -2,7 +2,7 @@
 //! (seed 003), with the coning and flapping they are found from.
 
 use super::result::{Evaluated, compare_all};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind};
+use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
 use crate::quantity::{self as q, Quantity as Q};
 use crate::subject::Subject;
 use crate::yaml::InputError;
@@ -28,6 +28,18 @@ impl Kind for InflowCoefficientsCheck {
 impl Evaluate for InflowCoefficientsCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::INFLOW_COEFFICIENTS)
+    }
+
+    /// Uniform inflow: no first harmonics.
+    fn trivial(
+        &self,
+        _subject: &Subject,
+        _expectations: &[Expectation],
+    ) -> Result<Vec<Trivial>, Refusal> {
+        Ok([Q::InflowV1sMS, Q::InflowV1cMS]
+            .iter()
+            .map(|q| Trivial::value(q.name(), 0.0, "uniform inflow"))
+            .collect())
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {

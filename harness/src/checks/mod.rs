@@ -364,7 +364,56 @@ pub struct Trivial {
     pub value: f64,
     /// The predictor, in words ("a zero derivative").
     pub predictor: &'static str,
+    /// A constant verdict (stable, complies): it passes every check of a sign or a verdict.
+    /// Such a check is refused unless the sign is its point, which makes it `verification`
+    /// with its reason in `description`.
+    pub verdict: bool,
 }
+
+impl Trivial {
+    /// A predictor's value for `quantity`.
+    pub fn value(quantity: &str, value: f64, predictor: &'static str) -> Self {
+        Self {
+            quantity: quantity.to_string(),
+            value,
+            predictor,
+            verdict: false,
+        }
+    }
+
+    /// A constant verdict's value for `quantity`.
+    pub fn verdict(quantity: &str, value: f64, predictor: &'static str) -> Self {
+        Self {
+            verdict: true,
+            ..Self::value(quantity, value, predictor)
+        }
+    }
+}
+
+/// A constant verdict's value for each expectation of a sign on `quantities` (a stable mode's
+/// real part, a complying margin): the sign's own unit, which every such check admits.
+pub fn constant_verdicts(
+    expectations: &[Expectation],
+    quantities: &[crate::quantity::Quantity],
+    predictor: &'static str,
+) -> Vec<Trivial> {
+    expectations
+        .iter()
+        .filter(|e| quantities.iter().any(|q| q.name() == e.quantity))
+        .filter_map(|e| {
+            match e.tolerance.kind {
+                ToleranceKind::Sign(crate::tolerance::Sign::Positive) => Some(1.0),
+                ToleranceKind::Sign(crate::tolerance::Sign::Negative) => Some(-1.0),
+                _ => None,
+            }
+            .map(|v| Trivial::verdict(&e.quantity, v, predictor))
+        })
+        .collect()
+}
+
+/// The pseudo-quantity under which a `bcar` check's expected verdict meets the trivial
+/// predictors.
+pub const VERDICT: &str = "verdict";
 
 /// A refusal at load: the field (a suffix of the check's own location, `.expect.q`) and why.
 pub type Refusal = (String, String);
@@ -388,7 +437,8 @@ pub trait Evaluate {
     /// The quantities it computes.
     fn quantities(&self) -> Vec<String>;
     /// What the trivial predictors give for its expectations, or why the check cannot fail at
-    /// all. Not asked of `regression` checks (the model's own earlier output).
+    /// all. Asked of every class: a `regression` check a trivial predictor passes guards
+    /// nothing either.
     fn trivial(
         &self,
         _subject: &Subject,
@@ -467,8 +517,12 @@ pub fn resolve(
         ));
     }
     let what = resolve_what(cx, spec)?;
-    if spec.kind != CheckKind::Bcar && spec.expect.is_empty() {
-        return Err(cx.err("", "a check needs at least one entry under `expect`"));
+    if spec.expect.is_empty() && !(spec.kind == CheckKind::Bcar && spec.verdict.is_some()) {
+        return Err(cx.err(
+            "",
+            "a check needs at least one entry under `expect` (a `bcar` check: `expect` or a \
+             `verdict`)",
+        ));
     }
     if let Some(r) = &spec.expected_failure
         && r.trim().is_empty()
@@ -477,10 +531,14 @@ pub fn resolve(
     }
     let expectations = resolve_expectations(cx, spec, &what, tolerance)?;
     let class = cx.class;
-    if class != CheckClass::Regression {
-        refuse_trivial(cx.subject, &what, &expectations)
-            .map_err(|(field, msg)| cx.err(&field, msg))?;
-    }
+    refuse_trivial(
+        cx.subject,
+        &what,
+        &expectations,
+        class,
+        spec.description.as_deref(),
+    )
+    .map_err(|(field, msg)| cx.err(&field, msg))?;
     Ok(Check {
         id: spec.id.clone(),
         class,
@@ -595,25 +653,119 @@ fn resolve_expectations(
 }
 
 /// Refuses a check that cannot fail: one that reads back its own input, or that a trivial
-/// predictor passes (a zero derivative, a model with no response at all).
+/// predictor passes (a zero derivative, a model with no response at all, a constant verdict).
+/// A constant verdict passes every check of a sign or a verdict: such a check is accepted only
+/// as `verification`, where the sign is the point, with the reason in its `description`.
 fn refuse_trivial(
     subject: &Subject,
     what: &What,
     expectations: &[Expectation],
+    class: CheckClass,
+    description: Option<&str>,
 ) -> Result<(), Refusal> {
     let trivial = what.as_evaluate().trivial(subject, expectations)?;
-    for e in expectations {
-        for t in trivial.iter().filter(|t| t.quantity == e.quantity) {
-            if crate::tolerance::admits(&e.tolerance.kind, e.value, t.value) != Some(true) {
+    let verification = class == CheckClass::Verification;
+    let reasoned = description.is_some_and(|d| !d.trim().is_empty());
+    for t in &trivial {
+        let passes: Option<(String, String)> = if t.quantity == VERDICT {
+            Some((
+                ".verdict".into(),
+                format!(
+                    "{} passes this check's verdict: a check of the verdict alone cannot tell \
+                     the model from a constant",
+                    t.predictor
+                ),
+            ))
+        } else {
+            expectations
+                .iter()
+                .filter(|e| e.quantity == t.quantity)
+                .find(|e| {
+                    crate::tolerance::admits(&e.tolerance.kind, e.value, t.value) == Some(true)
+                })
+                .map(|e| {
+                    (
+                        format!(".expect.{}", e.quantity),
+                        format!(
+                            "{} ({} = {:.4e}) passes this expectation under tolerance `{}`: \
+                             the check cannot fail",
+                            t.predictor, e.quantity, t.value, e.tolerance.name
+                        ),
+                    )
+                })
+        };
+        let Some((field, msg)) = passes else {
+            continue;
+        };
+        if t.verdict {
+            if verification && reasoned {
                 continue;
             }
+            let why = if verification {
+                "; a verification check whose point is the sign says why in `description`"
+            } else {
+                ". Give the number the source gives (a value or an interval), or, where the \
+                 sign is the point, make the check `class: verification` and say why in its \
+                 `description`"
+            };
+            return Err((field, format!("{msg}{why}")));
+        }
+        return Err((
+            field,
+            format!(
+                "{msg}. Tighten it with a reason, or remove it (a sign is `sign: positive` or \
+                 `sign: negative`, which refuses zero)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The reference's mean as a predictor, for the checks of a table (`autorotation`, `trim`):
+/// for each check, the mean of every other check's expected value of each quantity (leave one
+/// out: a row's own value is not a prediction of it). A check all of whose valued expectations
+/// that mean passes cannot tell the model from a constant: its index and why. A quantity that
+/// fewer than two checks expect, or that every check expects at one value (a source quoting one
+/// figure for all its conditions), gives no prediction beyond the reference itself.
+pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
+    let table = |c: &Check| matches!(c.what, What::Autorotation(_) | What::Trim(_));
+    // Per quantity: the sum and count of the expected values, and whether they differ.
+    let mut sums: BTreeMap<&str, (f64, usize, f64, bool)> = BTreeMap::new();
+    for c in checks.iter().filter(|c| table(c)) {
+        for e in &c.expectations {
+            if let Some(v) = e.value {
+                let s = sums
+                    .entry(e.quantity.as_str())
+                    .or_insert((0.0, 0, v, false));
+                s.0 += v;
+                s.1 += 1;
+                s.3 |= v != s.2;
+            }
+        }
+    }
+    for (i, c) in checks.iter().enumerate().filter(|(_, c)| table(c)) {
+        let mut passed = Vec::new();
+        let mut valued = 0;
+        for e in &c.expectations {
+            let Some(v) = e.value else { continue };
+            valued += 1;
+            let (sum, n, _, varies) = sums[e.quantity.as_str()];
+            if n < 2 || !varies {
+                continue;
+            }
+            let mean = (sum - v) / (n - 1) as f64;
+            if crate::tolerance::admits(&e.tolerance.kind, Some(v), mean) == Some(true) {
+                passed.push(format!("{} = {mean:.4e}", e.quantity));
+            }
+        }
+        if valued > 0 && passed.len() == valued {
             return Err((
-                format!(".expect.{}", e.quantity),
+                i,
                 format!(
-                    "{} ({} = {:.4e}) passes this expectation under tolerance `{}`: the check \
-                     cannot fail. Tighten it with a reason, or remove it (a sign is `sign: \
-                     positive` or `sign: negative`, which refuses zero)",
-                    t.predictor, e.quantity, t.value, e.tolerance.name
+                    "the mean of the other rows' expected values ({}) passes every expectation \
+                     of this check: it cannot tell the model from a constant. Give a tighter \
+                     tolerance with its reason, or leave the row out",
+                    passed.join(", ")
                 ),
             ));
         }

@@ -3,7 +3,9 @@
 //! double amplitude.
 
 use super::linear::{self, Computed, LinearSetup, OnLinear, System};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind};
+use super::{
+    At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal, Trivial,
+};
 use crate::quantity::{self as q, Quantity as Q};
 use crate::subject::Subject;
 use crate::yaml::InputError;
@@ -45,6 +47,44 @@ impl Kind for ModeCheck {
 impl Evaluate for ModeCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::MODE)
+    }
+
+    /// Zero damping; a constant verdict (stable, or unstable) where the check is of a sign;
+    /// and, where the check is of an approximation (seed 002's weakly coupled systems) on a
+    /// linear model, the exact eigenvalue of the same mode of the full system.
+    fn trivial(
+        &self,
+        subject: &Subject,
+        expectations: &[Expectation],
+    ) -> Result<Vec<Trivial>, Refusal> {
+        let mut out = vec![
+            Trivial::value(Q::EigenvalueRealPerS.name(), 0.0, "zero damping"),
+            Trivial::value(Q::DampingRatio.name(), 0.0, "zero damping"),
+        ];
+        out.extend(super::constant_verdicts(
+            expectations,
+            &[Q::EigenvalueRealPerS, Q::DampingRatio],
+            "a constant verdict (every mode stable, or every mode unstable)",
+        ));
+        if let (
+            System::Eq13 | System::Reduced | System::ShortPeriod,
+            Subject::Linear { model, .. },
+        ) = (self.system, subject)
+        {
+            let exact = Self {
+                system: System::Full,
+                ..self.clone()
+            };
+            // A mode the full system does not classify has no exact value to compare.
+            let computed = linear::prepare(model, &self.linear)
+                .and_then(|base| exact.compute(&base, None, model, expectations));
+            if let Ok(c) = computed {
+                out.extend(c.values.iter().map(|(n, v)| {
+                    Trivial::value(n, *v, "the exact eigenvalue (the full system's mode)")
+                }));
+            }
+        }
+        Ok(out)
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {

@@ -127,6 +127,7 @@ impl Evaluate for TimeHistoryCheck {
                     quantity: format!("{}.{q}", m.signal),
                     value: m.get(q).unwrap_or(f64::NAN),
                     predictor,
+                    verdict: false,
                 })
             })
             .collect())

@@ -52,6 +52,7 @@ impl Evaluate for TrimSweepCheck {
                 quantity: e.quantity.clone(),
                 value: 0.0,
                 predictor: "a trim that does not change with airspeed",
+                verdict: false,
             })
             .collect())
     }
