@@ -73,6 +73,11 @@ pub struct ToleranceSpec {
     /// normal quantile (`cierva uncertainty`).
     #[serde(default)]
     pub confidence: Option<f64>,
+    /// For an `absolute` or `relative` tolerance: the measurement's standard deviation, in the
+    /// tolerance's own terms (a fraction of the value for `relative`), from repeat runs. The
+    /// data's standard uncertainty (`cierva uncertainty`).
+    #[serde(default)]
+    pub standard_deviation: Option<f64>,
     pub reason: String,
 }
 
@@ -94,6 +99,29 @@ pub struct Case {
     /// The parameters of a sensitivity study `validate` runs for the report, if the case asks
     /// for one.
     pub sensitivity: Option<Vec<String>>,
+    /// Checks that run on the subject as it was before corrections were applied (a corrections
+    /// file's `not_applied_to`): set by [`with_corrections`], `None` as loaded.
+    pub uncorrected: Option<Uncorrected>,
+}
+
+/// The checks of a corrected case that keep the uncorrected subject, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uncorrected {
+    pub subject: Subject,
+    pub checks: std::collections::BTreeSet<String>,
+    /// One line per corrections file and regime: which, and why.
+    pub reasons: Vec<String>,
+}
+
+impl Case {
+    /// The subject a check runs on: the uncorrected one for a check a corrections file is not
+    /// applied to, else the case's.
+    pub fn subject_of(&self, check: &str) -> &Subject {
+        match &self.uncorrected {
+            Some(u) if u.checks.contains(check) => &u.subject,
+            _ => &self.subject,
+        }
+    }
 }
 
 /// Loads and checks a case file.
@@ -187,6 +215,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         recorded,
         scores: spec.scores,
         sensitivity,
+        uncorrected: None,
     })
 }
 
@@ -467,18 +496,38 @@ fn tolerance_of(
             ));
         }
     }
+    if let Some(sd) = t.standard_deviation {
+        if !matches!(
+            kind,
+            ToleranceKind::Absolute(_) | ToleranceKind::Relative(_)
+        ) {
+            return Err(err(
+                &format!("{tfield}.standard_deviation"),
+                "only an `absolute` or `relative` tolerance takes the measurement's standard deviation (an interval says its `confidence`)".into(),
+            ));
+        }
+        if !(sd.is_finite() && sd > 0.0) {
+            return Err(err(
+                &format!("{tfield}.standard_deviation"),
+                format!("a standard deviation is finite and > 0, got {sd}"),
+            ));
+        }
+    }
     Ok(Tolerance {
         name: name.to_string(),
         kind,
         reason: t.reason.clone(),
         confidence: t.confidence,
+        standard_deviation: t.standard_deviation,
     })
 }
 
 /// A case with corrections files applied to its subject: an aircraft file whose id a file
 /// names, or whose main rotor's id a rotor file names; a rotor (alone, or under a teeter
 /// record) whose id a file names. Returns the case unchanged when none applies, and which files
-/// applied. A check's own `corrections` still act on top.
+/// applied. A check's own `corrections` still act on top. The checks a file that applies is
+/// not applied to (its `not_applied_to` for this case) keep the subject as it was before any
+/// file, with the reason (see [`Case::subject_of`]).
 pub fn with_corrections(
     case: &Case,
     files: &[crate::corrections::CorrectionsFile],
@@ -486,8 +535,10 @@ pub fn with_corrections(
     use crate::corrections::Target;
     let mut c = case.clone();
     let mut used = Vec::new();
+    let before = case.subject.clone();
     for f in files {
         let here = |e: String| format!("{} on {}: {e}", f.path.display(), case.id);
+        let applied = used.len();
         match (&mut c.subject, &f.target) {
             (Subject::Aircraft { file, .. }, Target::Aircraft(id)) if file.id == *id => {
                 **file = file.with_corrections(&f.corrections).map_err(here)?;
@@ -514,6 +565,23 @@ pub fn with_corrections(
                 used.push(f.id.clone());
             }
             _ => {}
+        }
+        if used.len() > applied {
+            for n in f.not_applied_to.iter().filter(|n| n.case == case.id) {
+                let u = c.uncorrected.get_or_insert_with(|| Uncorrected {
+                    subject: before.clone(),
+                    checks: Default::default(),
+                    reasons: vec![],
+                });
+                u.checks.extend(n.checks.iter().cloned());
+                u.reasons.push(format!(
+                    "{} not applied to {} check(s) ({}): {}",
+                    f.id,
+                    n.checks.len(),
+                    n.regime,
+                    n.reason
+                ));
+            }
         }
     }
     Ok((c, used))

@@ -230,6 +230,25 @@ pub struct CorrectionsFileSpec {
     /// the regimes it makes worse.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cross_validation: Option<serde_json::Value>,
+    /// Checks the corrections are not applied to by default: the regimes where, held out, they
+    /// predict worse than the uncorrected model (`cierva fit` writes them from its
+    /// cross-validation). Delete an entry to apply the corrections there anyway.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_applied_to: Vec<NotApplied>,
+}
+
+/// A regime of a case's checks that a corrections file is not applied to, and why.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct NotApplied {
+    /// The case's id.
+    pub case: String,
+    /// The regime's name (the fit file's `cross_validation.regimes`).
+    pub regime: String,
+    /// The case's checks in the regime.
+    pub checks: Vec<String>,
+    /// Why: the held-out errors, calibrated and uncorrected.
+    pub reason: String,
 }
 
 /// What a loaded corrections file corrects.
@@ -246,6 +265,8 @@ pub struct CorrectionsFile {
     pub id: String,
     pub target: Target,
     pub corrections: CorrectionSet,
+    /// The checks it is not applied to by default (see [`CorrectionsFileSpec::not_applied_to`]).
+    pub not_applied_to: Vec<NotApplied>,
 }
 
 /// Loads and checks a corrections file.
@@ -299,10 +320,26 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
             return Err(err(&field, format!("must be a finite number, not {v}")));
         }
     }
+    for (i, n) in spec.not_applied_to.iter().enumerate() {
+        let here = format!("not_applied_to[{i}]");
+        if n.case.trim().is_empty() || n.checks.is_empty() {
+            return Err(err(
+                &here,
+                "name the case and at least one of its checks".into(),
+            ));
+        }
+        if n.reason.trim().is_empty() {
+            return Err(err(
+                &format!("{here}.reason"),
+                "say why the corrections are not applied there".into(),
+            ));
+        }
+    }
     Ok(CorrectionsFile {
         path: path.to_path_buf(),
         id: spec.id,
         target,
         corrections: spec.corrections,
+        not_applied_to: spec.not_applied_to,
     })
 }

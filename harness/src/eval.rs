@@ -249,7 +249,7 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
         departures: vec![],
         plot: None,
     };
-    match check.evaluate(&case.subject, &case.checks) {
+    match check.evaluate(case.subject_of(&check.id), &case.checks) {
         Ok(e) => {
             let verdict_ok = e.verdict.is_none_or(|(want, got)| want == got);
             result.passed =

@@ -920,6 +920,7 @@ pub fn corrections_file(
             "warnings": r.warnings,
         })),
         cross_validation: None,
+        not_applied_to: vec![],
     }
 }
 

@@ -20,6 +20,7 @@ pub mod history;
 pub mod ident;
 pub mod parameters;
 pub mod quantity;
+pub mod ranges;
 pub mod refs;
 pub mod report;
 pub mod retune;

@@ -423,6 +423,7 @@ fn main() -> ExitCode {
                     samples,
                     seed,
                     validation_only: true,
+                    method: cierva_harness::uncertainty::propagate::Method::Auto,
                 }),
             )
         }

@@ -8,7 +8,9 @@
 //! Values are in the unit [`PARAMETERS`] gives, which is the file's.
 
 use cierva_model::aircraft::{Aircraft, ControlMaps, LinearMap};
+use cierva_model::components::airfoil::Airfoil;
 use cierva_model::components::airframe::Surface;
+use cierva_model::components::rotor::Rotor;
 use serde::Serialize;
 
 /// A physical parameter of an assembled aircraft that `cierva sensitivity` can move, by its
@@ -236,4 +238,74 @@ fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64> {
         "corrections.propeller_blockage" => &mut a.propeller.propeller.blockage,
         _ => return None,
     })
+}
+
+/// The parameters of a rotor file that its `ranges:` may give a plausible range (those its
+/// sources call estimated on the shipped rotors): the uncertain inputs of a rotor case.
+pub const ROTOR_PARAMETERS: &[ParameterInfo] = &[
+    ParameterInfo {
+        name: "root_cutout_m",
+        unit: "m",
+        meaning: "blade root station (the lifting blade starts here), from the shaft axis",
+    },
+    ParameterInfo {
+        name: "hinge_offset_m",
+        unit: "m",
+        meaning: "flapping hinge's distance from the shaft axis",
+    },
+    ParameterInfo {
+        name: "flap_mass_moment_kg_m",
+        unit: "kg m",
+        meaning: "blade's first mass moment about the flapping hinge",
+    },
+    ParameterInfo {
+        name: "pitch_reference_r_over_r",
+        unit: "-",
+        meaning: "station at which a collective (pitch) setting is defined",
+    },
+    ParameterInfo {
+        name: "hub_drag_area_m2",
+        unit: "m^2",
+        meaning: "hub's flat-plate drag area",
+    },
+    ParameterInfo {
+        name: "airfoil.stall_alpha_deg",
+        unit: "deg",
+        meaning: "section stall angle (analytical section)",
+    },
+];
+
+/// The value of a rotor parameter (in the unit [`ROTOR_PARAMETERS`] gives); `None` for an unknown
+/// name or one the rotor does not have (a stall angle of a tabulated section).
+pub fn rotor_parameter(r: &Rotor, name: &str) -> Option<f64> {
+    Some(match name {
+        "root_cutout_m" => r.root_cutout_m,
+        "hinge_offset_m" => r.hinge_offset_m,
+        "flap_mass_moment_kg_m" => r.flap_mass_moment_kg_m,
+        "pitch_reference_r_over_r" => r.pitch_reference_r_over_r,
+        "hub_drag_area_m2" => r.hub_drag_area_m2,
+        "airfoil.stall_alpha_deg" => match &r.airfoil {
+            Airfoil::Analytical(s) => s.stall_alpha_rad.to_degrees(),
+            Airfoil::Table(_) => return None,
+        },
+        _ => return None,
+    })
+}
+
+/// Sets a rotor parameter (in the unit [`ROTOR_PARAMETERS`] gives); `None` for an unknown name or
+/// one the rotor does not have.
+pub fn set_rotor_parameter(r: &mut Rotor, name: &str, value: f64) -> Option<()> {
+    match name {
+        "root_cutout_m" => r.root_cutout_m = value,
+        "hinge_offset_m" => r.hinge_offset_m = value,
+        "flap_mass_moment_kg_m" => r.flap_mass_moment_kg_m = value,
+        "pitch_reference_r_over_r" => r.pitch_reference_r_over_r = value,
+        "hub_drag_area_m2" => r.hub_drag_area_m2 = value,
+        "airfoil.stall_alpha_deg" => match &mut r.airfoil {
+            Airfoil::Analytical(s) => s.stall_alpha_rad = value.to_radians(),
+            Airfoil::Table(_) => return None,
+        },
+        _ => return None,
+    }
+    Some(())
 }

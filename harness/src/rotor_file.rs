@@ -147,6 +147,11 @@ pub struct RotorFileSpec {
     pub provenance: Provenance,
     pub rotor: RotorSpec,
     pub sources: BTreeMap<String, String>,
+    /// Plausible ranges of the estimated parameters
+    /// ([`crate::parameters::ROTOR_PARAMETERS`]), each with its source and distribution, as an
+    /// aircraft file's: the inputs `cierva uncertainty` propagates through a rotor case.
+    #[serde(default)]
+    pub ranges: BTreeMap<String, crate::ranges::RangeSpec>,
 }
 
 /// A loaded rotor file.
@@ -158,6 +163,8 @@ pub struct RotorFile {
     pub provenance: Provenance,
     pub rotor: Rotor,
     pub sources: BTreeMap<String, String>,
+    /// Plausible ranges of its estimated parameters, by name.
+    pub ranges: BTreeMap<String, crate::ranges::Range>,
 }
 
 /// Loads and checks a rotor file.
@@ -268,6 +275,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         };
         err(&field, e.to_string())
     })?;
+    let ranges = checked_ranges(&spec, &rotor, &err)?;
     Ok(RotorFile {
         path: path.to_path_buf(),
         id: spec.id,
@@ -275,7 +283,44 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         provenance: spec.provenance,
         rotor,
         sources: spec.sources,
+        ranges,
     })
+}
+
+/// A rotor file's ranges, checked as an aircraft file's are, and only on parameters whose
+/// source calls them estimated (a measured value is not an uncertain input).
+fn checked_ranges(
+    spec: &RotorFileSpec,
+    rotor: &Rotor,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<BTreeMap<String, crate::ranges::Range>, InputError> {
+    let names: Vec<String> = crate::parameters::ROTOR_PARAMETERS
+        .iter()
+        .map(|p| p.name.to_string())
+        .collect();
+    let ranges = crate::ranges::checked(
+        &spec.ranges,
+        &|name| crate::parameters::rotor_parameter(rotor, name),
+        &names,
+        "this rotor",
+        err,
+    )?;
+    for name in ranges.keys() {
+        let estimated = spec
+            .sources
+            .get(name.split('.').next().unwrap_or(name))
+            .is_some_and(|s| s.to_lowercase().contains("estimated"));
+        if !estimated {
+            return Err(err(
+                &format!("ranges.{name}"),
+                format!(
+                    "`{name}` has a source that does not call it estimated: a measured value is \
+                     not an uncertain input here"
+                ),
+            ));
+        }
+    }
+    Ok(ranges)
 }
 
 /// Inflow models for rotor subjects (in case files and on the command line).

@@ -23,6 +23,10 @@ pub struct Tolerance {
     /// where the data's standard uncertainty comes from.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub confidence: Option<f64>,
+    /// The measurement's standard deviation (an `absolute` or `relative` tolerance; a fraction of
+    /// the value for `relative`), from repeat runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub standard_deviation: Option<f64>,
 }
 
 /// Tolerance for published numbers that were rounded: the inputs (the model's matrices) to

@@ -465,6 +465,11 @@ pub(crate) struct UncertaintyArgs {
     /// wants.
     #[arg(long)]
     pub(crate) validation_only: bool,
+    /// How the inputs are propagated: auto (sampled for an aircraft, first order for a rotor,
+    /// whose evaluations are tables of autorotation searches), sampled (the Saltelli design),
+    /// or first-order (each input one standard deviation either way: 2 d evaluations).
+    #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Method::Auto)]
+    pub(crate) method: cierva_harness::uncertainty::propagate::Method,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }

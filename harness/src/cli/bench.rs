@@ -682,6 +682,7 @@ fn uncertainty(out: &Rows) {
         samples: 32,
         seed: 0,
         validation_only: false,
+        method: propagate::Method::Auto,
     };
     let (mut seconds, mut evaluations) = (0.0, 0);
     for weight in ["max", "min"] {

@@ -43,6 +43,10 @@ pub(crate) fn fit(
     spec.cross_validation = cv
         .as_ref()
         .map(cierva_harness::uncertainty::calibration::summary);
+    spec.not_applied_to = cv
+        .as_ref()
+        .map(|cv| cierva_harness::uncertainty::calibration::not_applied_to(&f, cv))
+        .unwrap_or_default();
     let mut md = cierva_harness::report::fit::markdown(&f, &run);
     if let Some(cv) = &cv {
         md += &cierva_harness::report::fit::cross_validation_markdown(cv);

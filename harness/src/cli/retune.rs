@@ -103,6 +103,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             "warnings": r.result.warnings,
         })),
         cross_validation: None,
+        not_applied_to: vec![],
     };
     let write = |path: &Path, text: &str| -> Result<(), String> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -150,6 +151,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             id: id.clone(),
             target: Target::Aircraft(file.id.clone()),
             corrections: corrections.clone(),
+            not_applied_to: vec![],
         };
         let v = retune::revalidate(&cases, &loaded);
         busy.finish_and_clear();

@@ -52,6 +52,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
         // The whole suite: its validation checks (the others include the self-consistency
         // cases' flapping linearisations, seconds a sample). Named cases: every check.
         validation_only: a.validation_only || a.paths.is_empty(),
+        method: a.method,
     };
     let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
     for case in &cases {

@@ -200,8 +200,15 @@ fn run_cases(
         match r {
             Ok((case_run, case_scores)) => {
                 if !case_run.corrections.is_empty() {
+                    // Checks a file is not applied to by default say so, with why.
+                    let held_back = case_run
+                        .case
+                        .uncorrected
+                        .as_ref()
+                        .map(|u| format!(" [{}]", u.reasons.join("; ")))
+                        .unwrap_or_default();
                     corrected.push(format!(
-                        "{} ({})",
+                        "{} ({}){held_back}",
                         case_run.case.id,
                         case_run.corrections.join(", ")
                     ));

@@ -274,3 +274,72 @@ pub fn summary(cv: &CrossValidation) -> serde_json::Value {
     }
     all
 }
+
+/// The regimes a fit's corrections are not applied to by default: those where, held out, the
+/// calibrated model predicts some quantity worse than the uncorrected one (a larger RMS error, or
+/// more targets without a solution), with the case and checks of each and the numbers.
+pub fn not_applied_to(f: &FitFile, cv: &CrossValidation) -> Vec<crate::corrections::NotApplied> {
+    let Some(spec) = &f.cross_validation else {
+        return vec![];
+    };
+    let labels: Vec<&str> = f
+        .origins
+        .iter()
+        .chain(&f.predict_origins)
+        .map(|o| o.label.as_str())
+        .collect();
+    let mut out = Vec::new();
+    for regime in &spec.regimes {
+        let Some(e) = cv.regimes.get(&regime.name) else {
+            continue;
+        };
+        if e.worse_than_uncorrected.is_empty() {
+            continue;
+        }
+        let pct = |m: &BTreeMap<String, f64>, q: &str| {
+            m.get(q)
+                .map(|v| format!("{:.1} %", 100.0 * v))
+                .unwrap_or_else(|| "-".into())
+        };
+        let count = |m: &BTreeMap<String, usize>, q: &str| m.get(q).copied().unwrap_or(0);
+        let numbers: Vec<String> = e
+            .worse_than_uncorrected
+            .iter()
+            .map(|q| {
+                format!(
+                    "{q} {} RMS against {} uncorrected, {} held-out targets unsolved against {}",
+                    pct(&e.rms_relative_error, q),
+                    pct(&e.uncorrected_rms_relative_error, q),
+                    count(&e.unsolved, q),
+                    count(&e.uncorrected_unsolved, q)
+                )
+            })
+            .collect();
+        let reason = format!(
+            "cross-validated (leave one group out), the corrected model predicts this regime \
+             worse than the uncorrected one: {}",
+            numbers.join("; ")
+        );
+        // The regime's checks, by the case each comes from.
+        let mut by_case: BTreeMap<String, Vec<String>> = BTreeMap::new();
+        for c in &regime.checks {
+            if let Some(label) = labels.iter().find(|l| check_of(l) == *c)
+                && let Some((case, _)) = label.rsplit_once('/')
+            {
+                let checks = by_case.entry(case.to_string()).or_default();
+                if !checks.contains(c) {
+                    checks.push(c.clone());
+                }
+            }
+        }
+        for (case, checks) in by_case {
+            out.push(crate::corrections::NotApplied {
+                case,
+                regime: regime.name.clone(),
+                checks,
+                reason: reason.clone(),
+            });
+        }
+    }
+    out
+}

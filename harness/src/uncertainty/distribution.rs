@@ -99,6 +99,39 @@ impl Distribution {
         }
     }
 
+    /// Its mean (a truncated normal's, exactly).
+    pub fn mean(&self) -> f64 {
+        match *self {
+            Self::Uniform { lower, upper } => 0.5 * (lower + upper),
+            Self::Triangular { lower, mode, upper } => (lower + mode + upper) / 3.0,
+            Self::Normal {
+                mean,
+                sigma,
+                lower,
+                upper,
+            } => {
+                let standard = Normal::standard();
+                let (a, b) = ((lower - mean) / sigma, (upper - mean) / sigma);
+                let mass = standard.cdf(b) - standard.cdf(a);
+                let density = |x: f64| (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt();
+                if mass > 0.0 {
+                    mean + sigma * (density(a) - density(b)) / mass
+                } else {
+                    mean
+                }
+            }
+        }
+    }
+
+    /// Its support, `(lower, upper)`.
+    pub fn support(&self) -> (f64, f64) {
+        match *self {
+            Self::Uniform { lower, upper }
+            | Self::Triangular { lower, upper, .. }
+            | Self::Normal { lower, upper, .. } => (lower, upper),
+        }
+    }
+
     /// In words, for tables (`uniform [200, 320]`).
     pub fn describe(&self) -> String {
         match *self {

@@ -30,6 +30,22 @@ pub struct Settings {
     /// Only the validation checks (`validate --uncertainty`: the comparison of V&V 20 is of the
     /// model against measured data; a case with none is not sampled).
     pub validation_only: bool,
+    /// How `u_input` is obtained.
+    pub method: Method,
+}
+
+/// How a case's inputs are propagated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Sampled for an aircraft, first order for a rotor (each evaluation a table of
+    /// autorotation searches, too slow to sample).
+    #[default]
+    Auto,
+    /// The Saltelli design: `samples (d + 2)` evaluations.
+    Sampled,
+    /// Each input one standard deviation either way: `2 d` evaluations.
+    FirstOrder,
 }
 
 /// The share of samples in which a passing check must fail to be called fragile: its verdict
@@ -107,9 +123,24 @@ pub struct CaseUncertainty {
     pub results: Vec<QuantityUncertainty>,
 }
 
-/// The case's uncertain inputs: its aircraft's ranged parameters other than corrections, in the
-/// file's order. Empty for a subject that is not an aircraft.
+/// The case's uncertain inputs: its aircraft's (or rotor's) ranged parameters other than
+/// corrections, in the file's order. Empty for another subject.
 pub fn inputs(case: &Case) -> Vec<Input> {
+    if let Subject::Rotor { file, .. } = &case.subject {
+        return file
+            .ranges
+            .iter()
+            .filter_map(|(name, r)| {
+                let nominal = crate::parameters::rotor_parameter(&file.rotor, name)?;
+                Some(Input {
+                    name: name.clone(),
+                    nominal,
+                    distribution: Distribution::of_range(nominal, r),
+                    source: r.source.clone(),
+                })
+            })
+            .collect();
+    }
     let Subject::Aircraft { file, .. } = &case.subject else {
         return Vec::new();
     };
@@ -132,7 +163,29 @@ pub fn inputs(case: &Case) -> Vec<Input> {
 /// a path of its own (`tag`).
 fn with_values(case: &Case, inputs: &[Input], values: &[f64], tag: &str) -> Result<Case, String> {
     let mut c = case.clone();
-    if let Subject::Aircraft { file, .. } = &mut c.subject {
+    set_values(&mut c.subject, inputs, values, tag)?;
+    // Checks a corrections file is not applied to run on the uncorrected subject: it takes the
+    // same inputs.
+    if let Some(u) = &mut c.uncorrected {
+        set_values(
+            &mut u.subject,
+            inputs,
+            values,
+            &format!("{tag}-uncorrected"),
+        )?;
+    }
+    Ok(c)
+}
+
+/// `values` (in the order of `inputs`) set on an aircraft's or a rotor's parameters, checked,
+/// under a path of its own (`tag`).
+fn set_values(
+    subject: &mut Subject,
+    inputs: &[Input],
+    values: &[f64],
+    tag: &str,
+) -> Result<(), String> {
+    if let Subject::Aircraft { file, .. } = subject {
         for (input, v) in inputs.iter().zip(values) {
             set_parameter(&mut file.aircraft, &input.name, *v)
                 .ok_or_else(|| format!("`{}` is not a parameter of {}", input.name, file.id))?;
@@ -140,7 +193,15 @@ fn with_values(case: &Case, inputs: &[Input], values: &[f64], tag: &str) -> Resu
         file.aircraft.validate().map_err(|e| e.to_string())?;
         file.path = format!("{}#{tag}", file.path.display()).into();
     }
-    Ok(c)
+    if let Subject::Rotor { file, .. } = subject {
+        for (input, v) in inputs.iter().zip(values) {
+            crate::parameters::set_rotor_parameter(&mut file.rotor, &input.name, *v)
+                .ok_or_else(|| format!("`{}` is not a parameter of {}", input.name, file.id))?;
+        }
+        file.rotor.validate().map_err(|e| e.to_string())?;
+        file.path = format!("{}#{tag}", file.path.display()).into();
+    }
+    Ok(())
 }
 
 /// The case with its discretisation refined, and the refinement in words (`None` for a
@@ -148,7 +209,28 @@ fn with_values(case: &Case, inputs: &[Input], values: &[f64], tag: &str) -> Resu
 /// elements of both rotors doubled and the periodicity tolerance a tenth.
 pub fn refined(case: &Case) -> Option<(Case, String)> {
     let mut c = case.clone();
-    let Subject::Aircraft { file, .. } = &mut c.subject else {
+    let words = refine(&mut c.subject)?;
+    if let Some(u) = &mut c.uncorrected {
+        refine(&mut u.subject);
+    }
+    Some((c, words))
+}
+
+/// A subject's discretisation refined in place, and the refinement in words.
+fn refine(subject: &mut Subject) -> Option<String> {
+    if let Subject::Rotor { file, .. } = subject {
+        // The tunnel's solver keeps its own azimuth step and tolerances (the autorotation
+        // module's): the blade elements are what a rotor file sets.
+        let words = format!(
+            "blade elements {} -> {} (the tunnel solver's azimuth step and tolerances are fixed)",
+            file.rotor.elements,
+            2 * file.rotor.elements
+        );
+        file.rotor.elements *= 2;
+        file.path = format!("{}#refined", file.path.display()).into();
+        return Some(words);
+    }
+    let Subject::Aircraft { file, .. } = subject else {
         return None;
     };
     let main = &mut file.aircraft.main_rotor;
@@ -168,7 +250,7 @@ pub fn refined(case: &Case) -> Option<(Case, String)> {
     main.rotor.elements *= 2;
     file.aircraft.propeller.propeller.rotor.elements *= 2;
     file.path = format!("{}#refined", file.path.display()).into();
-    Some((c, words))
+    Some(words)
 }
 
 /// One evaluation of every check: each quantity's value (NaN where it could not be computed)
@@ -309,6 +391,20 @@ pub fn propagate_from(
         Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
         None => (None, "none: no grid study for this subject".to_string()),
     };
+    let first = match settings.method {
+        Method::Auto => matches!(case.subject, Subject::Rotor { .. }),
+        Method::Sampled => false,
+        Method::FirstOrder => true,
+    };
+    if first {
+        return Ok(first_order(
+            case,
+            nominal,
+            inputs,
+            (u_num_results.as_deref(), refinement),
+            done,
+        ));
+    }
     let (points, design) = sample(case, nominal, &inputs, settings, done)?;
     let failed_points = points.iter().filter(|p| p.error.is_some()).count();
     let first_error = points.iter().find_map(|p| p.error.clone());
@@ -342,6 +438,231 @@ pub fn propagate_from(
         refinement,
         results,
     })
+}
+
+/// First-order propagation (a rotor case: each evaluation is a table of autorotation searches,
+/// too slow to sample). Each input is moved one standard deviation of its distribution either
+/// way, all others nominal (`2 d` evaluations, on every core); a quantity's contribution from
+/// input `i` is `c_i = (S(+sigma_i) - S(-sigma_i)) / 2` (one-sided where one side finds no
+/// equilibrium), `u_input = sqrt(sum c_i^2)`; the mean is the linear model's at the inputs'
+/// means (`S + sum c_i (mean_i - nominal_i) / sigma_i`), the 95 % interval that mean
+/// `-+ 1.96 u_input`, and each
+/// input's share `c_i^2 / u_input^2` stands for both Sobol' indices (equal in a linear model).
+/// A check's pass probability is that of a normal `S` with that spread inside its tolerance.
+fn first_order(
+    case: &Case,
+    nominal: &[CheckResult],
+    inputs: Vec<Input>,
+    (refined, refinement): (Option<&[CheckResult]>, String),
+    done: impl Fn() + Sync,
+) -> CaseUncertainty {
+    let moves: Vec<(usize, f64)> = (0..inputs.len())
+        .flat_map(|i| [(i, 1.0), (i, -1.0)])
+        .collect();
+    let points = crate::parallel_map(&moves, |&(i, side)| {
+        let values: Vec<f64> = inputs
+            .iter()
+            .enumerate()
+            .map(|(k, x)| {
+                let (lo, hi) = x.distribution.support();
+                match k == i {
+                    true => (x.nominal + side * x.distribution.std_dev()).clamp(lo, hi),
+                    false => x.nominal,
+                }
+            })
+            .collect();
+        let tag = format!("first-order-{i}-{side}");
+        let p = match with_values(case, &inputs, &values, &tag) {
+            Ok(c) => point_of(nominal, &crate::eval::run_case(&c)),
+            Err(e) => point_of(nominal, &[]).with_error(e),
+        };
+        done();
+        (values[i], p)
+    });
+    // A point fails where a check the nominal inputs evaluate gets no value (rows that find no
+    // equilibrium at the nominal inputs already say so in their own results).
+    let lost = |p: &Point| {
+        nominal.iter().enumerate().find(|(j, n)| {
+            n.error.is_none() && n.finding.is_none() && p.values[*j].iter().any(|v| !v.is_finite())
+        })
+    };
+    let failed_points = points.iter().filter(|(_, p)| lost(p).is_some()).count();
+    let first_error = points.iter().zip(&moves).find_map(|((x, p), &(i, side))| {
+        lost(p).map(|(_, n)| {
+            format!(
+                "{}: no value with {} at {x} (one standard deviation {})",
+                n.check,
+                inputs[i].name,
+                if side > 0.0 { "up" } else { "down" }
+            )
+        })
+    });
+    let mut results = Vec::new();
+    for (j, (check, n)) in case.checks.iter().zip(nominal).enumerate() {
+        let mut fail = 0.0f64;
+        let mut rows = Vec::new();
+        for (k, q) in n.quantities.iter().enumerate() {
+            let refined = refined
+                .and_then(|r| r.get(j))
+                .and_then(|r| r.quantities.get(k))
+                .map(|r| r.value);
+            let (out, fail_q) =
+                first_order_quantity(case, (check, n, q), (j, k), &points, &inputs, refined);
+            fail = fail.max(fail_q);
+            rows.push(out);
+        }
+        // The check passes only if every quantity does: its pass probability is at most the
+        // least likely quantity's.
+        for r in &mut rows {
+            r.pass_fraction = if n.quantities.is_empty() {
+                f64::from(u8::from(n.passed))
+            } else {
+                1.0 - fail
+            };
+            r.fragile = r.passes_nominal && fail >= FRAGILE_FAIL_FRACTION;
+            if r.fragile {
+                r.flipped_by = r
+                    .contributors
+                    .iter()
+                    .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
+                    .map(|c| c.input.clone())
+                    .collect();
+            }
+        }
+        results.extend(rows);
+    }
+    CaseUncertainty {
+        case: case.id.clone(),
+        method: format!(
+            "first order: each of {} inputs moved one standard deviation either way ({} evaluations of the case); u_input from the changes, the 95 % interval the linear model's mean -+ 1.96 u_input, shares of the variance for the indices",
+            inputs.len(),
+            moves.len()
+        ),
+        inputs,
+        evaluations: moves.len() + 1 + usize::from(refined.is_some()),
+        failed_points,
+        first_error,
+        refinement,
+        results,
+    }
+}
+
+/// One quantity of a first-order propagation (see [`first_order`]): its uncertainties and
+/// verdict, and the chance that it leaves its tolerance. `points` are the moved inputs' values
+/// and evaluations, two an input (up, then down); `(j, k)` the check's and quantity's places.
+fn first_order_quantity(
+    case: &Case,
+    (check, n, q): (
+        &crate::checks::Check,
+        &CheckResult,
+        &crate::eval::QuantityResult,
+    ),
+    (j, k): (usize, usize),
+    points: &[(f64, Point)],
+    inputs: &[Input],
+    refined: Option<f64>,
+) -> (QuantityUncertainty, f64) {
+    let z = Normal::standard().inverse_cdf(0.975);
+    let s0 = q.value;
+    // Each input's contribution: half the change over +-sigma, or the one side's.
+    let mut failed = 0;
+    let contributions: Vec<f64> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, x)| {
+            let (xp, p) = &points[2 * i];
+            let (xm, m) = &points[2 * i + 1];
+            let (sp, sm) = (p.values[j][k], m.values[j][k]);
+            failed += usize::from(!sp.is_finite()) + usize::from(!sm.is_finite());
+            let slope = match (sp.is_finite(), sm.is_finite()) {
+                (true, true) if xp != xm => (sp - sm) / (xp - xm),
+                (true, _) if *xp != x.nominal => (sp - s0) / (xp - x.nominal),
+                (_, true) if *xm != x.nominal => (s0 - sm) / (x.nominal - xm),
+                (false, false) => f64::NAN,
+                _ => 0.0,
+            };
+            slope * x.distribution.std_dev()
+        })
+        .collect();
+    let variance: f64 = contributions.iter().map(|c| c * c).sum();
+    let u_input = variance.sqrt();
+    // The mean moves where an input's mean is not its nominal value (a triangular
+    // distribution's mode off centre): the linear model's mean, about which the 95 %
+    // interval is laid.
+    let mean = s0
+        + inputs
+            .iter()
+            .zip(&contributions)
+            .map(|(x, c)| {
+                let sd = x.distribution.std_dev();
+                if sd > 0.0 {
+                    c / sd * (x.distribution.mean() - x.nominal)
+                } else {
+                    0.0
+                }
+            })
+            .sum::<f64>();
+    let mut contributors: Vec<Contributor> = inputs
+        .iter()
+        .zip(&contributions)
+        .map(|(x, c)| {
+            let share = if variance > 0.0 {
+                c * c / variance
+            } else {
+                0.0
+            };
+            Contributor {
+                input: x.name.clone(),
+                total: share,
+                first: share,
+            }
+        })
+        .collect();
+    contributors.sort_by(|a, b| b.total.total_cmp(&a.total));
+    let u_num = refined.map_or(0.0, |r| (r - s0).abs());
+    let reference = q.expected.or_else(|| {
+        let mid = 0.5 * (q.lower + q.upper);
+        mid.is_finite().then_some(mid)
+    });
+    let (u_data, u_data_source) = data_uncertainty(check, q);
+    // The chance that the quantity leaves its tolerance, S normal about the nominal.
+    let unit = Normal::standard();
+    let inside = if u_input > 0.0 {
+        unit.cdf((q.upper - mean) / u_input) - unit.cdf((q.lower - mean) / u_input)
+    } else {
+        f64::from(u8::from(q.pass))
+    };
+    let mut out = QuantityUncertainty {
+        case: case.id.clone(),
+        check: check.id.clone(),
+        class: check.class,
+        quantity: q.quantity.clone(),
+        nominal: s0,
+        reference,
+        mean,
+        p2_5: mean - z * u_input,
+        p97_5: mean + z * u_input,
+        estimate_error: reference.map(|d| s0 - d),
+        u_input,
+        u_num,
+        u_data,
+        u_data_source,
+        u_val: None,
+        verdict: None,
+        reason: String::new(),
+        passes_nominal: n.passed,
+        pass_fraction: 0.0,
+        fragile: false,
+        flipped_by: Vec::new(),
+        contributors,
+        failed_samples: failed,
+    };
+    if u_input.is_finite() {
+        judge(&mut out, q);
+    } else {
+        out.reason = "no verdict: a perturbed input finds no equilibrium on either side, so the inputs' uncertainty is unknown here".into();
+    }
+    (out, 1.0 - inside)
 }
 
 /// Every point of the case's design evaluated, on every core.
@@ -475,8 +796,12 @@ fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
             "no verdict: {} gives none of its estimated parameters a plausible range (`ranges:`), so the inputs' uncertainty is unknown",
             file.id
         ),
+        Subject::Rotor { file, .. } => format!(
+            "no verdict: {} gives none of its estimated parameters a plausible range (`ranges:`), so the inputs' uncertainty is unknown",
+            file.id
+        ),
         s => format!(
-            "no verdict: the estimated inputs of {} carry no distributions yet (only an aircraft file's ranges are sampled), so the inputs' uncertainty is unknown",
+            "no verdict: the estimated inputs of {} carry no distributions (only aircraft and rotor files' ranges are propagated), so the inputs' uncertainty is unknown",
             s.describe()
         ),
     };
@@ -551,6 +876,24 @@ fn data_uncertainty(
         .iter()
         .find(|e| e.tolerance.name == q.tolerance)
         .map(|e| &e.tolerance);
+    if let Some(t) = tolerance
+        && let Some(sd) = t.standard_deviation
+    {
+        let (u, what) = match t.kind {
+            crate::tolerance::ToleranceKind::Relative(_) => (
+                sd * q.expected.unwrap_or(f64::NAN).abs(),
+                format!("{:.2} % of the value", 100.0 * sd),
+            ),
+            _ => (sd, format!("{sd:.4e}")),
+        };
+        return (
+            Some(u),
+            format!(
+                "the measurement's standard deviation from repeat runs ({what}; tolerance `{}`)",
+                t.name
+            ),
+        );
+    }
     match tolerance.and_then(|t| t.confidence) {
         Some(c) => {
             let z = Normal::standard().inverse_cdf(0.5 + 0.5 * c);

@@ -13,3 +13,12 @@ fn every_bad_aircraft_gets_its_located_error() {
     let problems = common::check_fixtures(&dir, 12, aircraft_file::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// Rotor files too: a range on a parameter a rotor file's `ranges:` cannot move, or on one its
+/// source does not call estimated, is refused where it is written.
+#[test]
+fn every_bad_rotor_gets_its_located_error() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-rotor");
+    let problems = common::check_fixtures(&dir, 2, cierva_harness::rotor_file::load);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}

@@ -521,3 +521,99 @@ fn table2_fit_brings_four_of_six_inside_at_each_weight_and_says_the_rest_cannot(
             .any(|w| w.contains("not separately identifiable"))
     );
 }
+
+/// A calibration that predicts a held-out regime worse than the uncorrected model is not applied
+/// there by default (issue 36, item 7): `cierva fit` lists the regime's checks under
+/// `not_applied_to` with the numbers, `validate` runs them on the uncorrected rotor and says so,
+/// and an entry that gives no reason is refused.
+#[test]
+fn corrections_are_not_applied_to_a_regime_they_make_worse() {
+    use cierva_harness::uncertainty::calibration::{CrossValidation, Errors};
+    use cierva_harness::{case, corrections, eval, fit_file};
+    let f = fit_file::load(&repo().join("fits/pca-2-tr515.yaml")).unwrap();
+    let worse = Errors {
+        worse_than_uncorrected: vec!["drag_coefficient".into()],
+        rms_relative_error: [("drag_coefficient".to_string(), 0.25)].into(),
+        uncorrected_rms_relative_error: [("drag_coefficient".to_string(), 0.23)].into(),
+        ..Default::default()
+    };
+    let cv = CrossValidation {
+        groups: vec![],
+        fits: Default::default(),
+        all: Errors::default(),
+        regimes: [
+            ("mu <= 0.35".to_string(), Errors::default()),
+            ("mu > 0.35".to_string(), worse),
+        ]
+        .into_iter()
+        .collect(),
+        held_out: vec![],
+    };
+    let held = cierva_harness::uncertainty::calibration::not_applied_to(&f, &cv);
+    assert_eq!(held.len(), 1, "{held:?}");
+    assert_eq!(held[0].case, "naca-tr515-table-iii");
+    assert_eq!(held[0].regime, "mu > 0.35");
+    assert!(held[0].checks.contains(&"row-65".to_string()));
+    assert!(!held[0].checks.contains(&"row-01".to_string()));
+    assert!(
+        held[0]
+            .reason
+            .contains("drag_coefficient 25.0 % RMS against 23.0 % uncorrected"),
+        "{}",
+        held[0].reason
+    );
+
+    // On TR 487's descent: the profile drag doubled moves the rotor speed, except where the
+    // file is not applied.
+    let dir = std::env::temp_dir().join(format!("cierva-not-applied-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, extra: &str| {
+        let path = dir.join(format!("{name}.yaml"));
+        std::fs::write(
+            &path,
+            format!(
+                "id: {name}\ntitle: t\napplies_to: {{rotor: pca-2-rotor}}\ncorrections: \
+                 {{profile_drag_scale: 2.0}}\nprovenance: {{source: a test}}\n{extra}"
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let everywhere = corrections::load(&write("everywhere", "")).unwrap();
+    let not_here = corrections::load(&write(
+        "not-here",
+        "not_applied_to:\n  - {case: naca-tr487-vertical-descent, regime: descent, checks: \
+         [flight], reason: held out it was worse}\n",
+    ))
+    .unwrap();
+    let tr487 = case::load(&repo().join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
+    let check = &tr487.checks[0];
+    assert_eq!(check.id, "flight");
+    let values = |c: &case::Case| -> Vec<f64> {
+        eval::run_check(c, check)
+            .quantities
+            .iter()
+            .map(|q| q.value)
+            .collect()
+    };
+    let plain = values(&tr487);
+    let (doubled, used) = case::with_corrections(&tr487, &[everywhere]).unwrap();
+    assert_eq!(used, ["everywhere"]);
+    assert!(doubled.uncorrected.is_none());
+    assert_ne!(values(&doubled), plain);
+    let (kept, used) = case::with_corrections(&tr487, &[not_here]).unwrap();
+    assert_eq!(used, ["not-here"]);
+    assert_eq!(values(&kept), plain);
+    let reasons = &kept.uncorrected.as_ref().unwrap().reasons;
+    assert!(
+        reasons[0].contains("not-here not applied to 1 check(s) (descent): held out it was worse"),
+        "{reasons:?}"
+    );
+    let e = corrections::load(&write(
+        "no-reason",
+        "not_applied_to:\n  - {case: c, regime: r, checks: [a], reason: ' '}\n",
+    ))
+    .unwrap_err();
+    assert!(e.render().contains("say why"), "{}", e.render());
+    std::fs::remove_dir_all(&dir).ok();
+}

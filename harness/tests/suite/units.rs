@@ -370,6 +370,7 @@ mod linear {
                 kind: ToleranceKind::Rounding(spec),
                 reason: "test".into(),
                 confidence: None,
+                standard_deviation: None,
             },
         };
         let es = [e.clone()];
@@ -786,6 +787,11 @@ mod rotor_file {
         let shipped =
             cierva_harness::rotor_file::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
         assert_eq!(shipped.rotor.hub_drag_area_m2, 0.0);
+        // Without its ranges (one of which is the hub's drag: a range needs its parameter).
+        let text = match text.find("\nranges:\n") {
+            Some(i) => text[..=i].to_string(),
+            None => text,
+        };
         // The shipped file without the key and its (folded, four-space indented) source:
         // none, and it loads.
         let mut in_source = false;
