@@ -619,12 +619,6 @@ fn first_order_quantity(
         })
         .collect();
     contributors.sort_by(|a, b| b.total.total_cmp(&a.total));
-    let u_num = refined.map_or(0.0, |r| (r - s0).abs());
-    let reference = q.expected.or_else(|| {
-        let mid = 0.5 * (q.lower + q.upper);
-        mid.is_finite().then_some(mid)
-    });
-    let (u_data, u_data_source) = data_uncertainty(check, q);
     // The chance that the quantity leaves its tolerance, S normal about the nominal.
     let unit = Normal::standard();
     let inside = if u_input > 0.0 {
@@ -632,31 +626,14 @@ fn first_order_quantity(
     } else {
         f64::from(u8::from(q.pass))
     };
-    let mut out = QuantityUncertainty {
-        case: case.id.clone(),
-        check: check.id.clone(),
-        class: check.class,
-        quantity: q.quantity.clone(),
-        nominal: s0,
-        reference,
-        mean,
-        p2_5: mean - z * u_input,
-        p97_5: mean + z * u_input,
-        estimate_error: reference.map(|d| s0 - d),
-        u_input,
-        u_num,
-        u_data,
-        u_data_source,
-        u_val: None,
-        verdict: None,
-        reason: String::new(),
-        passes_nominal: n.passed,
-        pass_fraction: 0.0,
-        fragile: false,
-        flipped_by: Vec::new(),
+    let mut out = unjudged(
+        case,
+        (check, n, q),
+        (mean, mean - z * u_input, mean + z * u_input, u_input),
+        refined,
         contributors,
-        failed_samples: failed,
-    };
+        failed,
+    );
     if u_input.is_finite() {
         judge(&mut out, q);
     } else {
@@ -957,14 +934,32 @@ fn summarise(
         }
         None => ((q.value, q.value, q.value, 0.0), Vec::new(), 0),
     };
-    let (mean, p2_5, p97_5, u_input) = stats;
-    let u_num = refined.map_or(0.0, |r| (r - q.value).abs());
+    let mut out = unjudged(case, (check, n, q), stats, refined, contributors, failed);
+    judge(&mut out, q);
+    out
+}
+
+/// A quantity's uncertainties before its verdict: the reference value, `u_num` from the refined
+/// run, `u_D` from the tolerance, and the spread `(mean, p2_5, p97_5, u_input)` and contributors
+/// over the inputs; the verdict, pass fraction and fragility are the caller's.
+fn unjudged(
+    case: &Case,
+    (check, n, q): (
+        &crate::checks::Check,
+        &CheckResult,
+        &crate::eval::QuantityResult,
+    ),
+    (mean, p2_5, p97_5, u_input): (f64, f64, f64, f64),
+    refined: Option<f64>,
+    contributors: Vec<Contributor>,
+    failed_samples: usize,
+) -> QuantityUncertainty {
     let reference = q.expected.or_else(|| {
         let mid = 0.5 * (q.lower + q.upper);
         mid.is_finite().then_some(mid)
     });
     let (u_data, u_data_source) = data_uncertainty(check, q);
-    let mut out = QuantityUncertainty {
+    QuantityUncertainty {
         case: case.id.clone(),
         check: check.id.clone(),
         class: check.class,
@@ -976,7 +971,7 @@ fn summarise(
         p97_5,
         estimate_error: reference.map(|d| q.value - d),
         u_input,
-        u_num,
+        u_num: refined.map_or(0.0, |r| (r - q.value).abs()),
         u_data,
         u_data_source,
         u_val: None,
@@ -987,10 +982,8 @@ fn summarise(
         fragile: false,
         flipped_by: Vec::new(),
         contributors,
-        failed_samples: failed,
-    };
-    judge(&mut out, q);
-    out
+        failed_samples,
+    }
 }
 
 /// The V&V 20 verdict of a validation quantity, or why there is none.
