@@ -236,12 +236,14 @@ pub fn of_case(c: &CaseRun) -> Vec<Figure> {
 }
 
 /// Per-quantity figures of `(x, result quantity)` points: the model's values and the
-/// references' ranges.
+/// references' ranges, and by quantity the model's 95 % over its inputs at each point where
+/// the case was propagated (`intervals`).
 fn by_quantity(
     points: Vec<(f64, &crate::eval::QuantityResult)>,
     title: impl Fn(&str) -> String,
     x_label: &str,
     style: Style,
+    intervals: &BTreeMap<String, Vec<(f64, f64, f64)>>,
 ) -> Vec<Figure> {
     let mut groups: BTreeMap<String, Vec<(f64, &crate::eval::QuantityResult)>> = BTreeMap::new();
     for (x, q) in points {
@@ -262,6 +264,10 @@ fn by_quantity(
             }],
             bars: v.iter().map(|(x, q)| bar(*x, q)).collect(),
             bars_name: "reference (allowed range)".into(),
+            intervals: intervals.get(&name).map(|p| Band {
+                name: "model: 95 % of its inputs".into(),
+                points: p.clone(),
+            }),
             ..Figure::default()
         })
         .collect()
@@ -280,6 +286,7 @@ fn trim_against_airspeed(c: &CaseRun) -> Vec<Figure> {
         |q| format!("trim: {q} against airspeed"),
         "airspeed, mph",
         Style::LineMarkers,
+        &BTreeMap::new(),
     )
 }
 
@@ -347,17 +354,32 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
         return vec![];
     }
     let by_mu = rows.iter().all(|(_, t)| t.tip_speed_ratio.is_some());
+    let x_of = |t: &crate::case::TunnelSpec| {
+        if by_mu {
+            t.tip_speed_ratio.unwrap_or(f64::NAN)
+        } else {
+            t.alpha_deg.unwrap_or(f64::NAN)
+        }
+    };
     let pts: Vec<(f64, &crate::eval::QuantityResult)> = rows
         .iter()
-        .flat_map(|(r, t)| {
-            let x = if by_mu {
-                t.tip_speed_ratio.unwrap_or(f64::NAN)
-            } else {
-                t.alpha_deg.unwrap_or(f64::NAN)
-            };
-            r.quantities.iter().map(move |q| (x, q))
-        })
+        .flat_map(|(r, t)| r.quantities.iter().map(move |q| (x_of(t), q)))
         .collect();
+    // The model's 95 % over its inputs at each row, where the case was propagated.
+    let mut intervals: BTreeMap<String, Vec<(f64, f64, f64)>> = BTreeMap::new();
+    if let Some(u) = &c.uncertainty {
+        for (r, t) in &rows {
+            for x in u.results.iter().filter(|x| x.check == r.check) {
+                if x.p2_5.is_finite() && x.p97_5.is_finite() && !x.contributors.is_empty() {
+                    intervals.entry(x.quantity.clone()).or_default().push((
+                        x_of(t),
+                        x.p2_5,
+                        x.p97_5,
+                    ));
+                }
+            }
+        }
+    }
     by_quantity(
         pts,
         |q| format!("isolated rotor: {q}"),
@@ -367,6 +389,7 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
             "disc angle of attack, deg"
         },
         Style::Markers,
+        &intervals,
     )
 }
 

@@ -1,8 +1,9 @@
 //! Figures for the report, drawn as SVG by plotters (no fonts or system libraries: the text is
 //! `<text font-family="sans-serif">`, drawn by the browser).
 //!
-//! A [`Figure`] is data only: lines, markers, vertical bars (a reference's allowed range) and
-//! bands (a tolerance around a reference trace). The axes span the finite data; a bar or band
+//! A [`Figure`] is data only: lines, markers, vertical bars (a reference's allowed range),
+//! bands (a tolerance around a reference trace) and interval whiskers (a model's spread at
+//! scattered points). The axes span the finite data; a bar or band
 //! end far outside it (a sign check's `[0, 1e6]`) is clipped to the frame, so it reads as
 //! "everything above zero". A figure without a finite point is not drawn at all.
 
@@ -56,6 +57,10 @@ pub struct Figure {
     pub bars: Vec<Bar>,
     pub bars_name: String,
     pub bands: Vec<Band>,
+    /// Intervals of the model at scattered points (its 95 % over the inputs where the points
+    /// do not make a line, as a table's rows at several rotor speeds per mu): thin coloured
+    /// whiskers beside the reference bars, under one legend entry.
+    pub intervals: Option<Band>,
     /// Draw the vertical axis `x = 0` (the complex plane's imaginary axis).
     pub x_zero: bool,
 }
@@ -103,6 +108,7 @@ impl Figure {
         let d: usize = self
             .bands
             .iter()
+            .chain(&self.intervals)
             .map(|b| b.points.iter().filter(|p| finite(p.0)).count())
             .sum();
         s + b + d
@@ -125,7 +131,7 @@ impl Figure {
                 ys.extend([b.lower, b.upper].into_iter().filter(|v| finite(*v)));
             }
         }
-        for b in &self.bands {
+        for b in self.bands.iter().chain(&self.intervals) {
             for &(x, lo, hi) in &b.points {
                 if finite(x) {
                     xs.push(x);
@@ -219,6 +225,28 @@ impl Figure {
                     .label(b.name.as_str())
                     .legend(move |(x, y)| {
                         Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.mix(0.25).filled())
+                    });
+            }
+            if let Some(b) = &self.intervals {
+                // Offset to the right of the reference bar at the same x.
+                let c = colour(7);
+                let dx = 0.006 * (x1 - x0);
+                let style = c.stroke_width(1);
+                chart
+                    .draw_series(
+                        b.points
+                            .iter()
+                            .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
+                            .map(move |p| {
+                                PathElement::new(
+                                    vec![(p.0 + dx, clip(p.1)), (p.0 + dx, clip(p.2))],
+                                    style,
+                                )
+                            }),
+                    )?
+                    .label(b.name.as_str())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], style)
                     });
             }
             if !self.bars.is_empty() {

@@ -430,7 +430,7 @@ mod plot {
     use cierva_harness::report::plot::*;
 
     #[test]
-    fn draws_lines_bars_and_bands_and_refuses_nothing() {
+    fn draws_lines_bars_bands_and_intervals_and_refuses_nothing() {
         let f = Figure {
             title: "X_u".into(),
             x_label: "airspeed, mph".into(),
@@ -452,14 +452,19 @@ mod plot {
                 name: "tolerance".into(),
                 points: vec![(30.0, -0.15, -0.05), (50.0, -0.25, -0.15)],
             }],
+            intervals: Some(Band {
+                name: "model: 95 % of its inputs".into(),
+                points: vec![(30.0, -0.12, -0.08), (50.0, f64::NAN, -0.1)],
+            }),
             x_zero: false,
         };
-        assert_eq!(f.points(), 5);
+        assert_eq!(f.points(), 7);
         let svg = f.svg(400, 300).expect("drawn");
         assert!(
             svg.starts_with("<svg") && svg.contains("airspeed, mph"),
             "{svg}"
         );
+        assert!(svg.contains("model: 95 % of its inputs"), "{svg}");
         assert!(svg.contains("<circle") && svg.contains("<polyline"));
         assert!(!svg.contains("NaN"));
         let empty = Figure {
