@@ -106,6 +106,23 @@ pub struct QuantityUncertainty {
     pub failed_samples: usize,
 }
 
+impl QuantityUncertainty {
+    /// Its check's pass fraction, and with it whether a nominal pass is fragile and which
+    /// inputs flip it.
+    fn set_pass_fraction(&mut self, pass_fraction: f64) {
+        self.pass_fraction = pass_fraction;
+        self.fragile = self.passes_nominal && 1.0 - pass_fraction >= FRAGILE_FAIL_FRACTION;
+        if self.fragile {
+            self.flipped_by = self
+                .contributors
+                .iter()
+                .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
+                .map(|c| c.input.clone())
+                .collect();
+        }
+    }
+}
+
 /// A case's propagation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CaseUncertainty {
@@ -514,20 +531,11 @@ fn first_order(
         // The check passes only if every quantity does: its pass probability is at most the
         // least likely quantity's.
         for r in &mut rows {
-            r.pass_fraction = if n.quantities.is_empty() {
+            r.set_pass_fraction(if n.quantities.is_empty() {
                 f64::from(u8::from(n.passed))
             } else {
                 1.0 - fail
-            };
-            r.fragile = r.passes_nominal && fail >= FRAGILE_FAIL_FRACTION;
-            if r.fragile {
-                r.flipped_by = r
-                    .contributors
-                    .iter()
-                    .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
-                    .map(|c| c.input.clone())
-                    .collect();
-            }
+            });
         }
         results.extend(rows);
     }
@@ -717,20 +725,11 @@ fn check_results(
         if verdict_only {
             r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
         }
-        r.pass_fraction = if evaluated.is_empty() {
+        r.set_pass_fraction(if evaluated.is_empty() {
             as_number(n.passed)
         } else {
             evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
-        };
-        r.fragile = r.passes_nominal && 1.0 - r.pass_fraction >= FRAGILE_FAIL_FRACTION;
-        if r.fragile {
-            r.flipped_by = r
-                .contributors
-                .iter()
-                .filter(|c| c.total >= FLIPPING_TOTAL_INDEX)
-                .map(|c| c.input.clone())
-                .collect();
-        }
+        });
         out.push(r);
     }
     out
