@@ -1,6 +1,6 @@
 //! Case files: what is checked, against what, with which tolerance and why.
 //!
-//! The schema is documented with an example in the README ("Writing a case"). Every field is
+//! The schema is documented with an example in docs/writing-cases.md. Every field is
 //! checked: unknown fields are rejected, a tolerance must have a reason, an expectation must
 //! name a quantity that its check kind computes, and a check that is expected to fail says why.
 
