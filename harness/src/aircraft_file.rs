@@ -247,7 +247,7 @@ pub struct AircraftFileSpec {
     pub ranges: BTreeMap<String, RangeSpec>,
 }
 
-pub use crate::ranges::{Range, RangeSpec, Shape};
+pub use crate::inputs::ranges::{Range, RangeSpec, Shape};
 
 /// A loaded aircraft file.
 #[derive(Debug, Clone, PartialEq)]
@@ -515,7 +515,7 @@ fn check_ranges(
     err: &dyn Fn(&str, String) -> InputError,
 ) -> Result<BTreeMap<String, Range>, InputError> {
     let names: Vec<String> = PARAMETERS.iter().map(|p| p.name.to_string()).collect();
-    crate::ranges::checked(
+    crate::inputs::ranges::checked(
         spec,
         &|name| parameter(aircraft, name),
         &names,

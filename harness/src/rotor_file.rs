@@ -151,7 +151,7 @@ pub struct RotorFileSpec {
     /// ([`crate::parameters::ROTOR_PARAMETERS`]), each with its source and distribution, as an
     /// aircraft file's: the inputs `cierva uncertainty` propagates through a rotor case.
     #[serde(default)]
-    pub ranges: BTreeMap<String, crate::ranges::RangeSpec>,
+    pub ranges: BTreeMap<String, crate::inputs::ranges::RangeSpec>,
 }
 
 /// A loaded rotor file.
@@ -164,7 +164,7 @@ pub struct RotorFile {
     pub rotor: Rotor,
     pub sources: BTreeMap<String, String>,
     /// Plausible ranges of its estimated parameters, by name.
-    pub ranges: BTreeMap<String, crate::ranges::Range>,
+    pub ranges: BTreeMap<String, crate::inputs::ranges::Range>,
 }
 
 /// Loads and checks a rotor file.
@@ -293,12 +293,12 @@ fn checked_ranges(
     spec: &RotorFileSpec,
     rotor: &Rotor,
     err: &dyn Fn(&str, String) -> InputError,
-) -> Result<BTreeMap<String, crate::ranges::Range>, InputError> {
+) -> Result<BTreeMap<String, crate::inputs::ranges::Range>, InputError> {
     let names: Vec<String> = crate::parameters::ROTOR_PARAMETERS
         .iter()
         .map(|p| p.name.to_string())
         .collect();
-    let ranges = crate::ranges::checked(
+    let ranges = crate::inputs::ranges::checked(
         &spec.ranges,
         &|name| crate::parameters::rotor_parameter(rotor, name),
         &names,

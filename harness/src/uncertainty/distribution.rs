@@ -73,10 +73,8 @@ impl Distribution {
                 upper,
             } => {
                 let standard = Normal::standard();
-                let (a, b) = (
-                    standard.cdf((lower - mean) / sigma),
-                    standard.cdf((upper - mean) / sigma),
-                );
+                let (a, b) = standardised(mean, sigma, lower, upper);
+                let (a, b) = (standard.cdf(a), standard.cdf(b));
                 let p = (a + u * (b - a)).clamp(UNIT_MARGIN, 1.0 - UNIT_MARGIN);
                 (mean + sigma * standard.inverse_cdf(p)).clamp(lower, upper)
             }
@@ -111,7 +109,7 @@ impl Distribution {
                 upper,
             } => {
                 let standard = Normal::standard();
-                let (a, b) = ((lower - mean) / sigma, (upper - mean) / sigma);
+                let (a, b) = standardised(mean, sigma, lower, upper);
                 let mass = standard.cdf(b) - standard.cdf(a);
                 let density = |x: f64| (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt();
                 if mass > 0.0 {
@@ -157,4 +155,9 @@ pub struct Input {
     pub nominal: f64,
     pub distribution: Distribution,
     pub source: String,
+}
+
+/// A truncated normal's bounds in standard deviations from its mean.
+fn standardised(mean: f64, sigma: f64, lower: f64, upper: f64) -> (f64, f64) {
+    ((lower - mean) / sigma, (upper - mean) / sigma)
 }

@@ -560,11 +560,7 @@ fn first_order(
 /// and evaluations, two an input (up, then down); `(j, k)` the check's and quantity's places.
 fn first_order_quantity(
     case: &Case,
-    (check, n, q): (
-        &crate::checks::Check,
-        &CheckResult,
-        &crate::eval::QuantityResult,
-    ),
+    (check, n, q): Quantity,
     (j, k): (usize, usize),
     points: &[(f64, Point)],
     inputs: &[Input],
@@ -938,16 +934,19 @@ fn summarise(
     out
 }
 
+/// A quantity of a check: the check, its nominal result, and the quantity's result.
+type Quantity<'a> = (
+    &'a crate::checks::Check,
+    &'a CheckResult,
+    &'a crate::eval::QuantityResult,
+);
+
 /// A quantity's uncertainties before its verdict: the reference value, `u_num` from the refined
 /// run, `u_D` from the tolerance, and the spread `(mean, p2_5, p97_5, u_input)` and contributors
 /// over the inputs; the verdict, pass fraction and fragility are the caller's.
 fn unjudged(
     case: &Case,
-    (check, n, q): (
-        &crate::checks::Check,
-        &CheckResult,
-        &crate::eval::QuantityResult,
-    ),
+    (check, n, q): Quantity,
     (mean, p2_5, p97_5, u_input): (f64, f64, f64, f64),
     refined: Option<f64>,
     contributors: Vec<Contributor>,
