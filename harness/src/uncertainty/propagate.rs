@@ -221,6 +221,9 @@ fn set_values(
     Ok(())
 }
 
+/// What a case without a refinement says about its numerical uncertainty.
+const NO_GRID_STUDY: &str = "none: no grid study for this subject";
+
 /// The case with its discretisation refined, and the refinement in words (`None` for a
 /// subject without one here). For an aircraft: the main rotor's azimuth step halved, the blade
 /// elements of both rotors doubled and the periodicity tolerance a tenth.
@@ -404,24 +407,18 @@ pub fn propagate_from(
     if inputs.is_empty() {
         return Ok(without_inputs(case, nominal));
     }
-    let (u_num_results, refinement) = match refined(case) {
-        Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
-        None => (None, "none: no grid study for this subject".to_string()),
-    };
     let first = match settings.method {
         Method::Auto => matches!(case.subject, Subject::Rotor { .. }),
         Method::Sampled => false,
         Method::FirstOrder => true,
     };
     if first {
-        return Ok(first_order(
-            case,
-            nominal,
-            inputs,
-            (u_num_results.as_deref(), refinement),
-            done,
-        ));
+        return Ok(first_order(case, nominal, inputs, refined(case), done));
     }
+    let (u_num_results, refinement) = match refined(case) {
+        Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
+        None => (None, NO_GRID_STUDY.to_string()),
+    };
     let (points, design) = sample(case, nominal, &inputs, settings, done)?;
     let failed_points = points.iter().filter(|p| p.error.is_some()).count();
     let first_error = points.iter().find_map(|p| p.error.clone());
@@ -466,17 +463,33 @@ pub fn propagate_from(
 /// `-+ 1.96 u_input`, and each
 /// input's share `c_i^2 / u_input^2` stands for both Sobol' indices (equal in a linear model).
 /// A check's pass probability is that of a normal `S` with that spread inside its tolerance.
+/// The refined case (`u_num`) runs in the same batch as the moves, first, as the longest.
 fn first_order(
     case: &Case,
     nominal: &[CheckResult],
     inputs: Vec<Input>,
-    (refined, refinement): (Option<&[CheckResult]>, String),
+    refined: Option<(Case, String)>,
     done: impl Fn() + Sync,
 ) -> CaseUncertainty {
     let moves: Vec<(usize, f64)> = (0..inputs.len())
         .flat_map(|i| [(i, 1.0), (i, -1.0)])
         .collect();
-    let points = crate::parallel_map(&moves, |&(i, side)| {
+    /// One job's outcome: the refined case's results, or a moved input's value and point.
+    enum Run {
+        Refined(Vec<CheckResult>),
+        Moved(f64, Point),
+    }
+    // `None` is the refined case's run.
+    let jobs: Vec<Option<(usize, f64)>> = refined
+        .iter()
+        .map(|_| None)
+        .chain(moves.iter().copied().map(Some))
+        .collect();
+    let runs = crate::parallel_map(&jobs, |job| {
+        let Some((i, side)) = *job else {
+            let (c, _) = refined.as_ref().expect("a refined job has its case");
+            return Run::Refined(crate::eval::run_case(c));
+        };
         let values: Vec<f64> = inputs
             .iter()
             .enumerate()
@@ -494,8 +507,18 @@ fn first_order(
             Err(e) => point_of(nominal, &[]).with_error(e),
         };
         done();
-        (values[i], p)
+        Run::Moved(values[i], p)
     });
+    let mut refined_results = None;
+    let mut points = Vec::with_capacity(moves.len());
+    for r in runs {
+        match r {
+            Run::Refined(results) => refined_results = Some(results),
+            Run::Moved(x, p) => points.push((x, p)),
+        }
+    }
+    let refinement = refined.map_or(NO_GRID_STUDY.to_string(), |(_, words)| words);
+    let refined = refined_results.as_deref();
     // A point fails where a check the nominal inputs evaluate gets no value (rows that find no
     // equilibrium at the nominal inputs already say so in their own results).
     let lost = |p: &Point| {
