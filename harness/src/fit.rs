@@ -1018,6 +1018,11 @@ fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>
     (se, warnings)
 }
 
+/// Whether a step reaches its trust region's edge in any parameter.
+fn limited_by(step: &[f64], radius: &[f64]) -> bool {
+    step.iter().zip(radius).any(|(d, r)| d.abs() >= 0.99 * r)
+}
+
 /// Fits the parameters. Never panics on a problem: a malformed problem, a model that will not
 /// trim or an infeasible set of bounds each end with their status.
 pub fn fit(problem: &Problem) -> FitResult {
@@ -1053,11 +1058,12 @@ pub fn fit(problem: &Problem) -> FitResult {
     let mut r = residuals(problem, &p, &y);
     let c0 = cost(&r);
     let mut c = c0;
-    let mut radius: Vec<f64> = problem
+    let initial_radius: Vec<f64> = problem
         .parameters
         .iter()
         .map(|q| problem.options.trust_region * (q.upper - q.lower))
         .collect();
+    let mut radius = initial_radius.clone();
     let mut jt: Vec<Vec<f64>> = Vec::new();
     // Whether `jt` is a finite-difference Jacobian at `p` (else a Broyden update of one).
     let mut fresh = false;
@@ -1086,6 +1092,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         let mut accepted = false;
         let mut small = false;
         let mut stale = false;
+        let mut reopened = false;
         for _ in 0..8 {
             let d = match qp_step(problem, &p, &y, &r, &jt, &radius) {
                 Ok(d) => d,
@@ -1099,6 +1106,15 @@ pub fn fit(problem: &Problem) -> FitResult {
                 .iter()
                 .zip(&d)
                 .all(|(q, di)| di.abs() <= problem.options.tolerance * (q.upper - q.lower));
+            // A step held small by a trust region that earlier failures shrank says nothing
+            // of convergence: on a fresh Jacobian, the region opens again (once an
+            // iteration) and the step is taken as the linearisation wants it.
+            if small && fresh && !reopened && limited_by(&d, &radius) {
+                radius.clone_from(&initial_radius);
+                reopened = true;
+                small = false;
+                continue;
+            }
             if small {
                 break;
             }
@@ -1125,7 +1141,7 @@ pub fn fit(problem: &Problem) -> FitResult {
                     let ct = cost(&rt);
                     let ratio = (c - ct) / (c - predicted).max(f64::MIN_POSITIVE);
                     if ct < c {
-                        let at_edge = d.iter().zip(&radius).any(|(di, ra)| di.abs() >= 0.99 * ra);
+                        let at_edge = limited_by(&d, &radius);
                         if ratio > 0.75 && at_edge {
                             radius.iter_mut().for_each(|v| *v *= 2.0);
                         } else if ratio < 0.25 {
@@ -1138,7 +1154,8 @@ pub fn fit(problem: &Problem) -> FitResult {
                         fresh = false;
                         (p, y, r, c) = (trial, yt, rt, ct);
                         accepted = true;
-                        if drop <= problem.options.tolerance {
+                        // (A small drop from a step the region held back is not convergence.)
+                        if drop <= problem.options.tolerance && !at_edge {
                             small = true;
                         }
                         break;
