@@ -358,7 +358,7 @@ mod tests {
     #[test]
     fn the_printed_a13_of_eq21_omits_the_zq_m_omega_term() {
         // Eq. 21 prints a13 = -0.0100; Eq. 13 gives -0.0042. Dropping X_w Z_q M_Omega / w2
-        // reproduces the printed value (see the case file and README).
+        // reproduces the printed value (see the case file and docs/validation.md).
         let m = vpm_eq20();
         let e = eq13(&m).unwrap();
         assert!((e.a[0][2] - -0.004_15).abs() < 1e-5);
