@@ -118,8 +118,9 @@ fn indices<'a>(results: impl Iterator<Item = &'a QuantityUncertainty>) -> String
         "<h3>Sobol' indices</h3><p class=\"muted\">Per validation quantity, each input's share \
          of the variance: first order (light, the input alone) and total (dark, with its \
          interactions), each ± its standard error where sampled (the delta method's over the \
-         design's rows: on the Sobol' points it overstates the error of a smooth quantity, the \
-         first order's the more as the quantity's mean is large against its spread; \
+         design's rows: on the Sobol' points at 256 samples it overstates the error of a smooth \
+         quantity, the first order's the more as the quantity's mean is large against its \
+         spread; at 64 samples of 13 inputs a total index's may understate it; \
          docs/uncertainty.md).</p>\
          <div class=\"sobol\">",
     );
