@@ -111,13 +111,23 @@ fn table<'a>(results: impl Iterator<Item = &'a QuantityUncertainty>) -> String {
 }
 
 /// Each validation quantity's indices as horizontal bars: total (dark) over first order
-/// (light), inputs by total index.
+/// (light), inputs by total index, each index's value with its standard error where it was
+/// sampled.
 fn indices<'a>(results: impl Iterator<Item = &'a QuantityUncertainty>) -> String {
     let mut h = String::from(
         "<h3>Sobol' indices</h3><p class=\"muted\">Per validation quantity, each input's share \
          of the variance: first order (light, the input alone) and total (dark, with its \
-         interactions). Sampling error is about ±0.05 at 64 samples.</p><div class=\"sobol\">",
+         interactions), each ± its standard error where sampled (the delta method's over the \
+         design's rows: on the Sobol' points at 256 samples it overstates the error of a smooth \
+         quantity, the first order's the more as the quantity's mean is large against its \
+         spread; at 64 samples of 13 inputs a total index's may understate it; \
+         docs/uncertainty.md).</p>\
+         <div class=\"sobol\">",
     );
+    let with_se = |x: f64, se: Option<f64>| match se {
+        Some(se) => format!("{x:.2} ± {se:.2}"),
+        None => format!("{x:.2}"),
+    };
     for r in results.filter(|r| r.class == CheckClass::Validation && !r.contributors.is_empty()) {
         let _ = write!(
             h,
@@ -132,12 +142,12 @@ fn indices<'a>(results: impl Iterator<Item = &'a QuantityUncertainty>) -> String
                 "<div class=\"bar-row\"><span class=\"bar-name\">{}</span>\
                  <span class=\"bar-track\"><span class=\"bar-total\" style=\"width:{}%\"></span>\
                  <span class=\"bar-first\" style=\"width:{}%\"></span></span>\
-                 <span class=\"n\">{:.2} / {:.2}</span></div>",
+                 <span class=\"n\">{} / {}</span></div>",
                 esc(&c.input),
                 width(c.total),
                 width(c.first),
-                c.first,
-                c.total
+                with_se(c.first, c.first_se),
+                with_se(c.total, c.total_se)
             );
         }
         h += "</figure>";

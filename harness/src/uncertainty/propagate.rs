@@ -62,6 +62,12 @@ pub struct Contributor {
     pub total: f64,
     /// Sobol' first-order index.
     pub first: f64,
+    /// The standard error of `total` ([`sobol`]'s delta method). `None` (null in JSON) from the
+    /// first-order propagation: its shares `c_i^2 / u_input^2` are not sampled and have no
+    /// sampling error to state (their error is the linearisation's).
+    pub total_se: Option<f64>,
+    /// The standard error of `first`, as `total_se`.
+    pub first_se: Option<f64>,
 }
 
 /// One quantity of one check, propagated and (for a validation check with a reference value)
@@ -642,6 +648,8 @@ fn first_order_quantity(
                 input: x.name.clone(),
                 total: share,
                 first: share,
+                total_se: None,
+                first_se: None,
             }
         })
         .collect();
@@ -937,6 +945,8 @@ fn summarise(
                             input: i.name.clone(),
                             total: x.total,
                             first: x.first,
+                            total_se: Some(x.total_se),
+                            first_se: Some(x.first_se),
                         })
                         .collect();
                     c.sort_by(|a, b| b.total.total_cmp(&a.total));

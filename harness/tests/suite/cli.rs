@@ -1437,6 +1437,14 @@ fn uncertainty_json_gives_each_validation_quantity_its_verdict() {
         let c = r["contributors"].as_array().unwrap();
         assert_eq!(c.len(), 13, "{r}");
         assert!(c[0]["input"].is_string() && c[0]["total"].is_f64(), "{r}");
+        // Sampled: every index has its standard error.
+        for key in ["first_se", "total_se"] {
+            assert!(
+                c.iter()
+                    .all(|c| c[key].as_f64().is_some_and(|se| se >= 0.0)),
+                "{key} in {r}"
+            );
+        }
     }
     let n_v = validation.iter().find(|r| r["check"] == "N_v").unwrap();
     assert_eq!(n_v["verdict"], "model_form_error", "{n_v}");

@@ -21,23 +21,40 @@ fn evaluate(design: &Design, dists: &[Distribution], f: impl Fn(&[f64]) -> f64) 
         .collect()
 }
 
+/// A test function of the inputs.
+type Model = fn(&[f64]) -> f64;
+
 /// The Ishigami function (a = 7, b = 0.1) on [-pi, pi]^3, whose indices are known in closed form
 /// (Ishigami and Homma 1990; Saltelli et al. 2010 use it): with V = a^2/8 + b pi^4/5 +
 /// b^2 pi^8/18 + 1/2, V1 = (1 + b pi^4/5)^2 / 2, V2 = a^2/8, V13 = b^2 pi^8 (1/18 - 1/50).
+/// The function, its variance, and its first-order and total indices.
+fn ishigami() -> (Model, f64, [f64; 3], [f64; 3]) {
+    const A: f64 = 7.0;
+    const B: f64 = 0.1;
+    let v1 = 0.5 * (1.0 + B * PI.powi(4) / 5.0).powi(2);
+    let v2 = A * A / 8.0;
+    let v13 = B * B * PI.powi(8) * (1.0 / 18.0 - 1.0 / 50.0);
+    let v = v1 + v2 + v13;
+    let f = |x: &[f64]| x[0].sin() + A * x[1].sin().powi(2) + B * x[2].powi(4) * x[0].sin();
+    (
+        f,
+        v,
+        [v1 / v, v2 / v, 0.0],
+        [(v1 + v13) / v, v2 / v, v13 / v],
+    )
+}
+
+/// The Ishigami function's inputs: uniform on [-pi, pi].
+const ISHIGAMI_INPUT: Distribution = Distribution::Uniform {
+    lower: -PI,
+    upper: PI,
+};
+
+/// The Ishigami indices within 0.02 of the closed form at 4096 base points.
 #[test]
 fn the_ishigami_indices_come_within_0_02_of_the_analytic_values() {
-    let (a, b) = (7.0, 0.1);
-    let v1 = 0.5 * (1.0 + b * PI.powi(4) / 5.0).powi(2);
-    let v2 = a * a / 8.0;
-    let v13 = b * b * PI.powi(8) * (1.0 / 18.0 - 1.0 / 50.0);
-    let v = v1 + v2 + v13;
-    let first = [v1 / v, v2 / v, 0.0];
-    let total = [(v1 + v13) / v, v2 / v, v13 / v];
-    let uniform = Distribution::Uniform {
-        lower: -PI,
-        upper: PI,
-    };
-    let f = |x: &[f64]| x[0].sin() + a * x[1].sin().powi(2) + b * x[2].powi(4) * x[0].sin();
+    let (f, v, first, total) = ishigami();
+    let uniform = ISHIGAMI_INPUT;
     // Several seeds: the answer must hold for the sequence, not one lucky scramble.
     for seed in [0, 1, 7, 42, 1234] {
         let design = Design::sobol(4096, 3, seed).unwrap();
@@ -446,6 +463,341 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
         );
         assert_eq!(f.verdict, s.verdict, "{}", f.quantity);
         assert_eq!(f.contributors[0].input, s.contributors[0].input);
+        // The first order's shares are not sampled: no standard errors; the sampled indices'.
+        assert!(
+            f.contributors
+                .iter()
+                .all(|c| c.first_se.is_none() && c.total_se.is_none())
+        );
+        assert!(
+            s.contributors
+                .iter()
+                .all(|c| c.first_se.is_some_and(f64::is_finite)
+                    && c.total_se.is_some_and(f64::is_finite))
+        );
         assert!(f.u_num > 0.0 && f.u_num < f.u_input, "{f:?}");
     }
+}
+
+/// The normal quantile at 97.5 %: an index's 95 % interval is `estimate -+ Z95 SE`.
+const Z95: f64 = 1.959_963_985;
+
+/// Over many seeds, per index: how often `|estimate - truth| <= Z95 SE`, the sum of the
+/// standard errors and the sum of the squared errors.
+struct Coverage {
+    seeds: usize,
+    /// `(hits, sum of SE, sum of squared errors)` per input: first order, then total.
+    first: Vec<(usize, f64, f64)>,
+    total: Vec<(usize, f64, f64)>,
+}
+
+impl Coverage {
+    fn new(d: usize) -> Self {
+        Self {
+            seeds: 0,
+            first: vec![(0, 0.0, 0.0); d],
+            total: vec![(0, 0.0, 0.0); d],
+        }
+    }
+
+    /// One seed's estimate against the truth.
+    fn add(&mut self, e: &sobol::Estimate, first: &[f64], total: &[f64]) {
+        self.seeds += 1;
+        for (i, x) in e.indices.iter().enumerate() {
+            for (t, estimate, se, truth) in [
+                (&mut self.first[i], x.first, x.first_se, first[i]),
+                (&mut self.total[i], x.total, x.total_se, total[i]),
+            ] {
+                t.0 += usize::from((estimate - truth).abs() <= Z95 * se);
+                t.1 += se;
+                t.2 += (estimate - truth).powi(2);
+            }
+        }
+    }
+
+    /// Per input: the share of seeds covered.
+    fn rates(&self, t: &[(usize, f64, f64)]) -> Vec<f64> {
+        t.iter().map(|t| t.0 as f64 / self.seeds as f64).collect()
+    }
+
+    /// Over every input and seed: the share covered.
+    fn pooled(&self, t: &[(usize, f64, f64)]) -> f64 {
+        t.iter().map(|t| t.0).sum::<usize>() as f64 / (self.seeds * t.len()) as f64
+    }
+
+    /// Per input: the mean standard error over the root-mean-square error (above 1, the
+    /// standard error overstates the error).
+    fn overstatement(&self, t: &[(usize, f64, f64)]) -> Vec<f64> {
+        let n = self.seeds as f64;
+        t.iter().map(|t| (t.1 / n) / (t.2 / n).sqrt()).collect()
+    }
+
+    fn table(&self, name: &str) -> String {
+        let f = |v: Vec<f64>| {
+            v.iter()
+                .map(|x| format!("{x:.3}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        format!(
+            "{name}, {} seeds\n  first: coverage {} (pooled {:.3}), SE / RMS error {}\n  \
+             total: coverage {} (pooled {:.3}), SE / RMS error {}",
+            self.seeds,
+            f(self.rates(&self.first)),
+            self.pooled(&self.first),
+            f(self.overstatement(&self.first)),
+            f(self.rates(&self.total)),
+            self.pooled(&self.total),
+            f(self.overstatement(&self.total)),
+        )
+    }
+}
+
+/// `y = c0 + sum c_i x_i` of the four Gaussian inputs of the propagation test above: the inputs,
+/// the function, and each input's index (first order and total alike) `c_i^2 sigma_i^2 / V`.
+fn linear_gaussian() -> (Vec<Distribution>, Model, Vec<f64>) {
+    const C0: f64 = 3.0;
+    const C: [f64; 4] = [2.0, -1.0, 0.5, 4.0];
+    let mu = [1.0, -2.0, 10.0, 0.0];
+    let sigma = [0.3, 1.0, 2.0, 0.05];
+    let dists = mu
+        .iter()
+        .zip(&sigma)
+        .map(|(&mean, &sigma)| Distribution::Normal {
+            mean,
+            sigma,
+            lower: f64::NEG_INFINITY,
+            upper: f64::INFINITY,
+        })
+        .collect();
+    let var: f64 = C.iter().zip(&sigma).map(|(c, s)| (c * s).powi(2)).sum();
+    let shares = C
+        .iter()
+        .zip(&sigma)
+        .map(|(c, s)| (c * s).powi(2) / var)
+        .collect();
+    (
+        dists,
+        |x| C0 + C.iter().zip(x).map(|(c, x)| c * x).sum::<f64>(),
+        shares,
+    )
+}
+
+/// Sobol's G function of 13 inputs uniform on [0, 1] (13, as the VPM M16's ranged inputs):
+/// `prod (|4 x_i - 2| + a_i) / (1 + a_i)`, with `V_i = 1 / (3 (1 + a_i)^2)`,
+/// `V = prod (1 + V_i) - 1`, `S_i = V_i / V` and `S_Ti = V_i prod_(j != i) (1 + V_j) / V`
+/// (Saltelli and Sobol' 1995). Its kinks and products make the estimators' summands heavy
+/// tailed: the hard case.
+fn g_function() -> (Model, Vec<f64>, Vec<f64>) {
+    const G_A: [f64; 13] = [
+        0.0, 1.0, 4.5, 9.0, 2.0, 0.5, 99.0, 3.0, 9.0, 99.0, 1.5, 6.0, 20.0,
+    ];
+    let vi: Vec<f64> = G_A
+        .iter()
+        .map(|a| 1.0 / (3.0 * (1.0 + a).powi(2)))
+        .collect();
+    let v = vi.iter().map(|v| 1.0 + v).product::<f64>() - 1.0;
+    let first = vi.iter().map(|vi| vi / v).collect();
+    let total = vi
+        .iter()
+        .map(|vi| vi * (1.0 + v) / (1.0 + vi) / v)
+        .collect();
+    let f = |x: &[f64]| {
+        G_A.iter()
+            .zip(x)
+            .map(|(a, x)| ((4.0 * x - 2.0).abs() + a) / (1.0 + a))
+            .product::<f64>()
+    };
+    (f, first, total)
+}
+
+/// `y = sum x_i / i` of 13 inputs uniform on [0, 1] (i from 1): each input's index, first order
+/// and total alike, `(1 / i^2) / sum (1 / j^2)`.
+fn linear13() -> (Model, Vec<f64>) {
+    let weight = |i: usize| 1.0 / (1.0 + i as f64);
+    let v: f64 = (0..13).map(|i| weight(i).powi(2)).sum();
+    let shares = (0..13).map(|i| weight(i).powi(2) / v).collect();
+    let f = |x: &[f64]| {
+        x.iter()
+            .enumerate()
+            .map(|(i, x)| x / (1.0 + i as f64))
+            .sum::<f64>()
+    };
+    (f, shares)
+}
+
+/// The coverage of the scrambled design of `n` base points over seeds 0 to 199.
+fn design_coverage(
+    n: usize,
+    dists: &[Distribution],
+    f: Model,
+    first: &[f64],
+    total: &[f64],
+) -> Coverage {
+    let mut c = Coverage::new(dists.len());
+    for seed in 0..SEEDS {
+        let design = Design::sobol(n, dists.len(), seed).unwrap();
+        let y = evaluate(&design, dists, f);
+        let (fa, fb, fab) = design.split(&y);
+        c.add(&sobol::estimate(fa, fb, &fab).unwrap(), first, total);
+    }
+    c
+}
+
+/// The seeds of each coverage run. At a true coverage of 0.95 the share of 200 seeds covered has
+/// a binomial standard deviation of sqrt(0.95 x 0.05 / 200) = 0.015.
+const SEEDS: u32 = 200;
+/// The least coverage of one index over [`SEEDS`] seeds that a stated 95 % may show: three
+/// binomial standard deviations (0.015) below it.
+const LEAST_COVERAGE: f64 = 0.90;
+
+/// The standard errors where their assumption holds: rows of independent draws (SplitMix64, not
+/// the Sobol' points), where the delta method's standard error is the estimator's own to first
+/// order. Ishigami and the linear model at 256 base points (cierva's default), 200 draws each:
+/// - pooled over the inputs, the coverage of `estimate -+ 1.96 SE` must be 0.95 within
+///   [`IID_BELOW`] and [`IID_ABOVE`]: two-sided, a standard error too large fails as well as one
+///   too small;
+/// - per index, the mean standard error over the RMS error must be 1 within [`IID_RATIO`].
+///
+/// Measured here: pooled 0.947 first order and 0.948 total for Ishigami, 0.959 and 0.944 for
+/// the linear model; the mean SE 0.93-1.07 times the RMS error. Over 2000 draws (outside the
+/// suite): 0.942 and 0.938 for Ishigami, 0.952 and 0.944 for the linear model: the delta method
+/// runs about 0.01 short at this size (the total index's summands are squares, and skewed; at
+/// 512 base points Ishigami's are 0.950 and 0.943).
+#[test]
+fn sobol_standard_errors_cover_at_95_percent_over_independent_rows() {
+    // A pooled share of 600 (800) estimates has a binomial standard deviation of 0.009 (0.008)
+    // if they are independent; the inputs of one draw share `f(A)` and `f(B)`, so take 0.01.
+    // Above: three of them. Below: three, and the delta method's measured 0.01 shortfall.
+    const IID_ABOVE: f64 = 0.03;
+    const IID_BELOW: f64 = 0.04;
+    // The RMS error of 200 draws has a relative standard deviation of about 1 / sqrt(2 x 200)
+    // = 0.035 for normal errors, more for the skewed total index: three of 0.06.
+    const IID_RATIO: f64 = 0.2;
+    let n = 256;
+    let run = |dists: &[Distribution], f: Model, first: &[f64], total: &[f64]| {
+        let d = dists.len();
+        let mut c = Coverage::new(d);
+        let mut rng = Rng(2026);
+        for _ in 0..SEEDS {
+            let mut draw =
+                || -> Vec<f64> { dists.iter().map(|x| x.quantile(rng.next())).collect() };
+            let (a, b): (Vec<Vec<f64>>, Vec<Vec<f64>>) = (0..n).map(|_| (draw(), draw())).unzip();
+            let fa: Vec<f64> = a.iter().map(|x| f(x)).collect();
+            let fb: Vec<f64> = b.iter().map(|x| f(x)).collect();
+            let fab: Vec<Vec<f64>> = (0..d)
+                .map(|i| {
+                    a.iter()
+                        .zip(&b)
+                        .map(|(a, b)| {
+                            let mut x = a.clone();
+                            x[i] = b[i];
+                            f(&x)
+                        })
+                        .collect()
+                })
+                .collect();
+            let fab: Vec<&[f64]> = fab.iter().map(Vec::as_slice).collect();
+            c.add(&sobol::estimate(&fa, &fb, &fab).unwrap(), first, total);
+        }
+        c
+    };
+    let (f, _, first, total) = ishigami();
+    let ishigami = run(&[ISHIGAMI_INPUT; 3], f, &first, &total);
+    let (dists, f, shares) = linear_gaussian();
+    let linear = run(&dists, f, &shares, &shares);
+    let table = format!(
+        "{}\n{}",
+        ishigami.table("Ishigami, independent rows"),
+        linear.table("linear, independent rows")
+    );
+    eprintln!("{table}");
+    for c in [&ishigami, &linear] {
+        for t in [&c.first, &c.total] {
+            let rate = c.pooled(t);
+            assert!(
+                (0.95 - IID_BELOW..=0.95 + IID_ABOVE).contains(&rate),
+                "coverage {rate}\n{table}"
+            );
+            for over in c.overstatement(t) {
+                assert!(
+                    (over - 1.0).abs() <= IID_RATIO,
+                    "SE / error {over}\n{table}"
+                );
+            }
+        }
+    }
+}
+
+/// The standard errors on the design cierva samples: `A` and `B` from one scrambled Sobol'
+/// sequence, whose rows are not independent. The standard error is the independent rows' (the
+/// test above), and the scrambled points integrate smooth functions better than independent
+/// draws: it overstates the error. Over seeds 0 to 199 at 64 base points, per index, the
+/// coverage of `estimate -+ 1.96 SE` must reach [`LEAST_COVERAGE`], and the mean SE over the
+/// RMS error must be at least 1 (conservative) and, for Ishigami, at most 3 (measured 1.23-2.29;
+/// the RMS of 200 seeds is good to about 5 %, so 3 is a clear margin over the most and states
+/// how far the overstatement goes). Measured: Ishigami's coverage 0.975-1.000 per index (pooled
+/// 0.987 first order and total); the linear model's 1.000 everywhere, its SE 12.3-13.2 times the
+/// RMS error for the first order and 2.4-3.9 for the total. That ratio is not bounded above:
+/// the Sobol' points integrate an additive function's estimators almost exactly, and estimator
+/// (b) is not centred, so its SE grows with the quantity's mean (here 12 against a standard
+/// deviation of 1.5) where its error on these points does not.
+///
+/// And the hard case, where the SE falls short of its 95 %: the G function of 13 inputs at 256
+/// base points (the VPM M16's inputs and cierva's default), whose summands are heavy tailed
+/// (over independent rows, outside the suite: 0.94 first order and 0.92 total, pooled over 1000
+/// draws). Measured here: pooled 0.988 first order and 0.951 total, per input 0.925-1.000 and
+/// 0.860-0.980 (the least total, 0.860, on an input of index 7e-5; the next 0.920). Pooled, the
+/// first order must hold its stated 0.95 (2600 estimates: a binomial standard deviation of
+/// 0.004, against a measured margin of 0.038), and the total reach 0.90: 0.95 less three
+/// binomial standard deviations of one input's 200 seeds (0.015), since its shortfall is in a
+/// few inputs. `docs/uncertainty.md` states it.
+///
+/// And 13 inputs at 64 base points, even on a linear function ([`linear13`]): the total index
+/// of input `i` is the mean of `(x_i(A) - x_i(B))^2`, a function of the sequence's dimensions
+/// `i` and `13 + i` alone, and for inputs 5 and 12 those pairs are spread worse than independent
+/// draws at 64 points (Owen 1997's small factor): coverage 0.665 and 0.725, the SE 0.62 times
+/// the RMS error. Pooled 1.000 first order and 0.950 total; the same bounds as the G function's.
+/// At 256 base points every index of it is covered (1.000, the SE 2.5-58 times the error) and
+/// is held as the smooth functions are (at 128, measured once: 0.955 or more).
+#[test]
+fn sobol_standard_errors_are_conservative_on_the_scrambled_design() {
+    let (f, _, first, total) = ishigami();
+    let ishigami = design_coverage(64, &[ISHIGAMI_INPUT; 3], f, &first, &total);
+    let (dists, f, shares) = linear_gaussian();
+    let linear = design_coverage(64, &dists, f, &shares, &shares);
+    let (f, first, total) = g_function();
+    let uniform = Distribution::Uniform {
+        lower: 0.0,
+        upper: 1.0,
+    };
+    let g = design_coverage(256, &[uniform; 13], f, &first, &total);
+    let (f, shares) = linear13();
+    let linear13_64 = design_coverage(64, &[uniform; 13], f, &shares, &shares);
+    let linear13_256 = design_coverage(256, &[uniform; 13], f, &shares, &shares);
+    let table = format!(
+        "{}\n{}\n{}\n{}\n{}",
+        ishigami.table("Ishigami, 64 base points"),
+        linear.table("linear, 64 base points"),
+        g.table("G function, 256 base points"),
+        linear13_64.table("linear of 13 inputs, 64 base points"),
+        linear13_256.table("linear of 13 inputs, 256 base points"),
+    );
+    eprintln!("{table}");
+    for (c, most) in [
+        (&ishigami, 3.0),
+        (&linear, f64::INFINITY),
+        (&linear13_256, f64::INFINITY),
+    ] {
+        for t in [&c.first, &c.total] {
+            for (rate, over) in c.rates(t).into_iter().zip(c.overstatement(t)) {
+                assert!(rate >= LEAST_COVERAGE, "coverage {rate}\n{table}");
+                assert!((1.0..=most).contains(&over), "SE / error {over}\n{table}");
+            }
+        }
+    }
+    assert!(g.pooled(&g.first) >= 0.95, "{table}");
+    assert!(g.pooled(&g.total) >= 0.90, "{table}");
+    assert!(linear13_64.pooled(&linear13_64.first) >= 0.95, "{table}");
+    assert!(linear13_64.pooled(&linear13_64.total) >= 0.90, "{table}");
 }
