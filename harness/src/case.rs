@@ -102,6 +102,17 @@ pub struct Case {
     /// Checks that run on the subject as it was before corrections were applied (a corrections
     /// file's `not_applied_to`): set by [`with_corrections`], `None` as loaded.
     pub uncorrected: Option<Uncorrected>,
+    /// The calibrations applied to the subject (corrections files, by id), with their stated
+    /// predictive errors: set by [`with_corrections`], empty as loaded.
+    pub calibrations: Vec<Calibration>,
+}
+
+/// A corrections file applied to a case's subject, and what it states of its predictions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Calibration {
+    pub id: String,
+    /// `None`: its fit was not cross-validated, so it states no predictive error.
+    pub predictive_error: Option<crate::corrections::PredictiveError>,
 }
 
 /// The checks of a corrected case that keep the uncorrected subject, and why.
@@ -216,6 +227,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         scores: spec.scores,
         sensitivity,
         uncorrected: None,
+        calibrations: vec![],
     })
 }
 
@@ -567,6 +579,10 @@ pub fn with_corrections(
             _ => {}
         }
         if used.len() > applied {
+            c.calibrations.push(Calibration {
+                id: f.id.clone(),
+                predictive_error: f.predictive_error.clone(),
+            });
             for n in f.not_applied_to.iter().filter(|n| n.case == case.id) {
                 let u = c.uncorrected.get_or_insert_with(|| Uncorrected {
                     subject: before.clone(),

@@ -251,6 +251,80 @@ pub struct NotApplied {
     pub reason: String,
 }
 
+/// A calibration's stated predictive error, from its file's `cross_validation` (`cierva fit`,
+/// [`crate::uncertainty::calibration::summary`]): the model-discrepancy term (the relative
+/// spread of held-out errors beyond the data's scatter) per quantity, pooled over every held-out
+/// target and per regime. A prediction made with the corrections carries it
+/// ([`crate::uncertainty::propagate`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PredictiveError {
+    /// Per quantity, over every held-out target.
+    pub pooled: BTreeMap<String, f64>,
+    pub regimes: Vec<RegimeError>,
+}
+
+/// One regime's predictive error and the checks it covers.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+pub struct RegimeError {
+    #[serde(skip)]
+    pub name: String,
+    /// The regime's checks by case id (written by `cierva fit` since the regimes carried
+    /// their checks; an older file's regimes cover none).
+    #[serde(default)]
+    pub checks: BTreeMap<String, Vec<String>>,
+    #[serde(default, rename = "discrepancy_relative_sd")]
+    pub relative_sd: BTreeMap<String, f64>,
+}
+
+/// The part of a file's `cross_validation` a prediction reads.
+#[derive(Debug, Deserialize)]
+struct PredictiveErrorSpec {
+    #[serde(default)]
+    discrepancy_relative_sd: BTreeMap<String, f64>,
+    #[serde(default)]
+    regimes: BTreeMap<String, RegimeError>,
+}
+
+/// Quantities whose relative errors are one another's (a rotor speed in rad/s or rpm).
+const SAME_RELATIVE_ERROR: &[(&str, &str)] = &[("rotor_omega_rad_s", "rotor_rpm")];
+
+impl PredictiveError {
+    /// The relative standard deviation a prediction of `quantity` at `check` of case `case`
+    /// carries, and where it comes from: the regime that holds the check, else the pooled
+    /// figure (the check is in none of the calibration's regimes: a condition its
+    /// cross-validation never saw). `None` where the calibration states nothing for the
+    /// quantity.
+    pub fn relative_sd(&self, case: &str, check: &str, quantity: &str) -> Option<(f64, String)> {
+        let named = |m: &BTreeMap<String, f64>| {
+            m.get(quantity).copied().or_else(|| {
+                SAME_RELATIVE_ERROR
+                    .iter()
+                    .find_map(|(a, b)| match quantity {
+                        q if q == *a => m.get(*b).copied(),
+                        q if q == *b => m.get(*a).copied(),
+                        _ => None,
+                    })
+            })
+        };
+        let regime = self.regimes.iter().find(|r| {
+            r.checks
+                .get(case)
+                .is_some_and(|c| c.iter().any(|c| c == check))
+        });
+        match regime {
+            Some(r) => named(&r.relative_sd).map(|v| (v, format!("regime `{}`", r.name))),
+            None => named(&self.pooled).map(|v| {
+                (
+                    v,
+                    "pooled over its held-out targets (this check is in none of its regimes)"
+                        .to_string(),
+                )
+            }),
+        }
+        .filter(|(v, _)| v.is_finite())
+    }
+}
+
 /// What a loaded corrections file corrects.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Target {
@@ -267,6 +341,8 @@ pub struct CorrectionsFile {
     pub corrections: CorrectionSet,
     /// The checks it is not applied to by default (see [`CorrectionsFileSpec::not_applied_to`]).
     pub not_applied_to: Vec<NotApplied>,
+    /// Its stated predictive error, if its fit was cross-validated.
+    pub predictive_error: Option<PredictiveError>,
 }
 
 /// Loads and checks a corrections file.
@@ -335,11 +411,38 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
             ));
         }
     }
+    let predictive_error = match &spec.cross_validation {
+        None => None,
+        Some(v) => {
+            let p: PredictiveErrorSpec = serde_json::from_value(v.clone())
+                .map_err(|e| err("cross_validation", e.to_string()))?;
+            let bad = p
+                .discrepancy_relative_sd
+                .iter()
+                .chain(p.regimes.values().flat_map(|r| &r.relative_sd))
+                .find(|(_, v)| !v.is_finite() || **v < 0.0);
+            if let Some((q, v)) = bad {
+                return Err(err(
+                    "cross_validation",
+                    format!("the discrepancy of `{q}` must be a finite number >= 0, not {v}"),
+                ));
+            }
+            Some(PredictiveError {
+                pooled: p.discrepancy_relative_sd,
+                regimes: p
+                    .regimes
+                    .into_iter()
+                    .map(|(name, r)| RegimeError { name, ..r })
+                    .collect(),
+            })
+        }
+    };
     Ok(CorrectionsFile {
         path: path.to_path_buf(),
         id: spec.id,
         target,
         corrections: spec.corrections,
         not_applied_to: spec.not_applied_to,
+        predictive_error,
     })
 }

@@ -470,6 +470,10 @@ pub(crate) struct UncertaintyArgs {
     /// or first-order (each input one standard deviation either way: 2 d evaluations).
     #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Method::Auto)]
     pub(crate) method: cierva_harness::uncertainty::propagate::Method,
+    /// Corrections files (as `cierva fit` writes) applied as `validate --corrections` applies
+    /// them; a cross-validated one adds its stated predictive error to `u_input`.
+    #[arg(long, num_args = 1..)]
+    pub(crate) corrections: Vec<PathBuf>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }

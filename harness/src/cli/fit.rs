@@ -42,7 +42,7 @@ pub(crate) fn fit(
     let mut spec = fit_file::corrections_file(&f, &run, &id, &command);
     spec.cross_validation = cv
         .as_ref()
-        .map(cierva_harness::uncertainty::calibration::summary);
+        .map(|cv| cierva_harness::uncertainty::calibration::summary(&f, cv));
     spec.not_applied_to = cv
         .as_ref()
         .map(|cv| cierva_harness::uncertainty::calibration::not_applied_to(&f, cv))

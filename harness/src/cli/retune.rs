@@ -152,6 +152,8 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             target: Target::Aircraft(file.id.clone()),
             corrections: corrections.clone(),
             not_applied_to: vec![],
+            // retune is not cross-validated: it states no predictive error.
+            predictive_error: None,
         };
         let v = retune::revalidate(&cases, &loaded);
         busy.finish_and_clear();

@@ -46,6 +46,27 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
         Ok(c) => c,
         Err(code) => return code,
     };
+    let mut files = Vec::new();
+    for p in &a.corrections {
+        match cierva_harness::corrections::load(p) {
+            Ok(f) => files.push(f),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let mut corrected = Vec::with_capacity(cases.len());
+    for case in cases {
+        match cierva_harness::case::with_corrections(&case, &files) {
+            Ok((c, _)) => corrected.push(c),
+            Err(e) => {
+                eprintln!("error: the corrections {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let cases = corrected;
     let settings = Settings {
         samples: a.samples,
         seed: a.seed,

@@ -237,8 +237,9 @@ fn held(t: &fit::Target, label: &str, group: &str, calibrated: f64, uncorrected:
 
 /// What a corrections file records of a cross-validation: the groups, and per quantity (all
 /// held-out targets, then each regime) the held-out RMS relative error, the uncorrected model's
-/// on the same targets, the discrepancy term, the unsolved counts and the quantities made worse.
-pub fn summary(cv: &CrossValidation) -> serde_json::Value {
+/// on the same targets, the discrepancy term, the unsolved counts and the quantities made worse;
+/// each regime with its checks by case (which checks a prediction takes the regime's error for).
+pub fn summary(f: &FitFile, cv: &CrossValidation) -> serde_json::Value {
     let errors = |e: &Errors| {
         serde_json::json!({
             "rms_relative_error": e.rms_relative_error,
@@ -267,12 +268,44 @@ pub fn summary(cv: &CrossValidation) -> serde_json::Value {
             serde_json::Value::Object(
                 cv.regimes
                     .iter()
-                    .map(|(k, v)| (k.clone(), errors(v)))
+                    .map(|(k, v)| {
+                        let mut e = errors(v);
+                        let spec = f.cross_validation.iter().flat_map(|s| &s.regimes);
+                        if let (serde_json::Value::Object(m), Some(r)) =
+                            (&mut e, spec.into_iter().find(|r| r.name == *k))
+                        {
+                            m.insert("checks".into(), serde_json::json!(regime_checks(f, r)));
+                        }
+                        (k.clone(), e)
+                    })
                     .collect(),
             ),
         );
     }
     all
+}
+
+/// A regime's checks, by the case each comes from (the fit file's targets and predictions name
+/// them `case/check`).
+fn regime_checks(f: &FitFile, regime: &NamedChecks) -> BTreeMap<String, Vec<String>> {
+    let labels: Vec<&str> = f
+        .origins
+        .iter()
+        .chain(&f.predict_origins)
+        .map(|o| o.label.as_str())
+        .collect();
+    let mut by_case: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for c in &regime.checks {
+        if let Some(label) = labels.iter().find(|l| check_of(l) == *c)
+            && let Some((case, _)) = label.rsplit_once('/')
+        {
+            let checks = by_case.entry(case.to_string()).or_default();
+            if !checks.contains(c) {
+                checks.push(c.clone());
+            }
+        }
+    }
+    by_case
 }
 
 /// The regimes a fit's corrections are not applied to by default: those where, held out, the
@@ -282,12 +315,6 @@ pub fn not_applied_to(f: &FitFile, cv: &CrossValidation) -> Vec<crate::correctio
     let Some(spec) = &f.cross_validation else {
         return vec![];
     };
-    let labels: Vec<&str> = f
-        .origins
-        .iter()
-        .chain(&f.predict_origins)
-        .map(|o| o.label.as_str())
-        .collect();
     let mut out = Vec::new();
     for regime in &spec.regimes {
         let Some(e) = cv.regimes.get(&regime.name) else {
@@ -320,19 +347,7 @@ pub fn not_applied_to(f: &FitFile, cv: &CrossValidation) -> Vec<crate::correctio
              worse than the uncorrected one: {}",
             numbers.join("; ")
         );
-        // The regime's checks, by the case each comes from.
-        let mut by_case: BTreeMap<String, Vec<String>> = BTreeMap::new();
-        for c in &regime.checks {
-            if let Some(label) = labels.iter().find(|l| check_of(l) == *c)
-                && let Some((case, _)) = label.rsplit_once('/')
-            {
-                let checks = by_case.entry(case.to_string()).or_default();
-                if !checks.contains(c) {
-                    checks.push(c.clone());
-                }
-            }
-        }
-        for (case, checks) in by_case {
+        for (case, checks) in regime_checks(f, regime) {
             out.push(crate::corrections::NotApplied {
                 case,
                 regime: regime.name.clone(),

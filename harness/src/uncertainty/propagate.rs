@@ -88,7 +88,12 @@ pub struct QuantityUncertainty {
     pub p97_5: f64,
     /// `E = S - D`.
     pub estimate_error: Option<f64>,
+    /// Over the inputs, the calibrations' stated predictive error included (`u_calibration`).
     pub u_input: f64,
+    /// The part of `u_input` that the corrections files applied state as their predictive
+    /// error here (their cross-validated model-discrepancy term times the nominal value;
+    /// [`calibration_terms`]); zero without one.
+    pub u_calibration: f64,
     pub u_num: f64,
     pub u_data: Option<f64>,
     /// Where `u_data` comes from, or why there is none.
@@ -654,13 +659,6 @@ fn first_order_quantity(
         })
         .collect();
     contributors.sort_by(|a, b| b.total.total_cmp(&a.total));
-    // The chance that the quantity leaves its tolerance, S normal about the nominal.
-    let unit = Normal::standard();
-    let inside = if u_input > 0.0 {
-        unit.cdf((q.upper - mean) / u_input) - unit.cdf((q.lower - mean) / u_input)
-    } else {
-        f64::from(u8::from(q.pass))
-    };
     let mut out = unjudged(
         case,
         (check, n, q),
@@ -669,6 +667,14 @@ fn first_order_quantity(
         contributors,
         failed,
     );
+    // The chance that the quantity leaves its tolerance, S normal about its mean with the
+    // spread of the inputs and the calibrations' predictive errors.
+    let unit = Normal::standard();
+    let inside = if out.u_input > 0.0 {
+        unit.cdf((q.upper - out.mean) / out.u_input) - unit.cdf((q.lower - out.mean) / out.u_input)
+    } else {
+        f64::from(u8::from(q.pass))
+    };
     if u_input.is_finite() {
         judge(&mut out, q);
     } else {
@@ -752,14 +758,57 @@ fn check_results(
         if verdict_only {
             r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
         }
-        r.set_pass_fraction(if evaluated.is_empty() {
-            as_number(n.passed)
-        } else {
-            evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
-        });
         out.push(r);
     }
+    let pass_fraction = if evaluated.is_empty() {
+        as_number(n.passed)
+    } else if verdict_only || out.iter().all(|r| r.u_calibration == 0.0) {
+        evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
+    } else {
+        calibrated_pass_fraction(&points[..2 * design.n], j, &quantities, &out)
+    };
+    for r in &mut out {
+        r.set_pass_fraction(pass_fraction);
+    }
     out
+}
+
+/// The share of samples in which a check passes when its quantities carry the calibrations'
+/// predictive errors (normal, independent of each other and of the inputs): at each evaluated
+/// sample, the product over quantities of the chance that the value plus its calibration
+/// error stays inside its bounds (a quantity without one: inside or not), averaged.
+fn calibrated_pass_fraction(
+    points: &[Point],
+    j: usize,
+    quantities: &[crate::eval::QuantityResult],
+    out: &[QuantityUncertainty],
+) -> f64 {
+    let unit = Normal::standard();
+    let chances: Vec<f64> = points
+        .iter()
+        .filter(|p| p.passed[j].is_some())
+        .map(|p| {
+            quantities
+                .iter()
+                .zip(out)
+                .enumerate()
+                .map(|(k, (q, r))| {
+                    let y = p.values[j][k];
+                    if !y.is_finite() {
+                        return 0.0;
+                    }
+                    match r.u_calibration > 0.0 {
+                        true => {
+                            unit.cdf((q.upper - y) / r.u_calibration)
+                                - unit.cdf((q.lower - y) / r.u_calibration)
+                        }
+                        false => f64::from(u8::from((q.lower..=q.upper).contains(&y))),
+                    }
+                })
+                .product::<f64>()
+        })
+        .collect();
+    chances.iter().sum::<f64>() / chances.len() as f64
 }
 
 /// The nominal aircraft's trim at each condition its checks linearise at: where each sample's
@@ -990,6 +1039,13 @@ fn unjudged(
         mid.is_finite().then_some(mid)
     });
     let (u_data, u_data_source) = data_uncertainty(check, q);
+    let calibrations = calibration_terms(case, check, q);
+    let u_calibration = calibrations.iter().map(|(_, u)| u * u).sum::<f64>().sqrt();
+    let (u_input, p2_5, p97_5, contributors) = if u_calibration > 0.0 {
+        with_calibration((mean, p2_5, p97_5, u_input), contributors, &calibrations)
+    } else {
+        (u_input, p2_5, p97_5, contributors)
+    };
     QuantityUncertainty {
         case: case.id.clone(),
         check: check.id.clone(),
@@ -1002,6 +1058,7 @@ fn unjudged(
         p97_5,
         estimate_error: reference.map(|d| q.value - d),
         u_input,
+        u_calibration,
         u_num: refined.map_or(0.0, |r| (r - q.value).abs()),
         u_data,
         u_data_source,
@@ -1015,6 +1072,84 @@ fn unjudged(
         contributors,
         failed_samples,
     }
+}
+
+/// The predictive errors the calibrations applied to a case state for one of its quantities,
+/// each with its label (`calibration <id>, <where>`) and its size in the quantity's units: the
+/// relative model-discrepancy term of the check's regime (or pooled, for a check in none)
+/// times the nominal value. None for a check a calibration is not applied to, or a quantity it
+/// states nothing for.
+fn calibration_terms(
+    case: &Case,
+    check: &crate::checks::Check,
+    q: &crate::eval::QuantityResult,
+) -> Vec<(String, f64)> {
+    if case
+        .uncorrected
+        .as_ref()
+        .is_some_and(|u| u.checks.contains(&check.id))
+    {
+        return Vec::new();
+    }
+    case.calibrations
+        .iter()
+        .filter_map(|c| {
+            let (sd, at) =
+                c.predictive_error
+                    .as_ref()?
+                    .relative_sd(&case.id, &check.id, &q.quantity)?;
+            Some((
+                format!(
+                    "calibration {} ({:.1} % predictive error, {at})",
+                    c.id,
+                    100.0 * sd
+                ),
+                sd * q.value.abs(),
+            ))
+        })
+        .filter(|(_, u)| u.is_finite() && *u > 0.0)
+        .collect()
+}
+
+/// A quantity's spread over its inputs `(mean, p2_5, p97_5, u_input)` and contributors with the
+/// calibrations' predictive errors added: independent of the inputs and normal, so the
+/// variances add, each side of the 95 % interval widens in quadrature by `1.96 u`, and each
+/// input's indices scale by its share of the new variance; each calibration joins the
+/// contributors with its share (first order and total alike, as it acts alone).
+fn with_calibration(
+    (mean, p2_5, p97_5, u_input): (f64, f64, f64, f64),
+    mut contributors: Vec<Contributor>,
+    calibrations: &[(String, f64)],
+) -> (f64, f64, f64, Vec<Contributor>) {
+    let z = Normal::standard().inverse_cdf(0.975);
+    let added: f64 = calibrations.iter().map(|(_, u)| u * u).sum();
+    let variance = u_input * u_input + added;
+    let scale = if variance > 0.0 {
+        u_input * u_input / variance
+    } else {
+        0.0
+    };
+    for c in &mut contributors {
+        c.total *= scale;
+        c.first *= scale;
+        c.total_se = c.total_se.map(|v| v * scale);
+        c.first_se = c.first_se.map(|v| v * scale);
+    }
+    contributors.extend(calibrations.iter().map(|(label, u)| Contributor {
+        input: label.clone(),
+        total: u * u / variance,
+        first: u * u / variance,
+        total_se: None,
+        first_se: None,
+    }));
+    contributors.sort_by(|a, b| b.total.total_cmp(&a.total));
+    let widen = |half: f64| (half * half + z * z * added).sqrt();
+    (
+        variance.sqrt(),
+        mean - widen(mean - p2_5),
+        mean + widen(p97_5 - mean),
+        contributors,
+    )
 }
 
 /// The V&V 20 verdict of a validation quantity, or why there is none.

@@ -479,6 +479,105 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     }
 }
 
+/// A prediction made with a cross-validated corrections file carries the calibration's stated
+/// predictive error (issue 36, item 7): its model-discrepancy term for the check's regime, or
+/// the pooled one for a check in none of its regimes, times the nominal value, added to the
+/// inputs' spread in quadrature and named among the contributors. A quantity the calibration
+/// states nothing for, and a check it is not applied to, carry none. Known answers: TR 487's
+/// descent with a neutral correction (pitch offset 0, so the nominal values are the
+/// uncorrected ones) and made-up discrepancy terms.
+#[test]
+fn a_calibrations_predictive_error_is_carried_into_u_input() {
+    use cierva_harness::uncertainty::propagate::{self, Method, Settings};
+    let root = cierva_harness::repo_root();
+    let case =
+        cierva_harness::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
+    let dir = std::env::temp_dir().join(format!("cierva-calibration-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = |name: &str, regimes: &str, not_applied: &str| {
+        let path = dir.join(format!("{name}.yaml"));
+        std::fs::write(
+            &path,
+            format!(
+                "id: {name}\ntitle: t\napplies_to: {{rotor: pca-2-rotor}}\ncorrections: {{pitch_offset_deg: 0.0}}\nprovenance: {{source: a test}}\ncross_validation:\n  discrepancy_relative_sd: {{rotor_rpm: 0.05, drag_coefficient: 0.2}}\n  regimes:\n{regimes}{not_applied}"
+            ),
+        )
+        .unwrap();
+        cierva_harness::corrections::load(&path).unwrap()
+    };
+    let run = |files: &[cierva_harness::corrections::CorrectionsFile]| {
+        let (c, used) = cierva_harness::case::with_corrections(&case, files).unwrap();
+        assert_eq!(used.len(), files.len());
+        let settings = Settings {
+            samples: 8,
+            seed: 0,
+            validation_only: false,
+            method: Method::FirstOrder,
+        };
+        propagate::propagate(&c, settings, || {}).unwrap().results
+    };
+    let plain = run(&[]);
+    let in_regime = run(&[file(
+        "in-regime",
+        "    descent: {checks: {naca-tr487-vertical-descent: [flight]}, discrepancy_relative_sd: {rotor_rpm: 0.02}}\n",
+        "",
+    )]);
+    let pooled = run(&[file(
+        "pooled",
+        "    other: {checks: {another-case: [flight]}, discrepancy_relative_sd: {rotor_rpm: 0.02}}\n",
+        "",
+    )]);
+    let not_applied = run(&[file(
+        "not-applied",
+        "    descent: {checks: {naca-tr487-vertical-descent: [flight]}, discrepancy_relative_sd: {rotor_rpm: 0.02}}\n",
+        "not_applied_to:\n  - {case: naca-tr487-vertical-descent, regime: descent, checks: [flight], reason: a test}\n",
+    )]);
+    let by = |r: &[propagate::QuantityUncertainty], q: &str| {
+        r.iter().find(|x| x.quantity == q).unwrap().clone()
+    };
+    // (quantity, relative sd in the regime's file, in the pooled file)
+    for (q, regime_sd, pooled_sd) in [
+        ("rotor_omega_rad_s", 0.02, 0.05),
+        ("drag_coefficient", 0.0, 0.2),
+        ("thrust_coefficient", 0.0, 0.0),
+    ] {
+        let p = by(&plain, q);
+        assert_eq!(p.u_calibration, 0.0);
+        for (r, sd) in [(by(&in_regime, q), regime_sd), (by(&pooled, q), pooled_sd)] {
+            assert_eq!(r.nominal, p.nominal, "{q}: the correction is neutral");
+            let u_cal = sd * p.nominal.abs();
+            assert!(
+                (r.u_calibration - u_cal).abs() <= 1e-12 * u_cal.max(1e-300),
+                "{q}: {r:?}"
+            );
+            let total = (p.u_input.powi(2) + u_cal.powi(2)).sqrt();
+            assert!(
+                (r.u_input - total).abs() <= 1e-12 * total,
+                "{q}: {} against {total}",
+                r.u_input
+            );
+            let named = r
+                .contributors
+                .iter()
+                .find(|c| c.input.starts_with("calibration"));
+            assert_eq!(named.is_some(), sd > 0.0, "{q}: {:?}", r.contributors);
+            if let Some(c) = named {
+                assert!((c.total - u_cal.powi(2) / total.powi(2)).abs() < 1e-12);
+                let shares: f64 = r.contributors.iter().map(|c| c.total).sum();
+                assert!((shares - 1.0).abs() < 1e-9, "{q}: shares sum to {shares}");
+                // The 95 % interval widens with it.
+                assert!(r.p97_5 - r.p2_5 > p.p97_5 - p.p2_5);
+            }
+        }
+        assert_eq!(by(&not_applied, q).u_calibration, 0.0, "{q}");
+    }
+    assert!(
+        by(&in_regime, "rotor_omega_rad_s").contributors[0]
+            .input
+            .contains("regime `descent`")
+    );
+}
+
 /// The normal quantile at 97.5 %: an index's 95 % interval is `estimate -+ Z95 SE`.
 const Z95: f64 = 1.959_963_985;
 
