@@ -378,24 +378,52 @@ fn shipped_fit_restarted(
 }
 
 /// The PCA-2 fit to TR 515 (rotor speed, C_L and C_D of every eighth row at mu <= 0.35; the
-/// angle, C_L and C_D above): the fitted targets' RMS relative error falls (20.4 % to 9.7 %)
+/// angle, C_L and C_D above): the fitted targets' RMS relative error falls (20.4 % to 9.4 %)
 /// and the prediction on the rows not fitted is computed and reported. Its known discrepancy
-/// is a number guarded here: the fitted pitch offset (+1.04 deg) leaves 17 of the 71 rows not
-/// fitted, all at mu > 0.35, without an autorotative equilibrium (51 targets); a change that
-/// loses more fails.
+/// is a number guarded here: the fitted pitch offset (+1.03 deg) leaves 26 of the 31 rows not
+/// fitted above mu 0.35 without an autorotative equilibrium (78 targets), and none below; a
+/// change that loses more, or loses one below mu 0.35, fails.
+///
+/// The number was 17 rows (51 targets) until the fit's trust-region fix (CHANGELOG, Fixed):
+/// the fit had stopped short at pitch +1.038 deg and drag x1.1425; its optimum, +1.030 deg and
+/// x1.1476 (0.42 and 0.63 standard errors away, cost 361.6 -> 357.5), predicts the solved rows
+/// better (C_L 11.0 -> 9.0 %, C_D 15.6 -> 9.1 % RMS) and moves the edge of autorotation past
+/// nine more rows above mu 0.35, where the calibration is not applied by default
+/// (`not_applied_to`).
+///
+/// Slow (a minute and a half: the predictions' failing angle searches are the table's most
+/// expensive), so out of the cold `cargo test`: `.ci/run` runs it with
+/// `cargo test --test suite -- --ignored`.
 #[test]
+#[ignore = "slow reference check (about 100 s): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn pca2_fit_to_tr515_improves_its_rows_and_reports_the_others() {
     // Restarted from the committed corrections: still the optimum, the fitted targets' RMS
     // below 0.6 of the start's.
     let (f, _, predicted) = shipped_fit_restarted("pca-2-tr515");
     assert_eq!(predicted.len(), f.predict.len());
-    let unsolved = predicted.iter().filter(|v| !v.is_finite()).count();
+    let unsolved: Vec<String> = predicted
+        .iter()
+        .zip(&f.predict_origins)
+        .filter(|(v, _)| !v.is_finite())
+        .map(|(_, o)| cierva_harness::fit_file::check_of(&o.label))
+        .collect();
     assert!(
-        unsolved <= 51,
-        "{unsolved} of {} predicted targets unsolved",
+        unsolved.len() <= 78,
+        "{} of {} predicted targets unsolved",
+        unsolved.len(),
         f.predict.len()
     );
-    assert!(unsolved < f.predict.len() / 3, "{unsolved}");
+    let above = f
+        .cross_validation
+        .as_ref()
+        .and_then(|cv| cv.regimes.iter().find(|r| r.name == "mu > 0.35"))
+        .expect("the fit file's regime above mu 0.35");
+    for c in &unsolved {
+        assert!(
+            above.checks.contains(c),
+            "{c} (at mu <= 0.35) lost its equilibrium"
+        );
+    }
 }
 
 /// Every shipped fit file loads: its cases, checks and quantities resolve.
