@@ -432,6 +432,10 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
 /// within 15 %, the same verdicts and the same largest contributor, at 14 evaluations against
 /// 258. The bound is the sampled estimate's own: at 32 base points its rotor-speed `u_input`
 /// ranges over 1.54e-2 to 1.84e-2 rad/s across seeds 0-3 (+-9 %; first order gives 1.71e-2).
+///
+/// And its 95 % interval holds at its stated rate: the sampled run's 64 draws of the inputs
+/// (the rows of `A` and `B`, which the first order never saw) fall inside the first order's
+/// interval in at least [`FIRST_ORDER_COVERAGE_FLOOR`] of cases, per quantity.
 #[test]
 fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     use cierva_harness::uncertainty::propagate::{self, Method, Settings};
@@ -449,10 +453,20 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     };
     let (first, sampled) = (run(Method::Auto), run(Method::Sampled));
     assert_eq!(first.inputs.len(), 6);
-    assert_eq!(first.evaluations, 2 * 6 + 2);
+    assert_eq!(first.evaluations, 2 * 6 + 4 + 2);
     assert_eq!(sampled.evaluations, 32 * 8 + 2);
     assert!(first.method.starts_with("first order"), "{}", first.method);
     for (f, s) in first.results.iter().zip(&sampled.results) {
+        eprintln!(
+            "{}: first order u_input {:.4e} (sampled {:.4e}); {:?}",
+            f.quantity,
+            f.u_input,
+            s.u_input,
+            f.contributors
+                .iter()
+                .map(|c| (c.input.clone(), c.total))
+                .collect::<Vec<_>>()
+        );
         assert_eq!(f.quantity, s.quantity);
         assert!(
             (f.u_input / s.u_input - 1.0).abs() < 0.15,
@@ -462,7 +476,12 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
             s.u_input
         );
         assert_eq!(f.verdict, s.verdict, "{}", f.quantity);
-        assert_eq!(f.contributors[0].input, s.contributors[0].input);
+        // The largest input (the first order's residual term, interactions, is not one).
+        let largest = f
+            .contributors
+            .iter()
+            .find(|c| !c.input.starts_with("interactions"));
+        assert_eq!(largest.unwrap().input, s.contributors[0].input);
         // The first order's shares are not sampled: no standard errors; the sampled indices'.
         assert!(
             f.contributors
@@ -476,8 +495,38 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
                     && c.total_se.is_some_and(f64::is_finite))
         );
         assert!(f.u_num > 0.0 && f.u_num < f.u_input, "{f:?}");
+        let draws: Vec<f64> = s.draws.iter().copied().filter(|v| v.is_finite()).collect();
+        assert_eq!(draws.len(), 64, "{}", f.quantity);
+        let inside = draws
+            .iter()
+            .filter(|v| (f.p2_5..=f.p97_5).contains(*v))
+            .count() as f64
+            / draws.len() as f64;
+        eprintln!(
+            "{}: first order's 95 % interval [{:.6e}, {:.6e}] holds {:.3} of 64 draws (sampled 2.5-97.5 % [{:.6e}, {:.6e}], below {}, above {})",
+            f.quantity,
+            f.p2_5,
+            f.p97_5,
+            inside,
+            s.p2_5,
+            s.p97_5,
+            draws.iter().filter(|v| **v < f.p2_5).count(),
+            draws.iter().filter(|v| **v > f.p97_5).count()
+        );
+        assert!(
+            inside >= FIRST_ORDER_COVERAGE_FLOOR,
+            "{}: the first order's 95 % interval holds only {inside:.3} of the sampled draws",
+            f.quantity
+        );
     }
 }
+
+/// The least share of 64 draws a stated 95 % interval may hold: 0.95 less three binomial
+/// standard deviations over 64 independent draws (3 x 0.027). Scrambled Sobol' rows spread
+/// more evenly than independent draws, so this is conservative. Measured on TR 487's descent:
+/// 0.984, 0.969 and 0.938 (rotor speed, C_T, C_D); 0.891 for rotor speed and C_T with the first
+/// version's linear model, and 0.859 for rotor speed with the surrogate but no residual check.
+const FIRST_ORDER_COVERAGE_FLOOR: f64 = 0.95 - 3.0 * 0.027;
 
 /// A prediction made with a cross-validated corrections file carries the calibration's stated
 /// predictive error (issue 36, item 7): its model-discrepancy term for the check's regime, or
