@@ -243,7 +243,9 @@ const NO_GRID_STUDY: &str = "none: no grid study for this subject";
 
 /// The case with its discretisation refined, and the refinement in words (`None` for a
 /// subject without one here). For an aircraft: the main rotor's azimuth step halved, the blade
-/// elements of both rotors doubled and the periodicity tolerance a tenth.
+/// elements of both rotors doubled and the periodicity tolerance a tenth. For a rotor in a
+/// tunnel: its blade elements doubled, the tunnel solver's azimuth step halved, and its
+/// periodicity and Newton tolerances a tenth.
 pub fn refined(case: &Case) -> Option<(Case, String)> {
     let mut c = case.clone();
     let words = refine(&mut c.subject)?;
@@ -255,15 +257,23 @@ pub fn refined(case: &Case) -> Option<(Case, String)> {
 
 /// A subject's discretisation refined in place, and the refinement in words.
 fn refine(subject: &mut Subject) -> Option<String> {
-    if let Subject::Rotor { file, .. } = subject {
-        // The tunnel's solver keeps its own azimuth step and tolerances (the autorotation
-        // module's): the blade elements are what a rotor file sets.
+    if let Subject::Rotor { file, solver } = subject {
+        let (n, newton) = (&mut solver.numerics, &mut solver.newton);
         let words = format!(
-            "blade elements {} -> {} (the tunnel solver's azimuth step and tolerances are fixed)",
+            "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",
             file.rotor.elements,
-            2 * file.rotor.elements
+            2 * file.rotor.elements,
+            n.azimuth_step_rad.to_degrees(),
+            0.5 * n.azimuth_step_rad.to_degrees(),
+            n.periodic_tolerance,
+            0.1 * n.periodic_tolerance,
+            newton.tolerance,
+            0.1 * newton.tolerance,
         );
         file.rotor.elements *= 2;
+        n.azimuth_step_rad *= 0.5;
+        n.periodic_tolerance *= 0.1;
+        newton.tolerance *= 0.1;
         file.path = format!("{}#refined", file.path.display()).into();
         return Some(words);
     }
