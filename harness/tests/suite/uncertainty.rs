@@ -90,23 +90,8 @@ fn the_ishigami_indices_come_within_0_02_of_the_analytic_values() {
 /// and the 2.5 and 97.5 percentiles at the mean -+ 1.96 standard deviations.
 #[test]
 fn propagation_through_a_linear_model_of_gaussian_inputs_gives_the_analytic_moments() {
-    let c0 = 3.0;
-    let c = [2.0, -1.0, 0.5, 4.0];
-    let mu = [1.0, -2.0, 10.0, 0.0];
-    let sigma = [0.3, 1.0, 2.0, 0.05];
-    let dists: Vec<Distribution> = mu
-        .iter()
-        .zip(&sigma)
-        .map(|(&mean, &sigma)| Distribution::Normal {
-            mean,
-            sigma,
-            lower: f64::NEG_INFINITY,
-            upper: f64::INFINITY,
-        })
-        .collect();
-    let mean = c0 + c.iter().zip(&mu).map(|(c, m)| c * m).sum::<f64>();
-    let var: f64 = c.iter().zip(&sigma).map(|(c, s)| (c * s).powi(2)).sum();
-    let f = |x: &[f64]| c0 + c.iter().zip(x).map(|(c, x)| c * x).sum::<f64>();
+    let (dists, f, shares) = linear_gaussian();
+    let (mean, var) = linear_moments();
     for seed in [3, 11, 99] {
         let design = Design::sobol(1024, 4, seed).unwrap();
         let y = evaluate(&design, &dists, f);
@@ -133,8 +118,7 @@ fn propagation_through_a_linear_model_of_gaussian_inputs_gives_the_analytic_mome
         }
         let (fa, fb, fab) = design.split(&y);
         let e = sobol::estimate(fa, fb, &fab).unwrap();
-        for i in 0..4 {
-            let share = (c[i] * sigma[i]).powi(2) / var;
+        for (i, &share) in shares.iter().enumerate() {
             assert!(
                 (e.indices[i].first - share).abs() < 0.02,
                 "seed {seed}: S_{i} {} against {share}",
@@ -701,16 +685,13 @@ impl Coverage {
     }
 }
 
-/// `y = c0 + sum c_i x_i` of the four Gaussian inputs of the propagation test above: the inputs,
-/// the function, and each input's index (first order and total alike) `c_i^2 sigma_i^2 / V`.
+/// `y = c0 + sum c_i x_i` of four independent Gaussian inputs: the inputs, the function, and
+/// each input's index (first order and total alike) `c_i^2 sigma_i^2 / V`; its mean and
+/// variance from [`linear_moments`].
 fn linear_gaussian() -> (Vec<Distribution>, Model, Vec<f64>) {
-    const C0: f64 = 3.0;
-    const C: [f64; 4] = [2.0, -1.0, 0.5, 4.0];
-    let mu = [1.0, -2.0, 10.0, 0.0];
-    let sigma = [0.3, 1.0, 2.0, 0.05];
-    let dists = mu
+    let dists = LINEAR_MU
         .iter()
-        .zip(&sigma)
+        .zip(&LINEAR_SIGMA)
         .map(|(&mean, &sigma)| Distribution::Normal {
             mean,
             sigma,
@@ -718,17 +699,37 @@ fn linear_gaussian() -> (Vec<Distribution>, Model, Vec<f64>) {
             upper: f64::INFINITY,
         })
         .collect();
-    let var: f64 = C.iter().zip(&sigma).map(|(c, s)| (c * s).powi(2)).sum();
-    let shares = C
+    let shares = LINEAR_C
         .iter()
-        .zip(&sigma)
-        .map(|(c, s)| (c * s).powi(2) / var)
+        .zip(&LINEAR_SIGMA)
+        .map(|(c, s)| (c * s).powi(2) / linear_moments().1)
         .collect();
     (
         dists,
-        |x| C0 + C.iter().zip(x).map(|(c, x)| c * x).sum::<f64>(),
+        |x| LINEAR_C0 + LINEAR_C.iter().zip(x).map(|(c, x)| c * x).sum::<f64>(),
         shares,
     )
+}
+
+/// [`linear_gaussian`]'s constant, coefficients, and inputs' means and standard deviations.
+const LINEAR_C0: f64 = 3.0;
+const LINEAR_C: [f64; 4] = [2.0, -1.0, 0.5, 4.0];
+const LINEAR_MU: [f64; 4] = [1.0, -2.0, 10.0, 0.0];
+const LINEAR_SIGMA: [f64; 4] = [0.3, 1.0, 2.0, 0.05];
+/// The mean `c0 + sum c_i mu_i` and variance `sum c_i^2 sigma_i^2` of [`linear_gaussian`].
+fn linear_moments() -> (f64, f64) {
+    let mean = LINEAR_C0
+        + LINEAR_C
+            .iter()
+            .zip(&LINEAR_MU)
+            .map(|(c, m)| c * m)
+            .sum::<f64>();
+    let var = LINEAR_C
+        .iter()
+        .zip(&LINEAR_SIGMA)
+        .map(|(c, s)| (c * s).powi(2))
+        .sum();
+    (mean, var)
 }
 
 /// Sobol's G function of 13 inputs uniform on [0, 1] (13, as the VPM M16's ranged inputs):
