@@ -623,7 +623,7 @@ pub fn evaluate_each_from(
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };
                 crate::checks::autorotation::quantities_or_reason(
-                    crate::checks::autorotation::autorotation_quantities(&r, *inflow, t),
+                    crate::checks::autorotation::autorotation_quantities(&r, (*inflow).into(), t),
                 )
                 .map(|q| (q, None))
                 .map_err(|e| format!("{}: {e}", at(c)))

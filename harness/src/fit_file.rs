@@ -619,8 +619,8 @@ fn from_case(
             SubjectKey::Aircraft(file.id.clone(), *loading),
             Some(*loading),
         ),
-        case::Subject::Rotor { file, inflow } => {
-            (SubjectKey::Rotor(file.id.clone(), *inflow), None)
+        case::Subject::Rotor { file, solver } => {
+            (SubjectKey::Rotor(file.id.clone(), solver.inflow), None)
         }
         _ => {
             return Err(format!(

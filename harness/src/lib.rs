@@ -119,9 +119,9 @@ pub fn run_autorotation(
     airspeed_m_s: f64,
     collective_deg: Option<f64>,
     density_kg_m3: Option<f64>,
-    inflow: cierva_model::components::rotor::InflowModel,
+    options: impl Into<cierva_model::components::autorotation::Options>,
 ) -> Result<cierva_model::components::autorotation::Autorotation, AutorotateError> {
-    use cierva_model::components::autorotation::{Options, Tunnel, autorotate};
+    use cierva_model::components::autorotation::{Tunnel, autorotate};
     let (air, collective_shift_rad) = tunnel_air(rotor, collective_deg, density_kg_m3)?;
     let tunnel = Tunnel {
         alpha_rad: alpha_deg.to_radians(),
@@ -130,14 +130,7 @@ pub fn run_autorotation(
         speed_of_sound_m_s: air.speed_of_sound_m_s,
         collective_shift_rad,
     };
-    Ok(autorotate(
-        rotor,
-        tunnel,
-        Options {
-            inflow,
-            ..Options::default()
-        },
-    )?)
+    Ok(autorotate(rotor, tunnel, options.into())?)
 }
 
 /// A tunnel's air (at `density_kg_m3`, or ISA sea level; the speed of sound from the density
@@ -166,10 +159,10 @@ pub fn run_autorotation_at_tip_speed_ratio(
     rotor_rpm: f64,
     collective_deg: Option<f64>,
     density_kg_m3: Option<f64>,
-    inflow: cierva_model::components::rotor::InflowModel,
+    options: impl Into<cierva_model::components::autorotation::Options>,
 ) -> Result<cierva_model::components::autorotation::AtTipSpeedRatio, AutorotateError> {
     use cierva_model::components::autorotation::{
-        Options, TipSpeedCondition, autorotate_at_tip_speed_ratio,
+        TipSpeedCondition, autorotate_at_tip_speed_ratio,
     };
     let (air, collective_shift_rad) = tunnel_air(rotor, collective_deg, density_kg_m3)?;
     Ok(autorotate_at_tip_speed_ratio(
@@ -181,10 +174,7 @@ pub fn run_autorotation_at_tip_speed_ratio(
             speed_of_sound_m_s: air.speed_of_sound_m_s,
             collective_shift_rad,
         },
-        Options {
-            inflow,
-            ..Options::default()
-        },
+        options.into(),
     )?)
 }
 

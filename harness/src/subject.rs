@@ -111,7 +111,9 @@ pub enum Subject {
     /// An isolated rotor, run with the given inflow model.
     Rotor {
         file: Box<crate::rotor_file::RotorFile>,
-        inflow: cierva_model::components::rotor::InflowModel,
+        /// The tunnel solver: the inflow model the case names, and the blade integration's
+        /// numerics and Newton tolerances (the model's defaults; a grid study refines them).
+        solver: cierva_model::components::autorotation::Options,
     },
     /// An aircraft, its mass and air.
     Aircraft {
@@ -230,7 +232,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
             .map_err(|e| err("model.rotor.file", format!("in the referenced file: {e}")))?;
         return Ok(Subject::Rotor {
             file: Box::new(file),
-            inflow: r.inflow.model(r.skew, r.descent),
+            solver: r.inflow.model(r.skew, r.descent).into(),
         });
     }
     if let Some(file) = &m.linear_model_file {

@@ -214,7 +214,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
         trials.push(
             Trial::test(format!("{}::snapshot-autorotation", case.id), move || {
                 let c = &ev.case;
-                let Subject::Rotor { file, inflow } = &c.subject else {
+                let Subject::Rotor { file, solver } = &c.subject else {
                     unreachable!()
                 };
                 let rows: Vec<_> = c
@@ -226,7 +226,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                     })
                     .map(|(id, t)| {
                         let q =
-                            checks::autorotation::autorotation_quantities(&file.rotor, *inflow, t);
+                            checks::autorotation::autorotation_quantities(&file.rotor, *solver, t);
                         (id, checks::autorotation::quantities_or_reason(q))
                     })
                     .collect();

@@ -67,10 +67,10 @@ impl Evaluate for AutorotationCheck {
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
-        let Subject::Rotor { file, inflow } = at.subject else {
+        let Subject::Rotor { file, solver } = at.subject else {
             return Err("an autorotation check needs a rotor".into());
         };
-        match autorotation_quantities(&file.rotor, *inflow, &self.tunnel)? {
+        match autorotation_quantities(&file.rotor, *solver, &self.tunnel)? {
             Ok(values) => Ok(Evaluated::of(compare_all(expectations, &values)?)),
             Err((finding, fingerprint)) => Ok(Evaluated {
                 finding: Some(finding),
@@ -120,7 +120,7 @@ pub fn tunnel_airspeed_m_s(t: &TunnelSpec, radius_m: f64) -> f64 {
 /// equilibrium). An error is a condition the model could not be run at.
 pub fn autorotation_quantities(
     rotor: &cierva_model::components::rotor::Rotor,
-    inflow: cierva_model::components::rotor::InflowModel,
+    solver: cierva_model::components::autorotation::Options,
     t: &TunnelSpec,
 ) -> Result<Result<Quantities, Found>, String> {
     let run = match (t.alpha_deg, t.tip_speed_ratio, t.rotor_rpm) {
@@ -130,7 +130,7 @@ pub fn autorotation_quantities(
             tunnel_airspeed_m_s(t, rotor.radius_m),
             t.collective_deg,
             t.density_kg_m3,
-            inflow,
+            solver,
         )
         .map(|a| (alpha, a)),
         (None, Some(mu), Some(rpm)) => crate::run_autorotation_at_tip_speed_ratio(
@@ -139,7 +139,7 @@ pub fn autorotation_quantities(
             rpm,
             t.collective_deg,
             t.density_kg_m3,
-            inflow,
+            solver,
         )
         .map(|f| (f.alpha_rad.to_degrees(), f.autorotation)),
         _ => return Err("the tunnel condition is incomplete".into()),

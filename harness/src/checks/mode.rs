@@ -84,11 +84,57 @@ impl Evaluate for ModeCheck {
                 }));
             }
         }
+        if let Subject::Linear { model, .. } = subject {
+            out.extend(self.neighbours(model));
+        }
         Ok(out)
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
         linear::evaluate(self, at, expectations)
+    }
+}
+
+impl ModeCheck {
+    /// The other modes of the linear model (as the check prepares it): a check that one of them
+    /// also passes cannot tell its mode from a neighbour. An aircraft's modes need its trim,
+    /// which loading does not run: its mode checks are not tried against their neighbours.
+    fn neighbours(&self, model: &LinearModel) -> Vec<Trivial> {
+        let Ok(analysis) = linear::prepare(model, &self.linear)
+            .and_then(|m| cierva_model::analysis::modes::modes(&m).map_err(|e| e.to_string()))
+        else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for m in analysis.modes.iter().filter(|m| m.kind != self.mode) {
+            let values = [
+                (Q::EigenvalueRealPerS, Some(m.eigenvalue.re)),
+                (Q::EigenvalueImagRadS, Some(m.eigenvalue.im.abs())),
+                (Q::NaturalFrequencyRadS, Some(m.natural_frequency_rad_s)),
+                (Q::DampingRatio, m.damping_ratio),
+                (Q::PeriodS, m.period_s),
+                (Q::TimeToHalfS, m.time_to_half_s),
+                (Q::TimeToDoubleS, m.time_to_double_s),
+            ];
+            let predictor = match m.kind {
+                ModeKind::ShortPeriod => "a neighbouring mode of the same model (short period)",
+                ModeKind::Phugoid => "a neighbouring mode of the same model (phugoid)",
+                ModeKind::Rotorspeed => "a neighbouring mode of the same model (rotorspeed)",
+                ModeKind::DutchRoll => "a neighbouring mode of the same model (Dutch roll)",
+                ModeKind::RollSubsidence => {
+                    "a neighbouring mode of the same model (roll subsidence)"
+                }
+                ModeKind::Spiral => "a neighbouring mode of the same model (spiral)",
+                ModeKind::Heading => "a neighbouring mode of the same model (heading)",
+                ModeKind::Unclassified => "a neighbouring mode of the same model (unclassified)",
+            };
+            out.extend(
+                values
+                    .into_iter()
+                    .filter_map(|(q, v)| v.map(|v| Trivial::value(q.name(), v, predictor))),
+            );
+        }
+        out
     }
 }
 

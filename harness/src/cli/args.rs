@@ -467,7 +467,8 @@ pub(crate) struct UncertaintyArgs {
     pub(crate) validation_only: bool,
     /// How the inputs are propagated: auto (sampled for an aircraft, first order for a rotor,
     /// whose evaluations are tables of autorotation searches), sampled (the Saltelli design),
-    /// or first-order (each input one standard deviation either way: 2 d evaluations).
+    /// or first-order (an additive surrogate from each input at its 5 % and 95 % quantiles,
+    /// checked at four draws of every input: 2 d + 4 evaluations).
     #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Method::Auto)]
     pub(crate) method: cierva_harness::uncertainty::propagate::Method,
     /// Corrections files (as `cierva fit` writes) applied as `validate --corrections` applies

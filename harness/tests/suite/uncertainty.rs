@@ -90,23 +90,8 @@ fn the_ishigami_indices_come_within_0_02_of_the_analytic_values() {
 /// and the 2.5 and 97.5 percentiles at the mean -+ 1.96 standard deviations.
 #[test]
 fn propagation_through_a_linear_model_of_gaussian_inputs_gives_the_analytic_moments() {
-    let c0 = 3.0;
-    let c = [2.0, -1.0, 0.5, 4.0];
-    let mu = [1.0, -2.0, 10.0, 0.0];
-    let sigma = [0.3, 1.0, 2.0, 0.05];
-    let dists: Vec<Distribution> = mu
-        .iter()
-        .zip(&sigma)
-        .map(|(&mean, &sigma)| Distribution::Normal {
-            mean,
-            sigma,
-            lower: f64::NEG_INFINITY,
-            upper: f64::INFINITY,
-        })
-        .collect();
-    let mean = c0 + c.iter().zip(&mu).map(|(c, m)| c * m).sum::<f64>();
-    let var: f64 = c.iter().zip(&sigma).map(|(c, s)| (c * s).powi(2)).sum();
-    let f = |x: &[f64]| c0 + c.iter().zip(x).map(|(c, x)| c * x).sum::<f64>();
+    let (dists, f, shares) = linear_gaussian();
+    let (mean, var) = linear_moments();
     for seed in [3, 11, 99] {
         let design = Design::sobol(1024, 4, seed).unwrap();
         let y = evaluate(&design, &dists, f);
@@ -133,8 +118,7 @@ fn propagation_through_a_linear_model_of_gaussian_inputs_gives_the_analytic_mome
         }
         let (fa, fb, fab) = design.split(&y);
         let e = sobol::estimate(fa, fb, &fab).unwrap();
-        for i in 0..4 {
-            let share = (c[i] * sigma[i]).powi(2) / var;
+        for (i, &share) in shares.iter().enumerate() {
             assert!(
                 (e.indices[i].first - share).abs() < 0.02,
                 "seed {seed}: S_{i} {} against {share}",
@@ -432,6 +416,10 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
 /// within 15 %, the same verdicts and the same largest contributor, at 14 evaluations against
 /// 258. The bound is the sampled estimate's own: at 32 base points its rotor-speed `u_input`
 /// ranges over 1.54e-2 to 1.84e-2 rad/s across seeds 0-3 (+-9 %; first order gives 1.71e-2).
+///
+/// And its 95 % interval holds at its stated rate: the sampled run's 64 draws of the inputs
+/// (the rows of `A` and `B`, which the first order never saw) fall inside the first order's
+/// interval in at least [`FIRST_ORDER_COVERAGE_FLOOR`] of cases, per quantity.
 #[test]
 fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     use cierva_harness::uncertainty::propagate::{self, Method, Settings};
@@ -449,10 +437,20 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     };
     let (first, sampled) = (run(Method::Auto), run(Method::Sampled));
     assert_eq!(first.inputs.len(), 6);
-    assert_eq!(first.evaluations, 2 * 6 + 2);
+    assert_eq!(first.evaluations, 2 * 6 + 4 + 2);
     assert_eq!(sampled.evaluations, 32 * 8 + 2);
     assert!(first.method.starts_with("first order"), "{}", first.method);
     for (f, s) in first.results.iter().zip(&sampled.results) {
+        eprintln!(
+            "{}: first order u_input {:.4e} (sampled {:.4e}); {:?}",
+            f.quantity,
+            f.u_input,
+            s.u_input,
+            f.contributors
+                .iter()
+                .map(|c| (c.input.clone(), c.total))
+                .collect::<Vec<_>>()
+        );
         assert_eq!(f.quantity, s.quantity);
         assert!(
             (f.u_input / s.u_input - 1.0).abs() < 0.15,
@@ -462,7 +460,12 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
             s.u_input
         );
         assert_eq!(f.verdict, s.verdict, "{}", f.quantity);
-        assert_eq!(f.contributors[0].input, s.contributors[0].input);
+        // The largest input (the first order's residual term, interactions, is not one).
+        let largest = f
+            .contributors
+            .iter()
+            .find(|c| !c.input.starts_with("interactions"));
+        assert_eq!(largest.unwrap().input, s.contributors[0].input);
         // The first order's shares are not sampled: no standard errors; the sampled indices'.
         assert!(
             f.contributors
@@ -476,8 +479,38 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
                     && c.total_se.is_some_and(f64::is_finite))
         );
         assert!(f.u_num > 0.0 && f.u_num < f.u_input, "{f:?}");
+        let draws: Vec<f64> = s.draws.iter().copied().filter(|v| v.is_finite()).collect();
+        assert_eq!(draws.len(), 64, "{}", f.quantity);
+        let inside = draws
+            .iter()
+            .filter(|v| (f.p2_5..=f.p97_5).contains(*v))
+            .count() as f64
+            / draws.len() as f64;
+        eprintln!(
+            "{}: first order's 95 % interval [{:.6e}, {:.6e}] holds {:.3} of 64 draws (sampled 2.5-97.5 % [{:.6e}, {:.6e}], below {}, above {})",
+            f.quantity,
+            f.p2_5,
+            f.p97_5,
+            inside,
+            s.p2_5,
+            s.p97_5,
+            draws.iter().filter(|v| **v < f.p2_5).count(),
+            draws.iter().filter(|v| **v > f.p97_5).count()
+        );
+        assert!(
+            inside >= FIRST_ORDER_COVERAGE_FLOOR,
+            "{}: the first order's 95 % interval holds only {inside:.3} of the sampled draws",
+            f.quantity
+        );
     }
 }
+
+/// The least share of 64 draws a stated 95 % interval may hold: 0.95 less three binomial
+/// standard deviations over 64 independent draws (3 x 0.027). Scrambled Sobol' rows spread
+/// more evenly than independent draws, so this is conservative. Measured on TR 487's descent:
+/// 0.984, 0.969 and 0.938 (rotor speed, C_T, C_D); 0.891 for rotor speed and C_T with the first
+/// version's linear model, and 0.859 for rotor speed with the surrogate but no residual check.
+const FIRST_ORDER_COVERAGE_FLOOR: f64 = 0.95 - 3.0 * 0.027;
 
 /// A prediction made with a cross-validated corrections file carries the calibration's stated
 /// predictive error (issue 36, item 7): its model-discrepancy term for the check's regime, or
@@ -652,16 +685,13 @@ impl Coverage {
     }
 }
 
-/// `y = c0 + sum c_i x_i` of the four Gaussian inputs of the propagation test above: the inputs,
-/// the function, and each input's index (first order and total alike) `c_i^2 sigma_i^2 / V`.
+/// `y = c0 + sum c_i x_i` of four independent Gaussian inputs: the inputs, the function, and
+/// each input's index (first order and total alike) `c_i^2 sigma_i^2 / V`; its mean and
+/// variance from [`linear_moments`].
 fn linear_gaussian() -> (Vec<Distribution>, Model, Vec<f64>) {
-    const C0: f64 = 3.0;
-    const C: [f64; 4] = [2.0, -1.0, 0.5, 4.0];
-    let mu = [1.0, -2.0, 10.0, 0.0];
-    let sigma = [0.3, 1.0, 2.0, 0.05];
-    let dists = mu
+    let dists = LINEAR_MU
         .iter()
-        .zip(&sigma)
+        .zip(&LINEAR_SIGMA)
         .map(|(&mean, &sigma)| Distribution::Normal {
             mean,
             sigma,
@@ -669,17 +699,37 @@ fn linear_gaussian() -> (Vec<Distribution>, Model, Vec<f64>) {
             upper: f64::INFINITY,
         })
         .collect();
-    let var: f64 = C.iter().zip(&sigma).map(|(c, s)| (c * s).powi(2)).sum();
-    let shares = C
+    let shares = LINEAR_C
         .iter()
-        .zip(&sigma)
-        .map(|(c, s)| (c * s).powi(2) / var)
+        .zip(&LINEAR_SIGMA)
+        .map(|(c, s)| (c * s).powi(2) / linear_moments().1)
         .collect();
     (
         dists,
-        |x| C0 + C.iter().zip(x).map(|(c, x)| c * x).sum::<f64>(),
+        |x| LINEAR_C0 + LINEAR_C.iter().zip(x).map(|(c, x)| c * x).sum::<f64>(),
         shares,
     )
+}
+
+/// [`linear_gaussian`]'s constant, coefficients, and inputs' means and standard deviations.
+const LINEAR_C0: f64 = 3.0;
+const LINEAR_C: [f64; 4] = [2.0, -1.0, 0.5, 4.0];
+const LINEAR_MU: [f64; 4] = [1.0, -2.0, 10.0, 0.0];
+const LINEAR_SIGMA: [f64; 4] = [0.3, 1.0, 2.0, 0.05];
+/// The mean `c0 + sum c_i mu_i` and variance `sum c_i^2 sigma_i^2` of [`linear_gaussian`].
+fn linear_moments() -> (f64, f64) {
+    let mean = LINEAR_C0
+        + LINEAR_C
+            .iter()
+            .zip(&LINEAR_MU)
+            .map(|(c, m)| c * m)
+            .sum::<f64>();
+    let var = LINEAR_C
+        .iter()
+        .zip(&LINEAR_SIGMA)
+        .map(|(c, s)| (c * s).powi(2))
+        .sum();
+    (mean, var)
 }
 
 /// Sobol's G function of 13 inputs uniform on [0, 1] (13, as the VPM M16's ranged inputs):

@@ -39,6 +39,16 @@ pub struct Options {
     pub newton: NewtonOptions,
 }
 
+/// The default solver with the given inflow model.
+impl From<InflowModel> for Options {
+    fn from(inflow: InflowModel) -> Self {
+        Self {
+            inflow,
+            ..Self::default()
+        }
+    }
+}
+
 impl Default for Options {
     fn default() -> Self {
         Self {
