@@ -506,67 +506,8 @@ fn first_order(
     let moves: Vec<(usize, f64)> = (0..inputs.len())
         .flat_map(|i| [(i, 1.0), (i, -1.0)])
         .collect();
-    /// A job: the refined case, an input moved (which, up or down), or every input drawn (the
-    /// residual check's draw).
-    enum Job {
-        Refined,
-        Moved(usize, f64),
-        Drawn(Vec<f64>),
-    }
-    /// A job's outcome.
-    enum Run {
-        Refined(Vec<CheckResult>),
-        Moved(f64, Point),
-        Drawn(Vec<f64>, Point),
-    }
-    let residual = residual_draws(&inputs);
-    let jobs: Vec<Job> = refined
-        .iter()
-        .map(|_| Job::Refined)
-        .chain(moves.iter().map(|&(i, side)| Job::Moved(i, side)))
-        .chain(residual.into_iter().map(Job::Drawn))
-        .collect();
-    let runs = crate::parallel_map(&jobs, |job| {
-        let (values, tag) = match job {
-            Job::Refined => {
-                let (c, _) = refined.as_ref().expect("a refined job has its case");
-                return Run::Refined(crate::eval::run_case(c));
-            }
-            Job::Moved(i, side) => (
-                inputs
-                    .iter()
-                    .enumerate()
-                    .map(|(k, x)| match k == *i {
-                        true => x
-                            .distribution
-                            .quantile(PROBE_QUANTILE[usize::from(*side < 0.0)]),
-                        false => x.nominal,
-                    })
-                    .collect::<Vec<f64>>(),
-                format!("first-order-{i}-{side}"),
-            ),
-            Job::Drawn(values) => (values.clone(), format!("residual-{:x}", hash(values))),
-        };
-        let p = match with_values(case, &inputs, &values, &tag) {
-            Ok(c) => point_of(nominal, &crate::eval::run_case(&c)),
-            Err(e) => point_of(nominal, &[]).with_error(e),
-        };
-        done();
-        match job {
-            Job::Moved(i, _) => Run::Moved(values[*i], p),
-            _ => Run::Drawn(values, p),
-        }
-    });
-    let mut refined_results = None;
-    let mut points = Vec::with_capacity(moves.len());
-    let mut drawn = Vec::with_capacity(RESIDUAL_DRAWS);
-    for r in runs {
-        match r {
-            Run::Refined(results) => refined_results = Some(results),
-            Run::Moved(x, p) => points.push((x, p)),
-            Run::Drawn(x, p) => drawn.push((x, p)),
-        }
-    }
+    let (refined_results, points, drawn) =
+        first_order_runs(case, nominal, &inputs, (&moves, refined.as_ref()), done);
     let refinement = refined.map_or(NO_GRID_STUDY.to_string(), |(_, words)| words);
     let refined = refined_results.as_deref();
     // A point fails where a check the nominal inputs evaluate gets no value (rows that find no
@@ -640,6 +581,86 @@ fn first_order(
         refinement,
         results,
     }
+}
+
+/// A first-order propagation's evaluations, on every core in one batch: the refined case (first,
+/// as the longest), each input at its two probes, and the residual check's draws. Returns the
+/// refined results, the moved inputs' values and points (in `moves`' order), and the draws with
+/// their points.
+#[allow(clippy::type_complexity)]
+fn first_order_runs(
+    case: &Case,
+    nominal: &[CheckResult],
+    inputs: &[Input],
+    (moves, refined): (&[(usize, f64)], Option<&(Case, String)>),
+    done: impl Fn() + Sync,
+) -> (
+    Option<Vec<CheckResult>>,
+    Vec<(f64, Point)>,
+    Vec<(Vec<f64>, Point)>,
+) {
+    /// A job: the refined case, an input moved (which, up or down), or every input drawn (the
+    /// residual check's draw).
+    enum Job {
+        Refined,
+        Moved(usize, f64),
+        Drawn(Vec<f64>),
+    }
+    /// A job's outcome.
+    enum Run {
+        Refined(Vec<CheckResult>),
+        Moved(f64, Point),
+        Drawn(Vec<f64>, Point),
+    }
+    let residual = residual_draws(inputs);
+    let jobs: Vec<Job> = refined
+        .iter()
+        .map(|_| Job::Refined)
+        .chain(moves.iter().map(|&(i, side)| Job::Moved(i, side)))
+        .chain(residual.into_iter().map(Job::Drawn))
+        .collect();
+    let runs = crate::parallel_map(&jobs, |job| {
+        let (values, tag) = match job {
+            Job::Refined => {
+                let (c, _) = refined.as_ref().expect("a refined job has its case");
+                return Run::Refined(crate::eval::run_case(c));
+            }
+            Job::Moved(i, side) => (
+                inputs
+                    .iter()
+                    .enumerate()
+                    .map(|(k, x)| match k == *i {
+                        true => x
+                            .distribution
+                            .quantile(PROBE_QUANTILE[usize::from(*side < 0.0)]),
+                        false => x.nominal,
+                    })
+                    .collect::<Vec<f64>>(),
+                format!("first-order-{i}-{side}"),
+            ),
+            Job::Drawn(values) => (values.clone(), format!("residual-{:x}", hash(values))),
+        };
+        let p = match with_values(case, inputs, &values, &tag) {
+            Ok(c) => point_of(nominal, &crate::eval::run_case(&c)),
+            Err(e) => point_of(nominal, &[]).with_error(e),
+        };
+        done();
+        match job {
+            Job::Moved(i, _) => Run::Moved(values[*i], p),
+            _ => Run::Drawn(values, p),
+        }
+    });
+    let mut refined_results = None;
+    let mut points = Vec::with_capacity(moves.len());
+    let mut drawn = Vec::with_capacity(RESIDUAL_DRAWS);
+    for r in runs {
+        match r {
+            Run::Refined(results) => refined_results = Some(results),
+            Run::Moved(x, p) => points.push((x, p)),
+            Run::Drawn(x, p) => drawn.push((x, p)),
+        }
+    }
+    (refined_results, points, drawn)
 }
 
 /// Where a first-order propagation moves each input, up then down: its 95 % and 5 % quantiles,
