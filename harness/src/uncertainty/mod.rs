@@ -9,10 +9,13 @@
 //! - [`vv20`]: the validation comparison of ASME V&V 20-2009 and its verdicts.
 //! - [`propagate`]: all of it through a case: statistics, indices, the numerical uncertainty
 //!   from a refined discretisation, the data's from the tolerance, and the verdicts.
+//! - [`first_order`]: a rotor case's first-order propagation (an additive surrogate through two
+//!   probes of each input, with a residual check).
 
 pub mod calibration;
 pub mod design;
 pub mod distribution;
+pub mod first_order;
 pub mod propagate;
 pub mod sobol;
 pub mod vv20;
