@@ -121,15 +121,6 @@ impl Distribution {
         }
     }
 
-    /// Its support, `(lower, upper)`.
-    pub fn support(&self) -> (f64, f64) {
-        match *self {
-            Self::Uniform { lower, upper }
-            | Self::Triangular { lower, upper, .. }
-            | Self::Normal { lower, upper, .. } => (lower, upper),
-        }
-    }
-
     /// In words, for tables (`uniform [200, 320]`).
     pub fn describe(&self) -> String {
         match *self {

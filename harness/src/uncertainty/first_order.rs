@@ -90,7 +90,8 @@ pub(super) fn propagate(
         let pass = if n.quantities.is_empty() {
             f64::from(u8::from(n.passed))
         } else {
-            pass_fraction(&n.quantities, &spread, &surrogate)
+            let draws: Vec<&[f64]> = surrogate.iter().map(Vec::as_slice).collect();
+            pass_fraction(&n.quantities, &spread, &draws)
         };
         for r in &mut rows {
             r.set_pass_fraction(pass);
@@ -283,6 +284,15 @@ fn univariate(x0: f64, (xp, dp): (f64, f64), (xm, dm): (f64, f64)) -> Option<(f6
     }
 }
 
+/// One input's part of the surrogate at `x`: `alpha t + beta t^2` with `t = x - nominal`
+/// ([`univariate`]'s coefficients), NaN where the input has none.
+fn cut(part: Option<(f64, f64)>, nominal: f64, x: f64) -> f64 {
+    part.map_or(f64::NAN, |(alpha, beta)| {
+        let t = x - nominal;
+        alpha * t + beta * t * t
+    })
+}
+
 /// What a first-order propagation evaluated, for each of its quantities.
 #[derive(Clone, Copy)]
 struct Probes<'a> {
@@ -328,29 +338,14 @@ fn first_order_quantity(
             .iter()
             .zip(&parts)
             .zip(x)
-            .map(|((input, part), v)| match part {
-                Some((alpha, beta)) => {
-                    let t = v - input.nominal;
-                    alpha * t + beta * t * t
-                }
-                None => f64::NAN,
-            })
+            .map(|((input, part), v)| cut(*part, input.nominal, *v))
             .sum::<f64>()
     };
     // Each input's part at every draw, and the surrogate's value.
     let mut values = vec![s0; SURROGATE_DRAWS];
     let mut variances = Vec::with_capacity(inputs.len());
     for ((x, part), xs) in inputs.iter().zip(&parts).zip(draws) {
-        let g: Vec<f64> = match part {
-            Some((alpha, beta)) => xs
-                .iter()
-                .map(|v| {
-                    let t = v - x.nominal;
-                    alpha * t + beta * t * t
-                })
-                .collect(),
-            None => vec![f64::NAN; SURROGATE_DRAWS],
-        };
+        let g: Vec<f64> = xs.iter().map(|v| cut(*part, x.nominal, *v)).collect();
         variances.push(mean_std(&g).1.powi(2));
         values.iter_mut().zip(&g).for_each(|(y, g)| *y += g);
     }
@@ -366,10 +361,7 @@ fn first_order_quantity(
     let (bias, u_interactions) = match residuals.len() {
         0 => (0.0, 0.0),
         1 => (0.0, residuals[0].abs()),
-        _ => {
-            let (m, sd) = mean_std(&residuals);
-            (m, sd)
-        }
+        _ => mean_std(&residuals),
     };
     values.iter_mut().for_each(|y| *y += bias);
     let (mean, u_input) = mean_std(&values);

@@ -574,7 +574,7 @@ fn check_results(
     } else if verdict_only || out.iter().all(|r| r.u_calibration == 0.0) {
         evaluated.iter().filter(|b| **b).count() as f64 / evaluated.len() as f64
     } else {
-        let draws: Vec<Vec<f64>> = out.iter().map(|r| r.draws.clone()).collect();
+        let draws: Vec<&[f64]> = out.iter().map(|r| r.draws.as_slice()).collect();
         let spread: Vec<f64> = out.iter().map(|r| r.u_calibration).collect();
         pass_fraction(&quantities, &spread, &draws)
     };
@@ -592,10 +592,10 @@ fn check_results(
 pub(super) fn pass_fraction(
     quantities: &[crate::eval::QuantityResult],
     spread: &[f64],
-    draws: &[Vec<f64>],
+    draws: &[&[f64]],
 ) -> f64 {
     let unit = Normal::standard();
-    let n = draws.first().map_or(0, Vec::len);
+    let n = draws.first().map_or(0, |d| d.len());
     let chances: Vec<f64> = (0..n)
         .filter(|&i| draws.iter().all(|d| d[i].is_finite()))
         .map(|i| {
