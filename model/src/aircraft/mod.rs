@@ -64,8 +64,8 @@ use crate::components::inflow;
 use crate::components::propeller::{Propeller, PropellerError, PropellerState};
 use crate::components::rigid_body::{self, BodyError, BodyState, FreeSpin, Loads, MassProperties};
 use crate::components::rotor::{
-    Angles, Blade, Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
-    SteadyLoads,
+    Angles, Blade, Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, RevolutionMap,
+    Rotor, RotorError, SteadyLoads,
 };
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -760,7 +760,8 @@ impl Aircraft {
         let rl: SteadyLoads = match cache.entries.iter().find(|(o, _)| *o == op) {
             Some((_, l)) => *l,
             None => {
-                let l = Blade::new(&mr.rotor, mr.numerics).steady(&op, warm)?;
+                let l =
+                    Blade::new(&mr.rotor, mr.numerics).steady_with(&op, warm, &mut cache.map)?;
                 cache.entries.push((op, l));
                 l
             }
@@ -1212,10 +1213,13 @@ fn sum_loads(parts: &[Loads]) -> Loads {
     })
 }
 
-/// Rotor periodic solutions already computed, by operating state.
+/// Rotor periodic solutions already computed, by operating state, and what the last of them
+/// learned about the rotor's revolution map (to find the next nearby one in fewer
+/// revolutions).
 #[derive(Debug, Clone, Default)]
 pub struct RotorCache {
     entries: Vec<(Operating, SteadyLoads)>,
+    map: RevolutionMap,
 }
 
 /// The full individual-blade state.

@@ -18,7 +18,9 @@
 //! and the inflow mismatch divided by the tip speed. Failure returns the last residuals by
 //! name.
 
-use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, FullState, State};
+use crate::aircraft::{
+    Air, Aircraft, AircraftError, Averaged, Controls, Drive, FullState, RotorCache, State,
+};
 use crate::components::rigid_body::{BodyState, G_M_S2};
 use crate::components::rotor::{Inflow, InflowModel};
 use crate::solve::{self, NewtonOptions, SolveError};
@@ -151,6 +153,9 @@ struct Problem<'a> {
     engine: bool,
     harmonics: bool,
     warm: [f64; 2],
+    /// The rotor's periodic solutions so far (a Jacobian column that moves only the pedal or
+    /// throttle finds the rotor as it was) and what they learned of its revolution map.
+    rotor: RotorCache,
     /// The last evaluation (the solver's last call is at its solution).
     last: Option<(Vec<f64>, Vec<f64>, Averaged)>,
     /// Model evaluations so far.
@@ -228,9 +233,13 @@ impl Problem<'_> {
     fn evaluate_afresh(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged), AircraftError> {
         let (state, controls) = self.unpack(x);
         self.calls += 1;
-        let a = self
-            .aircraft
-            .averaged(&state, &controls, self.condition.air, self.warm)?;
+        let a = self.aircraft.averaged_cached(
+            &state,
+            &controls,
+            self.condition.air,
+            self.warm,
+            &mut self.rotor,
+        )?;
         self.warm = a.flap_start;
         let d = &a.body_dot;
         let tip = self.tip0;
@@ -360,6 +369,7 @@ pub fn trim_from(
         engine,
         harmonics,
         warm: [0.0, 0.0],
+        rotor: RotorCache::default(),
         last: None,
         calls: 0,
     };
@@ -554,6 +564,7 @@ pub fn periodic_trim(
         engine,
         harmonics: false,
         warm: averaged.averaged.flap_start,
+        rotor: RotorCache::default(),
         last: None,
         calls: 0,
     };

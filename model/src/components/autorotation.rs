@@ -13,7 +13,8 @@
 
 use crate::components::inflow;
 use crate::components::rotor::{
-    Blade, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError, SteadyLoads,
+    Blade, HubVelocity, Inflow, InflowModel, Numerics, Operating, RevolutionMap, Rotor, RotorError,
+    SteadyLoads,
 };
 use crate::solve::{self, NewtonOptions, SolveError};
 use serde::Serialize;
@@ -174,6 +175,8 @@ struct Problem<'a> {
     hub: HubVelocity,
     model: InflowModel,
     warm: [f64; 2],
+    /// What the periodic solutions so far learned of the blade's revolution map.
+    map: RevolutionMap,
 }
 
 impl Problem<'_> {
@@ -191,9 +194,8 @@ impl Problem<'_> {
     }
 
     fn steady(&mut self, omega: f64, inflow: Inflow) -> Result<SteadyLoads, RotorError> {
-        let loads = self
-            .blade
-            .steady(&self.operating(omega, inflow), self.warm)?;
+        let op = self.operating(omega, inflow);
+        let loads = self.blade.steady_with(&op, self.warm, &mut self.map)?;
         self.warm = loads.beta0;
         Ok(loads)
     }
@@ -312,6 +314,7 @@ pub fn autorotate_from(
         hub,
         model: options.inflow,
         warm: [0.05, 0.0],
+        map: RevolutionMap::default(),
     };
     if let Some((omega, inflow)) = guess
         && omega.is_finite()
@@ -342,6 +345,7 @@ pub fn autorotate_from(
         hub,
         model: options.inflow,
         warm: [0.05, 0.0],
+        map: RevolutionMap::default(),
     };
     let ratios: Vec<f64> = (0..20)
         .map(|k| 40.0 * (1.2f64 / 40.0).powf(k as f64 / 19.0))
