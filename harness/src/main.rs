@@ -460,7 +460,7 @@ fn main() -> ExitCode {
             sweep,
             format,
         } => modes(file, sweep, format),
-        Command::Bench(args) => bench(args.repeat, args.format),
+        Command::Bench(args) => bench(args.repeat, args.format, args.only),
         Command::NewCase { path, format } => new_case(path, format),
         Command::Inflow {
             record,

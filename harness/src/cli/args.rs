@@ -308,6 +308,20 @@ pub(crate) struct BenchArgs {
     /// median and notes).
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
+    /// Only this group of rows (all by default).
+    #[arg(long, value_enum)]
+    pub(crate) only: Option<BenchGroup>,
+}
+
+/// The benchmark's groups of rows.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BenchGroup {
+    Rotor,
+    Aircraft,
+    Identification,
+    FrequencyResponse,
+    Fitting,
+    Uncertainty,
 }
 
 /// What `sensitivity` studies: an aircraft at a condition, or a case's aircraft and checks.

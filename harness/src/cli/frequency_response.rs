@@ -84,9 +84,11 @@ pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> ExitCode {
             dt_s: r.dt_s(),
         })
         .collect();
+    // From the first sample to the last, to a tenth of a second (a 120 s record's windows are
+    // 15, 30 and 60 s).
     let shortest_s = runs
         .iter()
-        .map(|r| r.output.len() as f64 * r.dt_s)
+        .map(|r| (r.output.len().saturating_sub(1) as f64 * r.dt_s * 10.0).floor() / 10.0)
         .fold(f64::INFINITY, f64::min);
     let settings = fr::Settings {
         windows_s: if a.windows_s.is_empty() {
