@@ -21,10 +21,10 @@ use thiserror::Error;
 
 /// Default overlap of consecutive segments, a fraction of the window. With a Hann taper, 50 %
 /// overlap recovers most of the averages that tapering costs (Welch 1967; Bendat and Piersol
-/// 2010, ch. 11); more overlap adds segments that are nearly copies (75 % costs twice the
-/// transforms for a few per cent more equivalent averages, which [`spectra::averages_covariance`]
-/// counts either way). CIFER's practice is a larger overlap (Tischler and Remple 2012, ch. 7);
-/// `--overlap` sets it.
+/// 2010, ch. 11); more overlap adds segments that are nearly copies of their neighbours
+/// (80 % transforms two and a half times the segments for a few more equivalent averages,
+/// which [`spectra::averages_covariance`] counts either way; `cierva bench` times both).
+/// `--overlap` sets it, for instance to match CIFER's settings.
 pub const DEFAULT_OVERLAP: f64 = 0.5;
 
 /// Largest overlap accepted: at 95 % consecutive segments are 20 samples of a 400-sample
@@ -35,6 +35,11 @@ pub const MAX_OVERLAP: f64 = 0.95;
 /// frequency): the upper part of the band below Nyquist is where a record's anti-aliasing
 /// filter lags and aliased content lands. A choice, not a source's number; `--band-hz` sets it.
 pub const DEFAULT_TOP_FRACTION: f64 = 0.2;
+
+/// Most windows in a composite: the weights are found by trying every subset of the windows
+/// ([`composite::weights`], `2^w - 1` small solves at each frequency): a composite is of a
+/// handful of windows, and eight is already 255 solves a frequency.
+pub const MAX_WINDOWS: usize = 8;
 
 /// Default frequencies in the grid (the 100).
 pub const DEFAULT_POINTS: usize = 100;
@@ -226,6 +231,12 @@ fn plan(runs: &[Run], dt: f64, s: &Settings) -> Result<(Vec<Segmenting>, Vec<f64
     let bad = |m: String| Err(FrError::Settings(m));
     if s.windows_s.is_empty() || !s.windows_s.iter().all(|w| w.is_finite() && *w > 0.0) {
         return bad("windows must be positive lengths in seconds".into());
+    }
+    if s.windows_s.len() > MAX_WINDOWS {
+        return bad(format!(
+            "{} windows: give at most {MAX_WINDOWS}",
+            s.windows_s.len()
+        ));
     }
     if !(s.overlap.is_finite() && (0.0..=MAX_OVERLAP).contains(&s.overlap)) {
         return bad(format!(
