@@ -138,7 +138,7 @@ enum Command {
     /// --amplitude-model-units 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
     Synth(SynthArgs),
     /// A non-parametric frequency response from flight records: Welch's auto- and
-    /// cross-spectra (Hann windows, 50 % overlap by default) over several window lengths,
+    /// cross-spectra (Hann windows, 80 % overlap by default) over several window lengths,
     /// composited per frequency to minimise the random error (after CIFER, Tischler and Remple
     /// 2012, ch. 7-8), with coherence and the random error it implies (Bendat and Piersol 2010,
     /// ch. 9), on a log-spaced grid. Several records are averaged (not joined). With

@@ -519,7 +519,7 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
         });
     }
     let mut sink = 0.0;
-    for overlap in [fr::DEFAULT_OVERLAP, 0.8] {
+    for overlap in [fr::DEFAULT_OVERLAP, 0.5] {
         let settings = fr::Settings {
             windows_s: vec![10.0, 20.0, 40.0],
             overlap,
