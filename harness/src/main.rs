@@ -146,7 +146,8 @@ enum Command {
     /// and its coherence is the partial coherence.
     ///
     /// `random_error` is the normalised random error of the magnitude (its standard deviation
-    /// over |H|), which is also the phase's standard deviation in radians. Exit code 2 for bad
+    /// over |H|), which is also the phase's standard deviation in radians; `random_error_95`
+    /// the half-width of the 95 % interval of ln|H| and of the phase. Exit code 2 for bad
     /// input (records at different sample rates, a missing channel, a window longer than a
     /// record, an input with no power in the band).
     ///

@@ -536,6 +536,33 @@ fn the_command_writes_the_issues_json() {
     let truth = FirstOrder { a: 0.8, b: 0.3 }.at(f0, 0.05);
     let db = v["magnitude_db"][0].as_f64().unwrap();
     assert!((db - 20.0 * truth.norm().log10()).abs() < 0.5, "{db}");
+    // The same as CSV: a header and one row per frequency, the same first magnitude.
+    let (code, out, err) = cierva(&[
+        "frequency-response",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--input",
+        "u_rad",
+        "--output",
+        "y_rad_s",
+        "--windows-s",
+        "10",
+        "20",
+        "40",
+        "--frequencies",
+        "30",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines[0],
+        "frequency_hz,magnitude_db,phase_deg,coherence,random_error"
+    );
+    assert_eq!(lines.len(), 31);
+    let first: f64 = lines[1].split(',').nth(1).unwrap().parse().unwrap();
+    assert!((first - db).abs() < 1e-3, "{first} against {db}");
     let _ = std::fs::remove_dir_all(&d);
 }
 

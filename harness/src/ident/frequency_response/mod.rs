@@ -49,6 +49,11 @@ pub const MAX_WINDOWS: usize = 8;
 /// Default frequencies in the grid (the 100).
 pub const DEFAULT_POINTS: usize = 100;
 
+/// Most frequencies in the grid: the transform table is frequencies times the longest window's
+/// samples (2000 by the 6000 samples of a 60 s window at 100 Hz is 192 MB); a Bode plot needs a
+/// few hundred.
+pub const MAX_POINTS: usize = 2000;
+
 /// Fewest samples in a window: a window this short holds four points of a Hann taper's main
 /// lobe per side; shorter windows have no frequencies inside the band's grid worth estimating.
 pub const MIN_WINDOW_SAMPLES: usize = 16;
@@ -248,8 +253,8 @@ fn plan(runs: &[Run], dt: f64, s: &Settings) -> Result<(Vec<Segmenting>, Vec<f64
             s.overlap
         ));
     }
-    if s.points < 2 {
-        return bad(format!("{} frequencies: give at least 2", s.points));
+    if !(2..=MAX_POINTS).contains(&s.points) {
+        return bad(format!("{} frequencies: give 2 to {MAX_POINTS}", s.points));
     }
     let mut segs = Vec::new();
     for &w in &s.windows_s {
