@@ -19,7 +19,8 @@ fn load(a: &FrequencyResponseArgs) -> Result<Vec<Record>, ExitCode> {
     for p in &a.records {
         let r = record::load_with(p, &needed, false).map_err(fail)?;
         if let Some(first) = records.first()
-            && r.meta.sample_rate_hz != first.meta.sample_rate_hz
+            && (r.meta.sample_rate_hz - first.meta.sample_rate_hz).abs()
+                > fr::ROUNDING * first.meta.sample_rate_hz
         {
             let side = record::sidecar_path(p);
             let src = cierva_harness::yaml::read(&side).map_err(fail)?;

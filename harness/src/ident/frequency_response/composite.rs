@@ -147,6 +147,7 @@ pub fn random_error(coherence: f64, dof: f64) -> Option<f64> {
 pub fn interval_95(random_error: Option<f64>, dof: f64) -> Option<f64> {
     use statrs::distribution::{ContinuousCDF, StudentsT};
     let e = random_error?;
+    // The upper 2.5 % point: a two-sided 95 % interval.
     let t = StudentsT::new(0.0, 1.0, 2.0 * dof).ok()?.inverse_cdf(0.975);
     (t.is_finite() && t > 0.0).then_some(t * e)
 }

@@ -69,6 +69,12 @@ pub const NO_POWER_FRACTION: f64 = 1e-6;
 /// constant (double precision's rounding of its values is 1e-16 of them).
 pub const CONSTANT_FRACTION: f64 = 1e-12;
 
+/// Relative slack when comparing numbers computed two ways (a sample interval from two
+/// sidecars' rates, a band's bottom from a window's length and the grid's first point from its
+/// logarithm): their rounding, about 1e-15, with room to spare, and far below any real
+/// difference (a record at 100 Hz against one at 100.0001 Hz is 1e-6 apart).
+pub const ROUNDING: f64 = 1e-9;
+
 /// One record's signals.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Run {
@@ -211,7 +217,7 @@ fn check_runs(runs: &[Run]) -> Result<(f64, usize), FrError> {
         if r.inputs.len() != q {
             return Err(FrError::Inputs);
         }
-        if (r.dt_s - dt).abs() > 1e-9 * dt {
+        if (r.dt_s - dt).abs() > ROUNDING * dt {
             return Err(FrError::SampleRate {
                 run,
                 dt_s: r.dt_s,
@@ -285,7 +291,7 @@ fn plan(runs: &[Run], dt: f64, s: &Settings) -> Result<(Vec<Segmenting>, Vec<f64
             "band {lo}-{hi} Hz: give 0 < low < high <= the Nyquist frequency {nyquist} Hz"
         ));
     }
-    if lo < floor * (1.0 - 1e-9) {
+    if lo < floor * (1.0 - ROUNDING) {
         return bad(format!(
             "band starts at {lo} Hz, below {MIN_CYCLES} periods of the longest window ({longest} s: {floor:.4} Hz); give a longer window or a higher band"
         ));
@@ -370,7 +376,7 @@ fn combine(
     let (mut multiple, mut averages, mut weights) = (Vec::new(), Vec::new(), Vec::new());
     for (f, &hz) in freqs.iter().enumerate() {
         let cand: Vec<usize> = (0..windows.len())
-            .filter(|&i| hz * settings.windows_s[i] >= MIN_CYCLES * (1.0 - 1e-9))
+            .filter(|&i| hz * settings.windows_s[i] >= MIN_CYCLES * (1.0 - ROUNDING))
             .collect();
         // Each window's random error relative to the others' at a coherence they share (see
         // `composite`): `1 / sqrt(n_i - q)`.
