@@ -82,6 +82,36 @@ fn segment_transforms_are_the_finite_fourier_integral() {
     }
 }
 
+/// The equivalent number of averages of overlapping Hann segments is Welch's (1967):
+/// `K / (1 + 2 sum_j (1 - j / K) rho_j^2)`, with `rho` the tapers' overlap correlation, 1/6
+/// for Hann at 50 % (`int sin^2 sin^2 / int sin^4`, Harris 1978 gives 16.7 %) and none beyond
+/// the next segment; two records of one window are independent, and windows of different
+/// lengths are correlated through the data they share.
+#[test]
+fn overlapping_segments_count_as_welchs_equivalent_averages() {
+    let (len, k) = (1000, 9);
+    let seg = spectra::Segmenting { len, hop: len / 2 };
+    let n = len + (k - 1) * len / 2;
+    let r = spectra::averages_covariance(&[n], 0.01, &[seg]);
+    let kf = k as f64;
+    let welch = kf / (1.0 + 2.0 * (1.0 - 1.0 / kf) / 36.0);
+    let got = 1.0 / r[(0, 0)];
+    // The sampled taper's correlation differs from 1/6 by about 1/len.
+    assert!((got - welch).abs() <= 1e-2 * welch, "{got} against {welch}");
+    let two = spectra::averages_covariance(&[n, n], 0.01, &[seg]);
+    assert!((1.0 / two[(0, 0)] - 2.0 * got).abs() <= 1e-9 * got);
+    let long = spectra::Segmenting {
+        len: 2 * len,
+        hop: len,
+    };
+    let both = spectra::averages_covariance(&[n], 0.01, &[seg, long]);
+    let rho = both[(0, 1)] / (both[(0, 0)] * both[(1, 1)]).sqrt();
+    assert!(
+        rho > 0.3 && rho < 1.0,
+        "windows of 1000 and 2000 samples: correlation {rho}"
+    );
+}
+
 /// The response `q / eta_s` of a linear model, `e_q (i w I - A)^-1 B`, at `f`.
 fn model_response(model: &cierva_model::LinearModel, state: &str, control: &str, f: f64) -> C {
     let n = model.states().len();
