@@ -137,6 +137,23 @@ enum Command {
     /// Example: `cierva synth flight-refs/seed002-vpm-m16-60kn.yaml --control eta_s --shape sweep
     /// --amplitude-model-units 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
     Synth(SynthArgs),
+    /// A non-parametric frequency response from flight records: Welch's auto- and
+    /// cross-spectra (Hann windows, 80 % overlap by default) over several window lengths,
+    /// composited per frequency to minimise the random error (after CIFER, Tischler and Remple
+    /// 2012, ch. 7-8), with coherence and the random error it implies (Bendat and Piersol 2010,
+    /// ch. 9), on a log-spaced grid. Several records are averaged (not joined). With
+    /// `--conditioned-on`, the response is conditioned on the other inputs (`H = G_xx^-1 G_xy`)
+    /// and its coherence is the partial coherence.
+    ///
+    /// `random_error` is the normalised random error of the magnitude (its standard deviation
+    /// over |H|), which is also the phase's standard deviation in radians; `random_error_95`
+    /// the half-width of the 95 % interval of ln|H| and of the phase. Exit code 2 for bad
+    /// input (records at different sample rates, a missing channel, a window longer than a
+    /// record, an input with no power in the band).
+    ///
+    /// Example: `cierva frequency-response /tmp/vpm-m16-70mph-sweep.csv --input eta_s_pct
+    /// --output q_rad_s --windows-s 10 20 40 --format json`
+    FrequencyResponse(FrequencyResponseArgs),
     /// Identify stability and control derivatives from a flight record (frequency-domain
     /// equation error, seed 000 Sec. IV): estimates, standard errors, 95 % bounds, fit quality,
     /// correlations and warnings.
@@ -444,7 +461,7 @@ fn main() -> ExitCode {
             sweep,
             format,
         } => modes(file, sweep, format),
-        Command::Bench(args) => bench(args.repeat, args.format),
+        Command::Bench(args) => bench(args.repeat, args.format, args.only),
         Command::NewCase { path, format } => new_case(path, format),
         Command::Inflow {
             record,
@@ -509,6 +526,7 @@ fn main() -> ExitCode {
             format,
             predict,
         ),
+        Command::FrequencyResponse(a) => frequency_response(a),
         Command::Autorotate(a) => autorotate(a),
         Command::Sensitivity(a) => sensitivity(a),
         Command::Uncertainty(a) => uncertainty(a),

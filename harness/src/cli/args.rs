@@ -308,6 +308,20 @@ pub(crate) struct BenchArgs {
     /// median and notes).
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
+    /// Only this group of rows (all by default).
+    #[arg(long, value_enum)]
+    pub(crate) only: Option<BenchGroup>,
+}
+
+/// The benchmark's groups of rows.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BenchGroup {
+    Rotor,
+    Aircraft,
+    Identification,
+    FrequencyResponse,
+    Fitting,
+    Uncertainty,
 }
 
 /// What `sensitivity` studies: an aircraft at a condition, or a case's aircraft and checks.
@@ -477,4 +491,45 @@ pub(crate) struct UncertaintyArgs {
     pub(crate) corrections: Vec<PathBuf>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
+}
+
+/// Output of `frequency-response`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ResponseFormat {
+    Text,
+    Json,
+    /// One row per frequency: `frequency_hz,magnitude_db,phase_deg,coherence,random_error`.
+    Csv,
+}
+
+/// Arguments of `frequency-response`.
+#[derive(clap::Args)]
+pub(crate) struct FrequencyResponseArgs {
+    /// Records (CSV, with the YAML sidecar beside each): their spectra are averaged together.
+    #[arg(required = true)]
+    pub(crate) records: Vec<PathBuf>,
+    /// The input channel as the records name it, units in the name (e.g. `eta_s_rad`).
+    #[arg(long)]
+    pub(crate) input: String,
+    /// The output channel (e.g. `q_rad_s`).
+    #[arg(long)]
+    pub(crate) output: String,
+    /// Window lengths, s (default: an eighth, a quarter and half of the shortest record).
+    #[arg(long, num_args = 1..)]
+    pub(crate) windows_s: Vec<f64>,
+    /// Overlap of consecutive segments, a fraction of the window.
+    #[arg(long, default_value_t = cierva_harness::ident::frequency_response::DEFAULT_OVERLAP)]
+    pub(crate) overlap: f64,
+    /// Frequencies in the log-spaced grid.
+    #[arg(long, default_value_t = cierva_harness::ident::frequency_response::DEFAULT_POINTS)]
+    pub(crate) frequencies: usize,
+    /// The band, Hz (default: five periods of the longest window to a fifth of the sample rate).
+    #[arg(long, num_args = 2, value_names = ["LO", "HI"])]
+    pub(crate) band_hz: Option<Vec<f64>>,
+    /// Other inputs (channels) to condition the response on, when the records' inputs are
+    /// correlated (a pilot's hold moves the other controls with the one swept).
+    #[arg(long, num_args = 1..)]
+    pub(crate) conditioned_on: Vec<String>,
+    #[arg(long, value_enum, default_value_t = ResponseFormat::Text)]
+    pub(crate) format: ResponseFormat,
 }

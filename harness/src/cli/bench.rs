@@ -37,7 +37,7 @@ fn time(f: &mut dyn FnMut()) -> f64 {
     t.elapsed().as_secs_f64()
 }
 
-pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
+pub(crate) fn bench(repeat: usize, format: Format, only: Option<BenchGroup>) -> ExitCode {
     let out = Rows {
         format,
         lines: std::cell::RefCell::new(Vec::new()),
@@ -46,14 +46,29 @@ pub(crate) fn bench(repeat: usize, format: Format) -> ExitCode {
     let repeat = repeat.max(3);
     row!(out, "| operation | median | notes |");
     row!(out, "| --- | --- | --- |");
-    let mut sink = match rotor(&out, repeat) {
-        Ok(s) => s,
-        Err(code) => return code,
-    };
-    sink += aircraft(&out, repeat);
-    sink += identification(&out, repeat);
-    fitting(&out);
-    uncertainty(&out);
+    let runs = |g: BenchGroup| only.is_none_or(|o| o == g);
+    let mut sink = 0.0;
+    if runs(BenchGroup::Rotor) {
+        sink += match rotor(&out, repeat) {
+            Ok(s) => s,
+            Err(code) => return code,
+        };
+    }
+    if runs(BenchGroup::Aircraft) {
+        sink += aircraft(&out, repeat);
+    }
+    if runs(BenchGroup::Identification) {
+        sink += identification(&out, repeat);
+    }
+    if runs(BenchGroup::FrequencyResponse) {
+        sink += frequency_responses(&out, repeat);
+    }
+    if runs(BenchGroup::Fitting) {
+        fitting(&out);
+    }
+    if runs(BenchGroup::Uncertainty) {
+        uncertainty(&out);
+    }
 
     if !sink.is_finite() {
         eprintln!("(a timed result was not finite)");
@@ -438,6 +453,95 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
         }
     }
     sink + records_together(out, repeat)
+}
+
+/// Frequency responses (issue 32): four 120 s records at 100 Hz of seed 002's linear VPM M16
+/// through exponential sweeps with sensor noise, `q_rad_s` to `eta_s_rad`, windows of 10, 20
+/// and 40 s, 100 frequencies.
+fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
+    use cierva_harness::ident::frequency_response as fr;
+    use cierva_harness::ident::{record, synth};
+    let Some(model) =
+        refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
+            .ok()
+            .and_then(|r| r.linear_model)
+    else {
+        return 0.0;
+    };
+    let mut runs = Vec::new();
+    for seed in 1..=4 {
+        let settings = synth::Settings {
+            id: "bench".into(),
+            aircraft: "VPM M16".into(),
+            truth: "seed 002 Eq. 20".into(),
+            control: "eta_s".into(),
+            input: synth::Input::ExponentialSweep {
+                start_s: 2.0,
+                from_hz: 0.02,
+                to_hz: 4.0,
+                duration_s: 116.0,
+                amplitude: 0.01,
+            },
+            duration_s: 120.0,
+            sample_rate_hz: 100.0,
+            seed,
+            noise: synth::SensorNoise {
+                rate_rad_s: 1e-4,
+                control: 1e-4,
+                ..synth::SensorNoise::NONE
+            },
+            turbulence: None,
+            trim: synth::Trim {
+                u_m_s: 30.0,
+                w_m_s: 1.5,
+                theta_rad: 0.05,
+                omega_rotor_rad_s: 38.0,
+            },
+            sensors: record::Sensors {
+                probe_position_m: [2.0, 0.0, -0.3],
+                cg_position_m: [0.0; 3],
+            },
+        };
+        let Ok((channels, data, _)) = synth::generate(&model, &settings) else {
+            return 0.0;
+        };
+        let col = |name: &str| {
+            channels
+                .iter()
+                .position(|c| c == name)
+                .map_or_else(Vec::new, |i| data[i].clone())
+        };
+        runs.push(fr::Run {
+            name: format!("bench-{seed}"),
+            inputs: vec![col("eta_s_rad")],
+            output: col("q_rad_s"),
+            dt_s: 0.01,
+        });
+    }
+    let mut sink = 0.0;
+    for overlap in [fr::DEFAULT_OVERLAP, 0.5] {
+        let settings = fr::Settings {
+            windows_s: vec![10.0, 20.0, 40.0],
+            overlap,
+            points: 100,
+            band_hz: None,
+        };
+        let t: Vec<f64> = (0..repeat)
+            .map(|_| {
+                time(&mut || {
+                    sink += fr::estimate(&runs, &settings)
+                        .map_or(0.0, |e| e.inputs[0].coherence.iter().sum::<f64>())
+                })
+            })
+            .collect();
+        row!(
+            out,
+            "| frequency response: four 120 s records at 100 Hz, windows 10, 20 and 40 s, 100 frequencies, {:.0} % overlap | {:.1} ms | Welch spectra (Hann) by one matrix product per window, composite, coherence and random error; target: under 50 ms |",
+            100.0 * overlap,
+            1e3 * median(t)
+        );
+    }
+    sink
 }
 
 /// Three 120 s flight tests of the VPM M16 flown by the full model (sweeps on stick, lateral

@@ -9,6 +9,7 @@ pub mod equivalent;
 pub mod estimate;
 pub mod flap;
 pub mod fourier;
+pub mod frequency_response;
 pub mod record;
 pub mod synth;
 

@@ -13,6 +13,7 @@ mod common;
 mod discrepancies;
 mod fit;
 mod flight_test;
+mod frequency_response;
 mod identification;
 mod mutation;
 mod uncertainty;
