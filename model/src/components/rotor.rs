@@ -2506,6 +2506,90 @@ mod tests {
         assert!(grown[1] > grown[0], "{grown:?}");
     }
 
+    /// The secant steps on the revolution map change how soon the periodic solution is found,
+    /// never what is found: a teetering and an articulated rotor at mu 0.3 give the same loads
+    /// and flapping with no Jacobian to start from, with one a neighbouring solution learned
+    /// (the rotor 0.5 % faster), and with wrong ones (a hundred times too stiff, and one of the
+    /// wrong sign), to the periodicity tolerance's effect on them; and the flap state it
+    /// starts its sampled revolution from is plain iteration's fixed point.
+    #[test]
+    fn secant_steps_change_how_soon_the_periodic_solution_is_found_not_what() {
+        for hub in [Hub::Teetering, Hub::Articulated] {
+            let rotor = Rotor {
+                hub,
+                ..classical(4f64.to_radians(), 0.0)
+            };
+            let numerics = Numerics::default();
+            let op = |omega: f64| {
+                let tip = omega * rotor.radius_m;
+                Operating {
+                    omega_rad_s: omega,
+                    hub: HubVelocity {
+                        u: 0.3 * tip,
+                        v: 0.0,
+                        w: -0.02 * tip,
+                    },
+                    inflow: Inflow {
+                        v0: 0.01 * tip,
+                        v1s: 0.0,
+                        v1c: 0.005 * tip,
+                    },
+                    density_kg_m3: 1.225,
+                    speed_of_sound_m_s: 340.0,
+                    collective_shift_rad: 0.0,
+                    hub_rates_rad_s: [0.0, 0.05, 0.0],
+                    gravity_m_s2: [0.0; 3],
+                }
+            };
+            let blade = Blade::new(&rotor, numerics);
+            let plain = blade.steady(&op(40.0), [0.0; 2]).unwrap();
+            let mut learned = RevolutionMap::default();
+            blade
+                .steady_with(&op(40.2), [0.0; 2], &mut learned)
+                .unwrap();
+            let j = learned.jacobian.expect("a solution learns the map");
+            let stiff = RevolutionMap {
+                jacobian: Some([[100.0 * j[0][0], 0.0], [0.0, 100.0 * j[1][1]]]),
+            };
+            let wrong = RevolutionMap {
+                jacobian: Some([[-j[0][0], -j[0][1]], [-j[1][0], -j[1][1]]]),
+            };
+            let mut x = [0.0; 2];
+            for _ in 0..200 {
+                let mut px = x;
+                let n = (2.0 * PI / numerics.azimuth_step_rad).round() as usize;
+                let h = 2.0 * PI / n as f64;
+                for k in 0..n {
+                    px = blade.step(&op(40.0), k as f64 * h, px, h, None);
+                }
+                let change = (px[0] - x[0]).abs().max((px[1] - x[1]).abs());
+                x = px;
+                if change <= 1e-14 {
+                    break;
+                }
+            }
+            let scale = plain.thrust_n();
+            for mut map in [learned, stiff, wrong] {
+                let l = blade.steady_with(&op(40.0), [0.0; 2], &mut map).unwrap();
+                assert!(
+                    (l.thrust_n() - plain.thrust_n()).abs() < 1e-9 * scale,
+                    "{hub:?}: {} vs {}",
+                    l.thrust_n(),
+                    plain.thrust_n()
+                );
+                for k in 0..3 {
+                    assert!((l.moment_n_m[k] - plain.moment_n_m[k]).abs() < 1e-9 * scale);
+                }
+                assert!((l.a1_rad - plain.a1_rad).abs() < 1e-9);
+                assert!((l.b1_rad - plain.b1_rad).abs() < 1e-9);
+            }
+            // The plain iteration's fixed point, to 1e-14, is where the secant solution began
+            // its sampled revolution, to the tolerance.
+            assert!((plain.beta0[0] - x[0]).abs() < 1e-10, "{hub:?}");
+            assert!((plain.beta0[1] - x[1]).abs() < 1e-10, "{hub:?}");
+        }
+    }
+
     /// The pitch and lateral-inflow corrections are exactly a collective shift and a
     /// prescribed `v1s` (they act in the same place), and a lateral offset that makes the
     /// inflow grow on the advancing side tilts the disc: `b1` changes.
