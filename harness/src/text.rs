@@ -286,6 +286,9 @@ pub fn results_table(results: &[CheckResult]) -> String {
         if let Some(f) = &r.finding {
             let _ = writeln!(s, "{head} {}", f.describe());
         }
+        if let Some(n) = &r.note {
+            let _ = writeln!(s, "{head} note: {n}");
+        }
         if let Some((want, got)) = r.verdict {
             let _ = writeln!(
                 s,
