@@ -21,6 +21,17 @@
 //! the finding "inconclusive: coherence", which never passes. The band used and the number of
 //! frequencies are reported in the result's fingerprint (`band_low_hz`, `band_high_hz`,
 //! `frequencies_in_band`).
+//!
+//! # Sources, and what is not confirmed
+//! The cost, its weights, the coherence threshold and the guidelines are Tischler and Remple's
+//! (*Aircraft and Rotorcraft System Identification*, 2nd ed., 2012) as issue 32 states them and
+//! as CIFER's literature quotes them. They could not be checked against the book's text here:
+//! the searchable sources reach only its chapter summaries (the 1st edition's, which put the
+//! identification cost in Eq. 12.20 and the guidelines in Eqs. 12.23-12.24), not the equations.
+//! Not confirmed in particular: the chapter and equation numbers in the 2nd edition; whether the
+//! guideline of 100 is meant for one response's J or for the average over a model's responses
+//! (`J_ave`; a single response is then allowed somewhat more); and the phase difference's
+//! wrapping to +-180 deg (taken here, as a phase error beyond that is the same error).
 
 use super::result::{Evaluated, Finding, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
