@@ -434,6 +434,21 @@ fn run_of(
                     ),
                 )
             })?;
+        if let Subject::Linear { units, .. } = cx.subject
+            && let Some(unit) = units.get(c)
+        {
+            let clash = (unit.starts_with("rad") && channel.ends_with("_pct"))
+                || (unit.contains('%') && channel.ends_with("_rad"));
+            if clash {
+                return Err(cx.err(
+                    field,
+                    format!(
+                        "{}: the record gives `{c}` as `{channel}` where the model's `{c}` is in {unit}",
+                        rec.path.display()
+                    ),
+                ));
+            }
+        }
         config.controls.insert(c.to_string(), channel.clone());
         order.push(channel);
     }

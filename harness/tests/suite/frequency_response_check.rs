@@ -4,7 +4,7 @@
 
 use cierva_harness::case;
 use cierva_harness::checks::frequency_response::{
-    self as frc, COHERENCE_MIN, Point, mismatch_cost,
+    self as frc, COHERENCE_MIN, J_ACCEPTABLE, Point, mismatch_cost,
 };
 use cierva_harness::eval::{self, Finding, Outcome};
 use cierva_harness::ident::record;
@@ -37,7 +37,7 @@ fn linear_case(dir: &Path, id: &str, check: &str) -> PathBuf {
     let text = format!(
         "id: {id}\ntitle: t\nclass: verification\nprovenance: {{source: test}}\n\
          model: {{linear_model_file: {}}}\n\
-         tolerances:\n  acceptable: {{interval: [0.0, 100.0], reason: Tischler's guideline}}\n  \
+         tolerances:\n  acceptable: {{interval: [0.0, {J_ACCEPTABLE:?}], reason: Tischler's guideline}}\n  \
          wide: {{interval: [0.0, 1.0e12], reason: test}}\n\
          checks:\n  - id: fr\n    kind: frequency_response\n{check}",
         root()
