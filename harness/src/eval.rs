@@ -79,7 +79,8 @@ pub struct CheckResult {
     pub verdict: Option<(Verdict, Verdict)>,
     /// Why the check could not be computed, if it could not.
     pub error: Option<String>,
-    /// What the model found instead of the quantities (no equilibrium).
+    /// What the model found instead of the quantities (no equilibrium), or why the data cannot
+    /// decide the check (inconclusive).
     pub finding: Option<Finding>,
     pub expected_failure: Option<String>,
     /// Numbers that describe the check's result beyond its expectations (a BCAR margin, what
@@ -88,6 +89,10 @@ pub struct CheckResult {
     pub fingerprint: Vec<(String, f64)>,
     /// For an expected failure: how the model has left what was recorded for it.
     pub departures: Vec<String>,
+    /// How the check computed its quantities, where it says (which linearisation gave a
+    /// frequency response).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
     /// What the report plots beyond the quantities (not in the JSON results).
     #[serde(skip)]
     pub plot: Option<PlotData>,
@@ -106,8 +111,15 @@ impl CheckResult {
         if let Some(e) = &self.error {
             s += &format!("\n  error: {e}");
         }
-        if let Some(Finding::NoEquilibrium { reason, .. }) = &self.finding {
-            s += &format!("\n  the model has no equilibrium here: {reason}");
+        match &self.finding {
+            Some(Finding::NoEquilibrium { reason, .. }) => {
+                s += &format!("\n  the model has no equilibrium here: {reason}")
+            }
+            Some(f @ Finding::Inconclusive { .. }) => s += &format!("\n  {}", f.describe()),
+            None => {}
+        }
+        if let Some(n) = &self.note {
+            s += &format!("\n  {n}");
         }
         if let Some((want, got)) = self.verdict {
             s += &format!("\n  verdict: expected {want:?}, computed {got:?}");
@@ -247,6 +259,7 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
         expected_failure: check.expected_failure.clone(),
         fingerprint: vec![],
         departures: vec![],
+        note: None,
         plot: None,
     };
     match check.evaluate(case.subject_of(&check.id), &case.checks) {
@@ -260,6 +273,7 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
             result.plot = e.plot;
             result.finding = e.finding;
             result.fingerprint = e.fingerprint;
+            result.note = e.note;
             if !finite {
                 result.error = Some("a computed value is not a finite number".into());
                 return result;

@@ -128,6 +128,8 @@ quantities! {
     RotorTorqueNM => "rotor_torque_n_m", "N m", "driving torque on the main rotor (zero when it autorotates)";
     ThrustN => "thrust_n", "N", "main rotor thrust";
     DiscAlphaDeg => "disc_alpha_deg", "deg", "main rotor disc angle of attack";
+    // Frequency responses.
+    MismatchCost => "mismatch_cost", "-", "CIFER's mismatch cost J of a frequency response against a reference's (Tischler and Remple 2012), over the band of coherence >= 0.6";
 }
 
 impl Quantity {
@@ -256,6 +258,9 @@ pub const TRIM: &[Quantity] = &[
     Q::InflowV0MS,
     Q::InflowV1cMS,
 ];
+
+/// What a `frequency_response` check computes.
+pub const FREQUENCY_RESPONSE: &[Quantity] = &[Q::MismatchCost];
 
 /// Trim quantities the trim enforces (it fails otherwise): computed and snapshotted, never
 /// checked.

@@ -4,7 +4,7 @@
 //! not churn on the last bits of floating point.
 
 use crate::case::CheckClass;
-use crate::eval::{CheckResult, Finding, Outcome};
+use crate::eval::{CheckResult, Outcome};
 use cierva_model::analysis::bcar;
 use cierva_model::analysis::milne;
 use cierva_model::{LinearModel, ModalAnalysis};
@@ -283,8 +283,11 @@ pub fn results_table(results: &[CheckResult]) -> String {
         if let Some(e) = &r.error {
             let _ = writeln!(s, "{head} error: {e}");
         }
-        if let Some(Finding::NoEquilibrium { reason, .. }) = &r.finding {
-            let _ = writeln!(s, "{head} no equilibrium: {reason}");
+        if let Some(f) = &r.finding {
+            let _ = writeln!(s, "{head} {}", f.describe());
+        }
+        if let Some(n) = &r.note {
+            let _ = writeln!(s, "{head} note: {n}");
         }
         if let Some((want, got)) = r.verdict {
             let _ = writeln!(

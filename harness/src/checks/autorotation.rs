@@ -190,6 +190,7 @@ pub fn quantities_or_reason(
     match r {
         Ok(Ok(q)) => Ok(q),
         Ok(Err((Finding::NoEquilibrium { reason }, _))) | Err(reason) => Err(reason),
+        Ok(Err((f @ Finding::Inconclusive { .. }, _))) => Err(f.describe()),
     }
 }
 

@@ -22,6 +22,7 @@
 pub mod autorotation;
 pub mod bcar;
 pub mod derivative;
+pub mod frequency_response;
 pub mod inflow_coefficients;
 pub mod linear;
 pub mod milne;
@@ -102,6 +103,9 @@ pub enum CheckKind {
     /// A reference record's control changes flown again by the model, its responses compared
     /// with the record's: `<signal>.<metric>` (see [`crate::history`]).
     TimeHistory,
+    /// The model's frequency response from a control to a state against a reference's (from
+    /// records, or a file), judged by CIFER's mismatch cost `J`.
+    FrequencyResponse,
 }
 
 impl CheckKind {
@@ -117,6 +121,7 @@ impl CheckKind {
             Self::Trim => "trim",
             Self::TrimSweep => "trim_sweep",
             Self::TimeHistory => "time_history",
+            Self::FrequencyResponse => "frequency_response",
         }
     }
 }
@@ -152,7 +157,8 @@ pub struct CheckSpec {
     /// `autorotation`: the tunnel condition.
     #[serde(default)]
     pub tunnel: Option<autorotation::TunnelSpec>,
-    /// `trim`, `time_history`, and linear kinds on an aircraft: the flight condition.
+    /// `trim`, `time_history`, `frequency_response` and linear kinds on an aircraft: the flight
+    /// condition.
     #[serde(default)]
     pub condition: Option<crate::TrimRequest>,
     /// `trim_sweep`: the airspeeds, mph, rising.
@@ -164,9 +170,31 @@ pub struct CheckSpec {
     #[serde(default)]
     pub corrections: Option<crate::corrections::CorrectionSet>,
     /// `time_history`: the reference record CSV (its sidecar beside it), relative to the case
-    /// file.
+    /// file; `frequency_response`: a response file (`frequency_hz,magnitude_db,phase_deg,
+    /// coherence`).
     #[serde(default)]
     pub reference: Option<String>,
+    /// `frequency_response`: the control whose response is compared (`eta_s`).
+    #[serde(default)]
+    pub input: Option<String>,
+    /// `frequency_response`: the state that responds (`q`).
+    #[serde(default)]
+    pub output: Option<String>,
+    /// `frequency_response`: flight records (CSV, sidecars beside them) the reference response
+    /// is estimated from, relative to the case file.
+    #[serde(default)]
+    pub records: Option<Vec<String>>,
+    /// `frequency_response` from records: other controls the response is conditioned on.
+    #[serde(default)]
+    pub conditioned_on: Option<Vec<String>>,
+    /// `frequency_response` from records: the windows, s (default an eighth, a quarter and a
+    /// half of the shortest record).
+    #[serde(default)]
+    pub windows_s: Option<Vec<f64>>,
+    /// `frequency_response` from records: the band of the estimate, Hz (default the
+    /// estimator's: five periods of the longest window to a fifth of the sample rate).
+    #[serde(default)]
+    pub band_hz: Option<[f64; 2]>,
     /// `time_history`: the model that flies the record (default the full blade model).
     #[serde(default)]
     pub simulation: Option<crate::history::Simulation>,
@@ -207,6 +235,12 @@ impl CheckSpec {
             ("sweep_mph", self.sweep_mph.is_some()),
             ("corrections", self.corrections.is_some()),
             ("reference", self.reference.is_some()),
+            ("input", self.input.is_some()),
+            ("output", self.output.is_some()),
+            ("records", self.records.is_some()),
+            ("conditioned_on", self.conditioned_on.is_some()),
+            ("windows_s", self.windows_s.is_some()),
+            ("band_hz", self.band_hz.is_some()),
             ("simulation", self.simulation.is_some()),
             ("azimuth_step_deg", self.azimuth_step_deg.is_some()),
             ("as_identified", self.as_identified.is_some()),
@@ -262,6 +296,7 @@ pub enum What {
     Trim(trim::TrimCheck),
     TrimSweep(trim_sweep::TrimSweepCheck),
     TimeHistory(time_history::TimeHistoryCheck),
+    FrequencyResponse(frequency_response::FrequencyResponseCheck),
 }
 
 impl What {
@@ -277,6 +312,7 @@ impl What {
             Self::Trim(_) => CheckKind::Trim,
             Self::TrimSweep(_) => CheckKind::TrimSweep,
             Self::TimeHistory(_) => CheckKind::TimeHistory,
+            Self::FrequencyResponse(_) => CheckKind::FrequencyResponse,
         }
     }
 
@@ -291,6 +327,7 @@ impl What {
             Self::Trim(k) => k,
             Self::TrimSweep(k) => k,
             Self::TimeHistory(k) => k,
+            Self::FrequencyResponse(k) => k,
         }
     }
 }
@@ -564,6 +601,7 @@ fn kind_table(kind: CheckKind) -> (&'static [&'static str], &'static str, fn(&Su
         CheckKind::Trim => row::<trim::TrimCheck>(),
         CheckKind::TrimSweep => row::<trim_sweep::TrimSweepCheck>(),
         CheckKind::TimeHistory => row::<time_history::TimeHistoryCheck>(),
+        CheckKind::FrequencyResponse => row::<frequency_response::FrequencyResponseCheck>(),
     }
 }
 
@@ -578,6 +616,7 @@ fn resolve_what(cx: &Cx, spec: &CheckSpec) -> Result<What, InputError> {
         CheckKind::Trim => What::Trim(Kind::resolve(cx, spec)?),
         CheckKind::TrimSweep => What::TrimSweep(Kind::resolve(cx, spec)?),
         CheckKind::TimeHistory => What::TimeHistory(Kind::resolve(cx, spec)?),
+        CheckKind::FrequencyResponse => What::FrequencyResponse(Kind::resolve(cx, spec)?),
     })
 }
 

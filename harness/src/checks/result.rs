@@ -23,6 +23,27 @@ pub enum Finding {
     /// failure; the check's `fingerprint` holds the numbers that describe it (the largest
     /// driving-torque coefficient over the bracket, the solver's last residual).
     NoEquilibrium { reason: String },
+    /// The data cannot decide the check: no quantity is computed, and the check does not pass
+    /// (a `frequency_response` check whose reference has no frequency of enough coherence,
+    /// "inconclusive: coherence"). `reason` starts with what is lacking.
+    Inconclusive { reason: String },
+}
+
+impl Finding {
+    /// The finding in words, for tables and logs ("no equilibrium: ...", "inconclusive: ...").
+    pub fn describe(&self) -> String {
+        match self {
+            Self::NoEquilibrium { reason } => format!("no equilibrium: {reason}"),
+            Self::Inconclusive { reason } => format!("inconclusive: {reason}"),
+        }
+    }
+
+    /// Why, without the label.
+    pub fn reason(&self) -> &str {
+        match self {
+            Self::NoEquilibrium { reason } | Self::Inconclusive { reason } => reason,
+        }
+    }
 }
 
 /// One quantity compared with its expectation.
@@ -89,6 +110,9 @@ pub struct Evaluated {
     pub plot: Option<PlotData>,
     pub finding: Option<Finding>,
     pub fingerprint: Vec<(String, f64)>,
+    /// What the check says about how it computed its quantities (which linearisation gave the
+    /// model's response), in words.
+    pub note: Option<String>,
 }
 
 impl Evaluated {

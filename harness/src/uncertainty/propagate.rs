@@ -324,10 +324,10 @@ pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Poin
             values.push(vec![f64::NAN; n.quantities.len()]);
             continue;
         };
-        if let Some(e) = r.error.as_ref().or(r
-            .finding
-            .as_ref()
-            .map(|crate::eval::Finding::NoEquilibrium { reason }| reason))
+        if let Some(e) = r
+            .error
+            .as_deref()
+            .or(r.finding.as_ref().map(|f| f.reason()))
         {
             error.get_or_insert_with(|| format!("{}: {e}", r.check));
         }

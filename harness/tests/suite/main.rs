@@ -14,6 +14,7 @@ mod discrepancies;
 mod fit;
 mod flight_test;
 mod frequency_response;
+mod frequency_response_check;
 mod identification;
 mod mutation;
 mod uncertainty;

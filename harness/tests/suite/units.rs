@@ -118,6 +118,7 @@ mod scoreboard {
             expected_failure: None,
             fingerprint: vec![],
             departures: vec![],
+            note: None,
             plot: None,
         };
         let results = [result("low", 1.1), result("high", 1.5)];
