@@ -168,8 +168,10 @@ enum Command {
     /// TIC). Exit code 2 for bad input (a record without a control the model needs, a control
     /// in a unit the model contradicts, an unknown output, an unreadable table).
     ///
-    /// Example: `cierva verify /tmp/vpm-m16-70mph-sweep.csv --identified /tmp/vpm-derivatives.yaml
-    /// --against aircraft/vpm-m16.yaml --figure /tmp/verify.svg`
+    /// Example: `cierva verify /tmp/vpm-m16-70mph-sweep.csv --identified
+    /// /tmp/vpm-m16-70mph-sweep-derivatives.yaml --against aircraft/vpm-m16.yaml --figure
+    /// /tmp/verify.svg` (the table from `cierva identify /tmp/vpm-m16-70mph-sweep.csv --format
+    /// yaml`, saved under its id).
     Verify(VerifyArgs),
     /// Identify stability and control derivatives from a flight record (frequency-domain
     /// equation error, seed 000 Sec. IV): estimates, standard errors, 95 % bounds, fit quality,

@@ -1,8 +1,8 @@
 //! Time-domain verification, as CIFER's VERIFY does (Tischler and Remple, *Aircraft and
-//! Rotorcraft System Identification*, 2nd ed., 2012, ch. 14): linear models are driven by a
-//! record's measured controls (perturbations about the sidecar's trim, piecewise linear in
-//! time between samples) from the record's first measured state, and their outputs are
-//! compared with the record's measured states.
+//! Rotorcraft System Identification*, 2nd ed., 2012; the chapter is not confirmed here): linear
+//! models are driven by a record's measured controls (perturbations about the sidecar's trim,
+//! piecewise linear in time between samples) from the record's first measured state, and their
+//! outputs are compared with the record's measured states.
 //!
 //! The measured states are what the identification uses ([`super::signals`]: air data
 //! converted to centre-of-mass velocities, perturbations about the trim), and the models are
