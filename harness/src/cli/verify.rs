@@ -108,7 +108,7 @@ pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
         match v::verify(r, &models, &outputs) {
             Ok(res) => results.push(res),
             Err(e) => {
-                eprintln!("error: {}: {e}", r.path.display());
+                eprintln!("error: {e}");
                 return ExitCode::from(2);
             }
         }

@@ -343,16 +343,24 @@ pub fn compare(output: &str, predicted: &[f64], measured: &[f64]) -> OutputFit {
 /// Flies each model (named, with the set-up that reads its states and controls from the
 /// record) through `record` and compares the `outputs` (names with units, as
 /// [`output_name`] gives them) with the record's measurements. Every model must have every
-/// output among its states.
+/// output among its states. Errors name the record.
 pub fn verify(
     record: &Record,
     models: &[(&str, &LinearModel, &ConfigSpec)],
     outputs: &[String],
 ) -> Result<Verification, String> {
+    let path = record.path.display().to_string();
+    let located = |e: String| {
+        if e.starts_with(&path) {
+            e
+        } else {
+            format!("{path}: {e}")
+        }
+    };
     let mut runs = Vec::new();
     let mut measured: Vec<Vec<f64>> = Vec::new();
     for (name, model, config) in models {
-        let (xs, flown) = fly(model, record, config)?;
+        let (xs, flown) = fly(model, record, config).map_err(located)?;
         let mut fits = Vec::new();
         let mut predicted = Vec::new();
         let mut this_measured = Vec::new();
@@ -362,7 +370,7 @@ pub fn verify(
                 .iter()
                 .position(|s| output_name(s) == *out)
                 .ok_or_else(|| {
-                    format!(
+                    located(format!(
                         "{name} has no output `{out}` (it has {})",
                         config
                             .states
@@ -370,7 +378,7 @@ pub fn verify(
                             .map(|s| output_name(s))
                             .collect::<Vec<_>>()
                             .join(", ")
-                    )
+                    ))
                 })?;
             fits.push(compare(out, &flown[i], &xs[i]));
             predicted.push(flown[i].clone());
