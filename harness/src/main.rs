@@ -154,6 +154,25 @@ enum Command {
     /// Example: `cierva frequency-response /tmp/vpm-m16-70mph-sweep.csv --input eta_s_pct
     /// --output q_rad_s --windows-s 10 20 40 --format json`
     FrequencyResponse(FrequencyResponseArgs),
+    /// Time-domain verification, as CIFER's VERIFY does (Tischler and Remple 2012): the
+    /// identified model (a derivative table from `identify --format yaml`) and cierva's model
+    /// (the aircraft linearised at the records' condition, as `identify --against`) are flown
+    /// through each record's controls (perturbations about the sidecar's trim, piecewise linear
+    /// between samples; RK4) from its first measured state, and compared with its measured
+    /// states (air data converted to centre-of-mass velocities, as the identification does).
+    ///
+    /// Per output and model: Theil's inequality coefficient `TIC = rms(y - z) / (rms(y) +
+    /// rms(z))` (0 perfect, 1 worst; about 0.25-0.3 or less is usually taken as good agreement,
+    /// Jategaonkar 2006, ch. 11), the RMS error in the output's units, the mean error, and the
+    /// TIC with the mean error taken off (VERIFY fits a bias per output; a note beside the plain
+    /// TIC). Exit code 2 for bad input (a record without a control the model needs, a control
+    /// in a unit the model contradicts, an unknown output, an unreadable table).
+    ///
+    /// Example: `cierva verify /tmp/vpm-m16-70mph-sweep.csv --identified
+    /// /tmp/vpm-m16-70mph-sweep-derivatives.yaml --against aircraft/vpm-m16.yaml --figure
+    /// /tmp/verify.svg` (the table from `cierva identify /tmp/vpm-m16-70mph-sweep.csv --format
+    /// yaml`, saved under its id).
+    Verify(VerifyArgs),
     /// Identify stability and control derivatives from a flight record (frequency-domain
     /// equation error, seed 000 Sec. IV): estimates, standard errors, 95 % bounds, fit quality,
     /// correlations and warnings.
@@ -527,6 +546,7 @@ fn main() -> ExitCode {
             predict,
         ),
         Command::FrequencyResponse(a) => frequency_response(a),
+        Command::Verify(a) => verify(a),
         Command::Autorotate(a) => autorotate(a),
         Command::Sensitivity(a) => sensitivity(a),
         Command::Uncertainty(a) => uncertainty(a),

@@ -533,3 +533,35 @@ pub(crate) struct FrequencyResponseArgs {
     #[arg(long, value_enum, default_value_t = ResponseFormat::Text)]
     pub(crate) format: ResponseFormat,
 }
+
+/// Arguments of `verify`.
+#[derive(clap::Args)]
+pub(crate) struct VerifyArgs {
+    /// Records (CSV, with the YAML sidecar beside each), all at one flight condition: each is
+    /// flown on its own, from its own first sample.
+    #[arg(required = true)]
+    pub(crate) records: Vec<PathBuf>,
+    /// The identified model: a derivative table as `cierva identify RECORD --format yaml`
+    /// writes it (its `estimate` column).
+    #[arg(long)]
+    pub(crate) identified: PathBuf,
+    /// The aircraft, linearised at the records' condition (their sidecars' `condition`), as
+    /// `identify --against` does: cierva's model, cut to the identified model's states and
+    /// controls.
+    #[arg(long)]
+    pub(crate) against: PathBuf,
+    /// A corrections file to apply to the aircraft of --against.
+    #[arg(long)]
+    pub(crate) corrections: Option<PathBuf>,
+    /// The outputs to compare, units in the names (default: every state of the identified
+    /// model): u_m_s, v_m_s, w_m_s, p_rad_s, q_rad_s, r_rad_s, phi_rad, theta_rad,
+    /// omega_rotor_rad_s.
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) outputs: Vec<String>,
+    /// Write one SVG figure: a panel per output, the records (one after another in time), the
+    /// identified model and cierva's model.
+    #[arg(long)]
+    pub(crate) figure: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}

@@ -65,8 +65,9 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
     };
     let compared = match &a.against {
         None => None,
-        Some(aircraft) => match linearised_against(aircraft, a.corrections.as_ref(), &recs) {
+        Some(aircraft) => match linearised_against(aircraft, a.corrections.as_ref(), &recs, true) {
             Ok((model, flapping)) => {
+                let flapping = flapping.unwrap_or_else(|| Err("not linearised".into()));
                 let mut rows = ident::against(&result, &model);
                 // The model with its flapping states: what the same set-up identifies from its
                 // response to these records' controls, as the flights' identification should.
@@ -124,15 +125,17 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
 }
 
 /// The aircraft (with its corrections) linearised at the records' condition, which must be
-/// one condition: quasi-statically, and with its flapping states (or why not).
-fn linearised_against(
+/// one condition: quasi-statically, and (with `flapping`) with its flapping states (or why
+/// not). `identify --against` and `verify` both use it.
+pub(crate) fn linearised_against(
     aircraft: &Path,
     corrections: Option<&PathBuf>,
     recs: &[record::Record],
+    flapping: bool,
 ) -> Result<
     (
         cierva_model::LinearModel,
-        Result<cierva_model::aircraft::flapping::WithFlapping, String>,
+        Option<Result<cierva_model::aircraft::flapping::WithFlapping, String>>,
     ),
     ExitCode,
 > {
@@ -170,9 +173,10 @@ fn linearised_against(
     let file = load_flight(&flight)?;
     cierva_harness::run_linearise(&file.aircraft, request, loading)
         .map(|(trim, lin)| {
-            let flapping =
-                cierva_harness::run_linearise_with_flapping(&file.aircraft, &trim, loading);
-            (lin.model, flapping)
+            let with_flapping = flapping.then(|| {
+                cierva_harness::run_linearise_with_flapping(&file.aircraft, &trim, loading)
+            });
+            (lin.model, with_flapping)
         })
         .map_err(|e| {
             eprintln!("error: {}: {e}", aircraft.display());

@@ -16,7 +16,7 @@ mod autorotate;
 mod bench;
 mod fit;
 mod frequency_response;
-mod identify;
+pub(crate) mod identify;
 mod inflow;
 mod linearize;
 mod modes;
@@ -31,6 +31,7 @@ mod synth_history;
 mod trim;
 pub(crate) mod uncertainty;
 mod validate;
+mod verify;
 
 pub(crate) use args::*;
 pub(crate) use autorotate::autorotate;
@@ -51,6 +52,7 @@ pub(crate) use synth_history::synth_history;
 pub(crate) use trim::trim;
 pub(crate) use uncertainty::uncertainty;
 pub(crate) use validate::validate;
+pub(crate) use verify::verify;
 
 /// A progress bar on stderr for `len` steps (hidden with `--quiet` or off a terminal).
 pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {

@@ -12,6 +12,7 @@ pub mod fourier;
 pub mod frequency_response;
 pub mod record;
 pub mod synth;
+pub mod verify;
 
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
@@ -1033,48 +1034,25 @@ pub fn theil_inequality(predicted: &[f64], measured: &[f64]) -> f64 {
     if den > 0.0 { num / den } else { 0.0 }
 }
 
-/// Flies `model` (states and controls as in `config`) with the controls of `record`, from trim,
-/// and compares its states with the record's measured perturbations (seed 000 Fig. 10).
+/// Flies `model` (states and controls as in `config`) with the controls of `record`, from its
+/// first measured state, and compares its states with the record's measured perturbations
+/// (seed 000 Fig. 10; [`verify::fly`]).
 pub fn predict(
     model: &LinearModel,
     record: &Record,
     config: &ConfigSpec,
 ) -> Result<Vec<SignalComparison>, String> {
-    let (xs, us) = signals(record, config)?;
-    let model = model
-        .reorder(&config.states.iter().map(String::as_str).collect::<Vec<_>>())
-        .map_err(|e| e.to_string())?;
-    let dt = record.dt_s();
-    let n = xs.first().map_or(0, Vec::len);
-    if n < 2 {
-        return Err("the record is too short to predict".into());
-    }
-    let input = |t: f64| -> Vec<f64> {
-        let pos = (t / dt).clamp(0.0, (n - 1) as f64);
-        let (k, f) = (pos.floor() as usize, pos - pos.floor());
-        us.iter()
-            .map(|u| u[k] + (u[(k + 1).min(n - 1)] - u[k]) * f)
-            .collect()
-    };
-    let x0: Vec<f64> = xs.iter().map(|x| x[0]).collect();
-    let sim = cierva_model::simulation::simulate::simulate(&model, &x0, &input, dt, n - 1);
+    let (xs, flown) = verify::fly(model, record, config)?;
     Ok(config
         .states
         .iter()
         .enumerate()
         .map(|(i, name)| {
-            let p: Vec<f64> = sim.iter().map(|s| s[i]).collect();
-            let rms_error = (p
-                .iter()
-                .zip(&xs[i])
-                .map(|(a, b)| (a - b).powi(2))
-                .sum::<f64>()
-                / n as f64)
-                .sqrt();
+            let c = verify::compare(name, &flown[i], &xs[i]);
             SignalComparison {
                 signal: name.clone(),
-                rms_error,
-                theil: theil_inequality(&p, &xs[i]),
+                rms_error: c.rms_error,
+                theil: c.theil,
             }
         })
         .collect())

@@ -180,16 +180,20 @@ impl Figure {
 
     /// The figure as an SVG document, or `None` when it has nothing finite to show.
     pub fn svg(&self, width: u32, height: u32) -> Option<String> {
+        panels_svg(std::slice::from_ref(self), width, height)
+    }
+
+    /// Draws the figure on an area (of an SVG document).
+    fn draw_on(
+        &self,
+        root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), Box<dyn std::error::Error>> {
         // Long: draws one figure with plotters: axes, series, bands, legend
-        if self.points() == 0 {
-            return None;
-        }
-        let ((x0, x1), (y0, y1)) = self.ranges()?;
-        let mut out = String::new();
-        let drawn = (|| -> Result<(), Box<dyn std::error::Error + '_>> {
-            let root = SVGBackend::with_string(&mut out, (width, height)).into_drawing_area();
-            root.fill(&WHITE)?;
-            let mut chart = ChartBuilder::on(&root)
+        let Some(((x0, x1), (y0, y1))) = self.ranges() else {
+            return Ok(());
+        };
+        {
+            let mut chart = ChartBuilder::on(root)
                 .caption(&self.title, ("sans-serif", 15))
                 .margin(8)
                 .x_label_area_size(36)
@@ -322,10 +326,29 @@ impl Figure {
                 .border_style(BLACK.mix(0.4))
                 .label_font(("sans-serif", 11))
                 .draw()?;
-            root.present()?;
-            Ok(())
-        })();
-        drawn.ok()?;
-        Some(out)
+        }
+        Ok(())
     }
+}
+
+/// Figures stacked in one SVG document, one panel each (`width` by `panel_height`), or `None`
+/// when none has anything finite to show.
+pub fn panels_svg(figures: &[Figure], width: u32, panel_height: u32) -> Option<String> {
+    if figures.iter().all(|f| f.points() == 0) {
+        return None;
+    }
+    let mut out = String::new();
+    let drawn = (|| -> Result<(), Box<dyn std::error::Error>> {
+        let height = panel_height * figures.len() as u32;
+        let root = SVGBackend::with_string(&mut out, (width, height)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let areas = root.split_evenly((figures.len(), 1));
+        for (f, area) in figures.iter().zip(&areas) {
+            f.draw_on(area)?;
+        }
+        root.present()?;
+        Ok(())
+    })();
+    drawn.ok()?;
+    Some(out)
 }

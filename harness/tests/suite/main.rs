@@ -19,3 +19,4 @@ mod identification;
 mod mutation;
 mod uncertainty;
 mod units;
+mod verify;
