@@ -482,7 +482,7 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
 /// and 40 s, 100 frequencies.
 fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     use cierva_harness::ident::frequency_response as fr;
-    use cierva_harness::ident::{record, synth};
+    use cierva_harness::ident::synth;
     let Some(model) =
         refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
             .ok()
@@ -492,38 +492,7 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     };
     let mut runs = Vec::new();
     for seed in 1..=4 {
-        let settings = synth::Settings {
-            id: "bench".into(),
-            aircraft: "VPM M16".into(),
-            truth: "seed 002 Eq. 20".into(),
-            control: "eta_s".into(),
-            input: synth::Input::ExponentialSweep {
-                start_s: 2.0,
-                from_hz: 0.02,
-                to_hz: 4.0,
-                duration_s: 116.0,
-                amplitude: 0.01,
-            },
-            duration_s: 120.0,
-            sample_rate_hz: 100.0,
-            seed,
-            noise: synth::SensorNoise {
-                rate_rad_s: 1e-4,
-                control: 1e-4,
-                ..synth::SensorNoise::NONE
-            },
-            turbulence: None,
-            trim: synth::Trim {
-                u_m_s: 30.0,
-                w_m_s: 1.5,
-                theta_rad: 0.05,
-                omega_rotor_rad_s: 38.0,
-            },
-            sensors: record::Sensors {
-                probe_position_m: [2.0, 0.0, -0.3],
-                cg_position_m: [0.0; 3],
-            },
-        };
+        let settings = synth::Settings::exponential_sweep("bench", seed);
         let Ok((channels, data, _)) = synth::generate(&model, &settings) else {
             return 0.0;
         };

@@ -234,6 +234,49 @@ pub struct Settings {
     pub sensors: Sensors,
 }
 
+impl Settings {
+    /// The frequency-response known answer's record (its tests and `cierva bench`): seed 002's
+    /// linear VPM M16 (Eq. 20) at 60 kn flown through an exponential sweep of the longitudinal
+    /// stick, 0.02 to 4 Hz over 116 s from 2 s, amplitude 0.01; 120 s at 100 Hz; sensor noise
+    /// 1e-4 on the rates and the control and none elsewhere, no turbulence; the trim and the
+    /// air-data probe (2 m ahead of and 0.3 m above the centre of mass) of the identification's
+    /// synthetic records. `id` names it and `seed` draws its noise.
+    pub fn exponential_sweep(id: &str, seed: u64) -> Self {
+        Self {
+            id: id.into(),
+            aircraft: "VPM M16".into(),
+            truth: "seed 002 Eq. 20".into(),
+            control: "eta_s".into(),
+            input: Input::ExponentialSweep {
+                start_s: 2.0,
+                from_hz: 0.02,
+                to_hz: 4.0,
+                duration_s: 116.0,
+                amplitude: 0.01,
+            },
+            duration_s: 120.0,
+            sample_rate_hz: 100.0,
+            seed,
+            noise: SensorNoise {
+                rate_rad_s: 1e-4,
+                control: 1e-4,
+                ..SensorNoise::NONE
+            },
+            turbulence: None,
+            trim: Trim {
+                u_m_s: 30.0,
+                w_m_s: 1.5,
+                theta_rad: 0.05,
+                omega_rotor_rad_s: 38.0,
+            },
+            sensors: Sensors {
+                probe_position_m: [2.0, 0.0, -0.3],
+                cg_position_m: [0.0; 3],
+            },
+        }
+    }
+}
+
 const FORCE_ROWS: [&str; 7] = ["u", "v", "w", "p", "q", "r", "Omega"];
 
 /// A generated record: channel names, one vector per channel, and the sidecar.

@@ -154,38 +154,7 @@ fn a_linear_models_record_gives_its_analytic_response() {
         .unwrap()
         .linear_model
         .unwrap();
-    let settings = synth::Settings {
-        id: "known".into(),
-        aircraft: "VPM M16".into(),
-        truth: "seed 002 Eq. 20".into(),
-        control: "eta_s".into(),
-        input: synth::Input::ExponentialSweep {
-            start_s: 2.0,
-            from_hz: 0.02,
-            to_hz: 4.0,
-            duration_s: 116.0,
-            amplitude: 0.01,
-        },
-        duration_s: 120.0,
-        sample_rate_hz: 100.0,
-        seed: 11,
-        noise: synth::SensorNoise {
-            rate_rad_s: 1e-4,
-            control: 1e-4,
-            ..synth::SensorNoise::NONE
-        },
-        turbulence: None,
-        trim: synth::Trim {
-            u_m_s: 30.0,
-            w_m_s: 1.5,
-            theta_rad: 0.05,
-            omega_rotor_rad_s: 38.0,
-        },
-        sensors: cierva_harness::ident::record::Sensors {
-            probe_position_m: [2.0, 0.0, -0.3],
-            cg_position_m: [0.0; 3],
-        },
-    };
+    let settings = synth::Settings::exponential_sweep("known", 11);
     let (channels, data, _) = synth::generate(&model, &settings).unwrap();
     let col = |name: &str| data[channels.iter().position(|c| c == name).unwrap()].clone();
     let run = Run {
