@@ -193,6 +193,19 @@ pub trait OnLinear {
     ) -> Option<Result<f64, String>> {
         None
     }
+    /// On a linearised aircraft, the trivial predictors that need its model (which loading
+    /// does not build: an aircraft is trimmed only when the check runs): the first that passes
+    /// an expectation, as the refusal's reason. `own` is the eigenvalue of the mode the check
+    /// selected (by continuity where the model does not classify it), which is no neighbour of
+    /// itself. None by default.
+    fn refused_on(
+        &self,
+        _model: &LinearModel,
+        _own: Option<Complex>,
+        _expectations: &[Expectation],
+    ) -> Option<String> {
+        None
+    }
     /// Numbers that describe the result beyond its expectations (for known discrepancies).
     fn fingerprint(&self, _computed: &Computed) -> Vec<(String, f64)> {
         vec![]
@@ -274,6 +287,11 @@ fn on_aircraft<K: OnLinear>(
         }
         other => other?,
     };
+    if let Some(reason) = k.refused_on(&model, nominal.anchor, expectations) {
+        return Err(format!(
+            "refused when it ran (the aircraft's modes need its trim): {reason}"
+        ));
+    }
     let uncorrected = |d: &str| -> Result<f64, String> {
         let base = crate::linearise_cached(plain, request, loading)?;
         base.1.model.derivative_value(d).map_err(|e| e.to_string())

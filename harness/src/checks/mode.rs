@@ -85,7 +85,7 @@ impl Evaluate for ModeCheck {
             }
         }
         if let Subject::Linear { model, .. } = subject {
-            out.extend(self.neighbours(model));
+            out.extend(self.neighbours(model, None));
         }
         Ok(out)
     }
@@ -97,16 +97,26 @@ impl Evaluate for ModeCheck {
 
 impl ModeCheck {
     /// The other modes of the linear model (as the check prepares it): a check that one of them
-    /// also passes cannot tell its mode from a neighbour. An aircraft's modes need its trim,
-    /// which loading does not run: its mode checks are not tried against their neighbours.
-    fn neighbours(&self, model: &LinearModel) -> Vec<Trivial> {
+    /// also passes cannot tell its mode from a neighbour. On a linear model the check is refused
+    /// at load; an aircraft's modes need its trim, which loading does not run, so its mode
+    /// checks are refused when they run ([`OnLinear::refused_on`]).
+    fn neighbours(&self, model: &LinearModel, own: Option<Complex>) -> Vec<Trivial> {
         let Ok(analysis) = linear::prepare(model, &self.linear)
             .and_then(|m| cierva_model::analysis::modes::modes(&m).map_err(|e| e.to_string()))
         else {
             return Vec::new();
         };
         let mut out = Vec::new();
-        for m in analysis.modes.iter().filter(|m| m.kind != self.mode) {
+        // The check's own mode: of its kind, or the eigenvalue it followed by continuity.
+        let is_own = |m: &cierva_model::Mode| {
+            m.kind == self.mode
+                || own.is_some_and(|e| {
+                    let near = 1e-12 * e.re.hypot(e.im).max(1.0);
+                    (e.re - m.eigenvalue.re).abs() <= near
+                        && (e.im.abs() - m.eigenvalue.im.abs()).abs() <= near
+                })
+        };
+        for m in analysis.modes.iter().filter(|m| !is_own(m)) {
             let values = [
                 (Q::EigenvalueRealPerS, Some(m.eigenvalue.re)),
                 (Q::EigenvalueImagRadS, Some(m.eigenvalue.im.abs())),
@@ -141,6 +151,29 @@ impl ModeCheck {
 impl OnLinear for ModeCheck {
     fn setup(&self) -> &LinearSetup {
         &self.linear
+    }
+
+    fn refused_on(
+        &self,
+        model: &LinearModel,
+        own: Option<Complex>,
+        expectations: &[Expectation],
+    ) -> Option<String> {
+        self.neighbours(model, own).into_iter().find_map(|t| {
+            expectations
+                .iter()
+                .filter(|e| e.quantity == t.quantity)
+                .find(|e| {
+                    crate::tolerance::admits(&e.tolerance.kind, e.value, t.value) == Some(true)
+                })
+                .map(|e| {
+                    format!(
+                        "{} ({} = {:.4e}) passes this expectation under tolerance `{}`: the check \
+                         cannot tell its mode from a neighbour",
+                        t.predictor, e.quantity, t.value, e.tolerance.name
+                    )
+                })
+        })
     }
 
     fn mode(&self) -> Option<(ModeKind, System)> {

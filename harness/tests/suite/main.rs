@@ -17,6 +17,7 @@ mod frequency_response;
 mod frequency_response_check;
 mod identification;
 mod mutation;
+mod trivial;
 mod uncertainty;
 mod units;
 mod verify;
