@@ -1075,6 +1075,9 @@ pub fn fit(problem: &Problem) -> FitResult {
     };
     // Set when a step's outcome must be judged on a finite-difference Jacobian.
     let mut want_fresh = false;
+    // Trial steps lost at the end: the fit stopped because every step the trust region
+    // allowed left the model without an equilibrium, not because none lowered the cost.
+    let mut stalled: Option<usize> = None;
     for it in 0..problem.options.max_iterations {
         iterations = it + 1;
         if !fresh && (jt.is_empty() || want_fresh || !problem.options.broyden) {
@@ -1093,6 +1096,8 @@ pub fn fit(problem: &Problem) -> FitResult {
         let mut small = false;
         let mut stale = false;
         let mut reopened = false;
+        // Trial steps this iteration the model could and could not evaluate.
+        let (mut evaluated, mut lost) = (0usize, 0usize);
         for _ in 0..8 {
             let d = match qp_step(problem, &p, &y, &r, &jt, &radius) {
                 Ok(d) => d,
@@ -1137,6 +1142,7 @@ pub fn fit(problem: &Problem) -> FitResult {
             evaluations += 1;
             match evaluate_from(problem, &trial, Some(&warm)) {
                 Ok(yt) => {
+                    evaluated += 1;
                     let rt = residuals(problem, &trial, &yt);
                     let ct = cost(&rt);
                     let ratio = (c - ct) / (c - predicted).max(f64::MIN_POSITIVE);
@@ -1167,7 +1173,10 @@ pub fn fit(problem: &Problem) -> FitResult {
                     radius.iter_mut().for_each(|v| *v *= 0.25);
                 }
                 // A trial the model cannot trim: a smaller step.
-                Err(_) => radius.iter_mut().for_each(|v| *v *= 0.25),
+                Err(_) => {
+                    lost += 1;
+                    radius.iter_mut().for_each(|v| *v *= 0.25);
+                }
             }
         }
         if matches!(status, Status::Infeasible(_) | Status::ModelFailure(_)) {
@@ -1175,6 +1184,9 @@ pub fn fit(problem: &Problem) -> FitResult {
         }
         if fresh && (small || !accepted) {
             status = Status::Converged;
+            if !accepted && evaluated == 0 && lost > 0 {
+                stalled = Some(lost);
+            }
             break;
         }
         // A failed or tiny step on an updated Jacobian: judge it again on a fresh one.
@@ -1221,6 +1233,13 @@ pub fn fit(problem: &Problem) -> FitResult {
                 violated.join("; ")
             ));
         }
+    }
+    if let Some(lost) = stalled {
+        warnings.push(format!(
+            "stopped where every trial step ({lost}, the trust region shrunk by 4 each time) left \
+             the model without an equilibrium at some target: the cost may fall beyond the edge \
+             of the model's equilibria, and the standard errors describe its curvature here only"
+        ));
     }
     for (q, v) in problem.parameters.iter().zip(&p) {
         if (v - q.lower).abs() <= 1e-9 * (q.upper - q.lower)
