@@ -378,28 +378,35 @@ fn shipped_fit_restarted(
 }
 
 /// The PCA-2 fit to TR 515 (rotor speed, C_L and C_D of every eighth row at mu <= 0.35; the
-/// angle, C_L and C_D above): the fitted targets' RMS relative error falls (20.4 % to 9.4 %)
+/// angle, C_L and C_D above): the fitted targets' RMS relative error falls (20.4 % to 9.5 %)
 /// and the prediction on the rows not fitted is computed and reported. Its known discrepancy
-/// is a number guarded here: the fitted pitch offset (+1.03 deg) leaves 26 of the 31 rows not
-/// fitted above mu 0.35 without an autorotative equilibrium (78 targets), and none below; a
+/// is a number guarded here: the fitted pitch offset (+1.06 deg) leaves 23 of the 31 rows not
+/// fitted above mu 0.35 without an autorotative equilibrium (69 targets), and none below; a
 /// change that loses more, or loses one below mu 0.35, fails.
 ///
 /// The number was 17 rows (51 targets) until the fit's trust-region fix (CHANGELOG, Fixed):
-/// the fit had stopped short at pitch +1.038 deg and drag x1.1425; its optimum, +1.030 deg and
-/// x1.1476 (0.42 and 0.63 standard errors away, cost 361.6 -> 357.5), predicts the solved rows
-/// better (C_L 11.0 -> 9.0 %, C_D 15.6 -> 9.1 % RMS) and moves the edge of autorotation past
-/// nine more rows above mu 0.35, where the calibration is not applied by default
-/// (`not_applied_to`).
+/// the fit had stopped short at pitch +1.038 deg and drag x1.1425; its optimum then, +1.030 deg
+/// and x1.1476 (cost 361.6 -> 357.5), lost 78 targets. With the rotor's periodic solution found
+/// by secant steps (changes in the sixth figure) the fit took another path, to +1.0595 deg and
+/// x1.1481 (cost 359.9, 1.5 standard errors from +1.030), which loses 69: the guard is that.
 ///
-/// Slow (a minute and a half: the predictions' failing angle searches are the table's most
-/// expensive), so out of the cold `cargo test`: `.ci/run` runs it with
-/// `cargo test --test suite -- --ignored`.
+/// Slow (20-40 s: the predictions' failing angle searches are the table's most expensive), so
+/// out of the cold `cargo test`: `.ci/run` runs it with `cargo test --test suite -- --ignored`.
 #[test]
-#[ignore = "slow reference check (about 100 s): run by .ci/run with `cargo test --test suite -- --ignored`"]
+#[ignore = "slow reference check (about 20 s in a test build, 2026-11-26; it was 100 s): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn pca2_fit_to_tr515_improves_its_rows_and_reports_the_others() {
     // Restarted from the committed corrections: still the optimum, the fitted targets' RMS
     // below 0.6 of the start's.
-    let (f, _, predicted) = shipped_fit_restarted("pca-2-tr515");
+    let (f, r, predicted) = shipped_fit_restarted("pca-2-tr515");
+    // It stops because every step the trust region allows loses an equilibrium somewhere, not
+    // because no step lowers the cost, and says so (until 2026-11-26 it said nothing).
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.starts_with("stopped where every trial step")),
+        "{:?}",
+        r.warnings
+    );
     assert_eq!(predicted.len(), f.predict.len());
     let unsolved: Vec<String> = predicted
         .iter()
@@ -408,8 +415,8 @@ fn pca2_fit_to_tr515_improves_its_rows_and_reports_the_others() {
         .map(|(_, o)| cierva_harness::fit_file::check_of(&o.label))
         .collect();
     assert!(
-        unsolved.len() <= 78,
-        "{} of {} predicted targets unsolved",
+        unsolved.len() <= 69,
+        "{} of {} predicted targets unsolved (69 when last accepted)",
         unsolved.len(),
         f.predict.len()
     );
