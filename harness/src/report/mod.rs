@@ -8,7 +8,9 @@
 //!
 //! A small inline script checks the page once it has loaded: every figure must hold an SVG
 //! with drawn marks, or the page marks itself `data-report-check="empty-plot"`. The
-//! headless-browser check (`scripts/check-report`) reads that mark.
+//! headless-browser check (`scripts/check-report`) reads that mark. With `?section=ID` in its
+//! address the page hides what comes before that section, for screenshots of it (a headless
+//! browser's screenshot does not follow a `#fragment`: it comes out blank).
 
 pub mod figures;
 pub mod fit;
@@ -167,6 +169,12 @@ window.addEventListener('load',function(){
     if(!s||marks<3||b.width<10||b.height<10||Number(f.dataset.points)<1)empty.push(f.id)});
   document.body.dataset.figures=String(figs.length);
   document.body.dataset.reportCheck=empty.length?('empty-plot: '+empty.join(' ')):'ok';
+  // ?section=ID shows the page from that section on (what came before it hidden), so that a
+  // headless browser's screenshot, which does not follow a #fragment, shows the section.
+  var id=new URLSearchParams(location.search).get('section'),el=id&&document.getElementById(id);
+  for(var n=el;n&&n!==document.body;n=n.parentElement){
+    for(var p=n.previousElementSibling;p;p=p.previousElementSibling){
+      if(p.tagName!=='SCRIPT')p.style.display='none'}}
 });
 "#;
 
