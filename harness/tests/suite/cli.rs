@@ -17,16 +17,7 @@ fn cierva(args: &[&str]) -> (i32, String, String) {
     if args.first() == Some(&"validate") && !args.contains(&"--report-dir") {
         args.push("--no-report");
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_cierva"))
-        .args(&args)
-        .current_dir(root())
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    super::common::cierva(&args)
 }
 
 /// Two quick shipped cases, one with expected failures: exit 0 and the counts in the text.

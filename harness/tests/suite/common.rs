@@ -1,5 +1,6 @@
-//! Shared by the bad-input tests: every YAML file in a folder is a broken input whose header
-//! says what the error must contain and on which line it must point.
+//! Shared by the suite's tests: [`cierva`], the command run from the repository's root; and,
+//! for the bad-input tests, [`check_fixtures`]: every YAML file in a folder is a broken input
+//! whose header says what the error must contain and on which line it must point.
 //!
 //! ```yaml
 //! # error: <text the message must contain>
@@ -8,6 +9,20 @@
 
 use cierva_harness::yaml::InputError;
 use std::path::Path;
+
+/// Runs the `cierva` binary from the repository's root: its exit code, stdout and stderr.
+pub fn cierva(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cierva"))
+        .args(args)
+        .current_dir(cierva_harness::repo_root())
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
 
 /// Loads every fixture in `dir` with `load` and returns what went wrong (empty when every
 /// fixture gets its error, at its line, with a column, starting with the file's path).

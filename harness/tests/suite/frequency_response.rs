@@ -2,6 +2,7 @@
 //! frequency-response`): known answers, the random error's coverage, conditioning on a
 //! correlated input, and the command line's bad inputs.
 
+use super::common::cierva;
 use cierva_harness::ident::fourier;
 use cierva_harness::ident::frequency_response::{self as fr, Run, Settings, spectra};
 use cierva_harness::ident::synth::{self, Normal};
@@ -9,7 +10,6 @@ use nalgebra::{Complex, DMatrix};
 use rustfft::num_complex::Complex64 as C;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// The known answer: magnitude within 0.5 dB ...
 const KNOWN_MAGNITUDE_DB: f64 = 0.5;
@@ -478,18 +478,6 @@ fn write_record(dir: &Path, id: &str, rate_hz: f64, seconds: f64, constant_input
     );
     std::fs::write(path.with_extension("yaml"), yaml).unwrap();
     path
-}
-
-fn cierva(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_cierva"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
 }
 
 /// The JSON has the keys, one value per frequency, and a response near the truth.

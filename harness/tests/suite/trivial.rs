@@ -2,8 +2,8 @@
 //! trimmed and linearised, so its mode checks are tried against their neighbouring modes when
 //! they run, not when the case loads.
 
+use super::common::cierva;
 use std::path::Path;
-use std::process::Command;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap()
@@ -15,15 +15,8 @@ fn validate_case(name: &str, yaml: &str) -> (i32, String) {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.yaml"));
     std::fs::write(&path, yaml).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_cierva"))
-        .args(["validate", path.to_str().unwrap(), "--no-report", "--quiet"])
-        .current_dir(root())
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-    )
+    let (code, out, _) = cierva(&["validate", path.to_str().unwrap(), "--no-report", "--quiet"]);
+    (code, out)
 }
 
 fn phugoid_case(name: &str, interval: [f64; 2]) -> String {

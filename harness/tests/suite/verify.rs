@@ -1,6 +1,7 @@
 //! Time-domain verification (`cierva verify`, `ident::verify`): known answers on records flown
 //! by seed 002's VPM M16 linear model (Eq. 20), and bad input.
 
+use super::common::cierva;
 use cierva_harness::ident::record::{self, Sensors};
 use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings, Trim};
 use cierva_harness::ident::verify::{self, OutputFit};
@@ -8,7 +9,6 @@ use cierva_harness::{refs, repo_root};
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const TRUTH: &str = "flight-refs/seed002-vpm-m16-60kn.yaml";
 
@@ -182,19 +182,6 @@ fn with_sensor_noise_the_true_model_verifies_and_a_wrong_one_does_not() {
             tic(&good, out)
         );
     }
-}
-
-fn cierva(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_cierva"))
-        .args(args)
-        .current_dir(repo_root())
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
 }
 
 #[test]
