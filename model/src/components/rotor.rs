@@ -745,13 +745,12 @@ struct RevolutionSums {
 type Sampled = (Angles, f64, f64, BladeLoads);
 
 impl RevolutionSums {
-    /// Adds blade 1 at azimuth `psi` (and a teetering rotor's blade 2, half a revolution
-    /// behind: its angles, flap rate and loads).
+    /// Adds blade 1 at its angles (and a teetering rotor's blade 2, half a revolution behind:
+    /// its angles, flap rate and loads).
     fn add(
         &mut self,
         blade: &Blade<'_>,
         op: &Operating,
-        psi: f64,
         (a1, b1, d1, mut l): Sampled,
         second: Option<(Angles, f64, BladeLoads)>,
     ) {
@@ -775,9 +774,10 @@ impl RevolutionSums {
             self.loads.force[j] += l.force[j];
             self.loads.moment[j] += l.moment[j];
         }
+        // Blade 1's azimuth sines and cosines, already in its angles.
         self.a0 += b1;
-        self.c1 += b1 * psi.cos();
-        self.s1 += b1 * psi.sin();
+        self.c1 += b1 * a1.cp;
+        self.s1 += b1 * a1.sp;
     }
 }
 
@@ -1136,7 +1136,7 @@ impl<'a> Blade<'a> {
                 if let Some(sums) = sums {
                     let [(b1, d1), _] = self.blade_angles(op, s);
                     let a1 = Angles::new(psi, b1);
-                    sums.add(self, op, psi, (a1, b1, d1, self.loads_at(op, a1, d1)), None);
+                    sums.add(self, op, (a1, b1, d1, self.loads_at(op, a1, d1)), None);
                 }
                 return [0.0, 0.0];
             }
@@ -1148,7 +1148,7 @@ impl<'a> Blade<'a> {
                 let (l1, l2) = (self.loads_at(op, a1, d1), self.loads_at(op, a2, d2));
                 let (m1, m2) = (l1.flap_moment, l2.flap_moment);
                 if let Some(sums) = sums {
-                    sums.add(self, op, psi, (a1, b1, d1, l1), Some((a2, d2, l2)));
+                    sums.add(self, op, (a1, b1, d1, l1), Some((a2, d2, l2)));
                 }
                 let i = rot.flap_inertia_kg_m2;
                 // The blades' inertial moments oppose about the teeter hinge.
@@ -1170,7 +1170,7 @@ impl<'a> Blade<'a> {
         let angles = Angles::new(psi, beta);
         let l = self.loads_at(op, angles, beta_dot);
         if let Some(sums) = sums {
-            sums.add(self, op, psi, (angles, beta, beta_dot, l), None);
+            sums.add(self, op, (angles, beta, beta_dot, l), None);
         }
         let m_aero = l.flap_moment;
         let inertial = self.inertial_flap_moment_at(op, angles);
