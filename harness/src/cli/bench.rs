@@ -437,16 +437,8 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
                 seed: 1,
                 noise: synth::SensorNoise::NONE,
                 turbulence: None,
-                trim: synth::Trim {
-                    u_m_s: 30.0,
-                    w_m_s: 1.5,
-                    theta_rad: 0.05,
-                    omega_rotor_rad_s: 38.0,
-                },
-                sensors: record::Sensors {
-                    probe_position_m: [2.0, 0.0, -0.3],
-                    cg_position_m: [0.0; 3],
-                },
+                trim: synth::SEED002_TRIM,
+                sensors: synth::SEED002_SENSORS,
             };
             let Ok((channels, data, meta)) = synth::generate(&model, &settings) else {
                 continue;

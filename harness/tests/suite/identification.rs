@@ -1,7 +1,7 @@
 //! Identification verified on synthetic records flown by seed 002's VPM M16 model (Eq. 20).
 
-use cierva_harness::ident::record::{self, Sensors};
-use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings, Trim};
+use cierva_harness::ident::record;
+use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings};
 use cierva_harness::ident::{ConfigSpec, identify_record};
 use cierva_harness::{refs, repo_root};
 use cierva_model::LinearModel;
@@ -39,17 +39,9 @@ fn settings(
         noise,
         turbulence,
         // Estimated trim for 60 kn (seed 002 does not give one): Z_q of Eq. 20 is about U_e.
-        trim: Trim {
-            u_m_s: 30.0,
-            w_m_s: 1.5,
-            theta_rad: 0.05,
-            omega_rotor_rad_s: 38.0,
-        },
+        trim: synth::SEED002_TRIM,
         // The nose boom 2 m ahead of and 0.3 m above the c.g. (estimated, typical of seed 000's rig).
-        sensors: Sensors {
-            probe_position_m: [2.0, 0.0, -0.3],
-            cg_position_m: [0.0, 0.0, 0.0],
-        },
+        sensors: synth::SEED002_SENSORS,
     }
 }
 

@@ -2,8 +2,8 @@
 //! by seed 002's VPM M16 linear model (Eq. 20), and bad input.
 
 use super::common::cierva;
-use cierva_harness::ident::record::{self, Sensors};
-use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings, Trim};
+use cierva_harness::ident::record;
+use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings};
 use cierva_harness::ident::verify::{self, OutputFit};
 use cierva_harness::{refs, repo_root};
 use cierva_model::LinearModel;
@@ -45,16 +45,8 @@ fn record_of(name: &str, noise: SensorNoise) -> PathBuf {
         seed: 11,
         noise,
         turbulence: None,
-        trim: Trim {
-            u_m_s: 30.0,
-            w_m_s: 1.5,
-            theta_rad: 0.05,
-            omega_rotor_rad_s: 38.0,
-        },
-        sensors: Sensors {
-            probe_position_m: [2.0, 0.0, -0.3],
-            cg_position_m: [0.0, 0.0, 0.0],
-        },
+        trim: synth::SEED002_TRIM,
+        sensors: synth::SEED002_SENSORS,
     };
     let (channels, data, meta) = synth::generate(&truth(), &s).unwrap();
     let path = scratch().join(format!("{name}.csv"));
