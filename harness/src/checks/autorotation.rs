@@ -203,10 +203,11 @@ fn no_equilibrium(
     use cierva_model::solve::SolveError;
     let largest = |v: &mut dyn Iterator<Item = f64>| v.fold(f64::NEG_INFINITY, f64::max);
     let (name, value) = match e {
-        A::NoAngle { found, .. } | A::Unsettled { found, .. } => (
-            "largest_tip_speed_ratio_found",
-            largest(&mut found.iter().map(|f| f.1)),
+        A::NoAngle { torques, .. } => (
+            "largest_torque_coefficient_over_solidity",
+            largest(&mut torques.iter().map(|t| t.1)),
         ),
+        A::Unstable { alpha_deg, .. } => ("unstable_equilibrium_alpha_deg", *alpha_deg),
         A::NoBracket { torques, .. } => (
             "largest_torque_coefficient_over_solidity",
             largest(&mut torques.iter().copied()),

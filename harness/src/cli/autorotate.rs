@@ -46,7 +46,7 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             a.density_kg_m3,
             inflow,
         )
-        .map(|e| (alpha_deg, airspeed_m_s, e)),
+        .map(|e| (alpha_deg, airspeed_m_s, e, None)),
         (None, None, Some(mu), Some(rpm)) => cierva_harness::run_autorotation_at_tip_speed_ratio(
             &file.rotor,
             mu,
@@ -55,7 +55,14 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             a.density_kg_m3,
             inflow,
         )
-        .map(|f| (f.alpha_rad.to_degrees(), f.airspeed_m_s, f.autorotation)),
+        .map(|f| {
+            (
+                f.alpha_rad.to_degrees(),
+                f.airspeed_m_s,
+                f.autorotation,
+                Some(f.rotor_speed_stiffness),
+            )
+        }),
         _ => {
             eprintln!(
                 "error: give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm"
@@ -63,7 +70,7 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let (alpha_deg, airspeed_m_s, e) = match run {
+    let (alpha_deg, airspeed_m_s, e, stiffness) = match run {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: {}: {e}", a.rotor.display());
@@ -83,6 +90,10 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             for (name, value) in cierva_harness::checks::autorotation::quantities_of(alpha_deg, &e)
             {
                 m.insert(name.into(), serde_json::json!(value));
+            }
+            // Where the angle was found: how firmly the rotor holds its speed there.
+            if let Some(s) = stiffness {
+                m.insert("rotor_speed_stiffness".into(), serde_json::json!(s));
             }
             m.insert(
                 "equilibrium".into(),

@@ -17,6 +17,7 @@ use crate::components::rotor::{
     SteadyLoads,
 };
 use crate::solve::{self, NewtonOptions, SolveError};
+use nalgebra::DMatrix;
 use serde::Serialize;
 use std::f64::consts::PI;
 use thiserror::Error;
@@ -120,21 +121,21 @@ pub enum AutorotationError {
     #[error("the equilibrium did not converge: {0}")]
     Solve(#[from] SolveError),
     #[error(
-        "no angle of attack between 0.25 and 40 deg autorotates at tip-speed ratio {tip_speed_ratio}: (alpha deg, mu) found {found:?}"
+        "no angle of attack between 0.25 and 40 deg autorotates at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s: the driving torque does not change sign ((alpha deg, torque coefficient over solidity) {torques:?})"
     )]
     NoAngle {
         tip_speed_ratio: f64,
-        found: Vec<(f64, f64)>,
+        omega_rad_s: f64,
+        torques: Vec<(f64, f64)>,
     },
     #[error(
-        "no angle of attack autorotates at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s: at the edge of autorotation two rotor speeds autorotate at one angle and the search does not settle on either (largest mu found {largest:.4} in {count} equilibria)",
-        largest = .found.iter().map(|f| f.1).fold(f64::NAN, f64::max),
-        count = .found.len()
+        "at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s the rotor's equilibrium at the smallest angle that autorotates ({alpha_deg:.4} deg) is unstable in rotor speed (d(C_Q/sigma)/d(ln Omega) = {stiffness:.3e} with the inflow in equilibrium: the driving torque rises as the rotor speeds up), so a tunnel would not hold it: beyond the largest tip-speed ratio at which the rotor autorotates"
     )]
-    Unsettled {
+    Unstable {
         tip_speed_ratio: f64,
         omega_rad_s: f64,
-        found: Vec<(f64, f64)>,
+        alpha_deg: f64,
+        stiffness: f64,
     },
 }
 
@@ -179,7 +180,26 @@ struct Problem<'a> {
     map: RevolutionMap,
 }
 
-impl Problem<'_> {
+impl<'a> Problem<'a> {
+    fn new(rotor: &'a Rotor, numerics: Numerics, tunnel: Tunnel, model: InflowModel) -> Self {
+        Problem {
+            rotor,
+            blade: Blade::new(rotor, numerics),
+            tunnel,
+            hub: hub_in(&tunnel),
+            model,
+            warm: [0.05, 0.0],
+            map: RevolutionMap::default(),
+        }
+    }
+
+    /// Moves the rotor to another tunnel condition; the flapping and what was learned of the
+    /// revolution map are kept, to start from.
+    fn set_tunnel(&mut self, tunnel: Tunnel) {
+        self.tunnel = tunnel;
+        self.hub = hub_in(&tunnel);
+    }
+
     fn operating(&self, omega: f64, inflow: Inflow) -> Operating {
         Operating {
             omega_rad_s: omega,
@@ -266,9 +286,82 @@ pub fn autorotate_from(
     options: Options,
     guess: Option<(f64, Inflow)>,
 ) -> Result<Autorotation, AutorotationError> {
-    // Long: one algorithm, read top to bottom: bracket the rotorspeed coarsely (unless a guess
-    // converges), then Newton on the scaled unknowns; the steps share the problem
     rotor.validate()?;
+    check_tunnel(&tunnel)?;
+    let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow);
+    if let Some((omega, inflow)) = guess
+        && omega.is_finite()
+        && omega > 0.0
+        && let Ok(a) = solve_from(&mut p, options, omega, inflow)
+    {
+        return Ok(a);
+    }
+
+    // Bracket the rotorspeed, from a fast rotor (the torque is negative: profile drag wins) to
+    // a slow one, with coarse numerics (only the torque's sign matters here) and the inflow
+    // carried from point to point as a fraction of the tip speed.
+    let (v, r) = (tunnel.airspeed_m_s, rotor.radius_m);
+    let coarse_rotor = coarse(rotor);
+    let mut coarse = Problem::new(
+        &coarse_rotor,
+        coarse_numerics(options.numerics),
+        tunnel,
+        options.inflow,
+    );
+    let ratios: Vec<f64> = (0..20)
+        .map(|k| 40.0 * (1.2f64 / 40.0).powf(k as f64 / 19.0))
+        .collect();
+    let mut inflow = start_inflow(options.inflow);
+    let mut torques = Vec::new();
+    let mut start = None;
+    let mut previous_omega = ratios[0] * v / r;
+    for (k, ratio) in ratios.iter().enumerate() {
+        let omega = ratio * v / r;
+        if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
+            let s = omega / previous_omega;
+            inflow = Inflow {
+                v0: inflow.v0 * s,
+                v1s: inflow.v1s * s,
+                v1c: inflow.v1c * s,
+            };
+        }
+        previous_omega = omega;
+        let q = match coarse.rough_torque(omega, &mut inflow) {
+            Ok(q) => q,
+            // A very fast rotor may have no periodic flapping either (compressible sections
+            // with supersonic tips, where the drag rise runs away): the bracket lies below it.
+            Err(e) if no_periodic_flapping(&e) && torques.is_empty() => {
+                inflow = start_inflow(options.inflow);
+                continue;
+            }
+            // A very slow rotor may not flap periodically: the bracket lies above it.
+            Err(e) if no_periodic_flapping(&e) => break,
+            Err(e) => return Err(e.into()),
+        };
+        let previous = torques.last().copied();
+        torques.push(q);
+        // The driving torque rises as the rotor slows: look for its change of sign.
+        if let Some(qp) = previous
+            && qp < 0.0
+            && q >= 0.0
+        {
+            let w0 = ratios[k - 1] * v / r;
+            let t = qp / (qp - q);
+            start = Some((w0 + t * (omega - w0), inflow));
+            break;
+        }
+    }
+    let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
+        low_rad_s: ratios[ratios.len() - 1] * v / r,
+        high_rad_s: ratios[0] * v / r,
+        torques: torques.clone(),
+    })?;
+
+    solve_from(&mut p, options, omega0, inflow0)
+}
+
+/// The tunnel condition's checks (a located error for each).
+fn check_tunnel(tunnel: &Tunnel) -> Result<(), AutorotationError> {
     check(
         "airspeed_m_s",
         tunnel.airspeed_m_s,
@@ -298,112 +391,65 @@ pub fn autorotate_from(
         tunnel.collective_shift_rad,
         true,
         "finite",
-    )?;
+    )
+}
+
+/// The hub's velocity in the tunnel: `V cos alpha` forward, `V sin alpha` down the shaft.
+fn hub_in(tunnel: &Tunnel) -> HubVelocity {
     let (sa, ca) = tunnel.alpha_rad.sin_cos();
     let v = tunnel.airspeed_m_s;
-    let hub = HubVelocity {
+    HubVelocity {
         u: v * ca.max(0.0),
         v: 0.0,
         w: v * sa,
-    };
-    let r = rotor.radius_m;
-    let mut p = Problem {
-        rotor,
-        blade: Blade::new(rotor, options.numerics),
-        tunnel,
-        hub,
-        model: options.inflow,
-        warm: [0.05, 0.0],
-        map: RevolutionMap::default(),
-    };
-    if let Some((omega, inflow)) = guess
-        && omega.is_finite()
-        && omega > 0.0
-        && let Ok(a) = solve_from(&mut p, options, omega, inflow)
-    {
-        return Ok(a);
     }
+}
 
-    // Bracket the rotorspeed, from a fast rotor (the torque is negative: profile drag wins) to
-    // a slow one, with coarse numerics (only the torque's sign matters here) and the inflow
-    // carried from point to point as a fraction of the tip speed.
-    let coarse_rotor = Rotor {
+/// The rotor with at most 8 blade elements, for bracketing (only the torque's sign matters).
+fn coarse(rotor: &Rotor) -> Rotor {
+    Rotor {
         elements: rotor.elements.min(8),
         ..rotor.clone()
-    };
-    let mut coarse = Problem {
-        rotor: &coarse_rotor,
-        blade: Blade::new(
-            &coarse_rotor,
-            Numerics {
-                azimuth_step_rad: 7.5f64.to_radians(),
-                periodic_tolerance: 1e-7,
-                ..options.numerics
-            },
-        ),
-        tunnel,
-        hub,
-        model: options.inflow,
-        warm: [0.05, 0.0],
-        map: RevolutionMap::default(),
-    };
-    let ratios: Vec<f64> = (0..20)
-        .map(|k| 40.0 * (1.2f64 / 40.0).powf(k as f64 / 19.0))
-        .collect();
-    let mut inflow = match options.inflow {
+    }
+}
+
+/// Bracketing's numerics: 7.5 deg azimuth steps, periodic to 1e-7.
+fn coarse_numerics(numerics: Numerics) -> Numerics {
+    Numerics {
+        azimuth_step_rad: 7.5f64.to_radians(),
+        periodic_tolerance: 1e-7,
+        ..numerics
+    }
+}
+
+/// The inflow a search starts from: the prescribed one, or none.
+fn start_inflow(model: InflowModel) -> Inflow {
+    match model {
         InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
         _ => Inflow::default(),
-    };
-    let mut torques = Vec::new();
-    let mut start = None;
-    let mut previous_omega = ratios[0] * v / r;
-    for (k, ratio) in ratios.iter().enumerate() {
-        let omega = ratio * v / r;
-        if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
-            let s = omega / previous_omega;
-            inflow = Inflow {
-                v0: inflow.v0 * s,
-                v1s: inflow.v1s * s,
-                v1c: inflow.v1c * s,
-            };
-        }
-        previous_omega = omega;
-        let q = match coarse.rough_torque(omega, &mut inflow) {
-            Ok(q) => q,
-            // A very fast rotor may have no periodic flapping either (compressible sections
-            // with supersonic tips, where the drag rise runs away): the bracket lies below it.
-            Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_))
-                if torques.is_empty() =>
-            {
-                if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
-                    inflow = Inflow::default();
-                }
-                continue;
-            }
-            // A very slow rotor may not flap periodically: the bracket lies above it.
-            Err(RotorError::FlapNotPeriodic { .. } | RotorError::NonFinite(_)) => break,
-            Err(e) => return Err(e.into()),
-        };
-        let previous = torques.last().copied();
-        torques.push(q);
-        // The driving torque rises as the rotor slows: look for its change of sign.
-        if let Some(qp) = previous
-            && qp < 0.0
-            && q >= 0.0
-        {
-            let w0 = ratios[k - 1] * v / r;
-            let t = qp / (qp - q);
-            start = Some((w0 + t * (omega - w0), inflow));
-            break;
-        }
     }
-    let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
-        low_rad_s: ratios[ratios.len() - 1] * v / r,
-        high_rad_s: ratios[0] * v / r,
-        torques: torques.clone(),
-    })?;
+}
 
-    solve_from(&mut p, options, omega0, inflow0)
+/// How many unknowns the equilibrium has: the rotor speed (or angle), and the inflow's free
+/// components.
+fn unknowns(model: InflowModel) -> usize {
+    match model {
+        InflowModel::Prescribed { .. } => 1,
+        InflowModel::UniformOnly { .. } => 2,
+        InflowModel::PetersHaQuang { .. } => 4,
+    }
+}
+
+/// The inflow from its scaled unknowns (`x` after the first unknown, times `scale`).
+fn inflow_from(model: InflowModel, x: &[f64], scale: f64) -> Inflow {
+    match model {
+        InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
+        _ => Inflow {
+            v0: x.first().map_or(0.0, |a| a * scale),
+            v1s: x.get(1).map_or(0.0, |a| a * scale),
+            v1c: x.get(2).map_or(0.0, |a| a * scale),
+        },
+    }
 }
 
 /// Newton on the rotor speed and inflow from `(omega0, inflow0)`, and the equilibrium's loads
@@ -414,28 +460,10 @@ fn solve_from(
     omega0: f64,
     inflow0: Inflow,
 ) -> Result<Autorotation, AutorotationError> {
-    let (tunnel, hub, r) = (p.tunnel, p.hub, p.rotor.radius_m);
-    let (sa, ca) = tunnel.alpha_rad.sin_cos();
-    let v = tunnel.airspeed_m_s;
     // Newton on the scaled unknowns [Omega / omega0, v0 / Vs, v1s / Vs, v1c / Vs].
-    let vs = v.max(1.0);
-    let free = match options.inflow {
-        InflowModel::Prescribed { .. } => 1,
-        InflowModel::UniformOnly { .. } => 2,
-        InflowModel::PetersHaQuang { .. } => 4,
-    };
-    let unpack = |x: &[f64]| -> (f64, Inflow) {
-        let omega = x[0] * omega0;
-        let inflow = match options.inflow {
-            InflowModel::Prescribed { v0, v1s, v1c } => Inflow { v0, v1s, v1c },
-            _ => Inflow {
-                v0: x.get(1).map_or(0.0, |a| a * vs),
-                v1s: x.get(2).map_or(0.0, |a| a * vs),
-                v1c: x.get(3).map_or(0.0, |a| a * vs),
-            },
-        };
-        (omega, inflow)
-    };
+    let vs = p.tunnel.airspeed_m_s.max(1.0);
+    let free = unknowns(options.inflow);
+    let unpack = |x: &[f64]| (x[0] * omega0, inflow_from(options.inflow, &x[1..], vs));
     let x0: Vec<f64> = [1.0, inflow0.v0 / vs, inflow0.v1s / vs, inflow0.v1c / vs][..free].to_vec();
     let sol = solve::newton(
         |x| {
@@ -446,66 +474,155 @@ fn solve_from(
                     "rotorspeed {omega:.4} rad/s left the range 0.2-5 times the bracketed {omega0:.4} rad/s"
                 ));
             }
-            let loads = p.steady(omega, inflow).map_err(|e| e.to_string())?;
-            let target = p.equilibrium_inflow(&loads, inflow);
-            let tip = omega * r;
-            let mut res = vec![p.torque_coefficient(&loads, omega)];
-            res.extend(
-                [
-                    inflow.v0 - target.v0,
-                    inflow.v1s - target.v1s,
-                    inflow.v1c - target.v1c,
-                ][..free - 1]
-                    .iter()
-                    .map(|d| d / tip),
-            );
-            Ok(res)
+            p.residuals(omega, inflow, free).map_err(|e| e.to_string())
         },
         &x0,
         options.newton,
     )?;
     let (omega, inflow) = unpack(&sol.x);
-    let loads = p.steady(omega, inflow)?;
-    let thrust = loads.thrust_n();
-    let h = -loads.force_n[0];
-    // The balance weighs the hub too: its drag, along the free stream, joins the blades' loads.
-    let hub_drag = p.rotor.hub_drag_n(tunnel.density_kg_m3, hub);
-    let (thrust_all, h_all) = (thrust - hub_drag[2], h - hub_drag[0]);
-    let lift = thrust_all * ca - h_all * sa;
-    let drag = thrust_all * sa + h_all * ca;
-    let q_area = 0.5 * tunnel.density_kg_m3 * v * v * PI * r * r;
-    let skew = match options.inflow {
-        InflowModel::PetersHaQuang { wake } | InflowModel::UniformOnly { wake } => {
-            let v_h = inflow::hover_induced_m_s(thrust, tunnel.density_kg_m3, r);
-            inflow::wake(hub, inflow.v0, wake, v_h).skew_rad
+    p.equilibrium(omega, inflow, &sol)
+}
+
+impl Problem<'_> {
+    /// The equilibrium's residuals: the torque coefficient over solidity, then the inflow's
+    /// departure from its static equilibrium over the tip speed (the first `free - 1`
+    /// components).
+    fn residuals(
+        &mut self,
+        omega: f64,
+        inflow: Inflow,
+        free: usize,
+    ) -> Result<Vec<f64>, RotorError> {
+        let loads = self.steady(omega, inflow)?;
+        let target = self.equilibrium_inflow(&loads, inflow);
+        let tip = omega * self.rotor.radius_m;
+        let mut res = vec![self.torque_coefficient(&loads, omega)];
+        res.extend(
+            [
+                inflow.v0 - target.v0,
+                inflow.v1s - target.v1s,
+                inflow.v1c - target.v1c,
+            ][..free - 1]
+                .iter()
+                .map(|d| d / tip),
+        );
+        Ok(res)
+    }
+
+    /// How the driving torque moves with the rotor speed at an equilibrium, the inflow kept in
+    /// its equilibrium: `d(C_Q / sigma) / d(ln Omega)`, by forward differences of relative size
+    /// `step` in the rotor speed and the inflow (over the airspeed), the inflow's part taken
+    /// out by the Schur complement. Negative where the rotor returns to its speed when
+    /// disturbed: the equilibrium a tunnel holds.
+    fn rotor_speed_stiffness(
+        &mut self,
+        omega: f64,
+        inflow: Inflow,
+        free: usize,
+        step: f64,
+    ) -> Result<f64, RotorError> {
+        let r0 = self.residuals(omega, inflow, free)?;
+        let dv = step * self.tunnel.airspeed_m_s.max(1.0);
+        let mut jac = DMatrix::zeros(free, free);
+        for j in 0..free {
+            let r = match j {
+                0 => self.residuals(omega * (1.0 + step), inflow, free)?,
+                1 => self.residuals(
+                    omega,
+                    Inflow {
+                        v0: inflow.v0 + dv,
+                        ..inflow
+                    },
+                    free,
+                )?,
+                2 => self.residuals(
+                    omega,
+                    Inflow {
+                        v1s: inflow.v1s + dv,
+                        ..inflow
+                    },
+                    free,
+                )?,
+                _ => self.residuals(
+                    omega,
+                    Inflow {
+                        v1c: inflow.v1c + dv,
+                        ..inflow
+                    },
+                    free,
+                )?,
+            };
+            for i in 0..free {
+                jac[(i, j)] = (r[i] - r0[i]) / step;
+            }
         }
-        InflowModel::Prescribed { .. } => f64::NAN,
-    };
-    Ok(Autorotation {
-        omega_rad_s: omega,
-        rpm: omega * 30.0 / PI,
-        tip_speed_ratio: hub.u / (omega * r),
-        inflow,
-        inflow_ratio: (inflow.v0 - hub.w) / (omega * r),
-        skew_rad: skew,
-        thrust_n: thrust,
-        h_force_n: h,
-        side_force_n: loads.force_n[1],
-        hub_drag_n: hub_drag[0].hypot(hub_drag[2]),
-        lift_n: lift,
-        drag_n: drag,
-        lift_coefficient: lift / q_area,
-        drag_coefficient: drag / q_area,
-        lift_to_drag: lift / drag,
-        thrust_coefficient: thrust / (tunnel.density_kg_m3 * PI * r * r * (omega * r).powi(2)),
-        rolling_moment_n_m: loads.moment_n_m[0],
-        pitching_moment_n_m: loads.moment_n_m[1],
-        a0_rad: loads.a0_rad,
-        a1_rad: loads.a1_rad,
-        b1_rad: loads.b1_rad,
-        residual_norm: sol.residual_norm,
-        iterations: sol.iterations,
-    })
+        if free == 1 {
+            return Ok(jac[(0, 0)]);
+        }
+        let n = free - 1;
+        let inflow_block = jac.view((1, 1), (n, n)).into_owned();
+        let Some(x) = inflow_block
+            .lu()
+            .solve(&jac.view((1, 0), (n, 1)).into_owned())
+        else {
+            return Ok(f64::NAN);
+        };
+        Ok(jac[(0, 0)] - (jac.view((0, 1), (1, n)) * x)[(0, 0)])
+    }
+
+    /// The equilibrium Newton found at `(omega, inflow)`: its loads and coefficients.
+    fn equilibrium(
+        &mut self,
+        omega: f64,
+        inflow: Inflow,
+        sol: &solve::Converged,
+    ) -> Result<Autorotation, AutorotationError> {
+        let (tunnel, hub, r) = (self.tunnel, self.hub, self.rotor.radius_m);
+        let (sa, ca) = tunnel.alpha_rad.sin_cos();
+        let v = tunnel.airspeed_m_s;
+        let loads = self.steady(omega, inflow)?;
+        let thrust = loads.thrust_n();
+        let h = -loads.force_n[0];
+        // The balance weighs the hub too: its drag, along the free stream, joins the blades'
+        // loads.
+        let hub_drag = self.rotor.hub_drag_n(tunnel.density_kg_m3, hub);
+        let (thrust_all, h_all) = (thrust - hub_drag[2], h - hub_drag[0]);
+        let lift = thrust_all * ca - h_all * sa;
+        let drag = thrust_all * sa + h_all * ca;
+        let q_area = 0.5 * tunnel.density_kg_m3 * v * v * PI * r * r;
+        let skew = match self.model {
+            InflowModel::PetersHaQuang { wake } | InflowModel::UniformOnly { wake } => {
+                let v_h = inflow::hover_induced_m_s(thrust, tunnel.density_kg_m3, r);
+                inflow::wake(hub, inflow.v0, wake, v_h).skew_rad
+            }
+            InflowModel::Prescribed { .. } => f64::NAN,
+        };
+        Ok(Autorotation {
+            omega_rad_s: omega,
+            rpm: omega * 30.0 / PI,
+            tip_speed_ratio: hub.u / (omega * r),
+            inflow,
+            inflow_ratio: (inflow.v0 - hub.w) / (omega * r),
+            skew_rad: skew,
+            thrust_n: thrust,
+            h_force_n: h,
+            side_force_n: loads.force_n[1],
+            hub_drag_n: hub_drag[0].hypot(hub_drag[2]),
+            lift_n: lift,
+            drag_n: drag,
+            lift_coefficient: lift / q_area,
+            drag_coefficient: drag / q_area,
+            lift_to_drag: lift / drag,
+            thrust_coefficient: thrust / (tunnel.density_kg_m3 * PI * r * r * (omega * r).powi(2)),
+            rolling_moment_n_m: loads.moment_n_m[0],
+            pitching_moment_n_m: loads.moment_n_m[1],
+            a0_rad: loads.a0_rad,
+            a1_rad: loads.a1_rad,
+            b1_rad: loads.b1_rad,
+            residual_norm: sol.residual_norm,
+            iterations: sol.iterations,
+        })
+    }
 }
 
 /// A tunnel condition given as the tunnel reports its rows: tip-speed ratio and rotor speed,
@@ -527,19 +644,24 @@ pub struct AtTipSpeedRatio {
     pub alpha_rad: f64,
     pub airspeed_m_s: f64,
     pub autorotation: Autorotation,
-    /// Equilibria solved on the way (each one [`autorotate`]).
-    pub evaluations: usize,
+    /// `d(C_Q / sigma) / d(ln Omega)` at the equilibrium with the inflow in its equilibrium:
+    /// negative, the rotor returns to its speed when disturbed (how close to zero says how near
+    /// the largest tip-speed ratio at which the rotor autorotates it is).
+    pub rotor_speed_stiffness: f64,
 }
 
 /// Finds the angle of attack at which `rotor` autorotates at the condition's tip-speed ratio
 /// and rotor speed: how the tunnel data of NACA TR 515 are plotted, and at small angles the
 /// well-conditioned comparison (a fixed-angle comparison moves mu by 0.1-0.3 per degree there).
 ///
-/// At a fixed angle the equilibrium's tip-speed ratio hardly depends on the airspeed (only
-/// through Mach number), and it falls as the angle rises. So: bracket the angle on a grid from
-/// 0.25 to 40 deg (angles where no equilibrium exists are skipped), refine it by the Illinois
-/// method on `ln mu`, then scale the airspeed so that the rotor speed matches, and refine again
-/// from there until both agree to 1e-7.
+/// The tip-speed ratio and rotor speed fix the flow along the disc, `u = mu Omega R`; the angle
+/// sets the flow up through it, `w = u tan alpha`. So the angle takes the rotor speed's place
+/// among the unknowns of [`autorotate`], `alpha, v0, v1s, v1c`, with the same residuals. The
+/// driving torque rises with the angle. The angle is bracketed by the torque's sign on a grid
+/// from 40 deg down to 0.25 deg, with coarse numerics and the inflow relaxed (as [`autorotate`]
+/// brackets its rotor speed), and Newton's method solves from there. Coming down from large
+/// angles, where the rotor is driven, the first change of sign is the equilibrium a tunnel
+/// holds: the one [`autorotate`] finds at that angle (see the tests).
 pub fn autorotate_at_tip_speed_ratio(
     rotor: &Rotor,
     c: TipSpeedCondition,
@@ -557,255 +679,133 @@ pub fn autorotate_at_tip_speed_ratio(
         c.omega_rad_s > 0.0,
         "positive",
     )?;
-    let alpha0 = 5f64.to_radians();
-    let mut search = AngleSearch {
-        rotor,
-        c,
-        options,
-        target: c.tip_speed_ratio.ln(),
-        airspeed_m_s: c.tip_speed_ratio * c.omega_rad_s * rotor.radius_m / alpha0.cos(),
-        evaluations: 0,
-        found: Vec::new(),
-        equilibria: Vec::new(),
+    rotor.validate()?;
+    let u = c.tip_speed_ratio * c.omega_rad_s * rotor.radius_m;
+    let tunnel_at = |alpha_rad: f64| Tunnel {
+        alpha_rad,
+        airspeed_m_s: u / alpha_rad.cos(),
+        density_kg_m3: c.density_kg_m3,
+        speed_of_sound_m_s: c.speed_of_sound_m_s,
+        collective_shift_rad: c.collective_shift_rad,
     };
-    let mut near: Option<f64> = None;
-    for _ in 0..8 {
-        // After the airspeed is scaled, the angle just found first: the tip-speed ratio at a
-        // fixed angle hardly depends on the airspeed (only through Mach number), so it is
-        // usually still the answer.
-        let kept = match near {
-            Some(alpha) => match search.at(alpha)? {
-                Some((y, e)) if y.abs() <= search.tolerance() => Some((alpha, e)),
-                _ => None,
-            },
-            None => None,
-        };
-        let (alpha, e) = match kept {
-            Some(found) => found,
-            None => {
-                let bracket = match near {
-                    Some(alpha) => search.bracket_near(alpha)?,
-                    None => None,
-                };
-                let bracket = match bracket {
-                    Some(b) => b,
-                    None => {
-                        search
-                            .bracket_on_grid()?
-                            .ok_or_else(|| AutorotationError::NoAngle {
-                                tip_speed_ratio: c.tip_speed_ratio,
-                                found: search.found.clone(),
-                            })?
-                    }
-                };
-                search.refine(bracket)?
+    check_tunnel(&tunnel_at(ANGLE_GRID_DEG[0].to_radians()))?;
+    let (alpha0, inflow0) = bracket_angle(rotor, c, options, tunnel_at)?;
+
+    // Newton on the scaled unknowns [alpha / alpha0, v0 / u, v1s / u, v1c / u].
+    let mut p = Problem::new(rotor, options.numerics, tunnel_at(alpha0), options.inflow);
+    let us = u.max(1.0);
+    let free = unknowns(options.inflow);
+    let unpack = |x: &[f64]| (x[0] * alpha0, inflow_from(options.inflow, &x[1..], us));
+    let x0: Vec<f64> = [1.0, inflow0.v0 / us, inflow0.v1s / us, inflow0.v1c / us][..free].to_vec();
+    let sol = solve::newton(
+        |x| {
+            let (alpha, inflow) = unpack(x);
+            // Newton stays near the bracketed angle; leaving it means no equilibrium nearby.
+            if alpha.is_nan() || !(0.25 * alpha0..=(4.0 * alpha0).min(0.5 * PI)).contains(&alpha) {
+                return Err(format!(
+                    "the angle of attack {:.4} deg left the range 0.25-4 times the bracketed {:.4} deg",
+                    alpha.to_degrees(),
+                    alpha0.to_degrees()
+                ));
             }
-        };
-        // A bracket whose refinement ends off the target: the equilibria inside it fold (two
-        // rotor speeds autorotate at one angle, at the edge of autorotation), and no airspeed
-        // scaling settles it.
-        if (e.tip_speed_ratio.ln() - search.target).abs() > 10.0 * search.tolerance() {
-            break;
-        }
-        let ratio = c.omega_rad_s / e.omega_rad_s;
-        // Within a millionth: an equilibrium started from a neighbour's can meet the solver's
-        // tolerance with the rotor speed a few parts in ten million off.
-        if (ratio - 1.0).abs() < 1e-6 {
-            return Ok(AtTipSpeedRatio {
-                alpha_rad: alpha,
-                airspeed_m_s: search.airspeed_m_s,
-                autorotation: e,
-                evaluations: search.evaluations,
-            });
-        }
-        // The rotor speed scales with the airspeed at a fixed angle: scale, and look again
-        // near the angle just found.
-        search.airspeed_m_s *= ratio;
-        near = Some(alpha);
+            p.set_tunnel(tunnel_at(alpha));
+            p.residuals(c.omega_rad_s, inflow, free)
+                .map_err(|e| e.to_string())
+        },
+        &x0,
+        options.newton,
+    )?;
+    let (alpha, inflow) = unpack(&sol.x);
+    p.set_tunnel(tunnel_at(alpha));
+    // The smallest angle's equilibrium is the one a tunnel holds, unless the tip-speed ratio is
+    // beyond the largest the rotor reaches: there it is the slow rotor's, which runs away.
+    let stiffness = p.rotor_speed_stiffness(c.omega_rad_s, inflow, free, options.newton.fd_step)?;
+    if stiffness.is_nan() || stiffness >= 0.0 {
+        return Err(AutorotationError::Unstable {
+            tip_speed_ratio: c.tip_speed_ratio,
+            omega_rad_s: c.omega_rad_s,
+            alpha_deg: alpha.to_degrees(),
+            stiffness,
+        });
     }
-    Err(AutorotationError::Unsettled {
-        tip_speed_ratio: c.tip_speed_ratio,
-        omega_rad_s: c.omega_rad_s,
-        found: search.found,
+    Ok(AtTipSpeedRatio {
+        alpha_rad: alpha,
+        airspeed_m_s: p.tunnel.airspeed_m_s,
+        autorotation: p.equilibrium(c.omega_rad_s, inflow, &sol)?,
+        rotor_speed_stiffness: stiffness,
     })
 }
 
-/// The search of [`autorotate_at_tip_speed_ratio`] at one airspeed: `ln mu - ln mu_target` as
-/// a function of the angle of attack, bracketed and refined.
-struct AngleSearch<'a> {
-    rotor: &'a Rotor,
+/// The smallest and largest angles the angle search of [`autorotate_at_tip_speed_ratio`] tries.
+const ANGLE_GRID_DEG: [f64; 2] = [0.25, 40.0];
+
+/// The angle of attack where the driving torque first turns positive at the condition's
+/// tip-speed ratio and rotor speed, coming up from small angles on a grid of 12 (coarse
+/// numerics, the inflow relaxed), interpolated, with the inflow there: where Newton starts.
+fn bracket_angle(
+    rotor: &Rotor,
     c: TipSpeedCondition,
     options: Options,
-    target: f64,
-    airspeed_m_s: f64,
-    evaluations: usize,
-    /// (angle deg, mu) of every equilibrium found, for the error when none fits.
-    found: Vec<(f64, f64)>,
-    /// (angle, airspeed, rotor speed, inflow) of every equilibrium found, to start the next
-    /// one from the nearest.
-    equilibria: Vec<(f64, f64, f64, Inflow)>,
+    tunnel_at: impl Fn(f64) -> Tunnel,
+) -> Result<(f64, Inflow), AutorotationError> {
+    let [low, high] = ANGLE_GRID_DEG;
+    let grid: Vec<f64> = (0..12)
+        .map(|k| (low * (high / low).powf(k as f64 / 11.0)).to_radians())
+        .collect();
+    let coarse_rotor = coarse(rotor);
+    let mut coarse = Problem::new(
+        &coarse_rotor,
+        coarse_numerics(options.numerics),
+        tunnel_at(grid[0]),
+        options.inflow,
+    );
+    let mut inflow = start_inflow(options.inflow);
+    let mut torques: Vec<(f64, f64)> = Vec::new();
+    let mut below: Option<(f64, f64, Inflow)> = None;
+    for &alpha in &grid {
+        coarse.set_tunnel(tunnel_at(alpha));
+        let q = match coarse.rough_torque(c.omega_rad_s, &mut inflow) {
+            Ok(q) => q,
+            // At the smallest angles the blades may have no periodic flapping: the bracket
+            // lies above.
+            Err(e) if no_periodic_flapping(&e) && below.is_none() => {
+                inflow = start_inflow(options.inflow);
+                continue;
+            }
+            Err(e) if no_periodic_flapping(&e) => break,
+            Err(e) => return Err(e.into()),
+        };
+        torques.push((alpha.to_degrees(), q));
+        if let Some((a0, q0, inflow0)) = below
+            && q0 < 0.0
+            && q >= 0.0
+        {
+            let t = q0 / (q0 - q);
+            let mix = |x: f64, y: f64| x + t * (y - x);
+            return Ok((
+                mix(a0, alpha),
+                Inflow {
+                    v0: mix(inflow0.v0, inflow.v0),
+                    v1s: mix(inflow0.v1s, inflow.v1s),
+                    v1c: mix(inflow0.v1c, inflow.v1c),
+                },
+            ));
+        }
+        below = Some((alpha, q, inflow));
+    }
+    Err(AutorotationError::NoAngle {
+        tip_speed_ratio: c.tip_speed_ratio,
+        omega_rad_s: c.omega_rad_s,
+        torques,
+    })
 }
 
-type Point = (f64, f64);
-
-/// The angle search's tolerance on `ln mu`, per unit of the equilibrium solver's Newton
-/// tolerance. Equilibria solved to a Newton tolerance of 1e-9 scatter in `ln mu` by 3e-8 to
-/// 1e-7 between angles 1e-11 rad apart (TR 515's row at mu 0.373, 98.8 rpm: the Illinois
-/// steps measured there), so a search asked for 1e-9 hunted in that noise for 30 and more
-/// equilibria. A thousand times the Newton tolerance (1e-6 at the default: the angle to about
-/// 1e-7 rad, 7e-6 deg, where `ln mu` moves by 8 per rad) stays above the noise and tightens
-/// with the solver in a grid study.
-const LN_MU_TOLERANCE_PER_NEWTON: f64 = 1e3;
-
-impl AngleSearch<'_> {
-    /// How closely `ln mu` must meet its target.
-    fn tolerance(&self) -> f64 {
-        LN_MU_TOLERANCE_PER_NEWTON * self.options.newton.tolerance
-    }
-
-    /// `ln mu - ln mu_target` and the equilibrium at `alpha`, or `None` where the rotor has
-    /// no equilibrium.
-    fn at(&mut self, alpha: f64) -> Result<Option<(f64, Autorotation)>, AutorotationError> {
-        self.evaluations += 1;
-        let tunnel = Tunnel {
-            alpha_rad: alpha,
-            airspeed_m_s: self.airspeed_m_s,
-            density_kg_m3: self.c.density_kg_m3,
-            speed_of_sound_m_s: self.c.speed_of_sound_m_s,
-            collective_shift_rad: self.c.collective_shift_rad,
-        };
-        // Start from the equilibrium found nearest in angle (within 2 deg), scaled to this
-        // airspeed: the rotor speed and inflow scale with it at a fixed angle.
-        let guess = self
-            .equilibria
-            .iter()
-            .filter(|(a, ..)| (a - alpha).abs() < 2f64.to_radians())
-            .min_by(|x, y| (x.0 - alpha).abs().total_cmp(&(y.0 - alpha).abs()))
-            .map(|&(_, v, omega, inflow)| {
-                let k = self.airspeed_m_s / v;
-                let i = Inflow {
-                    v0: inflow.v0 * k,
-                    v1s: inflow.v1s * k,
-                    v1c: inflow.v1c * k,
-                };
-                (omega * k, i)
-            });
-        match autorotate_from(self.rotor, tunnel, self.options, guess) {
-            Ok(e) => {
-                self.equilibria
-                    .push((alpha, self.airspeed_m_s, e.omega_rad_s, e.inflow));
-                self.found.push((alpha.to_degrees(), e.tip_speed_ratio));
-                Ok(Some((e.tip_speed_ratio.ln() - self.target, e)))
-            }
-            Err(AutorotationError::NoBracket { .. } | AutorotationError::Solve(_)) => Ok(None),
-            Err(e) => Err(e),
-        }
-    }
-
-    /// A bracket within 2 % of `alpha`, if the sign changes there.
-    fn bracket_near(&mut self, alpha: f64) -> Result<Option<[Point; 2]>, AutorotationError> {
-        let w = 0.02 * alpha.max(1e-3);
-        let (lo, hi) = (self.at(alpha - w)?, self.at(alpha + w)?);
-        Ok(match (lo, hi) {
-            (Some((x, _)), Some((y, _))) if x * y <= 0.0 => Some([(alpha - w, x), (alpha + w, y)]),
-            _ => None,
-        })
-    }
-
-    /// A bracket on a grid from 0.25 to 40 deg. Mu falls as the angle rises; below some angle
-    /// the rotor has no equilibrium, so when the first equilibrium is already below the target
-    /// the edge between is searched too.
-    fn bracket_on_grid(&mut self) -> Result<Option<[Point; 2]>, AutorotationError> {
-        let grid: Vec<f64> = (0..12)
-            .map(|k| 0.25f64 * (40.0f64 / 0.25).powf(k as f64 / 11.0))
-            .map(f64::to_radians)
-            .collect();
-        let mut last: Option<Point> = None;
-        let mut last_none: Option<f64> = None;
-        for &a in &grid {
-            let Some((y, _)) = self.at(a)? else {
-                last_none = Some(a);
-                continue;
-            };
-            if let Some((ap, yp)) = last
-                && yp * y <= 0.0
-            {
-                return Ok(Some([(ap, yp), (a, y)]));
-            }
-            if last.is_none()
-                && y < 0.0
-                && let Some(none) = last_none
-                && let Some(b) = self.bracket_at_edge(none, (a, y))?
-            {
-                return Ok(Some(b));
-            }
-            last = Some((a, y));
-        }
-        Ok(None)
-    }
-
-    /// Between an angle without an equilibrium and `first`, the first with one (below the
-    /// target): halves towards the edge for an equilibrium above the target.
-    fn bracket_at_edge(
-        &mut self,
-        mut none: f64,
-        first: Point,
-    ) -> Result<Option<[Point; 2]>, AutorotationError> {
-        let (mut a1, mut y1) = first;
-        for _ in 0..40 {
-            let m = 0.5 * (none + a1);
-            match self.at(m)? {
-                None => none = m,
-                Some((ym, _)) if ym >= 0.0 => return Ok(Some([(m, ym), (a1, y1)])),
-                Some((ym, _)) => (a1, y1) = (m, ym),
-            }
-            if a1 - none < 1e-7 {
-                break;
-            }
-        }
-        Ok(None)
-    }
-
-    /// The angle inside a bracket where mu is the target (the Illinois method), and the
-    /// equilibrium there.
-    fn refine(&mut self, bracket: [Point; 2]) -> Result<(f64, Autorotation), AutorotationError> {
-        let [(mut a0, mut y0), (mut a1, mut y1)] = bracket;
-        let mut best = None;
-        for _ in 0..60 {
-            let a = if (y1 - y0).abs() > 0.0 {
-                a1 - y1 * (a1 - a0) / (y1 - y0)
-            } else {
-                0.5 * (a0 + a1)
-            };
-            let Some((y, e)) = self.at(a)? else {
-                // No equilibrium inside a bracket of equilibria: halve instead.
-                let m = 0.5 * (a0 + a1);
-                let Some((ym, em)) = self.at(m)? else {
-                    break;
-                };
-                if ym * y1 < 0.0 {
-                    (a0, y0) = (m, ym);
-                } else {
-                    (a1, y1) = (m, ym);
-                }
-                best = Some((m, em));
-                continue;
-            };
-            best = Some((a, e));
-            if y.abs() <= self.tolerance() || (a1 - a0).abs() < 1e-10 {
-                break;
-            }
-            if y * y1 < 0.0 {
-                (a0, y0) = (a1, y1);
-            } else {
-                // Illinois: the end kept twice running has its value halved.
-                y0 *= 0.5;
-            }
-            (a1, y1) = (a, y);
-        }
-        best.ok_or_else(|| AutorotationError::NoAngle {
-            tip_speed_ratio: self.c.tip_speed_ratio,
-            found: self.found.clone(),
-        })
-    }
+/// Errors that mean the blades have no periodic flapping at a condition (a bracket skips it).
+fn no_periodic_flapping(e: &RotorError) -> bool {
+    matches!(
+        e,
+        RotorError::FlapNotPeriodic { .. }
+            | RotorError::NonFinite(_)
+            | RotorError::FlapPastVertical { .. }
+    )
 }

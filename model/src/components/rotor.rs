@@ -319,6 +319,10 @@ pub enum RotorError {
     FlapNotPeriodic { revolutions: usize, change: f64 },
     #[error("non-finite {0} in the blade solution")]
     NonFinite(&'static str),
+    #[error(
+        "the periodic flapping reaches {largest_deg:.1} deg (coning {coning_deg:.1} deg): past the vertical the blades no longer form a disc, outside the model"
+    )]
+    FlapPastVertical { largest_deg: f64, coning_deg: f64 },
 }
 
 fn positive(name: &'static str, value: f64) -> Result<(), RotorError> {
@@ -1519,6 +1523,14 @@ impl<'a> Blade<'a> {
         {
             return Err(RotorError::NonFinite("rotor load"));
         }
+        // The first harmonics' bound on the flapping (the higher ones are small).
+        let largest = out.a0_rad.abs() + out.a1_rad.hypot(out.b1_rad);
+        if largest >= 0.5 * PI {
+            return Err(RotorError::FlapPastVertical {
+                largest_deg: largest.to_degrees(),
+                coning_deg: out.a0_rad.to_degrees(),
+            });
+        }
         Ok(out)
     }
 }
@@ -2396,6 +2408,8 @@ mod tests {
         let e = &found.autorotation;
         assert!((e.omega_rad_s / a.omega_rad_s - 1.0).abs() < 1e-6);
         assert!((e.tip_speed_ratio / a.tip_speed_ratio - 1.0).abs() < 1e-6);
+        // The fixed-angle solver's equilibrium, found from a fast rotor, is the stable one.
+        assert!(found.rotor_speed_stiffness < 0.0, "{found:#?}");
         // A ratio no angle reaches is an error with what was found, not a panic.
         let none = at(1.9);
         assert!(
