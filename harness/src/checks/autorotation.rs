@@ -207,7 +207,7 @@ fn no_equilibrium(
             "largest_torque_coefficient_over_solidity",
             largest(&mut torques.iter().map(|t| t.1)),
         ),
-        A::Unstable { alpha_deg, .. } => ("unstable_equilibrium_alpha_deg", *alpha_deg),
+        A::SlowBranch { alpha_deg, .. } => ("slow_branch_alpha_deg", *alpha_deg),
         A::NoBracket { torques, .. } => (
             "largest_torque_coefficient_over_solidity",
             largest(&mut torques.iter().copied()),

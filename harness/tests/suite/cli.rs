@@ -310,35 +310,69 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
 /// At the edge of autorotation. TR 515 row 71's mu 0.591 at 100 rpm is just inside the model's
 /// reach: it autorotates there at 1.039 deg, and holds its rotor speed (the driving torque falls
 /// as the rotor speeds up). The search that scaled the airspeed at fixed angles found no angle
-/// there (its equilibria fold, two rotor speeds at one angle). At mu 0.597 the smallest angle
-/// that autorotates is the slow rotor's equilibrium, which runs away: a model failure (exit 1)
-/// that says so, not a refused input.
+/// there (its equilibria fold, two rotor speeds at one angle). Past the reach the smallest angle
+/// that autorotates is a slow rotor's equilibrium, which a tunnel does not hold: at mu 0.597 it
+/// runs away; with 3 deg of pitch at mu 0.59 it lies at 19 deg, where the fixed-angle solver
+/// (from a fast rotor, as a rotor spun up) finds a rotor five times as fast. Both are model
+/// failures (exit 1) that say so, not refused inputs.
 #[test]
-fn autorotate_at_the_edge_of_autorotation_finds_the_stable_equilibrium_or_says_why_not() {
-    let run = |mu: &str| {
-        cierva(&[
+fn autorotate_at_the_edge_of_autorotation_finds_the_tunnels_equilibrium_or_says_why_not() {
+    let run = |args: &[&str]| {
+        let mut a = vec![
             "autorotate",
             "aircraft/pca-2-rotor.yaml",
+            "--format",
+            "json",
+        ];
+        a.extend(args);
+        cierva(&a)
+    };
+    let at_mu = |mu: &'static str, pitch_deg: &'static str| {
+        run(&[
             "--tip-speed-ratio",
             mu,
             "--rotor-rpm",
             "100",
             "--collective-deg",
-            "1.9",
-            "--format",
-            "json",
+            pitch_deg,
         ])
     };
-    let (code, out, err) = run("0.591");
+    let (code, out, err) = at_mu("0.591", "1.9");
     assert_eq!(code, 0, "{err}");
     let at: serde_json::Value = serde_json::from_str(&out).unwrap();
     let alpha = at["rotor_alpha_deg"].as_f64().unwrap();
     assert!((alpha - 1.039).abs() < 1e-3, "{at}");
     let stiffness = at["rotor_speed_stiffness"].as_f64().unwrap();
     assert!(stiffness < -1e-4, "{at}");
-    let (code, _, err) = run("0.597");
+
+    let (code, _, err) = at_mu("0.597", "1.9");
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("unstable in rotor speed"), "{err}");
+
+    let (code, _, err) = at_mu("0.59", "3.0");
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("a faster rotor is driven"), "{err}");
+    let alpha_deg: f64 = err
+        .split("autorotates (")
+        .nth(1)
+        .and_then(|r| r.split(" deg)").next())
+        .and_then(|a| a.parse().ok())
+        .unwrap_or_else(|| panic!("no angle in {err}"));
+    assert!(alpha_deg > 10.0, "{err}");
+    let radius_m = 6.858;
+    let airspeed_m_s =
+        0.59 * 100.0 * std::f64::consts::PI / 30.0 * radius_m / alpha_deg.to_radians().cos();
+    let (code, out, err) = run(&[
+        "--alpha-deg",
+        &alpha_deg.to_string(),
+        "--airspeed-m-s",
+        &airspeed_m_s.to_string(),
+        "--collective-deg",
+        "3.0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let fixed: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(fixed["rotor_rpm"].as_f64().unwrap() > 300.0, "{fixed}");
 }
 
 #[test]

@@ -129,13 +129,13 @@ pub enum AutorotationError {
         torques: Vec<(f64, f64)>,
     },
     #[error(
-        "at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s the rotor's equilibrium at the smallest angle that autorotates ({alpha_deg:.4} deg) is unstable in rotor speed (d(C_Q/sigma)/d(ln Omega) = {stiffness:.3e} with the inflow in equilibrium: the driving torque rises as the rotor speeds up), so a tunnel would not hold it: beyond the largest tip-speed ratio at which the rotor autorotates"
+        "at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s the rotor's equilibrium at the smallest angle that autorotates ({alpha_deg:.4} deg) is not the one a tunnel holds: {why}. The tip-speed ratio is beyond the largest at which the rotor autorotates"
     )]
-    Unstable {
+    SlowBranch {
         tip_speed_ratio: f64,
         omega_rad_s: f64,
         alpha_deg: f64,
-        stiffness: f64,
+        why: String,
     },
 }
 
@@ -570,6 +570,38 @@ impl Problem<'_> {
         Ok(jac[(0, 0)] - (jac.view((0, 1), (1, n)) * x)[(0, 0)])
     }
 
+    /// The first rotor speed faster than `omega` (steps of 1.25 times, up to 40 times the
+    /// airspeed over the radius, as [`autorotate`] brackets) at which the driving torque is
+    /// positive, with its torque coefficient over solidity: where a rotor spun up would settle
+    /// before slowing to `omega`. The inflow is relaxed from `inflow` scaled with the tip speed.
+    fn faster_driving(
+        &mut self,
+        omega: f64,
+        inflow: Inflow,
+    ) -> Result<Option<(f64, f64)>, RotorError> {
+        let fastest = 40.0 * self.tunnel.airspeed_m_s / self.rotor.radius_m;
+        let mut w = omega;
+        let mut current = inflow;
+        while w * 1.25 <= fastest {
+            let s = 1.25;
+            w *= s;
+            if !matches!(self.model, InflowModel::Prescribed { .. }) {
+                current = Inflow {
+                    v0: current.v0 * s,
+                    v1s: current.v1s * s,
+                    v1c: current.v1c * s,
+                };
+            }
+            match self.rough_torque(w, &mut current) {
+                Ok(q) if q >= 0.0 => return Ok(Some((w, q))),
+                Ok(_) => {}
+                Err(e) if no_periodic_flapping(&e) => current = inflow,
+                Err(e) => return Err(e),
+            }
+        }
+        Ok(None)
+    }
+
     /// The equilibrium Newton found at `(omega, inflow)`: its loads and coefficients.
     fn equilibrium(
         &mut self,
@@ -690,6 +722,7 @@ pub fn autorotate_at_tip_speed_ratio(
     };
     check_tunnel(&tunnel_at(ANGLE_GRID_DEG[0].to_radians()))?;
     let (alpha0, inflow0) = bracket_angle(rotor, c, options, tunnel_at)?;
+    let coarse_rotor = coarse(rotor);
 
     // Newton on the scaled unknowns [alpha / alpha0, v0 / u, v1s / u, v1c / u].
     let mut p = Problem::new(rotor, options.numerics, tunnel_at(alpha0), options.inflow);
@@ -717,16 +750,32 @@ pub fn autorotate_at_tip_speed_ratio(
     )?;
     let (alpha, inflow) = unpack(&sol.x);
     p.set_tunnel(tunnel_at(alpha));
-    // The smallest angle's equilibrium is the one a tunnel holds, unless the tip-speed ratio is
-    // beyond the largest the rotor reaches: there it is the slow rotor's, which runs away.
+    // The smallest angle's equilibrium is the one a tunnel holds (the fast rotor's, as
+    // [`autorotate`] finds it), unless the tip-speed ratio is beyond the largest the rotor
+    // reaches: there it is a slow rotor's, which runs away or which a rotor spun up never
+    // reaches.
+    let slow_branch = |why: String| AutorotationError::SlowBranch {
+        tip_speed_ratio: c.tip_speed_ratio,
+        omega_rad_s: c.omega_rad_s,
+        alpha_deg: alpha.to_degrees(),
+        why,
+    };
     let stiffness = p.rotor_speed_stiffness(c.omega_rad_s, inflow, free, options.newton.fd_step)?;
     if stiffness.is_nan() || stiffness >= 0.0 {
-        return Err(AutorotationError::Unstable {
-            tip_speed_ratio: c.tip_speed_ratio,
-            omega_rad_s: c.omega_rad_s,
-            alpha_deg: alpha.to_degrees(),
-            stiffness,
-        });
+        return Err(slow_branch(format!(
+            "it is unstable in rotor speed (d(C_Q/sigma)/d(ln Omega) = {stiffness:.3e} with the inflow in equilibrium: the driving torque rises as the rotor speeds up)"
+        )));
+    }
+    let mut coarse = Problem::new(
+        &coarse_rotor,
+        coarse_numerics(options.numerics),
+        p.tunnel,
+        options.inflow,
+    );
+    if let Some((omega, q)) = coarse.faster_driving(c.omega_rad_s, inflow)? {
+        return Err(slow_branch(format!(
+            "a faster rotor is driven at that angle too (C_Q/sigma {q:.3e} at {omega:.3} rad/s, coarse numerics, the inflow relaxed), and a rotor spun up settles there first"
+        )));
     }
     Ok(AtTipSpeedRatio {
         alpha_rad: alpha,
