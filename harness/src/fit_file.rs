@@ -29,7 +29,10 @@
 //!     setup: coupled                   # default: by the controls the records excite
 //! predict: [...]                         # as targets: not fitted, reported before and after
 //! options: {max_iterations: 20, tolerance: 1.0e-6, difference_step: 1.0e-3, trust_region: 0.5,
-//!           broyden: true}             # false: difference the Jacobian every iteration
+//!           broyden: true,             # false: difference the Jacobian every iteration
+//!           starts: 4}                 # fits from the file's start and 3 more around its path,
+//!                                      # keeps the best, states the ends' spread
+//!                                      # (crate::uncertainty::starts)
 //! ```
 //!
 //! A physical parameter (a name of [`crate::parameters::PARAMETERS`]) can be fitted only
@@ -152,6 +155,11 @@ struct OptionsSpec {
     trust_region: Option<f64>,
     #[serde(default)]
     broyden: Option<bool>,
+    /// Fits from this many starts (the file's own, then points spread over the bounds) and
+    /// keeps the best, with the spread of the ends the data cannot tell apart
+    /// ([`crate::uncertainty::starts`]). 1 when absent.
+    #[serde(default)]
+    starts: Option<usize>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -215,6 +223,8 @@ pub struct FitFile {
     pub predict_origins: Vec<Origin>,
     /// How the fit is cross-validated, if it is.
     pub cross_validation: Option<CrossValidationSpec>,
+    /// How many starts the fit runs from ([`crate::uncertainty::starts`]; 1: the file's own).
+    pub starts: usize,
 }
 
 /// Loads and checks a fit file (and the cases and model files it names).
@@ -294,6 +304,14 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             regularisation: p.regularisation,
         });
     }
+    let starts = spec.options.and_then(|o| o.starts).unwrap_or(1);
+    let max = crate::uncertainty::starts::MAX_STARTS;
+    if !(1..=max).contains(&starts) {
+        return Err(err(
+            "options.starts",
+            format!("{starts} starts: give 1 to {max} (each is a whole fit)"),
+        ));
+    }
     let mut options = fit::Options::default();
     if let Some(o) = spec.options {
         options.max_iterations = o.max_iterations.unwrap_or(options.max_iterations);
@@ -336,6 +354,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         predict,
         predict_origins,
         cross_validation: spec.cross_validation,
+        starts,
     })
 }
 
@@ -762,12 +781,19 @@ pub struct FitRun {
     pub predict_before: Vec<f64>,
     pub predict_after: Vec<f64>,
     pub modes: Vec<ModeShift>,
+    /// The fit's starts, where the file asks for more than one.
+    pub starts: Option<crate::uncertainty::starts::Starts>,
 }
 
 /// Runs a fit file's fit, then its predictions and mode shifts.
 pub fn run(f: &FitFile) -> FitRun {
     let started = std::time::Instant::now();
-    let result = fit::fit(&f.problem);
+    let (result, starts) = if f.starts > 1 {
+        let (r, s) = crate::uncertainty::starts::fit_from_starts(&f.problem, f.starts, |_| {});
+        (r, Some(s))
+    } else {
+        (fit::fit(&f.problem), None)
+    };
     let seconds = started.elapsed().as_secs_f64();
     let start: Vec<f64> = f.problem.parameters.iter().map(|p| p.start).collect();
     let mut predict_before = vec![f64::NAN; f.predict.len()];
@@ -834,6 +860,7 @@ pub fn run(f: &FitFile) -> FitRun {
     FitRun {
         result,
         seconds,
+        starts,
         predict_before,
         predict_after,
         modes,
@@ -918,7 +945,13 @@ pub fn corrections_file(
             "standard_errors": se,
             "targets": f.problem.targets.len(),
             "warnings": r.warnings,
-        })),
+        }))
+        .map(|mut fit| {
+            if let (Some(s), Some(m)) = (&run.starts, fit.as_object_mut()) {
+                m.insert("starts".into(), serde_json::json!(s));
+            }
+            fit
+        }),
         cross_validation: None,
         not_applied_to: vec![],
     }

@@ -19,7 +19,11 @@ pub(crate) fn fit(
     let output =
         output.unwrap_or_else(|| PathBuf::from(format!("corrections/fitted/{}.yaml", f.id)));
     let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
-    let busy = spinner(&format!("fitting {}", f.id));
+    let busy = spinner(&if f.starts > 1 {
+        format!("fitting {} from {} starts", f.id, f.starts)
+    } else {
+        format!("fitting {}", f.id)
+    });
     let run = fit_file::run(&f);
     busy.set_message(format!("cross-validating {}", f.id));
     let cv = cierva_harness::uncertainty::calibration::cross_validate(&f, &run, |g| {

@@ -61,6 +61,9 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
     for w in &r.warnings {
         let _ = writeln!(s, "\n- warning: {w}");
     }
+    if let Some(st) = &run.starts {
+        s += &starts_markdown(st);
+    }
     let table = |s: &mut String,
                  targets: &[fit::Target],
                  origins: &[Origin],
@@ -269,4 +272,57 @@ pub fn cross_validation_markdown(cv: &crate::uncertainty::calibration::CrossVali
         }
     }
     m
+}
+
+/// The fit's starts: where each began and ended, its cost, and which the data cannot tell apart.
+fn starts_markdown(st: &crate::uncertainty::starts::Starts) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\n## Starts\n\nThe fit ran from {} starts: the file's own, then points of a scrambled Sobol' sequence around the path its fit took (the box from its start to its end, widened by half each way). Ends within cost {} of the best (marked) are ones the data cannot tell apart; half their range is the spread.\n",
+        st.ends.len(),
+        crate::uncertainty::starts::EQUIVALENT_COST
+    );
+    let names = st.parameters.join(", ");
+    let _ = writeln!(
+        s,
+        "| start | from ({names}) | to | cost | status | evaluations | |"
+    );
+    let _ = writeln!(s, "| ---: | --- | --- | ---: | --- | ---: | --- |");
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for (i, e) in st.ends.iter().enumerate() {
+        let mark = match (i == st.best, st.equivalent.contains(&i)) {
+            (true, _) => "kept",
+            (false, true) => "equivalent",
+            _ => "",
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.3} | {}{} | {} | {mark} |",
+            i + 1,
+            list(&e.start),
+            list(&e.values),
+            e.cost,
+            e.status,
+            if e.stalled { " (stalled)" } else { "" },
+            e.evaluations
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nSpread over the equivalent ends: {}.",
+        st.parameters
+            .iter()
+            .zip(&st.spread)
+            .map(|(n, v)| format!("{n} +- {v:.4}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    s
 }

@@ -464,6 +464,30 @@ fn scratch_fit(name: &str, parameters: &str) -> std::path::PathBuf {
     path
 }
 
+/// A fit file's number of starts is 1 to 32 (each a whole fit): 0 and 33 are refused at
+/// `options.starts`, with the line; 4 loads.
+#[test]
+fn a_fit_files_starts_are_bounded() {
+    use cierva_harness::fit_file;
+    for (n, ok) in [(0usize, false), (4, true), (33, false)] {
+        let path = scratch_fit(&format!("starts-{n}"), "  airframe.fin.area_m2: {}\n");
+        let text = std::fs::read_to_string(&path).unwrap() + &format!("options: {{starts: {n}}}\n");
+        std::fs::write(&path, &text).unwrap();
+        match fit_file::load(&path) {
+            Ok(f) => assert!(ok && f.starts == n, "{n} starts loaded"),
+            Err(e) => {
+                let m = e.render();
+                assert!(!ok, "{n}: {m}");
+                assert!(
+                    m.contains("options.starts") && m.contains("give 1 to 32"),
+                    "{m}"
+                );
+                assert!(e.line.is_some(), "{m}");
+            }
+        }
+    }
+}
+
 /// A fit moves an aircraft's physical parameter only where the file calls it estimated and
 /// gives it a plausible range, and only within that range; it starts from the file's value. A
 /// refusal names the parameter's line.
