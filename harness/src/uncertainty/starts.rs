@@ -86,7 +86,8 @@ fn stalled(r: &FitResult) -> bool {
         .any(|w| w.starts_with("stopped where every trial step"))
 }
 
-/// Fits `problem` from `n` starts (its own, then [`points`]) and keeps the best end, with a warning when the
+/// Fits `problem` from `n` starts (its own, then [`points`]) and keeps the best end (its cost and
+/// targets before the fit stay the file's own start's), with a warning when the
 /// ends the data cannot tell apart spread by more than a standard error, or when a start other
 /// than the file's reached a lower cost. `done` is called after each start (a progress bar).
 pub fn fit_from_starts(problem: &Problem, n: usize, done: impl Fn(usize)) -> (FitResult, Starts) {
@@ -121,7 +122,11 @@ pub fn fit_from_starts(problem: &Problem, n: usize, done: impl Fn(usize)) -> (Fi
         equivalent,
         spread,
     };
+    // "Before" stays the file's own start (the uncorrected model, say), whichever end is kept.
+    let (cost_start, before) = (results[0].1.cost_start, results[0].1.before.clone());
     let mut result = results.swap_remove(best).1;
+    result.cost_start = cost_start;
+    result.before = before;
     result.warnings.extend(warnings(&starts, &result));
     (result, starts)
 }
