@@ -310,7 +310,8 @@ fn autorotate_at_a_tip_speed_ratio_finds_the_angle() {
 /// At the edge of autorotation. TR 515 row 71's mu 0.591 at 100 rpm is just inside the model's
 /// reach: it autorotates there at 1.039 deg, and holds its rotor speed (the driving torque falls
 /// as the rotor speeds up). The search that scaled the airspeed at fixed angles found no angle
-/// there (its equilibria fold, two rotor speeds at one angle). Past the reach the smallest angle
+/// there (its equilibria fold, two rotor speeds at one angle), and the fixed-angle solver at
+/// that angle and airspeed found no rotor speed; now both find 100 rpm. Past the reach the smallest angle
 /// that autorotates is a slow rotor's equilibrium, which a tunnel does not hold: at mu 0.597 it
 /// runs away; with 3 deg of pitch at mu 0.59 it lies at 19 deg, where the fixed-angle solver
 /// (from a fast rotor, as a rotor spun up) finds a rotor five times as fast. Both are model
@@ -344,6 +345,22 @@ fn autorotate_at_the_edge_of_autorotation_finds_the_tunnels_equilibrium_or_says_
     assert!((alpha - 1.039).abs() < 1e-3, "{at}");
     let stiffness = at["rotor_speed_stiffness"].as_f64().unwrap();
     assert!(stiffness < -1e-4, "{at}");
+    // The fixed-angle solver at that angle and airspeed finds the same rotor speed. Its scan of
+    // rotor speeds passed over this one (the autorotating range is 0.6 % of rotor speed wide
+    // there, and the coarse torque's peak -1.2e-5): the peak is now looked at with the full
+    // numerics, and its fast root bisected for, not the slow one beside it (99.7 rpm).
+    let (code, out, err) = run(&[
+        "--alpha-deg",
+        &alpha.to_string(),
+        "--airspeed-m-s",
+        &at["airspeed_m_s"].as_f64().unwrap().to_string(),
+        "--collective-deg",
+        "1.9",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let fixed: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let rpm = fixed["rotor_rpm"].as_f64().unwrap();
+    assert!((rpm / 100.0 - 1.0).abs() < 1e-5, "{fixed}");
 
     let (code, _, err) = at_mu("0.597", "1.9");
     assert_eq!(code, 1, "{err}");

@@ -314,8 +314,10 @@ pub fn autorotate_from(
     let mut inflow = start_inflow(options.inflow);
     let mut torques = Vec::new();
     let mut start = None;
+    // (rotor speed, torque, inflow) of each point the scan solved.
+    let mut samples: Vec<(f64, f64, Inflow)> = Vec::new();
     let mut previous_omega = ratios[0] * v / r;
-    for (k, ratio) in ratios.iter().enumerate() {
+    for ratio in &ratios {
         let omega = ratio * v / r;
         if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
             let s = omega / previous_omega;
@@ -340,16 +342,24 @@ pub fn autorotate_from(
         };
         let previous = torques.last().copied();
         torques.push(q);
+        samples.push((omega, q, inflow));
         // The driving torque rises as the rotor slows: look for its change of sign.
         if let Some(qp) = previous
             && qp < 0.0
             && q >= 0.0
         {
-            let w0 = ratios[k - 1] * v / r;
+            let w0 = samples[samples.len() - 2].0;
             let t = qp / (qp - q);
             start = Some((w0 + t * (omega - w0), inflow));
             break;
         }
+    }
+    // At the edge of autorotation the rotor speeds that autorotate can lie between two points
+    // of the scan, and the coarse numerics put the torque's peak below zero there (TR 515 row
+    // 71's angle and airspeed: -1.2e-5 coarse where the full numerics autorotate): look at the
+    // peak between the scan's highest point's neighbours with the full numerics.
+    if start.is_none() {
+        start = bracket_at_peak(&mut p, options, &samples)?;
     }
     let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
         low_rad_s: ratios[ratios.len() - 1] * v / r,
@@ -359,6 +369,80 @@ pub fn autorotate_from(
 
     solve_from(&mut p, options, omega0, inflow0)
 }
+
+/// Where a scan of the driving torque from a fast rotor to a slow one (`samples`: rotor speed,
+/// torque, inflow) found no change of sign: the largest torque between the scan's highest
+/// point's neighbours, with the inflow in equilibrium and the full numerics, by golden-section
+/// search on `ln Omega` ([`PEAK_STEPS`] steps), and, where it is positive, the start found by
+/// bisection between it and the faster neighbour: the fast rotor's equilibrium, which a tunnel
+/// holds.
+fn bracket_at_peak(
+    p: &mut Problem,
+    options: Options,
+    samples: &[(f64, f64, Inflow)],
+) -> Result<Option<(f64, Inflow)>, AutorotationError> {
+    let Some(k) =
+        (1..samples.len().saturating_sub(1)).max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))
+    else {
+        return Ok(None);
+    };
+    let (fast, peak, slow) = (samples[k - 1], samples[k], samples[k + 1]);
+    let mut torque_at = |ln_omega: f64| -> Option<(f64, Inflow)> {
+        let omega = ln_omega.exp();
+        let s = omega / peak.0;
+        let start = Inflow {
+            v0: peak.2.v0 * s,
+            v1s: peak.2.v1s * s,
+            v1c: peak.2.v1c * s,
+        };
+        p.torque_in_equilibrium(options, omega, start)
+    };
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (slow.0.ln(), fast.0.ln());
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let worst = (f64::NEG_INFINITY, peak.2);
+    let (mut qc, mut qd) = (torque_at(c).unwrap_or(worst), torque_at(d).unwrap_or(worst));
+    for _ in 0..PEAK_STEPS {
+        let (x, best) = if qc.0 >= qd.0 { (c, qc) } else { (d, qd) };
+        if best.0 >= 0.0 {
+            // The fast rotor's root, between the faster neighbour and the peak, by bisection:
+            // near the fold Newton from anywhere between may fall to the slow rotor's.
+            let (mut lo, mut hi) = (x, b);
+            if torque_at(hi).is_none_or(|q| q.0 >= 0.0) {
+                return Ok(None);
+            }
+            let mut found = best.1;
+            for _ in 0..ROOT_STEPS {
+                let m = 0.5 * (lo + hi);
+                match torque_at(m) {
+                    Some((q, i)) if q >= 0.0 => (lo, found) = (m, i),
+                    Some(_) => hi = m,
+                    None => return Ok(None),
+                }
+            }
+            return Ok(Some((lo.exp(), found)));
+        }
+        if qc.0 >= qd.0 {
+            (b, d, qd) = (d, c, qc);
+            c = b - g * (b - a);
+            qc = torque_at(c).unwrap_or(worst);
+        } else {
+            (a, c, qc) = (c, d, qd);
+            d = a + g * (b - a);
+            qd = torque_at(d).unwrap_or(worst);
+        }
+    }
+    Ok(None)
+}
+
+/// Bisection steps of [`bracket_at_peak`] towards the fast rotor's root: from the peak to the
+/// faster neighbour (at most a factor 1.44) to 0.05 % of rotor speed, Newton's start.
+const ROOT_STEPS: usize = 10;
+
+/// Golden-section steps of [`bracket_at_peak`]: the scan's neighbours are a factor 1.44 of
+/// rotor speed apart, and 12 steps narrow that to 0.2 % of it, about the width of the
+/// autorotating range at TR 515 row 71's edge (mu 0.591 to about 0.595).
+const PEAK_STEPS: usize = 12;
 
 /// The tunnel condition's checks (a located error for each).
 fn check_tunnel(tunnel: &Tunnel) -> Result<(), AutorotationError> {
@@ -568,6 +652,37 @@ impl Problem<'_> {
             return Ok(f64::NAN);
         };
         Ok(jac[(0, 0)] - (jac.view((0, 1), (1, n)) * x)[(0, 0)])
+    }
+
+    /// The torque coefficient over solidity at rotor speed `omega` with the inflow solved into
+    /// its equilibrium (Newton from `start`), and that inflow; `None` where it does not solve.
+    fn torque_in_equilibrium(
+        &mut self,
+        options: Options,
+        omega: f64,
+        start: Inflow,
+    ) -> Option<(f64, Inflow)> {
+        let free = unknowns(options.inflow);
+        let vs = self.tunnel.airspeed_m_s.max(1.0);
+        let inflow = if free > 1 {
+            let x0 = [start.v0 / vs, start.v1s / vs, start.v1c / vs][..free - 1].to_vec();
+            let sol = solve::newton(
+                |x| {
+                    let r = self
+                        .residuals(omega, inflow_from(options.inflow, x, vs), free)
+                        .map_err(|e| e.to_string())?;
+                    Ok(r[1..].to_vec())
+                },
+                &x0,
+                options.newton,
+            )
+            .ok()?;
+            inflow_from(options.inflow, &sol.x, vs)
+        } else {
+            start_inflow(options.inflow)
+        };
+        let r = self.residuals(omega, inflow, free).ok()?;
+        Some((r[0], inflow))
     }
 
     /// The first rotor speed faster than `omega` (steps of 1.25 times, up to 40 times the
