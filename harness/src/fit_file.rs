@@ -32,7 +32,7 @@
 //!           broyden: true,             # false: difference the Jacobian every iteration
 //!           starts: 4}                 # fits from the file's start and 3 more around its path,
 //!                                      # keeps the best, states the ends' spread
-//!                                      # (crate::uncertainty::starts)
+//!                                      # (crate::fit::starts)
 //! ```
 //!
 //! A physical parameter (a name of [`crate::parameters::PARAMETERS`]) can be fitted only
@@ -157,7 +157,7 @@ struct OptionsSpec {
     broyden: Option<bool>,
     /// Fits from this many starts (the file's own, then points spread over the bounds) and
     /// keeps the best, with the spread of the ends the data cannot tell apart
-    /// ([`crate::uncertainty::starts`]). 1 when absent.
+    /// ([`crate::fit::starts`]). 1 when absent.
     #[serde(default)]
     starts: Option<usize>,
 }
@@ -223,8 +223,29 @@ pub struct FitFile {
     pub predict_origins: Vec<Origin>,
     /// How the fit is cross-validated, if it is.
     pub cross_validation: Option<CrossValidationSpec>,
-    /// How many starts the fit runs from ([`crate::uncertainty::starts`]; 1: the file's own).
+    /// How many starts the fit runs from ([`crate::fit::starts`]; 1: the file's own).
     pub starts: usize,
+}
+
+/// The solver's options and the number of starts from a fit file's `options` (defaults where
+/// absent); an error for a number of starts out of 1 to [`fit::starts::MAX_STARTS`].
+fn options_of(spec: Option<OptionsSpec>) -> Result<(fit::Options, usize), String> {
+    let starts = spec.and_then(|o| o.starts).unwrap_or(1);
+    let max = fit::starts::MAX_STARTS;
+    if !(1..=max).contains(&starts) {
+        return Err(format!(
+            "{starts} starts: give 1 to {max} (each is a whole fit)"
+        ));
+    }
+    let mut options = fit::Options::default();
+    if let Some(o) = spec {
+        options.max_iterations = o.max_iterations.unwrap_or(options.max_iterations);
+        options.tolerance = o.tolerance.unwrap_or(options.tolerance);
+        options.difference_step = o.difference_step.unwrap_or(options.difference_step);
+        options.trust_region = o.trust_region.unwrap_or(options.trust_region);
+        options.broyden = o.broyden.unwrap_or(options.broyden);
+    }
+    Ok((options, starts))
 }
 
 /// Loads and checks a fit file (and the cases and model files it names).
@@ -304,22 +325,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             regularisation: p.regularisation,
         });
     }
-    let starts = spec.options.and_then(|o| o.starts).unwrap_or(1);
-    let max = crate::uncertainty::starts::MAX_STARTS;
-    if !(1..=max).contains(&starts) {
-        return Err(err(
-            "options.starts",
-            format!("{starts} starts: give 1 to {max} (each is a whole fit)"),
-        ));
-    }
-    let mut options = fit::Options::default();
-    if let Some(o) = spec.options {
-        options.max_iterations = o.max_iterations.unwrap_or(options.max_iterations);
-        options.tolerance = o.tolerance.unwrap_or(options.tolerance);
-        options.difference_step = o.difference_step.unwrap_or(options.difference_step);
-        options.trust_region = o.trust_region.unwrap_or(options.trust_region);
-        options.broyden = o.broyden.unwrap_or(options.broyden);
-    }
+    let (options, starts) = options_of(spec.options).map_err(|m| err("options.starts", m))?;
     let read = |list: &[TargetSpec], section: &str| {
         let mut targets = Vec::new();
         let mut origins = Vec::new();
@@ -782,14 +788,14 @@ pub struct FitRun {
     pub predict_after: Vec<f64>,
     pub modes: Vec<ModeShift>,
     /// The fit's starts, where the file asks for more than one.
-    pub starts: Option<crate::uncertainty::starts::Starts>,
+    pub starts: Option<crate::fit::starts::Starts>,
 }
 
 /// Runs a fit file's fit, then its predictions and mode shifts.
 pub fn run(f: &FitFile) -> FitRun {
     let started = std::time::Instant::now();
     let (result, starts) = if f.starts > 1 {
-        let (r, s) = crate::uncertainty::starts::fit_from_starts(&f.problem, f.starts, |_| {});
+        let (r, s) = crate::fit::starts::fit_from_starts(&f.problem, f.starts, |_| {});
         (r, Some(s))
     } else {
         (fit::fit(&f.problem), None)

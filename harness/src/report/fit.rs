@@ -275,14 +275,14 @@ pub fn cross_validation_markdown(cv: &crate::uncertainty::calibration::CrossVali
 }
 
 /// The fit's starts: where each began and ended, its cost, and which the data cannot tell apart.
-fn starts_markdown(st: &crate::uncertainty::starts::Starts) -> String {
+fn starts_markdown(st: &crate::fit::starts::Starts) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     let _ = writeln!(
         s,
         "\n## Starts\n\nThe fit ran from {} starts: the file's own, then points of a scrambled Sobol' sequence around the path its fit took (the box from its start to its end, widened by half each way). Ends within cost {} of the best (marked) are ones the data cannot tell apart; half their range is the spread.\n",
         st.ends.len(),
-        crate::uncertainty::starts::EQUIVALENT_COST
+        crate::fit::starts::EQUIVALENT_COST
     );
     let names = st.parameters.join(", ");
     let _ = writeln!(

@@ -18,5 +18,4 @@ pub mod distribution;
 pub mod first_order;
 pub mod propagate;
 pub mod sobol;
-pub mod starts;
 pub mod vv20;

@@ -35,6 +35,8 @@ use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::{InflowModel, Rotor};
 use serde::Serialize;
 
+pub mod starts;
+
 /// A parameter the fit can move: one of the model's empirical corrections, or an aircraft
 /// file's estimated physical parameter (a name of [`crate::parameters::PARAMETERS`]).
 ///
