@@ -1,0 +1,156 @@
+//! `cierva retune` by frequency-response matching: its bad inputs (each a located error, exit
+//! 2) and its report (the Bode figures before and after, J per response).
+
+use super::common::cierva;
+use std::path::{Path, PathBuf};
+
+/// A short calm-air stick sweep of the uncorrected VPM M16 at `mph`, sampled at `rate_hz`:
+/// enough for the estimator's checks, which come before any fit.
+fn sweep(dir: &Path, name: &str, mph: u32, rate_hz: u32, seed: u32) -> PathBuf {
+    let out = dir.join(format!("{name}.csv"));
+    let (code, stdout, stderr) = cierva(&[
+        "synth-flight",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        &mph.to_string(),
+        "--manoeuvre",
+        "sweep",
+        "--control",
+        "eta_s",
+        "--amplitude-percent",
+        "6",
+        "--duration-s",
+        "40",
+        "--sample-rate-hz",
+        &rate_hz.to_string(),
+        "--seed",
+        &seed.to_string(),
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    out
+}
+
+/// `cierva retune` of the uncorrected VPM M16 from `records` with `extra` arguments.
+fn retune(dir: &Path, records: &[&Path], extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["retune", "aircraft/vpm-m16.yaml", "--records"];
+    let paths: Vec<String> = records
+        .iter()
+        .map(|p| p.to_str().unwrap().to_string())
+        .collect();
+    args.extend(paths.iter().map(String::as_str));
+    let (output, report) = (dir.join("retuned.yaml"), dir.join("report.md"));
+    args.extend([
+        "--fit",
+        "hub_aoa_factor",
+        "--no-validate",
+        "--output",
+        output.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    args.extend(extra);
+    cierva(&args)
+}
+
+/// A copy of a record (CSV and sidecar) under another name with `edit` applied to its CSV's
+/// header and rows.
+fn edited(
+    record: &Path,
+    name: &str,
+    edit: impl Fn(&mut Vec<String>, &mut Vec<Vec<String>>),
+) -> PathBuf {
+    let text = std::fs::read_to_string(record).unwrap();
+    let mut lines = text.lines();
+    let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let mut rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    edit(&mut header, &mut rows);
+    let out = record.with_file_name(format!("{name}.csv"));
+    let mut csv = header.join(",") + "\n";
+    for r in &rows {
+        csv += &(r.join(",") + "\n");
+    }
+    std::fs::write(&out, csv).unwrap();
+    let sidecar = std::fs::read_to_string(record.with_extension("yaml")).unwrap();
+    let stem = record.file_stem().unwrap().to_string_lossy().into_owned();
+    std::fs::write(
+        out.with_extension("yaml"),
+        sidecar.replacen(&format!("id: {stem}"), &format!("id: {name}"), 1),
+    )
+    .unwrap();
+    out
+}
+
+/// Each bad input is a located error with exit code 2: records at different sample rates, an
+/// excited control with no power in the band, a window longer than the record, a missing
+/// output channel, an output no record measures.
+#[test]
+fn retune_refuses_bad_records_with_located_errors() {
+    let dir = std::env::temp_dir().join(format!("cierva-retune-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let a = sweep(&dir, "a", 60, 100, 1);
+    let b = sweep(&dir, "b", 60, 50, 2);
+    // Records at different sample rates: the second is named.
+    let (code, stdout, stderr) = retune(&dir, &[&a, &b], &[]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    assert!(
+        stderr.contains(b.to_str().unwrap()) && stderr.contains("different sample rates"),
+        "{stderr}"
+    );
+    // The excited control held still: no power in the band, the file and the control named.
+    let still = edited(&a, "still", |header, rows| {
+        let k = header.iter().position(|h| h == "eta_s_pct").unwrap();
+        for r in rows.iter_mut() {
+            r[k] = "50".into();
+        }
+    });
+    let (code, stdout, stderr) = retune(&dir, &[&still], &[]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    assert!(
+        stderr.contains(still.to_str().unwrap())
+            && stderr.contains("eta_s_pct")
+            && stderr.contains("no power in the band"),
+        "{stderr}"
+    );
+    // A window longer than the record (40 s).
+    let (code, stdout, stderr) = retune(&dir, &[&a], &["--windows-s", "10", "60"]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    assert!(
+        stderr.contains(a.to_str().unwrap()) && stderr.contains("longer than the record"),
+        "{stderr}"
+    );
+    // A missing output channel: the rotor speed taken out of the record.
+    let blind = edited(&a, "blind", |header, rows| {
+        let k = header
+            .iter()
+            .position(|h| h == "omega_rotor_rad_s")
+            .unwrap();
+        header.remove(k);
+        for r in rows.iter_mut() {
+            r.remove(k);
+        }
+    });
+    let text = std::fs::read_to_string(&blind).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    assert!(!header.contains(&"omega_rotor_rad_s"));
+    let (code, stdout, stderr) = retune(&dir, &[&blind], &[]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    assert!(
+        stderr.contains(blind.to_str().unwrap()) && stderr.contains("omega_rotor_rad_s"),
+        "{stderr}"
+    );
+    // An output that is not a measured state, and an estimator's setting with the other method.
+    let (code, _, stderr) = retune(&dir, &[&a], &["--outputs", "theta"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("output `theta`"), "{stderr}");
+    let (code, _, stderr) = retune(&dir, &[&a], &["--derivatives", "X_u"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("--derivatives applies to --match derivatives"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
