@@ -843,6 +843,16 @@ pub fn check(problem: &Problem) -> Result<(), String> {
     Ok(())
 }
 
+/// The targets' values at `p` and their forward-difference sensitivities to the parameters
+/// there (`[target][parameter]`), as the fit differences them: for a covariance beyond the
+/// fit's own (`crate::retune`'s cluster-robust one).
+pub fn sensitivities(problem: &Problem, p: &[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
+    let warm = WarmStarts::default();
+    let y = evaluate_from(problem, p, Some(&warm))?;
+    let j = jacobian(problem, &warm, p, &y)?;
+    Ok((y, j))
+}
+
 /// Forward-difference sensitivities of the targets to the parameters; each step goes inwards
 /// from a bound.
 fn jacobian(

@@ -214,6 +214,13 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             "corrections": values,
             "standard_errors": standard_errors,
             "status": r.result.status.name(),
+            "curvature_standard_errors": r
+                .result
+                .parameters
+                .iter()
+                .zip(&r.curvature_standard_errors)
+                .map(|(k, s)| (k.name().to_string(), finite(*s)))
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
             "match": r.method.name(),
             "model": r.model,
             "reduced_chi_square": finite(r.reduced_chi_square),

@@ -44,6 +44,9 @@ const COVERAGE_BAND: (f64, f64) = (0.90, 0.99);
 /// Airspeeds a trial picks from, mph: the VPM M16's cruise range (seed 001 flew 30-70 mph).
 const AIRSPEEDS_MPH: [u32; 3] = [50, 60, 70];
 
+/// The stick sweep's amplitude, % of travel.
+const SWEEP_PERCENT: &str = "3";
+
 /// The most turbulence a trial flies in, sigma_w m/s (the range: 0 to 0.5).
 const TURBULENCE_MAX_M_S: f64 = 0.5;
 
@@ -97,7 +100,7 @@ fn trial(n: u64, method: &str, dir: &std::path::Path) -> Result<Outcome, String>
             "--control",
             "eta_s",
             "--amplitude-percent",
-            "6",
+            SWEEP_PERCENT,
             "--turbulence-m-s",
             &sigma,
             "--seed",
@@ -134,7 +137,8 @@ fn trial(n: u64, method: &str, dir: &std::path::Path) -> Result<Outcome, String>
     let (code, stdout, stderr) = cierva(&args);
     assert_eq!(code, 0, "trial {n}: {stdout}{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert_eq!(v["status"], "converged", "trial {n}: {stdout}");
+    // A fit that did not converge states no interval: its parameters count as not held.
+    let converged = v["status"] == "converged";
     Ok(Outcome {
         trial: n,
         speeds,
@@ -142,7 +146,11 @@ fn trial(n: u64, method: &str, dir: &std::path::Path) -> Result<Outcome, String>
         parameters: truth
             .into_iter()
             .map(|(k, t)| {
-                let value = v["corrections"][&k].as_f64().unwrap_or(f64::NAN);
+                let value = if converged {
+                    v["corrections"][&k].as_f64().unwrap_or(f64::NAN)
+                } else {
+                    f64::NAN
+                };
                 let se = v["standard_errors"][&k].as_f64().unwrap_or(f64::NAN);
                 (k, t, value, se)
             })
