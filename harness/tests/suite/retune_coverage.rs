@@ -32,8 +32,8 @@ const HIDDEN: [(&str, f64, f64); 2] = [
 
 /// Trials. With 2 parameters each, 60 intervals: at a true coverage of 95 % the misses are
 /// binomial (60, 0.05), mean 3, and the 90-99 % band (54 to 59 intervals holding the truth, 1
-/// to 6 misses) holds them with probability 0.92 (P(misses <= 6) = 0.966 less P(0) = 0.046);
-/// at a true coverage of 85 % (9 misses expected) the band holds with probability 0.21, at
+/// to 6 misses) holds them with probability 0.92 (P(misses <= 6) = 0.970 less P(0) = 0.046);
+/// at a true coverage of 85 % (9 misses expected) the band holds with probability 0.18, at
 /// 99.5 % (0.3 expected) 0.26. (Intervals of one trial share its records, so the misses are
 /// not quite independent; the band is the issue's.)
 const TRIALS: u64 = 30;
@@ -236,12 +236,10 @@ fn coverage(outcomes: &[Outcome]) -> (Vec<(String, usize, usize)>, String) {
     (per, table)
 }
 
-/// The responses method's 95 % intervals hold the truth at 90-99 %, over all parameters and
-/// for each.
-#[test]
-#[ignore = "slow coverage test (30 trials of one to three synthetic flights and a retune; about 3 minutes in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
-fn retune_intervals_hold_the_truth_at_their_stated_rate() {
-    let (outcomes, passed_over) = trials("responses");
+/// Runs the trials with `method` and asserts that its 95 % intervals hold the truth at a rate
+/// inside [`COVERAGE_BAND`], over all parameters (each parameter's count is printed).
+fn assert_coverage(method: &str) {
+    let (outcomes, passed_over) = trials(method);
     for p in &passed_over {
         eprintln!(
             "passed over (not flyable): {}",
@@ -261,22 +259,28 @@ fn retune_intervals_hold_the_truth_at_their_stated_rate() {
     let rate = held as f64 / n as f64;
     eprintln!("{table}");
     for (name, pn, ph) in &per {
-        eprintln!("{name}: {ph} of {pn} intervals hold the truth");
+        eprintln!("{method}: {name}: {ph} of {pn} intervals hold the truth");
     }
     assert!(
         (COVERAGE_BAND.0..=COVERAGE_BAND.1).contains(&rate),
-        "{held} of {n} intervals ({rate:.3}) hold the truth, outside {COVERAGE_BAND:?}:\n{table}"
+        "{method}: {held} of {n} intervals ({rate:.3}) hold the truth, outside {COVERAGE_BAND:?}:\n{table}"
     );
 }
 
+/// The default method's (frequency responses) 95 % intervals hold the truth at 90-99 %.
+/// Fails today: 50 of 60 (0.83) on 2026-11-26 (docs/validation.md, "Retuning the
+/// corrections").
 #[test]
-#[ignore = "measurement"]
-fn derivative_matching_coverage_measurement() {
-    let (outcomes, passed_over) = trials("derivatives");
-    eprintln!("passed over: {}", passed_over.len());
-    let (per, table) = coverage(&outcomes);
-    eprintln!("{table}");
-    for (name, pn, ph) in &per {
-        eprintln!("{name}: {ph} of {pn} intervals hold the truth");
-    }
+#[ignore = "slow coverage test (30 trials of one to three synthetic flights and a retune; about 3 minutes in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
+fn retune_intervals_hold_the_truth_at_their_stated_rate() {
+    assert_coverage("responses");
+}
+
+/// The same trials for `--match derivatives` (the documented example's derivatives): the
+/// option is kept only while it passes the same coverage (issue 32). Fails today: 38 of 60
+/// (0.63) at 3 % sweeps, 45 of 60 (0.75) at 6 %.
+#[test]
+#[ignore = "slow coverage test (the same 30 trials, about 90 s in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
+fn retune_by_derivatives_intervals_hold_the_truth_at_their_stated_rate() {
+    assert_coverage("derivatives");
 }
