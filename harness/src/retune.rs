@@ -76,6 +76,15 @@ fn condition(g: &Group) -> Condition {
     Condition::Flight(g.request, g.loading)
 }
 
+/// A retune's fit has converged when its step is below this fraction of every parameter's
+/// range (or the cost falls by less than this fraction). The fit's default, 1e-6, is below the
+/// noise of a flapping linearisation's harmonic balance and its trim: the retune benchmark's fit
+/// from four records stopped at its limit of 20 iterations still taking steps of that size. A
+/// retuned correction's standard error is half a percent of its range or more (the
+/// benchmark's hub factor: 0.008 of 1), so a step of a hundredth of a percent moves no stated
+/// interval.
+pub const TOLERANCE: f64 = 1e-4;
+
 /// How a retune matches the model to the records.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
@@ -264,7 +273,10 @@ pub fn retune(
         },
         parameters,
         targets,
-        options: fit::Options::default(),
+        options: fit::Options {
+            tolerance: TOLERANCE,
+            ..fit::Options::default()
+        },
     };
     let mut result = fit::fit(&problem);
     let curvature_standard_errors = result.standard_errors.clone();

@@ -453,7 +453,7 @@ pub(crate) struct RetuneArgs {
     #[arg(long, num_args = 1..)]
     pub(crate) windows_s: Vec<f64>,
     /// The responses' band, Hz: LOW HIGH (--match responses; default: five periods of the
-    /// longest window to a fifth of the sample rate).
+    /// longest window to 2 Hz, identification's band's top, below the rotor's harmonics).
     #[arg(long, num_args = 2)]
     pub(crate) band_hz: Vec<f64>,
     /// The identified derivatives to fit to, comma-separated (--match derivatives; default:

@@ -69,12 +69,21 @@ pub const INDEPENDENT_BINS: f64 = 2.0;
 /// a hundredth changes the estimate's correlation with its neighbours by about as much.
 pub const WEIGHT_MIN: f64 = 0.01;
 
+/// The top of a retune's default band, Hz: that of seed 000's identification band (0.05-2 Hz,
+/// [`crate::ident::BandSpec::SEED_000`]), which the built-in set-ups use. Above it the records
+/// carry the rotor's harmonics (the VPM M16's rotor turns at about 6 Hz) as vibration that can
+/// be coherent with the input by chance and that the baseband response does not have: on a
+/// 50 mph stick sweep, one such point (8 Hz, coherence 0.79, the records' `q / eta_s` 33 dB
+/// above the model's) made `J` 396 where the response below 2 Hz matched within a dB.
+/// `--band-hz` sets another band.
+pub const TOP_HZ: f64 = 2.0;
+
 /// How the responses are estimated.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Settings {
     /// Window lengths, s (default: [`fr::Settings::default_windows_s`] of the shortest record).
     pub windows_s: Option<Vec<f64>>,
-    /// The band, Hz (default: the estimator's).
+    /// The band, Hz (default: five periods of the longest window to [`TOP_HZ`]).
     pub band_hz: Option<[f64; 2]>,
     /// The states to match (default: each control's own axis's, [`on_axis`]).
     pub outputs: Option<Vec<String>>,
@@ -216,14 +225,23 @@ fn settings(g: &ConditionRecords<'_>, s: &Settings) -> fr::Settings {
                 / 10.0
         })
         .fold(f64::INFINITY, f64::min);
+    let windows_s = s
+        .windows_s
+        .clone()
+        .unwrap_or_else(|| fr::Settings::default_windows_s(shortest_s));
+    let longest_s = windows_s.iter().copied().fold(0.0, f64::max);
+    let rate_top_hz = g
+        .records
+        .first()
+        .map_or(f64::INFINITY, |r| fr::DEFAULT_TOP_FRACTION / r.dt_s());
     fr::Settings {
-        windows_s: s
-            .windows_s
-            .clone()
-            .unwrap_or_else(|| fr::Settings::default_windows_s(shortest_s)),
+        band_hz: s.band_hz.or(Some([
+            fr::composite::MIN_CYCLES / longest_s,
+            TOP_HZ.min(rate_top_hz),
+        ])),
+        windows_s,
         overlap: fr::DEFAULT_OVERLAP,
         points: fr::DEFAULT_POINTS,
-        band_hz: s.band_hz,
     }
 }
 
