@@ -1,12 +1,22 @@
-//! From flight records to retuned corrections (`cierva retune`): identify each condition's
-//! records together, then fit the named corrections (or estimated physical parameters) so that
-//! the model's linearised derivatives match the identified ones, weighted by their standard
-//! errors, within bounds from their sources.
+//! From flight records to retuned corrections (`cierva retune`): fit the named corrections (or
+//! estimated physical parameters) so that the model matches the records, weighted by the
+//! records' own estimation errors, within bounds from their sources. Two ways
+//! ([`Match`]):
 //!
-//! Records at several conditions fit one set of corrections across all of them: each condition
-//! is identified on its own (its records' spectra concatenated, [`ident::identify_groups`]),
-//! and its derivatives are targets at that condition ([`crate::fit_file::record_targets`]; a
-//! fit file's `records:` targets are the same).
+//! - **frequency responses** (the default, [`responses`]): the records' non-parametric
+//!   responses (coherence, random error, conditioned on the other controls), matched by the
+//!   model's responses from the linearisation with the rotor's flapping states, the model
+//!   structure of the records' own aircraft (the quasi-static linearisation only where the hub
+//!   has no flapping linearisation, and the output says so);
+//! - **derivatives**: the model's quasi-static linearised derivatives matched to the ones
+//!   identified from the records (each condition's records together,
+//!   [`ident::identify_groups`]; [`crate::fit_file::record_targets`], as a fit file's
+//!   `records:` targets). Its standard errors do not hold on records of a rotor whose blades
+//!   flap (issue 32); see `docs/validation.md`.
+//!
+//! Records at several conditions fit one set of corrections across all of them.
+
+pub mod responses;
 
 use crate::aircraft_file::AircraftFile;
 use crate::fit::{self, Condition, Parameter, ParameterKind, Problem, Subject};
@@ -66,14 +76,73 @@ fn condition(g: &Group) -> Condition {
     Condition::Flight(g.request, g.loading)
 }
 
-/// A retune: the groups, the fit problem and its result.
+/// A retune's fit has converged when its step is below this fraction of every parameter's
+/// range (or the cost falls by less than this fraction). The fit's default, 1e-6, is below the
+/// noise of a flapping linearisation's harmonic balance and its trim: the retune benchmark's fit
+/// from four records stopped at its limit of 20 iterations still taking steps of that size. A
+/// retuned correction's standard error is half a percent of its range or more (the
+/// benchmark's hub factor: 0.008 of 1), so a step of a hundredth of a percent moves no stated
+/// interval.
+pub const TOLERANCE: f64 = 1e-4;
+
+/// How a retune matches the model to the records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Match {
+    /// The records' frequency responses, by the model's from its linearisation with flapping
+    /// states ([`responses`]).
+    #[default]
+    Responses,
+    /// The derivatives identified from the records, by the model's quasi-static linearised
+    /// derivatives.
+    Derivatives,
+}
+
+impl Match {
+    /// The method's name as written.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Responses => "responses",
+            Self::Derivatives => "derivatives",
+        }
+    }
+}
+
+/// How to retune: the method and its settings.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct How {
+    pub method: Match,
+    /// The identified derivatives to fit (derivatives; default: the primary ones).
+    pub derivatives: Option<Vec<String>>,
+    /// The identification set-up (derivatives; default: by the controls the records excite).
+    pub setup: Option<Setup>,
+    /// The responses' estimation (responses).
+    pub responses: responses::Settings,
+}
+
+/// A retune: the records' responses or identified groups, the fit problem and its result.
 #[derive(Debug, Clone)]
 pub struct Retune {
+    pub method: Match,
+    /// Each condition and its records' ids.
+    pub conditions: Vec<(Condition, Vec<String>)>,
+    /// The identified groups (derivatives; empty otherwise).
     pub groups: Vec<Group>,
+    /// The records' responses (responses; empty otherwise).
+    pub responses: Vec<responses::Response>,
     pub problem: Problem,
     pub result: fit::FitResult,
     /// Where each parameter's bounds come from, in the order of the problem's parameters.
     pub bounds_sources: Vec<String>,
+    /// The cost at the optimum over its degrees of freedom (targets less parameters): about 1
+    /// when the targets' standard errors describe the misfit (NaN with no degrees of freedom).
+    pub reduced_chi_square: f64,
+    /// The model the targets were matched with, in words.
+    pub model: String,
+    /// The standard errors from the cost's curvature alone (`(J' J)^-1`); `result`'s are the
+    /// cluster-robust ones for the responses ([`responses::robust_standard_errors`]), the same
+    /// as these for the derivatives.
+    pub curvature_standard_errors: Vec<f64>,
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
@@ -142,13 +211,12 @@ pub fn parameters(
         .collect()
 }
 
-/// Identifies the records and fits the parameters.
+/// Estimates the records' responses (or identifies them) and fits the parameters.
 pub fn retune(
     file: &AircraftFile,
     records: &[Record],
     requests: &[Request],
-    derivatives: Option<&[String]>,
-    setup: Option<Setup>,
+    how: &How,
 ) -> Result<Retune, String> {
     if records.is_empty() {
         return Err("no records to retune from".into());
@@ -158,28 +226,90 @@ pub fn retune(
     if parameters.is_empty() {
         return Err("name at least one correction or parameter to fit".into());
     }
-    let groups = ident::identify_groups(records, setup)?;
-    let targets = crate::fit_file::record_targets(&groups, derivatives);
-    if targets.is_empty() {
-        return Err(
-            "the records identified none of the derivatives asked for with a finite standard error"
-                .into(),
-        );
-    }
+    let conditions = responses::by_condition(records)?
+        .into_iter()
+        .map(|g| {
+            (
+                g.condition,
+                g.records.iter().map(|r| r.meta.id.clone()).collect(),
+            )
+        })
+        .collect();
+    let (groups, estimated, targets, model) = match how.method {
+        Match::Derivatives => {
+            let groups = ident::identify_groups(records, how.setup)?;
+            let targets = crate::fit_file::record_targets(&groups, how.derivatives.as_deref());
+            if targets.is_empty() {
+                return Err(
+                    "the records identified none of the derivatives asked for with a finite standard error"
+                        .into(),
+                );
+            }
+            let model = "the quasi-static linearisation's derivatives".to_string();
+            (groups, Vec::new(), targets, model)
+        }
+        Match::Responses => {
+            let estimated = responses::responses(records, &how.responses)?;
+            let targets = responses::targets(&estimated);
+            if targets.is_empty() {
+                return Err(format!(
+                    "no response of the records reaches a coherence of {} at any frequency: nothing to match (inconclusive: coherence)",
+                    crate::checks::frequency_response::COHERENCE_MIN
+                ));
+            }
+            let teetering = file.aircraft.main_rotor.rotor.hub
+                == cierva_model::components::rotor::Hub::Teetering;
+            let model = if teetering {
+                "the linearisation with the rotor's flapping states, baseband response by harmonic balance"
+            } else {
+                "the quasi-static linearisation (no flapping linearisation for this rotor's hub)"
+            };
+            (Vec::new(), estimated, targets, model.to_string())
+        }
+    };
     let problem = Problem {
         subject: Subject::Aircraft {
             aircraft: Box::new(file.aircraft.clone()),
         },
         parameters,
         targets,
-        options: fit::Options::default(),
+        options: fit::Options {
+            tolerance: TOLERANCE,
+            ..fit::Options::default()
+        },
     };
-    let result = fit::fit(&problem);
+    let mut result = fit::fit(&problem);
+    let curvature_standard_errors = result.standard_errors.clone();
+    if how.method == Match::Responses && result.status == fit::Status::Converged {
+        result.standard_errors = match fit::sensitivities(&problem, &result.values) {
+            Ok((y, j)) => {
+                responses::robust_standard_errors(&problem, &y, &j, &result.standard_errors)
+            }
+            Err(e) => {
+                result.warnings.push(format!(
+                    "the sensitivities at the optimum could not be evaluated again ({e}): no standard errors"
+                ));
+                vec![f64::INFINITY; problem.parameters.len()]
+            }
+        };
+    }
+    let dof = problem.targets.len() as f64 - problem.parameters.len() as f64;
+    let reduced_chi_square = if dof > 0.0 {
+        result.cost / dof
+    } else {
+        f64::NAN
+    };
     Ok(Retune {
+        method: how.method,
+        conditions,
         groups,
+        responses: estimated,
         problem,
         result,
         bounds_sources,
+        reduced_chi_square,
+        model,
+        curvature_standard_errors,
     })
 }
 
@@ -267,6 +397,9 @@ pub struct Row {
 
 /// Every target's identified value and bounds beside the model's before and after.
 pub fn rows(r: &Retune) -> Vec<Row> {
+    if r.method != Match::Derivatives {
+        return Vec::new();
+    }
     r.problem
         .targets
         .iter()
@@ -311,11 +444,17 @@ pub struct ModeRow {
 }
 
 /// Each condition's modes (the first of each kind) before and after.
-pub fn modes(before: &AircraftFile, after: &AircraftFile, groups: &[Group]) -> Vec<ModeRow> {
+pub fn modes(
+    before: &AircraftFile,
+    after: &AircraftFile,
+    conditions: &[(Condition, Vec<String>)],
+) -> Vec<ModeRow> {
     use cierva_model::analysis::modes;
     let mut out = Vec::new();
-    for g in groups {
-        let (request, loading) = (g.request, g.loading);
+    for (c, _) in conditions {
+        let Condition::Flight(request, loading) = *c else {
+            continue;
+        };
         let analyse = |f: &AircraftFile| {
             crate::run_linearise(&f.aircraft, request, loading)
                 .ok()
@@ -336,7 +475,7 @@ pub fn modes(before: &AircraftFile, after: &AircraftFile, groups: &[Group]) -> V
                 .find(|n| n.kind == m.kind && n.eigenvalue.im >= 0.0)
             {
                 out.push(ModeRow {
-                    condition: condition(g).label(),
+                    condition: c.label(),
                     mode: m.kind.name().to_string(),
                     before: [m.eigenvalue.re, m.eigenvalue.im],
                     after: [n.eigenvalue.re, n.eigenvalue.im],
@@ -395,6 +534,7 @@ pub fn markdown(
     modes: &[ModeRow],
     predictions: &[Prediction],
     revalidation: Option<&Revalidation>,
+    comparisons: &[(responses::Comparison, Option<String>)],
 ) -> String {
     // Long: one report, section by section in the order people read it
     use std::fmt::Write;
@@ -412,34 +552,68 @@ pub fn markdown(
         g(r.result.cost, 4)
     );
     let _ = writeln!(s, "## Records\n");
-    for grp in &r.groups {
-        let _ = writeln!(
-            s,
-            "- {}: {} ({:?} set-up, identification {})",
-            condition(grp).label(),
-            grp.records.join(", "),
-            grp.setup,
-            grp.identification.status
-        );
+    match r.method {
+        Match::Derivatives => {
+            for grp in &r.groups {
+                let _ = writeln!(
+                    s,
+                    "- {}: {} ({:?} set-up, identification {})",
+                    condition(grp).label(),
+                    grp.records.join(", "),
+                    grp.setup,
+                    grp.identification.status
+                );
+            }
+        }
+        Match::Responses => {
+            for (c, ids) in &r.conditions {
+                let _ = writeln!(s, "- {}: {}", c.label(), ids.join(", "));
+            }
+        }
     }
     let _ = writeln!(
         s,
-        "\n## Fitted\n\n| parameter | value | standard error | bounds | the bounds' source |\n| --- | --- | --- | --- | --- |"
+        "\nMatched: {} ({} targets), against {}. Reduced chi-square at the optimum: {} ({} degrees of freedom; about 1 when the targets' standard errors describe the misfit).",
+        match r.method {
+            Match::Responses =>
+                "the records' frequency responses, real and imaginary parts at coherent frequencies two resolution bins apart, each weighted by its random error from coherence",
+            Match::Derivatives =>
+                "the derivatives identified from the records, weighted by their standard errors",
+        },
+        r.problem.targets.len(),
+        r.model,
+        g(r.reduced_chi_square, 3),
+        r.problem
+            .targets
+            .len()
+            .saturating_sub(r.problem.parameters.len())
     );
-    for (((p, v), se), source) in r
+    let _ = writeln!(
+        s,
+        "\n## Fitted\n\n{}\n\n| parameter | value | standard error | from the curvature alone | bounds | the bounds' source |\n| --- | --- | --- | --- | --- | --- |",
+        match r.method {
+            Match::Responses =>
+                "Standard errors: cluster-robust (a sandwich around the cost's curvature, the residuals grouped by frequency; Liang and Zeger 1986), beside the curvature's own `(J'J)^-1`. **The coverage test does not hold them at their stated rate yet** (docs/validation.md, \"Retuning the corrections\").",
+            Match::Derivatives =>
+                "Standard errors from the cost's curvature, `(J'J)^-1`. **The coverage test does not hold them at their stated rate** (docs/validation.md, \"Retuning the corrections\").",
+        }
+    );
+    for ((((p, v), se), curvature), source) in r
         .problem
         .parameters
         .iter()
         .zip(&r.result.values)
         .zip(&r.result.standard_errors)
+        .zip(&r.curvature_standard_errors)
         .zip(&r.bounds_sources)
     {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | [{}, {}] | {source} |",
+            "| {} | {} | {} | {} | [{}, {}] | {source} |",
             p.kind.name(),
             g(*v, 5),
             g(*se, 3),
+            g(*curvature, 3),
             g(p.lower, 4),
             g(p.upper, 4)
         );
@@ -447,29 +621,34 @@ pub fn markdown(
     for w in &r.result.warnings {
         let _ = writeln!(s, "\nWarning: {w}");
     }
+    if !comparisons.is_empty() {
+        s += &comparisons_markdown(comparisons);
+    }
     let rows = rows(r);
-    let _ = writeln!(
-        s,
-        "\n## Derivatives against the identified 95 % bounds\n\n{} of {} inside before, {} after.\n\n| condition | derivative | identified | 95 % bounds | before | after |\n| --- | --- | --- | --- | --- | --- |",
-        rows.iter().filter(|x| x.inside_before).count(),
-        rows.len(),
-        rows.iter().filter(|x| x.inside_after).count()
-    );
-    let mark = |inside: bool| if inside { "" } else { " (outside)" };
-    for x in &rows {
+    if !rows.is_empty() {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | [{}, {}] | {}{} | {}{} |",
-            x.condition,
-            x.derivative,
-            g(x.identified, 4),
-            g(x.lower_95, 4),
-            g(x.upper_95, 4),
-            g(x.before, 4),
-            mark(x.inside_before),
-            g(x.after, 4),
-            mark(x.inside_after)
+            "\n## Derivatives against the identified 95 % bounds\n\n{} of {} inside before, {} after.\n\n| condition | derivative | identified | 95 % bounds | before | after |\n| --- | --- | --- | --- | --- | --- |",
+            rows.iter().filter(|x| x.inside_before).count(),
+            rows.len(),
+            rows.iter().filter(|x| x.inside_after).count()
         );
+        let mark = |inside: bool| if inside { "" } else { " (outside)" };
+        for x in &rows {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | [{}, {}] | {}{} | {}{} |",
+                x.condition,
+                x.derivative,
+                g(x.identified, 4),
+                g(x.lower_95, 4),
+                g(x.upper_95, 4),
+                g(x.before, 4),
+                mark(x.inside_before),
+                g(x.after, 4),
+                mark(x.inside_after)
+            );
+        }
     }
     if !modes.is_empty() {
         let _ = writeln!(
@@ -534,6 +713,36 @@ pub fn markdown(
                 let _ = writeln!(s, "- {id}: {} -> {}", g(*b, 5), g(*a, 5));
             }
         }
+    }
+    s
+}
+
+/// The responses' section of the report: `J` per response before and after, and its Bode
+/// figure.
+fn comparisons_markdown(comparisons: &[(responses::Comparison, Option<String>)]) -> String {
+    use std::fmt::Write;
+    let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+    let mut s = format!(
+        "\n## Frequency responses: the records' against the model's\n\nTischler's mismatch cost J over each response's band of coherence >= {} (Tischler and Remple 2012: J <= {} acceptable, J <= {} nearly indistinguishable from the data).\n\n| condition | response | frequencies in band | J before | J after | Bode |\n| --- | --- | ---: | ---: | ---: | --- |\n",
+        crate::checks::frequency_response::COHERENCE_MIN,
+        crate::checks::frequency_response::J_ACCEPTABLE,
+        crate::checks::frequency_response::J_INDISTINGUISHABLE,
+    );
+    for (c, svg) in comparisons {
+        let _ = writeln!(
+            s,
+            "| {} | {}/{} | {} | {} | {} | {} |",
+            c.condition,
+            c.output,
+            c.input,
+            c.frequencies_in_band,
+            j(c.j_before),
+            j(c.j_after),
+            svg.as_ref()
+                .map_or("(nothing finite to draw)".to_string(), |f| format!(
+                    "[{f}]({f})"
+                ))
+        );
     }
     s
 }

@@ -743,3 +743,108 @@ impl FrequencyResponseCheck {
         }
     }
 }
+
+/// An aircraft's frequency responses at one flight condition: every state to every control at
+/// each frequency, from the model [`FrequencyResponseCheck::model_response`] uses (the
+/// linearisation with the rotor's flapping states and its baseband response by harmonic
+/// balance for a teetering hub, the quasi-static linearisation otherwise), one linearisation
+/// for all of them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Responses {
+    pub states: Vec<String>,
+    pub controls: Vec<String>,
+    pub frequencies_hz: Vec<f64>,
+    /// States x controls at each frequency.
+    pub at: Vec<nalgebra::DMatrix<C>>,
+    /// Whether the model is the linearisation with flapping states (else quasi-static).
+    pub flapping: bool,
+}
+
+impl Responses {
+    /// The response of `output` to `input` at one of the frequencies.
+    pub fn at(&self, input: &str, output: &str, frequency_hz: f64) -> Result<C, String> {
+        let o = self
+            .states
+            .iter()
+            .position(|s| s == output)
+            .ok_or_else(|| format!("`{output}` is not a state of the model"))?;
+        let i = self
+            .controls
+            .iter()
+            .position(|s| s == input)
+            .ok_or_else(|| format!("`{input}` is not a control of the model"))?;
+        let k = self
+            .frequencies_hz
+            .iter()
+            .position(|f| *f == frequency_hz)
+            .ok_or_else(|| format!("no response computed at {frequency_hz} Hz"))?;
+        Ok(self.at[k][(o, i)])
+    }
+
+    /// Which model gave the responses, in words.
+    pub fn model(&self) -> &'static str {
+        if self.flapping {
+            "the linearisation with the rotor's flapping states, baseband response by harmonic balance"
+        } else {
+            "the quasi-static linearisation (no flapping linearisation for this rotor's hub)"
+        }
+    }
+}
+
+/// An aircraft's responses ([`Responses`]) at its trim `trim` for `request` and `loading`.
+pub fn aircraft_responses(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: crate::TrimRequest,
+    loading: crate::Loading,
+    trim: &cierva_model::aircraft::trim::Trim,
+    frequencies_hz: &[f64],
+) -> Result<Responses, String> {
+    use nalgebra::{Complex, DMatrix};
+    let teetering =
+        aircraft.main_rotor.rotor.hub == cierva_model::components::rotor::Hub::Teetering;
+    let to_c = |h: &DMatrix<Complex<f64>>, n: usize| {
+        DMatrix::from_fn(n, h.ncols(), |r, c| C::new(h[(r, c)].re, h[(r, c)].im))
+    };
+    if teetering {
+        let wf = crate::run_linearise_with_flapping(aircraft, trim, loading)?;
+        // The flapping, inflow and propeller states are the model's own: the records measure
+        // the rigid body's (the first rows).
+        let n = cierva_model::aircraft::linearise::STATES.len();
+        let at = frequencies_hz
+            .iter()
+            .map(|f| {
+                wf.baseband_response(2.0 * std::f64::consts::PI * f)
+                    .map(|h| to_c(&h, n))
+                    .map_err(|e| format!("the baseband response at {f} Hz: {e}"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Responses {
+            states: wf.model.states()[..n].to_vec(),
+            controls: wf.model.controls().to_vec(),
+            frequencies_hz: frequencies_hz.to_vec(),
+            at,
+            flapping: true,
+        })
+    } else {
+        let (_, lin) = crate::run_linearise_from(aircraft, request, loading, None)
+            .map_err(|e| e.to_string())?;
+        let model = &lin.model;
+        let (ns, nc) = (model.states().len(), model.controls().len());
+        let mut at = vec![DMatrix::from_element(ns, nc, C::new(0.0, 0.0)); frequencies_hz.len()];
+        for i in 0..nc {
+            for o in 0..ns {
+                let h = linear_response(model, o, i, frequencies_hz)?;
+                for (m, v) in at.iter_mut().zip(h) {
+                    m[(o, i)] = v;
+                }
+            }
+        }
+        Ok(Responses {
+            states: model.states().to_vec(),
+            controls: model.controls().to_vec(),
+            frequencies_hz: frequencies_hz.to_vec(),
+            at,
+            flapping: false,
+        })
+    }
+}

@@ -65,6 +65,7 @@ pub(crate) fn bench(repeat: usize, format: Format, only: Option<BenchGroup>) -> 
     }
     if runs(BenchGroup::Fitting) {
         fitting(&out);
+        retuning(&out);
     }
     if runs(BenchGroup::Uncertainty) {
         uncertainty(&out);
@@ -756,6 +757,105 @@ fn fitting(out: &Rows) {
                     r.values[2]
                 );
             }
+        }
+    }
+}
+
+/// `cierva retune` by frequency-response matching (the default), the responses estimated and
+/// the fit, without the report: from 4 and from 12 full-model stick sweeps (120 s at 100 Hz,
+/// turbulence 0.3 m/s, the pilot's hold) of the VPM M16 with hidden corrections, at one and at
+/// three airspeeds. One sample each, not a median (seconds each).
+fn retuning(out: &Rows) {
+    use cierva_harness::flight_test::{self, FlightTest, sensors::Instrumentation, turbulence};
+    use cierva_harness::ident::synth::Input;
+    use cierva_harness::retune::{self, How, Request};
+    let Ok(file) = cierva_harness::aircraft_file::load(
+        &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
+    ) else {
+        return;
+    };
+    let hidden = cierva_harness::corrections::CorrectionSet {
+        hub_aoa_factor: Some(0.55),
+        profile_drag_scale: Some(1.3),
+        ..Default::default()
+    };
+    let Ok(truth) = file.with_corrections(&hidden) else {
+        return;
+    };
+    let fly = |mph: f64, seed: u64| {
+        let test = FlightTest {
+            request: cierva_harness::TrimRequest {
+                airspeed_mph: mph,
+                climb_m_s: 0.0,
+                turn_rate_deg_s: 0.0,
+            },
+            loading: cierva_harness::Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            },
+            input: Input::ExponentialSweep {
+                start_s: 3.0,
+                from_hz: 0.05,
+                to_hz: 2.0,
+                duration_s: 114.0,
+                amplitude: 6.0,
+            },
+            control: 0,
+            duration_s: 120.0,
+            sample_rate_hz: 100.0,
+            turbulence: turbulence::Dryden::low_altitude(0.3, 152.4).ok(),
+            instrumentation: Instrumentation::default(),
+            pilot: true,
+            seed,
+            azimuth_step_rad: truth.aircraft.main_rotor.numerics.azimuth_step_rad,
+        };
+        let f = flight_test::fly(&truth.aircraft, &test).ok()?;
+        let mut condition = std::collections::BTreeMap::new();
+        condition.insert("airspeed_mph".to_string(), serde_yaml::Value::from(mph));
+        Some(f.into_record(
+            &format!("bench-{mph}-{seed}"),
+            0,
+            100.0,
+            "synthetic: the benchmark",
+            condition,
+        ))
+    };
+    let requests: Vec<Request> = ["hub_aoa_factor", "profile_drag_scale"]
+        .iter()
+        .map(|n| Request {
+            name: n.to_string(),
+            bounds: None,
+        })
+        .collect();
+    for (speeds, per) in [(&[60.0][..], 4u64), (&[50.0, 60.0, 70.0][..], 4)] {
+        let Some(records) = speeds
+            .iter()
+            .flat_map(|v| (0..per).map(move |k| (*v, k)))
+            .map(|(v, k)| fly(v, 800 + k + v as u64))
+            .collect::<Option<Vec<_>>>()
+        else {
+            eprintln!("retune benchmark: a flight failed");
+            return;
+        };
+        let started = Instant::now();
+        let r = retune::retune(&file, &records, &requests, &How::default());
+        let total = started.elapsed().as_secs_f64();
+        match r {
+            Ok(r) => row!(
+                out,
+                "| retune (frequency responses) from {} records at {} airspeed(s), 2 corrections | {total:.2} s | {} targets, {} in {} iterations, {} evaluations (trim, flapping linearisation and harmonic balance at each target frequency, conditions on two threads); found {:.3} +- {:.3}, {:.3} +- {:.3} against 0.55, 1.3; target: under 30 s |",
+                records.len(),
+                speeds.len(),
+                r.problem.targets.len(),
+                r.result.status.name(),
+                r.result.iterations,
+                r.result.evaluations,
+                r.result.values[0],
+                r.result.standard_errors[0],
+                r.result.values[1],
+                r.result.standard_errors[1]
+            ),
+            Err(e) => eprintln!("retune benchmark: {e}"),
         }
     }
 }

@@ -30,9 +30,15 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
-    let derivatives = (!a.derivatives.is_empty()).then_some(a.derivatives.as_slice());
-    let busy = spinner("identifying and fitting");
-    let outcome = retune::retune(&file, &records, &requests, derivatives, a.setup);
+    let how = match how(&a) {
+        Ok(h) => h,
+        Err(e) => return fail(e),
+    };
+    let busy = spinner(match how.method {
+        retune::Match::Responses => "estimating the responses and fitting",
+        retune::Match::Derivatives => "identifying and fitting",
+    });
+    let outcome = retune::retune(&file, &records, &requests, &how);
     busy.finish_and_clear();
     let r = match outcome {
         Ok(r) => r,
@@ -96,6 +102,9 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
                 })
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
             "status": r.result.status.name(),
+            "match": r.method.name(),
+            "model": r.model,
+            "reduced_chi_square": finite(r.reduced_chi_square),
             "iterations": r.result.iterations,
             "evaluations": r.result.evaluations,
             "standard_errors": standard_errors,
@@ -123,7 +132,18 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         Ok(f) => f,
         Err(e) => return fail(format!("the fitted corrections: {e}")),
     };
-    let modes = retune::modes(&file, &after, &r.groups);
+    let modes = retune::modes(&file, &after, &r.conditions);
+    let comparisons = if r.responses.is_empty() {
+        Vec::new()
+    } else {
+        let busy = spinner("the responses before and after");
+        let c = retune::responses::compare(&file.aircraft, &after.aircraft, &r.responses);
+        busy.finish_and_clear();
+        match c {
+            Ok(c) => c,
+            Err(e) => return fail(format!("the responses before and after: {e}")),
+        }
+    };
     let mut predictions = Vec::new();
     for p in &a.predict {
         let rec = match record::load(p) {
@@ -166,12 +186,17 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         .report
         .clone()
         .unwrap_or_else(|| PathBuf::from("reports/retune").join(format!("{id}.md")));
+    let figures = match bode_figures(&report, &comparisons) {
+        Ok(f) => f,
+        Err(e) => return fail(e),
+    };
     let md = retune::markdown(
         &r,
         &a.aircraft.display().to_string(),
         &modes,
         &predictions,
         revalidation.as_ref(),
+        &figures,
     );
     if let Err(e) = write(&report, &md) {
         return fail(e);
@@ -189,18 +214,37 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             "corrections": values,
             "standard_errors": standard_errors,
             "status": r.result.status.name(),
-            "targets": rows,
+            "curvature_standard_errors": r
+                .result
+                .parameters
+                .iter()
+                .zip(&r.curvature_standard_errors)
+                .map(|(k, s)| (k.name().to_string(), finite(*s)))
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
+            "match": r.method.name(),
+            "model": r.model,
+            "reduced_chi_square": finite(r.reduced_chi_square),
+            "targets": if r.method == retune::Match::Derivatives { serde_json::json!(rows) } else { serde_json::json!(r.problem.targets.len()) },
+            "responses": comparisons.iter().map(|c| serde_json::json!({
+                "condition": c.condition,
+                "input": c.input,
+                "output": c.output,
+                "frequencies_in_band": c.frequencies_in_band,
+                "j_before": c.j_before,
+                "j_after": c.j_after,
+            })).collect::<Vec<_>>(),
             "modes": modes,
             "predictions": predictions,
             "revalidation": revalidation,
             "wrote": [output.display().to_string(), report.display().to_string()],
+            "figures": figures.iter().filter_map(|(_, f)| f.clone()).collect::<Vec<_>>(),
         })),
         Format::Text => {
             println!(
                 "retuned {} from {} records at {} conditions: {}",
                 file.id,
                 records.len(),
-                r.groups.len(),
+                r.conditions.len(),
                 r.result.status.name()
             );
             for ((k, v), se) in r
@@ -219,11 +263,32 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
                 );
             }
             println!(
-                "derivatives inside the identified 95 % bounds: {} of {} before, {} after",
-                rows.iter().filter(|x| x.inside_before).count(),
-                rows.len(),
-                rows.iter().filter(|x| x.inside_after).count()
+                "matched {} ({} targets) with {}; reduced chi-square {}",
+                r.method.name(),
+                r.problem.targets.len(),
+                r.model,
+                text::sig(r.reduced_chi_square, 3)
             );
+            if r.method == retune::Match::Derivatives {
+                println!(
+                    "derivatives inside the identified 95 % bounds: {} of {} before, {} after",
+                    rows.iter().filter(|x| x.inside_before).count(),
+                    rows.len(),
+                    rows.iter().filter(|x| x.inside_after).count()
+                );
+            }
+            for c in &comparisons {
+                let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+                println!(
+                    "  {} {}/{}: J {} -> {} ({} frequencies in band)",
+                    c.condition,
+                    c.output,
+                    c.input,
+                    j(c.j_before),
+                    j(c.j_after),
+                    c.frequencies_in_band
+                );
+            }
             if let Some(v) = &revalidation {
                 for (class, [n, b, a]) in &v.classes {
                     println!("  suite, {class}: {n} checks, {b} inside before, {a} after");
@@ -265,4 +330,94 @@ fn requests(fit: &[String], bounds: &[String]) -> Result<Vec<Request>, String> {
             bounds: parsed.iter().find(|(n, _)| n == name).map(|(_, b)| *b),
         })
         .collect())
+}
+
+/// A number for JSON: `null` when not finite.
+fn finite(v: f64) -> serde_json::Value {
+    serde_json::json!(v.is_finite().then_some(v))
+}
+
+/// The retune's method and settings from the arguments; an estimator's setting with the
+/// derivatives' method (or the reverse) is refused by name.
+fn how(a: &RetuneArgs) -> Result<retune::How, String> {
+    let responses_only = [
+        ("--outputs", !a.outputs.is_empty()),
+        ("--windows-s", !a.windows_s.is_empty()),
+        ("--band-hz", !a.band_hz.is_empty()),
+    ];
+    let derivatives_only = [
+        ("--derivatives", !a.derivatives.is_empty()),
+        ("--setup", a.setup.is_some()),
+    ];
+    let (wrong, other): (&[(&str, bool)], &str) = match a.method {
+        retune::Match::Responses => (&derivatives_only, "derivatives"),
+        retune::Match::Derivatives => (&responses_only, "responses"),
+    };
+    if let Some((flag, _)) = wrong.iter().find(|(_, given)| *given) {
+        return Err(format!(
+            "{flag} applies to --match {other}, not --match {}",
+            a.method.name()
+        ));
+    }
+    Ok(retune::How {
+        method: a.method,
+        derivatives: (!a.derivatives.is_empty()).then(|| a.derivatives.clone()),
+        setup: a.setup,
+        responses: retune::responses::Settings {
+            windows_s: (!a.windows_s.is_empty()).then(|| a.windows_s.clone()),
+            band_hz: (a.band_hz.len() == 2).then(|| [a.band_hz[0], a.band_hz[1]]),
+            outputs: (!a.outputs.is_empty()).then(|| a.outputs.clone()),
+        },
+    })
+}
+
+/// Writes each response's Bode figure (the records' response, the model's before and after,
+/// the coherence) beside the report, `<report stem>-<condition>-<output>-<input>.svg`, and
+/// gives each comparison with its file's name (None where nothing finite is drawn).
+fn bode_figures(
+    report: &Path,
+    comparisons: &[retune::responses::Comparison],
+) -> Result<Vec<(retune::responses::Comparison, Option<String>)>, String> {
+    use cierva_harness::report::plot;
+    let stem = report
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "retune".into());
+    let dir = report.parent().filter(|d| !d.as_os_str().is_empty());
+    let mut out = Vec::new();
+    for c in comparisons {
+        let frequencies: Vec<f64> = c.points.iter().map(|p| p.frequency_hz).collect();
+        let records: Vec<_> = c.points.iter().map(|p| Some(p.response)).collect();
+        let coherence: Vec<f64> = c.points.iter().map(|p| p.coherence).collect();
+        let figures = plot::bode_panels(
+            &format!("{} {}/{}", c.condition, c.output, c.input),
+            &frequencies,
+            &[
+                ("records", records),
+                ("model before", c.before.iter().copied().map(Some).collect()),
+                ("model after", c.after.iter().copied().map(Some).collect()),
+            ],
+            &coherence,
+        );
+        let name = format!(
+            "{stem}-{}-{}-{}.svg",
+            c.condition.replace(' ', "-"),
+            c.output,
+            c.input
+        );
+        let file = match plot::log_x_panels_svg(&figures, 720, 260) {
+            Some(svg) => {
+                let path = dir.map_or(PathBuf::from(&name), |d| d.join(&name));
+                if let Some(d) = dir {
+                    std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+                }
+                std::fs::write(&path, svg)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                Some(name)
+            }
+            None => None,
+        };
+        out.push((c.clone(), file));
+    }
+    Ok(out)
 }

@@ -268,6 +268,42 @@ pub enum Measure {
     Trim(String),
     /// An autorotation quantity ([`TUNNEL_QUANTITIES`]), at a tunnel condition.
     Tunnel(String),
+    /// The real or imaginary part of the aircraft's frequency response from a control to a
+    /// state at one frequency, at a flight condition: the linearisation with the rotor's
+    /// flapping states where the hub has one (its baseband response by harmonic balance), the
+    /// quasi-static linearisation otherwise
+    /// ([`crate::checks::frequency_response::aircraft_responses`]).
+    Response(ResponsePoint),
+}
+
+/// One part of a frequency response at one frequency (a [`Measure::Response`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResponsePoint {
+    /// As reports name it: `q/eta_s 0.5234 Hz re`.
+    pub name: String,
+    /// The control (a column of the linearised model's `B`).
+    pub input: String,
+    /// The state (a row of the model's `A`).
+    pub output: String,
+    pub frequency_hz: f64,
+    /// The imaginary part (`false`: the real part).
+    pub imaginary: bool,
+}
+
+impl ResponsePoint {
+    /// The point, named as reports name it.
+    pub fn new(input: &str, output: &str, frequency_hz: f64, imaginary: bool) -> Self {
+        Self {
+            name: format!(
+                "{output}/{input} {frequency_hz:.4} Hz {}",
+                if imaginary { "im" } else { "re" }
+            ),
+            input: input.to_string(),
+            output: output.to_string(),
+            frequency_hz,
+            imaginary,
+        }
+    }
 }
 
 /// The autorotation quantities a tunnel target can fit (all but the rotor speed in rad/s,
@@ -333,6 +369,7 @@ impl Measure {
     pub fn name(&self) -> &str {
         match self {
             Self::Derivative(d) | Self::Trim(d) | Self::Tunnel(d) => d,
+            Self::Response(r) => &r.name,
         }
     }
 }
@@ -517,11 +554,26 @@ pub struct Problem {
     pub options: Options,
 }
 
-/// One condition's computed quantities, and its linear model where a target needs one.
+/// One condition's computed quantities, its linear model where a target needs one, and its
+/// frequency responses where a target needs them.
 type AtCondition = (
     crate::checks::result::Quantities,
     Option<cierva_model::analysis::linear::LinearModel>,
+    Option<crate::checks::frequency_response::Responses>,
 );
+
+/// The distinct frequencies of a condition's response targets, in the order they come.
+fn response_frequencies(problem: &Problem, c: &Condition) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::new();
+    for t in &problem.targets {
+        if let (true, Measure::Response(r)) = (t.condition == *c, &t.measure)
+            && !out.contains(&r.frequency_hz)
+        {
+            out.push(r.frequency_hz);
+        }
+    }
+    out
+}
 
 /// The last trim at each flight condition of a fit, to start the next trim there from: the
 /// parameters move little between evaluations, and a warm trim takes about a third of the model
@@ -594,6 +646,7 @@ pub fn evaluate_each_from(
                         at(c)
                     ));
                 };
+                let frequencies = response_frequencies(problem, c);
                 let linear = problem
                     .targets
                     .iter()
@@ -611,9 +664,26 @@ pub fn evaluate_each_from(
                 if let Some(w) = warm {
                     w.put(*c, trim.warm_start.clone());
                 }
+                // One linearisation (with flapping where the hub has it) for every response
+                // target at the condition, one harmonic balance a frequency.
+                let responses = if frequencies.is_empty() {
+                    None
+                } else {
+                    Some(
+                        crate::checks::frequency_response::aircraft_responses(
+                            &a,
+                            *request,
+                            *loading,
+                            &trim,
+                            &frequencies,
+                        )
+                        .map_err(|e| format!("{}: {e}", at(c)))?,
+                    )
+                };
                 Ok((
                     crate::checks::trim::trim_quantities_of(&a, *loading, &trim),
                     lin,
+                    responses,
                 ))
             })
         }
@@ -627,7 +697,7 @@ pub fn evaluate_each_from(
                 crate::checks::autorotation::quantities_or_reason(
                     crate::checks::autorotation::autorotation_quantities(&r, (*inflow).into(), t),
                 )
-                .map(|q| (q, None))
+                .map(|q| (q, None, None))
                 .map_err(|e| format!("{}: {e}", at(c)))
             })
         }
@@ -637,10 +707,18 @@ pub fn evaluate_each_from(
             .iter()
             .position(|c| *c == t.condition)
             .expect("listed");
-        let (quantities, lin) = results[k].as_ref().map_err(Clone::clone)?;
+        let (quantities, lin, responses) = results[k].as_ref().map_err(Clone::clone)?;
         match (&t.measure, lin) {
             (Measure::Derivative(d), Some(lin)) => {
                 lin.derivative_value(d).map_err(|e| e.to_string())
+            }
+            (Measure::Response(r), _) => {
+                let h = responses
+                    .as_ref()
+                    .ok_or_else(|| format!("no responses computed {}", at(&t.condition)))?
+                    .at(&r.input, &r.output, r.frequency_hz)
+                    .map_err(|e| format!("{e} {}", at(&t.condition)))?;
+                Ok(if r.imaginary { h.im } else { h.re })
             }
             (m, _) => quantities
                 .iter()
@@ -765,6 +843,16 @@ pub fn check(problem: &Problem) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// The targets' values at `p` and their forward-difference sensitivities to the parameters
+/// there (`[target][parameter]`), as the fit differences them: for a covariance beyond the
+/// fit's own (`crate::retune`'s cluster-robust one).
+pub fn sensitivities(problem: &Problem, p: &[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
+    let warm = WarmStarts::default();
+    let y = evaluate_from(problem, p, Some(&warm))?;
+    let j = jacobian(problem, &warm, p, &y)?;
+    Ok((y, j))
 }
 
 /// Forward-difference sensitivities of the targets to the parameters; each step goes inwards

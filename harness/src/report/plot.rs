@@ -183,10 +183,12 @@ impl Figure {
         panels_svg(std::slice::from_ref(self), width, height)
     }
 
-    /// Draws the figure on an area (of an SVG document).
+    /// Draws the figure on an area (of an SVG document); with `log_x`, its abscissae are
+    /// decimal logarithms and the axis is labelled with their powers of ten.
     fn draw_on(
         &self,
         root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+        log_x: bool,
     ) -> Result<(), Box<dyn std::error::Error>> {
         // Long: draws one figure with plotters: axes, series, bands, legend
         let Some(((x0, x1), (y0, y1))) = self.ranges() else {
@@ -199,8 +201,12 @@ impl Figure {
                 .x_label_area_size(36)
                 .y_label_area_size(62)
                 .build_cartesian_2d(x0..x1, y0..y1)?;
+            let powers = |v: &f64| crate::text::sig(10f64.powf(*v), 2);
+            let plain = |v: &f64| format!("{v}");
+            let x_labels: &dyn Fn(&f64) -> String = if log_x { &powers } else { &plain };
             chart
                 .configure_mesh()
+                .x_label_formatter(x_labels)
                 .x_desc(self.x_label.as_str())
                 .y_desc(self.y_label.as_str())
                 .label_style(("sans-serif", 11))
@@ -334,6 +340,107 @@ impl Figure {
 /// Figures stacked in one SVG document, one panel each (`width` by `panel_height`), or `None`
 /// when none has anything finite to show.
 pub fn panels_svg(figures: &[Figure], width: u32, panel_height: u32) -> Option<String> {
+    panels(figures, width, panel_height, false)
+}
+
+/// [`panels_svg`] on a logarithmic abscissa: each figure's `x` values are decimal logarithms
+/// (as [`bode_panels`] writes them), labelled with their powers of ten.
+pub fn log_x_panels_svg(figures: &[Figure], width: u32, panel_height: u32) -> Option<String> {
+    panels(figures, width, panel_height, true)
+}
+
+/// A Bode figure's panels on a logarithmic frequency axis: the magnitude (dB) and phase (deg)
+/// of each response, and the coherence of the first (the records'), over `frequencies_hz`. A
+/// response is `None` where it is not estimated. The phases are unwrapped along each response
+/// (a jump of more than 180 deg between neighbours is taken as a wrap), and each is then moved
+/// by whole turns to start within 180 deg of the first response's, so the curves compare.
+pub fn bode_panels(
+    title: &str,
+    frequencies_hz: &[f64],
+    responses: &[(&str, Vec<Option<rustfft::num_complex::Complex64>>)],
+    coherence: &[f64],
+) -> Vec<Figure> {
+    let x: Vec<f64> = frequencies_hz.iter().map(|f| f.log10()).collect();
+    let styles = |i: usize| if i == 0 { Style::Markers } else { Style::Line };
+    let unwrap = |h: &[Option<rustfft::num_complex::Complex64>]| {
+        let mut out = Vec::new();
+        let mut last: Option<f64> = None;
+        for (xk, v) in x.iter().zip(h) {
+            if let Some(v) = v {
+                let mut deg = v.arg().to_degrees();
+                if let Some(l) = last {
+                    deg -= 360.0 * ((deg - l) / 360.0).round();
+                }
+                last = Some(deg);
+                out.push((*xk, deg));
+            }
+        }
+        out
+    };
+    let mut phases: Vec<Vec<(f64, f64)>> = responses.iter().map(|(_, h)| unwrap(h)).collect();
+    let anchor = phases.first().and_then(|p| p.first().map(|q| q.1));
+    if let Some(a) = anchor {
+        for p in phases.iter_mut().skip(1) {
+            let shift = p
+                .first()
+                .map_or(0.0, |q| 360.0 * ((q.1 - a) / 360.0).round());
+            p.iter_mut().for_each(|q| q.1 -= shift);
+        }
+    }
+    let series = |values: Vec<Vec<(f64, f64)>>| -> Vec<Series> {
+        responses
+            .iter()
+            .zip(values)
+            .enumerate()
+            .map(|(i, ((name, _), points))| Series {
+                name: name.to_string(),
+                points,
+                style: styles(i),
+                colour: None,
+            })
+            .collect()
+    };
+    let magnitudes = responses
+        .iter()
+        .map(|(_, h)| {
+            x.iter()
+                .zip(h)
+                .filter_map(|(xk, v)| v.map(|v| (*xk, 20.0 * v.norm().log10())))
+                .collect()
+        })
+        .collect();
+    let x_label = "frequency, Hz (log scale)".to_string();
+    vec![
+        Figure {
+            title: format!("{title}: magnitude"),
+            x_label: x_label.clone(),
+            y_label: "magnitude, dB".into(),
+            series: series(magnitudes),
+            ..Figure::default()
+        },
+        Figure {
+            title: format!("{title}: phase"),
+            x_label: x_label.clone(),
+            y_label: "phase, deg".into(),
+            series: series(phases),
+            ..Figure::default()
+        },
+        Figure {
+            title: format!("{title}: coherence of the records' estimate"),
+            x_label,
+            y_label: "coherence".into(),
+            series: vec![Series {
+                name: "coherence".into(),
+                points: x.iter().copied().zip(coherence.iter().copied()).collect(),
+                style: Style::LineMarkers,
+                colour: Some(2),
+            }],
+            ..Figure::default()
+        },
+    ]
+}
+
+fn panels(figures: &[Figure], width: u32, panel_height: u32, log_x: bool) -> Option<String> {
     if figures.iter().all(|f| f.points() == 0) {
         return None;
     }
@@ -344,7 +451,7 @@ pub fn panels_svg(figures: &[Figure], width: u32, panel_height: u32) -> Option<S
         root.fill(&WHITE)?;
         let areas = root.split_evenly((figures.len(), 1));
         for (f, area) in figures.iter().zip(&areas) {
-            f.draw_on(area)?;
+            f.draw_on(area, log_x)?;
         }
         root.present()?;
         Ok(())

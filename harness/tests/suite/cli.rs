@@ -1156,6 +1156,8 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
         "--fit",
         "hub_aoa_factor",
         "profile_drag_scale",
+        "--match",
+        "derivatives",
         "--derivatives",
         "X_u,X_w,Z_u,Z_w,Q_u,Q_w,Q_Omega",
         "--no-validate",

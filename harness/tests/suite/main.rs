@@ -17,6 +17,8 @@ mod frequency_response;
 mod frequency_response_check;
 mod identification;
 mod mutation;
+mod retune;
+mod retune_coverage;
 mod trivial;
 mod uncertainty;
 mod units;
