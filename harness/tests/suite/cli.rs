@@ -1103,12 +1103,15 @@ fn synth_flight_records_identify_against_the_aircraft() {
 fn retune_recovers_corrections_the_test_kept_to_itself() {
     let dir = std::env::temp_dir().join(format!("cierva-retune-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let secret = dir.join("secret.yaml");
-    std::fs::write(
-        &secret,
-        "id: secret\ntitle: the test's corrections\napplies_to:\n  aircraft: vpm-m16\ncorrections:\n  hub_aoa_factor: 0.55\n  profile_drag_scale: 1.3\nprovenance:\n  source: \"test: chosen by the known-answer test\"\n",
-    )
-    .unwrap();
+    let secret = super::common::hidden_corrections(
+        &dir,
+        &[
+            ("hub_aoa_factor".into(), 0.55),
+            ("profile_drag_scale".into(), 1.3),
+        ],
+        "the test's corrections",
+        "test: chosen by the known-answer test",
+    );
     let truth = [("hub_aoa_factor", 0.55), ("profile_drag_scale", 1.3)];
     let flights: Vec<(u32, std::path::PathBuf)> = [50u32, 60, 70]
         .into_iter()

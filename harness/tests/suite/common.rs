@@ -74,3 +74,25 @@ pub fn check_fixtures<T>(
     }
     problems
 }
+
+/// Writes `dir/secret.yaml`, a corrections file for the VPM M16 that a known-answer test keeps
+/// to itself (`corrections`: name and value, in order; `title` and `source` say whose), and
+/// returns its path.
+pub fn hidden_corrections(
+    dir: &Path,
+    corrections: &[(String, f64)],
+    title: &str,
+    source: &str,
+) -> std::path::PathBuf {
+    let secret = dir.join("secret.yaml");
+    let list: String = corrections
+        .iter()
+        .map(|(k, v)| format!("  {k}: {v}\n"))
+        .collect();
+    std::fs::write(
+        &secret,
+        format!("id: secret\ntitle: {title}\napplies_to:\n  aircraft: vpm-m16\ncorrections:\n{list}provenance:\n  source: \"{source}\"\n"),
+    )
+    .unwrap();
+    secret
+}

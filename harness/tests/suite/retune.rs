@@ -163,12 +163,15 @@ fn retune_refuses_bad_records_with_located_errors() {
 fn readme_example(tag: &str) -> (serde_json::Value, PathBuf) {
     let dir = std::env::temp_dir().join(format!("cierva-retune-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let secret = dir.join("secret.yaml");
-    std::fs::write(
-        &secret,
-        "id: secret\ntitle: the test's corrections\napplies_to:\n  aircraft: vpm-m16\ncorrections:\n  hub_aoa_factor: 0.55\n  profile_drag_scale: 1.3\nprovenance:\n  source: \"test: chosen by the known-answer test\"\n",
-    )
-    .unwrap();
+    let secret = super::common::hidden_corrections(
+        &dir,
+        &[
+            ("hub_aoa_factor".into(), 0.55),
+            ("profile_drag_scale".into(), 1.3),
+        ],
+        "the test's corrections",
+        "test: chosen by the known-answer test",
+    );
     let record = dir.join("lon-60.csv");
     let (code, stdout, stderr) = cierva(&[
         "synth-flight",

@@ -75,13 +75,12 @@ fn trial(n: u64, method: &str, dir: &std::path::Path) -> Result<Outcome, String>
     let speeds: Vec<u32> = (0..count).map(|k| AIRSPEEDS_MPH[(first + k) % 3]).collect();
     let dir = dir.join(format!("trial-{n}"));
     std::fs::create_dir_all(&dir).unwrap();
-    let secret = dir.join("secret.yaml");
-    let corrections: String = truth.iter().map(|(k, v)| format!("  {k}: {v}\n")).collect();
-    std::fs::write(
-        &secret,
-        format!("id: secret\ntitle: a coverage trial's corrections\napplies_to:\n  aircraft: vpm-m16\ncorrections:\n{corrections}provenance:\n  source: \"test: drawn by the coverage test\"\n"),
-    )
-    .unwrap();
+    let secret = super::common::hidden_corrections(
+        &dir,
+        &truth,
+        "a coverage trial's corrections",
+        "test: drawn by the coverage test",
+    );
     let mut records = Vec::new();
     for v in &speeds {
         let out = dir.join(format!("lon-{v}.csv"));
