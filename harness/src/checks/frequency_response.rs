@@ -33,7 +33,7 @@
 //! (`J_ave`; a single response is then allowed somewhat more); and the phase difference's
 //! wrapping to +-180 deg (taken here, as a phase error beyond that is the same error).
 
-use super::result::{Evaluated, Finding, compare_all};
+use super::result::{Evaluated, Finding, PlotData, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
 use crate::ident::frequency_response as fr;
 use crate::ident::record::{self, Record};
@@ -632,6 +632,13 @@ impl Evaluate for FrequencyResponseCheck {
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
         let frequencies: Vec<f64> = self.reference.iter().map(|p| p.frequency_hz).collect();
         let (model, note) = self.model_response(at.subject, &frequencies)?;
+        let plot = Some(PlotData::FrequencyResponse {
+            title: format!("{} / {}", self.output, self.input),
+            frequencies_hz: frequencies.clone(),
+            reference: self.reference.iter().map(|p| p.response).collect(),
+            coherence: self.reference.iter().map(|p| p.coherence).collect(),
+            model: model.clone(),
+        });
         let Some(cost) = mismatch_cost(&self.reference, &model) else {
             let best = self
                 .reference
@@ -649,6 +656,7 @@ impl Evaluate for FrequencyResponseCheck {
                     ),
                 }),
                 note: Some(note),
+                plot,
                 ..Evaluated::default()
             });
         };
@@ -667,6 +675,7 @@ impl Evaluate for FrequencyResponseCheck {
                 cost.band_low_hz,
                 cost.band_high_hz
             )),
+            plot,
             ..Evaluated::of(compare_all(
                 expectations,
                 &[(Q::MismatchCost.name(), cost.j)],

@@ -78,6 +78,15 @@ pub enum PlotData {
     TimeHistory { traces: Vec<Trace> },
     /// The trims of a sweep: airspeed, mph, and the quantities at it.
     Sweep { points: Vec<(f64, Quantities)> },
+    /// A frequency response: the reference's (from records or a file) with its coherence, and
+    /// the model's, at the reference's frequencies; `title` names the output and input.
+    FrequencyResponse {
+        title: String,
+        frequencies_hz: Vec<f64>,
+        reference: Vec<rustfft::num_complex::Complex64>,
+        coherence: Vec<f64>,
+        model: Vec<rustfft::num_complex::Complex64>,
+    },
 }
 
 /// A root locus (seed 002 Figs. 2, 3, 6-8): the system's eigenvalues as one derivative moves

@@ -232,6 +232,7 @@ pub fn of_case(c: &CaseRun) -> Vec<Figure> {
     out.extend(bcar_chart(c));
     out.extend(loci(c));
     out.extend(time_histories(c));
+    out.extend(bode(c));
     out
 }
 
@@ -653,6 +654,34 @@ fn time_histories(c: &CaseRun) -> Vec<Figure> {
                 ..Figure::default()
             });
         }
+    }
+    out
+}
+
+/// A frequency-response check's Bode figures (magnitude, phase, the reference's coherence;
+/// log frequency): the reference's response as markers, the model's as a line.
+fn bode(c: &CaseRun) -> Vec<Figure> {
+    let mut out = Vec::new();
+    for r in &c.results {
+        let Some(PlotData::FrequencyResponse {
+            title,
+            frequencies_hz,
+            reference,
+            coherence,
+            model,
+        }) = &r.plot
+        else {
+            continue;
+        };
+        out.extend(super::plot::bode_panels(
+            &format!("{}: {title}", r.check),
+            frequencies_hz,
+            &[
+                ("reference", reference.iter().copied().map(Some).collect()),
+                ("model", model.iter().copied().map(Some).collect()),
+            ],
+            coherence,
+        ));
     }
     out
 }

@@ -63,6 +63,9 @@ pub struct Figure {
     pub intervals: Option<Band>,
     /// Draw the vertical axis `x = 0` (the complex plane's imaginary axis).
     pub x_zero: bool,
+    /// The abscissae are decimal logarithms: the axis is labelled with their powers of ten (a
+    /// Bode figure's frequency).
+    pub log_x: bool,
 }
 
 /// Values beyond this magnitude are "no bound" (a sign check's interval) and are left out of
@@ -416,6 +419,7 @@ pub fn bode_panels(
             x_label: x_label.clone(),
             y_label: "magnitude, dB".into(),
             series: series(magnitudes),
+            log_x: true,
             ..Figure::default()
         },
         Figure {
@@ -423,6 +427,7 @@ pub fn bode_panels(
             x_label: x_label.clone(),
             y_label: "phase, deg".into(),
             series: series(phases),
+            log_x: true,
             ..Figure::default()
         },
         Figure {
@@ -435,6 +440,7 @@ pub fn bode_panels(
                 style: Style::LineMarkers,
                 colour: Some(2),
             }],
+            log_x: true,
             ..Figure::default()
         },
     ]
@@ -451,7 +457,7 @@ fn panels(figures: &[Figure], width: u32, panel_height: u32, log_x: bool) -> Opt
         root.fill(&WHITE)?;
         let areas = root.split_evenly((figures.len(), 1));
         for (f, area) in figures.iter().zip(&areas) {
-            f.draw_on(area, log_x)?;
+            f.draw_on(area, log_x || f.log_x)?;
         }
         root.present()?;
         Ok(())

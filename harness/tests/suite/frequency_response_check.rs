@@ -108,6 +108,49 @@ fn a_linear_models_response_against_its_own_record_costs_j_under_5() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// validate's report draws a frequency-response check as Bode figures (issue 32, item 1): its
+/// magnitude, phase and the reference's coherence against a log frequency axis, the reference
+/// as markers and the model's response as a line.
+#[test]
+fn the_report_draws_a_frequency_response_check_as_bode_figures() {
+    let dir = scratch("report");
+    let rec = sweep_record(&dir);
+    let path = linear_case(
+        &dir,
+        "bode",
+        &format!(
+            "    input: eta_s\n    output: q\n    records: [{}]\n    band_hz: [0.09, 3.0]\n    \
+             expect:\n      mismatch_cost: {{tolerance: acceptable}}\n",
+            rec.display()
+        ),
+    );
+    let out = dir.join("report");
+    let (code, _, err) = super::common::cierva(&[
+        "validate",
+        path.to_str().unwrap(),
+        "--quiet",
+        "--report-dir",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    for caption in [
+        "fr: q / eta_s: magnitude",
+        "fr: q / eta_s: phase",
+        "fr: q / eta_s: coherence of the records' estimate",
+    ] {
+        assert!(
+            html.contains(&format!("<figcaption>{caption}</figcaption>")),
+            "no figure `{caption}`"
+        );
+    }
+    assert_eq!(html.matches("frequency, Hz (log scale)").count(), 3);
+    for series in ["reference", "model", "magnitude, dB", "phase, deg"] {
+        assert!(html.contains(series), "no `{series}`");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The cost's arithmetic: one frequency off by 1 dB at coherence 1 costs
 /// `20 * [1.58 (1 - 1/e)]^2 * 1`; 10 deg of phase `20 W * 0.01745 * 100`; frequencies below
 /// the coherence threshold do not count; no frequency in the band gives no cost; a phase error

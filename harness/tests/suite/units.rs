@@ -458,6 +458,7 @@ mod plot {
                 points: vec![(30.0, -0.12, -0.08), (50.0, f64::NAN, -0.1)],
             }),
             x_zero: false,
+            log_x: false,
         };
         assert_eq!(f.points(), 7);
         let svg = f.svg(400, 300).expect("drawn");
