@@ -1123,26 +1123,8 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
             s.spawn(move || {
                 let sigma = format!("{:.3}", f64::from(*v) * 0.44704 * 0.01);
                 let speed = v.to_string();
-                let (code, stdout, stderr) = cierva(&[
-                    "synth-flight",
-                    "aircraft/vpm-m16.yaml",
-                    "--airspeed-mph",
-                    &speed,
-                    "--manoeuvre",
-                    "sweep",
-                    "--control",
-                    "eta_s",
-                    "--amplitude-percent",
-                    "6",
-                    "--turbulence-m-s",
-                    &sigma,
-                    "--seed",
-                    &speed,
-                    "--corrections",
-                    secret.to_str().unwrap(),
-                    "--output",
-                    out.to_str().unwrap(),
-                ]);
+                let (code, stdout, stderr) =
+                    super::common::synth_stick_sweep(out, &speed, "6", &sigma, &speed, secret);
                 assert_eq!(code, 0, "{stdout}{stderr}");
             });
         }

@@ -96,3 +96,36 @@ pub fn hidden_corrections(
     .unwrap();
     secret
 }
+
+/// `cierva synth-flight` of the VPM M16 flying a longitudinal stick sweep with `corrections`
+/// (`--airspeed-mph`, `--amplitude-percent`, `--turbulence-m-s` and `--seed` as written),
+/// written to `output`: the exit code, stdout and stderr.
+pub fn synth_stick_sweep(
+    output: &Path,
+    airspeed_mph: &str,
+    amplitude_percent: &str,
+    turbulence_m_s: &str,
+    seed: &str,
+    corrections: &Path,
+) -> (i32, String, String) {
+    cierva(&[
+        "synth-flight",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        airspeed_mph,
+        "--manoeuvre",
+        "sweep",
+        "--control",
+        "eta_s",
+        "--amplitude-percent",
+        amplitude_percent,
+        "--turbulence-m-s",
+        turbulence_m_s,
+        "--seed",
+        seed,
+        "--corrections",
+        corrections.to_str().unwrap(),
+        "--output",
+        output.to_str().unwrap(),
+    ])
+}

@@ -173,26 +173,8 @@ fn readme_example(tag: &str) -> (serde_json::Value, PathBuf) {
         "test: chosen by the known-answer test",
     );
     let record = dir.join("lon-60.csv");
-    let (code, stdout, stderr) = cierva(&[
-        "synth-flight",
-        "aircraft/vpm-m16.yaml",
-        "--airspeed-mph",
-        "60",
-        "--manoeuvre",
-        "sweep",
-        "--control",
-        "eta_s",
-        "--amplitude-percent",
-        "6",
-        "--turbulence-m-s",
-        "0.268",
-        "--seed",
-        "60",
-        "--corrections",
-        secret.to_str().unwrap(),
-        "--output",
-        record.to_str().unwrap(),
-    ]);
+    let (code, stdout, stderr) =
+        super::common::synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
     assert_eq!(code, 0, "{stdout}{stderr}");
     let (output, report) = (dir.join("retuned.yaml"), dir.join("retuned.md"));
     let (code, stdout, stderr) = cierva(&[

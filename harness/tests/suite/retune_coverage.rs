@@ -89,26 +89,8 @@ fn trial(n: u64, method: &str, dir: &std::path::Path) -> Result<Outcome, String>
             format!("{turbulence:.4}"),
             (1000 * n + u64::from(*v)).to_string(),
         );
-        let (code, stdout, stderr) = cierva(&[
-            "synth-flight",
-            "aircraft/vpm-m16.yaml",
-            "--airspeed-mph",
-            &speed,
-            "--manoeuvre",
-            "sweep",
-            "--control",
-            "eta_s",
-            "--amplitude-percent",
-            SWEEP_PERCENT,
-            "--turbulence-m-s",
-            &sigma,
-            "--seed",
-            &seed,
-            "--corrections",
-            secret.to_str().unwrap(),
-            "--output",
-            out.to_str().unwrap(),
-        ]);
+        let (code, stdout, stderr) =
+            super::common::synth_stick_sweep(&out, &speed, SWEEP_PERCENT, &sigma, &seed, &secret);
         if code != 0 {
             return Err(format!("trial {n} at {v} mph: {stdout}{stderr}"));
         }
