@@ -1,4 +1,6 @@
-//! `cierva new-case`: a commented case file to start from.
+//! `cierva new-case`: a commented case file to start from. It validates wherever it is
+//! written: its model is written out in it, its tolerances are its own, and missing folders
+//! are made.
 
 use super::*;
 
@@ -12,6 +14,12 @@ pub(crate) fn new_case(path: PathBuf, format: Format) -> ExitCode {
         return ExitCode::from(2);
     }
     let text = include_str!("../../templates/case.yaml").replace("CASE_ID", &id);
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        eprintln!("error: cannot make {}: {e}", dir.display());
+        return ExitCode::from(2);
+    }
     match std::fs::write(&path, text) {
         Ok(()) => {
             done(

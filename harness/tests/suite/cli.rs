@@ -456,27 +456,19 @@ fn inflow_reads_a_teeter_record() {
     assert_eq!(code, 2, "{err}");
 }
 
+/// `new-case` works anywhere (issue 35, item 2): in a fresh directory, with none of the folders
+/// it names, it makes them and writes a case that validates as it is written (its model written
+/// out, its tolerances its own: no flight-refs or shared library beside it), and it never
+/// overwrites.
 #[test]
-fn new_case_writes_a_template_that_validates() {
+fn new_case_writes_a_template_that_validates_anywhere() {
     let dir = std::env::temp_dir().join(format!("cierva-new-{}", std::process::id()));
-    let cases = dir.join("cases");
-    std::fs::create_dir_all(&cases).unwrap();
-    // The template refers to ../flight-refs: give it one beside the new cases folder.
-    std::fs::create_dir_all(dir.join("flight-refs")).unwrap();
-    std::fs::copy(
-        root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
-        dir.join("flight-refs/seed002-vpm-m16-60kn.yaml"),
-    )
-    .unwrap();
-    // The template uses the shared tolerance library: give the new cases folder one.
-    std::fs::copy(
-        root().join("cases/tolerances.yaml"),
-        cases.join("tolerances.yaml"),
-    )
-    .unwrap();
-    let path = cases.join("my-first-case.yaml");
+    let _ = std::fs::remove_dir_all(&dir);
+    let path = dir.join("my-suite/cases/my-first-case.yaml");
     let (code, _, err) = cierva(&["new-case", path.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
+    let written: Vec<_> = walk(&dir);
+    assert_eq!(written, vec![path.clone()], "only the case is written");
     let (code, out, _) = cierva(&["validate", path.to_str().unwrap()]);
     assert_eq!(code, 0, "{out}");
     assert!(
@@ -486,6 +478,22 @@ fn new_case_writes_a_template_that_validates() {
     let (code, _, err) = cierva(&["new-case", path.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("not overwritten"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every file under `dir`, sorted.
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out.sort();
+    out
 }
 
 #[test]
