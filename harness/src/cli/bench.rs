@@ -531,8 +531,8 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
 /// Three 120 s flight tests of the VPM M16 flown by the full model (sweeps on stick, lateral
 /// stick and pedal at 70 mph, 1 % turbulence), identified together with the coupled set-up.
 fn records_together(out: &Rows, repeat: usize) -> f64 {
-    use cierva_harness::flight_test::{self, FlightTest, sensors::Instrumentation, turbulence};
-    use cierva_harness::ident::{self, synth::Input};
+    use cierva_harness::flight_test;
+    use cierva_harness::ident;
     let Ok(file) = cierva_harness::aircraft_file::load(
         &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
     ) else {
@@ -540,32 +540,13 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
     };
     let mut records = Vec::new();
     for (control, amplitude) in [(0usize, 4.0), (1, 3.0), (2, 5.0)] {
-        let test = FlightTest {
-            request: cierva_harness::TrimRequest {
-                airspeed_mph: 70.0,
-                climb_m_s: 0.0,
-                turn_rate_deg_s: 0.0,
-            },
-            loading: cierva_harness::Loading {
-                mass_kg: None,
-                density_altitude_ft: 0.0,
-            },
-            input: Input::ExponentialSweep {
-                start_s: 3.0,
-                from_hz: 0.05,
-                to_hz: 2.0,
-                duration_s: 114.0,
-                amplitude,
-            },
-            control,
-            duration_s: 120.0,
-            sample_rate_hz: 100.0,
-            turbulence: turbulence::Dryden::low_altitude(0.313, 152.4).ok(),
-            instrumentation: Instrumentation::default(),
-            pilot: true,
-            seed: 700 + control as u64,
-            azimuth_step_rad: file.aircraft.main_rotor.numerics.azimuth_step_rad,
-        };
+        let test = sweep_flight(
+            (70.0, control),
+            amplitude,
+            0.313,
+            700 + control as u64,
+            file.aircraft.main_rotor.numerics.azimuth_step_rad,
+        );
         let started = std::time::Instant::now();
         let Ok(f) = flight_test::fly(&file.aircraft, &test) else {
             return 0.0;
@@ -766,8 +747,7 @@ fn fitting(out: &Rows) {
 /// turbulence 0.3 m/s, the pilot's hold) of the VPM M16 with hidden corrections, at one and at
 /// three airspeeds. One sample each, not a median (seconds each).
 fn retuning(out: &Rows) {
-    use cierva_harness::flight_test::{self, FlightTest, sensors::Instrumentation, turbulence};
-    use cierva_harness::ident::synth::Input;
+    use cierva_harness::flight_test;
     use cierva_harness::retune::{self, How, Request};
     let Ok(file) = cierva_harness::aircraft_file::load(
         &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
@@ -783,32 +763,13 @@ fn retuning(out: &Rows) {
         return;
     };
     let fly = |mph: f64, seed: u64| {
-        let test = FlightTest {
-            request: cierva_harness::TrimRequest {
-                airspeed_mph: mph,
-                climb_m_s: 0.0,
-                turn_rate_deg_s: 0.0,
-            },
-            loading: cierva_harness::Loading {
-                mass_kg: None,
-                density_altitude_ft: 0.0,
-            },
-            input: Input::ExponentialSweep {
-                start_s: 3.0,
-                from_hz: 0.05,
-                to_hz: 2.0,
-                duration_s: 114.0,
-                amplitude: 6.0,
-            },
-            control: 0,
-            duration_s: 120.0,
-            sample_rate_hz: 100.0,
-            turbulence: turbulence::Dryden::low_altitude(0.3, 152.4).ok(),
-            instrumentation: Instrumentation::default(),
-            pilot: true,
+        let test = sweep_flight(
+            (mph, 0),
+            6.0,
+            0.3,
             seed,
-            azimuth_step_rad: truth.aircraft.main_rotor.numerics.azimuth_step_rad,
-        };
+            truth.aircraft.main_rotor.numerics.azimuth_step_rad,
+        );
         let f = flight_test::fly(&truth.aircraft, &test).ok()?;
         let mut condition = std::collections::BTreeMap::new();
         condition.insert("airspeed_mph".to_string(), serde_yaml::Value::from(mph));
@@ -896,4 +857,45 @@ fn uncertainty(out: &Rows) {
         "| uncertainty: seed 001 Table 2 at both weights, 32 samples (13 inputs) | {seconds:.1} s | {evaluations} evaluations (a trim, warm-started from the nominal one, and a linearisation) on both cores, {:.1} ms each of wall time; 256 samples are 8 times as many: target under 2 minutes |",
         1e3 * per
     );
+}
+
+/// The benchmarks' flight test: level flight at `(airspeed mph, control)`, an exponential sweep
+/// of that control (0.05-2 Hz over 114 s from 3 s, `amplitude` % of travel), 120 s at 100 Hz,
+/// Dryden turbulence of `sigma_m_s` at low altitude (152.4 m), the default instruments and the
+/// pilot's hold.
+fn sweep_flight(
+    (airspeed_mph, control): (f64, usize),
+    amplitude: f64,
+    sigma_m_s: f64,
+    seed: u64,
+    azimuth_step_rad: f64,
+) -> cierva_harness::flight_test::FlightTest {
+    use cierva_harness::flight_test::{FlightTest, sensors::Instrumentation, turbulence};
+    use cierva_harness::ident::synth::Input;
+    FlightTest {
+        request: cierva_harness::TrimRequest {
+            airspeed_mph,
+            climb_m_s: 0.0,
+            turn_rate_deg_s: 0.0,
+        },
+        loading: cierva_harness::Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+        input: Input::ExponentialSweep {
+            start_s: 3.0,
+            from_hz: 0.05,
+            to_hz: 2.0,
+            duration_s: 114.0,
+            amplitude,
+        },
+        control,
+        duration_s: 120.0,
+        sample_rate_hz: 100.0,
+        turbulence: turbulence::Dryden::low_altitude(sigma_m_s, 152.4).ok(),
+        instrumentation: Instrumentation::default(),
+        pilot: true,
+        seed,
+        azimuth_step_rad,
+    }
 }
