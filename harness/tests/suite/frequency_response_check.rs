@@ -49,6 +49,16 @@ fn linear_case(dir: &Path, id: &str, check: &str) -> PathBuf {
     path
 }
 
+/// A check of `output`'s response to the shaft tilt, its reference estimated from the record
+/// `rec` over 0.09-3 Hz (where the sweep is at full amplitude), its cost judged by `tolerance`.
+fn record_check(output: &str, rec: &Path, tolerance: &str) -> String {
+    format!(
+        "    input: eta_s\n    output: {output}\n    records: [{}]\n    band_hz: [0.09, 3.0]\n    \
+         expect:\n      mismatch_cost: {{tolerance: {tolerance}}}\n",
+        rec.display()
+    )
+}
+
 /// Seed 002's VPM M16 model flown through an exponential sweep of the shaft tilt (0.02-4 Hz,
 /// 120 s at 100 Hz) with a little sensor noise, written as a record in `dir`.
 fn sweep_record(dir: &Path) -> PathBuf {
@@ -72,15 +82,7 @@ fn a_linear_models_response_against_its_own_record_costs_j_under_5() {
     let dir = scratch("known");
     let rec = sweep_record(&dir);
     for (output, id) in [("q", "known-q"), ("theta", "known-theta"), ("w", "known-w")] {
-        let path = linear_case(
-            &dir,
-            id,
-            &format!(
-                "    input: eta_s\n    output: {output}\n    records: [{}]\n    band_hz: [0.09, 3.0]\n    \
-                 expect:\n      mismatch_cost: {{tolerance: acceptable}}\n",
-                rec.display()
-            ),
-        );
+        let path = linear_case(&dir, id, &record_check(output, &rec, "acceptable"));
         let c = case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
         let r = eval::run_check(&c, &c.checks[0]);
         let j = r.quantities[0].value;
@@ -115,15 +117,7 @@ fn a_linear_models_response_against_its_own_record_costs_j_under_5() {
 fn the_report_draws_a_frequency_response_check_as_bode_figures() {
     let dir = scratch("report");
     let rec = sweep_record(&dir);
-    let path = linear_case(
-        &dir,
-        "bode",
-        &format!(
-            "    input: eta_s\n    output: q\n    records: [{}]\n    band_hz: [0.09, 3.0]\n    \
-             expect:\n      mismatch_cost: {{tolerance: acceptable}}\n",
-            rec.display()
-        ),
-    );
+    let path = linear_case(&dir, "bode", &record_check("q", &rec, "acceptable"));
     let out = dir.join("report");
     let (code, _, err) = super::common::cierva(&[
         "validate",
@@ -223,15 +217,7 @@ fn a_reference_without_coherence_is_inconclusive_never_a_pass() {
 fn a_bound_a_pure_gain_passes_is_refused_at_load() {
     let dir = scratch("trivial");
     let rec = sweep_record(&dir);
-    let path = linear_case(
-        &dir,
-        "trivial",
-        &format!(
-            "    input: eta_s\n    output: q\n    records: [{}]\n    band_hz: [0.09, 3.0]\n    \
-             expect:\n      mismatch_cost: {{tolerance: wide}}\n",
-            rec.display()
-        ),
-    );
+    let path = linear_case(&dir, "trivial", &record_check("q", &rec, "wide"));
     let e = case::load(&path).unwrap_err();
     let msg = e.to_string();
     assert!(msg.contains("a pure gain"), "{msg}");
