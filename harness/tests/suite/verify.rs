@@ -116,6 +116,20 @@ fn tic(f: &[OutputFit], output: &str) -> f64 {
     f.iter().find(|o| o.output == output).unwrap().theil
 }
 
+/// `cierva verify REC --identified TABLE --against aircraft/vpm-m16.yaml`, then `more`.
+fn verify_against_vpm_m16(rec: &Path, table: &Path, more: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "verify",
+        rec.to_str().unwrap(),
+        "--identified",
+        table.to_str().unwrap(),
+        "--against",
+        "aircraft/vpm-m16.yaml",
+    ];
+    args.extend(more);
+    cierva(&args)
+}
+
 #[test]
 fn a_linear_models_own_noise_free_record_verifies_to_tic_below_1e_3() {
     let rec = record_of("noise-free", SensorNoise::NONE);
@@ -182,14 +196,7 @@ fn a_record_without_a_control_the_model_needs_is_refused_located() {
     let sidecar = record::sidecar_path(&rec);
     // The identified model has the lateral stick; the record has only the longitudinal one.
     let table = table_of("needs-eta-c", &truth(), &[("M_eta_c", 0.5)]);
-    let (code, out, err) = cierva(&[
-        "verify",
-        rec.to_str().unwrap(),
-        "--identified",
-        table.to_str().unwrap(),
-        "--against",
-        "aircraft/vpm-m16.yaml",
-    ]);
+    let (code, out, err) = verify_against_vpm_m16(&rec, &table, &[]);
     assert_eq!(code, 2, "{out}{err}");
     assert!(err.contains(&sidecar.display().to_string()), "{err}");
     assert!(
@@ -199,14 +206,7 @@ fn a_record_without_a_control_the_model_needs_is_refused_located() {
     assert!(err.contains("controls"), "{err}");
     // A control in rad contradicts cierva's model, whose controls are in % of travel.
     let table = table_of("in-rad", &truth(), &[]);
-    let (code, _, err) = cierva(&[
-        "verify",
-        rec.to_str().unwrap(),
-        "--identified",
-        table.to_str().unwrap(),
-        "--against",
-        "aircraft/vpm-m16.yaml",
-    ]);
+    let (code, _, err) = verify_against_vpm_m16(&rec, &table, &[]);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains(&sidecar.display().to_string()) && err.contains("`eta_s_pct`"),
@@ -258,20 +258,18 @@ fn the_command_flies_both_models_through_a_full_model_record() {
     let table = dir.join("vpm-doublet-derivatives.yaml");
     std::fs::write(&table, yaml).unwrap();
     let figure = dir.join("verify.svg");
-    let (code, out, err) = cierva(&[
-        "verify",
-        rec.to_str().unwrap(),
-        "--identified",
-        table.to_str().unwrap(),
-        "--against",
-        "aircraft/vpm-m16.yaml",
-        "--outputs",
-        "u_m_s,w_m_s,q_rad_s,theta_rad",
-        "--figure",
-        figure.to_str().unwrap(),
-        "--format",
-        "json",
-    ]);
+    let (code, out, err) = verify_against_vpm_m16(
+        &rec,
+        &table,
+        &[
+            "--outputs",
+            "u_m_s,w_m_s,q_rad_s,theta_rad",
+            "--figure",
+            figure.to_str().unwrap(),
+            "--format",
+            "json",
+        ],
+    );
     assert_eq!(code, 0, "{out}{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let models = v["records"][0]["models"].as_array().unwrap();
@@ -303,16 +301,7 @@ fn the_command_flies_both_models_through_a_full_model_record() {
         assert!(svg.contains(want), "{want} missing from the figure");
     }
     // An output the identified model does not have.
-    let (code, _, err) = cierva(&[
-        "verify",
-        rec.to_str().unwrap(),
-        "--identified",
-        table.to_str().unwrap(),
-        "--against",
-        "aircraft/vpm-m16.yaml",
-        "--outputs",
-        "q_deg_s",
-    ]);
+    let (code, _, err) = verify_against_vpm_m16(&rec, &table, &["--outputs", "q_deg_s"]);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("`q_deg_s`") && err.contains("q_rad_s"),
