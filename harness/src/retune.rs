@@ -250,7 +250,8 @@ pub fn retune(
         }
         Match::Responses => {
             let estimated = responses::responses(records, &how.responses)?;
-            let targets = responses::targets(&estimated);
+            let models = responses::model_responses(&file.aircraft, &estimated)?;
+            let targets = responses::targets(&estimated, &models)?;
             if targets.is_empty() {
                 return Err(format!(
                     "no response of the records reaches a coherence of {} at any frequency: nothing to match (inconclusive: coherence)",
@@ -278,7 +279,14 @@ pub fn retune(
             ..fit::Options::default()
         },
     };
+    let mut problem = problem;
     let mut result = fit::fit(&problem);
+    if how.method == Match::Responses
+        && result.status == fit::Status::Converged
+        && estimated.iter().any(|r| !r.other_controls.is_empty())
+    {
+        result = refit_with_errors_at_fit(file, &estimated, &mut problem, result)?;
+    }
     let curvature_standard_errors = result.standard_errors.clone();
     if how.method == Match::Responses && result.status == fit::Status::Converged {
         result.standard_errors = match fit::sensitivities(&problem, &result.values) {
@@ -311,6 +319,41 @@ pub fn retune(
         model,
         curvature_standard_errors,
     })
+}
+
+/// The fit again with the targets' standard errors taken at the fitted corrections.
+///
+/// A response's standard error depends on the model's responses to the records' other
+/// controls ([`responses::Response::standard_error`]): the first fit takes them from the
+/// uncorrected aircraft, which may be far from the corrections the records hold. The second
+/// starts where the first ended, with the errors at its corrections. Its `before` and
+/// `cost_start` stay the uncorrected aircraft's (the cost with the new errors); iterations and
+/// evaluations are both fits'.
+fn refit_with_errors_at_fit(
+    file: &AircraftFile,
+    estimated: &[responses::Response],
+    problem: &mut Problem,
+    first: fit::FitResult,
+) -> Result<fit::FitResult, String> {
+    let mut fitted = file.aircraft.clone();
+    first.corrections().apply_to_aircraft(&mut fitted)?;
+    let models = responses::model_responses(&fitted, estimated)?;
+    problem.targets = responses::targets(estimated, &models)?;
+    let mut again = problem.clone();
+    for (p, v) in again.parameters.iter_mut().zip(&first.values) {
+        p.start = *v;
+    }
+    let mut second = fit::fit(&again);
+    second.cost_start = problem
+        .targets
+        .iter()
+        .zip(&first.before)
+        .map(|(t, y)| ((y - t.reference) / t.standard_error).powi(2))
+        .sum();
+    second.before = first.before;
+    second.iterations += first.iterations;
+    second.evaluations += first.evaluations;
+    Ok(second)
 }
 
 /// A check whose verdict the corrections changed.

@@ -790,6 +790,31 @@ impl Responses {
         Ok(self.at[k][(o, i)])
     }
 
+    /// The response of `output` to `input` as a record measures it when the record's other
+    /// controls moved with `input`: `H = G_input + sum_j G_j T_j`, `T_j` each other control's
+    /// measured transfer from `input` (its cross-spectrum with `input` over `input`'s
+    /// autospectrum, [`crate::retune::responses`]).
+    ///
+    /// Why: a single-input estimate `G_y,input / G_input,input` of a linear aircraft is
+    /// `sum_j G_j G_j,input / G_input,input` exactly, whoever moved the other controls (a pilot
+    /// holding the other axes, here); disturbances the input does not cause (turbulence, the
+    /// pilot's own drift) average out of the cross-spectra. So the model's response compares
+    /// with the record's only with the record's own control activity added, and no conditioning
+    /// on controls that are fed back (which the disturbances bias) is needed.
+    pub fn as_flown(
+        &self,
+        input: &str,
+        output: &str,
+        frequency_hz: f64,
+        others: &[(String, C)],
+    ) -> Result<C, String> {
+        let mut h = self.at(input, output, frequency_hz)?;
+        for (control, t) in others {
+            h += self.at(control, output, frequency_hz)? * t;
+        }
+        Ok(h)
+    }
+
     /// Which model gave the responses, in words.
     pub fn model(&self) -> &'static str {
         if self.flapping {

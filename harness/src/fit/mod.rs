@@ -288,6 +288,11 @@ pub struct ResponsePoint {
     pub frequency_hz: f64,
     /// The imaginary part (`false`: the real part).
     pub imaginary: bool,
+    /// The record's other controls' measured transfers from `input` at this frequency, which
+    /// the model's response adds through its own responses to them
+    /// ([`crate::checks::frequency_response::Responses::as_flown`]); empty: none moved.
+    #[serde(skip)]
+    pub others: Vec<(String, rustfft::num_complex::Complex64)>,
 }
 
 impl ResponsePoint {
@@ -302,6 +307,7 @@ impl ResponsePoint {
             output: output.to_string(),
             frequency_hz,
             imaginary,
+            others: Vec::new(),
         }
     }
 }
@@ -716,7 +722,7 @@ pub fn evaluate_each_from(
                 let h = responses
                     .as_ref()
                     .ok_or_else(|| format!("no responses computed {}", at(&t.condition)))?
-                    .at(&r.input, &r.output, r.frequency_hz)
+                    .as_flown(&r.input, &r.output, r.frequency_hz, &r.others)
                     .map_err(|e| format!("{e} {}", at(&t.condition)))?;
                 Ok(if r.imaginary { h.im } else { h.re })
             }

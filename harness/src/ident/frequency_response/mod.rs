@@ -191,6 +191,10 @@ pub struct Estimate {
     pub averages: Vec<f64>,
     /// Each window's weight in the composite, `[frequency][window]`.
     pub weights: Vec<Vec<f64>>,
+    /// The composite's auto- and cross-spectra at each frequency: `p x p` row-major, `p` the
+    /// inputs and then the output, `[a * p + b]` being `G_ab = E[X_a* X_b]` (the convention of
+    /// `H = G_xx^-1 G_xy`).
+    pub spectra: Vec<Vec<C>>,
 }
 
 /// `points` frequencies evenly spaced in logarithm from `lo` to `hi`.
@@ -374,6 +378,7 @@ fn combine(
         q
     ];
     let (mut multiple, mut averages, mut weights) = (Vec::new(), Vec::new(), Vec::new());
+    let mut spectra = Vec::with_capacity(freqs.len());
     for (f, &hz) in freqs.iter().enumerate() {
         let cand: Vec<usize> = (0..windows.len())
             .filter(|&i| hz * settings.windows_s[i] >= MIN_CYCLES * (1.0 - ROUNDING))
@@ -406,6 +411,7 @@ fn combine(
         weights.push(all);
         averages.push(n);
         let solved = composite::solve(&g, p);
+        spectra.push(g.clone());
         multiple.push(solved.as_ref().map_or(0.0, |s| s.multiple_coherence));
         for (i, out) in inputs.iter_mut().enumerate() {
             let gamma = solved.as_ref().map_or(0.0, |s| s.coherence[i]);
@@ -425,5 +431,6 @@ fn combine(
         multiple_coherence: multiple,
         averages,
         weights,
+        spectra,
     }
 }
