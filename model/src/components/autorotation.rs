@@ -210,6 +210,7 @@ impl<'a> Problem<'a> {
             collective_shift_rad: self.tunnel.collective_shift_rad,
             hub_rates_rad_s: [0.0; 3],
             apparent_gravity_m_s2: gravity_in_tunnel(self.hub),
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         }
     }
 

@@ -450,6 +450,7 @@ impl Propeller {
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
             apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         }
     }
 

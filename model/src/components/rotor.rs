@@ -61,12 +61,11 @@
 //!
 //! with `S` and `I` the blade's first and second mass moments about the hinge. The `w x (w x p)`
 //! terms are the hub rotation's centripetal terms of [`Blade::inertial_flap_moment`]. What acts
-//! through `S` is the apparent gravity at the hinge, `f = g - a_hub - w' x (e r)`: the operating
-//! condition gives `g - a_hub` in hub axes ([`Operating::apparent_gravity_m_s2`]; steady in a
-//! periodic solution, so a turn's centripetal acceleration and no more) and the full aircraft
-//! model adds the hinge's share of `w'`. The blade's own inertia under the hub's angular
-//! acceleration, `I w'.t`, does not act through `S` and is not modelled (it vanishes in steady
-//! flight). A uniform blade of mass `m` hinged on the axis has `S = m R / 2` and
+//! through `S` is the apparent gravity at the hinge, `f = g - a_hub - w' x (e r)`, from the
+//! operating condition's `g - a_hub` and `w'` in hub axes ([`Operating::apparent_gravity_m_s2`],
+//! [`Operating::hub_angular_acceleration_rad_s2`]; how the aircraft finds them is in
+//! [`crate::aircraft`]). The blade's own inertia under the hub's angular acceleration, `I w'.t`,
+//! does not act through `S` and is not modelled (it vanishes in steady flight). A uniform blade of mass `m` hinged on the axis has `S = m R / 2` and
 //! `I = m R^2 / 3`, so that in hover its weight droops it by `S g / (I Omega^2) = 3 g / (2
 //! Omega^2 R)` (tested).
 //!
@@ -435,6 +434,10 @@ pub struct Operating {
     /// It acts on the blades' flapping through their first mass moment (see the module's docs).
     /// Zero: weightless blades, or a hub in free fall.
     pub apparent_gravity_m_s2: [f64; 3],
+    /// The hub's angular acceleration, hub axes, rad/s^2: through a blade's first mass moment
+    /// and the hinge offset it accelerates the hinge (see the module's docs). Zero in steady
+    /// motion (a tunnel, a trim).
+    pub hub_angular_acceleration_rad_s2: [f64; 3],
 }
 
 /// Mean loads of the whole rotor in hub axes and the blade motion, over one revolution.
@@ -1200,9 +1203,9 @@ impl<'a> Blade<'a> {
                     self.inertial_flap_moment_at(op, a1) - self.inertial_flap_moment_at(op, a2);
                 // Their weights and the hub's acceleration too: they cancel about the hinge
                 // unless the blades are coned (the module's docs).
-                let f = op.apparent_gravity_m_s2;
-                let weight = self.apparent_gravity_flap_moment_at(f, [0.0; 3], a1)
-                    - self.apparent_gravity_flap_moment_at(f, [0.0; 3], a2);
+                let (f, w_dot) = (op.apparent_gravity_m_s2, op.hub_angular_acceleration_rad_s2);
+                let weight = self.apparent_gravity_flap_moment_at(f, w_dot, a1)
+                    - self.apparent_gravity_flap_moment_at(f, w_dot, a2);
                 let spring = rot.flap_spring_n_m_per_rad * s[0];
                 return [
                     s[1],
@@ -1220,8 +1223,11 @@ impl<'a> Blade<'a> {
         }
         let m_aero = l.flap_moment;
         let inertial = self.inertial_flap_moment_at(op, angles);
-        let weight =
-            self.apparent_gravity_flap_moment_at(op.apparent_gravity_m_s2, [0.0; 3], angles);
+        let weight = self.apparent_gravity_flap_moment_at(
+            op.apparent_gravity_m_s2,
+            op.hub_angular_acceleration_rad_s2,
+            angles,
+        );
         let spring = rot.flap_spring_n_m_per_rad * (beta - rot.precone_rad);
         [
             s[1],
@@ -1681,6 +1687,7 @@ mod tests {
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
             apparent_gravity_m_s2: gravity,
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         }
     }
 
@@ -1752,6 +1759,7 @@ mod tests {
                 collective_shift_rad: 0.0,
                 hub_rates_rad_s: [0.0; 3],
                 apparent_gravity_m_s2: [0.0; 3],
+                hub_angular_acceleration_rad_s2: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -2037,6 +2045,7 @@ mod tests {
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
             apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         let l = Blade::new(&rigid, Numerics::default())
             .steady(&op, [0.0, 0.0])
@@ -2087,6 +2096,7 @@ mod tests {
                 collective_shift_rad: 0.0,
                 hub_rates_rad_s: [p, q, 0.0],
                 apparent_gravity_m_s2: [0.0; 3],
+                hub_angular_acceleration_rad_s2: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -2198,6 +2208,7 @@ mod tests {
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
             apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         let blade = Blade::new(&rotor, Numerics::default());
         let power = |mu: f64| {
@@ -2300,6 +2311,7 @@ mod tests {
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.3, -0.2, 0.15],
             apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         for (psi, beta, bd, bdd, wd) in [
             (0.3, 0.05, 0.8, -30.0, 2.0),
@@ -2554,6 +2566,7 @@ mod tests {
                 collective_shift_rad: shift,
                 hub_rates_rad_s: [0.0; 3],
                 apparent_gravity_m_s2: [0.0; 3],
+                hub_angular_acceleration_rad_s2: [0.0; 3],
             };
             let loads = Blade::new(r, numerics).steady(&op, [0.05, 0.0]).unwrap();
             loads.thrust_n() / (1.225 * PI * r.radius_m.powi(2) * tip * tip)
@@ -2612,6 +2625,7 @@ mod tests {
                     collective_shift_rad: 0.0,
                     hub_rates_rad_s: [0.0, 0.05, 0.0],
                     apparent_gravity_m_s2: [0.0; 3],
+                    hub_angular_acceleration_rad_s2: [0.0; 3],
                 }
             };
             let blade = Blade::new(&rotor, numerics);
@@ -2688,6 +2702,7 @@ mod tests {
             collective_shift_rad: shift,
             hub_rates_rad_s: [0.0; 3],
             apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         let numerics = Numerics {
             azimuth_step_rad: 2f64.to_radians(),
