@@ -65,9 +65,9 @@
 //! operating condition's `g - a_hub` and `w'` in hub axes ([`Operating::apparent_gravity_m_s2`],
 //! [`Operating::hub_angular_acceleration_rad_s2`]; how the aircraft finds them is in
 //! [`crate::aircraft`]). The blade's own inertia under the hub's angular acceleration, `I w'.t`,
-//! does not act through `S` and is not modelled (it vanishes in steady flight). A uniform blade of mass `m` hinged on the axis has `S = m R / 2` and
-//! `I = m R^2 / 3`, so that in hover its weight droops it by `S g / (I Omega^2) = 3 g / (2
-//! Omega^2 R)` (tested).
+//! does not act through `S` and is not modelled (it vanishes in steady flight). A uniform blade
+//! of mass `m` hinged on the axis has `S = m R / 2` and `I = m R^2 / 3`, so that in hover its
+//! weight droops it by `S g / (I Omega^2) = 3 g / (2 Omega^2 R)` (tested).
 //!
 //! A teetering pair (blades at `precone +- delta`, half a revolution apart, on a hinge on the
 //! axis) turns about the teeter hinge by blade 1's moment less blade 2's, `S f.(n_1 - n_2)` with
