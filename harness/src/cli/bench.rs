@@ -136,7 +136,8 @@ fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
         speed_of_sound_m_s: 340.3,
         collective_shift_rad: rotor.collective_shift_for(1.9f64.to_radians()),
         hub_rates_rad_s: [0.0; 3],
-        gravity_m_s2: [0.0; 3],
+        apparent_gravity_m_s2: [0.0; 3],
+        hub_angular_acceleration_rad_s2: [0.0; 3],
     };
     let blade = Blade::new(rotor, Numerics::default());
     let n_rhs = 10_000;

@@ -159,7 +159,7 @@ fn check(
 /// Gravity in hub axes for a rotor in a horizontal free stream (a wind tunnel, or level
 /// flight), its shaft tilted back by the disc's angle of attack: earth's down is normal to the
 /// hub's velocity, toward the shaft's foot. In purely axial flow (vertical descent) the shaft
-/// is upright.
+/// is upright. The hub does not accelerate, so this is the apparent gravity at the hub too.
 fn gravity_in_tunnel(hub: HubVelocity) -> [f64; 3] {
     let g = crate::components::atmosphere::G0_M_S2;
     let speed = (hub.u * hub.u + hub.w * hub.w).sqrt();
@@ -209,7 +209,8 @@ impl<'a> Problem<'a> {
             speed_of_sound_m_s: self.tunnel.speed_of_sound_m_s,
             collective_shift_rad: self.tunnel.collective_shift_rad,
             hub_rates_rad_s: [0.0; 3],
-            gravity_m_s2: gravity_in_tunnel(self.hub),
+            apparent_gravity_m_s2: gravity_in_tunnel(self.hub),
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         }
     }
 

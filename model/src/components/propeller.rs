@@ -449,7 +449,8 @@ impl Propeller {
             speed_of_sound_m_s,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
-            gravity_m_s2: [0.0; 3],
+            apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         }
     }
 

@@ -39,9 +39,45 @@
 //! One blade is integrated in azimuth (fourth-order Runge-Kutta at a fixed azimuth step) from a
 //! warm start until its flapping is periodic, and the rotor's mean forces and moments are `N_b`
 //! times that blade's average over a revolution: exact for the mean, since the mean of a
-//! periodic blade's inertial loads is zero. The blades' weight acts on their flapping (through
-//! their first mass moment about the hinge, with gravity in hub axes from the operating
-//! condition); its force on the hub is the aircraft's weight, not the rotor's load.
+//! periodic blade's inertial loads is zero. The blades' weight and the hub's acceleration act on
+//! their flapping through their first mass moment about the hinge (below); the blades' weight on
+//! the hub is the aircraft's, not the rotor's load.
+//!
+//! # The blades' weight and the hub's acceleration
+//! The hub centre accelerates at `a_hub`, and the hub's axes (the non-rotating shaft frame) turn
+//! at `w` with angular acceleration `w'`. An element `dm` of a blade, at `p = e r + rho e_b` from
+//! the hub centre (`e` the hinge offset, `r` the unflapped blade's direction, `e_b` the flapped
+//! blade's, `rho` from the hinge), weighs `g dm` and has, besides its motion relative to the
+//! hub's axes, the acceleration `a_hub + w' x p + w x (w x p)`. A force `F` at `rho` along the
+//! blade turns it about the hinge, flapping up, by `rho F.n`, `n = d e_b / d beta =
+//! (sin b cos psi, -sin b sin psi, -cos b)`. With `r x n = -cos b t` and `e_b x n = -t`
+//! (`t = (sin psi, cos psi, 0)`, the direction of motion), the weight and these accelerations
+//! turn the blade about its hinge by (derived here)
+//!
+//! ```text
+//! int rho (g - a_hub - w' x p - w x (w x p)).n dm
+//!   = S (g - a_hub).n + (e S cos b + I) w'.t - [the w x (w x p) terms]
+//! ```
+//!
+//! with `S` and `I` the blade's first and second mass moments about the hinge. The `w x (w x p)`
+//! terms are the hub rotation's centripetal terms of [`Blade::inertial_flap_moment`]. What acts
+//! through `S` is the apparent gravity at the hinge, `f = g - a_hub - w' x (e r)`, from the
+//! operating condition's `g - a_hub` and `w'` in hub axes ([`Operating::apparent_gravity_m_s2`],
+//! [`Operating::hub_angular_acceleration_rad_s2`]; how the aircraft finds them is in
+//! [`crate::aircraft`]). The blade's own inertia under the hub's angular acceleration, `I w'.t`,
+//! does not act through `S` and is not modelled (it vanishes in steady flight). A uniform blade
+//! of mass `m` hinged on the axis has `S = m R / 2` and `I = m R^2 / 3`, so that in hover its
+//! weight droops it by `S g / (I Omega^2) = 3 g / (2 Omega^2 R)` (tested).
+//!
+//! A teetering pair (blades at `precone +- delta`, half a revolution apart, on a hinge on the
+//! axis) turns about the teeter hinge by blade 1's moment less blade 2's, `S f.(n_1 - n_2)` with
+//! `n_1 - n_2 = 2 sin(precone) (cos delta cos psi, -cos delta sin psi, sin delta)`. Without
+//! precone the pair's weights and the hub's acceleration cancel about the hinge exactly. With
+//! it, the coned pair's mass centre sits above the hinge (a first moment `2 S sin(precone)`
+//! along the shaft; the model has no undersling, which would take `2 m u` from it): the
+//! apparent gravity across the shaft forces the teeter once per revolution, and along the
+//! shaft it softens the teeter's centrifugal stiffness (both tested). The pair's `I w'.t`
+//! terms add, and are not modelled.
 //!
 //! # The hub's own drag
 //! The hub, blade-root fittings and spindle head are bluff bodies in the free stream. Their
@@ -392,9 +428,16 @@ pub struct Operating {
     /// Angular velocity of the hub (the non-rotating shaft frame) in hub axes, rad/s: the
     /// body's rates seen along the hub axes. Zero in a wind tunnel; constant in a steady turn.
     pub hub_rates_rad_s: [f64; 3],
-    /// Gravity in hub axes, m/s^2 (`[0, 0, g]` with the shaft upright): the blades' weight
-    /// acts on their flapping through their first mass moment. Zero: weightless blades.
-    pub gravity_m_s2: [f64; 3],
+    /// The apparent gravity at the hub, hub axes, m/s^2: gravity less the hub centre's
+    /// acceleration, `g - a_hub` (minus what an accelerometer at the hub reads). `[0, 0, g]`
+    /// with the shaft upright in unaccelerated flight; about `n g` in a turn at load factor `n`.
+    /// It acts on the blades' flapping through their first mass moment (see the module's docs).
+    /// Zero: weightless blades, or a hub in free fall.
+    pub apparent_gravity_m_s2: [f64; 3],
+    /// The hub's angular acceleration, hub axes, rad/s^2: through a blade's first mass moment
+    /// and the hinge offset it accelerates the hinge (see the module's docs). Zero in steady
+    /// motion (a tunnel, a trim).
+    pub hub_angular_acceleration_rad_s2: [f64; 3],
 }
 
 /// Mean loads of the whole rotor in hub axes and the blade motion, over one revolution.
@@ -1158,9 +1201,11 @@ impl<'a> Blade<'a> {
                 // The blades' inertial moments oppose about the teeter hinge.
                 let inertial =
                     self.inertial_flap_moment_at(op, a1) - self.inertial_flap_moment_at(op, a2);
-                // Their weights too: they cancel about the hinge unless the blades are coned.
-                let weight =
-                    self.weight_flap_moment_at(op, a1) - self.weight_flap_moment_at(op, a2);
+                // Their weights and the hub's acceleration too: they cancel about the hinge
+                // unless the blades are coned (the module's docs).
+                let (f, w_dot) = (op.apparent_gravity_m_s2, op.hub_angular_acceleration_rad_s2);
+                let weight = self.apparent_gravity_flap_moment_at(f, w_dot, a1)
+                    - self.apparent_gravity_flap_moment_at(f, w_dot, a2);
                 let spring = rot.flap_spring_n_m_per_rad * s[0];
                 return [
                     s[1],
@@ -1178,7 +1223,11 @@ impl<'a> Blade<'a> {
         }
         let m_aero = l.flap_moment;
         let inertial = self.inertial_flap_moment_at(op, angles);
-        let weight = self.weight_flap_moment_at(op, angles);
+        let weight = self.apparent_gravity_flap_moment_at(
+            op.apparent_gravity_m_s2,
+            op.hub_angular_acceleration_rad_s2,
+            angles,
+        );
         let spring = rot.flap_spring_n_m_per_rad * (beta - rot.precone_rad);
         [
             s[1],
@@ -1186,19 +1235,35 @@ impl<'a> Blade<'a> {
         ]
     }
 
-    /// The blade's weight moment about its flap hinge, positive flapping up: `S (g . n)`, with
-    /// `S` its first mass moment about the hinge and `n = d e_b / d beta` (the flapped blade's
-    /// direction `e_b = (-cos b cos psi, cos b sin psi, -sin b)` in hub axes). With the shaft
-    /// upright it is `-S g cos b`: the blade droops.
-    pub(crate) fn weight_flap_moment_at(&self, op: &Operating, angles: Angles) -> f64 {
+    /// The flap moment of the blade's weight and the hub's motion acting through its first mass
+    /// moment `S` about the hinge, positive flapping up (see the module's docs):
+    /// `S f.n + e S cos b (w'.t)`, with `f` the apparent gravity at the hub (`g - a_hub`) and
+    /// `w'` the hub's angular acceleration, both in hub axes; `n = d e_b / d beta` (the flapped
+    /// blade's direction `e_b = (-cos b cos psi, cos b sin psi, -sin b)`) and
+    /// `t = (sin psi, cos psi, 0)`. That is `S` times the apparent gravity at the hinge along
+    /// `n`. With the shaft upright in unaccelerated flight it is `-S g cos b`: the blade droops.
+    pub(crate) fn apparent_gravity_flap_moment_at(
+        &self,
+        apparent_gravity_m_s2: [f64; 3],
+        hub_angular_acceleration_rad_s2: [f64; 3],
+        angles: Angles,
+    ) -> f64 {
         let s_m = self.rotor.flap_mass_moment_kg_m;
-        let g = op.gravity_m_s2;
-        if s_m == 0.0 || g == [0.0; 3] {
+        if s_m == 0.0 {
             return 0.0;
         }
         let Angles { sp, cp, sb, cb } = angles;
-        let n = [sb * cp, -sb * sp, -cb];
-        s_m * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2])
+        let f = apparent_gravity_m_s2;
+        let mut moment = 0.0;
+        if f != [0.0; 3] {
+            let n = [sb * cp, -sb * sp, -cb];
+            moment = s_m * (f[0] * n[0] + f[1] * n[1] + f[2] * n[2]);
+        }
+        let (e, w) = (self.rotor.hinge_offset_m, hub_angular_acceleration_rad_s2);
+        if e != 0.0 && w != [0.0; 3] {
+            moment += e * s_m * cb * (w[0] * sp + w[1] * cp);
+        }
+        moment
     }
 
     /// A rigid rotor in axial flow (a propeller): every blade sees the same flow at every
@@ -1621,7 +1686,8 @@ mod tests {
             speed_of_sound_m_s: 340.0,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
-            gravity_m_s2: gravity,
+            apparent_gravity_m_s2: gravity,
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         }
     }
 
@@ -1692,7 +1758,8 @@ mod tests {
                 speed_of_sound_m_s: 1e9,
                 collective_shift_rad: 0.0,
                 hub_rates_rad_s: [0.0; 3],
-                gravity_m_s2: [0.0; 3],
+                apparent_gravity_m_s2: [0.0; 3],
+                hub_angular_acceleration_rad_s2: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -1977,7 +2044,8 @@ mod tests {
             speed_of_sound_m_s: 1e9,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
-            gravity_m_s2: [0.0; 3],
+            apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         let l = Blade::new(&rigid, Numerics::default())
             .steady(&op, [0.0, 0.0])
@@ -2027,7 +2095,8 @@ mod tests {
                 speed_of_sound_m_s: 1e9,
                 collective_shift_rad: 0.0,
                 hub_rates_rad_s: [p, q, 0.0],
-                gravity_m_s2: [0.0; 3],
+                apparent_gravity_m_s2: [0.0; 3],
+                hub_angular_acceleration_rad_s2: [0.0; 3],
             };
             let numerics = Numerics {
                 azimuth_step_rad: 1f64.to_radians(),
@@ -2138,7 +2207,8 @@ mod tests {
             speed_of_sound_m_s: 1e9,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.0; 3],
-            gravity_m_s2: [0.0; 3],
+            apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         let blade = Blade::new(&rotor, Numerics::default());
         let power = |mu: f64| {
@@ -2240,7 +2310,8 @@ mod tests {
             speed_of_sound_m_s: 340.0,
             collective_shift_rad: 0.0,
             hub_rates_rad_s: [0.3, -0.2, 0.15],
-            gravity_m_s2: [0.0; 3],
+            apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         for (psi, beta, bd, bdd, wd) in [
             (0.3, 0.05, 0.8, -30.0, 2.0),
@@ -2494,7 +2565,8 @@ mod tests {
                 speed_of_sound_m_s: 340.0,
                 collective_shift_rad: shift,
                 hub_rates_rad_s: [0.0; 3],
-                gravity_m_s2: [0.0; 3],
+                apparent_gravity_m_s2: [0.0; 3],
+                hub_angular_acceleration_rad_s2: [0.0; 3],
             };
             let loads = Blade::new(r, numerics).steady(&op, [0.05, 0.0]).unwrap();
             loads.thrust_n() / (1.225 * PI * r.radius_m.powi(2) * tip * tip)
@@ -2552,7 +2624,8 @@ mod tests {
                     speed_of_sound_m_s: 340.0,
                     collective_shift_rad: 0.0,
                     hub_rates_rad_s: [0.0, 0.05, 0.0],
-                    gravity_m_s2: [0.0; 3],
+                    apparent_gravity_m_s2: [0.0; 3],
+                    hub_angular_acceleration_rad_s2: [0.0; 3],
                 }
             };
             let blade = Blade::new(&rotor, numerics);
@@ -2628,7 +2701,8 @@ mod tests {
             speed_of_sound_m_s: 340.0,
             collective_shift_rad: shift,
             hub_rates_rad_s: [0.0; 3],
-            gravity_m_s2: [0.0; 3],
+            apparent_gravity_m_s2: [0.0; 3],
+            hub_angular_acceleration_rad_s2: [0.0; 3],
         };
         let numerics = Numerics {
             azimuth_step_rad: 2f64.to_radians(),
