@@ -250,7 +250,7 @@ pub fn retune(
         }
         Match::Responses => {
             let estimated = responses::responses(records, &how.responses)?;
-            let models = responses::model_responses(&file.aircraft, &estimated)?;
+            let models = responses::model_responses(&file.aircraft, &estimated, true)?;
             let targets = responses::targets(&estimated, &models)?;
             if targets.is_empty() {
                 return Err(format!(
@@ -337,7 +337,7 @@ fn refit_with_errors_at_fit(
 ) -> Result<fit::FitResult, String> {
     let mut fitted = file.aircraft.clone();
     first.corrections().apply_to_aircraft(&mut fitted)?;
-    let models = responses::model_responses(&fitted, estimated)?;
+    let models = responses::model_responses(&fitted, estimated, true)?;
     problem.targets = responses::targets(estimated, &models)?;
     let mut again = problem.clone();
     for (p, v) in again.parameters.iter_mut().zip(&first.values) {

@@ -38,6 +38,15 @@
 //! `q / eta_s` missed by 10 of its standard errors (rms over the real and imaginary parts) with
 //! the control alone and by 1.3 as flown.
 //!
+//! # The estimator's resolution bias
+//! A response estimated with windows of length `T` is the true one smoothed over a spectral
+//! window of second moment `1 / (3 T^2)` (Hann), which biases it where the response bends
+//! sharply (next to a lightly damped pole: the phugoid, at the band's low end, where only the
+//! longest window reaches) or where the input's spectrum falls away (a sweep's ends). The bias
+//! is not random, so no standard error covers it: a point whose bias, by the model's own
+//! response and the input's measured spectrum ([`resolution_bias`]), exceeds
+//! [`RESOLUTION_BIAS_MAX`] of its random error is no target.
+//!
 //! CIFER's identification weights by `J`'s coherence weighting of the dB and degree errors
 //! (Tischler and Remple 2012, ch. 11) rather than by the random error; that cost's curvature is
 //! not an inverse covariance, which is why this fit does not use it. `J` is reported, before
@@ -135,6 +144,13 @@ pub struct Response {
     /// the model's responses to the other controls do not explain either.
     #[serde(skip)]
     pub unexplained: Vec<Vec<C>>,
+    /// At each point, the second moment of the composite's spectral window, Hz^2
+    /// ([`spectral_window_moment`]).
+    #[serde(skip)]
+    pub window_moment_hz2: Vec<f64>,
+    /// At each point, the slope of the log of the input's autospectrum, 1/Hz.
+    #[serde(skip)]
+    pub input_log_slope_per_hz: Vec<f64>,
 }
 
 impl Response {
@@ -157,6 +173,53 @@ impl Response {
         let plain = self.points[k].response.norm() * self.random_error[k];
         residual_standard_error(plain, &self.unexplained[k], secondary)
     }
+}
+
+/// Step of the model's response either side of a point for its slope and curvature
+/// ([`resolution_bias`]), a fraction of the frequency: a thousandth of the narrowest feature the
+/// band meets (a pole 0.03 Hz off at 0.08 Hz) is 3e-5 Hz; a hundredth of 0.08 Hz is 8e-4 Hz, and
+/// the differences' rounding (1e-12 of `|H|` over the step squared) stays below 1e-5 of the
+/// windows' second moments.
+pub const RESOLUTION_STEP: f64 = 0.01;
+
+/// Largest resolution bias a target may carry, in its random errors ([`resolution_bias`]): a
+/// bias of half the random error moves a 95 % interval's coverage to 92 % (`z ~ N(0.5, 1)`).
+pub const RESOLUTION_BIAS_MAX: f64 = 0.5;
+
+/// The frequencies either side of `f` where the model's response gives its slope and
+/// curvature.
+pub fn neighbours(frequency_hz: f64) -> [f64; 2] {
+    [
+        frequency_hz * (1.0 - RESOLUTION_STEP),
+        frequency_hz * (1.0 + RESOLUTION_STEP),
+    ]
+}
+
+/// The second moment of a Hann window's spectral window (`|W(nu)|^2`, normalised), Hz^2, for
+/// a window of `window_s`: `int nu^2 |W|^2 / int |W|^2 = int w'^2 / (4 pi^2 int w^2)` (Parseval),
+/// which for `w = sin^2(pi t / T)` is `(pi^2 / (2 T)) / (4 pi^2 3 T / 8) = 1 / (3 T^2)`. The
+/// composite of several windows with weights `a` (summing to one) has `sum a / (3 T^2)`.
+pub fn spectral_window_moment(windows_s: &[f64], weights: &[f64]) -> f64 {
+    windows_s
+        .iter()
+        .zip(weights)
+        .map(|(t, a)| a / (3.0 * t * t))
+        .sum()
+}
+
+/// The relative bias of a smoothed response estimate at `f` (Bendat and Piersol 2010, ch. 8-9,
+/// the resolution bias of spectral estimates, carried to the ratio that is the response):
+/// `H_est = int K H S / int K S` over a spectral window `K` of second moment `m2`, with `S` the
+/// input's autospectrum, is `H (1 + m2/2 (H''/H + 2 (H'/H)(S'/S)))` to second order. `h` the
+/// model's response at `neighbours(f)` and at `f`, `log_slope` `S'/S`. Large next to a lightly
+/// damped pole (the phugoid, for the longest windows at the band's low end) and where the
+/// input's spectrum falls away (a sweep's ends).
+pub fn resolution_bias(frequency_hz: f64, h: [C; 3], m2: f64, log_slope: f64) -> C {
+    let [below, at, above] = h;
+    let step = frequency_hz * RESOLUTION_STEP;
+    let d1 = (above - below) / (2.0 * step);
+    let d2 = (above - at * 2.0 + below) / (step * step);
+    (d2 / at + d1 / at * (2.0 * log_slope)) * (0.5 * m2)
 }
 
 /// [`Response::standard_error`] from the coherence's error `plain` (`|H| e_r`), the spectra
@@ -481,6 +544,9 @@ pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, Stri
                 let r = &est.inputs[i];
                 let mut points = Vec::new();
                 let mut random_error = Vec::new();
+                let (mut window_moment_hz2, mut input_log_slope_per_hz) = (Vec::new(), Vec::new());
+                let p = excited.len() + 1;
+                let ln_input = |k: usize| est.spectra[k][i * p + i].re.ln();
                 let (mut others, mut unexplained) = (Vec::new(), Vec::new());
                 let mut index = vec![None; est.frequencies_hz.len()];
                 for (k, &f) in est.frequencies_hz.iter().enumerate() {
@@ -503,6 +569,16 @@ pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, Stri
                             coherence: r.coherence[k],
                         });
                         random_error.push(e);
+                        window_moment_hz2
+                            .push(spectral_window_moment(&est.windows_s, &est.weights[k]));
+                        let (a, b) = (
+                            k.saturating_sub(1),
+                            (k + 1).min(est.frequencies_hz.len() - 1),
+                        );
+                        input_log_slope_per_hz.push(
+                            (ln_input(b) - ln_input(a))
+                                / (est.frequencies_hz[b] - est.frequencies_hz[a]),
+                        );
                     }
                 }
                 let used = independent(&est, i)
@@ -519,6 +595,8 @@ pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, Stri
                     other_controls: other.clone(),
                     others,
                     unexplained,
+                    window_moment_hz2,
+                    input_log_slope_per_hz,
                 });
             }
         }
@@ -528,7 +606,9 @@ pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, Stri
 
 /// The fit's targets: each used point's real and imaginary parts, with the record's other
 /// controls' transfers, and the standard error [`Response::standard_error`] with `models`'s
-/// responses to those controls (one per condition, [`model_responses`]).
+/// responses to those controls (one per condition, [`model_responses`] with its
+/// neighbourhood). A point whose [`resolution_bias`] by `models` exceeds
+/// [`RESOLUTION_BIAS_MAX`] of its random error is left out.
 pub fn targets(
     responses: &[Response],
     models: &[(Condition, crate::checks::frequency_response::Responses)],
@@ -542,6 +622,25 @@ pub fn targets(
             .ok_or_else(|| format!("no model responses at {}", r.condition.label()))?;
         for &k in &r.used {
             let p = &r.points[k];
+            // The bias of the response to the swept control (the other controls' transfers are
+            // measured on the grid only, too coarse for their curvature).
+            let [below, above] = neighbours(p.frequency_hz);
+            let h = [
+                model.at(&r.input, &r.output, below)?,
+                model.at(&r.input, &r.output, p.frequency_hz)?,
+                model.at(&r.input, &r.output, above)?,
+            ];
+            let bias = resolution_bias(
+                p.frequency_hz,
+                h,
+                r.window_moment_hz2[k],
+                r.input_log_slope_per_hz[k],
+            );
+            // A NaN bias is no target either.
+            let small = bias.norm() <= RESOLUTION_BIAS_MAX * r.random_error[k];
+            if !small {
+                continue;
+            }
             let secondary = r
                 .other_controls
                 .iter()
@@ -567,11 +666,13 @@ pub fn targets(
 }
 
 /// An aircraft's responses ([`crate::checks::frequency_response::aircraft_responses`]) at
-/// every condition of `responses`, at every frequency they are estimated (one trim and one
-/// linearisation a condition, conditions in parallel).
+/// every condition of `responses`, at every frequency they are estimated, and with
+/// `neighbourhood` at [`neighbours`] of every used point too (one trim and one linearisation a
+/// condition, conditions in parallel).
 pub fn model_responses(
     aircraft: &cierva_model::aircraft::Aircraft,
     responses: &[Response],
+    neighbourhood: bool,
 ) -> Result<Vec<(Condition, crate::checks::frequency_response::Responses)>, String> {
     let mut conditions: Vec<Condition> = Vec::new();
     for r in responses {
@@ -585,9 +686,17 @@ pub fn model_responses(
         };
         let mut frequencies: Vec<f64> = Vec::new();
         for r in responses.iter().filter(|r| r.condition == *c) {
-            for p in &r.points {
-                if !frequencies.contains(&p.frequency_hz) {
-                    frequencies.push(p.frequency_hz);
+            for (k, p) in r.points.iter().enumerate() {
+                let [below, above] = neighbours(p.frequency_hz);
+                let with: &[f64] = if neighbourhood && r.used.contains(&k) {
+                    &[below, p.frequency_hz, above]
+                } else {
+                    &[p.frequency_hz]
+                };
+                for f in with {
+                    if !frequencies.contains(f) {
+                        frequencies.push(*f);
+                    }
                 }
             }
         }
@@ -634,8 +743,8 @@ pub fn compare(
 ) -> Result<Vec<Comparison>, String> {
     use crate::checks::frequency_response::mismatch_cost;
     let (b, a) = (
-        model_responses(before, responses)?,
-        model_responses(after, responses)?,
+        model_responses(before, responses, false)?,
+        model_responses(after, responses, false)?,
     );
     let mut out = Vec::new();
     for r in responses {

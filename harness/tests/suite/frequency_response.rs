@@ -698,3 +698,84 @@ fn the_response_as_flown_holds_its_standard_error_under_a_pilot() {
     );
     assert!(rate(held_alone) < 0.5, "{:.4}", rate(held_alone));
 }
+
+/// The resolution bias `retune::responses::resolution_bias` states, against what the
+/// estimator does: a lightly damped resonator (0.5 Hz, pole radius 0.995 at 20 Hz: a
+/// half-power bandwidth of about 0.03 Hz) driven by white noise without output noise, one
+/// window over long records, averaged over [`RESOLUTION_SEEDS`] seeds (so the random error
+/// is small), at frequencies 0.1-0.3 Hz above the resonance where the window's second moment
+/// `1 / (3 T^2)` biases the estimate by 0.3-9 % (20 and 40 s windows). The estimate's mean
+/// relative error matches the stated bias to within [`RESOLUTION_BIAS_AGREEMENT`] of the bias
+/// and three standard errors of the mean.
+#[test]
+fn the_stated_resolution_bias_is_the_estimators() {
+    use cierva_harness::retune::responses::{neighbours, resolution_bias, spectral_window_moment};
+    let (n, dt) = (16_000, 0.05);
+    let (r, theta) = (0.995f64, 2.0 * PI * 0.5 * 0.05);
+    let (a1, a2) = (2.0 * r * theta.cos(), -r * r);
+    let truth = |f: f64| {
+        let z = C::from_polar(1.0, -2.0 * PI * f * dt);
+        C::new(1.0, 0.0) / (C::new(1.0, 0.0) - z * a1 - z * z * a2)
+    };
+    for window_s in [20.0, 40.0] {
+        let settings = Settings {
+            windows_s: vec![window_s],
+            overlap: fr::DEFAULT_OVERLAP,
+            points: 8,
+            band_hz: Some([0.6, 0.8]),
+        };
+        let mut errors = vec![Vec::new(); settings.points];
+        let mut freqs = Vec::new();
+        for seed in 0..RESOLUTION_SEEDS {
+            let mut rng = Normal::new(300 + seed);
+            let x = white(&mut rng, n, 1.0);
+            let (mut y1, mut y2) = (0.0, 0.0);
+            let y: Vec<f64> = x
+                .iter()
+                .map(|v| {
+                    let y0 = a1 * y1 + a2 * y2 + v;
+                    (y2, y1) = (y1, y0);
+                    y0
+                })
+                .collect();
+            let run = Run {
+                name: "resonator".into(),
+                inputs: vec![x],
+                output: y,
+                dt_s: dt,
+            };
+            let est = fr::estimate(&[run], &settings).unwrap();
+            for (k, &f) in est.frequencies_hz.iter().enumerate() {
+                errors[k].push(est.inputs[0].response[k].unwrap() / truth(f) - C::new(1.0, 0.0));
+            }
+            freqs = est.frequencies_hz;
+        }
+        let m2 = spectral_window_moment(&[window_s], &[1.0]);
+        for (k, &f) in freqs.iter().enumerate() {
+            let [below, above] = neighbours(f);
+            // White input: its autospectrum is flat.
+            let stated = resolution_bias(f, [truth(below), truth(f), truth(above)], m2, 0.0);
+            let seeds = RESOLUTION_SEEDS as f64;
+            let got: C = errors[k].iter().sum::<C>() / seeds;
+            let spread = (errors[k].iter().map(|e| (e - got).norm_sqr()).sum::<f64>()
+                / (seeds - 1.0)
+                / seeds)
+                .sqrt();
+            println!(
+                "{window_s} s, {f:.3} Hz: mean relative error {got:.5} (+- {spread:.5}), stated bias {stated:.5}"
+            );
+            assert!(
+                (got - stated).norm() <= RESOLUTION_BIAS_AGREEMENT * stated.norm() + 3.0 * spread,
+                "{window_s} s, {f} Hz: {got} +- {spread} against {stated}"
+            );
+        }
+    }
+}
+
+/// Seeds of the resolution-bias test.
+const RESOLUTION_SEEDS: u64 = 20;
+
+/// How closely the estimator's bias follows the stated one: the second-order expansion leaves
+/// out the next term, about `m2 / df^2` of the bias (0.08 at the nearest frequency tested with
+/// 20 s windows, where the estimate's bias is 0.11 against 0.086 stated).
+const RESOLUTION_BIAS_AGREEMENT: f64 = 0.35;
