@@ -115,13 +115,13 @@ fn text_report(d: &Derivation) -> String {
             }
             None => "[geometry]".to_string(),
         };
+        let unit = if s.unit == "-" { "" } else { s.unit };
         let _ = writeln!(
             out,
-            "{:>3}. {}: {} {} {tag}",
+            "{:>3}. {}: {} {unit} {tag}",
             k + 1,
             s.quantity,
             range(&s.value),
-            s.unit
         );
         if !s.inputs.is_empty() {
             let inputs: Vec<String> = s

@@ -92,6 +92,58 @@ fn estimate_at_another_airspeed_moves_only_the_flow() {
     );
 }
 
+/// The VPM M16 file uses its estimates: every coefficient `cierva estimate` gives is the file's
+/// value to the three figures the file writes (half a unit in the third figure), and the file's
+/// plausible range for it is the estimate's (the method's accuracy), rounded outward in the
+/// third figure; where the estimate has no width (the tailplane wholly in the slipstream) the
+/// file gives no range.
+#[test]
+fn the_vpm_m16_file_uses_its_estimates() {
+    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    let d = estimate::derive(&file, None).unwrap();
+    assert_eq!(d.compared.len(), 8, "{:?}", d.compared);
+    // Half a unit in the third significant figure of `x`.
+    let rounding = |x: f64| {
+        if x == 0.0 {
+            0.0
+        } else {
+            0.5 * 10f64.powf(x.abs().log10().floor() - 2.0)
+        }
+    };
+    for c in &d.compared {
+        let e = c.estimate;
+        assert!(
+            (c.file - e.value).abs() <= rounding(e.value) + 1e-12,
+            "{}: the file has {}, the estimate is {e:?}",
+            c.field,
+            c.file
+        );
+        match c.file_range {
+            None => assert_eq!(e.lower, e.upper, "{}: no range for {e:?}", c.field),
+            Some((lo, hi)) => {
+                // Outward to the third figure: at most one unit in it.
+                assert!(
+                    (lo - e.lower).abs() <= 2.0 * rounding(e.lower) + 1e-12
+                        && (hi - e.upper).abs() <= 2.0 * rounding(e.upper) + 1e-12,
+                    "{}: the file's range [{lo}, {hi}], the estimate's {e:?}",
+                    c.field
+                );
+                assert!(
+                    lo <= e.lower + 1e-12 && hi >= e.upper - 1e-12,
+                    "{}: rounded inward",
+                    c.field
+                );
+            }
+        }
+        assert!(
+            file.source_of(&c.field)
+                .is_some_and(|s| s.starts_with("estimated by `cierva estimate`")),
+            "{}: its source does not cite the estimate",
+            c.field
+        );
+    }
+}
+
 /// A file with no geometry to estimate from, and a file that does not load, are bad input
 /// (exit 2) with the reason.
 #[test]
