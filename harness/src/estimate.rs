@@ -48,6 +48,10 @@ pub enum EstimateRunError {
         "{0} says no condition to estimate at: give `airframe.estimates_at` in the file, or --airspeed-mph"
     )]
     NoCondition(String),
+    #[error(
+        "{0}'s corrections block the propeller (propeller_blockage {1}): the slipstream estimates take the free stream through the disc"
+    )]
+    Blocked(String, f64),
     #[error("the trim at the estimates' condition failed: {0}")]
     Trim(#[from] crate::TrimRunError),
     #[error("the propeller's side force about the trim: {0}")]
@@ -71,6 +75,10 @@ pub fn derive(
     let condition = at
         .or(inputs.at)
         .ok_or_else(|| EstimateRunError::NoCondition(name.clone()))?;
+    let blockage = file.aircraft.propeller.propeller.blockage;
+    if blockage > 0.0 {
+        return Err(EstimateRunError::Blocked(name, blockage));
+    }
     let operating_point = operating_point(file, condition)?;
     let estimates = airframe::estimate(&inputs.geometry, &operating_point)?;
     let compared = compare(file, &estimates);

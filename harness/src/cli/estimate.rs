@@ -62,6 +62,7 @@ pub(crate) fn estimate(a: EstimateArgs) -> ExitCode {
                 e,
                 estimate::EstimateRunError::NoGeometry(_)
                     | estimate::EstimateRunError::NoCondition(_)
+                    | estimate::EstimateRunError::Blocked(..)
                     | estimate::EstimateRunError::Estimate(_)
                     | estimate::EstimateRunError::Input(_)
             );

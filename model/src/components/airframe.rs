@@ -18,6 +18,10 @@
 //! free stream are blended by area, velocity by velocity, so the surface sees a higher dynamic
 //! pressure and a flow turned toward the shaft. The slipstream is taken along the shaft: its
 //! drift with the sideslip or the angle of attack before it reaches the tail is not modelled.
+//! Where the airframe ahead blocks the propeller (seed 000's blockage), the air reaches the disc
+//! slower than the free stream, and the jet leaves at that speed plus the induced velocity's
+//! growth: its excess over the free stream is the induced growth less the blocked share of the
+//! free stream's axial speed at the disc (the same speed the propeller sees before blockage).
 //!
 //! A surface's `dynamic_pressure_ratio` scales its loads: the share of the free stream's
 //! dynamic pressure that reaches it past the airframe ahead (DATCOM's `q_v / q`; 1: all of it).
@@ -91,6 +95,9 @@ pub struct Slipstream {
     /// The swirl's angular velocity, rad/s, positive right-handed about body x (a propeller
     /// turning clockwise seen from behind).
     pub swirl_rad_s: f64,
+    /// The axial airspeed reaching the disc, m/s: the free stream's there, less what the
+    /// airframe ahead blocks.
+    pub disc_airspeed_m_s: f64,
 }
 
 impl Slipstream {
@@ -121,19 +128,24 @@ impl Slipstream {
             disc_radius_m,
             induced_m_s,
             swirl_rad_s,
+            disc_airspeed_m_s,
         }
     }
 
     /// The velocity of the slipstream's air relative to the free stream at `point_m` (body
-    /// axes from the datum), m/s: the excess along -x from the disc's plane aft, and the swirl.
-    /// Zero ahead of the disc.
-    pub fn velocity_at(&self, point_m: [f64; 3]) -> [f64; 3] {
+    /// axes from the datum), m/s, where the free stream's axial speed at the disc is
+    /// `free_axial_m_s` (unblocked, the disc's own airspeed): the excess along -x from the disc's
+    /// plane aft, and the swirl. Zero ahead of the disc.
+    pub fn velocity_at(&self, point_m: [f64; 3], free_axial_m_s: f64) -> [f64; 3] {
         let behind = self.disc_centre_m[0] - point_m[0];
         if behind <= 0.0 {
             return [0.0; 3];
         }
         let r = self.disc_radius_m;
-        let excess = self.induced_m_s * (1.0 + behind / (behind * behind + r * r).sqrt());
+        // Without blockage the two speeds are one and the same number: the excess is the
+        // induced velocity's growth alone.
+        let blocked = free_axial_m_s - self.disc_airspeed_m_s;
+        let excess = self.induced_m_s * (1.0 + behind / (behind * behind + r * r).sqrt()) - blocked;
         let (dy, dz) = (
             point_m[1] - self.disc_centre_m[1],
             point_m[2] - self.disc_centre_m[2],
@@ -240,6 +252,10 @@ impl Table2 {
         let row = |i: usize| v(i, j) * (1.0 - fb) + v(i, j + 1) * fb;
         Ok(row(i) * (1.0 - fa) + row(i + 1) * fa)
     }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -349,9 +365,13 @@ impl Airframe {
         ] {
             if let Some(sf) = surface {
                 let stream = match slipstream {
-                    Some(st) if sf.slipstream_fraction > 0.0 => st
-                        .velocity_at(sf.position_m)
-                        .map(|c| sf.slipstream_fraction * c),
+                    Some(st) if sf.slipstream_fraction > 0.0 => {
+                        // The free stream's axial speed at the disc, as the propeller takes it.
+                        let at_disc = cross(pqr, sub(st.disc_centre_m, cg_m));
+                        let free_axial = (uvw[0] + at_disc[0]).max(0.0);
+                        st.velocity_at(sf.position_m, free_axial)
+                            .map(|c| sf.slipstream_fraction * c)
+                    }
                     _ => [0.0; 3],
                 };
                 let flow = (uvw, pqr, density_kg_m3);
@@ -560,8 +580,8 @@ mod tests {
     fn the_slipstream_carries_the_thrust_and_the_torque() {
         let (rho, v_disc, v0, q, r) = (1.2, 30.0, 5.0, 150.0, 0.75);
         let st = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (v_disc, v0), q, rho);
-        let behind = |d: f64, y: f64, z: f64| st.velocity_at([-1.3 - d, y, -0.05 + z]);
-        assert_eq!(st.velocity_at([-1.0, 0.0, 0.0]), [0.0; 3]);
+        let behind = |d: f64, y: f64, z: f64| st.velocity_at([-1.3 - d, y, -0.05 + z], v_disc);
+        assert_eq!(st.velocity_at([-1.0, 0.0, 0.0], v_disc), [0.0; 3]);
         assert!((behind(1e-9, 0.0, 0.0)[0] + v0).abs() < 1e-6);
         assert!((behind(1e4, 0.0, 0.0)[0] + 2.0 * v0).abs() < 1e-6);
         // Angular momentum through the disc: rho (V + v) r v_theta over its area (midpoint
@@ -580,9 +600,44 @@ mod tests {
         let mirror = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, -1.0, (v_disc, v0), q, rho);
         let (a, b) = (
             behind(1.5, 0.0, -0.45),
-            mirror.velocity_at([-2.8, 0.0, -0.5]),
+            mirror.velocity_at([-2.8, 0.0, -0.5], v_disc),
         );
         assert!((a[1] + b[1]).abs() < 1e-12 && a[0] == b[0], "{a:?} {b:?}");
+    }
+
+    /// With the propeller blocked (seed 000's total blockage) the jet leaves the disc at the
+    /// induced velocity alone: far behind, at twice it, which over a free stream faster than
+    /// that is a deficit; half blocked, its excess is the unblocked one less half the free
+    /// stream. Unblocked, the free stream's speed at the disc is the disc's own and the excess
+    /// is the induced growth, as before.
+    #[test]
+    fn a_blocked_propellers_jet_leaves_at_the_blocked_speed() {
+        let (u, v0, r) = (30.0, 8.0, 0.75);
+        let far = [-1e4, 0.0, -0.05];
+        for (k, excess) in [(0.0, 2.0 * v0), (0.5, 2.0 * v0 - 15.0), (1.0, 2.0 * v0 - u)] {
+            let v_disc = (1.0 - k) * u;
+            let st = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (v_disc, v0), 0.0, 1.2);
+            let got = -st.velocity_at(far, u)[0];
+            assert!((got - excess).abs() < 1e-3, "{k}: {got} against {excess}");
+        }
+        // Through the airframe's loads: a fin wholly in the slipstream of a totally blocked
+        // propeller meets the jet's speed, 2 v0 (the free stream's 30 m/s does not reach it).
+        let mut a = airframe();
+        a.tailplane = None;
+        a.fin.as_mut().unwrap().slipstream_fraction = 1.0;
+        a.fin.as_mut().unwrap().position_m = [-600.0, 0.0, -0.05];
+        let blocked = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (0.0, v0), 0.0, 1.2);
+        let drag = |st: Option<&Slipstream>| {
+            a.loads([u, 0.0, 0.0], [0.0; 3], 1.2, [0.0; 3], [0.0; 2], st)
+                .unwrap()
+                .x_n
+        };
+        let ratio = drag(Some(&blocked)) / drag(None);
+        let expected = (2.0 * v0 / u).powi(2);
+        assert!(
+            (ratio - expected).abs() < 1e-3,
+            "{ratio} against {expected}"
+        );
     }
 
     /// A fin wholly in a developed slipstream meets sideslip and yaw rate at the slipstream's
