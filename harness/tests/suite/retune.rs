@@ -252,15 +252,16 @@ fn retune_by_responses_reports_j_and_bode_figures_per_response() {
 }
 
 /// How far the README example's hub factor comes back from its truth, in standard errors, when
-/// last measured (2026-11-26): 2.15 (0.584 +- 0.016 against 0.55). The issue asks for 2: not
-/// met, a known discrepancy guarded here (the bias the coverage test finds; docs/validation.md,
-/// "Retuning the corrections"), to the measured value's third figure.
-const README_HUB_FACTOR_KNOWN_ERROR_IN_SE: f64 = 2.16;
+/// last measured (2026-11-26): 2.87 (0.592 +- 0.015 against 0.55), since the VPM M16's tail and
+/// pod are estimated by published methods (`cierva estimate`; 2.15, 0.584 +- 0.016, before).
+/// The issue asks for 2: not met, a known discrepancy guarded here (the bias the coverage test
+/// finds; docs/validation.md, "Retuning the corrections"), to the measured value's third figure.
+const README_HUB_FACTOR_KNOWN_ERROR_IN_SE: f64 = 2.88;
 
 /// The README example's known answer (issue 32's "done when": each correction back within 2
 /// standard errors, and the uncorrected value outside that). The profile drag comes back
-/// within 2 (1.358 +- 0.103, 0.56); the hub factor does not, at 2.15
-/// ([`README_HUB_FACTOR_KNOWN_ERROR_IN_SE`]). Slow for the cold `cargo test`; `.ci/run` runs
+/// within 2 (it did at 1.358 +- 0.103, 0.56, before the tail estimates); the hub factor does
+/// not, at 2.87 ([`README_HUB_FACTOR_KNOWN_ERROR_IN_SE`]). Slow for the cold `cargo test`; `.ci/run` runs
 /// it with the other ignored tests.
 #[test]
 #[ignore = "slow known answer (synthetic flights and a retune): run by .ci/run with `cargo test --test suite -- --ignored`"]
