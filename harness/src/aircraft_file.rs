@@ -31,11 +31,23 @@
 //!                                          # point); cl and cn then exclude its moments
 //!     coefficients: {cx: TABLE, cy: TABLE, cz: TABLE, cl: TABLE, cm: TABLE, cn: TABLE}
 //!     #   TABLE = {alpha_deg: [...], beta_deg: [...], values: [[...] one row per alpha]}
+//!     munk_yaw_m3: 0.57                    # optional: the pod's Munk couple (k2 - k1) Vol
 //!     tailplane: {position_m: [..], area_m2: .., lift_slope_per_rad: .., incidence_deg: ..,
 //!                 stall_alpha_deg: .., cd0: .., control_effectiveness: ..,
 //!                 slipstream_fraction: ..,  # optional: share of its area in the slipstream
-//!                 wash_gradient: ..}        # optional: sidewash (fin) or downwash gradient
+//!                 wash_gradient: ..,        # optional: sidewash (fin) or downwash gradient
+//!                 dynamic_pressure_ratio: .., # optional: q at it over the free stream's (1)
+//!                 planform: {span_m: .., root_chord_m: .., tip_chord_m: ..}}
+//!                 #   optional, for `cierva estimate`: straight-tapered; a tailplane's span
+//!                 #   tip to tip, a fin's root to tip; also half_chord_sweep_deg (0),
+//!                 #   section_lift_slope_per_rad (2 pi) and, for the fin, body_depth_m (the
+//!                 #   keel's or fuselage's depth at its root, 0)
 //!     fin: {...}
+//!     pod: {length_m: .., width_m: .., height_m: .., centroid_m: [..]}   # optional, for
+//!                                          # `cierva estimate` (the pod's Munk couple, sidewash)
+//!     estimates_at: {airspeed_mph: 70, mass_kg: 450, density_altitude_ft: 2000}
+//!                                          # optional: where `cierva estimate` trims for the
+//!                                          # propeller's slipstream
 //!   controls:                          # linear maps from % of travel
 //!     shaft_pitch_deg: {at_0_percent: -2, at_100_percent: 18}    # stick fwd -> aft
 //!     shaft_roll_deg: {at_0_percent: -8, at_100_percent: 8}      # stick left -> right
@@ -74,6 +86,13 @@ use cierva_model::components::airframe::{Airframe, AirframeError, Surface, Table
 use cierva_model::components::propeller::Propeller;
 use cierva_model::components::rigid_body::MassProperties;
 use cierva_model::components::rotor::{Hub, Numerics};
+use cierva_model::estimate::EstimateError;
+use cierva_model::estimate::airframe::{
+    FinGeometry, Geometry, Part, PartError, PodGeometry, SurfaceGeometry,
+};
+use cierva_model::estimate::body::Pod;
+use cierva_model::estimate::lifting_surface::{Planform, THIN_AEROFOIL_SLOPE_PER_RAD};
+use cierva_model::estimate::slipstream::Disc;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -182,6 +201,50 @@ pub struct SurfaceSpec {
     /// Sidewash (fin) or downwash (tailplane) gradient from the airframe ahead (absent: 0).
     #[serde(default)]
     pub wash_gradient: f64,
+    /// Dynamic pressure at the surface over the free stream's (absent: 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dynamic_pressure_ratio: Option<f64>,
+    /// The planform `cierva estimate` works from (absent: none to estimate from).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub planform: Option<PlanformSpec>,
+}
+
+/// A straight-tapered planform as written (see the module docs).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanformSpec {
+    pub span_m: f64,
+    pub root_chord_m: f64,
+    pub tip_chord_m: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub half_chord_sweep_deg: Option<f64>,
+    /// Absent: thin-aerofoil theory's `2 pi`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section_lift_slope_per_rad: Option<f64>,
+    /// A fin's: the depth of the keel, boom or fuselage at its root (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_depth_m: Option<f64>,
+}
+
+/// The pod as written: its length, width and height and its centroid (body axes from the
+/// datum).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PodSpec {
+    pub length_m: f64,
+    pub width_m: f64,
+    pub height_m: f64,
+    pub centroid_m: [f64; 3],
+}
+
+/// The flight condition at which the estimates that need the propeller's operating point are
+/// made.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConditionSpec {
+    pub airspeed_mph: f64,
+    pub mass_kg: f64,
+    pub density_altitude_ft: f64,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -206,10 +269,17 @@ pub struct AirframeSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub side_force_centre_m: Option<[f64; 3]>,
     pub coefficients: CoefficientsSpec,
+    /// The pod's Munk couple `(k2 - k1) Vol`, m^3 (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub munk_yaw_m3: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tailplane: Option<SurfaceSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fin: Option<SurfaceSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pod: Option<PodSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimates_at: Option<ConditionSpec>,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -262,6 +332,15 @@ pub struct AircraftFile {
     pub sources: BTreeMap<String, String>,
     /// Plausible ranges of parameters, by name.
     pub ranges: BTreeMap<String, Range>,
+    /// What `cierva estimate` works from, where the file gives a planform or a pod.
+    pub estimate_inputs: Option<EstimateInputs>,
+}
+
+/// An aircraft file's geometry for the estimates, checked, and the condition they are made at.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EstimateInputs {
+    pub geometry: Geometry,
+    pub at: Option<ConditionSpec>,
 }
 
 /// Dotted paths of the leaves of a YAML value (a coefficient table is one leaf, as is a
@@ -390,6 +469,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         control_effectiveness: s.control_effectiveness,
         slipstream_fraction: s.slipstream_fraction,
         wash_gradient: s.wash_gradient,
+        dynamic_pressure_ratio: s.dynamic_pressure_ratio.unwrap_or(1.0),
     };
     let drive = match (a.propeller.drive.engine, a.propeller.drive.governed) {
         (Some(e), None) => Drive::Engine {
@@ -481,6 +561,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
                 c.cm.clone(),
                 c.cn.clone(),
             ],
+            munk_yaw_m3: a.airframe.munk_yaw_m3.unwrap_or(0.0),
             tailplane: a.airframe.tailplane.as_ref().map(surface),
             fin: a.airframe.fin.as_ref().map(surface),
         },
@@ -495,6 +576,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         .validate()
         .map_err(|e| err(&field_of(&e), e.to_string()))?;
     let ranges = check_ranges(&spec.ranges, &mut aircraft.clone(), &err)?;
+    let estimate_inputs = estimate_inputs(a, propeller_file.rotor.radius_m, &err)?;
     Ok(AircraftFile {
         path: path.to_path_buf(),
         id: spec.id,
@@ -505,7 +587,152 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         propeller_file,
         sources: spec.sources,
         ranges,
+        estimate_inputs,
     })
+}
+
+/// The geometry the estimates work from, checked (`None` where the file gives no planform and
+/// no pod): every input that gives no finite estimate is a located error.
+fn estimate_inputs(
+    a: &AircraftSpec,
+    propeller_radius_m: f64,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<Option<EstimateInputs>, InputError> {
+    let af = &a.airframe;
+    let (fin, tail) = (planform_of(&af.fin), planform_of(&af.tailplane));
+    if fin.is_none() && tail.is_none() && af.pod.is_none() {
+        if af.estimates_at.is_some() {
+            return Err(err(
+                "aircraft.airframe.estimates_at",
+                "there is nothing to estimate: give a surface's `planform` or the `pod`".into(),
+            ));
+        }
+        return Ok(None);
+    }
+    if let Some((_, p)) = tail
+        && p.body_depth_m.is_some()
+    {
+        return Err(err(
+            "aircraft.airframe.tailplane.planform.body_depth_m",
+            "only a fin stands on a body: body_depth_m belongs to the fin's planform".into(),
+        ));
+    }
+    let surface = |name: &str, (s, p): (&SurfaceSpec, PlanformSpec), mirrored: bool| {
+        let planform = Planform {
+            span_m: p.span_m,
+            root_chord_m: p.root_chord_m,
+            tip_chord_m: p.tip_chord_m,
+            half_chord_sweep_rad: p.half_chord_sweep_deg.unwrap_or(0.0).to_radians(),
+            mirrored,
+        };
+        let field = format!("aircraft.airframe.{name}.planform");
+        planform.checked().map_err(|e| located(&field, &e, err))?;
+        let area = planform.area_m2();
+        if (area - s.area_m2).abs() > 0.02 * s.area_m2 {
+            return Err(err(
+                &field,
+                format!(
+                    "the planform's area (span times mean chord) is {area:.4} m^2 and the {name}'s area_m2 {}: they must agree within 2 %",
+                    s.area_m2
+                ),
+            ));
+        }
+        Ok(SurfaceGeometry {
+            position_m: s.position_m,
+            planform,
+            section_lift_slope_per_rad: p
+                .section_lift_slope_per_rad
+                .unwrap_or(THIN_AEROFOIL_SLOPE_PER_RAD),
+        })
+    };
+    let geometry = Geometry {
+        fin: match fin {
+            None => None,
+            Some(f) => Some(FinGeometry {
+                surface: surface("fin", f, false)?,
+                body_depth_m: f.1.body_depth_m.unwrap_or(0.0),
+            }),
+        },
+        tailplane: tail.map(|t| surface("tailplane", t, true)).transpose()?,
+        pod: af.pod.map(|p| PodGeometry {
+            pod: Pod {
+                length_m: p.length_m,
+                width_m: p.width_m,
+                height_m: p.height_m,
+            },
+            centroid_m: p.centroid_m,
+        }),
+        disc: Disc {
+            centre_m: a.propeller.position_m,
+            radius_m: propeller_radius_m,
+        },
+    };
+    cierva_model::estimate::airframe::check(&geometry).map_err(|e| part_error(&e, err))?;
+    if let Some(c) = af.estimates_at
+        && !(c.airspeed_mph.is_finite()
+            && c.airspeed_mph > 0.0
+            && c.mass_kg.is_finite()
+            && c.mass_kg > 0.0
+            && c.density_altitude_ft.is_finite())
+    {
+        return Err(err(
+            "aircraft.airframe.estimates_at",
+            "give a positive airspeed and mass and a finite density altitude".into(),
+        ));
+    }
+    Ok(Some(EstimateInputs {
+        geometry,
+        at: af.estimates_at,
+    }))
+}
+
+/// A surface and its planform, where it gives one.
+fn planform_of(s: &Option<SurfaceSpec>) -> Option<(&SurfaceSpec, PlanformSpec)> {
+    s.as_ref().and_then(|s| s.planform.map(|p| (s, p)))
+}
+
+/// An estimate's bad input at the field it came from under `prefix` (a planform's or the pod's
+/// own field where the error names one, else the part).
+fn located(
+    prefix: &str,
+    e: &EstimateError,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> InputError {
+    let name = match e {
+        EstimateError::Input { name, .. } => *name,
+        EstimateError::Domain { .. } => "",
+    };
+    let own = [
+        "span_m",
+        "root_chord_m",
+        "tip_chord_m",
+        "half_chord_sweep_deg",
+        "body_depth_m",
+        "section_lift_slope_per_rad",
+        "length_m",
+        "width_m",
+        "height_m",
+    ];
+    if own.contains(&name) {
+        err(&format!("{prefix}.{name}"), e.to_string())
+    } else {
+        err(prefix, e.to_string())
+    }
+}
+
+/// A part's bad input at its field: the fin's and tailplane's planforms, the pod, and a fin
+/// that does not stand behind the pod at its position.
+pub fn part_error(e: &PartError, err: &dyn Fn(&str, String) -> InputError) -> InputError {
+    let prefix = match e.part {
+        Part::Fin if e.error.to_string().contains("behind the pod") => {
+            "aircraft.airframe.fin.position_m"
+        }
+        Part::Fin => "aircraft.airframe.fin.planform",
+        Part::Tailplane => "aircraft.airframe.tailplane.planform",
+        Part::Pod => "aircraft.airframe.pod",
+        Part::Propeller => "aircraft.propeller",
+    };
+    located(prefix, &e.error, err)
 }
 
 /// The ranges, checked: each names a parameter, holds the file's value, and has a source.

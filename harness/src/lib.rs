@@ -12,6 +12,7 @@ pub mod checks;
 pub mod controls_file;
 pub mod corrections;
 pub mod discrepancy;
+pub mod estimate;
 pub mod eval;
 pub mod fit;
 pub mod fit_file;

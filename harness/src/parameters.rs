@@ -110,6 +110,16 @@ pub const PARAMETERS: &[ParameterInfo] = &[
         meaning: "sidewash gradient at the fin from the pod ahead (share of the sideslip taken)",
     },
     ParameterInfo {
+        name: "airframe.fin.dynamic_pressure_ratio",
+        unit: "-",
+        meaning: "dynamic pressure at the fin over the free stream's (the airframe's wakes ahead of it)",
+    },
+    ParameterInfo {
+        name: "airframe.munk_yaw_m3",
+        unit: "m^3",
+        meaning: "the pod's Munk couple (k2 - k1) Vol: a yawing moment -rho u v times it, away from the wind",
+    },
+    ParameterInfo {
         name: "airframe.tailplane.wash_gradient",
         unit: "-",
         meaning: "downwash gradient at the tailplane (share of the angle of attack taken)",
@@ -133,6 +143,11 @@ pub const PARAMETERS: &[ParameterInfo] = &[
         name: "airframe.tailplane.lift_slope_per_rad",
         unit: "1/rad",
         meaning: "tailplane lift-curve slope",
+    },
+    ParameterInfo {
+        name: "airframe.tailplane.dynamic_pressure_ratio",
+        unit: "-",
+        meaning: "dynamic pressure at the tailplane over the free stream's (the airframe's wakes ahead of it)",
     },
     ParameterInfo {
         name: "controls.shaft_roll_deg.travel",
@@ -224,6 +239,13 @@ fn parameter_mut<'a>(a: &'a mut Aircraft, name: &str) -> Option<&'a mut f64> {
             &mut surface(&mut a.airframe.fin)?.slipstream_fraction
         }
         "airframe.fin.wash_gradient" => &mut surface(&mut a.airframe.fin)?.wash_gradient,
+        "airframe.fin.dynamic_pressure_ratio" => {
+            &mut surface(&mut a.airframe.fin)?.dynamic_pressure_ratio
+        }
+        "airframe.munk_yaw_m3" => &mut a.airframe.munk_yaw_m3,
+        "airframe.tailplane.dynamic_pressure_ratio" => {
+            &mut surface(&mut a.airframe.tailplane)?.dynamic_pressure_ratio
+        }
         "airframe.tailplane.wash_gradient" => {
             &mut surface(&mut a.airframe.tailplane)?.wash_gradient
         }

@@ -11,6 +11,9 @@
 //!   rotorspeed degree of freedom, root loci, and inflow from blade flapping;
 //! * [`simulation`]: time histories of the full and the linear model.
 //!
+//! Beside them, [`estimate`]: airframe coefficients from geometry by published methods, for
+//! aircraft files where nothing was measured.
+//!
 //! This crate does no I/O and knows nothing about case files: it takes numbers and returns
 //! numbers, statuses and errors. It never panics on data.
 //!
@@ -80,6 +83,11 @@ pub mod simulation {
     pub mod simulate;
     pub mod timehistory;
 }
+
+/// Airframe coefficients estimated by published methods from geometry, each with the range its
+/// method's accuracy gives (lift slopes, end plates, the pod's Munk couple and sidewash, the
+/// propeller's slipstream at the tail). Uses nothing from the assembled aircraft or above.
+pub mod estimate;
 
 pub mod solve;
 #[cfg(test)]

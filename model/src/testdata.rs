@@ -149,6 +149,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
         // Out of the slipstream: the tests that need it set it (the aircraft's tests).
         slipstream_fraction: 0.0,
         wash_gradient: 0.0,
+        dynamic_pressure_ratio: 1.0,
     };
     Aircraft {
         mass: MassProperties {
@@ -202,6 +203,7 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
                 table(&|a, _| 0.15 * a),
                 table(&|_, b| -0.1 * b),
             ],
+            munk_yaw_m3: 0.0,
             tailplane: Some(surface([-2.6, 0.0, -0.2], 0.45, 0.0)),
             fin: Some(surface([-2.8, 0.0, -0.6], 0.7, 0.5)),
         },

@@ -11,6 +11,7 @@ mod bad_input;
 mod cli;
 mod common;
 mod discrepancies;
+mod estimate;
 mod fit;
 mod flight_test;
 mod frequency_response;

@@ -732,7 +732,7 @@ fn linear_moments() -> (f64, f64) {
     (mean, var)
 }
 
-/// Sobol's G function of 13 inputs uniform on [0, 1] (13, as the VPM M16's ranged inputs):
+/// Sobol's G function of 13 inputs uniform on [0, 1] (13, as the VPM M16's ranged inputs were; 16 since its tail was estimated):
 /// `prod (|4 x_i - 2| + a_i) / (1 + a_i)`, with `V_i = 1 / (3 (1 + a_i)^2)`,
 /// `V = prod (1 + V_i) - 1`, `S_i = V_i / V` and `S_Ti = V_i prod_(j != i) (1 + V_j) / V`
 /// (Saltelli and Sobol' 1995). Its kinks and products make the estimators' summands heavy

@@ -18,6 +18,22 @@
 //! free stream are blended by area, velocity by velocity, so the surface sees a higher dynamic
 //! pressure and a flow turned toward the shaft. The slipstream is taken along the shaft: its
 //! drift with the sideslip or the angle of attack before it reaches the tail is not modelled.
+//! Where the airframe ahead blocks the propeller (seed 000's blockage), the air reaches the disc
+//! slower than the free stream, and the jet leaves at that speed plus the induced velocity's
+//! growth: its excess over the free stream is the induced growth less the blocked share of the
+//! free stream's axial speed at the disc (the same speed the propeller sees before blockage).
+//!
+//! A surface's `dynamic_pressure_ratio` scales its loads: the share of the free stream's
+//! dynamic pressure that reaches it past the airframe ahead (DATCOM's `q_v / q`; 1: all of it).
+//!
+//! The pod's potential flow in sideslip makes a couple of its own, Munk's (`munk_yaw_m3`): a
+//! body of revolution along x moving with `(u, v)` through still air carries the lateral
+//! momentum of its apparent mass, and the couple of that momentum, `N = -K rho u v` with `K =
+//! (k2 - k1) Vol` (Munk 1924; [`crate::estimate::body`]), yaws its nose away from the wind. It is
+//! a pure couple (no side force), so it acts the same about any point. It is a parameter rather
+//! than part of the `cn` table so that its estimated range can be sampled; the pod's pitching
+//! counterpart is in the `cm` table, where the aircraft files put their pod's instability in
+//! pitch.
 //!
 //! `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative velocity at the centre of
 //! mass (body axes: x forward, y starboard, z down). Angles outside a table are an error naming
@@ -62,6 +78,9 @@ pub struct Surface {
     /// downwash gradient `d epsilon / d alpha` of a tailplane (0: none). It acts on the
     /// free stream's angle only, not on the flow the body's rotation makes at the surface.
     pub wash_gradient: f64,
+    /// The dynamic pressure at the surface over what it would be with nothing ahead of it
+    /// (DATCOM's `q_v / q`, the airframe's wakes; 1: none), a factor on its loads.
+    pub dynamic_pressure_ratio: f64,
 }
 
 /// The propeller's slipstream, as the tail surfaces meet it (module docs).
@@ -76,6 +95,9 @@ pub struct Slipstream {
     /// The swirl's angular velocity, rad/s, positive right-handed about body x (a propeller
     /// turning clockwise seen from behind).
     pub swirl_rad_s: f64,
+    /// The axial airspeed reaching the disc, m/s: the free stream's there, less what the
+    /// airframe ahead blocks.
+    pub disc_airspeed_m_s: f64,
 }
 
 impl Slipstream {
@@ -106,19 +128,24 @@ impl Slipstream {
             disc_radius_m,
             induced_m_s,
             swirl_rad_s,
+            disc_airspeed_m_s,
         }
     }
 
     /// The velocity of the slipstream's air relative to the free stream at `point_m` (body
-    /// axes from the datum), m/s: the excess along -x from the disc's plane aft, and the swirl.
-    /// Zero ahead of the disc.
-    pub fn velocity_at(&self, point_m: [f64; 3]) -> [f64; 3] {
+    /// axes from the datum), m/s, where the free stream's axial speed at the disc is
+    /// `free_axial_m_s` (unblocked, the disc's own airspeed): the excess along -x from the disc's
+    /// plane aft, and the swirl. Zero ahead of the disc.
+    pub fn velocity_at(&self, point_m: [f64; 3], free_axial_m_s: f64) -> [f64; 3] {
         let behind = self.disc_centre_m[0] - point_m[0];
         if behind <= 0.0 {
             return [0.0; 3];
         }
         let r = self.disc_radius_m;
-        let excess = self.induced_m_s * (1.0 + behind / (behind * behind + r * r).sqrt());
+        // Without blockage the two speeds are one and the same number: the excess is the
+        // induced velocity's growth alone.
+        let blocked = free_axial_m_s - self.disc_airspeed_m_s;
+        let excess = self.induced_m_s * (1.0 + behind / (behind * behind + r * r).sqrt()) - blocked;
         let (dy, dz) = (
             point_m[1] - self.disc_centre_m[1],
             point_m[2] - self.disc_centre_m[2],
@@ -147,6 +174,9 @@ pub struct Airframe {
     pub side_force_centre_m: Option<[f64; 3]>,
     /// Body-axis coefficients: `cx, cy, cz, cl, cm, cn`.
     pub coefficients: [Table2; 6],
+    /// The pod's Munk couple `K = (k2 - k1) Vol`, m^3: a yawing moment `-K rho u v` (module
+    /// docs; 0: none).
+    pub munk_yaw_m3: f64,
     pub tailplane: Option<Surface>,
     pub fin: Option<Surface>,
 }
@@ -224,6 +254,10 @@ impl Table2 {
     }
 }
 
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -249,7 +283,9 @@ impl Airframe {
                     && sf.control_effectiveness.is_finite()
                     && (0.0..=1.0).contains(&sf.slipstream_fraction)
                     && sf.wash_gradient.is_finite()
-                    && sf.wash_gradient < 1.0;
+                    && sf.wash_gradient < 1.0
+                    && sf.dynamic_pressure_ratio.is_finite()
+                    && sf.dynamic_pressure_ratio > 0.0;
                 if !ok {
                     return Err(AirframeError::Surface(name));
                 }
@@ -262,6 +298,9 @@ impl Airframe {
         ];
         if refs.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
             return Err(AirframeError::Surface("reference area and lengths"));
+        }
+        if !(self.munk_yaw_m3.is_finite() && self.munk_yaw_m3 >= 0.0) {
+            return Err(AirframeError::Surface("the Munk couple (munk_yaw_m3)"));
         }
         let points = [Some(self.reference_point_m), self.side_force_centre_m];
         if points.iter().flatten().flatten().any(|x| !x.is_finite()) {
@@ -310,13 +349,15 @@ impl Airframe {
         let along = cross(arm_from(self.reference_point_m), [f[0], 0.0, f[2]]);
         let side = cross(arm_from(side_centre), [0.0, f[1], 0.0]);
         let transfer = [along[0] + side[0], along[1] + side[1], along[2] + side[2]];
+        // The pod's Munk couple: a pure couple, the same about any point.
+        let munk = -self.munk_yaw_m3 * density_kg_m3 * uvw[0] * uvw[1];
         let mut total = [
             f[0],
             f[1],
             f[2],
             m_ref[0] + transfer[0],
             m_ref[1] + transfer[1],
-            m_ref[2] + transfer[2],
+            m_ref[2] + transfer[2] + munk,
         ];
         for (surface, vertical, deflection) in [
             (&self.tailplane, false, deflections_rad[0]),
@@ -324,9 +365,13 @@ impl Airframe {
         ] {
             if let Some(sf) = surface {
                 let stream = match slipstream {
-                    Some(st) if sf.slipstream_fraction > 0.0 => st
-                        .velocity_at(sf.position_m)
-                        .map(|c| sf.slipstream_fraction * c),
+                    Some(st) if sf.slipstream_fraction > 0.0 => {
+                        // The free stream's axial speed at the disc, as the propeller takes it.
+                        let at_disc = cross(pqr, sub(st.disc_centre_m, cg_m));
+                        let free_axial = (uvw[0] + at_disc[0]).max(0.0);
+                        st.velocity_at(sf.position_m, free_axial)
+                            .map(|c| sf.slipstream_fraction * c)
+                    }
                     _ => [0.0; 3],
                 };
                 let flow = (uvw, pqr, density_kg_m3);
@@ -394,7 +439,7 @@ fn surface_loads(
         }
         + s.control_effectiveness * deflection_rad;
     let a = angle.clamp(-s.stall_alpha_rad, s.stall_alpha_rad);
-    let q = 0.5 * rho * v2 * s.area_m2;
+    let q = 0.5 * rho * v2 * s.area_m2 * s.dynamic_pressure_ratio;
     let (lift, drag) = (q * s.lift_slope_per_rad * a, q * s.cd0);
     // Lift opposes the normal flow (pushes the surface against it), drag along the flow.
     let fx = (lift * un - drag * ux) / v;
@@ -432,6 +477,7 @@ mod tests {
             control_effectiveness: 0.5,
             slipstream_fraction: 0.0,
             wash_gradient: 0.0,
+            dynamic_pressure_ratio: 1.0,
         };
         Airframe {
             reference_area_m2: 1.0,
@@ -440,6 +486,7 @@ mod tests {
             reference_point_m: [0.0; 3],
             side_force_centre_m: None,
             coefficients: std::array::from_fn(|_| zero_table()),
+            munk_yaw_m3: 0.0,
             tailplane: Some(surface([-3.0, 0.0, 0.0], 0.6)),
             fin: Some(surface([-3.0, 0.0, -0.5], 0.5)),
         }
@@ -533,8 +580,8 @@ mod tests {
     fn the_slipstream_carries_the_thrust_and_the_torque() {
         let (rho, v_disc, v0, q, r) = (1.2, 30.0, 5.0, 150.0, 0.75);
         let st = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (v_disc, v0), q, rho);
-        let behind = |d: f64, y: f64, z: f64| st.velocity_at([-1.3 - d, y, -0.05 + z]);
-        assert_eq!(st.velocity_at([-1.0, 0.0, 0.0]), [0.0; 3]);
+        let behind = |d: f64, y: f64, z: f64| st.velocity_at([-1.3 - d, y, -0.05 + z], v_disc);
+        assert_eq!(st.velocity_at([-1.0, 0.0, 0.0], v_disc), [0.0; 3]);
         assert!((behind(1e-9, 0.0, 0.0)[0] + v0).abs() < 1e-6);
         assert!((behind(1e4, 0.0, 0.0)[0] + 2.0 * v0).abs() < 1e-6);
         // Angular momentum through the disc: rho (V + v) r v_theta over its area (midpoint
@@ -553,9 +600,44 @@ mod tests {
         let mirror = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, -1.0, (v_disc, v0), q, rho);
         let (a, b) = (
             behind(1.5, 0.0, -0.45),
-            mirror.velocity_at([-2.8, 0.0, -0.5]),
+            mirror.velocity_at([-2.8, 0.0, -0.5], v_disc),
         );
         assert!((a[1] + b[1]).abs() < 1e-12 && a[0] == b[0], "{a:?} {b:?}");
+    }
+
+    /// With the propeller blocked (seed 000's total blockage) the jet leaves the disc at the
+    /// induced velocity alone: far behind, at twice it, which over a free stream faster than
+    /// that is a deficit; half blocked, its excess is the unblocked one less half the free
+    /// stream. Unblocked, the free stream's speed at the disc is the disc's own and the excess
+    /// is the induced growth, as before.
+    #[test]
+    fn a_blocked_propellers_jet_leaves_at_the_blocked_speed() {
+        let (u, v0, r) = (30.0, 8.0, 0.75);
+        let far = [-1e4, 0.0, -0.05];
+        for (k, excess) in [(0.0, 2.0 * v0), (0.5, 2.0 * v0 - 15.0), (1.0, 2.0 * v0 - u)] {
+            let v_disc = (1.0 - k) * u;
+            let st = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (v_disc, v0), 0.0, 1.2);
+            let got = -st.velocity_at(far, u)[0];
+            assert!((got - excess).abs() < 1e-3, "{k}: {got} against {excess}");
+        }
+        // Through the airframe's loads: a fin wholly in the slipstream of a totally blocked
+        // propeller meets the jet's speed, 2 v0 (the free stream's 30 m/s does not reach it).
+        let mut a = airframe();
+        a.tailplane = None;
+        a.fin.as_mut().unwrap().slipstream_fraction = 1.0;
+        a.fin.as_mut().unwrap().position_m = [-600.0, 0.0, -0.05];
+        let blocked = Slipstream::of_propeller([-1.3, 0.0, -0.05], r, 1.0, (0.0, v0), 0.0, 1.2);
+        let drag = |st: Option<&Slipstream>| {
+            a.loads([u, 0.0, 0.0], [0.0; 3], 1.2, [0.0; 3], [0.0; 2], st)
+                .unwrap()
+                .x_n
+        };
+        let ratio = drag(Some(&blocked)) / drag(None);
+        let expected = (2.0 * v0 / u).powi(2);
+        assert!(
+            (ratio - expected).abs() < 1e-3,
+            "{ratio} against {expected}"
+        );
     }
 
     /// A fin wholly in a developed slipstream meets sideslip and yaw rate at the slipstream's
@@ -622,6 +704,40 @@ mod tests {
             a.validate().is_err(),
             "a fin that sees no sideslip at all is refused"
         );
+    }
+
+    /// The pod's Munk couple: `N = -K rho u v`, a pure couple (the same about a displaced
+    /// c.g., no force), yawing the nose away from the wind (N < 0 for wind from starboard, where
+    /// the fin gives N > 0), and its `N_v` is `-K rho u`. A dynamic-pressure ratio scales a
+    /// surface's loads.
+    #[test]
+    fn the_pods_munk_couple_yaws_it_away_from_the_wind() {
+        let mut a = airframe();
+        a.tailplane = None;
+        a.fin = None;
+        a.munk_yaw_m3 = 0.6;
+        let (rho, u) = (1.2, 30.0);
+        let at = |a: &Airframe, v: f64, cg: [f64; 3]| {
+            a.loads([u, v, 1.0], [0.0; 3], rho, cg, [0.0; 2], None)
+                .unwrap()
+        };
+        let l = at(&a, 2.0, [0.0; 3]);
+        assert!((l.n_n_m + 0.6 * rho * u * 2.0).abs() < 1e-12, "{l:?}");
+        assert!(l.y_n.abs() < 1e-12 && l.l_n_m.abs() < 1e-12 && l.m_n_m.abs() < 1e-12);
+        assert_eq!(at(&a, 2.0, [0.3, 0.0, 0.1]), l);
+        let n_v = (at(&a, 1e-3, [0.0; 3]).n_n_m - at(&a, -1e-3, [0.0; 3]).n_n_m) / 2e-3;
+        assert!((n_v + 0.6 * rho * u).abs() < 1e-9, "{n_v}");
+        a.munk_yaw_m3 = -0.1;
+        assert!(a.validate().is_err());
+        // A fin at 0.8 of the free stream's dynamic pressure: 0.8 of its side force.
+        let mut f = airframe();
+        f.tailplane = None;
+        let y = |f: &Airframe| at(f, 2.0, [0.0; 3]).y_n;
+        let whole = y(&f);
+        f.fin.as_mut().unwrap().dynamic_pressure_ratio = 0.8;
+        assert!((y(&f) / whole - 0.8).abs() < 1e-12);
+        f.fin.as_mut().unwrap().dynamic_pressure_ratio = 0.0;
+        assert!(f.validate().is_err());
     }
 
     #[test]
