@@ -390,8 +390,7 @@ pub fn spectra(
             if i < sig.states.len() {
                 // Without a taper w' = 0, and so is F[w' x]: no transform is needed for it.
                 let fdw = if windowing.hann {
-                    let dwx: Vec<f64> = seg.iter().zip(&dw).map(|(a, b)| a * b).collect();
-                    ft(&dwx)
+                    ft(&seg.iter().zip(&dw).map(|(a, b)| a * b).collect::<Vec<_>>())
                 } else {
                     vec![C::new(0.0, 0.0); omegas.len()]
                 };
