@@ -387,7 +387,7 @@ def fit_equations(names, n_states, omegas, var_ft, der_ft, equations, model=None
         small_sample = rows / dof
         s2k = 0.5 * (resid[0::2] ** 2 + resid[1::2] ** 2) * small_sample  # (m, equations)
         s2 = np.repeat(s2k, 2, axis=0)  # each point's variance on both its rows
-        meat = np.einsum("re,rc,rd->ecd", s2, zs, zs)
+        meat = (zs.T[None, :, :] * s2.T[:, None, :]) @ zs  # sum_r s2_r z_r z_r', per equation
         cov = g_inv @ meat @ g_inv.T  # (equations, p, p)
         t = student_t_975(dof)
         var = np.diagonal(cov, axis1=1, axis2=2)
