@@ -508,6 +508,7 @@ mod numpy {
 
     /// One row's record written for numpy, its timings, and whether it agrees with cierva.
     pub(super) struct Side {
+        script: PathBuf,
         csv: PathBuf,
         points: usize,
         times_s: Vec<f64>,
@@ -590,6 +591,7 @@ mod numpy {
                 )
             });
             Ok(Side {
+                script: self.script.clone(),
                 csv,
                 points,
                 times_s: Vec::new(),
@@ -611,9 +613,8 @@ mod numpy {
             if self.failed.is_some() {
                 return;
             }
-            let script = cierva_harness::repo_root().join("scripts/ident_numpy.py");
             let mut c = python();
-            c.arg(script).arg(&self.csv).args([
+            c.arg(&self.script).arg(&self.csv).args([
                 "--points",
                 &self.points.to_string(),
                 "--repeat",
