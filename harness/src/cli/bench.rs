@@ -410,7 +410,9 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
     sink
 }
 
-/// Identification (the identification benchmark).
+/// Identification (the identification benchmark), each row side by side with the same
+/// estimator in numpy (`scripts/ident_numpy.py`; issue 32: "at least 10x a numpy implementation
+/// of the same estimator, measured side by side in one run").
 fn identification(out: &Rows, repeat: usize) -> f64 {
     let mut sink = 0.0;
     // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
@@ -420,6 +422,7 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
         refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
             .ok()
             .and_then(|r| r.linear_model);
+    let numpy = numpy::Numpy::find();
     if let Some(model) = truth {
         for (seconds, points) in [(120.0, 100), (240.0, 100), (120.0, 200)] {
             let settings = synth::Settings {
@@ -453,22 +456,221 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
             };
             let mut cfg = ident::ConfigSpec::longitudinal(&rec);
             cfg.frequencies.points = Some(points);
-            let t: Vec<f64> = (0..repeat)
-                .map(|_| {
+            let what = format!("5 states, {seconds} s at 100 Hz, {points} frequencies");
+            let mut side = numpy.as_ref().ok().map(|n| n.side(&rec, points));
+            // Rounds alternate between cierva and numpy, so that a slow spell of a shared
+            // machine falls on both; each side's median is over all its rounds.
+            let rounds = if side.is_some() { numpy::ROUNDS } else { 1 };
+            let per_round = repeat.div_ceil(rounds).max(3);
+            let mut t = Vec::new();
+            for _ in 0..rounds {
+                t.extend((0..per_round).map(|_| {
                     time(&mut || {
                         sink += ident::identify_record(&rec, &cfg)
                             .map_or(0.0, |r| r.derivatives.len() as f64)
                     })
-                })
-                .collect();
+                }));
+                if let Some(Ok(s)) = side.as_mut() {
+                    s.time(per_round);
+                }
+            }
+            let ours = median(t);
             row!(
                 out,
-                "| identification, 5 states, {seconds} s at 100 Hz, {points} frequencies | {:.1} ms | air data to c.g., chirp-z transforms once, least squares then 2 instrumental-variable passes |",
-                1e3 * median(t)
+                "| identification, {what} | {:.1} ms | air data to c.g., chirp-z transforms once, least squares then 2 instrumental-variable passes |",
+                1e3 * ours
             );
+            numpy::row(out, &what, &numpy, side, ours);
         }
     }
     sink + records_together(out, repeat)
+}
+
+/// The same estimator in numpy, run by `python3 scripts/ident_numpy.py` beside cierva's rows.
+mod numpy {
+    use super::{Rows, median};
+    use cierva_harness::ident::record;
+    use std::path::PathBuf;
+    use std::process::Command;
+
+    /// Rounds of each side per row.
+    pub(super) const ROUNDS: usize = 3;
+
+    /// What cierva's row must be, at least, times faster (issue 32).
+    const TARGET: f64 = 10.0;
+
+    /// python3 with numpy, found.
+    pub(super) struct Numpy {
+        script: PathBuf,
+        version: String,
+        dir: PathBuf,
+    }
+
+    /// One row's record written for numpy, its timings, and whether it agrees with cierva.
+    pub(super) struct Side {
+        script: PathBuf,
+        csv: PathBuf,
+        points: usize,
+        times_s: Vec<f64>,
+        agreement: Result<String, String>,
+        failed: Option<String>,
+    }
+
+    /// `python3` with one BLAS thread (cierva's estimator runs on one core).
+    fn python() -> Command {
+        let mut c = Command::new("python3");
+        for v in ["OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"] {
+            c.env(v, "1");
+        }
+        c
+    }
+
+    /// Runs the script; its standard output as JSON, or why not.
+    fn run(mut c: Command) -> Result<serde_json::Value, String> {
+        let o = c
+            .output()
+            .map_err(|e| format!("python3 did not run: {e}"))?;
+        if !o.status.success() && o.stdout.is_empty() {
+            return Err(String::from_utf8_lossy(&o.stderr).trim().replace('|', "/"));
+        }
+        serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable output ({e})"))
+    }
+
+    impl Numpy {
+        /// python3 and numpy, or the reason they cannot be used.
+        pub(super) fn find() -> Result<Self, String> {
+            let script = cierva_harness::repo_root().join("scripts/ident_numpy.py");
+            if !script.is_file() {
+                return Err(format!("{} is not there", script.display()));
+            }
+            let mut c = python();
+            c.args(["-c", "import numpy; print(numpy.__version__)"]);
+            let o = c
+                .output()
+                .map_err(|e| format!("python3 is not installed ({e})"))?;
+            if !o.status.success() {
+                return Err("numpy is not installed for python3 (pip install numpy)".into());
+            }
+            let dir =
+                std::env::temp_dir().join(format!("cierva-bench-numpy-{}", std::process::id()));
+            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            Ok(Self {
+                script,
+                version: String::from_utf8_lossy(&o.stdout).trim().to_string(),
+                dir,
+            })
+        }
+
+        /// The record written where numpy reads it (the same numbers: the CSV holds each
+        /// sample's shortest round-trip form), and its agreement with `cierva identify`.
+        pub(super) fn side(&self, rec: &record::Record, points: usize) -> Result<Side, String> {
+            let n = rec.data.first().map_or(0, Vec::len);
+            let dir = self.dir.join(format!("{n}-{points}"));
+            std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+            let csv = dir.join(format!("{}.csv", rec.meta.id));
+            record::write(&csv, &rec.meta, &rec.channels, &rec.data).map_err(|e| e.to_string())?;
+            let mut c = python();
+            c.arg(&self.script)
+                .arg(&csv)
+                .args([
+                    "--points",
+                    &points.to_string(),
+                    "--check",
+                    "--format",
+                    "json",
+                ])
+                .arg("--cierva")
+                .arg(std::env::current_exe().map_err(|e| e.to_string())?);
+            let agreement = run(c).map(|v| {
+                let f = |k: &str, f: &str| v[k][f].as_f64().unwrap_or(f64::NAN);
+                format!(
+                    "{} cierva identify on the same record: estimates' terms within {:.0e} of their equation, standard errors within {:.0e} relative (tolerance: the script's `--check`)",
+                    if v["ok"].as_bool() == Some(true) { "agrees with" } else { "DIFFERS from" },
+                    f("estimate_in_equation", "value"),
+                    f("standard_error_plain", "value"),
+                )
+            });
+            Ok(Side {
+                script: self.script.clone(),
+                csv,
+                points,
+                times_s: Vec::new(),
+                agreement,
+                failed: None,
+            })
+        }
+    }
+
+    impl Drop for Numpy {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.dir);
+        }
+    }
+
+    impl Side {
+        /// One round: `repeat` timings of the estimator on the record in memory.
+        pub(super) fn time(&mut self, repeat: usize) {
+            if self.failed.is_some() {
+                return;
+            }
+            let mut c = python();
+            c.arg(&self.script).arg(&self.csv).args([
+                "--points",
+                &self.points.to_string(),
+                "--repeat",
+                &repeat.to_string(),
+            ]);
+            match run(c) {
+                Ok(v) => match v["times_s"].as_array() {
+                    Some(t) => self.times_s.extend(t.iter().filter_map(|x| x.as_f64())),
+                    None => self.failed = Some("no timings in its output".into()),
+                },
+                Err(e) => self.failed = Some(e),
+            }
+        }
+    }
+
+    /// numpy's row beside cierva's: its median and the ratio, or why there is none.
+    pub(super) fn row(
+        out: &Rows,
+        what: &str,
+        numpy: &Result<Numpy, String>,
+        side: Option<Result<Side, String>>,
+        ours: f64,
+    ) {
+        let name = format!("numpy, the same estimator (scripts/ident_numpy.py), {what}");
+        let why_not = match (numpy, side) {
+            (Err(e), _) => e.clone(),
+            (Ok(_), None) => "not run".into(),
+            (Ok(_), Some(Err(e))) => format!("its record could not be written: {e}"),
+            (Ok(_), Some(Ok(s))) if s.failed.is_some() || s.times_s.is_empty() => {
+                format!(
+                    "scripts/ident_numpy.py failed: {}",
+                    s.failed.unwrap_or_default()
+                )
+            }
+            (Ok(n), Some(Ok(s))) => {
+                let theirs = median(s.times_s);
+                let ratio = theirs / ours;
+                row!(
+                    out,
+                    "| {name} | {:.1} ms | cierva {ratio:.2} times as fast in this run (target {TARGET:.0} times: {}); {} rounds alternating with cierva's row above, each side's median; both time the estimator on the record in memory, air data to c.g. to the standard errors (numpy's CSV parsing excluded); numpy {}, one BLAS thread; {} |",
+                    1e3 * theirs,
+                    if ratio >= TARGET { "met" } else { "not met" },
+                    ROUNDS,
+                    n.version,
+                    s.agreement.unwrap_or_else(|e| format!(
+                        "its agreement with cierva was not checked: {e}"
+                    ))
+                );
+                return;
+            }
+        };
+        row!(
+            out,
+            "| {name} | not measured | {why_not}: no side-by-side figure |"
+        );
+    }
 }
 
 /// Frequency responses (issue 32): four 120 s records at 100 Hz of seed 002's linear VPM M16

@@ -388,8 +388,12 @@ pub fn spectra(
             let wx: Vec<f64> = seg.iter().zip(&w).map(|(a, b)| a * b).collect();
             let fwx = ft(&wx);
             if i < sig.states.len() {
-                let dwx: Vec<f64> = seg.iter().zip(&dw).map(|(a, b)| a * b).collect();
-                let fdw = ft(&dwx);
+                // Without a taper w' = 0, and so is F[w' x]: no transform is needed for it.
+                let fdw = if windowing.hann {
+                    ft(&seg.iter().zip(&dw).map(|(a, b)| a * b).collect::<Vec<_>>())
+                } else {
+                    vec![C::new(0.0, 0.0); omegas.len()]
+                };
                 let (x0, xt) = (w[0] * seg[0], w[w.len() - 1] * seg[seg.len() - 1]);
                 der_ft[i].extend(
                     omegas

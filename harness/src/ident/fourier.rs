@@ -9,9 +9,10 @@
 //! recurrence, re-seeded every 256 samples against drift) and a chirp-z transform on rustfft
 //! for evenly spaced frequencies (Bluestein's algorithm), which the tests check against it.
 
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64 as C;
+use rustfft::{Fft, FftPlanner};
 use std::f64::consts::PI;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Trapezoidal finite Fourier integral of `x` (sampled at `dt`, from `t = 0`) at each `w`.
 pub fn transform(x: &[f64], dt: f64, omegas: &[f64]) -> Vec<C> {
@@ -60,8 +61,8 @@ pub struct ChirpZ {
     post: Vec<C>,
     /// `exp(-i w_k (n - 1) dt)`: the trapezoidal rule's end correction at each frequency.
     end: Vec<C>,
-    fwd: std::sync::Arc<dyn rustfft::Fft<f64>>,
-    inv: std::sync::Arc<dyn rustfft::Fft<f64>>,
+    fwd: Arc<dyn Fft<f64>>,
+    inv: Arc<dyn Fft<f64>>,
 }
 
 impl ChirpZ {
@@ -69,16 +70,18 @@ impl ChirpZ {
     pub fn new(n: usize, dt: f64, w0: f64, dw: f64, m: usize) -> Self {
         let l = (n + m).saturating_sub(1).max(1).next_power_of_two();
         let (th0, phi) = (w0 * dt, dw * dt);
-        let chirp = |k: usize| C::from_polar(1.0, -phi * (k as f64) * (k as f64) / 2.0);
-        let mut planner = FftPlanner::new();
-        let (fwd, inv) = (planner.plan_fft_forward(l), planner.plan_fft_inverse(l));
+        // `chirp(k)` for every k either side needs, computed once.
+        let chirp: Vec<C> = (0..m.max(n))
+            .map(|k| C::from_polar(1.0, -phi * (k as f64) * (k as f64) / 2.0))
+            .collect();
+        let (fwd, inv) = plans(l);
         let mut kernel = vec![C::new(0.0, 0.0); l];
         for k in 0..m.max(n) {
             if k < m {
-                kernel[k] = chirp(k).conj();
+                kernel[k] = chirp[k].conj();
             }
             if k > 0 && k < n {
-                kernel[l - k] = chirp(k).conj();
+                kernel[l - k] = chirp[k].conj();
             }
         }
         fwd.process(&mut kernel);
@@ -92,10 +95,10 @@ impl ChirpZ {
             w0,
             dw,
             pre: (0..n)
-                .map(|k| C::from_polar(1.0, -th0 * k as f64) * chirp(k))
+                .map(|k| C::from_polar(1.0, -th0 * k as f64) * chirp[k])
                 .collect(),
             kernel,
-            post: (0..m).map(chirp).collect(),
+            post: chirp[..m].to_vec(),
             end: (0..m)
                 .map(|k| C::from_polar(1.0, -(w0 + k as f64 * dw) * dt * last))
                 .collect(),
@@ -124,23 +127,53 @@ impl ChirpZ {
         if n == 0 || m == 0 {
             return vec![C::new(0.0, 0.0); m];
         }
-        let mut y = vec![C::new(0.0, 0.0); self.kernel.len()];
-        for (k, (a, &v)) in self.pre.iter().zip(x).enumerate() {
-            y[k] = a * v;
-        }
-        self.fwd.process(&mut y);
-        for (a, b) in y.iter_mut().zip(&self.kernel) {
-            *a *= b;
-        }
-        self.inv.process(&mut y);
-        (0..m)
-            .map(|k| {
-                let sum = y[k] * self.post[k];
-                let last = self.end[k] * x[n - 1];
-                (sum - (last + x[0]) * 0.5) * self.dt
-            })
-            .collect()
+        BUFFERS.with_borrow_mut(|(y, scratch)| {
+            // The signal, premultiplied, then zeros to the FFT's length.
+            y.clear();
+            y.extend(self.pre.iter().zip(x).map(|(a, &v)| a * v));
+            y.resize(self.kernel.len(), C::new(0.0, 0.0));
+            let need = self
+                .fwd
+                .get_inplace_scratch_len()
+                .max(self.inv.get_inplace_scratch_len());
+            if scratch.len() < need {
+                scratch.resize(need, C::new(0.0, 0.0));
+            }
+            self.fwd.process_with_scratch(y, &mut scratch[..need]);
+            for (a, b) in y.iter_mut().zip(&self.kernel) {
+                *a *= b;
+            }
+            self.inv.process_with_scratch(y, &mut scratch[..need]);
+            (0..m)
+                .map(|k| {
+                    let sum = y[k] * self.post[k];
+                    let last = self.end[k] * x[n - 1];
+                    (sum - (last + x[0]) * 0.5) * self.dt
+                })
+                .collect()
+        })
     }
+}
+
+thread_local! {
+    /// [`ChirpZ::apply`]'s work buffer and the FFTs' scratch, kept between calls on a thread
+    /// (a transform is two FFTs of a few ten thousand points; allocating and zeroing their
+    /// buffers each time was a tenth of an identification's instructions).
+    static BUFFERS: std::cell::RefCell<(Vec<C>, Vec<C>)> = const {
+        std::cell::RefCell::new((Vec::new(), Vec::new()))
+    };
+}
+
+/// The forward and inverse FFTs of length `l`, planned once per process: the planner keeps
+/// what it has planned (its twiddle factors were a twelfth of an identification's
+/// instructions when each transform planned its own).
+fn plans(l: usize) -> (Arc<dyn Fft<f64>>, Arc<dyn Fft<f64>>) {
+    static PLANNER: OnceLock<Mutex<FftPlanner<f64>>> = OnceLock::new();
+    let mut planner = PLANNER
+        .get_or_init(|| Mutex::new(FftPlanner::new()))
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    (planner.plan_fft_forward(l), planner.plan_fft_inverse(l))
 }
 
 /// A Hann taper over `n` samples and its time derivative (per second) at step `dt`.
