@@ -133,10 +133,25 @@ fn channel_names(teetering: bool) -> Vec<String> {
         .collect()
 }
 
-/// Derived seeds for the independent random sources of one test.
-fn seed_for(seed: u64, source: u64) -> u64 {
-    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        .wrapping_add(source.wrapping_mul(0xD1B5_4A32_D192_ED03))
+/// SplitMix64's output function (Steele, Lea and Flood 2014, *OOPSLA*): a bijective mix of
+/// 64 bits.
+fn mix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The seed of one random source (1 the pilot's drift, 2 the turbulence, 3 the instruments'
+/// noise) of the test seeded `seed`: the pair hashed ([`mix`]), so that the streams of
+/// different seeds and sources start at unrelated points of the generator's cycle.
+///
+/// [`Normal`]'s stream from a seed `s` is the mix of `s + k gamma`, `gamma` SplitMix64's
+/// increment. This was `seed gamma + source c`: consecutive seeds then started one step
+/// apart on the same stream, and seeds two apart gave the same normal deviates shifted by
+/// two, so flights seeded 1000 apart (the coverage trials') flew the same turbulence and
+/// noise a few seconds apart.
+pub fn seed_for(seed: u64, source: u64) -> u64 {
+    mix(mix(seed) ^ source.wrapping_add(1).wrapping_mul(0xD1B5_4A32_D192_ED03))
 }
 
 /// Flies the test with the full model and records it.
