@@ -1168,11 +1168,13 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["status"], "converged", "{stdout}");
     // A known discrepancy, guarded at its measured values: since the VPM M16's tail sits in the
-    // propeller's slipstream (its estimated share, `cierva estimate`), neither correction comes
-    // back within its 95 % bound (the hub factor 0.593 +- 0.016 against 0.55, 2.8 standard
-    // errors; the drag scale 1.113 +- 0.090 against 1.3, 2.1), where both did before; the
-    // retune's intervals are known to hold less often than stated (the coverage tests, 47 of 60).
-    // The hub factor's bound still excludes the uncorrected 1; the drag scale's no longer does.
+    // propeller's slipstream (its estimated share, `cierva estimate`), the hub factor does not
+    // come back within its 95 % bound (0.583 +- 0.012 against 0.55, 2.6 standard errors), where
+    // it did before; the drag scale does (1.178 +- 0.073 against 1.3, 1.7). Measured with the
+    // flights' noise realisations of synth-flight's seed fix (the model unchanged); with the old
+    // realisations the hub factor was 0.593 +- 0.016 (2.8) and the drag scale 1.113 +- 0.090
+    // (2.1, outside too). The retune's intervals are known to hold less often than stated (the
+    // coverage tests). Both bounds exclude the uncorrected 1 (the drag scale's did not before).
     let (truth_hub, truth_drag) = (truth[0].1, truth[1].1);
     let got = |name: &str| {
         (
@@ -1182,17 +1184,17 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
     };
     let ((hub, hub_half), (drag, drag_half)) = (got("hub_aoa_factor"), got("profile_drag_scale"));
     assert!(
-        (hub - 0.5928).abs() < 2e-3,
+        (hub - 0.5826).abs() < 2e-3,
         "hub_aoa_factor: retuned {hub} +- {hub_half}"
     );
     assert!(
-        (drag - 1.113).abs() < 1e-2,
+        (drag - 1.178).abs() < 1e-2,
         "profile_drag_scale: retuned {drag} +- {drag_half}"
     );
-    assert!((hub - truth_hub).abs() > hub_half && (drag - truth_drag).abs() > drag_half);
+    assert!((hub - truth_hub).abs() > hub_half && (drag - truth_drag).abs() < drag_half);
     assert!(
-        (1.0 - hub).abs() > hub_half,
-        "the uncorrected hub factor is inside {hub} +- {hub_half}"
+        (1.0 - hub).abs() > hub_half && (1.0 - drag).abs() > drag_half,
+        "an uncorrected value is inside {hub} +- {hub_half}, {drag} +- {drag_half}"
     );
     // The corrections file loads, and the report names what was fitted.
     let loaded = cierva_harness::corrections::load(&output).unwrap();
