@@ -251,32 +251,19 @@ fn retune_by_responses_reports_j_and_bode_figures_per_response() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// How far the README example's hub factor comes back from its truth, in standard errors, when
-/// last measured (2026-11-26): 2.16 (0.5957 +- 0.0211 against 0.55), since the VPM M16's tail
-/// and pod are estimated by published methods (`cierva estimate`) and the model's response is
-/// taken as flown with resolution-biased points left out. The issue asks for 2: not met, a
-/// known discrepancy guarded here (docs/validation.md, "Retuning the corrections"), to the
-/// measured value's third figure. With synth-flight's random sources seeded apart (branch
-/// `seed-apart`) it came back +0.76.
-const README_HUB_FACTOR_KNOWN_ERROR_IN_SE: f64 = 2.17;
-
 /// The README example's known answer (issue 32's "done when": each correction back within 2
-/// standard errors, and the uncorrected value outside that). The profile drag comes back
-/// within 2 (1.340 +- 0.108 against 1.3); the hub factor does not, at 2.16
-/// ([`README_HUB_FACTOR_KNOWN_ERROR_IN_SE`]). Slow for the cold `cargo test`; `.ci/run` runs
-/// it with the other ignored tests.
+/// standard errors, and the uncorrected value outside that). Measured 2026-11-26: the hub factor
+/// +0.76 standard errors (0.5649 +- 0.0197 against 0.55), the profile drag +0.64 (1.432 +- 0.205
+/// against 1.3). Before synth-flight's random sources were seeded apart the hub factor came back
+/// 2.0-2.8 standard errors off. Slow for the cold `cargo test`; `.ci/run` runs it with the other
+/// ignored tests.
 #[test]
 #[ignore = "slow known answer (synthetic flights and a retune): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn retune_by_responses_recovers_the_readme_examples_corrections() {
     let (v, dir) = readme_example("readme");
-    for (name, truth, neutral, within) in [
-        (
-            "hub_aoa_factor",
-            0.55,
-            1.0,
-            README_HUB_FACTOR_KNOWN_ERROR_IN_SE,
-        ),
-        ("profile_drag_scale", 1.3, 1.0, 2.0),
+    for (name, truth, neutral) in [
+        ("hub_aoa_factor", 0.55, 1.0),
+        ("profile_drag_scale", 1.3, 1.0),
     ] {
         let got = v["corrections"][name].as_f64().unwrap();
         let se = v["standard_errors"][name].as_f64().unwrap();
@@ -285,8 +272,8 @@ fn retune_by_responses_recovers_the_readme_examples_corrections() {
             (got - truth) / se
         );
         assert!(
-            (got - truth).abs() <= within * se,
-            "{name}: retuned {got} +- {se}, truth {truth}, more than {within} standard errors"
+            (got - truth).abs() <= 2.0 * se,
+            "{name}: retuned {got} +- {se}, truth {truth}, more than 2 standard errors"
         );
         assert!(
             (got - neutral).abs() > 2.0 * se,

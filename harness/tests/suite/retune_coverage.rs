@@ -217,19 +217,16 @@ fn coverage(outcomes: &[Outcome]) -> (Vec<(String, usize, usize)>, String) {
     (per, table)
 }
 
-/// Intervals of the 60 that held the truth when last measured (2026-11-26), per method: the
-/// issue's band (54 to 59) is not met by either, a known discrepancy (docs/validation.md,
-/// "Retuning the corrections"). Part of the shortfall is the trials' own: synth-flight draws
-/// every flight's turbulence and noise from one stream, seeds 1000 apart a few seconds apart,
-/// so the trials' misses are not independent; with the sources seeded apart (branch
-/// `seed-apart`, not yet merged) the responses held 56 of 60 on the same aircraft. The trials
-/// are seeded, so the count is the same on every run of the same code: the tests fail when it
-/// falls, and say so when it reaches the band.
-const KNOWN_HELD: [(&str, usize); 2] = [("responses", 49), ("derivatives", 24)];
+/// Intervals of the 60 that held the truth when last measured (2026-11-26) for a method that
+/// does not meet the issue's band: `--match derivatives`, 18 (38 before issue 33's tail
+/// estimates and synth-flight's random sources seeded apart; docs/validation.md, "Retuning the
+/// corrections"). The trials are seeded, so the count is the same on every run of the same
+/// code: the test fails when it falls, and says so when it reaches the band.
+const KNOWN_HELD: [(&str, usize); 1] = [("derivatives", 18)];
 
 /// Runs the trials with `method` and checks how many of its 95 % intervals hold the truth
-/// (each parameter's count is printed): at least as many as [`KNOWN_HELD`] (a known
-/// discrepancy guarded), and whether that is inside [`COVERAGE_BAND`], the issue's target.
+/// (each parameter's count is printed): inside [`COVERAGE_BAND`], the issue's target, or for a
+/// method in [`KNOWN_HELD`], at least as many as measured there (a known discrepancy guarded).
 fn assert_coverage(method: &str) {
     let (outcomes, passed_over) = trials(method);
     for p in &passed_over {
@@ -258,25 +255,31 @@ fn assert_coverage(method: &str) {
         "{method}: {held} of {n} intervals ({rate:.3}) hold the truth: {} the issue's band {COVERAGE_BAND:?}",
         if in_band { "inside" } else { "outside" }
     );
-    let known = KNOWN_HELD.iter().find(|k| k.0 == method).map_or(0, |k| k.1);
-    assert!(
-        held >= known,
-        "{method}: {held} of {n} intervals ({rate:.3}) hold the truth, fewer than the {known} last measured:\n{table}"
-    );
+    match KNOWN_HELD.iter().find(|k| k.0 == method) {
+        Some(&(_, known)) => assert!(
+            held >= known,
+            "{method}: {held} of {n} intervals ({rate:.3}) hold the truth, fewer than the {known} last measured:\n{table}"
+        ),
+        None => assert!(
+            in_band,
+            "{method}: {held} of {n} intervals ({rate:.3}) hold the truth, outside the issue's band {COVERAGE_BAND:?}:\n{table}"
+        ),
+    }
 }
 
-/// The default method's (frequency responses) 95 % intervals against the truth. The issue's
-/// target, 90-99 %, is not met: 49 of 60 (0.82) on 2026-11-26, a known discrepancy the test
-/// guards ([`KNOWN_HELD`]).
+/// The default method's (frequency responses) 95 % intervals against the truth: inside the
+/// issue's band, 90-99 % ([`COVERAGE_BAND`]). Measured 2026-11-26: 56 of 60 (0.93; the hub
+/// factor 27 of 30, the profile drag 29 of 30), the errors' mean +0.75 and spread 0.78
+/// standard errors.
 #[test]
 #[ignore = "slow coverage test (30 trials of one to three synthetic flights and a retune; about 3 minutes in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
-fn retune_intervals_against_the_truth_no_fewer_than_known() {
+fn retune_intervals_hold_the_truth_at_their_stated_rate() {
     assert_coverage("responses");
 }
 
-/// The same trials for `--match derivatives` (the documented example's derivatives): 24 of 60
-/// (0.40) at 3 % sweeps (38 before the VPM M16's tail estimates), guarded the same way. The issue keeps this option only if it passes
-/// the same coverage; it is kept while the default does not pass either, to compare.
+/// The same trials for `--match derivatives` (the documented example's derivatives): 18 of 60
+/// (0.30) at 3 % sweeps, guarded at its count ([`KNOWN_HELD`]). The issue keeps this option
+/// only if it passes the same coverage: it does not, and is to go.
 #[test]
 #[ignore = "slow coverage test (the same 30 trials, about 90 s in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn retune_by_derivatives_intervals_against_the_truth_no_fewer_than_known() {
