@@ -1139,31 +1139,18 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
             });
         }
     });
-    let mut args = vec!["retune", "aircraft/vpm-m16.yaml", "--records"];
-    let paths: Vec<String> = flights
-        .iter()
-        .map(|(_, p)| p.to_str().unwrap().to_string())
-        .collect();
-    args.extend(paths.iter().map(String::as_str));
-    let output = dir.join("retuned.yaml");
-    let report = dir.join("retuned.md");
-    args.extend([
-        "--fit",
-        "hub_aoa_factor",
-        "profile_drag_scale",
-        "--match",
-        "derivatives",
-        "--derivatives",
-        "X_u,X_w,Z_u,Z_w,Q_u,Q_w,Q_Omega",
-        "--no-validate",
-        "--format",
-        "json",
-        "--output",
-        output.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
-    let (code, stdout, stderr) = cierva(&args);
+    let paths: Vec<&std::path::Path> = flights.iter().map(|(_, p)| p.as_path()).collect();
+    let (output, report) = (dir.join("retuned.yaml"), dir.join("retuned.md"));
+    let (code, stdout, stderr) = super::common::retune_hub_and_drag(
+        &dir,
+        &paths,
+        &[
+            "--match",
+            "derivatives",
+            "--derivatives",
+            "X_u,X_w,Z_u,Z_w,Q_u,Q_w,Q_Omega",
+        ],
+    );
     assert_eq!(code, 0, "{stdout}{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["status"], "converged", "{stdout}");
@@ -1244,7 +1231,7 @@ fn retune_recovers_corrections_the_test_kept_to_itself() {
         "retune",
         "aircraft/vpm-m16.yaml",
         "--records",
-        &paths[0],
+        paths[0].to_str().unwrap(),
         "--fit",
         "hub_aoa_factor",
         "--bounds",

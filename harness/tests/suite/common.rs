@@ -129,3 +129,26 @@ pub fn synth_stick_sweep(
         output.to_str().unwrap(),
     ])
 }
+
+/// `cierva retune` of the uncorrected VPM M16 from `records` for the hub factor and the
+/// profile-drag scale (the known-answer tests' pair), `extra` arguments added, writing
+/// `retuned.yaml` and `retuned.md` into `dir`, without revalidating, as JSON: the exit code,
+/// stdout and stderr.
+pub fn retune_hub_and_drag(dir: &Path, records: &[&Path], extra: &[&str]) -> (i32, String, String) {
+    let (output, report) = (dir.join("retuned.yaml"), dir.join("retuned.md"));
+    let paths: Vec<&str> = records.iter().map(|p| p.to_str().unwrap()).collect();
+    let mut args = vec!["retune", "aircraft/vpm-m16.yaml", "--records"];
+    args.extend(paths);
+    args.extend(["--fit", "hub_aoa_factor", "profile_drag_scale"]);
+    args.extend(extra);
+    args.extend([
+        "--no-validate",
+        "--format",
+        "json",
+        "--output",
+        output.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    cierva(&args)
+}

@@ -176,23 +176,7 @@ fn readme_example(tag: &str) -> (serde_json::Value, PathBuf) {
     let (code, stdout, stderr) =
         super::common::synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
     assert_eq!(code, 0, "{stdout}{stderr}");
-    let (output, report) = (dir.join("retuned.yaml"), dir.join("retuned.md"));
-    let (code, stdout, stderr) = cierva(&[
-        "retune",
-        "aircraft/vpm-m16.yaml",
-        "--records",
-        record.to_str().unwrap(),
-        "--fit",
-        "hub_aoa_factor",
-        "profile_drag_scale",
-        "--no-validate",
-        "--format",
-        "json",
-        "--output",
-        output.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let (code, stdout, stderr) = super::common::retune_hub_and_drag(&dir, &[&record], &[]);
     assert_eq!(code, 0, "{stdout}{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["status"], "converged", "{stdout}");

@@ -7,8 +7,6 @@
 //! sweep at one to three airspeeds, and retunes the uncorrected aircraft from those records.
 //! Every draw is seeded from the trial's number.
 
-use super::common::cierva;
-
 /// SplitMix64 (Steele, Lea and Flood 2014): the trials' draws.
 struct SplitMix(u64);
 
@@ -96,26 +94,13 @@ fn trial(n: u64, method: &str, dir: &std::path::Path) -> Result<Outcome, String>
         }
         records.push(out.to_str().unwrap().to_string());
     }
-    let mut args = vec!["retune", "aircraft/vpm-m16.yaml", "--records"];
-    args.extend(records.iter().map(String::as_str));
-    args.extend(["--fit"]);
-    args.extend(HIDDEN.iter().map(|h| h.0));
-    let (output, report) = (dir.join("retuned.yaml"), dir.join("retuned.md"));
-    args.extend(["--match", method]);
+    let mut extra = vec!["--match", method];
     if method == "derivatives" {
         // The documented example's derivatives (docs/validation.md): forces and rotor torque.
-        args.extend(["--derivatives", "X_u,X_w,Z_u,Z_w,Q_u,Q_w,Q_Omega"]);
+        extra.extend(["--derivatives", "X_u,X_w,Z_u,Z_w,Q_u,Q_w,Q_Omega"]);
     }
-    args.extend([
-        "--no-validate",
-        "--format",
-        "json",
-        "--output",
-        output.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
-    let (code, stdout, stderr) = cierva(&args);
+    let paths: Vec<&std::path::Path> = records.iter().map(std::path::Path::new).collect();
+    let (code, stdout, stderr) = super::common::retune_hub_and_drag(&dir, &paths, &extra);
     assert_eq!(code, 0, "trial {n}: {stdout}{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     // A fit that did not converge states no interval: its parameters count as not held.
