@@ -24,9 +24,6 @@
 //!     standard_error: 0.01
 //!     bounds: {lower: -0.12, upper: -0.08, enforce: hard}  # or enforce: {soft: {weight: 10}}
 //!     source: "where the number comes from"
-//!   - records: [../flight-refs/lon-70mph.csv, ../flight-refs/lat-70mph.csv]  # identified per
-//!     derivatives: [X_u, Z_w]          # condition, as `cierva retune` does; default: primary
-//!     setup: coupled                   # default: by the controls the records excite
 //! predict: [...]                         # as targets: not fitted, reported before and after
 //! options: {max_iterations: 20, tolerance: 1.0e-6, difference_step: 1.0e-3, trust_region: 0.5,
 //!           broyden: true,             # false: difference the Jacobian every iteration
@@ -133,13 +130,6 @@ struct TargetSpec {
     bounds: Option<BoundsSpec>,
     #[serde(default)]
     source: Option<String>,
-    // From flight records.
-    #[serde(default)]
-    records: Option<Vec<String>>,
-    #[serde(default)]
-    derivatives: Option<Vec<String>>,
-    #[serde(default)]
-    setup: Option<crate::ident::Setup>,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
@@ -475,85 +465,6 @@ enum SubjectKey {
     Rotor(String, cierva_model::components::rotor::InflowModel),
 }
 
-/// Fit targets from identified records: each group's derivatives among `names` (default: the
-/// primary ones, [`crate::ident::PRIMARY`]) at the group's condition, the estimate as the
-/// reference and its standard error as the weight. A derivative without a finite, positive
-/// standard error is left out.
-pub fn record_targets(
-    groups: &[crate::ident::Group],
-    names: Option<&[String]>,
-) -> Vec<fit::Target> {
-    let wanted = |n: &str| match names {
-        Some(list) => list.iter().any(|w| w == n),
-        None => crate::ident::PRIMARY.contains(&n),
-    };
-    groups
-        .iter()
-        .flat_map(|g| {
-            g.identification
-                .derivatives
-                .iter()
-                .filter(|d| {
-                    wanted(&d.name)
-                        && d.estimate.is_finite()
-                        && d.standard_error.is_finite()
-                        && d.standard_error > 0.0
-                })
-                .map(|d| fit::Target {
-                    condition: Condition::Flight(g.request, g.loading),
-                    measure: Measure::Derivative(d.name.clone()),
-                    reference: d.estimate,
-                    standard_error: d.standard_error,
-                    bounds: None,
-                })
-        })
-        .collect()
-}
-
-/// Targets from flight records (`records:`, with optional `derivatives:` and `setup:`),
-/// identified as `cierva retune` identifies them.
-fn from_records(
-    dir: &Path,
-    t: &TargetSpec,
-    paths: &[String],
-    subject: &SubjectKey,
-) -> Result<(Vec<fit::Target>, Vec<Origin>), String> {
-    if !matches!(subject, SubjectKey::Aircraft(..)) {
-        return Err("flight records are targets for an aircraft, not a rotor alone".into());
-    }
-    let mut records = Vec::new();
-    for p in paths {
-        records.push(
-            crate::ident::record::load(&dir.join(p))
-                .map_err(|e| format!("the record {p}: {}", e.render()))?,
-        );
-    }
-    let groups = crate::ident::identify_groups(&records, t.setup)?;
-    let targets = record_targets(&groups, t.derivatives.as_deref());
-    if targets.is_empty() {
-        return Err("the records identified none of the derivatives asked for".into());
-    }
-    let origins = targets
-        .iter()
-        .map(|x| {
-            let g = groups
-                .iter()
-                .find(|g| Condition::Flight(g.request, g.loading) == x.condition);
-            Origin {
-                label: format!("{} at {}", x.measure.name(), x.condition.label()),
-                reason: g.map_or(String::new(), |g| {
-                    format!(
-                        "identified from {} ({:?} set-up, frequency-domain equation error)",
-                        g.records.join(" + "),
-                        g.setup
-                    )
-                }),
-            }
-        })
-        .collect();
-    Ok((targets, origins))
-}
-
 fn targets_of(
     dir: &Path,
     t: &TargetSpec,
@@ -565,15 +476,6 @@ fn targets_of(
         || t.reference.is_some()
         || t.standard_error.is_some()
         || t.bounds.is_some();
-    if let Some(paths) = &t.records {
-        if written || t.case.is_some() {
-            return Err("`records` targets take `derivatives` and `setup`, not a case or a written-out target".into());
-        }
-        return from_records(dir, t, paths, subject);
-    }
-    if t.derivatives.is_some() || t.setup.is_some() {
-        return Err("`derivatives` and `setup` go with `records`".into());
-    }
     match (&t.case, written) {
         (Some(c), false) => from_case(dir, c, t, subject),
         (None, true) => {

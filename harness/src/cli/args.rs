@@ -427,8 +427,9 @@ pub(crate) struct SynthFlightArgs {
 pub(crate) struct RetuneArgs {
     /// The aircraft file whose corrections to retune.
     pub(crate) aircraft: PathBuf,
-    /// Flight records (CSV with sidecars): records at one condition are identified together,
-    /// records at several conditions fit one set of corrections across them.
+    /// Flight records (CSV with sidecars): records at one condition give its frequency
+    /// responses together, records at several conditions fit one set of corrections across
+    /// them.
     #[arg(long, required = true, num_args = 1..)]
     pub(crate) records: Vec<PathBuf>,
     /// The corrections (or estimated physical parameters) to fit.
@@ -438,32 +439,18 @@ pub(crate) struct RetuneArgs {
     /// plausible range from the aircraft file).
     #[arg(long, num_args = 1..)]
     pub(crate) bounds: Vec<String>,
-    /// What to match: `responses`, the records' frequency responses (coherent frequencies,
-    /// each weighted by its random error) by the model's from its linearisation with the
-    /// rotor's flapping states; or `derivatives`, the derivatives identified from the records
-    /// by the model's quasi-static ones.
-    #[arg(long = "match", value_enum, default_value_t = cierva_harness::retune::Match::Responses)]
-    pub(crate) method: cierva_harness::retune::Match,
-    /// The responses' states, comma-separated, of u,v,w,p,q,r,Omega (--match responses;
-    /// default: each excited control's own axis's, u,w,q,Omega or v,p,r).
+    /// The responses' states, comma-separated, of u,v,w,p,q,r,Omega (default: each excited
+    /// control's own axis's, u,w,q,Omega or v,p,r).
     #[arg(long, value_delimiter = ',')]
     pub(crate) outputs: Vec<String>,
-    /// The responses' window lengths, s (--match responses; default: an eighth, a quarter and
-    /// a half of the shortest record).
+    /// The responses' window lengths, s (default: an eighth, a quarter and a half of the
+    /// shortest record).
     #[arg(long, num_args = 1..)]
     pub(crate) windows_s: Vec<f64>,
-    /// The responses' band, Hz: LOW HIGH (--match responses; default: five periods of the
-    /// longest window to 2 Hz, identification's band's top, below the rotor's harmonics).
+    /// The responses' band, Hz: LOW HIGH (default: five periods of the longest window to 2 Hz,
+    /// identification's band's top, below the rotor's harmonics).
     #[arg(long, num_args = 2)]
     pub(crate) band_hz: Vec<f64>,
-    /// The identified derivatives to fit to, comma-separated (--match derivatives; default:
-    /// the primary ones).
-    #[arg(long, value_delimiter = ',')]
-    pub(crate) derivatives: Vec<String>,
-    /// The identification set-up (--match derivatives; default: by the controls the records
-    /// excite).
-    #[arg(long, value_enum)]
-    pub(crate) setup: Option<cierva_harness::ident::Setup>,
     /// Records not used in the fit, predicted before and after.
     #[arg(long, num_args = 1..)]
     pub(crate) predict: Vec<PathBuf>,

@@ -30,15 +30,8 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
-    let how = match how(&a) {
-        Ok(h) => h,
-        Err(e) => return fail(e),
-    };
-    let busy = spinner(match how.method {
-        retune::Match::Responses => "estimating the responses and fitting",
-        retune::Match::Derivatives => "identifying and fitting",
-    });
-    let outcome = retune::retune(&file, &records, &requests, &how);
+    let busy = spinner("estimating the responses and fitting");
+    let outcome = retune::retune(&file, &records, &requests, &how(&a));
     busy.finish_and_clear();
     let r = match outcome {
         Ok(r) => r,
@@ -102,7 +95,6 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
                 })
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
             "status": r.result.status.name(),
-            "match": r.method.name(),
             "model": r.model,
             "reduced_chi_square": finite(r.reduced_chi_square),
             "iterations": r.result.iterations,
@@ -133,16 +125,12 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         Err(e) => return fail(format!("the fitted corrections: {e}")),
     };
     let modes = retune::modes(&file, &after, &r.conditions);
-    let comparisons = if r.responses.is_empty() {
-        Vec::new()
-    } else {
-        let busy = spinner("the responses before and after");
-        let c = retune::responses::compare(&file.aircraft, &after.aircraft, &r.responses);
-        busy.finish_and_clear();
-        match c {
-            Ok(c) => c,
-            Err(e) => return fail(format!("the responses before and after: {e}")),
-        }
+    let busy = spinner("the responses before and after");
+    let comparisons = retune::responses::compare(&file.aircraft, &after.aircraft, &r.responses);
+    busy.finish_and_clear();
+    let comparisons = match comparisons {
+        Ok(c) => c,
+        Err(e) => return fail(format!("the responses before and after: {e}")),
     };
     let mut predictions = Vec::new();
     for p in &a.predict {
@@ -201,7 +189,6 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
     if let Err(e) = write(&report, &md) {
         return fail(e);
     }
-    let rows = retune::rows(&r);
     let values: serde_json::Map<String, serde_json::Value> = r
         .result
         .parameters
@@ -221,10 +208,9 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
                 .zip(&r.curvature_standard_errors)
                 .map(|(k, s)| (k.name().to_string(), finite(*s)))
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
-            "match": r.method.name(),
             "model": r.model,
             "reduced_chi_square": finite(r.reduced_chi_square),
-            "targets": if r.method == retune::Match::Derivatives { serde_json::json!(rows) } else { serde_json::json!(r.problem.targets.len()) },
+            "targets": r.problem.targets.len(),
             "responses": comparisons.iter().map(|c| serde_json::json!({
                 "condition": c.condition,
                 "input": c.input,
@@ -263,20 +249,11 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
                 );
             }
             println!(
-                "matched {} ({} targets) with {}; reduced chi-square {}",
-                r.method.name(),
+                "matched the records' frequency responses ({} targets) with {}; reduced chi-square {}",
                 r.problem.targets.len(),
                 r.model,
                 text::sig(r.reduced_chi_square, 3)
             );
-            if r.method == retune::Match::Derivatives {
-                println!(
-                    "derivatives inside the identified 95 % bounds: {} of {} before, {} after",
-                    rows.iter().filter(|x| x.inside_before).count(),
-                    rows.len(),
-                    rows.iter().filter(|x| x.inside_after).count()
-                );
-            }
             for c in &comparisons {
                 let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
                 println!(
@@ -337,38 +314,15 @@ fn finite(v: f64) -> serde_json::Value {
     serde_json::json!(v.is_finite().then_some(v))
 }
 
-/// The retune's method and settings from the arguments; an estimator's setting with the
-/// derivatives' method (or the reverse) is refused by name.
-fn how(a: &RetuneArgs) -> Result<retune::How, String> {
-    let responses_only = [
-        ("--outputs", !a.outputs.is_empty()),
-        ("--windows-s", !a.windows_s.is_empty()),
-        ("--band-hz", !a.band_hz.is_empty()),
-    ];
-    let derivatives_only = [
-        ("--derivatives", !a.derivatives.is_empty()),
-        ("--setup", a.setup.is_some()),
-    ];
-    let (wrong, other): (&[(&str, bool)], &str) = match a.method {
-        retune::Match::Responses => (&derivatives_only, "derivatives"),
-        retune::Match::Derivatives => (&responses_only, "responses"),
-    };
-    if let Some((flag, _)) = wrong.iter().find(|(_, given)| *given) {
-        return Err(format!(
-            "{flag} applies to --match {other}, not --match {}",
-            a.method.name()
-        ));
-    }
-    Ok(retune::How {
-        method: a.method,
-        derivatives: (!a.derivatives.is_empty()).then(|| a.derivatives.clone()),
-        setup: a.setup,
+/// The responses' estimation settings from the arguments.
+fn how(a: &RetuneArgs) -> retune::How {
+    retune::How {
         responses: retune::responses::Settings {
             windows_s: (!a.windows_s.is_empty()).then(|| a.windows_s.clone()),
             band_hz: (a.band_hz.len() == 2).then(|| [a.band_hz[0], a.band_hz[1]]),
             outputs: (!a.outputs.is_empty()).then(|| a.outputs.clone()),
         },
-    })
+    }
 }
 
 /// Writes each response's Bode figure (the records' response, the model's before and after,

@@ -437,48 +437,6 @@ pub fn setup_for(records: &[&Record]) -> Setup {
     }
 }
 
-/// The records of one flight condition and what they identified.
-#[derive(Debug, Clone, Serialize)]
-pub struct Group {
-    pub request: crate::TrimRequest,
-    pub loading: crate::Loading,
-    /// The records' ids.
-    pub records: Vec<String>,
-    pub setup: Setup,
-    pub identification: Identification,
-}
-
-/// Groups records by flight condition (their sidecars' `condition`, in the order they come)
-/// and identifies each group's records together, with `setup` or the one their inputs call for
-/// ([`setup_for`]).
-pub fn identify_groups(records: &[Record], setup: Option<Setup>) -> Result<Vec<Group>, String> {
-    type Key = (crate::TrimRequest, crate::Loading);
-    let mut keyed: Vec<(Key, Vec<&Record>)> = Vec::new();
-    for r in records {
-        let c = record_condition(r)?;
-        match keyed.iter_mut().find(|(k, _)| *k == c) {
-            Some((_, v)) => v.push(r),
-            None => keyed.push((c, vec![r])),
-        }
-    }
-    keyed
-        .into_iter()
-        .map(|((request, loading), recs)| {
-            let setup = setup.unwrap_or_else(|| setup_for(&recs));
-            let config = ConfigSpec::for_setup(setup, recs[0])?;
-            let owned: Vec<Record> = recs.iter().map(|r| (*r).clone()).collect();
-            let identification = identify_records(&owned, &config)?;
-            Ok(Group {
-                request,
-                loading,
-                records: recs.iter().map(|r| r.meta.id.clone()).collect(),
-                setup,
-                identification,
-            })
-        })
-        .collect()
-}
-
 /// A model (an aircraft's linearisation) cut to a set-up's states and controls, in the
 /// set-up's order, for flying a record's measured controls ([`predict`]).
 pub fn model_for(model: &LinearModel, config: &ConfigSpec) -> Result<LinearModel, String> {

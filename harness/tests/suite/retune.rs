@@ -142,16 +142,19 @@ fn retune_refuses_bad_records_with_located_errors() {
         stderr.contains(blind.to_str().unwrap()) && stderr.contains("omega_rotor_rad_s"),
         "{stderr}"
     );
-    // An output that is not a measured state, and an estimator's setting with the other method.
+    // An output that is not a measured state.
     let (code, _, stderr) = retune(&dir, &[&a], &["--outputs", "theta"]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("output `theta`"), "{stderr}");
-    let (code, _, stderr) = retune(&dir, &[&a], &["--derivatives", "X_u"]);
-    assert_eq!(code, 2, "{stderr}");
-    assert!(
-        stderr.contains("--derivatives applies to --match derivatives"),
-        "{stderr}"
-    );
+    // A bound the fit does not name, and a malformed one.
+    for (bounds, says) in [
+        ("propeller_blockage=0:1", "which --fit does not"),
+        ("hub_aoa_factor=0", "write NAME=LO:HI"),
+    ] {
+        let (code, _, stderr) = retune(&dir, &[&a], &["--bounds", bounds]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(says), "{stderr}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -186,11 +189,11 @@ fn readme_example(tag: &str) -> (serde_json::Value, PathBuf) {
 /// The README example's retune by responses: the model named (the flapping linearisation), J
 /// per response before and after (lower after for each), and the report's J table linking a
 /// Bode figure per response, written beside it on a log frequency axis with the records'
-/// response, the model before and after, and the coherence.
+/// response, the model before and after, and the coherence. The corrections file loads, and
+/// it and the report name each bound's source.
 #[test]
 fn retune_by_responses_reports_j_and_bode_figures_per_response() {
     let (v, dir) = readme_example("report");
-    assert_eq!(v["match"], "responses", "{v}");
     assert!(
         v["model"].as_str().unwrap().contains("flapping states"),
         "{v}"
@@ -214,6 +217,14 @@ fn retune_by_responses_reports_j_and_bode_figures_per_response() {
         "{md}"
     );
     assert!(md.contains("Reduced chi-square"), "{md}");
+    // Every bound names its source: the hub factor's is seed 000's.
+    assert!(md.contains("seed 000 Sec. VII.B"), "{md}");
+    let output = dir.join("retuned.yaml");
+    let written = std::fs::read_to_string(&output).unwrap();
+    assert!(written.contains("seed 000 Sec. VII.B"), "{written}");
+    let loaded = cierva_harness::corrections::load(&output).unwrap();
+    assert!(loaded.corrections.hub_aoa_factor.is_some());
+    assert!(loaded.corrections.profile_drag_scale.is_some());
     let figures = v["figures"].as_array().unwrap();
     assert_eq!(figures.len(), 4, "{v}");
     for f in figures {
