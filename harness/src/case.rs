@@ -94,6 +94,9 @@ pub struct Case {
     pub checks: Vec<Check>,
     /// What the model gave for the case's expected failures (see [`crate::discrepancy`]).
     pub recorded: Option<crate::discrepancy::CaseRecord>,
+    /// The folder of records of the suite that holds the case
+    /// ([`crate::suite::Suite::containing`]); `None` when no suite holds it.
+    pub records_dir: Option<PathBuf>,
     /// The data set's scores.
     pub scores: Vec<crate::scoreboard::ScoreSpec>,
     /// The parameters of a sensitivity study `validate` runs for the report, if the case asks
@@ -214,7 +217,11 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         .map_err(|(i, msg)| err(&format!("checks[{i}].expect"), msg))?;
     check_scores(path, &src, &spec, &checks)?;
     let sensitivity = check_sensitivity(path, &src, &spec, &subject)?;
-    let recorded = crate::discrepancy::load(&spec.id)?;
+    let records_dir = crate::suite::Suite::containing(path)?.map(|s| s.discrepancies());
+    let recorded = match &records_dir {
+        Some(dir) => crate::discrepancy::load(dir, &spec.id)?,
+        None => None,
+    };
     Ok(Case {
         path: path.to_path_buf(),
         id: spec.id,
@@ -224,6 +231,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
         subject,
         checks,
         recorded,
+        records_dir,
         scores: spec.scores,
         sensitivity,
         uncorrected: None,

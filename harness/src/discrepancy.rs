@@ -88,16 +88,15 @@ impl Band {
     }
 }
 
-/// The file holding a case's records.
-pub fn path_for(case_id: &str) -> PathBuf {
-    crate::repo_root()
-        .join("reports/discrepancies")
-        .join(format!("{case_id}.yaml"))
+/// The file holding a case's records in the folder of records `dir`
+/// ([`crate::suite::Suite::discrepancies`]).
+pub fn path_for(dir: &Path, case_id: &str) -> PathBuf {
+    dir.join(format!("{case_id}.yaml"))
 }
 
-/// Loads a case's records (`None` when it has no file).
-pub fn load(case_id: &str) -> Result<Option<CaseRecord>, InputError> {
-    let path = path_for(case_id);
+/// Loads a case's records from the folder of records `dir` (`None` when it has no file).
+pub fn load(dir: &Path, case_id: &str) -> Result<Option<CaseRecord>, InputError> {
+    let path = path_for(dir, case_id);
     if !path.exists() {
         return Ok(None);
     }
@@ -124,10 +123,10 @@ pub fn load_file(path: &Path) -> Result<CaseRecord, InputError> {
     Ok(r)
 }
 
-/// Writes a case's records (or removes its file when it has none). Returns whether the file
-/// changed.
-pub fn write(record: &CaseRecord) -> std::io::Result<bool> {
-    let path = path_for(&record.case);
+/// Writes a case's records into the folder of records `dir` (or removes its file when it has
+/// none). Returns whether the file changed.
+pub fn write(dir: &Path, record: &CaseRecord) -> std::io::Result<bool> {
+    let path = path_for(dir, &record.case);
     if record.checks.is_empty() {
         if path.exists() {
             std::fs::remove_file(&path)?;

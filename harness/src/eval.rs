@@ -292,10 +292,16 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
             let recorded = case.recorded.as_ref().and_then(|r| r.checks.get(&check.id));
             result.departures = match recorded {
                 Some(r) => departures(&result, r),
-                None => vec![format!(
-                    "nothing is recorded for this check in {}",
-                    crate::discrepancy::path_for(&case.id).display()
-                )],
+                None => vec![match &case.records_dir {
+                    Some(dir) => format!(
+                        "nothing is recorded for this check in {}",
+                        crate::discrepancy::path_for(dir, &case.id).display()
+                    ),
+                    None => format!(
+                        "nothing is recorded for this check: the case is in no suite (no {} above it)",
+                        crate::suite::MARKER
+                    ),
+                }],
             };
             if result.departures.is_empty() {
                 Outcome::ExpectedFailure

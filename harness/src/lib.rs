@@ -30,22 +30,15 @@ pub mod rotor_file;
 pub mod scoreboard;
 pub mod sensitivity;
 pub mod subject;
+pub mod suite;
 pub mod text;
 pub mod tolerance;
 pub mod uncertainty;
 pub mod yaml;
 
 use case::Case;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use yaml::InputError;
-
-/// The repository root (where `cases/` and `flight-refs/` live), from this crate's location.
-pub fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("harness/ sits in the repository root")
-        .to_path_buf()
-}
 
 /// Every case file found under `paths`, loaded (or the error that stopped it).
 ///

@@ -19,6 +19,11 @@ struct Cli {
     /// Progress bars are drawn only when stderr is a terminal.
     #[arg(long, global = true)]
     quiet: bool,
+    /// The suite to work on: a folder with a `cierva.toml` (default: the nearest one in the
+    /// working directory or a folder above). Default paths (cases, reports, the scoreboard,
+    /// discrepancy records, retune's outputs) are relative to it.
+    #[arg(long, global = true, value_name = "DIR")]
+    suite: Option<PathBuf>,
     #[command(subcommand)]
     command: Command,
 }
@@ -33,7 +38,7 @@ enum Command {
     /// rotor the file names is run with those corrections; expected failures that now pass are
     /// reported as unexpected passes.
     Validate {
-        /// Case files or folders searched for `*.yaml` (default: `cases`).
+        /// Case files or folders searched for `*.yaml` (default: the suite's cases folder).
         paths: Vec<PathBuf>,
         /// Corrections files to apply (repeatable).
         #[arg(long)]
@@ -41,9 +46,9 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
         /// Where to write the report: `index.html` (self-contained, with plots) and
-        /// `summary.md`.
-        #[arg(long, default_value = "reports")]
-        report_dir: PathBuf,
+        /// `summary.md` (default: the suite's reports folder).
+        #[arg(long)]
+        report_dir: Option<PathBuf>,
         /// Write no report.
         #[arg(long)]
         no_report: bool,
@@ -96,8 +101,8 @@ enum Command {
     /// check's expected value, with its tolerance as the standard error) or references written
     /// out, with optional hard or soft bounds. See harness/src/fit_file.rs for the format.
     ///
-    /// Writes the corrections file (default `corrections/fitted/<id>.yaml`, for
-    /// `cierva validate --corrections`) and a Markdown report (default `reports/fits/<id>.md`).
+    /// Writes the corrections file (default: the suite's `corrections/fitted/<id>.yaml`, for
+    /// `cierva validate --corrections`) and a Markdown report (default: the suite's `reports/fits/<id>.md`).
     /// Exit code 0 when the fit converged, 1 when it did not (iteration limit, infeasible, model
     /// failure), 2 on bad input.
     ///
@@ -262,6 +267,11 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Make a folder a suite: its `cierva.toml`, the shared tolerance library and one example
+    /// case that validates (`cd DIR && cierva validate`).
+    ///
+    /// Example: `cierva init my-suite`
+    Init(InitArgs),
     /// Write a commented case file to start from (it validates as it is written).
     ///
     /// Example: `cierva new-case cases/my-aircraft-70mph.yaml`
@@ -448,6 +458,7 @@ fn main() -> ExitCode {
     quiet_on_broken_pipe();
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    let _ = SUITE_ARG.set(cli.suite);
     match cli.command {
         Command::Validate {
             paths,
@@ -497,6 +508,7 @@ fn main() -> ExitCode {
             format,
         } => modes(file, sweep, format),
         Command::Bench(args) => bench(args.repeat, args.format, args.only),
+        Command::Init(a) => init(a),
         Command::NewCase { path, format } => new_case(path, format),
         Command::Inflow {
             record,

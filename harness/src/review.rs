@@ -17,7 +17,7 @@ use crate::scoreboard::{Board, Change, Metric, Score, ScoreSpec, change};
 use crate::yaml::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// What the model gives now for a failing check, as a record.
 pub fn record_of(result: &CheckResult) -> Recorded {
@@ -276,13 +276,8 @@ impl Judged {
     }
 }
 
-/// The acceptance log's file name, in `reports/` beside what it accepts.
-pub const LOG_FILE: &str = "acceptances.yaml";
-
-/// Where the acceptance log is committed.
-pub fn log_path() -> PathBuf {
-    crate::repo_root().join("reports").join(LOG_FILE)
-}
+/// The acceptance log's file name, in the reports folder beside what it accepts.
+pub use crate::suite::ACCEPTANCES_FILE as LOG_FILE;
 
 /// The acceptance log as written: every acceptance, oldest first.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
@@ -643,11 +638,11 @@ pub fn now_utc() -> String {
 
 /// The repository's short HEAD commit, with `+dirty` when its tree has changes; `unknown`
 /// without git or outside a repository.
-pub fn head_commit() -> String {
+pub fn head_commit(root: &Path) -> String {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
             .arg("-C")
-            .arg(crate::repo_root())
+            .arg(root)
             .args(args)
             .output()
             .ok()

@@ -28,7 +28,7 @@
 use crate::yaml::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The metrics a score can use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
@@ -181,14 +181,9 @@ pub fn change(score: &Score, committed: Option<&Committed>) -> Change {
     }
 }
 
-/// Where the scoreboard is committed.
-pub fn path() -> PathBuf {
-    crate::repo_root().join("reports/scoreboard.yaml")
-}
-
-/// Loads the committed scoreboard (empty when there is none).
-pub fn load() -> Result<Board, InputError> {
-    load_file(&path())
+/// Loads a suite's committed scoreboard (empty when there is none).
+pub fn load(suite: &crate::suite::Suite) -> Result<Board, InputError> {
+    load_file(&suite.scoreboard())
 }
 
 /// Loads a scoreboard file (empty when it does not exist).
@@ -225,9 +220,9 @@ pub fn with(board: &Board, cases: &[&str], scores: &[Score]) -> Board {
     b
 }
 
-/// Writes the scoreboard; returns whether the file changed.
-pub fn write(board: &Board) -> std::io::Result<bool> {
-    yaml::write_if_changed(&path(), &render(board))
+/// Writes a suite's scoreboard; returns whether the file changed.
+pub fn write(suite: &crate::suite::Suite, board: &Board) -> std::io::Result<bool> {
+    yaml::write_if_changed(&suite.scoreboard(), &render(board))
 }
 
 /// The scoreboard file's text: one flow map per score.
@@ -281,33 +276,33 @@ pub fn history(
         .collect()
 }
 
-/// The committed versions of the scoreboard from git, oldest first: `(date, short commit,
+/// The committed versions of a suite's scoreboard from git, oldest first: `(date, short commit,
 /// board)`. Empty without git or outside a repository.
-pub fn versions() -> Vec<Version> {
-    let root = crate::repo_root();
+pub fn versions(suite: &crate::suite::Suite) -> Vec<Version> {
+    // Git runs in the scoreboard's folder, which may lie anywhere in a repository: `./` makes
+    // `git show`'s path relative to it.
+    let file = suite.scoreboard();
+    let (Some(dir), Some(name)) = (file.parent(), file.file_name()) else {
+        return vec![];
+    };
+    let name = name.to_string_lossy();
     let run = |args: &[&str]| {
         std::process::Command::new("git")
             .arg("-C")
-            .arg(&root)
+            .arg(dir)
             .args(args)
             .output()
             .ok()
             .filter(|o| o.status.success())
             .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
     };
-    let Some(log) = run(&[
-        "log",
-        "--reverse",
-        "--format=%h %cs",
-        "--",
-        "reports/scoreboard.yaml",
-    ]) else {
+    let Some(log) = run(&["log", "--reverse", "--format=%h %cs", "--", &name]) else {
         return vec![];
     };
     log.lines()
         .filter_map(|l| {
             let (commit, date) = l.split_once(' ')?;
-            let text = run(&["show", &format!("{commit}:reports/scoreboard.yaml")])?;
+            let text = run(&["show", &format!("{commit}:./{name}")])?;
             Some((date.to_string(), commit.to_string(), parse(&text)?))
         })
         .collect()

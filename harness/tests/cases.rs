@@ -15,7 +15,7 @@
 
 use cierva_harness::case::{Case, Subject};
 use cierva_harness::checks::What;
-use cierva_harness::{checks, eval, load_cases, repo_root, text};
+use cierva_harness::{checks, eval, load_cases, text};
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::sync::{Arc, OnceLock};
 
@@ -42,6 +42,19 @@ impl Evaluated {
             .map(|i| self.result(i).clone())
             .collect()
     }
+}
+
+/// The repository's root: the suite this repository is (its `cierva.toml`).
+fn repo_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("harness/ sits in the repository root")
+        .to_path_buf()
+}
+
+/// The repository's suite.
+fn suite() -> cierva_harness::suite::Suite {
+    cierva_harness::suite::Suite::open(&repo_root()).expect("the repository is a suite")
 }
 
 fn main() {
@@ -155,7 +168,8 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
         trials.push(
             Trial::test(format!("{}::scores", case.id), move || {
                 use cierva_harness::{review, scoreboard};
-                let board = scoreboard::load().map_err(|e| e.render())?;
+                let suite = suite();
+                let board = scoreboard::load(&suite).map_err(|e| e.render())?;
                 let results = e.all();
                 let judged = review::judge(&board, review::scores_of(&e.case, &results));
                 let bad: Vec<String> = judged
@@ -172,7 +186,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                         "scores worse than committed in {} by more than their noise floor, or not committed:\n{}\n\
                          if the change is intended, `cargo run --release -- review --accept --reason TEXT` \
                          commits the new values (an improvement is committed the same way) and logs why",
-                        scoreboard::path().display(),
+                        suite.scoreboard().display(),
                         bad.join("\n")
                     )
                     .into())
@@ -201,7 +215,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                     Err(format!(
                         "{}: records for checks that are not expected failures of the case: {stale:?}; \
                          run `cargo run --release -- review --accept --reason TEXT`",
-                        cierva_harness::discrepancy::path_for(&c.id).display()
+                        c.records_dir.as_deref().map_or_else(|| c.path.clone(), |d| cierva_harness::discrepancy::path_for(d, &c.id)).display()
                     )
                     .into())
                 }

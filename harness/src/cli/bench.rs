@@ -7,9 +7,16 @@ use std::time::Instant;
 pub(crate) struct Rows {
     format: Format,
     lines: std::cell::RefCell<Vec<String>>,
+    /// The suite's root: the repository whose files are timed.
+    root: PathBuf,
 }
 
 impl Rows {
+    /// A file of the repository's, by its path from the root.
+    fn file(&self, path: &str) -> PathBuf {
+        self.root.join(path)
+    }
+
     fn push(&self, line: String) {
         match self.format {
             Format::Text => println!("{line}"),
@@ -38,9 +45,23 @@ fn time(f: &mut dyn FnMut()) -> f64 {
 }
 
 pub(crate) fn bench(repeat: usize, format: Format, only: Option<BenchGroup>) -> ExitCode {
+    let root = match suite() {
+        Ok(s) => s.root,
+        Err(code) => return code,
+    };
+    // The rows time this repository's own aircraft, records and scripts.
+    let marker = root.join("aircraft/vpm-m16.yaml");
+    if !marker.is_file() {
+        eprintln!(
+            "error: {}: not found: `cierva bench` times cierva's own aircraft and records; run it in cierva's repository",
+            marker.display()
+        );
+        return ExitCode::from(2);
+    }
     let out = Rows {
         format,
         lines: std::cell::RefCell::new(Vec::new()),
+        root,
     };
     let rows = &out.lines;
     let repeat = repeat.max(3);
@@ -108,7 +129,7 @@ pub(crate) fn bench(repeat: usize, format: Format, only: Option<BenchGroup>) -> 
 /// at TR 515 Table III row 19).
 fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
     use cierva_model::components::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
-    let path = cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml");
+    let path = out.file("aircraft/pca-2-rotor.yaml");
     let file = match cierva_harness::rotor_file::load(&path) {
         Ok(f) => f,
         Err(e) => {
@@ -217,7 +238,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
     // right-hand sides
     let mut sink = 0.0;
     // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
-    let ac_path = cierva_harness::repo_root().join("aircraft/vpm-m16.yaml");
+    let ac_path = out.file("aircraft/vpm-m16.yaml");
     match cierva_harness::aircraft_file::load(&ac_path) {
         Err(e) => eprintln!("{}", e.render()),
         Ok(ac) => {
@@ -418,11 +439,10 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
     // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
     // frequencies (the identification benchmark), on a synthetic record of seed 002's Eq. 20.
     use cierva_harness::ident::{self, record, synth};
-    let truth =
-        refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
-            .ok()
-            .and_then(|r| r.linear_model);
-    let numpy = numpy::Numpy::find();
+    let truth = refs::load(&out.file("flight-refs/seed002-vpm-m16-60kn.yaml"))
+        .ok()
+        .and_then(|r| r.linear_model);
+    let numpy = numpy::Numpy::find(&out.root);
     if let Some(model) = truth {
         for (seconds, points) in [(120.0, 100), (240.0, 100), (120.0, 200)] {
             let settings = synth::Settings {
@@ -538,8 +558,8 @@ mod numpy {
 
     impl Numpy {
         /// python3 and numpy, or the reason they cannot be used.
-        pub(super) fn find() -> Result<Self, String> {
-            let script = cierva_harness::repo_root().join("scripts/ident_numpy.py");
+        pub(super) fn find(root: &std::path::Path) -> Result<Self, String> {
+            let script = root.join("scripts/ident_numpy.py");
             if !script.is_file() {
                 return Err(format!("{} is not there", script.display()));
             }
@@ -679,10 +699,9 @@ mod numpy {
 fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     use cierva_harness::ident::frequency_response as fr;
     use cierva_harness::ident::synth;
-    let Some(model) =
-        refs::load(&cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
-            .ok()
-            .and_then(|r| r.linear_model)
+    let Some(model) = refs::load(&out.file("flight-refs/seed002-vpm-m16-60kn.yaml"))
+        .ok()
+        .and_then(|r| r.linear_model)
     else {
         return 0.0;
     };
@@ -736,9 +755,7 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
 fn records_together(out: &Rows, repeat: usize) -> f64 {
     use cierva_harness::flight_test;
     use cierva_harness::ident;
-    let Ok(file) = cierva_harness::aircraft_file::load(
-        &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
-    ) else {
+    let Ok(file) = cierva_harness::aircraft_file::load(&out.file("aircraft/vpm-m16.yaml")) else {
         return 0.0;
     };
     let mut records = Vec::new();
@@ -870,9 +887,7 @@ fn fitting(out: &Rows) {
     // uncorrected model to a synthetic truth (blockage 1.0, hub factor 0.5, drag +15 %), with X_u,
     // Z_w and the rotor speed at 40-70 mph as targets (at 30 mph the truth needs more than full
     // throttle).
-    if let Ok(ac) = cierva_harness::aircraft_file::load(
-        &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
-    ) {
+    if let Ok(ac) = cierva_harness::aircraft_file::load(&out.file("aircraft/vpm-m16.yaml")) {
         use cierva_harness::fit::{
             self, Condition, Measure, Options, Parameter, ParameterKind, Problem, Subject, Target,
         };
@@ -952,9 +967,7 @@ fn fitting(out: &Rows) {
 fn retuning(out: &Rows) {
     use cierva_harness::flight_test;
     use cierva_harness::retune::{self, How, Request};
-    let Ok(file) = cierva_harness::aircraft_file::load(
-        &cierva_harness::repo_root().join("aircraft/vpm-m16.yaml"),
-    ) else {
+    let Ok(file) = cierva_harness::aircraft_file::load(&out.file("aircraft/vpm-m16.yaml")) else {
         return;
     };
     let hidden = cierva_harness::corrections::CorrectionSet {
@@ -1028,7 +1041,7 @@ fn retuning(out: &Rows) {
 /// base samples: the design's evaluations on both cores, and the cost of one.
 fn uncertainty(out: &Rows) {
     use cierva_harness::uncertainty::propagate::{self, Settings};
-    let root = cierva_harness::repo_root();
+    let root = &out.root;
     let settings = Settings {
         samples: 32,
         seed: 0,

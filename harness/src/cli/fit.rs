@@ -9,16 +9,10 @@ pub(crate) fn fit(
     format: Format,
 ) -> ExitCode {
     use cierva_harness::fit_file;
-    let f = match fit_file::load(&file) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
+    let (f, output, report) = match inputs(&file, output, report) {
+        Ok(i) => i,
+        Err(code) => return code,
     };
-    let output =
-        output.unwrap_or_else(|| PathBuf::from(format!("corrections/fitted/{}.yaml", f.id)));
-    let report = report.unwrap_or_else(|| PathBuf::from(format!("reports/fits/{}.md", f.id)));
     let busy = spinner(&if f.starts > 1 {
         format!("fitting {} from {} starts", f.id, f.starts)
     } else {
@@ -117,4 +111,21 @@ pub(crate) fn fit(
     } else {
         ExitCode::from(1)
     }
+}
+
+/// The fit file, and where to write the corrections and the report (by default in the suite's
+/// folders); a bad file or no suite is printed, exit code 2.
+fn inputs(
+    file: &Path,
+    output: Option<PathBuf>,
+    report: Option<PathBuf>,
+) -> Result<(cierva_harness::fit_file::FitFile, PathBuf, PathBuf), ExitCode> {
+    use cierva_harness::suite::Suite;
+    let f = cierva_harness::fit_file::load(file).map_err(|e| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })?;
+    let output = or_in_suite(output, Suite::fitted, format!("{}.yaml", f.id))?;
+    let report = or_in_suite(report, Suite::fit_reports, format!("{}.md", f.id))?;
+    Ok((f, output, report))
 }

@@ -19,6 +19,7 @@ mod fit;
 mod frequency_response;
 pub(crate) mod identify;
 mod inflow;
+mod init;
 mod linearize;
 mod modes;
 mod new_case;
@@ -42,6 +43,7 @@ pub(crate) use fit::fit;
 pub(crate) use frequency_response::frequency_response;
 pub(crate) use identify::{IdentifyArgs, identify};
 pub(crate) use inflow::{inflow, synth_teeter};
+pub(crate) use init::{InitArgs, init};
 pub(crate) use linearize::linearize;
 pub(crate) use modes::modes;
 pub(crate) use new_case::new_case;
@@ -101,6 +103,35 @@ pub(crate) fn done(format: Format, text: String, json: serde_json::Value) {
 }
 
 pub(crate) static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `given`, or `name` in the suite's `folder` (the suite is looked for only then).
+pub(crate) fn or_in_suite(
+    given: Option<PathBuf>,
+    folder: fn(&cierva_harness::suite::Suite) -> PathBuf,
+    name: String,
+) -> Result<PathBuf, ExitCode> {
+    match given {
+        Some(p) => Ok(p),
+        None => suite().map(|s| folder(&s).join(name)),
+    }
+}
+
+/// `--suite DIR`, as given (set once by `main`).
+pub(crate) static SUITE_ARG: std::sync::OnceLock<Option<PathBuf>> = std::sync::OnceLock::new();
+
+/// The suite a command works on: `--suite DIR`, or the nearest `cierva.toml` from the working
+/// directory upward. None is a located error, printed, and exit code 2.
+pub(crate) fn suite() -> Result<cierva_harness::suite::Suite, ExitCode> {
+    use cierva_harness::suite::Suite;
+    let found = match SUITE_ARG.get().and_then(Option::as_deref) {
+        Some(dir) => Suite::open(dir),
+        None => Suite::find(&std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."))),
+    };
+    found.map_err(|e| {
+        eprintln!("{}", e.render());
+        ExitCode::from(2)
+    })
+}
 
 /// Loads an aircraft file; a bad file is printed with its location and is exit code 2.
 pub(crate) fn load_aircraft(

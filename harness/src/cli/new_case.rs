@@ -13,7 +13,7 @@ pub(crate) fn new_case(path: PathBuf, format: Format) -> ExitCode {
         eprintln!("error: {} exists; not overwritten", path.display());
         return ExitCode::from(2);
     }
-    let text = include_str!("../../templates/case.yaml").replace("CASE_ID", &id);
+    let text = cierva_harness::suite::EXAMPLE_CASE.replace("CASE_ID", &id);
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
         && let Err(e) = std::fs::create_dir_all(dir)
     {

@@ -4,6 +4,7 @@ use super::*;
 use cierva_harness::corrections::{AppliesTo, CorrectionsFile, CorrectionsFileSpec, Target};
 use cierva_harness::ident::record;
 use cierva_harness::retune::{self, Request};
+use cierva_harness::suite::Suite;
 
 pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
     // Long: one command in the order it works: inputs, the fit, the corrections file, the
@@ -37,10 +38,14 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
-    let output = a
-        .output
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("corrections/retuned").join(format!("{}.yaml", file.id)));
+    let output = match or_in_suite(
+        a.output.clone(),
+        Suite::retuned,
+        format!("{}.yaml", file.id),
+    ) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
     let id = output
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -149,8 +154,12 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
     let revalidation = if a.no_validate {
         None
     } else {
+        let suite = match suite() {
+            Ok(s) => s,
+            Err(code) => return code,
+        };
         let busy = spinner("the validation suite with the new corrections");
-        let cases: Vec<_> = match load_cases(&[PathBuf::from("cases")]) {
+        let cases: Vec<_> = match load_cases(&[suite.cases().to_path_buf()]) {
             Ok(l) => l.into_iter().filter_map(Result::ok).collect(),
             Err(e) => return fail(format!("the validation suite: {e}")),
         };
@@ -170,10 +179,10 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             Err(e) => return fail(e),
         }
     };
-    let report = a
-        .report
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("reports/retune").join(format!("{id}.md")));
+    let report = match or_in_suite(a.report.clone(), Suite::retune_reports, format!("{id}.md")) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
     let figures = match bode_figures(&report, &comparisons) {
         Ok(f) => f,
         Err(e) => return fail(e),

@@ -2,12 +2,12 @@
 //! `--accept`) recording it.
 //!
 //! The counterpart of `cargo insta review` for the checks that are expected to fail: each one's
-//! values are recorded in `reports/discrepancies/<case-id>.yaml` (see
+//! values are recorded in the suite's `reports/discrepancies/<case-id>.yaml` (see
 //! [`cierva_harness::discrepancy`]), and a check whose model leaves them fails as "discrepancy
 //! moved" until they are reviewed and accepted here.
 //!
 //! Accepting needs a reason (`--accept --reason TEXT`): each acceptance is appended to
-//! `reports/acceptances.yaml` with what changed and the fingerprint of what it wrote (see
+//! the suite's `reports/acceptances.yaml` with what changed and the fingerprint of what it wrote (see
 //! [`cierva_harness::review`]).
 
 use super::*;
@@ -25,7 +25,8 @@ fn reason_for(accept: bool, reason: Option<String>) -> Result<Option<String>, &'
         ),
         (true, None) => Err(
             "`--accept` needs `--reason TEXT`: say why the scores and records may change; the \
-             reason is logged with what changed in reports/acceptances.yaml. Nothing was written",
+             reason is logged with what changed in the suite's acceptance log. Nothing was \
+             written",
         ),
         (true, Some(r)) if r.trim().is_empty() => Err(
             "`--reason` is empty: say why the scores and records may change. Nothing was written",
@@ -50,40 +51,22 @@ pub(crate) fn run(
             return ExitCode::from(2);
         }
     };
-    let log = match rv::load_log(&rv::log_path()) {
+    let suite = match suite() {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
+    let log = match rv::load_log(&suite.acceptances()) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("{}", e.render());
             return ExitCode::from(2);
         }
     };
-    let paths = if paths.is_empty() {
-        vec![PathBuf::from("cases")]
-    } else {
-        paths
+    let cases = match suite_cases(&suite, paths) {
+        Ok(c) => c,
+        Err(code) => return code,
     };
-    let loaded = match load_cases(&paths) {
-        Ok(l) if !l.is_empty() => l,
-        Ok(_) => {
-            eprintln!("error: no case files (*.yaml) under {}", show(&paths));
-            return ExitCode::from(2);
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let mut cases = Vec::new();
-    for c in loaded {
-        match c {
-            Ok(case) => cases.push(case),
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
-            }
-        }
-    }
-    let board = match scoreboard::load() {
+    let board = match scoreboard::load(&suite) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("{}", e.render());
@@ -112,15 +95,15 @@ pub(crate) fn run(
     let mut logged = None;
     if let Some(reason) = reason {
         // The commit is read before anything is written: the files written make the tree dirty.
-        let commit = rv::head_commit();
+        let commit = rv::head_commit(&suite.root);
         let changes = rv::changes(&board, &judged, &dropped, &reviews);
         let board = (!(scores_moved.is_empty() && stale.is_empty()))
             .then(|| scoreboard::with(&board, &reviewed, &scores));
-        if let Err(e) = write_accepted(board.as_ref(), &reviews, &mut written) {
+        if let Err(e) = write_accepted(&suite, board.as_ref(), &reviews, &mut written) {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
-        match log_acceptance(&log, reason, commit, changes) {
+        match log_acceptance(&suite, &log, reason, commit, changes) {
             Ok(entry) => logged = Some(entry),
             Err(e) => {
                 eprintln!("error: {e}");
@@ -144,8 +127,14 @@ pub(crate) fn run(
             print_json(&out);
         }
         Format::Text => {
-            print_text(&reviews, &judged, &scores_moved, &stale, &written, accept);
-            print_logged(logged.as_ref(), &log);
+            print_text(
+                &reviews,
+                (&judged, &scores_moved, &stale),
+                &written,
+                accept,
+                &suite.scoreboard(),
+            );
+            print_logged(&suite, logged.as_ref(), &log);
         }
     }
     if errors > 0 || (moved > 0 && !accept) {
@@ -155,14 +144,62 @@ pub(crate) fn run(
     }
 }
 
+/// The cases under `paths` (default: the suite's cases folder), every one loaded and the
+/// suite's own; otherwise the error, printed, and exit code 2.
+fn suite_cases(
+    suite: &cierva_harness::suite::Suite,
+    paths: Vec<PathBuf>,
+) -> Result<Vec<cierva_harness::case::Case>, ExitCode> {
+    let paths = if paths.is_empty() {
+        vec![suite.cases().to_path_buf()]
+    } else {
+        paths
+    };
+    let loaded = match load_cases(&paths) {
+        Ok(l) if !l.is_empty() => l,
+        Ok(_) => {
+            eprintln!("error: no case files (*.yaml) under {}", show(&paths));
+            return Err(ExitCode::from(2));
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Err(ExitCode::from(2));
+        }
+    };
+    let mut cases = Vec::new();
+    for c in loaded {
+        match c {
+            // Its records are written to the suite's folder, where only the suite's own cases
+            // find them.
+            Ok(case) if case.records_dir.as_deref() != Some(suite.discrepancies().as_path()) => {
+                eprintln!(
+                    "error: {}: not a case of the suite at {}: review it in its own suite (--suite)",
+                    case.path.display(),
+                    suite.root.display()
+                );
+                return Err(ExitCode::from(2));
+            }
+            Ok(case) => cases.push(case),
+            Err(e) => {
+                eprintln!("{}", e.render());
+                return Err(ExitCode::from(2));
+            }
+        }
+    }
+    Ok(cases)
+}
+
 /// The text output: what moved, case by case and on the scoreboard, and what to do about it.
 fn print_text(
     reviews: &[cierva_harness::review::CaseReview],
-    judged: &[cierva_harness::review::Judged],
-    scores_moved: &[&cierva_harness::review::Judged],
-    stale: &[String],
+    (judged, scores_moved, stale): (
+        &[cierva_harness::review::Judged],
+        &[&cierva_harness::review::Judged],
+        &[String],
+    ),
     written: &[PathBuf],
     accept: bool,
+    scoreboard_file: &Path,
 ) {
     let moved =
         reviews.iter().filter(|r| !r.changes.is_empty()).count() + scores_moved.len() + stale.len();
@@ -179,7 +216,7 @@ fn print_text(
         }
     }
     if !(scores_moved.is_empty() && stale.is_empty()) {
-        println!("scoreboard ({}):", scoreboard::path().display());
+        println!("scoreboard ({}):", scoreboard_file.display());
         for j in scores_moved {
             println!("  {}", j.describe());
         }
@@ -222,25 +259,27 @@ fn print_text(
 /// Writes what is accepted: the scoreboard (when given) and the records of every review that
 /// moved; each file that changed is added to `written`.
 fn write_accepted(
+    suite: &cierva_harness::suite::Suite,
     board: Option<&scoreboard::Board>,
     reviews: &[rv::CaseReview],
     written: &mut Vec<PathBuf>,
 ) -> Result<(), String> {
     if let Some(board) = board {
-        match scoreboard::write(board) {
-            Ok(true) => written.push(scoreboard::path()),
+        match scoreboard::write(suite, board) {
+            Ok(true) => written.push(suite.scoreboard()),
             Ok(false) => {}
             Err(e) => {
                 return Err(format!(
                     "could not write {}: {e}",
-                    scoreboard::path().display()
+                    suite.scoreboard().display()
                 ));
             }
         }
     }
+    let records = suite.discrepancies();
     for r in reviews.iter().filter(|r| !r.changes.is_empty()) {
-        let path = discrepancy::path_for(&r.case);
-        match discrepancy::write(&r.now) {
+        let path = discrepancy::path_for(&records, &r.case);
+        match discrepancy::write(&records, &r.now) {
             Ok(true) => written.push(path),
             Ok(false) => {}
             Err(e) => return Err(format!("could not write {}: {e}", path.display())),
@@ -254,12 +293,13 @@ fn write_accepted(
 /// fingerprint; with no changes, an entry is logged only for a missing log or files that
 /// differ from its last entry.
 fn log_acceptance(
+    suite: &cierva_harness::suite::Suite,
     log: &rv::Log,
     reason: String,
     commit: String,
     changes: Vec<rv::Accepted>,
 ) -> Result<Option<Acceptance>, String> {
-    let fingerprint = rv::fingerprint(&cierva_harness::repo_root().join("reports"))?;
+    let fingerprint = rv::fingerprint(suite.reports())?;
     let last = log.acceptances.last();
     if changes.is_empty() && last.is_some_and(|l| l.fingerprint == fingerprint) {
         return Ok(None);
@@ -271,17 +311,21 @@ fn log_acceptance(
         changes,
         fingerprint,
     };
-    rv::append_log(&rv::log_path(), &entry)?;
+    rv::append_log(&suite.acceptances(), &entry)?;
     Ok(Some(entry))
 }
 
 /// The text output's last line for an acceptance: what was logged, or that nothing was.
-fn print_logged(logged: Option<&Option<Acceptance>>, log: &rv::Log) {
+fn print_logged(
+    suite: &cierva_harness::suite::Suite,
+    logged: Option<&Option<Acceptance>>,
+    log: &rv::Log,
+) {
     match logged {
         None => {}
         Some(Some(entry)) => println!(
             "logged in {}: {} at {}, {} changes: {}",
-            rv::log_path().display(),
+            suite.acceptances().display(),
             entry.date,
             entry.commit,
             entry.changes.len(),

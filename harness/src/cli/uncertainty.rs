@@ -38,7 +38,10 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
         return ExitCode::from(2);
     }
     let paths = if a.paths.is_empty() {
-        vec![PathBuf::from("cases")]
+        match suite() {
+            Ok(s) => vec![s.cases().to_path_buf()],
+            Err(code) => return code,
+        }
     } else {
         a.paths.clone()
     };

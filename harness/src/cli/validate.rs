@@ -6,16 +6,21 @@ pub(crate) fn validate(
     paths: Vec<PathBuf>,
     corrections: Vec<PathBuf>,
     format: Format,
-    report_dir: Option<PathBuf>,
+    report_dir: Option<Option<PathBuf>>,
     uncertainty: Option<cierva_harness::uncertainty::propagate::Settings>,
 ) -> ExitCode {
     let started = std::time::Instant::now();
+    let suite = match suite() {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
     let paths = if paths.is_empty() {
-        vec![PathBuf::from("cases")]
+        vec![suite.cases().to_path_buf()]
     } else {
         paths
     };
-    let (correction_files, loaded, board, log) = match inputs(&paths, &corrections) {
+    let report_dir = report_dir.map(|d| d.unwrap_or_else(|| suite.reports().to_path_buf()));
+    let (correction_files, loaded, board, log) = match inputs(&suite, &paths, &corrections) {
         Ok(i) => i,
         Err(code) => return code,
     };
@@ -37,7 +42,7 @@ pub(crate) fn validate(
     let scores_failing = failing_scores(&judged, !correction_files.is_empty());
     run.scores = judged.clone();
     if report_dir.is_some() {
-        run.score_versions = cierva_harness::scoreboard::versions();
+        run.score_versions = cierva_harness::scoreboard::versions(&suite);
     }
     run.acceptances = log.acceptances;
     let results: Vec<CheckResult> = run
@@ -89,6 +94,7 @@ pub(crate) fn validate(
                 &correction_files,
                 &corrected,
                 (loaded.len(), &written),
+                &suite,
             );
             if uncertainty.is_some() {
                 print_uncertainty(&run);
@@ -231,13 +237,11 @@ fn print_text(
     correction_files: &[cierva_harness::corrections::CorrectionsFile],
     corrected: &[String],
     (cases, written): (usize, &[PathBuf]),
+    suite: &cierva_harness::suite::Suite,
 ) {
     print!("{}", text::results_table(results));
     if !judged.is_empty() {
-        println!(
-            "\nscoreboard ({}):",
-            cierva_harness::scoreboard::path().display()
-        );
+        println!("\nscoreboard ({}):", suite.scoreboard().display());
         for j in judged {
             println!("  {}", j.describe());
         }
@@ -291,7 +295,11 @@ type Inputs = (
 
 /// What `validate` reads before it runs: the corrections files, the cases, the committed
 /// scoreboard and the acceptance log (exit code 2 on bad input).
-fn inputs(paths: &[PathBuf], corrections: &[PathBuf]) -> Result<Inputs, ExitCode> {
+fn inputs(
+    suite: &cierva_harness::suite::Suite,
+    paths: &[PathBuf],
+    corrections: &[PathBuf],
+) -> Result<Inputs, ExitCode> {
     let mut correction_files = Vec::new();
     for p in corrections {
         match cierva_harness::corrections::load(p) {
@@ -313,14 +321,14 @@ fn inputs(paths: &[PathBuf], corrections: &[PathBuf]) -> Result<Inputs, ExitCode
         eprintln!("error: no case files (*.yaml) under {}", show(paths));
         return Err(ExitCode::from(2));
     }
-    let board = match cierva_harness::scoreboard::load() {
+    let board = match cierva_harness::scoreboard::load(suite) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("{}", e.render());
             return Err(ExitCode::from(2));
         }
     };
-    let log = match cierva_harness::review::load_log(&cierva_harness::review::log_path()) {
+    let log = match cierva_harness::review::load_log(&suite.acceptances()) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("{}", e.render());

@@ -1,8 +1,9 @@
 //! The shipped data files: the numerical choices the aircraft files' sources claim hold, and
 //! the transcriptions the cases are built from.
 
+use super::common::repo_root;
 use cierva_harness::checks::What;
-use cierva_harness::{Loading, TrimRequest, aircraft_file, repo_root, run_trim};
+use cierva_harness::{Loading, TrimRequest, aircraft_file, run_trim};
 
 fn request(airspeed_mph: f64) -> TrimRequest {
     TrimRequest {

@@ -18,7 +18,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// The harness library's top-level modules and the ones each names as `crate::<module>`.
 fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
-    let src = cierva_harness::repo_root().join("harness/src");
+    let src = super::common::repo_root().join("harness/src");
     let mut files = Vec::new();
     rust_files(&src, &mut files);
     let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
@@ -88,7 +88,7 @@ fn no_module_depends_on_itself_through_others() {
 /// Functions (name, file, first line, length in lines) over `limit` lines without a `Long:`
 /// comment in their doc comment or their first three lines.
 fn long_functions(limit: usize) -> Vec<(String, String, usize, usize)> {
-    let root = cierva_harness::repo_root();
+    let root = super::common::repo_root();
     let mut files = Vec::new();
     rust_files(&root.join("harness/src"), &mut files);
     rust_files(&root.join("model/src"), &mut files);
@@ -175,7 +175,7 @@ fn no_function_runs_past_120_lines_without_a_reason() {
 #[test]
 fn main_is_dispatch_only() {
     let main =
-        std::fs::read_to_string(cierva_harness::repo_root().join("harness/src/main.rs")).unwrap();
+        std::fs::read_to_string(super::common::repo_root().join("harness/src/main.rs")).unwrap();
     let functions = main.lines().filter(|l| l.starts_with("fn ")).count();
     assert!(
         functions <= 2,
@@ -190,7 +190,7 @@ fn main_is_dispatch_only() {
 /// an analysis.)
 #[test]
 fn the_model_groups_are_layered() {
-    let src = cierva_harness::repo_root().join("model/src");
+    let src = super::common::repo_root().join("model/src");
     let rules: [(&str, &[&str]); 3] = [
         (
             "components",

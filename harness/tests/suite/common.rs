@@ -8,13 +8,32 @@
 //! ```
 
 use cierva_harness::yaml::InputError;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// The repository's root: the suite this repository is (its `cierva.toml`), where its cases,
+/// aircraft and references are.
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("harness/ sits in the repository root")
+        .to_path_buf()
+}
+
+/// The repository's suite.
+pub fn suite() -> cierva_harness::suite::Suite {
+    cierva_harness::suite::Suite::open(&repo_root()).expect("the repository is a suite")
+}
 
 /// Runs the `cierva` binary from the repository's root: its exit code, stdout and stderr.
 pub fn cierva(args: &[&str]) -> (i32, String, String) {
+    cierva_in(&repo_root(), args)
+}
+
+/// Runs the `cierva` binary in `dir`: its exit code, stdout and stderr.
+pub fn cierva_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_cierva"))
         .args(args)
-        .current_dir(cierva_harness::repo_root())
+        .current_dir(dir)
         .output()
         .expect("runs");
     (

@@ -7,7 +7,7 @@ use cierva_model::components::airfoil::Airfoil;
 
 /// The TR 515 case with only a few rows (the whole table takes seconds).
 fn tr515(rows: &[&str]) -> Case {
-    let mut c = case::load(&cierva_harness::repo_root().join("cases/naca-tr515-table-iii.yaml"))
+    let mut c = case::load(&super::common::repo_root().join("cases/naca-tr515-table-iii.yaml"))
         .expect("the shipped case loads");
     c.checks.retain(|k| rows.contains(&k.id.as_str()));
     assert_eq!(c.checks.len(), rows.len());
@@ -87,7 +87,7 @@ fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
 fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
     use cierva_harness::review;
     use cierva_harness::scoreboard::{self, Change};
-    let mut c = case::load(&cierva_harness::repo_root().join("cases/naca-tr515-table-iii.yaml"))
+    let mut c = case::load(&super::common::repo_root().join("cases/naca-tr515-table-iii.yaml"))
         .expect("the shipped case loads");
     let regime = c
         .scores
@@ -98,7 +98,7 @@ fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
     c.checks.retain(|k| regime.contains(&k.id));
     c.scores.retain(|s| s.checks.as_ref() == Some(&regime));
     assert_eq!(c.checks.len(), 48);
-    let board = scoreboard::load().expect("the scoreboard loads");
+    let board = scoreboard::load(&super::common::suite()).expect("the scoreboard loads");
     let judge = |c: &Case| review::judge(&board, review::scores_of(c, &eval::run_case(c)));
     let Subject::Rotor { file, .. } = &mut c.subject else {
         panic!("TR 515 is a rotor case")
@@ -152,7 +152,7 @@ fn checks_run_on_every_core_give_each_case_its_own_results() {
 /// without its log entry, fails here.
 #[test]
 fn the_committed_scores_and_records_are_the_last_accepted() {
-    let reports = cierva_harness::repo_root().join("reports");
+    let reports = super::common::repo_root().join("reports");
     if let Err(e) = cierva_harness::review::acceptance_state(&reports) {
         panic!("{e}");
     }
@@ -164,7 +164,7 @@ fn the_committed_scores_and_records_are_the_last_accepted() {
 #[test]
 fn a_hand_edited_scoreboard_is_not_what_was_accepted() {
     use cierva_harness::review::{LOG_FILE, acceptance_state};
-    let from = cierva_harness::repo_root().join("reports");
+    let from = super::common::repo_root().join("reports");
     let dir = std::env::temp_dir().join(format!("cierva-accepted-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("discrepancies")).unwrap();

@@ -1,8 +1,9 @@
 //! `cierva estimate`: an aircraft's tail and pod coefficients from its geometry by published
 //! methods, printed step by step with sources and ranges; bad input refused.
 
+use super::common::repo_root;
 use crate::common::cierva;
-use cierva_harness::{aircraft_file, estimate, repo_root};
+use cierva_harness::{aircraft_file, estimate};
 
 /// The text derivation names every method's source and accuracy, gives each step's value and
 /// range, and sets the file's values beside the estimates; the JSON carries the same steps,

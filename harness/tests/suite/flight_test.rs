@@ -2,11 +2,12 @@
 //! instruments against their specification, a pilot holding trim, and records of several runs
 //! identified together.
 
+use super::common::repo_root;
 use cierva_harness::flight_test::sensors::{Channel, Instrumentation};
 use cierva_harness::flight_test::turbulence::Dryden;
 use cierva_harness::flight_test::{self, FlightTest};
 use cierva_harness::ident::synth::{Input, Normal};
-use cierva_harness::{Loading, TrimRequest, repo_root};
+use cierva_harness::{Loading, TrimRequest};
 
 /// MIL-F-8785C's low-altitude scales at 500 ft: L_w = 500 ft, L_u = L_v = 500 / 0.5885^1.2 ft
 /// (944.6 ft), sigma_u = sigma_v = sigma_w / 0.5885^0.4 (1.2362 sigma_w).

@@ -1,9 +1,10 @@
 //! Identification verified on synthetic records flown by seed 002's VPM M16 model (Eq. 20).
 
+use super::common::repo_root;
 use cierva_harness::ident::record;
 use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings};
 use cierva_harness::ident::{ConfigSpec, identify_record};
-use cierva_harness::{refs, repo_root};
+use cierva_harness::refs;
 use cierva_model::LinearModel;
 use std::path::PathBuf;
 

@@ -7,10 +7,11 @@
 //! The files are copied into a scratch tree that mirrors the repository, so that relative
 //! references between them (a case's `../aircraft/...`) still resolve.
 
+use super::common::repo_root;
 use cierva_harness::yaml::InputError;
 use cierva_harness::{
-    aircraft_file, case, corrections, discrepancy, eval, fit_file, ident, refs, repo_root, review,
-    rotor_file, scoreboard,
+    aircraft_file, case, corrections, discrepancy, eval, fit_file, ident, refs, review, rotor_file,
+    scoreboard,
 };
 use std::path::{Path, PathBuf};
 

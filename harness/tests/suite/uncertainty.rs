@@ -380,7 +380,7 @@ fn calibration_coverage(seed: u64) -> (f64, f64) {
 #[test]
 fn samples_the_model_refuses_are_counted_with_their_first_error() {
     use cierva_harness::uncertainty::propagate::{self, Settings};
-    let root = cierva_harness::repo_root();
+    let root = super::common::repo_root();
     let mut case =
         cierva_harness::case::load(&root.join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml"))
             .unwrap();
@@ -423,7 +423,7 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
 #[test]
 fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     use cierva_harness::uncertainty::propagate::{self, Method, Settings};
-    let root = cierva_harness::repo_root();
+    let root = super::common::repo_root();
     let case =
         cierva_harness::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
     let run = |method| {
@@ -522,7 +522,7 @@ const FIRST_ORDER_COVERAGE_FLOOR: f64 = 0.95 - 3.0 * 0.027;
 #[test]
 fn a_calibrations_predictive_error_is_carried_into_u_input() {
     use cierva_harness::uncertainty::propagate::{self, Method, Settings};
-    let root = cierva_harness::repo_root();
+    let root = super::common::repo_root();
     let case =
         cierva_harness::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
     let dir = std::env::temp_dir().join(format!("cierva-calibration-{}", std::process::id()));

@@ -355,7 +355,7 @@ mod linear {
     #[test]
     fn rounding_bound_covers_random_corner_perturbations() {
         let r = cierva_harness::refs::load(
-            &cierva_harness::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
+            &crate::common::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
         )
         .unwrap();
         let model = r.linear_model.unwrap();

@@ -2,10 +2,11 @@
 //! by seed 002's VPM M16 linear model (Eq. 20), and bad input.
 
 use super::common::cierva;
+use super::common::repo_root;
 use cierva_harness::ident::record;
 use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings};
 use cierva_harness::ident::verify::{self, OutputFit};
-use cierva_harness::{refs, repo_root};
+use cierva_harness::refs;
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
 use std::path::{Path, PathBuf};
