@@ -21,6 +21,7 @@ mod mutation;
 mod retune;
 mod retune_coverage;
 mod trivial;
+mod tutorials;
 mod uncertainty;
 mod units;
 mod verify;
