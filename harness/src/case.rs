@@ -712,3 +712,11 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), InputError> {
     }
     Ok(())
 }
+
+/// Every case file found under `paths`, loaded (or the error that stopped it).
+///
+/// Fails only when a path does not exist or cannot be listed; an empty result is the caller's
+/// to reject.
+pub fn load_cases(paths: &[PathBuf]) -> Result<Vec<Result<Case, InputError>>, InputError> {
+    Ok(discover(paths)?.iter().map(|p| load(p)).collect())
+}

@@ -77,7 +77,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
     let turbulence = if a.turbulence_m_s > 0.0 {
         match cierva_harness::flight_test::turbulence::Dryden::low_altitude(
             a.turbulence_m_s,
-            a.height_ft * 0.3048,
+            a.height_ft * cierva_harness::units::FT_TO_M,
         ) {
             Ok(d) => Some(d),
             Err(e) => return fail(e),

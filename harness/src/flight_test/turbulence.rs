@@ -22,9 +22,8 @@
 //! gust's gradients (its rotational components) are not modelled.
 
 use crate::ident::synth::Normal;
+use crate::units::FT_TO_M;
 use serde::Serialize;
-
-const FT_TO_M: f64 = 0.3048;
 
 /// The turbulence: intensities and scale lengths of the three components.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
