@@ -152,7 +152,7 @@ table{border-collapse:collapse;margin:8px 0;font-size:13px}td,th{border:1px soli
 th{background:#f4f4f6;text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
 .pass{color:#17692f}.fail{color:#b00020;font-weight:bold}.xfail{color:#8a5a00}.xpass{color:#b00020;font-weight:bold}
 span.badge{display:inline-block;border-radius:9px;padding:0 8px;font-size:12px;border:1px solid currentColor}
-.muted{color:#666;font-size:13px}.prov{background:#f8f8fa;border-left:3px solid #ccc;padding:6px 10px;font-size:13px}
+.muted{color:#666;font-size:13px}.spark{vertical-align:middle}.hist{white-space:nowrap}.prov{background:#f8f8fa;border-left:3px solid #ccc;padding:6px 10px;font-size:13px}
 .plots{display:flex;flex-wrap:wrap;gap:10px}figure.plot{margin:0;border:1px solid #e4e4e4;padding:4px}
 figure.plot figcaption{font-size:12px;color:#555;max-width:460px}
 nav ul{columns:2;font-size:13px}code{font-size:12px}.why{font-size:12px;color:#8a5a00}
@@ -297,24 +297,33 @@ fn scoreboard_html(run: &Run) -> String {
          worse than committed in <code>reports/scoreboard.yaml</code> by more than its noise \
          floor; <code>cierva review --accept --reason TEXT</code> commits a new value and logs \
          why (below). History: the value at \
-         each commit that changed the scoreboard, oldest first.</p><table><tr><th>data set</th>\
+         each commit that changed the scoreboard, oldest first, then now (the ringed point; hover \
+         a point for its commit), with the first and the present value.</p><table><tr><th>data set</th>\
          <th>score</th><th>metric</th><th>over</th><th>now</th><th>committed</th><th>change</th>\
          <th>history</th><th>what it measures</th></tr>",
     );
     for j in &run.scores {
         let s = &j.score;
-        let hist = crate::scoreboard::history(&s.case, &s.id, &run.score_versions)
-            .iter()
-            .map(|(date, commit, v)| {
-                format!(
-                    "<span title=\"{} {}\">{}</span>",
-                    esc(commit),
-                    esc(date),
-                    num(*v)
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(" → ");
+        let committed: Vec<plot::Spark> =
+            crate::scoreboard::history(&s.case, &s.id, &run.score_versions)
+                .into_iter()
+                .map(|(date, commit, value)| plot::Spark {
+                    label: format!("{commit} {date}"),
+                    value,
+                })
+                .collect();
+        let now = plot::Spark {
+            label: "now".into(),
+            value: s.value,
+        };
+        // The chart, then the first committed value and now's, as numbers.
+        let hist =
+            plot::sparkline_svg(&committed, &now).map_or(String::new(), |svg| {
+                match committed.first() {
+                    Some(first) => format!("{svg} {} → {}", num(first.value), num(s.value)),
+                    None => format!("{svg} (not committed)"),
+                }
+            });
         let class = match j.change {
             crate::scoreboard::Change::Worse | crate::scoreboard::Change::New => "fail",
             crate::scoreboard::Change::Better => "pass",
@@ -324,7 +333,7 @@ fn scoreboard_html(run: &Run) -> String {
             h,
             "<tr><td><a href=\"#case-{c}\">{c}</a></td><td>{id}</td><td>{m}{q}</td>\
              <td class=\"n\">{n}</td><td class=\"n\">{now}</td><td class=\"n\">{then}</td>\
-             <td class=\"{class}\">{change}</td><td class=\"muted\">{hist}</td>\
+             <td class=\"{class}\">{change}</td><td class=\"muted hist\">{hist}</td>\
              <td class=\"muted\">{why}</td></tr>",
             c = esc(&s.case),
             id = esc(&s.id),

@@ -465,3 +465,80 @@ fn panels(figures: &[Figure], width: u32, panel_height: u32, log_x: bool) -> Opt
     drawn.ok()?;
     Some(out)
 }
+
+/// One point of a sparkline: its label (shown on hover) and value.
+pub struct Spark {
+    pub label: String,
+    pub value: f64,
+}
+
+/// Width and height of a sparkline, px: a table cell's worth.
+const SPARK_SIZE_PX: (f64, f64) = (132.0, 30.0);
+
+/// A score's history as a small inline SVG: the committed values oldest first, then `now`, as
+/// a line with a dot per value (each with its label on hover), the last dot ringed. Values that
+/// are not finite are left out; `None` when nothing finite is left. The vertical scale is the
+/// values' own range (a flat line through the middle when they are equal): it shows the
+/// direction and the steps, the numbers are beside it.
+pub fn sparkline_svg(history: &[Spark], now: &Spark) -> Option<String> {
+    use std::fmt::Write;
+    let points: Vec<&Spark> = history
+        .iter()
+        .chain(std::iter::once(now))
+        .filter(|p| p.value.is_finite())
+        .collect();
+    if points.is_empty() {
+        return None;
+    }
+    let (w, h) = SPARK_SIZE_PX;
+    let pad = 4.0;
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), p| {
+            (l.min(p.value), u.max(p.value))
+        });
+    let n = points.len();
+    let x = |i: usize| {
+        if n == 1 {
+            w / 2.0
+        } else {
+            pad + (w - 2.0 * pad) * i as f64 / (n - 1) as f64
+        }
+    };
+    let y = |v: f64| {
+        if hi > lo {
+            h - pad - (h - 2.0 * pad) * (v - lo) / (hi - lo)
+        } else {
+            h / 2.0
+        }
+    };
+    let escape = |s: &str| {
+        s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+            .replace('"', "&quot;")
+    };
+    let mut svg = format!(
+        "<svg class=\"spark\" xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" role=\"img\"><polyline fill=\"none\" stroke=\"#4a6fa5\" stroke-width=\"1.5\" points=\""
+    );
+    for (i, p) in points.iter().enumerate() {
+        let _ = write!(svg, "{:.1},{:.1} ", x(i), y(p.value));
+    }
+    svg.push_str("\"/>");
+    for (i, p) in points.iter().enumerate() {
+        let last = i + 1 == n;
+        let _ = write!(
+            svg,
+            "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"{}\" fill=\"{}\" stroke=\"#1f3b63\" stroke-width=\"{}\"><title>{}: {}</title></circle>",
+            x(i),
+            y(p.value),
+            if last { 3.0 } else { 2.0 },
+            if last { "#ffffff" } else { "#4a6fa5" },
+            if last { 1.5 } else { 0.0 },
+            escape(&p.label),
+            p.value
+        );
+    }
+    svg.push_str("</svg>");
+    Some(svg)
+}

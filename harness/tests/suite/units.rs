@@ -852,3 +852,37 @@ mod rotor_file {
         assert_eq!(set.describe(), "hub_drag_area_m2=0.45");
     }
 }
+
+/// A score's history as a sparkline (issue 35, item 5): one dot per finite value, committed
+/// values first and now last (ringed), each labelled for hover; the line spans the box; equal
+/// values draw a flat line; nothing finite draws nothing.
+#[test]
+fn a_scores_history_is_a_sparkline_of_its_finite_values() {
+    use cierva_harness::report::plot::{Spark, sparkline_svg};
+    let spark = |label: &str, value: f64| Spark {
+        label: label.into(),
+        value,
+    };
+    let history = [
+        spark("a1 2026-11-01", 0.5),
+        spark("b2 2026-11-10", f64::NAN),
+        spark("c3 2026-11-20", 0.25),
+    ];
+    let svg = sparkline_svg(&history, &spark("now", 0.75)).unwrap();
+    assert_eq!(svg.matches("<circle").count(), 3, "{svg}");
+    assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+    for label in ["a1 2026-11-01: 0.5", "c3 2026-11-20: 0.25", "now: 0.75"] {
+        assert!(svg.contains(&format!("<title>{label}</title>")), "{svg}");
+    }
+    // The lowest value at the bottom (y = 30 - 4), the highest at the top (y = 4), now ringed.
+    assert!(
+        svg.contains("points=\"4.0,15.0 66.0,26.0 128.0,4.0 \""),
+        "{svg}"
+    );
+    assert!(svg.contains("r=\"3\" fill=\"#ffffff\""), "{svg}");
+    let flat = sparkline_svg(&[spark("a", 1.0)], &spark("now", 1.0)).unwrap();
+    assert!(flat.contains("points=\"4.0,15.0 128.0,15.0 \""), "{flat}");
+    assert!(sparkline_svg(&[], &spark("now", f64::NAN)).is_none());
+    let alone = sparkline_svg(&[], &spark("now", 2.0)).unwrap();
+    assert_eq!(alone.matches("<circle").count(), 1, "{alone}");
+}
