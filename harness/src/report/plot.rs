@@ -68,6 +68,18 @@ pub struct Figure {
     pub log_x: bool,
 }
 
+/// The vertical pixels of a panel that are not plotting area: the caption, the x labels and
+/// the margins (`draw_on`'s chart).
+const PLOT_FRAME_PX: f64 = 8.0 * 2.0 + 36.0 + 24.0;
+
+/// A legend's height, px: its frame and padding, and each entry's row (11 px labels).
+const LEGEND_PAD_PX: f64 = 14.0;
+const LEGEND_ROW_PX: f64 = 16.0;
+
+/// The most of a panel's plotting height the legend's strip may take: a legend taller than
+/// this (a dozen entries on a short panel) may cover the top of the data.
+const LEGEND_STRIP_MAX: f64 = 0.6;
+
 /// Values beyond this magnitude are "no bound" (a sign check's interval) and are left out of
 /// the axis ranges.
 const NO_BOUND: f64 = 1e5;
@@ -176,9 +188,16 @@ impl Figure {
             };
             Some((lo - pad, hi + pad))
         };
-        // Headroom at the top for the legend.
-        let (y0, y1) = span(&ys)?;
-        Some((span(&xs)?, (y0, y1 + 0.3 * (y1 - y0))))
+        Some((span(&xs)?, span(&ys)?))
+    }
+
+    /// How many entries the legend has: one per series, band and interval set, and one for
+    /// the bars.
+    fn legend_entries(&self) -> usize {
+        self.series.len()
+            + self.bands.len()
+            + usize::from(self.intervals.is_some())
+            + usize::from(!self.bars.is_empty())
     }
 
     /// The figure as an SVG document, or `None` when it has nothing finite to show.
@@ -194,9 +213,15 @@ impl Figure {
         log_x: bool,
     ) -> Result<(), Box<dyn std::error::Error>> {
         // Long: draws one figure with plotters: axes, series, bands, legend
-        let Some(((x0, x1), (y0, y1))) = self.ranges() else {
+        let Some(((x0, x1), (y0, y_data))) = self.ranges() else {
             return Ok(());
         };
+        // A strip at the top for the legend, as tall as its entries, where nothing is drawn:
+        // every mark is clipped to the data's top, so the legend covers none.
+        let plot_px = f64::from(root.dim_in_pixel().1).max(1.0) - PLOT_FRAME_PX;
+        let legend_px = LEGEND_PAD_PX + LEGEND_ROW_PX * self.legend_entries() as f64;
+        let strip = (legend_px / plot_px.max(legend_px)).min(LEGEND_STRIP_MAX);
+        let y1 = y_data + (y_data - y0) * strip / (1.0 - strip);
         {
             let mut chart = ChartBuilder::on(root)
                 .caption(&self.title, ("sans-serif", 15))
@@ -216,7 +241,7 @@ impl Figure {
                 .max_light_lines(0)
                 .bold_line_style(RGBColor(232, 232, 232))
                 .draw()?;
-            let clip = |v: f64| v.clamp(y0, y1);
+            let clip = |v: f64| v.clamp(y0, y_data);
             if self.x_zero {
                 chart.draw_series(std::iter::once(PathElement::new(
                     vec![(0.0, y0), (0.0, y1)],
@@ -282,14 +307,14 @@ impl Figure {
                 let caps: Vec<(f64, f64)> = bars
                     .iter()
                     .flat_map(|b| [(b.x, b.lower), (b.x, b.upper)])
-                    .filter(|(_, v)| *v >= y0 && *v <= y1)
+                    .filter(|(_, v)| *v >= y0 && *v <= y_data)
                     .collect();
                 chart.draw_series(
                     caps.iter()
                         .map(|&(x, v)| PathElement::new(vec![(x - dx, v), (x + dx, v)], style)),
                 )?;
                 chart.draw_series(bars.iter().filter_map(move |b| {
-                    let e = b.expected.filter(|v| *v >= y0 && *v <= y1)?;
+                    let e = b.expected.filter(|v| *v >= y0 && *v <= y_data)?;
                     Some(Cross::new((b.x, e), 4, BLACK.stroke_width(1)))
                 }))?;
             }
