@@ -6,9 +6,10 @@ use super::common::{cierva_in, repo_root};
 use std::path::{Path, PathBuf};
 
 /// The example's checks: the command's linear model (6: seed 002 Table 1's exact modes, the
-/// short-period approximation, Eq. 21's elements, Eqs. 24-25) and trim sweeps at two masses
-/// (2); the files' linear model (6, the same) and trim sweep (1).
-const EXAMPLE_CHECKS: usize = 15;
+/// short-period approximation, Eq. 21's elements, Eqs. 24-25), trim sweeps at two masses (2)
+/// and time history (1); the files' linear model (6, the same), trim sweep (1) and time
+/// history (1).
+const EXAMPLE_CHECKS: usize = 17;
 
 /// Fails with a message that says so when `python3` cannot be run (the example is a Python 3
 /// script).
@@ -56,6 +57,8 @@ fn the_example_external_model_validates_through_a_command_and_files() {
         "vpm-m16-trim-command-min-weight",
         "vpm-m16-linear-files",
         "vpm-m16-trim-files-max-weight",
+        "vpm-m16-time-history-command",
+        "vpm-m16-time-history-files",
     ] {
         assert!(out.contains(case), "{case} did not run:\n{out}");
     }
