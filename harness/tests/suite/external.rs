@@ -152,3 +152,60 @@ fn a_broken_external_command_is_an_error_that_shows_why() {
     let _ = std::fs::remove_dir_all(&base);
     assert!(problems.is_empty(), "{}", problems.join("\n\n"));
 }
+
+/// A files subject's tables are read when the case loads: a bad cell or column is an error
+/// that names the table's line and column, inside the case's located error.
+#[test]
+fn a_bad_trim_table_is_a_located_error() {
+    let dir = std::env::temp_dir().join(format!("cierva-external-files-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
+    std::fs::copy(
+        repo_root().join("cases/tolerances.yaml"),
+        dir.join("tolerances.yaml"),
+    )
+    .unwrap();
+    let case = dir.join("case.yaml");
+    std::fs::write(
+        &case,
+        "id: case\ntitle: a bad trim table\nclass: regression\n\
+         provenance: {source: a test of harness/tests/suite/external.rs}\n\
+         model:\n  files:\n    trim_table: trim.csv\n\
+         tolerances:\n  forward:\n    sign: negative\n    reason: the test's own\n\
+         checks:\n  - id: trends\n    kind: trim_sweep\n    sweep_mph: [30.0, 40.0]\n\
+         \x20   expect:\n      stick_longitudinal_percent_per_mph_max: {tolerance: forward}\n",
+    )
+    .unwrap();
+    // Each: the table, and what the error must say (the table's line and column first).
+    let tables = [
+        (
+            "# a comment\nairspeed_mph,pitch_deg\n30,4.0\n40,abc\n",
+            "trim.csv:4:4: `pitch_deg`: `abc` is not a finite number",
+        ),
+        (
+            "airspeed_mph,pitch_degs\n30,4.0\n",
+            "trim.csv:1:2: `pitch_degs` is not a trim quantity (did you mean `pitch_deg`?)",
+        ),
+        ("pitch_deg\n4.0\n", "trim.csv:1: no airspeed column"),
+        (
+            "airspeed_mph,pitch_deg\n30,4.0\n30,4.1\n",
+            "trim.csv:3: a second row",
+        ),
+    ];
+    let mut problems = Vec::new();
+    for (table, want) in tables {
+        std::fs::write(dir.join("trim.csv"), table).unwrap();
+        match cierva_harness::case::load(&case) {
+            Ok(_) => problems.push(format!("loaded with the table:\n{table}")),
+            Err(e) => {
+                let msg = e.to_string();
+                if !(msg.contains(want) && e.line == Some(7)) {
+                    problems.push(format!("wanted `{want}` at the case's line 7, got: {msg}"));
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
