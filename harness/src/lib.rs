@@ -14,6 +14,7 @@ pub mod corrections;
 pub mod discrepancy;
 pub mod estimate;
 pub mod eval;
+pub mod external;
 pub mod fit;
 pub mod fit_file;
 pub mod flight_test;

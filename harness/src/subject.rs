@@ -31,7 +31,58 @@ pub struct ModelSpec {
     /// An aircraft file, for trim checks.
     #[serde(default)]
     pub aircraft: Option<AircraftModelSpec>,
+    /// Another simulation, run as a command (protocol `cierva-external/1`).
+    #[serde(default)]
+    pub external: Option<ExternalSpec>,
+    /// Another simulation's outputs as files.
+    #[serde(default)]
+    pub files: Option<FilesSpec>,
 }
+
+/// Another simulation's outputs as files (see [`crate::external::files`]), each optional,
+/// paths relative to the case file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilesSpec {
+    /// A trim table (CSV, one row per level-flight airspeed).
+    #[serde(default)]
+    pub trim_table: Option<String>,
+    /// A reference file holding a `linear_model`, at `at`.
+    #[serde(default)]
+    pub linear_model_file: Option<String>,
+    /// The response to a reference record's controls (CSV), at `at`.
+    #[serde(default)]
+    pub time_history: Option<String>,
+    /// The condition of the linear model and the time history.
+    #[serde(default)]
+    pub at: Option<crate::TrimRequest>,
+    /// Mass, kg, the files are at (as the checks' records and discrepancy records say).
+    #[serde(default)]
+    pub mass_kg: Option<f64>,
+    /// ISA density altitude, ft.
+    #[serde(default)]
+    pub density_altitude_ft: f64,
+}
+
+/// Another simulation as a command: the program and its arguments (a path is relative to the
+/// case file's folder, where it runs), the time one request may take, and the loading it is
+/// asked at.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExternalSpec {
+    pub command: Vec<String>,
+    /// The longest one request may run, s; the process is killed after it.
+    pub timeout_s: f64,
+    /// Mass, kg (passed to the model; none: the model's own).
+    #[serde(default)]
+    pub mass_kg: Option<f64>,
+    /// ISA density altitude, ft.
+    #[serde(default)]
+    pub density_altitude_ft: f64,
+}
+
+/// The longest `timeout_s` a case may give, s: an hour per request is already beyond a suite.
+pub const MAX_TIMEOUT_S: f64 = 3600.0;
 
 /// An aircraft subject: the file, the mass and the air.
 #[derive(Debug, Clone, Deserialize)]
@@ -120,6 +171,8 @@ pub enum Subject {
         file: Box<crate::aircraft_file::AircraftFile>,
         loading: crate::Loading,
     },
+    /// Another simulation (a command, or its outputs as files) at a loading.
+    External(Box<crate::external::External>),
     /// A teeter record, its rotor and the analysis settings.
     FlapRecord {
         record: Box<crate::ident::record::Record>,
@@ -136,6 +189,7 @@ impl Subject {
             Self::Table { .. } => "a derivative table",
             Self::Rotor { .. } => "a rotor",
             Self::Aircraft { .. } => "an aircraft",
+            Self::External(_) => "an external model",
             Self::FlapRecord { .. } => "a teeter record (`flap_record`)",
         }
     }
@@ -151,13 +205,40 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         m.rotor.is_some(),
         m.flap_record.is_some(),
         m.aircraft.is_some(),
+        m.external.is_some(),
+        m.files.is_some(),
     ];
     if given.iter().filter(|g| **g).count() != 1 {
         return Err(err(
             "model",
-            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table`, `rotor`, `flap_record` or `aircraft`"
+            "give exactly one of `linear_model_file`, `linear_model`, `derivative_table`, `rotor`, `flap_record`, `aircraft`, `external` or `files`"
                 .into(),
         ));
+    }
+    if let Some(x) = &m.external {
+        let loading = check_loading(&err, "model.external", x.mass_kg, x.density_altitude_ft)?;
+        if x.command.is_empty() || x.command[0].trim().is_empty() {
+            return Err(err(
+                "model.external.command",
+                "give the program and its arguments, `[python3, model.py]`".into(),
+            ));
+        }
+        if !(x.timeout_s.is_finite() && x.timeout_s > 0.0 && x.timeout_s <= MAX_TIMEOUT_S) {
+            return Err(err(
+                "model.external.timeout_s",
+                format!("must be in (0, {MAX_TIMEOUT_S}] s, got {}", x.timeout_s),
+            ));
+        }
+        let command = crate::external::command::ExternalCommand::new(
+            x.command.clone(),
+            dir.to_path_buf(),
+            std::time::Duration::from_secs_f64(x.timeout_s),
+        );
+        return Ok(Subject::External(Box::new(crate::external::External {
+            written: format!("command: {}", command.written()),
+            model: std::sync::Arc::new(command),
+            loading,
+        })));
     }
     if let Some(a) = &m.aircraft {
         let file = crate::aircraft_file::load(&dir.join(&a.file)).map_err(|e| {
@@ -166,30 +247,14 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
                 format!("in the referenced file: {e}"),
             )
         })?;
-        if let Some(mass) = a.mass_kg
-            && !(mass.is_finite() && mass > 0.0)
-        {
-            return Err(err(
-                "model.aircraft.mass_kg",
-                format!("must be positive, got {mass}"),
-            ));
-        }
-        if !(-2000.0..=20000.0).contains(&a.density_altitude_ft) {
-            return Err(err(
-                "model.aircraft.density_altitude_ft",
-                format!(
-                    "must be in [-2000, 20000] ft, got {}",
-                    a.density_altitude_ft
-                ),
-            ));
-        }
+        let loading = check_loading(&err, "model.aircraft", a.mass_kg, a.density_altitude_ft)?;
         return Ok(Subject::Aircraft {
             file: Box::new(file),
-            loading: crate::Loading {
-                mass_kg: a.mass_kg,
-                density_altitude_ft: a.density_altitude_ft,
-            },
+            loading,
         });
+    }
+    if let Some(f) = &m.files {
+        return load_files(path, src, dir, f);
     }
     if let Some(f) = &m.flap_record {
         let rec = crate::ident::record::load_with(
@@ -289,6 +354,131 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         table,
         file: tpath,
         column: t.column.clone(),
+    })
+}
+
+/// Another simulation's outputs as files, each read and checked.
+fn load_files(path: &Path, src: &str, dir: &Path, f: &FilesSpec) -> Result<Subject, InputError> {
+    use crate::external::files;
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
+    let loading = check_loading(&err, "model.files", f.mass_kg, f.density_altitude_ft)?;
+    if f.trim_table.is_none() && f.linear_model_file.is_none() && f.time_history.is_none() {
+        return Err(err(
+            "model.files",
+            "give at least one of `trim_table`, `linear_model_file` or `time_history`".into(),
+        ));
+    }
+    let needs_at = f.linear_model_file.is_some() || f.time_history.is_some();
+    match (&f.at, needs_at) {
+        (None, true) => {
+            return Err(err(
+                "model.files",
+                "give `at`, the condition of the linear model and the time history".into(),
+            ));
+        }
+        (Some(_), false) => {
+            return Err(err(
+                "model.files.at",
+                "`at` is the condition of a linear model or a time history; there is neither"
+                    .into(),
+            ));
+        }
+        (Some(t), true)
+            if !(t.airspeed_mph.is_finite()
+                && t.airspeed_mph > 0.0
+                && t.climb_m_s.is_finite()
+                && t.turn_rate_deg_s.is_finite()) =>
+        {
+            return Err(err(
+                "model.files.at",
+                "the airspeed must be positive, climb and turn rates finite".into(),
+            ));
+        }
+        _ => {}
+    }
+    let read = |field: &str, file: &str| -> Result<(PathBuf, String), InputError> {
+        let p = dir.join(file);
+        std::fs::read_to_string(&p)
+            .map(|t| (p.clone(), t))
+            .map_err(|e| err(field, format!("cannot read {}: {e}", p.display())))
+    };
+    let csv = |field: &str, p: &Path, e: files::CsvError| {
+        err(field, format!("in the referenced file: {}", e.in_file(p)))
+    };
+    let trim_table = match &f.trim_table {
+        Some(file) => {
+            let (p, text) = read("model.files.trim_table", file)?;
+            let rows =
+                files::parse_trim_table(&text).map_err(|e| csv("model.files.trim_table", &p, e))?;
+            Some((p, rows))
+        }
+        None => None,
+    };
+    let time_history = match &f.time_history {
+        Some(file) => {
+            let (p, text) = read("model.files.time_history", file)?;
+            let flown = files::parse_history(&text, None)
+                .map_err(|e| csv("model.files.time_history", &p, e))?;
+            Some((p, flown))
+        }
+        None => None,
+    };
+    let linear_model = match &f.linear_model_file {
+        Some(file) => {
+            let rpath = dir.join(file);
+            let r = refs::load(&rpath).map_err(|e| {
+                err(
+                    "model.files.linear_model_file",
+                    format!("in the referenced file: {e}"),
+                )
+            })?;
+            let model = r.linear_model.ok_or_else(|| {
+                err(
+                    "model.files.linear_model_file",
+                    format!("{} has no `linear_model` block", rpath.display()),
+                )
+            })?;
+            Some((rpath, model))
+        }
+        None => None,
+    };
+    let model = crate::external::files::Files {
+        trim_table,
+        linear_model,
+        time_history,
+        at: f.at,
+    };
+    Ok(Subject::External(Box::new(crate::external::External {
+        written: format!("files: {}", model.written()),
+        model: std::sync::Arc::new(model),
+        loading,
+    })))
+}
+
+/// A subject's mass and air, checked: a positive mass, a density altitude in [-2000, 20000] ft.
+fn check_loading(
+    err: &dyn Fn(&str, String) -> InputError,
+    field: &str,
+    mass_kg: Option<f64>,
+    density_altitude_ft: f64,
+) -> Result<crate::Loading, InputError> {
+    if let Some(mass) = mass_kg
+        && !(mass.is_finite() && mass > 0.0)
+    {
+        return Err(err(
+            &format!("{field}.mass_kg"),
+            format!("must be positive, got {mass}"),
+        ));
+    }
+    if !(-2000.0..=20000.0).contains(&density_altitude_ft) {
+        return Err(err(
+            &format!("{field}.density_altitude_ft"),
+            format!("must be in [-2000, 20000] ft, got {density_altitude_ft}"),
+        ));
+    }
+    Ok(crate::Loading {
+        mass_kg,
+        density_altitude_ft,
     })
 }
 

@@ -37,13 +37,15 @@ impl Kind for DerivativeCheck {
         "without_rotorspeed_coupling",
         "as_identified",
     ];
-    const SUBJECTS: &'static str =
-        "a linear model, a derivative table, or an aircraft linearised at the check's `condition`";
+    const SUBJECTS: &'static str = "a linear model, a derivative table, or an aircraft or external model linearised at the check's `condition`";
 
     fn runs_on(subject: &Subject) -> bool {
         matches!(
             subject,
-            Subject::Linear { .. } | Subject::Table { .. } | Subject::Aircraft { .. }
+            Subject::Linear { .. }
+                | Subject::Table { .. }
+                | Subject::Aircraft { .. }
+                | Subject::External(_)
         )
     }
 
@@ -205,7 +207,7 @@ impl Evaluate for DerivativeCheck {
                     .into(),
             )),
             // A ratio of two zero derivatives is not a number, which never passes.
-            Subject::Aircraft { .. } if self.divided_by.is_none() => {
+            Subject::Aircraft { .. } | Subject::External(_) if self.divided_by.is_none() => {
                 let mut out: Vec<Trivial> = expectations
                     .iter()
                     .map(|e| Trivial {

@@ -13,7 +13,7 @@
 //! for the rounding of the published value itself.
 
 use super::result::{Evaluated, Locus, PlotData, compare};
-use super::{At, Check, CheckSpec, Cx, Expectation, check_condition, is_aircraft};
+use super::{At, Check, CheckSpec, Cx, Expectation, check_condition, is_flight_model};
 use crate::subject::Subject;
 use crate::tolerance::ToleranceKind;
 use crate::yaml::InputError;
@@ -43,11 +43,14 @@ pub enum System {
 pub const FIELDS: [&str; 3] = ["condition", "set", "without_rotorspeed_coupling"];
 
 /// The subjects checks on a linear model run on, in words.
-pub const SUBJECTS: &str = "a linear model, or an aircraft linearised at the check's `condition`";
+pub const SUBJECTS: &str = "a linear model, or an aircraft linearised at the check's `condition`, or an external model's linear model there";
 
 /// Whether a check on a linear model runs on `subject`.
 pub fn runs_on(subject: &Subject) -> bool {
-    matches!(subject, Subject::Linear { .. } | Subject::Aircraft { .. })
+    matches!(
+        subject,
+        Subject::Linear { .. } | Subject::Aircraft { .. } | Subject::External(_)
+    )
 }
 
 /// Where a check on a linear model takes its model, and how it modifies it.
@@ -67,13 +70,14 @@ pub struct LinearSetup {
 /// Resolves the shared fields: a condition exactly on an aircraft, in straight flight; `set`
 /// names derivatives of the model, with finite values.
 pub fn resolve_setup(cx: &Cx, spec: &CheckSpec) -> Result<LinearSetup, InputError> {
-    match (is_aircraft(cx.subject), &spec.condition) {
+    match (is_flight_model(cx.subject), &spec.condition) {
         (true, None) => {
             return Err(cx.err(
                 "",
                 format!(
-                    "a `{}` check on an aircraft needs `condition` (it runs on the aircraft linearised there)",
-                    cx.kind.name()
+                    "a `{}` check on {} needs `condition` (it runs on the model linearised there)",
+                    cx.kind.name(),
+                    cx.subject.describe()
                 ),
             ));
         }
@@ -81,7 +85,7 @@ pub fn resolve_setup(cx: &Cx, spec: &CheckSpec) -> Result<LinearSetup, InputErro
         (false, Some(_)) => {
             return Err(cx.err(
                 ".condition",
-                "`condition` applies to a case whose model is an aircraft",
+                "`condition` applies to a case whose model is an aircraft or an external model",
             ));
         }
         (false, None) => {}
@@ -221,8 +225,68 @@ pub fn evaluate<K: OnLinear>(
     match at.subject {
         Subject::Linear { model, .. } => on_model(k, model, expectations),
         Subject::Aircraft { file, loading } => on_aircraft(k, at, file, *loading, expectations),
+        Subject::External(e) => on_external(k, e, expectations),
         _ => Err("a check on a linear model needs a linear model or an aircraft".into()),
     }
+}
+
+/// On an external model: its linear model at the check's condition, checked as a given linear
+/// model is (its printed matrices may carry a `rounding` tolerance).
+fn on_external<K: OnLinear>(
+    k: &K,
+    e: &crate::external::External,
+    expectations: &[Expectation],
+) -> Result<Evaluated, String> {
+    let request = k
+        .setup()
+        .condition
+        .ok_or("a check on an external model's linear model needs a condition")?;
+    let full = e.model.linear_model(request, e.loading)?;
+    let model = if k.longitudinal() {
+        longitudinal(&full)?
+    } else {
+        full
+    };
+    let base = prepare(&model, k.setup())?;
+    let nominal = k.compute(&base, None, &model, expectations)?;
+    if let Some(reason) = k.refused_on(&model, nominal.anchor, expectations) {
+        return Err(format!(
+            "refused when it ran (the model's modes come with its answer): {reason}"
+        ));
+    }
+    let mut out = Vec::new();
+    for x in expectations {
+        let value = nominal.get(&x.quantity)?;
+        out.push(compare(x, value, || {
+            propagated_rounding(&model, k, &nominal, expectations, x)
+        })?);
+    }
+    Ok(Evaluated {
+        verdict: verdict_pair(k.verdict(), &nominal)?,
+        plot: modes_plot(&model, &base, k, nominal.anchor),
+        fingerprint: k.fingerprint(&nominal),
+        ..Evaluated::of(out)
+    })
+}
+
+/// The longitudinal subsystem of a model with cierva's names (as
+/// `cierva_model::aircraft::linearise::Linearised::longitudinal` takes it).
+fn longitudinal(model: &LinearModel) -> Result<LinearModel, String> {
+    let sub = model
+        .subsystem(&["u", "w", "q", "theta", "Omega"])
+        .map_err(|e| e.to_string())?;
+    let col = sub
+        .controls()
+        .iter()
+        .position(|c| c == "eta_s")
+        .ok_or("the model has no control `eta_s`")?;
+    LinearModel::new(
+        sub.states().to_vec(),
+        vec!["eta_s".to_string()],
+        sub.a().clone(),
+        sub.b().columns(col, 1).into_owned(),
+    )
+    .map_err(|e| e.to_string())
 }
 
 fn on_model<K: OnLinear>(

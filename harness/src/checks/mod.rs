@@ -650,13 +650,18 @@ fn resolve_expectations(
             ));
         }
         let t = tolerance(&format!("{}{field}", cx.here), &e.tolerance, derivative)?;
-        if matches!(t.kind, ToleranceKind::Rounding(_))
-            && !matches!(cx.subject, Subject::Linear { .. })
-        {
+        // A rounding tolerance propagates the rounding of a model's printed matrices: a linear
+        // model's, given or an external model's answer to a check on its linear model.
+        let on_matrices = match cx.subject {
+            Subject::Linear { .. } => true,
+            Subject::External(_) => what_is_linear(what),
+            _ => false,
+        };
+        if matches!(t.kind, ToleranceKind::Rounding(_)) && !on_matrices {
             return Err(cx.err(
                 &format!("{field}.tolerance"),
                 format!(
-                    "`{}` is a rounding tolerance, which applies to linear models only",
+                    "`{}` is a rounding tolerance, which applies to linear models (given, or an external model's) only",
                     t.name
                 ),
             ));
@@ -843,3 +848,34 @@ fn check_condition(cx: &Cx, t: &crate::TrimRequest, straight: bool) -> Result<()
 fn is_aircraft(subject: &Subject) -> bool {
     matches!(subject, Subject::Aircraft { .. })
 }
+
+/// Whether the subject is a flight model ([`crate::external::FlightModel`]): an aircraft or
+/// an external model.
+fn is_flight_model(subject: &Subject) -> bool {
+    matches!(subject, Subject::Aircraft { .. } | Subject::External(_))
+}
+
+/// A case's subject as a flight model, if it is one: cierva's aircraft (flown by the full
+/// blade model at its file's azimuth step) or another simulation; with its loading.
+pub fn flight_model(
+    subject: &Subject,
+) -> Option<(Box<dyn crate::external::FlightModel + '_>, crate::Loading)> {
+    match subject {
+        Subject::Aircraft { file, loading } => {
+            Some((Box::new(crate::external::Aircraft::new(file)), *loading))
+        }
+        Subject::External(e) => Some((Box::new(e.model.clone()), e.loading)),
+        _ => None,
+    }
+}
+
+/// Whether the check runs on a linear model (`mode`, `bcar`, `milne`, `derivative`).
+fn what_is_linear(what: &What) -> bool {
+    matches!(
+        what,
+        What::Mode(_) | What::Bcar(_) | What::Milne(_) | What::Derivative(_)
+    )
+}
+
+/// The subjects that are flight models, in words.
+const FLIGHT_MODELS: &str = "an aircraft or an external model";

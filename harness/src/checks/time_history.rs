@@ -34,14 +34,31 @@ impl Kind for TimeHistoryCheck {
         "azimuth_step_deg",
         "corrections",
     ];
-    const SUBJECTS: &'static str = "an aircraft";
+    const SUBJECTS: &'static str = super::FLIGHT_MODELS;
 
     fn runs_on(subject: &Subject) -> bool {
-        super::is_aircraft(subject)
+        super::is_flight_model(subject)
     }
 
     fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
         let reference = cx.needs(&spec.reference, "reference")?;
+        if let Subject::External(_) = cx.subject {
+            for (field, given) in [
+                ("simulation", spec.simulation.is_some()),
+                ("azimuth_step_deg", spec.azimuth_step_deg.is_some()),
+                ("corrections", spec.corrections.is_some()),
+            ] {
+                if given {
+                    return Err(cx.err(
+                        &format!(".{field}"),
+                        format!(
+                            "`{field}` applies to cierva's own aircraft; an external model flies \
+                             the record as it is"
+                        ),
+                    ));
+                }
+            }
+        }
         let condition = cx.needs(&spec.condition, "condition")?;
         let simulation = spec.simulation.unwrap_or_default();
         let linear = simulation == Simulation::Linear;
@@ -134,10 +151,14 @@ impl Evaluate for TimeHistoryCheck {
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
-        let Subject::Aircraft { file, loading } = at.subject else {
-            return Err("a time_history check needs an aircraft".into());
+        let (metrics, flown) = match at.subject {
+            Subject::Aircraft { file, loading } => time_history_metrics(file, *loading, self)?,
+            _ => {
+                let (model, loading) = super::flight_model(at.subject)
+                    .ok_or("a time_history check needs an aircraft or an external model")?;
+                fly_model(model.as_ref(), loading, self, true)?
+            }
         };
-        let (metrics, flown) = time_history_metrics(file, *loading, self)?;
         let values: Vec<(String, f64)> = metrics
             .iter()
             .flat_map(|m| {
@@ -205,12 +226,39 @@ pub fn time_history_metrics(
         file.aircraft.main_rotor.numerics.azimuth_step_rad,
         f64::to_radians,
     );
-    history::fly_record(
-        &file.aircraft,
-        check.condition,
-        loading,
-        &check.reference,
-        check.simulation,
-        step,
-    )
+    let model = crate::external::Aircraft {
+        file,
+        simulation: check.simulation,
+        azimuth_step_rad: step,
+    };
+    fly_model(&model, loading, check, false)
+}
+
+/// A `time_history` check's record flown by any flight model, compared response by response.
+/// With `strict` (another simulation's answer), a response the record carries and the model
+/// does not give, or gives at other times, is an error.
+pub fn fly_model(
+    model: &dyn crate::external::FlightModel,
+    loading: crate::Loading,
+    check: &TimeHistoryCheck,
+    strict: bool,
+) -> Result<(Vec<history::SignalMetrics>, history::Flown), String> {
+    let record = &check.reference;
+    let table = history::record_controls(record)?;
+    let samples = table.time_s.len().saturating_sub(1);
+    let controls = crate::external::ControlChanges {
+        table,
+        sample_s: record.dt_s(),
+        samples,
+    };
+    let flown = model.time_history(check.condition, loading, &controls)?;
+    if strict {
+        crate::external::check_response(
+            &model.describe(),
+            &flown,
+            &history::record_signals(record),
+            samples,
+        )?;
+    }
+    Ok((history::compare(record, &flown)?, flown))
 }

@@ -2,7 +2,7 @@
 //! each trend quantity between neighbouring airspeeds, and the worst residual.
 
 use super::result::{Evaluated, PlotData, Quantities, compare_all};
-use super::trim::{refuse_enforced, trim_quantities};
+use super::trim::refuse_enforced;
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
 use crate::quantity::{self as q, Quantity as Q};
 use crate::subject::Subject;
@@ -17,10 +17,10 @@ pub struct TrimSweepCheck {
 impl Kind for TrimSweepCheck {
     const KIND: CheckKind = CheckKind::TrimSweep;
     const FIELDS: &'static [&'static str] = &["sweep_mph"];
-    const SUBJECTS: &'static str = "an aircraft";
+    const SUBJECTS: &'static str = super::FLIGHT_MODELS;
 
     fn runs_on(subject: &Subject) -> bool {
-        super::is_aircraft(subject)
+        super::is_flight_model(subject)
     }
 
     fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
@@ -58,11 +58,31 @@ impl Evaluate for TrimSweepCheck {
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
-        let Subject::Aircraft { file, loading } = at.subject else {
-            return Err("a trim_sweep check needs an aircraft".into());
-        };
-        let points = trim_sweep(file, *loading, &self.sweep_mph)?;
+        let (model, loading) = super::flight_model(at.subject)
+            .ok_or("a trim_sweep check needs an aircraft or an external model")?;
+        let points = trim_sweep_of(model.as_ref(), loading, &self.sweep_mph)?;
         let trends = sweep_trends(&points);
+        // A trend of a quantity the model does not give at every airspeed is an error that
+        // names it, not a number that fails.
+        for e in expectations {
+            let base = if e.quantity == Q::MaxResidualNorm.name() {
+                Q::ResidualNorm.name()
+            } else {
+                e.quantity
+                    .trim_end_matches("_per_mph_min")
+                    .trim_end_matches("_per_mph_max")
+            };
+            if let Some((v, _)) = points
+                .iter()
+                .find(|(_, q)| !q.iter().any(|(n, _)| *n == base))
+            {
+                return Err(format!(
+                    "{} gives no `{base}` in its trim at {v} mph (`{}` needs it)",
+                    model.describe(),
+                    e.quantity
+                ));
+            }
+        }
         let values: Vec<(&str, f64)> = trends.iter().map(|(n, v)| (n.as_str(), *v)).collect();
         Ok(Evaluated {
             plot: Some(PlotData::Sweep { points }),
@@ -78,6 +98,15 @@ pub fn trim_sweep(
     loading: crate::Loading,
     sweep_mph: &[f64],
 ) -> Result<Vec<(f64, Quantities)>, String> {
+    trim_sweep_of(&crate::external::Aircraft::new(file), loading, sweep_mph)
+}
+
+/// [`trim_sweep`] of any flight model.
+pub fn trim_sweep_of(
+    model: &dyn crate::external::FlightModel,
+    loading: crate::Loading,
+    sweep_mph: &[f64],
+) -> Result<Vec<(f64, Quantities)>, String> {
     sweep_mph
         .iter()
         .map(|&v| {
@@ -86,7 +115,8 @@ pub fn trim_sweep(
                 climb_m_s: 0.0,
                 turn_rate_deg_s: 0.0,
             };
-            trim_quantities(file, loading, request)
+            model
+                .trim(request, loading)
                 .map(|q| (v, q))
                 .map_err(|e| format!("at {v} mph: {e}"))
         })

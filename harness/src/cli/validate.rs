@@ -219,6 +219,7 @@ fn run_cases(
                         case_run.corrections.join(", ")
                     ));
                 }
+                errors.extend(external_errors(&case_run));
                 scores.extend(case_scores);
                 run.cases.push(case_run);
             }
@@ -227,6 +228,31 @@ fn run_cases(
     }
     bar.finish_and_clear();
     (run, corrected, errors, scores)
+}
+
+/// An external model that fails (not found, a non-zero exit, a timeout, output that does not
+/// parse, a quantity it does not give) is bad input (exit 2): each such check's error, located
+/// at the check in its case file.
+fn external_errors(case_run: &cierva_harness::report::CaseRun) -> Vec<String> {
+    let case = &case_run.case;
+    if !matches!(case.subject, cierva_harness::subject::Subject::External(_)) {
+        return Vec::new();
+    }
+    let src = std::fs::read_to_string(&case.path).unwrap_or_default();
+    case_run
+        .results
+        .iter()
+        .filter_map(|r| Some((r, r.error.as_ref()?)))
+        .map(|(r, e)| {
+            let i = case.checks.iter().position(|c| c.id == r.check);
+            let field = i.map_or("checks".to_string(), |i| format!("checks[{i}]"));
+            let msg = format!("check `{}`: {e}", r.check);
+            format!(
+                "error: {}",
+                cierva_harness::yaml::InputError::field(&case.path, &src, &field, msg)
+            )
+        })
+        .collect()
 }
 
 /// The text output: every check, the scoreboard, what needs a look, the counts by class.

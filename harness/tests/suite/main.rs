@@ -12,6 +12,7 @@ mod cli;
 mod common;
 mod discrepancies;
 mod estimate;
+mod external;
 mod fit;
 mod flight_test;
 mod frequency_response;
