@@ -67,7 +67,7 @@ fn the_tutorials_run_as_written() {
         .filter(|p| p.extension().is_some_and(|x| x == "md"))
         .collect();
     tutorials.sort();
-    assert!(tutorials.len() >= 3, "{tutorials:?}");
+    assert!(tutorials.len() >= 4, "{tutorials:?}");
     let root = std::env::temp_dir().join(format!("cierva-tutorials-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&root);
     let mut failed = Vec::new();
