@@ -301,23 +301,12 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         });
     }
     if let Some(file) = &m.linear_model_file {
-        let rpath = dir.join(file);
-        let r = refs::load(&rpath).map_err(|e| {
-            err(
-                "model.linear_model_file",
-                format!("in the referenced file: {e}"),
-            )
-        })?;
-        let model = r.linear_model.ok_or_else(|| {
-            err(
-                "model.linear_model_file",
-                format!("{} has no `linear_model` block", rpath.display()),
-            )
-        })?;
+        let (rpath, model, units) =
+            linear_model_file(dir, file, |msg| err("model.linear_model_file", msg))?;
         return Ok(Subject::Linear {
             model,
             file: Some(rpath),
-            units: r.units,
+            units,
         });
     }
     if let Some(spec) = &m.linear_model {
@@ -425,19 +414,8 @@ fn load_files(path: &Path, src: &str, dir: &Path, f: &FilesSpec) -> Result<Subje
     };
     let linear_model = match &f.linear_model_file {
         Some(file) => {
-            let rpath = dir.join(file);
-            let r = refs::load(&rpath).map_err(|e| {
-                err(
-                    "model.files.linear_model_file",
-                    format!("in the referenced file: {e}"),
-                )
-            })?;
-            let model = r.linear_model.ok_or_else(|| {
-                err(
-                    "model.files.linear_model_file",
-                    format!("{} has no `linear_model` block", rpath.display()),
-                )
-            })?;
+            let (rpath, model, _) =
+                linear_model_file(dir, file, |msg| err("model.files.linear_model_file", msg))?;
             Some((rpath, model))
         }
         None => None,
@@ -453,6 +431,21 @@ fn load_files(path: &Path, src: &str, dir: &Path, f: &FilesSpec) -> Result<Subje
         model: std::sync::Arc::new(model),
         loading,
     })))
+}
+
+/// A reference file's linear model (`file` relative to the case's folder `dir`): its path,
+/// the model and its units; `err` locates what is wrong at the case's field.
+fn linear_model_file(
+    dir: &Path,
+    file: &str,
+    err: impl Fn(String) -> InputError,
+) -> Result<(PathBuf, LinearModel, BTreeMap<String, String>), InputError> {
+    let rpath = dir.join(file);
+    let r = refs::load(&rpath).map_err(|e| err(format!("in the referenced file: {e}")))?;
+    let model = r
+        .linear_model
+        .ok_or_else(|| err(format!("{} has no `linear_model` block", rpath.display())))?;
+    Ok((rpath, model, r.units))
 }
 
 /// A subject's mass and air, checked: a positive mass, a density altitude in [-2000, 20000] ft.
