@@ -158,7 +158,10 @@ fn estimate_refuses_a_file_with_nothing_to_estimate() {
     let dir = std::env::temp_dir().join(format!("cierva-no-geometry-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let aircraft = repo_root().join("aircraft");
-    for f in ["montgomerie-parsons-rotor.yaml", "montgomerie-parsons-propeller.yaml"] {
+    for f in [
+        "montgomerie-parsons-rotor.yaml",
+        "montgomerie-parsons-propeller.yaml",
+    ] {
         std::fs::copy(aircraft.join(f), dir.join(f)).unwrap();
     }
     let text = std::fs::read_to_string(aircraft.join("montgomerie-parsons.yaml")).unwrap();
