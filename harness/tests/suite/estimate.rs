@@ -93,16 +93,23 @@ fn estimate_at_another_airspeed_moves_only_the_flow() {
     );
 }
 
-/// The VPM M16 file uses its estimates: every coefficient `cierva estimate` gives is the file's
-/// value to the three figures the file writes (half a unit in the third figure), and the file's
-/// plausible range for it is the estimate's (the method's accuracy), rounded outward in the
-/// third figure; where the estimate has no width (the tailplane wholly in the slipstream) the
-/// file gives no range.
+/// The gyroplane files use their estimates (the VPM M16's tail and pod; the
+/// Montgomerie-Parsons' tail, issue 33 item 5, which gives no pod): every coefficient `cierva
+/// estimate` gives is the file's value to the three figures the file writes (half a unit in the
+/// third figure), and the file's plausible range for it is the estimate's (the method's
+/// accuracy), rounded outward in the third figure; where the estimate has no width (a tailplane
+/// wholly in the slipstream) the file gives no range.
 #[test]
-fn the_vpm_m16_file_uses_its_estimates() {
-    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+fn the_gyroplane_files_use_their_estimates() {
+    for (name, coefficients) in [("vpm-m16", 8), ("montgomerie-parsons", 7)] {
+        file_uses_its_estimates(name, coefficients);
+    }
+}
+
+fn file_uses_its_estimates(name: &str, coefficients: usize) {
+    let file = aircraft_file::load(&repo_root().join(format!("aircraft/{name}.yaml"))).unwrap();
     let d = estimate::derive(&file, None).unwrap();
-    assert_eq!(d.compared.len(), 8, "{:?}", d.compared);
+    assert_eq!(d.compared.len(), coefficients, "{name}: {:?}", d.compared);
     // Half a unit in the third significant figure of `x`.
     let rounding = |x: f64| {
         if x == 0.0 {
@@ -145,11 +152,29 @@ fn the_vpm_m16_file_uses_its_estimates() {
     }
 }
 
-/// A file with no geometry to estimate from, and a file that does not load, are bad input
-/// (exit 2) with the reason.
+/// A file with no geometry to estimate from (the Montgomerie-Parsons' without its planforms), and
+/// a file that does not load, are bad input (exit 2) with the reason.
 #[test]
 fn estimate_refuses_a_file_with_nothing_to_estimate() {
-    let (code, _, err) = cierva(&["estimate", "aircraft/montgomerie-parsons.yaml", "--quiet"]);
+    let dir = std::env::temp_dir().join(format!("cierva-no-geometry-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let aircraft = repo_root().join("aircraft");
+    for f in [
+        "montgomerie-parsons-rotor.yaml",
+        "montgomerie-parsons-propeller.yaml",
+    ] {
+        std::fs::copy(aircraft.join(f), dir.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(aircraft.join("montgomerie-parsons.yaml")).unwrap();
+    let stripped = without_geometry(&text);
+    assert!(
+        !stripped.contains("planform: {") && !stripped.contains("    estimates_at: {"),
+        "{stripped}"
+    );
+    let path = dir.join("montgomerie-parsons.yaml");
+    std::fs::write(&path, stripped).unwrap();
+    let (code, _, err) = cierva(&["estimate", path.to_str().unwrap(), "--quiet"]);
+    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("gives no geometry to estimate from"), "{err}");
     let (code, _, err) = cierva(&[
@@ -159,4 +184,36 @@ fn estimate_refuses_a_file_with_nothing_to_estimate() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("the fin must stand behind the pod"), "{err}");
+}
+
+/// An aircraft file's text without its geometry for the estimates: each surface's `planform`
+/// entry (with the comma and line break before it), the `estimates_at` line, and their sources
+/// (a source written over several lines with its continuation).
+fn without_geometry(text: &str) -> String {
+    let mut t = text.to_string();
+    while let Some(i) = t.find("planform: {") {
+        let start = t[..i].rfind(',').expect("a planform follows another entry");
+        let end = i + t[i..].find('}').unwrap() + 1;
+        t.replace_range(start..end, "");
+    }
+    let mut out = String::new();
+    let mut continuation = false;
+    for line in t.lines() {
+        if continuation && line.starts_with("    ") {
+            continue;
+        }
+        let entry = line.trim_start();
+        continuation = false;
+        if entry.starts_with("estimates_at:")
+            || entry.starts_with("airframe.estimates_at:")
+            || entry.starts_with("airframe.tailplane.planform:")
+            || entry.starts_with("airframe.fin.planform:")
+        {
+            continuation = entry.ends_with(">-");
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
 }
