@@ -16,9 +16,104 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The harness library's top-level modules and the ones each names as `crate::<module>`.
+/// What `lib.rs` re-exports at the crate's top, item by item: `pub use run::*` (every item of
+/// the module, by glob) or `pub use units::{FT_TO_M, ...}`: `(name or "*", module)`.
+fn reexports(lib: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for line in lib
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub use "))
+    {
+        let line = line.trim_end_matches(';');
+        let module = line.split("::").next().unwrap_or("").to_string();
+        let tail = &line[module.len()..].trim_start_matches("::");
+        let names = tail.trim_start_matches('{').trim_end_matches('}');
+        for name in names.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            let name = name.rsplit("::").next().unwrap_or(name);
+            out.push((name.to_string(), module.clone()));
+        }
+    }
+    out
+}
+
+/// `lib.rs` holds module declarations and re-exports only (the layout issue, item 1): nothing
+/// of its own that a module could reach back for.
+#[test]
+fn lib_only_declares_and_reexports() {
+    let lib =
+        std::fs::read_to_string(super::common::repo_root().join("harness/src/lib.rs")).unwrap();
+    let items: Vec<&str> = lib
+        .lines()
+        .map(str::trim)
+        .filter(|l| !(l.is_empty() || l.starts_with("//")))
+        .filter(|l| !(l.starts_with("pub mod ") || l.starts_with("pub use ")))
+        .collect();
+    assert!(
+        items.is_empty(),
+        "lib.rs holds more than declarations: {items:?}"
+    );
+    assert!(!reexports(&lib).is_empty());
+}
+
+/// The harness library's top-level modules and the ones each names as `crate::<module>`, or as
+/// `crate::<item>` that `lib.rs` re-exports from that module (so that no module reaches through
+/// the crate's top to one that depends on it).
 fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
     let src = super::common::repo_root().join("harness/src");
+    let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
+    let reexported = reexports(&lib);
+    // A module's public items, for the glob re-exports (`pub use run::*`): every `pub fn`,
+    // `pub struct`, `pub enum`, `pub const`, `pub type` and `pub use` name in its files.
+    let items_of = |module: &str| -> BTreeSet<String> {
+        let mut files = Vec::new();
+        let dir = src.join(module);
+        if dir.is_dir() {
+            rust_files(&dir, &mut files);
+        } else {
+            files.push(src.join(format!("{module}.rs")));
+        }
+        let mut names = BTreeSet::new();
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap_or_default();
+            for line in text.lines().map(str::trim_start) {
+                for kw in [
+                    "pub fn ",
+                    "pub struct ",
+                    "pub enum ",
+                    "pub const ",
+                    "pub type ",
+                ] {
+                    if let Some(rest) = line.strip_prefix(kw) {
+                        let name: String = rest
+                            .chars()
+                            .take_while(|c| c.is_alphanumeric() || *c == '_')
+                            .collect();
+                        names.insert(name);
+                    }
+                }
+                if let Some(rest) = line.strip_prefix("pub use ") {
+                    let list = rest.trim_end_matches(';');
+                    for n in list.split([',', '{', '}', ' ']).map(str::trim) {
+                        let n = n.rsplit("::").next().unwrap_or(n);
+                        if !n.is_empty() && n != "as" && n != "*" {
+                            names.insert(n.to_string());
+                        }
+                    }
+                }
+            }
+        }
+        names
+    };
+    let mut via_top: BTreeMap<String, String> = BTreeMap::new();
+    for (name, module) in &reexported {
+        if name == "*" {
+            for item in items_of(module) {
+                via_top.insert(item, module.clone());
+            }
+        } else {
+            via_top.insert(name.clone(), module.clone());
+        }
+    }
     let mut files = Vec::new();
     rust_files(&src, &mut files);
     let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
@@ -45,10 +140,12 @@ fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
         let deps = graph.entry(module.clone()).or_default();
         for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
             for part in line.split("crate::").skip(1) {
-                let name: String = part
+                let word: String = part
                     .chars()
-                    .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
                     .collect();
+                // A module by name, or an item re-exported at the top from its module.
+                let name = via_top.get(&word).cloned().unwrap_or(word);
                 if !name.is_empty() && name != module {
                     deps.insert(name);
                 }
@@ -66,6 +163,14 @@ fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
 fn no_module_depends_on_itself_through_others() {
     let graph = module_graph();
     assert!(graph.len() >= 15, "{graph:?}");
+    // Items named through the crate's top count against the module they come from: the checks
+    // run the model by `crate::linearise_cached` (in `run`) and read `crate::TrimRequest` (in
+    // `inputs`).
+    assert!(
+        graph["checks"].contains("run") && graph["checks"].contains("inputs"),
+        "{:?}",
+        graph["checks"]
+    );
     let mut cycles = Vec::new();
     for start in graph.keys() {
         let mut stack = vec![vec![start.clone()]];
