@@ -58,8 +58,7 @@ impl ControlTable {
 
 /// Reads an input CSV; errors name the file, line and column.
 pub fn read(path: &Path) -> Result<ControlTable, InputError> {
-    let src = std::fs::read_to_string(path)
-        .map_err(|e| InputError::file(path, format!("cannot read: {e}")))?;
+    let src = crate::yaml::read_csv(path)?;
     let mut lines = src
         .lines()
         .enumerate()

@@ -164,8 +164,7 @@ pub fn load_with(
             "must be a positive number",
         ));
     }
-    let src = std::fs::read_to_string(csv_path)
-        .map_err(|e| InputError::file(csv_path, format!("cannot read: {e}")))?;
+    let src = yaml::read_csv(csv_path)?;
     let at = |line: usize, msg: String| InputError {
         path: csv_path.to_path_buf(),
         line: Some(line),
