@@ -113,7 +113,17 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
         time_s: Vec::new(),
         changes: Default::default(),
     };
-    for (line, l) in lines {
+    let most = crate::inputs::limits::MAX_RECORD_SAMPLES;
+    for (row, (line, l)) in lines.enumerate() {
+        if row == most {
+            return Err(at_line(
+                line,
+                l,
+                format!(
+                    "a control history may have at most {most} rows (MAX_RECORD_SAMPLES); this one has more"
+                ),
+            ));
+        }
         let cells: Vec<&str> = l.split(',').map(str::trim).collect();
         if cells.len() != names.len() {
             return Err(at_line(

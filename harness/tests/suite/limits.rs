@@ -1,9 +1,134 @@
 //! Inputs that ask for too much get a located error that states the limit, never an abort or a
-//! run without end (issue 35, "Bad input", found by fuzzing the shipped files): a YAML file
-//! nested too deep or too large, and a line too long to show whole.
+//! run without end (issue 35, "Bad input", found by fuzzing the shipped files): a count that
+//! sizes an allocation past its limit, a YAML file nested too deep or too large, and a line too
+//! long to show whole.
 
+use crate::common;
+use cierva_harness::inputs::limits::{MAX_FIT_ITERATIONS, MAX_RECORD_SAMPLES};
 use cierva_harness::yaml::{self, EXCERPT_CHARS, MAX_YAML_DEPTH_LEVELS, MAX_YAML_FILE_BYTES};
 use std::path::{Path, PathBuf};
+
+/// The fuzzer's rotor file: the VPM M16's with `elements: 999999999999`. `cierva autorotate`
+/// aborted on the allocation (signal 6); it exits 2 with the limit, at the field.
+#[test]
+fn a_rotor_with_a_trillion_elements_is_a_located_error_not_an_abort() {
+    let dir = scratch("elements");
+    let path = dir.join("elements.yaml");
+    let shipped =
+        std::fs::read_to_string(cierva_harness::repo_root().join("aircraft/vpm-m16-rotor.yaml"))
+            .unwrap();
+    let text = shipped
+        .replace("id: vpm-m16-rotor", "id: elements")
+        .replace("  elements: 20\n", "  elements: 999999999999\n");
+    assert_ne!(text, shipped);
+    std::fs::write(&path, &text).unwrap();
+    let line = text
+        .lines()
+        .position(|l| l == "  elements: 999999999999")
+        .unwrap()
+        + 1;
+    let (code, out, err) = common::cierva(&[
+        "autorotate",
+        path.to_str().unwrap(),
+        "--alpha-deg",
+        "8",
+        "--airspeed-m-s",
+        "25",
+    ]);
+    assert_eq!(
+        code, 2,
+        "not a located error (-1 is a signal):\n{out}\n{err}"
+    );
+    assert!(
+        err.contains(&format!("elements.yaml:{line}:3: field `rotor.elements`"))
+            && err.contains("elements must be at most 1000 (MAX_ELEMENTS_PER_BLADE"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An identification set-up asking for a trillion frequencies aborted `cierva identify` on the
+/// allocation; it exits 2 with the limit, at the field.
+#[test]
+fn an_identification_set_up_with_a_trillion_frequencies_is_a_located_error() {
+    let dir = scratch("points");
+    let config = dir.join("setup.yaml");
+    std::fs::write(
+        &config,
+        "states: [u, w, q, theta]\ncontrols: {eta_s: eta_s_pct}\n\
+         frequencies: {from_hz: 0.05, to_hz: 2.0, points: 999999999999}\nkinematics: {theta: q}\n",
+    )
+    .unwrap();
+    let (code, out, err) = common::cierva(&[
+        "identify",
+        "flight-refs/synthetic-flight-vpm-m16-60mph-stick-sweep.csv",
+        "--config",
+        config.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        code, 2,
+        "not a located error (-1 is a signal):\n{out}\n{err}"
+    );
+    assert!(
+        err.contains("setup.yaml:3:")
+            && err.contains("field `frequencies.points`")
+            && err.contains("give at most 10000 (MAX_FREQUENCY_POINTS)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A control history longer than a record may be is refused at the first row past the limit.
+#[test]
+fn a_control_history_past_the_sample_limit_is_refused_at_its_row() {
+    let dir = scratch("rows");
+    let path = dir.join("long.csv");
+    let mut text = String::from("time_s,eta_s_percent\n");
+    for k in 0..=MAX_RECORD_SAMPLES {
+        text.push_str(&format!("{k},0\n"));
+    }
+    std::fs::write(&path, &text).unwrap();
+    let e = cierva_harness::controls_file::read(&path).unwrap_err();
+    assert_eq!(e.line, Some(MAX_RECORD_SAMPLES + 2), "{e}");
+    assert!(
+        e.column.is_some() && e.message.contains("MAX_RECORD_SAMPLES"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A fit file asking for more iterations than the limit is refused at the field: each
+/// iteration flies every target, so a mistyped count would run for days.
+#[test]
+fn a_fit_past_the_iteration_limit_is_refused_at_its_field() {
+    let root = cierva_harness::repo_root();
+    let dir = scratch("fit");
+    let path = dir.join("many-iterations.yaml");
+    let shipped = std::fs::read_to_string(root.join("fits/pca-2-tr515-low-mu.yaml")).unwrap();
+    let text = shipped
+        .replace("id: pca-2-tr515-low-mu", "id: many-iterations")
+        .replace("../", &format!("{}/", root.display()))
+        .replace(
+            "options: {tolerance: 1.0e-4}",
+            "options: {tolerance: 1.0e-4, max_iterations: 1000000000000}",
+        );
+    assert!(text.contains("max_iterations: 1000000000000"));
+    std::fs::write(&path, &text).unwrap();
+    let e = cierva_harness::fit_file::load(&path).unwrap_err();
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("options:"))
+        .unwrap()
+        + 1;
+    assert_eq!(e.line, Some(line), "{e}");
+    assert!(
+        e.to_string().contains(&format!(
+            "give at most {MAX_FIT_ITERATIONS} (MAX_FIT_ITERATIONS"
+        )),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
 
 /// A scratch folder of this test's own.
 fn scratch(name: &str) -> PathBuf {
