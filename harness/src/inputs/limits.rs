@@ -7,7 +7,8 @@
 //! ([`cierva_model::components::rotor::MAX_BLADES`],
 //! [`cierva_model::components::rotor::MAX_ELEMENTS_PER_BLADE`],
 //! [`cierva_model::components::rotor::MAX_AZIMUTH_STEPS_PER_REVOLUTION`],
-//! [`cierva_model::simulation::timehistory::MAX_STEPS`]); the files' sizes and nesting
+//! [`cierva_model::simulation::timehistory::MAX_STEPS`],
+//! [`cierva_model::components::autorotation::MAX_REVOLUTIONS`]); the files' sizes and nesting
 //! are [`crate::yaml`]'s ([`crate::yaml::MAX_YAML_FILE_BYTES`],
 //! [`crate::yaml::MAX_CSV_FILE_BYTES`], [`crate::yaml::MAX_YAML_DEPTH_LEVELS`]).
 

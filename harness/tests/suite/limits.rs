@@ -130,6 +130,75 @@ fn a_fit_past_the_iteration_limit_is_refused_at_its_field() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An autorotation gives up at its stated limit of blade revolutions, with its last residuals:
+/// the fuzzer's mutated PCA-2 rotors (a lift slope of 1e-9 per rad, whose blades have no
+/// aerodynamic damping; a pitch that swings between +89 and -89 deg along the blade) ran each
+/// row of the TR 515 case for seconds (19 s at 200 elements), the brackets' scans and Newton's
+/// halvings trying rotor speed after rotor speed, each blade solution integrating up to 200
+/// revolutions. (Four elements and 10 deg steps here, so that the 3000 revolutions take a
+/// tenth of a second.)
+#[test]
+fn an_autorotation_gives_up_at_its_revolution_limit_with_its_residuals() {
+    use cierva_model::components::autorotation::{
+        AutorotationError, MAX_REVOLUTIONS, Options, autorotate,
+    };
+    let shipped = cierva_harness::rotor_file::load(
+        &cierva_harness::repo_root().join("aircraft/pca-2-rotor.yaml"),
+    )
+    .unwrap()
+    .rotor;
+    let options = Options {
+        numerics: cierva_model::components::rotor::Numerics {
+            azimuth_step_rad: 10f64.to_radians(),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let solve = |rotor: &cierva_model::components::rotor::Rotor| {
+        let tunnel = cierva_model::components::autorotation::Tunnel {
+            alpha_rad: 6.6f64.to_radians(),
+            airspeed_m_s: 17.7,
+            density_kg_m3: 1.225,
+            speed_of_sound_m_s: 340.3,
+            collective_shift_rad: rotor.collective_shift_for(1.9f64.to_radians()),
+        };
+        autorotate(rotor, tunnel, options)
+    };
+    let mut twisted = shipped.clone();
+    twisted.elements = 4;
+    twisted.pitch_rad.values = [89.0, -89.0, 89.0, -89.0f64].map(f64::to_radians).to_vec();
+    let mut undamped = shipped.clone();
+    undamped.elements = 4;
+    if let cierva_model::components::airfoil::Airfoil::Analytical(a) = &mut undamped.airfoil {
+        a.lift_slope_per_rad = 1e-9;
+    }
+    for (rotor, says) in [
+        (
+            &twisted,
+            "its last residuals (torque coefficient over solidity",
+        ),
+        (
+            &undamped,
+            "no blade solution it tried was periodic (the last: the flapping did not become periodic within 200 revolutions (last change",
+        ),
+    ] {
+        match solve(rotor) {
+            Err(
+                e @ AutorotationError::RevolutionLimit {
+                    revolutions, limit, ..
+                },
+            ) => {
+                assert!(limit == MAX_REVOLUTIONS && revolutions >= limit, "{e}");
+                let m = e.to_string();
+                assert!(m.contains("(MAX_REVOLUTIONS)") && m.contains(says), "{m}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    // The shipped rotor, solved the same way, is well within the limit.
+    assert!(solve(&shipped).is_ok());
+}
+
 /// A scratch folder of this test's own.
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("cierva-limits-{name}-{}", std::process::id()));

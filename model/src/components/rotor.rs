@@ -369,7 +369,10 @@ pub enum RotorError {
         why: &'static str,
         value: f64,
     },
-
+    #[error(
+        "the solve's blade solutions reached their limit of {limit} revolutions in all, without an answer"
+    )]
+    RevolutionLimit { limit: usize },
     #[error("distribution `{0}` needs at least two rising stations, as many values, all finite")]
     Distribution(&'static str),
     #[error(transparent)]
@@ -1584,6 +1587,19 @@ impl<'a> Blade<'a> {
         start: [f64; 2],
         map: &mut RevolutionMap,
     ) -> Result<SteadyLoads, RotorError> {
+        self.steady_counted(op, start, map, &mut 0)
+    }
+
+    /// [`Self::steady_with`], adding the revolutions it integrates to `revolutions` (whether it
+    /// finds the periodic solution or not): what a solve made of many spends
+    /// ([`crate::components::autorotation::MAX_REVOLUTIONS`]).
+    pub fn steady_counted(
+        &self,
+        op: &Operating,
+        start: [f64; 2],
+        map: &mut RevolutionMap,
+        revolutions: &mut usize,
+    ) -> Result<SteadyLoads, RotorError> {
         let axisymmetric = self.rotor.hub == Hub::Rigid
             && op.hub.u == 0.0
             && op.hub.v == 0.0
@@ -1607,6 +1623,7 @@ impl<'a> Blade<'a> {
         let mut fixed_point = FixedPoint::new(*map);
         let close = SAMPLED_CLOSURE * self.numerics.periodic_tolerance;
         for _ in 0..self.numerics.max_revolutions {
+            *revolutions += 1;
             let s0 = s;
             let mut sums = RevolutionSums::default();
             for k in 0..n {
