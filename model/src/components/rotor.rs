@@ -662,12 +662,26 @@ impl Rotor {
                 value: self.pitch_reference_r_over_r,
             });
         }
+        self.validate_distributions()?;
+        self.airfoil.validate()?;
+        Ok(())
+    }
+
+    /// The chord and pitch along the blade: each a distribution, the chord positive and the
+    /// pitch short of edge-on.
+    fn validate_distributions(&self) -> Result<(), RotorError> {
         self.chord_m.validate("chord_m")?;
         self.pitch_rad.validate("pitch_rad")?;
         if self.chord_m.values.iter().any(|c| *c <= 0.0) {
             return Err(RotorError::Distribution("chord_m"));
         }
-        self.airfoil.validate()?;
+        if let Some(p) = self.pitch_rad.values.iter().find(|p| p.abs() >= PI / 2.0) {
+            return Err(RotorError::Invalid {
+                name: "pitch_rad",
+                requirement: "within +-pi/2 rad (+-90 deg) at every station: a section turned past edge-on faces the flow backwards",
+                value: *p,
+            });
+        }
         Ok(())
     }
 
