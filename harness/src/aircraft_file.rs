@@ -435,10 +435,13 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         ));
     }
     let step = a.main_rotor.azimuth_step_deg;
-    if !(step.is_finite() && step > 0.0 && step <= 15.0) {
+    if !crate::inputs::limits::azimuth_step_ok(step, 15.0) {
         return Err(err(
             "aircraft.main_rotor.azimuth_step_deg",
-            format!("must be in (0, 15] deg, got {step}"),
+            format!(
+                "must be in [{}, 15] deg (MIN_AZIMUTH_STEP_DEG), got {step}",
+                crate::inputs::limits::MIN_AZIMUTH_STEP_DEG
+            ),
         ));
     }
     for (name, m) in [
@@ -774,6 +777,8 @@ fn field_of(e: &AircraftError) -> String {
             "positions" => "aircraft.cg_m".into(),
             _ => "aircraft.propeller.drive".into(),
         },
+        // A run's steps, set by its azimuth step.
+        AircraftError::TooMany { .. } => "aircraft.main_rotor.azimuth_step_deg".into(),
     }
 }
 

@@ -58,8 +58,7 @@ impl ControlTable {
 
 /// Reads an input CSV; errors name the file, line and column.
 pub fn read(path: &Path) -> Result<ControlTable, InputError> {
-    let src = std::fs::read_to_string(path)
-        .map_err(|e| InputError::file(path, format!("cannot read: {e}")))?;
+    let src = crate::yaml::read_csv(path)?;
     let mut lines = src
         .lines()
         .enumerate()
@@ -114,7 +113,17 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
         time_s: Vec::new(),
         changes: Default::default(),
     };
-    for (line, l) in lines {
+    let most = crate::inputs::limits::MAX_RECORD_SAMPLES;
+    for (row, (line, l)) in lines.enumerate() {
+        if row == most {
+            return Err(at_line(
+                line,
+                l,
+                format!(
+                    "a control history may have at most {most} rows (MAX_RECORD_SAMPLES); this one has more"
+                ),
+            ));
+        }
         let cells: Vec<&str> = l.split(',').map(str::trim).collect();
         if cells.len() != names.len() {
             return Err(at_line(

@@ -218,13 +218,23 @@ pub struct FitFile {
 }
 
 /// The solver's options and the number of starts from a fit file's `options` (defaults where
-/// absent); an error for a number of starts out of 1 to [`fit::starts::MAX_STARTS`].
-fn options_of(spec: Option<OptionsSpec>) -> Result<(fit::Options, usize), String> {
+/// absent); an error, with its field, for a number of starts out of 1 to
+/// [`fit::starts::MAX_STARTS`] or more iterations than
+/// [`crate::inputs::limits::MAX_FIT_ITERATIONS`].
+fn options_of(spec: Option<OptionsSpec>) -> Result<(fit::Options, usize), (&'static str, String)> {
     let starts = spec.and_then(|o| o.starts).unwrap_or(1);
     let max = fit::starts::MAX_STARTS;
     if !(1..=max).contains(&starts) {
-        return Err(format!(
-            "{starts} starts: give 1 to {max} (each is a whole fit)"
+        return Err((
+            "options.starts",
+            format!("{starts} starts: give 1 to {max} (each is a whole fit)"),
+        ));
+    }
+    let most = crate::inputs::limits::MAX_FIT_ITERATIONS;
+    if let Some(n) = spec.and_then(|o| o.max_iterations).filter(|n| *n > most) {
+        return Err((
+            "options.max_iterations",
+            format!("{n} iterations: give at most {most} (MAX_FIT_ITERATIONS; the default is 20)"),
         ));
     }
     let mut options = fit::Options::default();
@@ -315,7 +325,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             regularisation: p.regularisation,
         });
     }
-    let (options, starts) = options_of(spec.options).map_err(|m| err("options.starts", m))?;
+    let (options, starts) = options_of(spec.options).map_err(|(f, m)| err(f, m))?;
     let read = |list: &[TargetSpec], section: &str| {
         let mut targets = Vec::new();
         let mut origins = Vec::new();

@@ -117,6 +117,13 @@ pub fn fly(
             s.sample_s, s.samples
         ));
     }
+    let most = crate::inputs::limits::MAX_RECORD_SAMPLES;
+    if s.samples >= most {
+        return Err(format!(
+            "{} samples: a record may have at most {most} (MAX_RECORD_SAMPLES)",
+            s.samples + 1
+        ));
+    }
     let duration_s = s.sample_s * s.samples as f64;
     let time_s: Vec<f64> = (0..=s.samples).map(|k| k as f64 * s.sample_s).collect();
     match s.simulation {

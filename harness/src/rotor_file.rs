@@ -263,14 +263,13 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         drag_reynolds_number: r.drag_reynolds_number,
     };
     rotor.validate().map_err(|e| {
+        use cierva_model::components::rotor::RotorError;
         let field = match &e {
-            cierva_model::components::rotor::RotorError::Invalid { name, .. } => {
-                format!("rotor.{}", name.trim_end_matches("_rad"))
+            RotorError::Invalid { name, .. } | RotorError::TooMany { name, .. } => {
+                format!("rotor.{}", written_name(name))
             }
-            cierva_model::components::rotor::RotorError::Distribution(n) => {
-                format!("rotor.{}", if *n == "pitch_rad" { "pitch_deg" } else { n })
-            }
-            cierva_model::components::rotor::RotorError::Airfoil(_) => "rotor.airfoil".into(),
+            RotorError::Distribution(n) => format!("rotor.{}", written_name(n)),
+            RotorError::Airfoil(_) => "rotor.airfoil".into(),
             _ => "rotor".into(),
         };
         err(&field, e.to_string())
@@ -285,6 +284,18 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         sources: spec.sources,
         ranges,
     })
+}
+
+/// A rotor field's name as the file writes it, from the model's (which holds angles in radians
+/// where the file gives degrees).
+fn written_name(model: &str) -> &str {
+    match model {
+        "precone_rad" => "precone_deg",
+        "pitch_rad" => "pitch_deg",
+        "corrections.pitch_offset_rad" => "corrections.pitch_offset_deg",
+        "corrections.elastic_twist_rad_per_pa" => "corrections.elastic_twist_deg_per_kpa",
+        other => other,
+    }
 }
 
 /// A rotor file's ranges, checked as an aircraft file's are, and only on parameters whose

@@ -1,8 +1,36 @@
 //! Reading YAML files with errors that name the file, line, column and field.
+//!
+//! Every input file is read within a size limit ([`MAX_YAML_FILE_BYTES`],
+//! [`MAX_CSV_FILE_BYTES`]) and a YAML file's nesting is bounded ([`MAX_YAML_DEPTH_LEVELS`])
+//! before it is parsed: the parser's work grows with the square of the nesting (a 400 kB file
+//! nested 100,000 levels took 25 s to refuse). An error shows at most a screen's width of any
+//! line ([`EXCERPT_CHARS`]), of the file and of what the message quotes from it.
 
 use serde::de::DeserializeOwned;
 use std::fmt;
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
+
+/// The largest YAML input file, bytes (16 MiB). The largest shipped one, the TR 515 case with
+/// its 81 rows, is 55 kB; the acceptance log grows by about 1 kB an acceptance. A file beyond
+/// it is refused before it is read.
+pub const MAX_YAML_FILE_BYTES: u64 = 16 * 1024 * 1024;
+
+/// The largest CSV input file (a flight record, a control history, a response), bytes
+/// (1 GiB): a record of [`crate::inputs::limits::MAX_RECORD_SAMPLES`] samples of 40 channels
+/// at 25 characters a value. The largest shipped one is 207 kB. A file beyond it is refused
+/// before it is read.
+pub const MAX_CSV_FILE_BYTES: u64 = 1024 * 1024 * 1024;
+
+/// The deepest nesting of a YAML file, levels (block and flow collections counted together).
+/// The deepest shipped file nests 7 (an aircraft file's airframe tables); 64 is nine times
+/// that. Checked before parsing, because the parser's work grows with the square of the
+/// depth of flow collections (`[[[...]]]`, `{a: {a: ...}}`).
+pub const MAX_YAML_DEPTH_LEVELS: usize = 64;
+
+/// The most characters of a line an error shows (a screen's width), centred on the column;
+/// and of anything a message quotes from the file (a value between backticks or quotes).
+pub const EXCERPT_CHARS: usize = 100;
 
 /// An input error located in a file.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,10 +56,67 @@ impl fmt::Display for InputError {
         }
         write!(f, ": ")?;
         if let Some(field) = &self.field {
-            write!(f, "field `{field}`: ")?;
+            write!(f, "field `{}`: ", shorten(field, EXCERPT_CHARS))?;
         }
-        write!(f, "{}", self.message)
+        write!(f, "{}", shorten_quoted(&self.message))
     }
+}
+
+/// `text`, or, where it is longer than `max` characters, its first and last `max / 2 - 10`
+/// with how many were left out between them.
+fn shorten(text: &str, max: usize) -> String {
+    let n = text.chars().count();
+    if n <= max {
+        return text.to_string();
+    }
+    let keep = max / 2 - 10;
+    let head: String = text.chars().take(keep).collect();
+    let tail: String = text.chars().skip(n - keep).collect();
+    format!("{head}...({} characters)...{tail}", n - 2 * keep)
+}
+
+/// A message with every span it quotes (between backticks or double quotes: what serde and the
+/// loaders quote from the file) shortened to [`EXCERPT_CHARS`].
+fn shorten_quoted(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(4 * EXCERPT_CHARS));
+    let mut rest = message;
+    while let Some(open) = rest.find(['`', '"']) {
+        let quote = &rest[open..open + 1];
+        let Some(close) = rest[open + 1..].find(quote) else {
+            break;
+        };
+        let inner = &rest[open + 1..open + 1 + close];
+        out.push_str(&rest[..=open]);
+        out.push_str(&shorten(inner, EXCERPT_CHARS));
+        out.push_str(quote);
+        rest = &rest[open + close + 2..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// At most [`EXCERPT_CHARS`] characters of `line` around the 1-based character column `col`,
+/// with `...` where it is cut, and the caret's column in the excerpt.
+fn excerpt(line: &str, col: usize) -> (String, usize) {
+    let chars: Vec<char> = line.chars().collect();
+    if chars.len() <= EXCERPT_CHARS {
+        return (line.to_string(), col);
+    }
+    let col = col.clamp(1, chars.len());
+    let start = (col - 1)
+        .saturating_sub(EXCERPT_CHARS / 2)
+        .min(chars.len() - EXCERPT_CHARS);
+    let end = start + EXCERPT_CHARS;
+    let mut text: String = chars[start..end].iter().collect();
+    let mut caret = col - start;
+    if start > 0 {
+        text = format!("...{text}");
+        caret += 3;
+    }
+    if end < chars.len() {
+        text.push_str("...");
+    }
+    (text, caret)
 }
 
 impl std::error::Error for InputError {}
@@ -42,13 +127,13 @@ impl InputError {
     pub fn render(&self) -> String {
         let mut out = format!("error: {self}");
         let Some(line) = self.line else { return out };
-        let Ok(src) = std::fs::read_to_string(&self.path) else {
+        let Ok(src) = read_limited(&self.path, MAX_CSV_FILE_BYTES) else {
             return out;
         };
         let Some(text) = src.lines().nth(line.saturating_sub(1)) else {
             return out;
         };
-        let col = self.column.unwrap_or(1).max(1);
+        let (text, col) = excerpt(text, self.column.unwrap_or(1).max(1));
         let w = line.to_string().len();
         out += &format!(
             "\n{:w$} |\n{line} | {text}\n{:w$} | {}^",
@@ -164,13 +249,254 @@ pub fn write_if_changed(path: &Path, text: &str) -> std::io::Result<bool> {
     Ok(true)
 }
 
-/// Reads a file to a string, with an error naming the file.
+/// Reads a YAML file to a string, with an error naming the file; one larger than
+/// [`MAX_YAML_FILE_BYTES`] is refused unread.
 pub fn read(path: &Path) -> Result<String, InputError> {
-    std::fs::read_to_string(path).map_err(|e| InputError::file(path, format!("cannot read: {e}")))
+    read_limited(path, MAX_YAML_FILE_BYTES)
 }
 
-/// Parses YAML into `T`, turning a parse error into a located [`InputError`].
+/// Reads a CSV file to a string, with an error naming the file; one larger than
+/// [`MAX_CSV_FILE_BYTES`] is refused unread.
+pub fn read_csv(path: &Path) -> Result<String, InputError> {
+    read_limited(path, MAX_CSV_FILE_BYTES)
+}
+
+/// Reads at most `limit` bytes of a file; a longer one is an error that says so.
+fn read_limited(path: &Path, limit: u64) -> Result<String, InputError> {
+    let cannot = |e: std::io::Error| InputError::file(path, format!("cannot read: {e}"));
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    let mut src = String::new();
+    file.take(limit + 1)
+        .read_to_string(&mut src)
+        .map_err(cannot)?;
+    if src.len() as u64 > limit {
+        let kind = if limit == MAX_CSV_FILE_BYTES {
+            "CSV"
+        } else {
+            "YAML"
+        };
+        return Err(InputError::file(
+            path,
+            format!(
+                "the file is larger than {} MiB, the most a {kind} input file may be \
+                 (MAX_{kind}_FILE_BYTES)",
+                limit >> 20
+            ),
+        ));
+    }
+    Ok(src)
+}
+
+/// The first place where `src` nests collections deeper than `limit` levels, 1-based line and
+/// column, if any. A scan of the text, linear in its length, for [`parse`] to run before the
+/// parser (whose work grows with the square of the depth): block collections are counted by
+/// their indentation and `- ` items, flow collections by their brackets outside quoted
+/// scalars, comments and block scalars. Where the text is not valid YAML the count is a guess,
+/// and the parser's own error follows for any file within the limit.
+pub fn too_deep(src: &str, limit: usize) -> Option<(usize, usize)> {
+    let mut scan = DepthScan::default();
+    for (i, line) in src.lines().enumerate() {
+        if let Some(col) = scan.line(line, limit) {
+            return Some((i + 1, col + 1));
+        }
+    }
+    None
+}
+
+/// The state of [`too_deep`]'s scan between lines.
+#[derive(Default)]
+struct DepthScan {
+    /// The open block collections: the column of each and whether it is a sequence.
+    blocks: Vec<(usize, bool)>,
+    /// Open flow collections (`[`, `{`).
+    flow: usize,
+    /// Inside a quoted scalar that runs on: its quote.
+    quote: Option<char>,
+    /// Inside a block scalar (`|`, `>`): the column its lines are indented beyond.
+    block_scalar: Option<usize>,
+}
+
+impl DepthScan {
+    /// Scans one line; the 0-based character column where the depth first exceeds `limit`.
+    fn line(&mut self, line: &str, limit: usize) -> Option<usize> {
+        let chars: Vec<char> = line.chars().collect();
+        let indent = chars.iter().take_while(|c| **c == ' ').count();
+        let blank = chars[indent..].iter().all(|c| c.is_whitespace());
+        if let Some(parent) = self.block_scalar {
+            if blank || indent > parent {
+                return None;
+            }
+            self.block_scalar = None;
+        }
+        if self.quote.is_some() || self.flow > 0 {
+            return self.inline(&chars, 0, limit);
+        }
+        if blank || chars[indent] == '#' {
+            return None;
+        }
+        let text: String = chars[indent..].iter().collect();
+        if text.starts_with("---") || text.starts_with("...") || text.starts_with('%') {
+            self.blocks.clear();
+            return None;
+        }
+        let item =
+            |at: usize| chars.get(at) == Some(&'-') && chars.get(at + 1).is_none_or(|c| *c == ' ');
+        let seq = item(indent);
+        // Close the collections this line is outside; a sequence's items may sit at its key's
+        // column.
+        while let Some(&(col, is_seq)) = self.blocks.last() {
+            if col > indent || (col == indent && is_seq && !seq) {
+                self.blocks.pop();
+            } else {
+                break;
+            }
+        }
+        let mut at = indent;
+        let mut is_seq = seq;
+        loop {
+            if self.blocks.last() != Some(&(at, is_seq)) {
+                let key = !is_seq && key_ends(&chars, at).is_some();
+                if !is_seq && !key {
+                    // A scalar on its own line (a plain scalar's continuation).
+                    return self.value(&chars, at, indent, limit);
+                }
+                self.blocks.push((at, is_seq));
+                if self.blocks.len() + self.flow > limit {
+                    return Some(at);
+                }
+            }
+            let next = if is_seq {
+                at + 1
+            } else {
+                match key_ends(&chars, at) {
+                    Some(colon) => colon + 1,
+                    None => return self.value(&chars, at, indent, limit),
+                }
+            };
+            let start = next
+                + chars[next.min(chars.len())..]
+                    .iter()
+                    .take_while(|c| **c == ' ')
+                    .count();
+            if start >= chars.len() {
+                return None;
+            }
+            if item(start) {
+                (at, is_seq) = (start, true);
+            } else if is_seq && key_ends(&chars, start).is_some() {
+                (at, is_seq) = (start, false);
+            } else {
+                let owner = self.blocks.last().map_or(indent, |b| b.0);
+                return self.value(&chars, start, owner, limit);
+            }
+        }
+    }
+
+    /// A value from column `at` on (after `key:` or `- `), in a collection at column `owner`.
+    fn value(&mut self, chars: &[char], at: usize, owner: usize, limit: usize) -> Option<usize> {
+        let mut at = at;
+        // Anchors and tags come before the value.
+        while matches!(chars.get(at), Some('&' | '!')) {
+            at += chars[at..].iter().take_while(|c| **c != ' ').count();
+            at += chars[at..].iter().take_while(|c| **c == ' ').count();
+        }
+        match chars.get(at) {
+            Some('[' | '{' | '\'' | '"') => self.inline(chars, at, limit),
+            Some('|' | '>') => {
+                self.block_scalar = Some(owner);
+                None
+            }
+            _ => None,
+        }
+    }
+
+    /// Flow collections and quoted scalars from column `from` on.
+    fn inline(&mut self, chars: &[char], from: usize, limit: usize) -> Option<usize> {
+        let mut token_start = true;
+        let mut k = from;
+        while k < chars.len() {
+            let c = chars[k];
+            match self.quote {
+                Some('\'') if c == '\'' => {
+                    if chars.get(k + 1) == Some(&'\'') {
+                        k += 1;
+                    } else {
+                        self.quote = None;
+                        token_start = false;
+                    }
+                }
+                Some('"') if c == '\\' => k += 1,
+                Some('"') if c == '"' => {
+                    self.quote = None;
+                    token_start = false;
+                }
+                Some(_) => {}
+                None => match c {
+                    '[' | '{' => {
+                        self.flow += 1;
+                        if self.blocks.len() + self.flow > limit {
+                            return Some(k);
+                        }
+                        token_start = true;
+                    }
+                    ']' | '}' => {
+                        self.flow = self.flow.saturating_sub(1);
+                        token_start = false;
+                        if self.flow == 0 {
+                            return None;
+                        }
+                    }
+                    ',' => token_start = true,
+                    ':' => token_start = chars.get(k + 1).is_none_or(|c| c.is_whitespace()),
+                    '\'' | '"' if token_start => self.quote = Some(c),
+                    '#' if k == 0 || chars[k - 1].is_whitespace() => return None,
+                    c if c.is_whitespace() => {}
+                    _ => token_start = false,
+                },
+            }
+            k += 1;
+        }
+        None
+    }
+}
+
+/// Where the key of a block mapping entry starting at column `at` ends: the column of its
+/// `:` (followed by a space or the end of the line), outside quotes, before any comment.
+fn key_ends(chars: &[char], at: usize) -> Option<usize> {
+    let mut k = at;
+    if let Some(&q) = chars.get(at).filter(|c| matches!(c, '\'' | '"')) {
+        k = at + 1 + chars[at + 1..].iter().position(|c| *c == q)? + 1;
+    } else if matches!(
+        chars.get(at),
+        Some('[' | '{' | '#' | '|' | '>' | '&' | '*' | '!')
+    ) {
+        return None;
+    }
+    while k < chars.len() {
+        match chars[k] {
+            ':' if chars.get(k + 1).is_none_or(|c| *c == ' ') => return Some(k),
+            '#' if chars[k - 1] == ' ' => return None,
+            _ => k += 1,
+        }
+    }
+    None
+}
+
+/// Parses YAML into `T`, turning a parse error into a located [`InputError`]. A file nested
+/// deeper than [`MAX_YAML_DEPTH_LEVELS`] is refused before the parser sees it.
 pub fn parse<T: DeserializeOwned>(path: &Path, src: &str) -> Result<T, InputError> {
+    if let Some((line, column)) = too_deep(src, MAX_YAML_DEPTH_LEVELS) {
+        return Err(InputError {
+            path: path.to_path_buf(),
+            line: Some(line),
+            column: Some(column),
+            field: None,
+            message: format!(
+                "nested deeper than {MAX_YAML_DEPTH_LEVELS} levels, the most a YAML input file \
+                 may nest (MAX_YAML_DEPTH_LEVELS)"
+            ),
+        });
+    }
     serde_yaml::from_str(src).map_err(|e| {
         let loc = e.location();
         let text = e.to_string();

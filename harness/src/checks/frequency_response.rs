@@ -477,8 +477,7 @@ pub const RESPONSE_COLUMNS: [&str; 4] = ["frequency_hz", "magnitude_db", "phase_
 /// frequency-response --format csv` writes it); frequencies positive and rising, coherence in
 /// [0, 1]. A row with an empty magnitude or phase (nothing estimated there) is left out.
 pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
-    let src = std::fs::read_to_string(path)
-        .map_err(|e| InputError::file(path, format!("cannot read: {e}")))?;
+    let src = crate::yaml::read_csv(path)?;
     let at = |line: usize, column: usize, field: &str, msg: String| InputError {
         path: path.to_path_buf(),
         line: Some(line),

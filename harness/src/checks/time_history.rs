@@ -69,10 +69,13 @@ impl Kind for TimeHistoryCheck {
                     "`azimuth_step_deg` applies to the full blade model only",
                 ));
             }
-            if !(a.is_finite() && a > 0.0 && a <= 30.0) {
+            if !crate::inputs::limits::azimuth_step_ok(a, 30.0) {
                 return Err(cx.err(
                     ".azimuth_step_deg",
-                    format!("must be in (0, 30] deg, got {a}"),
+                    format!(
+                        "must be in [{}, 30] deg (MIN_AZIMUTH_STEP_DEG), got {a}",
+                        crate::inputs::limits::MIN_AZIMUTH_STEP_DEG
+                    ),
                 ));
             }
         }

@@ -42,9 +42,7 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
                 }
             }
         }
-        Some(p) => match cierva_harness::yaml::read(p)
-            .and_then(|src| cierva_harness::yaml::parse(p, &src))
-        {
+        Some(p) => match ident::ConfigSpec::load(p) {
             Ok(c) => c,
             Err(e) => {
                 eprintln!("{}", e.render());

@@ -55,6 +55,10 @@ pub(crate) fn synth_teeter(
     (output, format): (PathBuf, Format),
 ) -> ExitCode {
     use cierva_harness::ident::{flap, record};
+    if let Err(e) = cierva_harness::inputs::limits::record_samples(duration_s, sample_rate_hz) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let file = match cierva_harness::rotor_file::load(&rotor) {
         Ok(f) => f,
         Err(e) => {

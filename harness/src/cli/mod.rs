@@ -177,6 +177,26 @@ pub(crate) fn load_flight(
     })
 }
 
+/// The azimuth step of a flight, rad: `--azimuth-step-deg` where given (from
+/// `MIN_AZIMUTH_STEP_DEG` to 30 deg, as a case's), the aircraft file's otherwise; a step out of
+/// range is printed and is exit code 2.
+pub(crate) fn azimuth_step_rad(
+    arg_deg: Option<f64>,
+    file: &cierva_harness::aircraft_file::AircraftFile,
+) -> Result<f64, ExitCode> {
+    use cierva_harness::inputs::limits::{MIN_AZIMUTH_STEP_DEG, azimuth_step_ok};
+    match arg_deg {
+        None => Ok(file.aircraft.main_rotor.numerics.azimuth_step_rad),
+        Some(d) if azimuth_step_ok(d, 30.0) => Ok(d.to_radians()),
+        Some(d) => {
+            eprintln!(
+                "error: --azimuth-step-deg must be in [{MIN_AZIMUTH_STEP_DEG}, 30] deg (MIN_AZIMUTH_STEP_DEG), got {d}"
+            );
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
 /// The index of a control named on the command line (eta_s, eta_c, eta_p, eta_t).
 pub(crate) fn control_index(control: &str) -> Result<usize, String> {
     cierva_model::aircraft::linearise::CONTROLS

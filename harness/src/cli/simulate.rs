@@ -50,10 +50,10 @@ pub(crate) fn simulate(
             _ => [0.0; 4],
         }
     };
-    let step = azimuth_step_deg.map_or(
-        file.aircraft.main_rotor.numerics.azimuth_step_rad,
-        f64::to_radians,
-    );
+    let step = match azimuth_step_rad(azimuth_step_deg, &file) {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
     let (request, loading) = (f.request(0.0), f.loading());
     let settings = cierva_model::simulation::timehistory::Settings {
         azimuth_step_rad: step,

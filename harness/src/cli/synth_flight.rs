@@ -87,10 +87,10 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
     } else {
         return fail("--turbulence-m-s must not be negative".into());
     };
-    let step = a.azimuth_step_deg.map_or(
-        file.aircraft.main_rotor.numerics.azimuth_step_rad,
-        f64::to_radians,
-    );
+    let step = match azimuth_step_rad(a.azimuth_step_deg, &file) {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
     let test = flight_test::FlightTest {
         request: a.flight.request(0.0),
         loading: a.flight.loading(),

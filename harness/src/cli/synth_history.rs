@@ -62,10 +62,10 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         d
     };
     let sample_s = 1.0 / a.sample_rate_hz;
-    let step = a.azimuth_step_deg.map_or(
-        file.aircraft.main_rotor.numerics.azimuth_step_rad,
-        f64::to_radians,
-    );
+    let step = match azimuth_step_rad(a.azimuth_step_deg, &file) {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
     let (request, loading) = (a.flight.request(0.0), a.flight.loading());
     let busy = spinner(&format!("flying {} s", a.duration_s));
     let flown = history::fly(

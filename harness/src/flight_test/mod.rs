@@ -167,7 +167,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
     }
     let start = crate::simulation_start(aircraft, test.request, test.loading)?;
     let dt = 1.0 / test.sample_rate_hz;
-    let n = (test.duration_s * test.sample_rate_hz).round() as usize;
+    let n = crate::inputs::limits::record_samples(test.duration_s, test.sample_rate_hz)?;
     let pilot = if test.pilot {
         let (_, lin) = crate::run_linearise(&start.aircraft, test.request, test.loading)
             .map_err(|e| format!("linearising for the pilot's gains: {e}"))?;

@@ -226,6 +226,31 @@ pub(crate) fn control_channel(record: &Record, control: &str) -> Option<String> 
 }
 
 impl ConfigSpec {
+    /// Reads a set-up file (`cierva identify --config`), its counts within their limits: the
+    /// frequencies' `points` ([`crate::inputs::limits::MAX_FREQUENCY_POINTS`]) and
+    /// `blade_passage_blades` ([`cierva_model::components::rotor::MAX_BLADES`]), each error at
+    /// its field.
+    pub fn load(path: &std::path::Path) -> Result<Self, crate::yaml::InputError> {
+        let src = crate::yaml::read(path)?;
+        let config: Self = crate::yaml::parse(path, &src)?;
+        let err = |field: &str, msg: String| crate::yaml::InputError::field(path, &src, field, msg);
+        let most = crate::inputs::limits::MAX_FREQUENCY_POINTS;
+        if let Some(n) = config.frequencies.points.filter(|n| *n > most) {
+            return Err(err(
+                "frequencies.points",
+                format!("{n} frequencies: give at most {most} (MAX_FREQUENCY_POINTS)"),
+            ));
+        }
+        let most = cierva_model::components::rotor::MAX_BLADES;
+        if let Some(n) = config.blade_passage_blades.filter(|n| *n as usize > most) {
+            return Err(err(
+                "blade_passage_blades",
+                format!("{n} blades: give at most {most} (MAX_BLADES)"),
+            ));
+        }
+        Ok(config)
+    }
+
     /// A set-up for records, 0.05-2 Hz at 100 points, instrumental variables. The coupled and
     /// lateral set-ups need the records to carry the controls they name.
     pub fn for_setup(setup: Setup, record: &Record) -> Result<Self, String> {
@@ -700,16 +725,27 @@ pub fn identify_histories(
 pub(crate) fn frequencies(config: &ConfigSpec) -> Result<Frequencies, String> {
     let f = &config.frequencies;
     match (f.from_hz, f.to_hz, f.points, &f.list_hz) {
-        (Some(a), Some(b), Some(n), None) if a > 0.0 && b > a && n >= 2 => Ok(Frequencies::Band {
-            from_hz: a,
-            to_hz: b,
-            points: n,
-        }),
-        (None, None, None, Some(l)) if !l.is_empty() => Ok(Frequencies::List(l.clone())),
-        _ => Err(
-            "frequencies: give `from_hz` < `to_hz` with `points` >= 2, or a non-empty `list_hz`"
-                .into(),
-        ),
+        (Some(a), Some(b), Some(n), None)
+            if a > 0.0
+                && b > a
+                && (2..=crate::inputs::limits::MAX_FREQUENCY_POINTS).contains(&n) =>
+        {
+            Ok(Frequencies::Band {
+                from_hz: a,
+                to_hz: b,
+                points: n,
+            })
+        }
+        (None, None, None, Some(l))
+            if !l.is_empty() && l.len() <= crate::inputs::limits::MAX_FREQUENCY_POINTS =>
+        {
+            Ok(Frequencies::List(l.clone()))
+        }
+        _ => Err(format!(
+            "frequencies: give `from_hz` < `to_hz` with `points` from 2 to {} \
+             (MAX_FREQUENCY_POINTS), or a non-empty `list_hz`",
+            crate::inputs::limits::MAX_FREQUENCY_POINTS
+        )),
     }
 }
 

@@ -164,8 +164,7 @@ pub fn load_with(
             "must be a positive number",
         ));
     }
-    let src = std::fs::read_to_string(csv_path)
-        .map_err(|e| InputError::file(csv_path, format!("cannot read: {e}")))?;
+    let src = yaml::read_csv(csv_path)?;
     let at = |line: usize, msg: String| InputError {
         path: csv_path.to_path_buf(),
         line: Some(line),
@@ -216,7 +215,18 @@ pub fn load_with(
         }
     }
     let mut data = vec![Vec::new(); channels.len()];
-    for (line_no, line) in lines {
+    let most = crate::inputs::limits::MAX_RECORD_SAMPLES;
+    for (row, (line_no, line)) in lines.enumerate() {
+        if row == most {
+            return Err(at_field(
+                line_no + 1,
+                line,
+                0,
+                format!(
+                    "a record may have at most {most} samples (MAX_RECORD_SAMPLES); this one has more"
+                ),
+            ));
+        }
         let fields: Vec<&str> = line.split(',').collect();
         if fields.len() != channels.len() {
             return Err(at(

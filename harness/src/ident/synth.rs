@@ -307,11 +307,8 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
                 model.controls()
             )
         })?;
-    if !(s.duration_s > 0.0 && s.sample_rate_hz > 0.0) {
-        return Err("duration and sample rate must be positive".into());
-    }
+    let steps = crate::inputs::limits::record_samples(s.duration_s, s.sample_rate_hz)?;
     let dt = 1.0 / s.sample_rate_hz;
-    let steps = (s.duration_s * s.sample_rate_hz).round() as usize;
     let mut rng = Normal::new(s.seed);
     // Turbulence on the force rows, as extra inputs.
     let force_rows: Vec<usize> = model

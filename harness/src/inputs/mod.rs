@@ -1,6 +1,8 @@
 //! What input files share beyond their own formats (the layout issue's `inputs/`): the
-//! plausible ranges of estimated parameters, which aircraft and rotor files both carry, and the
-//! flight condition and loading that cases, fit files and commands give.
+//! plausible ranges of estimated parameters, which aircraft and rotor files both carry, the
+//! flight condition and loading that cases, fit files and commands give, and the limits on what
+//! any file may ask for.
 
 pub mod condition;
+pub mod limits;
 pub mod ranges;

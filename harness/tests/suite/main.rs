@@ -18,6 +18,7 @@ mod flight_test;
 mod frequency_response;
 mod frequency_response_check;
 mod identification;
+mod limits;
 mod mutation;
 mod retune;
 mod retune_coverage;

@@ -287,6 +287,13 @@ pub enum AircraftError {
         requirement: &'static str,
         value: f64,
     },
+    #[error("{name} must be at most {limit} ({why}), got {value}")]
+    TooMany {
+        name: &'static str,
+        limit: usize,
+        why: &'static str,
+        value: f64,
+    },
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

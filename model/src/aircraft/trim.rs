@@ -585,7 +585,7 @@ pub fn periodic_trim(
         z0.push(1.0);
     }
     let step = aircraft.main_rotor.numerics.azimuth_step_rad;
-    let n = (2.0 * std::f64::consts::PI / step).round().max(8.0) as usize;
+    let n = crate::components::rotor::azimuth_steps(step).map_err(AircraftError::from)?;
     let mut warm_flap: Vec<[f64; 2]> = aircraft
         .full_state(
             &averaged.state,

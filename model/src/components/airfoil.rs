@@ -92,6 +92,10 @@ pub enum AirfoilError {
     #[error("lift slope must be positive, got {0} per rad")]
     LiftSlope(f64),
     #[error(
+        "the section's drag must not be negative (no section has a thrust of its own), but it is {least} at {alpha_deg} deg"
+    )]
+    NegativeDrag { least: f64, alpha_deg: f64 },
+    #[error(
         "table angles of attack must rise strictly and span -180 to 180 deg (got {first} to {last})"
     )]
     AlphaRange { first: f64, last: f64 },
@@ -142,6 +146,25 @@ impl AnalyticalSection {
         }
         if !(0.0 < self.stall_alpha_rad && self.stall_alpha_rad < FRAC_PI_2) {
             return Err(AirfoilError::StallAngle(self.stall_alpha_rad));
+        }
+        // The polar's least below stall: at either end, or at its vertex between them.
+        let s = self.stall_alpha_rad;
+        let polar = |x: f64| self.cd0 + self.cd1_per_rad * x + self.cd2_per_rad2 * x * x;
+        let vertex = if self.cd2_per_rad2 > 0.0 {
+            Some(-self.cd1_per_rad / (2.0 * self.cd2_per_rad2)).filter(|x| x.abs() <= s)
+        } else {
+            None
+        };
+        let (least, at) = [-s, s]
+            .into_iter()
+            .chain(vertex)
+            .map(|x| (polar(x), x))
+            .fold((f64::INFINITY, 0.0), |m, p| if p.0 < m.0 { p } else { m });
+        if least < 0.0 {
+            return Err(AirfoilError::NegativeDrag {
+                least,
+                alpha_deg: at.to_degrees(),
+            });
         }
         if let Some(c) = self.compressibility {
             let m = c.drag_divergence_mach;
@@ -226,6 +249,14 @@ impl SectionTable {
             }
             if t.iter().flatten().any(|x| !x.is_finite()) {
                 return Err(AirfoilError::NotFinite(name));
+            }
+        }
+        for row in &self.cd {
+            if let Some((k, least)) = row.iter().enumerate().find(|(_, c)| **c < 0.0) {
+                return Err(AirfoilError::NegativeDrag {
+                    least: *least,
+                    alpha_deg: self.alpha_deg[k],
+                });
             }
         }
         Ok(())

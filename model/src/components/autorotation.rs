@@ -19,8 +19,59 @@ use crate::components::rotor::{
 use crate::solve::{self, NewtonOptions, SolveError};
 use nalgebra::DMatrix;
 use serde::Serialize;
+use std::cell::{Cell, RefCell};
 use std::f64::consts::PI;
 use thiserror::Error;
+
+/// The most blade revolutions one autorotation may integrate, over all its blade solutions
+/// (the brackets' coarse ones, Newton's and the checks after it): nine times the most a row of
+/// the TR 515 case takes, in the case or in its fits (335 where it converges, 330 where it
+/// finds no equilibrium). A rotor whose blades are barely damped (a lift slope, a chord or a
+/// radius near zero, a huge flap inertia) has no periodic flapping at most rotor speeds, and
+/// each speed the search tries integrates the 200 revolutions [`Numerics::max_revolutions`]
+/// allows: 10,000 revolutions and 3 s a row at 20 elements, 19 s at 200. Past this limit the
+/// search gives up with the last residuals it met.
+pub const MAX_REVOLUTIONS: usize = 3000;
+
+/// What one autorotation solve has spent of its [`MAX_REVOLUTIONS`], and the last residuals
+/// and blade failure it met: what the error says when it gives up.
+#[derive(Default)]
+struct Spent {
+    revolutions: Cell<usize>,
+    /// The last residuals computed, with what they are.
+    residuals: RefCell<Option<(&'static str, Vec<f64>)>>,
+    /// The last blade solution that failed, and why.
+    failure: RefCell<Option<String>>,
+}
+
+impl Spent {
+    /// The error that says the solve gave up, where it spent its revolutions.
+    fn gave_up(&self) -> Option<AutorotationError> {
+        let revolutions = self.revolutions.get();
+        if revolutions < MAX_REVOLUTIONS {
+            return None;
+        }
+        let last = match (&*self.residuals.borrow(), &*self.failure.borrow()) {
+            (Some((what, r)), _) => format!("its last residuals ({what}): {r:?}"),
+            (None, Some(f)) => format!("no blade solution it tried was periodic (the last: {f})"),
+            (None, None) => "it computed no residuals".to_string(),
+        };
+        Some(AutorotationError::RevolutionLimit {
+            revolutions,
+            limit: MAX_REVOLUTIONS,
+            last,
+        })
+    }
+
+    /// `result`, or the error that says the solve gave up where it spent its revolutions.
+    fn judge<T>(&self, result: Result<T, AutorotationError>) -> Result<T, AutorotationError> {
+        result.map_err(|e| self.gave_up().unwrap_or(e))
+    }
+}
+
+/// What the residuals of [`Problem::residuals`] are.
+const RESIDUALS: &str =
+    "torque coefficient over solidity, then the inflow's mismatches over the tip speed";
 
 /// The tunnel condition.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -129,6 +180,14 @@ pub enum AutorotationError {
         torques: Vec<(f64, f64)>,
     },
     #[error(
+        "gave up after {revolutions} blade revolutions, the limit for one autorotation being {limit} (MAX_REVOLUTIONS); {last}"
+    )]
+    RevolutionLimit {
+        revolutions: usize,
+        limit: usize,
+        last: String,
+    },
+    #[error(
         "at tip-speed ratio {tip_speed_ratio} and {omega_rad_s:.3} rad/s the rotor's equilibrium at the smallest angle that autorotates ({alpha_deg:.4} deg) is not the one a tunnel holds: {why}. The tip-speed ratio is beyond the largest at which the rotor autorotates"
     )]
     SlowBranch {
@@ -178,10 +237,18 @@ struct Problem<'a> {
     warm: [f64; 2],
     /// What the periodic solutions so far learned of the blade's revolution map.
     map: RevolutionMap,
+    /// The solve's revolutions, shared by its problems.
+    spent: &'a Spent,
 }
 
 impl<'a> Problem<'a> {
-    fn new(rotor: &'a Rotor, numerics: Numerics, tunnel: Tunnel, model: InflowModel) -> Self {
+    fn new(
+        rotor: &'a Rotor,
+        numerics: Numerics,
+        tunnel: Tunnel,
+        model: InflowModel,
+        spent: &'a Spent,
+    ) -> Self {
         Problem {
             rotor,
             blade: Blade::new(rotor, numerics),
@@ -190,6 +257,7 @@ impl<'a> Problem<'a> {
             model,
             warm: [0.05, 0.0],
             map: RevolutionMap::default(),
+            spent,
         }
     }
 
@@ -214,9 +282,22 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// The blades' periodic solution, within what is left of the solve's [`MAX_REVOLUTIONS`].
     fn steady(&mut self, omega: f64, inflow: Inflow) -> Result<SteadyLoads, RotorError> {
+        let spent = self.spent.revolutions.get();
+        if spent >= MAX_REVOLUTIONS {
+            return Err(RotorError::RevolutionLimit {
+                limit: MAX_REVOLUTIONS,
+            });
+        }
         let op = self.operating(omega, inflow);
-        let loads = self.blade.steady_with(&op, self.warm, &mut self.map)?;
+        let mut used = 0;
+        let loads = self
+            .blade
+            .steady_counted(&op, self.warm, &mut self.map, &mut used);
+        self.spent.revolutions.set(spent + used);
+        let loads =
+            loads.inspect_err(|e| *self.spent.failure.borrow_mut() = Some(e.to_string()))?;
         self.warm = loads.beta0;
         Ok(loads)
     }
@@ -264,7 +345,12 @@ impl<'a> Problem<'a> {
             };
             loads = self.steady(omega, *inflow)?;
         }
-        Ok(self.torque_coefficient(&loads, omega))
+        let q = self.torque_coefficient(&loads, omega);
+        *self.spent.residuals.borrow_mut() = Some((
+            "torque coefficient over solidity, coarse numerics, the inflow relaxed",
+            vec![q],
+        ));
+        Ok(q)
     }
 }
 
@@ -281,15 +367,29 @@ pub fn autorotate(
 /// condition's equilibrium): Newton from the guess first, and the bracket from a fast rotor
 /// only if that does not converge. The same equilibrium as [`autorotate`] wherever the guess
 /// lies on its branch.
+///
+/// Gives up past [`MAX_REVOLUTIONS`] blade revolutions, with the last residuals.
 pub fn autorotate_from(
     rotor: &Rotor,
     tunnel: Tunnel,
     options: Options,
     guess: Option<(f64, Inflow)>,
 ) -> Result<Autorotation, AutorotationError> {
+    let spent = Spent::default();
+    spent.judge(autorotate_within(rotor, tunnel, options, guess, &spent))
+}
+
+/// [`autorotate_from`], its blade revolutions counted in `spent`.
+fn autorotate_within(
+    rotor: &Rotor,
+    tunnel: Tunnel,
+    options: Options,
+    guess: Option<(f64, Inflow)>,
+    spent: &Spent,
+) -> Result<Autorotation, AutorotationError> {
     rotor.validate()?;
     check_tunnel(&tunnel)?;
-    let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow);
+    let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow, spent);
     if let Some((omega, inflow)) = guess
         && omega.is_finite()
         && omega > 0.0
@@ -308,6 +408,7 @@ pub fn autorotate_from(
         coarse_numerics(options.numerics),
         tunnel,
         options.inflow,
+        spent,
     );
     let ratios: Vec<f64> = (0..20)
         .map(|k| 40.0 * (1.2f64 / 40.0).powf(k as f64 / 19.0))
@@ -591,6 +692,7 @@ impl Problem<'_> {
                 .iter()
                 .map(|d| d / tip),
         );
+        *self.spent.residuals.borrow_mut() = Some((RESIDUALS, res.clone()));
         Ok(res)
     }
 
@@ -810,10 +912,23 @@ pub struct AtTipSpeedRatio {
 /// brackets its rotor speed), and Newton's method solves from there. Coming down from large
 /// angles, where the rotor is driven, the first change of sign is the equilibrium a tunnel
 /// holds: the one [`autorotate`] finds at that angle (see the tests).
+///
+/// Gives up past [`MAX_REVOLUTIONS`] blade revolutions, with the last residuals.
 pub fn autorotate_at_tip_speed_ratio(
     rotor: &Rotor,
     c: TipSpeedCondition,
     options: Options,
+) -> Result<AtTipSpeedRatio, AutorotationError> {
+    let spent = Spent::default();
+    spent.judge(at_tip_speed_ratio_within(rotor, c, options, &spent))
+}
+
+/// [`autorotate_at_tip_speed_ratio`], its blade revolutions counted in `spent`.
+fn at_tip_speed_ratio_within(
+    rotor: &Rotor,
+    c: TipSpeedCondition,
+    options: Options,
+    spent: &Spent,
 ) -> Result<AtTipSpeedRatio, AutorotationError> {
     check(
         "tip_speed_ratio",
@@ -837,11 +952,17 @@ pub fn autorotate_at_tip_speed_ratio(
         collective_shift_rad: c.collective_shift_rad,
     };
     check_tunnel(&tunnel_at(ANGLE_GRID_DEG[0].to_radians()))?;
-    let (alpha0, inflow0) = bracket_angle(rotor, c, options, tunnel_at)?;
+    let (alpha0, inflow0) = bracket_angle(rotor, c, options, tunnel_at, spent)?;
     let coarse_rotor = coarse(rotor);
 
     // Newton on the scaled unknowns [alpha / alpha0, v0 / u, v1s / u, v1c / u].
-    let mut p = Problem::new(rotor, options.numerics, tunnel_at(alpha0), options.inflow);
+    let mut p = Problem::new(
+        rotor,
+        options.numerics,
+        tunnel_at(alpha0),
+        options.inflow,
+        spent,
+    );
     let us = u.max(1.0);
     let free = unknowns(options.inflow);
     let unpack = |x: &[f64]| (x[0] * alpha0, inflow_from(options.inflow, &x[1..], us));
@@ -887,6 +1008,7 @@ pub fn autorotate_at_tip_speed_ratio(
         coarse_numerics(options.numerics),
         p.tunnel,
         options.inflow,
+        spent,
     );
     if let Some((omega, q)) = coarse.faster_driving(c.omega_rad_s, inflow)? {
         return Err(slow_branch(format!(
@@ -912,6 +1034,7 @@ fn bracket_angle(
     c: TipSpeedCondition,
     options: Options,
     tunnel_at: impl Fn(f64) -> Tunnel,
+    spent: &Spent,
 ) -> Result<(f64, Inflow), AutorotationError> {
     let [low, high] = ANGLE_GRID_DEG;
     let grid: Vec<f64> = (0..12)
@@ -923,6 +1046,7 @@ fn bracket_angle(
         coarse_numerics(options.numerics),
         tunnel_at(grid[0]),
         options.inflow,
+        spent,
     );
     let mut inflow = start_inflow(options.inflow);
     let mut torques: Vec<(f64, f64)> = Vec::new();

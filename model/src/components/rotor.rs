@@ -336,6 +336,23 @@ pub struct Rotor {
     pub drag_reynolds_number: Option<f64>,
 }
 
+/// The most blades a rotor may have. Rotors and propellers flown have 2 to 8 (the Mi-26's
+/// rotor, the A400M's propellers); 64 is eight times that. A blade count sizes the full
+/// model's state (two flap states a blade): a mistyped one must be refused, not allocated.
+pub const MAX_BLADES: usize = 64;
+
+/// The most lifting elements a blade may have. Blade-element codes use 10 to 100 (RASCAL up
+/// to 20, seed 000 Sec. III; the shipped rotors 8 to 20); 1000 is ten times the finest. The
+/// count sizes the blade's element table and the work of every evaluation: `elements:
+/// 999999999999` once aborted the process on the allocation.
+pub const MAX_ELEMENTS_PER_BLADE: usize = 1000;
+
+/// The most azimuth steps a revolution may take (the finest step, 0.05 deg). The shipped
+/// aircraft step 5 deg and the default is 2.5 deg (72 and 144 steps); the numerical
+/// uncertainty halves a file's step, whose finest is 0.1 deg. Beyond it a tiny step would make
+/// one revolution's integration run without end.
+pub const MAX_AZIMUTH_STEPS_PER_REVOLUTION: usize = 7200;
+
 /// Rotor data or conditions that cannot be used.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum RotorError {
@@ -345,6 +362,17 @@ pub enum RotorError {
         requirement: &'static str,
         value: f64,
     },
+    #[error("{name} must be at most {limit} ({why}), got {value}")]
+    TooMany {
+        name: &'static str,
+        limit: usize,
+        why: &'static str,
+        value: f64,
+    },
+    #[error(
+        "the solve's blade solutions reached their limit of {limit} revolutions in all, without an answer"
+    )]
+    RevolutionLimit { limit: usize },
     #[error("distribution `{0}` needs at least two rising stations, as many values, all finite")]
     Distribution(&'static str),
     #[error(transparent)]
@@ -359,6 +387,28 @@ pub enum RotorError {
         "the periodic flapping reaches {largest_deg:.1} deg (coning {coning_deg:.1} deg): past the vertical the blades no longer form a disc, outside the model"
     )]
     FlapPastVertical { largest_deg: f64, coning_deg: f64 },
+}
+
+/// The azimuth steps of one revolution at a step of `step_rad` (at least 8), or an error for a
+/// step that is not positive or would take more than [`MAX_AZIMUTH_STEPS_PER_REVOLUTION`].
+pub fn azimuth_steps(step_rad: f64) -> Result<usize, RotorError> {
+    let n = (2.0 * PI / step_rad).round().max(8.0);
+    if !(step_rad > 0.0 && n.is_finite()) {
+        return Err(RotorError::Invalid {
+            name: "azimuth_step_rad",
+            requirement: "positive and finite",
+            value: step_rad,
+        });
+    }
+    if n > MAX_AZIMUTH_STEPS_PER_REVOLUTION as f64 {
+        return Err(RotorError::TooMany {
+            name: "azimuth steps per revolution",
+            limit: MAX_AZIMUTH_STEPS_PER_REVOLUTION,
+            why: "MAX_AZIMUTH_STEPS_PER_REVOLUTION: a step of 0.05 deg",
+            value: n,
+        });
+    }
+    Ok(n as usize)
 }
 
 fn positive(name: &'static str, value: f64) -> Result<(), RotorError> {
@@ -520,6 +570,7 @@ impl Rotor {
                 value: 0.0,
             });
         }
+        self.validate_counts()?;
         positive("radius_m", self.radius_m)?;
         positive("flap_inertia_kg_m2", self.flap_inertia_kg_m2)?;
         if self.hub == Hub::Teetering && (self.blades != 2 || self.hinge_offset_m != 0.0) {
@@ -611,12 +662,47 @@ impl Rotor {
                 value: self.pitch_reference_r_over_r,
             });
         }
+        self.validate_distributions()?;
+        self.airfoil.validate()?;
+        Ok(())
+    }
+
+    /// The chord and pitch along the blade: each a distribution, the chord positive and the
+    /// pitch short of edge-on.
+    fn validate_distributions(&self) -> Result<(), RotorError> {
         self.chord_m.validate("chord_m")?;
         self.pitch_rad.validate("pitch_rad")?;
         if self.chord_m.values.iter().any(|c| *c <= 0.0) {
             return Err(RotorError::Distribution("chord_m"));
         }
-        self.airfoil.validate()?;
+        if let Some(p) = self.pitch_rad.values.iter().find(|p| p.abs() >= PI / 2.0) {
+            return Err(RotorError::Invalid {
+                name: "pitch_rad",
+                requirement: "within +-pi/2 rad (+-90 deg) at every station: a section turned past edge-on faces the flow backwards",
+                value: *p,
+            });
+        }
+        Ok(())
+    }
+
+    /// The blade and element counts within [`MAX_BLADES`] and [`MAX_ELEMENTS_PER_BLADE`].
+    fn validate_counts(&self) -> Result<(), RotorError> {
+        if self.blades > MAX_BLADES {
+            return Err(RotorError::TooMany {
+                name: "blades",
+                limit: MAX_BLADES,
+                why: "MAX_BLADES: rotors and propellers flown have 2 to 8",
+                value: self.blades as f64,
+            });
+        }
+        if self.elements > MAX_ELEMENTS_PER_BLADE {
+            return Err(RotorError::TooMany {
+                name: "elements",
+                limit: MAX_ELEMENTS_PER_BLADE,
+                why: "MAX_ELEMENTS_PER_BLADE: blade-element codes use 10 to 100",
+                value: self.elements as f64,
+            });
+        }
         Ok(())
     }
 
@@ -1515,6 +1601,19 @@ impl<'a> Blade<'a> {
         start: [f64; 2],
         map: &mut RevolutionMap,
     ) -> Result<SteadyLoads, RotorError> {
+        self.steady_counted(op, start, map, &mut 0)
+    }
+
+    /// [`Self::steady_with`], adding the revolutions it integrates to `revolutions` (whether it
+    /// finds the periodic solution or not): what a solve made of many spends
+    /// ([`crate::components::autorotation::MAX_REVOLUTIONS`]).
+    pub fn steady_counted(
+        &self,
+        op: &Operating,
+        start: [f64; 2],
+        map: &mut RevolutionMap,
+        revolutions: &mut usize,
+    ) -> Result<SteadyLoads, RotorError> {
         let axisymmetric = self.rotor.hub == Hub::Rigid
             && op.hub.u == 0.0
             && op.hub.v == 0.0
@@ -1525,7 +1624,7 @@ impl<'a> Blade<'a> {
         if axisymmetric {
             return self.axisymmetric(op);
         }
-        let n = (2.0 * PI / self.numerics.azimuth_step_rad).round().max(8.0) as usize;
+        let n = azimuth_steps(self.numerics.azimuth_step_rad)?;
         let h = 2.0 * PI / n as f64;
         // Revolutions from `start`, each sampling the loads and flapping at its step points
         // (the first stage of every RK4 step, which the step computes anyway), with a secant
@@ -1538,6 +1637,7 @@ impl<'a> Blade<'a> {
         let mut fixed_point = FixedPoint::new(*map);
         let close = SAMPLED_CLOSURE * self.numerics.periodic_tolerance;
         for _ in 0..self.numerics.max_revolutions {
+            *revolutions += 1;
             let s0 = s;
             let mut sums = RevolutionSums::default();
             for k in 0..n {

@@ -10,6 +10,13 @@ use crate::aircraft::{Air, Aircraft, AircraftError, Controls, FullDerivative, Fu
 use crate::components::rotor::Inflow;
 use serde::Serialize;
 
+/// The most steps one run may take: seven times a five-minute flight at a 1 deg azimuth step
+/// of a 40 rad/s rotor (690,000 steps; the shipped cases fly a minute at 5 deg, 29,000), and
+/// about 1.5 GB of samples where every step is kept. A run that would take more (a duration
+/// or an azimuth step mistyped) is refused before it starts, not left to abort on its samples'
+/// allocation or to run for days.
+pub const MAX_STEPS: usize = 5_000_000;
+
 /// Integration settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Settings {
@@ -183,7 +190,19 @@ pub fn run_with(
     if !(dt.is_finite() && dt > 0.0) {
         return Err(bad(0.0, "rotor_omega_rad_s", start.rotor_omega_rad_s));
     }
-    let n = (settings.duration_s / dt).ceil() as usize;
+    let steps = (settings.duration_s / dt).ceil();
+    if steps > MAX_STEPS as f64 {
+        return Err((
+            0.0,
+            AircraftError::TooMany {
+                name: "steps (the duration over the azimuth step's time)",
+                limit: MAX_STEPS,
+                why: "timehistory::MAX_STEPS: seven times a five-minute flight at 1 deg steps",
+                value: steps,
+            },
+        ));
+    }
+    let n = steps as usize;
     let every = settings.output_every.max(1);
     let mut samples = Vec::with_capacity(n / every + 2);
     let mut x = start;
