@@ -335,3 +335,23 @@ fn the_model_groups_are_layered() {
         breaches.join("\n")
     );
 }
+
+/// The harness library builds no tests of its own (`[lib] test = false`, to spare the cold
+/// `cargo test` a second optimised build), so a `#[cfg(test)]` module in it would never run:
+/// its tests belong in `tests/suite/`.
+#[test]
+fn the_harness_library_holds_no_tests_that_never_run() {
+    let mut files = Vec::new();
+    rust_files(&super::common::repo_root().join("harness/src"), &mut files);
+    let stranded: Vec<String> = files
+        .iter()
+        .filter(|f| {
+            std::fs::read_to_string(f)
+                .unwrap()
+                .lines()
+                .any(|l| l.trim() == "#[cfg(test)]" || l.trim() == "#[test]")
+        })
+        .map(|f| f.display().to_string())
+        .collect();
+    assert!(stranded.is_empty(), "tests that never run: {stranded:?}");
+}
