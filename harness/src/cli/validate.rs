@@ -296,7 +296,7 @@ fn print_text(
         );
     }
     println!(
-        "\n{} cases, {} checks: {}, {} files with errors\nby class (only validation compares the model with measured data):\n{}",
+        "\n{} cases, {} checks: {}, {} input errors\nby class (only validation compares the model with measured data):\n{}",
         cases,
         results.len(),
         text::counts(results).describe(),

@@ -437,7 +437,7 @@ fn summary_html(run: &Run, counts: &Counts) -> String {
     }
     let _ = write!(
         h,
-        "</table><p>files with errors: <span class=\"n {}\">{}</span></p>",
+        "</table><p>input errors (files that do not load, external models that fail): <span class=\"n {}\">{}</span></p>",
         if run.input_errors.is_empty() {
             ""
         } else {
@@ -715,7 +715,7 @@ pub fn markdown(run: &Run) -> String {
     let mut m = String::from("# cierva validation summary\n\n");
     let _ = writeln!(
         m,
-        "{} cases, {} checks in {:.1} s: **{}**, {} files with errors.\n\nBy class (only validation compares the model with measured data):\n",
+        "{} cases, {} checks in {:.1} s: **{}**, {} input errors.\n\nBy class (only validation compares the model with measured data):\n",
         run.cases.len(),
         k.total(),
         run.seconds,
