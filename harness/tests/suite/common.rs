@@ -19,6 +19,17 @@ pub fn repo_root() -> PathBuf {
         .to_path_buf()
 }
 
+/// The folders of the data the repository ships (its inputs, references and committed
+/// outputs), from its root.
+pub const DATA_DIRS: [&str; 6] = [
+    "cases",
+    "aircraft",
+    "flight-refs",
+    "fits",
+    "corrections",
+    "reports",
+];
+
 /// The repository's suite.
 pub fn suite() -> cierva_harness::suite::Suite {
     cierva_harness::suite::Suite::open(&repo_root()).expect("the repository is a suite")

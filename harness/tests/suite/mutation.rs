@@ -209,14 +209,7 @@ fn mutated_inputs_never_panic_and_every_error_is_located() {
     let root = repo_root();
     let scratch = std::env::temp_dir().join(format!("cierva-mutation-{}", std::process::id()));
     let mut files = Vec::new();
-    for dir in [
-        "cases",
-        "aircraft",
-        "flight-refs",
-        "fits",
-        "corrections",
-        "reports",
-    ] {
+    for dir in super::common::DATA_DIRS {
         std::fs::create_dir_all(scratch.join(dir)).unwrap();
         copy_tree(&root, &scratch, Path::new(dir), &mut files);
     }
