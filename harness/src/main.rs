@@ -99,7 +99,7 @@ enum Command {
     /// The fit file names the subject (an aircraft at a mass and density altitude, or a rotor in
     /// a tunnel), the parameters with their bounds, and the targets: checks of a case (each
     /// check's expected value, with its tolerance as the standard error) or references written
-    /// out, with optional hard or soft bounds. See harness/src/fit_file.rs for the format.
+    /// out, with optional hard or soft bounds. See harness/src/fit/file.rs for the format.
     ///
     /// Writes the corrections file (default: the suite's `corrections/fitted/<id>.yaml`, for
     /// `cierva validate --corrections`) and a Markdown report (default: the suite's `reports/fits/<id>.md`).

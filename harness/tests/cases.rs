@@ -13,9 +13,11 @@
 //! Each check is evaluated once, however many trials read its result (its own, the case's
 //! `::scores`, `readme::validation-table`).
 
-use cierva_harness::case::{Case, Subject};
 use cierva_harness::checks::What;
-use cierva_harness::{checks, eval, load_cases, text};
+use cierva_harness::report::tables;
+use cierva_harness::suite::case::{Case, Subject};
+use cierva_harness::suite::outcome;
+use cierva_harness::{checks, load_cases};
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::sync::{Arc, OnceLock};
 
@@ -23,7 +25,7 @@ use std::sync::{Arc, OnceLock};
 /// (a trial that needs one being computed waits for it).
 struct Evaluated {
     case: Case,
-    results: Vec<OnceLock<eval::CheckResult>>,
+    results: Vec<OnceLock<outcome::CheckResult>>,
 }
 
 impl Evaluated {
@@ -32,12 +34,12 @@ impl Evaluated {
         Self { case, results }
     }
 
-    fn result(&self, index: usize) -> &eval::CheckResult {
-        self.results[index].get_or_init(|| eval::run_check(&self.case, &self.case.checks[index]))
+    fn result(&self, index: usize) -> &outcome::CheckResult {
+        self.results[index].get_or_init(|| outcome::run_check(&self.case, &self.case.checks[index]))
     }
 
     /// Every check's result, in the case's order.
-    fn all(&self) -> Vec<eval::CheckResult> {
+    fn all(&self) -> Vec<outcome::CheckResult> {
         (0..self.results.len())
             .map(|i| self.result(i).clone())
             .collect()
@@ -111,21 +113,19 @@ type Snapshotter = fn(&cierva_model::LinearModel) -> Result<String, String>;
 /// The README's validation table must be what the validation checks give (every case is
 /// loaded here, so the table is the suite's).
 fn readme_validation_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
-    let results: Vec<eval::CheckResult> = cases
+    let results: Vec<outcome::CheckResult> = cases
         .iter()
         .flat_map(|e| {
-            let validation = e
-                .case
-                .checks
-                .iter()
-                .enumerate()
-                .filter(|(_, k)| k.class == cierva_harness::case::CheckClass::Validation);
+            let validation =
+                e.case.checks.iter().enumerate().filter(|(_, k)| {
+                    k.class == cierva_harness::suite::case::CheckClass::Validation
+                });
             validation
                 .map(|(i, _)| e.result(i).clone())
                 .collect::<Vec<_>>()
         })
         .collect();
-    let want = text::validation_table(&results);
+    let want = tables::validation_table(&results);
     let readme = std::fs::read_to_string(repo_root().join("README.md"))?;
     let start = "<!-- validation-table:start";
     let got = readme
@@ -167,7 +167,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
         let e = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::scores", case.id), move || {
-                use cierva_harness::{review, scoreboard};
+                use cierva_harness::suite::{review, scoreboard};
                 let suite = suite();
                 let board = scoreboard::load(&suite).map_err(|e| e.render())?;
                 let results = e.all();
@@ -215,7 +215,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                     Err(format!(
                         "{}: records for checks that are not expected failures of the case: {stale:?}; \
                          run `cargo run --release -- review --accept --reason TEXT`",
-                        c.records_dir.as_deref().map_or_else(|| c.path.clone(), |d| cierva_harness::discrepancy::path_for(d, &c.id)).display()
+                        c.records_dir.as_deref().map_or_else(|| c.path.clone(), |d| cierva_harness::suite::discrepancy::path_for(d, &c.id)).display()
                     )
                     .into())
                 }
@@ -244,7 +244,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                         (id, checks::autorotation::quantities_or_reason(q))
                     })
                     .collect();
-                snapshot(c, "autorotation", Ok(text::autorotation_table(&rows)))
+                snapshot(c, "autorotation", Ok(tables::autorotation_table(&rows)))
             })
             .with_kind("snapshot"),
         );
@@ -267,7 +267,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                         rows.push((k.id.clone(), m));
                     }
                 }
-                snapshot(c, "time-histories", Ok(text::time_history_table(&rows)))
+                snapshot(c, "time-histories", Ok(tables::time_history_table(&rows)))
             })
             .with_kind("snapshot"),
         );
@@ -325,7 +325,7 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                         (label, checks::trim::trim_quantities(file, *loading, *r))
                     })
                     .collect();
-                snapshot(c, "trim", Ok(text::trim_table(&columns)))
+                snapshot(c, "trim", Ok(tables::trim_table(&columns)))
             })
             .with_kind("snapshot"),
         );
@@ -363,9 +363,9 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                         let modes = cierva_model::modes(&l.1.model).map_err(|e| e.to_string())?;
                         Ok(format!(
                             "{}\n{}\n{}",
-                            text::breakdown_table(&l.1, text::PRIMARY_DERIVATIVES),
-                            text::modes_table(&modes),
-                            text::derivatives_table(&l.1.model)
+                            tables::breakdown_table(&l.1, tables::PRIMARY_DERIVATIVES),
+                            tables::modes_table(&modes),
+                            tables::derivatives_table(&l.1.model)
                         ))
                     });
                     snapshot(c, &what, body)
@@ -376,13 +376,13 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
     }
     if let Subject::Linear { model, .. } = &case.subject {
         let snaps: Vec<(&str, Snapshotter)> = vec![
-            ("derivatives", |m| Ok(text::derivatives_table(m))),
+            ("derivatives", |m| Ok(tables::derivatives_table(m))),
             ("modes", |m| {
                 cierva_model::modes(m)
-                    .map(|a| text::modes_table(&a))
+                    .map(|a| tables::modes_table(&a))
                     .map_err(|e| e.to_string())
             }),
-            ("milne", |m| Ok(text::milne_table(m))),
+            ("milne", |m| Ok(tables::milne_table(m))),
         ];
         for (what, f) in snaps {
             if what == "milne" && !model.has_state("Omega") {

@@ -22,7 +22,7 @@ RECORD = "../refs/synthetic-vpm-m16-70mph-stick-doublet.csv"
 OUTPUT = "response-70mph-stick-doublet.csv"
 DEG = 180.0 / math.pi
 RPM = 30.0 / math.pi
-# cierva's responses (harness/src/history.rs, SIGNALS) from simulate's columns, and the scale.
+# cierva's responses (harness/src/run/replay.rs, SIGNALS) from simulate's columns, and the scale.
 SIGNALS = [("u_m_s", "u_m_s", 1.0), ("v_m_s", "v_m_s", 1.0), ("w_m_s", "w_m_s", 1.0),
            ("p_deg_s", "p_rad_s", DEG), ("q_deg_s", "q_rad_s", DEG), ("r_deg_s", "r_rad_s", DEG),
            ("phi_deg", "phi_rad", DEG), ("theta_deg", "theta_rad", DEG),

@@ -4,9 +4,9 @@
 
 use super::result::{Evaluated, Finding, Found, Quantities, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind};
-use crate::quantity::{self as q, Quantity as Q};
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity::{self as q, Quantity as Q};
+use crate::inputs::yaml::InputError;
 use serde::{Deserialize, Serialize};
 
 /// A wind-tunnel condition: the angle of attack and either the airspeed or the tip-speed ratio

@@ -7,10 +7,10 @@ use super::{
     At, CheckClass, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal,
     Trivial, is_aircraft,
 };
-use crate::quantity::{self as q, Quantity as Q};
-use crate::refs::Entry;
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity::{self as q, Quantity as Q};
+use crate::inputs::reference::Entry;
+use crate::inputs::yaml::InputError;
 use cierva_model::LinearModel;
 use cierva_model::analysis::modes::Complex;
 
@@ -22,7 +22,7 @@ pub struct DerivativeCheck {
     /// On a model: the check is of the ratio `derivative / divided_by`.
     pub divided_by: Option<String>,
     /// On an aircraft: corrections applied before it is linearised.
-    pub corrections: Option<crate::corrections::CorrectionSet>,
+    pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
     pub linear: LinearSetup,
 }
 
@@ -152,7 +152,7 @@ fn resolve_as_identified(
 fn resolve_on_table(
     cx: &Cx,
     spec: &CheckSpec,
-    table: &crate::refs::DerivativeTable,
+    table: &crate::inputs::reference::DerivativeTable,
     column: &str,
     derivative: &str,
 ) -> Result<(), InputError> {
@@ -266,7 +266,7 @@ impl OnLinear for DerivativeCheck {
         &self.linear
     }
 
-    fn corrections(&self) -> Option<&crate::corrections::CorrectionSet> {
+    fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
         self.corrections.as_ref()
     }
 

@@ -35,11 +35,11 @@
 
 use super::result::{Evaluated, Finding, PlotData, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use crate::checks::subject::Subject;
 use crate::ident::frequency_response as fr;
-use crate::ident::record::{self, Record};
-use crate::quantity::Quantity as Q;
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::inputs::quantity::Quantity as Q;
+use crate::inputs::record::{self, Record};
+use crate::inputs::yaml::InputError;
 use rustfft::num_complex::Complex64 as C;
 use std::path::Path;
 
@@ -477,7 +477,7 @@ pub const RESPONSE_COLUMNS: [&str; 4] = ["frequency_hz", "magnitude_db", "phase_
 /// frequency-response --format csv` writes it); frequencies positive and rising, coherence in
 /// [0, 1]. A row with an empty magnitude or phase (nothing estimated there) is left out.
 pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
-    let src = crate::yaml::read_csv(path)?;
+    let src = crate::inputs::yaml::read_csv(path)?;
     let at = |line: usize, column: usize, field: &str, msg: String| InputError {
         path: path.to_path_buf(),
         line: Some(line),
@@ -511,7 +511,7 @@ pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
         let mut v = [None; 4];
         for (k, &col) in index.iter().enumerate() {
             let cell = cells.get(col).map_or("", |c| c.trim());
-            let column = crate::yaml::csv_field_column(line, col.min(cells.len()));
+            let column = crate::inputs::yaml::csv_field_column(line, col.min(cells.len()));
             if cell.is_empty() {
                 if k == 0 || k == 3 {
                     return Err(at(
@@ -559,7 +559,7 @@ pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
         {
             return Err(at(
                 i + 1,
-                crate::yaml::csv_field_column(line, index[0]),
+                crate::inputs::yaml::csv_field_column(line, index[0]),
                 "frequency_hz",
                 format!(
                     "{f} Hz after {} Hz: frequencies must rise",
@@ -586,7 +586,7 @@ pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
 
 impl Evaluate for FrequencyResponseCheck {
     fn quantities(&self) -> Vec<String> {
-        super::names(crate::quantity::FREQUENCY_RESPONSE)
+        super::names(crate::inputs::quantity::FREQUENCY_RESPONSE)
     }
 
     /// A model with no response (infinitely costly wherever the reference has a band) and a
@@ -792,7 +792,7 @@ impl Responses {
     /// The response of `output` to `input` as a record measures it when the record's other
     /// controls moved with `input`: `H = G_input + sum_j G_j T_j`, `T_j` each other control's
     /// measured transfer from `input` (its cross-spectrum with `input` over `input`'s
-    /// autospectrum, [`crate::retune::responses`]).
+    /// autospectrum, [`crate::fit::retune::responses`]).
     ///
     /// Why: a single-input estimate `G_y,input / G_input,input` of a linear aircraft is
     /// `sum_j G_j G_j,input / G_input,input` exactly, whoever moved the other controls (a pilot

@@ -3,9 +3,9 @@
 
 use super::result::{Evaluated, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
-use crate::quantity::{self as q, Quantity as Q};
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity::{self as q, Quantity as Q};
+use crate::inputs::yaml::InputError;
 
 /// An `inflow_coefficients` check (everything it needs is its case's teeter record).
 #[derive(Debug, Clone, PartialEq)]

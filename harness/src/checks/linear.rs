@@ -14,9 +14,9 @@
 
 use super::result::{Evaluated, Locus, PlotData, compare};
 use super::{At, Check, CheckSpec, Cx, Expectation, check_condition, is_flight_model};
-use crate::subject::Subject;
-use crate::tolerance::ToleranceKind;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::checks::tolerance::ToleranceKind;
+use crate::inputs::yaml::InputError;
 use cierva_model::analysis::bcar::Verdict;
 use cierva_model::analysis::milne;
 use cierva_model::analysis::modes::{self, Complex, Mode};
@@ -169,7 +169,7 @@ pub trait OnLinear {
         false
     }
     /// Corrections applied to the aircraft before it is linearised.
-    fn corrections(&self) -> Option<&crate::corrections::CorrectionSet> {
+    fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
         None
     }
     /// The expected BCAR verdict.
@@ -314,7 +314,7 @@ fn on_model<K: OnLinear>(
 fn on_aircraft<K: OnLinear>(
     k: &K,
     at: &At,
-    plain: &crate::aircraft_file::AircraftFile,
+    plain: &crate::inputs::aircraft::AircraftFile,
     loading: crate::Loading,
     expectations: &[Expectation],
 ) -> Result<Evaluated, String> {
@@ -388,7 +388,7 @@ fn neighbour_for_continuity(
     siblings: &[Check],
     here: crate::TrimRequest,
     mode: Option<(ModeKind, System)>,
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     loading: crate::Loading,
 ) -> Result<Option<LinearModel>, String> {
     let Some((kind, system)) = mode else {

@@ -4,9 +4,9 @@
 
 use super::linear::{self, Computed, LinearSetup, OnLinear};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind};
-use crate::quantity as q;
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity as q;
+use crate::inputs::yaml::InputError;
 use cierva_model::LinearModel;
 use cierva_model::analysis::milne;
 use cierva_model::analysis::modes::Complex;

@@ -17,7 +17,7 @@
 //!
 //! What is common to every kind (ids, class, expectations and their tolerances, the refusal of
 //! checks that cannot fail) is here. Running a check and judging its outcome against the case's
-//! known discrepancies is [`crate::eval`].
+//! known discrepancies is [`crate::suite::outcome`].
 
 pub mod autorotation;
 pub mod bcar;
@@ -28,16 +28,18 @@ pub mod linear;
 pub mod milne;
 pub mod mode;
 pub mod result;
+pub mod subject;
 pub mod time_history;
+pub mod tolerance;
 pub mod trim;
 pub mod trim_sweep;
 
 pub use linear::System;
 pub use result::{Evaluated, Finding, Locus, PlotData, QuantityResult, Trace};
 
-use crate::subject::Subject;
-use crate::tolerance::{Tolerance, ToleranceKind};
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::checks::tolerance::{Tolerance, ToleranceKind};
+use crate::inputs::yaml::InputError;
 use cierva_model::ModeKind;
 use cierva_model::analysis::bcar::Verdict;
 use serde::{Deserialize, Serialize};
@@ -101,7 +103,7 @@ pub enum CheckKind {
     /// neighbouring airspeeds, and the worst residual.
     TrimSweep,
     /// A reference record's control changes flown again by the model, its responses compared
-    /// with the record's: `<signal>.<metric>` (see [`crate::history`]).
+    /// with the record's: `<signal>.<metric>` (see [`crate::run::replay`]).
     TimeHistory,
     /// The model's frequency response from a control to a state against a reference's (from
     /// records, or a file), judged by CIFER's mismatch cost `J`.
@@ -168,7 +170,7 @@ pub struct CheckSpec {
     /// check then also computes `magnitude_change`, `(|corrected| - |uncorrected|) /
     /// |uncorrected|`.
     #[serde(default)]
-    pub corrections: Option<crate::corrections::CorrectionSet>,
+    pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
     /// `time_history`: the reference record CSV (its sidecar beside it), relative to the case
     /// file; `frequency_response`: a response file (`frequency_hz,magnitude_db,phase_deg,
     /// coherence`).
@@ -197,7 +199,7 @@ pub struct CheckSpec {
     pub band_hz: Option<[f64; 2]>,
     /// `time_history`: the model that flies the record (default the full blade model).
     #[serde(default)]
-    pub simulation: Option<crate::history::Simulation>,
+    pub simulation: Option<crate::run::replay::Simulation>,
     /// `time_history` with the full blade model: the azimuth step, deg (default the aircraft
     /// file's).
     #[serde(default)]
@@ -368,7 +370,7 @@ impl Check {
     }
 
     /// The corrections the check applies on top of its subject's.
-    pub fn corrections(&self) -> Option<&crate::corrections::CorrectionSet> {
+    pub fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
         match &self.what {
             What::Derivative(d) => d.corrections.as_ref(),
             What::TimeHistory(t) => t.corrections.as_ref(),
@@ -431,7 +433,7 @@ impl Trivial {
 /// real part, a complying margin): the sign's own unit, which every such check admits.
 pub fn constant_verdicts(
     expectations: &[Expectation],
-    quantities: &[crate::quantity::Quantity],
+    quantities: &[crate::inputs::quantity::Quantity],
     predictor: &'static str,
 ) -> Vec<Trivial> {
     expectations
@@ -439,8 +441,8 @@ pub fn constant_verdicts(
         .filter(|e| quantities.iter().any(|q| q.name() == e.quantity))
         .filter_map(|e| {
             match e.tolerance.kind {
-                ToleranceKind::Sign(crate::tolerance::Sign::Positive) => Some(1.0),
-                ToleranceKind::Sign(crate::tolerance::Sign::Negative) => Some(-1.0),
+                ToleranceKind::Sign(crate::checks::tolerance::Sign::Positive) => Some(1.0),
+                ToleranceKind::Sign(crate::checks::tolerance::Sign::Negative) => Some(-1.0),
                 _ => None,
             }
             .map(|v| Trivial::verdict(&e.quantity, v, predictor))
@@ -637,7 +639,7 @@ fn resolve_expectations(
     for (q, e) in &spec.expect {
         let field = format!(".expect.{q}");
         if !allowed.contains(q) {
-            let hint = crate::yaml::nearest(q, &allowed)
+            let hint = crate::inputs::yaml::nearest(q, &allowed)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
             return Err(cx.err(
@@ -725,7 +727,8 @@ fn refuse_trivial(
                 .iter()
                 .filter(|e| e.quantity == t.quantity)
                 .find(|e| {
-                    crate::tolerance::admits(&e.tolerance.kind, e.value, t.value) == Some(true)
+                    crate::checks::tolerance::admits(&e.tolerance.kind, e.value, t.value)
+                        == Some(true)
                 })
                 .map(|e| {
                     (
@@ -798,7 +801,7 @@ pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
                 continue;
             }
             let mean = (sum - v) / (n - 1) as f64;
-            if crate::tolerance::admits(&e.tolerance.kind, Some(v), mean) == Some(true) {
+            if crate::checks::tolerance::admits(&e.tolerance.kind, Some(v), mean) == Some(true) {
                 passed.push(format!("{} = {mean:.4e}", e.quantity));
             }
         }
@@ -818,7 +821,7 @@ pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
 }
 
 /// Names of quantities, as the `expect` keys write them.
-fn names(list: &[crate::quantity::Quantity]) -> Vec<String> {
+fn names(list: &[crate::inputs::quantity::Quantity]) -> Vec<String> {
     list.iter().map(|q| q.name().to_string()).collect()
 }
 

@@ -6,9 +6,9 @@ use super::linear::{self, Computed, LinearSetup, OnLinear, System};
 use super::{
     At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal, Trivial,
 };
-use crate::quantity::{self as q, Quantity as Q};
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity::{self as q, Quantity as Q};
+use crate::inputs::yaml::InputError;
 use cierva_model::analysis::modes::Complex;
 use cierva_model::{LinearModel, ModeKind};
 
@@ -164,7 +164,8 @@ impl OnLinear for ModeCheck {
                 .iter()
                 .filter(|e| e.quantity == t.quantity)
                 .find(|e| {
-                    crate::tolerance::admits(&e.tolerance.kind, e.value, t.value) == Some(true)
+                    crate::checks::tolerance::admits(&e.tolerance.kind, e.value, t.value)
+                        == Some(true)
                 })
                 .map(|e| {
                     format!(

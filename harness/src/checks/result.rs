@@ -2,7 +2,7 @@
 //! model found instead of an answer, and what the report plots.
 
 use super::Expectation;
-use crate::tolerance::ToleranceKind;
+use crate::checks::tolerance::ToleranceKind;
 use cierva_model::analysis::bcar::Verdict;
 use cierva_model::analysis::modes::Complex;
 use serde::Serialize;
@@ -144,7 +144,7 @@ pub fn compare(
         ToleranceKind::Rounding(_) => Some(rounding()?),
         _ => None,
     };
-    let j = crate::tolerance::judge(&e.tolerance.kind, e.value, value, bound)
+    let j = crate::checks::tolerance::judge(&e.tolerance.kind, e.value, value, bound)
         .ok_or("expectation and tolerance do not fit (checked at load)")?;
     Ok(QuantityResult {
         quantity: e.quantity.clone(),

@@ -1,14 +1,14 @@
 //! `time_history`: a reference record's control changes flown again by the model from trim,
 //! its responses compared with the record's, signal by signal (`<signal>.<metric>`, see
-//! [`crate::history`]).
+//! [`crate::run::replay`]).
 
 use super::result::{Evaluated, PlotData, Trace, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
-use crate::history::{self, Simulation};
-use crate::ident::record::Record;
-use crate::subject::Subject;
-use crate::tolerance::ToleranceKind;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::checks::tolerance::ToleranceKind;
+use crate::inputs::record::Record;
+use crate::inputs::yaml::InputError;
+use crate::run::replay::{self, Simulation};
 
 /// A `time_history` check.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,7 +22,7 @@ pub struct TimeHistoryCheck {
     /// The full blade model's azimuth step, deg (default the aircraft file's).
     pub azimuth_step_deg: Option<f64>,
     /// Corrections applied to the aircraft first.
-    pub corrections: Option<crate::corrections::CorrectionSet>,
+    pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
 }
 
 impl Kind for TimeHistoryCheck {
@@ -97,29 +97,29 @@ impl Kind for TimeHistoryCheck {
 /// The record, whose channels are controls (named in the sidecar) or responses cierva
 /// computes.
 fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
-    let rec = crate::ident::record::load_with(&cx.dir.join(file), &["time_s"], true)
+    let rec = crate::inputs::record::load_with(&cx.dir.join(file), &["time_s"], true)
         .map_err(|e| cx.err(".reference", format!("in the referenced record: {e}")))?;
-    for ch in history::record_signals(&rec) {
-        if !history::SIGNALS.contains(&ch.as_str()) {
+    for ch in replay::record_signals(&rec) {
+        if !replay::SIGNALS.contains(&ch.as_str()) {
             return Err(cx.err(
                 ".reference",
                 format!(
                     "the record's channel `{ch}` is neither a control (the sidecar's `controls`) nor a response cierva computes ({})",
-                    history::SIGNALS.join(", ")
+                    replay::SIGNALS.join(", ")
                 ),
             ));
         }
     }
-    history::record_controls(&rec).map_err(|e| cx.err(".reference", e))?;
+    replay::record_controls(&rec).map_err(|e| cx.err(".reference", e))?;
     Ok(rec)
 }
 
 impl Evaluate for TimeHistoryCheck {
     /// `<signal>.<metric>` for every response of the record.
     fn quantities(&self) -> Vec<String> {
-        history::record_signals(&self.reference)
+        replay::record_signals(&self.reference)
             .iter()
-            .flat_map(|s| history::METRICS.iter().map(move |m| format!("{s}.{m}")))
+            .flat_map(|s| replay::METRICS.iter().map(move |m| format!("{s}.{m}")))
             .collect()
     }
 
@@ -131,9 +131,9 @@ impl Evaluate for TimeHistoryCheck {
     ) -> Result<Vec<Trivial>, Refusal> {
         let record = &self.reference;
         let zero =
-            history::zero_response_metrics(record).map_err(|e| (".reference".to_string(), e))?;
+            replay::zero_response_metrics(record).map_err(|e| (".reference".to_string(), e))?;
         let mean =
-            history::mean_response_metrics(record).map_err(|e| (".reference".to_string(), e))?;
+            replay::mean_response_metrics(record).map_err(|e| (".reference".to_string(), e))?;
         let who = [
             "a model with no response",
             "a model that holds still at the record's own mean",
@@ -143,7 +143,7 @@ impl Evaluate for TimeHistoryCheck {
             .map(|m| (m, who[0]))
             .chain(mean.iter().map(|m| (m, who[1])))
             .flat_map(|(m, predictor)| {
-                history::METRICS.iter().map(move |q| Trivial {
+                replay::METRICS.iter().map(move |q| Trivial {
                     quantity: format!("{}.{q}", m.signal),
                     value: m.get(q).unwrap_or(f64::NAN),
                     predictor,
@@ -165,7 +165,7 @@ impl Evaluate for TimeHistoryCheck {
         let values: Vec<(String, f64)> = metrics
             .iter()
             .flat_map(|m| {
-                history::METRICS
+                replay::METRICS
                     .iter()
                     .map(|q| (format!("{}.{q}", m.signal), m.get(q).unwrap_or(f64::NAN)))
             })
@@ -181,10 +181,10 @@ impl Evaluate for TimeHistoryCheck {
 impl TimeHistoryCheck {
     /// The reference and flown responses, with the largest-error tolerance of each signal
     /// where it is absolute.
-    fn plot(&self, expectations: &[Expectation], flown: &history::Flown) -> Option<PlotData> {
+    fn plot(&self, expectations: &[Expectation], flown: &replay::Flown) -> Option<PlotData> {
         let record = &self.reference;
         let time_s = record.channel("time_s")?.to_vec();
-        let traces = history::record_signals(record)
+        let traces = replay::record_signals(record)
             .into_iter()
             .filter_map(|signal| {
                 let reference = record.channel(&signal)?.to_vec();
@@ -213,10 +213,10 @@ impl TimeHistoryCheck {
 /// A `time_history` check's record flown by its model (with its corrections), compared
 /// response by response.
 pub fn time_history_metrics(
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     loading: crate::Loading,
     check: &TimeHistoryCheck,
-) -> Result<(Vec<history::SignalMetrics>, history::Flown), String> {
+) -> Result<(Vec<replay::SignalMetrics>, replay::Flown), String> {
     let corrected;
     let file = match &check.corrections {
         Some(c) => {
@@ -245,9 +245,9 @@ pub fn fly_model(
     loading: crate::Loading,
     check: &TimeHistoryCheck,
     strict: bool,
-) -> Result<(Vec<history::SignalMetrics>, history::Flown), String> {
+) -> Result<(Vec<replay::SignalMetrics>, replay::Flown), String> {
     let record = &check.reference;
-    let table = history::record_controls(record)?;
+    let table = replay::record_controls(record)?;
     let samples = table.time_s.len().saturating_sub(1);
     let controls = crate::external::ControlChanges {
         table,
@@ -259,9 +259,9 @@ pub fn fly_model(
         crate::external::check_response(
             &model.describe(),
             &flown,
-            &history::record_signals(record),
+            &replay::record_signals(record),
             samples,
         )?;
     }
-    Ok((history::compare(record, &flown)?, flown))
+    Ok((replay::compare(record, &flown)?, flown))
 }

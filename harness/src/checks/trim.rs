@@ -3,9 +3,9 @@
 
 use super::result::{Evaluated, Quantities, compare_all};
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
-use crate::quantity as q;
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity as q;
+use crate::inputs::yaml::InputError;
 
 /// A `trim` check: its flight condition.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,9 +78,9 @@ pub fn refuse_enforced(expectations: &[Expectation]) -> Result<(), Refusal> {
     Ok(())
 }
 
-/// The quantities of one trim (see [`crate::quantity::TRIM`]).
+/// The quantities of one trim (see [`crate::inputs::quantity::TRIM`]).
 pub fn trim_quantities(
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     loading: crate::Loading,
     request: crate::TrimRequest,
 ) -> Result<Quantities, String> {

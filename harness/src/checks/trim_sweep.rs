@@ -4,9 +4,9 @@
 use super::result::{Evaluated, PlotData, Quantities, compare_all};
 use super::trim::refuse_enforced;
 use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
-use crate::quantity::{self as q, Quantity as Q};
-use crate::subject::Subject;
-use crate::yaml::InputError;
+use crate::checks::subject::Subject;
+use crate::inputs::quantity::{self as q, Quantity as Q};
+use crate::inputs::yaml::InputError;
 
 /// A `trim_sweep` check: its airspeeds, mph, rising.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,7 +94,7 @@ impl Evaluate for TrimSweepCheck {
 /// Trims over a sweep of airspeeds: each point's quantities, or the first failure (named by
 /// its airspeed).
 pub fn trim_sweep(
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     loading: crate::Loading,
     sweep_mph: &[f64],
 ) -> Result<Vec<(f64, Quantities)>, String> {
@@ -123,7 +123,7 @@ pub fn trim_sweep_of(
         .collect()
 }
 
-/// The trend quantities of a sweep (see [`crate::quantity::sweep_names`]).
+/// The trend quantities of a sweep (see [`crate::inputs::quantity::sweep_names`]).
 pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
     let get = |q: &Quantities, name: &str| {
         q.iter()
@@ -137,7 +137,7 @@ pub fn sweep_trends(points: &[(f64, Quantities)]) -> Vec<(String, f64)> {
             .map(|(_, q)| get(q, Q::ResidualNorm.name()))
             .fold(0.0f64, |m, v| if v.is_nan() { f64::NAN } else { m.max(v) }),
     )];
-    for name in crate::quantity::TREND.iter().map(|q| q.name()) {
+    for name in crate::inputs::quantity::TREND.iter().map(|q| q.name()) {
         let slopes: Vec<f64> = points
             .windows(2)
             .map(|w| (get(&w[1].1, name) - get(&w[0].1, name)) / (w[1].0 - w[0].0))

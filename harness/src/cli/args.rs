@@ -71,8 +71,8 @@ pub(crate) struct ShapeArgs {
 
 impl ShapeArgs {
     /// The input shape, if one is given.
-    pub(crate) fn input(&self) -> Option<cierva_harness::ident::synth::Input> {
-        use cierva_harness::ident::synth::Input;
+    pub(crate) fn input(&self) -> Option<cierva_harness::synth::linear::Input> {
+        use cierva_harness::synth::linear::Input;
         let (amplitude, start_s, input_s) = (self.amplitude_percent, self.start_s, self.input_s);
         self.shape.map(|c| match c {
             InputChoice::Sweep | InputChoice::SweepDown => Input::Sweep {
@@ -109,8 +109,8 @@ pub(crate) struct SynthHistoryArgs {
     #[command(flatten)]
     pub(crate) shape: ShapeArgs,
     /// The model that flies: full-blade (the individual-blade model) or linear.
-    #[arg(long, value_enum, default_value_t = cierva_harness::history::Simulation::FullBlade)]
-    pub(crate) simulation: cierva_harness::history::Simulation,
+    #[arg(long, value_enum, default_value_t = cierva_harness::run::replay::Simulation::FullBlade)]
+    pub(crate) simulation: cierva_harness::run::replay::Simulation,
     /// Seed 000's propeller blockage factor to fly with (0..1; default the aircraft file's).
     #[arg(long)]
     pub(crate) propeller_blockage: Option<f64>,

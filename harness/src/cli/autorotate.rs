@@ -4,13 +4,13 @@
 use super::*;
 
 /// The rotor file with `--corrections` applied (the file must name this rotor).
-fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::rotor_file::RotorFile, ExitCode> {
-    use cierva_harness::corrections::{self, Target};
-    let located = |e: cierva_harness::yaml::InputError| {
+fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::RotorFile, ExitCode> {
+    use cierva_harness::inputs::corrections::{self, Target};
+    let located = |e: cierva_harness::inputs::yaml::InputError| {
         eprintln!("{}", e.render());
         ExitCode::from(2)
     };
-    let mut file = cierva_harness::rotor_file::load(&a.rotor).map_err(located)?;
+    let mut file = cierva_harness::inputs::rotor::load(&a.rotor).map_err(located)?;
     let Some(path) = &a.corrections else {
         return Ok(file);
     };
@@ -107,7 +107,7 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
 }
 
 fn print_text(
-    file: &cierva_harness::rotor_file::RotorFile,
+    file: &cierva_harness::inputs::rotor::RotorFile,
     alpha_deg: f64,
     airspeed_m_s: f64,
     e: &cierva_model::components::autorotation::Autorotation,

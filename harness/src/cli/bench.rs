@@ -130,7 +130,7 @@ pub(crate) fn bench(repeat: usize, format: Format, only: Option<BenchGroup>) -> 
 fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
     use cierva_model::components::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
     let path = out.file("aircraft/pca-2-rotor.yaml");
-    let file = match cierva_harness::rotor_file::load(&path) {
+    let file = match cierva_harness::inputs::rotor::load(&path) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("{}", e.render());
@@ -239,7 +239,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
     let mut sink = 0.0;
     // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
     let ac_path = out.file("aircraft/vpm-m16.yaml");
-    match cierva_harness::aircraft_file::load(&ac_path) {
+    match cierva_harness::inputs::aircraft::load(&ac_path) {
         Err(e) => eprintln!("{}", e.render()),
         Ok(ac) => {
             let request = cierva_harness::TrimRequest {
@@ -438,19 +438,21 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
     let mut sink = 0.0;
     // Identification: the five-state longitudinal model from 120 s at 100 Hz over 100
     // frequencies (the identification benchmark), on a synthetic record of seed 002's Eq. 20.
-    use cierva_harness::ident::{self, record, synth};
-    let truth = refs::load(&out.file("flight-refs/seed002-vpm-m16-60kn.yaml"))
+    use cierva_harness::ident;
+    use cierva_harness::inputs::record;
+    use cierva_harness::synth::linear;
+    let truth = reference::load(&out.file("flight-refs/seed002-vpm-m16-60kn.yaml"))
         .ok()
         .and_then(|r| r.linear_model);
     let numpy = numpy::Numpy::find(&out.root);
     if let Some(model) = truth {
         for (seconds, points) in [(120.0, 100), (240.0, 100), (120.0, 200)] {
-            let settings = synth::Settings {
+            let settings = linear::Settings {
                 id: "bench".into(),
                 aircraft: "VPM M16".into(),
                 truth: "seed 002 Eq. 20".into(),
                 control: "eta_s".into(),
-                input: cierva_harness::ident::synth::Input::Sweep {
+                input: cierva_harness::synth::linear::Input::Sweep {
                     from_hz: 0.02,
                     to_hz: 2.5,
                     duration_s: seconds - 20.0,
@@ -460,12 +462,12 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
                 duration_s: seconds,
                 sample_rate_hz: 100.0,
                 seed: 1,
-                noise: synth::SensorNoise::NONE,
+                noise: linear::SensorNoise::NONE,
                 turbulence: None,
-                trim: synth::SEED002_TRIM,
-                sensors: synth::SEED002_SENSORS,
+                trim: linear::SEED002_TRIM,
+                sensors: linear::SEED002_SENSORS,
             };
-            let Ok((channels, data, meta)) = synth::generate(&model, &settings) else {
+            let Ok((channels, data, meta)) = linear::generate(&model, &settings) else {
                 continue;
             };
             let rec = record::Record {
@@ -509,7 +511,7 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
 /// The same estimator in numpy, run by `python3 scripts/ident_numpy.py` beside cierva's rows.
 mod numpy {
     use super::{Rows, median};
-    use cierva_harness::ident::record;
+    use cierva_harness::inputs::record;
     use std::path::PathBuf;
     use std::process::Command;
 
@@ -698,8 +700,8 @@ mod numpy {
 /// and 40 s, 100 frequencies.
 fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     use cierva_harness::ident::frequency_response as fr;
-    use cierva_harness::ident::synth;
-    let Some(model) = refs::load(&out.file("flight-refs/seed002-vpm-m16-60kn.yaml"))
+    use cierva_harness::synth::linear;
+    let Some(model) = reference::load(&out.file("flight-refs/seed002-vpm-m16-60kn.yaml"))
         .ok()
         .and_then(|r| r.linear_model)
     else {
@@ -707,8 +709,8 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     };
     let mut runs = Vec::new();
     for seed in 1..=4 {
-        let settings = synth::Settings::exponential_sweep("bench", seed);
-        let Ok((channels, data, _)) = synth::generate(&model, &settings) else {
+        let settings = linear::Settings::exponential_sweep("bench", seed);
+        let Ok((channels, data, _)) = linear::generate(&model, &settings) else {
             return 0.0;
         };
         let col = |name: &str| {
@@ -753,9 +755,10 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
 /// Three 120 s flight tests of the VPM M16 flown by the full model (sweeps on stick, lateral
 /// stick and pedal at 70 mph, 1 % turbulence), identified together with the coupled set-up.
 fn records_together(out: &Rows, repeat: usize) -> f64 {
-    use cierva_harness::flight_test;
     use cierva_harness::ident;
-    let Ok(file) = cierva_harness::aircraft_file::load(&out.file("aircraft/vpm-m16.yaml")) else {
+    use cierva_harness::synth::flight;
+    let Ok(file) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml"))
+    else {
         return 0.0;
     };
     let mut records = Vec::new();
@@ -768,7 +771,7 @@ fn records_together(out: &Rows, repeat: usize) -> f64 {
             file.aircraft.main_rotor.numerics.azimuth_step_rad,
         );
         let started = std::time::Instant::now();
-        let Ok(f) = flight_test::fly(&file.aircraft, &test) else {
+        let Ok(f) = flight::fly(&file.aircraft, &test) else {
             return 0.0;
         };
         if control == 0 {
@@ -815,7 +818,7 @@ fn flapping(
     out: &Rows,
     repeat: usize,
     aircraft: &cierva_model::aircraft::Aircraft,
-    records: &[cierva_harness::ident::record::Record],
+    records: &[cierva_harness::inputs::record::Record],
     cfg: &cierva_harness::ident::ConfigSpec,
 ) -> f64 {
     use cierva_harness::ident;
@@ -887,7 +890,7 @@ fn fitting(out: &Rows) {
     // uncorrected model to a synthetic truth (blockage 1.0, hub factor 0.5, drag +15 %), with X_u,
     // Z_w and the rotor speed at 40-70 mph as targets (at 30 mph the truth needs more than full
     // throttle).
-    if let Ok(ac) = cierva_harness::aircraft_file::load(&out.file("aircraft/vpm-m16.yaml")) {
+    if let Ok(ac) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml")) {
         use cierva_harness::fit::{
             self, Condition, Measure, Options, Parameter, ParameterKind, Problem, Subject, Target,
         };
@@ -965,12 +968,13 @@ fn fitting(out: &Rows) {
 /// turbulence 0.3 m/s, the pilot's hold) of the VPM M16 with hidden corrections, at one and at
 /// three airspeeds. One sample each, not a median (seconds each).
 fn retuning(out: &Rows) {
-    use cierva_harness::flight_test;
-    use cierva_harness::retune::{self, How, Request};
-    let Ok(file) = cierva_harness::aircraft_file::load(&out.file("aircraft/vpm-m16.yaml")) else {
+    use cierva_harness::fit::retune::{self, How, Request};
+    use cierva_harness::synth::flight;
+    let Ok(file) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml"))
+    else {
         return;
     };
-    let hidden = cierva_harness::corrections::CorrectionSet {
+    let hidden = cierva_harness::inputs::corrections::CorrectionSet {
         hub_aoa_factor: Some(0.55),
         profile_drag_scale: Some(1.3),
         ..Default::default()
@@ -986,7 +990,7 @@ fn retuning(out: &Rows) {
             seed,
             truth.aircraft.main_rotor.numerics.azimuth_step_rad,
         );
-        let f = flight_test::fly(&truth.aircraft, &test).ok()?;
+        let f = flight::fly(&truth.aircraft, &test).ok()?;
         let mut condition = std::collections::BTreeMap::new();
         condition.insert("airspeed_mph".to_string(), serde_yaml::Value::from(mph));
         Some(f.into_record(
@@ -1053,7 +1057,7 @@ fn uncertainty(out: &Rows) {
         let path = root.join(format!(
             "cases/cierva-table2-vpm-m16-70mph-{weight}-weight.yaml"
         ));
-        let Ok(case) = cierva_harness::case::load(&path) else {
+        let Ok(case) = cierva_harness::suite::case::load(&path) else {
             eprintln!("uncertainty benchmark: {} does not load", path.display());
             return;
         };
@@ -1085,9 +1089,9 @@ fn sweep_flight(
     sigma_m_s: f64,
     seed: u64,
     azimuth_step_rad: f64,
-) -> cierva_harness::flight_test::FlightTest {
-    use cierva_harness::flight_test::{FlightTest, sensors::Instrumentation, turbulence};
-    use cierva_harness::ident::synth::Input;
+) -> cierva_harness::synth::flight::FlightTest {
+    use cierva_harness::synth::flight::{FlightTest, sensors::Instrumentation, turbulence};
+    use cierva_harness::synth::linear::Input;
     FlightTest {
         request: cierva_harness::TrimRequest {
             airspeed_mph,

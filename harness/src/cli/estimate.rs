@@ -3,8 +3,8 @@
 //! [`cierva_harness::estimate`] and `cierva_model::estimate`).
 
 use super::*;
-use cierva_harness::aircraft_file::ConditionSpec;
 use cierva_harness::estimate::{self, Derivation};
+use cierva_harness::inputs::aircraft::ConditionSpec;
 use cierva_model::estimate::{Estimate, Method};
 
 /// What `estimate` works on.
@@ -128,7 +128,7 @@ fn text_report(d: &Derivation) -> String {
             let inputs: Vec<String> = s
                 .inputs
                 .iter()
-                .map(|(n, v)| format!("{n} {}", text::sig(*v, 4)))
+                .map(|(n, v)| format!("{n} {}", cierva_harness::units::sig(*v, 4)))
                 .collect();
             let _ = writeln!(out, "     from {}", inputs.join(", "));
         }
@@ -154,7 +154,7 @@ fn text_report(d: &Derivation) -> String {
             out,
             "  {:<42} file {:<8} estimate {}{range}",
             x.field,
-            text::sig(x.file, 4),
+            cierva_harness::units::sig(x.file, 4),
             self::range(&x.estimate)
         );
     }

@@ -8,7 +8,7 @@ pub(crate) fn fit(
     report: Option<PathBuf>,
     format: Format,
 ) -> ExitCode {
-    use cierva_harness::fit_file;
+    use cierva_harness::fit;
     let (f, output, report) = match inputs(&file, output, report) {
         Ok(i) => i,
         Err(code) => return code,
@@ -18,7 +18,7 @@ pub(crate) fn fit(
     } else {
         format!("fitting {}", f.id)
     });
-    let run = fit_file::run(&f);
+    let run = fit::file::run(&f);
     busy.set_message(format!("cross-validating {}", f.id));
     let cv = cierva_harness::uncertainty::calibration::cross_validate(&f, &run, |g| {
         busy.set_message(format!("cross-validating {}: {g} done", f.id))
@@ -37,7 +37,7 @@ pub(crate) fn fit(
         .unwrap_or(&f.id)
         .to_string();
     let command = format!("cierva fit {}", file.display());
-    let mut spec = fit_file::corrections_file(&f, &run, &id, &command);
+    let mut spec = fit::file::corrections_file(&f, &run, &id, &command);
     spec.cross_validation = cv
         .as_ref()
         .map(|cv| cierva_harness::uncertainty::calibration::summary(&f, cv));
@@ -119,9 +119,9 @@ fn inputs(
     file: &Path,
     output: Option<PathBuf>,
     report: Option<PathBuf>,
-) -> Result<(cierva_harness::fit_file::FitFile, PathBuf, PathBuf), ExitCode> {
+) -> Result<(cierva_harness::fit::file::FitFile, PathBuf, PathBuf), ExitCode> {
     use cierva_harness::suite::Suite;
-    let f = cierva_harness::fit_file::load(file).map_err(|e| {
+    let f = cierva_harness::fit::file::load(file).map_err(|e| {
         eprintln!("{}", e.render());
         ExitCode::from(2)
     })?;

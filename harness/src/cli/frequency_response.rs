@@ -3,8 +3,8 @@
 
 use super::*;
 use cierva_harness::ident::frequency_response::{self as fr, Estimate, FrError};
-use cierva_harness::ident::record::{self, Record};
-use cierva_harness::yaml::InputError;
+use cierva_harness::inputs::record::{self, Record};
+use cierva_harness::inputs::yaml::InputError;
 
 fn fail(e: InputError) -> ExitCode {
     eprintln!("{}", e.render());
@@ -23,7 +23,7 @@ fn load(a: &FrequencyResponseArgs) -> Result<Vec<Record>, ExitCode> {
                 > fr::ROUNDING * first.meta.sample_rate_hz
         {
             let side = record::sidecar_path(p);
-            let src = cierva_harness::yaml::read(&side).map_err(fail)?;
+            let src = cierva_harness::inputs::yaml::read(&side).map_err(fail)?;
             return Err(fail(InputError::field(
                 &side,
                 &src,

@@ -2,7 +2,8 @@
 //! or beside a model's linearisation.
 
 use super::*;
-use cierva_harness::ident::{self, record};
+use cierva_harness::ident;
+use cierva_harness::inputs::record;
 
 /// What to identify and what to compare it with.
 pub(crate) struct IdentifyArgs {
@@ -108,7 +109,7 @@ pub(crate) fn identify(a: IdentifyArgs, format: IdentFormat, predict: Option<Pat
                     println!(
                         "  {:<8} RMS error {:>10}  Theil {:.4}",
                         c.signal,
-                        text::sig(c.rms_error, 3),
+                        cierva_harness::units::sig(c.rms_error, 3),
                         c.theil
                     );
                 }
@@ -203,12 +204,12 @@ fn print_text(
                 println!(
                     "{:<14} {:>13} {:>12} {:>26}",
                     d.name,
-                    text::sig(d.estimate, 5),
-                    text::sig(d.standard_error, 3),
+                    cierva_harness::units::sig(d.estimate, 5),
+                    cierva_harness::units::sig(d.standard_error, 3),
                     format!(
                         "[{}, {}]",
-                        text::sig(d.lower_95, 4),
-                        text::sig(d.upper_95, 4)
+                        cierva_harness::units::sig(d.lower_95, 4),
+                        cierva_harness::units::sig(d.upper_95, 4)
                     )
                 );
             }
@@ -223,15 +224,16 @@ fn print_text(
                 println!(
                     "{:<14} {:>13} {:>26} {:>13} {:>8} {:>15} {:>8}{}",
                     r.name,
-                    text::sig(r.estimate, 5),
+                    cierva_harness::units::sig(r.estimate, 5),
                     format!(
                         "[{}, {}]",
-                        text::sig(r.lower_95, 4),
-                        text::sig(r.upper_95, 4)
+                        cierva_harness::units::sig(r.lower_95, 4),
+                        cierva_harness::units::sig(r.upper_95, 4)
                     ),
-                    text::sig(r.model, 5),
+                    cierva_harness::units::sig(r.model, 5),
                     inside(r.inside),
-                    r.with_flapping.map_or("-".into(), |v| text::sig(v, 5)),
+                    r.with_flapping
+                        .map_or("-".into(), |v| cierva_harness::units::sig(v, 5)),
                     r.inside_with_flapping.map_or("", inside),
                     if r.primary { " (primary)" } else { "" }
                 );

@@ -8,9 +8,10 @@ pub(crate) fn inflow(
     settings: cierva_harness::ident::flap::FlapSettings,
     format: Format,
 ) -> ExitCode {
-    use cierva_harness::ident::{flap, record};
+    use cierva_harness::ident::flap;
+    use cierva_harness::inputs::record;
     let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
-        .and_then(|rec| cierva_harness::rotor_file::load(&rotor).map(|r| (rec, r)));
+        .and_then(|rec| cierva_harness::inputs::rotor::load(&rotor).map(|r| (rec, r)));
     let (rec, file) = match loaded {
         Ok(x) => x,
         Err(e) => {
@@ -54,12 +55,12 @@ pub(crate) fn synth_teeter(
     (duration_s, sample_rate_hz, seed, noise_deg): (f64, f64, u64, f64),
     (output, format): (PathBuf, Format),
 ) -> ExitCode {
-    use cierva_harness::ident::{flap, record};
+    use cierva_harness::inputs::record;
     if let Err(e) = cierva_harness::inputs::limits::record_samples(duration_s, sample_rate_hz) {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
-    let file = match cierva_harness::rotor_file::load(&rotor) {
+    let file = match cierva_harness::inputs::rotor::load(&rotor) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("{}", e.render());
@@ -92,7 +93,7 @@ pub(crate) fn synth_teeter(
         "{} at alpha {alpha_deg} deg, {airspeed_m_s} m/s",
         rotor.display()
     );
-    let (channels, data, meta) = flap::synthesize_teeter(
+    let (channels, data, meta) = cierva_harness::synth::teeter::synthesize_teeter(
         &id,
         &truth,
         &a,

@@ -25,7 +25,7 @@ pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
             let id = format!("{}-{}mph-{}kg", file.id, f.airspeed_mph, mass.round());
             print!(
                 "{}",
-                text::linear_reference_yaml(
+                tables::linear_reference_yaml(
                     &id,
                     &format!("{} linearised at {condition}", file.title),
                     &format!(
@@ -40,7 +40,7 @@ pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
             );
         }
         LinearFormat::Json => {
-            let derivs: Vec<serde_json::Value> = text::PRIMARY_DERIVATIVES
+            let derivs: Vec<serde_json::Value> = tables::PRIMARY_DERIVATIVES
                 .iter()
                 .filter_map(|n| {
                     let v = lin.model.derivative_value(n).ok()?;
@@ -79,11 +79,14 @@ pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
                 t.residual_norm
             );
             println!("\nprimary derivatives by component (SI; controls per % of travel):");
-            print!("{}", text::breakdown_table(&lin, text::PRIMARY_DERIVATIVES));
+            print!(
+                "{}",
+                tables::breakdown_table(&lin, tables::PRIMARY_DERIVATIVES)
+            );
             match cierva_model::modes(&lin.model) {
                 Ok(a) => {
                     println!("\nmodes, 10 states:");
-                    print!("{}", text::modes_table(&a));
+                    print!("{}", tables::modes_table(&a));
                 }
                 Err(e) => println!("modes: {e}"),
             }
@@ -91,10 +94,10 @@ pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
                 && let Ok(a) = cierva_model::modes(&lon)
             {
                 println!("\nmodes, longitudinal [u w q theta Omega]:");
-                print!("{}", text::modes_table(&a));
+                print!("{}", tables::modes_table(&a));
             }
             println!("\nall derivatives:");
-            print!("{}", text::derivatives_table(&lin.model));
+            print!("{}", tables::derivatives_table(&lin.model));
         }
     }
     ExitCode::SUCCESS

@@ -2,10 +2,12 @@
 //! here. This module holds what several commands share: progress on stderr, output as text or
 //! JSON, and loading an aircraft for a flight condition.
 
-pub(crate) use cierva_harness::case::{DescentSpec, InflowSpec, SkewSpec};
-pub(crate) use cierva_harness::eval::{self, CheckResult};
+pub(crate) use cierva_harness::inputs::reference;
+pub(crate) use cierva_harness::load_cases;
+pub(crate) use cierva_harness::report::tables;
 pub(crate) use cierva_harness::run_autorotation;
-pub(crate) use cierva_harness::{load_cases, refs, text};
+pub(crate) use cierva_harness::suite::case::{DescentSpec, InflowSpec, SkewSpec};
+pub(crate) use cierva_harness::suite::outcome::{self, CheckResult};
 pub(crate) use cierva_model::components::rotor::{InflowModel, WakeModel};
 pub(crate) use clap::{Parser, ValueEnum};
 pub(crate) use std::path::{Path, PathBuf};
@@ -136,8 +138,8 @@ pub(crate) fn suite() -> Result<cierva_harness::suite::Suite, ExitCode> {
 /// Loads an aircraft file; a bad file is printed with its location and is exit code 2.
 pub(crate) fn load_aircraft(
     path: &Path,
-) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
-    cierva_harness::aircraft_file::load(path).map_err(|e| {
+) -> Result<cierva_harness::inputs::aircraft::AircraftFile, ExitCode> {
+    cierva_harness::inputs::aircraft::load(path).map_err(|e| {
         eprintln!("{}", e.render());
         ExitCode::from(2)
     })
@@ -147,8 +149,8 @@ pub(crate) fn load_aircraft(
 /// aircraft or its main rotor).
 pub(crate) fn load_flight(
     f: &FlightArgs,
-) -> Result<cierva_harness::aircraft_file::AircraftFile, ExitCode> {
-    use cierva_harness::corrections::{self, Target};
+) -> Result<cierva_harness::inputs::aircraft::AircraftFile, ExitCode> {
+    use cierva_harness::inputs::corrections::{self, Target};
     let file = load_aircraft(&f.aircraft)?;
     let Some(path) = &f.corrections else {
         return Ok(file);
@@ -182,7 +184,7 @@ pub(crate) fn load_flight(
 /// range is printed and is exit code 2.
 pub(crate) fn azimuth_step_rad(
     arg_deg: Option<f64>,
-    file: &cierva_harness::aircraft_file::AircraftFile,
+    file: &cierva_harness::inputs::aircraft::AircraftFile,
 ) -> Result<f64, ExitCode> {
     use cierva_harness::inputs::limits::{MIN_AZIMUTH_STEP_DEG, azimuth_step_ok};
     match arg_deg {

@@ -3,7 +3,7 @@
 use super::*;
 
 pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> ExitCode {
-    let r = match refs::load(&file) {
+    let r = match reference::load(&file) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("{}", e.render());
@@ -42,9 +42,9 @@ pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> Exi
         }
         Format::Text => {
             println!("{} ({})\n{}\n", r.title, r.id, r.provenance.source);
-            print!("{}", text::modes_table(&analysis));
+            print!("{}", tables::modes_table(&analysis));
             println!();
-            print!("{}", text::milne_table(&model));
+            print!("{}", tables::milne_table(&model));
         }
     }
     ExitCode::SUCCESS
@@ -105,7 +105,7 @@ pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Forma
                     .collect();
                 println!(
                     "{name} = {:>12}  {}",
-                    text::sig(p.value, 6),
+                    cierva_harness::units::sig(p.value, 6),
                     modes.join("; ")
                 );
             }

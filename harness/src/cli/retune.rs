@@ -1,9 +1,11 @@
 //! `cierva retune`: from flight records to retuned corrections in one command.
 
 use super::*;
-use cierva_harness::corrections::{AppliesTo, CorrectionsFile, CorrectionsFileSpec, Target};
-use cierva_harness::ident::record;
-use cierva_harness::retune::{self, Request};
+use cierva_harness::fit::retune::{self, Request};
+use cierva_harness::inputs::corrections::{
+    AppliesTo, CorrectionsFile, CorrectionsFileSpec, Target,
+};
+use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
 
 pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
@@ -72,7 +74,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             rotor: None,
         },
         corrections: corrections.clone(),
-        provenance: cierva_harness::refs::Provenance {
+        provenance: cierva_harness::inputs::reference::Provenance {
             source: format!(
                 "retuned by `cierva {command}` (cierva {})",
                 env!("CARGO_PKG_VERSION")
@@ -252,16 +254,16 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
                 println!(
                     "  {:<28} {:>12} +- {} (95 %: +- {})",
                     k.name(),
-                    text::sig(*v, 5),
-                    text::sig(*se, 3),
-                    text::sig(1.96 * se, 3)
+                    cierva_harness::units::sig(*v, 5),
+                    cierva_harness::units::sig(*se, 3),
+                    cierva_harness::units::sig(1.96 * se, 3)
                 );
             }
             println!(
                 "matched the records' frequency responses ({} targets) with {}; reduced chi-square {}",
                 r.problem.targets.len(),
                 r.model,
-                text::sig(r.reduced_chi_square, 3)
+                cierva_harness::units::sig(r.reduced_chi_square, 3)
             );
             for c in &comparisons {
                 let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));

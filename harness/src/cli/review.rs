@@ -3,16 +3,16 @@
 //!
 //! The counterpart of `cargo insta review` for the checks that are expected to fail: each one's
 //! values are recorded in the suite's `reports/discrepancies/<case-id>.yaml` (see
-//! [`cierva_harness::discrepancy`]), and a check whose model leaves them fails as "discrepancy
+//! [`cierva_harness::suite::discrepancy`]), and a check whose model leaves them fails as "discrepancy
 //! moved" until they are reviewed and accepted here.
 //!
 //! Accepting needs a reason (`--accept --reason TEXT`): each acceptance is appended to
 //! the suite's `reports/acceptances.yaml` with what changed and the fingerprint of what it wrote (see
-//! [`cierva_harness::review`]).
+//! [`cierva_harness::suite::review`]).
 
 use super::*;
-use cierva_harness::review::{self as rv, Acceptance};
-use cierva_harness::{discrepancy, scoreboard};
+use cierva_harness::suite::review::{self as rv, Acceptance};
+use cierva_harness::suite::{discrepancy, scoreboard};
 
 /// The reason to log when accepting, or why the arguments are refused: `--accept` needs a
 /// reason that says something, and `--reason` goes only with `--accept`.
@@ -74,8 +74,8 @@ pub(crate) fn run(
         }
     };
     let (reviews, scores) = review_cases(&cases);
-    let judged = cierva_harness::review::judge(&board, scores.clone());
-    let scores_moved: Vec<&cierva_harness::review::Judged> = judged
+    let judged = cierva_harness::suite::review::judge(&board, scores.clone());
+    let scores_moved: Vec<&cierva_harness::suite::review::Judged> = judged
         .iter()
         .filter(|j| j.change != scoreboard::Change::Same)
         .collect();
@@ -149,7 +149,7 @@ pub(crate) fn run(
 fn suite_cases(
     suite: &cierva_harness::suite::Suite,
     paths: Vec<PathBuf>,
-) -> Result<Vec<cierva_harness::case::Case>, ExitCode> {
+) -> Result<Vec<cierva_harness::suite::case::Case>, ExitCode> {
     let paths = if paths.is_empty() {
         vec![suite.cases().to_path_buf()]
     } else {
@@ -191,10 +191,10 @@ fn suite_cases(
 
 /// The text output: what moved, case by case and on the scoreboard, and what to do about it.
 fn print_text(
-    reviews: &[cierva_harness::review::CaseReview],
+    reviews: &[cierva_harness::suite::review::CaseReview],
     (judged, scores_moved, stale): (
-        &[cierva_harness::review::Judged],
-        &[&cierva_harness::review::Judged],
+        &[cierva_harness::suite::review::Judged],
+        &[&cierva_harness::suite::review::Judged],
         &[String],
     ),
     written: &[PathBuf],
@@ -344,12 +344,13 @@ fn print_logged(
 /// Every case's review and scores: every check when the case has scores, its expected failures
 /// otherwise. Checks on every core, shared out one at a time.
 fn review_cases(
-    cases: &[cierva_harness::case::Case],
+    cases: &[cierva_harness::suite::case::Case],
 ) -> (
-    Vec<cierva_harness::review::CaseReview>,
-    Vec<cierva_harness::scoreboard::Score>,
+    Vec<cierva_harness::suite::review::CaseReview>,
+    Vec<cierva_harness::suite::scoreboard::Score>,
 ) {
-    let select = |case: &cierva_harness::case::Case, check: &cierva_harness::checks::Check| {
+    let select = |case: &cierva_harness::suite::case::Case,
+                  check: &cierva_harness::checks::Check| {
         !case.scores.is_empty() || check.expected_failure.is_some()
     };
     let selected: usize = cases
@@ -357,8 +358,8 @@ fn review_cases(
         .map(|case| case.checks.iter().filter(|c| select(case, c)).count())
         .sum();
     let bar = progress(selected as u64, "review");
-    let all: Vec<&cierva_harness::case::Case> = cases.iter().collect();
-    let ran = eval::run_cases(&all, select, |case, _| {
+    let all: Vec<&cierva_harness::suite::case::Case> = cases.iter().collect();
+    let ran = outcome::run_cases(&all, select, |case, _| {
         bar.set_message(case.id.clone());
         bar.inc(1);
     });
@@ -366,8 +367,8 @@ fn review_cases(
     let mut reviews = Vec::new();
     let mut scores = Vec::new();
     for (case, (results, _)) in cases.iter().zip(ran) {
-        reviews.push(cierva_harness::review::review(case, &results));
-        scores.extend(cierva_harness::review::scores_of(case, &results));
+        reviews.push(cierva_harness::suite::review::review(case, &results));
+        scores.extend(cierva_harness::suite::review::scores_of(case, &results));
     }
     (reviews, scores)
 }

@@ -1,13 +1,13 @@
 //! `cierva sensitivity`: which parameter would close a discrepancy, and is the value it would
-//! need plausible (see [`cierva_harness::sensitivity`]).
+//! need plausible (see [`cierva_harness::fit::sensitivity`]).
 
 use super::*;
-use cierva_harness::sensitivity::{self, Quantity};
+use cierva_harness::fit::sensitivity::{self, Quantity};
 
 pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
     let (file, loading, request, quantities) = match (&a.case, &a.aircraft) {
         (Some(path), None) => {
-            let case = match cierva_harness::case::load(path) {
+            let case = match cierva_harness::suite::case::load(path) {
                 Ok(c) => c,
                 Err(e) => {
                     eprintln!("{}", e.render());
@@ -40,7 +40,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
                 climb_m_s: 0.0,
                 turn_rate_deg_s: 0.0,
             };
-            let quantities = text::PRIMARY_DERIVATIVES
+            let quantities = tables::PRIMARY_DERIVATIVES
                 .iter()
                 .map(|n| Quantity {
                     name: n.to_string(),
@@ -76,9 +76,11 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
     } else if !file.ranges.is_empty() {
         file.ranges.keys().cloned().collect()
     } else {
-        cierva_harness::parameters::PARAMETERS
+        cierva_harness::inputs::parameters::PARAMETERS
             .iter()
-            .filter(|p| cierva_harness::parameters::parameter(&file.aircraft, p.name).is_some())
+            .filter(|p| {
+                cierva_harness::inputs::parameters::parameter(&file.aircraft, p.name).is_some()
+            })
             .map(|p| p.name.to_string())
             .collect()
     };

@@ -6,20 +6,20 @@ pub(crate) fn simulate(
     f: FlightArgs,
     (input, shape, control): (
         Option<PathBuf>,
-        Option<cierva_harness::ident::synth::Input>,
+        Option<cierva_harness::synth::linear::Input>,
         String,
     ),
     (duration_s, azimuth_step_deg, every): (f64, Option<f64>, usize),
     output: PathBuf,
     format: Format,
 ) -> ExitCode {
-    use cierva_harness::controls_file;
+    use cierva_harness::inputs::controls;
     let file = match load_flight(&f) {
         Ok(f) => f,
         Err(code) => return code,
     };
     let table = match (&input, &shape) {
-        (Some(p), None) => match controls_file::read(p) {
+        (Some(p), None) => match controls::read(p) {
             Ok(t) => Some(t),
             Err(e) => {
                 eprintln!("{}", e.render());
@@ -67,7 +67,7 @@ pub(crate) fn simulate(
     busy.finish_and_clear();
     match flown {
         Ok(h) => {
-            if let Err(e) = std::fs::write(&output, controls_file::to_csv(&h)) {
+            if let Err(e) = std::fs::write(&output, controls::to_csv(&h)) {
                 eprintln!("error: cannot write {}: {e}", output.display());
                 return ExitCode::from(2);
             }

@@ -3,8 +3,9 @@
 use super::*;
 
 pub(crate) fn synth(a: SynthArgs) -> ExitCode {
-    use cierva_harness::ident::{record, synth};
-    let r = match refs::load(&a.model) {
+    use cierva_harness::inputs::record;
+    use cierva_harness::synth::linear;
+    let r = match reference::load(&a.model) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("{}", e.render());
@@ -25,24 +26,26 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
         return ExitCode::from(2);
     };
     let input = match a.shape {
-        InputChoice::Sweep | InputChoice::SweepDown => cierva_harness::ident::synth::Input::Sweep {
-            from_hz: a.from_hz,
-            to_hz: a.to_hz,
-            duration_s: a.input_s,
-            amplitude: a.amplitude_model_units,
-            descending: a.shape == InputChoice::SweepDown,
-        },
-        InputChoice::Doublet => cierva_harness::ident::synth::Input::Doublet {
+        InputChoice::Sweep | InputChoice::SweepDown => {
+            cierva_harness::synth::linear::Input::Sweep {
+                from_hz: a.from_hz,
+                to_hz: a.to_hz,
+                duration_s: a.input_s,
+                amplitude: a.amplitude_model_units,
+                descending: a.shape == InputChoice::SweepDown,
+            }
+        }
+        InputChoice::Doublet => cierva_harness::synth::linear::Input::Doublet {
             start_s: 2.0,
             pulse_s: a.input_s,
             amplitude: a.amplitude_model_units,
         },
-        InputChoice::ThreeTwoOneOne => cierva_harness::ident::synth::Input::ThreeTwoOneOne {
+        InputChoice::ThreeTwoOneOne => cierva_harness::synth::linear::Input::ThreeTwoOneOne {
             start_s: 2.0,
             unit_s: a.input_s,
             amplitude: a.amplitude_model_units,
         },
-        InputChoice::Step => cierva_harness::ident::synth::Input::Step {
+        InputChoice::Step => cierva_harness::synth::linear::Input::Step {
             start_s: 2.0,
             amplitude: a.amplitude_model_units,
         },
@@ -53,7 +56,7 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
-    let settings = synth::Settings {
+    let settings = linear::Settings {
         id,
         aircraft: r.title.clone(),
         truth: a.model.display().to_string(),
@@ -62,7 +65,7 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
         duration_s: a.duration_s,
         sample_rate_hz: a.sample_rate_hz,
         seed: a.seed,
-        noise: synth::SensorNoise {
+        noise: linear::SensorNoise {
             airspeed_m_s: 0.02 * k,
             vane_rad: 5e-4 * k,
             rate_rad_s: 5e-4 * k,
@@ -70,11 +73,11 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
             rotor_rad_s: 0.01 * k,
             control: 0.0,
         },
-        turbulence: (a.turbulence_si > 0.0).then_some(synth::Turbulence {
+        turbulence: (a.turbulence_si > 0.0).then_some(linear::Turbulence {
             intensity: a.turbulence_si,
             correlation_time_s: 0.5,
         }),
-        trim: synth::Trim {
+        trim: linear::Trim {
             u_m_s: a.trim_u_m_s,
             w_m_s: a.trim_w_m_s,
             theta_rad: a.trim_theta_rad,
@@ -85,7 +88,7 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
             cg_position_m: [0.0, 0.0, 0.0],
         },
     };
-    match synth::generate(&model, &settings) {
+    match linear::generate(&model, &settings) {
         Ok((channels, data, meta)) => match record::write(&a.output, &meta, &channels, &data) {
             Ok(()) => {
                 done(

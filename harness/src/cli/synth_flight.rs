@@ -1,9 +1,9 @@
 //! `cierva synth-flight`: a flight test flown by the full model, recorded for identification.
 
 use super::*;
-use cierva_harness::flight_test::{self, CONTROL_CHANNELS, sensors::Instrumentation};
-use cierva_harness::ident::record::{self, RecordMeta, Sensors, Synthetic};
-use cierva_harness::ident::synth::Input;
+use cierva_harness::inputs::record::{self, RecordMeta, Sensors, Synthetic};
+use cierva_harness::synth::flight::{self, CONTROL_CHANNELS, sensors::Instrumentation};
+use cierva_harness::synth::linear::Input;
 use std::collections::BTreeMap;
 
 /// The input starts after this much trim, s, and ends this long before the record does.
@@ -75,7 +75,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
         },
     };
     let turbulence = if a.turbulence_m_s > 0.0 {
-        match cierva_harness::flight_test::turbulence::Dryden::low_altitude(
+        match cierva_harness::synth::flight::turbulence::Dryden::low_altitude(
             a.turbulence_m_s,
             a.height_ft * cierva_harness::units::FT_TO_M,
         ) {
@@ -91,7 +91,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
         Ok(s) => s,
         Err(code) => return code,
     };
-    let test = flight_test::FlightTest {
+    let test = flight::FlightTest {
         request: a.flight.request(0.0),
         loading: a.flight.loading(),
         input,
@@ -105,7 +105,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
         azimuth_step_rad: step,
     };
     let busy = spinner(&format!("flying {} s", a.duration_s));
-    let flown = flight_test::fly(&file.aircraft, &test);
+    let flown = flight::fly(&file.aircraft, &test);
     busy.finish_and_clear();
     let flown = match flown {
         Ok(f) => f,
@@ -207,7 +207,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
     ] {
         condition.insert(k.to_string(), serde_yaml::Value::from(v));
     }
-    let controls = flight_test::record_controls(control);
+    let controls = flight::record_controls(control);
     let generator = format!("cierva synth-flight {}", env!("CARGO_PKG_VERSION"));
     let meta = RecordMeta {
         id: id.clone(),
@@ -217,7 +217,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
                 a.manoeuvre, a.control, file.title, a.flight.airspeed_mph
             )
         }),
-        provenance: cierva_harness::refs::Provenance {
+        provenance: cierva_harness::inputs::reference::Provenance {
             source: format!("synthetic: {generator}, {truth}, seed {}", a.seed),
             notes: Some(
                 "Not flight data. Flown by the model named to test identification; the truth is that model."

@@ -5,12 +5,13 @@ use super::*;
 pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     // Long: one command, in the order it works: fly the record, add the seeded noise, write the CSV
     // and its sidecar with the truth
-    use cierva_harness::history;
+    use cierva_harness::run::replay;
+    use cierva_harness::synth::history;
     let file = match load_flight(&a.flight) {
         Ok(f) => f,
         Err(code) => return code,
     };
-    let corrections = cierva_harness::corrections::CorrectionSet {
+    let corrections = cierva_harness::inputs::corrections::CorrectionSet {
         propeller_blockage: a.propeller_blockage,
         hub_aoa_factor: a.hub_aoa_factor,
         ..Default::default()
@@ -68,12 +69,12 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     };
     let (request, loading) = (a.flight.request(0.0), a.flight.loading());
     let busy = spinner(&format!("flying {} s", a.duration_s));
-    let flown = history::fly(
+    let flown = replay::fly(
         &file.aircraft,
         request,
         loading,
         &changes,
-        history::FlySettings {
+        replay::FlySettings {
             simulation: a.simulation,
             sample_s,
             samples: (a.duration_s / sample_s).round() as usize,
@@ -95,11 +96,11 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         .unwrap_or_default();
     let mass = a.flight.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
     let simulation = match a.simulation {
-        history::Simulation::FullBlade => format!(
+        replay::Simulation::FullBlade => format!(
             "the full individual-blade model (RK4, azimuth step {:.1} deg)",
             step.to_degrees()
         ),
-        history::Simulation::Linear => "its linearisation about trim".to_string(),
+        replay::Simulation::Linear => "its linearisation about trim".to_string(),
     };
     let truth = format!(
         "{} ({}) with propeller blockage {} and hub AoA factor {}, flown by {simulation}",
@@ -143,7 +144,7 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         condition,
         settings,
     };
-    let column = cierva_harness::controls_file::CONTROL_COLUMNS[index];
+    let column = cierva_harness::inputs::controls::CONTROL_COLUMNS[index];
     let (meta, channels, data) =
         match history::synthesize(&flown, &changes, &[column], noise, &spec) {
             Ok(x) => x,
@@ -152,7 +153,7 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
                 return ExitCode::from(2);
             }
         };
-    match cierva_harness::ident::record::write(&a.output, &meta, &channels, &data) {
+    match cierva_harness::inputs::record::write(&a.output, &meta, &channels, &data) {
         Ok(()) => {
             done(
                 a.format,
@@ -164,7 +165,7 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
                 serde_json::json!({
                     "wrote": [
                         a.output.display().to_string(),
-                        cierva_harness::ident::record::sidecar_path(&a.output).display().to_string()
+                        cierva_harness::inputs::record::sidecar_path(&a.output).display().to_string()
                     ],
                     "samples": flown.time_s.len(),
                 }),

@@ -22,7 +22,7 @@ pub(crate) fn trim(
     };
     match format {
         Format::Json => print_json(&t),
-        Format::Text => print!("{}", text::trim_report(&file.title, request, loading, &t)),
+        Format::Text => print!("{}", tables::trim_report(&file.title, request, loading, &t)),
     }
     ExitCode::SUCCESS
 }

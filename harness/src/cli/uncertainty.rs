@@ -51,7 +51,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
     };
     let mut files = Vec::new();
     for p in &a.corrections {
-        match cierva_harness::corrections::load(p) {
+        match cierva_harness::inputs::corrections::load(p) {
             Ok(f) => files.push(f),
             Err(e) => {
                 eprintln!("{}", e.render());
@@ -61,7 +61,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
     }
     let mut corrected = Vec::with_capacity(cases.len());
     for case in cases {
-        match cierva_harness::case::with_corrections(&case, &files) {
+        match cierva_harness::suite::case::with_corrections(&case, &files) {
             Ok((c, _)) => corrected.push(c),
             Err(e) => {
                 eprintln!("error: the corrections {e}");
@@ -134,7 +134,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
 }
 
 /// Every case under `paths`, loaded; exit 2 on the first that does not load.
-fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::case::Case>, ExitCode> {
+fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>, ExitCode> {
     let loaded = match load_cases(paths) {
         Ok(l) if !l.is_empty() => l,
         Ok(_) => {

@@ -1,6 +1,8 @@
 //! `cierva validate`: every case run (on every core), the table, the scoreboard and the report.
 
 use super::*;
+use cierva_harness::inputs::corrections;
+use cierva_harness::suite::{case, review, scoreboard};
 
 pub(crate) fn validate(
     paths: Vec<PathBuf>,
@@ -38,11 +40,11 @@ pub(crate) fn validate(
         .collect();
     run.seconds = started.elapsed().as_secs_f64();
     // Scores against corrected models are not the committed model's: shown, never judged.
-    let judged = cierva_harness::review::judge(&board, scores);
+    let judged = review::judge(&board, scores);
     let scores_failing = failing_scores(&judged, !correction_files.is_empty());
     run.scores = judged.clone();
     if report_dir.is_some() {
-        run.score_versions = cierva_harness::scoreboard::versions(&suite);
+        run.score_versions = scoreboard::versions(&suite);
     }
     run.acceptances = log.acceptances;
     let results: Vec<CheckResult> = run
@@ -54,7 +56,7 @@ pub(crate) fn validate(
         Ok(w) => w,
         Err(code) => return code,
     };
-    let counts = text::counts(&results);
+    let counts = tables::counts(&results);
     let corrections_used: Vec<serde_json::Value> = correction_files
         .iter()
         .map(|f| {
@@ -72,7 +74,7 @@ pub(crate) fn validate(
                 "corrected_cases": corrected,
                 "counts": counts,
                 "scores": judged,
-                "counts_by_class": text::counts_by_class(&results)
+                "counts_by_class": tables::counts_by_class(&results)
                     .into_iter()
                     .map(|(k, c)| (k.name(), c))
                     .collect::<std::collections::BTreeMap<_, _>>(),
@@ -124,12 +126,12 @@ pub(crate) fn validate(
 /// found: the run, the cases that ran corrected, the files that did not load, and the scores.
 fn run_cases(
     loaded: &Loaded,
-    correction_files: &[cierva_harness::corrections::CorrectionsFile],
+    correction_files: &[corrections::CorrectionsFile],
 ) -> (
     cierva_harness::report::Run,
     Vec<String>,
     Vec<String>,
-    Vec<cierva_harness::scoreboard::Score>,
+    Vec<scoreboard::Score>,
 ) {
     use cierva_harness::report;
     let mut errors = Vec::new();
@@ -137,21 +139,20 @@ fn run_cases(
     let mut run = report::Run::default();
     let mut scores = Vec::new();
     // Each case with the corrections that apply to it, or the error that stopped it.
-    let prepared: Vec<Result<(cierva_harness::case::Case, Vec<String>), String>> = loaded
+    let prepared: Vec<Result<(case::Case, Vec<String>), String>> = loaded
         .iter()
         .map(|c| match c {
-            Ok(case) => cierva_harness::case::with_corrections(case, correction_files)
+            Ok(case) => case::with_corrections(case, correction_files)
                 .map_err(|e| format!("error: the corrections {e}")),
             Err(e) => Err(e.render()),
         })
         .collect();
-    let cases: Vec<&cierva_harness::case::Case> =
-        prepared.iter().flatten().map(|(case, _)| case).collect();
+    let cases: Vec<&case::Case> = prepared.iter().flatten().map(|(case, _)| case).collect();
     let checks: usize = cases.iter().map(|c| c.checks.len()).sum();
     let bar = progress(checks as u64, "validate");
     // Checks on every core, shared out one at a time: a case of many slow checks is spread
     // over the cores rather than left to one.
-    let mut ran = eval::run_cases(
+    let mut ran = outcome::run_cases(
         &cases,
         |_, _| true,
         |case, _| {
@@ -161,21 +162,29 @@ fn run_cases(
     )
     .into_iter();
     // The sensitivity studies, one per case that asks for one, on every core.
-    let studies: Vec<&cierva_harness::case::Case> = cases
+    let studies: Vec<&case::Case> = cases
         .iter()
         .copied()
         .filter(|c| c.sensitivity.is_some())
         .collect();
     let mut studied = cierva_harness::parallel_map(&studies, |case| {
         let parameters = case.sensitivity.as_ref()?;
-        Some(cierva_harness::sensitivity::from_case(case, None).and_then(
-            |(file, loading, request, quantities)| {
-                cierva_harness::sensitivity::run(&file, request, loading, parameters, &quantities)
-            },
-        ))
+        Some(
+            cierva_harness::fit::sensitivity::from_case(case, None).and_then(
+                |(file, loading, request, quantities)| {
+                    cierva_harness::fit::sensitivity::run(
+                        &file,
+                        request,
+                        loading,
+                        parameters,
+                        &quantities,
+                    )
+                },
+            ),
+        )
     })
     .into_iter();
-    type Ran = Result<(report::CaseRun, Vec<cierva_harness::scoreboard::Score>), String>;
+    type Ran = Result<(report::CaseRun, Vec<scoreboard::Score>), String>;
     let ran: Vec<Ran> = prepared
         .into_iter()
         .map(|p| {
@@ -188,7 +197,7 @@ fn run_cases(
             } else {
                 None
             };
-            let scores = cierva_harness::review::scores_of(&case, &results);
+            let scores = review::scores_of(&case, &results);
             Ok((
                 report::CaseRun {
                     case,
@@ -235,7 +244,10 @@ fn run_cases(
 /// at the check in its case file.
 fn external_errors(case_run: &cierva_harness::report::CaseRun) -> Vec<String> {
     let case = &case_run.case;
-    if !matches!(case.subject, cierva_harness::subject::Subject::External(_)) {
+    if !matches!(
+        case.subject,
+        cierva_harness::checks::subject::Subject::External(_)
+    ) {
         return Vec::new();
     }
     let src = std::fs::read_to_string(&case.path).unwrap_or_default();
@@ -249,7 +261,7 @@ fn external_errors(case_run: &cierva_harness::report::CaseRun) -> Vec<String> {
             let msg = format!("check `{}`: {e}", r.check);
             format!(
                 "error: {}",
-                cierva_harness::yaml::InputError::field(&case.path, &src, &field, msg)
+                cierva_harness::inputs::yaml::InputError::field(&case.path, &src, &field, msg)
             )
         })
         .collect()
@@ -258,14 +270,14 @@ fn external_errors(case_run: &cierva_harness::report::CaseRun) -> Vec<String> {
 /// The text output: every check, the scoreboard, what needs a look, the counts by class.
 fn print_text(
     results: &[CheckResult],
-    judged: &[cierva_harness::review::Judged],
+    judged: &[review::Judged],
     errors: &[String],
-    correction_files: &[cierva_harness::corrections::CorrectionsFile],
+    correction_files: &[corrections::CorrectionsFile],
     corrected: &[String],
     (cases, written): (usize, &[PathBuf]),
     suite: &cierva_harness::suite::Suite,
 ) {
-    print!("{}", text::results_table(results));
+    print!("{}", tables::results_table(results));
     if !judged.is_empty() {
         println!("\nscoreboard ({}):", suite.scoreboard().display());
         for j in judged {
@@ -299,9 +311,9 @@ fn print_text(
         "\n{} cases, {} checks: {}, {} input errors\nby class (only validation compares the model with measured data):\n{}",
         cases,
         results.len(),
-        text::counts(results).describe(),
+        tables::counts(results).describe(),
         errors.len(),
-        text::class_summary(results).trim_end()
+        tables::class_summary(results).trim_end()
     );
     if !written.is_empty() {
         println!("report: {}", show(written));
@@ -309,14 +321,14 @@ fn print_text(
 }
 
 /// Every case file found, loaded or the error that stopped it.
-type Loaded = Vec<Result<cierva_harness::case::Case, cierva_harness::yaml::InputError>>;
+type Loaded = Vec<Result<case::Case, cierva_harness::inputs::yaml::InputError>>;
 
 /// The corrections files, the cases, the committed scoreboard and the acceptance log.
 type Inputs = (
-    Vec<cierva_harness::corrections::CorrectionsFile>,
+    Vec<corrections::CorrectionsFile>,
     Loaded,
-    cierva_harness::scoreboard::Board,
-    cierva_harness::review::Log,
+    scoreboard::Board,
+    review::Log,
 );
 
 /// What `validate` reads before it runs: the corrections files, the cases, the committed
@@ -328,7 +340,7 @@ fn inputs(
 ) -> Result<Inputs, ExitCode> {
     let mut correction_files = Vec::new();
     for p in corrections {
-        match cierva_harness::corrections::load(p) {
+        match corrections::load(p) {
             Ok(f) => correction_files.push(f),
             Err(e) => {
                 eprintln!("{}", e.render());
@@ -347,14 +359,14 @@ fn inputs(
         eprintln!("error: no case files (*.yaml) under {}", show(paths));
         return Err(ExitCode::from(2));
     }
-    let board = match cierva_harness::scoreboard::load(suite) {
+    let board = match scoreboard::load(suite) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("{}", e.render());
             return Err(ExitCode::from(2));
         }
     };
-    let log = match cierva_harness::review::load_log(&suite.acceptances()) {
+    let log = match review::load_log(&suite.acceptances()) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("{}", e.render());
@@ -461,11 +473,8 @@ fn uncertainty_cases(run: &cierva_harness::report::Run) -> serde_json::Value {
 
 /// The scores that fail the run: worse than committed, or not committed. None with corrections
 /// (a corrected model's scores are not the committed model's: shown, never judged).
-fn failing_scores(
-    judged: &[cierva_harness::review::Judged],
-    corrected: bool,
-) -> Vec<&cierva_harness::review::Judged> {
-    use cierva_harness::scoreboard::Change;
+fn failing_scores(judged: &[review::Judged], corrected: bool) -> Vec<&review::Judged> {
+    use scoreboard::Change;
     judged
         .iter()
         .filter(|j| !corrected && matches!(j.change, Change::Worse | Change::New))

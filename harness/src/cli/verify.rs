@@ -3,11 +3,11 @@
 //! (`ident::verify`).
 
 use super::*;
-use cierva_harness::ident::record::{self, Record};
 use cierva_harness::ident::verify::{self as v, ModelRun, Verification};
 use cierva_harness::ident::{ConfigSpec, model_for};
+use cierva_harness::inputs::record::{self, Record};
+use cierva_harness::inputs::yaml::InputError;
 use cierva_harness::report::plot::{Figure, Series, Style, panels_svg};
-use cierva_harness::yaml::InputError;
 
 fn fail(e: InputError) -> ExitCode {
     eprintln!("{}", e.render());
@@ -51,7 +51,7 @@ pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
     for (r, c) in records.iter().zip(&configs) {
         if let Some((control, channel)) = c.controls.iter().find(|(_, ch)| !ch.ends_with("_pct")) {
             let side = record::sidecar_path(&r.path);
-            let src = match cierva_harness::yaml::read(&side) {
+            let src = match cierva_harness::inputs::yaml::read(&side) {
                 Ok(s) => s,
                 Err(e) => return fail(e),
             };
@@ -198,8 +198,8 @@ fn print_text(a: &VerifyArgs, records: &[Record], results: &[Verification], all:
                     f.output,
                     run.model,
                     f.theil,
-                    format!("{} {unit}", text::sig(f.rms_error, 3)),
-                    format!("{} {unit}", text::sig(f.bias, 3)),
+                    format!("{} {unit}", cierva_harness::units::sig(f.rms_error, 3)),
+                    format!("{} {unit}", cierva_harness::units::sig(f.bias, 3)),
                     f.theil_bias_removed
                 );
             }

@@ -7,7 +7,7 @@
 //! reaching its disc, and its side force per m/s of sideslip, `dY/dv`, by central differences of
 //! the averaged model about the trim (the propeller's normal force at incidence).
 
-use crate::aircraft_file::{AircraftFile, ConditionSpec};
+use crate::inputs::aircraft::{AircraftFile, ConditionSpec};
 use crate::{FT_TO_M, Loading, TrimRequest};
 use cierva_model::aircraft::Air;
 use cierva_model::components::atmosphere;
@@ -138,7 +138,7 @@ pub fn compare(file: &AircraftFile, e: &Estimates) -> Vec<Compared> {
     let mut out = Vec::new();
     let mut push = |field: &str, estimate: Option<Estimate>| {
         let Some(estimate) = estimate else { return };
-        let Some(value) = crate::parameters::parameter(&file.aircraft, field) else {
+        let Some(value) = crate::inputs::parameters::parameter(&file.aircraft, field) else {
             return;
         };
         out.push(Compared {

@@ -10,7 +10,7 @@
 //! that is not cierva's.
 
 use super::{ControlChanges, FlightModel, Quantities, trim_name};
-use crate::history::Flown;
+use crate::run::replay::Flown;
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use serde::Deserialize;
@@ -274,7 +274,7 @@ fn scratch_dir() -> std::io::Result<PathBuf> {
 fn controls_csv(c: &ControlChanges) -> String {
     let mut s = format!(
         "time_s,{}\n",
-        crate::controls_file::CONTROL_COLUMNS.join(",")
+        crate::inputs::controls::CONTROL_COLUMNS.join(",")
     );
     for (k, t) in c.table.time_s.iter().enumerate() {
         s.push_str(&format!("{t}"));

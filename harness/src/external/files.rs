@@ -2,19 +2,19 @@
 //!
 //! - The trim table is a CSV, one row per level-flight condition: the airspeed
 //!   (`airspeed_mph`, `airspeed_kn` or `airspeed_m_s`) and any trim quantities, named with their
-//!   units as in [`crate::quantity::TRIM`] (`pitch_deg`). Lines that begin with `#` are
+//!   units as in [`crate::inputs::quantity::TRIM`] (`pitch_deg`). Lines that begin with `#` are
 //!   comments (the table's provenance).
 //! - The linear model is a reference file's `linear_model` (as `linear_model_file` reads it),
 //!   at the condition `at`.
 //! - The time history is the model's response to a reference record's controls, at `at`: a CSV
-//!   of `time_s` and responses named as in [`crate::history::SIGNALS`] (changes from trim), one
+//!   of `time_s` and responses named as in [`crate::run::replay::SIGNALS`] (changes from trim), one
 //!   row per sample of the record.
 //!
 //! Files are read and checked when the case loads; errors name the file, line and column.
 
 use super::{ControlChanges, FlightModel, Quantities, trim_name};
-use crate::history::{Flown, SIGNALS};
-use crate::yaml::InputError;
+use crate::inputs::yaml::InputError;
+use crate::run::replay::{Flown, SIGNALS};
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use std::path::{Path, PathBuf};
@@ -94,7 +94,7 @@ fn read_csv(text: &str) -> Result<Table, CsvError> {
             row.push(v.ok_or_else(|| {
                 CsvError::at(
                     n,
-                    Some(crate::yaml::csv_field_column(line, k)),
+                    Some(crate::inputs::yaml::csv_field_column(line, k)),
                     format!("`{}`: `{}` is not a finite number", columns[k], c.trim()),
                 )
             })?);

@@ -1,7 +1,7 @@
 //! Flight models as case subjects: cierva's own aircraft, or another simulation.
 //!
 //! A [`FlightModel`] answers, at a flight condition and loading, what the checks on an aircraft
-//! ask: its trim quantities (names from [`crate::quantity::TRIM`]; a model may give a subset),
+//! ask: its trim quantities (names from [`crate::inputs::quantity::TRIM`]; a model may give a subset),
 //! its linear model (cierva's state and control names, those of
 //! [`cierva_model::aircraft::linearise::STATES`] and `CONTROLS`)
 //! and its response to a record's control changes. Each is optional: a model that does not
@@ -15,8 +15,8 @@
 pub mod command;
 pub mod files;
 
-use crate::controls_file::ControlTable;
-use crate::history::{Flown, Simulation};
+use crate::inputs::controls::ControlTable;
+use crate::run::replay::{Flown, Simulation};
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use std::sync::Arc;
@@ -43,7 +43,7 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
     /// The model in words, for errors ("the command `python3 model.py`").
     fn describe(&self) -> String;
 
-    /// Its trim at `condition`: quantities named as in [`crate::quantity::TRIM`] (a subset).
+    /// Its trim at `condition`: quantities named as in [`crate::inputs::quantity::TRIM`] (a subset).
     fn trim(&self, _condition: TrimRequest, _loading: Loading) -> Result<Quantities, String> {
         Err(not_provided(&self.describe(), "a trim"))
     }
@@ -59,7 +59,7 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
     }
 
     /// Its response (changes from the trim at `condition`) to `controls`, at the times they
-    /// ask for: every response of [`crate::history::SIGNALS`] it computes (an empty series
+    /// ask for: every response of [`crate::run::replay::SIGNALS`] it computes (an empty series
     /// for one it does not).
     fn time_history(
         &self,
@@ -75,14 +75,14 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
 /// blade model's step).
 #[derive(Debug, Clone, Copy)]
 pub struct Aircraft<'a> {
-    pub file: &'a crate::aircraft_file::AircraftFile,
+    pub file: &'a crate::inputs::aircraft::AircraftFile,
     pub simulation: Simulation,
     pub azimuth_step_rad: f64,
 }
 
 impl<'a> Aircraft<'a> {
     /// The aircraft, flown by the full blade model at its file's azimuth step.
-    pub fn new(file: &'a crate::aircraft_file::AircraftFile) -> Self {
+    pub fn new(file: &'a crate::inputs::aircraft::AircraftFile) -> Self {
         Self {
             file,
             simulation: Simulation::FullBlade,
@@ -119,12 +119,12 @@ impl FlightModel for Aircraft<'_> {
         loading: Loading,
         controls: &ControlChanges,
     ) -> Result<Flown, String> {
-        crate::history::fly(
+        crate::run::replay::fly(
             &self.file.aircraft,
             condition,
             loading,
             &|t| controls.table.at(t),
-            crate::history::FlySettings {
+            crate::run::replay::FlySettings {
                 simulation: self.simulation,
                 sample_s: controls.sample_s,
                 samples: controls.samples,
@@ -178,16 +178,16 @@ impl<T: FlightModel + ?Sized> FlightModel for Arc<T> {
 /// A trim quantity's static name, from what a model wrote: unknown names are an error that
 /// lists the known ones.
 pub fn trim_name(name: &str) -> Result<&'static str, String> {
-    crate::quantity::TRIM
+    crate::inputs::quantity::TRIM
         .iter()
         .map(|q| q.name())
         .find(|n| *n == name)
         .ok_or_else(|| {
-            let known: Vec<String> = crate::quantity::TRIM
+            let known: Vec<String> = crate::inputs::quantity::TRIM
                 .iter()
                 .map(|q| q.name().to_string())
                 .collect();
-            let hint = crate::yaml::nearest(name, &known)
+            let hint = crate::inputs::yaml::nearest(name, &known)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
             format!(
@@ -227,7 +227,7 @@ pub fn trim_quantities_of(
     t: &cierva_model::aircraft::trim::Trim,
 ) -> Quantities {
     let d = f64::to_degrees;
-    use crate::quantity::Quantity as Q;
+    use crate::inputs::quantity::Quantity as Q;
     let r = &t.averaged.rotor;
     let c = &t.controls;
     vec![

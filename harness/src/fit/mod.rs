@@ -28,21 +28,24 @@
 //! `(J' J)^-1` at the solution (targets are normalised by their standard errors, so this is
 //! the usual linearised covariance), and every target before and after.
 
-use crate::case::TunnelSpec;
-use crate::corrections::CorrectionSet;
+use crate::inputs::corrections::CorrectionSet;
+use crate::suite::case::TunnelSpec;
 use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::{InflowModel, Rotor};
 use serde::Serialize;
 
+pub mod file;
+pub mod retune;
+pub mod sensitivity;
 pub mod starts;
 
 /// A parameter the fit can move: one of the model's empirical corrections, or an aircraft
-/// file's estimated physical parameter (a name of [`crate::parameters::PARAMETERS`]).
+/// file's estimated physical parameter (a name of [`crate::inputs::parameters::PARAMETERS`]).
 ///
 /// A fit file may name a physical parameter only where the aircraft file's source for it says
 /// "estimated", and only within the plausible range the file gives it (see
-/// [`crate::fit_file`]): a parameter with a published value is not the fit's to move.
+/// [`crate::fit::file`]): a parameter with a published value is not the fit's to move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ParameterKind {
     /// Seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the
@@ -67,7 +70,7 @@ pub enum ParameterKind {
     /// `drag_reynolds_number`).
     ProfileDragReynoldsExponent,
     /// An aircraft's estimated physical parameter, by its name in
-    /// [`crate::parameters::PARAMETERS`] (`airframe.fin.area_m2`).
+    /// [`crate::inputs::parameters::PARAMETERS`] (`airframe.fin.area_m2`).
     Estimated(&'static str),
 }
 
@@ -109,7 +112,7 @@ impl ParameterKind {
     }
 
     /// The parameter by name: a correction, or a physical parameter of
-    /// [`crate::parameters::PARAMETERS`] (`corrections.propeller_blockage` is the
+    /// [`crate::inputs::parameters::PARAMETERS`] (`corrections.propeller_blockage` is the
     /// correction `propeller_blockage`).
     pub fn parse(name: &str) -> Option<Self> {
         let name = name.strip_prefix("corrections.").unwrap_or(name);
@@ -117,7 +120,7 @@ impl ParameterKind {
             .into_iter()
             .find(|k| k.name() == name)
             .or_else(|| {
-                crate::parameters::PARAMETERS
+                crate::inputs::parameters::PARAMETERS
                     .iter()
                     .find(|p| p.name == name)
                     .map(|p| Self::Estimated(p.name))
@@ -128,7 +131,7 @@ impl ParameterKind {
     pub fn names() -> Vec<String> {
         let corrections = Self::ALL.iter().map(|k| k.name().to_string());
         corrections
-            .chain(crate::parameters::physical_names())
+            .chain(crate::inputs::parameters::physical_names())
             .collect()
     }
 
@@ -264,7 +267,7 @@ impl Condition {
 pub enum Measure {
     /// A derivative of the linearised model (`X_u`, `Q_Omega`), at a flight condition.
     Derivative(String),
-    /// A trim quantity ([`crate::quantity::TRIM`]), at a flight condition.
+    /// A trim quantity ([`crate::inputs::quantity::TRIM`]), at a flight condition.
     Trim(String),
     /// An autorotation quantity ([`TUNNEL_QUANTITIES`]), at a tunnel condition.
     Tunnel(String),
@@ -315,8 +318,8 @@ impl ResponsePoint {
 /// The autorotation quantities a tunnel target can fit (all but the rotor speed in rad/s,
 /// which is `rotor_rpm` again, and the inflow, which a tunnel does not measure; the angle only
 /// where the tunnel condition leaves it out).
-pub const TUNNEL_QUANTITIES: &[crate::quantity::Quantity] = {
-    use crate::quantity::Quantity as Q;
+pub const TUNNEL_QUANTITIES: &[crate::inputs::quantity::Quantity] = {
+    use crate::inputs::quantity::Quantity as Q;
     &[
         Q::RotorAlphaDeg,
         Q::RotorRpm,
@@ -336,11 +339,11 @@ impl Measure {
     /// an autorotation quantity in a tunnel. An unknown name is an error that suggests the
     /// nearest.
     pub fn parse(condition: &Condition, name: &str) -> Result<Self, String> {
-        let trim = crate::quantity::names(crate::quantity::TRIM);
-        let tunnel = crate::quantity::names(TUNNEL_QUANTITIES);
+        let trim = crate::inputs::quantity::names(crate::inputs::quantity::TRIM);
+        let tunnel = crate::inputs::quantity::names(TUNNEL_QUANTITIES);
         let hint = |have: &[&str]| {
             let have: Vec<String> = have.iter().map(|s| s.to_string()).collect();
-            crate::yaml::nearest(name, &have)
+            crate::inputs::yaml::nearest(name, &have)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default()
         };
@@ -853,7 +856,7 @@ pub fn check(problem: &Problem) -> Result<(), String> {
 
 /// The targets' values at `p` and their forward-difference sensitivities to the parameters
 /// there (`[target][parameter]`), as the fit differences them: for a covariance beyond the
-/// fit's own (`crate::retune`'s cluster-robust one).
+/// fit's own (`crate::fit::retune`'s cluster-robust one).
 pub fn sensitivities(problem: &Problem, p: &[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
     let warm = WarmStarts::default();
     let y = evaluate_from(problem, p, Some(&warm))?;

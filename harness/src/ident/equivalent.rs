@@ -15,8 +15,8 @@
 //! pilot's inputs (the slow spiral) is compared as well as a stable one.
 
 use super::estimate::C;
-use super::record::Record;
 use super::{ConfigSpec, Identification, Source, control_channel, identify_from, signals};
+use crate::inputs::record::Record;
 use cierva_model::LinearModel;
 use cierva_model::aircraft::flapping::WithFlapping;
 use nalgebra::DMatrix;

@@ -10,14 +10,12 @@ pub mod estimate;
 pub mod flap;
 pub mod fourier;
 pub mod frequency_response;
-pub mod record;
-pub mod synth;
 pub mod verify;
 
+use crate::inputs::record::{self, Record};
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
 use estimate::{Equation, EquationFit, Frequencies, IdentError, Signals, Windowing};
-use record::Record;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -230,10 +228,12 @@ impl ConfigSpec {
     /// frequencies' `points` ([`crate::inputs::limits::MAX_FREQUENCY_POINTS`]) and
     /// `blade_passage_blades` ([`cierva_model::components::rotor::MAX_BLADES`]), each error at
     /// its field.
-    pub fn load(path: &std::path::Path) -> Result<Self, crate::yaml::InputError> {
-        let src = crate::yaml::read(path)?;
-        let config: Self = crate::yaml::parse(path, &src)?;
-        let err = |field: &str, msg: String| crate::yaml::InputError::field(path, &src, field, msg);
+    pub fn load(path: &std::path::Path) -> Result<Self, crate::inputs::yaml::InputError> {
+        let src = crate::inputs::yaml::read(path)?;
+        let config: Self = crate::inputs::yaml::parse(path, &src)?;
+        let err = |field: &str, msg: String| {
+            crate::inputs::yaml::InputError::field(path, &src, field, msg)
+        };
         let most = crate::inputs::limits::MAX_FREQUENCY_POINTS;
         if let Some(n) = config.frequencies.points.filter(|n| *n > most) {
             return Err(err(

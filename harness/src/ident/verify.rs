@@ -15,10 +15,10 @@
 //! VERIFY also fits a bias and a reference shift per output; [`OutputFit::theil_bias_removed`]
 //! takes off the mean error only, and is a note beside the plain TIC, not the headline.
 
-use super::record::Record;
 use super::{ConfigSpec, FLAP_STATES, control_channel, signals, theil_inequality};
-use crate::refs;
-use crate::yaml::{self, InputError};
+use crate::inputs::record::Record;
+use crate::inputs::reference;
+use crate::inputs::yaml::{self, InputError};
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
 use serde::Serialize;
@@ -82,7 +82,7 @@ fn split(name: &str) -> Option<(&'static str, &str)> {
 /// `phi` without an equation of their own are the kinematic rows `theta' = q` and `phi' = p`
 /// that the identification set-ups use. Errors name the file and the field.
 pub fn load_identified(path: &Path) -> Result<Identified, InputError> {
-    let reference = refs::load(path)?;
+    let reference = reference::load(path)?;
     let src = yaml::read(path)?;
     let at = |i: usize, msg: String| {
         InputError::field(path, &src, &format!("derivatives[{i}].name"), msg)
@@ -115,7 +115,7 @@ pub fn load_identified(path: &Path) -> Result<Identified, InputError> {
             )
         })?;
         let value = match columns.get(ESTIMATE_COLUMN) {
-            Some(refs::Entry::Value(v)) => *v,
+            Some(reference::Entry::Value(v)) => *v,
             _ => {
                 return Err(InputError::field(
                     path,
@@ -205,7 +205,7 @@ pub fn config_for(identified: &Identified, record: &Record) -> Result<ConfigSpec
                 controls.insert(c.clone(), ch);
             }
             None => {
-                let side = super::record::sidecar_path(&record.path);
+                let side = crate::inputs::record::sidecar_path(&record.path);
                 let src = yaml::read(&side)?;
                 return Err(InputError::field(
                     &side,

@@ -9,8 +9,8 @@
 //! [`cierva_model::components::rotor::MAX_AZIMUTH_STEPS_PER_REVOLUTION`],
 //! [`cierva_model::simulation::timehistory::MAX_STEPS`],
 //! [`cierva_model::components::autorotation::MAX_REVOLUTIONS`]); the files' sizes and nesting
-//! are [`crate::yaml`]'s ([`crate::yaml::MAX_YAML_FILE_BYTES`],
-//! [`crate::yaml::MAX_CSV_FILE_BYTES`], [`crate::yaml::MAX_YAML_DEPTH_LEVELS`]).
+//! are [`crate::inputs::yaml`]'s ([`crate::inputs::yaml::MAX_YAML_FILE_BYTES`],
+//! [`crate::inputs::yaml::MAX_CSV_FILE_BYTES`], [`crate::inputs::yaml::MAX_YAML_DEPTH_LEVELS`]).
 
 /// The finest azimuth step an aircraft file, a case or a command may ask for, deg: 3600 steps
 /// a revolution. The shipped aircraft step 5 deg and the model's default is 2.5 deg;

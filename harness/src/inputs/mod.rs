@@ -3,6 +3,15 @@
 //! flight condition and loading that cases, fit files and commands give, and the limits on what
 //! any file may ask for.
 
+pub mod aircraft;
 pub mod condition;
+pub mod controls;
+pub mod corrections;
 pub mod limits;
+pub mod parameters;
+pub mod quantity;
 pub mod ranges;
+pub mod record;
+pub mod reference;
+pub mod rotor;
+pub mod yaml;

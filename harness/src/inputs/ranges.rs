@@ -2,7 +2,7 @@
 //! files): as written, checked, and the shape of each one's distribution. `cierva sensitivity`
 //! weighs a needed change against a range; `cierva uncertainty` propagates the distribution.
 
-use crate::yaml::InputError;
+use crate::inputs::yaml::InputError;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -64,7 +64,7 @@ pub(crate) fn checked(
     for (name, r) in spec {
         let field = format!("ranges.{name}");
         let Some(value) = value_of(name) else {
-            let hint = crate::yaml::nearest(name, names)
+            let hint = crate::inputs::yaml::nearest(name, names)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
             return Err(err(

@@ -11,16 +11,16 @@
 
 use super::plot::{Band, Bar, Figure, Series, Style};
 use super::{CaseRun, Run};
-use crate::case::{Check, CheckKind, Subject};
 use crate::checks::What;
-use crate::eval::{CheckResult, PlotData};
+use crate::suite::case::{Check, CheckKind, Subject};
+use crate::suite::outcome::{CheckResult, PlotData};
 use std::collections::BTreeMap;
 
 fn check_of<'a>(c: &'a CaseRun, r: &CheckResult) -> Option<&'a Check> {
     c.case.checks.iter().find(|k| k.id == r.check)
 }
 
-fn bar(x: f64, q: &crate::eval::QuantityResult) -> Bar {
+fn bar(x: f64, q: &crate::suite::outcome::QuantityResult) -> Bar {
     Bar {
         x,
         lower: q.lower,
@@ -240,13 +240,14 @@ pub fn of_case(c: &CaseRun) -> Vec<Figure> {
 /// references' ranges, and by quantity the model's 95 % over its inputs at each point where
 /// the case was propagated (`intervals`).
 fn by_quantity(
-    points: Vec<(f64, &crate::eval::QuantityResult)>,
+    points: Vec<(f64, &crate::suite::outcome::QuantityResult)>,
     title: impl Fn(&str) -> String,
     x_label: &str,
     style: Style,
     intervals: &BTreeMap<String, Vec<(f64, f64, f64)>>,
 ) -> Vec<Figure> {
-    let mut groups: BTreeMap<String, Vec<(f64, &crate::eval::QuantityResult)>> = BTreeMap::new();
+    let mut groups: BTreeMap<String, Vec<(f64, &crate::suite::outcome::QuantityResult)>> =
+        BTreeMap::new();
     for (x, q) in points {
         groups.entry(q.quantity.clone()).or_default().push((x, q));
     }
@@ -275,7 +276,7 @@ fn by_quantity(
 }
 
 fn trim_against_airspeed(c: &CaseRun) -> Vec<Figure> {
-    let pts: Vec<(f64, &crate::eval::QuantityResult)> = c
+    let pts: Vec<(f64, &crate::suite::outcome::QuantityResult)> = c
         .results
         .iter()
         .filter(|r| r.kind == CheckKind::Trim)
@@ -342,7 +343,7 @@ fn sweeps(c: &CaseRun) -> Vec<Figure> {
 }
 
 fn tunnel(c: &CaseRun) -> Vec<Figure> {
-    let rows: Vec<(&CheckResult, &crate::case::TunnelSpec)> = c
+    let rows: Vec<(&CheckResult, &crate::suite::case::TunnelSpec)> = c
         .results
         .iter()
         .filter(|r| r.kind == CheckKind::Autorotation)
@@ -355,14 +356,14 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
         return vec![];
     }
     let by_mu = rows.iter().all(|(_, t)| t.tip_speed_ratio.is_some());
-    let x_of = |t: &crate::case::TunnelSpec| {
+    let x_of = |t: &crate::suite::case::TunnelSpec| {
         if by_mu {
             t.tip_speed_ratio.unwrap_or(f64::NAN)
         } else {
             t.alpha_deg.unwrap_or(f64::NAN)
         }
     };
-    let pts: Vec<(f64, &crate::eval::QuantityResult)> = rows
+    let pts: Vec<(f64, &crate::suite::outcome::QuantityResult)> = rows
         .iter()
         .flat_map(|(r, t)| r.quantities.iter().map(move |q| (x_of(t), q)))
         .collect();

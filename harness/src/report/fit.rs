@@ -2,8 +2,8 @@
 //! and one figure of every target's error before and after (`reports/fits/<id>.svg`). Reads a
 //! fit file and its run; computes nothing of its own.
 
+use crate::fit::file::{FitFile, FitRun, Origin, rms_relative_error_percent};
 use crate::fit::{self, Enforce};
-use crate::fit_file::{FitFile, FitRun, Origin, rms_relative_error_percent};
 
 /// The before/after report of a fit, as Markdown.
 pub fn markdown(f: &FitFile, run: &FitRun) -> String {

@@ -15,11 +15,12 @@
 pub mod figures;
 pub mod fit;
 pub mod plot;
+pub mod tables;
 pub mod uncertainty;
 
-use crate::case::Case;
-use crate::eval::{CheckResult, Outcome};
-use crate::text::Counts;
+use crate::report::tables::Counts;
+use crate::suite::case::Case;
+use crate::suite::outcome::{CheckResult, Outcome};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -32,7 +33,7 @@ pub struct CaseRun {
     /// The corrections the case ran with (`--corrections`), described.
     pub corrections: Vec<String>,
     /// The case's sensitivity study, if it asks for one (or why it could not be run).
-    pub sensitivity: Option<Result<crate::sensitivity::Study, String>>,
+    pub sensitivity: Option<Result<crate::fit::sensitivity::Study, String>>,
     /// The case's uncertainty (`validate --uncertainty`).
     pub uncertainty: Option<crate::uncertainty::propagate::CaseUncertainty>,
 }
@@ -47,11 +48,11 @@ pub struct Run {
     pub corrections: Vec<(PathBuf, String)>,
     pub seconds: f64,
     /// The data sets' scores, judged against the committed scoreboard.
-    pub scores: Vec<crate::review::Judged>,
+    pub scores: Vec<crate::suite::review::Judged>,
     /// The committed versions of the scoreboard, oldest first (from git, where it is there).
-    pub score_versions: Vec<crate::scoreboard::Version>,
+    pub score_versions: Vec<crate::suite::scoreboard::Version>,
     /// The acceptance log's entries, oldest first (`reports/acceptances.yaml`).
-    pub acceptances: Vec<crate::review::Acceptance>,
+    pub acceptances: Vec<crate::suite::review::Acceptance>,
 }
 
 impl Run {
@@ -59,7 +60,7 @@ impl Run {
     pub fn counts(&self) -> Counts {
         let mut all = Counts::default();
         for c in &self.cases {
-            all.merge(&crate::text::counts(&c.results));
+            all.merge(&crate::report::tables::counts(&c.results));
         }
         all
     }
@@ -221,7 +222,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
     h += &fits_html(dir);
     h += "<h2>Cases</h2><nav><ul>";
     for c in &run.cases {
-        let k = crate::text::counts(&c.results);
+        let k = crate::report::tables::counts(&c.results);
         let _ = write!(
             h,
             "<li><a href=\"#case-{id}\">{id}</a> <span class=\"muted\">{} pass, {} xfail{}</span></li>",
@@ -293,7 +294,7 @@ fn scoreboard_html(run: &Run) -> String {
     let mut h = String::from(
         "<h2 id=\"scoreboard\">Scoreboard</h2><p class=\"muted\">How well the model does \
          against each outside data set (the <code>scores</code> of its case; metrics in \
-         <code>harness/src/scoreboard.rs</code>). <code>cargo test</code> fails when a score gets \
+         <code>harness/src/suite/scoreboard.rs</code>). <code>cargo test</code> fails when a score gets \
          worse than committed in <code>reports/scoreboard.yaml</code> by more than its noise \
          floor; <code>cierva review --accept --reason TEXT</code> commits a new value and logs \
          why (below). History: the value at \
@@ -305,7 +306,7 @@ fn scoreboard_html(run: &Run) -> String {
     for j in &run.scores {
         let s = &j.score;
         let committed: Vec<plot::Spark> =
-            crate::scoreboard::history(&s.case, &s.id, &run.score_versions)
+            crate::suite::scoreboard::history(&s.case, &s.id, &run.score_versions)
                 .into_iter()
                 .map(|(date, commit, value)| plot::Spark {
                     label: format!("{commit} {date}"),
@@ -325,9 +326,11 @@ fn scoreboard_html(run: &Run) -> String {
                 }
             });
         let class = match j.change {
-            crate::scoreboard::Change::Worse | crate::scoreboard::Change::New => "fail",
-            crate::scoreboard::Change::Better => "pass",
-            crate::scoreboard::Change::Same => "",
+            crate::suite::scoreboard::Change::Worse | crate::suite::scoreboard::Change::New => {
+                "fail"
+            }
+            crate::suite::scoreboard::Change::Better => "pass",
+            crate::suite::scoreboard::Change::Same => "",
         };
         let _ = write!(
             h,
@@ -357,7 +360,7 @@ fn scoreboard_html(run: &Run) -> String {
 const ACCEPTANCES_SHOWN: usize = 10;
 
 /// The acceptance log's last entries, newest first: when, on which commit, why, what changed.
-fn acceptances_html(log: &[crate::review::Acceptance]) -> String {
+fn acceptances_html(log: &[crate::suite::review::Acceptance]) -> String {
     if log.is_empty() {
         return String::new();
     }
@@ -372,7 +375,8 @@ fn acceptances_html(log: &[crate::review::Acceptance]) -> String {
         log.len()
     );
     for a in log.iter().rev().take(ACCEPTANCES_SHOWN) {
-        let show = |v: &Option<crate::review::Value>| v.as_ref().map_or("—".into(), |v| v.show());
+        let show =
+            |v: &Option<crate::suite::review::Value>| v.as_ref().map_or("—".into(), |v| v.show());
         let changes = if a.changes.is_empty() {
             "none".to_string()
         } else {
@@ -415,8 +419,8 @@ fn summary_html(run: &Run, counts: &Counts) -> String {
     }
     h += "</tr>";
     let results = run.results();
-    let mut rows = crate::text::counts_by_class(&results);
-    rows.push((crate::case::CheckClass::Regression, *counts));
+    let mut rows = crate::report::tables::counts_by_class(&results);
+    rows.push((crate::suite::case::CheckClass::Regression, *counts));
     let last = rows.len() - 1;
     for (i, (k, c)) in rows.iter().enumerate() {
         let _ = write!(
@@ -579,7 +583,7 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
                 (Some(e), _) => ("fail", esc(e)),
                 (
                     None,
-                    Some(crate::eval::PlotData::Modes {
+                    Some(crate::suite::outcome::PlotData::Modes {
                         selected: Some(e), ..
                     }),
                 ) => (
@@ -626,7 +630,7 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
 
 /// A case's sensitivity study: for each quantity outside its bound, what each parameter alone
 /// would need, plausible changes first.
-fn sensitivity_html(study: &Result<crate::sensitivity::Study, String>) -> String {
+fn sensitivity_html(study: &Result<crate::fit::sensitivity::Study, String>) -> String {
     let study = match study {
         Ok(s) => s,
         Err(e) => {
@@ -654,7 +658,8 @@ fn sensitivity_html(study: &Result<crate::sensitivity::Study, String>) -> String
             .filter(|(e, _)| e.needed_value.is_some())
             .collect();
         effects.sort_by(|(a, pa), (b, pb)| {
-            let steps = |e: &crate::sensitivity::Effect, p: &crate::sensitivity::Parameter| {
+            let steps = |e: &crate::fit::sensitivity::Effect,
+                         p: &crate::fit::sensitivity::Parameter| {
                 (e.needed_change.unwrap_or(f64::INFINITY) / p.step).abs()
             };
             (b.plausible == Some(true))
@@ -722,7 +727,7 @@ pub fn markdown(run: &Run) -> String {
         k.describe(),
         run.input_errors.len()
     );
-    for (class, c) in crate::text::counts_by_class(&run.results()) {
+    for (class, c) in crate::report::tables::counts_by_class(&run.results()) {
         let _ = writeln!(
             m,
             "- {}: {} checks: {}",
@@ -757,7 +762,7 @@ pub fn markdown(run: &Run) -> String {
     m += "\nTime is each case's checks, summed over the threads that ran them; a linearisation that several cases share is computed \
           once, by the first case that needs it.\n\n| case | class | checks | pass | FAIL | xfail | MOVED | XPASS | ERROR | time, s |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for c in &run.cases {
-        let n = crate::text::counts(&c.results);
+        let n = crate::report::tables::counts(&c.results);
         let _ = writeln!(
             m,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",

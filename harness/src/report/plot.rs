@@ -229,7 +229,7 @@ impl Figure {
                 .x_label_area_size(36)
                 .y_label_area_size(62)
                 .build_cartesian_2d(x0..x1, y0..y1)?;
-            let powers = |v: &f64| crate::text::sig(10f64.powf(*v), 2);
+            let powers = |v: &f64| crate::units::sig(10f64.powf(*v), 2);
             let plain = |v: &f64| format!("{v}");
             let x_labels: &dyn Fn(&f64) -> String = if log_x { &powers } else { &plain };
             chart

@@ -106,7 +106,7 @@ static LINEARISATIONS: std::sync::OnceLock<LinearisationCache> = std::sync::Once
 /// `run_linearise`, remembered per aircraft file, condition and loading (a case's checks at
 /// one condition share one linearisation).
 pub fn linearise_cached(
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     request: TrimRequest,
     loading: Loading,
 ) -> Result<std::sync::Arc<Linearisation>, String> {
@@ -116,7 +116,7 @@ pub fn linearise_cached(
 /// [`linearise_cached`], its trim (where not remembered yet) started from a nearby trim's end:
 /// a sampled aircraft starts from the nominal one's trim (`cierva uncertainty`).
 pub fn linearise_cached_from(
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     request: TrimRequest,
     loading: Loading,
     start: Option<&cierva_model::aircraft::trim::WarmStart>,
@@ -138,7 +138,7 @@ pub fn linearise_cached_from(
 
 /// Forgets the remembered linearisations of one aircraft file (by its path): a sampled
 /// aircraft's, once its checks have run, so that thousands of samples do not fill the memory.
-pub fn forget_linearisations(file: &crate::aircraft_file::AircraftFile) {
+pub fn forget_linearisations(file: &crate::inputs::aircraft::AircraftFile) {
     let prefix = format!("{}|", file.path.display());
     if let Some(Ok(mut c)) = LINEARISATIONS.get().map(|c| c.lock()) {
         c.retain(|k, _| !k.starts_with(&prefix));
@@ -182,7 +182,7 @@ pub fn run_linearise_with_flapping(
 /// flight of the full model should find, where the quasi-static linearisation leaves the
 /// blades' lag out. Remembered per aircraft file, condition, loading and set-up.
 pub fn identified_in_band_cached(
-    file: &crate::aircraft_file::AircraftFile,
+    file: &crate::inputs::aircraft::AircraftFile,
     request: TrimRequest,
     loading: Loading,
     setup: crate::ident::Setup,

@@ -5,6 +5,7 @@
 pub mod autorotation;
 pub mod linearise;
 pub mod parallel;
+pub mod replay;
 pub mod simulate;
 pub mod trim;
 

@@ -14,7 +14,13 @@
 //! corrections = "corrections"  # retune's corrections (retuned/)
 //! ```
 
-use crate::yaml::InputError;
+pub mod case;
+pub mod discrepancy;
+pub mod outcome;
+pub mod review;
+pub mod scoreboard;
+
+use crate::inputs::yaml::InputError;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 

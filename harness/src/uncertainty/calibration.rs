@@ -10,7 +10,7 @@
 //! fit's own before/after table has them, and over the targets the model solved.
 
 use crate::fit;
-use crate::fit_file::{FitFile, FitRun, NamedChecks, check_of};
+use crate::fit::file::{FitFile, FitRun, NamedChecks, check_of};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -311,7 +311,10 @@ fn regime_checks(f: &FitFile, regime: &NamedChecks) -> BTreeMap<String, Vec<Stri
 /// The regimes a fit's corrections are not applied to by default: those where, held out, the
 /// calibrated model predicts some quantity worse than the uncorrected one (a larger RMS error, or
 /// more targets without a solution), with the case and checks of each and the numbers.
-pub fn not_applied_to(f: &FitFile, cv: &CrossValidation) -> Vec<crate::corrections::NotApplied> {
+pub fn not_applied_to(
+    f: &FitFile,
+    cv: &CrossValidation,
+) -> Vec<crate::inputs::corrections::NotApplied> {
     let Some(spec) = &f.cross_validation else {
         return vec![];
     };
@@ -348,7 +351,7 @@ pub fn not_applied_to(f: &FitFile, cv: &CrossValidation) -> Vec<crate::correctio
             numbers.join("; ")
         );
         for (case, checks) in regime_checks(f, regime) {
-            out.push(crate::corrections::NotApplied {
+            out.push(crate::inputs::corrections::NotApplied {
                 case,
                 regime: regime.name.clone(),
                 checks,

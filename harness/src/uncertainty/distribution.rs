@@ -1,7 +1,7 @@
 //! An uncertain input: its nominal value, its distribution and the distribution's source, and
 //! how a point of the unit interval maps onto it (the inverse of its cumulative distribution).
 
-use crate::aircraft_file::{Range, Shape};
+use crate::inputs::aircraft::{Range, Shape};
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, Normal};
 

@@ -8,8 +8,8 @@ use super::propagate::{
     CaseUncertainty, Contributor, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty, hash, judge,
     mean_std, pass_fraction, percentile, point_of, unjudged, with_terms, with_values,
 };
-use crate::case::Case;
-use crate::eval::CheckResult;
+use crate::suite::case::Case;
+use crate::suite::outcome::CheckResult;
 
 /// First-order propagation (a rotor case: each evaluation is a table of autorotation searches,
 /// too slow to sample). Each input is moved to its 5 % and 95 % quantiles ([`PROBE_QUANTILE`]),
@@ -154,7 +154,7 @@ fn first_order_runs(
         let (values, tag) = match job {
             Job::Refined => {
                 let (c, _) = refined.as_ref().expect("a refined job has its case");
-                return Run::Refined(crate::eval::run_case(c));
+                return Run::Refined(crate::suite::outcome::run_case(c));
             }
             Job::Moved(i, side) => (
                 inputs
@@ -172,7 +172,7 @@ fn first_order_runs(
             Job::Drawn(values) => (values.clone(), format!("residual-{:x}", hash(values))),
         };
         let p = match with_values(case, inputs, &values, &tag) {
-            Ok(c) => point_of(nominal, &crate::eval::run_case(&c)),
+            Ok(c) => point_of(nominal, &crate::suite::outcome::run_case(&c)),
             Err(e) => point_of(nominal, &[]).with_error(e),
         };
         done();

@@ -13,11 +13,11 @@ use super::design::Design;
 use super::distribution::{Distribution, Input};
 use super::sobol;
 use super::vv20::{self, Comparison, Verdict};
-use crate::case::Case;
 use crate::checks::CheckClass;
-use crate::eval::CheckResult;
-use crate::parameters::{parameter, set_parameter};
-use crate::subject::Subject;
+use crate::checks::subject::Subject;
+use crate::inputs::parameters::{parameter, set_parameter};
+use crate::suite::case::Case;
+use crate::suite::outcome::CheckResult;
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -165,7 +165,7 @@ pub fn inputs(case: &Case) -> Vec<Input> {
             .ranges
             .iter()
             .filter_map(|(name, r)| {
-                let nominal = crate::parameters::rotor_parameter(&file.rotor, name)?;
+                let nominal = crate::inputs::parameters::rotor_parameter(&file.rotor, name)?;
                 Some(Input {
                     name: name.clone(),
                     nominal,
@@ -234,7 +234,7 @@ fn set_values(
     }
     if let Subject::Rotor { file, .. } = subject {
         for (input, v) in inputs.iter().zip(values) {
-            crate::parameters::set_rotor_parameter(&mut file.rotor, &input.name, *v)
+            crate::inputs::parameters::set_rotor_parameter(&mut file.rotor, &input.name, *v)
                 .ok_or_else(|| format!("`{}` is not a parameter of {}", input.name, file.id))?;
         }
         file.rotor.validate().map_err(|e| e.to_string())?;
@@ -392,7 +392,7 @@ pub fn propagate(
     settings: Settings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
-    propagate_from(case, &crate::eval::run_case(case), settings, done)
+    propagate_from(case, &crate::suite::outcome::run_case(case), settings, done)
 }
 
 /// [`propagate`] about results already computed with the nominal inputs (`validate`'s). A case
@@ -454,7 +454,7 @@ pub fn propagate_from(
         ));
     }
     let (u_num_results, refinement) = match refined(case) {
-        Some((c, words)) => (Some(crate::eval::run_case(&c)), words),
+        Some((c, words)) => (Some(crate::suite::outcome::run_case(&c)), words),
         None => (None, NO_GRID_STUDY.to_string()),
     };
     let (points, design) = sample(case, nominal, &inputs, settings, done)?;
@@ -513,7 +513,7 @@ fn sample(
         let p = match with_values(case, inputs, &values, &tag) {
             Ok(c) => {
                 prime(&c, &starts);
-                let p = point_of(nominal, &crate::eval::run_case(&c));
+                let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
                 if let Subject::Aircraft { file, .. } = &c.subject {
                     crate::forget_linearisations(file);
                 }
@@ -590,7 +590,7 @@ fn check_results(
 /// independent of the inputs and of each other), stays inside its bounds (without one: inside
 /// or not), averaged. `draws[k]` are quantity `k`'s values.
 pub(super) fn pass_fraction(
-    quantities: &[crate::eval::QuantityResult],
+    quantities: &[crate::suite::outcome::QuantityResult],
     spread: &[f64],
     draws: &[&[f64]],
 ) -> f64 {
@@ -692,8 +692,8 @@ fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
 }
 
 /// A verdict-only check as a quantity: `passes`, 1 when it passes.
-fn passes(n: &CheckResult) -> crate::eval::QuantityResult {
-    crate::eval::QuantityResult {
+fn passes(n: &CheckResult) -> crate::suite::outcome::QuantityResult {
+    crate::suite::outcome::QuantityResult {
         quantity: "passes".into(),
         value: f64::from(u8::from(n.passed)),
         expected: None,
@@ -721,13 +721,13 @@ pub(super) fn hash(values: &[f64]) -> u64 {
         .iter()
         .flat_map(|v| v.to_bits().to_le_bytes())
         .collect();
-    crate::review::fnv1a64(&bytes)
+    crate::suite::review::fnv1a64(&bytes)
 }
 
 /// The data's standard uncertainty from a check's tolerance, and where it comes from.
 fn data_uncertainty(
     check: &crate::checks::Check,
-    q: &crate::eval::QuantityResult,
+    q: &crate::suite::outcome::QuantityResult,
 ) -> (Option<f64>, String) {
     let tolerance = check
         .expectations
@@ -738,7 +738,7 @@ fn data_uncertainty(
         && let Some(sd) = t.standard_deviation
     {
         let (u, what) = match t.kind {
-            crate::tolerance::ToleranceKind::Relative(_) => (
+            crate::checks::tolerance::ToleranceKind::Relative(_) => (
                 sd * q.expected.unwrap_or(f64::NAN).abs(),
                 format!("{:.2} % of the value", 100.0 * sd),
             ),
@@ -781,7 +781,7 @@ fn summarise(
     case: &Case,
     check: &crate::checks::Check,
     n: &CheckResult,
-    q: &crate::eval::QuantityResult,
+    q: &crate::suite::outcome::QuantityResult,
     all: &[f64],
     refined: Option<f64>,
     design: Option<&Design>,
@@ -829,7 +829,7 @@ fn summarise(
 pub(super) type Quantity<'a> = (
     &'a crate::checks::Check,
     &'a CheckResult,
-    &'a crate::eval::QuantityResult,
+    &'a crate::suite::outcome::QuantityResult,
 );
 
 /// A quantity's uncertainties before its verdict: the reference value, `u_num` from the refined
@@ -892,7 +892,7 @@ pub(super) fn unjudged(
 fn calibration_terms(
     case: &Case,
     check: &crate::checks::Check,
-    q: &crate::eval::QuantityResult,
+    q: &crate::suite::outcome::QuantityResult,
 ) -> Vec<(String, f64)> {
     if case
         .uncorrected
@@ -964,7 +964,7 @@ pub(super) fn with_terms(
 }
 
 /// The V&V 20 verdict of a validation quantity, or why there is none.
-pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::eval::QuantityResult) {
+pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::QuantityResult) {
     let half = 0.5 * (q.upper - q.lower);
     out.reason = match (out.class, out.reference, out.u_data) {
         (CheckClass::Validation, Some(d), Some(u_d)) => {

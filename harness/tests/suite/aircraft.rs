@@ -3,7 +3,8 @@
 
 use super::common::repo_root;
 use cierva_harness::checks::What;
-use cierva_harness::{Loading, TrimRequest, aircraft_file, run_trim};
+use cierva_harness::inputs;
+use cierva_harness::{Loading, TrimRequest, run_trim};
 
 fn request(airspeed_mph: f64) -> TrimRequest {
     TrimRequest {
@@ -22,7 +23,7 @@ const LOADING: Loading = Loading {
 /// solution (controls in percent of travel, attitudes in degrees, rotorspeed in rpm).
 #[test]
 fn vpm_m16_azimuth_step_is_converged() {
-    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    let file = inputs::aircraft::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
     for v in [30.0, 70.0] {
         let coarse = run_trim(&file.aircraft, request(v), LOADING).unwrap();
         let mut fine_ac = file.aircraft.clone();
@@ -64,7 +65,7 @@ fn vpm_m16_azimuth_step_is_converged() {
 /// 20 elements, static and at 70 mph.
 #[test]
 fn vpm_m16_propeller_elements_are_enough() {
-    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    let file = inputs::aircraft::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
     let p = &file.aircraft.propeller.propeller;
     let mut fine = p.clone();
     fine.rotor.elements = 20;
@@ -88,7 +89,7 @@ fn vpm_m16_propeller_elements_are_enough() {
 /// and the rotor speed expected, above it the rotor speed is given and the angle expected.
 #[test]
 fn tr515_case_rows_are_the_transcribed_table() {
-    use cierva_harness::case;
+    use cierva_harness::suite::case;
     let c = case::load(&repo_root().join("cases/naca-tr515-table-iii.yaml")).unwrap();
     let csv =
         std::fs::read_to_string(repo_root().join("flight-refs/naca-tr515-table-iii.csv")).unwrap();
@@ -139,13 +140,13 @@ fn tr515_case_rows_are_the_transcribed_table() {
 fn an_autorotation_check_at_a_tip_speed_ratio_finds_its_angle() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/tip-speed-ratio-mode.yaml");
-    let c = cierva_harness::case::load(&path).expect("the fixture loads");
-    let r = cierva_harness::eval::run_case(&c);
+    let c = cierva_harness::suite::case::load(&path).expect("the fixture loads");
+    let r = cierva_harness::suite::outcome::run_case(&c);
     assert_eq!(r.len(), 2);
     for r in &r {
         assert_eq!(
             r.outcome,
-            cierva_harness::eval::Outcome::Pass,
+            cierva_harness::suite::outcome::Outcome::Pass,
             "{}",
             r.explain()
         );
@@ -163,8 +164,8 @@ fn an_autorotation_check_at_a_tip_speed_ratio_finds_its_angle() {
 /// above the millionth the study puts down to the trim's convergence.)
 #[test]
 fn sensitivity_finds_the_fin_area_that_brings_n_v_to_its_bound() {
-    use cierva_harness::sensitivity::{self, Quantity};
-    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    use cierva_harness::fit::sensitivity::{self, Quantity};
+    let file = inputs::aircraft::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
     let loading = Loading {
         mass_kg: Some(450.0),
         density_altitude_ft: 2000.0,
@@ -213,7 +214,7 @@ fn a_compressible_rotor_autorotates_at_high_mu() {
     use cierva_model::components::airfoil::{Airfoil, Compressibility};
     use cierva_model::components::rotor::{InflowModel, WakeModel};
     let mut rotor =
-        cierva_harness::rotor_file::load(&repo_root().join("aircraft/pca-2-rotor.yaml"))
+        cierva_harness::inputs::rotor::load(&repo_root().join("aircraft/pca-2-rotor.yaml"))
             .unwrap()
             .rotor;
     let Airfoil::Analytical(s) = &mut rotor.airfoil else {

@@ -4,13 +4,13 @@
 
 use crate::common;
 
-use cierva_harness::aircraft_file;
+use cierva_harness::inputs::aircraft;
 use std::path::Path;
 
 #[test]
 fn every_bad_aircraft_gets_its_located_error() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-aircraft");
-    let problems = common::check_fixtures(&dir, 27, aircraft_file::load);
+    let problems = common::check_fixtures(&dir, 27, aircraft::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
@@ -22,6 +22,6 @@ fn every_bad_aircraft_gets_its_located_error() {
 #[test]
 fn every_bad_rotor_gets_its_located_error() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-rotor");
-    let problems = common::check_fixtures(&dir, 6, cierva_harness::rotor_file::load);
+    let problems = common::check_fixtures(&dir, 6, cierva_harness::inputs::rotor::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }

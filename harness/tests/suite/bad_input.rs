@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use cierva_harness::case;
+use cierva_harness::suite::case;
 use std::path::Path;
 
 #[test]

@@ -420,9 +420,11 @@ fn synth_then_identify_round_trips() {
     // The output is a flight-refs derivative table that loads.
     let refs_path = dir.join("sweep-derivatives.yaml");
     std::fs::write(&refs_path, &out).unwrap();
-    let r = cierva_harness::refs::load(&refs_path).unwrap();
+    let r = cierva_harness::inputs::reference::load(&refs_path).unwrap();
     match r.table.entry("M_q", "estimate") {
-        Some(cierva_harness::refs::Entry::Value(v)) => assert!((v - -1.001).abs() < 1e-3, "{v}"),
+        Some(cierva_harness::inputs::reference::Entry::Value(v)) => {
+            assert!((v - -1.001).abs() < 1e-3, "{v}")
+        }
         other => panic!("{other:?}"),
     }
     let (code, _, err) = cierva(&["identify", "no-such.csv"]);
@@ -823,7 +825,8 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
         );
     }
     // The acceptance log's last entry, newest first, beside the scoreboard.
-    let log = cierva_harness::review::load_log(&super::common::suite().acceptances()).unwrap();
+    let log =
+        cierva_harness::suite::review::load_log(&super::common::suite().acceptances()).unwrap();
     let last = log.acceptances.last().expect("the log has entries");
     let section = html
         .split("<h2 id=\"acceptances\">")

@@ -7,7 +7,7 @@
 //! # line: <1-based line the error must name>
 //! ```
 
-use cierva_harness::yaml::InputError;
+use cierva_harness::inputs::yaml::InputError;
 use std::path::{Path, PathBuf};
 
 /// The repository's root: the suite this repository is (its `cierva.toml`), where its cases,

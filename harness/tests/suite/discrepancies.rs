@@ -1,8 +1,8 @@
 //! Known discrepancies catch regressions: a case whose checks are all expected failures still
 //! fails when the model moves, and an evaluation error fails whatever the case expects.
 
-use cierva_harness::case::{self, Case, Subject};
-use cierva_harness::eval::{self, Outcome};
+use cierva_harness::suite::case::{self, Case, Subject};
+use cierva_harness::suite::outcome::{self, Outcome};
 use cierva_model::components::airfoil::Airfoil;
 
 /// The TR 515 case with only a few rows (the whole table takes seconds).
@@ -19,7 +19,7 @@ fn tr515(rows: &[&str]) -> Case {
 }
 
 fn outcomes(c: &Case) -> Vec<(String, Outcome, Vec<String>)> {
-    eval::run_case(c)
+    outcome::run_case(c)
         .into_iter()
         .map(|r| (r.check, r.outcome, r.departures))
         .collect()
@@ -64,7 +64,7 @@ fn an_error_fails_an_expected_failure() {
         panic!("TR 515 is a rotor case")
     };
     file.rotor.tip_loss_factor = f64::NAN;
-    let r = eval::run_case(&c);
+    let r = outcome::run_case(&c);
     assert_eq!(r[0].outcome, Outcome::Error, "{}", r[0].explain());
     assert!(!r[0].outcome.ok());
 }
@@ -85,8 +85,8 @@ fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
 /// is run: its score is the one judged, and the angle searches above it would add a minute.
 #[test]
 fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
-    use cierva_harness::review;
-    use cierva_harness::scoreboard::{self, Change};
+    use cierva_harness::suite::review;
+    use cierva_harness::suite::scoreboard::{self, Change};
     let mut c = case::load(&super::common::repo_root().join("cases/naca-tr515-table-iii.yaml"))
         .expect("the shipped case loads");
     let regime = c
@@ -99,7 +99,7 @@ fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
     c.scores.retain(|s| s.checks.as_ref() == Some(&regime));
     assert_eq!(c.checks.len(), 48);
     let board = scoreboard::load(&super::common::suite()).expect("the scoreboard loads");
-    let judge = |c: &Case| review::judge(&board, review::scores_of(c, &eval::run_case(c)));
+    let judge = |c: &Case| review::judge(&board, review::scores_of(c, &outcome::run_case(c)));
     let Subject::Rotor { file, .. } = &mut c.subject else {
         panic!("TR 515 is a rotor case")
     };
@@ -127,10 +127,10 @@ fn checks_run_on_every_core_give_each_case_its_own_results() {
         tr515(&["row-02", "row-33"]),
     );
     let skip = "row-40";
-    let ran = eval::run_cases(&[&a, &b], |_, k| k.id != skip, |_, _| {});
+    let ran = outcome::run_cases(&[&a, &b], |_, k| k.id != skip, |_, _| {});
     assert_eq!(ran.len(), 2);
     for (case, (results, seconds)) in [&a, &b].into_iter().zip(&ran) {
-        let alone: Vec<_> = eval::run_case(case)
+        let alone: Vec<_> = outcome::run_case(case)
             .into_iter()
             .filter(|r| r.check != skip)
             .collect();
@@ -138,7 +138,7 @@ fn checks_run_on_every_core_give_each_case_its_own_results() {
         assert!(*seconds > 0.0);
         for (r, s) in results.iter().zip(&alone) {
             assert_eq!((&r.check, r.outcome), (&s.check, s.outcome));
-            let values = |r: &eval::CheckResult| -> Vec<u64> {
+            let values = |r: &outcome::CheckResult| -> Vec<u64> {
                 r.quantities.iter().map(|q| q.value.to_bits()).collect()
             };
             assert_eq!(values(r), values(s), "{}", r.check);
@@ -153,7 +153,7 @@ fn checks_run_on_every_core_give_each_case_its_own_results() {
 #[test]
 fn the_committed_scores_and_records_are_the_last_accepted() {
     let reports = super::common::repo_root().join("reports");
-    if let Err(e) = cierva_harness::review::acceptance_state(&reports) {
+    if let Err(e) = cierva_harness::suite::review::acceptance_state(&reports) {
         panic!("{e}");
     }
 }
@@ -163,7 +163,7 @@ fn the_committed_scores_and_records_are_the_last_accepted() {
 /// missing, each fails it with the file named.
 #[test]
 fn a_hand_edited_scoreboard_is_not_what_was_accepted() {
-    use cierva_harness::review::{LOG_FILE, acceptance_state};
+    use cierva_harness::suite::review::{LOG_FILE, acceptance_state};
     let from = super::common::repo_root().join("reports");
     let dir = std::env::temp_dir().join(format!("cierva-accepted-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -57,7 +57,7 @@ fn a_model_of_the_set_ups_form_is_identified_as_itself() {
 /// equations hold at every point, so the derivatives come back to 1e-9.
 #[test]
 fn a_model_is_identified_as_itself_from_a_record_s_controls() {
-    use cierva_harness::ident::record::{Record, RecordMeta, Sensors};
+    use cierva_harness::inputs::record::{Record, RecordMeta, Sensors};
     let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     let model = LinearModel::from_rows(
         names(&["u", "w", "q", "theta", "Omega"]),
@@ -86,7 +86,7 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
         .collect();
     let pedal: Vec<f64> = t.iter().map(|t| 50.0 + (1.3 * t).sin()).collect();
     let constant = |v: f64| vec![v; n];
-    let channels = names(&cierva_harness::ident::record::REQUIRED)
+    let channels = names(&cierva_harness::inputs::record::REQUIRED)
         .into_iter()
         .chain(names(&["eta_s_pct", "eta_p_pct"]))
         .collect();
@@ -98,7 +98,7 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
         meta: RecordMeta {
             id: "sweep".into(),
             title: "t".into(),
-            provenance: cierva_harness::refs::Provenance {
+            provenance: cierva_harness::inputs::reference::Provenance {
                 source: "test".into(),
                 notes: None,
             },

@@ -3,7 +3,8 @@
 
 use super::common::repo_root;
 use crate::common::cierva;
-use cierva_harness::{aircraft_file, estimate};
+use cierva_harness::estimate;
+use cierva_harness::inputs;
 
 /// The text derivation names every method's source and accuracy, gives each step's value and
 /// range, and sets the file's values beside the estimates; the JSON carries the same steps,
@@ -61,9 +62,9 @@ fn estimate_prints_the_derivation_with_sources_and_ranges() {
 /// the propeller's operating point, the lift slopes (geometry alone) do not move.
 #[test]
 fn estimate_at_another_airspeed_moves_only_the_flow() {
-    let file = aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
+    let file = inputs::aircraft::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
     let at = |mph: f64| {
-        let c = aircraft_file::ConditionSpec {
+        let c = inputs::aircraft::ConditionSpec {
             airspeed_mph: mph,
             mass_kg: 450.0,
             density_altitude_ft: 2000.0,
@@ -107,7 +108,7 @@ fn the_gyroplane_files_use_their_estimates() {
 }
 
 fn file_uses_its_estimates(name: &str, coefficients: usize) {
-    let file = aircraft_file::load(&repo_root().join(format!("aircraft/{name}.yaml"))).unwrap();
+    let file = inputs::aircraft::load(&repo_root().join(format!("aircraft/{name}.yaml"))).unwrap();
     let d = estimate::derive(&file, None).unwrap();
     assert_eq!(d.compared.len(), coefficients, "{name}: {:?}", d.compared);
     // Half a unit in the third significant figure of `x`.

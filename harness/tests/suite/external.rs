@@ -196,7 +196,7 @@ fn a_bad_trim_table_is_a_located_error() {
     let mut problems = Vec::new();
     for (table, want) in tables {
         std::fs::write(dir.join("trim.csv"), table).unwrap();
-        match cierva_harness::case::load(&case) {
+        match cierva_harness::suite::case::load(&case) {
             Ok(_) => problems.push(format!("loaded with the table:\n{table}")),
             Err(e) => {
                 let msg = e.to_string();

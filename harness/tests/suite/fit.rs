@@ -11,7 +11,7 @@ fn vpm() -> cierva_model::aircraft::Aircraft {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .unwrap();
-    cierva_harness::aircraft_file::load(&root.join("aircraft/vpm-m16.yaml"))
+    cierva_harness::inputs::aircraft::load(&root.join("aircraft/vpm-m16.yaml"))
         .unwrap()
         .aircraft
 }
@@ -252,8 +252,8 @@ fn shipped_fit(
     id: &str,
     converged: bool,
 ) -> (
-    cierva_harness::fit_file::FitFile,
-    cierva_harness::fit_file::FitRun,
+    cierva_harness::fit::file::FitFile,
+    cierva_harness::fit::file::FitRun,
 ) {
     // A converged fit takes at least 40 % off the RMS error; an infeasible one, stopped by its
     // bounds, must at least reduce it.
@@ -266,12 +266,13 @@ fn shipped_fit_by(
     converged: bool,
     factor: f64,
 ) -> (
-    cierva_harness::fit_file::FitFile,
-    cierva_harness::fit_file::FitRun,
+    cierva_harness::fit::file::FitFile,
+    cierva_harness::fit::file::FitRun,
 ) {
-    use cierva_harness::{corrections, fit_file};
-    let f = fit_file::load(&repo().join(format!("fits/{id}.yaml"))).unwrap();
-    let run = fit_file::run(&f);
+    use cierva_harness::fit;
+    use cierva_harness::inputs::corrections;
+    let f = fit::file::load(&repo().join(format!("fits/{id}.yaml"))).unwrap();
+    let run = fit::file::run(&f);
     let r = &run.result;
     eprintln!(
         "{id}: {:?} after {} iterations ({} evaluations) in {:.2} s: {:?} +- {:?}",
@@ -306,7 +307,7 @@ fn shipped_fit_by(
         );
     }
     let (before, after, n) =
-        fit_file::rms_relative_error_percent(&f.problem.targets, &r.before, &r.after);
+        fit::file::rms_relative_error_percent(&f.problem.targets, &r.before, &r.after);
     assert_eq!(n, f.problem.targets.len());
     assert!(after < factor * before, "{before} -> {after}");
     (f, run)
@@ -361,9 +362,10 @@ fn seed000_story_fit_brings_x_u_and_z_w_inside_and_lightens_the_phugoid() {
 /// `scripts/regenerate-references --check` covers by refitting from the start.
 fn shipped_fit_restarted(
     id: &str,
-) -> (cierva_harness::fit_file::FitFile, fit::FitResult, Vec<f64>) {
-    use cierva_harness::{corrections, fit_file};
-    let f = fit_file::load(&repo().join(format!("fits/{id}.yaml"))).unwrap();
+) -> (cierva_harness::fit::file::FitFile, fit::FitResult, Vec<f64>) {
+    use cierva_harness::fit;
+    use cierva_harness::inputs::corrections;
+    let f = fit::file::load(&repo().join(format!("fits/{id}.yaml"))).unwrap();
     let committed =
         corrections::load(&repo().join(format!("corrections/fitted/{id}.yaml"))).unwrap();
     assert_eq!(committed.target, f.applies_to);
@@ -397,7 +399,7 @@ fn shipped_fit_restarted(
     }
     let before = fit::evaluate(&f.problem, &start).unwrap();
     let (before, after, n) =
-        fit_file::rms_relative_error_percent(&f.problem.targets, &before, &r.after);
+        fit::file::rms_relative_error_percent(&f.problem.targets, &before, &r.after);
     assert_eq!(n, f.problem.targets.len());
     assert!(after < 0.6 * before, "{before} -> {after}");
     let mut predict = f.problem.clone();
@@ -445,7 +447,7 @@ fn pca2_fit_to_tr515_improves_its_rows_and_reports_the_others() {
         .iter()
         .zip(&f.predict_origins)
         .filter(|(v, _)| !v.is_finite())
-        .map(|(_, o)| cierva_harness::fit_file::check_of(&o.label))
+        .map(|(_, o)| cierva_harness::fit::file::check_of(&o.label))
         .collect();
     assert!(
         unsolved.len() <= 42,
@@ -473,7 +475,8 @@ fn every_shipped_fit_file_loads() {
     for e in std::fs::read_dir(repo().join("fits")).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "yaml") {
-            let f = cierva_harness::fit_file::load(&p).unwrap_or_else(|e| panic!("{}", e.render()));
+            let f =
+                cierva_harness::fit::file::load(&p).unwrap_or_else(|e| panic!("{}", e.render()));
             assert!(!f.problem.targets.is_empty());
             n += 1;
         }
@@ -498,12 +501,12 @@ fn scratch_fit(name: &str, parameters: &str) -> std::path::PathBuf {
 /// `options.starts`, with the line; 4 loads.
 #[test]
 fn a_fit_files_starts_are_bounded() {
-    use cierva_harness::fit_file;
+    use cierva_harness::fit;
     for (n, ok) in [(0usize, false), (4, true), (33, false)] {
         let path = scratch_fit(&format!("starts-{n}"), "  airframe.fin.area_m2: {}\n");
         let text = std::fs::read_to_string(&path).unwrap() + &format!("options: {{starts: {n}}}\n");
         std::fs::write(&path, &text).unwrap();
-        match fit_file::load(&path) {
+        match fit::file::load(&path) {
             Ok(f) => assert!(ok && f.starts == n, "{n} starts loaded"),
             Err(e) => {
                 let m = e.render();
@@ -523,12 +526,12 @@ fn a_fit_files_starts_are_bounded() {
 /// refusal names the parameter's line.
 #[test]
 fn a_fit_moves_only_estimated_parameters_within_their_sourced_ranges() {
-    use cierva_harness::fit_file;
-    let f = fit_file::load(&scratch_fit("fin", "  airframe.fin.area_m2: {}\n")).unwrap();
+    use cierva_harness::fit;
+    let f = fit::file::load(&scratch_fit("fin", "  airframe.fin.area_m2: {}\n")).unwrap();
     let p = f.problem.parameters[0];
     assert_eq!(p.kind, ParameterKind::Estimated("airframe.fin.area_m2"));
     assert_eq!((p.lower, p.upper, p.start), (0.5, 0.9, 0.7));
-    let narrower = fit_file::load(&scratch_fit(
+    let narrower = fit::file::load(&scratch_fit(
         "narrow",
         "  airframe.fin.area_m2: {lower: 0.6, upper: 0.8}\n",
     ))
@@ -561,7 +564,7 @@ fn a_fit_moves_only_estimated_parameters_within_their_sourced_ranges() {
             "needs its bounds",
         ),
     ] {
-        let e = fit_file::load(&scratch_fit(name, line))
+        let e = fit::file::load(&scratch_fit(name, line))
             .unwrap_err()
             .render();
         assert!(e.contains(says), "{name}: {e}");
@@ -574,7 +577,7 @@ fn a_fit_moves_only_estimated_parameters_within_their_sourced_ranges() {
 /// the aircraft; a name that is not a physical parameter, or a rotor as the target, is refused.
 #[test]
 fn estimated_parameters_in_a_corrections_file_are_applied_and_checked() {
-    use cierva_harness::corrections::{self, CorrectionSet};
+    use cierva_harness::inputs::corrections::{self, CorrectionSet};
     let mut set = CorrectionSet::default();
     ParameterKind::Estimated("mass.izz_kg_m2").set(&mut set, 400.0);
     ParameterKind::PropellerBlockage.set(&mut set, 0.5);
@@ -587,8 +590,10 @@ fn estimated_parameters_in_a_corrections_file_are_applied_and_checked() {
     // A control's travel is its gearing: the middle stays.
     let roll = a.controls.shaft_roll_rad;
     let travel = "controls.shaft_roll_deg.travel";
-    assert!((cierva_harness::parameters::parameter(&a, travel).unwrap() - 16.0).abs() < 1e-12);
-    cierva_harness::parameters::set_parameter(&mut a, travel, 12.0).unwrap();
+    assert!(
+        (cierva_harness::inputs::parameters::parameter(&a, travel).unwrap() - 16.0).abs() < 1e-12
+    );
+    cierva_harness::inputs::parameters::set_parameter(&mut a, travel, 12.0).unwrap();
     let m = a.controls.shaft_roll_rad;
     assert!((m.at_100_percent - m.at_0_percent - 12f64.to_radians()).abs() < 1e-12);
     assert!(
@@ -690,9 +695,11 @@ fn table2_fit_brings_four_of_six_inside_at_each_weight_and_says_the_rest_cannot(
 /// and an entry that gives no reason is refused.
 #[test]
 fn corrections_are_not_applied_to_a_regime_they_make_worse() {
+    use cierva_harness::fit;
+    use cierva_harness::inputs::corrections;
+    use cierva_harness::suite::{case, outcome};
     use cierva_harness::uncertainty::calibration::{CrossValidation, Errors};
-    use cierva_harness::{case, corrections, eval, fit_file};
-    let f = fit_file::load(&repo().join("fits/pca-2-tr515.yaml")).unwrap();
+    let f = fit::file::load(&repo().join("fits/pca-2-tr515.yaml")).unwrap();
     let worse = Errors {
         worse_than_uncorrected: vec!["drag_coefficient".into()],
         rms_relative_error: [("drag_coefficient".to_string(), 0.25)].into(),
@@ -752,7 +759,7 @@ fn corrections_are_not_applied_to_a_regime_they_make_worse() {
     let check = &tr487.checks[0];
     assert_eq!(check.id, "flight");
     let values = |c: &case::Case| -> Vec<f64> {
-        eval::run_check(c, check)
+        outcome::run_check(c, check)
             .quantities
             .iter()
             .map(|q| q.value)

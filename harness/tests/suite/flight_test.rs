@@ -3,10 +3,10 @@
 //! identified together.
 
 use super::common::repo_root;
-use cierva_harness::flight_test::sensors::{Channel, Instrumentation};
-use cierva_harness::flight_test::turbulence::Dryden;
-use cierva_harness::flight_test::{self, FlightTest};
-use cierva_harness::ident::synth::{Input, Normal};
+use cierva_harness::synth::flight::sensors::{Channel, Instrumentation};
+use cierva_harness::synth::flight::turbulence::Dryden;
+use cierva_harness::synth::flight::{self, FlightTest};
+use cierva_harness::synth::linear::{Input, Normal};
 use cierva_harness::{Loading, TrimRequest};
 
 /// MIL-F-8785C's low-altitude scales at 500 ft: L_w = 500 ft, L_u = L_v = 500 / 0.5885^1.2 ft
@@ -164,7 +164,7 @@ fn perfect() -> Instrumentation {
 }
 
 fn vpm_m16() -> cierva_model::aircraft::Aircraft {
-    cierva_harness::aircraft_file::load(&repo_root().join("aircraft/vpm-m16.yaml"))
+    cierva_harness::inputs::aircraft::load(&repo_root().join("aircraft/vpm-m16.yaml"))
         .unwrap()
         .aircraft
 }
@@ -205,7 +205,7 @@ fn with_no_input_the_record_holds_its_trim() {
         0,
         10.0,
     );
-    let f = flight_test::fly(&vpm_m16(), &t).unwrap();
+    let f = flight::fly(&vpm_m16(), &t).unwrap();
     let col = |name: &str| {
         let i = f.channels.iter().position(|c| c == name).unwrap();
         &f.data[i]
@@ -248,7 +248,7 @@ fn a_stick_doublet_pitches_the_nose_up_first() {
         0,
         3.0,
     );
-    let f = flight_test::fly(&vpm_m16(), &t).unwrap();
+    let f = flight::fly(&vpm_m16(), &t).unwrap();
     let q = &f.data[f.channels.iter().position(|c| c == "q_rad_s").unwrap()];
     let eta = &f.data[f.channels.iter().position(|c| c == "eta_s_pct").unwrap()];
     // Half a second into the first pulse (the pilot's pitch hold takes a little back).
@@ -257,7 +257,7 @@ fn a_stick_doublet_pitches_the_nose_up_first() {
 }
 
 /// A flight as a record (for the identifier), its `k`th control the one moved.
-fn as_record(k: usize, f: flight_test::Flown) -> cierva_harness::ident::record::Record {
+fn as_record(k: usize, f: flight::Flown) -> cierva_harness::inputs::record::Record {
     f.into_record(&format!("sweep-{k}"), k, 100.0, "test", Default::default())
 }
 
@@ -276,7 +276,7 @@ fn the_teeter_channel_gives_the_tip_path_plane() {
         0,
         3.0,
     );
-    let record = as_record(0, flight_test::fly(&a, &t).unwrap());
+    let record = as_record(0, flight::fly(&a, &t).unwrap());
     let (c, s) = cierva_harness::ident::tip_path_plane(&record).unwrap();
     let mean = |x: &[f64]| x[50..250].iter().sum::<f64>() / 200.0;
     let trim = cierva_harness::run_trim(&a, t.request, t.loading).unwrap();
@@ -326,7 +326,8 @@ fn primary_outside(a: &cierva_model::aircraft::Aircraft) -> Vec<String> {
 /// The primary derivatives identified from calm, perfectly instrumented sweeps of the full
 /// model (three controls, 120 s each) beside the aircraft's linearisation.
 fn primary_rows(a: &cierva_model::aircraft::Aircraft) -> Vec<cierva_harness::ident::Against> {
-    use cierva_harness::ident::{self, record};
+    use cierva_harness::ident;
+    use cierva_harness::inputs::record;
     let flights: Vec<_> = [(0usize, 4.0), (1, 3.0), (2, 5.0)]
         .into_iter()
         .map(|(control, amplitude)| {
@@ -348,7 +349,7 @@ fn primary_rows(a: &cierva_model::aircraft::Aircraft) -> Vec<cierva_harness::ide
     let flown: Vec<_> = std::thread::scope(|s| {
         let handles: Vec<_> = flights
             .iter()
-            .map(|t| s.spawn(move || flight_test::fly(a, t).unwrap()))
+            .map(|t| s.spawn(move || flight::fly(a, t).unwrap()))
             .collect();
         handles.into_iter().map(|h| h.join().unwrap()).collect()
     });
@@ -405,8 +406,8 @@ fn with_fast_blade_dynamics_the_linearisation_matches_the_identified_model() {
 /// draws apart before the sources' seeds were hashed.
 #[test]
 fn flights_with_different_seeds_draw_unrelated_noise() {
-    use cierva_harness::flight_test::seed_for;
-    use cierva_harness::ident::synth::Normal;
+    use cierva_harness::synth::flight::seed_for;
+    use cierva_harness::synth::linear::Normal;
     let draws = |seed: u64, source: u64| -> Vec<f64> {
         let mut rng = Normal::new(seed_for(seed, source));
         (0..4000).map(|_| rng.sample()).collect()

@@ -5,7 +5,7 @@
 use super::common::cierva;
 use cierva_harness::ident::fourier;
 use cierva_harness::ident::frequency_response::{self as fr, Run, Settings, spectra};
-use cierva_harness::ident::synth::{self, Normal};
+use cierva_harness::synth::linear::{self, Normal};
 use nalgebra::{Complex, DMatrix};
 use rustfft::num_complex::Complex64 as C;
 use std::f64::consts::PI;
@@ -142,7 +142,7 @@ const KNOWN_TOP_HZ: f64 = 3.0;
 const SWEEP_HELD: f64 = 0.9;
 
 /// The known answer: seed 002's VPM M16 model flown through Tischler's exponential
-/// sweep (0.02-4 Hz) with sensor noise (`synth::generate`); its pitch-rate response to the
+/// sweep (0.02-4 Hz) with sensor noise (`linear::generate`); its pitch-rate response to the
 /// stick from the record, with the default windows (15, 30, 60 s), against the model's own,
 /// within 0.5 dB and 3 deg wherever the coherence is at least 0.9, from the default band's
 /// bottom to [`KNOWN_TOP_HZ`]; and its stated 95 % intervals hold the truth at their rate
@@ -150,12 +150,14 @@ const SWEEP_HELD: f64 = 0.9;
 #[test]
 fn a_linear_models_record_gives_its_analytic_response() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let model = cierva_harness::refs::load(&root.join("flight-refs/seed002-vpm-m16-60kn.yaml"))
-        .unwrap()
-        .linear_model
-        .unwrap();
-    let settings = synth::Settings::exponential_sweep("known", 11);
-    let (channels, data, _) = synth::generate(&model, &settings).unwrap();
+    let model = cierva_harness::inputs::reference::load(
+        &root.join("flight-refs/seed002-vpm-m16-60kn.yaml"),
+    )
+    .unwrap()
+    .linear_model
+    .unwrap();
+    let settings = linear::Settings::exponential_sweep("known", 11);
+    let (channels, data, _) = linear::generate(&model, &settings).unwrap();
     let col = |name: &str| data[channels.iter().position(|c| c == name).unwrap()].clone();
     let run = Run {
         name: "known".into(),
@@ -646,7 +648,7 @@ fn flown_with_a_pilot(seed: u64) -> (Run, FirstOrder, FirstOrder) {
 /// disturbance makes too small) falls short of the rate.
 #[test]
 fn the_response_as_flown_holds_its_standard_error_under_a_pilot() {
-    use cierva_harness::retune::responses::{conditioned, residual_standard_error};
+    use cierva_harness::fit::retune::responses::{conditioned, residual_standard_error};
     let settings = two_input_settings();
     let (mut n, mut held, mut held_plain, mut held_alone) = (0usize, 0usize, 0usize, 0usize);
     for seed in 0..AS_FLOWN_SEEDS {
@@ -709,7 +711,9 @@ fn the_response_as_flown_holds_its_standard_error_under_a_pilot() {
 /// and three standard errors of the mean.
 #[test]
 fn the_stated_resolution_bias_is_the_estimators() {
-    use cierva_harness::retune::responses::{neighbours, resolution_bias, spectral_window_moment};
+    use cierva_harness::fit::retune::responses::{
+        neighbours, resolution_bias, spectral_window_moment,
+    };
     let (n, dt) = (16_000, 0.05);
     let (r, theta) = (0.995f64, 2.0 * PI * 0.5 * 0.05);
     let (a1, a2) = (2.0 * r * theta.cos(), -r * r);

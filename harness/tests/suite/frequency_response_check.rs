@@ -2,13 +2,13 @@
 //! against known answers, a reference without coherence as "inconclusive", the trivial
 //! predictors refused at load, and bad response files located.
 
-use cierva_harness::case;
 use cierva_harness::checks::frequency_response::{
     self as frc, COHERENCE_MIN, J_ACCEPTABLE, Point, mismatch_cost,
 };
-use cierva_harness::eval::{self, Finding, Outcome};
-use cierva_harness::ident::record;
-use cierva_harness::ident::synth;
+use cierva_harness::inputs::record;
+use cierva_harness::suite::case;
+use cierva_harness::suite::outcome::{self, Finding, Outcome};
+use cierva_harness::synth::linear;
 use rustfft::num_complex::Complex64 as C;
 use std::path::{Path, PathBuf};
 
@@ -62,12 +62,14 @@ fn record_check(output: &str, rec: &Path, tolerance: &str) -> String {
 /// Seed 002's VPM M16 model flown through an exponential sweep of the shaft tilt (0.02-4 Hz,
 /// 120 s at 100 Hz) with a little sensor noise, written as a record in `dir`.
 fn sweep_record(dir: &Path) -> PathBuf {
-    let model = cierva_harness::refs::load(&root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
-        .unwrap()
-        .linear_model
-        .unwrap();
-    let settings = synth::Settings::exponential_sweep("known-sweep", 11);
-    let (channels, data, meta) = synth::generate(&model, &settings).unwrap();
+    let model = cierva_harness::inputs::reference::load(
+        &root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
+    )
+    .unwrap()
+    .linear_model
+    .unwrap();
+    let settings = linear::Settings::exponential_sweep("known-sweep", 11);
+    let (channels, data, meta) = linear::generate(&model, &settings).unwrap();
     let path = dir.join("known-sweep.csv");
     record::write(&path, &meta, &channels, &data).unwrap();
     path
@@ -84,7 +86,7 @@ fn a_linear_models_response_against_its_own_record_costs_j_under_5() {
     for (output, id) in [("q", "known-q"), ("theta", "known-theta"), ("w", "known-w")] {
         let path = linear_case(&dir, id, &record_check(output, &rec, "acceptable"));
         let c = case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
-        let r = eval::run_check(&c, &c.checks[0]);
+        let r = outcome::run_check(&c, &c.checks[0]);
         let j = r.quantities[0].value;
         let n = r
             .fingerprint
@@ -196,7 +198,7 @@ fn a_reference_without_coherence_is_inconclusive_never_a_pass() {
          expect:\n      mismatch_cost: {tolerance: wide}\n",
     );
     let c = case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
-    let r = eval::run_check(&c, &c.checks[0]);
+    let r = outcome::run_check(&c, &c.checks[0]);
     assert!(!r.passed);
     assert_eq!(r.outcome, Outcome::Fail, "{}", r.explain());
     let Some(f @ Finding::Inconclusive { .. }) = &r.finding else {

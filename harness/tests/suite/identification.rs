@@ -1,15 +1,15 @@
 //! Identification verified on synthetic records flown by seed 002's VPM M16 model (Eq. 20).
 
 use super::common::repo_root;
-use cierva_harness::ident::record;
-use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings};
 use cierva_harness::ident::{ConfigSpec, identify_record};
-use cierva_harness::refs;
+use cierva_harness::inputs::record;
+use cierva_harness::inputs::reference;
+use cierva_harness::synth::linear::{self, Input, SensorNoise, Settings};
 use cierva_model::LinearModel;
 use std::path::PathBuf;
 
 fn truth() -> LinearModel {
-    refs::load(&repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
+    reference::load(&repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"))
         .unwrap()
         .linear_model
         .unwrap()
@@ -19,7 +19,7 @@ fn settings(
     id: &str,
     seed: u64,
     noise: SensorNoise,
-    turbulence: Option<synth::Turbulence>,
+    turbulence: Option<linear::Turbulence>,
 ) -> Settings {
     Settings {
         id: id.into(),
@@ -40,9 +40,9 @@ fn settings(
         noise,
         turbulence,
         // Estimated trim for 60 kn (seed 002 does not give one): Z_q of Eq. 20 is about U_e.
-        trim: synth::SEED002_TRIM,
+        trim: linear::SEED002_TRIM,
         // The nose boom 2 m ahead of and 0.3 m above the c.g. (estimated, typical of seed 000's rig).
-        sensors: synth::SEED002_SENSORS,
+        sensors: linear::SEED002_SENSORS,
     }
 }
 
@@ -53,7 +53,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn write_record(name: &str, s: &Settings) -> PathBuf {
-    let (channels, data, meta) = synth::generate(&truth(), s).unwrap();
+    let (channels, data, meta) = linear::generate(&truth(), s).unwrap();
     let path = scratch(name);
     record::write(&path, &meta, &channels, &data).unwrap();
     path
@@ -241,7 +241,7 @@ fn instrumental_variable_bounds_cover_the_truth() {
         rotor_rad_s: 0.01,
         control: 0.0,
     };
-    let turb = synth::Turbulence {
+    let turb = linear::Turbulence {
         intensity: 0.05,
         correlation_time_s: 0.5,
     };
@@ -250,7 +250,7 @@ fn instrumental_variable_bounds_cover_the_truth() {
     let mut hits: std::collections::BTreeMap<String, (usize, f64)> = Default::default();
     for seed in 0..records {
         let s = settings("coverage", 1000 + seed, noise, Some(turb));
-        let (channels, data, meta) = synth::generate(&truth(), &s).unwrap();
+        let (channels, data, meta) = linear::generate(&truth(), &s).unwrap();
         let rec = record::Record {
             path: "coverage.csv".into(),
             meta,
@@ -358,7 +358,8 @@ fn tapered_overlapping_segments_and_fixed_parameters_work() {
 fn inflow_from_a_teeter_record_within_the_derivations_limits() {
     use cierva_harness::ident::flap;
     let mut file =
-        cierva_harness::rotor_file::load(&repo_root().join("aircraft/vpm-m16-rotor.yaml")).unwrap();
+        cierva_harness::inputs::rotor::load(&repo_root().join("aircraft/vpm-m16-rotor.yaml"))
+            .unwrap();
     file.rotor.root_cutout_m = 0.0;
     file.rotor.tip_loss_factor = 1.0;
     file.rotor.hub = cierva_model::components::rotor::Hub::Articulated;
@@ -367,7 +368,7 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
     };
     let a = cierva_harness::run_autorotation(&file.rotor, 10.0, 30.0, None, None, inflow).unwrap();
     let (sa, ca) = 10f64.to_radians().sin_cos();
-    let (channels, data, meta) = flap::synthesize_teeter(
+    let (channels, data, meta) = cierva_harness::synth::teeter::synthesize_teeter(
         "ideal",
         "ideal rotor",
         &a,
@@ -404,7 +405,7 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
         );
     }
     // A record of fewer than two revolutions is refused.
-    let (channels, data, meta) = flap::synthesize_teeter(
+    let (channels, data, meta) = cierva_harness::synth::teeter::synthesize_teeter(
         "short",
         "ideal rotor",
         &a,
@@ -433,7 +434,7 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
 /// and smaller standard errors than either alone; no record at all is an error.
 #[test]
 fn records_identified_together_pool_their_information() {
-    let turb = Some(synth::Turbulence {
+    let turb = Some(linear::Turbulence {
         intensity: 0.05,
         correlation_time_s: 0.5,
     });

@@ -5,7 +5,9 @@
 
 use crate::common;
 use cierva_harness::inputs::limits::{MAX_FIT_ITERATIONS, MAX_RECORD_SAMPLES};
-use cierva_harness::yaml::{self, EXCERPT_CHARS, MAX_YAML_DEPTH_LEVELS, MAX_YAML_FILE_BYTES};
+use cierva_harness::inputs::yaml::{
+    self, EXCERPT_CHARS, MAX_YAML_DEPTH_LEVELS, MAX_YAML_FILE_BYTES,
+};
 use std::path::{Path, PathBuf};
 
 /// The fuzzer's rotor file: the VPM M16's with `elements: 999999999999`. `cierva autorotate`
@@ -88,7 +90,7 @@ fn a_control_history_past_the_sample_limit_is_refused_at_its_row() {
         text.push_str(&format!("{k},0\n"));
     }
     std::fs::write(&path, &text).unwrap();
-    let e = cierva_harness::controls_file::read(&path).unwrap_err();
+    let e = cierva_harness::inputs::controls::read(&path).unwrap_err();
     assert_eq!(e.line, Some(MAX_RECORD_SAMPLES + 2), "{e}");
     assert!(
         e.column.is_some() && e.message.contains("MAX_RECORD_SAMPLES"),
@@ -114,7 +116,7 @@ fn a_fit_past_the_iteration_limit_is_refused_at_its_field() {
         );
     assert!(text.contains("max_iterations: 1000000000000"));
     std::fs::write(&path, &text).unwrap();
-    let e = cierva_harness::fit_file::load(&path).unwrap_err();
+    let e = cierva_harness::fit::file::load(&path).unwrap_err();
     let line = text
         .lines()
         .position(|l| l.starts_with("options:"))
@@ -142,7 +144,7 @@ fn an_autorotation_gives_up_at_its_revolution_limit_with_its_residuals() {
     use cierva_model::components::autorotation::{
         AutorotationError, MAX_REVOLUTIONS, Options, autorotate,
     };
-    let shipped = cierva_harness::rotor_file::load(
+    let shipped = cierva_harness::inputs::rotor::load(
         &super::common::repo_root().join("aircraft/pca-2-rotor.yaml"),
     )
     .unwrap()
@@ -227,7 +229,7 @@ fn a_yaml_file_nested_100000_deep_is_refused_before_parsing() {
     let text = format!("id: deep\nrotor: {}1{}\n", "{a: ".repeat(n), "}".repeat(n));
     assert!(text.len() > 400_000);
     std::fs::write(&path, &text).unwrap();
-    let e = cierva_harness::rotor_file::load(&path).unwrap_err();
+    let e = cierva_harness::inputs::rotor::load(&path).unwrap_err();
     assert!(
         e.message.contains(&format!(
             "nested deeper than {MAX_YAML_DEPTH_LEVELS} levels"
@@ -311,7 +313,7 @@ fn a_yaml_file_beyond_the_size_limit_is_refused_unread() {
     let mut text = "id: large\n".to_string();
     text.push_str(&"#".repeat(MAX_YAML_FILE_BYTES as usize));
     std::fs::write(&path, &text).unwrap();
-    let e = cierva_harness::rotor_file::load(&path).unwrap_err();
+    let e = cierva_harness::inputs::rotor::load(&path).unwrap_err();
     assert!(
         e.message.contains("larger than 16 MiB") && e.line.is_none(),
         "{e}"
@@ -340,7 +342,7 @@ fn an_error_on_a_long_line_shows_a_screens_width_of_it() {
         values.join(", ")
     );
     std::fs::write(&path, &text).unwrap();
-    let e = cierva_harness::rotor_file::load(&path).unwrap_err();
+    let e = cierva_harness::inputs::rotor::load(&path).unwrap_err();
     let r = e.render();
     assert!(fits_a_screen(&r) && r.len() < 1000, "{r}");
     // The caret is under the bad value.
@@ -352,7 +354,7 @@ fn an_error_on_a_long_line_shows_a_screens_width_of_it() {
     // A value 10,000 characters long that the message quotes is shortened.
     let value = "k".repeat(10_000);
     std::fs::write(&path, format!("id: long\nrotor: {{hub: {value}}}\n")).unwrap();
-    let e = cierva_harness::rotor_file::load(&path).unwrap_err();
+    let e = cierva_harness::inputs::rotor::load(&path).unwrap_err();
     let shown = e.to_string();
     assert!(
         shown.contains("unknown variant `kkkk") && shown.len() < 1000,

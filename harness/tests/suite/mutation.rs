@@ -8,11 +8,10 @@
 //! references between them (a case's `../aircraft/...`) still resolve.
 
 use super::common::repo_root;
-use cierva_harness::yaml::InputError;
-use cierva_harness::{
-    aircraft_file, case, corrections, discrepancy, eval, fit_file, ident, refs, review, rotor_file,
-    scoreboard,
-};
+use cierva_harness::inputs::yaml::InputError;
+use cierva_harness::inputs::{self, corrections, reference};
+use cierva_harness::suite::{case, discrepancy, outcome, review, scoreboard};
+use cierva_harness::{fit, ident};
 use std::path::{Path, PathBuf};
 
 /// Mutants per file (about 70 files).
@@ -164,23 +163,23 @@ fn load(kind: Kind, path: &Path) -> Result<(), InputError> {
                 c.subject,
                 case::Subject::Linear { .. } | case::Subject::Table { .. }
             ) {
-                let _ = eval::run_case(&c);
+                let _ = outcome::run_case(&c);
             }
         }
-        Kind::Aircraft => drop(aircraft_file::load(path)?),
-        Kind::Rotor => drop(rotor_file::load(path)?),
-        Kind::Reference => drop(refs::load(path)?),
-        Kind::History => drop(ident::record::load_with(
+        Kind::Aircraft => drop(inputs::aircraft::load(path)?),
+        Kind::Rotor => drop(inputs::rotor::load(path)?),
+        Kind::Reference => drop(reference::load(path)?),
+        Kind::History => drop(inputs::record::load_with(
             &path.with_extension("csv"),
             &["time_s"],
             true,
         )?),
-        Kind::Teeter => drop(ident::record::load_with(
+        Kind::Teeter => drop(inputs::record::load_with(
             &path.with_extension("csv"),
             &ident::flap::FLAP_REQUIRED,
             false,
         )?),
-        Kind::Fit => drop(fit_file::load(path)?),
+        Kind::Fit => drop(fit::file::load(path)?),
         Kind::Corrections => drop(corrections::load(path)?),
         Kind::Library => drop(case::load_library(path)?),
         Kind::Discrepancies => drop(discrepancy::load_file(path)?),

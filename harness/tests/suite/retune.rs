@@ -222,7 +222,7 @@ fn retune_by_responses_reports_j_and_bode_figures_per_response() {
     let output = dir.join("retuned.yaml");
     let written = std::fs::read_to_string(&output).unwrap();
     assert!(written.contains("seed 000 Sec. VII.B"), "{written}");
-    let loaded = cierva_harness::corrections::load(&output).unwrap();
+    let loaded = cierva_harness::inputs::corrections::load(&output).unwrap();
     assert!(loaded.corrections.hub_aoa_factor.is_some());
     assert!(loaded.corrections.profile_drag_scale.is_some());
     let figures = v["figures"].as_array().unwrap();

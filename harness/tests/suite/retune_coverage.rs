@@ -22,7 +22,7 @@ impl SplitMix {
 }
 
 /// The corrections hidden and retuned, with their default bounds
-/// (`cierva_harness::retune::DEFAULT_BOUNDS`, the README's retune example's pair).
+/// (`cierva_harness::fit::retune::DEFAULT_BOUNDS`, the README's retune example's pair).
 const HIDDEN: [(&str, f64, f64); 2] = [
     ("hub_aoa_factor", 0.0, 1.0),
     ("profile_drag_scale", 0.5, 2.0),

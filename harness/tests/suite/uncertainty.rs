@@ -381,10 +381,11 @@ fn calibration_coverage(seed: u64) -> (f64, f64) {
 fn samples_the_model_refuses_are_counted_with_their_first_error() {
     use cierva_harness::uncertainty::propagate::{self, Settings};
     let root = super::common::repo_root();
-    let mut case =
-        cierva_harness::case::load(&root.join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml"))
-            .unwrap();
-    let cierva_harness::subject::Subject::Aircraft { file, .. } = &mut case.subject else {
+    let mut case = cierva_harness::suite::case::load(
+        &root.join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml"),
+    )
+    .unwrap();
+    let cierva_harness::checks::subject::Subject::Aircraft { file, .. } = &mut case.subject else {
         panic!("an aircraft case");
     };
     // Only the roll inertia, from -250 to 750: a third of the samples negative.
@@ -425,7 +426,8 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
     use cierva_harness::uncertainty::propagate::{self, Method, Settings};
     let root = super::common::repo_root();
     let case =
-        cierva_harness::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
+        cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
+            .unwrap();
     let run = |method| {
         let settings = Settings {
             samples: 32,
@@ -524,7 +526,8 @@ fn a_calibrations_predictive_error_is_carried_into_u_input() {
     use cierva_harness::uncertainty::propagate::{self, Method, Settings};
     let root = super::common::repo_root();
     let case =
-        cierva_harness::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
+        cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
+            .unwrap();
     let dir = std::env::temp_dir().join(format!("cierva-calibration-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = |name: &str, regimes: &str, not_applied: &str| {
@@ -536,10 +539,10 @@ fn a_calibrations_predictive_error_is_carried_into_u_input() {
             ),
         )
         .unwrap();
-        cierva_harness::corrections::load(&path).unwrap()
+        cierva_harness::inputs::corrections::load(&path).unwrap()
     };
-    let run = |files: &[cierva_harness::corrections::CorrectionsFile]| {
-        let (c, used) = cierva_harness::case::with_corrections(&case, files).unwrap();
+    let run = |files: &[cierva_harness::inputs::corrections::CorrectionsFile]| {
+        let (c, used) = cierva_harness::suite::case::with_corrections(&case, files).unwrap();
         assert_eq!(used.len(), files.len());
         let settings = Settings {
             samples: 8,

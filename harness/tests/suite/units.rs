@@ -2,7 +2,7 @@
 //! tests; here they build into the one test binary instead of a second build of the library).
 
 mod quantity {
-    use cierva_harness::quantity::*;
+    use cierva_harness::inputs::quantity::*;
 
     #[test]
     fn names_are_unique_and_unit_suffixed_where_they_have_units() {
@@ -34,7 +34,7 @@ mod quantity {
 }
 
 mod scoreboard {
-    use cierva_harness::scoreboard::*;
+    use cierva_harness::suite::scoreboard::*;
 
     fn score(value: f64, metric: Metric) -> Score {
         Score {
@@ -90,9 +90,9 @@ mod scoreboard {
     /// reference wherever each falls, and where in tip-speed ratio.
     #[test]
     fn a_score_over_named_checks_uses_those_alone() {
-        use cierva_harness::case::{CheckClass, CheckKind};
         use cierva_harness::checks::result::QuantityResult;
-        use cierva_harness::eval::{CheckResult, Outcome};
+        use cierva_harness::suite::case::{CheckClass, CheckKind};
+        use cierva_harness::suite::outcome::{CheckResult, Outcome};
         let result = |check: &str, value: f64| CheckResult {
             case: "c".into(),
             check: check.into(),
@@ -131,9 +131,13 @@ mod scoreboard {
             checks,
         };
         let at = |_: &str| None;
-        let all = cierva_harness::review::compute("c", &spec(None), &results, &at);
-        let low =
-            cierva_harness::review::compute("c", &spec(Some(vec!["low".into()])), &results, &at);
+        let all = cierva_harness::suite::review::compute("c", &spec(None), &results, &at);
+        let low = cierva_harness::suite::review::compute(
+            "c",
+            &spec(Some(vec!["low".into()])),
+            &results,
+            &at,
+        );
         assert!(
             (all.value - (0.5f64 * (0.01 + 0.25)).sqrt()).abs() < 1e-12,
             "{all:?}"
@@ -152,7 +156,7 @@ mod scoreboard {
                 metric,
                 ..spec(None)
             };
-            cierva_harness::review::compute("c", &s, &results, at).value
+            cierva_harness::suite::review::compute("c", &s, &results, at).value
         };
         assert!((peak(Metric::PeakRelativeError, &mu) - 0.1).abs() < 1e-12);
         assert!((peak(Metric::PeakTipSpeedRatioOffset, &mu) - 0.15).abs() < 1e-12);
@@ -193,9 +197,9 @@ mod scoreboard {
 }
 
 mod history {
-    use cierva_harness::history::*;
-    use cierva_harness::ident::record::{Record, RecordMeta};
-    use cierva_harness::refs::Provenance;
+    use cierva_harness::inputs::record::{Record, RecordMeta};
+    use cierva_harness::inputs::reference::Provenance;
+    use cierva_harness::run::replay::*;
     use std::collections::BTreeMap;
 
     fn record(signal: &[f64], model: &[f64]) -> (Record, Flown) {
@@ -345,7 +349,7 @@ mod linear {
     use cierva_harness::checks::Expectation;
     use cierva_harness::checks::linear::*;
     use cierva_harness::checks::mode::ModeCheck;
-    use cierva_harness::tolerance::{RoundingSpec, Tolerance, ToleranceKind};
+    use cierva_harness::checks::tolerance::{RoundingSpec, Tolerance, ToleranceKind};
     use cierva_model::{LinearModel, ModeKind};
 
     /// The `rounding` bound is a first-order worst case over every sign combination, so random
@@ -354,7 +358,7 @@ mod linear {
     /// close to it (the bound is not loose).
     #[test]
     fn rounding_bound_covers_random_corner_perturbations() {
-        let r = cierva_harness::refs::load(
+        let r = cierva_harness::inputs::reference::load(
             &crate::common::repo_root().join("flight-refs/seed002-vpm-m16-60kn.yaml"),
         )
         .unwrap();
@@ -484,7 +488,7 @@ mod plot {
 }
 
 mod text {
-    use cierva_harness::text::sig;
+    use cierva_harness::units::sig;
 
     #[test]
     fn significant_digits() {
@@ -499,7 +503,7 @@ mod text {
 }
 
 mod discrepancy {
-    use cierva_harness::discrepancy::*;
+    use cierva_harness::suite::discrepancy::*;
     use cierva_model::analysis::bcar::Verdict;
     use std::collections::BTreeMap;
 
@@ -543,7 +547,7 @@ mod discrepancy {
 }
 
 mod acceptance_log {
-    use cierva_harness::review::*;
+    use cierva_harness::suite::review::*;
     use std::collections::BTreeMap;
 
     fn entry(reason: &str, old: f64) -> Acceptance {
@@ -630,7 +634,7 @@ mod acceptance_log {
 }
 
 mod tolerance {
-    use cierva_harness::tolerance::*;
+    use cierva_harness::checks::tolerance::*;
 
     #[test]
     fn margins_are_positive_inside_and_negative_outside() {
@@ -681,7 +685,7 @@ mod tolerance {
 }
 
 mod yaml {
-    use cierva_harness::yaml::*;
+    use cierva_harness::inputs::yaml::*;
     use std::path::Path;
 
     const SRC: &str = "id: x\nchecks:\n  - id: a\n    kind: mode\n  - id: b\n    expect:\n      period_s:\n        value: 3\n";
@@ -762,14 +766,14 @@ mod rotor_file {
             .unwrap();
         let text = std::fs::read_to_string(root.join("aircraft/pca-2-rotor.yaml")).unwrap();
         let shipped =
-            cierva_harness::rotor_file::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
+            cierva_harness::inputs::rotor::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
         assert!(!shipped.rotor.yawed_flow_drag);
         let dir = std::env::temp_dir().join(format!("cierva-yawed-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("pca-2-rotor.yaml");
         let on = text.replacen("\n  elements:", "\n  yawed_flow_drag: true\n  elements:", 1);
         std::fs::write(&path, &on).unwrap();
-        let e = cierva_harness::rotor_file::load(&path)
+        let e = cierva_harness::inputs::rotor::load(&path)
             .unwrap_err()
             .render();
         assert!(e.contains("rotor.yawed_flow_drag"), "{e}");
@@ -779,7 +783,7 @@ mod rotor_file {
             1,
         );
         std::fs::write(&path, sourced).unwrap();
-        let f = cierva_harness::rotor_file::load(&path).unwrap();
+        let f = cierva_harness::inputs::rotor::load(&path).unwrap();
         assert!(f.rotor.yawed_flow_drag);
     }
 
@@ -792,7 +796,7 @@ mod rotor_file {
             .unwrap();
         let text = std::fs::read_to_string(root.join("aircraft/pca-2-rotor.yaml")).unwrap();
         let shipped =
-            cierva_harness::rotor_file::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
+            cierva_harness::inputs::rotor::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
         assert_eq!(shipped.rotor.hub_drag_area_m2, 0.0);
         // Without its ranges (one of which is the hub's drag: a range needs its parameter).
         let text = match text.find("\nranges:\n") {
@@ -816,7 +820,7 @@ mod rotor_file {
         let path = dir.join("pca-2-rotor.yaml");
         std::fs::write(&path, &bare).unwrap();
         let f =
-            cierva_harness::rotor_file::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+            cierva_harness::inputs::rotor::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
         assert_eq!(f.rotor.hub_drag_area_m2, 0.0);
         let with = |area: &str, source: bool| {
             let mut t = bare.replacen(
@@ -832,7 +836,7 @@ mod rotor_file {
                 );
             }
             std::fs::write(&path, t).unwrap();
-            cierva_harness::rotor_file::load(&path)
+            cierva_harness::inputs::rotor::load(&path)
         };
         let e = with("0.3", false).unwrap_err().render();
         assert!(e.contains("rotor.hub_drag_area_m2"), "{e}");
@@ -843,7 +847,7 @@ mod rotor_file {
         );
         let mut f = with("0.3", true).unwrap();
         assert_eq!(f.rotor.hub_drag_area_m2, 0.3);
-        let set = cierva_harness::corrections::CorrectionSet {
+        let set = cierva_harness::inputs::corrections::CorrectionSet {
             hub_drag_area_m2: Some(0.45),
             ..Default::default()
         };

@@ -3,10 +3,10 @@
 
 use super::common::cierva;
 use super::common::repo_root;
-use cierva_harness::ident::record;
-use cierva_harness::ident::synth::{self, Input, SensorNoise, Settings};
 use cierva_harness::ident::verify::{self, OutputFit};
-use cierva_harness::refs;
+use cierva_harness::inputs::record;
+use cierva_harness::inputs::reference;
+use cierva_harness::synth::linear::{self, Input, SensorNoise, Settings};
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
 use std::path::{Path, PathBuf};
@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 const TRUTH: &str = "flight-refs/seed002-vpm-m16-60kn.yaml";
 
 fn truth() -> LinearModel {
-    refs::load(&repo_root().join(TRUTH))
+    reference::load(&repo_root().join(TRUTH))
         .unwrap()
         .linear_model
         .unwrap()
@@ -46,10 +46,10 @@ fn record_of(name: &str, noise: SensorNoise) -> PathBuf {
         seed: 11,
         noise,
         turbulence: None,
-        trim: synth::SEED002_TRIM,
-        sensors: synth::SEED002_SENSORS,
+        trim: linear::SEED002_TRIM,
+        sensors: linear::SEED002_SENSORS,
     };
-    let (channels, data, meta) = synth::generate(&truth(), &s).unwrap();
+    let (channels, data, meta) = linear::generate(&truth(), &s).unwrap();
     let path = scratch().join(format!("{name}.csv"));
     record::write(&path, &meta, &channels, &data).unwrap();
     path

@@ -5,14 +5,14 @@
 //! name a quantity that its check kind computes, and a check that is expected to fail says why.
 
 pub use crate::checks::autorotation::TunnelSpec;
-pub use crate::checks::{Check, CheckClass, CheckKind, CheckSpec, ExpectSpec, Expectation, System};
-use crate::refs::{self, Entry, Provenance};
-pub use crate::subject::{
+pub use crate::checks::subject::{
     AircraftModelSpec, DescentSpec, FlapRecordSpec, InflowSpec, ModelSpec, RotorModelSpec,
     SkewSpec, Subject, TableColumnSpec,
 };
-pub use crate::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
-use crate::yaml::{self, InputError};
+pub use crate::checks::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
+pub use crate::checks::{Check, CheckClass, CheckKind, CheckSpec, ExpectSpec, Expectation, System};
+use crate::inputs::reference::{self, Entry, Provenance};
+use crate::inputs::yaml::{self, InputError};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -30,11 +30,11 @@ pub struct CaseSpec {
     #[serde(default)]
     pub tolerances: BTreeMap<String, ToleranceSpec>,
     pub checks: Vec<CheckSpec>,
-    /// The data set's scores on the scoreboard (see [`crate::scoreboard`]).
+    /// The data set's scores on the scoreboard (see [`crate::suite::scoreboard`]).
     #[serde(default)]
-    pub scores: Vec<crate::scoreboard::ScoreSpec>,
+    pub scores: Vec<crate::suite::scoreboard::ScoreSpec>,
     /// A sensitivity study for the report (an aircraft case): what would close each
-    /// discrepancy (see [`crate::sensitivity`]).
+    /// discrepancy (see [`crate::fit::sensitivity`]).
     #[serde(default)]
     pub sensitivity: Option<SensitivitySpec>,
 }
@@ -92,13 +92,13 @@ pub struct Case {
     pub provenance: Provenance,
     pub subject: Subject,
     pub checks: Vec<Check>,
-    /// What the model gave for the case's expected failures (see [`crate::discrepancy`]).
-    pub recorded: Option<crate::discrepancy::CaseRecord>,
+    /// What the model gave for the case's expected failures (see [`crate::suite::discrepancy`]).
+    pub recorded: Option<crate::suite::discrepancy::CaseRecord>,
     /// The folder of records of the suite that holds the case
     /// ([`crate::suite::Suite::containing`]); `None` when no suite holds it.
     pub records_dir: Option<PathBuf>,
     /// The data set's scores.
-    pub scores: Vec<crate::scoreboard::ScoreSpec>,
+    pub scores: Vec<crate::suite::scoreboard::ScoreSpec>,
     /// The parameters of a sensitivity study `validate` runs for the report, if the case asks
     /// for one.
     pub sensitivity: Option<Vec<String>>,
@@ -115,7 +115,7 @@ pub struct Case {
 pub struct Calibration {
     pub id: String,
     /// `None`: its fit was not cross-validated, so it states no predictive error.
-    pub predictive_error: Option<crate::corrections::PredictiveError>,
+    pub predictive_error: Option<crate::inputs::corrections::PredictiveError>,
 }
 
 /// The checks of a corrected case that keep the uncorrected subject, and why.
@@ -142,7 +142,7 @@ impl Case {
 pub fn load(path: &Path) -> Result<Case, InputError> {
     let src = yaml::read(path)?;
     let spec: CaseSpec = yaml::parse(path, &src)?;
-    refs::check_id(path, &src, &spec.id)?;
+    reference::check_id(path, &src, &spec.id)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let err = |field: &str, msg: String| InputError::field(path, &src, field, msg);
     if spec.provenance.source.trim().is_empty() {
@@ -170,7 +170,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
             ),
         ));
     }
-    let subject = crate::subject::load(path, &src, dir, &spec.model)?;
+    let subject = crate::checks::subject::load(path, &src, dir, &spec.model)?;
     let mut seen = std::collections::BTreeSet::new();
     let mut checks = Vec::new();
     if spec.checks.is_empty() {
@@ -219,7 +219,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
     let sensitivity = check_sensitivity(path, &src, &spec, &subject)?;
     let records_dir = crate::suite::Suite::containing(path)?.map(|s| s.discrepancies());
     let recorded = match &records_dir {
-        Some(dir) => crate::discrepancy::load(dir, &spec.id)?,
+        Some(dir) => crate::suite::discrepancy::load(dir, &spec.id)?,
         None => None,
     };
     Ok(Case {
@@ -272,7 +272,7 @@ fn check_sensitivity(
         ));
     }
     for (i, n) in names.iter().enumerate() {
-        if crate::parameters::parameter(&file.aircraft, n).is_none() {
+        if crate::inputs::parameters::parameter(&file.aircraft, n).is_none() {
             return Err(err(
                 &format!("sensitivity.parameters[{i}]"),
                 format!("`{n}` is not a parameter of {}", file.id),
@@ -343,7 +343,7 @@ fn check_scores(
             }
             _ => {}
         }
-        if sc.metric == crate::scoreboard::Metric::PeakTipSpeedRatioOffset
+        if sc.metric == crate::suite::scoreboard::Metric::PeakTipSpeedRatioOffset
             && let Some(c) = scored.iter().find(|c| c.tunnel_tip_speed_ratio().is_none())
         {
             return Err(err(
@@ -377,7 +377,7 @@ fn resolve_tolerance(
         let shared: Vec<String> = library
             .map(|l| l.tolerances.keys().cloned().collect())
             .unwrap_or_default();
-        let hint = crate::yaml::nearest(name, &[names.clone(), shared.clone()].concat())
+        let hint = crate::inputs::yaml::nearest(name, &[names.clone(), shared.clone()].concat())
             .map(|n| format!(" (did you mean `{n}`?)"))
             .unwrap_or_default();
         names.sort();
@@ -480,7 +480,7 @@ fn tolerance_of(
                 format!("`{name}` takes its interval from a derivative table, so it only applies to `derivative` checks"),
             )
         })?;
-        let table = crate::subject::load_table(
+        let table = crate::checks::subject::load_table(
             path,
             src,
             &dir.join(&from.file),
@@ -550,9 +550,9 @@ fn tolerance_of(
 /// file, with the reason (see [`Case::subject_of`]).
 pub fn with_corrections(
     case: &Case,
-    files: &[crate::corrections::CorrectionsFile],
+    files: &[crate::inputs::corrections::CorrectionsFile],
 ) -> Result<(Case, Vec<String>), String> {
-    use crate::corrections::Target;
+    use crate::inputs::corrections::Target;
     let mut c = case.clone();
     let mut used = Vec::new();
     let before = case.subject.clone();

@@ -16,9 +16,10 @@
 
 pub mod responses;
 
-use crate::aircraft_file::AircraftFile;
 use crate::fit::{self, Condition, Parameter, ParameterKind, Problem, Subject};
-use crate::ident::{self, record::Record};
+use crate::ident;
+use crate::inputs::aircraft::AircraftFile;
+use crate::inputs::record::Record;
 use serde::Serialize;
 
 /// A correction's default bounds when the command line gives none, with their source.
@@ -124,7 +125,7 @@ pub fn parameters(
             let asked = "asked for on the command line (--bounds)".to_string();
             let ((lower, upper, start), source) = match kind {
                 ParameterKind::Estimated(name) => (
-                    crate::fit_file::estimated_parameter(
+                    crate::fit::file::estimated_parameter(
                         Some(file),
                         name,
                         (r.bounds.map(|b| b.0), r.bounds.map(|b| b.1), None),
@@ -321,22 +322,27 @@ pub struct Revalidation {
 
 /// Runs every case the corrections apply to without and with them, and says what changed.
 pub fn revalidate(
-    cases: &[crate::case::Case],
-    corrections: &crate::corrections::CorrectionsFile,
+    cases: &[crate::suite::case::Case],
+    corrections: &crate::inputs::corrections::CorrectionsFile,
 ) -> Result<Revalidation, String> {
     let files = std::slice::from_ref(corrections);
-    let touched: Vec<(&crate::case::Case, crate::case::Case)> = cases
+    let touched: Vec<(&crate::suite::case::Case, crate::suite::case::Case)> = cases
         .iter()
-        .map(|c| crate::case::with_corrections(c, files).map(|(after, used)| (c, after, used)))
+        .map(|c| {
+            crate::suite::case::with_corrections(c, files).map(|(after, used)| (c, after, used))
+        })
         .collect::<Result<Vec<_>, _>>()?
         .into_iter()
         .filter(|(_, _, used)| !used.is_empty())
         .map(|(c, after, _)| (c, after))
         .collect();
     let ran = crate::parallel_map(&touched, |(before, after)| {
-        let (rb, ra) = (crate::eval::run_case(before), crate::eval::run_case(after));
-        let sb = crate::review::scores_of(before, &rb);
-        let sa = crate::review::scores_of(after, &ra);
+        let (rb, ra) = (
+            crate::suite::outcome::run_case(before),
+            crate::suite::outcome::run_case(after),
+        );
+        let sb = crate::suite::review::scores_of(before, &rb);
+        let sa = crate::suite::review::scores_of(after, &ra);
         (before.id.clone(), rb, ra, sb, sa)
     });
     let mut out = Revalidation::default();
@@ -470,7 +476,7 @@ pub fn markdown(
 ) -> String {
     // Long: one report, section by section in the order people read it
     use std::fmt::Write;
-    let g = crate::text::sig;
+    let g = crate::units::sig;
     let mut s = String::new();
     let _ = writeln!(s, "# Retune of {aircraft}\n");
     let _ = writeln!(

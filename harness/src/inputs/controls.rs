@@ -5,7 +5,7 @@
 //! (longitudinal stick, lateral stick, pedal, throttle). Values are interpolated linearly in
 //! time and held beyond the ends.
 
-use crate::yaml::InputError;
+use crate::inputs::yaml::InputError;
 use cierva_model::aircraft::Controls;
 use cierva_model::simulation::timehistory::TimeHistory;
 use std::path::Path;
@@ -58,7 +58,7 @@ impl ControlTable {
 
 /// Reads an input CSV; errors name the file, line and column.
 pub fn read(path: &Path) -> Result<ControlTable, InputError> {
-    let src = crate::yaml::read_csv(path)?;
+    let src = crate::inputs::yaml::read_csv(path)?;
     let mut lines = src
         .lines()
         .enumerate()
@@ -71,7 +71,7 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
     let at_cell = |line: usize, text: &str, cell: usize, msg: String| {
         let mut e = InputError::file(path, msg);
         e.line = Some(line + 1);
-        e.column = Some(crate::yaml::csv_field_column(text, cell));
+        e.column = Some(crate::inputs::yaml::csv_field_column(text, cell));
         e
     };
     let at_line = |line: usize, text: &str, msg: String| at_cell(line, text, 0, msg);
@@ -94,7 +94,7 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
                     .chain(CONTROL_COLUMNS.iter().copied())
                     .map(String::from)
                     .collect();
-                let hint = crate::yaml::nearest(n, &known)
+                let hint = crate::inputs::yaml::nearest(n, &known)
                     .map(|k| format!(" (did you mean `{k}`?)"))
                     .unwrap_or_default();
                 return Err(at_cell(

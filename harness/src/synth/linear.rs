@@ -7,8 +7,8 @@
 //! `omega x r` (seed 000 Eqs. 5-6 read backwards), and the record holds airspeed, vane angles,
 //! rates, attitudes, rotorspeed and controls, each with its own sensor noise.
 
-use super::record::{RecordMeta, Sensors, Synthetic};
-use crate::refs::Provenance;
+use crate::inputs::record::{RecordMeta, Sensors, Synthetic};
+use crate::inputs::reference::Provenance;
 use cierva_model::LinearModel;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -390,7 +390,7 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         s.sensors.probe_position_m[2] - s.sensors.cg_position_m[2],
     ];
     let control_channel = format!("{}_rad", s.control);
-    let names: Vec<String> = super::record::REQUIRED
+    let names: Vec<String> = crate::inputs::record::REQUIRED
         .iter()
         .map(|c| c.to_string())
         .chain([control_channel.clone()])

@@ -1,7 +1,7 @@
 //! Sensitivity of checked quantities to an aircraft's physical parameters: which parameter
 //! would close a discrepancy, and is the value it would need plausible?
 //!
-//! For each parameter (see [`crate::aircraft_file::PARAMETERS`]) the aircraft is trimmed and
+//! For each parameter (see [`crate::inputs::aircraft::PARAMETERS`]) the aircraft is trimmed and
 //! linearised with the parameter moved a step either way, and each quantity's derivative with
 //! respect to it is the central difference. For a quantity outside its bound, the change that
 //! alone would bring it to the nearer edge is the linear estimate `(edge - value) / (dq/dp)`,
@@ -9,8 +9,8 @@
 //! answer: a change that is large against the step is an extrapolation, and the table says by
 //! how many steps.
 
-use crate::aircraft_file::{AircraftFile, Range};
-use crate::parameters::{PARAMETERS, parameter, set_parameter};
+use crate::inputs::aircraft::{AircraftFile, Range};
+use crate::inputs::parameters::{PARAMETERS, parameter, set_parameter};
 use crate::{Loading, TrimRequest};
 use serde::Serialize;
 
@@ -112,7 +112,7 @@ pub fn check_names(
     for p in parameters {
         if parameter(&file.aircraft, p).is_none() {
             let names: Vec<String> = PARAMETERS.iter().map(|p| p.name.to_string()).collect();
-            let hint = crate::yaml::nearest(p, &names)
+            let hint = crate::inputs::yaml::nearest(p, &names)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
             return Err(format!(
@@ -313,11 +313,11 @@ pub fn table(s: &Study) -> String {
 /// `derivative` and `trim` checks there (those on the aircraft as it is: no `set`, ratio or
 /// corrections of their own), each with the bound its tolerance puts on it.
 pub fn from_case(
-    case: &crate::case::Case,
+    case: &crate::suite::case::Case,
     airspeed_mph: Option<f64>,
 ) -> Result<(AircraftFile, Loading, TrimRequest, Vec<Quantity>), String> {
     use crate::checks::What;
-    let crate::subject::Subject::Aircraft { file, loading } = &case.subject else {
+    let crate::checks::subject::Subject::Aircraft { file, loading } = &case.subject else {
         return Err(format!("{} is not a case of an aircraft", case.id));
     };
     let plain = |k: &crate::checks::Check| match &k.what {
@@ -363,15 +363,21 @@ pub fn from_case(
     {
         for e in &k.expectations {
             let name = match &k.what {
-                What::Derivative(d) if e.quantity == crate::quantity::Quantity::Value.name() => {
+                What::Derivative(d)
+                    if e.quantity == crate::inputs::quantity::Quantity::Value.name() =>
+                {
                     d.derivative.clone()
                 }
                 What::Derivative(_) => continue,
                 _ => e.quantity.clone(),
             };
-            let bound =
-                crate::tolerance::judge(&e.tolerance.kind, e.value, e.value.unwrap_or(0.0), None)
-                    .map(|j| [j.lower, j.upper]);
+            let bound = crate::checks::tolerance::judge(
+                &e.tolerance.kind,
+                e.value,
+                e.value.unwrap_or(0.0),
+                None,
+            )
+            .map(|j| [j.lower, j.upper]);
             if !quantities.iter().any(|q: &Quantity| q.name == name) {
                 quantities.push(Quantity { name, bound });
             }

@@ -12,7 +12,7 @@
 //! frequency and damping ([`LOOPS`]) as if the aircraft were a pure inertia:
 //! `delta = -(w^2 e + 2 zeta w rate) / M_delta`.
 
-use crate::ident::synth::Normal;
+use crate::synth::linear::Normal;
 use cierva_model::LinearModel;
 use serde::Serialize;
 

@@ -37,8 +37,8 @@
 //!   hinge_offset_m: "estimated: ..."
 //! ```
 
-use crate::refs::{Provenance, check_id};
-use crate::yaml::{self, InputError};
+use crate::inputs::reference::{Provenance, check_id};
+use crate::inputs::yaml::{self, InputError};
 use cierva_model::components::airfoil::{Airfoil, AnalyticalSection, SectionTable};
 use cierva_model::components::rotor::{Corrections, Distribution, Rotor};
 use serde::{Deserialize, Serialize};
@@ -148,7 +148,7 @@ pub struct RotorFileSpec {
     pub rotor: RotorSpec,
     pub sources: BTreeMap<String, String>,
     /// Plausible ranges of the estimated parameters
-    /// ([`crate::parameters::ROTOR_PARAMETERS`]), each with its source and distribution, as an
+    /// ([`crate::inputs::parameters::ROTOR_PARAMETERS`]), each with its source and distribution, as an
     /// aircraft file's: the inputs `cierva uncertainty` propagates through a rotor case.
     #[serde(default)]
     pub ranges: BTreeMap<String, crate::inputs::ranges::RangeSpec>,
@@ -305,13 +305,13 @@ fn checked_ranges(
     rotor: &Rotor,
     err: &dyn Fn(&str, String) -> InputError,
 ) -> Result<BTreeMap<String, crate::inputs::ranges::Range>, InputError> {
-    let names: Vec<String> = crate::parameters::ROTOR_PARAMETERS
+    let names: Vec<String> = crate::inputs::parameters::ROTOR_PARAMETERS
         .iter()
         .map(|p| p.name.to_string())
         .collect();
     let ranges = crate::inputs::ranges::checked(
         &spec.ranges,
-        &|name| crate::parameters::rotor_parameter(rotor, name),
+        &|name| crate::inputs::parameters::rotor_parameter(rotor, name),
         &names,
         "this rotor",
         err,

@@ -32,7 +32,7 @@
 //!                                      # (crate::fit::starts)
 //! ```
 //!
-//! A physical parameter (a name of [`crate::parameters::PARAMETERS`]) can be fitted only
+//! A physical parameter (a name of [`crate::inputs::parameters::PARAMETERS`]) can be fitted only
 //! where the aircraft file's source for it begins "estimated" and the file gives it a plausible
 //! range with a source: the fit moves what nobody measured, and no further than its sources
 //! allow. It starts from the file's value. An aircraft's targets are flown at their own loading
@@ -43,11 +43,11 @@
 //! the value, and an interval (95 % flight bounds) gives its midpoint with a standard error of
 //! the half-width over 1.96; such an interval can also be a hard or soft bound.
 
-use crate::case::{self, AircraftModelSpec, RotorModelSpec, ToleranceKind, TunnelSpec};
 use crate::checks::What;
 use crate::fit::{self, Bounds, Condition, Enforce, Measure, Parameter, ParameterKind};
-use crate::refs::Provenance;
-use crate::yaml::{self, InputError};
+use crate::inputs::reference::Provenance;
+use crate::inputs::yaml::{self, InputError};
+use crate::suite::case::{self, AircraftModelSpec, RotorModelSpec, ToleranceKind, TunnelSpec};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -205,7 +205,7 @@ pub struct FitFile {
     pub title: String,
     pub provenance: Provenance,
     /// The id of the aircraft or rotor file fitted (what the corrections apply to).
-    pub applies_to: crate::corrections::Target,
+    pub applies_to: crate::inputs::corrections::Target,
     pub problem: fit::Problem,
     pub origins: Vec<Origin>,
     /// Targets reported but not fitted (the fit's prediction error).
@@ -253,12 +253,12 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     let src = yaml::read(path)?;
     let spec: FitFileSpec = yaml::parse(path, &src)?;
     let err = |field: &str, m: String| InputError::field(path, &src, field, m);
-    crate::refs::check_id(path, &src, &spec.id)?;
+    crate::inputs::reference::check_id(path, &src, &spec.id)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut aircraft_file = None;
     let (subject, applies_to, subject_key) = match (&spec.subject.aircraft, &spec.subject.rotor) {
         (Some(a), None) => {
-            let file = crate::aircraft_file::load(&dir.join(&a.file))?;
+            let file = crate::inputs::aircraft::load(&dir.join(&a.file))?;
             let loading = crate::Loading {
                 mass_kg: a.mass_kg,
                 density_altitude_ft: a.density_altitude_ft,
@@ -267,12 +267,12 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             let subject = fit::Subject::Aircraft {
                 aircraft: Box::new(file.aircraft.clone()),
             };
-            let applies = crate::corrections::Target::Aircraft(file.id.clone());
+            let applies = crate::inputs::corrections::Target::Aircraft(file.id.clone());
             aircraft_file = Some(file);
             (subject, applies, key)
         }
         (None, Some(r)) => {
-            let file = crate::rotor_file::load(&dir.join(&r.file))?;
+            let file = crate::inputs::rotor::load(&dir.join(&r.file))?;
             let inflow = r.inflow.model(r.skew, r.descent);
             let key = SubjectKey::Rotor(file.id.clone(), inflow);
             (
@@ -280,7 +280,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
                     rotor: Box::new(file.rotor),
                     inflow,
                 },
-                crate::corrections::Target::Rotor(file.id),
+                crate::inputs::corrections::Target::Rotor(file.id),
                 key,
             )
         }
@@ -433,14 +433,14 @@ fn check_cross_validation(
 /// estimated and the file gives it a plausible range, which the bounds default to and may not
 /// leave; the start defaults to the file's value.
 pub fn estimated_parameter(
-    file: Option<&crate::aircraft_file::AircraftFile>,
+    file: Option<&crate::inputs::aircraft::AircraftFile>,
     name: &str,
     (lower, upper, start): (Option<f64>, Option<f64>, Option<f64>),
 ) -> Result<(f64, f64, f64), String> {
     let Some(file) = file else {
         return Err("a physical parameter belongs to an aircraft: the subject is a rotor".into());
     };
-    let Some(value) = crate::parameters::parameter(&file.aircraft, name) else {
+    let Some(value) = crate::inputs::parameters::parameter(&file.aircraft, name) else {
         return Err(format!("{} has no `{name}`", file.id));
     };
     let source = file.source_of(name).unwrap_or_default();
@@ -738,7 +738,7 @@ pub fn run(f: &FitFile) -> FitRun {
             }
         }
         let eig = |values: &[f64], (c, loading): (crate::TrimRequest, crate::Loading)| {
-            let mut set = crate::corrections::CorrectionSet::default();
+            let mut set = crate::inputs::corrections::CorrectionSet::default();
             for (par, v) in f.problem.parameters.iter().zip(values) {
                 par.kind.set(&mut set, *v);
             }
@@ -816,8 +816,8 @@ pub fn corrections_file(
     run: &FitRun,
     id: &str,
     command: &str,
-) -> crate::corrections::CorrectionsFileSpec {
-    use crate::corrections::{AppliesTo, CorrectionsFileSpec, Target};
+) -> crate::inputs::corrections::CorrectionsFileSpec {
+    use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec, Target};
     let r = &run.result;
     let se: serde_json::Map<String, serde_json::Value> = r
         .parameters

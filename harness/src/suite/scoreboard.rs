@@ -25,7 +25,7 @@
 //! - `unsolved`: how many checks found no equilibrium or could not be evaluated, lower is
 //!   better. Checks without a value are left out of the other metrics and counted here.
 
-use crate::yaml::{self, InputError};
+use crate::inputs::yaml::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -229,7 +229,7 @@ pub fn write(suite: &crate::suite::Suite, board: &Board) -> std::io::Result<bool
 pub fn render(board: &Board) -> String {
     use std::fmt::Write as _;
     let mut o = String::from(
-        "# Written by `cierva review --accept`: each data set's scores (see harness/src/scoreboard.rs\n\
+        "# Written by `cierva review --accept`: each data set's scores (see harness/src/suite/scoreboard.rs\n\
          # and the `scores` of its case). `cargo test` fails when a score gets worse than this by\n\
          # more than its noise floor. Do not edit by hand.\nscores:\n",
     );

@@ -2,15 +2,15 @@
 //! compares), then decide the outcome against the case's known discrepancies.
 //!
 //! # Margins and outcomes
-//! Each quantity is judged by [`crate::tolerance::judge`] (margins are positive when it
+//! Each quantity is judged by [`crate::checks::tolerance::judge`] (margins are positive when it
 //! passes; NaN never passes). A check passes when every expectation passes (and, for `bcar`,
 //! the verdict matches). An expected failure stays one only while the model gives what was
-//! recorded for it ([`crate::discrepancy`]); a check that cannot be evaluated, or computes a
+//! recorded for it ([`crate::suite::discrepancy`]); a check that cannot be evaluated, or computes a
 //! value that is not finite, is an `error`, whatever the case expects.
 
-use crate::case::Case;
 use crate::checks::{Check, CheckClass, CheckKind};
 pub use crate::checks::{Finding, Locus, PlotData, QuantityResult, Trace};
+use crate::suite::case::Case;
 use cierva_model::analysis::bcar::Verdict;
 use serde::Serialize;
 
@@ -21,7 +21,7 @@ pub enum Outcome {
     Pass,
     Fail,
     /// Failed, as the case says it would, and the model gives what was recorded for it (see
-    /// [`crate::discrepancy`]).
+    /// [`crate::suite::discrepancy`]).
     ExpectedFailure,
     /// Failed as the case says it would, but the model has left its recorded band (better or
     /// worse), or nothing was recorded: the discrepancy is to be reviewed
@@ -165,9 +165,12 @@ impl CheckResult {
 
 /// Every way the model has left its record, in words ("rpm 97.52: recorded 96.91 in [96.90,
 /// 96.92]"); empty when it has not.
-pub fn departures(result: &CheckResult, recorded: &crate::discrepancy::Recorded) -> Vec<String> {
+pub fn departures(
+    result: &CheckResult,
+    recorded: &crate::suite::discrepancy::Recorded,
+) -> Vec<String> {
     let mut out = Vec::new();
-    let fmt = |b: &crate::discrepancy::Band| {
+    let fmt = |b: &crate::suite::discrepancy::Band| {
         format!(
             "recorded {:.6e} in [{:.6e}, {:.6e}]",
             b.value, b.lower, b.upper
@@ -295,7 +298,7 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
                 None => vec![match &case.records_dir {
                     Some(dir) => format!(
                         "nothing is recorded for this check in {}",
-                        crate::discrepancy::path_for(dir, &case.id).display()
+                        crate::suite::discrepancy::path_for(dir, &case.id).display()
                     ),
                     None => format!(
                         "nothing is recorded for this check: the case is in no suite (no {} above it)",

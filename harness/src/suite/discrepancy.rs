@@ -16,7 +16,7 @@
 //! `1e-4 |value|` covers the model's convergence (trims to 1e-7 scaled residuals, finite
 //! differences in the linearisation, warm and cold starts).
 
-use crate::yaml::{self, InputError};
+use crate::inputs::yaml::{self, InputError};
 use cierva_model::analysis::bcar::Verdict;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -46,7 +46,7 @@ pub struct Recorded {
     /// The computed BCAR verdict, for `bcar` checks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,
-    /// The model found no equilibrium (see `eval::Finding`).
+    /// The model found no equilibrium (see `outcome::Finding`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub no_equilibrium: bool,
     /// The check's numbers beyond its expectations (see `CheckResult::fingerprint`).

@@ -8,7 +8,7 @@
 //! alone in a tunnel.
 //!
 //! A set can also carry values of an aircraft file's *estimated* physical parameters (the
-//! names of [`crate::parameters::PARAMETERS`]: a fin's area, the pod's side-force centre, an
+//! names of [`crate::inputs::parameters::PARAMETERS`]: a fin's area, the pod's side-force centre, an
 //! inertia), as a fit of them writes; they too need an aircraft. The aircraft file itself keeps
 //! its estimates: a fitted value is an overlay that `cierva validate --corrections` applies and
 //! the report names.
@@ -28,8 +28,8 @@
 //! fit: {...}                           # optional: the fit's status, standard errors, costs
 //! ```
 
-use crate::refs::Provenance;
-use crate::yaml::{self, InputError};
+use crate::inputs::reference::Provenance;
+use crate::inputs::yaml::{self, InputError};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::Rotor;
 use serde::{Deserialize, Serialize};
@@ -73,7 +73,7 @@ pub struct CorrectionSet {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile_drag_reynolds_exponent: Option<f64>,
     /// An aircraft's estimated physical parameters, by their names in
-    /// [`crate::parameters::PARAMETERS`].
+    /// [`crate::inputs::parameters::PARAMETERS`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub estimated: BTreeMap<String, f64>,
 }
@@ -188,7 +188,7 @@ impl CorrectionSet {
             a.hub_aoa_factor = Some(k);
         }
         for (name, v) in &self.estimated {
-            crate::parameters::set_parameter(a, name, *v)
+            crate::inputs::parameters::set_parameter(a, name, *v)
                 .ok_or_else(|| format!("`{name}` is not a physical parameter this aircraft has"))?;
         }
         let blade = CorrectionSet {
@@ -350,7 +350,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
     let src = yaml::read(path)?;
     let spec: CorrectionsFileSpec = yaml::parse(path, &src)?;
     let err = |field: &str, m: String| InputError::field(path, &src, field, m);
-    crate::refs::check_id(path, &src, &spec.id)?;
+    crate::inputs::reference::check_id(path, &src, &spec.id)?;
     let target = match (&spec.applies_to.aircraft, &spec.applies_to.rotor) {
         (Some(a), None) => Target::Aircraft(a.clone()),
         (None, Some(r)) => {
@@ -380,7 +380,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
             ));
         }
     }
-    let names = crate::parameters::physical_names();
+    let names = crate::inputs::parameters::physical_names();
     for (name, v) in &c.estimated {
         let field = format!("corrections.estimated.{name}");
         if !names.contains(name) {

@@ -22,7 +22,7 @@
 //!   - {name: L_p, units: 1/s, flight_95: [-2.727, -2.377], model_min_weight: -2.714}
 //! ```
 
-use crate::yaml::{self, InputError};
+use crate::inputs::yaml::{self, InputError};
 use cierva_model::LinearModel;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

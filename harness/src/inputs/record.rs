@@ -21,8 +21,8 @@
 //! controls: [eta_s_rad]
 //! ```
 
-use crate::refs::{Provenance, check_id};
-use crate::yaml::{self, InputError};
+use crate::inputs::reference::{Provenance, check_id};
+use crate::inputs::yaml::{self, InputError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -175,7 +175,7 @@ pub fn load_with(
     // The same, with the caret under the `k`-th comma-separated field of `text`.
     let at_field = |line: usize, text: &str, k: usize, msg: String| {
         let mut e = at(line, msg);
-        e.column = Some(crate::yaml::csv_field_column(text, k));
+        e.column = Some(crate::inputs::yaml::csv_field_column(text, k));
         e
     };
     let mut lines = src
@@ -208,7 +208,7 @@ pub fn load_with(
         .collect();
     for need in &needed {
         if !channels.iter().any(|c| c == need) {
-            let hint = crate::yaml::nearest(need, &unexpected)
+            let hint = crate::inputs::yaml::nearest(need, &unexpected)
                 .map(|c| format!("; `{c}` is there: misnamed, or in other units?"))
                 .unwrap_or_default();
             return Err(at(1, format!("channel `{need}` is missing{hint}")));

@@ -1,45 +1,15 @@
 //! Plain-text tables: modes, derivatives, Milne values and validation results.
 //!
-//! Numbers are written to a fixed number of significant digits ([`sig`]) so that snapshots do
+//! Numbers are written to a fixed number of significant digits ([`crate::units::sig`]) so that snapshots do
 //! not churn on the last bits of floating point.
 
-use crate::case::CheckClass;
-use crate::eval::{CheckResult, Outcome};
+use crate::suite::case::CheckClass;
+use crate::suite::outcome::{CheckResult, Outcome};
+use crate::units::{SIG, sig};
 use cierva_model::analysis::bcar;
 use cierva_model::analysis::milne;
 use cierva_model::{LinearModel, ModalAnalysis};
 use std::fmt::Write;
-
-/// Significant digits in snapshots and tables.
-pub const SIG: usize = 6;
-
-/// `x` to `digits` significant digits: plain decimals for 1e-4 <= |x| < 1e6, scientific
-/// otherwise; zero (of either sign) as `0`.
-pub fn sig(x: f64, digits: usize) -> String {
-    if x == 0.0 {
-        return "0".into();
-    }
-    if !x.is_finite() {
-        return format!("{x}");
-    }
-    let digits = digits.max(1);
-    let mag = x.abs().log10().floor() as i32;
-    if (-4..6).contains(&mag) {
-        let decimals = (digits as i32 - 1 - mag).max(0) as usize;
-        let s = format!("{x:.decimals$}");
-        // Rounding can carry into a new digit (9.99999 -> 10.0000); that is still fine.
-        if s.trim_start_matches('-')
-            .chars()
-            .all(|c| c == '0' || c == '.')
-        {
-            "0".into()
-        } else {
-            s
-        }
-    } else {
-        format!("{x:.*e}", digits - 1)
-    }
-}
 
 fn opt(x: Option<f64>) -> String {
     x.map_or_else(|| "-".into(), |v| sig(v, SIG))
@@ -237,7 +207,7 @@ pub fn autorotation_table(
     rows: &[(String, Result<crate::checks::result::Quantities, String>)],
 ) -> String {
     let mut s = String::new();
-    let names = crate::quantity::names(crate::quantity::AUTOROTATION);
+    let names = crate::inputs::quantity::names(crate::inputs::quantity::AUTOROTATION);
     let _ = write!(s, "{:<10}", "check");
     for n in &names {
         let _ = write!(s, " {n:>12}");
@@ -720,7 +690,7 @@ fn m_states(m: &LinearModel) -> &[String] {
 
 /// Time-history metrics of every `time_history` check of a case, response by response (for
 /// snapshots; four significant figures).
-pub fn time_history_table(rows: &[(String, Vec<crate::history::SignalMetrics>)]) -> String {
+pub fn time_history_table(rows: &[(String, Vec<crate::run::replay::SignalMetrics>)]) -> String {
     let mut s = format!(
         "{:<28} {:<10} {:>14} {:>12} {:>10} {:>10}\n",
         "check", "response", "max |error|", "at s", "rms error", "theil"

@@ -1,6 +1,6 @@
 //! Flight tests flown by the full individual-blade model: a pilot flying a test input
 //! ([`pilot`]) through turbulence ([`turbulence`]), recorded by instruments ([`sensors`]) in the
-//! identification format ([`crate::ident::record`]).
+//! identification format ([`crate::inputs::record`]).
 //!
 //! The record is what a flight-test installation gives (seed 000 Sec. II): airspeed and the
 //! vanes' angles at the air-data probe (air-relative, so the gusts are in them), body rates,
@@ -12,7 +12,7 @@ pub mod pilot;
 pub mod sensors;
 pub mod turbulence;
 
-use crate::ident::synth::{Input, Normal};
+use crate::synth::linear::{Input, Normal};
 use crate::{Loading, MPH_TO_M_S, TrimRequest};
 use cierva_model::aircraft::{Aircraft, Controls, FullState};
 use cierva_model::simulation::timehistory::{self, Drivers};
@@ -82,14 +82,14 @@ impl Flown {
         sample_rate_hz: f64,
         source: &str,
         condition: BTreeMap<String, serde_yaml::Value>,
-    ) -> crate::ident::record::Record {
-        use crate::ident::record::{Record, RecordMeta, Sensors};
+    ) -> crate::inputs::record::Record {
+        use crate::inputs::record::{Record, RecordMeta, Sensors};
         Record {
             path: format!("{id}.csv").into(),
             meta: RecordMeta {
                 id: id.to_string(),
                 title: id.to_string(),
-                provenance: crate::refs::Provenance {
+                provenance: crate::inputs::reference::Provenance {
                     source: source.to_string(),
                     notes: None,
                 },
@@ -125,7 +125,7 @@ pub const TEETER_CHANNELS: [&str; 4] = [
 /// controls, and a teetering rotor's channels).
 fn channel_names(teetering: bool) -> Vec<String> {
     let rotor: &[&str] = if teetering { &TEETER_CHANNELS } else { &[] };
-    crate::ident::record::REQUIRED
+    crate::inputs::record::REQUIRED
         .iter()
         .chain(CONTROL_CHANNELS.iter())
         .chain(rotor)
@@ -255,7 +255,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
         true_row(&start.aircraft, x, c, wind, arm, teetering)
     };
     let times: Vec<f64> = (0..=n).map(|k| k as f64 * dt).collect();
-    let rows = crate::history::resample(&h, &times, &|s: &timehistory::Sample| {
+    let rows = crate::run::replay::resample(&h, &times, &|s: &timehistory::Sample| {
         row(&s.state, &s.controls, wind(s.time_s))
     });
     let mut truth = vec![Vec::with_capacity(n + 1); names.len()];
@@ -296,7 +296,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
         },
     )
     .map_err(|(t, e)| format!("the trim's revolution failed at {t:.3} s: {e}"))?;
-    let mean = crate::history::revolution_mean(&revolution, &|x: &timehistory::Sample| {
+    let mean = crate::run::replay::revolution_mean(&revolution, &|x: &timehistory::Sample| {
         let b = &x.state.body;
         let i = &x.state.inflow;
         let mut r = row(&x.state, &x.controls, [0.0; 3]);

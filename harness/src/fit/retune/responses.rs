@@ -32,7 +32,7 @@
 //! exact for a linear aircraft whoever moves the controls). Each target's standard error is
 //! then that of what no control explains ([`Response::standard_error`]), with the model's
 //! responses to the other controls at the uncorrected aircraft for a first fit and at its
-//! corrections for the second ([`crate::retune::retune`]). Seen on the model's own flights
+//! corrections for the second ([`crate::fit::retune::retune`]). Seen on the model's own flights
 //! under its pilot's hold (the VPM M16's linearisation flown in a simulation with the pilot,
 //! 5 sets of four 120 s sweeps): at 0.15 Hz, where the pilot's roll and heading loops act,
 //! `q / eta_s` missed by 10 of its standard errors (rms over the real and imaginary parts) with
@@ -55,7 +55,7 @@
 use crate::checks::frequency_response::{COHERENCE_MIN, Point};
 use crate::fit::{Condition, Measure, ResponsePoint, Target};
 use crate::ident::frequency_response as fr;
-use crate::ident::record::Record;
+use crate::inputs::record::Record;
 use nalgebra::DMatrix;
 use rustfft::num_complex::Complex64 as C;
 use serde::Serialize;

@@ -20,8 +20,8 @@
 //! `controls_pct` applies to every control channel (`eta_*_pct`); a teetering rotor's hub
 //! speeds take the airspeed's sensor, and its azimuth is exact (a once-per-revolution pulse).
 
-use crate::ident::synth::Normal;
-use crate::yaml::{self, InputError};
+use crate::inputs::yaml::{self, InputError};
+use crate::synth::linear::Normal;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -210,7 +210,7 @@ impl Instrumentation {
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let src = yaml::read(path)?;
         let f: SensorsFile = yaml::parse(path, &src)?;
-        crate::refs::check_id(path, &src, &f.id)?;
+        crate::inputs::reference::check_id(path, &src, &f.id)?;
         let mut out = Self {
             id: f.id.clone(),
             title: f.title.clone(),

@@ -1,5 +1,5 @@
 //! Reviewing a run against what is committed: the known discrepancies' records
-//! ([`crate::discrepancy`]) and the scoreboard ([`crate::scoreboard`]). What `cierva review`
+//! ([`crate::suite::discrepancy`]) and the scoreboard ([`crate::suite::scoreboard`]). What `cierva review`
 //! shows and, with `--accept`, writes; what `cierva validate` and the scoreboard trials judge.
 //!
 //! # The acceptance log
@@ -11,10 +11,10 @@
 //! files are still what its last entry accepted, so that a score or a record never changes
 //! without a logged reason.
 
-use crate::discrepancy::{Band, CaseRecord, Recorded};
-use crate::eval::{CheckResult, Finding, departures};
-use crate::scoreboard::{Board, Change, Metric, Score, ScoreSpec, change};
-use crate::yaml::{self, InputError};
+use crate::inputs::yaml::{self, InputError};
+use crate::suite::discrepancy::{Band, CaseRecord, Recorded};
+use crate::suite::outcome::{CheckResult, Finding, departures};
+use crate::suite::scoreboard::{Board, Change, Metric, Score, ScoreSpec, change};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -64,7 +64,7 @@ pub struct CaseReview {
 
 /// Compares what the model gives for a case's expected failures (among `results`, the case's
 /// results) with its records.
-pub fn review(case: &crate::case::Case, results: &[CheckResult]) -> CaseReview {
+pub fn review(case: &crate::suite::case::Case, results: &[CheckResult]) -> CaseReview {
     let results: Vec<&CheckResult> = results
         .iter()
         .filter(|r| r.expected_failure.is_some())
@@ -223,7 +223,7 @@ pub fn compute(
 }
 
 /// Every score a case declares, computed from its results.
-pub fn scores_of(case: &crate::case::Case, results: &[CheckResult]) -> Vec<Score> {
+pub fn scores_of(case: &crate::suite::case::Case, results: &[CheckResult]) -> Vec<Score> {
     let tip_speed_ratio = |id: &str| {
         case.checks
             .iter()
@@ -354,7 +354,7 @@ impl Value {
     /// The value as a person reads it.
     pub fn show(&self) -> String {
         match self {
-            Self::Number(x) => crate::text::sig(*x, 6),
+            Self::Number(x) => crate::units::sig(*x, 6),
             Self::Text(t) => t.clone(),
         }
     }
@@ -433,7 +433,7 @@ fn summary(r: &Recorded) -> Value {
     let mut parts: Vec<String> = r
         .quantities
         .iter()
-        .map(|(q, b)| format!("{q} {}", crate::text::sig(b.value, 6)))
+        .map(|(q, b)| format!("{q} {}", crate::units::sig(b.value, 6)))
         .collect();
     if let Some(v) = r.verdict {
         parts.push(match v {

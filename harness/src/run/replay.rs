@@ -2,8 +2,8 @@
 //! or synthetic and labelled so), flown again by the model with the same control changes.
 //!
 //! # The reference record
-//! A record CSV with its sidecar YAML ([`crate::ident::record`]). Its `controls` (named in the
-//! sidecar) are among [`crate::controls_file::CONTROL_COLUMNS`]: changes from the trimmed
+//! A record CSV with its sidecar YAML ([`crate::inputs::record`]). Its `controls` (named in the
+//! sidecar) are among [`crate::inputs::controls::CONTROL_COLUMNS`]: changes from the trimmed
 //! controls, % of travel. Every other channel but `time_s` is a response among [`SIGNALS`]:
 //! a change from trim, in the units its name carries. Time starts at the record's first sample.
 //!
@@ -19,14 +19,11 @@
 //! `rms(model - ref) / (rms(model) + rms(ref))` (0 is a perfect match, 1 the worst;
 //! seed 000 Fig. 10 uses it).
 
-use crate::ident::record::{Record, RecordMeta, Synthetic};
-use crate::ident::synth::Normal;
-use crate::refs::Provenance;
+use crate::inputs::record::Record;
 use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::simulation::timehistory::{Sample, TimeHistory};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 
 /// Responses a reference record may carry (changes from trim).
 pub const SIGNALS: [&str; 10] = [
@@ -255,8 +252,8 @@ pub fn record_signals(record: &Record) -> Vec<String> {
 }
 
 /// Control changes from trim in a record, interpolated linearly and held beyond the ends.
-pub fn record_controls(record: &Record) -> Result<crate::controls_file::ControlTable, String> {
-    use crate::controls_file::{CONTROL_COLUMNS, ControlTable};
+pub fn record_controls(record: &Record) -> Result<crate::inputs::controls::ControlTable, String> {
+    use crate::inputs::controls::{CONTROL_COLUMNS, ControlTable};
     let t0 = record.channel("time_s").ok_or("the record has no time_s")?;
     let time_s: Vec<f64> = t0.iter().map(|t| t - t0[0]).collect();
     let mut changes: [Vec<f64>; 4] = Default::default();
@@ -375,114 +372,4 @@ pub fn fly_record(
         },
     )?;
     Ok((compare(record, &flown)?, flown))
-}
-
-/// Standard deviations of the sensor noise added to a synthetic record.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
-pub struct Noise {
-    pub speed_m_s: f64,
-    pub rate_deg_s: f64,
-    pub angle_deg: f64,
-    pub rpm: f64,
-}
-
-impl Noise {
-    fn of(&self, signal: &str) -> f64 {
-        if signal.ends_with("_m_s") {
-            self.speed_m_s
-        } else if signal.ends_with("_deg_s") {
-            self.rate_deg_s
-        } else if signal.ends_with("_deg") {
-            self.angle_deg
-        } else {
-            self.rpm
-        }
-    }
-}
-
-/// What a synthetic record says about itself.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SyntheticSpec {
-    pub id: String,
-    pub title: String,
-    pub aircraft: String,
-    /// The model that flew, for the sidecar (`../aircraft/vpm-m16.yaml, full-blade, ...`).
-    pub truth: String,
-    pub generator: String,
-    pub seed: u64,
-    pub condition: BTreeMap<String, serde_yaml::Value>,
-    pub settings: BTreeMap<String, String>,
-}
-
-/// A record's sidecar, channel names and one column per channel.
-pub type SyntheticRecord = (RecordMeta, Vec<String>, Vec<Vec<f64>>);
-
-/// A synthetic reference record: the control changes and the flown responses plus seeded
-/// Gaussian sensor noise, with a sidecar that says it is synthetic.
-pub fn synthesize(
-    flown: &Flown,
-    changes: &dyn Fn(f64) -> [f64; 4],
-    controls: &[&str],
-    noise: Noise,
-    spec: &SyntheticSpec,
-) -> Result<SyntheticRecord, String> {
-    use crate::controls_file::CONTROL_COLUMNS;
-    let mut channels = vec!["time_s".to_string()];
-    let mut data = vec![flown.time_s.clone()];
-    for c in controls {
-        let k = CONTROL_COLUMNS
-            .iter()
-            .position(|x| x == c)
-            .ok_or_else(|| format!("`{c}` is not one of {}", CONTROL_COLUMNS.join(", ")))?;
-        channels.push(c.to_string());
-        data.push(flown.time_s.iter().map(|&t| changes(t)[k]).collect());
-    }
-    let mut rng = Normal::new(spec.seed);
-    for (i, name) in SIGNALS.iter().enumerate() {
-        let sd = noise.of(name);
-        channels.push(name.to_string());
-        data.push(
-            flown.signals[i]
-                .iter()
-                .map(|v| v + sd * rng.sample())
-                .collect(),
-        );
-    }
-    let sample_rate_hz = if flown.time_s.len() > 1 {
-        1.0 / (flown.time_s[1] - flown.time_s[0])
-    } else {
-        return Err("a record needs at least two samples".into());
-    };
-    let mut settings = spec.settings.clone();
-    settings.insert(
-        "noise_sd".into(),
-        format!(
-            "speeds {} m/s, rates {} deg/s, angles {} deg, rotor {} rpm",
-            noise.speed_m_s, noise.rate_deg_s, noise.angle_deg, noise.rpm
-        ),
-    );
-    let meta = RecordMeta {
-        id: spec.id.clone(),
-        title: spec.title.clone(),
-        provenance: Provenance {
-            source: format!(
-                "synthetic: generated by {} (seed {}) from {}; responses are changes from trim",
-                spec.generator, spec.seed, spec.truth
-            ),
-            notes: None,
-        },
-        synthetic: Some(Synthetic {
-            generator: spec.generator.clone(),
-            seed: spec.seed,
-            truth: spec.truth.clone(),
-            settings,
-        }),
-        aircraft: spec.aircraft.clone(),
-        sample_rate_hz,
-        sensors: None,
-        condition: spec.condition.clone(),
-        trim: BTreeMap::new(),
-        controls: controls.iter().map(|c| c.to_string()).collect(),
-    };
-    Ok((meta, channels, data))
 }

@@ -21,7 +21,7 @@
 //! flight path; the difference is the angle of attack, a few degrees in level flight). The
 //! gust's gradients (its rotational components) are not modelled.
 
-use crate::ident::synth::Normal;
+use crate::synth::linear::Normal;
 use crate::units::FT_TO_M;
 use serde::Serialize;
 

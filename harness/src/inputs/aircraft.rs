@@ -71,13 +71,13 @@
 //!
 //! Every number under `aircraft` must be covered by a `sources` entry (its own path or a
 //! parent's), and every entry must name a path that exists. A range names a parameter of
-//! [`crate::parameters::PARAMETERS`], holds the file's value and has a source.
+//! [`crate::inputs::parameters::PARAMETERS`], holds the file's value and has a source.
 
-use crate::corrections::CorrectionSet;
-use crate::parameters::{PARAMETERS, parameter};
-use crate::refs::{Provenance, check_id};
-use crate::rotor_file::{self, RotorFile};
-use crate::yaml::{self, InputError};
+use crate::inputs::corrections::CorrectionSet;
+use crate::inputs::parameters::{PARAMETERS, parameter};
+use crate::inputs::reference::{Provenance, check_id};
+use crate::inputs::rotor::RotorFile;
+use crate::inputs::yaml::{self, InputError};
 use cierva_model::aircraft::{
     Aircraft, AircraftError, ControlMaps, Drive, InflowDynamics, LinearMap, MainRotor,
     PropellerInstallation, Rotation,
@@ -114,16 +114,16 @@ pub struct MainRotorSpec {
     pub pivot_m: [f64; 3],
     pub spindle_length_m: f64,
     #[serde(default)]
-    pub inflow: crate::rotor_file::InflowSpec,
+    pub inflow: crate::inputs::rotor::InflowSpec,
     #[serde(default)]
-    pub skew: crate::rotor_file::SkewSpec,
+    pub skew: crate::inputs::rotor::SkewSpec,
     /// Left out of the sources check while momentum theory (the default): an aircraft file
     /// that asks for the empirical curve says why.
     #[serde(
         default,
-        skip_serializing_if = "crate::rotor_file::DescentSpec::is_momentum"
+        skip_serializing_if = "crate::inputs::rotor::DescentSpec::is_momentum"
     )]
-    pub descent: crate::rotor_file::DescentSpec,
+    pub descent: crate::inputs::rotor::DescentSpec,
     /// In the full model: `dynamic` (seed 001 Eq. 3, the default) or `quasi_steady`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inflow_dynamics: Option<InflowDynamicsSpec>,
@@ -411,7 +411,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
     let a = &spec.aircraft;
     let dir = path.parent().unwrap_or(Path::new("."));
     let nested = |field: &str, file: &str| {
-        rotor_file::load(&dir.join(file))
+        super::rotor::load(&dir.join(file))
             .map_err(|e| err(field, format!("in the referenced file: {e}")))
     };
     let main_rotor_file = nested("aircraft.main_rotor.rotor_file", &a.main_rotor.rotor_file)?;

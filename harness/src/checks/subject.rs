@@ -1,9 +1,9 @@
 //! A case's subject: what its checks run on (a linear model, a published derivative table,
 //! an isolated rotor, a teeter record, or an aircraft), as written and as loaded.
 
-use crate::refs::{self, DerivativeTable, LinearModelSpec};
-pub use crate::rotor_file::{DescentSpec, InflowSpec, SkewSpec};
-use crate::yaml::InputError;
+use crate::inputs::reference::{self, DerivativeTable, LinearModelSpec};
+pub use crate::inputs::rotor::{DescentSpec, InflowSpec, SkewSpec};
+use crate::inputs::yaml::InputError;
 use cierva_model::LinearModel;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -161,22 +161,22 @@ pub enum Subject {
     },
     /// An isolated rotor, run with the given inflow model.
     Rotor {
-        file: Box<crate::rotor_file::RotorFile>,
+        file: Box<crate::inputs::rotor::RotorFile>,
         /// The tunnel solver: the inflow model the case names, and the blade integration's
         /// numerics and Newton tolerances (the model's defaults; a grid study refines them).
         solver: cierva_model::components::autorotation::Options,
     },
     /// An aircraft, its mass and air.
     Aircraft {
-        file: Box<crate::aircraft_file::AircraftFile>,
+        file: Box<crate::inputs::aircraft::AircraftFile>,
         loading: crate::Loading,
     },
     /// Another simulation (a command, or its outputs as files) at a loading.
     External(Box<crate::external::External>),
     /// A teeter record, its rotor and the analysis settings.
     FlapRecord {
-        record: Box<crate::ident::record::Record>,
-        rotor: Box<crate::rotor_file::RotorFile>,
+        record: Box<crate::inputs::record::Record>,
+        rotor: Box<crate::inputs::rotor::RotorFile>,
         settings: crate::ident::flap::FlapSettings,
     },
 }
@@ -241,7 +241,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         })));
     }
     if let Some(a) = &m.aircraft {
-        let file = crate::aircraft_file::load(&dir.join(&a.file)).map_err(|e| {
+        let file = crate::inputs::aircraft::load(&dir.join(&a.file)).map_err(|e| {
             err(
                 "model.aircraft.file",
                 format!("in the referenced file: {e}"),
@@ -257,7 +257,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         return load_files(path, src, dir, f);
     }
     if let Some(f) = &m.flap_record {
-        let rec = crate::ident::record::load_with(
+        let rec = crate::inputs::record::load_with(
             &dir.join(&f.file),
             &crate::ident::flap::FLAP_REQUIRED,
             false,
@@ -268,7 +268,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
                 format!("in the referenced record: {e}"),
             )
         })?;
-        let rotor = crate::rotor_file::load(&dir.join(&f.rotor)).map_err(|e| {
+        let rotor = crate::inputs::rotor::load(&dir.join(&f.rotor)).map_err(|e| {
             err(
                 "model.flap_record.rotor",
                 format!("in the referenced file: {e}"),
@@ -293,7 +293,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
     }
     if let Some(r) = &m.rotor {
         let rpath = dir.join(&r.file);
-        let file = crate::rotor_file::load(&rpath)
+        let file = crate::inputs::rotor::load(&rpath)
             .map_err(|e| err("model.rotor.file", format!("in the referenced file: {e}")))?;
         return Ok(Subject::Rotor {
             file: Box::new(file),
@@ -320,7 +320,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
     let tpath = dir.join(&t.file);
     let table = load_table(path, src, &tpath, "model.derivative_table.file")?;
     match table.columns.get(&t.column) {
-        Some(c) if c.kind == refs::ColumnKind::Value => {}
+        Some(c) if c.kind == reference::ColumnKind::Value => {}
         Some(_) => {
             return Err(err(
                 "model.derivative_table.column",
@@ -441,7 +441,7 @@ fn linear_model_file(
     err: impl Fn(String) -> InputError,
 ) -> Result<(PathBuf, LinearModel, BTreeMap<String, String>), InputError> {
     let rpath = dir.join(file);
-    let r = refs::load(&rpath).map_err(|e| err(format!("in the referenced file: {e}")))?;
+    let r = reference::load(&rpath).map_err(|e| err(format!("in the referenced file: {e}")))?;
     let model = r
         .linear_model
         .ok_or_else(|| err(format!("{} has no `linear_model` block", rpath.display())))?;
@@ -481,7 +481,7 @@ pub fn load_table(
     tpath: &Path,
     field: &str,
 ) -> Result<DerivativeTable, InputError> {
-    let r = refs::load(tpath)
+    let r = reference::load(tpath)
         .map_err(|e| InputError::field(path, src, field, format!("in the referenced file: {e}")))?;
     if r.table.rows.is_empty() {
         return Err(InputError::field(
