@@ -97,7 +97,14 @@ impl ShapeArgs {
     }
 }
 
-/// Arguments of `synth-history`.
+/// Write a synthetic time-history reference record (for `time_history` checks): the
+/// aircraft flown by the full blade model (or its linearisation) through a test input,
+/// responses as changes from trim plus seeded sensor noise, with a sidecar that says it is
+/// synthetic and how it was made.
+///
+/// Example: `cierva synth-history aircraft/vpm-m16.yaml --airspeed-mph 70 --shape doublet
+/// --amplitude-percent 2 --duration-s 8 --noise-rate-deg-s 0.2 --seed 7
+/// --output flight-refs/synthetic-vpm-m16-70mph-doublet.csv`
 #[derive(clap::Args)]
 pub(crate) struct SynthHistoryArgs {
     #[command(flatten)]
@@ -171,8 +178,20 @@ pub(crate) struct TunnelArgs {
     pub(crate) collective_deg: Option<f64>,
 }
 
-/// Arguments of `autorotate`: a tunnel condition as an angle and an airspeed, or as a tip-speed
-/// ratio and a rotor speed (the angle then found).
+/// Find the autorotative equilibrium of an isolated rotor in a wind tunnel: the rotorspeed
+/// at which the mean aerodynamic torque is zero, with lift and drag coefficients on
+/// q pi R^2, L/D, tip-speed ratio, thrust coefficient, flapping and inflow.
+///
+/// Example: `cierva autorotate aircraft/pca-2-rotor.yaml --alpha-deg 6.6 --airspeed-m-s 17.7
+/// --collective-deg 1.9`. `--alpha-deg 90` is vertical descent.
+///
+/// With `--tip-speed-ratio` and `--rotor-rpm` (or `--rpm`) instead, finds the angle of attack
+/// at which the rotor autorotates there (how TR 515 plots its data): `cierva autorotate
+/// aircraft/pca-2-rotor.yaml --tip-speed-ratio 0.5 --rotor-rpm 140 --collective-deg 1.9`.
+///
+/// `--format json` gives the condition (`airspeed_m_s`, `alpha_deg`, `rpm`), the quantities
+/// by the names cases use (`rotor_alpha_deg`, `rotor_rpm`, `lift_coefficient`,
+/// `drag_coefficient`, `lift_to_drag`, ...) and the model's whole equilibrium.
 #[derive(clap::Args)]
 pub(crate) struct AutorotateArgs {
     /// A rotor file (see aircraft/).
@@ -239,7 +258,12 @@ pub(crate) enum InputChoice {
     Step,
 }
 
-/// Arguments of `synth`.
+/// Fly a linear model through a test input and write a synthetic flight record
+/// (RECORD.csv and its sidecar RECORD.yaml), labelled synthetic with its generator, seed and
+/// truth.
+///
+/// Example: `cierva synth flight-refs/seed002-vpm-m16-60kn.yaml --control eta_s --shape sweep
+/// --amplitude-model-units 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
 #[derive(Parser)]
 pub(crate) struct SynthArgs {
     /// A reference file with a `linear_model` block (the truth).
@@ -298,7 +322,10 @@ pub(crate) struct SynthArgs {
     pub(crate) output: PathBuf,
 }
 
-/// Benchmarks of the model's building blocks (medians over repeats; see reports/benchmarks.md).
+/// Time the model's building blocks on the PCA-2 rotor (aircraft/pca-2-rotor.yaml) and
+/// print medians: the blade right-hand side, one periodic blade solution, one autorotation.
+///
+/// Example: `cargo run --release -- bench --repeat 51`
 #[derive(Parser)]
 pub(crate) struct BenchArgs {
     /// Repeats of each timed operation.
@@ -324,7 +351,16 @@ pub(crate) enum BenchGroup {
     Uncertainty,
 }
 
-/// What `sensitivity` studies: an aircraft at a condition, or a case's aircraft and checks.
+/// Which physical parameter would close a discrepancy, and is the value it would need
+/// plausible? Trims and linearises the aircraft with each parameter moved a step either way
+/// and prints every quantity's derivative with respect to each; for a quantity outside its
+/// check's bound, the change of each parameter alone that would bring it to the nearer edge
+/// (a linear estimate), against the parameter's plausible range from the aircraft file
+/// (`ranges:`).
+///
+/// Example: `cierva sensitivity --case cases/cierva-table2-vpm-m16-70mph-max-weight.yaml`,
+/// or `cierva sensitivity aircraft/vpm-m16.yaml --airspeed-mph 70 --quantities N_v,L_v
+/// --parameters airframe.fin.area_m2,mass.izz_kg_m2 --format json`.
 #[derive(clap::Args)]
 pub(crate) struct SensitivityArgs {
     /// An aircraft file (see aircraft/); or give --case.
@@ -366,7 +402,16 @@ pub(crate) enum Manoeuvre {
     Doublet,
 }
 
-/// `cierva synth-flight`.
+/// Fly a flight test with the full individual-blade model and record it in the
+/// identification format (`cierva identify` reads it): a pilot flies the input on one
+/// control with a loose attitude hold about slowly drifting references, through Dryden
+/// turbulence, and instruments with noise, bias and lag record air data at the probe,
+/// rates, attitudes, rotorspeed and every control at 100 Hz. The sidecar says it is
+/// synthetic, with the command, seed and truth.
+///
+/// Example: `cierva synth-flight aircraft/vpm-m16.yaml --airspeed-mph 70 --manoeuvre sweep
+/// --control eta_s --amplitude-percent 4 --turbulence-m-s 0.3 --seed 1
+/// --output /tmp/vpm-m16-70mph-sweep.csv`
 #[derive(clap::Args)]
 pub(crate) struct SynthFlightArgs {
     #[command(flatten)]
@@ -422,7 +467,15 @@ pub(crate) struct SynthFlightArgs {
     pub(crate) format: Format,
 }
 
-/// `cierva retune`.
+/// Retune corrections from flight records in one command: identify the records (each
+/// condition's together), fit the named corrections with clarabel so that the model's
+/// derivatives match the identified ones (weighted by their standard errors, within
+/// bounds), write the corrections file and a before/after report (derivatives against the
+/// bounds, modes, predictions of records not used), and run the validation suite's cases
+/// for this aircraft with the new corrections.
+///
+/// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
+/// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
 #[derive(clap::Args)]
 pub(crate) struct RetuneArgs {
     /// The aircraft file whose corrections to retune.
@@ -467,7 +520,16 @@ pub(crate) struct RetuneArgs {
     pub(crate) format: Format,
 }
 
-/// `cierva uncertainty`.
+/// The uncertainty of every check's quantities: the aircraft's estimated inputs sampled over
+/// their distributions (the aircraft file's `ranges:`; corrections excluded) on
+/// Owen-scrambled Sobol' points in a Saltelli design, every check evaluated at every point
+/// on every core; the numerical uncertainty from a refined discretisation; the data's from a
+/// tolerance's confidence level. For each validation check the comparison of ASME V&V 20:
+/// E = S - D, u_val = sqrt(u_num^2 + u_input^2 + u_D^2) and a verdict (agrees, model-form
+/// error, inconclusive), whether a pass is fragile, and the inputs by Sobol' total index.
+///
+/// Example: `cierva uncertainty cases/cierva-table2-vpm-m16-70mph-max-weight.yaml --samples
+/// 256 --format json`
 #[derive(clap::Args)]
 pub(crate) struct UncertaintyArgs {
     /// Case files or folders (default: cases/, and then only their validation checks, as with
@@ -509,7 +571,22 @@ pub(crate) enum ResponseFormat {
     Csv,
 }
 
-/// Arguments of `frequency-response`.
+/// A non-parametric frequency response from flight records: Welch's auto- and
+/// cross-spectra (Hann windows, 80 % overlap by default) over several window lengths,
+/// composited per frequency to minimise the random error (after CIFER, Tischler and Remple
+/// 2012, ch. 7-8), with coherence and the random error it implies (Bendat and Piersol 2010,
+/// ch. 9), on a log-spaced grid. Several records are averaged (not joined). With
+/// `--conditioned-on`, the response is conditioned on the other inputs (`H = G_xx^-1 G_xy`)
+/// and its coherence is the partial coherence.
+///
+/// `random_error` is the normalised random error of the magnitude (its standard deviation
+/// over |H|), which is also the phase's standard deviation in radians; `random_error_95`
+/// the half-width of the 95 % interval of ln|H| and of the phase. Exit code 2 for bad
+/// input (records at different sample rates, a missing channel, a window longer than a
+/// record, an input with no power in the band).
+///
+/// Example: `cierva frequency-response /tmp/vpm-m16-70mph-sweep.csv --input eta_s_pct
+/// --output q_rad_s --windows-s 10 20 40 --format json`
 #[derive(clap::Args)]
 pub(crate) struct FrequencyResponseArgs {
     /// Records (CSV, with the YAML sidecar beside each): their spectra are averaged together.
@@ -541,7 +618,24 @@ pub(crate) struct FrequencyResponseArgs {
     pub(crate) format: ResponseFormat,
 }
 
-/// Arguments of `verify`.
+/// Time-domain verification, as CIFER's VERIFY does (Tischler and Remple 2012): the
+/// identified model (a derivative table from `identify --format yaml`) and cierva's model
+/// (the aircraft linearised at the records' condition, as `identify --against`) are flown
+/// through each record's controls (perturbations about the sidecar's trim, piecewise linear
+/// between samples; RK4) from its first measured state, and compared with its measured
+/// states (air data converted to centre-of-mass velocities, as the identification does).
+///
+/// Per output and model: Theil's inequality coefficient `TIC = rms(y - z) / (rms(y) +
+/// rms(z))` (0 perfect, 1 worst; about 0.25-0.3 or less is usually taken as good agreement,
+/// Jategaonkar 2006, ch. 11), the RMS error in the output's units, the mean error, and the
+/// TIC with the mean error taken off (VERIFY fits a bias per output; a note beside the plain
+/// TIC). Exit code 2 for bad input (a record without a control the model needs, a control
+/// in a unit the model contradicts, an unknown output, an unreadable table).
+///
+/// Example: `cierva verify /tmp/vpm-m16-70mph-sweep.csv --identified
+/// /tmp/vpm-m16-70mph-sweep-derivatives.yaml --against aircraft/vpm-m16.yaml --figure
+/// /tmp/verify.svg` (the table from `cierva identify /tmp/vpm-m16-70mph-sweep.csv --format
+/// yaml`, saved under its id).
 #[derive(clap::Args)]
 pub(crate) struct VerifyArgs {
     /// Records (CSV, with the YAML sidecar beside each), all at one flight condition: each is

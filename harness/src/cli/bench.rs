@@ -44,7 +44,8 @@ fn time(f: &mut dyn FnMut()) -> f64 {
     t.elapsed().as_secs_f64()
 }
 
-pub(crate) fn bench(repeat: usize, format: Format, only: Option<BenchGroup>) -> ExitCode {
+pub(crate) fn bench(a: BenchArgs) -> ExitCode {
+    let (repeat, format, only) = (a.repeat, a.format, a.only);
     let root = match suite() {
         Ok(s) => s.root,
         Err(code) => return code,

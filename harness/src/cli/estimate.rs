@@ -7,7 +7,21 @@ use cierva_harness::estimate::{self, Derivation};
 use cierva_harness::inputs::aircraft::ConditionSpec;
 use cierva_model::estimate::{Estimate, Method};
 
-/// What `estimate` works on.
+/// Estimate an aircraft's tail and pod coefficients from its geometry by published methods,
+/// and print the derivation step by step: each step's value and range, its inputs and its
+/// method, each method's source (with its equation or chart) and stated accuracy, and the
+/// file's values beside the estimates. The fin's and tailplane's lift slopes (Helmbold's
+/// equation in DATCOM's form, at the fin's effective aspect ratio with the end plates of
+/// the body and the tailplane, DATCOM Sec. 5.3.1.1), their shares of the propeller's
+/// slipstream and its dynamic pressure (momentum theory, at the propeller's operating point
+/// in trim), the sidewash at the fin (the propeller's straightening and the pod's
+/// cross-flow) and the pod's Munk couple (slender-body theory). The file gives the geometry
+/// under `airframe`: a surface's `planform` (span_m, root_chord_m, tip_chord_m; optional
+/// half_chord_sweep_deg, section_lift_slope_per_rad and, for the fin, body_depth_m), the
+/// `pod` (length_m, width_m, height_m, centroid_m) and `estimates_at` (airspeed_mph,
+/// mass_kg, density_altitude_ft: where to trim).
+///
+/// Example: `cierva estimate aircraft/vpm-m16.yaml --format json`
 #[derive(clap::Args)]
 pub(crate) struct EstimateArgs {
     /// An aircraft file with a surface's `planform` or a `pod` under `airframe` (see aircraft/).

@@ -2,12 +2,43 @@
 
 use super::*;
 
-pub(crate) fn fit(
+/// Fit the model's empirical corrections (propeller blockage, hub angle-of-attack factor,
+/// profile drag and its Reynolds-number exponent, pitch offset, lateral inflow offset,
+/// elastic twist, hub drag) to flight references within bounds, and write the fitted
+/// corrections and a before/after table.
+///
+/// The fit file names the subject (an aircraft at a mass and density altitude, or a rotor in
+/// a tunnel), the parameters with their bounds, and the targets: checks of a case (each
+/// check's expected value, with its tolerance as the standard error) or references written
+/// out, with optional hard or soft bounds. See harness/src/fit/file.rs for the format.
+///
+/// Writes the corrections file (default: the suite's `corrections/fitted/<id>.yaml`, for
+/// `cierva validate --corrections`) and a Markdown report (default: the suite's `reports/fits/<id>.md`).
+/// Exit code 0 when the fit converged, 1 when it did not (iteration limit, infeasible, model
+/// failure), 2 on bad input.
+///
+/// Example: `cierva fit fits/pca-2-tr515.yaml`
+#[derive(clap::Args)]
+pub(crate) struct FitArgs {
+    /// The fit file.
     file: PathBuf,
+    /// Where to write the fitted corrections.
+    #[arg(long)]
     output: Option<PathBuf>,
+    /// Where to write the Markdown before/after report.
+    #[arg(long)]
     report: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
-) -> ExitCode {
+}
+
+pub(crate) fn fit(a: FitArgs) -> ExitCode {
+    let FitArgs {
+        file,
+        output,
+        report,
+        format,
+    } = a;
     use cierva_harness::fit;
     let (f, output, report) = match inputs(&file, output, report) {
         Ok(i) => i,

@@ -2,12 +2,74 @@
 
 use super::*;
 
-pub(crate) fn inflow(
-    path: PathBuf,
-    rotor: PathBuf,
-    settings: cierva_harness::ident::flap::FlapSettings,
+/// Write a synthetic teeter record of a rotor's autorotative equilibrium in a wind tunnel
+/// (for testing `cierva inflow`), labelled synthetic with its generator, seed and truth.
+///
+/// Example: `cierva synth-teeter aircraft/vpm-m16-rotor.yaml --alpha-deg 10 --airspeed-m-s 30 --output /tmp/teeter.csv`
+#[derive(clap::Args)]
+pub(crate) struct SynthTeeterArgs {
+    #[command(flatten)]
+    tunnel: TunnelArgs,
+    #[arg(long, default_value_t = 20.0)]
+    duration_s: f64,
+    #[arg(long, default_value_t = 200.0)]
+    sample_rate_hz: f64,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Standard deviation of the teeter angle's noise, deg.
+    #[arg(long, default_value_t = 0.0)]
+    noise_deg: f64,
+    #[arg(long)]
+    output: PathBuf,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
-) -> ExitCode {
+}
+
+/// Inflow components from a teeter record (seed 003): disc tilts by a harmonic fit over
+/// whole revolutions, then v0, v1s, v1c and coning (Eqs. 13-19).
+///
+/// Example: `cierva inflow flight-refs/synthetic-vpm-m16-rotor-teeter.csv --rotor aircraft/vpm-m16-rotor.yaml`
+#[derive(clap::Args)]
+pub(crate) struct InflowArgs {
+    /// A teeter record (channels time_s, teeter_rad, azimuth_from_front_rad,
+    /// omega_rotor_rad_s, hub_inplane_speed_m_s, hub_normal_speed_m_s) with its sidecar.
+    record: PathBuf,
+    /// The rotor file (radius, chord, pitch, section, flap inertia).
+    #[arg(long)]
+    rotor: PathBuf,
+    /// Coning: unknown (a teetering rotor; Eq. 19) or the mean of the flap channel.
+    #[arg(long, value_enum, default_value_t = cierva_harness::ident::flap::Coning::Unknown)]
+    coning: cierva_harness::ident::flap::Coning,
+    /// tan(chi/2) for Eq. 19: one, or from Eq. 5 (signed) or Eq. 6 (modulus).
+    #[arg(long, value_enum, default_value_t = cierva_harness::ident::flap::HalfSkew::One)]
+    skew: cierva_harness::ident::flap::HalfSkew,
+    /// Air density, kg/m^3 (for the Lock number).
+    #[arg(long, default_value_t = 1.225)]
+    density_kg_m3: f64,
+    /// Blade pitch at the rotor's reference station, deg (default: the file's pitch).
+    #[arg(long, allow_hyphen_values = true)]
+    collective_deg: Option<f64>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+}
+
+pub(crate) fn inflow(a: InflowArgs) -> ExitCode {
+    let InflowArgs {
+        record: path,
+        rotor,
+        coning,
+        skew,
+        density_kg_m3,
+        collective_deg,
+        format,
+    } = a;
+    let settings = cierva_harness::ident::flap::FlapSettings {
+        coning,
+        skew,
+        density_kg_m3,
+        collective_deg,
+    };
     use cierva_harness::ident::flap;
     use cierva_harness::inputs::record;
     let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
@@ -47,14 +109,22 @@ pub(crate) fn inflow(
     }
 }
 
-pub(crate) fn synth_teeter(
-    rotor: PathBuf,
-    alpha_deg: f64,
-    airspeed_m_s: f64,
-    collective_deg: Option<f64>,
-    (duration_s, sample_rate_hz, seed, noise_deg): (f64, f64, u64, f64),
-    (output, format): (PathBuf, Format),
-) -> ExitCode {
+pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> ExitCode {
+    let SynthTeeterArgs {
+        tunnel:
+            TunnelArgs {
+                rotor,
+                alpha_deg,
+                airspeed_m_s,
+                collective_deg,
+            },
+        duration_s,
+        sample_rate_hz,
+        seed,
+        noise_deg,
+        output,
+        format,
+    } = a;
     use cierva_harness::inputs::record;
     if let Err(e) = cierva_harness::inputs::limits::record_samples(duration_s, sample_rate_hz) {
         eprintln!("error: {e}");

@@ -2,7 +2,6 @@
 
 use super::*;
 
-/// `cierva init`.
 #[derive(clap::Args)]
 pub(crate) struct InitArgs {
     /// The folder to make a suite (made if missing; `.` for the working directory).

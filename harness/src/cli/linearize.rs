@@ -2,7 +2,24 @@
 
 use super::*;
 
-pub(crate) fn linearize(f: FlightArgs, format: LinearFormat) -> ExitCode {
+/// Trim and linearise an aircraft (seed 001 Eqs. 10-12): the nine rigid-body states and the
+/// rotorspeed, controls in % of travel, blades and inflow quasi-steady. Prints the
+/// derivatives, the modes with BCAR Section T, the longitudinal subset's modes and the
+/// primary derivatives split by component (seed 000 Tables 1-2).
+///
+/// Example: `cierva linearize aircraft/vpm-m16.yaml --airspeed-mph 69 --mass-kg 425
+/// --density-altitude-ft 2000 --format yaml > /tmp/model.yaml`
+#[derive(clap::Args)]
+pub(crate) struct LinearizeArgs {
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// text, json (derivatives and breakdown) or yaml (a flight-refs file with the model).
+    #[arg(long, value_enum, default_value_t = LinearFormat::Text)]
+    format: LinearFormat,
+}
+
+pub(crate) fn linearize(a: LinearizeArgs) -> ExitCode {
+    let LinearizeArgs { flight: f, format } = a;
     let file = match load_flight(&f) {
         Ok(f) => f,
         Err(code) => return code,

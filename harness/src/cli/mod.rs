@@ -19,21 +19,21 @@ mod bench;
 mod estimate;
 mod fit;
 mod frequency_response;
-pub(crate) mod identify;
+mod identify;
 mod inflow;
 mod init;
 mod linearize;
 mod modes;
 mod new_case;
 mod retune;
-pub(crate) mod review;
+mod review;
 mod sensitivity;
 mod simulate;
 mod synth;
 mod synth_flight;
 mod synth_history;
 mod trim;
-pub(crate) mod uncertainty;
+mod uncertainty;
 mod validate;
 mod verify;
 
@@ -41,23 +41,24 @@ pub(crate) use args::*;
 pub(crate) use autorotate::autorotate;
 pub(crate) use bench::bench;
 pub(crate) use estimate::{EstimateArgs, estimate};
-pub(crate) use fit::fit;
+pub(crate) use fit::{FitArgs, fit};
 pub(crate) use frequency_response::frequency_response;
 pub(crate) use identify::{IdentifyArgs, identify};
-pub(crate) use inflow::{inflow, synth_teeter};
+pub(crate) use inflow::{InflowArgs, SynthTeeterArgs, inflow, synth_teeter};
 pub(crate) use init::{InitArgs, init};
-pub(crate) use linearize::linearize;
-pub(crate) use modes::modes;
-pub(crate) use new_case::new_case;
+pub(crate) use linearize::{LinearizeArgs, linearize};
+pub(crate) use modes::{ModesArgs, modes};
+pub(crate) use new_case::{NewCaseArgs, new_case};
 pub(crate) use retune::retune;
+pub(crate) use review::{ReviewArgs, review};
 pub(crate) use sensitivity::sensitivity;
-pub(crate) use simulate::simulate;
+pub(crate) use simulate::{SimulateArgs, simulate};
 pub(crate) use synth::synth;
 pub(crate) use synth_flight::synth_flight;
 pub(crate) use synth_history::synth_history;
-pub(crate) use trim::trim;
+pub(crate) use trim::{TrimArgs, trim};
 pub(crate) use uncertainty::uncertainty;
-pub(crate) use validate::validate;
+pub(crate) use validate::{ValidateArgs, validate};
 pub(crate) use verify::verify;
 
 /// A progress bar on stderr for `len` steps (hidden with `--quiet` or off a terminal).
@@ -219,4 +220,64 @@ pub(crate) fn show(paths: &[PathBuf]) -> String {
         .map(|p| p.display().to_string())
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// The aircraft (with its corrections) linearised at the records' condition, which must be
+/// one condition: quasi-statically, and (with `flapping`) with its flapping states (or why
+/// not). `identify --against` and `verify` both use it.
+pub(crate) fn linearised_against(
+    aircraft: &Path,
+    corrections: Option<&PathBuf>,
+    recs: &[cierva_harness::inputs::record::Record],
+    flapping: bool,
+) -> Result<
+    (
+        cierva_model::LinearModel,
+        Option<Result<cierva_model::aircraft::flapping::WithFlapping, String>>,
+    ),
+    ExitCode,
+> {
+    let conditions = recs
+        .iter()
+        .map(cierva_harness::ident::record_condition)
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        })?;
+    let (request, loading) = conditions[0];
+    if let Some((k, _)) = conditions
+        .iter()
+        .enumerate()
+        .find(|(_, c)| **c != conditions[0])
+    {
+        eprintln!(
+            "error: {} and {} are not at one condition ({:?} against {:?}): identify each condition on its own",
+            recs[0].path.display(),
+            recs[k].path.display(),
+            conditions[0],
+            conditions[k]
+        );
+        return Err(ExitCode::from(2));
+    }
+    let flight = FlightArgs {
+        aircraft: aircraft.to_path_buf(),
+        airspeed_mph: request.airspeed_mph,
+        mass_kg: loading.mass_kg,
+        climb_m_s: request.climb_m_s,
+        density_altitude_ft: loading.density_altitude_ft,
+        corrections: corrections.cloned(),
+    };
+    let file = load_flight(&flight)?;
+    cierva_harness::run_linearise(&file.aircraft, request, loading)
+        .map(|(trim, lin)| {
+            let with_flapping = flapping.then(|| {
+                cierva_harness::run_linearise_with_flapping(&file.aircraft, &trim, loading)
+            });
+            (lin.model, with_flapping)
+        })
+        .map_err(|e| {
+            eprintln!("error: {}: {e}", aircraft.display());
+            ExitCode::from(1)
+        })
 }

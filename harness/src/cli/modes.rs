@@ -2,7 +2,30 @@
 
 use super::*;
 
-pub(crate) fn modes(file: PathBuf, sweep: Option<String>, format: Format) -> ExitCode {
+/// Print the modes, BCAR Section T verdicts and weakly coupled systems values of a linear
+/// model held in a reference file.
+///
+/// Example: `cierva modes flight-refs/seed002-vpm-m16-60kn.yaml`
+///
+/// With `--sweep Q_u=0.06:0.26:11`, prints the root locus instead: the modes at 11 evenly
+/// spaced values of the derivative Q_u from 0.06 to 0.26 (in the derivative's own units).
+#[derive(clap::Args)]
+pub(crate) struct ModesArgs {
+    /// A reference file with a `linear_model` block.
+    file: PathBuf,
+    /// Root-locus sweep: `DERIVATIVE=FROM:TO:POINTS`, for example `M_Omega=-0.0096:0.0096:9`.
+    #[arg(long)]
+    sweep: Option<String>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+}
+
+pub(crate) fn modes(a: ModesArgs) -> ExitCode {
+    let ModesArgs {
+        file,
+        sweep,
+        format,
+    } = a;
     let r = match reference::load(&file) {
         Ok(r) => r,
         Err(e) => {

@@ -4,7 +4,20 @@
 
 use super::*;
 
-pub(crate) fn new_case(path: PathBuf, format: Format) -> ExitCode {
+/// Write a commented case file to start from (it validates as it is written).
+///
+/// Example: `cierva new-case cases/my-aircraft-70mph.yaml`
+#[derive(clap::Args)]
+pub(crate) struct NewCaseArgs {
+    /// The case file to write; its id is the file name without `.yaml`.
+    path: PathBuf,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+}
+
+pub(crate) fn new_case(a: NewCaseArgs) -> ExitCode {
+    let NewCaseArgs { path, format } = a;
     let Some(id) = path.file_stem().map(|s| s.to_string_lossy().to_string()) else {
         eprintln!("error: {}: not a file name", path.display());
         return ExitCode::from(2);

@@ -14,6 +14,35 @@ use super::*;
 use cierva_harness::suite::review::{self as rv, Acceptance};
 use cierva_harness::suite::{discrepancy, scoreboard};
 
+/// Review the known discrepancies: run every check that is expected to fail and compare
+/// what the model gives with what is recorded for it in `reports/discrepancies/`.
+///
+/// A check marked `expected_failure` stays one only while the model stays inside its
+/// recorded bands; when the model moves (better or worse), `cargo test` and `cierva validate`
+/// fail it as "discrepancy moved". This command lists what moved; `--accept` records the
+/// model's values as they are now (as `cargo insta review` accepts snapshots), with a
+/// reason (`--reason`), appending an entry to `reports/acceptances.yaml`: the date, commit,
+/// reason, each change (old, new, better or worse) and the fingerprint of the files
+/// written. Exit code 0 when nothing moved or all was accepted, 1 otherwise, 2 on bad input
+/// (`--accept` without `--reason`).
+///
+/// Example: `cierva review cases/naca-tr515-table-iii.yaml`, then `cierva review --accept
+/// --reason "hub drag from the fitted corrections"`
+#[derive(clap::Args)]
+pub(crate) struct ReviewArgs {
+    /// Case files or folders searched for `*.yaml` (default: `cases`).
+    paths: Vec<PathBuf>,
+    /// Record the model's values as they are now (needs `--reason`).
+    #[arg(long)]
+    accept: bool,
+    /// Why the scores and records may change (required with `--accept`): logged in
+    /// `reports/acceptances.yaml` with what changed.
+    #[arg(long, value_name = "TEXT")]
+    reason: Option<String>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+}
+
 /// The reason to log when accepting, or why the arguments are refused: `--accept` needs a
 /// reason that says something, and `--reason` goes only with `--accept`.
 fn reason_for(accept: bool, reason: Option<String>) -> Result<Option<String>, &'static str> {
@@ -38,12 +67,13 @@ fn reason_for(accept: bool, reason: Option<String>) -> Result<Option<String>, &'
 /// Runs the review. Exit 0 when nothing moved (or everything was accepted), 1 when something
 /// moved and was not accepted or an expected failure could not be evaluated, 2 on bad input
 /// (`--accept` without `--reason` among it).
-pub(crate) fn run(
-    paths: Vec<PathBuf>,
-    accept: bool,
-    reason: Option<String>,
-    format: Format,
-) -> ExitCode {
+pub(crate) fn review(a: ReviewArgs) -> ExitCode {
+    let ReviewArgs {
+        paths,
+        accept,
+        reason,
+        format,
+    } = a;
     let reason = match reason_for(accept, reason) {
         Ok(r) => r,
         Err(e) => {

@@ -2,17 +2,54 @@
 
 use super::*;
 
-pub(crate) fn simulate(
-    f: FlightArgs,
-    (input, shape, control): (
-        Option<PathBuf>,
-        Option<cierva_harness::synth::linear::Input>,
-        String,
-    ),
-    (duration_s, azimuth_step_deg, every): (f64, Option<f64>, usize),
+/// Fly the full individual-blade model from trim (refined to the full model's periodic
+/// orbit) with control inputs: a shape on one control, or a CSV of control changes from
+/// trim. Fixed-step fourth-order Runge-Kutta at the aircraft's azimuth step (or
+/// `--azimuth-step-deg`). Writes time, controls, body states, rotor and propeller speeds,
+/// flapping and inflow as CSV.
+///
+/// Example: `cierva simulate aircraft/vpm-m16.yaml --airspeed-mph 70 --shape doublet
+/// --control eta_s --amplitude-percent 2 --start-s 1 --input-s 1 --duration-s 10
+/// --output /tmp/doublet.csv`
+#[derive(clap::Args)]
+pub(crate) struct SimulateArgs {
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// A CSV of control changes from trim (time_s and any of eta_s_percent, eta_c_percent,
+    /// eta_p_percent, eta_t_percent); instead of --shape.
+    #[arg(long)]
+    controls_csv: Option<PathBuf>,
+    #[command(flatten)]
+    shape: ShapeArgs,
+    /// Length of the run, s.
+    #[arg(long, default_value_t = 10.0)]
+    duration_s: f64,
+    /// Azimuth step of the integration, deg (default: the aircraft file's).
+    #[arg(long)]
+    azimuth_step_deg: Option<f64>,
+    /// Keep every n-th step.
+    #[arg(long, default_value_t = 1)]
+    every: usize,
+    /// The CSV to write.
+    #[arg(long)]
     output: PathBuf,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
-) -> ExitCode {
+}
+
+pub(crate) fn simulate(a: SimulateArgs) -> ExitCode {
+    let SimulateArgs {
+        flight: f,
+        controls_csv: input,
+        shape,
+        duration_s,
+        azimuth_step_deg,
+        every,
+        output,
+        format,
+    } = a;
+    let (shape, control) = (shape.input(), shape.control);
     use cierva_harness::inputs::controls;
     let file = match load_flight(&f) {
         Ok(f) => f,

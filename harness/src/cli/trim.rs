@@ -2,12 +2,30 @@
 
 use super::*;
 
-pub(crate) fn trim(
-    flight: &FlightArgs,
-    request: cierva_harness::TrimRequest,
-    loading: cierva_harness::Loading,
+/// Trim an aircraft in steady flight: stick, pedal and throttle positions, pitch and roll
+/// attitude, rotor and propeller speeds, inflow and flapping, with the residuals the
+/// Newton solver reached (converged when every scaled residual is at most 1e-7).
+///
+/// Example: `cierva trim aircraft/vpm-m16.yaml --airspeed-mph 70 --mass-kg 410`
+#[derive(clap::Args)]
+pub(crate) struct TrimArgs {
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// Rate of turn, deg/s; positive to starboard.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    turn_rate_deg_s: f64,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
-) -> ExitCode {
+}
+
+pub(crate) fn trim(a: TrimArgs) -> ExitCode {
+    let TrimArgs {
+        flight,
+        turn_rate_deg_s,
+        format,
+    } = a;
+    let (request, loading) = (flight.request(turn_rate_deg_s), flight.loading());
+    let flight = &flight;
     let file = match load_flight(flight) {
         Ok(f) => f,
         Err(code) => return code,

@@ -4,7 +4,64 @@ use super::*;
 use cierva_harness::inputs::corrections;
 use cierva_harness::suite::{case, review, scoreboard};
 
-pub(crate) fn validate(
+/// Run validation cases and print a table of every check.
+///
+/// Example: `cierva validate cases/seed002-vpm-m16-60kn.yaml --format json`
+///
+/// With `--corrections FIT_RESULT.yaml` (as `cierva fit` writes), every case whose aircraft or
+/// rotor the file names is run with those corrections; expected failures that now pass are
+/// reported as unexpected passes.
+#[derive(clap::Args)]
+pub(crate) struct ValidateArgs {
+    /// Case files or folders searched for `*.yaml` (default: the suite's cases folder).
+    paths: Vec<PathBuf>,
+    /// Corrections files to apply (repeatable).
+    #[arg(long)]
+    corrections: Vec<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+    /// Where to write the report: `index.html` (self-contained, with plots) and
+    /// `summary.md` (default: the suite's reports folder).
+    #[arg(long)]
+    report_dir: Option<PathBuf>,
+    /// Write no report.
+    #[arg(long)]
+    no_report: bool,
+    /// Also each check's uncertainty and, for validation checks, its V&V 20 verdict (as
+    /// `cierva uncertainty`, with --samples and --seed): under `uncertainty` in the JSON,
+    /// and in the report.
+    #[arg(long)]
+    uncertainty: bool,
+    /// With --uncertainty: base points of the Saltelli design (at least 8).
+    #[arg(long, default_value_t = 64, requires = "uncertainty")]
+    samples: usize,
+    /// With --uncertainty: the Sobol' sequence's seed.
+    #[arg(long, default_value_t = 0, requires = "uncertainty")]
+    seed: u32,
+}
+
+pub(crate) fn validate(a: ValidateArgs) -> ExitCode {
+    use cierva_harness::uncertainty::{design::MIN_SAMPLES, propagate};
+    if a.uncertainty && a.samples < MIN_SAMPLES {
+        eprintln!(
+            "error: --samples {}: give at least {MIN_SAMPLES}",
+            a.samples
+        );
+        return ExitCode::from(2);
+    }
+    let uncertainty = a.uncertainty.then_some(propagate::Settings {
+        samples: a.samples,
+        seed: a.seed,
+        validation_only: true,
+        method: propagate::Method::Auto,
+    });
+    let report_dir = (!a.no_report).then_some(a.report_dir);
+    validate_with(a.paths, a.corrections, a.format, report_dir, uncertainty)
+}
+
+/// `validate` with its arguments checked: the report's folder (`None`: no report; `Some(None)`:
+/// the suite's) and the uncertainty's settings (`None`: none).
+fn validate_with(
     paths: Vec<PathBuf>,
     corrections: Vec<PathBuf>,
     format: Format,

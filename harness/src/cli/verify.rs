@@ -84,8 +84,7 @@ pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
         return ExitCode::from(2);
     }
     let spin = spinner("linearising the aircraft at the records' condition");
-    let linearised =
-        super::identify::linearised_against(&a.against, a.corrections.as_ref(), &records, false);
+    let linearised = linearised_against(&a.against, a.corrections.as_ref(), &records, false);
     spin.finish_and_clear();
     let lin = match linearised {
         Ok((m, _)) => m,
