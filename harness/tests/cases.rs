@@ -11,7 +11,7 @@
 //! names the file, line, column and field. No case files at all is a failing trial too.
 //!
 //! Each check is evaluated once, however many trials read its result (its own, the case's
-//! `::scores`, `readme::validation-table`).
+//! `::scores`, `docs::readme-validation-table`).
 
 use cierva_harness::checks::What;
 use cierva_harness::report::tables;
@@ -96,54 +96,93 @@ fn main() {
                     }
                 }
             }
-            trials.push(
-                Trial::test("readme::validation-table", move || {
-                    readme_validation_table(&cases)
-                })
-                .with_kind("docs"),
-            );
+            let cases = Arc::new(cases);
+            let docs: [(&str, DocsCheck); 4] = [
+                ("docs::readme-validation-table", readme_validation_table),
+                ("docs::readme-class-table", |c| {
+                    generated(
+                        "README.md",
+                        "class-table",
+                        &tables::class_table(&all_results(c)),
+                    )
+                }),
+                ("docs::validation-class-table", |c| {
+                    generated(
+                        "docs/validation.md",
+                        "class-table",
+                        &tables::class_table(&all_results(c)),
+                    )
+                }),
+                ("docs::validation-scoreboard", docs_scoreboard_table),
+            ];
+            for (name, check) in docs {
+                let cases = cases.clone();
+                trials.push(Trial::test(name, move || check(&cases)).with_kind("docs"));
+            }
         }
     }
     libtest_mimic::run(&args, trials).exit();
 }
 
+/// A generated section of a document, checked against every case's results.
+type DocsCheck = fn(&[Arc<Evaluated>]) -> Result<(), Failed>;
+
 /// Renders one snapshot of a linear model.
 type Snapshotter = fn(&cierva_model::LinearModel) -> Result<String, String>;
+
+/// Every check's result, every case's.
+fn all_results(cases: &[Arc<Evaluated>]) -> Vec<outcome::CheckResult> {
+    cases
+        .iter()
+        .flat_map(|e| (0..e.case.checks.len()).map(|i| e.result(i).clone()))
+        .collect()
+}
 
 /// The README's validation table must be what the validation checks give (every case is
 /// loaded here, so the table is the suite's).
 fn readme_validation_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
-    let results: Vec<outcome::CheckResult> = cases
-        .iter()
-        .flat_map(|e| {
-            let validation =
-                e.case.checks.iter().enumerate().filter(|(_, k)| {
-                    k.class == cierva_harness::suite::case::CheckClass::Validation
-                });
-            validation
-                .map(|(i, _)| e.result(i).clone())
-                .collect::<Vec<_>>()
-        })
+    let validation: Vec<outcome::CheckResult> = all_results(cases)
+        .into_iter()
+        .filter(|r| r.class == cierva_harness::suite::case::CheckClass::Validation)
         .collect();
-    let want = tables::validation_table(&results);
-    let readme = std::fs::read_to_string(repo_root().join("README.md"))?;
-    let start = "<!-- validation-table:start";
-    let got = readme
-        .find(start)
+    generated(
+        "README.md",
+        "validation-table",
+        &tables::validation_table(&validation),
+    )
+}
+
+/// `docs/validation.md`'s scoreboard table must be the committed scoreboard's (which the
+/// `::scores` trials hold to the run, and the acceptance log to its last entry).
+fn docs_scoreboard_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
+    let board = cierva_harness::suite::scoreboard::load(&suite()).map_err(|e| e.render())?;
+    let cases: Vec<&cierva_harness::suite::case::Case> = cases.iter().map(|e| &e.case).collect();
+    generated(
+        "docs/validation.md",
+        "scoreboard-table",
+        &tables::scoreboard_table(&board, &cases),
+    )
+}
+
+/// A generated section of a document: the text between `<!-- NAME:start ... -->` (to the end
+/// of its line) and `<!-- NAME:end -->` in `file` (relative to the repository) must be `want`.
+fn generated(file: &str, name: &str, want: &str) -> Result<(), Failed> {
+    let text = std::fs::read_to_string(repo_root().join(file))?;
+    let start = format!("<!-- {name}:start");
+    let end = format!("<!-- {name}:end -->");
+    let got = text
+        .find(&start)
         .and_then(|a| {
-            let body = &readme[a..];
+            let body = &text[a..];
             let first = body.find('\n')? + 1;
-            let end = body.find("<!-- validation-table:end -->")?;
-            Some(&body[first..end])
+            let stop = body.find(&end)?;
+            Some(&body[first..stop])
         })
-        .ok_or("README.md has no validation-table markers")?;
+        .ok_or(format!("{file} has no {name} markers"))?;
     if got == want {
         Ok(())
     } else {
-        Err(format!(
-            "README.md's validation table is not what the checks give; replace it with:\n{want}"
-        )
-        .into())
+        Err(format!("{file}'s {name} is not what the run gives; replace it with:\n{want}").into())
     }
 }
 

@@ -5,6 +5,7 @@
 
 use crate::suite::case::CheckClass;
 use crate::suite::outcome::{CheckResult, Outcome};
+use crate::suite::scoreboard::{Board, Metric};
 use crate::units::{SIG, sig};
 use cierva_model::analysis::bcar;
 use cierva_model::analysis::milne;
@@ -415,6 +416,79 @@ pub fn validation_table(results: &[CheckResult]) -> String {
         all.pass,
         all.expected_failure
     );
+    s
+}
+
+/// The Markdown table of every check by class (the README's and `docs/validation.md`'s
+/// "Cross-code and verification"): checks, passes and known discrepancies (expected
+/// failures), one row per class that has checks, and a total row.
+pub fn class_table(results: &[CheckResult]) -> String {
+    let mut s = String::from(
+        "| class | checks | pass | known discrepancies |\n| --- | ---: | ---: | ---: |\n",
+    );
+    let mut all = Counts::default();
+    for (class, k) in counts_by_class(results) {
+        if k.total() == 0 {
+            continue;
+        }
+        all.merge(&k);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            class.name(),
+            k.total(),
+            k.pass,
+            k.expected_failure
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| **all** | **{}** | **{}** | **{}** |",
+        all.total(),
+        all.pass,
+        all.expected_failure
+    );
+    s
+}
+
+/// A committed score as people read it: a relative error in percent, a count of checks or
+/// rows as a whole number, anything else to three significant digits.
+pub fn score_value(metric: Metric, value: f64) -> String {
+    match metric {
+        Metric::RmsRelativeError | Metric::PeakRelativeError => {
+            format!("{} %", sig(100.0 * value, 3))
+        }
+        Metric::Inside | Metric::Unsolved => format!("{value:.0}"),
+        _ => sig(value, 3),
+    }
+}
+
+/// The Markdown table of the committed scoreboard (`docs/validation.md`'s "The scoreboard"),
+/// generated from it rather than typed: every declared score of the given cases, by case, with
+/// its metric, quantity and committed value (`-` where nothing is committed).
+pub fn scoreboard_table(board: &Board, cases: &[&crate::suite::case::Case]) -> String {
+    let mut s = String::from(
+        "| data set (case) | score | metric | quantity | committed value |\n| --- | --- | --- | --- | ---: |\n",
+    );
+    let mut cases: Vec<_> = cases.iter().filter(|c| !c.scores.is_empty()).collect();
+    cases.sort_by(|a, b| a.id.cmp(&b.id));
+    for case in cases {
+        for spec in &case.scores {
+            let value = board
+                .scores
+                .get(&case.id)
+                .and_then(|s| s.get(&spec.id))
+                .map_or("-".to_string(), |c| score_value(spec.metric, c.value));
+            let _ = writeln!(
+                s,
+                "| `{}` | `{}` | {} | {} | {value} |",
+                case.id,
+                spec.id,
+                spec.metric.name(),
+                spec.quantity.as_deref().unwrap_or("checks"),
+            );
+        }
+    }
     s
 }
 

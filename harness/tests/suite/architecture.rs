@@ -478,3 +478,41 @@ fn the_harness_library_holds_no_tests_that_never_run() {
         .collect();
     assert!(stranded.is_empty(), "tests that never run: {stranded:?}");
 }
+
+/// `ARCHITECTURE.md`'s code map matches the tree: every folder and every source file of both
+/// crates (but `mod.rs`, `lib.rs` and `main.rs` beside it) is named in it, as `` `name/` `` or
+/// `` `name.rs` `` (a command's module by the command's name), so a module added, moved or renamed without the map fails.
+#[test]
+fn the_code_map_names_every_module() {
+    let root = super::common::repo_root();
+    let map = std::fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap();
+    let mut missing = Vec::new();
+    for krate in ["harness/src", "model/src"] {
+        let mut files = Vec::new();
+        rust_files(&root.join(krate), &mut files);
+        for f in files {
+            let rel = f.strip_prefix(root.join(krate)).unwrap();
+            let name = rel.file_name().unwrap().to_string_lossy().into_owned();
+            // The commands' modules (`cli/validate.rs`) are listed by command name.
+            let stem = name.trim_end_matches(".rs");
+            let named = map.contains(&format!("`{name}`"))
+                || (rel.starts_with("cli") && map.contains(&format!("`{stem}`")));
+            if !["mod.rs", "lib.rs", "main.rs"].contains(&name.as_str()) && !named {
+                missing.push(format!("{krate}/{}", rel.display()));
+            }
+            for dir in rel.ancestors().skip(1) {
+                let Some(d) = dir.file_name() else { continue };
+                let d = d.to_string_lossy();
+                if !map.contains(&format!("`{d}/")) && !map.contains(&format!("{d}/`")) {
+                    missing.push(format!("{krate}/{}/", dir.display()));
+                }
+            }
+        }
+    }
+    missing.sort();
+    missing.dedup();
+    assert!(
+        missing.is_empty(),
+        "ARCHITECTURE.md's code map does not name: {missing:?}"
+    );
+}
