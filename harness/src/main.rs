@@ -79,7 +79,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     let _ = SUITE_ARG.set(cli.suite);
-    match cli.command {
+    let run = match cli.command {
         Command::Validate(a) => validate(a),
         Command::Review(a) => review(a),
         Command::Fit(a) => fit(a),
@@ -103,5 +103,6 @@ fn main() -> ExitCode {
         Command::SynthFlight(a) => synth_flight(a),
         Command::Retune(a) => retune(a),
         Command::Trim(a) => trim(a),
-    }
+    };
+    run.unwrap_or_else(Error::exit)
 }

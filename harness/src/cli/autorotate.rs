@@ -4,38 +4,30 @@
 use super::*;
 
 /// The rotor file with `--corrections` applied (the file must name this rotor).
-fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::RotorFile, ExitCode> {
+fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::RotorFile, Error> {
     use cierva_harness::inputs::corrections::{self, Target};
-    let located = |e: cierva_harness::inputs::yaml::InputError| {
-        eprintln!("{}", e.render());
-        ExitCode::from(2)
-    };
+    let located = |e: cierva_harness::inputs::yaml::InputError| Error::Input(e.render());
     let mut file = cierva_harness::inputs::rotor::load(&a.rotor).map_err(located)?;
     let Some(path) = &a.corrections else {
         return Ok(file);
     };
     let c = corrections::load(path).map_err(located)?;
     if c.target != Target::Rotor(file.id.clone()) {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: {} corrects {:?}, not the rotor {}",
             path.display(),
             c.target,
             file.id
-        );
-        return Err(ExitCode::from(2));
+        )));
     }
-    c.corrections.apply_to_rotor(&mut file.rotor).map_err(|e| {
-        eprintln!("error: {}: {e}", path.display());
-        ExitCode::from(2)
-    })?;
+    c.corrections
+        .apply_to_rotor(&mut file.rotor)
+        .map_err(|e| Error::Input(format!("error: {}: {e}", path.display())))?;
     Ok(file)
 }
 
-pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
-    let file = match load_rotor(&a) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
+    let file = load_rotor(&a)?;
     let inflow = a.inflow.model(a.skew, a.descent);
     let run = match (a.alpha_deg, a.airspeed_m_s, a.tip_speed_ratio, a.rotor_rpm) {
         (Some(alpha_deg), Some(airspeed_m_s), None, None) => run_autorotation(
@@ -64,17 +56,16 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
             )
         }),
         _ => {
-            eprintln!(
-                "error: give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm"
-            );
-            return ExitCode::from(2);
+            return Err(Error::Input("error: give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm".into()));
         }
     };
     let (alpha_deg, airspeed_m_s, e, stiffness) = match run {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {}: {e}", a.rotor.display());
-            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+            return Err(Error::of(
+                e.is_input(),
+                format!("error: {}: {e}", a.rotor.display()),
+            ));
         }
     };
     match a.format {
@@ -103,7 +94,7 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> ExitCode {
         }
         Format::Text => print_text(&file, alpha_deg, airspeed_m_s, &e),
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 fn print_text(

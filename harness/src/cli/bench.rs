@@ -44,20 +44,16 @@ fn time(f: &mut dyn FnMut()) -> f64 {
     t.elapsed().as_secs_f64()
 }
 
-pub(crate) fn bench(a: BenchArgs) -> ExitCode {
+pub(crate) fn bench(a: BenchArgs) -> Result<ExitCode, Error> {
     let (repeat, format, only) = (a.repeat, a.format, a.only);
-    let root = match suite() {
-        Ok(s) => s.root,
-        Err(code) => return code,
-    };
+    let root = suite()?.root;
     // The rows time this repository's own aircraft, records and scripts.
     let marker = root.join("aircraft/vpm-m16.yaml");
     if !marker.is_file() {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: {}: not found: `cierva bench` times cierva's own aircraft and records; run it in cierva's repository",
             marker.display()
-        );
-        return ExitCode::from(2);
+        )));
     }
     let out = Rows {
         format,
@@ -71,10 +67,7 @@ pub(crate) fn bench(a: BenchArgs) -> ExitCode {
     let runs = |g: BenchGroup| only.is_none_or(|o| o == g);
     let mut sink = 0.0;
     if runs(BenchGroup::Rotor) {
-        sink += match rotor(&out, repeat) {
-            Ok(s) => s,
-            Err(code) => return code,
-        };
+        sink += rotor(&out, repeat)?;
     }
     if runs(BenchGroup::Aircraft) {
         sink += aircraft(&out, repeat);
@@ -123,21 +116,15 @@ pub(crate) fn bench(a: BenchArgs) -> ExitCode {
             serde_json::json!({"repeat": repeat, "rows": measured}),
         );
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The isolated rotor: blade right-hand side, periodic blade solution, autorotation (the PCA-2
 /// at TR 515 Table III row 19).
-fn rotor(out: &Rows, repeat: usize) -> Result<f64, ExitCode> {
+fn rotor(out: &Rows, repeat: usize) -> Result<f64, Error> {
     use cierva_model::components::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
     let path = out.file("aircraft/pca-2-rotor.yaml");
-    let file = match cierva_harness::inputs::rotor::load(&path) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return Err(ExitCode::from(2));
-        }
-    };
+    let file = cierva_harness::inputs::rotor::load(&path).map_err(|e| Error::Input(e.render()))?;
     let rotor = &file.rotor;
     // TR 515 Table III row 19 conditions (mu 0.275, alpha 5.5 deg, 100 rpm), 1.9 deg pitch.
     let omega = 100.0 * std::f64::consts::PI / 30.0;

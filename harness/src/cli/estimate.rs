@@ -41,11 +41,8 @@ pub(crate) struct EstimateArgs {
     pub(crate) format: Format,
 }
 
-pub(crate) fn estimate(a: EstimateArgs) -> ExitCode {
-    let file = match load_aircraft(&a.aircraft) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+pub(crate) fn estimate(a: EstimateArgs) -> Result<ExitCode, Error> {
+    let file = load_aircraft(&a.aircraft)?;
     let given = file.estimate_inputs.as_ref().and_then(|i| i.at);
     let at = a.airspeed_mph.map(|v| ConditionSpec {
         airspeed_mph: v,
@@ -71,7 +68,6 @@ pub(crate) fn estimate(a: EstimateArgs) -> ExitCode {
     let d = match result {
         Ok(d) => d,
         Err(e) => {
-            eprintln!("error: {}: {e}", a.aircraft.display());
             let input = matches!(
                 e,
                 estimate::EstimateRunError::NoGeometry(_)
@@ -80,14 +76,17 @@ pub(crate) fn estimate(a: EstimateArgs) -> ExitCode {
                     | estimate::EstimateRunError::Estimate(_)
                     | estimate::EstimateRunError::Input(_)
             );
-            return ExitCode::from(if input { 2 } else { 1 });
+            return Err(Error::of(
+                input,
+                format!("error: {}: {e}", a.aircraft.display()),
+            ));
         }
     };
     match a.format {
         Format::Json => print_json(&d),
         Format::Text => print!("{}", text_report(&d)),
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 fn range(e: &Estimate) -> String {

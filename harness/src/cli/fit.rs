@@ -32,7 +32,7 @@ pub(crate) struct FitArgs {
     format: Format,
 }
 
-pub(crate) fn fit(a: FitArgs) -> ExitCode {
+pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
     let FitArgs {
         file,
         output,
@@ -40,10 +40,7 @@ pub(crate) fn fit(a: FitArgs) -> ExitCode {
         format,
     } = a;
     use cierva_harness::fit;
-    let (f, output, report) = match inputs(&file, output, report) {
-        Ok(i) => i,
-        Err(code) => return code,
-    };
+    let (f, output, report) = inputs(&file, output, report)?;
     let busy = spinner(&if f.starts > 1 {
         format!("fitting {} from {} starts", f.id, f.starts)
     } else {
@@ -58,8 +55,10 @@ pub(crate) fn fit(a: FitArgs) -> ExitCode {
     let cv = match cv {
         Ok(cv) => cv,
         Err(e) => {
-            eprintln!("error: cross-validation of {}: {e}", f.id);
-            return ExitCode::from(1);
+            return Err(Error::Failure(format!(
+                "error: cross-validation of {}: {e}",
+                f.id
+            )));
         }
     };
     let id = output
@@ -111,8 +110,9 @@ pub(crate) fn fit(a: FitArgs) -> ExitCode {
         Ok(())
     })();
     if let Err(e) = written {
-        eprintln!("error: writing the fit's results: {e}");
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: writing the fit's results: {e}"
+        )));
     }
     match format {
         Format::Json => print_json(&serde_json::json!({
@@ -138,9 +138,9 @@ pub(crate) fn fit(a: FitArgs) -> ExitCode {
         }
     }
     if run.result.status == cierva_harness::fit::Status::Converged {
-        ExitCode::SUCCESS
+        Ok(ExitCode::SUCCESS)
     } else {
-        ExitCode::from(1)
+        Ok(ExitCode::from(1))
     }
 }
 
@@ -150,12 +150,9 @@ fn inputs(
     file: &Path,
     output: Option<PathBuf>,
     report: Option<PathBuf>,
-) -> Result<(cierva_harness::fit::file::FitFile, PathBuf, PathBuf), ExitCode> {
+) -> Result<(cierva_harness::fit::file::FitFile, PathBuf, PathBuf), Error> {
     use cierva_harness::suite::Suite;
-    let f = cierva_harness::fit::file::load(file).map_err(|e| {
-        eprintln!("{}", e.render());
-        ExitCode::from(2)
-    })?;
+    let f = cierva_harness::fit::file::load(file).map_err(|e| Error::Input(e.render()))?;
     let output = or_in_suite(output, Suite::fitted, format!("{}.yaml", f.id))?;
     let report = or_in_suite(report, Suite::fit_reports, format!("{}.md", f.id))?;
     Ok((f, output, report))

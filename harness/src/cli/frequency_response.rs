@@ -6,25 +6,20 @@ use cierva_harness::ident::frequency_response::{self as fr, Estimate, FrError};
 use cierva_harness::inputs::record::{self, Record};
 use cierva_harness::inputs::yaml::InputError;
 
-fn fail(e: InputError) -> ExitCode {
-    eprintln!("{}", e.render());
-    ExitCode::from(2)
-}
-
 /// Loads the records with the channels the response needs, all at one sample rate.
-fn load(a: &FrequencyResponseArgs) -> Result<Vec<Record>, ExitCode> {
+fn load(a: &FrequencyResponseArgs) -> Result<Vec<Record>, Error> {
     let mut needed = vec!["time_s", a.input.as_str(), a.output.as_str()];
     needed.extend(a.conditioned_on.iter().map(String::as_str));
     let mut records: Vec<Record> = Vec::new();
     for p in &a.records {
-        let r = record::load_with(p, &needed, false).map_err(fail)?;
+        let r = record::load_with(p, &needed, false)?;
         if let Some(first) = records.first()
             && (r.meta.sample_rate_hz - first.meta.sample_rate_hz).abs()
                 > fr::ROUNDING * first.meta.sample_rate_hz
         {
             let side = record::sidecar_path(p);
-            let src = cierva_harness::inputs::yaml::read(&side).map_err(fail)?;
-            return Err(fail(InputError::field(
+            let src = cierva_harness::inputs::yaml::read(&side)?;
+            return Err(Error::from(InputError::field(
                 &side,
                 &src,
                 "sample_rate_hz",
@@ -65,11 +60,8 @@ fn located(e: &FrError, records: &[Record], inputs: &[&str]) -> String {
     }
 }
 
-pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> ExitCode {
-    let records = match load(&a) {
-        Ok(r) => r,
-        Err(code) => return code,
-    };
+pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> Result<ExitCode, Error> {
+    let records = load(&a)?;
     let inputs: Vec<&str> = std::iter::once(a.input.as_str())
         .chain(a.conditioned_on.iter().map(String::as_str))
         .collect();
@@ -104,8 +96,7 @@ pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> ExitCode {
     let est = match fr::estimate(&runs, &settings) {
         Ok(e) => e,
         Err(e) => {
-            eprintln!("{}", located(&e, &records, &inputs));
-            return ExitCode::from(2);
+            return Err(Error::Input(located(&e, &records, &inputs).to_string()));
         }
     };
     match a.format {
@@ -113,7 +104,7 @@ pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> ExitCode {
         ResponseFormat::Csv => print!("{}", csv(&est)),
         ResponseFormat::Text => print!("{}", table(&a, &records, &est)),
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 /// One input's columns as JSON (null where nothing is estimated).

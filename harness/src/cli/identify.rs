@@ -48,7 +48,7 @@ pub(crate) struct IdentifyArgs {
     predict: Option<PathBuf>,
 }
 
-pub(crate) fn identify(a: IdentifyArgs) -> ExitCode {
+pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
     let (format, predict) = (a.format, a.predict.clone());
     // Long: one command in the order it works: load, set up, identify, compare, print, predict
     let mut recs = Vec::with_capacity(a.records.len());
@@ -56,8 +56,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> ExitCode {
         match record::load(p) {
             Ok(r) => recs.push(r),
             Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
+                return Err(Error::Input(e.render()));
             }
         }
     }
@@ -72,18 +71,11 @@ pub(crate) fn identify(a: IdentifyArgs) -> ExitCode {
             match ident::ConfigSpec::for_setup(setup, rec) {
                 Ok(c) => c,
                 Err(e) => {
-                    eprintln!("error: {e}");
-                    return ExitCode::from(2);
+                    return Err(Error::Input(format!("error: {e}")));
                 }
             }
         }
-        Some(p) => match ident::ConfigSpec::load(p) {
-            Ok(c) => c,
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
-            }
-        },
+        Some(p) => ident::ConfigSpec::load(p).map_err(|e| Error::Input(e.render()))?,
     };
     // The command line's blade count over the set-up's.
     if a.blades.is_some() {
@@ -92,8 +84,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> ExitCode {
     let result = match ident::identify_records(&recs, &cfg) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
     let compared = match &a.against {
@@ -112,7 +103,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> ExitCode {
                 }
                 Some(rows)
             }
-            Err(code) => return code,
+            Err(e) => return Err(e),
         },
     };
     match format {
@@ -149,12 +140,11 @@ pub(crate) fn identify(a: IdentifyArgs) -> ExitCode {
                 }
             }
             Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(2);
+                return Err(Error::Input(format!("error: {e}")));
             }
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 fn print_text(

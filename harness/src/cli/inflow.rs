@@ -54,7 +54,7 @@ pub(crate) struct InflowArgs {
     format: Format,
 }
 
-pub(crate) fn inflow(a: InflowArgs) -> ExitCode {
+pub(crate) fn inflow(a: InflowArgs) -> Result<ExitCode, Error> {
     let InflowArgs {
         record: path,
         rotor,
@@ -74,13 +74,7 @@ pub(crate) fn inflow(a: InflowArgs) -> ExitCode {
     use cierva_harness::inputs::record;
     let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
         .and_then(|rec| cierva_harness::inputs::rotor::load(&rotor).map(|r| (rec, r)));
-    let (rec, file) = match loaded {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
+    let (rec, file) = loaded.map_err(|e| Error::Input(e.render()))?;
     match flap::inflow_from_record(&rec, &file.rotor, &settings) {
         Ok(r) => {
             match format {
@@ -100,16 +94,13 @@ pub(crate) fn inflow(a: InflowArgs) -> ExitCode {
                     );
                 }
             }
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
+        Err(e) => Err(Error::Input(format!("error: {e}"))),
     }
 }
 
-pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> ExitCode {
+pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> Result<ExitCode, Error> {
     let SynthTeeterArgs {
         tunnel:
             TunnelArgs {
@@ -127,16 +118,9 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> ExitCode {
     } = a;
     use cierva_harness::inputs::record;
     if let Err(e) = cierva_harness::inputs::limits::record_samples(duration_s, sample_rate_hz) {
-        eprintln!("error: {e}");
-        return ExitCode::from(2);
+        return Err(Error::Input(format!("error: {e}")));
     }
-    let file = match cierva_harness::inputs::rotor::load(&rotor) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
+    let file = cierva_harness::inputs::rotor::load(&rotor).map_err(|e| Error::Input(e.render()))?;
     let inflow = InflowModel::PetersHaQuang {
         wake: WakeModel::SEED_001,
     };
@@ -150,8 +134,7 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> ExitCode {
     ) {
         Ok(a) => a,
         Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+            return Err(Error::of(e.is_input(), format!("error: {e}")));
         }
     };
     let id = output
@@ -195,11 +178,11 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> ExitCode {
                     "coning_deg": a.a0_rad.to_degrees(),
                 }),
             );
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: cannot write {}: {e}", output.display());
-            ExitCode::from(2)
-        }
+        Err(e) => Err(Error::Input(format!(
+            "error: cannot write {}: {e}",
+            output.display()
+        ))),
     }
 }

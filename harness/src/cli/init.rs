@@ -11,7 +11,7 @@ pub(crate) struct InitArgs {
     pub(crate) format: Format,
 }
 
-pub(crate) fn init(a: InitArgs) -> ExitCode {
+pub(crate) fn init(a: InitArgs) -> Result<ExitCode, Error> {
     match cierva_harness::suite::init(&a.dir) {
         Ok(written) => {
             let shown: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
@@ -24,11 +24,8 @@ pub(crate) fn init(a: InitArgs) -> ExitCode {
                 ),
                 serde_json::json!({"wrote": shown}),
             );
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
+        Err(e) => Err(Error::Input(format!("error: {e}"))),
     }
 }

@@ -18,18 +18,17 @@ pub(crate) struct LinearizeArgs {
     format: LinearFormat,
 }
 
-pub(crate) fn linearize(a: LinearizeArgs) -> ExitCode {
+pub(crate) fn linearize(a: LinearizeArgs) -> Result<ExitCode, Error> {
     let LinearizeArgs { flight: f, format } = a;
-    let file = match load_flight(&f) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+    let file = load_flight(&f)?;
     let (request, loading) = (f.request(0.0), f.loading());
     let (t, lin) = match cierva_harness::run_linearise(&file.aircraft, request, loading) {
         Ok(x) => x,
         Err(e) => {
-            eprintln!("error: {}: {e}", f.aircraft.display());
-            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+            return Err(Error::of(
+                e.is_input(),
+                format!("error: {}: {e}", f.aircraft.display()),
+            ));
         }
     };
     let mass = f.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
@@ -117,5 +116,5 @@ pub(crate) fn linearize(a: LinearizeArgs) -> ExitCode {
             print!("{}", tables::derivatives_table(&lin.model));
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }

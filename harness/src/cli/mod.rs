@@ -105,6 +105,43 @@ pub(crate) fn done(format: Format, text: String, json: serde_json::Value) {
     }
 }
 
+/// Why a command stopped: bad input (exit code 2: a file that does not load, an argument out of
+/// range, a suite that is not there) or a failure (exit code 1: the model found no answer, a
+/// file could not be written). Each holds what is printed on stderr, once, by `main`.
+#[derive(Debug)]
+pub(crate) enum Error {
+    Input(String),
+    Failure(String),
+}
+
+impl Error {
+    /// Bad input where `input`, a failure otherwise (a model run's error says which it is).
+    pub(crate) fn of(input: bool, message: String) -> Self {
+        if input {
+            Self::Input(message)
+        } else {
+            Self::Failure(message)
+        }
+    }
+
+    /// Prints the message and gives the exit code.
+    pub(crate) fn exit(self) -> ExitCode {
+        let (message, code) = match self {
+            Self::Input(m) => (m, 2),
+            Self::Failure(m) => (m, 1),
+        };
+        eprintln!("{message}");
+        ExitCode::from(code)
+    }
+}
+
+impl From<cierva_harness::inputs::yaml::InputError> for Error {
+    /// A file that does not load, with its location.
+    fn from(e: cierva_harness::inputs::yaml::InputError) -> Self {
+        Self::Input(e.render())
+    }
+}
+
 pub(crate) static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// `given`, or `name` in the suite's `folder` (the suite is looked for only then).
@@ -112,7 +149,7 @@ pub(crate) fn or_in_suite(
     given: Option<PathBuf>,
     folder: fn(&cierva_harness::suite::Suite) -> PathBuf,
     name: String,
-) -> Result<PathBuf, ExitCode> {
+) -> Result<PathBuf, Error> {
     match given {
         Some(p) => Ok(p),
         None => suite().map(|s| folder(&s).join(name)),
@@ -124,60 +161,48 @@ pub(crate) static SUITE_ARG: std::sync::OnceLock<Option<PathBuf>> = std::sync::O
 
 /// The suite a command works on: `--suite DIR`, or the nearest `cierva.toml` from the working
 /// directory upward. None is a located error, printed, and exit code 2.
-pub(crate) fn suite() -> Result<cierva_harness::suite::Suite, ExitCode> {
+pub(crate) fn suite() -> Result<cierva_harness::suite::Suite, Error> {
     use cierva_harness::suite::Suite;
     let found = match SUITE_ARG.get().and_then(Option::as_deref) {
         Some(dir) => Suite::open(dir),
         None => Suite::find(&std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."))),
     };
-    found.map_err(|e| {
-        eprintln!("{}", e.render());
-        ExitCode::from(2)
-    })
+    found.map_err(|e| Error::Input(e.render()))
 }
 
 /// Loads an aircraft file; a bad file is printed with its location and is exit code 2.
 pub(crate) fn load_aircraft(
     path: &Path,
-) -> Result<cierva_harness::inputs::aircraft::AircraftFile, ExitCode> {
-    cierva_harness::inputs::aircraft::load(path).map_err(|e| {
-        eprintln!("{}", e.render());
-        ExitCode::from(2)
-    })
+) -> Result<cierva_harness::inputs::aircraft::AircraftFile, Error> {
+    cierva_harness::inputs::aircraft::load(path).map_err(|e| Error::Input(e.render()))
 }
 
 /// The aircraft of a flight command, with its `--corrections` applied (the file must name this
 /// aircraft or its main rotor).
 pub(crate) fn load_flight(
     f: &FlightArgs,
-) -> Result<cierva_harness::inputs::aircraft::AircraftFile, ExitCode> {
+) -> Result<cierva_harness::inputs::aircraft::AircraftFile, Error> {
     use cierva_harness::inputs::corrections::{self, Target};
     let file = load_aircraft(&f.aircraft)?;
     let Some(path) = &f.corrections else {
         return Ok(file);
     };
-    let c = corrections::load(path).map_err(|e| {
-        eprintln!("{}", e.render());
-        ExitCode::from(2)
-    })?;
+    let c = corrections::load(path).map_err(|e| Error::Input(e.render()))?;
     let applies = match &c.target {
         Target::Aircraft(id) => *id == file.id,
         Target::Rotor(id) => *id == file.main_rotor_file.id,
     };
     if !applies {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: {} corrects {:?}, not the aircraft {} or its main rotor {}",
             path.display(),
             c.target,
             file.id,
             file.main_rotor_file.id
-        );
-        return Err(ExitCode::from(2));
+        )));
     }
-    file.with_corrections(&c.corrections).map_err(|e| {
-        eprintln!("error: {}: {e}", path.display());
-        ExitCode::from(2)
-    })
+    file.with_corrections(&c.corrections)
+        .map_err(|e| Error::Input(format!("error: {}: {e}", path.display())))
 }
 
 /// The azimuth step of a flight, rad: `--azimuth-step-deg` where given (from
@@ -186,17 +211,14 @@ pub(crate) fn load_flight(
 pub(crate) fn azimuth_step_rad(
     arg_deg: Option<f64>,
     file: &cierva_harness::inputs::aircraft::AircraftFile,
-) -> Result<f64, ExitCode> {
+) -> Result<f64, Error> {
     use cierva_harness::inputs::limits::{MIN_AZIMUTH_STEP_DEG, azimuth_step_ok};
     match arg_deg {
         None => Ok(file.aircraft.main_rotor.numerics.azimuth_step_rad),
         Some(d) if azimuth_step_ok(d, 30.0) => Ok(d.to_radians()),
-        Some(d) => {
-            eprintln!(
-                "error: --azimuth-step-deg must be in [{MIN_AZIMUTH_STEP_DEG}, 30] deg (MIN_AZIMUTH_STEP_DEG), got {d}"
-            );
-            Err(ExitCode::from(2))
-        }
+        Some(d) => Err(Error::Input(format!(
+            "error: --azimuth-step-deg must be in [{MIN_AZIMUTH_STEP_DEG}, 30] deg (MIN_AZIMUTH_STEP_DEG), got {d}"
+        ))),
     }
 }
 
@@ -235,30 +257,26 @@ pub(crate) fn linearised_against(
         cierva_model::LinearModel,
         Option<Result<cierva_model::aircraft::flapping::WithFlapping, String>>,
     ),
-    ExitCode,
+    Error,
 > {
     let conditions = recs
         .iter()
         .map(cierva_harness::ident::record_condition)
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        })?;
+        .map_err(|e| Error::Input(format!("error: {e}")))?;
     let (request, loading) = conditions[0];
     if let Some((k, _)) = conditions
         .iter()
         .enumerate()
         .find(|(_, c)| **c != conditions[0])
     {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: {} and {} are not at one condition ({:?} against {:?}): identify each condition on its own",
             recs[0].path.display(),
             recs[k].path.display(),
             conditions[0],
             conditions[k]
-        );
-        return Err(ExitCode::from(2));
+        )));
     }
     let flight = FlightArgs {
         aircraft: aircraft.to_path_buf(),
@@ -276,8 +294,5 @@ pub(crate) fn linearised_against(
             });
             (lin.model, with_flapping)
         })
-        .map_err(|e| {
-            eprintln!("error: {}: {e}", aircraft.display());
-            ExitCode::from(1)
-        })
+        .map_err(|e| Error::Failure(format!("error: {}: {e}", aircraft.display())))
 }

@@ -20,22 +20,18 @@ pub(crate) struct ModesArgs {
     format: Format,
 }
 
-pub(crate) fn modes(a: ModesArgs) -> ExitCode {
+pub(crate) fn modes(a: ModesArgs) -> Result<ExitCode, Error> {
     let ModesArgs {
         file,
         sweep,
         format,
     } = a;
-    let r = match reference::load(&file) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
+    let r = reference::load(&file).map_err(|e| Error::Input(e.render()))?;
     let Some(model) = r.linear_model else {
-        eprintln!("error: {}: no `linear_model` block", file.display());
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: {}: no `linear_model` block",
+            file.display()
+        )));
     };
     if let Some(spec) = sweep {
         return locus(&model, &spec, format);
@@ -43,8 +39,7 @@ pub(crate) fn modes(a: ModesArgs) -> ExitCode {
     let analysis = match cierva_model::modes(&model) {
         Ok(a) => a,
         Err(e) => {
-            eprintln!("error: {}: {e}", file.display());
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: {}: {e}", file.display())));
         }
     };
     match format {
@@ -70,10 +65,14 @@ pub(crate) fn modes(a: ModesArgs) -> ExitCode {
             print!("{}", tables::milne_table(&model));
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
-pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Format) -> ExitCode {
+pub(crate) fn locus(
+    model: &cierva_model::LinearModel,
+    spec: &str,
+    format: Format,
+) -> Result<ExitCode, Error> {
     use cierva_model::analysis::locus;
     let parsed = spec.split_once('=').and_then(|(d, range)| {
         let p: Vec<&str> = range.split(':').collect();
@@ -89,23 +88,20 @@ pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Forma
     });
     let Some((name, from, to, n)) = parsed.filter(|(_, a, b, _)| a.is_finite() && b.is_finite())
     else {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: --sweep `{spec}`: expected DERIVATIVE=FROM:TO:POINTS, for example Q_u=0.06:0.26:11"
-        );
-        return ExitCode::from(2);
+        )));
     };
     let element = match model.derivative(name) {
         Ok(e) => e,
         Err(e) => {
-            eprintln!("error: --sweep: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: --sweep: {e}")));
         }
     };
     let points = match locus::root_locus(model, element, &locus::linspace(from, to, n)) {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("error: --sweep: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: --sweep: {e}")));
         }
     };
     match format {
@@ -134,7 +130,7 @@ pub(crate) fn locus(model: &cierva_model::LinearModel, spec: &str, format: Forma
             }
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 pub(crate) fn milne_json(m: &cierva_model::LinearModel) -> serde_json::Value {

@@ -16,22 +16,28 @@ pub(crate) struct NewCaseArgs {
     format: Format,
 }
 
-pub(crate) fn new_case(a: NewCaseArgs) -> ExitCode {
+pub(crate) fn new_case(a: NewCaseArgs) -> Result<ExitCode, Error> {
     let NewCaseArgs { path, format } = a;
     let Some(id) = path.file_stem().map(|s| s.to_string_lossy().to_string()) else {
-        eprintln!("error: {}: not a file name", path.display());
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: {}: not a file name",
+            path.display()
+        )));
     };
     if path.exists() {
-        eprintln!("error: {} exists; not overwritten", path.display());
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: {} exists; not overwritten",
+            path.display()
+        )));
     }
     let text = cierva_harness::suite::EXAMPLE_CASE.replace("CASE_ID", &id);
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
         && let Err(e) = std::fs::create_dir_all(dir)
     {
-        eprintln!("error: cannot make {}: {e}", dir.display());
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: cannot make {}: {e}",
+            dir.display()
+        )));
     }
     match std::fs::write(&path, text) {
         Ok(()) => {
@@ -44,11 +50,11 @@ pub(crate) fn new_case(a: NewCaseArgs) -> ExitCode {
                 ),
                 serde_json::json!({"wrote": [path.display().to_string()], "id": id}),
             );
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            ExitCode::from(2)
-        }
+        Err(e) => Err(Error::Input(format!(
+            "error: cannot write {}: {e}",
+            path.display()
+        ))),
     }
 }

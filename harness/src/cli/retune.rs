@@ -8,24 +8,18 @@ use cierva_harness::inputs::corrections::{
 use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
 
-pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
+pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     // Long: one command in the order it works: inputs, the fit, the corrections file, the
     // assessment (modes, predictions, the suite), the report and the summary
-    let fail = |msg: String| {
-        eprintln!("error: {msg}");
-        ExitCode::from(2)
-    };
-    let file = match load_aircraft(&a.aircraft) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+    let fail =
+        |msg: String| -> Result<ExitCode, Error> { Err(Error::Input(format!("error: {msg}"))) };
+    let file = load_aircraft(&a.aircraft)?;
     let mut records = Vec::new();
     for p in &a.records {
         match record::load(p) {
             Ok(r) => records.push(r),
             Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
+                return Err(Error::Input(e.render()));
             }
         }
     }
@@ -40,14 +34,11 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
-    let output = match or_in_suite(
+    let output = or_in_suite(
         a.output.clone(),
         Suite::retuned,
         format!("{}.yaml", file.id),
-    ) {
-        Ok(p) => p,
-        Err(code) => return code,
-    };
+    )?;
     let id = output
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -141,13 +132,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
     };
     let mut predictions = Vec::new();
     for p in &a.predict {
-        let rec = match record::load(p) {
-            Ok(x) => x,
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
-            }
-        };
+        let rec = record::load(p).map_err(|e| Error::Input(e.render()))?;
         match retune::predict(&file, &after, &rec) {
             Ok(x) => predictions.extend(x),
             Err(e) => return fail(format!("predicting {}: {e}", p.display())),
@@ -156,10 +141,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
     let revalidation = if a.no_validate {
         None
     } else {
-        let suite = match suite() {
-            Ok(s) => s,
-            Err(code) => return code,
-        };
+        let suite = suite()?;
         let busy = spinner("the validation suite with the new corrections");
         let cases: Vec<_> = match load_cases(&[suite.cases().to_path_buf()]) {
             Ok(l) => l.into_iter().filter_map(Result::ok).collect(),
@@ -181,10 +163,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             Err(e) => return fail(e),
         }
     };
-    let report = match or_in_suite(a.report.clone(), Suite::retune_reports, format!("{id}.md")) {
-        Ok(p) => p,
-        Err(code) => return code,
-    };
+    let report = or_in_suite(a.report.clone(), Suite::retune_reports, format!("{id}.md"))?;
     let figures = match bode_figures(&report, &comparisons) {
         Ok(f) => f,
         Err(e) => return fail(e),
@@ -294,7 +273,7 @@ pub(crate) fn retune(a: RetuneArgs) -> ExitCode {
             println!("wrote {} and {}", output.display(), report.display());
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The parameters asked for, with `NAME=LO:HI` bounds.

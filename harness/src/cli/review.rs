@@ -67,7 +67,7 @@ fn reason_for(accept: bool, reason: Option<String>) -> Result<Option<String>, &'
 /// Runs the review. Exit 0 when nothing moved (or everything was accepted), 1 when something
 /// moved and was not accepted or an expected failure could not be evaluated, 2 on bad input
 /// (`--accept` without `--reason` among it).
-pub(crate) fn review(a: ReviewArgs) -> ExitCode {
+pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
     let ReviewArgs {
         paths,
         accept,
@@ -77,32 +77,13 @@ pub(crate) fn review(a: ReviewArgs) -> ExitCode {
     let reason = match reason_for(accept, reason) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
-    let suite = match suite() {
-        Ok(s) => s,
-        Err(code) => return code,
-    };
-    let log = match rv::load_log(&suite.acceptances()) {
-        Ok(l) => l,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
-    let cases = match suite_cases(&suite, paths) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let board = match scoreboard::load(&suite) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
+    let suite = suite()?;
+    let log = rv::load_log(&suite.acceptances()).map_err(|e| Error::Input(e.render()))?;
+    let cases = suite_cases(&suite, paths)?;
+    let board = scoreboard::load(&suite).map_err(|e| Error::Input(e.render()))?;
     let (reviews, scores) = review_cases(&cases);
     let judged = cierva_harness::suite::review::judge(&board, scores.clone());
     let scores_moved: Vec<&cierva_harness::suite::review::Judged> = judged
@@ -130,14 +111,12 @@ pub(crate) fn review(a: ReviewArgs) -> ExitCode {
         let board = (!(scores_moved.is_empty() && stale.is_empty()))
             .then(|| scoreboard::with(&board, &reviewed, &scores));
         if let Err(e) = write_accepted(&suite, board.as_ref(), &reviews, &mut written) {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: {e}")));
         }
         match log_acceptance(&suite, &log, reason, commit, changes) {
             Ok(entry) => logged = Some(entry),
             Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(2);
+                return Err(Error::Input(format!("error: {e}")));
             }
         }
     }
@@ -168,9 +147,9 @@ pub(crate) fn review(a: ReviewArgs) -> ExitCode {
         }
     }
     if errors > 0 || (moved > 0 && !accept) {
-        ExitCode::from(1)
+        Ok(ExitCode::from(1))
     } else {
-        ExitCode::SUCCESS
+        Ok(ExitCode::SUCCESS)
     }
 }
 
@@ -179,7 +158,7 @@ pub(crate) fn review(a: ReviewArgs) -> ExitCode {
 fn suite_cases(
     suite: &cierva_harness::suite::Suite,
     paths: Vec<PathBuf>,
-) -> Result<Vec<cierva_harness::suite::case::Case>, ExitCode> {
+) -> Result<Vec<cierva_harness::suite::case::Case>, Error> {
     let paths = if paths.is_empty() {
         vec![suite.cases().to_path_buf()]
     } else {
@@ -188,12 +167,13 @@ fn suite_cases(
     let loaded = match load_cases(&paths) {
         Ok(l) if !l.is_empty() => l,
         Ok(_) => {
-            eprintln!("error: no case files (*.yaml) under {}", show(&paths));
-            return Err(ExitCode::from(2));
+            return Err(Error::Input(format!(
+                "error: no case files (*.yaml) under {}",
+                show(&paths)
+            )));
         }
         Err(e) => {
-            eprintln!("error: {e}");
-            return Err(ExitCode::from(2));
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
     let mut cases = Vec::new();
@@ -202,17 +182,15 @@ fn suite_cases(
             // Its records are written to the suite's folder, where only the suite's own cases
             // find them.
             Ok(case) if case.records_dir.as_deref() != Some(suite.discrepancies().as_path()) => {
-                eprintln!(
+                return Err(Error::Input(format!(
                     "error: {}: not a case of the suite at {}: review it in its own suite (--suite)",
                     case.path.display(),
                     suite.root.display()
-                );
-                return Err(ExitCode::from(2));
+                )));
             }
             Ok(case) => cases.push(case),
             Err(e) => {
-                eprintln!("{}", e.render());
-                return Err(ExitCode::from(2));
+                return Err(Error::Input(e.render()));
             }
         }
     }

@@ -4,33 +4,25 @@
 use super::*;
 use cierva_harness::fit::sensitivity::{self, Quantity};
 
-pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
+pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
     let (file, loading, request, quantities) = match (&a.case, &a.aircraft) {
         (Some(path), None) => {
-            let case = match cierva_harness::suite::case::load(path) {
-                Ok(c) => c,
-                Err(e) => {
-                    eprintln!("{}", e.render());
-                    return ExitCode::from(2);
-                }
-            };
+            let case =
+                cierva_harness::suite::case::load(path).map_err(|e| Error::Input(e.render()))?;
             match sensitivity::from_case(&case, a.airspeed_mph) {
                 Ok(x) => x,
                 Err(e) => {
-                    eprintln!("error: {e}");
-                    return ExitCode::from(2);
+                    return Err(Error::Input(format!("error: {e}")));
                 }
             }
         }
         (None, Some(path)) => {
             let Some(v) = a.airspeed_mph else {
-                eprintln!("error: give --airspeed-mph with an aircraft file");
-                return ExitCode::from(2);
+                return Err(Error::Input(
+                    "error: give --airspeed-mph with an aircraft file".into(),
+                ));
             };
-            let file = match load_aircraft(path) {
-                Ok(f) => f,
-                Err(code) => return code,
-            };
+            let file = load_aircraft(path)?;
             let loading = cierva_harness::Loading {
                 mass_kg: a.mass_kg,
                 density_altitude_ft: a.density_altitude_ft,
@@ -50,8 +42,9 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
             (file, loading, request, quantities)
         }
         _ => {
-            eprintln!("error: give an aircraft file or --case, not both");
-            return ExitCode::from(2);
+            return Err(Error::Input(
+                "error: give an aircraft file or --case, not both".into(),
+            ));
         }
     };
     let quantities: Vec<Quantity> = if a.quantities.is_empty() {
@@ -85,8 +78,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
             .collect()
     };
     if let Err(e) = sensitivity::check_names(&file, &parameters, &quantities) {
-        eprintln!("error: {e}");
-        return ExitCode::from(2);
+        return Err(Error::Input(format!("error: {e}")));
     }
     match sensitivity::run(&file, request, loading, &parameters, &quantities) {
         Ok(study) => {
@@ -97,11 +89,8 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> ExitCode {
                     serde_json::to_string_pretty(&study).expect("a study serialises")
                 ),
             }
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(1)
-        }
+        Err(e) => Err(Error::Failure(format!("error: {e}"))),
     }
 }

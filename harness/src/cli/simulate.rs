@@ -38,7 +38,7 @@ pub(crate) struct SimulateArgs {
     format: Format,
 }
 
-pub(crate) fn simulate(a: SimulateArgs) -> ExitCode {
+pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
     let SimulateArgs {
         flight: f,
         controls_csv: input,
@@ -51,29 +51,25 @@ pub(crate) fn simulate(a: SimulateArgs) -> ExitCode {
     } = a;
     let (shape, control) = (shape.input(), shape.control);
     use cierva_harness::inputs::controls;
-    let file = match load_flight(&f) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+    let file = load_flight(&f)?;
     let table = match (&input, &shape) {
         (Some(p), None) => match controls::read(p) {
             Ok(t) => Some(t),
             Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
+                return Err(Error::Input(e.render()));
             }
         },
         (None, Some(_)) => None,
         _ => {
-            eprintln!("error: give exactly one of --controls-csv or --shape");
-            return ExitCode::from(2);
+            return Err(Error::Input(
+                "error: give exactly one of --controls-csv or --shape".into(),
+            ));
         }
     };
     let index = match control_index(&control) {
         Ok(i) => i,
         Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
     let changes = |t: f64| -> [f64; 4] {
@@ -87,10 +83,7 @@ pub(crate) fn simulate(a: SimulateArgs) -> ExitCode {
             _ => [0.0; 4],
         }
     };
-    let step = match azimuth_step_rad(azimuth_step_deg, &file) {
-        Ok(s) => s,
-        Err(code) => return code,
-    };
+    let step = azimuth_step_rad(azimuth_step_deg, &file)?;
     let (request, loading) = (f.request(0.0), f.loading());
     let settings = cierva_model::simulation::timehistory::Settings {
         azimuth_step_rad: step,
@@ -105,8 +98,10 @@ pub(crate) fn simulate(a: SimulateArgs) -> ExitCode {
     match flown {
         Ok(h) => {
             if let Err(e) = std::fs::write(&output, controls::to_csv(&h)) {
-                eprintln!("error: cannot write {}: {e}", output.display());
-                return ExitCode::from(2);
+                return Err(Error::Input(format!(
+                    "error: cannot write {}: {e}",
+                    output.display()
+                )));
             }
             let seconds = started.elapsed().as_secs_f64();
             done(
@@ -127,11 +122,11 @@ pub(crate) fn simulate(a: SimulateArgs) -> ExitCode {
                     "seconds": seconds,
                 }),
             );
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: {}: {e}", f.aircraft.display());
-            ExitCode::from(1)
-        }
+        Err(e) => Err(Error::Failure(format!(
+            "error: {}: {e}",
+            f.aircraft.display()
+        ))),
     }
 }

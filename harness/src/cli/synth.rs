@@ -2,19 +2,15 @@
 
 use super::*;
 
-pub(crate) fn synth(a: SynthArgs) -> ExitCode {
+pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
     use cierva_harness::inputs::record;
     use cierva_harness::synth::linear;
-    let r = match reference::load(&a.model) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return ExitCode::from(2);
-        }
-    };
+    let r = reference::load(&a.model).map_err(|e| Error::Input(e.render()))?;
     let Some(model) = r.linear_model else {
-        eprintln!("error: {}: no `linear_model` block", a.model.display());
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: {}: no `linear_model` block",
+            a.model.display()
+        )));
     };
     let probe: Vec<f64> = a
         .probe_m
@@ -22,8 +18,10 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
         .filter_map(|v| v.trim().parse().ok())
         .collect();
     let [px, py, pz] = probe[..] else {
-        eprintln!("error: --probe-m `{}`: expected x,y,z in metres", a.probe_m);
-        return ExitCode::from(2);
+        return Err(Error::Input(format!(
+            "error: --probe-m `{}`: expected x,y,z in metres",
+            a.probe_m
+        )));
     };
     let input = match a.shape {
         InputChoice::Sweep | InputChoice::SweepDown => {
@@ -109,16 +107,13 @@ pub(crate) fn synth(a: SynthArgs) -> ExitCode {
                         "seed": a.seed,
                     }),
                 );
-                ExitCode::SUCCESS
+                Ok(ExitCode::SUCCESS)
             }
-            Err(e) => {
-                eprintln!("error: cannot write {}: {e}", a.output.display());
-                ExitCode::from(2)
-            }
+            Err(e) => Err(Error::Input(format!(
+                "error: cannot write {}: {e}",
+                a.output.display()
+            ))),
         },
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
+        Err(e) => Err(Error::Input(format!("error: {e}"))),
     }
 }

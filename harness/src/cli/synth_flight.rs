@@ -9,30 +9,19 @@ use std::collections::BTreeMap;
 /// The input starts after this much trim, s, and ends this long before the record does.
 const QUIET_S: f64 = 3.0;
 
-pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
+pub(crate) fn synth_flight(a: SynthFlightArgs) -> Result<ExitCode, Error> {
     // Long: one command, in the order it works: the aircraft, the instruments, the test, the
     // flight, then the record and its sidecar with the truth
-    let fail = |msg: String| {
-        eprintln!("error: {msg}");
-        ExitCode::from(2)
-    };
-    let file = match load_flight(&a.flight) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+    let fail =
+        |msg: String| -> Result<ExitCode, Error> { Err(Error::Input(format!("error: {msg}"))) };
+    let file = load_flight(&a.flight)?;
     let control = match control_index(&a.control) {
         Ok(i) => i,
         Err(e) => return fail(e),
     };
     let instrumentation = match &a.sensors {
         None => Instrumentation::default(),
-        Some(p) => match Instrumentation::load(p) {
-            Ok(i) => i,
-            Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
-            }
-        },
+        Some(p) => Instrumentation::load(p).map_err(|e| Error::Input(e.render()))?,
     };
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(a.duration_s) && a.duration_s > 2.0 * QUIET_S + 1.0) {
@@ -87,10 +76,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
     } else {
         return fail("--turbulence-m-s must not be negative".into());
     };
-    let step = match azimuth_step_rad(a.azimuth_step_deg, &file) {
-        Ok(s) => s,
-        Err(code) => return code,
-    };
+    let step = azimuth_step_rad(a.azimuth_step_deg, &file)?;
     let test = flight::FlightTest {
         request: a.flight.request(0.0),
         loading: a.flight.loading(),
@@ -110,8 +96,10 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
     let flown = match flown {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("error: {}: {e}", a.flight.aircraft.display());
-            return ExitCode::from(1);
+            return Err(Error::Failure(format!(
+                "error: {}: {e}",
+                a.flight.aircraft.display()
+            )));
         }
     };
     let id = a
@@ -257,7 +245,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> ExitCode {
                     "samples": flown.data[0].len(),
                 }),
             );
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
         Err(e) => fail(format!("cannot write {}: {e}", a.output.display())),
     }

@@ -2,15 +2,12 @@
 
 use super::*;
 
-pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
+pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
     // Long: one command, in the order it works: fly the record, add the seeded noise, write the CSV
     // and its sidecar with the truth
     use cierva_harness::run::replay;
     use cierva_harness::synth::history;
-    let file = match load_flight(&a.flight) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+    let file = load_flight(&a.flight)?;
     let corrections = cierva_harness::inputs::corrections::CorrectionSet {
         propeller_blockage: a.propeller_blockage,
         hub_aoa_factor: a.hub_aoa_factor,
@@ -19,25 +16,23 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     let file = match file.with_corrections(&corrections) {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("error: the corrections: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: the corrections: {e}")));
         }
     };
     let Some(shape) = a.shape.input() else {
-        eprintln!("error: give --shape");
-        return ExitCode::from(2);
+        return Err(Error::Input("error: give --shape".into()));
     };
     let index = match control_index(&a.shape.control) {
         Ok(i) => i,
         Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(2);
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(a.duration_s) && ok(a.sample_rate_hz)) {
-        eprintln!("error: --duration-s and --sample-rate-hz must be positive");
-        return ExitCode::from(2);
+        return Err(Error::Input(
+            "error: --duration-s and --sample-rate-hz must be positive".into(),
+        ));
     }
     let noise = history::Noise {
         speed_m_s: a.noise_speed_m_s,
@@ -54,8 +49,9 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     .iter()
     .all(|v| v.is_finite() && *v >= 0.0)
     {
-        eprintln!("error: noise standard deviations must be finite and >= 0");
-        return ExitCode::from(2);
+        return Err(Error::Input(
+            "error: noise standard deviations must be finite and >= 0".into(),
+        ));
     }
     let changes = |t: f64| {
         let mut d = [0.0; 4];
@@ -63,10 +59,7 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         d
     };
     let sample_s = 1.0 / a.sample_rate_hz;
-    let step = match azimuth_step_rad(a.azimuth_step_deg, &file) {
-        Ok(s) => s,
-        Err(code) => return code,
-    };
+    let step = azimuth_step_rad(a.azimuth_step_deg, &file)?;
     let (request, loading) = (a.flight.request(0.0), a.flight.loading());
     let busy = spinner(&format!("flying {} s", a.duration_s));
     let flown = replay::fly(
@@ -85,8 +78,10 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
     let flown = match flown {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("error: {}: {e}", a.flight.aircraft.display());
-            return ExitCode::from(1);
+            return Err(Error::Failure(format!(
+                "error: {}: {e}",
+                a.flight.aircraft.display()
+            )));
         }
     };
     let id = a
@@ -149,8 +144,7 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
         match history::synthesize(&flown, &changes, &[column], noise, &spec) {
             Ok(x) => x,
             Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(2);
+                return Err(Error::Input(format!("error: {e}")));
             }
         };
     match cierva_harness::inputs::record::write(&a.output, &meta, &channels, &data) {
@@ -170,11 +164,11 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> ExitCode {
                     "samples": flown.time_s.len(),
                 }),
             );
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Err(e) => {
-            eprintln!("error: cannot write {}: {e}", a.output.display());
-            ExitCode::from(2)
-        }
+        Err(e) => Err(Error::Input(format!(
+            "error: cannot write {}: {e}",
+            a.output.display()
+        ))),
     }
 }

@@ -18,7 +18,7 @@ pub(crate) struct TrimArgs {
     format: Format,
 }
 
-pub(crate) fn trim(a: TrimArgs) -> ExitCode {
+pub(crate) fn trim(a: TrimArgs) -> Result<ExitCode, Error> {
     let TrimArgs {
         flight,
         turn_rate_deg_s,
@@ -26,21 +26,20 @@ pub(crate) fn trim(a: TrimArgs) -> ExitCode {
     } = a;
     let (request, loading) = (flight.request(turn_rate_deg_s), flight.loading());
     let flight = &flight;
-    let file = match load_flight(flight) {
-        Ok(f) => f,
-        Err(code) => return code,
-    };
+    let file = load_flight(flight)?;
     let path = &flight.aircraft;
     let t = match cierva_harness::run_trim(&file.aircraft, request, loading) {
         Ok(t) => t,
         Err(e) => {
-            eprintln!("error: {}: {e}", path.display());
-            return ExitCode::from(if e.is_input() { 2 } else { 1 });
+            return Err(Error::of(
+                e.is_input(),
+                format!("error: {}: {e}", path.display()),
+            ));
         }
     };
     match format {
         Format::Json => print_json(&t),
         Format::Text => print!("{}", tables::trim_report(&file.title, request, loading, &t)),
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }

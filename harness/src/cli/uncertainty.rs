@@ -29,33 +29,25 @@ struct CaseSummary<'a> {
     seconds: f64,
 }
 
-pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
+pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
     if a.samples < MIN_SAMPLES {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: --samples {}: give at least {MIN_SAMPLES} (the percentiles and Sobol' indices of fewer mean nothing)",
             a.samples
-        );
-        return ExitCode::from(2);
+        )));
     }
     let paths = if a.paths.is_empty() {
-        match suite() {
-            Ok(s) => vec![s.cases().to_path_buf()],
-            Err(code) => return code,
-        }
+        vec![suite()?.cases().to_path_buf()]
     } else {
         a.paths.clone()
     };
-    let cases = match load_all(&paths) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
+    let cases = load_all(&paths)?;
     let mut files = Vec::new();
     for p in &a.corrections {
         match cierva_harness::inputs::corrections::load(p) {
             Ok(f) => files.push(f),
             Err(e) => {
-                eprintln!("{}", e.render());
-                return ExitCode::from(2);
+                return Err(Error::Input(e.render()));
             }
         }
     }
@@ -64,8 +56,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
         match cierva_harness::suite::case::with_corrections(&case, &files) {
             Ok((c, _)) => corrected.push(c),
             Err(e) => {
-                eprintln!("error: the corrections {e}");
-                return ExitCode::from(2);
+                return Err(Error::Input(format!("error: the corrections {e}")));
             }
         }
     }
@@ -94,8 +85,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
             Ok(u) => done.push((u, started.elapsed().as_secs_f64())),
             Err(e) => {
                 bar.finish_and_clear();
-                eprintln!("error: {}: {e}", case.path.display());
-                return ExitCode::from(2);
+                return Err(Error::Input(format!("error: {}: {e}", case.path.display())));
             }
         }
         bar.finish_and_clear();
@@ -130,30 +120,26 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> ExitCode {
             println!("validation quantities: {}", verdicts.describe());
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Every case under `paths`, loaded; exit 2 on the first that does not load.
-fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>, ExitCode> {
+fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>, Error> {
     let loaded = match load_cases(paths) {
         Ok(l) if !l.is_empty() => l,
         Ok(_) => {
-            eprintln!("error: no case files (*.yaml) under {}", show(paths));
-            return Err(ExitCode::from(2));
+            return Err(Error::Input(format!(
+                "error: no case files (*.yaml) under {}",
+                show(paths)
+            )));
         }
         Err(e) => {
-            eprintln!("error: {e}");
-            return Err(ExitCode::from(2));
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
     loaded
         .into_iter()
-        .map(|c| {
-            c.map_err(|e| {
-                eprintln!("{}", e.render());
-                ExitCode::from(2)
-            })
-        })
+        .map(|c| c.map_err(|e| Error::Input(e.render())))
         .collect()
 }
 

@@ -40,14 +40,13 @@ pub(crate) struct ValidateArgs {
     seed: u32,
 }
 
-pub(crate) fn validate(a: ValidateArgs) -> ExitCode {
+pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
     use cierva_harness::uncertainty::{design::MIN_SAMPLES, propagate};
     if a.uncertainty && a.samples < MIN_SAMPLES {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: --samples {}: give at least {MIN_SAMPLES}",
             a.samples
-        );
-        return ExitCode::from(2);
+        )));
     }
     let uncertainty = a.uncertainty.then_some(propagate::Settings {
         samples: a.samples,
@@ -67,28 +66,21 @@ fn validate_with(
     format: Format,
     report_dir: Option<Option<PathBuf>>,
     uncertainty: Option<cierva_harness::uncertainty::propagate::Settings>,
-) -> ExitCode {
+) -> Result<ExitCode, Error> {
     let started = std::time::Instant::now();
-    let suite = match suite() {
-        Ok(s) => s,
-        Err(code) => return code,
-    };
+    let suite = suite()?;
     let paths = if paths.is_empty() {
         vec![suite.cases().to_path_buf()]
     } else {
         paths
     };
     let report_dir = report_dir.map(|d| d.unwrap_or_else(|| suite.reports().to_path_buf()));
-    let (correction_files, loaded, board, log) = match inputs(&suite, &paths, &corrections) {
-        Ok(i) => i,
-        Err(code) => return code,
-    };
+    let (correction_files, loaded, board, log) = inputs(&suite, &paths, &corrections)?;
     let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files);
     if let Some(settings) = uncertainty
         && let Err(e) = attach_uncertainty(&mut run, settings)
     {
-        eprintln!("error: {e}");
-        return ExitCode::from(2);
+        return Err(Error::Input(format!("error: {e}")));
     }
     run.input_errors = errors.clone();
     run.corrections = correction_files
@@ -109,10 +101,7 @@ fn validate_with(
         .iter()
         .flat_map(|c| c.results.iter().cloned())
         .collect();
-    let written = match write_report(&run, report_dir.as_deref()) {
-        Ok(w) => w,
-        Err(code) => return code,
-    };
+    let written = write_report(&run, report_dir.as_deref())?;
     let counts = tables::counts(&results);
     let corrections_used: Vec<serde_json::Value> = correction_files
         .iter()
@@ -161,7 +150,7 @@ fn validate_with(
         }
     }
     if !errors.is_empty() {
-        ExitCode::from(2)
+        Ok(ExitCode::from(2))
     } else if counts.failing() > 0 || !scores_failing.is_empty() {
         if !scores_failing.is_empty() && format == Format::Text {
             println!(
@@ -173,9 +162,9 @@ fn validate_with(
                     .join(", ")
             );
         }
-        ExitCode::from(1)
+        Ok(ExitCode::from(1))
     } else {
-        ExitCode::SUCCESS
+        Ok(ExitCode::SUCCESS)
     }
 }
 
@@ -394,42 +383,30 @@ fn inputs(
     suite: &cierva_harness::suite::Suite,
     paths: &[PathBuf],
     corrections: &[PathBuf],
-) -> Result<Inputs, ExitCode> {
+) -> Result<Inputs, Error> {
     let mut correction_files = Vec::new();
     for p in corrections {
         match corrections::load(p) {
             Ok(f) => correction_files.push(f),
             Err(e) => {
-                eprintln!("{}", e.render());
-                return Err(ExitCode::from(2));
+                return Err(Error::Input(e.render()));
             }
         }
     }
     let loaded = match load_cases(paths) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("error: {e}");
-            return Err(ExitCode::from(2));
+            return Err(Error::Input(format!("error: {e}")));
         }
     };
     if loaded.is_empty() {
-        eprintln!("error: no case files (*.yaml) under {}", show(paths));
-        return Err(ExitCode::from(2));
+        return Err(Error::Input(format!(
+            "error: no case files (*.yaml) under {}",
+            show(paths)
+        )));
     }
-    let board = match scoreboard::load(suite) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return Err(ExitCode::from(2));
-        }
-    };
-    let log = match review::load_log(&suite.acceptances()) {
-        Ok(l) => l,
-        Err(e) => {
-            eprintln!("{}", e.render());
-            return Err(ExitCode::from(2));
-        }
-    };
+    let board = scoreboard::load(suite).map_err(|e| Error::Input(e.render()))?;
+    let log = review::load_log(&suite.acceptances()).map_err(|e| Error::Input(e.render()))?;
     Ok((correction_files, loaded, board, log))
 }
 
@@ -542,13 +519,12 @@ fn failing_scores(judged: &[review::Judged], corrected: bool) -> Vec<&review::Ju
 fn write_report(
     run: &cierva_harness::report::Run,
     dir: Option<&Path>,
-) -> Result<Vec<PathBuf>, ExitCode> {
+) -> Result<Vec<PathBuf>, Error> {
     let Some(dir) = dir else { return Ok(vec![]) };
     cierva_harness::report::write(run, dir).map_err(|e| {
-        eprintln!(
+        Error::Input(format!(
             "error: could not write the report to {}: {e}",
             dir.display()
-        );
-        ExitCode::from(2)
+        ))
     })
 }

@@ -9,11 +9,6 @@ use cierva_harness::inputs::record::{self, Record};
 use cierva_harness::inputs::yaml::InputError;
 use cierva_harness::report::plot::{Figure, Series, Style, panels_svg};
 
-fn fail(e: InputError) -> ExitCode {
-    eprintln!("{}", e.render());
-    ExitCode::from(2)
-}
-
 /// The level of TIC below which a match is usually taken as good.
 const GOOD_TIC: &str = "TIC <= 0.25-0.3 is usually taken as good agreement (Jategaonkar, Flight Vehicle System Identification, 2006, ch. 11)";
 
@@ -26,43 +21,31 @@ const FIGURE_WIDTH: u32 = 960;
 const PANEL_HEIGHT: u32 = 260;
 const FIGURE_POINTS: usize = 3000;
 
-pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
+pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
     // Long: one command in the order it works: load, set up, check units and outputs,
     // linearise, fly, print, draw
     let mut records = Vec::with_capacity(a.records.len());
     for p in &a.records {
-        match record::load(p) {
-            Ok(r) => records.push(r),
-            Err(e) => return fail(e),
-        }
+        records.push(record::load(p)?)
     }
-    let identified = match v::load_identified(&a.identified) {
-        Ok(m) => m,
-        Err(e) => return fail(e),
-    };
+    let identified = v::load_identified(&a.identified)?;
     let mut configs = Vec::with_capacity(records.len());
     for r in &records {
-        match v::config_for(&identified, r) {
-            Ok(c) => configs.push(c),
-            Err(e) => return fail(e),
-        }
+        configs.push(v::config_for(&identified, r)?)
     }
     // cierva's controls are in % of travel: a record's control in rad contradicts them.
     for (r, c) in records.iter().zip(&configs) {
         if let Some((control, channel)) = c.controls.iter().find(|(_, ch)| !ch.ends_with("_pct")) {
             let side = record::sidecar_path(&r.path);
-            let src = match cierva_harness::inputs::yaml::read(&side) {
-                Ok(s) => s,
-                Err(e) => return fail(e),
-            };
-            return fail(InputError::field(
+            let src = cierva_harness::inputs::yaml::read(&side)?;
+            return Err(Error::from(InputError::field(
                 &side,
                 &src,
                 "controls",
                 format!(
                     "`{channel}`: an aircraft's controls are in % of travel, so cierva's model needs `{control}_pct`"
                 ),
-            ));
+            )));
         }
     }
     let available: Vec<String> = identified
@@ -76,30 +59,25 @@ pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
         a.outputs.clone()
     };
     if let Some(bad) = outputs.iter().find(|o| !available.contains(o)) {
-        eprintln!(
+        return Err(Error::Input(format!(
             "error: --outputs: `{bad}` is not an output of the identified model {} (it has {})",
             a.identified.display(),
             available.join(", ")
-        );
-        return ExitCode::from(2);
+        )));
     }
     let spin = spinner("linearising the aircraft at the records' condition");
     let linearised = linearised_against(&a.against, a.corrections.as_ref(), &records, false);
     spin.finish_and_clear();
-    let lin = match linearised {
-        Ok((m, _)) => m,
-        Err(code) => return code,
-    };
+    let (lin, _) = linearised?;
     let mut results = Vec::with_capacity(records.len());
     for (r, c) in records.iter().zip(&configs) {
         let cierva = match model_for(&lin, c) {
             Ok(m) => m,
             Err(e) => {
-                eprintln!(
+                return Err(Error::Input(format!(
                     "error: {}: cierva's model in the identified model's structure: {e}",
                     a.against.display()
-                );
-                return ExitCode::from(2);
+                )));
             }
         };
         let models: [(&str, &cierva_model::LinearModel, &ConfigSpec); 2] =
@@ -107,8 +85,7 @@ pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
         match v::verify(r, &models, &outputs) {
             Ok(res) => results.push(res),
             Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(2);
+                return Err(Error::Input(format!("error: {e}")));
             }
         }
     }
@@ -133,18 +110,22 @@ pub(crate) fn verify(a: VerifyArgs) -> ExitCode {
             PANEL_HEIGHT,
         );
         let Some(svg) = svg else {
-            eprintln!("error: nothing finite to draw in {}", path.display());
-            return ExitCode::from(1);
+            return Err(Error::Failure(format!(
+                "error: nothing finite to draw in {}",
+                path.display()
+            )));
         };
         if let Err(e) = std::fs::write(path, svg) {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            return ExitCode::from(2);
+            return Err(Error::Input(format!(
+                "error: cannot write {}: {e}",
+                path.display()
+            )));
         }
         if a.format == Format::Text {
             println!("wrote {}", path.display());
         }
     }
-    ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Each model over every record, the records' samples joined.
