@@ -34,6 +34,22 @@ impl FlightArgs {
         }
     }
 
+    /// The condition as a record's sidecar states it, with the mass flown (`mass_kg`).
+    pub(crate) fn sidecar_condition(
+        &self,
+        mass_kg: f64,
+    ) -> std::collections::BTreeMap<String, serde_yaml::Value> {
+        [
+            ("airspeed_mph", self.airspeed_mph),
+            ("climb_m_s", self.climb_m_s),
+            ("mass_kg", mass_kg),
+            ("density_altitude_ft", self.density_altitude_ft),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), serde_yaml::Value::from(v)))
+        .collect()
+    }
+
     /// The mass and air.
     pub(crate) fn loading(&self) -> cierva_harness::Loading {
         cierva_harness::Loading {

@@ -13,8 +13,8 @@ fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::Rotor
     };
     let c = corrections::load(path).map_err(located)?;
     if c.target != Target::Rotor(file.id.clone()) {
-        return Err(Error::Input(format!(
-            "error: {} corrects {:?}, not the rotor {}",
+        return Err(Error::input(format!(
+            "{} corrects {:?}, not the rotor {}",
             path.display(),
             c.target,
             file.id
@@ -22,7 +22,7 @@ fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::Rotor
     }
     c.corrections
         .apply_to_rotor(&mut file.rotor)
-        .map_err(|e| Error::Input(format!("error: {}: {e}", path.display())))?;
+        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
     Ok(file)
 }
 
@@ -56,18 +56,13 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
             )
         }),
         _ => {
-            return Err(Error::Input("error: give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm".into()));
-        }
-    };
-    let (alpha_deg, airspeed_m_s, e, stiffness) = match run {
-        Ok(r) => r,
-        Err(e) => {
-            return Err(Error::of(
-                e.is_input(),
-                format!("error: {}: {e}", a.rotor.display()),
+            return Err(Error::input(
+                "give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm",
             ));
         }
     };
+    let (alpha_deg, airspeed_m_s, e, stiffness) =
+        run.map_err(|e| Error::of(e.is_input(), format!("error: {}: {e}", a.rotor.display())))?;
     match a.format {
         Format::Json => {
             // The quantities by the names cases and fits use; the model's whole equilibrium

@@ -50,8 +50,8 @@ pub(crate) fn bench(a: BenchArgs) -> Result<ExitCode, Error> {
     // The rows time this repository's own aircraft, records and scripts.
     let marker = root.join("aircraft/vpm-m16.yaml");
     if !marker.is_file() {
-        return Err(Error::Input(format!(
-            "error: {}: not found: `cierva bench` times cierva's own aircraft and records; run it in cierva's repository",
+        return Err(Error::input(format!(
+            "{}: not found: `cierva bench` times cierva's own aircraft and records; run it in cierva's repository",
             marker.display()
         )));
     }

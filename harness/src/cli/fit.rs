@@ -52,15 +52,7 @@ pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
         busy.set_message(format!("cross-validating {}: {g} done", f.id))
     });
     busy.finish_and_clear();
-    let cv = match cv {
-        Ok(cv) => cv,
-        Err(e) => {
-            return Err(Error::Failure(format!(
-                "error: cross-validation of {}: {e}",
-                f.id
-            )));
-        }
-    };
+    let cv = cv.map_err(|e| Error::failure(format!("cross-validation of {}: {e}", f.id)))?;
     let id = output
         .file_stem()
         .and_then(|s| s.to_str())
@@ -110,9 +102,7 @@ pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
         Ok(())
     })();
     if let Err(e) = written {
-        return Err(Error::Input(format!(
-            "error: writing the fit's results: {e}"
-        )));
+        return Err(Error::input(format!("writing the fit's results: {e}")));
     }
     match format {
         Format::Json => print_json(&serde_json::json!({

@@ -93,12 +93,8 @@ pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> Result<ExitCode, E
         points: a.frequencies,
         band_hz: a.band_hz.as_ref().map(|b| [b[0], b[1]]),
     };
-    let est = match fr::estimate(&runs, &settings) {
-        Ok(e) => e,
-        Err(e) => {
-            return Err(Error::Input(located(&e, &records, &inputs).to_string()));
-        }
-    };
+    let est = fr::estimate(&runs, &settings)
+        .map_err(|e| Error::Input(located(&e, &records, &inputs).to_string()))?;
     match a.format {
         ResponseFormat::Json => print_json(&json(&a, &records, &inputs, &est)),
         ResponseFormat::Csv => print!("{}", csv(&est)),

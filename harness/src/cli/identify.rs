@@ -68,12 +68,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
             } else {
                 ident::Setup::Longitudinal
             });
-            match ident::ConfigSpec::for_setup(setup, rec) {
-                Ok(c) => c,
-                Err(e) => {
-                    return Err(Error::Input(format!("error: {e}")));
-                }
-            }
+            ident::ConfigSpec::for_setup(setup, rec).map_err(Error::input)?
         }
         Some(p) => ident::ConfigSpec::load(p).map_err(|e| Error::Input(e.render()))?,
     };
@@ -81,12 +76,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
     if a.blades.is_some() {
         cfg.blade_passage_blades = a.blades;
     }
-    let result = match ident::identify_records(&recs, &cfg) {
-        Ok(r) => r,
-        Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
-        }
-    };
+    let result = ident::identify_records(&recs, &cfg).map_err(Error::input)?;
     let compared = match &a.against {
         None => None,
         Some(aircraft) => match linearised_against(aircraft, a.corrections.as_ref(), &recs, true) {
@@ -140,7 +130,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
                 }
             }
             Err(e) => {
-                return Err(Error::Input(format!("error: {e}")));
+                return Err(Error::input(e));
             }
         }
     }

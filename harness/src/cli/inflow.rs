@@ -96,7 +96,7 @@ pub(crate) fn inflow(a: InflowArgs) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Err(e) => Err(Error::Input(format!("error: {e}"))),
+        Err(e) => Err(Error::input(e)),
     }
 }
 
@@ -116,27 +116,22 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> Result<ExitCode, Error> {
         output,
         format,
     } = a;
-    use cierva_harness::inputs::record;
     if let Err(e) = cierva_harness::inputs::limits::record_samples(duration_s, sample_rate_hz) {
-        return Err(Error::Input(format!("error: {e}")));
+        return Err(Error::input(e));
     }
     let file = cierva_harness::inputs::rotor::load(&rotor).map_err(|e| Error::Input(e.render()))?;
     let inflow = InflowModel::PetersHaQuang {
         wake: WakeModel::SEED_001,
     };
-    let a = match run_autorotation(
+    let a = run_autorotation(
         &file.rotor,
         alpha_deg,
         airspeed_m_s,
         collective_deg,
         None,
         inflow,
-    ) {
-        Ok(a) => a,
-        Err(e) => {
-            return Err(Error::of(e.is_input(), format!("error: {e}")));
-        }
-    };
+    )
+    .map_err(|e| Error::of(e.is_input(), format!("error: {e}")))?;
     let id = output
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())
@@ -157,32 +152,22 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> Result<ExitCode, Error> {
         seed,
         noise_deg.to_radians(),
     );
-    match record::write(&output, &meta, &channels, &data) {
-        Ok(()) => {
-            done(
-                format,
-                format!(
-                    "wrote {} and its sidecar: model inflow v0 {:.4}, v1s {:.4}, v1c {:.4} m/s, coning {:.4} deg",
-                    output.display(),
-                    a.inflow.v0,
-                    a.inflow.v1s,
-                    a.inflow.v1c,
-                    a.a0_rad.to_degrees()
-                ),
-                serde_json::json!({
-                    "wrote": [
-                        output.display().to_string(),
-                        record::sidecar_path(&output).display().to_string()
-                    ],
-                    "model_inflow_m_s": {"v0": a.inflow.v0, "v1s": a.inflow.v1s, "v1c": a.inflow.v1c},
-                    "coning_deg": a.a0_rad.to_degrees(),
-                }),
-            );
-            Ok(ExitCode::SUCCESS)
-        }
-        Err(e) => Err(Error::Input(format!(
-            "error: cannot write {}: {e}",
-            output.display()
-        ))),
-    }
+    write_record(
+        &output,
+        &meta,
+        (&channels, &data),
+        format,
+        format!(
+            "wrote {} and its sidecar: model inflow v0 {:.4}, v1s {:.4}, v1c {:.4} m/s, coning {:.4} deg",
+            output.display(),
+            a.inflow.v0,
+            a.inflow.v1s,
+            a.inflow.v1c,
+            a.a0_rad.to_degrees()
+        ),
+        serde_json::json!({
+            "model_inflow_m_s": {"v0": a.inflow.v0, "v1s": a.inflow.v1s, "v1c": a.inflow.v1c},
+            "coning_deg": a.a0_rad.to_degrees(),
+        }),
+    )
 }

@@ -26,6 +26,6 @@ pub(crate) fn init(a: InitArgs) -> Result<ExitCode, Error> {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Err(e) => Err(Error::Input(format!("error: {e}"))),
+        Err(e) => Err(Error::input(e)),
     }
 }

@@ -22,15 +22,13 @@ pub(crate) fn linearize(a: LinearizeArgs) -> Result<ExitCode, Error> {
     let LinearizeArgs { flight: f, format } = a;
     let file = load_flight(&f)?;
     let (request, loading) = (f.request(0.0), f.loading());
-    let (t, lin) = match cierva_harness::run_linearise(&file.aircraft, request, loading) {
-        Ok(x) => x,
-        Err(e) => {
-            return Err(Error::of(
+    let (t, lin) =
+        cierva_harness::run_linearise(&file.aircraft, request, loading).map_err(|e| {
+            Error::of(
                 e.is_input(),
                 format!("error: {}: {e}", f.aircraft.display()),
-            ));
-        }
-    };
+            )
+        })?;
     let mass = f.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
     let condition = format!(
         "{} mph, climb {} m/s, {} kg, density altitude {} ft",

@@ -115,6 +115,16 @@ pub(crate) enum Error {
 }
 
 impl Error {
+    /// Bad input: `error: ` and the message.
+    pub(crate) fn input(message: impl std::fmt::Display) -> Self {
+        Self::Input(format!("error: {message}"))
+    }
+
+    /// A failure: `error: ` and the message.
+    pub(crate) fn failure(message: impl std::fmt::Display) -> Self {
+        Self::Failure(format!("error: {message}"))
+    }
+
     /// Bad input where `input`, a failure otherwise (a model run's error says which it is).
     pub(crate) fn of(input: bool, message: String) -> Self {
         if input {
@@ -140,6 +150,27 @@ impl From<cierva_harness::inputs::yaml::InputError> for Error {
     fn from(e: cierva_harness::inputs::yaml::InputError) -> Self {
         Self::Input(e.render())
     }
+}
+
+/// Writes a record (its CSV and sidecar) and says so: `text` for people; for programs `json`
+/// with the two paths added under `wrote`. A file that cannot be written is exit code 2.
+pub(crate) fn write_record(
+    path: &Path,
+    meta: &cierva_harness::inputs::record::RecordMeta,
+    (channels, data): (&[String], &[Vec<f64>]),
+    format: Format,
+    text: String,
+    mut json: serde_json::Value,
+) -> Result<ExitCode, Error> {
+    use cierva_harness::inputs::record;
+    record::write(path, meta, channels, data)
+        .map_err(|e| Error::input(format!("cannot write {}: {e}", path.display())))?;
+    json["wrote"] = serde_json::json!([
+        path.display().to_string(),
+        record::sidecar_path(path).display().to_string()
+    ]);
+    done(format, text, json);
+    Ok(ExitCode::SUCCESS)
 }
 
 pub(crate) static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
@@ -193,8 +224,8 @@ pub(crate) fn load_flight(
         Target::Rotor(id) => *id == file.main_rotor_file.id,
     };
     if !applies {
-        return Err(Error::Input(format!(
-            "error: {} corrects {:?}, not the aircraft {} or its main rotor {}",
+        return Err(Error::input(format!(
+            "{} corrects {:?}, not the aircraft {} or its main rotor {}",
             path.display(),
             c.target,
             file.id,
@@ -202,7 +233,7 @@ pub(crate) fn load_flight(
         )));
     }
     file.with_corrections(&c.corrections)
-        .map_err(|e| Error::Input(format!("error: {}: {e}", path.display())))
+        .map_err(|e| Error::input(format!("{}: {e}", path.display())))
 }
 
 /// The azimuth step of a flight, rad: `--azimuth-step-deg` where given (from
@@ -216,8 +247,8 @@ pub(crate) fn azimuth_step_rad(
     match arg_deg {
         None => Ok(file.aircraft.main_rotor.numerics.azimuth_step_rad),
         Some(d) if azimuth_step_ok(d, 30.0) => Ok(d.to_radians()),
-        Some(d) => Err(Error::Input(format!(
-            "error: --azimuth-step-deg must be in [{MIN_AZIMUTH_STEP_DEG}, 30] deg (MIN_AZIMUTH_STEP_DEG), got {d}"
+        Some(d) => Err(Error::input(format!(
+            "--azimuth-step-deg must be in [{MIN_AZIMUTH_STEP_DEG}, 30] deg (MIN_AZIMUTH_STEP_DEG), got {d}"
         ))),
     }
 }
@@ -263,15 +294,15 @@ pub(crate) fn linearised_against(
         .iter()
         .map(cierva_harness::ident::record_condition)
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| Error::Input(format!("error: {e}")))?;
+        .map_err(Error::input)?;
     let (request, loading) = conditions[0];
     if let Some((k, _)) = conditions
         .iter()
         .enumerate()
         .find(|(_, c)| **c != conditions[0])
     {
-        return Err(Error::Input(format!(
-            "error: {} and {} are not at one condition ({:?} against {:?}): identify each condition on its own",
+        return Err(Error::input(format!(
+            "{} and {} are not at one condition ({:?} against {:?}): identify each condition on its own",
             recs[0].path.display(),
             recs[k].path.display(),
             conditions[0],
@@ -294,5 +325,5 @@ pub(crate) fn linearised_against(
             });
             (lin.model, with_flapping)
         })
-        .map_err(|e| Error::Failure(format!("error: {}: {e}", aircraft.display())))
+        .map_err(|e| Error::failure(format!("{}: {e}", aircraft.display())))
 }

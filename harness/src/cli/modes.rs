@@ -28,20 +28,16 @@ pub(crate) fn modes(a: ModesArgs) -> Result<ExitCode, Error> {
     } = a;
     let r = reference::load(&file).map_err(|e| Error::Input(e.render()))?;
     let Some(model) = r.linear_model else {
-        return Err(Error::Input(format!(
-            "error: {}: no `linear_model` block",
+        return Err(Error::input(format!(
+            "{}: no `linear_model` block",
             file.display()
         )));
     };
     if let Some(spec) = sweep {
         return locus(&model, &spec, format);
     }
-    let analysis = match cierva_model::modes(&model) {
-        Ok(a) => a,
-        Err(e) => {
-            return Err(Error::Input(format!("error: {}: {e}", file.display())));
-        }
-    };
+    let analysis = cierva_model::modes(&model)
+        .map_err(|e| Error::input(format!("{}: {e}", file.display())))?;
     match format {
         Format::Json => {
             let assessed: Vec<_> = analysis
@@ -88,22 +84,15 @@ pub(crate) fn locus(
     });
     let Some((name, from, to, n)) = parsed.filter(|(_, a, b, _)| a.is_finite() && b.is_finite())
     else {
-        return Err(Error::Input(format!(
-            "error: --sweep `{spec}`: expected DERIVATIVE=FROM:TO:POINTS, for example Q_u=0.06:0.26:11"
+        return Err(Error::input(format!(
+            "--sweep `{spec}`: expected DERIVATIVE=FROM:TO:POINTS, for example Q_u=0.06:0.26:11"
         )));
     };
-    let element = match model.derivative(name) {
-        Ok(e) => e,
-        Err(e) => {
-            return Err(Error::Input(format!("error: --sweep: {e}")));
-        }
-    };
-    let points = match locus::root_locus(model, element, &locus::linspace(from, to, n)) {
-        Ok(p) => p,
-        Err(e) => {
-            return Err(Error::Input(format!("error: --sweep: {e}")));
-        }
-    };
+    let element = model
+        .derivative(name)
+        .map_err(|e| Error::input(format!("--sweep: {e}")))?;
+    let points = locus::root_locus(model, element, &locus::linspace(from, to, n))
+        .map_err(|e| Error::input(format!("--sweep: {e}")))?;
     match format {
         Format::Json => {
             let out: Vec<_> = points

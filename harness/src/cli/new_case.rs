@@ -19,14 +19,11 @@ pub(crate) struct NewCaseArgs {
 pub(crate) fn new_case(a: NewCaseArgs) -> Result<ExitCode, Error> {
     let NewCaseArgs { path, format } = a;
     let Some(id) = path.file_stem().map(|s| s.to_string_lossy().to_string()) else {
-        return Err(Error::Input(format!(
-            "error: {}: not a file name",
-            path.display()
-        )));
+        return Err(Error::input(format!("{}: not a file name", path.display())));
     };
     if path.exists() {
-        return Err(Error::Input(format!(
-            "error: {} exists; not overwritten",
+        return Err(Error::input(format!(
+            "{} exists; not overwritten",
             path.display()
         )));
     }
@@ -34,10 +31,7 @@ pub(crate) fn new_case(a: NewCaseArgs) -> Result<ExitCode, Error> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
         && let Err(e) = std::fs::create_dir_all(dir)
     {
-        return Err(Error::Input(format!(
-            "error: cannot make {}: {e}",
-            dir.display()
-        )));
+        return Err(Error::input(format!("cannot make {}: {e}", dir.display())));
     }
     match std::fs::write(&path, text) {
         Ok(()) => {
@@ -52,8 +46,8 @@ pub(crate) fn new_case(a: NewCaseArgs) -> Result<ExitCode, Error> {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Err(e) => Err(Error::Input(format!(
-            "error: cannot write {}: {e}",
+        Err(e) => Err(Error::input(format!(
+            "cannot write {}: {e}",
             path.display()
         ))),
     }

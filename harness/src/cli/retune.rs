@@ -2,38 +2,22 @@
 
 use super::*;
 use cierva_harness::fit::retune::{self, Request};
-use cierva_harness::inputs::corrections::{
-    AppliesTo, CorrectionsFile, CorrectionsFileSpec, Target,
-};
+use cierva_harness::inputs::corrections::{CorrectionsFile, Target};
 use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
 
 pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
-    // Long: one command in the order it works: inputs, the fit, the corrections file, the
-    // assessment (modes, predictions, the suite), the report and the summary
-    let fail =
-        |msg: String| -> Result<ExitCode, Error> { Err(Error::Input(format!("error: {msg}"))) };
     let file = load_aircraft(&a.aircraft)?;
-    let mut records = Vec::new();
-    for p in &a.records {
-        match record::load(p) {
-            Ok(r) => records.push(r),
-            Err(e) => {
-                return Err(Error::Input(e.render()));
-            }
-        }
-    }
-    let requests = match requests(&a.fit, &a.bounds) {
-        Ok(r) => r,
-        Err(e) => return fail(e),
-    };
+    let records = a
+        .records
+        .iter()
+        .map(|p| record::load(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let requests = requests(&a.fit, &a.bounds).map_err(Error::input)?;
     let busy = spinner("estimating the responses and fitting");
     let outcome = retune::retune(&file, &records, &requests, &how(&a));
     busy.finish_and_clear();
-    let r = match outcome {
-        Ok(r) => r,
-        Err(e) => return fail(e),
-    };
+    let r = outcome.map_err(Error::input)?;
     let output = or_in_suite(
         a.output.clone(),
         Suite::retuned,
@@ -44,130 +28,50 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let corrections = r.result.corrections();
-    let standard_errors: serde_json::Map<String, serde_json::Value> = r
-        .result
-        .parameters
-        .iter()
-        .zip(&r.result.standard_errors)
-        .map(|(k, s)| {
-            (
-                k.name().to_string(),
-                serde_json::json!(s.is_finite().then_some(*s)),
-            )
-        })
-        .collect();
     let command = std::env::args().skip(1).collect::<Vec<_>>().join(" ");
-    let spec = CorrectionsFileSpec {
-        id: id.clone(),
-        title: format!("Corrections of {} retuned from flight records", file.title),
-        applies_to: AppliesTo {
-            aircraft: Some(file.id.clone()),
-            rotor: None,
-        },
-        corrections: corrections.clone(),
-        provenance: cierva_harness::inputs::reference::Provenance {
-            source: format!(
-                "retuned by `cierva {command}` (cierva {})",
-                env!("CARGO_PKG_VERSION")
-            ),
-            notes: Some(format!(
-                "Records: {}",
-                records
-                    .iter()
-                    .map(|x| format!("{} ({})", x.meta.id, x.meta.provenance.source))
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            )),
-        },
-        fit: Some(serde_json::json!({
-            "bounds": r
-                .problem
-                .parameters
-                .iter()
-                .zip(&r.bounds_sources)
-                .map(|(p, source)| {
-                    (
-                        p.kind.name().to_string(),
-                        serde_json::json!({"lower": p.lower, "upper": p.upper, "source": source}),
-                    )
-                })
-                .collect::<serde_json::Map<String, serde_json::Value>>(),
-            "status": r.result.status.name(),
-            "model": r.model,
-            "reduced_chi_square": finite(r.reduced_chi_square),
-            "iterations": r.result.iterations,
-            "evaluations": r.result.evaluations,
-            "standard_errors": standard_errors,
-            "targets": r.problem.targets.len(),
-            "warnings": r.result.warnings,
-        })),
-        cross_validation: None,
-        not_applied_to: vec![],
-    };
+    let spec = retune::corrections_file(&r, &file, &records, &id, &command);
     let write = |path: &Path, text: &str| -> Result<(), String> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         }
         std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
-    let yaml = match serde_yaml::to_string(&spec) {
-        Ok(y) => y,
-        Err(e) => return fail(e.to_string()),
-    };
-    if let Err(e) = write(&output, &yaml) {
-        return fail(e);
-    }
+    let yaml = serde_yaml::to_string(&spec).map_err(Error::input)?;
+    write(&output, &yaml).map_err(Error::input)?;
     // The assessment: the corrected aircraft beside the uncorrected one.
-    let after = match file.with_corrections(&corrections) {
-        Ok(f) => f,
-        Err(e) => return fail(format!("the fitted corrections: {e}")),
-    };
+    let after = file
+        .with_corrections(&corrections)
+        .map_err(|e| Error::input(format!("the fitted corrections: {e}")))?;
     let modes = retune::modes(&file, &after, &r.conditions);
     let busy = spinner("the responses before and after");
     let comparisons = retune::responses::compare(&file.aircraft, &after.aircraft, &r.responses);
     busy.finish_and_clear();
-    let comparisons = match comparisons {
-        Ok(c) => c,
-        Err(e) => return fail(format!("the responses before and after: {e}")),
-    };
+    let comparisons =
+        comparisons.map_err(|e| Error::input(format!("the responses before and after: {e}")))?;
     let mut predictions = Vec::new();
     for p in &a.predict {
         let rec = record::load(p).map_err(|e| Error::Input(e.render()))?;
-        match retune::predict(&file, &after, &rec) {
-            Ok(x) => predictions.extend(x),
-            Err(e) => return fail(format!("predicting {}: {e}", p.display())),
-        }
+        predictions.extend(
+            retune::predict(&file, &after, &rec)
+                .map_err(|e| Error::input(format!("predicting {}: {e}", p.display())))?,
+        );
     }
+    let loaded = CorrectionsFile {
+        path: output.clone(),
+        id: id.clone(),
+        target: Target::Aircraft(file.id.clone()),
+        corrections: corrections.clone(),
+        not_applied_to: vec![],
+        // retune is not cross-validated: it states no predictive error.
+        predictive_error: None,
+    };
     let revalidation = if a.no_validate {
         None
     } else {
-        let suite = suite()?;
-        let busy = spinner("the validation suite with the new corrections");
-        let cases: Vec<_> = match load_cases(&[suite.cases().to_path_buf()]) {
-            Ok(l) => l.into_iter().filter_map(Result::ok).collect(),
-            Err(e) => return fail(format!("the validation suite: {e}")),
-        };
-        let loaded = CorrectionsFile {
-            path: output.clone(),
-            id: id.clone(),
-            target: Target::Aircraft(file.id.clone()),
-            corrections: corrections.clone(),
-            not_applied_to: vec![],
-            // retune is not cross-validated: it states no predictive error.
-            predictive_error: None,
-        };
-        let v = retune::revalidate(&cases, &loaded);
-        busy.finish_and_clear();
-        match v {
-            Ok(v) => Some(v),
-            Err(e) => return fail(e),
-        }
+        Some(revalidate(&loaded)?)
     };
     let report = or_in_suite(a.report.clone(), Suite::retune_reports, format!("{id}.md"))?;
-    let figures = match bode_figures(&report, &comparisons) {
-        Ok(f) => f,
-        Err(e) => return fail(e),
-    };
+    let figures = bode_figures(&report, &comparisons).map_err(Error::input)?;
     let md = retune::markdown(
         &r,
         &a.aircraft.display().to_string(),
@@ -176,20 +80,11 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         revalidation.as_ref(),
         &figures,
     );
-    if let Err(e) = write(&report, &md) {
-        return fail(e);
-    }
-    let values: serde_json::Map<String, serde_json::Value> = r
-        .result
-        .parameters
-        .iter()
-        .zip(&r.result.values)
-        .map(|(k, v)| (k.name().to_string(), serde_json::json!(v)))
-        .collect();
+    write(&report, &md).map_err(Error::input)?;
     match a.format {
         Format::Json => print_json(&serde_json::json!({
-            "corrections": values,
-            "standard_errors": standard_errors,
+            "corrections": r.values_by_name(),
+            "standard_errors": r.standard_errors_by_name(),
             "status": r.result.status.name(),
             "curvature_standard_errors": r
                 .result
@@ -215,63 +110,13 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
             "wrote": [output.display().to_string(), report.display().to_string()],
             "figures": figures.iter().filter_map(|(_, f)| f.clone()).collect::<Vec<_>>(),
         })),
-        Format::Text => {
-            println!(
-                "retuned {} from {} records at {} conditions: {}",
-                file.id,
-                records.len(),
-                r.conditions.len(),
-                r.result.status.name()
-            );
-            for ((k, v), se) in r
-                .result
-                .parameters
-                .iter()
-                .zip(&r.result.values)
-                .zip(&r.result.standard_errors)
-            {
-                println!(
-                    "  {:<28} {:>12} +- {} (95 %: +- {})",
-                    k.name(),
-                    cierva_harness::units::sig(*v, 5),
-                    cierva_harness::units::sig(*se, 3),
-                    cierva_harness::units::sig(1.96 * se, 3)
-                );
-            }
-            println!(
-                "matched the records' frequency responses ({} targets) with {}; reduced chi-square {}",
-                r.problem.targets.len(),
-                r.model,
-                cierva_harness::units::sig(r.reduced_chi_square, 3)
-            );
-            for c in &comparisons {
-                let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
-                println!(
-                    "  {} {}/{}: J {} -> {} ({} frequencies in band)",
-                    c.condition,
-                    c.output,
-                    c.input,
-                    j(c.j_before),
-                    j(c.j_after),
-                    c.frequencies_in_band
-                );
-            }
-            if let Some(v) = &revalidation {
-                for (class, [n, b, a]) in &v.classes {
-                    println!("  suite, {class}: {n} checks, {b} inside before, {a} after");
-                }
-                for c in &v.changed {
-                    println!(
-                        "  changed: {} ({}) {} -> {}",
-                        c.check,
-                        c.class,
-                        if c.passed_before { "inside" } else { "outside" },
-                        if c.passed_after { "inside" } else { "outside" }
-                    );
-                }
-            }
-            println!("wrote {} and {}", output.display(), report.display());
-        }
+        Format::Text => print_text(
+            &r,
+            (&file.id, records.len()),
+            &comparisons,
+            revalidation.as_ref(),
+            [&output, &report],
+        ),
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -364,4 +209,84 @@ fn bode_figures(
         out.push((c.clone(), file));
     }
     Ok(out)
+}
+
+/// The retune's summary for people: the fitted values with their standard errors, the fit, the
+/// responses' J before and after, the suite's changes, and the files written.
+fn print_text(
+    r: &retune::Retune,
+    (aircraft, records): (&str, usize),
+    comparisons: &[retune::responses::Comparison],
+    revalidation: Option<&retune::Revalidation>,
+    [output, report]: [&Path; 2],
+) {
+    println!(
+        "retuned {} from {} records at {} conditions: {}",
+        aircraft,
+        records,
+        r.conditions.len(),
+        r.result.status.name()
+    );
+    for ((k, v), se) in r
+        .result
+        .parameters
+        .iter()
+        .zip(&r.result.values)
+        .zip(&r.result.standard_errors)
+    {
+        println!(
+            "  {:<28} {:>12} +- {} (95 %: +- {})",
+            k.name(),
+            cierva_harness::units::sig(*v, 5),
+            cierva_harness::units::sig(*se, 3),
+            cierva_harness::units::sig(1.96 * se, 3)
+        );
+    }
+    println!(
+        "matched the records' frequency responses ({} targets) with {}; reduced chi-square {}",
+        r.problem.targets.len(),
+        r.model,
+        cierva_harness::units::sig(r.reduced_chi_square, 3)
+    );
+    for c in comparisons {
+        let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+        println!(
+            "  {} {}/{}: J {} -> {} ({} frequencies in band)",
+            c.condition,
+            c.output,
+            c.input,
+            j(c.j_before),
+            j(c.j_after),
+            c.frequencies_in_band
+        );
+    }
+    if let Some(v) = revalidation {
+        for (class, [n, b, a]) in &v.classes {
+            println!("  suite, {class}: {n} checks, {b} inside before, {a} after");
+        }
+        for c in &v.changed {
+            println!(
+                "  changed: {} ({}) {} -> {}",
+                c.check,
+                c.class,
+                if c.passed_before { "inside" } else { "outside" },
+                if c.passed_after { "inside" } else { "outside" }
+            );
+        }
+    }
+    println!("wrote {} and {}", output.display(), report.display());
+}
+
+/// The suite's cases the retuned corrections apply to, run without and with them.
+fn revalidate(loaded: &CorrectionsFile) -> Result<retune::Revalidation, Error> {
+    let suite = suite()?;
+    let busy = spinner("the validation suite with the new corrections");
+    let cases: Vec<_> = load_cases(&[suite.cases().to_path_buf()])
+        .map_err(|e| Error::input(format!("the validation suite: {e}")))?
+        .into_iter()
+        .filter_map(Result::ok)
+        .collect();
+    let v = retune::revalidate(&cases, loaded);
+    busy.finish_and_clear();
+    v.map_err(Error::input)
 }

@@ -74,12 +74,7 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
         reason,
         format,
     } = a;
-    let reason = match reason_for(accept, reason) {
-        Ok(r) => r,
-        Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
-        }
-    };
+    let reason = reason_for(accept, reason).map_err(Error::input)?;
     let suite = suite()?;
     let log = rv::load_log(&suite.acceptances()).map_err(|e| Error::Input(e.render()))?;
     let cases = suite_cases(&suite, paths)?;
@@ -111,12 +106,12 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
         let board = (!(scores_moved.is_empty() && stale.is_empty()))
             .then(|| scoreboard::with(&board, &reviewed, &scores));
         if let Err(e) = write_accepted(&suite, board.as_ref(), &reviews, &mut written) {
-            return Err(Error::Input(format!("error: {e}")));
+            return Err(Error::input(e));
         }
         match log_acceptance(&suite, &log, reason, commit, changes) {
             Ok(entry) => logged = Some(entry),
             Err(e) => {
-                return Err(Error::Input(format!("error: {e}")));
+                return Err(Error::input(e));
             }
         }
     }
@@ -167,13 +162,13 @@ fn suite_cases(
     let loaded = match load_cases(&paths) {
         Ok(l) if !l.is_empty() => l,
         Ok(_) => {
-            return Err(Error::Input(format!(
-                "error: no case files (*.yaml) under {}",
+            return Err(Error::input(format!(
+                "no case files (*.yaml) under {}",
                 show(&paths)
             )));
         }
         Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
+            return Err(Error::input(e));
         }
     };
     let mut cases = Vec::new();
@@ -182,8 +177,8 @@ fn suite_cases(
             // Its records are written to the suite's folder, where only the suite's own cases
             // find them.
             Ok(case) if case.records_dir.as_deref() != Some(suite.discrepancies().as_path()) => {
-                return Err(Error::Input(format!(
-                    "error: {}: not a case of the suite at {}: review it in its own suite (--suite)",
+                return Err(Error::input(format!(
+                    "{}: not a case of the suite at {}: review it in its own suite (--suite)",
                     case.path.display(),
                     suite.root.display()
                 )));

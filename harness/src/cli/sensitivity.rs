@@ -9,18 +9,11 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
         (Some(path), None) => {
             let case =
                 cierva_harness::suite::case::load(path).map_err(|e| Error::Input(e.render()))?;
-            match sensitivity::from_case(&case, a.airspeed_mph) {
-                Ok(x) => x,
-                Err(e) => {
-                    return Err(Error::Input(format!("error: {e}")));
-                }
-            }
+            sensitivity::from_case(&case, a.airspeed_mph).map_err(Error::input)?
         }
         (None, Some(path)) => {
             let Some(v) = a.airspeed_mph else {
-                return Err(Error::Input(
-                    "error: give --airspeed-mph with an aircraft file".into(),
-                ));
+                return Err(Error::input("give --airspeed-mph with an aircraft file"));
             };
             let file = load_aircraft(path)?;
             let loading = cierva_harness::Loading {
@@ -42,9 +35,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
             (file, loading, request, quantities)
         }
         _ => {
-            return Err(Error::Input(
-                "error: give an aircraft file or --case, not both".into(),
-            ));
+            return Err(Error::input("give an aircraft file or --case, not both"));
         }
     };
     let quantities: Vec<Quantity> = if a.quantities.is_empty() {
@@ -78,7 +69,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
             .collect()
     };
     if let Err(e) = sensitivity::check_names(&file, &parameters, &quantities) {
-        return Err(Error::Input(format!("error: {e}")));
+        return Err(Error::input(e));
     }
     match sensitivity::run(&file, request, loading, &parameters, &quantities) {
         Ok(study) => {
@@ -91,6 +82,6 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Err(e) => Err(Error::Failure(format!("error: {e}"))),
+        Err(e) => Err(Error::failure(e)),
     }
 }

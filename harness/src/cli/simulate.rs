@@ -61,17 +61,12 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
         },
         (None, Some(_)) => None,
         _ => {
-            return Err(Error::Input(
-                "error: give exactly one of --controls-csv or --shape".into(),
+            return Err(Error::input(
+                "give exactly one of --controls-csv or --shape",
             ));
         }
     };
-    let index = match control_index(&control) {
-        Ok(i) => i,
-        Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
-        }
-    };
+    let index = control_index(&control).map_err(Error::input)?;
     let changes = |t: f64| -> [f64; 4] {
         match (&table, &shape) {
             (Some(tb), _) => tb.at(t),
@@ -98,8 +93,8 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
     match flown {
         Ok(h) => {
             if let Err(e) = std::fs::write(&output, controls::to_csv(&h)) {
-                return Err(Error::Input(format!(
-                    "error: cannot write {}: {e}",
+                return Err(Error::input(format!(
+                    "cannot write {}: {e}",
                     output.display()
                 )));
             }
@@ -124,9 +119,6 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Err(e) => Err(Error::Failure(format!(
-            "error: {}: {e}",
-            f.aircraft.display()
-        ))),
+        Err(e) => Err(Error::failure(format!("{}: {e}", f.aircraft.display()))),
     }
 }

@@ -7,8 +7,8 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
     use cierva_harness::synth::linear;
     let r = reference::load(&a.model).map_err(|e| Error::Input(e.render()))?;
     let Some(model) = r.linear_model else {
-        return Err(Error::Input(format!(
-            "error: {}: no `linear_model` block",
+        return Err(Error::input(format!(
+            "{}: no `linear_model` block",
             a.model.display()
         )));
     };
@@ -18,8 +18,8 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
         .filter_map(|v| v.trim().parse().ok())
         .collect();
     let [px, py, pz] = probe[..] else {
-        return Err(Error::Input(format!(
-            "error: --probe-m `{}`: expected x,y,z in metres",
+        return Err(Error::input(format!(
+            "--probe-m `{}`: expected x,y,z in metres",
             a.probe_m
         )));
     };
@@ -86,34 +86,19 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
             cg_position_m: [0.0, 0.0, 0.0],
         },
     };
-    match linear::generate(&model, &settings) {
-        Ok((channels, data, meta)) => match record::write(&a.output, &meta, &channels, &data) {
-            Ok(()) => {
-                done(
-                    a.format,
-                    format!(
-                        "wrote {} and {} ({} samples, seed {})",
-                        a.output.display(),
-                        record::sidecar_path(&a.output).display(),
-                        data[0].len(),
-                        a.seed
-                    ),
-                    serde_json::json!({
-                        "wrote": [
-                            a.output.display().to_string(),
-                            record::sidecar_path(&a.output).display().to_string()
-                        ],
-                        "samples": data[0].len(),
-                        "seed": a.seed,
-                    }),
-                );
-                Ok(ExitCode::SUCCESS)
-            }
-            Err(e) => Err(Error::Input(format!(
-                "error: cannot write {}: {e}",
-                a.output.display()
-            ))),
-        },
-        Err(e) => Err(Error::Input(format!("error: {e}"))),
-    }
+    let (channels, data, meta) = linear::generate(&model, &settings).map_err(Error::input)?;
+    write_record(
+        &a.output,
+        &meta,
+        (&channels, &data),
+        a.format,
+        format!(
+            "wrote {} and {} ({} samples, seed {})",
+            a.output.display(),
+            record::sidecar_path(&a.output).display(),
+            data[0].len(),
+            a.seed
+        ),
+        serde_json::json!({"samples": data[0].len(), "seed": a.seed}),
+    )
 }

@@ -3,8 +3,6 @@
 use super::*;
 
 pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
-    // Long: one command, in the order it works: fly the record, add the seeded noise, write the CSV
-    // and its sidecar with the truth
     use cierva_harness::run::replay;
     use cierva_harness::synth::history;
     let file = load_flight(&a.flight)?;
@@ -13,46 +11,20 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
         hub_aoa_factor: a.hub_aoa_factor,
         ..Default::default()
     };
-    let file = match file.with_corrections(&corrections) {
-        Ok(f) => f,
-        Err(e) => {
-            return Err(Error::Input(format!("error: the corrections: {e}")));
-        }
-    };
+    let file = file
+        .with_corrections(&corrections)
+        .map_err(|e| Error::input(format!("the corrections: {e}")))?;
     let Some(shape) = a.shape.input() else {
-        return Err(Error::Input("error: give --shape".into()));
+        return Err(Error::input("give --shape"));
     };
-    let index = match control_index(&a.shape.control) {
-        Ok(i) => i,
-        Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
-        }
-    };
+    let index = control_index(&a.shape.control).map_err(Error::input)?;
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(a.duration_s) && ok(a.sample_rate_hz)) {
-        return Err(Error::Input(
-            "error: --duration-s and --sample-rate-hz must be positive".into(),
+        return Err(Error::input(
+            "--duration-s and --sample-rate-hz must be positive",
         ));
     }
-    let noise = history::Noise {
-        speed_m_s: a.noise_speed_m_s,
-        rate_deg_s: a.noise_rate_deg_s,
-        angle_deg: a.noise_angle_deg,
-        rpm: a.noise_rpm,
-    };
-    if ![
-        noise.speed_m_s,
-        noise.rate_deg_s,
-        noise.angle_deg,
-        noise.rpm,
-    ]
-    .iter()
-    .all(|v| v.is_finite() && *v >= 0.0)
-    {
-        return Err(Error::Input(
-            "error: noise standard deviations must be finite and >= 0".into(),
-        ));
-    }
+    let noise = noise(&a)?;
     let changes = |t: f64| {
         let mut d = [0.0; 4];
         d[index] = shape.at(t);
@@ -75,15 +47,8 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
         },
     );
     busy.finish_and_clear();
-    let flown = match flown {
-        Ok(f) => f,
-        Err(e) => {
-            return Err(Error::Failure(format!(
-                "error: {}: {e}",
-                a.flight.aircraft.display()
-            )));
-        }
-    };
+    let flown =
+        flown.map_err(|e| Error::failure(format!("{}: {e}", a.flight.aircraft.display())))?;
     let id = a
         .output
         .file_stem()
@@ -106,15 +71,7 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
             .hub_aoa_factor
             .map_or("none".to_string(), |k| k.to_string()),
     );
-    let mut condition = std::collections::BTreeMap::new();
-    for (k, v) in [
-        ("airspeed_mph", a.flight.airspeed_mph),
-        ("climb_m_s", a.flight.climb_m_s),
-        ("mass_kg", mass),
-        ("density_altitude_ft", a.flight.density_altitude_ft),
-    ] {
-        condition.insert(k.to_string(), serde_yaml::Value::from(v));
-    }
+    let condition = a.flight.sidecar_condition(mass);
     let mut settings = std::collections::BTreeMap::new();
     settings.insert(
         "input".to_string(),
@@ -141,34 +98,41 @@ pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
     };
     let column = cierva_harness::inputs::controls::CONTROL_COLUMNS[index];
     let (meta, channels, data) =
-        match history::synthesize(&flown, &changes, &[column], noise, &spec) {
-            Ok(x) => x,
-            Err(e) => {
-                return Err(Error::Input(format!("error: {e}")));
-            }
-        };
-    match cierva_harness::inputs::record::write(&a.output, &meta, &channels, &data) {
-        Ok(()) => {
-            done(
-                a.format,
-                format!(
-                    "wrote {} and its sidecar ({} samples)",
-                    a.output.display(),
-                    flown.time_s.len()
-                ),
-                serde_json::json!({
-                    "wrote": [
-                        a.output.display().to_string(),
-                        cierva_harness::inputs::record::sidecar_path(&a.output).display().to_string()
-                    ],
-                    "samples": flown.time_s.len(),
-                }),
-            );
-            Ok(ExitCode::SUCCESS)
-        }
-        Err(e) => Err(Error::Input(format!(
-            "error: cannot write {}: {e}",
-            a.output.display()
-        ))),
+        history::synthesize(&flown, &changes, &[column], noise, &spec).map_err(Error::input)?;
+    write_record(
+        &a.output,
+        &meta,
+        (&channels, &data),
+        a.format,
+        format!(
+            "wrote {} and its sidecar ({} samples)",
+            a.output.display(),
+            flown.time_s.len()
+        ),
+        serde_json::json!({"samples": flown.time_s.len()}),
+    )
+}
+
+/// The sensor noise the arguments ask for (standard deviations, each finite and >= 0).
+fn noise(a: &SynthHistoryArgs) -> Result<cierva_harness::synth::history::Noise, Error> {
+    let noise = cierva_harness::synth::history::Noise {
+        speed_m_s: a.noise_speed_m_s,
+        rate_deg_s: a.noise_rate_deg_s,
+        angle_deg: a.noise_angle_deg,
+        rpm: a.noise_rpm,
+    };
+    if ![
+        noise.speed_m_s,
+        noise.rate_deg_s,
+        noise.angle_deg,
+        noise.rpm,
+    ]
+    .iter()
+    .all(|v| v.is_finite() && *v >= 0.0)
+    {
+        return Err(Error::input(
+            "noise standard deviations must be finite and >= 0",
+        ));
     }
+    Ok(noise)
 }

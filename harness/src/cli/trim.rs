@@ -28,15 +28,8 @@ pub(crate) fn trim(a: TrimArgs) -> Result<ExitCode, Error> {
     let flight = &flight;
     let file = load_flight(flight)?;
     let path = &flight.aircraft;
-    let t = match cierva_harness::run_trim(&file.aircraft, request, loading) {
-        Ok(t) => t,
-        Err(e) => {
-            return Err(Error::of(
-                e.is_input(),
-                format!("error: {}: {e}", path.display()),
-            ));
-        }
-    };
+    let t = cierva_harness::run_trim(&file.aircraft, request, loading)
+        .map_err(|e| Error::of(e.is_input(), format!("error: {}: {e}", path.display())))?;
     match format {
         Format::Json => print_json(&t),
         Format::Text => print!("{}", tables::trim_report(&file.title, request, loading, &t)),

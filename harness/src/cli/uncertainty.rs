@@ -31,8 +31,8 @@ struct CaseSummary<'a> {
 
 pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
     if a.samples < MIN_SAMPLES {
-        return Err(Error::Input(format!(
-            "error: --samples {}: give at least {MIN_SAMPLES} (the percentiles and Sobol' indices of fewer mean nothing)",
+        return Err(Error::input(format!(
+            "--samples {}: give at least {MIN_SAMPLES} (the percentiles and Sobol' indices of fewer mean nothing)",
             a.samples
         )));
     }
@@ -56,7 +56,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         match cierva_harness::suite::case::with_corrections(&case, &files) {
             Ok((c, _)) => corrected.push(c),
             Err(e) => {
-                return Err(Error::Input(format!("error: the corrections {e}")));
+                return Err(Error::input(format!("the corrections {e}")));
             }
         }
     }
@@ -85,7 +85,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             Ok(u) => done.push((u, started.elapsed().as_secs_f64())),
             Err(e) => {
                 bar.finish_and_clear();
-                return Err(Error::Input(format!("error: {}: {e}", case.path.display())));
+                return Err(Error::input(format!("{}: {e}", case.path.display())));
             }
         }
         bar.finish_and_clear();
@@ -128,13 +128,13 @@ fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>,
     let loaded = match load_cases(paths) {
         Ok(l) if !l.is_empty() => l,
         Ok(_) => {
-            return Err(Error::Input(format!(
-                "error: no case files (*.yaml) under {}",
+            return Err(Error::input(format!(
+                "no case files (*.yaml) under {}",
                 show(paths)
             )));
         }
         Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
+            return Err(Error::input(e));
         }
     };
     loaded

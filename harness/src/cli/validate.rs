@@ -43,8 +43,8 @@ pub(crate) struct ValidateArgs {
 pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
     use cierva_harness::uncertainty::{design::MIN_SAMPLES, propagate};
     if a.uncertainty && a.samples < MIN_SAMPLES {
-        return Err(Error::Input(format!(
-            "error: --samples {}: give at least {MIN_SAMPLES}",
+        return Err(Error::input(format!(
+            "--samples {}: give at least {MIN_SAMPLES}",
             a.samples
         )));
     }
@@ -80,7 +80,7 @@ fn validate_with(
     if let Some(settings) = uncertainty
         && let Err(e) = attach_uncertainty(&mut run, settings)
     {
-        return Err(Error::Input(format!("error: {e}")));
+        return Err(Error::input(e));
     }
     run.input_errors = errors.clone();
     run.corrections = correction_files
@@ -393,15 +393,10 @@ fn inputs(
             }
         }
     }
-    let loaded = match load_cases(paths) {
-        Ok(l) => l,
-        Err(e) => {
-            return Err(Error::Input(format!("error: {e}")));
-        }
-    };
+    let loaded = load_cases(paths).map_err(Error::input)?;
     if loaded.is_empty() {
-        return Err(Error::Input(format!(
-            "error: no case files (*.yaml) under {}",
+        return Err(Error::input(format!(
+            "no case files (*.yaml) under {}",
             show(paths)
         )));
     }
@@ -522,8 +517,8 @@ fn write_report(
 ) -> Result<Vec<PathBuf>, Error> {
     let Some(dir) = dir else { return Ok(vec![]) };
     cierva_harness::report::write(run, dir).map_err(|e| {
-        Error::Input(format!(
-            "error: could not write the report to {}: {e}",
+        Error::input(format!(
+            "could not write the report to {}: {e}",
             dir.display()
         ))
     })

@@ -59,8 +59,8 @@ pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
         a.outputs.clone()
     };
     if let Some(bad) = outputs.iter().find(|o| !available.contains(o)) {
-        return Err(Error::Input(format!(
-            "error: --outputs: `{bad}` is not an output of the identified model {} (it has {})",
+        return Err(Error::input(format!(
+            "--outputs: `{bad}` is not an output of the identified model {} (it has {})",
             a.identified.display(),
             available.join(", ")
         )));
@@ -71,21 +71,18 @@ pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
     let (lin, _) = linearised?;
     let mut results = Vec::with_capacity(records.len());
     for (r, c) in records.iter().zip(&configs) {
-        let cierva = match model_for(&lin, c) {
-            Ok(m) => m,
-            Err(e) => {
-                return Err(Error::Input(format!(
-                    "error: {}: cierva's model in the identified model's structure: {e}",
-                    a.against.display()
-                )));
-            }
-        };
+        let cierva = model_for(&lin, c).map_err(|e| {
+            Error::input(format!(
+                "{}: cierva's model in the identified model's structure: {e}",
+                a.against.display()
+            ))
+        })?;
         let models: [(&str, &cierva_model::LinearModel, &ConfigSpec); 2] =
             [(IDENTIFIED, &identified.model, c), (CIERVA, &cierva, c)];
         match v::verify(r, &models, &outputs) {
             Ok(res) => results.push(res),
             Err(e) => {
-                return Err(Error::Input(format!("error: {e}")));
+                return Err(Error::input(e));
             }
         }
     }
@@ -110,14 +107,14 @@ pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
             PANEL_HEIGHT,
         );
         let Some(svg) = svg else {
-            return Err(Error::Failure(format!(
-                "error: nothing finite to draw in {}",
+            return Err(Error::failure(format!(
+                "nothing finite to draw in {}",
                 path.display()
             )));
         };
         if let Err(e) = std::fs::write(path, svg) {
-            return Err(Error::Input(format!(
-                "error: cannot write {}: {e}",
+            return Err(Error::input(format!(
+                "cannot write {}: {e}",
                 path.display()
             )));
         }

@@ -19,6 +19,7 @@ pub mod responses;
 use crate::fit::{self, Condition, Parameter, ParameterKind, Problem, Subject};
 use crate::ident;
 use crate::inputs::aircraft::AircraftFile;
+use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec};
 use crate::inputs::record::Record;
 use serde::Serialize;
 
@@ -261,6 +262,93 @@ pub fn retune(
         model,
         curvature_standard_errors,
     })
+}
+
+impl Retune {
+    /// Each parameter's fitted value by its name.
+    pub fn values_by_name(&self) -> serde_json::Map<String, serde_json::Value> {
+        self.result
+            .parameters
+            .iter()
+            .zip(&self.result.values)
+            .map(|(k, v)| (k.name().to_string(), serde_json::json!(v)))
+            .collect()
+    }
+
+    /// Each parameter's standard error by its name (null where it is not finite: a parameter
+    /// the records cannot tell apart from another).
+    pub fn standard_errors_by_name(&self) -> serde_json::Map<String, serde_json::Value> {
+        self.result
+            .parameters
+            .iter()
+            .zip(&self.result.standard_errors)
+            .map(|(k, s)| {
+                (
+                    k.name().to_string(),
+                    serde_json::json!(s.is_finite().then_some(*s)),
+                )
+            })
+            .collect()
+    }
+}
+
+/// The corrections file a retune writes (`id`, for `cierva validate --corrections`): the fitted
+/// corrections for `file`'s aircraft, the command and records they came from, and the fit's
+/// bounds with their sources, status, standard errors and warnings.
+pub fn corrections_file(
+    r: &Retune,
+    file: &AircraftFile,
+    records: &[Record],
+    id: &str,
+    command: &str,
+) -> CorrectionsFileSpec {
+    CorrectionsFileSpec {
+        id: id.to_string(),
+        title: format!("Corrections of {} retuned from flight records", file.title),
+        applies_to: AppliesTo {
+            aircraft: Some(file.id.clone()),
+            rotor: None,
+        },
+        corrections: r.result.corrections(),
+        provenance: crate::inputs::reference::Provenance {
+            source: format!(
+                "retuned by `cierva {command}` (cierva {})",
+                env!("CARGO_PKG_VERSION")
+            ),
+            notes: Some(format!(
+                "Records: {}",
+                records
+                    .iter()
+                    .map(|x| format!("{} ({})", x.meta.id, x.meta.provenance.source))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            )),
+        },
+        fit: Some(serde_json::json!({
+            "bounds": r
+                .problem
+                .parameters
+                .iter()
+                .zip(&r.bounds_sources)
+                .map(|(p, source)| {
+                    (
+                        p.kind.name().to_string(),
+                        serde_json::json!({"lower": p.lower, "upper": p.upper, "source": source}),
+                    )
+                })
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
+            "status": r.result.status.name(),
+            "model": r.model,
+            "reduced_chi_square": r.reduced_chi_square.is_finite().then_some(r.reduced_chi_square),
+            "iterations": r.result.iterations,
+            "evaluations": r.result.evaluations,
+            "standard_errors": r.standard_errors_by_name(),
+            "targets": r.problem.targets.len(),
+            "warnings": r.result.warnings,
+        })),
+        cross_validation: None,
+        not_applied_to: vec![],
+    }
 }
 
 /// The fit again with the targets' standard errors taken at the fitted corrections.

@@ -372,3 +372,74 @@ fn true_row(
     }
     row
 }
+
+/// What a flight test's record says about how it was made (its sidecar's `synthetic.settings`):
+/// the input, the air, the pilot and every instrument with its source. `height_ft` is the
+/// height the turbulence's scales are for.
+pub fn describe(test: &FlightTest, flown: &Flown, height_ft: f64) -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    out.insert(
+        "input".into(),
+        format!("{:?} on {}", test.input, CONTROL_CHANNELS[test.control]),
+    );
+    out.insert(
+        "turbulence".into(),
+        match &test.turbulence {
+            Some(d) => format!(
+                "Dryden (MIL-F-8785C low altitude, {} ft): sigma_u,v,w {:.3}, {:.3}, {:.3} m/s, scales {:.0}, {:.0}, {:.0} m, along body axes",
+                height_ft,
+                d.sigma_m_s[0],
+                d.sigma_m_s[1],
+                d.sigma_m_s[2],
+                d.scale_m[0],
+                d.scale_m[1],
+                d.scale_m[2]
+            ),
+            None => "none (calm air)".into(),
+        },
+    );
+    out.insert(
+        "pilot".into(),
+        match &flown.pilot {
+            Some(p) => format!(
+                "attitude hold (pitch, roll, heading) about references drifting 0.5 deg over 30 s: gains {:?} %/rad and {:?} %/(rad/s)",
+                p.attitude_gain_pct_per_rad, p.rate_gain_pct_per_rad_s
+            ),
+            None => "none: the input open loop".into(),
+        },
+    );
+    out.insert(
+        "sensors".into(),
+        format!(
+            "{}: {}",
+            test.instrumentation.id, test.instrumentation.title
+        ),
+    );
+    for (name, ch) in &test.instrumentation.channels {
+        out.insert(
+            format!("sensor.{name}"),
+            format!(
+                "noise {}, bias {}, lag {} s; source: {}",
+                ch.noise,
+                ch.bias,
+                ch.lag_s,
+                test.instrumentation
+                    .sources
+                    .get(&format!("channels.{name}"))
+                    .map_or("", String::as_str)
+            ),
+        );
+    }
+    out.insert(
+        "sensor.probe_from_cg_m".into(),
+        format!(
+            "{:?}; source: {}",
+            test.instrumentation.probe_from_cg_m,
+            test.instrumentation
+                .sources
+                .get("probe_from_cg_m")
+                .map_or("", String::as_str)
+        ),
+    );
+    out
+}
