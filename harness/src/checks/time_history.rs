@@ -181,7 +181,7 @@ impl Evaluate for TimeHistoryCheck {
 impl TimeHistoryCheck {
     /// The reference and flown responses, with the largest-error tolerance of each signal
     /// where it is absolute.
-    fn plot(&self, expectations: &[Expectation], flown: &replay::Flown) -> Option<PlotData> {
+    fn plot(&self, expectations: &[Expectation], flown: &replay::Replayed) -> Option<PlotData> {
         let record = &self.reference;
         let time_s = record.channel("time_s")?.to_vec();
         let traces = replay::record_signals(record)
@@ -216,7 +216,7 @@ pub fn time_history_metrics(
     file: &crate::inputs::aircraft::AircraftFile,
     loading: crate::Loading,
     check: &TimeHistoryCheck,
-) -> Result<(Vec<replay::SignalMetrics>, replay::Flown), String> {
+) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
     let corrected;
     let file = match &check.corrections {
         Some(c) => {
@@ -245,7 +245,7 @@ pub fn fly_model(
     loading: crate::Loading,
     check: &TimeHistoryCheck,
     strict: bool,
-) -> Result<(Vec<replay::SignalMetrics>, replay::Flown), String> {
+) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
     let record = &check.reference;
     let table = replay::record_controls(record)?;
     let samples = table.time_s.len().saturating_sub(1);

@@ -880,7 +880,8 @@ fn fitting(out: &Rows) {
     // throttle).
     if let Ok(ac) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml")) {
         use cierva_harness::fit::{
-            self, Condition, Measure, Options, Parameter, ParameterKind, Problem, Subject, Target,
+            self, Condition, FitSubject, Measure, Options, Parameter, ParameterKind, Problem,
+            Target,
         };
         let par = |kind: ParameterKind, lower, upper| Parameter {
             kind,
@@ -894,7 +895,7 @@ fn fitting(out: &Rows) {
             density_altitude_ft: 2000.0,
         };
         let mut problem = Problem {
-            subject: Subject::Aircraft {
+            subject: FitSubject::Aircraft {
                 aircraft: Box::new(ac.aircraft.clone()),
             },
             parameters: vec![

@@ -213,15 +213,15 @@ pub(crate) fn load_aircraft(
 pub(crate) fn load_flight(
     f: &FlightArgs,
 ) -> Result<cierva_harness::inputs::aircraft::AircraftFile, Error> {
-    use cierva_harness::inputs::corrections::{self, Target};
+    use cierva_harness::inputs::corrections::{self, Corrects};
     let file = load_aircraft(&f.aircraft)?;
     let Some(path) = &f.corrections else {
         return Ok(file);
     };
     let c = corrections::load(path).map_err(|e| Error::Input(e.render()))?;
     let applies = match &c.target {
-        Target::Aircraft(id) => *id == file.id,
-        Target::Rotor(id) => *id == file.main_rotor_file.id,
+        Corrects::Aircraft(id) => *id == file.id,
+        Corrects::Rotor(id) => *id == file.main_rotor_file.id,
     };
     if !applies {
         return Err(Error::input(format!(

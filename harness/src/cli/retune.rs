@@ -2,7 +2,7 @@
 
 use super::*;
 use cierva_harness::fit::retune::{self, Request};
-use cierva_harness::inputs::corrections::{CorrectionsFile, Target};
+use cierva_harness::inputs::corrections::{CorrectionsFile, Corrects};
 use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
 
@@ -59,7 +59,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let loaded = CorrectionsFile {
         path: output.clone(),
         id: id.clone(),
-        target: Target::Aircraft(file.id.clone()),
+        target: Corrects::Aircraft(file.id.clone()),
         corrections: corrections.clone(),
         not_applied_to: vec![],
         // retune is not cross-validated: it states no predictive error.

@@ -2,7 +2,7 @@
 //! need plausible (see [`cierva_harness::fit::sensitivity`]).
 
 use super::*;
-use cierva_harness::fit::sensitivity::{self, Quantity};
+use cierva_harness::fit::sensitivity::{self, BoundedQuantity};
 
 pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
     let (file, loading, request, quantities) = match (&a.case, &a.aircraft) {
@@ -27,7 +27,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
             };
             let quantities = tables::PRIMARY_DERIVATIVES
                 .iter()
-                .map(|n| Quantity {
+                .map(|n| BoundedQuantity {
                     name: n.to_string(),
                     bound: None,
                 })
@@ -38,7 +38,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
             return Err(Error::input("give an aircraft file or --case, not both"));
         }
     };
-    let quantities: Vec<Quantity> = if a.quantities.is_empty() {
+    let quantities: Vec<BoundedQuantity> = if a.quantities.is_empty() {
         quantities
     } else {
         a.quantities
@@ -48,7 +48,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
                     .iter()
                     .find(|q| &q.name == n)
                     .cloned()
-                    .unwrap_or(Quantity {
+                    .unwrap_or(BoundedQuantity {
                         name: n.clone(),
                         bound: None,
                     })

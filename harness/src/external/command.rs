@@ -10,7 +10,7 @@
 //! that is not cierva's.
 
 use super::{ControlChanges, FlightModel, Quantities, trim_name};
-use crate::run::replay::Flown;
+use crate::run::replay::Replayed;
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use serde::Deserialize;
@@ -63,7 +63,7 @@ pub struct ExternalCommand {
 enum Answer {
     Trim(Quantities),
     Linear(LinearModel),
-    History(Flown),
+    History(Replayed),
 }
 
 impl ExternalCommand {
@@ -383,7 +383,7 @@ impl FlightModel for ExternalCommand {
         condition: TrimRequest,
         loading: Loading,
         controls: &ControlChanges,
-    ) -> Result<Flown, String> {
+    ) -> Result<Replayed, String> {
         match self.ask(Compute::TimeHistory, condition, loading, Some(controls))? {
             Answer::History(f) => Ok(f),
             _ => Err("a time-history request answered as another".into()),

@@ -14,7 +14,7 @@
 
 use super::{ControlChanges, FlightModel, Quantities, trim_name};
 use crate::inputs::yaml::InputError;
-use crate::run::replay::{Flown, SIGNALS};
+use crate::run::replay::{Replayed, SIGNALS};
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use std::path::{Path, PathBuf};
@@ -105,7 +105,7 @@ fn read_csv(text: &str) -> Result<Table, CsvError> {
 }
 
 /// A time history: `time_s` and responses named as in [`SIGNALS`]; `samples` rows where given.
-pub fn parse_history(text: &str, samples: Option<usize>) -> Result<Flown, CsvError> {
+pub fn parse_history(text: &str, samples: Option<usize>) -> Result<Replayed, CsvError> {
     let (columns, rows) = read_csv(text)?;
     let header_line = text
         .lines()
@@ -146,7 +146,7 @@ pub fn parse_history(text: &str, samples: Option<usize>) -> Result<Flown, CsvErr
             message: format!("has {} rows; {n} were asked for", rows.len()),
         });
     }
-    Ok(Flown {
+    Ok(Replayed {
         time_s: rows.iter().map(|(_, r)| r[time_col]).collect(),
         signals: index
             .iter()
@@ -229,7 +229,7 @@ pub struct Files {
     /// The linear model and its file.
     pub linear_model: Option<(PathBuf, LinearModel)>,
     /// The time history and its file.
-    pub time_history: Option<(PathBuf, Flown)>,
+    pub time_history: Option<(PathBuf, Replayed)>,
     /// The condition of the linear model and the time history.
     pub at: Option<TrimRequest>,
 }
@@ -324,7 +324,7 @@ impl FlightModel for Files {
         condition: TrimRequest,
         _loading: Loading,
         controls: &ControlChanges,
-    ) -> Result<Flown, String> {
+    ) -> Result<Replayed, String> {
         let Some((path, flown)) = &self.time_history else {
             return Err(super::not_provided(
                 &self.describe(),

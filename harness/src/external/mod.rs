@@ -16,7 +16,7 @@ pub mod command;
 pub mod files;
 
 use crate::inputs::controls::ControlTable;
-use crate::run::replay::{Flown, Simulation};
+use crate::run::replay::{Replayed, Simulation};
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use std::sync::Arc;
@@ -66,7 +66,7 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         _condition: TrimRequest,
         _loading: Loading,
         _controls: &ControlChanges,
-    ) -> Result<Flown, String> {
+    ) -> Result<Replayed, String> {
         Err(not_provided(&self.describe(), "a time history"))
     }
 }
@@ -118,7 +118,7 @@ impl FlightModel for Aircraft<'_> {
         condition: TrimRequest,
         loading: Loading,
         controls: &ControlChanges,
-    ) -> Result<Flown, String> {
+    ) -> Result<Replayed, String> {
         crate::run::replay::fly(
             &self.file.aircraft,
             condition,
@@ -170,7 +170,7 @@ impl<T: FlightModel + ?Sized> FlightModel for Arc<T> {
         condition: TrimRequest,
         loading: Loading,
         controls: &ControlChanges,
-    ) -> Result<Flown, String> {
+    ) -> Result<Replayed, String> {
         self.as_ref().time_history(condition, loading, controls)
     }
 }
@@ -201,7 +201,7 @@ pub fn trim_name(name: &str) -> Result<&'static str, String> {
 /// `samples + 1` times.
 pub fn check_response(
     model: &str,
-    flown: &Flown,
+    flown: &Replayed,
     signals: &[String],
     samples: usize,
 ) -> Result<(), String> {

@@ -205,7 +205,7 @@ pub struct FitFile {
     pub title: String,
     pub provenance: Provenance,
     /// The id of the aircraft or rotor file fitted (what the corrections apply to).
-    pub applies_to: crate::inputs::corrections::Target,
+    pub applies_to: crate::inputs::corrections::Corrects,
     pub problem: fit::Problem,
     pub origins: Vec<Origin>,
     /// Targets reported but not fitted (the fit's prediction error).
@@ -264,10 +264,10 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
                 density_altitude_ft: a.density_altitude_ft,
             };
             let key = SubjectKey::Aircraft(file.id.clone(), loading);
-            let subject = fit::Subject::Aircraft {
+            let subject = fit::FitSubject::Aircraft {
                 aircraft: Box::new(file.aircraft.clone()),
             };
-            let applies = crate::inputs::corrections::Target::Aircraft(file.id.clone());
+            let applies = crate::inputs::corrections::Corrects::Aircraft(file.id.clone());
             aircraft_file = Some(file);
             (subject, applies, key)
         }
@@ -276,11 +276,11 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             let inflow = r.inflow.model(r.skew, r.descent);
             let key = SubjectKey::Rotor(file.id.clone(), inflow);
             (
-                fit::Subject::Rotor {
+                fit::FitSubject::Rotor {
                     rotor: Box::new(file.rotor),
                     inflow,
                 },
-                crate::inputs::corrections::Target::Rotor(file.id),
+                crate::inputs::corrections::Corrects::Rotor(file.id),
                 key,
             )
         }
@@ -728,7 +728,7 @@ pub fn run(f: &FitFile) -> FitRun {
         predict_after = each(&result.values);
     }
     let mut modes = Vec::new();
-    if let fit::Subject::Aircraft { aircraft } = &f.problem.subject {
+    if let fit::FitSubject::Aircraft { aircraft } = &f.problem.subject {
         let mut conditions: Vec<(crate::TrimRequest, crate::Loading)> = Vec::new();
         for t in &f.problem.targets {
             if let Condition::Flight(c, l) = t.condition
@@ -817,7 +817,7 @@ pub fn corrections_file(
     id: &str,
     command: &str,
 ) -> crate::inputs::corrections::CorrectionsFileSpec {
-    use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec, Target};
+    use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec, Corrects};
     let r = &run.result;
     let se: serde_json::Map<String, serde_json::Value> = r
         .parameters
@@ -829,11 +829,11 @@ pub fn corrections_file(
         id: id.to_string(),
         title: format!("Corrections fitted by {}: {}", f.id, f.title),
         applies_to: match &f.applies_to {
-            Target::Aircraft(a) => AppliesTo {
+            Corrects::Aircraft(a) => AppliesTo {
                 aircraft: Some(a.clone()),
                 rotor: None,
             },
-            Target::Rotor(a) => AppliesTo {
+            Corrects::Rotor(a) => AppliesTo {
                 aircraft: None,
                 rotor: Some(a.clone()),
             },

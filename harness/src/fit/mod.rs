@@ -209,7 +209,7 @@ pub struct Parameter {
 
 /// What is fitted: an aircraft in flight or a rotor alone in a wind tunnel.
 #[derive(Debug, Clone)]
-pub enum Subject {
+pub enum FitSubject {
     /// An aircraft, flown at each target's loading.
     Aircraft { aircraft: Box<Aircraft> },
     Rotor {
@@ -557,7 +557,7 @@ impl FitResult {
 /// The fit problem.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    pub subject: Subject,
+    pub subject: FitSubject,
     pub parameters: Vec<Parameter>,
     pub targets: Vec<Target>,
     pub options: Options,
@@ -645,7 +645,7 @@ pub fn evaluate_each_from(
     }
     let at = |c: &Condition| format!("at {} with {}", c.label(), describe(problem, p));
     let results: Vec<Result<AtCondition, String>> = match &problem.subject {
-        Subject::Aircraft { aircraft } => {
+        FitSubject::Aircraft { aircraft } => {
             let mut a = aircraft.clone();
             set.apply_to_aircraft(&mut a)?;
             crate::parallel_map(&conditions, |c| {
@@ -696,7 +696,7 @@ pub fn evaluate_each_from(
                 ))
             })
         }
-        Subject::Rotor { rotor, inflow } => {
+        FitSubject::Rotor { rotor, inflow } => {
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
             crate::parallel_map(&conditions, |c| {
@@ -833,8 +833,8 @@ pub fn check(problem: &Problem) -> Result<(), String> {
         }
         let fits = matches!(
             (&problem.subject, &t.condition),
-            (Subject::Aircraft { .. }, Condition::Flight(..))
-                | (Subject::Rotor { .. }, Condition::Tunnel(_))
+            (FitSubject::Aircraft { .. }, Condition::Flight(..))
+                | (FitSubject::Rotor { .. }, Condition::Tunnel(_))
         );
         if !fits {
             return Err(format!(
@@ -843,7 +843,7 @@ pub fn check(problem: &Problem) -> Result<(), String> {
             ));
         }
     }
-    if matches!(problem.subject, Subject::Rotor { .. })
+    if matches!(problem.subject, FitSubject::Rotor { .. })
         && let Some(p) = problem.parameters.iter().find(|p| p.kind.needs_aircraft())
     {
         return Err(format!(

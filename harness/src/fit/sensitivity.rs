@@ -17,7 +17,7 @@ use serde::Serialize;
 /// A quantity to differentiate: a derivative of the linearised model or a trim quantity, with
 /// the bound a check puts on it (if any).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Quantity {
+pub struct BoundedQuantity {
     pub name: String,
     /// `[lower, upper]` of the check's tolerance, where it is an interval.
     pub bound: Option<[f64; 2]>,
@@ -25,7 +25,7 @@ pub struct Quantity {
 
 /// A parameter as the study moved it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Parameter {
+pub struct MovedParameter {
     pub name: String,
     pub unit: String,
     pub meaning: String,
@@ -68,7 +68,7 @@ pub struct Study {
     pub aircraft: String,
     pub condition: TrimRequest,
     pub loading: Loading,
-    pub parameters: Vec<Parameter>,
+    pub parameters: Vec<MovedParameter>,
     pub rows: Vec<Row>,
 }
 
@@ -84,7 +84,7 @@ fn values(
     file: &AircraftFile,
     request: TrimRequest,
     loading: Loading,
-    quantities: &[Quantity],
+    quantities: &[BoundedQuantity],
 ) -> Result<Vec<f64>, String> {
     let (trim, lin) = crate::run_linearise(&file.aircraft, request, loading)
         .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))?;
@@ -107,7 +107,7 @@ fn values(
 pub fn check_names(
     file: &AircraftFile,
     parameters: &[String],
-    quantities: &[Quantity],
+    quantities: &[BoundedQuantity],
 ) -> Result<(), String> {
     for p in parameters {
         if parameter(&file.aircraft, p).is_none() {
@@ -146,11 +146,11 @@ pub fn run(
     request: TrimRequest,
     loading: Loading,
     parameters: &[String],
-    quantities: &[Quantity],
+    quantities: &[BoundedQuantity],
 ) -> Result<Study, String> {
     check_names(file, parameters, quantities)?;
     let base = values(file, request, loading, quantities)?;
-    let moved: Vec<Parameter> = parameters
+    let moved: Vec<MovedParameter> = parameters
         .iter()
         .map(|name| {
             let value = parameter(&file.aircraft, name).expect("checked above");
@@ -158,7 +158,7 @@ pub fn run(
                 .iter()
                 .find(|p| p.name == name)
                 .expect("a known parameter");
-            Parameter {
+            MovedParameter {
                 name: name.clone(),
                 unit: info.unit.to_string(),
                 meaning: info.meaning.to_string(),
@@ -169,7 +169,7 @@ pub fn run(
         })
         .collect();
     // The quantities with the parameter at `x` (the base values at its own value).
-    let at = |p: &Parameter, x: f64| -> Result<Vec<f64>, String> {
+    let at = |p: &MovedParameter, x: f64| -> Result<Vec<f64>, String> {
         if x == p.value {
             return Ok(base.clone());
         }
@@ -315,7 +315,7 @@ pub fn table(s: &Study) -> String {
 pub fn from_case(
     case: &crate::suite::case::Case,
     airspeed_mph: Option<f64>,
-) -> Result<(AircraftFile, Loading, TrimRequest, Vec<Quantity>), String> {
+) -> Result<(AircraftFile, Loading, TrimRequest, Vec<BoundedQuantity>), String> {
     use crate::checks::What;
     let crate::checks::subject::Subject::Aircraft { file, loading } = &case.subject else {
         return Err(format!("{} is not a case of an aircraft", case.id));
@@ -378,8 +378,8 @@ pub fn from_case(
                 None,
             )
             .map(|j| [j.lower, j.upper]);
-            if !quantities.iter().any(|q: &Quantity| q.name == name) {
-                quantities.push(Quantity { name, bound });
+            if !quantities.iter().any(|q: &BoundedQuantity| q.name == name) {
+                quantities.push(BoundedQuantity { name, bound });
             }
         }
     }

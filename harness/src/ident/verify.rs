@@ -233,7 +233,7 @@ pub fn config_for(identified: &Identified, record: &Record) -> Result<ConfigSpec
 
 /// A model flown through a record: its states' time histories, `[state][sample]`, in the
 /// set-up's state order.
-pub type Flown = Vec<Vec<f64>>;
+pub type Traces = Vec<Vec<f64>>;
 
 /// The record's measured perturbation states (`[state][sample]`, in `config`'s order) and
 /// `model` flown through its controls from its first measured state.
@@ -241,7 +241,7 @@ pub fn fly(
     model: &LinearModel,
     record: &Record,
     config: &ConfigSpec,
-) -> Result<(Vec<Vec<f64>>, Flown), String> {
+) -> Result<(Vec<Vec<f64>>, Traces), String> {
     let (xs, us) = signals(record, config)?;
     let model = model
         .reorder(&config.states.iter().map(String::as_str).collect::<Vec<_>>())

@@ -327,7 +327,7 @@ impl PredictiveError {
 
 /// What a loaded corrections file corrects.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Target {
+pub enum Corrects {
     Aircraft(String),
     Rotor(String),
 }
@@ -337,7 +337,7 @@ pub enum Target {
 pub struct CorrectionsFile {
     pub path: PathBuf,
     pub id: String,
-    pub target: Target,
+    pub target: Corrects,
     pub corrections: CorrectionSet,
     /// The checks it is not applied to by default (see [`CorrectionsFileSpec::not_applied_to`]).
     pub not_applied_to: Vec<NotApplied>,
@@ -352,7 +352,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
     let err = |field: &str, m: String| InputError::field(path, &src, field, m);
     crate::inputs::reference::check_id(path, &src, &spec.id)?;
     let target = match (&spec.applies_to.aircraft, &spec.applies_to.rotor) {
-        (Some(a), None) => Target::Aircraft(a.clone()),
+        (Some(a), None) => Corrects::Aircraft(a.clone()),
         (None, Some(r)) => {
             if spec.corrections.needs_aircraft() {
                 return Err(err(
@@ -360,7 +360,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
                     "propeller_blockage, hub_aoa_factor and estimated physical parameters correct an aircraft: apply them to `aircraft`, not `rotor`".into(),
                 ));
             }
-            Target::Rotor(r.clone())
+            Corrects::Rotor(r.clone())
         }
         _ => {
             return Err(err(

@@ -9,7 +9,7 @@
 //!   BCAR Section T chart (seed 000 Figs. 3 and 14: period against damping index, with the
 //!   boundary); time histories, reference and model, with the allowed error as a band.
 
-use super::plot::{Band, Bar, Figure, Series, Style};
+use super::plot::{Bar, Figure, Series, Shade, Style};
 use super::{CaseRun, Run};
 use crate::checks::What;
 use crate::suite::case::{Check, CheckKind, Subject};
@@ -159,7 +159,7 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
                 .into_iter()
                 .map(|(name, mut points)| {
                     points.sort_by(|a, b| a.0.total_cmp(&b.0));
-                    Band {
+                    Shade {
                         name: format!("{name}: 95 % of its inputs"),
                         points,
                     }
@@ -266,7 +266,7 @@ fn by_quantity(
             }],
             bars: v.iter().map(|(x, q)| bar(*x, q)).collect(),
             bars_name: "reference (allowed range)".into(),
-            intervals: intervals.get(&name).map(|p| Band {
+            intervals: intervals.get(&name).map(|p| Shade {
                 name: "model: 95 % of its inputs".into(),
                 points: p.clone(),
             }),
@@ -643,7 +643,7 @@ fn time_histories(c: &CaseRun) -> Vec<Figure> {
                 ],
                 bands: t
                     .band
-                    .map(|b| Band {
+                    .map(|b| Shade {
                         name: format!("reference ± {b} (largest error allowed)"),
                         points: (0..n)
                             .filter(keep)

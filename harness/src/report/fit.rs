@@ -174,7 +174,7 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
 /// The fit's before/after figure: every target's error in its own standard errors, at the
 /// start and fitted, against the 95 % band (±1.96); predicted targets after a gap.
 pub fn figure(f: &FitFile, run: &FitRun) -> crate::report::plot::Figure {
-    use crate::report::plot::{Band, Figure, Series, Style};
+    use crate::report::plot::{Figure, Series, Shade, Style};
     let r = &run.result;
     let z = |t: &fit::Target, v: f64| (v - t.reference) / t.standard_error;
     let mut before = Vec::new();
@@ -222,7 +222,7 @@ pub fn figure(f: &FitFile, run: &FitRun) -> crate::report::plot::Figure {
         },
         y_label: "(model - reference) / standard error".into(),
         series: s,
-        bands: vec![Band {
+        bands: vec![Shade {
             name: "95 % (±1.96)".into(),
             points: vec![(0.5, -1.96, 1.96), (last, -1.96, 1.96)],
         }],

@@ -659,7 +659,7 @@ fn sensitivity_html(study: &Result<crate::fit::sensitivity::Study, String>) -> S
             .collect();
         effects.sort_by(|(a, pa), (b, pb)| {
             let steps = |e: &crate::fit::sensitivity::Effect,
-                         p: &crate::fit::sensitivity::Parameter| {
+                         p: &crate::fit::sensitivity::MovedParameter| {
                 (e.needed_change.unwrap_or(f64::INFINITY) / p.step).abs()
             };
             (b.plausible == Some(true))

@@ -41,7 +41,7 @@ pub struct Bar {
 
 /// A shaded band, `(x, lower, upper)`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Band {
+pub struct Shade {
     pub name: String,
     pub points: Vec<(f64, f64, f64)>,
 }
@@ -56,11 +56,11 @@ pub struct Figure {
     /// The bars and the legend entry they share.
     pub bars: Vec<Bar>,
     pub bars_name: String,
-    pub bands: Vec<Band>,
+    pub bands: Vec<Shade>,
     /// Intervals of the model at scattered points (its 95 % over the inputs where the points
     /// do not make a line, as a table's rows at several rotor speeds per mu): thin coloured
     /// whiskers beside the reference bars, under one legend entry.
-    pub intervals: Option<Band>,
+    pub intervals: Option<Shade>,
     /// Draw the vertical axis `x = 0` (the complex plane's imaginary axis).
     pub x_zero: bool,
     /// The abscissae are decimal logarithms: the axis is labelled with their powers of ten (a

@@ -56,13 +56,13 @@ pub enum Simulation {
 
 /// A flown time history: responses (changes from trim) at regular times from zero.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Flown {
+pub struct Replayed {
     pub time_s: Vec<f64>,
     /// One entry per [`SIGNALS`] name, in that order.
     pub signals: Vec<Vec<f64>>,
 }
 
-impl Flown {
+impl Replayed {
     /// The samples of a response.
     pub fn signal(&self, name: &str) -> Option<&[f64]> {
         SIGNALS
@@ -107,7 +107,7 @@ pub fn fly(
     loading: Loading,
     changes: &dyn Fn(f64) -> [f64; 4],
     s: FlySettings,
-) -> Result<Flown, String> {
+) -> Result<Replayed, String> {
     if !(s.sample_s.is_finite() && s.sample_s > 0.0) || s.samples == 0 {
         return Err(format!(
             "the sample interval must be positive and there must be samples (got {} s, {})",
@@ -142,7 +142,7 @@ pub fn fly(
                     sig.push(v);
                 }
             }
-            Ok(Flown { time_s, signals })
+            Ok(Replayed { time_s, signals })
         }
         Simulation::FullBlade => {
             let start = crate::simulation_start(aircraft, request, loading)?;
@@ -165,7 +165,7 @@ pub fn fly(
                     signals[i].push(r[i] - trim[i]);
                 }
             }
-            Ok(Flown { time_s, signals })
+            Ok(Replayed { time_s, signals })
         }
     }
 }
@@ -306,7 +306,7 @@ fn constant_response_metrics(
         .collect();
     compare(
         record,
-        &Flown {
+        &Replayed {
             time_s: vec![0.0; n],
             signals,
         },
@@ -315,7 +315,7 @@ fn constant_response_metrics(
 
 /// Compares every response of `flown` that `record` carries. The two are aligned sample by
 /// sample (`flown` is flown at the record's times).
-pub fn compare(record: &Record, flown: &Flown) -> Result<Vec<SignalMetrics>, String> {
+pub fn compare(record: &Record, flown: &Replayed) -> Result<Vec<SignalMetrics>, String> {
     let t = record.channel("time_s").ok_or("the record has no time_s")?;
     let mut out = Vec::new();
     for name in record_signals(record) {
@@ -356,7 +356,7 @@ pub fn fly_record(
     record: &Record,
     simulation: Simulation,
     azimuth_step_rad: f64,
-) -> Result<(Vec<SignalMetrics>, Flown), String> {
+) -> Result<(Vec<SignalMetrics>, Replayed), String> {
     let table = record_controls(record)?;
     let samples = table.time_s.len().saturating_sub(1);
     let flown = fly(

@@ -552,7 +552,7 @@ pub fn with_corrections(
     case: &Case,
     files: &[crate::inputs::corrections::CorrectionsFile],
 ) -> Result<(Case, Vec<String>), String> {
-    use crate::inputs::corrections::Target;
+    use crate::inputs::corrections::Corrects;
     let mut c = case.clone();
     let mut used = Vec::new();
     let before = case.subject.clone();
@@ -560,18 +560,18 @@ pub fn with_corrections(
         let here = |e: String| format!("{} on {}: {e}", f.path.display(), case.id);
         let applied = used.len();
         match (&mut c.subject, &f.target) {
-            (Subject::Aircraft { file, .. }, Target::Aircraft(id)) if file.id == *id => {
+            (Subject::Aircraft { file, .. }, Corrects::Aircraft(id)) if file.id == *id => {
                 **file = file.with_corrections(&f.corrections).map_err(here)?;
                 used.push(f.id.clone());
             }
-            (Subject::Aircraft { file, .. }, Target::Rotor(id))
+            (Subject::Aircraft { file, .. }, Corrects::Rotor(id))
                 if file.main_rotor_file.id == *id =>
             {
                 **file = file.with_corrections(&f.corrections).map_err(here)?;
                 used.push(f.id.clone());
             }
-            (Subject::Rotor { file, .. }, Target::Rotor(id))
-            | (Subject::FlapRecord { rotor: file, .. }, Target::Rotor(id))
+            (Subject::Rotor { file, .. }, Corrects::Rotor(id))
+            | (Subject::FlapRecord { rotor: file, .. }, Corrects::Rotor(id))
                 if file.id == *id =>
             {
                 f.corrections

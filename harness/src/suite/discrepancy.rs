@@ -42,7 +42,7 @@ pub struct CaseRecord {
 pub struct Recorded {
     /// Quantity -> the model's value and its band.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub quantities: BTreeMap<String, Band>,
+    pub quantities: BTreeMap<String, RecordedBand>,
     /// The computed BCAR verdict, for `bcar` checks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,
@@ -51,22 +51,22 @@ pub struct Recorded {
     pub no_equilibrium: bool,
     /// The check's numbers beyond its expectations (see `CheckResult::fingerprint`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub fingerprint: BTreeMap<String, Band>,
+    pub fingerprint: BTreeMap<String, RecordedBand>,
 }
 
 /// A recorded value and the band the model must stay in.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Band {
+pub struct RecordedBand {
     pub value: f64,
     pub lower: f64,
     pub upper: f64,
 }
 
-impl Band {
+impl RecordedBand {
     /// The band around `value` for a tolerance of half-width `tolerance_half_width` (0 or
     /// non-finite when the tolerance has none).
-    pub fn around(value: f64, tolerance_half_width: f64) -> Band {
+    pub fn around(value: f64, tolerance_half_width: f64) -> RecordedBand {
         let h = if tolerance_half_width.is_finite() {
             tolerance_half_width.abs()
         } else {
@@ -75,7 +75,7 @@ impl Band {
         let half = (BAND_RELATIVE * value.abs())
             .max(BAND_OF_TOLERANCE * h)
             .max(1e-12);
-        Band {
+        RecordedBand {
             value,
             lower: value - half,
             upper: value + half,
@@ -138,7 +138,7 @@ pub fn write(dir: &Path, record: &CaseRecord) -> std::io::Result<bool> {
     let text = format!(
         "# Written by `cierva review --accept`: what the model gives today for each check of\n\
          # `{}` that is expected to fail. Do not edit by hand. A check whose model leaves a band\n\
-         # fails as \"discrepancy moved\". Band half-width: max({BAND_RELATIVE:e} |value|, \
+         # fails as \"discrepancy moved\". RecordedBand half-width: max({BAND_RELATIVE:e} |value|, \
          {BAND_OF_TOLERANCE:e} x the tolerance's half-width).\n{body}",
         record.case
     );
@@ -149,7 +149,7 @@ pub fn write(dir: &Path, record: &CaseRecord) -> std::io::Result<bool> {
 /// any band).
 pub fn render(record: &CaseRecord) -> String {
     use std::fmt::Write as _;
-    let band = |b: &Band| {
+    let band = |b: &RecordedBand| {
         format!(
             "{{value: {:.7e}, lower: {:.7e}, upper: {:.7e}}}",
             b.value, b.lower, b.upper

@@ -170,7 +170,7 @@ pub fn departures(
     recorded: &crate::suite::discrepancy::Recorded,
 ) -> Vec<String> {
     let mut out = Vec::new();
-    let fmt = |b: &crate::suite::discrepancy::Band| {
+    let fmt = |b: &crate::suite::discrepancy::RecordedBand| {
         format!(
             "recorded {:.6e} in [{:.6e}, {:.6e}]",
             b.value, b.lower, b.upper

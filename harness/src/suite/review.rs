@@ -12,7 +12,7 @@
 //! without a logged reason.
 
 use crate::inputs::yaml::{self, InputError};
-use crate::suite::discrepancy::{Band, CaseRecord, Recorded};
+use crate::suite::discrepancy::{CaseRecord, Recorded, RecordedBand};
 use crate::suite::outcome::{CheckResult, Finding, departures};
 use crate::suite::scoreboard::{Board, Change, Metric, Score, ScoreSpec, change};
 use serde::{Deserialize, Serialize};
@@ -27,7 +27,7 @@ pub fn record_of(result: &CheckResult) -> Recorded {
         .map(|q| {
             (
                 q.quantity.clone(),
-                Band::around(q.value, 0.5 * (q.upper - q.lower)),
+                RecordedBand::around(q.value, 0.5 * (q.upper - q.lower)),
             )
         })
         .collect();
@@ -38,7 +38,7 @@ pub fn record_of(result: &CheckResult) -> Recorded {
         fingerprint: result
             .fingerprint
             .iter()
-            .map(|(n, v)| (n.clone(), Band::around(*v, 0.0)))
+            .map(|(n, v)| (n.clone(), RecordedBand::around(*v, 0.0)))
             .collect(),
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::inputs::record::{RecordMeta, Synthetic};
 use crate::inputs::reference::Provenance;
-use crate::run::replay::{Flown, SIGNALS};
+use crate::run::replay::{Replayed, SIGNALS};
 use crate::synth::linear::Normal;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -52,7 +52,7 @@ pub type SyntheticRecord = (RecordMeta, Vec<String>, Vec<Vec<f64>>);
 /// A synthetic reference record: the control changes and the flown responses plus seeded
 /// Gaussian sensor noise, with a sidecar that says it is synthetic.
 pub fn synthesize(
-    flown: &Flown,
+    flown: &Replayed,
     changes: &dyn Fn(f64) -> [f64; 4],
     controls: &[&str],
     noise: Noise,

@@ -164,18 +164,18 @@ fn an_autorotation_check_at_a_tip_speed_ratio_finds_its_angle() {
 /// above the millionth the study puts down to the trim's convergence.)
 #[test]
 fn sensitivity_finds_the_fin_area_that_brings_n_v_to_its_bound() {
-    use cierva_harness::fit::sensitivity::{self, Quantity};
+    use cierva_harness::fit::sensitivity::{self, BoundedQuantity};
     let file = inputs::aircraft::load(&repo_root().join("aircraft/vpm-m16.yaml")).unwrap();
     let loading = Loading {
         mass_kg: Some(450.0),
         density_altitude_ft: 2000.0,
     };
     let quantities = [
-        Quantity {
+        BoundedQuantity {
             name: "N_v".into(),
             bound: Some([0.055, 0.063]),
         },
-        Quantity {
+        BoundedQuantity {
             name: "Y_v".into(),
             bound: Some([-0.10, -0.05]),
         },

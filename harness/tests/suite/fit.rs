@@ -2,8 +2,8 @@
 //! status.
 
 use cierva_harness::fit::{
-    self, Bounds, Condition, Enforce, Measure, Options, Parameter, ParameterKind, Problem, Status,
-    Subject, Target,
+    self, Bounds, Condition, Enforce, FitSubject, Measure, Options, Parameter, ParameterKind,
+    Problem, Status, Target,
 };
 use cierva_harness::{Loading, TrimRequest};
 
@@ -27,8 +27,8 @@ fn at(mph: f64) -> Condition {
     )
 }
 
-fn vpm_subject() -> Subject {
-    Subject::Aircraft {
+fn vpm_subject() -> FitSubject {
+    FitSubject::Aircraft {
         aircraft: Box::new(vpm()),
     }
 }

@@ -257,7 +257,7 @@ fn a_stick_doublet_pitches_the_nose_up_first() {
 }
 
 /// A flight as a record (for the identifier), its `k`th control the one moved.
-fn as_record(k: usize, f: flight::Flown) -> cierva_harness::inputs::record::Record {
+fn as_record(k: usize, f: flight::FlownTest) -> cierva_harness::inputs::record::Record {
     f.into_record(&format!("sweep-{k}"), k, 100.0, "test", Default::default())
 }
 

@@ -202,7 +202,7 @@ mod history {
     use cierva_harness::run::replay::*;
     use std::collections::BTreeMap;
 
-    fn record(signal: &[f64], model: &[f64]) -> (Record, Flown) {
+    fn record(signal: &[f64], model: &[f64]) -> (Record, Replayed) {
         let n = signal.len();
         let time_s: Vec<f64> = (0..n).map(|k| k as f64 * 0.1).collect();
         let meta = RecordMeta {
@@ -228,7 +228,7 @@ mod history {
         };
         let mut signals = vec![vec![0.0; n]; SIGNALS.len()];
         signals[7] = model.to_vec();
-        (rec, Flown { time_s, signals })
+        (rec, Replayed { time_s, signals })
     }
 
     #[test]
@@ -453,11 +453,11 @@ mod plot {
                 expected: None,
             }],
             bars_name: "flight".into(),
-            bands: vec![Band {
+            bands: vec![Shade {
                 name: "tolerance".into(),
                 points: vec![(30.0, -0.15, -0.05), (50.0, -0.25, -0.15)],
             }],
-            intervals: Some(Band {
+            intervals: Some(Shade {
                 name: "model: 95 % of its inputs".into(),
                 points: vec![(30.0, -0.12, -0.08), (50.0, f64::NAN, -0.1)],
             }),
@@ -513,10 +513,10 @@ mod discrepancy {
         checks.insert(
             "row-01".to_string(),
             Recorded {
-                quantities: [("rpm".to_string(), Band::around(96.869352374, 0.99))].into(),
+                quantities: [("rpm".to_string(), RecordedBand::around(96.869352374, 0.99))].into(),
                 verdict: Some(Verdict::DoesNotComply),
                 no_equilibrium: true,
-                fingerprint: [("q".to_string(), Band::around(-5.06e-6, 0.0))].into(),
+                fingerprint: [("q".to_string(), RecordedBand::around(-5.06e-6, 0.0))].into(),
             },
         );
         let r = CaseRecord {
@@ -533,16 +533,16 @@ mod discrepancy {
 
     #[test]
     fn a_band_holds_its_value_and_not_nan() {
-        let b = Band::around(96.9, 0.99);
+        let b = RecordedBand::around(96.9, 0.99);
         assert!(b.holds(96.9));
         assert!(b.holds(96.905));
         assert!(!b.holds(96.92));
         assert!(!b.holds(f64::NAN));
         // The relative part wins when the tolerance is tight or absent.
-        let c = Band::around(-2.0, 0.0);
+        let c = RecordedBand::around(-2.0, 0.0);
         assert!((c.upper - c.lower - 4e-4).abs() < 1e-15);
         // A zero value still has a band.
-        assert!(Band::around(0.0, f64::INFINITY).upper > 0.0);
+        assert!(RecordedBand::around(0.0, f64::INFINITY).upper > 0.0);
     }
 }
 

@@ -16,7 +16,7 @@
 
 pub mod responses;
 
-use crate::fit::{self, Condition, Parameter, ParameterKind, Problem, Subject};
+use crate::fit::{self, Condition, FitSubject, Parameter, ParameterKind, Problem};
 use crate::ident;
 use crate::inputs::aircraft::AircraftFile;
 use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec};
@@ -215,7 +215,7 @@ pub fn retune(
     }
     .to_string();
     let problem = Problem {
-        subject: Subject::Aircraft {
+        subject: FitSubject::Aircraft {
             aircraft: Box::new(file.aircraft.clone()),
         },
         parameters,

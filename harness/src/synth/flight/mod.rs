@@ -59,7 +59,7 @@ pub struct FlightTest {
 
 /// A flown test: the record's channels and samples, the trim, and what flew it.
 #[derive(Debug, Clone)]
-pub struct Flown {
+pub struct FlownTest {
     pub channels: Vec<String>,
     pub data: Vec<Vec<f64>>,
     /// Trim values of the record's channels and of the c.g. velocities (`u_m_s`, `w_m_s`).
@@ -70,7 +70,7 @@ pub struct Flown {
     pub pilot: Option<Pilot>,
 }
 
-impl Flown {
+impl FlownTest {
     /// The flight as a record in memory, for the identifier: `id` (its path `<id>.csv`), the
     /// `control`th of [`CONTROL_CHANNELS`] the one moved, sampled at `sample_rate_hz`, with
     /// `source` as its provenance and `condition` as its sidecar's. (`cierva synth-flight`
@@ -155,7 +155,7 @@ pub fn seed_for(seed: u64, source: u64) -> u64 {
 }
 
 /// Flies the test with the full model and records it.
-pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
+pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> {
     // Long: one flight in the order it happens: trim, pilot, turbulence, the run, then the
     // instruments sampling it
     let ok = |v: f64| v.is_finite() && v > 0.0;
@@ -312,7 +312,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<Flown, String> {
         "inflow_v1c_m_s",
     ]);
     let trim: BTreeMap<String, f64> = keys.zip(mean).map(|(k, v)| (k.to_string(), v)).collect();
-    Ok(Flown {
+    Ok(FlownTest {
         channels: names,
         data,
         trim,
@@ -376,7 +376,7 @@ fn true_row(
 /// What a flight test's record says about how it was made (its sidecar's `synthetic.settings`):
 /// the input, the air, the pilot and every instrument with its source. `height_ft` is the
 /// height the turbulence's scales are for.
-pub fn describe(test: &FlightTest, flown: &Flown, height_ft: f64) -> BTreeMap<String, String> {
+pub fn describe(test: &FlightTest, flown: &FlownTest, height_ft: f64) -> BTreeMap<String, String> {
     let mut out = BTreeMap::new();
     out.insert(
         "input".into(),
