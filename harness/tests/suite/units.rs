@@ -865,7 +865,7 @@ mod rotor_file {
         let load = |f: &str| cierva_harness::rotor_file::load(&root.join(f)).unwrap().rotor;
         let (flight, unloaded) = (
             load("aircraft/pca-2-rotor.yaml"),
-            load("aircraft/pca-2-rotor-unloaded.yaml"),
+            load("aircraft/pca-2-unloaded-rotor.yaml"),
         );
         let k = unloaded.corrections.elastic_twist_rad_per_pa;
         assert_eq!(flight.corrections.elastic_twist_rad_per_pa, 0.0);
