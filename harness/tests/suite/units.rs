@@ -862,7 +862,11 @@ mod rotor_file {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .parent()
             .unwrap();
-        let load = |f: &str| cierva_harness::rotor_file::load(&root.join(f)).unwrap().rotor;
+        let load = |f: &str| {
+            cierva_harness::rotor_file::load(&root.join(f))
+                .unwrap()
+                .rotor
+        };
         let (flight, unloaded) = (
             load("aircraft/pca-2-rotor.yaml"),
             load("aircraft/pca-2-unloaded-rotor.yaml"),
