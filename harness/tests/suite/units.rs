@@ -855,6 +855,41 @@ mod rotor_file {
         assert_eq!(f.rotor.hub_drag_area_m2, 0.45);
         assert_eq!(set.describe(), "hub_drag_area_m2=0.45");
     }
+
+    /// The PCA-2's unloaded blade (issue 33, item 3): in TR 487's flight condition (15.04 rad/s,
+    /// 1.0823 kg/m^3, axial flow) its pitch plus the model's elastic twist is TR 487's in-flight
+    /// distribution (aircraft/pca-2-rotor.yaml) to 0.001 deg at every station, with 2.4 deg of
+    /// twist at the tip: the twist is counted once.
+    #[test]
+    fn pca2_unloaded_blade_twists_to_tr487_in_flight() {
+        use cierva_model::components::rotor::elastic_twist_rad;
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .unwrap();
+        let load = |f: &str| {
+            cierva_harness::inputs::rotor::load(&root.join(f))
+                .unwrap()
+                .rotor
+        };
+        let (flight, unloaded) = (
+            load("aircraft/pca-2-rotor.yaml"),
+            load("aircraft/pca-2-unloaded-rotor.yaml"),
+        );
+        let k = unloaded.corrections.elastic_twist_rad_per_pa;
+        assert_eq!(flight.corrections.elastic_twist_rad_per_pa, 0.0);
+        let (rho, tip_speed) = (1.0823, 15.04 * unloaded.radius_m);
+        let tip = elastic_twist_rad(k, rho, tip_speed, 0.0, 1.0).to_degrees();
+        assert!((tip - 2.4).abs() < 1e-3, "tip twist {tip} deg");
+        for i in 0..=1000 {
+            let x = i as f64 / 1000.0;
+            if (x - 0.394).abs() < 1e-9 {
+                continue; // the step: either side is checked beside it
+            }
+            let twisted = unloaded.pitch_rad.at(x) + elastic_twist_rad(k, rho, tip_speed, 0.0, x);
+            let miss = (twisted - flight.pitch_rad.at(x)).to_degrees();
+            assert!(miss.abs() < 1e-3, "at r/R {x}: {miss} deg");
+        }
+    }
 }
 
 /// A score's history as a sparkline (issue 35, item 5): one dot per finite value, committed
