@@ -890,6 +890,49 @@ mod rotor_file {
             assert!(miss.abs() < 1e-3, "at r/R {x}: {miss} deg");
         }
     }
+
+    /// A twisting blade's equilibrium is found from either side (issue 33, item 3's fault): the
+    /// unloaded PCA-2 blade at TR 515's pitch setting autorotates at mu 0.181 and 98.3 rpm
+    /// (the angle found, 11.0 deg at 13.0 m/s); asked for its rotor speed at that angle and
+    /// airspeed, the search must find the same 98.3 rpm. It found none: its scan from a fast
+    /// rotor down met rotor speeds where the twist, growing with Omega^2, leaves the blades no
+    /// periodic flapping, and took them for the slow end.
+    #[test]
+    fn a_twisting_blade_autorotates_at_the_angle_its_tip_speed_ratio_gives() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .unwrap();
+        let rotor =
+            cierva_harness::inputs::rotor::load(&root.join("aircraft/pca-2-unloaded-rotor.yaml"))
+                .unwrap()
+                .rotor;
+        let options = cierva_model::components::autorotation::Options::default();
+        let at_mu = cierva_harness::run_autorotation_at_tip_speed_ratio(
+            &rotor,
+            0.181,
+            98.3,
+            Some(1.9),
+            None,
+            options,
+        )
+        .unwrap();
+        let at_angle = cierva_harness::run_autorotation(
+            &rotor,
+            at_mu.alpha_rad.to_degrees(),
+            at_mu.airspeed_m_s,
+            Some(1.9),
+            None,
+            options,
+        )
+        .unwrap_or_else(|e| {
+            panic!(
+                "at {:.4} deg, {:.4} m/s: {e}",
+                at_mu.alpha_rad.to_degrees(),
+                at_mu.airspeed_m_s
+            )
+        });
+        assert!((at_angle.rpm - 98.3).abs() < 0.1, "{} rpm", at_angle.rpm);
+    }
 }
 
 /// A score's history as a sparkline (issue 35, item 5): one dot per finite value, committed

@@ -432,14 +432,16 @@ fn autorotate_within(
         previous_omega = omega;
         let q = match coarse.rough_torque(omega, &mut inflow) {
             Ok(q) => q,
-            // A very fast rotor may have no periodic flapping either (compressible sections
-            // with supersonic tips, where the drag rise runs away): the bracket lies below it.
-            Err(e) if no_periodic_flapping(&e) && torques.is_empty() => {
+            // A rotor speed without periodic flapping is passed over, the inflow started
+            // again: a very fast rotor (compressible sections with supersonic tips, where the
+            // drag rise runs away), a blade twisted far by its elastic torsion (the twist grows
+            // with Omega^2: a fast rotor's blades may lose their periodic flapping between two
+            // rotor speeds that flap), or a very slow rotor (the scan then ends without a
+            // bracket). A change of sign is looked for between rotor speeds that were solved.
+            Err(e) if no_periodic_flapping(&e) => {
                 inflow = start_inflow(options.inflow);
                 continue;
             }
-            // A very slow rotor may not flap periodically: the bracket lies above it.
-            Err(e) if no_periodic_flapping(&e) => break,
             Err(e) => return Err(e.into()),
         };
         let previous = torques.last().copied();
