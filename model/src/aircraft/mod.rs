@@ -1731,7 +1731,7 @@ mod tests {
     /// revolution, where it is tuned, and moves its flapping by 2.2e-5 rad in level flight and
     /// 7.5e-6 rad turning, as much as the weight itself (2.3e-5 and 2.8e-5 rad). A rotor on a
     /// hub in steady motion (the trim) cannot have it; the full model's own periodic orbit
-    /// ([`trim::periodic_trim`]) does. Real teetering hubs are underslung to keep the pair's
+    /// ([`crate::simulation::periodic_trim::periodic_trim`]) does. Real teetering hubs are underslung to keep the pair's
     /// mass centre on the shaft.
     const TEETER_SHAKE_RAD: f64 = 3e-5;
 
