@@ -193,20 +193,10 @@ impl Averager<'_> {
         } else {
             self.propeller_omega_rad_s
         };
-        let body = BodyState {
-            u_m_s: z[0],
-            v_m_s: z[1],
-            w_m_s: z[2],
-            p_rad_s: z[3],
-            q_rad_s: z[4],
-            r_rad_s: z[5],
-            phi_rad: z[6],
-            theta_rad: z[7],
-            psi_rad: z[8],
-            north_m: 0.0,
-            east_m: 0.0,
-            down_m: 0.0,
-        };
+        // The body's state but its position (zero).
+        let mut body = [0.0; 12];
+        body[..9].copy_from_slice(&z[..9]);
+        let body = BodyState::from_array(body);
         let mut out = Vec::with_capacity(AZIMUTH_SAMPLES);
         for j in 0..AZIMUTH_SAMPLES {
             let mut sum = vec![0.0; self.len()];
@@ -225,22 +215,9 @@ impl Averager<'_> {
             let d =
                 self.aircraft
                     .derivatives_with(&self.blade, &x, controls, self.air, [0.0; 3])?;
-            let bd = &d.body;
-            let slow = [
-                bd.u_m_s,
-                bd.v_m_s,
-                bd.w_m_s,
-                bd.p_rad_s,
-                bd.q_rad_s,
-                bd.r_rad_s,
-                bd.phi_rad,
-                bd.theta_rad,
-                bd.psi_rad,
-                d.rotor_omega_rad_s,
-            ];
-            for (acc, v) in sum.iter_mut().zip(slow) {
-                *acc = v;
-            }
+            // The body's rates but the position's, and the rotorspeed's.
+            sum[..9].copy_from_slice(&d.body.to_array()[..9]);
+            sum[9] = d.rotor_omega_rad_s;
             let g = (d.flap[0][1] + omega * omega * beta
                 - d.rotor_omega_rad_s * beta_rate_per_omega)
                 / omega;
@@ -409,23 +386,15 @@ pub fn with_flapping(
     };
     let nz = avg.len();
     let n = STATES.len();
-    let b0 = &state.body;
-    let mut z = vec![
-        b0.u_m_s,
-        b0.v_m_s,
-        b0.w_m_s,
-        b0.p_rad_s,
-        b0.q_rad_s,
-        b0.r_rad_s,
-        b0.phi_rad,
-        b0.theta_rad,
-        b0.psi_rad,
+    // The body's state but its position, and the rotorspeed.
+    let mut z = state.body.to_array()[..9].to_vec();
+    z.extend([
         state.rotor_omega_rad_s,
         // The periodic solution's teeter angle and slope at psi = 0 are its first harmonic's
         // coefficients.
         trim.averaged.flap_start[0],
         trim.averaged.flap_start[1],
-    ];
+    ]);
     if dynamic_inflow {
         z.extend([state.inflow.v0, state.inflow.v1s, state.inflow.v1c]);
     }

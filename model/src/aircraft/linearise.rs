@@ -188,19 +188,10 @@ pub fn linearise(
                 cache: &mut RotorCache|
      -> Result<Sample, AircraftError> {
         let a: Averaged = aircraft.averaged_cached(state, controls, air, warm, cache)?;
-        let b = &a.body_dot;
-        let slow = [
-            b.u_m_s,
-            b.v_m_s,
-            b.w_m_s,
-            b.p_rad_s,
-            b.q_rad_s,
-            b.r_rad_s,
-            b.phi_rad,
-            b.theta_rad,
-            b.psi_rad,
-            a.rotor_omega_dot_rad_s2,
-        ];
+        // The body's rates but the position's, and the rotorspeed's.
+        let mut slow = [0.0; 10];
+        slow[..9].copy_from_slice(&a.body_dot.to_array()[..9]);
+        slow[9] = a.rotor_omega_dot_rad_s2;
         let eq = a.inflow_equilibrium;
         let mut fast = vec![
             eq.v0 - state.inflow.v0,
