@@ -7,7 +7,7 @@ use super::{
 };
 use crate::components::inflow;
 use crate::components::rigid_body::{self, BodyState, Loads};
-use crate::components::rotor::{Angles, Blade, Hub, Inflow, Operating};
+use crate::components::rotor::{Angles, Blade, BladeLoads, Hub, Inflow, Operating, Rotor};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -231,8 +231,6 @@ impl Aircraft {
         wind_body_m_s: [f64; 3],
         given: Option<[f64; 6]>,
     ) -> Result<FullDerivative, AircraftError> {
-        // Long: the full right-hand side, load by load in the order of seed 001 Table 1; a hot
-        // path, kept in one place so that the blades' angles are computed once
         let mr = &self.main_rotor;
         let rotor = &mr.rotor;
         let omega = x.rotor_omega_rad_s;
@@ -259,74 +257,21 @@ impl Aircraft {
             angular_acceleration: [0.0; 3],
         };
         let op = self.operating(&frame, omega, x.inflow, air, &still);
-        let psi1 = x.rotor_azimuth_rad;
-        // Blades: (azimuth, beta, beta_dot).
-        let mut blades: Vec<(f64, f64, f64)> = Vec::new();
-        match rotor.hub {
-            Hub::Articulated => {
-                let nb = rotor.blades;
-                for (k, f) in x.flap.iter().enumerate() {
-                    blades.push((psi1 + 2.0 * PI * k as f64 / nb as f64, f[0], f[1]));
-                }
-            }
-            Hub::Teetering => {
-                let f = x.flap[0];
-                let [(b1, d1), (b2, d2)] = blade.blade_flap(&op, [f[0], f[1] / omega]);
-                blades.push((psi1, b1, d1));
-                blades.push((psi1 + PI, b2, d2));
-            }
-            Hub::Rigid => {
-                for k in 0..rotor.blades {
-                    let psi = psi1 + 2.0 * PI * k as f64 / rotor.blades as f64;
-                    blades.push((psi, rotor.precone_rad, 0.0));
-                }
-            }
-        }
+        let blades = blade_positions(rotor, blade, &op, x);
         // Each blade's angles' sines and cosines, once.
         let angles: Vec<Angles> = blades
             .iter()
             .map(|&(psi, beta, _)| Angles::new(psi, beta))
             .collect();
-        let driving_at = |op: &Operating| {
-            let mut d = inflow::DrivingLoads {
-                thrust_n: 0.0,
-                roll_n_m: 0.0,
-                pitch_n_m: 0.0,
-            };
-            for (&(_, _, beta_dot), &ang) in blades.iter().zip(&angles) {
-                let l = blade.loads_at(op, ang, beta_dot);
-                d.thrust_n -= l.force[2];
-                d.roll_n_m += l.moment[0];
-                d.pitch_n_m += l.moment[1];
-            }
-            d
-        };
+        let driving_at = |op: &Operating| driving_loads(blade, &blades, &angles, op);
         let mut op = op;
         if mr.inflow_dynamics == InflowDynamics::QuasiSteady {
             op.inflow = self.quasi_steady_inflow(&frame, &op, air, &driving_at)?;
         }
         let op = op;
         // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
-        let loads: Vec<crate::components::rotor::BladeLoads> = blades
-            .iter()
-            .zip(&angles)
-            .map(|(&(_, _, beta_dot), &ang)| blade.loads_at(&op, ang, beta_dot))
-            .collect();
-        let (i_b, k_b) = (rotor.flap_inertia_kg_m2, rotor.flap_spring_n_m_per_rad);
-        let mut force = [0.0; 3];
-        let mut moment = [0.0; 3];
-        let mut torque = 0.0;
-        let mut coriolis_torque = 0.0;
-        for (&(_, beta, beta_dot), l) in blades.iter().zip(&loads) {
-            for k in 0..3 {
-                force[k] += l.force[k];
-                moment[k] += l.moment[k];
-            }
-            torque += l.torque;
-            // A blade flapping up comes nearer the shaft and speeds the rotor up.
-            let (s_m, e) = (rotor.flap_mass_moment_kg_m, rotor.hinge_offset_m);
-            coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i_b * beta.cos());
-        }
+        let blades = Blades::new(rotor, blade, op, blades, angles);
+        let (force, moment, torque, coriolis_torque) = blades.sums(omega);
         let i_r = self.rotor_polar_inertia_kg_m2();
         let omega_dot = (torque + coriolis_torque) / i_r;
         let driving = inflow::DrivingLoads {
@@ -348,69 +293,14 @@ impl Aircraft {
         // The flap (teeter) accelerations and the body's, with the hub's motion as the flap
         // equations see it (none: weightless blades).
         let respond = |hub: Option<&HubMotion>| -> Result<Response, AircraftError> {
-            let mut flap_dot = Vec::with_capacity(x.flap.len());
-            match rotor.hub {
-                Hub::Articulated => {
-                    for ((&(_, beta, beta_dot), l), &ang) in blades.iter().zip(&loads).zip(&angles)
-                    {
-                        let mut m = l.flap_moment
-                            - blade.inertial_flap_moment_at(&op, ang)
-                            - k_b * (beta - rotor.precone_rad);
-                        if let Some(h) = hub {
-                            m += blade.apparent_gravity_flap_moment_at(
-                                h.apparent_gravity,
-                                h.angular_acceleration,
-                                ang,
-                            );
-                        }
-                        flap_dot.push([beta_dot, m / i_b]);
-                    }
-                }
-                Hub::Teetering => {
-                    let f = x.flap[0];
-                    let mut m = loads[0].flap_moment
-                        - loads[1].flap_moment
-                        - (blade.inertial_flap_moment_at(&op, angles[0])
-                            - blade.inertial_flap_moment_at(&op, angles[1]))
-                        - k_b * f[0];
-                    if let Some(h) = hub {
-                        let (g, w) = (h.apparent_gravity, h.angular_acceleration);
-                        m += blade.apparent_gravity_flap_moment_at(g, w, angles[0])
-                            - blade.apparent_gravity_flap_moment_at(g, w, angles[1]);
-                    }
-                    flap_dot.push([f[1], m / (2.0 * i_b)]);
-                }
-                Hub::Rigid => {}
-            }
+            let flap_dot = blades.flap_rates(&x.flap, hub);
             // Inertial reaction of the blades' relative motion: H_rel along the state's rates.
             let beta_ddot: Vec<f64> = match rotor.hub {
                 Hub::Articulated => flap_dot.iter().map(|d| d[1]).collect(),
                 Hub::Teetering => vec![flap_dot[0][1], -flap_dot[0][1]],
-                Hub::Rigid => vec![0.0; blades.len()],
+                Hub::Rigid => vec![0.0; blades.at.len()],
             };
-            // The blades' angular momentum beyond the frozen disc, its rate, and the motion of
-            // their centres of mass, along the blades' motion (exact rates: the chain rule).
-            let mut h0 = [0.0; 3];
-            let mut dh = [0.0; 3];
-            let mut f_hub = force;
-            let cg_mass = rotor.blade_mass_kg();
-            for (k, (&(_, _, beta_dot), &ang)) in blades.iter().zip(&angles).enumerate() {
-                let (hb, hb_dot) =
-                    blade.angular_momentum_and_rate(&op, ang, beta_dot, beta_ddot[k], omega_dot);
-                for j in 0..3 {
-                    h0[j] += hb[j];
-                    dh[j] += hb_dot[j];
-                }
-                // The blade's centre of mass: relative acceleration and Coriolis.
-                if cg_mass > 0.0 {
-                    let [_, v, a] =
-                        blade.centre_of_mass_motion(&op, ang, beta_dot, beta_ddot[k], omega_dot);
-                    let cor = cross(frame.hub_rates, v);
-                    for j in 0..3 {
-                        f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);
-                    }
-                }
-            }
+            let (h0, dh, f_hub) = blades.inertia(frame.hub_rates, &beta_ddot, omega_dot, force);
             let gyro = cross(frame.hub_rates, h0);
             let m_hub = [
                 moment[0] - dh[0] - gyro[0],
@@ -509,5 +399,200 @@ impl Aircraft {
                     value: f64::NAN,
                 })?;
         respond(Some(&hub(&std::array::from_fn(|k| y[k]))))
+    }
+}
+
+/// The blades' azimuths, flap angles and flap rates `(psi, beta, d beta / dt)` in the full
+/// state `x`: an articulated rotor's from its flap states, a teetering rotor's two from its
+/// teeter (half a revolution apart), a rigid rotor's at the precone.
+fn blade_positions(
+    rotor: &Rotor,
+    blade: &Blade,
+    op: &Operating,
+    x: &FullState,
+) -> Vec<(f64, f64, f64)> {
+    let omega = x.rotor_omega_rad_s;
+    let psi1 = x.rotor_azimuth_rad;
+    let mut blades: Vec<(f64, f64, f64)> = Vec::new();
+    match rotor.hub {
+        Hub::Articulated => {
+            let nb = rotor.blades;
+            for (k, f) in x.flap.iter().enumerate() {
+                blades.push((psi1 + 2.0 * PI * k as f64 / nb as f64, f[0], f[1]));
+            }
+        }
+        Hub::Teetering => {
+            let f = x.flap[0];
+            let [(b1, d1), (b2, d2)] = blade.blade_flap(op, [f[0], f[1] / omega]);
+            blades.push((psi1, b1, d1));
+            blades.push((psi1 + PI, b2, d2));
+        }
+        Hub::Rigid => {
+            for k in 0..rotor.blades {
+                let psi = psi1 + 2.0 * PI * k as f64 / rotor.blades as f64;
+                blades.push((psi, rotor.precone_rad, 0.0));
+            }
+        }
+    }
+    blades
+}
+
+/// The thrust and the aerodynamic roll and pitch moments of the blades at `blades`
+/// (`(psi, beta, d beta / dt)` each, their angles `angles`) at `op`: what drives the inflow.
+fn driving_loads(
+    blade: &Blade,
+    blades: &[(f64, f64, f64)],
+    angles: &[Angles],
+    op: &Operating,
+) -> inflow::DrivingLoads {
+    let mut d = inflow::DrivingLoads {
+        thrust_n: 0.0,
+        roll_n_m: 0.0,
+        pitch_n_m: 0.0,
+    };
+    for (&(_, _, beta_dot), &ang) in blades.iter().zip(angles) {
+        let l = blade.loads_at(op, ang, beta_dot);
+        d.thrust_n -= l.force[2];
+        d.roll_n_m += l.moment[0];
+        d.pitch_n_m += l.moment[1];
+    }
+    d
+}
+
+/// The main rotor's blades at one instant of the full model: each blade's azimuth, flap angle
+/// and flap rate, its angles' sines and cosines, and its aerodynamic loads at `op`.
+struct Blades<'a> {
+    rotor: &'a Rotor,
+    blade: &'a Blade<'a>,
+    op: Operating,
+    /// `(psi, beta, d beta / dt)` of each blade.
+    at: Vec<(f64, f64, f64)>,
+    angles: Vec<Angles>,
+    loads: Vec<BladeLoads>,
+}
+
+impl<'a> Blades<'a> {
+    /// The blades at `at` (`(psi, beta, d beta / dt)` each, their angles `angles`) and their
+    /// aerodynamic loads at `op`.
+    fn new(
+        rotor: &'a Rotor,
+        blade: &'a Blade<'a>,
+        op: Operating,
+        at: Vec<(f64, f64, f64)>,
+        angles: Vec<Angles>,
+    ) -> Self {
+        let loads: Vec<BladeLoads> = at
+            .iter()
+            .zip(&angles)
+            .map(|(&(_, _, beta_dot), &ang)| blade.loads_at(&op, ang, beta_dot))
+            .collect();
+        Self {
+            rotor,
+            blade,
+            op,
+            at,
+            angles,
+            loads,
+        }
+    }
+
+    /// The blades' force and moment on the hub (hub axes), their aerodynamic torque, and the
+    /// torque of their flapping at rotorspeed `omega` (Coriolis).
+    fn sums(&self, omega: f64) -> ([f64; 3], [f64; 3], f64, f64) {
+        let rotor = self.rotor;
+        let i_b = rotor.flap_inertia_kg_m2;
+        let mut force = [0.0; 3];
+        let mut moment = [0.0; 3];
+        let mut torque = 0.0;
+        let mut coriolis_torque = 0.0;
+        for (&(_, beta, beta_dot), l) in self.at.iter().zip(&self.loads) {
+            for k in 0..3 {
+                force[k] += l.force[k];
+                moment[k] += l.moment[k];
+            }
+            torque += l.torque;
+            // A blade flapping up comes nearer the shaft and speeds the rotor up.
+            let (s_m, e) = (rotor.flap_mass_moment_kg_m, rotor.hinge_offset_m);
+            coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i_b * beta.cos());
+        }
+        (force, moment, torque, coriolis_torque)
+    }
+
+    /// The flap (teeter) states' rates for the flap states `flap`, the flap equations seeing
+    /// the hub's motion `hub` (none: weightless blades).
+    fn flap_rates(&self, flap: &[[f64; 2]], hub: Option<&HubMotion>) -> Vec<[f64; 2]> {
+        let (rotor, blade, op) = (self.rotor, self.blade, &self.op);
+        let (angles, loads) = (&self.angles, &self.loads);
+        let (i_b, k_b) = (rotor.flap_inertia_kg_m2, rotor.flap_spring_n_m_per_rad);
+        let mut flap_dot = Vec::with_capacity(flap.len());
+        match rotor.hub {
+            Hub::Articulated => {
+                for ((&(_, beta, beta_dot), l), &ang) in self.at.iter().zip(loads).zip(angles) {
+                    let mut m = l.flap_moment
+                        - blade.inertial_flap_moment_at(op, ang)
+                        - k_b * (beta - rotor.precone_rad);
+                    if let Some(h) = hub {
+                        m += blade.apparent_gravity_flap_moment_at(
+                            h.apparent_gravity,
+                            h.angular_acceleration,
+                            ang,
+                        );
+                    }
+                    flap_dot.push([beta_dot, m / i_b]);
+                }
+            }
+            Hub::Teetering => {
+                let f = flap[0];
+                let mut m = loads[0].flap_moment
+                    - loads[1].flap_moment
+                    - (blade.inertial_flap_moment_at(op, angles[0])
+                        - blade.inertial_flap_moment_at(op, angles[1]))
+                    - k_b * f[0];
+                if let Some(h) = hub {
+                    let (g, w) = (h.apparent_gravity, h.angular_acceleration);
+                    m += blade.apparent_gravity_flap_moment_at(g, w, angles[0])
+                        - blade.apparent_gravity_flap_moment_at(g, w, angles[1]);
+                }
+                flap_dot.push([f[1], m / (2.0 * i_b)]);
+            }
+            Hub::Rigid => {}
+        }
+        flap_dot
+    }
+
+    /// The blades' angular momentum beyond the frozen disc and its rate, and the force on the
+    /// hub (`force`, hub axes) less the motion of their centres of mass (relative acceleration
+    /// and Coriolis, the hub turning at `hub_rates`), along the blades' motion (flap
+    /// accelerations `beta_ddot`, rotorspeed rate `omega_dot`; exact rates: the chain rule).
+    fn inertia(
+        &self,
+        hub_rates: [f64; 3],
+        beta_ddot: &[f64],
+        omega_dot: f64,
+        force: [f64; 3],
+    ) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        let (blade, op) = (self.blade, &self.op);
+        let mut h0 = [0.0; 3];
+        let mut dh = [0.0; 3];
+        let mut f_hub = force;
+        let cg_mass = self.rotor.blade_mass_kg();
+        for (k, (&(_, _, beta_dot), &ang)) in self.at.iter().zip(&self.angles).enumerate() {
+            let (hb, hb_dot) =
+                blade.angular_momentum_and_rate(op, ang, beta_dot, beta_ddot[k], omega_dot);
+            for j in 0..3 {
+                h0[j] += hb[j];
+                dh[j] += hb_dot[j];
+            }
+            // The blade's centre of mass: relative acceleration and Coriolis.
+            if cg_mass > 0.0 {
+                let [_, v, a] =
+                    blade.centre_of_mass_motion(op, ang, beta_dot, beta_ddot[k], omega_dot);
+                let cor = cross(hub_rates, v);
+                for j in 0..3 {
+                    f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);
+                }
+            }
+        }
+        (h0, dh, f_hub)
     }
 }

@@ -2,7 +2,8 @@
 //! refined on the periodic orbit that a simulation ([`super::timehistory`]) flies.
 
 use crate::aircraft::trim::{Condition, Options, Problem, Trim, TrimError, residual_names};
-use crate::aircraft::{Aircraft, AircraftError, Controls, Drive, FullState, RotorCache};
+use crate::aircraft::{Air, Aircraft, AircraftError, Controls, Drive, FullState, RotorCache};
+use crate::components::rotor::Blade;
 use crate::solve::{self, SolveError};
 use serde::Serialize;
 
@@ -56,17 +57,16 @@ pub struct PeriodicTrim {
 /// the last ended but with the slow states shifted so that their means over the revolution
 /// are the flight condition's (flap to 1e-9 rad, inflow to 1e-7 m/s, means to 1e-9). The mean
 /// accelerations over that orbit are driven to zero by the same Newton-Broyden solver and
-/// criterion as [`crate::aircraft::trim::trim`]. The two trims differ because the airframe's and inflow's response to
-/// the individual blades' pulsing loads rectifies into mean loads that the averaged model does
-/// not see. Simulations start from this trim, at blade 1 over the tail.
+/// criterion as [`crate::aircraft::trim::trim`]. The two trims differ because the airframe's
+/// and inflow's response to the individual blades' pulsing loads rectifies into mean loads
+/// that the averaged model does not see. Simulations start from this trim, at blade 1 over
+/// the tail.
 pub fn periodic_trim(
     aircraft: &Aircraft,
     condition: Condition,
     averaged: &Trim,
     options: Options,
 ) -> Result<PeriodicTrim, TrimError> {
-    // Long: one algorithm: the averaged trim as the start, then Newton on the full model's periodic
-    // orbit; its stages share the state layout
     // The orbit of the model a simulation flies: the propeller on its map, as
     // `timehistory::run` has it (within 3e-5 of the exact solve, at a seventh of the cost).
     let mut mapped = aircraft.clone();
@@ -96,21 +96,7 @@ pub fn periodic_trim(
         calls: 0,
     };
     let air = condition.air;
-    let c = averaged.controls;
-    let b = averaged.state.body;
-    // Unknowns: controls, attitudes, rotorspeed (and propeller speed), as in `trim`.
-    let mut z0 = vec![
-        c.stick_longitudinal_percent / 100.0,
-        c.stick_lateral_percent / 100.0,
-        c.pedal_percent / 100.0,
-        c.throttle_percent / 100.0,
-        b.theta_rad,
-        b.phi_rad,
-        1.0,
-    ];
-    if engine {
-        z0.push(1.0);
-    }
+    let z0 = start_unknowns(averaged, engine);
     let step = aircraft.main_rotor.numerics.azimuth_step_rad;
     let n = crate::components::rotor::azimuth_steps(step).map_err(AircraftError::from)?;
     let mut warm_flap: Vec<[f64; 2]> = aircraft
@@ -129,12 +115,8 @@ pub fn periodic_trim(
         aircraft.main_rotor.numerics,
     );
     let mut evaluate = |z: &[f64]| -> Result<Vec<f64>, AircraftError> {
-        let mut x = vec![z[0], z[1], z[2], z[3], z[4], z[5], z[6], 0.0, 0.0, 0.0];
-        if engine {
-            x.push(z[7]);
-        }
-        let (state, controls) = p.unpack(&x);
-        let mut fs = FullState {
+        let (state, controls) = p.unpack(&averaged_unknowns(z, engine));
+        let fs = FullState {
             body: state.body,
             rotor_azimuth_rad: 0.0,
             rotor_omega_rad_s: state.rotor_omega_rad_s,
@@ -146,107 +128,18 @@ pub fn periodic_trim(
                 aircraft.propeller_omega(&state, &controls)
             },
         };
-        let omega = fs.rotor_omega_rad_s;
-        let dt = 2.0 * std::f64::consts::PI / n as f64 / omega;
-        // The slow states' targets: their means over the orbit.
-        let target = slow_of(&fs);
-        // One revolution of the whole model at constant controls: the end state, the mean of
-        // the slow states and the mean of their rates.
-        let revolution =
-            |fs: &FullState| -> Result<(FullState, [f64; 10], [f64; 10]), AircraftError> {
-                let mut x = fs.clone();
-                let (mut mean_x, mut mean_d) = ([0.0; 10], [0.0; 10]);
-                for k in 0..n {
-                    let d = aircraft.derivatives_with(&blade, &x, &controls, air, [0.0; 3])?;
-                    let (sx, sd) = (slow_of(&x), slow_of(&d));
-                    for i in 0..10 {
-                        mean_x[i] += sx[i] / n as f64;
-                        mean_d[i] += sd[i] / n as f64;
-                    }
-                    x = crate::simulation::timehistory::step_with(
-                        aircraft,
-                        &blade,
-                        &x,
-                        k as f64 * dt,
-                        dt,
-                        crate::simulation::timehistory::Drivers {
-                            controls: &|_, _| controls,
-                            wind: &crate::simulation::timehistory::still,
-                        },
-                        air,
-                    )?;
-                }
-                Ok((x, mean_x, mean_d))
-            };
-        let mut converged = false;
-        let mut mean_rates = [0.0; 10];
-        for _ in 0..60 {
-            let (end, mean_x, mean_d) = revolution(&fs)?;
-            mean_rates = mean_d;
-            let change_flap = fs
-                .flap
-                .iter()
-                .zip(&end.flap)
-                .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs() / omega))
-                .fold(0.0, f64::max);
-            let change_inflow = (fs.inflow.v0 - end.inflow.v0)
-                .abs()
-                .max((fs.inflow.v1s - end.inflow.v1s).abs())
-                .max((fs.inflow.v1c - end.inflow.v1c).abs());
-            let off: Vec<f64> = (0..10).map(|i| target[i] - mean_x[i]).collect();
-            let off_max = off.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            // Next start: the fast states where the revolution ended, the slow states moved
-            // so that their means over the orbit hit the targets.
-            let mut next = end;
-            let start_slow = slow_of(&fs);
-            let shifted: Vec<f64> = (0..10).map(|i| start_slow[i] + off[i]).collect();
-            set_slow(&mut next, &shifted);
-            next.rotor_azimuth_rad = 0.0;
-            fs = next;
-            if change_flap <= 1e-9 && change_inflow <= 1e-7 && off_max <= 1e-9 {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(AircraftError::Rotor(
-                crate::components::rotor::RotorError::FlapNotPeriodic {
-                    revolutions: 60,
-                    change: f64::NAN,
-                },
-            ));
-        }
+        let (fs, mean_rates) = orbit(aircraft, &blade, fs, controls, air, n)?;
         warm_flap = fs.flap.clone();
         warm_inflow = fs.inflow;
         last_start = Some(fs.clone());
-        let g = crate::components::rigid_body::G_M_S2;
-        let m = mean_rates;
-        let mut res = vec![
-            m[0] / g,
-            m[1] / g,
-            m[2] / g,
-            m[3],
-            m[4],
-            m[5],
-            m[8] / omega0,
-        ];
-        if engine {
-            res.push(m[9] / prop0);
-        }
-        Ok(res)
+        Ok(mean_residuals(mean_rates, omega0, prop0, engine))
     };
     let sol = solve::newton(
         |z| evaluate(z).map_err(|e| e.to_string()),
         &z0,
         options.newton,
     );
-    let mut names: Vec<String> = residual_names(false)[..7]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    if engine {
-        names.push(residual_names(true)[10].to_string());
-    }
+    let names = periodic_residual_names(engine);
     let sol = match sol {
         Ok(s) => s,
         Err(SolveError::NoConvergence {
@@ -263,13 +156,7 @@ pub fn periodic_trim(
     };
     let residuals = evaluate(&sol.x)?;
     let start = last_start.ok_or_else(|| TrimError::Solver("no periodic solution".into()))?;
-    let mut x = vec![
-        sol.x[0], sol.x[1], sol.x[2], sol.x[3], sol.x[4], sol.x[5], sol.x[6], 0.0, 0.0, 0.0,
-    ];
-    if engine {
-        x.push(sol.x[7]);
-    }
-    let (_, controls) = p.unpack(&x);
+    let (_, controls) = p.unpack(&averaged_unknowns(&sol.x, engine));
     Ok(PeriodicTrim {
         start,
         controls,
@@ -277,4 +164,159 @@ pub fn periodic_trim(
         residuals: names.into_iter().zip(residuals).collect(),
         iterations: sol.iterations,
     })
+}
+
+/// The periodic orbit of the whole model at constant controls through the start `fs` (blade 1
+/// at azimuth zero), in `n` steps a revolution: revolutions repeated, each started where the
+/// last ended but with the slow states shifted so that their means over the revolution are
+/// `fs`'s (flap to 1e-9 rad, inflow to 1e-7 m/s, means to 1e-9). The start on the orbit and
+/// the mean rates of the slow states over it.
+fn orbit(
+    aircraft: &Aircraft,
+    blade: &Blade,
+    mut fs: FullState,
+    controls: Controls,
+    air: Air,
+    n: usize,
+) -> Result<(FullState, [f64; 10]), AircraftError> {
+    let omega = fs.rotor_omega_rad_s;
+    let dt = 2.0 * std::f64::consts::PI / n as f64 / omega;
+    // The slow states' targets: their means over the orbit.
+    let target = slow_of(&fs);
+    let mut converged = false;
+    let mut mean_rates = [0.0; 10];
+    for _ in 0..60 {
+        let (end, mean_x, mean_d) = revolution(aircraft, blade, &fs, controls, air, n, dt)?;
+        mean_rates = mean_d;
+        let change_flap = fs
+            .flap
+            .iter()
+            .zip(&end.flap)
+            .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs() / omega))
+            .fold(0.0, f64::max);
+        let change_inflow = (fs.inflow.v0 - end.inflow.v0)
+            .abs()
+            .max((fs.inflow.v1s - end.inflow.v1s).abs())
+            .max((fs.inflow.v1c - end.inflow.v1c).abs());
+        let off: Vec<f64> = (0..10).map(|i| target[i] - mean_x[i]).collect();
+        let off_max = off.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        // Next start: the fast states where the revolution ended, the slow states moved
+        // so that their means over the orbit hit the targets.
+        let mut next = end;
+        let start_slow = slow_of(&fs);
+        let shifted: Vec<f64> = (0..10).map(|i| start_slow[i] + off[i]).collect();
+        set_slow(&mut next, &shifted);
+        next.rotor_azimuth_rad = 0.0;
+        fs = next;
+        if change_flap <= 1e-9 && change_inflow <= 1e-7 && off_max <= 1e-9 {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return Err(AircraftError::Rotor(
+            crate::components::rotor::RotorError::FlapNotPeriodic {
+                revolutions: 60,
+                change: f64::NAN,
+            },
+        ));
+    }
+    Ok((fs, mean_rates))
+}
+
+/// One revolution of the whole model from `fs` at constant controls, in `n` steps of `dt`: the
+/// end state, the mean of the slow states and the mean of their rates.
+fn revolution(
+    aircraft: &Aircraft,
+    blade: &Blade,
+    fs: &FullState,
+    controls: Controls,
+    air: Air,
+    n: usize,
+    dt: f64,
+) -> Result<(FullState, [f64; 10], [f64; 10]), AircraftError> {
+    let mut x = fs.clone();
+    let (mut mean_x, mut mean_d) = ([0.0; 10], [0.0; 10]);
+    for k in 0..n {
+        let d = aircraft.derivatives_with(blade, &x, &controls, air, [0.0; 3])?;
+        let (sx, sd) = (slow_of(&x), slow_of(&d));
+        for i in 0..10 {
+            mean_x[i] += sx[i] / n as f64;
+            mean_d[i] += sd[i] / n as f64;
+        }
+        x = crate::simulation::timehistory::step_with(
+            aircraft,
+            blade,
+            &x,
+            k as f64 * dt,
+            dt,
+            crate::simulation::timehistory::Drivers {
+                controls: &|_, _| controls,
+                wind: &crate::simulation::timehistory::still,
+            },
+            air,
+        )?;
+    }
+    Ok((x, mean_x, mean_d))
+}
+
+/// The periodic trim's unknowns from an averaged trim: controls, attitudes, rotorspeed (and
+/// propeller speed), scaled as in [`crate::aircraft::trim::trim`].
+fn start_unknowns(averaged: &Trim, engine: bool) -> Vec<f64> {
+    let c = averaged.controls;
+    let b = averaged.state.body;
+    let mut z0 = vec![
+        c.stick_longitudinal_percent / 100.0,
+        c.stick_lateral_percent / 100.0,
+        c.pedal_percent / 100.0,
+        c.throttle_percent / 100.0,
+        b.theta_rad,
+        b.phi_rad,
+        1.0,
+    ];
+    if engine {
+        z0.push(1.0);
+    }
+    z0
+}
+
+/// The averaged trim's unknowns for the periodic trim's `z` (its inflow unknowns zero).
+fn averaged_unknowns(z: &[f64], engine: bool) -> Vec<f64> {
+    let mut x = vec![z[0], z[1], z[2], z[3], z[4], z[5], z[6], 0.0, 0.0, 0.0];
+    if engine {
+        x.push(z[7]);
+    }
+    x
+}
+
+/// The periodic trim's residuals from the slow states' mean rates over the orbit, scaled as
+/// the averaged trim's (translational accelerations in g, rotor and propeller accelerations
+/// divided by the trim's speeds `omega0` and `prop0`).
+fn mean_residuals(m: [f64; 10], omega0: f64, prop0: f64, engine: bool) -> Vec<f64> {
+    let g = crate::components::rigid_body::G_M_S2;
+    let mut res = vec![
+        m[0] / g,
+        m[1] / g,
+        m[2] / g,
+        m[3],
+        m[4],
+        m[5],
+        m[8] / omega0,
+    ];
+    if engine {
+        res.push(m[9] / prop0);
+    }
+    res
+}
+
+/// The names of [`mean_residuals`]: the averaged trim's but the inflow's.
+fn periodic_residual_names(engine: bool) -> Vec<String> {
+    let mut names: Vec<String> = residual_names(false)[..7]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    if engine {
+        names.push(residual_names(true)[10].to_string());
+    }
+    names
 }
