@@ -452,9 +452,9 @@ fn driving_loads(
     };
     for (&(_, _, beta_dot), &ang) in blades.iter().zip(angles) {
         let l = blade.loads_at(op, ang, beta_dot);
-        d.thrust_n -= l.force[2];
-        d.roll_n_m += l.moment[0];
-        d.pitch_n_m += l.moment[1];
+        d.thrust_n -= l.force_n[2];
+        d.roll_n_m += l.moment_n_m[0];
+        d.pitch_n_m += l.moment_n_m[1];
     }
     d
 }
@@ -507,10 +507,10 @@ impl<'a> Blades<'a> {
         let mut coriolis_torque = 0.0;
         for (&(_, beta, beta_dot), l) in self.at.iter().zip(&self.loads) {
             for k in 0..3 {
-                force[k] += l.force[k];
-                moment[k] += l.moment[k];
+                force[k] += l.force_n[k];
+                moment[k] += l.moment_n_m[k];
             }
-            torque += l.torque;
+            torque += l.torque_n_m;
             // A blade flapping up comes nearer the shaft and speeds the rotor up.
             let (s_m, e) = (rotor.flap_mass_moment_kg_m, rotor.hinge_offset_m);
             coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i_b * beta.cos());
@@ -528,7 +528,7 @@ impl<'a> Blades<'a> {
         match rotor.hub {
             Hub::Articulated => {
                 for ((&(_, beta, beta_dot), l), &ang) in self.at.iter().zip(loads).zip(angles) {
-                    let mut m = l.flap_moment
+                    let mut m = l.flap_moment_n_m
                         - blade.inertial_flap_moment_at(op, ang)
                         - k_b * (beta - rotor.precone_rad);
                     if let Some(h) = hub {
@@ -543,8 +543,8 @@ impl<'a> Blades<'a> {
             }
             Hub::Teetering => {
                 let f = flap[0];
-                let mut m = loads[0].flap_moment
-                    - loads[1].flap_moment
+                let mut m = loads[0].flap_moment_n_m
+                    - loads[1].flap_moment_n_m
                     - (blade.inertial_flap_moment_at(op, angles[0])
                         - blade.inertial_flap_moment_at(op, angles[1]))
                     - k_b * f[0];

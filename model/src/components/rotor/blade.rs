@@ -116,7 +116,7 @@ impl<'a> Blade<'a> {
                 let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
                 let (a1, a2) = (Angles::new(psi, b1), Angles::new(psi + PI, b2));
                 let (l1, l2) = (self.loads_at(op, a1, d1), self.loads_at(op, a2, d2));
-                let (m1, m2) = (l1.flap_moment, l2.flap_moment);
+                let (m1, m2) = (l1.flap_moment_n_m, l2.flap_moment_n_m);
                 if let Some(sums) = sums {
                     sums.add(self, op, (a1, b1, d1, l1), Some((a2, d2, l2)));
                 }
@@ -144,7 +144,7 @@ impl<'a> Blade<'a> {
         if let Some(sums) = sums {
             sums.add(self, op, (angles, beta, beta_dot, l), None);
         }
-        let m_aero = l.flap_moment;
+        let m_aero = l.flap_moment_n_m;
         let inertial = self.inertial_flap_moment_at(op, angles);
         let weight = self.apparent_gravity_flap_moment_at(
             op.apparent_gravity_m_s2,

@@ -8,13 +8,13 @@ use crate::components::atmosphere;
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BladeLoads {
     /// About the flap hinge, positive flapping up, N m.
-    pub flap_moment: f64,
+    pub flap_moment_n_m: f64,
     /// On the hub, N.
-    pub force: [f64; 3],
+    pub force_n: [f64; 3],
     /// About the hub centre, N m.
-    pub moment: [f64; 3],
+    pub moment_n_m: [f64; 3],
     /// Driving the rotor in its direction of rotation, N m.
-    pub torque: f64,
+    pub torque_n_m: f64,
 }
 
 /// `y.atan2(x)` to within 1e-14 rad (tested against the standard library over all four
@@ -188,13 +188,15 @@ impl Blade<'_> {
         let re = cross(r_hat, e_b);
         let e = rot.hinge_offset_m;
         BladeLoads {
-            flap_moment: -s_rho_fz,
-            force: std::array::from_fn(|k| s_ft * t_hat[k] + s_fz * z_hat_blade[k] + s_fr * e_b[k]),
-            moment: std::array::from_fn(|k| {
+            flap_moment_n_m: -s_rho_fz,
+            force_n: std::array::from_fn(|k| {
+                s_ft * t_hat[k] + s_fz * z_hat_blade[k] + s_fr * e_b[k]
+            }),
+            moment_n_m: std::array::from_fn(|k| {
                 torque * rt[k] + s_rfz * rz[k] - sb * (s_rho_ft * zt[k] + s_rho_fz * zz[k])
                     + e * s_fr * re[k]
             }),
-            torque,
+            torque_n_m: torque,
         }
     }
 

@@ -68,16 +68,16 @@ impl RevolutionSums {
             for (m, h) in self.momentum.iter_mut().zip(h2) {
                 *m += h;
             }
-            l.torque += l2.torque;
+            l.torque_n_m += l2.torque_n_m;
             for j in 0..3 {
-                l.force[j] += l2.force[j];
-                l.moment[j] += l2.moment[j];
+                l.force_n[j] += l2.force_n[j];
+                l.moment_n_m[j] += l2.moment_n_m[j];
             }
         }
-        self.loads.torque += l.torque;
+        self.loads.torque_n_m += l.torque_n_m;
         for j in 0..3 {
-            self.loads.force[j] += l.force[j];
-            self.loads.moment[j] += l.moment[j];
+            self.loads.force_n[j] += l.force_n[j];
+            self.loads.moment_n_m[j] += l.moment_n_m[j];
         }
         // Blade 1's azimuth sines and cosines, already in its angles.
         self.a0 += b1;
@@ -215,9 +215,9 @@ impl Blade<'_> {
         // The blade at azimuth zero points along -x: its in-plane force components average to
         // zero over a revolution, as do the in-plane moments; thrust and torque remain.
         let out = SteadyLoads {
-            force_n: [0.0, 0.0, nb * l.force[2]],
-            moment_n_m: [0.0, 0.0, nb * l.moment[2]],
-            driving_torque_n_m: nb * l.torque,
+            force_n: [0.0, 0.0, nb * l.force_n[2]],
+            moment_n_m: [0.0, 0.0, nb * l.moment_n_m[2]],
+            driving_torque_n_m: nb * l.torque_n_m,
             a0_rad: p,
             a1_rad: 0.0,
             b1_rad: 0.0,
@@ -339,9 +339,9 @@ impl Blade<'_> {
         };
         let mean = |x: f64| nb * x / n as f64;
         let out = SteadyLoads {
-            force_n: sum.loads.force.map(mean),
-            moment_n_m: sum.loads.moment.map(mean),
-            driving_torque_n_m: mean(sum.loads.torque),
+            force_n: sum.loads.force_n.map(mean),
+            moment_n_m: sum.loads.moment_n_m.map(mean),
+            driving_torque_n_m: mean(sum.loads.torque_n_m),
             a0_rad: sum.a0 / n as f64,
             a1_rad: -2.0 * sum.c1 / n as f64,
             b1_rad: -2.0 * sum.s1 / n as f64,
