@@ -191,4 +191,16 @@ impl Aircraft {
         )?;
         Ok((ps, prop_loads, prop_omega_dot, af))
     }
+
+    /// The aircraft with its propeller on its map ([`Propeller::with_map`]), as a simulation
+    /// flies it; unchanged if it has a map already or one cannot be built.
+    pub(crate) fn with_propeller_map(&self) -> Aircraft {
+        let mut mapped = self.clone();
+        if mapped.propeller.propeller.map.is_none()
+            && let Ok(p) = mapped.propeller.propeller.with_map()
+        {
+            mapped.propeller.propeller = p;
+        }
+        mapped
+    }
 }

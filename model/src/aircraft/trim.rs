@@ -303,50 +303,8 @@ pub fn trim_from(
     options: Options,
     start: Option<&WarmStart>,
 ) -> Result<Trim, TrimError> {
-    // Long: one algorithm: the unknowns, their scales, the residuals and the Newton loop with its
-    // warm start share their state
     aircraft.validate()?;
-    let checks = [
-        (
-            "airspeed_m_s",
-            condition.airspeed_m_s,
-            condition.airspeed_m_s > 0.0,
-            "positive",
-        ),
-        (
-            "climb_m_s",
-            condition.climb_m_s,
-            condition.climb_m_s.abs() < condition.airspeed_m_s,
-            "smaller in magnitude than the airspeed",
-        ),
-        (
-            "turn_rate_rad_s",
-            condition.turn_rate_rad_s,
-            condition.turn_rate_rad_s.abs() < 1.0,
-            "below 1 rad/s in magnitude",
-        ),
-        (
-            "density_kg_m3",
-            condition.air.density_kg_m3,
-            condition.air.density_kg_m3 > 0.0,
-            "positive",
-        ),
-        (
-            "speed_of_sound_m_s",
-            condition.air.speed_of_sound_m_s,
-            condition.air.speed_of_sound_m_s > 0.0,
-            "positive",
-        ),
-    ];
-    for (name, value, ok, requirement) in checks {
-        if !(ok && value.is_finite()) {
-            return Err(TrimError::Condition {
-                name,
-                requirement,
-                value,
-            });
-        }
-    }
+    check_condition(&condition)?;
     let r = aircraft.main_rotor.rotor.radius_m;
     let omega0 = options.tip_speed_guess_m_s / r;
     let tip0 = options.tip_speed_guess_m_s;
@@ -371,30 +329,7 @@ pub fn trim_from(
         last: None,
         calls: 0,
     };
-    // Starting point: mid controls, level attitudes, Glauert's inflow for the weight.
-    let weight = aircraft.mass.mass_kg * G_M_S2;
-    let area = PI * r * r;
-    let v = condition.airspeed_m_s;
-    let v0 = weight / (2.0 * condition.air.density_kg_m3 * area * v.max(5.0));
-    let cm = &aircraft.controls;
-    let mut x0 = vec![
-        cm.shaft_pitch_rad
-            .percent_for(8f64.to_radians())
-            .clamp(0.0, 100.0)
-            / 100.0,
-        cm.shaft_roll_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
-        cm.rudder_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
-        0.6,
-        0.0,
-        0.0,
-        1.0,
-        v0 / tip0,
-        0.0,
-        0.0,
-    ];
-    if engine {
-        x0.push(0.9);
-    }
+    let x0 = cold_start(aircraft, &condition, tip0, engine);
     // The warm start if it fits, then (or else) the cold one.
     let warm = start
         .filter(|w| w.x.len() == x0.len() && w.tip0 == tip0)
@@ -459,6 +394,88 @@ pub fn trim_from(
             tip0,
         },
     };
+    within_travel(t)
+}
+
+/// Refuses a flight condition that cannot be trimmed: a non-positive airspeed, a climb as fast
+/// as the airspeed, a turn of 1 rad/s or more, or non-physical air.
+fn check_condition(condition: &Condition) -> Result<(), TrimError> {
+    let checks = [
+        (
+            "airspeed_m_s",
+            condition.airspeed_m_s,
+            condition.airspeed_m_s > 0.0,
+            "positive",
+        ),
+        (
+            "climb_m_s",
+            condition.climb_m_s,
+            condition.climb_m_s.abs() < condition.airspeed_m_s,
+            "smaller in magnitude than the airspeed",
+        ),
+        (
+            "turn_rate_rad_s",
+            condition.turn_rate_rad_s,
+            condition.turn_rate_rad_s.abs() < 1.0,
+            "below 1 rad/s in magnitude",
+        ),
+        (
+            "density_kg_m3",
+            condition.air.density_kg_m3,
+            condition.air.density_kg_m3 > 0.0,
+            "positive",
+        ),
+        (
+            "speed_of_sound_m_s",
+            condition.air.speed_of_sound_m_s,
+            condition.air.speed_of_sound_m_s > 0.0,
+            "positive",
+        ),
+    ];
+    for (name, value, ok, requirement) in checks {
+        if !(ok && value.is_finite()) {
+            return Err(TrimError::Condition {
+                name,
+                requirement,
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The cold start: mid controls, level attitudes, Glauert's inflow for the weight, rotorspeed
+/// at the guessed tip speed `tip0` (and the propeller's at 90 % of rated with an engine).
+fn cold_start(aircraft: &Aircraft, condition: &Condition, tip0: f64, engine: bool) -> Vec<f64> {
+    let r = aircraft.main_rotor.rotor.radius_m;
+    let weight = aircraft.mass.mass_kg * G_M_S2;
+    let area = PI * r * r;
+    let v = condition.airspeed_m_s;
+    let v0 = weight / (2.0 * condition.air.density_kg_m3 * area * v.max(5.0));
+    let cm = &aircraft.controls;
+    let mut x0 = vec![
+        cm.shaft_pitch_rad
+            .percent_for(8f64.to_radians())
+            .clamp(0.0, 100.0)
+            / 100.0,
+        cm.shaft_roll_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
+        cm.rudder_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
+        0.6,
+        0.0,
+        0.0,
+        1.0,
+        v0 / tip0,
+        0.0,
+        0.0,
+    ];
+    if engine {
+        x0.push(0.9);
+    }
+    x0
+}
+
+/// The trim, or an error that carries it if a control is outside its travel (0-100 %).
+fn within_travel(t: Trim) -> Result<Trim, TrimError> {
     let c = t.controls;
     for (control, percent) in [
         ("longitudinal stick", c.stick_longitudinal_percent),

@@ -69,12 +69,7 @@ pub fn periodic_trim(
 ) -> Result<PeriodicTrim, TrimError> {
     // The orbit of the model a simulation flies: the propeller on its map, as
     // `timehistory::run` has it (within 3e-5 of the exact solve, at a seventh of the cost).
-    let mut mapped = aircraft.clone();
-    if aircraft.propeller.propeller.map.is_none()
-        && let Ok(prop) = aircraft.propeller.propeller.with_map()
-    {
-        mapped.propeller.propeller = prop;
-    }
+    let mapped = aircraft.with_propeller_map();
     let aircraft = &mapped;
     let r = aircraft.main_rotor.rotor.radius_m;
     let omega0 = averaged.state.rotor_omega_rad_s;
