@@ -60,8 +60,8 @@ impl Aircraft {
         }
     }
 
-    /// The rotors that turn freely about their shafts (see [`rigid_body::derivatives_with_free_spins`]):
-    /// the main rotor, on a bearing that carries no torque about its shaft (an autogyro's rotor
+    /// The rotors that turn freely about their shafts (see
+    /// [`crate::components::rigid_body::derivatives_with_free_spins`]): the main rotor, on a bearing that carries no torque about its shaft (an autogyro's rotor
     /// is driven by the air alone), and the propeller when an engine drives it at a set torque.
     /// A governed propeller is held at its speed relative to the airframe, so it turns with the
     /// airframe as part of it (its polar moment 0 here).

@@ -25,7 +25,7 @@ pub struct Corrections {
     pub elastic_twist_rad_per_pa: f64,
     /// The section drag's Reynolds-number dependence: each element's drag coefficient is
     /// multiplied by `(Re / Re_ref)^-n`, `Re` the element's chord Reynolds number in the flow
-    /// normal to its span and `Re_ref` [`Rotor::drag_reynolds_number`]. Zero: drag independent
+    /// normal to its span and `Re_ref` [`super::Rotor::drag_reynolds_number`]. Zero: drag independent
     /// of Reynolds number. A turbulent flat plate's skin friction goes as `Re^-0.2`, a laminar
     /// one's as `Re^-0.5` (Schlichting, Boundary-Layer Theory, ch. 2 and 21).
     pub profile_drag_reynolds_exponent: f64,
