@@ -78,8 +78,10 @@ pub mod analysis {
     pub mod modes;
 }
 
-/// Flying the models in time: the full individual-blade model and the linear model.
+/// Flying the models in time: the full individual-blade model and the linear model, and the
+/// full model's trim on its periodic orbit.
 pub mod simulation {
+    pub mod periodic_trim;
     pub mod simulate;
     pub mod timehistory;
 }

@@ -59,7 +59,7 @@ pub fn puma_eq26() -> LinearModel {
 /// shipped aircraft file `aircraft/vpm-m16.yaml` carries the same kind of numbers with their
 /// provenance).
 pub fn gyroplane() -> crate::aircraft::Aircraft {
-    // Long: a published matrix written out, with its source
+    // Long: one aircraft's data written out field by field (a struct literal), nothing to cut
     use crate::aircraft::*;
     use crate::components::airfoil::{Airfoil, AnalyticalSection};
     use crate::components::airframe::{Airframe, Surface, Table2};

@@ -345,7 +345,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                     else {
                         continue;
                     };
-                    let Ok(pt) = cierva_model::aircraft::trim::periodic_trim(
+                    let Ok(pt) = cierva_model::simulation::periodic_trim::periodic_trim(
                         &a2,
                         c,
                         &t2,

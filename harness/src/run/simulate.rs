@@ -21,6 +21,7 @@ pub fn simulation_start(
     request: TrimRequest,
     loading: Loading,
 ) -> Result<SimulationStart, String> {
+    use cierva_model::simulation::periodic_trim::periodic_trim;
     use cierva_model::{aircraft::Air, aircraft::trim, components::atmosphere};
     let mut a = aircraft.clone();
     if let Some(m) = loading.mass_kg {
@@ -47,7 +48,7 @@ pub fn simulation_start(
         turn_rate_rad_s: request.turn_rate_deg_s.to_radians(),
         air,
     };
-    let pt = trim::periodic_trim(&a, condition, &t, trim::Options::default())
+    let pt = periodic_trim(&a, condition, &t, trim::Options::default())
         .map_err(|e| format!("periodic trim of the full model: {e}"))?;
     Ok(SimulationStart {
         aircraft: a,

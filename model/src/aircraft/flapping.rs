@@ -193,20 +193,10 @@ impl Averager<'_> {
         } else {
             self.propeller_omega_rad_s
         };
-        let body = BodyState {
-            u_m_s: z[0],
-            v_m_s: z[1],
-            w_m_s: z[2],
-            p_rad_s: z[3],
-            q_rad_s: z[4],
-            r_rad_s: z[5],
-            phi_rad: z[6],
-            theta_rad: z[7],
-            psi_rad: z[8],
-            north_m: 0.0,
-            east_m: 0.0,
-            down_m: 0.0,
-        };
+        // The body's state but its position (zero).
+        let mut body = [0.0; 12];
+        body[..9].copy_from_slice(&z[..9]);
+        let body = BodyState::from_array(body);
         let mut out = Vec::with_capacity(AZIMUTH_SAMPLES);
         for j in 0..AZIMUTH_SAMPLES {
             let mut sum = vec![0.0; self.len()];
@@ -225,22 +215,9 @@ impl Averager<'_> {
             let d =
                 self.aircraft
                     .derivatives_with(&self.blade, &x, controls, self.air, [0.0; 3])?;
-            let bd = &d.body;
-            let slow = [
-                bd.u_m_s,
-                bd.v_m_s,
-                bd.w_m_s,
-                bd.p_rad_s,
-                bd.q_rad_s,
-                bd.r_rad_s,
-                bd.phi_rad,
-                bd.theta_rad,
-                bd.psi_rad,
-                d.rotor_omega_rad_s,
-            ];
-            for (acc, v) in sum.iter_mut().zip(slow) {
-                *acc = v;
-            }
+            // The body's rates but the position's, and the rotorspeed's.
+            sum[..9].copy_from_slice(&d.body.to_array()[..9]);
+            sum[9] = d.rotor_omega_rad_s;
             let g = (d.flap[0][1] + omega * omega * beta
                 - d.rotor_omega_rad_s * beta_rate_per_omega)
                 / omega;
@@ -376,8 +353,6 @@ pub fn with_flapping(
     air: Air,
     steps: Steps,
 ) -> Result<WithFlapping, LinearisationError> {
-    // Long: one algorithm in the order it runs: the simulation's model, the state layout, the
-    // equilibrium of the fast states, then central differences over states and controls
     if aircraft.main_rotor.rotor.hub != Hub::Teetering {
         return Err(LinearisationError::Aircraft(AircraftError::Invalid {
             name: "main rotor hub for a linearisation with flapping states (only a teetering hub is supported)",
@@ -386,12 +361,7 @@ pub fn with_flapping(
         }));
     }
     // The model a simulation flies: the propeller on its map.
-    let mut mapped = aircraft.clone();
-    if mapped.propeller.propeller.map.is_none()
-        && let Ok(p) = mapped.propeller.propeller.with_map()
-    {
-        mapped.propeller.propeller = p;
-    }
+    let mapped = aircraft.with_propeller_map();
     let aircraft = &mapped;
     let mr = &aircraft.main_rotor;
     let engine = matches!(aircraft.propeller.drive, Drive::Engine { .. });
@@ -409,80 +379,11 @@ pub fn with_flapping(
     };
     let nz = avg.len();
     let n = STATES.len();
-    let b0 = &state.body;
-    let mut z = vec![
-        b0.u_m_s,
-        b0.v_m_s,
-        b0.w_m_s,
-        b0.p_rad_s,
-        b0.q_rad_s,
-        b0.r_rad_s,
-        b0.phi_rad,
-        b0.theta_rad,
-        b0.psi_rad,
-        state.rotor_omega_rad_s,
-        // The periodic solution's teeter angle and slope at psi = 0 are its first harmonic's
-        // coefficients.
-        trim.averaged.flap_start[0],
-        trim.averaged.flap_start[1],
-    ];
-    if dynamic_inflow {
-        z.extend([state.inflow.v0, state.inflow.v1s, state.inflow.v1c]);
-    }
-    if engine {
-        z.push(avg.propeller_omega_rad_s);
-    }
+    let mut z = start_states(trim, dynamic_inflow, engine, avg.propeller_omega_rad_s);
     let fast: Vec<usize> = (n..nz).collect();
-    let step_of = |i: usize| -> f64 {
-        match i {
-            0..=2 => steps.velocity_m_s,
-            3..=5 => steps.rate_rad_s,
-            6..=8 => steps.angle_rad,
-            9 => steps.omega_rad_s,
-            10 | 11 => steps.flap_rad,
-            _ if dynamic_inflow && i < n + 5 => steps.inflow_m_s,
-            _ => steps.propeller_rad_s,
-        }
-    };
-    // Newton on the fast states' averaged rates, with a central-difference Jacobian.
+    let step_of = |i: usize| state_step(&steps, dynamic_inflow, n, i);
     let tip = state.rotor_omega_rad_s * mr.rotor.radius_m;
-    let mut iterations = 0;
-    let mut rates = avg.rates(&z, &controls)?;
-    loop {
-        let norm = fast
-            .iter()
-            .map(|&i| (rates[i] / if i < n + 2 { 1.0 } else { tip }).abs())
-            .fold(0.0, f64::max);
-        if norm < 1e-10 {
-            break;
-        }
-        if iterations >= 20 {
-            return Err(LinearisationError::Aircraft(AircraftError::Invalid {
-                name: "averaged flapping equilibrium (no convergence in 20 Newton iterations), largest scaled rate",
-                requirement: "below 1e-10",
-                value: norm,
-            }));
-        }
-        let mut jac = DMatrix::<f64>::zeros(fast.len(), fast.len());
-        for (c, &i) in fast.iter().enumerate() {
-            let h = step_of(i) * 0.1;
-            let mut zp = z.clone();
-            zp[i] += h;
-            let mut zm = z.clone();
-            zm[i] -= h;
-            let (rp, rm) = (avg.rates(&zp, &controls)?, avg.rates(&zm, &controls)?);
-            for (r, &k) in fast.iter().enumerate() {
-                jac[(r, c)] = (rp[k] - rm[k]) / (2.0 * h);
-            }
-        }
-        let rhs = DVector::from_iterator(fast.len(), fast.iter().map(|&k| -rates[k]));
-        let dz = jac.lu().solve(&rhs).ok_or(LinearisationError::Singular)?;
-        for (c, &i) in fast.iter().enumerate() {
-            z[i] += dz[c];
-        }
-        rates = avg.rates(&z, &controls)?;
-        iterations += 1;
-    }
+    let (rates, iterations) = fast_equilibrium(&avg, &mut z, &controls, &fast, tip, &step_of)?;
     let mut residual = [0.0; 10];
     residual.copy_from_slice(&rates[..n]);
     // Central differences: every state, then every control.
@@ -524,34 +425,14 @@ pub fn with_flapping(
         (run(even), other.join())
     });
     let other = other.map_err(|_| LinearisationError::Worker)?;
-    // The periodic system's matrices at each azimuth, and their average.
-    let mut a_at = vec![DMatrix::<f64>::zeros(nz, nz); AZIMUTH_SAMPLES];
-    let mut b_at = vec![DMatrix::<f64>::zeros(nz, CONTROLS.len()); AZIMUTH_SAMPLES];
-    for (j, col) in mine?.into_iter().chain(other?) {
-        for (k, rates) in col.into_iter().enumerate() {
-            for (i, v) in rates.into_iter().enumerate() {
-                if j < nz {
-                    a_at[k][(i, j)] = v;
-                } else {
-                    b_at[k][(i, j - nz)] = v;
-                }
-            }
-        }
-    }
+    let (a_at, b_at) = periodic_matrices(nz, mine?.into_iter().chain(other?));
     let periodic = Periodic {
         omega_rad_s: state.rotor_omega_rad_s,
         a_at,
         b_at,
     };
     let (a, b) = periodic.average();
-    let mut names: Vec<String> = STATES.iter().map(|s| s.to_string()).collect();
-    names.extend(FLAP_STATES.iter().map(|s| s.to_string()));
-    if dynamic_inflow {
-        names.extend(INFLOW_STATES.iter().map(|s| s.to_string()));
-    }
-    if engine {
-        names.push(PROPELLER_STATE.to_string());
-    }
+    let names = state_names(dynamic_inflow, engine);
     let model = LinearModel::new(
         names,
         CONTROLS.iter().map(|s| s.to_string()).collect(),
@@ -584,6 +465,138 @@ pub fn with_flapping(
         },
         steps,
     })
+}
+
+/// The linearisation's states at the trim: the body's state but its position, the rotorspeed,
+/// the teeter's first harmonic, and (as the model has them) the inflow and the propeller speed
+/// `propeller_omega_rad_s`.
+fn start_states(
+    trim: &Trim,
+    dynamic_inflow: bool,
+    engine: bool,
+    propeller_omega_rad_s: f64,
+) -> Vec<f64> {
+    // The body's state but its position, and the rotorspeed.
+    let mut z = trim.state.body.to_array()[..9].to_vec();
+    z.extend([
+        trim.state.rotor_omega_rad_s,
+        // The periodic solution's teeter angle and slope at psi = 0 are its first harmonic's
+        // coefficients.
+        trim.averaged.flap_start[0],
+        trim.averaged.flap_start[1],
+    ]);
+    if dynamic_inflow {
+        z.extend([
+            trim.state.inflow.v0,
+            trim.state.inflow.v1s,
+            trim.state.inflow.v1c,
+        ]);
+    }
+    if engine {
+        z.push(propeller_omega_rad_s);
+    }
+    z
+}
+
+/// The central-difference step of state `i` (`n` rigid-body states and the rotorspeed first).
+fn state_step(steps: &Steps, dynamic_inflow: bool, n: usize, i: usize) -> f64 {
+    match i {
+        0..=2 => steps.velocity_m_s,
+        3..=5 => steps.rate_rad_s,
+        6..=8 => steps.angle_rad,
+        9 => steps.omega_rad_s,
+        10 | 11 => steps.flap_rad,
+        _ if dynamic_inflow && i < n + 5 => steps.inflow_m_s,
+        _ => steps.propeller_rad_s,
+    }
+}
+
+/// Newton on the fast states' averaged rates, with a central-difference Jacobian: moves the
+/// fast states of `z` to their equilibrium (rates scaled by the tip speed `tip` for the
+/// inflow), and returns the averaged rates there and the iterations it took.
+fn fast_equilibrium(
+    avg: &Averager,
+    z: &mut [f64],
+    controls: &Controls,
+    fast: &[usize],
+    tip: f64,
+    step_of: &dyn Fn(usize) -> f64,
+) -> Result<(Vec<f64>, usize), LinearisationError> {
+    let n = STATES.len();
+    let mut iterations = 0;
+    let mut rates = avg.rates(z, controls)?;
+    loop {
+        let norm = fast
+            .iter()
+            .map(|&i| (rates[i] / if i < n + 2 { 1.0 } else { tip }).abs())
+            .fold(0.0, f64::max);
+        if norm < 1e-10 {
+            break;
+        }
+        if iterations >= 20 {
+            return Err(LinearisationError::Aircraft(AircraftError::Invalid {
+                name: "averaged flapping equilibrium (no convergence in 20 Newton iterations), largest scaled rate",
+                requirement: "below 1e-10",
+                value: norm,
+            }));
+        }
+        let mut jac = DMatrix::<f64>::zeros(fast.len(), fast.len());
+        for (c, &i) in fast.iter().enumerate() {
+            let h = step_of(i) * 0.1;
+            let mut zp = z.to_vec();
+            zp[i] += h;
+            let mut zm = z.to_vec();
+            zm[i] -= h;
+            let (rp, rm) = (avg.rates(&zp, controls)?, avg.rates(&zm, controls)?);
+            for (r, &k) in fast.iter().enumerate() {
+                jac[(r, c)] = (rp[k] - rm[k]) / (2.0 * h);
+            }
+        }
+        let rhs = DVector::from_iterator(fast.len(), fast.iter().map(|&k| -rates[k]));
+        let dz = jac.lu().solve(&rhs).ok_or(LinearisationError::Singular)?;
+        for (c, &i) in fast.iter().enumerate() {
+            z[i] += dz[c];
+        }
+        rates = avg.rates(z, controls)?;
+        iterations += 1;
+    }
+    Ok((rates, iterations))
+}
+
+/// The periodic system's matrices at each azimuth from each variable's column (the rates'
+/// derivatives at every azimuth; states first, `nz` of them, then controls).
+fn periodic_matrices(
+    nz: usize,
+    columns: impl Iterator<Item = (usize, Vec<Vec<f64>>)>,
+) -> (Vec<DMatrix<f64>>, Vec<DMatrix<f64>>) {
+    let mut a_at = vec![DMatrix::<f64>::zeros(nz, nz); AZIMUTH_SAMPLES];
+    let mut b_at = vec![DMatrix::<f64>::zeros(nz, CONTROLS.len()); AZIMUTH_SAMPLES];
+    for (j, col) in columns {
+        for (k, rates) in col.into_iter().enumerate() {
+            for (i, v) in rates.into_iter().enumerate() {
+                if j < nz {
+                    a_at[k][(i, j)] = v;
+                } else {
+                    b_at[k][(i, j - nz)] = v;
+                }
+            }
+        }
+    }
+    (a_at, b_at)
+}
+
+/// The states' names: the rigid body's and the rotorspeed, the teeter's, then the inflow's and
+/// the propeller speed as the model has them.
+fn state_names(dynamic_inflow: bool, engine: bool) -> Vec<String> {
+    let mut names: Vec<String> = STATES.iter().map(|s| s.to_string()).collect();
+    names.extend(FLAP_STATES.iter().map(|s| s.to_string()));
+    if dynamic_inflow {
+        names.extend(INFLOW_STATES.iter().map(|s| s.to_string()));
+    }
+    if engine {
+        names.push(PROPELLER_STATE.to_string());
+    }
+    names
 }
 
 #[cfg(test)]

@@ -177,8 +177,6 @@ pub fn linearise(
     air: Air,
     steps: Steps,
 ) -> Result<Linearised, LinearisationError> {
-    // Long: one algorithm (seed 001 Eqs. 10-12): perturb every state and control, eliminate the
-    // fast states, split by component; the columns share the trim and the rotor solution
     let engine = matches!(aircraft.propeller.drive, Drive::Engine { .. });
     let base_state = trim.state;
     let base_controls = trim.controls;
@@ -188,19 +186,10 @@ pub fn linearise(
                 cache: &mut RotorCache|
      -> Result<Sample, AircraftError> {
         let a: Averaged = aircraft.averaged_cached(state, controls, air, warm, cache)?;
-        let b = &a.body_dot;
-        let slow = [
-            b.u_m_s,
-            b.v_m_s,
-            b.w_m_s,
-            b.p_rad_s,
-            b.q_rad_s,
-            b.r_rad_s,
-            b.phi_rad,
-            b.theta_rad,
-            b.psi_rad,
-            a.rotor_omega_dot_rad_s2,
-        ];
+        // The body's rates but the position's, and the rotorspeed's.
+        let mut slow = [0.0; 10];
+        slow[..9].copy_from_slice(&a.body_dot.to_array()[..9]);
+        slow[9] = a.rotor_omega_dot_rad_s2;
         let eq = a.inflow_equilibrium;
         let mut fast = vec![
             eq.v0 - state.inflow.v0,
@@ -220,42 +209,7 @@ pub fn linearise(
         Ok(Sample { slow, fast, parts })
     };
     let nz = if engine { 4 } else { 3 };
-    // Perturbation k of variable j, with its step.
-    let perturb = |j: usize, h: f64| -> (State, Controls) {
-        let mut s = base_state;
-        let mut c = base_controls;
-        let b = &mut s.body;
-        match j {
-            0 => b.u_m_s += h,
-            1 => b.v_m_s += h,
-            2 => b.w_m_s += h,
-            3 => b.p_rad_s += h,
-            4 => b.q_rad_s += h,
-            5 => b.r_rad_s += h,
-            6 => b.phi_rad += h,
-            7 => b.theta_rad += h,
-            8 => b.psi_rad += h,
-            9 => s.rotor_omega_rad_s += h,
-            10 => c.stick_longitudinal_percent += h,
-            11 => c.stick_lateral_percent += h,
-            12 => c.pedal_percent += h,
-            13 => c.throttle_percent += h,
-            14 => s.inflow.v0 += h,
-            15 => s.inflow.v1s += h,
-            16 => s.inflow.v1c += h,
-            _ => s.propeller_omega_rad_s += h,
-        }
-        (s, c)
-    };
-    let step_of = |j: usize| match j {
-        0..=2 => steps.velocity_m_s,
-        3..=5 => steps.rate_rad_s,
-        6..=8 => steps.angle_rad,
-        9 => steps.omega_rad_s,
-        10..=13 => steps.control_percent,
-        14..=16 => steps.inflow_m_s,
-        _ => steps.propeller_rad_s,
-    };
+    let perturb = |j: usize, h: f64| perturbed(base_state, base_controls, j, h);
     let nv = 14 + nz;
     // Columns: d(slow)/d var, d(fast)/d var, d(parts)/d var.
     let mut d_slow = DMatrix::<f64>::zeros(10, nv);
@@ -267,7 +221,7 @@ pub fn linearise(
         let mut cache = RotorCache::default();
         js.into_iter()
             .map(|j| {
-                let h = step_of(j);
+                let h = step_of(&steps, j);
                 let (sp, cp) = perturb(j, h);
                 let (sm, cm) = perturb(j, -h);
                 Ok((
@@ -312,23 +266,85 @@ pub fn linearise(
         .iter()
         .map(|d| d.columns(0, 14) + d.columns(14, nz) * &dz)
         .collect();
-    let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    let split = |m: &DMatrix<f64>| -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
-        let a = (0..10)
-            .map(|i| (0..10).map(|j| m[(i, j)]).collect())
-            .collect();
-        let b = (0..10)
-            .map(|i| (10..14).map(|j| m[(i, j)]).collect())
-            .collect();
-        (a, b)
-    };
     let (a, b) = split(&total);
     let model = LinearModel::from_rows(names(&STATES), names(&CONTROLS), &a, &b)?;
-    // Component models: the six acceleration rows of each part. The rotorspeed is relative to
-    // the airframe, so its row holds the airframe's angular acceleration about the shaft: the
-    // propeller and airframe own their share of it, and the rotor the rest (its torque, and
-    // the gyroscopic terms). The kinematic rows and the rest are inertial.
-    let shaft = aircraft.free_spins(&base_controls)[0].axis;
+    let components = component_models(aircraft, &base_controls, &total, &parts)?;
+    Ok(Linearised {
+        model,
+        components,
+        steps,
+    })
+}
+
+/// The trim's state and controls with variable `j` (in the order of the linearisation's
+/// columns: the states, the controls, the inflow, the propeller speed) moved by `h`.
+fn perturbed(base_state: State, base_controls: Controls, j: usize, h: f64) -> (State, Controls) {
+    let mut s = base_state;
+    let mut c = base_controls;
+    let b = &mut s.body;
+    match j {
+        0 => b.u_m_s += h,
+        1 => b.v_m_s += h,
+        2 => b.w_m_s += h,
+        3 => b.p_rad_s += h,
+        4 => b.q_rad_s += h,
+        5 => b.r_rad_s += h,
+        6 => b.phi_rad += h,
+        7 => b.theta_rad += h,
+        8 => b.psi_rad += h,
+        9 => s.rotor_omega_rad_s += h,
+        10 => c.stick_longitudinal_percent += h,
+        11 => c.stick_lateral_percent += h,
+        12 => c.pedal_percent += h,
+        13 => c.throttle_percent += h,
+        14 => s.inflow.v0 += h,
+        15 => s.inflow.v1s += h,
+        16 => s.inflow.v1c += h,
+        _ => s.propeller_omega_rad_s += h,
+    }
+    (s, c)
+}
+
+/// The central-difference step of variable `j` (see [`perturbed`]).
+fn step_of(steps: &Steps, j: usize) -> f64 {
+    match j {
+        0..=2 => steps.velocity_m_s,
+        3..=5 => steps.rate_rad_s,
+        6..=8 => steps.angle_rad,
+        9 => steps.omega_rad_s,
+        10..=13 => steps.control_percent,
+        14..=16 => steps.inflow_m_s,
+        _ => steps.propeller_rad_s,
+    }
+}
+
+/// Owned names.
+fn names(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect::<Vec<_>>()
+}
+
+/// A 10 x 14 Jacobian's state and control columns, `A` and `B` by rows.
+fn split(m: &DMatrix<f64>) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let a = (0..10)
+        .map(|i| (0..10).map(|j| m[(i, j)]).collect())
+        .collect();
+    let b = (0..10)
+        .map(|i| (10..14).map(|j| m[(i, j)]).collect())
+        .collect();
+    (a, b)
+}
+
+/// Component models: the six acceleration rows of each part. The rotorspeed is relative to
+/// the airframe, so its row holds the airframe's angular acceleration about the shaft: the
+/// propeller and airframe own their share of it, and the rotor the rest (its torque, and the
+/// gyroscopic terms). The kinematic rows and the rest are inertial.
+fn component_models(
+    aircraft: &Aircraft,
+    base_controls: &Controls,
+    total: &DMatrix<f64>,
+    parts: &[DMatrix<f64>],
+) -> Result<Vec<(String, LinearModel)>, LinearModelError> {
+    let shaft = aircraft.free_spins(base_controls)[0].axis;
     let about_shaft =
         |p: &DMatrix<f64>, j: usize| (0..3).map(|k| shaft[k] * p[(3 + k, j)]).sum::<f64>();
     let mut comps = Vec::new();
@@ -350,8 +366,8 @@ pub fn linearise(
         accounted += &m;
         comps.push((COMPONENTS[c].to_string(), m));
     }
-    comps.push((COMPONENTS[3].to_string(), &total - &accounted));
-    let components = comps
+    comps.push((COMPONENTS[3].to_string(), total - &accounted));
+    comps
         .iter()
         .map(|(n, m)| {
             let (a, b) = split(m);
@@ -360,12 +376,7 @@ pub fn linearise(
                 LinearModel::from_rows(names(&STATES), names(&CONTROLS), &a, &b)?,
             ))
         })
-        .collect::<Result<Vec<_>, LinearModelError>>()?;
-    Ok(Linearised {
-        model,
-        components,
-        steps,
-    })
+        .collect::<Result<Vec<_>, LinearModelError>>()
 }
 
 #[cfg(test)]

@@ -18,9 +18,7 @@
 //! and the inflow mismatch divided by the tip speed. Failure returns the last residuals by
 //! name.
 
-use crate::aircraft::{
-    Air, Aircraft, AircraftError, Averaged, Controls, Drive, FullState, RotorCache, State,
-};
+use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, RotorCache, State};
 use crate::components::rigid_body::{BodyState, G_M_S2};
 use crate::components::rotor::{Inflow, InflowModel};
 use crate::solve::{self, NewtonOptions, SolveError};
@@ -144,26 +142,26 @@ pub fn residual_names(with_engine: bool) -> Vec<&'static str> {
     v
 }
 
-struct Problem<'a> {
-    aircraft: &'a Aircraft,
-    condition: Condition,
-    omega0: f64,
-    tip0: f64,
-    prop0: f64,
-    engine: bool,
-    harmonics: bool,
-    warm: [f64; 2],
+pub(crate) struct Problem<'a> {
+    pub(crate) aircraft: &'a Aircraft,
+    pub(crate) condition: Condition,
+    pub(crate) omega0: f64,
+    pub(crate) tip0: f64,
+    pub(crate) prop0: f64,
+    pub(crate) engine: bool,
+    pub(crate) harmonics: bool,
+    pub(crate) warm: [f64; 2],
     /// The rotor's periodic solutions so far (a Jacobian column that moves only the pedal or
     /// throttle finds the rotor as it was) and what they learned of its revolution map.
-    rotor: RotorCache,
+    pub(crate) rotor: RotorCache,
     /// The last evaluation (the solver's last call is at its solution).
-    last: Option<(Vec<f64>, Vec<f64>, Averaged)>,
+    pub(crate) last: Option<(Vec<f64>, Vec<f64>, Averaged)>,
     /// Model evaluations so far.
-    calls: usize,
+    pub(crate) calls: usize,
 }
 
 impl Problem<'_> {
-    fn unpack(&self, x: &[f64]) -> (State, Controls) {
+    pub(crate) fn unpack(&self, x: &[f64]) -> (State, Controls) {
         let c = &self.condition;
         let (theta, phi) = (x[4], x[5]);
         let v = c.airspeed_m_s;
@@ -305,50 +303,8 @@ pub fn trim_from(
     options: Options,
     start: Option<&WarmStart>,
 ) -> Result<Trim, TrimError> {
-    // Long: one algorithm: the unknowns, their scales, the residuals and the Newton loop with its
-    // warm start share their state
     aircraft.validate()?;
-    let checks = [
-        (
-            "airspeed_m_s",
-            condition.airspeed_m_s,
-            condition.airspeed_m_s > 0.0,
-            "positive",
-        ),
-        (
-            "climb_m_s",
-            condition.climb_m_s,
-            condition.climb_m_s.abs() < condition.airspeed_m_s,
-            "smaller in magnitude than the airspeed",
-        ),
-        (
-            "turn_rate_rad_s",
-            condition.turn_rate_rad_s,
-            condition.turn_rate_rad_s.abs() < 1.0,
-            "below 1 rad/s in magnitude",
-        ),
-        (
-            "density_kg_m3",
-            condition.air.density_kg_m3,
-            condition.air.density_kg_m3 > 0.0,
-            "positive",
-        ),
-        (
-            "speed_of_sound_m_s",
-            condition.air.speed_of_sound_m_s,
-            condition.air.speed_of_sound_m_s > 0.0,
-            "positive",
-        ),
-    ];
-    for (name, value, ok, requirement) in checks {
-        if !(ok && value.is_finite()) {
-            return Err(TrimError::Condition {
-                name,
-                requirement,
-                value,
-            });
-        }
-    }
+    check_condition(&condition)?;
     let r = aircraft.main_rotor.rotor.radius_m;
     let omega0 = options.tip_speed_guess_m_s / r;
     let tip0 = options.tip_speed_guess_m_s;
@@ -373,30 +329,7 @@ pub fn trim_from(
         last: None,
         calls: 0,
     };
-    // Starting point: mid controls, level attitudes, Glauert's inflow for the weight.
-    let weight = aircraft.mass.mass_kg * G_M_S2;
-    let area = PI * r * r;
-    let v = condition.airspeed_m_s;
-    let v0 = weight / (2.0 * condition.air.density_kg_m3 * area * v.max(5.0));
-    let cm = &aircraft.controls;
-    let mut x0 = vec![
-        cm.shaft_pitch_rad
-            .percent_for(8f64.to_radians())
-            .clamp(0.0, 100.0)
-            / 100.0,
-        cm.shaft_roll_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
-        cm.rudder_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
-        0.6,
-        0.0,
-        0.0,
-        1.0,
-        v0 / tip0,
-        0.0,
-        0.0,
-    ];
-    if engine {
-        x0.push(0.9);
-    }
+    let x0 = cold_start(aircraft, &condition, tip0, engine);
     // The warm start if it fits, then (or else) the cold one.
     let warm = start
         .filter(|w| w.x.len() == x0.len() && w.tip0 == tip0)
@@ -461,6 +394,88 @@ pub fn trim_from(
             tip0,
         },
     };
+    within_travel(t)
+}
+
+/// Refuses a flight condition that cannot be trimmed: a non-positive airspeed, a climb as fast
+/// as the airspeed, a turn of 1 rad/s or more, or non-physical air.
+fn check_condition(condition: &Condition) -> Result<(), TrimError> {
+    let checks = [
+        (
+            "airspeed_m_s",
+            condition.airspeed_m_s,
+            condition.airspeed_m_s > 0.0,
+            "positive",
+        ),
+        (
+            "climb_m_s",
+            condition.climb_m_s,
+            condition.climb_m_s.abs() < condition.airspeed_m_s,
+            "smaller in magnitude than the airspeed",
+        ),
+        (
+            "turn_rate_rad_s",
+            condition.turn_rate_rad_s,
+            condition.turn_rate_rad_s.abs() < 1.0,
+            "below 1 rad/s in magnitude",
+        ),
+        (
+            "density_kg_m3",
+            condition.air.density_kg_m3,
+            condition.air.density_kg_m3 > 0.0,
+            "positive",
+        ),
+        (
+            "speed_of_sound_m_s",
+            condition.air.speed_of_sound_m_s,
+            condition.air.speed_of_sound_m_s > 0.0,
+            "positive",
+        ),
+    ];
+    for (name, value, ok, requirement) in checks {
+        if !(ok && value.is_finite()) {
+            return Err(TrimError::Condition {
+                name,
+                requirement,
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The cold start: mid controls, level attitudes, Glauert's inflow for the weight, rotorspeed
+/// at the guessed tip speed `tip0` (and the propeller's at 90 % of rated with an engine).
+fn cold_start(aircraft: &Aircraft, condition: &Condition, tip0: f64, engine: bool) -> Vec<f64> {
+    let r = aircraft.main_rotor.rotor.radius_m;
+    let weight = aircraft.mass.mass_kg * G_M_S2;
+    let area = PI * r * r;
+    let v = condition.airspeed_m_s;
+    let v0 = weight / (2.0 * condition.air.density_kg_m3 * area * v.max(5.0));
+    let cm = &aircraft.controls;
+    let mut x0 = vec![
+        cm.shaft_pitch_rad
+            .percent_for(8f64.to_radians())
+            .clamp(0.0, 100.0)
+            / 100.0,
+        cm.shaft_roll_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
+        cm.rudder_rad.percent_for(0.0).clamp(0.0, 100.0) / 100.0,
+        0.6,
+        0.0,
+        0.0,
+        1.0,
+        v0 / tip0,
+        0.0,
+        0.0,
+    ];
+    if engine {
+        x0.push(0.9);
+    }
+    x0
+}
+
+/// The trim, or an error that carries it if a control is outside its travel (0-100 %).
+fn within_travel(t: Trim) -> Result<Trim, TrimError> {
     let c = t.controls;
     for (control, percent) in [
         ("longitudinal stick", c.stick_longitudinal_percent),
@@ -477,279 +492,6 @@ pub fn trim_from(
         }
     }
     Ok(t)
-}
-
-/// The slow states of the full model: `u v w p q r phi theta Omega Omega_prop`.
-fn slow_of(x: &FullState) -> [f64; 10] {
-    let b = &x.body;
-    [
-        b.u_m_s,
-        b.v_m_s,
-        b.w_m_s,
-        b.p_rad_s,
-        b.q_rad_s,
-        b.r_rad_s,
-        b.phi_rad,
-        b.theta_rad,
-        x.rotor_omega_rad_s,
-        x.propeller_omega_rad_s,
-    ]
-}
-
-fn set_slow(x: &mut FullState, v: &[f64]) {
-    let b = &mut x.body;
-    b.u_m_s = v[0];
-    b.v_m_s = v[1];
-    b.w_m_s = v[2];
-    b.p_rad_s = v[3];
-    b.q_rad_s = v[4];
-    b.r_rad_s = v[5];
-    b.phi_rad = v[6];
-    b.theta_rad = v[7];
-    x.rotor_omega_rad_s = v[8];
-    x.propeller_omega_rad_s = v[9];
-}
-
-/// A trim of the full individual-blade model: the controls, attitudes and speeds at which its
-/// periodic motion has zero revolution-averaged accelerations.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PeriodicTrim {
-    /// The full state with blade 1 at azimuth zero, on the periodic orbit.
-    pub start: FullState,
-    pub controls: Controls,
-    pub residuals: Vec<(String, f64)>,
-    pub residual_norm: f64,
-    pub iterations: usize,
-}
-
-/// Refines a trim of the revolution-averaged model into a trim of the full model
-/// ([`Aircraft::derivatives`]). Everything is free within a revolution: the blades, the
-/// dynamic inflow, and the airframe, rotorspeed and propeller speed, which a two-bladed rotor
-/// shakes twice a revolution. The orbit is found by repeating revolutions, each started where
-/// the last ended but with the slow states shifted so that their means over the revolution
-/// are the flight condition's (flap to 1e-9 rad, inflow to 1e-7 m/s, means to 1e-9). The mean
-/// accelerations over that orbit are driven to zero by the same Newton-Broyden solver and
-/// criterion as [`trim`]. The two trims differ because the airframe's and inflow's response to
-/// the individual blades' pulsing loads rectifies into mean loads that the averaged model does
-/// not see. Simulations start from this trim, at blade 1 over the tail.
-pub fn periodic_trim(
-    aircraft: &Aircraft,
-    condition: Condition,
-    averaged: &Trim,
-    options: Options,
-) -> Result<PeriodicTrim, TrimError> {
-    // Long: one algorithm: the averaged trim as the start, then Newton on the full model's periodic
-    // orbit; its stages share the state layout
-    // The orbit of the model a simulation flies: the propeller on its map, as
-    // `timehistory::run` has it (within 3e-5 of the exact solve, at a seventh of the cost).
-    let mut mapped = aircraft.clone();
-    if aircraft.propeller.propeller.map.is_none()
-        && let Ok(prop) = aircraft.propeller.propeller.with_map()
-    {
-        mapped.propeller.propeller = prop;
-    }
-    let aircraft = &mapped;
-    let r = aircraft.main_rotor.rotor.radius_m;
-    let omega0 = averaged.state.rotor_omega_rad_s;
-    let (engine, prop0) = match aircraft.propeller.drive {
-        Drive::Engine { .. } => (true, averaged.state.propeller_omega_rad_s),
-        Drive::Governed { .. } => (false, 1.0),
-    };
-    let p = Problem {
-        aircraft,
-        condition,
-        omega0,
-        tip0: omega0 * r,
-        prop0,
-        engine,
-        harmonics: false,
-        warm: averaged.averaged.flap_start,
-        rotor: RotorCache::default(),
-        last: None,
-        calls: 0,
-    };
-    let air = condition.air;
-    let c = averaged.controls;
-    let b = averaged.state.body;
-    // Unknowns: controls, attitudes, rotorspeed (and propeller speed), as in `trim`.
-    let mut z0 = vec![
-        c.stick_longitudinal_percent / 100.0,
-        c.stick_lateral_percent / 100.0,
-        c.pedal_percent / 100.0,
-        c.throttle_percent / 100.0,
-        b.theta_rad,
-        b.phi_rad,
-        1.0,
-    ];
-    if engine {
-        z0.push(1.0);
-    }
-    let step = aircraft.main_rotor.numerics.azimuth_step_rad;
-    let n = crate::components::rotor::azimuth_steps(step).map_err(AircraftError::from)?;
-    let mut warm_flap: Vec<[f64; 2]> = aircraft
-        .full_state(
-            &averaged.state,
-            &averaged.controls,
-            air,
-            averaged.averaged.flap_start,
-        )
-        .flap;
-    let mut warm_inflow = averaged.state.inflow;
-    let mut last_start: Option<FullState> = None;
-    // The blade elements, prepared once for every revolution.
-    let blade = crate::components::rotor::Blade::new(
-        &aircraft.main_rotor.rotor,
-        aircraft.main_rotor.numerics,
-    );
-    let mut evaluate = |z: &[f64]| -> Result<Vec<f64>, AircraftError> {
-        let mut x = vec![z[0], z[1], z[2], z[3], z[4], z[5], z[6], 0.0, 0.0, 0.0];
-        if engine {
-            x.push(z[7]);
-        }
-        let (state, controls) = p.unpack(&x);
-        let mut fs = FullState {
-            body: state.body,
-            rotor_azimuth_rad: 0.0,
-            rotor_omega_rad_s: state.rotor_omega_rad_s,
-            flap: warm_flap.clone(),
-            inflow: warm_inflow,
-            propeller_omega_rad_s: if engine {
-                state.propeller_omega_rad_s
-            } else {
-                aircraft.propeller_omega(&state, &controls)
-            },
-        };
-        let omega = fs.rotor_omega_rad_s;
-        let dt = 2.0 * std::f64::consts::PI / n as f64 / omega;
-        // The slow states' targets: their means over the orbit.
-        let target = slow_of(&fs);
-        // One revolution of the whole model at constant controls: the end state, the mean of
-        // the slow states and the mean of their rates.
-        let revolution =
-            |fs: &FullState| -> Result<(FullState, [f64; 10], [f64; 10]), AircraftError> {
-                let mut x = fs.clone();
-                let (mut mean_x, mut mean_d) = ([0.0; 10], [0.0; 10]);
-                for k in 0..n {
-                    let d = aircraft.derivatives_with(&blade, &x, &controls, air, [0.0; 3])?;
-                    let (sx, sd) = (slow_of(&x), slow_of(&d));
-                    for i in 0..10 {
-                        mean_x[i] += sx[i] / n as f64;
-                        mean_d[i] += sd[i] / n as f64;
-                    }
-                    x = crate::simulation::timehistory::step_with(
-                        aircraft,
-                        &blade,
-                        &x,
-                        k as f64 * dt,
-                        dt,
-                        crate::simulation::timehistory::Drivers {
-                            controls: &|_, _| controls,
-                            wind: &crate::simulation::timehistory::still,
-                        },
-                        air,
-                    )?;
-                }
-                Ok((x, mean_x, mean_d))
-            };
-        let mut converged = false;
-        let mut mean_rates = [0.0; 10];
-        for _ in 0..60 {
-            let (end, mean_x, mean_d) = revolution(&fs)?;
-            mean_rates = mean_d;
-            let change_flap = fs
-                .flap
-                .iter()
-                .zip(&end.flap)
-                .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs() / omega))
-                .fold(0.0, f64::max);
-            let change_inflow = (fs.inflow.v0 - end.inflow.v0)
-                .abs()
-                .max((fs.inflow.v1s - end.inflow.v1s).abs())
-                .max((fs.inflow.v1c - end.inflow.v1c).abs());
-            let off: Vec<f64> = (0..10).map(|i| target[i] - mean_x[i]).collect();
-            let off_max = off.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            // Next start: the fast states where the revolution ended, the slow states moved
-            // so that their means over the orbit hit the targets.
-            let mut next = end;
-            let start_slow = slow_of(&fs);
-            let shifted: Vec<f64> = (0..10).map(|i| start_slow[i] + off[i]).collect();
-            set_slow(&mut next, &shifted);
-            next.rotor_azimuth_rad = 0.0;
-            fs = next;
-            if change_flap <= 1e-9 && change_inflow <= 1e-7 && off_max <= 1e-9 {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(AircraftError::Rotor(
-                crate::components::rotor::RotorError::FlapNotPeriodic {
-                    revolutions: 60,
-                    change: f64::NAN,
-                },
-            ));
-        }
-        warm_flap = fs.flap.clone();
-        warm_inflow = fs.inflow;
-        last_start = Some(fs.clone());
-        let g = crate::components::rigid_body::G_M_S2;
-        let m = mean_rates;
-        let mut res = vec![
-            m[0] / g,
-            m[1] / g,
-            m[2] / g,
-            m[3],
-            m[4],
-            m[5],
-            m[8] / omega0,
-        ];
-        if engine {
-            res.push(m[9] / prop0);
-        }
-        Ok(res)
-    };
-    let sol = solve::newton(
-        |z| evaluate(z).map_err(|e| e.to_string()),
-        &z0,
-        options.newton,
-    );
-    let mut names: Vec<String> = residual_names(false)[..7]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    if engine {
-        names.push(residual_names(true)[10].to_string());
-    }
-    let sol = match sol {
-        Ok(s) => s,
-        Err(SolveError::NoConvergence {
-            residuals,
-            iterations,
-            ..
-        }) => {
-            return Err(TrimError::NoConvergence {
-                residuals: names.into_iter().zip(residuals).collect(),
-                iterations,
-            });
-        }
-        Err(e) => return Err(TrimError::Solver(e.to_string())),
-    };
-    let residuals = evaluate(&sol.x)?;
-    let start = last_start.ok_or_else(|| TrimError::Solver("no periodic solution".into()))?;
-    let mut x = vec![
-        sol.x[0], sol.x[1], sol.x[2], sol.x[3], sol.x[4], sol.x[5], sol.x[6], 0.0, 0.0, 0.0,
-    ];
-    if engine {
-        x.push(sol.x[7]);
-    }
-    let (_, controls) = p.unpack(&x);
-    Ok(PeriodicTrim {
-        start,
-        controls,
-        residual_norm: residuals.iter().fold(0.0f64, |m, v| m.max(v.abs())),
-        residuals: names.into_iter().zip(residuals).collect(),
-        iterations: sol.iterations,
-    })
 }
 
 #[cfg(test)]

@@ -252,12 +252,13 @@ mod tests {
         crate::aircraft::Aircraft,
         Condition,
         trim::Trim,
-        trim::PeriodicTrim,
+        crate::simulation::periodic_trim::PeriodicTrim,
     ) {
         let a = gyroplane();
         let c = crate::testdata::level_70mph();
         let t = trim::trim(&a, c, Options::default()).unwrap();
-        let pt = trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
+        let pt =
+            crate::simulation::periodic_trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
         (a, c, t, pt)
     }
 
@@ -395,7 +396,8 @@ mod tests {
             steps,
         );
         // The full model from its periodic orbit, its trim the mean over one revolution.
-        let pt = trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
+        let pt =
+            crate::simulation::periodic_trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
         let step = 5f64.to_radians();
         let controls = |time: f64| Controls {
             stick_longitudinal_percent: t.controls.stick_longitudinal_percent + doublet(time),

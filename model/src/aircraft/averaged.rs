@@ -1,0 +1,216 @@
+//! The revolution-averaged model: its state, its evaluation with the rotor in its steady
+//! periodic motion, and what it reports.
+
+use super::{Air, Aircraft, AircraftError, Controls, cross, positive_state, sum_loads};
+use crate::components::inflow;
+use crate::components::propeller::PropellerState;
+use crate::components::rigid_body::{self, BodyState, Loads};
+use crate::components::rotor::{
+    Blade, Hub, HubVelocity, Inflow, Operating, RevolutionMap, SteadyLoads,
+};
+use serde::Serialize;
+
+/// The state of the revolution-averaged model.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct State {
+    pub body: BodyState,
+    pub rotor_omega_rad_s: f64,
+    /// Main-rotor inflow, hub axes, m/s.
+    pub inflow: Inflow,
+    /// Propeller speed (ignored when the drive is governed), rad/s.
+    pub propeller_omega_rad_s: f64,
+}
+
+/// What the main rotor is doing.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RotorReport {
+    pub shaft_pitch_rad: f64,
+    pub shaft_roll_rad: f64,
+    /// The hub's air velocity in hub axes, m/s (after any hub angle-of-attack correction).
+    pub hub_velocity: HubVelocity,
+    /// Angle of attack of the disc (shaft normal plane) to the hub's air velocity, positive
+    /// with the air meeting the disc from below, rad.
+    pub disc_alpha_rad: f64,
+    pub tip_speed_ratio: f64,
+    pub thrust_n: f64,
+    pub driving_torque_n_m: f64,
+    pub a0_rad: f64,
+    pub a1_rad: f64,
+    pub b1_rad: f64,
+    pub skew_rad: f64,
+}
+
+/// Loads of each component about the c.g., body axes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ComponentLoads {
+    pub rotor: Loads,
+    pub propeller: Loads,
+    pub airframe: Loads,
+}
+
+/// One evaluation of the revolution-averaged model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Averaged {
+    /// Time derivative of the body state.
+    pub body_dot: BodyState,
+    pub rotor_omega_dot_rad_s2: f64,
+    pub propeller_omega_dot_rad_s2: f64,
+    /// The main-rotor inflow in equilibrium with the present loads, hub axes, m/s.
+    pub inflow_equilibrium: Inflow,
+    /// `d/dt` of the inflow (seed 001 Eq. 3), hub axes, m/s^2.
+    pub inflow_dot: Inflow,
+    pub rotor: RotorReport,
+    pub propeller: PropellerState,
+    pub propeller_omega_rad_s: f64,
+    pub loads: ComponentLoads,
+    /// The flap state at azimuth zero (a warm start for the next evaluation).
+    pub flap_start: [f64; 2],
+}
+
+/// How closely the revolution-averaged model's body accelerations must agree with those its
+/// rotor's flapping was solved under (the apparent gravity at the c.g. in g, the angular
+/// acceleration in rad/s^2): the trim's own tolerance on them.
+const HUB_MOTION_TOLERANCE: f64 = 1e-7;
+
+/// How many periodic solutions the revolution-averaged model may take to find them.
+const HUB_MOTION_ITERATIONS: usize = 20;
+
+/// Rotor periodic solutions already computed, by operating state, and what the last of them
+/// learned about the rotor's revolution map (to find the next nearby one in fewer
+/// revolutions).
+#[derive(Debug, Clone, Default)]
+pub struct RotorCache {
+    entries: Vec<(Operating, SteadyLoads)>,
+    map: RevolutionMap,
+}
+
+impl Aircraft {
+    /// The revolution-averaged equations at a state and control setting.
+    ///
+    /// `warm` is the main rotor's flap state at azimuth zero to start the periodic solution
+    /// from (pass the previous evaluation's `flap_start`).
+    pub fn averaged(
+        &self,
+        state: &State,
+        controls: &Controls,
+        air: Air,
+        warm: [f64; 2],
+    ) -> Result<Averaged, AircraftError> {
+        self.averaged_cached(state, controls, air, warm, &mut RotorCache::default())
+    }
+
+    /// [`Aircraft::averaged`], reusing the rotor's periodic solution when the rotor's operating
+    /// state is one the cache has seen (perturbations of attitude, pedal, throttle or
+    /// propeller speed leave it unchanged).
+    pub fn averaged_cached(
+        &self,
+        state: &State,
+        controls: &Controls,
+        air: Air,
+        warm: [f64; 2],
+        cache: &mut RotorCache,
+    ) -> Result<Averaged, AircraftError> {
+        let b = &state.body;
+        let mr = &self.main_rotor;
+        let omega = state.rotor_omega_rad_s;
+        positive_state("rotor_omega_rad_s", omega)?;
+        let frame = self.rotor_frame(b, controls);
+        let prop_omega = self.propeller_omega(state, controls);
+        let (ps, prop_loads, prop_omega_dot, af) =
+            self.propeller_and_airframe(b, prop_omega, controls, air)?;
+        // The rotor's periodic solution with the hub's motion that the body's accelerations
+        // imply, those accelerations depending on the rotor's loads in turn: from the steady
+        // motion's (a trim's, exact there), until they agree (weightless blades: at once).
+        let heavy = mr.rotor.flap_mass_moment_kg_m != 0.0 && mr.rotor.hub != Hub::Rigid;
+        let mut y = Self::steady_accelerations(b);
+        let mut warm = warm;
+        let mut change = f64::INFINITY;
+        for _ in 0..HUB_MOTION_ITERATIONS {
+            let hub_motion = self.hub_motion(&frame, b, &y);
+            let op = self.operating(&frame, omega, state.inflow, air, &hub_motion);
+            let rl: SteadyLoads = match cache.entries.iter().find(|(o, _)| *o == op) {
+                Some((_, l)) => *l,
+                None => {
+                    let l = Blade::new(&mr.rotor, mr.numerics).steady_with(
+                        &op,
+                        warm,
+                        &mut cache.map,
+                    )?;
+                    cache.entries.push((op, l));
+                    l
+                }
+            };
+            // Loads on the airframe at the hub: mean force, mean aerodynamic moment with no
+            // shaft torque (a free rotor), and the gyroscopic couple of the blades' motion
+            // relative to the hub (the airframe's inertia holds the rotor as a frozen disc).
+            let gyro = cross(op.hub_rates_rad_s, rl.angular_momentum_kg_m2_s);
+            // The shaft's bearing carries no torque about the shaft: that part of the couple
+            // would change the rotorspeed, as in the full model.
+            let m_hub = [rl.moment_n_m[0] - gyro[0], rl.moment_n_m[1] - gyro[1], 0.0];
+            let rotor_loads =
+                Self::rotor_to_body(&frame, self.hub_force(rl.force_n, &frame, air), m_hub);
+            let total = sum_loads(&[rotor_loads, prop_loads, af]);
+            let body_dot = rigid_body::derivatives_with_free_spins(
+                &self.mass,
+                b,
+                &total,
+                &self.free_spins_at(&frame.c),
+            )?;
+            if heavy {
+                let next = self.accelerations(&total, &body_dot);
+                let g = rigid_body::G_M_S2;
+                change = (0..6)
+                    .map(|k| (next[k] - y[k]).abs() / if k < 3 { g } else { 1.0 })
+                    .fold(0.0, f64::max);
+                if change > HUB_MOTION_TOLERANCE {
+                    (y, warm) = (next, rl.beta0);
+                    continue;
+                }
+            }
+            let driving = inflow::DrivingLoads::of(&rl);
+            let (equilibrium, wake, inflow_dot) =
+                self.inflow_response(&frame, driving, state.inflow, air);
+            let (rotor_omega_dot, prop_omega_dot) = self.spin_rates(
+                &frame,
+                rl.driving_torque_n_m / self.rotor_polar_inertia_kg_m2(),
+                prop_omega_dot,
+                &body_dot,
+            );
+            let hub = frame.hub;
+            let v_inplane = hub.u.hypot(hub.v);
+            return Ok(Averaged {
+                body_dot,
+                rotor_omega_dot_rad_s2: rotor_omega_dot,
+                propeller_omega_dot_rad_s2: prop_omega_dot,
+                inflow_equilibrium: equilibrium,
+                inflow_dot,
+                rotor: RotorReport {
+                    shaft_pitch_rad: frame.theta_s,
+                    shaft_roll_rad: frame.phi_s,
+                    hub_velocity: hub,
+                    disc_alpha_rad: hub.w.atan2(v_inplane),
+                    tip_speed_ratio: v_inplane / (omega * mr.rotor.radius_m),
+                    thrust_n: rl.thrust_n(),
+                    driving_torque_n_m: rl.driving_torque_n_m,
+                    a0_rad: rl.a0_rad,
+                    a1_rad: rl.a1_rad,
+                    b1_rad: rl.b1_rad,
+                    skew_rad: wake.skew_rad,
+                },
+                propeller: ps,
+                propeller_omega_rad_s: prop_omega,
+                loads: ComponentLoads {
+                    rotor: rotor_loads,
+                    propeller: prop_loads,
+                    airframe: af,
+                },
+                flap_start: rl.beta0,
+            });
+        }
+        Err(AircraftError::Invalid {
+            name: "the body's accelerations and the rotor's flapping under them (no agreement in 20 periodic solutions; largest change, g or rad/s^2)",
+            requirement: "convergent",
+            value: change,
+        })
+    }
+}

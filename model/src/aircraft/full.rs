@@ -1,0 +1,598 @@
+//! The full individual-blade model: its state (blades, inflow, body, speeds) and its
+//! derivatives, the blades' and body's accelerations solved together.
+
+use super::{
+    Air, Aircraft, AircraftError, Controls, Drive, HubMotion, InflowDynamics, RotorFrame, State,
+    cross, positive_state, sum_loads,
+};
+use crate::components::inflow;
+use crate::components::rigid_body::{self, BodyState, Loads};
+use crate::components::rotor::{Angles, Blade, BladeLoads, Hub, Inflow, Operating, Rotor};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// The full model's accelerations for a given hub motion: the flap (teeter) states' rates, the
+/// loads on the body about the c.g. (gravity apart), and the body's state derivative.
+struct Response {
+    flap_dot: Vec<[f64; 2]>,
+    total: Loads,
+    body_dot: BodyState,
+}
+
+/// The full individual-blade state.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FullState {
+    pub body: BodyState,
+    /// Azimuth of blade 1, rad.
+    pub rotor_azimuth_rad: f64,
+    pub rotor_omega_rad_s: f64,
+    /// Per flap degree of freedom: angle (rad) and rate (rad/s). Articulated: blade k at
+    /// `psi + 2 pi k / N`; teetering: the teeter angle (blade 1 up).
+    pub flap: Vec<[f64; 2]>,
+    /// Main-rotor inflow, hub axes, m/s.
+    pub inflow: Inflow,
+    pub propeller_omega_rad_s: f64,
+}
+
+/// Time derivative of a [`FullState`] (same layout).
+pub type FullDerivative = FullState;
+
+impl Aircraft {
+    /// The number of flap degrees of freedom of the main rotor: one per blade for an
+    /// articulated hub, one teeter angle for a teetering hub, none for a rigid one.
+    pub fn flap_dofs(&self) -> usize {
+        match self.main_rotor.rotor.hub {
+            Hub::Articulated => self.main_rotor.rotor.blades,
+            Hub::Teetering => 1,
+            Hub::Rigid => 0,
+        }
+    }
+
+    /// The full individual-blade state at a trim point, with blade 1 at azimuth zero: the
+    /// trim's periodic flapping, its inflow (held by Eq. 3 at its equilibrium), rotor and
+    /// propeller speeds. For an articulated hub the other blades' states are found by
+    /// integrating blade 1's periodic motion to their azimuths.
+    pub fn full_state(
+        &self,
+        state: &State,
+        controls: &Controls,
+        air: Air,
+        flap_start: [f64; 2],
+    ) -> FullState {
+        let mr = &self.main_rotor;
+        let omega = state.rotor_omega_rad_s;
+        let frame = self.rotor_frame(&state.body, controls);
+        let steady = self.hub_motion(
+            &frame,
+            &state.body,
+            &Self::steady_accelerations(&state.body),
+        );
+        let op = self.operating(&frame, omega, state.inflow, air, &steady);
+        let blade = Blade::new(&mr.rotor, mr.numerics);
+        let n = self.flap_dofs();
+        let mut flap = Vec::with_capacity(n);
+        if n > 0 {
+            flap.push([flap_start[0], flap_start[1] * omega]);
+        }
+        if mr.rotor.hub == Hub::Articulated {
+            // Blade k trails blade 1 by 2 pi k / N: it is where blade 1 was at -2 pi k / N,
+            // i.e. where blade 1 will be at 2 pi (N - k) / N on its periodic path.
+            let nb = mr.rotor.blades;
+            let steps = 720;
+            let h = 2.0 * PI / steps as f64;
+            let mut s = flap_start;
+            let mut at = vec![[0.0; 2]; nb];
+            at[0] = s;
+            for k in 0..steps {
+                let next = {
+                    let f = |psi: f64, x: [f64; 2]| blade.flap_derivative(&op, psi, x);
+                    let psi = k as f64 * h;
+                    let k1 = f(psi, s);
+                    let k2 = f(
+                        psi + h / 2.0,
+                        [s[0] + h / 2.0 * k1[0], s[1] + h / 2.0 * k1[1]],
+                    );
+                    let k3 = f(
+                        psi + h / 2.0,
+                        [s[0] + h / 2.0 * k2[0], s[1] + h / 2.0 * k2[1]],
+                    );
+                    let k4 = f(psi + h, [s[0] + h * k3[0], s[1] + h * k3[1]]);
+                    [
+                        s[0] + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]),
+                        s[1] + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
+                    ]
+                };
+                s = next;
+                let done = k + 1;
+                if (done * nb).is_multiple_of(steps) {
+                    // Blade 1 has reached 2 pi j / N, where blade j is now.
+                    let j = done * nb / steps;
+                    if j < nb {
+                        at[j] = s;
+                    }
+                }
+            }
+            for x in at.iter().skip(1) {
+                flap.push([x[0], x[1] * omega]);
+            }
+        }
+        FullState {
+            body: state.body,
+            rotor_azimuth_rad: 0.0,
+            rotor_omega_rad_s: omega,
+            flap,
+            inflow: state.inflow,
+            propeller_omega_rad_s: self.propeller_omega(state, controls),
+        }
+    }
+
+    /// The inflow in equilibrium with the rotor's instantaneous loads (quasi-steady inflow):
+    /// damped fixed-point iteration from the state's inflow, to 1e-9 of the tip speed.
+    fn quasi_steady_inflow(
+        &self,
+        frame: &RotorFrame,
+        op: &Operating,
+        air: Air,
+        driving_at: &dyn Fn(&Operating) -> inflow::DrivingLoads,
+    ) -> Result<Inflow, AircraftError> {
+        let tip = op.omega_rad_s * self.main_rotor.rotor.radius_m;
+        let mut o = *op;
+        for _ in 0..200 {
+            let (eq, _, _) = self.inflow_response(frame, driving_at(&o), o.inflow, air);
+            let next = Inflow {
+                v0: 0.5 * (o.inflow.v0 + eq.v0),
+                v1s: 0.5 * (o.inflow.v1s + eq.v1s),
+                v1c: 0.5 * (o.inflow.v1c + eq.v1c),
+            };
+            let change = (next.v0 - o.inflow.v0)
+                .abs()
+                .max((next.v1s - o.inflow.v1s).abs())
+                .max((next.v1c - o.inflow.v1c).abs());
+            o.inflow = next;
+            if change <= 1e-9 * tip {
+                return Ok(o.inflow);
+            }
+        }
+        Err(AircraftError::Invalid {
+            name: "quasi-steady inflow (no fixed point in 200 damped iterations), v0 m/s",
+            requirement: "convergent",
+            value: o.inflow.v0,
+        })
+    }
+
+    /// The full model's right-hand side: individual blades at their azimuths with their own
+    /// flap (or teeter) equations, dynamic inflow (seed 001 Eq. 3), the rotorspeed, propeller
+    /// speed and rigid-body equations (seed 001 Eq. 1).
+    ///
+    /// The airframe's mass and inertia include the rotor as a frozen disc; the blades'
+    /// motion relative to the hub enters the hub moment as `-(dH_rel/dt + omega_hub x H_rel)`
+    /// (time derivative exact along the state's own rates, by the chain rule:
+    /// [`Blade::angular_momentum_and_rate`]) and, through
+    /// the blades' first mass moment, the hub force. The flap equations include the hub's
+    /// rotation, and through the blades' first mass moment their weight and the hub's
+    /// acceleration (the body's, solved with the blades': [`Aircraft::coupled`]; about a teeter
+    /// hinge these cancel unless the blades are coned). The blades' own inertia under the hub's
+    /// angular acceleration (`I w'.t`, [`crate::components::rotor`]) is not modelled. Lag is
+    /// not modelled.
+    pub fn derivatives(
+        &self,
+        x: &FullState,
+        controls: &Controls,
+        air: Air,
+    ) -> Result<FullDerivative, AircraftError> {
+        let mr = &self.main_rotor;
+        let blade = Blade::new(&mr.rotor, mr.numerics);
+        self.derivatives_with(&blade, x, controls, air, [0.0; 3])
+    }
+
+    /// [`Aircraft::derivatives`] in moving air: `wind_body_m_s` is the air's velocity over the
+    /// ground in body axes (a gust; `+x` a tailwind, `+z` a downdraught). Every aerodynamic
+    /// load (rotor, propeller, airframe and tail) sees the body's velocity less the wind's; the
+    /// rigid-body equations keep the body's own. The wind is uniform over the aircraft: the
+    /// gust's gradients (its rotational components) are not modelled.
+    pub fn derivatives_in_wind(
+        &self,
+        x: &FullState,
+        controls: &Controls,
+        air: Air,
+        wind_body_m_s: [f64; 3],
+    ) -> Result<FullDerivative, AircraftError> {
+        let mr = &self.main_rotor;
+        let blade = Blade::new(&mr.rotor, mr.numerics);
+        self.derivatives_with(&blade, x, controls, air, wind_body_m_s)
+    }
+
+    /// [`Aircraft::derivatives`] with the main rotor's blade elements prepared once
+    /// (`Blade::new(&self.main_rotor.rotor, self.main_rotor.numerics)`), as a simulation does.
+    pub(crate) fn derivatives_with(
+        &self,
+        blade: &Blade,
+        x: &FullState,
+        controls: &Controls,
+        air: Air,
+        wind_body_m_s: [f64; 3],
+    ) -> Result<FullDerivative, AircraftError> {
+        self.derivatives_given(blade, x, controls, air, wind_body_m_s, None)
+    }
+
+    /// [`Aircraft::derivatives_with`], the flap equations seeing the hub's motion that follows
+    /// from the body's own accelerations (`given` none: the coupled solution of
+    /// [`Aircraft::coupled`]) or from given ones: `[g - a_cg, w']`, the apparent gravity at the
+    /// c.g. (m/s^2) and the body's angular acceleration (rad/s^2), body axes. Given the steady
+    /// motion's (`g - w x V` and zero), the body is held as a trim holds it: the flap equations
+    /// see what the rotor's periodic solution sees, and the body's accelerations returned are
+    /// what it would do if let go.
+    pub(crate) fn derivatives_given(
+        &self,
+        blade: &Blade,
+        x: &FullState,
+        controls: &Controls,
+        air: Air,
+        wind_body_m_s: [f64; 3],
+        given: Option<[f64; 6]>,
+    ) -> Result<FullDerivative, AircraftError> {
+        let mr = &self.main_rotor;
+        let rotor = &mr.rotor;
+        let omega = x.rotor_omega_rad_s;
+        positive_state("rotor_omega_rad_s", omega)?;
+        if x.flap.len() != self.flap_dofs() {
+            return Err(AircraftError::Invalid {
+                name: "flap states",
+                requirement: "one per flap degree of freedom of the hub",
+                value: x.flap.len() as f64,
+            });
+        }
+        // The air's velocity relative to the body: what every aerodynamic load sees.
+        let air_body = BodyState {
+            u_m_s: x.body.u_m_s - wind_body_m_s[0],
+            v_m_s: x.body.v_m_s - wind_body_m_s[1],
+            w_m_s: x.body.w_m_s - wind_body_m_s[2],
+            ..x.body
+        };
+        let frame = self.rotor_frame(&air_body, controls);
+        // The blades' loads do not depend on the hub's acceleration; the flap equations below
+        // take it from the body's (`respond`), not from `op`.
+        let still = HubMotion {
+            apparent_gravity: [0.0; 3],
+            angular_acceleration: [0.0; 3],
+        };
+        let op = self.operating(&frame, omega, x.inflow, air, &still);
+        let blades = blade_positions(rotor, blade, &op, x);
+        // Each blade's angles' sines and cosines, once.
+        let angles: Vec<Angles> = blades
+            .iter()
+            .map(|&(psi, beta, _)| Angles::new(psi, beta))
+            .collect();
+        let driving_at = |op: &Operating| driving_loads(blade, &blades, &angles, op);
+        let mut op = op;
+        if mr.inflow_dynamics == InflowDynamics::QuasiSteady {
+            op.inflow = self.quasi_steady_inflow(&frame, &op, air, &driving_at)?;
+        }
+        let op = op;
+        // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
+        let blades = Blades::new(rotor, blade, op, blades, angles);
+        let (force, moment, torque, coriolis_torque) = blades.sums(omega);
+        let i_r = self.rotor_polar_inertia_kg_m2();
+        let omega_dot = (torque + coriolis_torque) / i_r;
+        let driving = inflow::DrivingLoads {
+            thrust_n: -force[2],
+            roll_n_m: moment[0],
+            pitch_n_m: moment[1],
+        };
+        let inflow_dot = match mr.inflow_dynamics {
+            InflowDynamics::Dynamic => self.inflow_response(&frame, driving, x.inflow, air).2,
+            InflowDynamics::QuasiSteady => Inflow::default(),
+        };
+        let prop_omega = match self.propeller.drive {
+            Drive::Governed { rpm } => rpm.at(controls.throttle_percent) * PI / 30.0,
+            Drive::Engine { .. } => x.propeller_omega_rad_s,
+        };
+        let (_, prop_loads, prop_omega_dot, af) =
+            self.propeller_and_airframe(&air_body, prop_omega, controls, air)?;
+        let free = self.free_spins_at(&frame.c);
+        // The flap (teeter) accelerations and the body's, with the hub's motion as the flap
+        // equations see it (none: weightless blades).
+        let respond = |hub: Option<&HubMotion>| -> Result<Response, AircraftError> {
+            let flap_dot = blades.flap_rates(&x.flap, hub);
+            // Inertial reaction of the blades' relative motion: H_rel along the state's rates.
+            let beta_ddot: Vec<f64> = match rotor.hub {
+                Hub::Articulated => flap_dot.iter().map(|d| d[1]).collect(),
+                Hub::Teetering => vec![flap_dot[0][1], -flap_dot[0][1]],
+                Hub::Rigid => vec![0.0; blades.at.len()],
+            };
+            let (h0, dh, f_hub) = blades.inertia(frame.hub_rates, &beta_ddot, omega_dot, force);
+            let gyro = cross(frame.hub_rates, h0);
+            let m_hub = [
+                moment[0] - dh[0] - gyro[0],
+                moment[1] - dh[1] - gyro[1],
+                // A free rotor: no torque through the shaft.
+                0.0,
+            ];
+            let rotor_loads =
+                Self::rotor_to_body(&frame, self.hub_force(f_hub, &frame, air), m_hub);
+            let total = sum_loads(&[rotor_loads, prop_loads, af]);
+            let body_dot =
+                rigid_body::derivatives_with_free_spins(&self.mass, &x.body, &total, &free)?;
+            Ok(Response {
+                flap_dot,
+                total,
+                body_dot,
+            })
+        };
+        let heavy = rotor.flap_mass_moment_kg_m != 0.0 && rotor.hub != Hub::Rigid;
+        let Response {
+            flap_dot, body_dot, ..
+        } = if heavy {
+            self.coupled(&frame, &x.body, &respond, given)?
+        } else {
+            respond(None)?
+        };
+        let (omega_dot, prop_omega_dot) =
+            self.spin_rates(&frame, omega_dot, prop_omega_dot, &body_dot);
+        Ok(FullDerivative {
+            body: body_dot,
+            rotor_azimuth_rad: omega,
+            rotor_omega_rad_s: omega_dot,
+            flap: flap_dot,
+            inflow: inflow_dot,
+            propeller_omega_rad_s: prop_omega_dot,
+        })
+    }
+
+    /// The full model's accelerations with the blades' weight and the hub's acceleration in
+    /// their flap equations, `respond` giving them for a given hub motion.
+    ///
+    /// The blades' and the body's accelerations are coupled. A flap equation sees the apparent
+    /// gravity at the hub, `g - a_hub` with `a_hub = a_cg + w' x arm + w x (w x arm)`, and the
+    /// hub's angular acceleration `w'` (the hinge's share, [`crate::components::rotor`]); the
+    /// body's accelerations depend in turn on the blades' flap accelerations, through the
+    /// motion of their mass centres (the hub force) and their angular momentum (the hub
+    /// moment). By the rigid body's translational equation (`V' + w x V = F/m + g`) the apparent
+    /// gravity at the c.g., `g - a_cg`, is `-F/m`, `F` every load but gravity. Every term is
+    /// affine in the accelerations, so the coupled equations are solved exactly at each
+    /// evaluation and the right-hand side stays a function of the state alone: with
+    /// `y = (-F/m, w')` in body axes, `respond` (the blades' aerodynamic loads, the propeller
+    /// and the airframe computed once, outside it) maps an assumed `y` to the `y` it implies,
+    /// `b + A y`; seven calls give `b` and `A` (exactly: the map is affine), and
+    /// `(1 - A) y = b` is solved by LU. This is the mass matrix's coupling solved as a linear
+    /// system, as an individual-blade simulation that carries the blades' inertia does; taking
+    /// the accelerations from the previous evaluation instead would make the derivative depend
+    /// on the integrator's history. The coupling is small but not neglected: along the shaft,
+    /// each blade's flap acceleration answers an acceleration `a` with `S a / I` and pushes back
+    /// on the body with `S^2 a / (I m)`, so `A`'s largest eigenvalue is about
+    /// `(3/4) N_b m_blade / m` for uniform blades (`S^2 / I = 3 m_blade / 4`). Measured for the
+    /// test gyroplane with uniform blades: 0.077 with three articulated blades of 14.7 kg on
+    /// 450 kg (0.074 by the formula), 0.012 with its two teetering blades of 9.8 kg, which feel
+    /// the hub's acceleration only through their precone.
+    ///
+    /// With `given` accelerations (`y`), the flap equations see the hub's motion they imply
+    /// instead ([`Aircraft::derivatives_given`]).
+    fn coupled(
+        &self,
+        frame: &RotorFrame,
+        body: &BodyState,
+        respond: &dyn Fn(Option<&HubMotion>) -> Result<Response, AircraftError>,
+        given: Option<[f64; 6]>,
+    ) -> Result<Response, AircraftError> {
+        let hub = |y: &[f64; 6]| self.hub_motion(frame, body, y);
+        if let Some(y) = given {
+            return respond(Some(&hub(&y)));
+        }
+        let image = |r: &Response| self.accelerations(&r.total, &r.body_dot);
+        let base = image(&respond(Some(&hub(&[0.0; 6])))?);
+        let mut system = nalgebra::Matrix6::<f64>::identity();
+        for j in 0..6 {
+            let mut unit = [0.0; 6];
+            unit[j] = 1.0;
+            let column = image(&respond(Some(&hub(&unit)))?);
+            for i in 0..6 {
+                system[(i, j)] -= column[i] - base[i];
+            }
+        }
+        let y =
+            system
+                .lu()
+                .solve(&nalgebra::Vector6::from(base))
+                .ok_or(AircraftError::Invalid {
+                    name: "the blades' and the body's coupled accelerations (a singular system)",
+                    requirement: "solvable",
+                    value: f64::NAN,
+                })?;
+        respond(Some(&hub(&std::array::from_fn(|k| y[k]))))
+    }
+}
+
+/// The blades' azimuths, flap angles and flap rates `(psi, beta, d beta / dt)` in the full
+/// state `x`: an articulated rotor's from its flap states, a teetering rotor's two from its
+/// teeter (half a revolution apart), a rigid rotor's at the precone.
+fn blade_positions(
+    rotor: &Rotor,
+    blade: &Blade,
+    op: &Operating,
+    x: &FullState,
+) -> Vec<(f64, f64, f64)> {
+    let omega = x.rotor_omega_rad_s;
+    let psi1 = x.rotor_azimuth_rad;
+    let mut blades: Vec<(f64, f64, f64)> = Vec::new();
+    match rotor.hub {
+        Hub::Articulated => {
+            let nb = rotor.blades;
+            for (k, f) in x.flap.iter().enumerate() {
+                blades.push((psi1 + 2.0 * PI * k as f64 / nb as f64, f[0], f[1]));
+            }
+        }
+        Hub::Teetering => {
+            let f = x.flap[0];
+            let [(b1, d1), (b2, d2)] = blade.blade_flap(op, [f[0], f[1] / omega]);
+            blades.push((psi1, b1, d1));
+            blades.push((psi1 + PI, b2, d2));
+        }
+        Hub::Rigid => {
+            for k in 0..rotor.blades {
+                let psi = psi1 + 2.0 * PI * k as f64 / rotor.blades as f64;
+                blades.push((psi, rotor.precone_rad, 0.0));
+            }
+        }
+    }
+    blades
+}
+
+/// The thrust and the aerodynamic roll and pitch moments of the blades at `blades`
+/// (`(psi, beta, d beta / dt)` each, their angles `angles`) at `op`: what drives the inflow.
+fn driving_loads(
+    blade: &Blade,
+    blades: &[(f64, f64, f64)],
+    angles: &[Angles],
+    op: &Operating,
+) -> inflow::DrivingLoads {
+    let mut d = inflow::DrivingLoads {
+        thrust_n: 0.0,
+        roll_n_m: 0.0,
+        pitch_n_m: 0.0,
+    };
+    for (&(_, _, beta_dot), &ang) in blades.iter().zip(angles) {
+        let l = blade.loads_at(op, ang, beta_dot);
+        d.thrust_n -= l.force_n[2];
+        d.roll_n_m += l.moment_n_m[0];
+        d.pitch_n_m += l.moment_n_m[1];
+    }
+    d
+}
+
+/// The main rotor's blades at one instant of the full model: each blade's azimuth, flap angle
+/// and flap rate, its angles' sines and cosines, and its aerodynamic loads at `op`.
+struct Blades<'a> {
+    rotor: &'a Rotor,
+    blade: &'a Blade<'a>,
+    op: Operating,
+    /// `(psi, beta, d beta / dt)` of each blade.
+    at: Vec<(f64, f64, f64)>,
+    angles: Vec<Angles>,
+    loads: Vec<BladeLoads>,
+}
+
+impl<'a> Blades<'a> {
+    /// The blades at `at` (`(psi, beta, d beta / dt)` each, their angles `angles`) and their
+    /// aerodynamic loads at `op`.
+    fn new(
+        rotor: &'a Rotor,
+        blade: &'a Blade<'a>,
+        op: Operating,
+        at: Vec<(f64, f64, f64)>,
+        angles: Vec<Angles>,
+    ) -> Self {
+        let loads: Vec<BladeLoads> = at
+            .iter()
+            .zip(&angles)
+            .map(|(&(_, _, beta_dot), &ang)| blade.loads_at(&op, ang, beta_dot))
+            .collect();
+        Self {
+            rotor,
+            blade,
+            op,
+            at,
+            angles,
+            loads,
+        }
+    }
+
+    /// The blades' force and moment on the hub (hub axes), their aerodynamic torque, and the
+    /// torque of their flapping at rotorspeed `omega` (Coriolis).
+    fn sums(&self, omega: f64) -> ([f64; 3], [f64; 3], f64, f64) {
+        let rotor = self.rotor;
+        let i_b = rotor.flap_inertia_kg_m2;
+        let mut force = [0.0; 3];
+        let mut moment = [0.0; 3];
+        let mut torque = 0.0;
+        let mut coriolis_torque = 0.0;
+        for (&(_, beta, beta_dot), l) in self.at.iter().zip(&self.loads) {
+            for k in 0..3 {
+                force[k] += l.force_n[k];
+                moment[k] += l.moment_n_m[k];
+            }
+            torque += l.torque_n_m;
+            // A blade flapping up comes nearer the shaft and speeds the rotor up.
+            let (s_m, e) = (rotor.flap_mass_moment_kg_m, rotor.hinge_offset_m);
+            coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i_b * beta.cos());
+        }
+        (force, moment, torque, coriolis_torque)
+    }
+
+    /// The flap (teeter) states' rates for the flap states `flap`, the flap equations seeing
+    /// the hub's motion `hub` (none: weightless blades).
+    fn flap_rates(&self, flap: &[[f64; 2]], hub: Option<&HubMotion>) -> Vec<[f64; 2]> {
+        let (rotor, blade, op) = (self.rotor, self.blade, &self.op);
+        let (angles, loads) = (&self.angles, &self.loads);
+        let (i_b, k_b) = (rotor.flap_inertia_kg_m2, rotor.flap_spring_n_m_per_rad);
+        let mut flap_dot = Vec::with_capacity(flap.len());
+        match rotor.hub {
+            Hub::Articulated => {
+                for ((&(_, beta, beta_dot), l), &ang) in self.at.iter().zip(loads).zip(angles) {
+                    let mut m = l.flap_moment_n_m
+                        - blade.inertial_flap_moment_at(op, ang)
+                        - k_b * (beta - rotor.precone_rad);
+                    if let Some(h) = hub {
+                        m += blade.apparent_gravity_flap_moment_at(
+                            h.apparent_gravity,
+                            h.angular_acceleration,
+                            ang,
+                        );
+                    }
+                    flap_dot.push([beta_dot, m / i_b]);
+                }
+            }
+            Hub::Teetering => {
+                let f = flap[0];
+                let mut m = loads[0].flap_moment_n_m
+                    - loads[1].flap_moment_n_m
+                    - (blade.inertial_flap_moment_at(op, angles[0])
+                        - blade.inertial_flap_moment_at(op, angles[1]))
+                    - k_b * f[0];
+                if let Some(h) = hub {
+                    let (g, w) = (h.apparent_gravity, h.angular_acceleration);
+                    m += blade.apparent_gravity_flap_moment_at(g, w, angles[0])
+                        - blade.apparent_gravity_flap_moment_at(g, w, angles[1]);
+                }
+                flap_dot.push([f[1], m / (2.0 * i_b)]);
+            }
+            Hub::Rigid => {}
+        }
+        flap_dot
+    }
+
+    /// The blades' angular momentum beyond the frozen disc and its rate, and the force on the
+    /// hub (`force`, hub axes) less the motion of their centres of mass (relative acceleration
+    /// and Coriolis, the hub turning at `hub_rates`), along the blades' motion (flap
+    /// accelerations `beta_ddot`, rotorspeed rate `omega_dot`; exact rates: the chain rule).
+    fn inertia(
+        &self,
+        hub_rates: [f64; 3],
+        beta_ddot: &[f64],
+        omega_dot: f64,
+        force: [f64; 3],
+    ) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        let (blade, op) = (self.blade, &self.op);
+        let mut h0 = [0.0; 3];
+        let mut dh = [0.0; 3];
+        let mut f_hub = force;
+        let cg_mass = self.rotor.blade_mass_kg();
+        for (k, (&(_, _, beta_dot), &ang)) in self.at.iter().zip(&self.angles).enumerate() {
+            let (hb, hb_dot) =
+                blade.angular_momentum_and_rate(op, ang, beta_dot, beta_ddot[k], omega_dot);
+            for j in 0..3 {
+                h0[j] += hb[j];
+                dh[j] += hb_dot[j];
+            }
+            // The blade's centre of mass: relative acceleration and Coriolis.
+            if cg_mass > 0.0 {
+                let [_, v, a] =
+                    blade.centre_of_mass_motion(op, ang, beta_dot, beta_ddot[k], omega_dot);
+                let cor = cross(hub_rates, v);
+                for j in 0..3 {
+                    f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);
+                }
+            }
+        }
+        (h0, dh, f_hub)
+    }
+}
