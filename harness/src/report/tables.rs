@@ -395,15 +395,26 @@ pub fn validation_table(results: &[CheckResult]) -> String {
         }
     }
     by_case.sort_by(|a, b| a.0.cmp(&b.0));
-    let mut s = String::from(
-        "| case | validation checks | pass | known discrepancies |\n| --- | ---: | ---: | ---: |\n",
+    let rows: Vec<(String, Counts)> = by_case
+        .into_iter()
+        .map(|(case, k)| (format!("`{case}`"), k))
+        .collect();
+    counts_table(["case", "validation checks"], &rows)
+}
+
+/// A Markdown table of checks, passes and known discrepancies (expected failures), a row per
+/// `(label, counts)` and a total row; `header` names the first two columns.
+fn counts_table(header: [&str; 2], rows: &[(String, Counts)]) -> String {
+    let mut s = format!(
+        "| {} | {} | pass | known discrepancies |\n| --- | ---: | ---: | ---: |\n",
+        header[0], header[1]
     );
     let mut all = Counts::default();
-    for (case, k) in &by_case {
+    for (label, k) in rows {
         all.merge(k);
         let _ = writeln!(
             s,
-            "| `{case}` | {} | {} | {} |",
+            "| {label} | {} | {} | {} |",
             k.total(),
             k.pass,
             k.expected_failure
@@ -423,32 +434,12 @@ pub fn validation_table(results: &[CheckResult]) -> String {
 /// "Cross-code and verification"): checks, passes and known discrepancies (expected
 /// failures), one row per class that has checks, and a total row.
 pub fn class_table(results: &[CheckResult]) -> String {
-    let mut s = String::from(
-        "| class | checks | pass | known discrepancies |\n| --- | ---: | ---: | ---: |\n",
-    );
-    let mut all = Counts::default();
-    for (class, k) in counts_by_class(results) {
-        if k.total() == 0 {
-            continue;
-        }
-        all.merge(&k);
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} |",
-            class.name(),
-            k.total(),
-            k.pass,
-            k.expected_failure
-        );
-    }
-    let _ = writeln!(
-        s,
-        "| **all** | **{}** | **{}** | **{}** |",
-        all.total(),
-        all.pass,
-        all.expected_failure
-    );
-    s
+    let rows: Vec<(String, Counts)> = counts_by_class(results)
+        .into_iter()
+        .filter(|(_, k)| k.total() > 0)
+        .map(|(class, k)| (class.name().to_string(), k))
+        .collect();
+    counts_table(["class", "checks"], &rows)
 }
 
 /// A committed score as people read it: a relative error in percent, a count of checks or
