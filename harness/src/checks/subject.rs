@@ -195,8 +195,8 @@ impl Subject {
     }
 }
 
+/// The case's subject (`model`), loaded and checked: exactly one kind, with its files.
 pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject, InputError> {
-    // Long: one arm per kind of subject, each loading and checking its files
     let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
     let given = [
         m.linear_model_file.is_some(),
@@ -216,29 +216,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         ));
     }
     if let Some(x) = &m.external {
-        let loading = check_loading(&err, "model.external", x.mass_kg, x.density_altitude_ft)?;
-        if x.command.is_empty() || x.command[0].trim().is_empty() {
-            return Err(err(
-                "model.external.command",
-                "give the program and its arguments, `[python3, model.py]`".into(),
-            ));
-        }
-        if !(x.timeout_s.is_finite() && x.timeout_s > 0.0 && x.timeout_s <= MAX_TIMEOUT_S) {
-            return Err(err(
-                "model.external.timeout_s",
-                format!("must be in (0, {MAX_TIMEOUT_S}] s, got {}", x.timeout_s),
-            ));
-        }
-        let command = crate::external::command::ExternalCommand::new(
-            x.command.clone(),
-            dir.to_path_buf(),
-            std::time::Duration::from_secs_f64(x.timeout_s),
-        );
-        return Ok(Subject::External(Box::new(crate::external::External {
-            written: format!("command: {}", command.written()),
-            model: std::sync::Arc::new(command),
-            loading,
-        })));
+        return external(&err, dir, x);
     }
     if let Some(a) = &m.aircraft {
         let file = crate::inputs::aircraft::load(&dir.join(&a.file)).map_err(|e| {
@@ -257,39 +235,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         return load_files(path, src, dir, f);
     }
     if let Some(f) = &m.flap_record {
-        let rec = crate::inputs::record::load_with(
-            &dir.join(&f.file),
-            &crate::ident::flap::FLAP_REQUIRED,
-            false,
-        )
-        .map_err(|e| {
-            err(
-                "model.flap_record.file",
-                format!("in the referenced record: {e}"),
-            )
-        })?;
-        let rotor = crate::inputs::rotor::load(&dir.join(&f.rotor)).map_err(|e| {
-            err(
-                "model.flap_record.rotor",
-                format!("in the referenced file: {e}"),
-            )
-        })?;
-        if !(f.density_kg_m3.is_finite() && f.density_kg_m3 > 0.0) {
-            return Err(err(
-                "model.flap_record.density_kg_m3",
-                "must be positive".into(),
-            ));
-        }
-        return Ok(Subject::FlapRecord {
-            record: Box::new(rec),
-            rotor: Box::new(rotor),
-            settings: crate::ident::flap::FlapSettings {
-                coning: f.coning,
-                skew: f.skew,
-                density_kg_m3: f.density_kg_m3,
-                collective_deg: f.collective_deg,
-            },
-        });
+        return flap_record(&err, dir, f);
     }
     if let Some(r) = &m.rotor {
         let rpath = dir.join(&r.file);
@@ -317,6 +263,92 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         });
     }
     let t = m.derivative_table.as_ref().expect("one subject is given");
+    derivative_table(path, src, dir, t)
+}
+
+/// Another simulation run as a command (`external`): its loading, its command line and its
+/// time limit checked.
+fn external(
+    err: &dyn Fn(&str, String) -> InputError,
+    dir: &Path,
+    x: &ExternalSpec,
+) -> Result<Subject, InputError> {
+    let loading = check_loading(err, "model.external", x.mass_kg, x.density_altitude_ft)?;
+    if x.command.is_empty() || x.command[0].trim().is_empty() {
+        return Err(err(
+            "model.external.command",
+            "give the program and its arguments, `[python3, model.py]`".into(),
+        ));
+    }
+    if !(x.timeout_s.is_finite() && x.timeout_s > 0.0 && x.timeout_s <= MAX_TIMEOUT_S) {
+        return Err(err(
+            "model.external.timeout_s",
+            format!("must be in (0, {MAX_TIMEOUT_S}] s, got {}", x.timeout_s),
+        ));
+    }
+    let command = crate::external::command::ExternalCommand::new(
+        x.command.clone(),
+        dir.to_path_buf(),
+        std::time::Duration::from_secs_f64(x.timeout_s),
+    );
+    Ok(Subject::External(Box::new(crate::external::External {
+        written: format!("command: {}", command.written()),
+        model: std::sync::Arc::new(command),
+        loading,
+    })))
+}
+
+/// A teeter record (`flap_record`): the record with the flapping channels, its rotor file,
+/// and the analysis settings (a positive density).
+fn flap_record(
+    err: &dyn Fn(&str, String) -> InputError,
+    dir: &Path,
+    f: &FlapRecordSpec,
+) -> Result<Subject, InputError> {
+    let rec = crate::inputs::record::load_with(
+        &dir.join(&f.file),
+        &crate::ident::flap::FLAP_REQUIRED,
+        false,
+    )
+    .map_err(|e| {
+        err(
+            "model.flap_record.file",
+            format!("in the referenced record: {e}"),
+        )
+    })?;
+    let rotor = crate::inputs::rotor::load(&dir.join(&f.rotor)).map_err(|e| {
+        err(
+            "model.flap_record.rotor",
+            format!("in the referenced file: {e}"),
+        )
+    })?;
+    if !(f.density_kg_m3.is_finite() && f.density_kg_m3 > 0.0) {
+        return Err(err(
+            "model.flap_record.density_kg_m3",
+            "must be positive".into(),
+        ));
+    }
+    Ok(Subject::FlapRecord {
+        record: Box::new(rec),
+        rotor: Box::new(rotor),
+        settings: crate::ident::flap::FlapSettings {
+            coning: f.coning,
+            skew: f.skew,
+            density_kg_m3: f.density_kg_m3,
+            collective_deg: f.collective_deg,
+        },
+    })
+}
+
+/// Published derivative values (`derivative_table`): the table file and its column, which
+/// must hold values.
+fn derivative_table(
+    path: &Path,
+    src: &str,
+    dir: &Path,
+    t: &TableColumnSpec,
+) -> Result<Subject, InputError> {
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
     let tpath = dir.join(&t.file);
     let table = load_table(path, src, &tpath, "model.derivative_table.file")?;
     match table.columns.get(&t.column) {

@@ -222,8 +222,6 @@ fn rotor(out: &Rows, repeat: usize) -> Result<f64, Error> {
 
 /// The aircraft: the VPM M16 trim at 70 mph, the model's right-hand sides there, linearisation and simulation.
 fn aircraft(out: &Rows, repeat: usize) -> f64 {
-    // Long: one section of the benchmark table: its timings share the trimmed aircraft and its
-    // right-hand sides
     let mut sink = 0.0;
     // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
     let ac_path = out.file("aircraft/vpm-m16.yaml");
@@ -253,23 +251,8 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                 mass_kg: Some(ac.aircraft.mass.mass_kg + 5.0),
                 ..loading
             };
-            let mut warm_last = None;
-            let warm_trims: Vec<f64> = match &last {
-                None => vec![],
-                Some(t) => (0..repeat)
-                    .map(|_| {
-                        time(&mut || {
-                            warm_last = cierva_harness::run_trim_from(
-                                &ac.aircraft,
-                                request,
-                                heavier,
-                                Some(&t.warm_start),
-                            )
-                            .ok();
-                        })
-                    })
-                    .collect(),
-            };
+            let (warm_trims, warm_last) =
+                warm_trims(&ac.aircraft, request, heavier, last.as_ref(), repeat);
             if let Some(t) = last {
                 let air = cierva_model::aircraft::Air {
                     density_kg_m3: 1.225,
@@ -277,30 +260,13 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                 };
                 let a = &ac.aircraft;
                 let x = a.full_state(&t.state, &t.controls, air, t.averaged.flap_start);
-                let n = 1000;
-                // Median time of one right-hand side of `craft`, over `n` azimuths a repeat.
-                let mut rhs = |craft: &cierva_model::aircraft::Aircraft| -> Vec<f64> {
-                    (0..repeat)
-                        .map(|_| {
-                            time(&mut || {
-                                for k in 0..n {
-                                    let mut y = x.clone();
-                                    y.rotor_azimuth_rad = k as f64 * 0.01;
-                                    sink += craft
-                                        .derivatives(&y, &t.controls, air)
-                                        .map_or(0.0, |d| d.body.u_m_s);
-                                }
-                            }) / n as f64
-                        })
-                        .collect()
-                };
-                let full = rhs(a);
+                let full = rhs_times(a, &x, &t.controls, air, repeat, &mut sink);
                 // The same with the propeller on its map, as a simulation runs it.
                 let mut mapped = a.clone();
                 if let Ok(p) = a.propeller.propeller.with_map() {
                     mapped.propeller.propeller = p;
                 }
-                let full_mapped = rhs(&mapped);
+                let full_mapped = rhs_times(&mapped, &x, &t.controls, air, repeat, &mut sink);
                 let map_build: Vec<f64> = (0..repeat.min(5))
                     .map(|_| {
                         time(&mut || {
@@ -330,57 +296,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                     "| VPM M16 trim and linearisation at 70 mph | {:.1} ms | the trim, then central differences in 10 states, 4 controls and 4 fast states: 36 revolution-averaged evaluations on two threads, 12 of them reusing the rotor solution; target: under 100 ms |",
                     1e3 * median(lins)
                 );
-                // Simulation: 60 s of level flight from the full model's periodic trim, with 10
-                // and 20 elements per blade, one thread.
-                for elements in [10usize, 20] {
-                    let mut a2 = ac.aircraft.clone();
-                    a2.main_rotor.rotor.elements = elements;
-                    let c = cierva_model::aircraft::trim::Condition {
-                        airspeed_m_s: 70.0 * cierva_harness::MPH_TO_M_S,
-                        climb_m_s: 0.0,
-                        turn_rate_rad_s: 0.0,
-                        air,
-                    };
-                    let Ok(t2) = cierva_model::aircraft::trim::trim(&a2, c, Default::default())
-                    else {
-                        continue;
-                    };
-                    let Ok(pt) = cierva_model::simulation::periodic_trim::periodic_trim(
-                        &a2,
-                        c,
-                        &t2,
-                        Default::default(),
-                    ) else {
-                        continue;
-                    };
-                    let u = pt.controls;
-                    let settings = cierva_model::simulation::timehistory::Settings {
-                        azimuth_step_rad: a2.main_rotor.numerics.azimuth_step_rad,
-                        duration_s: 60.0,
-                        output_every: 72,
-                    };
-                    let runs: Vec<f64> = (0..repeat.min(5))
-                        .map(|_| {
-                            time(&mut || {
-                                sink += cierva_model::simulation::timehistory::run(
-                                    &a2,
-                                    pt.start.clone(),
-                                    &|_| u,
-                                    air,
-                                    settings,
-                                )
-                                .map_or(0.0, |h| h.step_s)
-                            })
-                        })
-                        .collect();
-                    let m = median(runs);
-                    row!(
-                        out,
-                        "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; target: 200 times with 10 elements |",
-                        m,
-                        60.0 / m
-                    );
-                }
+                simulation_rows(out, &ac.aircraft, air, repeat, &mut sink);
                 row!(
                     out,
                     "| VPM M16 trim at 70 mph, 450 kg, sea level (cold start) | {:.1} ms | {} Newton iterations (finite-difference Jacobian, then Broyden updates); target: under 50 ms |",
@@ -417,6 +333,117 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
         }
     }
     sink
+}
+
+/// Trims at `heavier` warm-started from the `last` trim's end (none without it): their
+/// timings and the last one's result.
+fn warm_trims(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    request: cierva_harness::TrimRequest,
+    heavier: cierva_harness::Loading,
+    last: Option<&cierva_model::aircraft::trim::Trim>,
+    repeat: usize,
+) -> (Vec<f64>, Option<cierva_model::aircraft::trim::Trim>) {
+    let mut warm_last = None;
+    let warm_trims: Vec<f64> = match last {
+        None => vec![],
+        Some(t) => (0..repeat)
+            .map(|_| {
+                time(&mut || {
+                    warm_last = cierva_harness::run_trim_from(
+                        aircraft,
+                        request,
+                        heavier,
+                        Some(&t.warm_start),
+                    )
+                    .ok();
+                })
+            })
+            .collect(),
+    };
+    (warm_trims, warm_last)
+}
+
+/// Timings of one right-hand side of `craft` at the state `x` (its rotor azimuth stepped over
+/// 1000 azimuths a repeat, the time divided among them), added to `sink`.
+fn rhs_times(
+    craft: &cierva_model::aircraft::Aircraft,
+    x: &cierva_model::aircraft::FullState,
+    controls: &cierva_model::aircraft::Controls,
+    air: cierva_model::aircraft::Air,
+    repeat: usize,
+    sink: &mut f64,
+) -> Vec<f64> {
+    let n = 1000;
+    (0..repeat)
+        .map(|_| {
+            time(&mut || {
+                for k in 0..n {
+                    let mut y = x.clone();
+                    y.rotor_azimuth_rad = k as f64 * 0.01;
+                    *sink += craft
+                        .derivatives(&y, controls, air)
+                        .map_or(0.0, |d| d.body.u_m_s);
+                }
+            }) / n as f64
+        })
+        .collect()
+}
+
+/// The simulation rows: 60 s of level flight from the full model's periodic trim, with 10 and
+/// 20 elements per blade, one thread.
+fn simulation_rows(
+    out: &Rows,
+    aircraft: &cierva_model::aircraft::Aircraft,
+    air: cierva_model::aircraft::Air,
+    repeat: usize,
+    sink: &mut f64,
+) {
+    for elements in [10usize, 20] {
+        let mut a2 = aircraft.clone();
+        a2.main_rotor.rotor.elements = elements;
+        let c = cierva_model::aircraft::trim::Condition {
+            airspeed_m_s: 70.0 * cierva_harness::MPH_TO_M_S,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: 0.0,
+            air,
+        };
+        let Ok(t2) = cierva_model::aircraft::trim::trim(&a2, c, Default::default()) else {
+            continue;
+        };
+        let Ok(pt) =
+            cierva_model::simulation::periodic_trim::periodic_trim(&a2, c, &t2, Default::default())
+        else {
+            continue;
+        };
+        let u = pt.controls;
+        let settings = cierva_model::simulation::timehistory::Settings {
+            azimuth_step_rad: a2.main_rotor.numerics.azimuth_step_rad,
+            duration_s: 60.0,
+            output_every: 72,
+        };
+        let runs: Vec<f64> = (0..repeat.min(5))
+            .map(|_| {
+                time(&mut || {
+                    *sink += cierva_model::simulation::timehistory::run(
+                        &a2,
+                        pt.start.clone(),
+                        &|_| u,
+                        air,
+                        settings,
+                    )
+                    .map_or(0.0, |h| h.step_s)
+                })
+            })
+            .collect();
+        let m = median(runs);
+        row!(
+            out,
+            "| VPM M16 simulation, 60 s, {elements} elements per blade | {:.2} s | {:.0} times faster than real time on one core; RK4 at 5 deg of azimuth (about 2 ms), 4 right-hand sides a step; target: 200 times with 10 elements |",
+            m,
+            60.0 / m
+        );
+    }
 }
 
 /// Identification (the identification benchmark), each row side by side with the same

@@ -472,8 +472,6 @@ fn fit(
     cols: &[usize],
     fixed: &[(usize, f64)],
 ) -> Result<EquationFit, IdentError> {
-    // Long: one estimator: regressors in the frequency domain, least squares, then the
-    // instrumental-variable passes and their sandwich covariance
     let m = y_c.len();
     let (rows, p) = (2 * m, cols.len());
     if p == 0 || rows <= p {
@@ -483,20 +481,7 @@ fn fit(
             rows,
         });
     }
-    let mut y = DVector::zeros(rows);
-    let mut x = DMatrix::zeros(rows, p);
-    for k in 0..m {
-        let mut yk = y_c[k];
-        for (j, v) in fixed {
-            yk -= var_ft[*j][k] * *v;
-        }
-        y[2 * k] = yk.re;
-        y[2 * k + 1] = yk.im;
-        for (c, &j) in cols.iter().enumerate() {
-            x[(2 * k, c)] = var_ft[j][k].re;
-            x[(2 * k + 1, c)] = var_ft[j][k].im;
-        }
-    }
+    let (y, x) = regression(y_c, var_ft, cols, fixed);
     // Scale columns to unit norm for a meaningful condition number and a stable solve.
     let scales: Vec<f64> = (0..p).map(|c| x.column(c).norm()).collect();
     if let Some(c) = scales
@@ -555,22 +540,7 @@ fn fit(
         Some(_) => zs_of(ins_ft, cols, &scales, m, p),
         None => xs.clone(),
     };
-    let g_inv = (z_rows.transpose() * &xs)
-        .try_inverse()
-        .ok_or_else(|| IdentError::Singular {
-            state: eq.state.clone(),
-            detail: "the normal equations cannot be inverted".into(),
-        })?;
-    let small_sample = rows as f64 / dof as f64;
-    let mut meat = DMatrix::zeros(p, p);
-    for k in 0..m {
-        let s2k = 0.5 * (resid[2 * k].powi(2) + resid[2 * k + 1].powi(2)) * small_sample;
-        for r in [2 * k, 2 * k + 1] {
-            let zr = z_rows.row(r);
-            meat += zr.transpose() * zr * s2k;
-        }
-    }
-    let cov_s = &g_inv * meat * g_inv.transpose();
+    let cov_s = sandwich(eq, &z_rows, &xs, &resid, dof)?;
     let t = student_t_975(dof);
     let mut estimates = Vec::with_capacity(p);
     for c in 0..p {
@@ -592,6 +562,85 @@ fn fit(
         })
         .collect();
     let condition_number = smax / smin;
+    let warnings = warnings_of(eq, &estimates, &correlation, condition_number);
+    Ok(EquationFit {
+        state: eq.state.clone(),
+        estimates,
+        fixed: eq.fixed.clone(),
+        r_squared: if tss > 0.0 { 1.0 - rss / tss } else { 1.0 },
+        dof,
+        correlation,
+        condition_number,
+        warnings,
+    })
+}
+
+/// The equation's regression in the frequency domain, real and imaginary parts as rows: the
+/// state derivative's transform less the fixed terms (`y`), and the estimated variables'
+/// transforms (`X`).
+fn regression(
+    y_c: &[C],
+    var_ft: &[Vec<C>],
+    cols: &[usize],
+    fixed: &[(usize, f64)],
+) -> (DVector<f64>, DMatrix<f64>) {
+    let m = y_c.len();
+    let (rows, p) = (2 * m, cols.len());
+    let mut y = DVector::zeros(rows);
+    let mut x = DMatrix::zeros(rows, p);
+    for k in 0..m {
+        let mut yk = y_c[k];
+        for (j, v) in fixed {
+            yk -= var_ft[*j][k] * *v;
+        }
+        y[2 * k] = yk.re;
+        y[2 * k + 1] = yk.im;
+        for (c, &j) in cols.iter().enumerate() {
+            x[(2 * k, c)] = var_ft[j][k].re;
+            x[(2 * k + 1, c)] = var_ft[j][k].im;
+        }
+    }
+    (y, x)
+}
+
+/// Heteroscedasticity-consistent (sandwich) covariance of the scaled estimates (see [`fit`]):
+/// `G^-1 (sum_r s_r^2 z_r z_r') G^-T` with `G = Z'X`, each frequency point's variance its own
+/// squared residual times the small-sample factor `n/(n - p)`.
+fn sandwich(
+    eq: &Equation,
+    z_rows: &DMatrix<f64>,
+    xs: &DMatrix<f64>,
+    resid: &DVector<f64>,
+    dof: usize,
+) -> Result<DMatrix<f64>, IdentError> {
+    let (rows, p) = xs.shape();
+    let m = rows / 2;
+    let g_inv = (z_rows.transpose() * xs)
+        .try_inverse()
+        .ok_or_else(|| IdentError::Singular {
+            state: eq.state.clone(),
+            detail: "the normal equations cannot be inverted".into(),
+        })?;
+    let small_sample = rows as f64 / dof as f64;
+    let mut meat = DMatrix::zeros(p, p);
+    for k in 0..m {
+        let s2k = 0.5 * (resid[2 * k].powi(2) + resid[2 * k + 1].powi(2)) * small_sample;
+        for r in [2 * k, 2 * k + 1] {
+            let zr = z_rows.row(r);
+            meat += zr.transpose() * zr * s2k;
+        }
+    }
+    Ok(&g_inv * meat * g_inv.transpose())
+}
+
+/// The fit's warnings: pairs of highly correlated coefficients, poorly identified ones, and
+/// ill-conditioned regressors.
+fn warnings_of(
+    eq: &Equation,
+    estimates: &[Estimate],
+    correlation: &[Vec<f64>],
+    condition_number: f64,
+) -> Vec<String> {
     let mut warnings = Vec::new();
     for (a, row) in correlation.iter().enumerate() {
         for (b, r) in row.iter().enumerate().skip(a + 1) {
@@ -615,16 +664,7 @@ fn fit(
             "ill-conditioned regressors (condition number {condition_number:.2e})"
         ));
     }
-    Ok(EquationFit {
-        state: eq.state.clone(),
-        estimates,
-        fixed: eq.fixed.clone(),
-        r_squared: if tss > 0.0 { 1.0 - rss / tss } else { 1.0 },
-        dof,
-        correlation,
-        condition_number,
-        warnings,
-    })
+    warnings
 }
 
 /// The scaled instrument matrix, built like the regressors.

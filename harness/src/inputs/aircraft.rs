@@ -85,7 +85,7 @@ use cierva_model::aircraft::{
 use cierva_model::components::airframe::{Airframe, AirframeError, Surface, Table2};
 use cierva_model::components::propeller::Propeller;
 use cierva_model::components::rigid_body::MassProperties;
-use cierva_model::components::rotor::{Hub, Numerics};
+use cierva_model::components::rotor::{Hub, Numerics, Rotor};
 use cierva_model::estimate::EstimateError;
 use cierva_model::estimate::airframe::{
     FinGeometry, Geometry, Part, PartError, PodGeometry, SurfaceGeometry,
@@ -375,11 +375,95 @@ fn deg(m: MapSpec) -> LinearMap {
 
 /// Loads and checks an aircraft file, with its rotor files.
 pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
-    // Long: the loader checks every field of the file in file order, each with its located error
     let src = yaml::read(path)?;
     let spec: AircraftFileSpec = yaml::parse(path, &src)?;
     check_id(path, &src, &spec.id)?;
     let err = |field: &str, msg: String| InputError::field(path, &src, field, msg);
+    check_sources(path, &spec, &err)?;
+    let a = &spec.aircraft;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let nested = |field: &str, file: &str| {
+        super::rotor::load(&dir.join(file))
+            .map_err(|e| err(field, format!("in the referenced file: {e}")))
+    };
+    let main_rotor_file = nested("aircraft.main_rotor.rotor_file", &a.main_rotor.rotor_file)?;
+    let propeller_file = nested("aircraft.propeller.rotor_file", &a.propeller.rotor_file)?;
+    check_propeller_file(&a.propeller, &propeller_file, &err)?;
+    check_step_and_controls(a, &err)?;
+    let drive = drive_of(&a.propeller.drive, &err)?;
+    let corrections = a.corrections.clone().unwrap_or_default();
+    if !corrections.estimated.is_empty() {
+        return Err(err(
+            "aircraft.corrections.estimated",
+            "an aircraft file gives its physical parameters where they belong (with their sources); `estimated` is for a corrections file's fitted values".into(),
+        ));
+    }
+    let mut main_rotor = main_rotor_file.rotor.clone();
+    CorrectionSet {
+        propeller_blockage: None,
+        hub_aoa_factor: None,
+        ..corrections.clone()
+    }
+    .apply_to_rotor(&mut main_rotor)
+    .map_err(|m| err("aircraft.corrections", m))?;
+    let aircraft = Aircraft {
+        mass: MassProperties {
+            mass_kg: a.mass.mass_kg,
+            ixx_kg_m2: a.mass.ixx_kg_m2,
+            iyy_kg_m2: a.mass.iyy_kg_m2,
+            izz_kg_m2: a.mass.izz_kg_m2,
+            ixz_kg_m2: a.mass.ixz_kg_m2,
+        },
+        cg_m: a.cg_m,
+        main_rotor: main_rotor_of(&a.main_rotor, main_rotor),
+        propeller: PropellerInstallation {
+            propeller: Propeller {
+                rotor: propeller_file.rotor.clone(),
+                blockage: corrections.propeller_blockage.unwrap_or(0.0),
+                map: None,
+            },
+            position_m: a.propeller.position_m,
+            drive,
+            rotation: match a.propeller.rotation {
+                RotationSpec::Clockwise => Rotation::Clockwise,
+                RotationSpec::Anticlockwise => Rotation::Anticlockwise,
+            },
+        },
+        airframe: airframe_of(&a.airframe),
+        controls: ControlMaps {
+            shaft_pitch_rad: deg(a.controls.shaft_pitch_deg),
+            shaft_roll_rad: deg(a.controls.shaft_roll_deg),
+            rudder_rad: deg(a.controls.rudder_deg),
+        },
+        hub_aoa_factor: corrections.hub_aoa_factor,
+    };
+    aircraft
+        .validate()
+        .map_err(|e| err(&field_of(&e), e.to_string()))?;
+    let ranges = check_ranges(&spec.ranges, &mut aircraft.clone(), &err)?;
+    let estimate_inputs = estimate_inputs(a, propeller_file.rotor.radius_m, &err)?;
+    Ok(AircraftFile {
+        path: path.to_path_buf(),
+        id: spec.id,
+        title: spec.title,
+        provenance: spec.provenance,
+        aircraft,
+        main_rotor_file,
+        propeller_file,
+        sources: spec.sources,
+        ranges,
+        estimate_inputs,
+    })
+}
+
+/// The `sources` checked against the numbers under `aircraft`: every leaf is covered by an
+/// entry (its own path or a parent's), and every entry names a path that exists and is not
+/// empty.
+fn check_sources(
+    path: &Path,
+    spec: &AircraftFileSpec,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<(), InputError> {
     let written =
         serde_yaml::to_value(&spec.aircraft).map_err(|e| InputError::file(path, e.to_string()))?;
     let mut paths = Vec::new();
@@ -408,20 +492,22 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             ));
         }
     }
-    let a = &spec.aircraft;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let nested = |field: &str, file: &str| {
-        super::rotor::load(&dir.join(file))
-            .map_err(|e| err(field, format!("in the referenced file: {e}")))
-    };
-    let main_rotor_file = nested("aircraft.main_rotor.rotor_file", &a.main_rotor.rotor_file)?;
-    let propeller_file = nested("aircraft.propeller.rotor_file", &a.propeller.rotor_file)?;
+    Ok(())
+}
+
+/// The propeller's rotor file checked for what a propeller is: a rigid hub, and no hub drag
+/// of its own.
+fn check_propeller_file(
+    p: &PropellerSpec,
+    propeller_file: &RotorFile,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<(), InputError> {
     if propeller_file.rotor.hub != Hub::Rigid {
         return Err(err(
             "aircraft.propeller.rotor_file",
             format!(
                 "the propeller's rotor file `{}` must have `hub: rigid` (a propeller's blades do not flap)",
-                a.propeller.rotor_file
+                p.rotor_file
             ),
         ));
     }
@@ -430,10 +516,19 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             "aircraft.propeller.rotor_file",
             format!(
                 "the propeller's rotor file `{}` gives hub_drag_area_m2: a spinner's drag is the airframe's (its drag table), not the propeller's",
-                a.propeller.rotor_file
+                p.rotor_file
             ),
         ));
     }
+    Ok(())
+}
+
+/// The main rotor's azimuth step checked against its limits, then each control map's two ends
+/// (finite and distinct).
+fn check_step_and_controls(
+    a: &AircraftSpec,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<(), InputError> {
     let step = a.main_rotor.azimuth_step_deg;
     if !crate::inputs::limits::azimuth_step_ok(step, 15.0) {
         return Err(err(
@@ -462,19 +557,12 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             ));
         }
     }
-    let surface = |s: &SurfaceSpec| Surface {
-        position_m: s.position_m,
-        area_m2: s.area_m2,
-        lift_slope_per_rad: s.lift_slope_per_rad,
-        incidence_rad: s.incidence_deg.to_radians(),
-        stall_alpha_rad: s.stall_alpha_deg.to_radians(),
-        cd0: s.cd0,
-        control_effectiveness: s.control_effectiveness,
-        slipstream_fraction: s.slipstream_fraction,
-        wash_gradient: s.wash_gradient,
-        dynamic_pressure_ratio: s.dynamic_pressure_ratio.unwrap_or(1.0),
-    };
-    let drive = match (a.propeller.drive.engine, a.propeller.drive.governed) {
+    Ok(())
+}
+
+/// The propeller's drive: an engine or a governed speed, exactly one of the two.
+fn drive_of(d: &DriveSpec, err: &dyn Fn(&str, String) -> InputError) -> Result<Drive, InputError> {
+    Ok(match (d.engine, d.governed) {
         (Some(e), None) => Drive::Engine {
             max_power_w: e.max_power_w,
             rated_rpm: e.rated_rpm,
@@ -492,106 +580,69 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
                 "give exactly one of `engine` or `governed`".into(),
             ));
         }
-    };
-    let c = &a.airframe.coefficients;
-    let corrections = a.corrections.clone().unwrap_or_default();
-    if !corrections.estimated.is_empty() {
-        return Err(err(
-            "aircraft.corrections.estimated",
-            "an aircraft file gives its physical parameters where they belong (with their sources); `estimated` is for a corrections file's fitted values".into(),
-        ));
-    }
-    let mut main_rotor = main_rotor_file.rotor.clone();
-    CorrectionSet {
-        propeller_blockage: None,
-        hub_aoa_factor: None,
-        ..corrections.clone()
-    }
-    .apply_to_rotor(&mut main_rotor)
-    .map_err(|m| err("aircraft.corrections", m))?;
-    let aircraft = Aircraft {
-        mass: MassProperties {
-            mass_kg: a.mass.mass_kg,
-            ixx_kg_m2: a.mass.ixx_kg_m2,
-            iyy_kg_m2: a.mass.iyy_kg_m2,
-            izz_kg_m2: a.mass.izz_kg_m2,
-            ixz_kg_m2: a.mass.ixz_kg_m2,
-        },
-        cg_m: a.cg_m,
-        main_rotor: MainRotor {
-            rotor: main_rotor,
-            pivot_m: a.main_rotor.pivot_m,
-            spindle_length_m: a.main_rotor.spindle_length_m,
-            collective_shift_rad: 0.0,
-            inflow: a
-                .main_rotor
-                .inflow
-                .model(a.main_rotor.skew, a.main_rotor.descent),
-            inflow_dynamics: match a.main_rotor.inflow_dynamics {
-                Some(InflowDynamicsSpec::QuasiSteady) => InflowDynamics::QuasiSteady,
-                _ => InflowDynamics::Dynamic,
-            },
-            numerics: Numerics {
-                azimuth_step_rad: step.to_radians(),
-                periodic_tolerance: 1e-9,
-                ..Numerics::default()
-            },
-        },
-        propeller: PropellerInstallation {
-            propeller: Propeller {
-                rotor: propeller_file.rotor.clone(),
-                blockage: corrections.propeller_blockage.unwrap_or(0.0),
-                map: None,
-            },
-            position_m: a.propeller.position_m,
-            drive,
-            rotation: match a.propeller.rotation {
-                RotationSpec::Clockwise => Rotation::Clockwise,
-                RotationSpec::Anticlockwise => Rotation::Anticlockwise,
-            },
-        },
-        airframe: Airframe {
-            reference_area_m2: a.airframe.reference_area_m2,
-            reference_length_m: a.airframe.reference_length_m,
-            reference_span_m: a.airframe.reference_span_m,
-            reference_point_m: a.airframe.reference_point_m,
-            side_force_centre_m: a.airframe.side_force_centre_m,
-            coefficients: [
-                c.cx.clone(),
-                c.cy.clone(),
-                c.cz.clone(),
-                c.cl.clone(),
-                c.cm.clone(),
-                c.cn.clone(),
-            ],
-            munk_yaw_m3: a.airframe.munk_yaw_m3.unwrap_or(0.0),
-            tailplane: a.airframe.tailplane.as_ref().map(surface),
-            fin: a.airframe.fin.as_ref().map(surface),
-        },
-        controls: ControlMaps {
-            shaft_pitch_rad: deg(a.controls.shaft_pitch_deg),
-            shaft_roll_rad: deg(a.controls.shaft_roll_deg),
-            rudder_rad: deg(a.controls.rudder_deg),
-        },
-        hub_aoa_factor: corrections.hub_aoa_factor,
-    };
-    aircraft
-        .validate()
-        .map_err(|e| err(&field_of(&e), e.to_string()))?;
-    let ranges = check_ranges(&spec.ranges, &mut aircraft.clone(), &err)?;
-    let estimate_inputs = estimate_inputs(a, propeller_file.rotor.radius_m, &err)?;
-    Ok(AircraftFile {
-        path: path.to_path_buf(),
-        id: spec.id,
-        title: spec.title,
-        provenance: spec.provenance,
-        aircraft,
-        main_rotor_file,
-        propeller_file,
-        sources: spec.sources,
-        ranges,
-        estimate_inputs,
     })
+}
+
+/// The main rotor as installed: the (corrected) rotor on its pivot and spindle, with the
+/// file's inflow model and azimuth step.
+fn main_rotor_of(m: &MainRotorSpec, rotor: Rotor) -> MainRotor {
+    MainRotor {
+        rotor,
+        pivot_m: m.pivot_m,
+        spindle_length_m: m.spindle_length_m,
+        collective_shift_rad: 0.0,
+        inflow: m.inflow.model(m.skew, m.descent),
+        inflow_dynamics: match m.inflow_dynamics {
+            Some(InflowDynamicsSpec::QuasiSteady) => InflowDynamics::QuasiSteady,
+            _ => InflowDynamics::Dynamic,
+        },
+        numerics: Numerics {
+            azimuth_step_rad: m.azimuth_step_deg.to_radians(),
+            periodic_tolerance: 1e-9,
+            ..Numerics::default()
+        },
+    }
+}
+
+/// A tail surface in the model's units (angles in radians; an absent dynamic-pressure ratio
+/// is 1).
+fn surface(s: &SurfaceSpec) -> Surface {
+    Surface {
+        position_m: s.position_m,
+        area_m2: s.area_m2,
+        lift_slope_per_rad: s.lift_slope_per_rad,
+        incidence_rad: s.incidence_deg.to_radians(),
+        stall_alpha_rad: s.stall_alpha_deg.to_radians(),
+        cd0: s.cd0,
+        control_effectiveness: s.control_effectiveness,
+        slipstream_fraction: s.slipstream_fraction,
+        wash_gradient: s.wash_gradient,
+        dynamic_pressure_ratio: s.dynamic_pressure_ratio.unwrap_or(1.0),
+    }
+}
+
+/// The airframe: its reference geometry, its six coefficient tables, the pod's Munk couple
+/// (absent: none) and its tail surfaces.
+fn airframe_of(af: &AirframeSpec) -> Airframe {
+    let c = &af.coefficients;
+    Airframe {
+        reference_area_m2: af.reference_area_m2,
+        reference_length_m: af.reference_length_m,
+        reference_span_m: af.reference_span_m,
+        reference_point_m: af.reference_point_m,
+        side_force_centre_m: af.side_force_centre_m,
+        coefficients: [
+            c.cx.clone(),
+            c.cy.clone(),
+            c.cz.clone(),
+            c.cl.clone(),
+            c.cm.clone(),
+            c.cn.clone(),
+        ],
+        munk_yaw_m3: af.munk_yaw_m3.unwrap_or(0.0),
+        tailplane: af.tailplane.as_ref().map(surface),
+        fin: af.fin.as_ref().map(surface),
+    }
 }
 
 /// The geometry the estimates work from, checked (`None` where the file gives no planform and

@@ -150,8 +150,6 @@ pub fn load_with(
     required: &[&str],
     with_controls: bool,
 ) -> Result<Record, InputError> {
-    // Long: the record loader checks every fault in the order it reads the file, each with its
-    // located error
     let side = sidecar_path(csv_path);
     let side_src = yaml::read(&side)?;
     let meta: RecordMeta = yaml::parse(&side, &side_src)?;
@@ -165,19 +163,6 @@ pub fn load_with(
         ));
     }
     let src = yaml::read_csv(csv_path)?;
-    let at = |line: usize, msg: String| InputError {
-        path: csv_path.to_path_buf(),
-        line: Some(line),
-        column: None,
-        field: None,
-        message: msg,
-    };
-    // The same, with the caret under the `k`-th comma-separated field of `text`.
-    let at_field = |line: usize, text: &str, k: usize, msg: String| {
-        let mut e = at(line, msg);
-        e.column = Some(crate::inputs::yaml::csv_field_column(text, k));
-        e
-    };
     let mut lines = src
         .lines()
         .enumerate()
@@ -186,39 +171,91 @@ pub fn load_with(
         .next()
         .ok_or_else(|| InputError::file(csv_path, "the file is empty"))?;
     let channels: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
-    for (i, c) in channels.iter().enumerate() {
-        if c.is_empty() {
-            return Err(at(1, format!("column {} has no name", i + 1)));
-        }
-        if channels[..i].contains(c) {
-            return Err(at(1, format!("channel `{c}` appears twice")));
-        }
-    }
     let controls: &[String] = if with_controls { &meta.controls } else { &[] };
     let needed: Vec<&str> = required
         .iter()
         .copied()
         .chain(controls.iter().map(String::as_str))
         .collect();
+    check_channels(csv_path, &channels, &needed)?;
+    let data = samples(csv_path, lines, &channels)?;
+    let t = &data[channels
+        .iter()
+        .position(|c| c == "time_s")
+        .expect("checked")];
+    check_time(csv_path, t, meta.sample_rate_hz)?;
+    Ok(Record {
+        path: csv_path.to_path_buf(),
+        meta,
+        channels,
+        data,
+    })
+}
+
+/// An error at a line of a CSV record.
+fn at(csv_path: &Path, line: usize, msg: String) -> InputError {
+    InputError {
+        path: csv_path.to_path_buf(),
+        line: Some(line),
+        column: None,
+        field: None,
+        message: msg,
+    }
+}
+
+/// The same, with the caret under the `k`-th comma-separated field of `text`.
+fn at_field(csv_path: &Path, line: usize, text: &str, k: usize, msg: String) -> InputError {
+    let mut e = at(csv_path, line, msg);
+    e.column = Some(crate::inputs::yaml::csv_field_column(text, k));
+    e
+}
+
+/// The header's channels checked: each named, none twice, and every `needed` one there (a
+/// missing one named with the unneeded channel nearest it, as a misnamed channel).
+fn check_channels(csv_path: &Path, channels: &[String], needed: &[&str]) -> Result<(), InputError> {
+    for (i, c) in channels.iter().enumerate() {
+        if c.is_empty() {
+            return Err(at(csv_path, 1, format!("column {} has no name", i + 1)));
+        }
+        if channels[..i].contains(c) {
+            return Err(at(csv_path, 1, format!("channel `{c}` appears twice")));
+        }
+    }
     // A misnamed channel is one the record has but does not need.
     let unexpected: Vec<String> = channels
         .iter()
         .filter(|c| !needed.contains(&c.as_str()))
         .cloned()
         .collect();
-    for need in &needed {
+    for need in needed {
         if !channels.iter().any(|c| c == need) {
             let hint = crate::inputs::yaml::nearest(need, &unexpected)
                 .map(|c| format!("; `{c}` is there: misnamed, or in other units?"))
                 .unwrap_or_default();
-            return Err(at(1, format!("channel `{need}` is missing{hint}")));
+            return Err(at(
+                csv_path,
+                1,
+                format!("channel `{need}` is missing{hint}"),
+            ));
         }
     }
+    Ok(())
+}
+
+/// The samples of the rows after the header (`(index, line)` pairs), one vector per channel:
+/// at most [`crate::inputs::limits::MAX_RECORD_SAMPLES`] rows, each with a finite number for
+/// every channel.
+fn samples<'a>(
+    csv_path: &Path,
+    lines: impl Iterator<Item = (usize, &'a str)>,
+    channels: &[String],
+) -> Result<Vec<Vec<f64>>, InputError> {
     let mut data = vec![Vec::new(); channels.len()];
     let most = crate::inputs::limits::MAX_RECORD_SAMPLES;
     for (row, (line_no, line)) in lines.enumerate() {
         if row == most {
             return Err(at_field(
+                csv_path,
                 line_no + 1,
                 line,
                 0,
@@ -230,6 +267,7 @@ pub fn load_with(
         let fields: Vec<&str> = line.split(',').collect();
         if fields.len() != channels.len() {
             return Err(at(
+                csv_path,
                 line_no + 1,
                 format!(
                     "{} values where the header has {} channels",
@@ -242,6 +280,7 @@ pub fn load_with(
             let v = f.trim();
             let x: f64 = v.parse().map_err(|_| {
                 at_field(
+                    csv_path,
                     line_no + 1,
                     line,
                     k,
@@ -254,6 +293,7 @@ pub fn load_with(
             })?;
             if !x.is_finite() {
                 return Err(at_field(
+                    csv_path,
                     line_no + 1,
                     line,
                     k,
@@ -263,13 +303,16 @@ pub fn load_with(
             data[k].push(x);
         }
     }
-    let t = &data[channels
-        .iter()
-        .position(|c| c == "time_s")
-        .expect("checked")];
+    Ok(data)
+}
+
+/// The time channel checked: at least two samples, increasing everywhere, then at the
+/// sidecar's sample rate (within [`DT_TOLERANCE`]).
+fn check_time(csv_path: &Path, t: &[f64], sample_rate_hz: f64) -> Result<(), InputError> {
     if t.len() < 2 {
         // Where the missing second sample would be (the header is line 1).
         return Err(at(
+            csv_path,
             t.len() + 2,
             format!(
                 "a record needs at least two samples; it ends after {}",
@@ -277,10 +320,11 @@ pub fn load_with(
             ),
         ));
     }
-    let dt = 1.0 / meta.sample_rate_hz;
+    let dt = 1.0 / sample_rate_hz;
     // Time must increase everywhere (the graver fault) before it is checked for regularity.
     if let Some(k) = (1..t.len()).find(|&k| t[k] <= t[k - 1]) {
         return Err(at(
+            csv_path,
             k + 2,
             format!(
                 "channel `time_s` does not increase ({} after {})",
@@ -293,20 +337,16 @@ pub fn load_with(
         let step = t[k] - t[k - 1];
         if (step - dt).abs() > DT_TOLERANCE * dt {
             return Err(at(
+                csv_path,
                 k + 2,
                 format!(
                     "channel `time_s` is irregular: step {step} s where the sidecar's {} Hz means {dt} s (a gap or a dropped sample?)",
-                    meta.sample_rate_hz
+                    sample_rate_hz
                 ),
             ));
         }
     }
-    Ok(Record {
-        path: csv_path.to_path_buf(),
-        meta,
-        channels,
-        data,
-    })
+    Ok(())
 }
 
 /// Writes a record (CSV and sidecar).

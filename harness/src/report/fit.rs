@@ -7,7 +7,6 @@ use crate::fit::{self, Enforce};
 
 /// The before/after report of a fit, as Markdown.
 pub fn markdown(f: &FitFile, run: &FitRun) -> String {
-    // Long: the fit report's sections in reading order
     use std::fmt::Write;
     let r = &run.result;
     let mut s = String::new();
@@ -32,6 +31,32 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
         r.cost_start,
         r.cost
     );
+    parameters_table(&mut s, f, r);
+    if let Some(st) = &run.starts {
+        s += &starts_markdown(st);
+    }
+    let _ = writeln!(s, "\n## Fitted targets\n");
+    targets_table(&mut s, &f.problem.targets, &f.origins, &r.before, &r.after);
+    if !f.predict.is_empty() {
+        let _ = writeln!(s, "## Predicted (not fitted)\n");
+        targets_table(
+            &mut s,
+            &f.predict,
+            &f.predict_origins,
+            &run.predict_before,
+            &run.predict_after,
+        );
+    }
+    if !run.modes.is_empty() {
+        modes_table(&mut s, &run.modes);
+    }
+    s
+}
+
+/// The fitted parameters' table (bounds, start, fitted value and standard error, or "not
+/// identifiable"), then the fit's warnings.
+fn parameters_table(s: &mut String, f: &FitFile, r: &fit::FitResult) {
+    use std::fmt::Write;
     let _ = writeln!(s, "## Parameters\n");
     let _ = writeln!(
         s,
@@ -61,114 +86,109 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
     for w in &r.warnings {
         let _ = writeln!(s, "\n- warning: {w}");
     }
-    if let Some(st) = &run.starts {
-        s += &starts_markdown(st);
-    }
-    let table = |s: &mut String,
-                 targets: &[fit::Target],
-                 origins: &[Origin],
-                 before: &[f64],
-                 after: &[f64]| {
+}
+
+/// One table of targets (fitted or predicted) with their values before and after, each
+/// error in its standard errors, then the RMS relative error over all and, where there are
+/// several, per quantity.
+fn targets_table(
+    s: &mut String,
+    targets: &[fit::Target],
+    origins: &[Origin],
+    before: &[f64],
+    after: &[f64],
+) {
+    use std::fmt::Write;
+    let _ = writeln!(
+        s,
+        "| reference from | quantity | condition | reference | standard error | bounds | before | after | before (SE) | after (SE) |"
+    );
+    let _ = writeln!(
+        s,
+        "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |"
+    );
+    for ((t, o), (b, a)) in targets.iter().zip(origins).zip(before.iter().zip(after)) {
+        let bounds = t.bounds.map_or("-".to_string(), |b| {
+            format!(
+                "[{:.4}, {:.4}] {}",
+                b.lower,
+                b.upper,
+                match b.enforce {
+                    Enforce::Hard => "hard".to_string(),
+                    Enforce::Soft { weight } => format!("soft, weight {weight}"),
+                }
+            )
+        });
         let _ = writeln!(
             s,
-            "| reference from | quantity | condition | reference | standard error | bounds | before | after | before (SE) | after (SE) |"
-        );
-        let _ = writeln!(
-            s,
-            "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |"
-        );
-        for ((t, o), (b, a)) in targets.iter().zip(origins).zip(before.iter().zip(after)) {
-            let bounds = t.bounds.map_or("-".to_string(), |b| {
-                format!(
-                    "[{:.4}, {:.4}] {}",
-                    b.lower,
-                    b.upper,
-                    match b.enforce {
-                        Enforce::Hard => "hard".to_string(),
-                        Enforce::Soft { weight } => format!("soft, weight {weight}"),
-                    }
-                )
-            });
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} | {:.5} | {:.5} | {bounds} | {b:.5} | {a:.5} | {:+.2} | {:+.2} |",
-                o.label,
-                t.measure.name(),
-                t.condition.label(),
-                t.reference,
-                t.standard_error,
-                (b - t.reference) / t.standard_error,
-                (a - t.reference) / t.standard_error,
-            );
-        }
-        let unsolved = |y: &[f64]| y.iter().filter(|v| !v.is_finite()).count();
-        let (rb, ra, n) = rms_relative_error_percent(targets, before, after);
-        let _ = writeln!(
-            s,
-            "\nRMS relative error over the {n} targets solved before and after: {rb:.2} % before, {ra:.2} % after. Not solved: {} before, {} after.\n",
-            unsolved(before),
-            unsolved(after)
-        );
-        let mut names: Vec<&str> = targets.iter().map(|t| t.measure.name()).collect();
-        names.dedup();
-        names.sort_unstable();
-        names.dedup();
-        if names.len() > 1 {
-            for name in names {
-                let keep: Vec<usize> = (0..targets.len())
-                    .filter(|&k| targets[k].measure.name() == name)
-                    .collect();
-                let pick = |y: &[f64]| keep.iter().map(|&k| y[k]).collect::<Vec<f64>>();
-                let sub: Vec<fit::Target> = keep.iter().map(|&k| targets[k].clone()).collect();
-                let (rb, ra, n) = rms_relative_error_percent(&sub, &pick(before), &pick(after));
-                let _ = writeln!(
-                    s,
-                    "- `{name}` ({n} targets): {rb:.2} % before, {ra:.2} % after"
-                );
-            }
-            let _ = writeln!(s);
-        }
-    };
-    let _ = writeln!(s, "\n## Fitted targets\n");
-    table(&mut s, &f.problem.targets, &f.origins, &r.before, &r.after);
-    if !f.predict.is_empty() {
-        let _ = writeln!(s, "## Predicted (not fitted)\n");
-        table(
-            &mut s,
-            &f.predict,
-            &f.predict_origins,
-            &run.predict_before,
-            &run.predict_after,
+            "| {} | {} | {} | {:.5} | {:.5} | {bounds} | {b:.5} | {a:.5} | {:+.2} | {:+.2} |",
+            o.label,
+            t.measure.name(),
+            t.condition.label(),
+            t.reference,
+            t.standard_error,
+            (b - t.reference) / t.standard_error,
+            (a - t.reference) / t.standard_error,
         );
     }
-    if !run.modes.is_empty() {
-        let _ = writeln!(s, "## Longitudinal modes before and after\n");
-        let _ = writeln!(
-            s,
-            "| condition | mode | eigenvalue before | eigenvalue after | damping ratio before | after | period before, s | after, s |"
-        );
-        let _ = writeln!(s, "| --- | --- | --- | --- | ---: | ---: | ---: | ---: |");
-        let zeta = |e: [f64; 2]| -e[0] / e[0].hypot(e[1]);
-        let period = |e: [f64; 2]| 2.0 * std::f64::consts::PI / e[1];
-        for m in &run.modes {
+    let unsolved = |y: &[f64]| y.iter().filter(|v| !v.is_finite()).count();
+    let (rb, ra, n) = rms_relative_error_percent(targets, before, after);
+    let _ = writeln!(
+        s,
+        "\nRMS relative error over the {n} targets solved before and after: {rb:.2} % before, {ra:.2} % after. Not solved: {} before, {} after.\n",
+        unsolved(before),
+        unsolved(after)
+    );
+    let mut names: Vec<&str> = targets.iter().map(|t| t.measure.name()).collect();
+    names.dedup();
+    names.sort_unstable();
+    names.dedup();
+    if names.len() > 1 {
+        for name in names {
+            let keep: Vec<usize> = (0..targets.len())
+                .filter(|&k| targets[k].measure.name() == name)
+                .collect();
+            let pick = |y: &[f64]| keep.iter().map(|&k| y[k]).collect::<Vec<f64>>();
+            let sub: Vec<fit::Target> = keep.iter().map(|&k| targets[k].clone()).collect();
+            let (rb, ra, n) = rms_relative_error_percent(&sub, &pick(before), &pick(after));
             let _ = writeln!(
                 s,
-                "| {} | {} | {:.4} {:+.4}i | {:.4} {:+.4}i | {:.4} | {:.4} | {:.2} | {:.2} |",
-                m.condition,
-                m.mode,
-                m.before[0],
-                m.before[1],
-                m.after[0],
-                m.after[1],
-                zeta(m.before),
-                zeta(m.after),
-                period(m.before),
-                period(m.after)
+                "- `{name}` ({n} targets): {rb:.2} % before, {ra:.2} % after"
             );
         }
         let _ = writeln!(s);
     }
-    s
+}
+
+/// The longitudinal modes' table: each mode's eigenvalue, damping ratio and period before and
+/// after.
+fn modes_table(s: &mut String, modes: &[crate::fit::file::ModeShift]) {
+    use std::fmt::Write;
+    let _ = writeln!(s, "## Longitudinal modes before and after\n");
+    let _ = writeln!(
+        s,
+        "| condition | mode | eigenvalue before | eigenvalue after | damping ratio before | after | period before, s | after, s |"
+    );
+    let _ = writeln!(s, "| --- | --- | --- | --- | ---: | ---: | ---: | ---: |");
+    let zeta = |e: [f64; 2]| -e[0] / e[0].hypot(e[1]);
+    let period = |e: [f64; 2]| 2.0 * std::f64::consts::PI / e[1];
+    for m in modes {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4} {:+.4}i | {:.4} {:+.4}i | {:.4} | {:.4} | {:.2} | {:.2} |",
+            m.condition,
+            m.mode,
+            m.before[0],
+            m.before[1],
+            m.after[0],
+            m.after[1],
+            zeta(m.before),
+            zeta(m.after),
+            period(m.before),
+            period(m.after)
+        );
+    }
+    let _ = writeln!(s);
 }
 
 /// The fit's before/after figure: every target's error in its own standard errors, at the

@@ -212,7 +212,6 @@ impl Figure {
         root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
         log_x: bool,
     ) -> Result<(), Box<dyn std::error::Error>> {
-        // Long: draws one figure with plotters: axes, series, bands, legend
         let Some(((x0, x1), (y0, y_data))) = self.ranges() else {
             return Ok(());
         };
@@ -241,118 +240,20 @@ impl Figure {
                 .max_light_lines(0)
                 .bold_line_style(RGBColor(232, 232, 232))
                 .draw()?;
-            let clip = |v: f64| v.clamp(y0, y_data);
             if self.x_zero {
                 chart.draw_series(std::iter::once(PathElement::new(
                     vec![(0.0, y0), (0.0, y1)],
                     BLACK.mix(0.5).stroke_width(1),
                 )))?;
             }
-            for (i, b) in self.bands.iter().enumerate() {
-                let c = colour(i + 7);
-                let pts: Vec<(f64, f64, f64)> = b
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
-                    .collect();
-                let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, clip(p.2))).collect();
-                poly.extend(pts.iter().rev().map(|p| (p.0, clip(p.1))));
-                chart
-                    .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.25).filled())))?
-                    .label(b.name.as_str())
-                    .legend(move |(x, y)| {
-                        Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.mix(0.25).filled())
-                    });
-            }
+            self.draw_bands(&mut chart, (y0, y_data))?;
             if let Some(b) = &self.intervals {
-                // Offset to the right of the reference bar at the same x.
-                let c = colour(7);
-                let dx = 0.006 * (x1 - x0);
-                let style = c.stroke_width(1);
-                chart
-                    .draw_series(
-                        b.points
-                            .iter()
-                            .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
-                            .map(move |p| {
-                                PathElement::new(
-                                    vec![(p.0 + dx, clip(p.1)), (p.0 + dx, clip(p.2))],
-                                    style,
-                                )
-                            }),
-                    )?
-                    .label(b.name.as_str())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], style)
-                    });
+                draw_intervals(&mut chart, b, x1 - x0, (y0, y_data))?;
             }
             if !self.bars.is_empty() {
-                let style = BLACK.stroke_width(2);
-                let bars: Vec<Bar> = self
-                    .bars
-                    .iter()
-                    .copied()
-                    .filter(|b| b.x.is_finite() && !b.lower.is_nan() && !b.upper.is_nan())
-                    .collect();
-                let dx = 0.012 * (x1 - x0);
-                chart
-                    .draw_series(bars.iter().map(move |b| {
-                        PathElement::new(vec![(b.x, clip(b.lower)), (b.x, clip(b.upper))], style)
-                    }))?
-                    .label(self.bars_name.as_str())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], style)
-                    });
-                let caps: Vec<(f64, f64)> = bars
-                    .iter()
-                    .flat_map(|b| [(b.x, b.lower), (b.x, b.upper)])
-                    .filter(|(_, v)| *v >= y0 && *v <= y_data)
-                    .collect();
-                chart.draw_series(
-                    caps.iter()
-                        .map(|&(x, v)| PathElement::new(vec![(x - dx, v), (x + dx, v)], style)),
-                )?;
-                chart.draw_series(bars.iter().filter_map(move |b| {
-                    let e = b.expected.filter(|v| *v >= y0 && *v <= y_data)?;
-                    Some(Cross::new((b.x, e), 4, BLACK.stroke_width(1)))
-                }))?;
+                self.draw_bars(&mut chart, x1 - x0, (y0, y_data))?;
             }
-            for (i, s) in self.series.iter().enumerate() {
-                let c = colour(s.colour.unwrap_or(i));
-                let pts: Vec<(f64, f64)> = s
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-                    .map(|(x, y)| (x, clip(y)))
-                    .collect();
-                let line = matches!(s.style, Style::Line | Style::LineMarkers);
-                let markers = matches!(s.style, Style::Markers | Style::LineMarkers);
-                if line {
-                    chart
-                        .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
-                        .label(s.name.as_str())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
-                        });
-                }
-                if markers {
-                    let a =
-                        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))?;
-                    if !line {
-                        a.label(s.name.as_str())
-                            .legend(move |(x, y)| Circle::new((x + 8, y), 3, c.filled()));
-                    }
-                }
-                if s.style == Style::Rings {
-                    let ring = c.stroke_width(2);
-                    chart
-                        .draw_series(pts.iter().map(|p| Circle::new(*p, 7, ring)))?
-                        .label(s.name.as_str())
-                        .legend(move |(x, y)| Circle::new((x + 8, y), 6, ring));
-                }
-            }
+            self.draw_series(&mut chart, (y0, y_data))?;
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::UpperRight)
@@ -363,7 +264,150 @@ impl Figure {
         }
         Ok(())
     }
+
+    /// The bands, each a filled polygon between its lower and upper bounds (clipped to the
+    /// data's range `(y0, y_data)`), with its legend entry.
+    fn draw_bands(&self, chart: &mut Chart<'_, '_>, (y0, y_data): (f64, f64)) -> DrawResult {
+        let clip = |v: f64| v.clamp(y0, y_data);
+        for (i, b) in self.bands.iter().enumerate() {
+            let c = colour(i + 7);
+            let pts: Vec<(f64, f64, f64)> = b
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
+                .collect();
+            let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, clip(p.2))).collect();
+            poly.extend(pts.iter().rev().map(|p| (p.0, clip(p.1))));
+            chart
+                .draw_series(std::iter::once(Polygon::new(poly, c.mix(0.25).filled())))?
+                .label(b.name.as_str())
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 16, y + 5)], c.mix(0.25).filled())
+                });
+        }
+        Ok(())
+    }
+
+    /// The bars: a line from each bar's lower to its upper bound (clipped to the data's range
+    /// `(y0, y_data)`) with its legend entry, caps a share of the axis' `width` wide where the
+    /// bounds are in range, and a cross at each expected value in range.
+    fn draw_bars(
+        &self,
+        chart: &mut Chart<'_, '_>,
+        width: f64,
+        (y0, y_data): (f64, f64),
+    ) -> DrawResult {
+        let clip = |v: f64| v.clamp(y0, y_data);
+        let style = BLACK.stroke_width(2);
+        let bars: Vec<Bar> = self
+            .bars
+            .iter()
+            .copied()
+            .filter(|b| b.x.is_finite() && !b.lower.is_nan() && !b.upper.is_nan())
+            .collect();
+        let dx = 0.012 * width;
+        chart
+            .draw_series(bars.iter().map(move |b| {
+                PathElement::new(vec![(b.x, clip(b.lower)), (b.x, clip(b.upper))], style)
+            }))?
+            .label(self.bars_name.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], style));
+        let caps: Vec<(f64, f64)> = bars
+            .iter()
+            .flat_map(|b| [(b.x, b.lower), (b.x, b.upper)])
+            .filter(|(_, v)| *v >= y0 && *v <= y_data)
+            .collect();
+        chart.draw_series(
+            caps.iter()
+                .map(|&(x, v)| PathElement::new(vec![(x - dx, v), (x + dx, v)], style)),
+        )?;
+        chart.draw_series(bars.iter().filter_map(move |b| {
+            let e = b.expected.filter(|v| *v >= y0 && *v <= y_data)?;
+            Some(Cross::new((b.x, e), 4, BLACK.stroke_width(1)))
+        }))?;
+        Ok(())
+    }
+
+    /// The series, each as lines, markers or rings (clipped to the data's range
+    /// `(y0, y_data)`), with its legend entry.
+    fn draw_series(&self, chart: &mut Chart<'_, '_>, (y0, y_data): (f64, f64)) -> DrawResult {
+        let clip = |v: f64| v.clamp(y0, y_data);
+        for (i, s) in self.series.iter().enumerate() {
+            let c = colour(s.colour.unwrap_or(i));
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|(x, y)| (x, clip(y)))
+                .collect();
+            let line = matches!(s.style, Style::Line | Style::LineMarkers);
+            let markers = matches!(s.style, Style::Markers | Style::LineMarkers);
+            if line {
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
+                    .label(s.name.as_str())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
+                    });
+            }
+            if markers {
+                let a = chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))?;
+                if !line {
+                    a.label(s.name.as_str())
+                        .legend(move |(x, y)| Circle::new((x + 8, y), 3, c.filled()));
+                }
+            }
+            if s.style == Style::Rings {
+                let ring = c.stroke_width(2);
+                chart
+                    .draw_series(pts.iter().map(|p| Circle::new(*p, 7, ring)))?
+                    .label(s.name.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 6, ring));
+            }
+        }
+        Ok(())
+    }
 }
+
+/// An interval set: a line from each interval's lower to its upper bound (clipped to the
+/// data's range `(y0, y_data)`), offset to the right of the reference bar at the same x by a
+/// share of the axis' `width`, with its legend entry.
+fn draw_intervals(
+    chart: &mut Chart<'_, '_>,
+    b: &Shade,
+    width: f64,
+    (y0, y_data): (f64, f64),
+) -> DrawResult {
+    let clip = |v: f64| v.clamp(y0, y_data);
+    // Offset to the right of the reference bar at the same x.
+    let c = colour(7);
+    let dx = 0.006 * width;
+    let style = c.stroke_width(1);
+    chart
+        .draw_series(
+            b.points
+                .iter()
+                .filter(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
+                .map(move |p| {
+                    PathElement::new(vec![(p.0 + dx, clip(p.1)), (p.0 + dx, clip(p.2))], style)
+                }),
+        )?
+        .label(b.name.as_str())
+        .legend(move |(x, y)| PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], style));
+    Ok(())
+}
+
+/// The chart a figure is drawn on: an SVG area with linear axes.
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// What drawing returns.
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
 /// Figures stacked in one SVG document, one panel each (`width` by `panel_height`), or `None`
 /// when none has anything finite to show.

@@ -407,7 +407,6 @@ fn tolerance_of(
     field: &str,
     name: &str,
 ) -> Result<Tolerance, InputError> {
-    // Long: one arm per tolerance kind, each checking its numbers
     let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
     let tfield = format!("tolerances.{name}");
     if t.reason.trim().is_empty() {
@@ -474,34 +473,65 @@ fn tolerance_of(
         ToleranceKind::Rounding(r)
     } else {
         let from = t.interval_from.as_ref().expect("one kind is given");
-        let d = derivative.ok_or_else(|| {
-            err(
-                &format!("{field}.tolerance"),
-                format!("`{name}` takes its interval from a derivative table, so it only applies to `derivative` checks"),
-            )
-        })?;
-        let table = crate::checks::subject::load_table(
-            path,
-            src,
-            &dir.join(&from.file),
-            &format!("{tfield}.interval_from.file"),
-        )?;
-        match table.entry(d, &from.column) {
-            Some(Entry::Interval(lo, hi)) => ToleranceKind::Interval(lo, hi),
-            Some(Entry::Value(_)) => {
-                return Err(err(
-                    &format!("{tfield}.interval_from.column"),
-                    format!("column `{}` holds values, not intervals", from.column),
-                ));
-            }
-            None => {
-                return Err(err(
-                    &format!("{tfield}.interval_from"),
-                    format!("the table has no `{d}` in column `{}`", from.column),
-                ));
-            }
-        }
+        interval_from(path, src, dir, from, derivative, field, name)?
     };
+    check_uncertainty(t, &kind, &tfield, &err)?;
+    Ok(Tolerance {
+        name: name.to_string(),
+        kind,
+        reason: t.reason.clone(),
+        confidence: t.confidence,
+        standard_deviation: t.standard_deviation,
+    })
+}
+
+/// A tolerance's interval taken from a derivative table (`interval_from`): the entry of the
+/// check's `derivative` in the named column, which must hold intervals.
+fn interval_from(
+    path: &Path,
+    src: &str,
+    dir: &Path,
+    from: &TableColumnSpec,
+    derivative: Option<&str>,
+    field: &str,
+    name: &str,
+) -> Result<ToleranceKind, InputError> {
+    let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
+    let tfield = format!("tolerances.{name}");
+    let d = derivative.ok_or_else(|| {
+        err(
+            &format!("{field}.tolerance"),
+            format!("`{name}` takes its interval from a derivative table, so it only applies to `derivative` checks"),
+        )
+    })?;
+    let table = crate::checks::subject::load_table(
+        path,
+        src,
+        &dir.join(&from.file),
+        &format!("{tfield}.interval_from.file"),
+    )?;
+    match table.entry(d, &from.column) {
+        Some(Entry::Interval(lo, hi)) => Ok(ToleranceKind::Interval(lo, hi)),
+        Some(Entry::Value(_)) => Err(err(
+            &format!("{tfield}.interval_from.column"),
+            format!("column `{}` holds values, not intervals", from.column),
+        )),
+        None => Err(err(
+            &format!("{tfield}.interval_from"),
+            format!("the table has no `{d}` in column `{}`", from.column),
+        )),
+    }
+}
+
+/// A tolerance's statement of uncertainty checked against its kind: a `confidence` level (in
+/// (0, 1)) only on an interval, a measurement's `standard_deviation` (finite, > 0) only on an
+/// absolute or relative tolerance.
+fn check_uncertainty(
+    t: &ToleranceSpec,
+    kind: &ToleranceKind,
+    tfield: &str,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<(), InputError> {
     if let Some(c) = t.confidence {
         if !matches!(kind, ToleranceKind::Interval(..)) {
             return Err(err(
@@ -533,13 +563,7 @@ fn tolerance_of(
             ));
         }
     }
-    Ok(Tolerance {
-        name: name.to_string(),
-        kind,
-        reason: t.reason.clone(),
-        confidence: t.confidence,
-        standard_deviation: t.standard_deviation,
-    })
+    Ok(())
 }
 
 /// A case with corrections files applied to its subject: an aircraft file whose id a file

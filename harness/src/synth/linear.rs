@@ -294,8 +294,6 @@ pub type Generated = (Vec<String>, Vec<Vec<f64>>, RecordMeta);
 
 /// The record's channel names and data, and its sidecar.
 pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> {
-    // Long: one algorithm: the input shape, the linear model flown with turbulence, the sensors
-    // with noise and offsets, the record
     let ci = model
         .controls()
         .iter()
@@ -320,36 +318,9 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         .collect();
     let n = model.states().len();
     let nu = model.controls().len();
-    let gusts: Vec<Vec<f64>> = match s.turbulence {
-        Some(t) if t.intensity > 0.0 => {
-            let phi = (-dt / t.correlation_time_s.max(dt)).exp();
-            let q = t.intensity * (1.0 - phi * phi).sqrt();
-            force_rows
-                .iter()
-                .map(|_| {
-                    let mut g = t.intensity * rng.sample();
-                    (0..=steps + 1)
-                        .map(|_| {
-                            let v = g;
-                            g = phi * g + q * rng.sample();
-                            v
-                        })
-                        .collect()
-                })
-                .collect()
-        }
-        _ => Vec::new(),
-    };
+    let gusts = gusts(s.turbulence, force_rows.len(), steps, dt, &mut rng);
     let extra = gusts.len();
-    let mut b = nalgebra::DMatrix::zeros(n, nu + extra);
-    b.view_mut((0, 0), (n, nu)).copy_from(model.b());
-    for (g, &row) in force_rows.iter().enumerate().take(extra) {
-        b[(row, nu + g)] = 1.0;
-    }
-    let mut controls = model.controls().to_vec();
-    controls.extend((0..extra).map(|g| format!("gust_{g}")));
-    let augmented = LinearModel::new(model.states().to_vec(), controls, model.a().clone(), b)
-        .map_err(|e| e.to_string())?;
+    let augmented = with_gust_inputs(model, &force_rows, extra)?;
     let input = s.input;
     let input_fn = |t: f64| -> Vec<f64> {
         let mut u = vec![0.0; nu + extra];
@@ -370,6 +341,84 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         dt,
         steps,
     );
+    let control_channel = format!("{}_rad", s.control);
+    let names: Vec<String> = crate::inputs::record::REQUIRED
+        .iter()
+        .map(|c| c.to_string())
+        .chain([control_channel.clone()])
+        .collect();
+    let data = sensed(model, s, &xs, steps, dt, names.len(), &mut rng);
+    if data.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(
+            "the simulated record is not finite (an unstable model, or a too large input?)".into(),
+        );
+    }
+    let meta = sidecar(s, dt, control_channel);
+    Ok((names, data, meta))
+}
+
+/// One Gauss-Markov gust series per force row (`steps + 2` samples each, started from the
+/// stationary distribution), or none without turbulence.
+fn gusts(
+    turbulence: Option<Turbulence>,
+    force_rows: usize,
+    steps: usize,
+    dt: f64,
+    rng: &mut Normal,
+) -> Vec<Vec<f64>> {
+    match turbulence {
+        Some(t) if t.intensity > 0.0 => {
+            let phi = (-dt / t.correlation_time_s.max(dt)).exp();
+            let q = t.intensity * (1.0 - phi * phi).sqrt();
+            (0..force_rows)
+                .map(|_| {
+                    let mut g = t.intensity * rng.sample();
+                    (0..=steps + 1)
+                        .map(|_| {
+                            let v = g;
+                            g = phi * g + q * rng.sample();
+                            v
+                        })
+                        .collect()
+                })
+                .collect()
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// The model with one extra input per gust series, `gust_<g>`, entering its force row with
+/// unit gain.
+fn with_gust_inputs(
+    model: &LinearModel,
+    force_rows: &[usize],
+    extra: usize,
+) -> Result<LinearModel, String> {
+    let n = model.states().len();
+    let nu = model.controls().len();
+    let mut b = nalgebra::DMatrix::zeros(n, nu + extra);
+    b.view_mut((0, 0), (n, nu)).copy_from(model.b());
+    for (g, &row) in force_rows.iter().enumerate().take(extra) {
+        b[(row, nu + g)] = 1.0;
+    }
+    let mut controls = model.controls().to_vec();
+    controls.extend((0..extra).map(|g| format!("gust_{g}")));
+    LinearModel::new(model.states().to_vec(), controls, model.a().clone(), b)
+        .map_err(|e| e.to_string())
+}
+
+/// What the sensors record of the flown states `xs` about the trim, one vector per channel
+/// (`channels` of them): the probe's airspeed and vane angles (c.g. velocity plus
+/// `omega x r`), rates, attitudes, rotorspeed and the control, each with its noise.
+fn sensed(
+    model: &LinearModel,
+    s: &Settings,
+    xs: &[Vec<f64>],
+    steps: usize,
+    dt: f64,
+    channels: usize,
+    rng: &mut Normal,
+) -> Vec<Vec<f64>> {
     // Each state's column, looked up once (a state the model lacks reads as zero).
     let column = |name: &str| model.state_index(name).ok();
     let [
@@ -389,13 +438,8 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         s.sensors.probe_position_m[1] - s.sensors.cg_position_m[1],
         s.sensors.probe_position_m[2] - s.sensors.cg_position_m[2],
     ];
-    let control_channel = format!("{}_rad", s.control);
-    let names: Vec<String> = crate::inputs::record::REQUIRED
-        .iter()
-        .map(|c| c.to_string())
-        .chain([control_channel.clone()])
-        .collect();
-    let mut data = vec![Vec::with_capacity(steps + 1); names.len()];
+    let input = s.input;
+    let mut data = vec![Vec::with_capacity(steps + 1); channels];
     let nz = s.noise;
     for k in 0..=steps {
         let t = k as f64 * dt;
@@ -425,11 +469,12 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
             col.push(v);
         }
     }
-    if data.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(
-            "the simulated record is not finite (an unstable model, or a too large input?)".into(),
-        );
-    }
+    data
+}
+
+/// The record's sidecar: what generated it (settings, seed, the truth model), the sensors and
+/// the trim the record is about.
+fn sidecar(s: &Settings, dt: f64, control_channel: String) -> RecordMeta {
     let mut settings = BTreeMap::new();
     settings.insert("input".into(), format!("{:?}", s.input));
     settings.insert("sensor_noise".into(), format!("{:?}", s.noise));
@@ -444,7 +489,7 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
     trim.insert("theta_rad".into(), s.trim.theta_rad);
     trim.insert("omega_rotor_rad_s".into(), s.trim.omega_rotor_rad_s);
     trim.insert(control_channel.clone(), 0.0);
-    let meta = RecordMeta {
+    RecordMeta {
         id: s.id.clone(),
         title: format!("Synthetic record: {} through {:?}", s.aircraft, s.input),
         provenance: Provenance {
@@ -471,6 +516,5 @@ pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> 
         condition: BTreeMap::new(),
         trim,
         controls: vec![control_channel],
-    };
-    Ok((names, data, meta))
+    }
 }

@@ -156,8 +156,6 @@ pub fn seed_for(seed: u64, source: u64) -> u64 {
 
 /// Flies the test with the full model and records it.
 pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> {
-    // Long: one flight in the order it happens: trim, pilot, turbulence, the run, then the
-    // instruments sampling it
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(test.duration_s) && ok(test.sample_rate_hz) && ok(test.azimuth_step_rad)) {
         return Err("the duration, sample rate and azimuth step must be positive".into());
@@ -258,20 +256,47 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
     let rows = crate::run::replay::resample(&h, &times, &|s: &timehistory::Sample| {
         row(&s.state, &s.controls, wind(s.time_s))
     });
-    let mut truth = vec![Vec::with_capacity(n + 1); names.len()];
+    let truth = columns(&times, rows, names.len());
+    if truth.iter().flatten().any(|v| !v.is_finite()) {
+        return Err("the flight's record is not finite".into());
+    }
+    let data = instruments(test, &names, &truth, dt)?;
+    let trim = trim_mean(&start, settings, &names, &row)?;
+    Ok(FlownTest {
+        channels: names,
+        data,
+        trim,
+        probe_position_m: probe,
+        cg_position_m: cg,
+        pilot,
+    })
+}
+
+/// The true record's columns: the sample times, then each row's channels in order
+/// (`channels` columns in all).
+fn columns(times: &[f64], rows: Vec<Vec<f64>>, channels: usize) -> Vec<Vec<f64>> {
+    let mut truth = vec![Vec::with_capacity(times.len()); channels];
     for (&t, r) in times.iter().zip(rows) {
         truth[0].push(t);
         for (column, v) in truth[1..].iter_mut().zip(r) {
             column.push(v);
         }
     }
-    if truth.iter().flatten().any(|v| !v.is_finite()) {
-        return Err("the flight's record is not finite".into());
-    }
-    // The instruments.
+    truth
+}
+
+/// The instruments: the time column as it is, then each true channel measured by its sensor
+/// (one noise stream, seeded from the test's seed, source 3), a teeter record's azimuth
+/// wrapped to `[0, 2 pi)`.
+fn instruments(
+    test: &FlightTest,
+    names: &[String],
+    truth: &[Vec<f64>],
+    dt: f64,
+) -> Result<Vec<Vec<f64>>, String> {
     let mut rng = Normal::new(seed_for(test.seed, 3));
     let mut data = vec![truth[0].clone()];
-    for (name, series) in names.iter().zip(&truth).skip(1) {
+    for (name, series) in names.iter().zip(truth).skip(1) {
         let ch = test
             .instrumentation
             .channel(name)
@@ -284,7 +309,22 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
         }
         data.push(measured);
     }
-    // The trim: the mean over one revolution of the periodic orbit, controls held, calm air.
+    Ok(data)
+}
+
+/// The trim: the mean over one revolution of the periodic orbit, controls held, calm air, of
+/// the true channels after the time (`row`) and the body velocities and inflow states, by
+/// name.
+fn trim_mean<R>(
+    start: &crate::SimulationStart,
+    settings: timehistory::Settings,
+    names: &[String],
+    row: &R,
+) -> Result<BTreeMap<String, f64>, String>
+where
+    R: Fn(&FullState, &Controls, [f64; 3]) -> Vec<f64>,
+{
+    let u0 = start.controls;
     let revolution = timehistory::run(
         &start.aircraft,
         start.state.clone(),
@@ -311,15 +351,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
         "inflow_v1s_m_s",
         "inflow_v1c_m_s",
     ]);
-    let trim: BTreeMap<String, f64> = keys.zip(mean).map(|(k, v)| (k.to_string(), v)).collect();
-    Ok(FlownTest {
-        channels: names,
-        data,
-        trim,
-        probe_position_m: probe,
-        cg_position_m: cg,
-        pilot,
-    })
+    Ok(keys.zip(mean).map(|(k, v)| (k.to_string(), v)).collect())
 }
 
 /// The probe's position in the datum.
