@@ -2,6 +2,7 @@
 //! bounds and the trust region, with a slack for each bounded target.
 
 use super::{Problem, Status};
+use clarabel::algebra::CscMatrix;
 
 /// The step's quadratic program: minimise `|r + J d|^2` (rows scaled as the residuals) within
 /// the parameter bounds and the trust region. Each bounded target gets a slack `s >= 0` with
@@ -15,9 +16,6 @@ pub(super) fn qp_step(
     jt: &[Vec<f64>],
     radius: &[f64],
 ) -> Result<Vec<f64>, Status> {
-    // Long: builds one quadratic program for clarabel (objective, bounds as constraints, soft
-    // bounds as slack) and reads its solution
-    use clarabel::algebra::CscMatrix;
     use clarabel::solver::{
         DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus,
     };
@@ -26,6 +24,54 @@ pub(super) fn qp_step(
         .filter(|&k| problem.targets[k].penalty().is_some())
         .collect();
     let nx = n + bounded.len();
+    let (pm, q) = objective(problem, r, jt, &bounded, nx);
+    let (rows, b) = constraints(problem, p, y, jt, radius, &bounded, nx);
+    // clarabel takes the upper triangle of P.
+    let upper: Vec<Vec<f64>> = (0..nx)
+        .map(|a| {
+            (0..nx)
+                .map(|c| if c >= a { pm[a][c] } else { 0.0 })
+                .collect()
+        })
+        .collect();
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .build()
+        .map_err(|e| Status::BadProblem(format!("QP settings: {e:?}")))?;
+    let cones = [NonnegativeConeT(rows.len())];
+    let mut solver = DefaultSolver::new(
+        &to_csc(&upper, nx),
+        &q,
+        &to_csc(&rows, nx),
+        &b,
+        &cones,
+        settings,
+    )
+    .map_err(|e| Status::BadProblem(format!("QP set-up: {e:?}")))?;
+    solver.solve();
+    match solver.solution.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(solver.solution.x[..n].to_vec()),
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Err(
+            Status::Infeasible("the parameter bounds and trust region admit no step".into()),
+        ),
+        other => Err(Status::ModelFailure(format!(
+            "the step's quadratic program ended {other:?}"
+        ))),
+    }
+}
+
+/// The objective `x' P x / 2 + q' x` over the step and the slacks (`nx` of them in all, the
+/// step's `n` first): `P = J_r' J_r` and `q = J_r' r` of the misfit and regularisation rows
+/// (the bound rows are the slacks, each weighted by its penalty over its squared standard
+/// error).
+fn objective(
+    problem: &Problem,
+    r: &[f64],
+    jt: &[Vec<f64>],
+    bounded: &[usize],
+    nx: usize,
+) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let n = problem.parameters.len();
     // Residual Jacobian of the misfit and regularisation rows (the bound rows are the slacks).
     let mut jr: Vec<Vec<f64>> = problem
         .targets
@@ -60,8 +106,21 @@ pub(super) fn qp_step(
         let (_, w) = t.penalty().expect("bounded");
         pm[n + j][n + j] = w / (t.standard_error * t.standard_error);
     }
-    // Constraints A x <= b: upper and lower bounds with the trust region, then the target
-    // bounds with their slacks.
+    (pm, q)
+}
+
+/// Constraints `A x <= b`: upper and lower bounds with the trust region, then the target
+/// bounds with their slacks (and each slack nonnegative).
+fn constraints(
+    problem: &Problem,
+    p: &[f64],
+    y: &[f64],
+    jt: &[Vec<f64>],
+    radius: &[f64],
+    bounded: &[usize],
+    nx: usize,
+) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let n = p.len();
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut b: Vec<f64> = Vec::new();
     for (i, par) in problem.parameters.iter().enumerate() {
@@ -74,18 +133,13 @@ pub(super) fn qp_step(
         rows.push(down);
         b.push((p[i] - par.lower).min(radius[i]).max(0.0));
     }
-    let padded = |row: &[f64], sign: f64| {
-        let mut v: Vec<f64> = row.iter().map(|x| sign * x).collect();
-        v.resize(nx, 0.0);
-        v
-    };
     for (j, &k) in bounded.iter().enumerate() {
         let (bounds, _) = problem.targets[k].penalty().expect("bounded");
-        let mut above = padded(&jt[k], 1.0);
+        let mut above = padded(&jt[k], 1.0, nx);
         above[n + j] = -1.0;
         rows.push(above);
         b.push(bounds.upper - y[k]);
-        let mut below = padded(&jt[k], -1.0);
+        let mut below = padded(&jt[k], -1.0, nx);
         below[n + j] = -1.0;
         rows.push(below);
         b.push(y[k] - bounds.lower);
@@ -94,50 +148,29 @@ pub(super) fn qp_step(
         rows.push(nonnegative);
         b.push(0.0);
     }
-    let to_csc = |m: &[Vec<f64>], cols: usize| {
-        let mut colptr = vec![0usize];
-        let (mut rowval, mut nzval) = (Vec::new(), Vec::new());
-        for c in 0..cols {
-            for (rix, row) in m.iter().enumerate() {
-                if row[c] != 0.0 {
-                    rowval.push(rix);
-                    nzval.push(row[c]);
-                }
+    (rows, b)
+}
+
+/// A Jacobian row times `sign`, padded with zeros to `nx` columns (the slacks').
+fn padded(row: &[f64], sign: f64, nx: usize) -> Vec<f64> {
+    let mut v: Vec<f64> = row.iter().map(|x| sign * x).collect();
+    v.resize(nx, 0.0);
+    v
+}
+
+/// A dense matrix (rows of `cols` entries) in clarabel's compressed sparse columns, zeros left
+/// out.
+fn to_csc(m: &[Vec<f64>], cols: usize) -> CscMatrix<f64> {
+    let mut colptr = vec![0usize];
+    let (mut rowval, mut nzval) = (Vec::new(), Vec::new());
+    for c in 0..cols {
+        for (rix, row) in m.iter().enumerate() {
+            if row[c] != 0.0 {
+                rowval.push(rix);
+                nzval.push(row[c]);
             }
-            colptr.push(rowval.len());
         }
-        CscMatrix::new(m.len(), cols, colptr, rowval, nzval)
-    };
-    // clarabel takes the upper triangle of P.
-    let upper: Vec<Vec<f64>> = (0..nx)
-        .map(|a| {
-            (0..nx)
-                .map(|c| if c >= a { pm[a][c] } else { 0.0 })
-                .collect()
-        })
-        .collect();
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .build()
-        .map_err(|e| Status::BadProblem(format!("QP settings: {e:?}")))?;
-    let cones = [NonnegativeConeT(rows.len())];
-    let mut solver = DefaultSolver::new(
-        &to_csc(&upper, nx),
-        &q,
-        &to_csc(&rows, nx),
-        &b,
-        &cones,
-        settings,
-    )
-    .map_err(|e| Status::BadProblem(format!("QP set-up: {e:?}")))?;
-    solver.solve();
-    match solver.solution.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(solver.solution.x[..n].to_vec()),
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Err(
-            Status::Infeasible("the parameter bounds and trust region admit no step".into()),
-        ),
-        other => Err(Status::ModelFailure(format!(
-            "the step's quadratic program ended {other:?}"
-        ))),
+        colptr.push(rowval.len());
     }
+    CscMatrix::new(m.len(), cols, colptr, rowval, nzval)
 }

@@ -214,17 +214,49 @@ fn limited_by(step: &[f64], radius: &[f64]) -> bool {
     step.iter().zip(radius).any(|(d, r)| d.abs() >= 0.99 * r)
 }
 
-/// Fits the parameters. Never panics on a problem: a malformed problem, a model that will not
-/// trim or an infeasible set of bounds each end with their status.
-pub fn fit(problem: &Problem) -> FitResult {
-    // Long: the fit's outer loop (step, judge, refresh the Jacobian, stop) is one algorithm whose
-    // state every branch shares
-    let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind).collect();
+/// Where the fit stands: the parameters `p`, the targets' values `y` and residuals `r` there,
+/// the cost `c`, the Jacobian `jt`, the trust region and the model evaluations so far.
+struct Iterate {
+    p: Vec<f64>,
+    y: Vec<f64>,
+    r: Vec<f64>,
+    c: f64,
+    jt: Vec<Vec<f64>>,
+    /// Whether `jt` is a finite-difference Jacobian at `p` (else a Broyden update of one).
+    fresh: bool,
+    radius: Vec<f64>,
+    evaluations: usize,
+}
+
+impl Iterate {
+    /// A finite-difference Jacobian at `p` (its evaluations counted).
+    fn refresh(&mut self, problem: &Problem, warm: &WarmStarts) -> Result<Vec<Vec<f64>>, String> {
+        self.evaluations += self.p.len();
+        jacobian(problem, warm, &self.p, &self.y)
+    }
+}
+
+/// How one iteration's trial steps ended.
+struct Trials {
+    /// A step lowered the cost and was taken.
+    accepted: bool,
+    /// The step (or the cost's fall) was below the tolerance.
+    small: bool,
+    /// A step on an updated Jacobian did not lower the cost.
+    stale: bool,
+    /// Trial steps the model could and could not evaluate.
+    evaluated: usize,
+    lost: usize,
+    /// The status the step's quadratic program ended the iteration with, if it failed.
+    failed: Option<Status>,
+}
+
+/// A fit that ends before its first iteration: the start, no standard errors.
+fn unstarted(problem: &Problem, status: Status) -> FitResult {
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
-    // A fit that ends before its first iteration: the start, no standard errors.
-    let unstarted = |status| FitResult {
+    FitResult {
         status,
-        parameters: kinds.clone(),
+        parameters: problem.parameters.iter().map(|p| p.kind).collect(),
         values: start.clone(),
         standard_errors: vec![f64::INFINITY; start.len()],
         iterations: 0,
@@ -234,36 +266,150 @@ pub fn fit(problem: &Problem) -> FitResult {
         before: vec![f64::NAN; problem.targets.len()],
         after: vec![f64::NAN; problem.targets.len()],
         warnings: vec![],
-    };
-    if let Err(e) = check(problem) {
-        return unstarted(Status::BadProblem(e));
     }
+}
+
+/// One iteration's inner loop: shrink the trust region until a step lowers the cost, and take
+/// it. With an updated (not fresh) Jacobian, a failed or tiny step first refreshes the
+/// Jacobian instead.
+fn trial_steps(
+    problem: &Problem,
+    warm: &WarmStarts,
+    at: &mut Iterate,
+    initial_radius: &[f64],
+) -> Trials {
+    let mut accepted = false;
+    let mut small = false;
+    let mut stale = false;
+    let mut reopened = false;
+    let (mut evaluated, mut lost) = (0usize, 0usize);
+    let mut failed = None;
+    for _ in 0..8 {
+        let d = match qp_step(problem, &at.p, &at.y, &at.r, &at.jt, &at.radius) {
+            Ok(d) => d,
+            Err(s) => {
+                failed = Some(s);
+                break;
+            }
+        };
+        small = problem
+            .parameters
+            .iter()
+            .zip(&d)
+            .all(|(q, di)| di.abs() <= problem.options.tolerance * (q.upper - q.lower));
+        // A step held small by a trust region that earlier failures shrank says nothing
+        // of convergence: on a fresh Jacobian, the region opens again (once an
+        // iteration) and the step is taken as the linearisation wants it.
+        if small && at.fresh && !reopened && limited_by(&d, &at.radius) {
+            at.radius = initial_radius.to_vec();
+            reopened = true;
+            small = false;
+            continue;
+        }
+        if small {
+            break;
+        }
+        let trial: Vec<f64> =
+            at.p.iter()
+                .zip(&d)
+                .zip(&problem.parameters)
+                .map(|((v, di), q)| (v + di).clamp(q.lower, q.upper))
+                .collect();
+        let predicted = predicted_cost(problem, at, &d);
+        at.evaluations += 1;
+        match evaluate_from(problem, &trial, Some(warm)) {
+            Ok(yt) => {
+                evaluated += 1;
+                let rt = residuals(problem, &trial, &yt);
+                let ct = cost(&rt);
+                let c = at.c;
+                let ratio = (c - ct) / (c - predicted).max(f64::MIN_POSITIVE);
+                if ct < c {
+                    let at_edge = limited_by(&d, &at.radius);
+                    if ratio > 0.75 && at_edge {
+                        at.radius.iter_mut().for_each(|v| *v *= 2.0);
+                    } else if ratio < 0.25 {
+                        at.radius.iter_mut().for_each(|v| *v *= 0.5);
+                    }
+                    let drop = (c - ct) / c.max(f64::MIN_POSITIVE);
+                    if problem.options.broyden {
+                        broyden_update(&mut at.jt, &at.p, &trial, &at.y, &yt);
+                    }
+                    at.fresh = false;
+                    (at.p, at.y, at.r, at.c) = (trial, yt, rt, ct);
+                    accepted = true;
+                    // (A small drop from a step the region held back is not convergence.)
+                    if drop <= problem.options.tolerance && !at_edge {
+                        small = true;
+                    }
+                    break;
+                }
+                if !at.fresh {
+                    stale = true;
+                    break;
+                }
+                at.radius.iter_mut().for_each(|v| *v *= 0.25);
+            }
+            // A trial the model cannot trim: a smaller step.
+            Err(_) => {
+                lost += 1;
+                at.radius.iter_mut().for_each(|v| *v *= 0.25);
+            }
+        }
+    }
+    Trials {
+        accepted,
+        small,
+        stale,
+        evaluated,
+        lost,
+        failed,
+    }
+}
+
+/// The cost the linearisation predicts for the step `d` (unclamped).
+fn predicted_cost(problem: &Problem, at: &Iterate, d: &[f64]) -> f64 {
+    let stepped: Vec<f64> = at.p.iter().zip(d).map(|(v, di)| v + di).collect();
+    let linear: Vec<f64> =
+        at.y.iter()
+            .zip(&at.jt)
+            .map(|(v, row)| v + row.iter().zip(d).map(|(a, b)| a * b).sum::<f64>())
+            .collect();
+    cost(&residuals(problem, &stepped, &linear))
+}
+
+/// Fits the parameters. Never panics on a problem: a malformed problem, a model that will not
+/// trim or an infeasible set of bounds each end with their status.
+pub fn fit(problem: &Problem) -> FitResult {
+    if let Err(e) = check(problem) {
+        return unstarted(problem, Status::BadProblem(e));
+    }
+    let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind).collect();
+    let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
     let warm = WarmStarts::default();
     let y0 = match evaluate_from(problem, &start, Some(&warm)) {
         Ok(y) => y,
-        Err(e) => return unstarted(Status::ModelFailure(e)),
+        Err(e) => return unstarted(problem, Status::ModelFailure(e)),
     };
-    let mut evaluations = 1;
-    let mut p = start.clone();
-    let mut y = y0.clone();
-    let mut r = residuals(problem, &p, &y);
+    let r = residuals(problem, &start, &y0);
     let c0 = cost(&r);
-    let mut c = c0;
     let initial_radius: Vec<f64> = problem
         .parameters
         .iter()
         .map(|q| problem.options.trust_region * (q.upper - q.lower))
         .collect();
-    let mut radius = initial_radius.clone();
-    let mut jt: Vec<Vec<f64>> = Vec::new();
-    // Whether `jt` is a finite-difference Jacobian at `p` (else a Broyden update of one).
-    let mut fresh = false;
+    let mut at = Iterate {
+        p: start,
+        y: y0.clone(),
+        r,
+        c: c0,
+        jt: Vec::new(),
+        fresh: false,
+        radius: initial_radius.clone(),
+        evaluations: 1,
+    };
     let mut status = Status::IterationLimit;
     let mut iterations = 0;
-    let refresh = |p: &[f64], y: &[f64], evaluations: &mut usize| {
-        *evaluations += p.len();
-        jacobian(problem, &warm, p, y)
-    };
     // Set when a step's outcome must be judged on a finite-difference Jacobian.
     let mut want_fresh = false;
     // Trial steps lost at the end: the fit stopped because every step the trust region
@@ -271,160 +417,100 @@ pub fn fit(problem: &Problem) -> FitResult {
     let mut stalled: Option<usize> = None;
     for it in 0..problem.options.max_iterations {
         iterations = it + 1;
-        if !fresh && (jt.is_empty() || want_fresh || !problem.options.broyden) {
-            jt = match refresh(&p, &y, &mut evaluations) {
+        if !at.fresh && (at.jt.is_empty() || want_fresh || !problem.options.broyden) {
+            at.jt = match at.refresh(problem, &warm) {
                 Ok(j) => j,
                 Err(e) => {
                     status = Status::ModelFailure(e);
                     break;
                 }
             };
-            fresh = true;
+            at.fresh = true;
         }
-        // Inner loop: shrink the trust region until a step lowers the cost. With an updated
-        // (not fresh) Jacobian, a failed or tiny step first refreshes the Jacobian instead.
-        let mut accepted = false;
-        let mut small = false;
-        let mut stale = false;
-        let mut reopened = false;
-        // Trial steps this iteration the model could and could not evaluate.
-        let (mut evaluated, mut lost) = (0usize, 0usize);
-        for _ in 0..8 {
-            let d = match qp_step(problem, &p, &y, &r, &jt, &radius) {
-                Ok(d) => d,
-                Err(s) => {
-                    status = s;
-                    break;
-                }
-            };
-            small = problem
-                .parameters
-                .iter()
-                .zip(&d)
-                .all(|(q, di)| di.abs() <= problem.options.tolerance * (q.upper - q.lower));
-            // A step held small by a trust region that earlier failures shrank says nothing
-            // of convergence: on a fresh Jacobian, the region opens again (once an
-            // iteration) and the step is taken as the linearisation wants it.
-            if small && fresh && !reopened && limited_by(&d, &radius) {
-                radius.clone_from(&initial_radius);
-                reopened = true;
-                small = false;
-                continue;
-            }
-            if small {
-                break;
-            }
-            let trial: Vec<f64> = p
-                .iter()
-                .zip(&d)
-                .zip(&problem.parameters)
-                .map(|((v, di), q)| (v + di).clamp(q.lower, q.upper))
-                .collect();
-            // The predicted cost from the linearisation.
-            let predicted = {
-                let stepped: Vec<f64> = p.iter().zip(&d).map(|(v, di)| v + di).collect();
-                let linear: Vec<f64> = y
-                    .iter()
-                    .zip(&jt)
-                    .map(|(v, row)| v + row.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>())
-                    .collect();
-                cost(&residuals(problem, &stepped, &linear))
-            };
-            evaluations += 1;
-            match evaluate_from(problem, &trial, Some(&warm)) {
-                Ok(yt) => {
-                    evaluated += 1;
-                    let rt = residuals(problem, &trial, &yt);
-                    let ct = cost(&rt);
-                    let ratio = (c - ct) / (c - predicted).max(f64::MIN_POSITIVE);
-                    if ct < c {
-                        let at_edge = limited_by(&d, &radius);
-                        if ratio > 0.75 && at_edge {
-                            radius.iter_mut().for_each(|v| *v *= 2.0);
-                        } else if ratio < 0.25 {
-                            radius.iter_mut().for_each(|v| *v *= 0.5);
-                        }
-                        let drop = (c - ct) / c.max(f64::MIN_POSITIVE);
-                        if problem.options.broyden {
-                            broyden_update(&mut jt, &p, &trial, &y, &yt);
-                        }
-                        fresh = false;
-                        (p, y, r, c) = (trial, yt, rt, ct);
-                        accepted = true;
-                        // (A small drop from a step the region held back is not convergence.)
-                        if drop <= problem.options.tolerance && !at_edge {
-                            small = true;
-                        }
-                        break;
-                    }
-                    if !fresh {
-                        stale = true;
-                        break;
-                    }
-                    radius.iter_mut().for_each(|v| *v *= 0.25);
-                }
-                // A trial the model cannot trim: a smaller step.
-                Err(_) => {
-                    lost += 1;
-                    radius.iter_mut().for_each(|v| *v *= 0.25);
-                }
-            }
+        let t = trial_steps(problem, &warm, &mut at, &initial_radius);
+        if let Some(s) = t.failed {
+            status = s;
         }
         if matches!(status, Status::Infeasible(_) | Status::ModelFailure(_)) {
             break;
         }
-        if fresh && (small || !accepted) {
+        if at.fresh && (t.small || !t.accepted) {
             status = Status::Converged;
-            if !accepted && evaluated == 0 && lost > 0 {
-                stalled = Some(lost);
+            if !t.accepted && t.evaluated == 0 && t.lost > 0 {
+                stalled = Some(t.lost);
             }
             break;
         }
         // A failed or tiny step on an updated Jacobian: judge it again on a fresh one.
-        want_fresh = !fresh && (stale || small || !accepted);
+        want_fresh = !at.fresh && (t.stale || t.small || !t.accepted);
     }
     // Standard errors from a finite-difference Jacobian at the solution.
-    if !fresh
-        && !jt.is_empty()
+    if !at.fresh
+        && !at.jt.is_empty()
         && !matches!(status, Status::ModelFailure(_))
-        && let Ok(j) = refresh(&p, &y, &mut evaluations)
+        && let Ok(j) = at.refresh(problem, &warm)
     {
-        jt = j;
+        at.jt = j;
     }
-    let (se, mut warnings) = if jt.is_empty() {
-        (vec![f64::INFINITY; p.len()], vec![])
+    let (se, mut warnings) = if at.jt.is_empty() {
+        (vec![f64::INFINITY; at.p.len()], vec![])
     } else {
-        standard_errors(problem, &jt)
+        standard_errors(problem, &at.jt)
     };
-    // A hard bound left violated: the bounds contradict each other or the model cannot reach
-    // them.
-    if !matches!(status, Status::ModelFailure(_) | Status::BadProblem(_)) {
-        let violated: Vec<String> = problem
-            .targets
-            .iter()
-            .zip(&y)
-            .filter_map(|(t, v)| {
-                let b = t.bounds.filter(|b| b.enforce == Enforce::Hard)?;
-                let by = b.violation(*v) / t.standard_error;
-                (by.abs() > HARD_SLACK || by.is_nan()).then(|| {
-                    format!(
-                        "`{}` at {} ends at {v:.6}, outside its hard bounds [{}, {}] by {:.3} standard errors",
-                        t.measure.name(),
-                        t.condition.label(),
-                        b.lower,
-                        b.upper,
-                        by.abs()
-                    )
-                })
-            })
-            .collect();
-        if !violated.is_empty() {
-            status = Status::Infeasible(format!(
-                "the parameter bounds do not let the model reach every hard bound: {}",
-                violated.join("; ")
-            ));
-        }
+    if !matches!(status, Status::ModelFailure(_) | Status::BadProblem(_))
+        && let Some(s) = hard_bounds_left_violated(problem, &at.y)
+    {
+        status = s;
     }
+    end_warnings(problem, &at.p, stalled, &mut warnings);
+    FitResult {
+        status,
+        parameters: kinds,
+        values: at.p,
+        standard_errors: se,
+        iterations,
+        evaluations: at.evaluations,
+        cost_start: c0,
+        cost: at.c,
+        before: y0,
+        after: at.y,
+        warnings,
+    }
+}
+
+/// A hard bound left violated at the end: the bounds contradict each other or the model cannot
+/// reach them, and the fit is infeasible.
+fn hard_bounds_left_violated(problem: &Problem, y: &[f64]) -> Option<Status> {
+    let violated: Vec<String> = problem
+        .targets
+        .iter()
+        .zip(y)
+        .filter_map(|(t, v)| {
+            let b = t.bounds.filter(|b| b.enforce == Enforce::Hard)?;
+            let by = b.violation(*v) / t.standard_error;
+            (by.abs() > HARD_SLACK || by.is_nan()).then(|| {
+                format!(
+                    "`{}` at {} ends at {v:.6}, outside its hard bounds [{}, {}] by {:.3} standard errors",
+                    t.measure.name(),
+                    t.condition.label(),
+                    b.lower,
+                    b.upper,
+                    by.abs()
+                )
+            })
+        })
+        .collect();
+    (!violated.is_empty()).then(|| {
+        Status::Infeasible(format!(
+            "the parameter bounds do not let the model reach every hard bound: {}",
+            violated.join("; ")
+        ))
+    })
+}
+
+/// The warnings of the fit's end: a stall at the edge of the model's equilibria, and each
+/// parameter that ends on a bound.
+fn end_warnings(problem: &Problem, p: &[f64], stalled: Option<usize>, warnings: &mut Vec<String>) {
     if let Some(lost) = stalled {
         warnings.push(format!(
             "stopped where every trial step ({lost}, the trust region shrunk by 4 each time) left \
@@ -432,7 +518,7 @@ pub fn fit(problem: &Problem) -> FitResult {
              of the model's equilibria, and the standard errors describe its curvature here only"
         ));
     }
-    for (q, v) in problem.parameters.iter().zip(&p) {
+    for (q, v) in problem.parameters.iter().zip(p) {
         if (v - q.lower).abs() <= 1e-9 * (q.upper - q.lower)
             || (v - q.upper).abs() <= 1e-9 * (q.upper - q.lower)
         {
@@ -441,18 +527,5 @@ pub fn fit(problem: &Problem) -> FitResult {
                 q.kind.name()
             ));
         }
-    }
-    FitResult {
-        status,
-        parameters: kinds,
-        values: p,
-        standard_errors: se,
-        iterations,
-        evaluations,
-        cost_start: c0,
-        cost: c,
-        before: y0,
-        after: y,
-        warnings,
     }
 }
