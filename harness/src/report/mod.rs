@@ -15,6 +15,7 @@
 pub mod figures;
 pub mod fit;
 pub mod plot;
+pub mod retune;
 pub mod tables;
 pub mod uncertainty;
 
