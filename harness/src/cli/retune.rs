@@ -72,7 +72,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     };
     let report = or_in_suite(a.report.clone(), Suite::retune_reports, format!("{id}.md"))?;
     let figures = bode_figures(&report, &comparisons).map_err(Error::input)?;
-    let md = retune::markdown(
+    let md = cierva_harness::report::retune::markdown(
         &r,
         &a.aircraft.display().to_string(),
         &modes,

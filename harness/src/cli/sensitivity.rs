@@ -74,7 +74,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
     match sensitivity::run(&file, request, loading, &parameters, &quantities) {
         Ok(study) => {
             match a.format {
-                Format::Text => print!("{}", sensitivity::table(&study)),
+                Format::Text => print!("{}", cierva_harness::report::sensitivity::table(&study)),
                 Format::Json => println!(
                     "{}",
                     serde_json::to_string_pretty(&study).expect("a study serialises")

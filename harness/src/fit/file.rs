@@ -542,38 +542,16 @@ fn targets_of(
     }
 }
 
+/// A case's checks as fit targets (those `t` names, or every derivative, trim and autorotation
+/// check at one condition on the model as it is), each expectation's tolerance giving the
+/// reference, the standard error and any bounds.
 fn from_case(
     dir: &Path,
     file: &str,
     t: &TargetSpec,
     subject: &SubjectKey,
 ) -> Result<(Vec<fit::Target>, Vec<Origin>), String> {
-    // Long: turns each check of a case into fit targets, one tolerance kind at a time
-    let path = dir.join(file);
-    let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
-    let (key, case_loading) = match &c.subject {
-        case::Subject::Aircraft { file, loading } => (
-            SubjectKey::Aircraft(file.id.clone(), *loading),
-            Some(*loading),
-        ),
-        case::Subject::Rotor { file, solver } => {
-            (SubjectKey::Rotor(file.id.clone(), solver.inflow), None)
-        }
-        _ => {
-            return Err(format!(
-                "the case {file} checks neither an aircraft nor a rotor"
-            ));
-        }
-    };
-    let same = match (&key, subject) {
-        (SubjectKey::Aircraft(a, _), SubjectKey::Aircraft(b, _)) => a == b,
-        _ => key == *subject,
-    };
-    if !same {
-        return Err(format!(
-            "the case {file} checks {key:?}, but this fit's subject is {subject:?}"
-        ));
-    }
+    let (c, case_loading) = case_of(dir, file, subject)?;
     if let Some(ids) = &t.checks {
         for id in ids {
             if !c.checks.iter().any(|k| &k.id == id) {
@@ -585,8 +563,12 @@ fn from_case(
             }
         }
     }
-    let bounds_kind = t.case_bounds.unwrap_or_default();
     let weight = t.soft_weight.unwrap_or(1.0);
+    let enforce = match t.case_bounds.unwrap_or_default() {
+        CaseBounds::None => None,
+        CaseBounds::Hard => Some(Enforce::Hard),
+        CaseBounds::Soft => Some(Enforce::Soft { weight }),
+    };
     let mut targets = Vec::new();
     let mut origins = Vec::new();
     for check in &c.checks {
@@ -633,32 +615,8 @@ fn from_case(
             };
             let measure = Measure::parse(&condition, &name)
                 .map_err(|m| format!("check `{}` of {file}: {m}", check.id))?;
-            let (reference, standard_error, bounds) = match (e.tolerance.kind.clone(), e.value) {
-                (ToleranceKind::Absolute(a), Some(v)) => (v, a, None),
-                (ToleranceKind::Relative(r), Some(v)) => (v, r * v.abs(), None),
-                (ToleranceKind::Interval(lo, hi), _) => {
-                    let b = match bounds_kind {
-                        CaseBounds::None => None,
-                        CaseBounds::Hard => Some(Enforce::Hard),
-                        CaseBounds::Soft => Some(Enforce::Soft { weight }),
-                    };
-                    (
-                        0.5 * (lo + hi),
-                        0.5 * (hi - lo) / 1.96,
-                        b.map(|enforce| Bounds {
-                            lower: lo,
-                            upper: hi,
-                            enforce,
-                        }),
-                    )
-                }
-                (k, _) => {
-                    return Err(format!(
-                        "check `{}` of {file}, `{}`: a {k:?} tolerance gives no standard error to fit with (absolute, relative or interval tolerances do)",
-                        check.id, e.quantity
-                    ));
-                }
-            };
+            let (reference, standard_error, bounds) = scale_of(e, enforce)
+                .map_err(|m| format!("check `{}` of {file}, `{}`: {m}", check.id, e.quantity))?;
             targets.push(fit::Target {
                 condition,
                 measure,
@@ -678,6 +636,66 @@ fn from_case(
         ));
     }
     Ok((targets, origins))
+}
+
+/// The case a target names, with its loading (an aircraft's), where it checks this fit's
+/// subject (an aircraft by its file, whatever the loading; a rotor by its file and inflow).
+fn case_of(
+    dir: &Path,
+    file: &str,
+    subject: &SubjectKey,
+) -> Result<(case::Case, Option<crate::Loading>), String> {
+    let path = dir.join(file);
+    let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
+    let (key, case_loading) = match &c.subject {
+        case::Subject::Aircraft { file, loading } => (
+            SubjectKey::Aircraft(file.id.clone(), *loading),
+            Some(*loading),
+        ),
+        case::Subject::Rotor { file, solver } => {
+            (SubjectKey::Rotor(file.id.clone(), solver.inflow), None)
+        }
+        _ => {
+            return Err(format!(
+                "the case {file} checks neither an aircraft nor a rotor"
+            ));
+        }
+    };
+    let same = match (&key, subject) {
+        (SubjectKey::Aircraft(a, _), SubjectKey::Aircraft(b, _)) => a == b,
+        _ => key == *subject,
+    };
+    if !same {
+        return Err(format!(
+            "the case {file} checks {key:?}, but this fit's subject is {subject:?}"
+        ));
+    }
+    Ok((c, case_loading))
+}
+
+/// A check expectation's reference, standard error and bounds from its tolerance: an absolute
+/// tolerance is the standard error, a relative one times the value; an interval gives its
+/// midpoint, its half-width over 1.96, and bounds enforced as `enforce` says (`None`: none).
+fn scale_of(
+    e: &crate::checks::Expectation,
+    enforce: Option<Enforce>,
+) -> Result<(f64, f64, Option<Bounds>), String> {
+    match (e.tolerance.kind.clone(), e.value) {
+        (ToleranceKind::Absolute(a), Some(v)) => Ok((v, a, None)),
+        (ToleranceKind::Relative(r), Some(v)) => Ok((v, r * v.abs(), None)),
+        (ToleranceKind::Interval(lo, hi), _) => Ok((
+            0.5 * (lo + hi),
+            0.5 * (hi - lo) / 1.96,
+            enforce.map(|enforce| Bounds {
+                lower: lo,
+                upper: hi,
+                enforce,
+            }),
+        )),
+        (k, _) => Err(format!(
+            "a {k:?} tolerance gives no standard error to fit with (absolute, relative or interval tolerances do)"
+        )),
+    }
 }
 
 /// A longitudinal mode's eigenvalue before and after the fit at one flight condition.

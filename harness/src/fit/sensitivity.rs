@@ -246,68 +246,6 @@ pub fn run(
     })
 }
 
-/// The study as text: the parameters, then for each quantity outside its bound the change each
-/// parameter alone would need (and whether that is plausible), then the derivatives.
-pub fn table(s: &Study) -> String {
-    let mut out = format!(
-        "{} at {} mph, climb {} m/s, mass {}, density altitude {} ft\n\nparameters (step either way; plausible range from the aircraft file):\n",
-        s.aircraft,
-        s.condition.airspeed_mph,
-        s.condition.climb_m_s,
-        s.loading
-            .mass_kg
-            .map_or("as the file".to_string(), |m| format!("{m} kg")),
-        s.loading.density_altitude_ft
-    );
-    for p in &s.parameters {
-        let range = p
-            .range
-            .as_ref()
-            .map_or("no range in the file".to_string(), |r| {
-                format!("[{}, {}] ({})", r.lower, r.upper, r.source)
-            });
-        out += &format!(
-            "  {:34} {:>10.4} {:7} step {:.3}: {}\n",
-            p.name, p.value, p.unit, p.step, range
-        );
-    }
-    for r in &s.rows {
-        let bound = r
-            .bound
-            .map_or(String::new(), |[lo, hi]| format!(" against [{lo}, {hi}]"));
-        let verdict = match r.inside {
-            Some(true) => ", inside",
-            Some(false) => ", OUTSIDE",
-            None => "",
-        };
-        out += &format!("\n{} = {:.6}{bound}{verdict}\n", r.quantity, r.value);
-        out += &format!(
-            "  {:34} {:>13} {:>13} {:>13} {:>9} {}\n",
-            "parameter", "d/dparameter", "change", "value", "steps", "plausible"
-        );
-        for (e, p) in r.effects.iter().zip(&s.parameters) {
-            let (change, value, steps) = match (e.needed_change, e.needed_value) {
-                (Some(c), Some(v)) => (
-                    format!("{c:+.4}"),
-                    format!("{v:.4}"),
-                    format!("{:.0}", (c / p.step).abs()),
-                ),
-                _ => ("-".into(), "-".into(), "-".into()),
-            };
-            let plausible = match e.plausible {
-                Some(true) => "yes",
-                Some(false) => "no",
-                None => "-",
-            };
-            out += &format!(
-                "  {:34} {:>13.5e} {:>13} {:>13} {:>9} {}\n",
-                e.parameter, e.derivative, change, value, steps, plausible
-            );
-        }
-    }
-    out
-}
-
 /// What a case asks of its aircraft at one condition: the aircraft, its loading, the condition
 /// (`airspeed_mph` picks one where the case has several), and the quantities of its
 /// `derivative` and `trim` checks there (those on the aircraft as it is: no `set`, ratio or

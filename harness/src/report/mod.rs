@@ -15,6 +15,8 @@
 pub mod figures;
 pub mod fit;
 pub mod plot;
+pub mod retune;
+pub mod sensitivity;
 pub mod tables;
 pub mod uncertainty;
 
@@ -622,94 +624,9 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
     }
     h += "</table>";
     if let Some(study) = &c.sensitivity {
-        h += &sensitivity_html(study);
+        h += &sensitivity::html(study);
     }
     h += "</section>\n";
-    h
-}
-
-/// A case's sensitivity study: for each quantity outside its bound, what each parameter alone
-/// would need, plausible changes first.
-fn sensitivity_html(study: &Result<crate::fit::sensitivity::Study, String>) -> String {
-    let study = match study {
-        Ok(s) => s,
-        Err(e) => {
-            return format!(
-                "<h3>What would close each discrepancy</h3><p class=\"fail\">The sensitivity \
-                 study could not be run: {}</p>",
-                esc(e)
-            );
-        }
-    };
-    let mut h = String::from(
-        "<h3>What would close each discrepancy</h3><p class=\"muted\"><code>cierva sensitivity</code>: \
-         the change of each parameter alone that brings a quantity outside its bound to the \
-         nearer edge (a linear estimate; \"steps\" says how far it extrapolates), against the \
-         parameter's plausible range from the aircraft file. Parameters that do not move the \
-         quantity are left out.</p><table><tr><th>quantity</th><th>value</th><th>bound</th>\
-         <th>parameter</th><th>now</th><th>needed</th><th>plausible range</th><th>steps</th>\
-         <th>plausible</th></tr>",
-    );
-    for r in study.rows.iter().filter(|r| r.inside == Some(false)) {
-        let mut effects: Vec<_> = r
-            .effects
-            .iter()
-            .zip(&study.parameters)
-            .filter(|(e, _)| e.needed_value.is_some())
-            .collect();
-        effects.sort_by(|(a, pa), (b, pb)| {
-            let steps = |e: &crate::fit::sensitivity::Effect,
-                         p: &crate::fit::sensitivity::MovedParameter| {
-                (e.needed_change.unwrap_or(f64::INFINITY) / p.step).abs()
-            };
-            (b.plausible == Some(true))
-                .cmp(&(a.plausible == Some(true)))
-                .then(steps(a, pa).total_cmp(&steps(b, pb)))
-        });
-        let bound = r.bound.map_or("-".to_string(), |[lo, hi]| {
-            format!("[{}, {}]", num(lo), num(hi))
-        });
-        if effects.is_empty() {
-            let _ = write!(
-                h,
-                "<tr><td>{}</td><td>{}</td><td>{bound}</td><td colspan=\"6\">no parameter \
-                 moves it</td></tr>",
-                esc(&r.quantity),
-                num(r.value)
-            );
-        }
-        for (k, (e, p)) in effects.iter().enumerate() {
-            let head = if k == 0 {
-                format!(
-                    "<td rowspan=\"{n}\">{q}</td><td rowspan=\"{n}\">{v}</td><td rowspan=\"{n}\">{bound}</td>",
-                    n = effects.len(),
-                    q = esc(&r.quantity),
-                    v = num(r.value)
-                )
-            } else {
-                String::new()
-            };
-            let range = p.range.as_ref().map_or("-".to_string(), |g| {
-                format!("[{}, {}]", num(g.lower), num(g.upper))
-            });
-            let (class, word) = match e.plausible {
-                Some(true) => ("pass", "yes"),
-                Some(false) => ("fail", "no"),
-                None => ("", "-"),
-            };
-            let _ = write!(
-                h,
-                "<tr>{head}<td><code>{name}</code> ({unit})</td><td>{now}</td><td>{need}</td>\
-                 <td>{range}</td><td>{steps:.0}</td><td class=\"{class}\">{word}</td></tr>",
-                name = esc(&p.name),
-                unit = esc(&p.unit),
-                now = num(p.value),
-                need = num(e.needed_value.unwrap_or(f64::NAN)),
-                steps = (e.needed_change.unwrap_or(f64::NAN) / p.step).abs(),
-            );
-        }
-    }
-    h += "</table>";
     h
 }
 

@@ -1,0 +1,531 @@
+//! The fit's sequential linearisation (`fit`): the problem and its options, the residuals and
+//! cost, the trust-region loop with Broyden updates between finite-difference Jacobians, and
+//! the result with its standard errors and warnings.
+
+use super::qp::qp_step;
+use super::targets::{HARD_SLACK, check, evaluate_from, jacobian};
+use super::{Enforce, FitSubject, Parameter, ParameterKind, Target, WarmStarts};
+use crate::inputs::corrections::CorrectionSet;
+use serde::Serialize;
+
+/// Iteration limits and tolerances.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Options {
+    pub max_iterations: usize,
+    /// Converged when the step is below this fraction of every parameter's range, or the cost
+    /// falls by less than this fraction.
+    pub tolerance: f64,
+    /// Forward-difference step as a fraction of each parameter's range.
+    pub difference_step: f64,
+    /// Initial trust region as a fraction of each parameter's range.
+    pub trust_region: f64,
+    /// Update the Jacobian by Broyden's rank-one formula between finite-difference refreshes
+    /// (`true`), or difference it afresh every iteration (`false`). Convergence is judged,
+    /// and standard errors computed, on a fresh one either way.
+    pub broyden: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            max_iterations: 20,
+            tolerance: 1e-6,
+            difference_step: 1e-3,
+            trust_region: 0.5,
+            broyden: true,
+        }
+    }
+}
+
+/// How a fit ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "status", content = "detail")]
+pub enum Status {
+    Converged,
+    IterationLimit,
+    /// The bounds (parameter or target) admit no solution.
+    Infeasible(String),
+    /// The model could not be evaluated (a condition that will not trim, ...).
+    ModelFailure(String),
+    /// The problem as given is malformed.
+    BadProblem(String),
+}
+
+impl Status {
+    /// The status's name as written.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Converged => "converged",
+            Self::IterationLimit => "iteration_limit",
+            Self::Infeasible(_) => "infeasible",
+            Self::ModelFailure(_) => "model_failure",
+            Self::BadProblem(_) => "bad_problem",
+        }
+    }
+}
+
+/// A fit's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitResult {
+    pub status: Status,
+    pub parameters: Vec<ParameterKind>,
+    pub values: Vec<f64>,
+    /// Approximate standard errors (infinite for a parameter the targets do not see).
+    pub standard_errors: Vec<f64>,
+    pub iterations: usize,
+    /// Model evaluations (each a trim, linearisation or autorotation at every condition).
+    pub evaluations: usize,
+    pub cost_start: f64,
+    pub cost: f64,
+    /// Every target's model value at the start and at the end (NaN where not evaluated).
+    pub before: Vec<f64>,
+    pub after: Vec<f64>,
+    /// Remarks: parameters with no effect, active bounds.
+    pub warnings: Vec<String>,
+}
+
+impl FitResult {
+    /// The fitted values as a correction set.
+    pub fn corrections(&self) -> CorrectionSet {
+        let mut c = CorrectionSet::default();
+        for (k, v) in self.parameters.iter().zip(&self.values) {
+            k.set(&mut c, *v);
+        }
+        c
+    }
+}
+
+/// The fit problem.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub subject: FitSubject,
+    pub parameters: Vec<Parameter>,
+    pub targets: Vec<Target>,
+    pub options: Options,
+}
+
+/// Residuals: scaled target misfits, bound violations (penalised), then the regularisation
+/// rows.
+fn residuals(problem: &Problem, p: &[f64], y: &[f64]) -> Vec<f64> {
+    let mut r: Vec<f64> = problem
+        .targets
+        .iter()
+        .zip(y)
+        .map(|(t, v)| (v - t.reference) / t.standard_error)
+        .collect();
+    for (t, v) in problem.targets.iter().zip(y) {
+        if let Some((b, w)) = t.penalty() {
+            r.push(w.sqrt() * b.violation(*v) / t.standard_error);
+        }
+    }
+    for (par, v) in problem.parameters.iter().zip(p) {
+        if par.regularisation > 0.0 {
+            r.push(par.regularisation.sqrt() * (v - par.start) / (par.upper - par.lower));
+        }
+    }
+    r
+}
+
+fn cost(r: &[f64]) -> f64 {
+    let c: f64 = r.iter().map(|v| v * v).sum();
+    if c.is_finite() { c } else { f64::INFINITY }
+}
+
+/// Broyden's rank-one update of the Jacobian from an accepted step `p -> q` (`y -> yq`):
+/// `J += (dy - J dp) dp' / (dp' dp)`.
+fn broyden_update(jt: &mut [Vec<f64>], p: &[f64], q: &[f64], y: &[f64], yq: &[f64]) {
+    let dp: Vec<f64> = q.iter().zip(p).map(|(a, b)| a - b).collect();
+    let norm: f64 = dp.iter().map(|v| v * v).sum();
+    if norm <= 0.0 {
+        return;
+    }
+    for (k, row) in jt.iter_mut().enumerate() {
+        let predicted: f64 = row.iter().zip(&dp).map(|(a, b)| a * b).sum();
+        let miss = (yq[k] - y[k]) - predicted;
+        for (j, d) in row.iter_mut().zip(&dp) {
+            *j += miss * d / norm;
+        }
+    }
+}
+
+/// Standard errors from `(J' J)^-1` of the scaled residual Jacobian (targets only).
+fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>) {
+    let n = problem.parameters.len();
+    let mut warnings = Vec::new();
+    let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
+    for (t, row) in problem.targets.iter().zip(jt) {
+        for a in 0..n {
+            for b in 0..n {
+                m[(a, b)] += row[a] * row[b] / (t.standard_error * t.standard_error);
+            }
+        }
+    }
+    let mut se = vec![f64::INFINITY; n];
+    // Blind: moving the parameter across its whole range moves the targets by less than a
+    // millionth of their standard errors.
+    let blind: Vec<usize> = (0..n)
+        .filter(|&i| {
+            let range = problem.parameters[i].upper - problem.parameters[i].lower;
+            m[(i, i)].max(0.0).sqrt() * range < 1e-6
+        })
+        .collect();
+    for &i in &blind {
+        warnings.push(format!(
+            "parameter `{}` has no effect on the fitted targets: it keeps its start and its standard error is infinite",
+            problem.parameters[i].kind.name()
+        ));
+    }
+    let seen: Vec<usize> = (0..n).filter(|i| !blind.contains(i)).collect();
+    let sub = nalgebra::DMatrix::from_fn(seen.len(), seen.len(), |a, b| m[(seen[a], seen[b])]);
+    // Identifiable only where J'J is well conditioned: as many independent directions as
+    // parameters seen. More parameters than targets, or two that act alike, leave it singular
+    // (in floating point, an inverse of garbage).
+    let (lo, hi) = if seen.is_empty() {
+        (1.0, 1.0)
+    } else if !sub.iter().all(|v| v.is_finite()) {
+        (f64::NAN, f64::NAN)
+    } else {
+        let singular = sub.clone().singular_values();
+        (singular.min(), singular.max())
+    };
+    let conditioned = lo.is_finite() && hi > 0.0 && lo > 1e-12 * hi;
+    match sub.clone().try_inverse() {
+        Some(inv)
+            if conditioned
+                && inv.iter().all(|v| v.is_finite())
+                && (0..seen.len()).all(|a| inv[(a, a)] > 0.0) =>
+        {
+            for (a, &i) in seen.iter().enumerate() {
+                se[i] = inv[(a, a)].sqrt();
+            }
+        }
+        _ => warnings.push(format!(
+            "the fitted parameters are not separately identifiable from these targets (J'J is singular: {} parameters seen by {} targets, condition {:.1e}): standard errors are infinite",
+            seen.len(),
+            problem.targets.len(),
+            hi / lo
+        )),
+    }
+    (se, warnings)
+}
+
+/// Whether a step reaches its trust region's edge in any parameter.
+fn limited_by(step: &[f64], radius: &[f64]) -> bool {
+    step.iter().zip(radius).any(|(d, r)| d.abs() >= 0.99 * r)
+}
+
+/// Where the fit stands: the parameters `p`, the targets' values `y` and residuals `r` there,
+/// the cost `c`, the Jacobian `jt`, the trust region and the model evaluations so far.
+struct Iterate {
+    p: Vec<f64>,
+    y: Vec<f64>,
+    r: Vec<f64>,
+    c: f64,
+    jt: Vec<Vec<f64>>,
+    /// Whether `jt` is a finite-difference Jacobian at `p` (else a Broyden update of one).
+    fresh: bool,
+    radius: Vec<f64>,
+    evaluations: usize,
+}
+
+impl Iterate {
+    /// A finite-difference Jacobian at `p` (its evaluations counted).
+    fn refresh(&mut self, problem: &Problem, warm: &WarmStarts) -> Result<Vec<Vec<f64>>, String> {
+        self.evaluations += self.p.len();
+        jacobian(problem, warm, &self.p, &self.y)
+    }
+}
+
+/// How one iteration's trial steps ended.
+struct Trials {
+    /// A step lowered the cost and was taken.
+    accepted: bool,
+    /// The step (or the cost's fall) was below the tolerance.
+    small: bool,
+    /// A step on an updated Jacobian did not lower the cost.
+    stale: bool,
+    /// Trial steps the model could and could not evaluate.
+    evaluated: usize,
+    lost: usize,
+    /// The status the step's quadratic program ended the iteration with, if it failed.
+    failed: Option<Status>,
+}
+
+/// A fit that ends before its first iteration: the start, no standard errors.
+fn unstarted(problem: &Problem, status: Status) -> FitResult {
+    let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
+    FitResult {
+        status,
+        parameters: problem.parameters.iter().map(|p| p.kind).collect(),
+        values: start.clone(),
+        standard_errors: vec![f64::INFINITY; start.len()],
+        iterations: 0,
+        evaluations: 0,
+        cost_start: f64::NAN,
+        cost: f64::NAN,
+        before: vec![f64::NAN; problem.targets.len()],
+        after: vec![f64::NAN; problem.targets.len()],
+        warnings: vec![],
+    }
+}
+
+/// One iteration's inner loop: shrink the trust region until a step lowers the cost, and take
+/// it. With an updated (not fresh) Jacobian, a failed or tiny step first refreshes the
+/// Jacobian instead.
+fn trial_steps(
+    problem: &Problem,
+    warm: &WarmStarts,
+    at: &mut Iterate,
+    initial_radius: &[f64],
+) -> Trials {
+    let mut accepted = false;
+    let mut small = false;
+    let mut stale = false;
+    let mut reopened = false;
+    let (mut evaluated, mut lost) = (0usize, 0usize);
+    let mut failed = None;
+    for _ in 0..8 {
+        let d = match qp_step(problem, &at.p, &at.y, &at.r, &at.jt, &at.radius) {
+            Ok(d) => d,
+            Err(s) => {
+                failed = Some(s);
+                break;
+            }
+        };
+        small = problem
+            .parameters
+            .iter()
+            .zip(&d)
+            .all(|(q, di)| di.abs() <= problem.options.tolerance * (q.upper - q.lower));
+        // A step held small by a trust region that earlier failures shrank says nothing
+        // of convergence: on a fresh Jacobian, the region opens again (once an
+        // iteration) and the step is taken as the linearisation wants it.
+        if small && at.fresh && !reopened && limited_by(&d, &at.radius) {
+            at.radius = initial_radius.to_vec();
+            reopened = true;
+            small = false;
+            continue;
+        }
+        if small {
+            break;
+        }
+        let trial: Vec<f64> =
+            at.p.iter()
+                .zip(&d)
+                .zip(&problem.parameters)
+                .map(|((v, di), q)| (v + di).clamp(q.lower, q.upper))
+                .collect();
+        let predicted = predicted_cost(problem, at, &d);
+        at.evaluations += 1;
+        match evaluate_from(problem, &trial, Some(warm)) {
+            Ok(yt) => {
+                evaluated += 1;
+                let rt = residuals(problem, &trial, &yt);
+                let ct = cost(&rt);
+                let c = at.c;
+                let ratio = (c - ct) / (c - predicted).max(f64::MIN_POSITIVE);
+                if ct < c {
+                    let at_edge = limited_by(&d, &at.radius);
+                    if ratio > 0.75 && at_edge {
+                        at.radius.iter_mut().for_each(|v| *v *= 2.0);
+                    } else if ratio < 0.25 {
+                        at.radius.iter_mut().for_each(|v| *v *= 0.5);
+                    }
+                    let drop = (c - ct) / c.max(f64::MIN_POSITIVE);
+                    if problem.options.broyden {
+                        broyden_update(&mut at.jt, &at.p, &trial, &at.y, &yt);
+                    }
+                    at.fresh = false;
+                    (at.p, at.y, at.r, at.c) = (trial, yt, rt, ct);
+                    accepted = true;
+                    // (A small drop from a step the region held back is not convergence.)
+                    if drop <= problem.options.tolerance && !at_edge {
+                        small = true;
+                    }
+                    break;
+                }
+                if !at.fresh {
+                    stale = true;
+                    break;
+                }
+                at.radius.iter_mut().for_each(|v| *v *= 0.25);
+            }
+            // A trial the model cannot trim: a smaller step.
+            Err(_) => {
+                lost += 1;
+                at.radius.iter_mut().for_each(|v| *v *= 0.25);
+            }
+        }
+    }
+    Trials {
+        accepted,
+        small,
+        stale,
+        evaluated,
+        lost,
+        failed,
+    }
+}
+
+/// The cost the linearisation predicts for the step `d` (unclamped).
+fn predicted_cost(problem: &Problem, at: &Iterate, d: &[f64]) -> f64 {
+    let stepped: Vec<f64> = at.p.iter().zip(d).map(|(v, di)| v + di).collect();
+    let linear: Vec<f64> =
+        at.y.iter()
+            .zip(&at.jt)
+            .map(|(v, row)| v + row.iter().zip(d).map(|(a, b)| a * b).sum::<f64>())
+            .collect();
+    cost(&residuals(problem, &stepped, &linear))
+}
+
+/// Fits the parameters. Never panics on a problem: a malformed problem, a model that will not
+/// trim or an infeasible set of bounds each end with their status.
+pub fn fit(problem: &Problem) -> FitResult {
+    if let Err(e) = check(problem) {
+        return unstarted(problem, Status::BadProblem(e));
+    }
+    let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind).collect();
+    let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
+    let warm = WarmStarts::default();
+    let y0 = match evaluate_from(problem, &start, Some(&warm)) {
+        Ok(y) => y,
+        Err(e) => return unstarted(problem, Status::ModelFailure(e)),
+    };
+    let r = residuals(problem, &start, &y0);
+    let c0 = cost(&r);
+    let initial_radius: Vec<f64> = problem
+        .parameters
+        .iter()
+        .map(|q| problem.options.trust_region * (q.upper - q.lower))
+        .collect();
+    let mut at = Iterate {
+        p: start,
+        y: y0.clone(),
+        r,
+        c: c0,
+        jt: Vec::new(),
+        fresh: false,
+        radius: initial_radius.clone(),
+        evaluations: 1,
+    };
+    let mut status = Status::IterationLimit;
+    let mut iterations = 0;
+    // Set when a step's outcome must be judged on a finite-difference Jacobian.
+    let mut want_fresh = false;
+    // Trial steps lost at the end: the fit stopped because every step the trust region
+    // allowed left the model without an equilibrium, not because none lowered the cost.
+    let mut stalled: Option<usize> = None;
+    for it in 0..problem.options.max_iterations {
+        iterations = it + 1;
+        if !at.fresh && (at.jt.is_empty() || want_fresh || !problem.options.broyden) {
+            at.jt = match at.refresh(problem, &warm) {
+                Ok(j) => j,
+                Err(e) => {
+                    status = Status::ModelFailure(e);
+                    break;
+                }
+            };
+            at.fresh = true;
+        }
+        let t = trial_steps(problem, &warm, &mut at, &initial_radius);
+        if let Some(s) = t.failed {
+            status = s;
+        }
+        if matches!(status, Status::Infeasible(_) | Status::ModelFailure(_)) {
+            break;
+        }
+        if at.fresh && (t.small || !t.accepted) {
+            status = Status::Converged;
+            if !t.accepted && t.evaluated == 0 && t.lost > 0 {
+                stalled = Some(t.lost);
+            }
+            break;
+        }
+        // A failed or tiny step on an updated Jacobian: judge it again on a fresh one.
+        want_fresh = !at.fresh && (t.stale || t.small || !t.accepted);
+    }
+    // Standard errors from a finite-difference Jacobian at the solution.
+    if !at.fresh
+        && !at.jt.is_empty()
+        && !matches!(status, Status::ModelFailure(_))
+        && let Ok(j) = at.refresh(problem, &warm)
+    {
+        at.jt = j;
+    }
+    let (se, mut warnings) = if at.jt.is_empty() {
+        (vec![f64::INFINITY; at.p.len()], vec![])
+    } else {
+        standard_errors(problem, &at.jt)
+    };
+    if !matches!(status, Status::ModelFailure(_) | Status::BadProblem(_))
+        && let Some(s) = hard_bounds_left_violated(problem, &at.y)
+    {
+        status = s;
+    }
+    end_warnings(problem, &at.p, stalled, &mut warnings);
+    FitResult {
+        status,
+        parameters: kinds,
+        values: at.p,
+        standard_errors: se,
+        iterations,
+        evaluations: at.evaluations,
+        cost_start: c0,
+        cost: at.c,
+        before: y0,
+        after: at.y,
+        warnings,
+    }
+}
+
+/// A hard bound left violated at the end: the bounds contradict each other or the model cannot
+/// reach them, and the fit is infeasible.
+fn hard_bounds_left_violated(problem: &Problem, y: &[f64]) -> Option<Status> {
+    let violated: Vec<String> = problem
+        .targets
+        .iter()
+        .zip(y)
+        .filter_map(|(t, v)| {
+            let b = t.bounds.filter(|b| b.enforce == Enforce::Hard)?;
+            let by = b.violation(*v) / t.standard_error;
+            (by.abs() > HARD_SLACK || by.is_nan()).then(|| {
+                format!(
+                    "`{}` at {} ends at {v:.6}, outside its hard bounds [{}, {}] by {:.3} standard errors",
+                    t.measure.name(),
+                    t.condition.label(),
+                    b.lower,
+                    b.upper,
+                    by.abs()
+                )
+            })
+        })
+        .collect();
+    (!violated.is_empty()).then(|| {
+        Status::Infeasible(format!(
+            "the parameter bounds do not let the model reach every hard bound: {}",
+            violated.join("; ")
+        ))
+    })
+}
+
+/// The warnings of the fit's end: a stall at the edge of the model's equilibria, and each
+/// parameter that ends on a bound.
+fn end_warnings(problem: &Problem, p: &[f64], stalled: Option<usize>, warnings: &mut Vec<String>) {
+    if let Some(lost) = stalled {
+        warnings.push(format!(
+            "stopped where every trial step ({lost}, the trust region shrunk by 4 each time) left \
+             the model without an equilibrium at some target: the cost may fall beyond the edge \
+             of the model's equilibria, and the standard errors describe its curvature here only"
+        ));
+    }
+    for (q, v) in problem.parameters.iter().zip(p) {
+        if (v - q.lower).abs() <= 1e-9 * (q.upper - q.lower)
+            || (v - q.upper).abs() <= 1e-9 * (q.upper - q.lower)
+        {
+            warnings.push(format!(
+                "parameter `{}` ends on a bound ({v}): its standard error assumes it is free",
+                q.kind.name()
+            ));
+        }
+    }
+}
