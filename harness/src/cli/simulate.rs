@@ -119,6 +119,9 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Err(e) => Err(Error::failure(format!("{}: {e}", f.aircraft.display()))),
+        Err(e) => Err(Error::of(
+            e.is_input(),
+            format!("error: {}: {e}", f.aircraft.display()),
+        )),
     }
 }

@@ -16,5 +16,5 @@ pub use linearise::{
     run_linearise_with_flapping,
 };
 pub use parallel::parallel_map;
-pub use simulate::{SimulationStart, run_simulation, simulation_start};
+pub use simulate::{SimulationRunError, SimulationStart, run_simulation, simulation_start};
 pub use trim::{TrimRunError, run_trim, run_trim_from};

@@ -65,7 +65,7 @@ impl SimulationStart {
         &self,
         changes: &dyn Fn(f64) -> [f64; 4],
         settings: cierva_model::simulation::timehistory::Settings,
-    ) -> Result<cierva_model::simulation::timehistory::TimeHistory, String> {
+    ) -> Result<cierva_model::simulation::timehistory::TimeHistory, SimulationRunError> {
         let u0 = self.controls;
         let controls = |time: f64| {
             let d = changes(time);
@@ -83,7 +83,48 @@ impl SimulationStart {
             self.air,
             settings,
         )
-        .map_err(|(time, e)| format!("at {time:.3} s: {e}"))
+        .map_err(|(time_s, error)| SimulationRunError::Run { time_s, error })
+    }
+}
+
+/// Why a simulation stopped: it could not start (the trim or the full model's periodic orbit),
+/// or the model failed at a time (or refused what it was asked before the first step).
+#[derive(Debug, Clone, PartialEq)]
+pub enum SimulationRunError {
+    Start(String),
+    Run {
+        time_s: f64,
+        error: cierva_model::aircraft::AircraftError,
+    },
+}
+
+impl SimulationRunError {
+    /// Whether the error is the input's: a run longer than the time history's step limit
+    /// (`timehistory::MAX_STEPS`: a mistyped duration or azimuth step), refused before the
+    /// first step. Anything else is the model's.
+    pub fn is_input(&self) -> bool {
+        matches!(
+            self,
+            Self::Run {
+                time_s,
+                error: cierva_model::aircraft::AircraftError::TooMany { .. },
+            } if *time_s == 0.0
+        )
+    }
+}
+
+impl std::fmt::Display for SimulationRunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Start(e) => write!(f, "{e}"),
+            Self::Run { time_s, error } => write!(f, "at {time_s:.3} s: {error}"),
+        }
+    }
+}
+
+impl From<SimulationRunError> for String {
+    fn from(e: SimulationRunError) -> Self {
+        e.to_string()
     }
 }
 
@@ -96,6 +137,8 @@ pub fn run_simulation(
     loading: Loading,
     changes: &dyn Fn(f64) -> [f64; 4],
     settings: cierva_model::simulation::timehistory::Settings,
-) -> Result<cierva_model::simulation::timehistory::TimeHistory, String> {
-    simulation_start(aircraft, request, loading)?.run(changes, settings)
+) -> Result<cierva_model::simulation::timehistory::TimeHistory, SimulationRunError> {
+    simulation_start(aircraft, request, loading)
+        .map_err(SimulationRunError::Start)?
+        .run(changes, settings)
 }

@@ -99,6 +99,33 @@ fn a_control_history_past_the_sample_limit_is_refused_at_its_row() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A simulation longer than the time history's step limit is bad input (exit code 2, the
+/// limit named), refused before it flies: a mistyped duration, not a model that failed.
+#[test]
+fn a_simulation_past_the_step_limit_is_bad_input() {
+    let dir = scratch("simulate");
+    let out = dir.join("x.csv");
+    let (code, _, err) = common::cierva(&[
+        "simulate",
+        "aircraft/vpm-m16.yaml",
+        "--airspeed-mph",
+        "70",
+        "--duration-s",
+        "1e12",
+        "--shape",
+        "step",
+        "--control",
+        "eta_s",
+        "--amplitude-percent",
+        "1",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("MAX_STEPS") && !out.exists(), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A fit file asking for more iterations than the limit is refused at the field: each
 /// iteration flies every target, so a mistyped count would run for days.
 #[test]
