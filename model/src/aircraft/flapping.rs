@@ -97,6 +97,20 @@ pub struct WithFlapping {
     pub periodic: Periodic,
     pub equilibrium: Equilibrium,
     pub steps: Steps,
+    /// The harmonic balance's frequency-independent part with [`SIDEBANDS`], reduced once
+    /// ([`Periodic::baseband`]) for every frequency asked of [`WithFlapping::baseband_response`].
+    pub(crate) baseband: BasebandCache,
+}
+
+/// A [`Baseband`] made on first use and kept: equal to any other (it is derived from the
+/// periodic system beside it).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BasebandCache(std::sync::OnceLock<Result<Baseband, PeriodicError>>);
+
+impl PartialEq for BasebandCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// The sidebands harmonic balance keeps for the aircraft's baseband response
@@ -109,7 +123,12 @@ impl WithFlapping {
     /// The periodic model's baseband response at `omega` rad/s ([`Periodic::baseband_response`]
     /// with [`SIDEBANDS`]): states x controls, in the order of [`WithFlapping::model`].
     pub fn baseband_response(&self, omega: f64) -> Result<DMatrix<Complex<f64>>, PeriodicError> {
-        self.periodic.baseband_response(omega, SIDEBANDS)
+        self.baseband
+            .0
+            .get_or_init(|| self.periodic.baseband(SIDEBANDS))
+            .as_ref()
+            .map_err(Clone::clone)?
+            .at(omega)
     }
 
     /// The quasi-static model of the same states as [`crate::aircraft::linearise`]: every
@@ -302,6 +321,16 @@ impl Periodic {
         omega: f64,
         harmonics: usize,
     ) -> Result<DMatrix<Complex<f64>>, PeriodicError> {
+        self.baseband(harmonics)?.at(omega)
+    }
+
+    /// The harmonic balance's frequency-independent part, reduced once for any number of
+    /// frequencies. The balance is `(i omega I - K) X = R`, with `K` holding `A_(n-p)` in block
+    /// `(n, p)` less `i n Omega` on the diagonal and `R` the `B_n`: `K = Q H Q*` (Householder, to
+    /// upper Hessenberg form) leaves a Hessenberg system at each frequency, `O(n^2)` where a
+    /// factorisation of the whole is `O(n^3)` (Laub's method for frequency responses;
+    /// numerically stable, unlike a decomposition by eigenvectors).
+    pub fn baseband(&self, harmonics: usize) -> Result<Baseband, PeriodicError> {
         let nz = self.a_at.first().map_or(0, |a| a.nrows());
         if self.a_at.len() < 2
             || self.a_at.len() != self.b_at.len()
@@ -316,31 +345,95 @@ impl Periodic {
         let a_m: Vec<DMatrix<Complex<f64>>> = (-2 * h..=2 * h)
             .map(|q| Self::harmonic(&self.a_at, q))
             .collect();
-        let mut big = DMatrix::<Complex<f64>>::zeros(blocks * nz, blocks * nz);
+        let mut k = DMatrix::<Complex<f64>>::zeros(blocks * nz, blocks * nz);
         let mut rhs = DMatrix::<Complex<f64>>::zeros(blocks * nz, m);
         for (bi, n) in (-h..=h).enumerate() {
-            let w = Complex::new(0.0, omega + n as f64 * self.omega_rad_s);
+            let shift = Complex::new(0.0, n as f64 * self.omega_rad_s);
             for (bj, p) in (-h..=h).enumerate() {
                 // A_(n - p) couples sideband p into sideband n.
                 let coupling = &a_m[(n - p + 2 * h) as usize];
-                for i in 0..nz {
-                    for j in 0..nz {
-                        let mut v = -coupling[(i, j)];
-                        if bi == bj && i == j {
-                            v += w;
-                        }
-                        big[(bi * nz + i, bj * nz + j)] = v;
-                    }
-                }
+                k.view_mut((bi * nz, bj * nz), (nz, nz)).copy_from(coupling);
+            }
+            for i in 0..nz {
+                k[(bi * nz + i, bi * nz + i)] -= shift;
             }
             let b_n = Self::harmonic(&self.b_at, n);
             rhs.view_mut((bi * nz, 0), (nz, m)).copy_from(&b_n);
         }
-        let x = big
-            .lu()
-            .solve(&rhs)
-            .ok_or(PeriodicError::Singular { omega_rad_s: omega })?;
-        Ok(x.view((harmonics * nz, 0), (nz, m)).into_owned())
+        let (q, hess) = nalgebra::linalg::Hessenberg::new(k).unpack();
+        let q_star_rhs = q.adjoint() * rhs;
+        let baseband_rows = q.rows(harmonics * nz, nz).into_owned();
+        Ok(Baseband {
+            hessenberg: hess,
+            q_star_rhs,
+            baseband_rows,
+        })
+    }
+}
+
+/// A periodic system's harmonic balance reduced to Hessenberg form ([`Periodic::baseband`]):
+/// its baseband response at any frequency.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Baseband {
+    /// `H` of `K = Q H Q*`.
+    hessenberg: DMatrix<Complex<f64>>,
+    /// `Q* R`.
+    q_star_rhs: DMatrix<Complex<f64>>,
+    /// The rows of `Q` that give the baseband (sideband 0).
+    baseband_rows: DMatrix<Complex<f64>>,
+}
+
+impl Baseband {
+    /// The baseband response at `omega` rad/s (states x controls): `(i omega I - H) Y = Q* R`
+    /// by Gaussian elimination with partial pivoting on the Hessenberg form (one row below the
+    /// diagonal to eliminate in each column), then `X_0 = Q_0 Y`.
+    pub fn at(&self, omega: f64) -> Result<DMatrix<Complex<f64>>, PeriodicError> {
+        let singular = PeriodicError::Singular { omega_rad_s: omega };
+        let n = self.hessenberg.nrows();
+        let mut a = -self.hessenberg.clone();
+        for i in 0..n {
+            a[(i, i)] += Complex::new(0.0, omega);
+        }
+        let mut y = self.q_star_rhs.clone();
+        for c in 0..n.saturating_sub(1) {
+            if a[(c + 1, c)].norm() > a[(c, c)].norm() {
+                a.swap_rows(c, c + 1);
+                y.swap_rows(c, c + 1);
+            }
+            let pivot = a[(c, c)];
+            if pivot.norm() == 0.0 || !pivot.is_finite() {
+                return Err(singular);
+            }
+            let f = a[(c + 1, c)] / pivot;
+            if f.norm() != 0.0 {
+                for j in c..n {
+                    let v = a[(c, j)];
+                    a[(c + 1, j)] -= f * v;
+                }
+                for j in 0..y.ncols() {
+                    let v = y[(c, j)];
+                    y[(c + 1, j)] -= f * v;
+                }
+            }
+        }
+        for c in (0..n).rev() {
+            let pivot = a[(c, c)];
+            if pivot.norm() == 0.0 || !pivot.is_finite() {
+                return Err(singular);
+            }
+            for j in 0..y.ncols() {
+                let mut v = y[(c, j)];
+                for k in c + 1..n {
+                    v -= a[(c, k)] * y[(k, j)];
+                }
+                y[(c, j)] = v / pivot;
+            }
+        }
+        let x = &self.baseband_rows * y;
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(singular);
+        }
+        Ok(x)
     }
 }
 
@@ -441,6 +534,7 @@ pub fn with_flapping(
     )?;
     let k_inflow = n + 2;
     Ok(WithFlapping {
+        baseband: BasebandCache::default(),
         model,
         periodic,
         equilibrium: Equilibrium {
@@ -687,6 +781,57 @@ mod tests {
     /// sin(Omega t)) x + u` has the fundamental solution `exp(a0 t + k cos(Omega t))`, so its
     /// baseband response is `sum_m (-1)^m I_m(k)^2 / (i (omega + m Omega) - a0)` (modified
     /// Bessel functions). With constant coefficients it is `(i omega I - A)^-1 B`.
+    /// The Hessenberg reduction's response is the harmonic balance's, solved whole by LU, at
+    /// every frequency (a coupled periodic system of three states and two controls whose
+    /// coefficients carry harmonics up to 3/rev), to 1e-10 of its size.
+    #[test]
+    fn the_hessenberg_reduction_solves_the_harmonic_balance() {
+        let (nz, m, samples, big_omega, harmonics) = (3, 2, 16, 25.0, 3usize);
+        let at = |j: usize, r: usize, c: usize, salt: f64| {
+            let psi = 2.0 * PI * j as f64 / samples as f64;
+            let base = ((r * 7 + c * 3) as f64 + salt).sin();
+            base + 0.4 * (psi + r as f64).cos()
+                - 0.2 * (3.0 * psi + c as f64).sin()
+                - if r == c { 2.0 } else { 0.0 }
+        };
+        let p = Periodic {
+            omega_rad_s: big_omega,
+            a_at: (0..samples)
+                .map(|j| DMatrix::from_fn(nz, nz, |r, c| at(j, r, c, 0.3)))
+                .collect(),
+            b_at: (0..samples)
+                .map(|j| DMatrix::from_fn(nz, m, |r, c| at(j, r, c, 1.7)))
+                .collect(),
+        };
+        let h = harmonics as i64;
+        let blocks = 2 * harmonics + 1;
+        let direct = |omega: f64| {
+            let mut big = DMatrix::<Complex<f64>>::zeros(blocks * nz, blocks * nz);
+            let mut rhs = DMatrix::<Complex<f64>>::zeros(blocks * nz, m);
+            for (bi, n) in (-h..=h).enumerate() {
+                for (bj, q) in (-h..=h).enumerate() {
+                    let coupling = Periodic::harmonic(&p.a_at, n - q);
+                    big.view_mut((bi * nz, bj * nz), (nz, nz))
+                        .copy_from(&(-coupling));
+                }
+                for i in 0..nz {
+                    big[(bi * nz + i, bi * nz + i)] +=
+                        Complex::new(0.0, omega + n as f64 * big_omega);
+                }
+                rhs.view_mut((bi * nz, 0), (nz, m))
+                    .copy_from(&Periodic::harmonic(&p.b_at, n));
+            }
+            let x = big.lu().solve(&rhs).unwrap();
+            x.view((harmonics * nz, 0), (nz, m)).into_owned()
+        };
+        let reduced = p.baseband(harmonics).unwrap();
+        for omega in [0.1, 1.0, 3.7, 12.5, 24.0, 60.0] {
+            let (want, got) = (direct(omega), reduced.at(omega).unwrap());
+            let miss = (&got - &want).norm() / want.norm();
+            assert!(miss < 1e-10, "at {omega} rad/s: {miss:e}");
+        }
+    }
+
     #[test]
     fn harmonic_balance_finds_a_periodic_system_s_baseband_response() {
         let (a0, k, big_omega) = (-3.0, 0.8, 40.0);
