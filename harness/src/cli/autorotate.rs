@@ -6,12 +6,12 @@ use super::*;
 /// The rotor file with `--corrections` applied (the file must name this rotor).
 fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::RotorFile, Error> {
     use cierva_harness::inputs::corrections::{self, Corrects};
-    let located = |e: cierva_harness::inputs::yaml::InputError| Error::Input(e.render());
-    let mut file = cierva_harness::inputs::rotor::load(&a.rotor).map_err(located)?;
+
+    let mut file = cierva_harness::inputs::rotor::load(&a.rotor)?;
     let Some(path) = &a.corrections else {
         return Ok(file);
     };
-    let c = corrections::load(path).map_err(located)?;
+    let c = corrections::load(path)?;
     if c.target != Corrects::Rotor(file.id.clone()) {
         return Err(Error::input(format!(
             "{} corrects {:?}, not the rotor {}",

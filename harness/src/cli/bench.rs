@@ -124,7 +124,7 @@ pub(crate) fn bench(a: BenchArgs) -> Result<ExitCode, Error> {
 fn rotor(out: &Rows, repeat: usize) -> Result<f64, Error> {
     use cierva_model::components::rotor::{Blade, HubVelocity, Inflow, Numerics, Operating};
     let path = out.file("aircraft/pca-2-rotor.yaml");
-    let file = cierva_harness::inputs::rotor::load(&path).map_err(|e| Error::Input(e.render()))?;
+    let file = cierva_harness::inputs::rotor::load(&path)?;
     let rotor = &file.rotor;
     // TR 515 Table III row 19 conditions (mu 0.275, alpha 5.5 deg, 100 rpm), 1.9 deg pitch.
     let omega = 100.0 * std::f64::consts::PI / 30.0;

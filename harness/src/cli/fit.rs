@@ -142,7 +142,7 @@ fn inputs(
     report: Option<PathBuf>,
 ) -> Result<(cierva_harness::fit::file::FitFile, PathBuf, PathBuf), Error> {
     use cierva_harness::suite::Suite;
-    let f = cierva_harness::fit::file::load(file).map_err(|e| Error::Input(e.render()))?;
+    let f = cierva_harness::fit::file::load(file)?;
     let output = or_in_suite(output, Suite::fitted, format!("{}.yaml", f.id))?;
     let report = or_in_suite(report, Suite::fit_reports, format!("{}.md", f.id))?;
     Ok((f, output, report))

@@ -53,12 +53,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
     // Long: one command in the order it works: load, set up, identify, compare, print, predict
     let mut recs = Vec::with_capacity(a.records.len());
     for p in &a.records {
-        match record::load(p) {
-            Ok(r) => recs.push(r),
-            Err(e) => {
-                return Err(Error::Input(e.render()));
-            }
-        }
+        recs.push(record::load(p)?);
     }
     let rec = &recs[0];
     let mut cfg = match &a.config {
@@ -70,7 +65,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
             });
             ident::ConfigSpec::for_setup(setup, rec).map_err(Error::input)?
         }
-        Some(p) => ident::ConfigSpec::load(p).map_err(|e| Error::Input(e.render()))?,
+        Some(p) => ident::ConfigSpec::load(p)?,
     };
     // The command line's blade count over the set-up's.
     if a.blades.is_some() {
@@ -129,9 +124,7 @@ pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
                     );
                 }
             }
-            Err(e) => {
-                return Err(Error::input(e));
-            }
+            Err(e) => return Err(Error::input(e)),
         }
     }
     Ok(ExitCode::SUCCESS)

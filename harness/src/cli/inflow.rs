@@ -74,7 +74,7 @@ pub(crate) fn inflow(a: InflowArgs) -> Result<ExitCode, Error> {
     use cierva_harness::inputs::record;
     let loaded = record::load_with(&path, &flap::FLAP_REQUIRED, false)
         .and_then(|rec| cierva_harness::inputs::rotor::load(&rotor).map(|r| (rec, r)));
-    let (rec, file) = loaded.map_err(|e| Error::Input(e.render()))?;
+    let (rec, file) = loaded?;
     match flap::inflow_from_record(&rec, &file.rotor, &settings) {
         Ok(r) => {
             match format {
@@ -119,7 +119,7 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> Result<ExitCode, Error> {
     if let Err(e) = cierva_harness::inputs::limits::record_samples(duration_s, sample_rate_hz) {
         return Err(Error::input(e));
     }
-    let file = cierva_harness::inputs::rotor::load(&rotor).map_err(|e| Error::Input(e.render()))?;
+    let file = cierva_harness::inputs::rotor::load(&rotor)?;
     let inflow = InflowModel::PetersHaQuang {
         wake: WakeModel::SEED_001,
     };

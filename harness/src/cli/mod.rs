@@ -198,14 +198,24 @@ pub(crate) fn suite() -> Result<cierva_harness::suite::Suite, Error> {
         Some(dir) => Suite::open(dir),
         None => Suite::find(&std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."))),
     };
-    found.map_err(|e| Error::Input(e.render()))
+    found.map_err(Error::from)
 }
 
 /// Loads an aircraft file; a bad file is printed with its location and is exit code 2.
 pub(crate) fn load_aircraft(
     path: &Path,
 ) -> Result<cierva_harness::inputs::aircraft::AircraftFile, Error> {
-    cierva_harness::inputs::aircraft::load(path).map_err(|e| Error::Input(e.render()))
+    cierva_harness::inputs::aircraft::load(path).map_err(Error::from)
+}
+
+/// Loads corrections files (`--corrections`, repeatable); a bad file is exit code 2.
+pub(crate) fn load_corrections(
+    paths: &[PathBuf],
+) -> Result<Vec<cierva_harness::inputs::corrections::CorrectionsFile>, Error> {
+    paths
+        .iter()
+        .map(|p| cierva_harness::inputs::corrections::load(p).map_err(Error::from))
+        .collect()
 }
 
 /// The aircraft of a flight command, with its `--corrections` applied (the file must name this
@@ -218,7 +228,7 @@ pub(crate) fn load_flight(
     let Some(path) = &f.corrections else {
         return Ok(file);
     };
-    let c = corrections::load(path).map_err(|e| Error::Input(e.render()))?;
+    let c = corrections::load(path)?;
     let applies = match &c.target {
         Corrects::Aircraft(id) => *id == file.id,
         Corrects::Rotor(id) => *id == file.main_rotor_file.id,

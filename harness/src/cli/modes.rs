@@ -26,7 +26,7 @@ pub(crate) fn modes(a: ModesArgs) -> Result<ExitCode, Error> {
         sweep,
         format,
     } = a;
-    let r = reference::load(&file).map_err(|e| Error::Input(e.render()))?;
+    let r = reference::load(&file)?;
     let Some(model) = r.linear_model else {
         return Err(Error::input(format!(
             "{}: no `linear_model` block",

@@ -50,7 +50,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         comparisons.map_err(|e| Error::input(format!("the responses before and after: {e}")))?;
     let mut predictions = Vec::new();
     for p in &a.predict {
-        let rec = record::load(p).map_err(|e| Error::Input(e.render()))?;
+        let rec = record::load(p)?;
         predictions.extend(
             retune::predict(&file, &after, &rec)
                 .map_err(|e| Error::input(format!("predicting {}: {e}", p.display())))?,

@@ -76,9 +76,9 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
     } = a;
     let reason = reason_for(accept, reason).map_err(Error::input)?;
     let suite = suite()?;
-    let log = rv::load_log(&suite.acceptances()).map_err(|e| Error::Input(e.render()))?;
+    let log = rv::load_log(&suite.acceptances())?;
     let cases = suite_cases(&suite, paths)?;
-    let board = scoreboard::load(&suite).map_err(|e| Error::Input(e.render()))?;
+    let board = scoreboard::load(&suite)?;
     let (reviews, scores) = review_cases(&cases);
     let judged = cierva_harness::suite::review::judge(&board, scores.clone());
     let scores_moved: Vec<&cierva_harness::suite::review::Judged> = judged
@@ -110,9 +110,7 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
         }
         match log_acceptance(&suite, &log, reason, commit, changes) {
             Ok(entry) => logged = Some(entry),
-            Err(e) => {
-                return Err(Error::input(e));
-            }
+            Err(e) => return Err(Error::input(e)),
         }
     }
     let moved =
@@ -167,9 +165,7 @@ fn suite_cases(
                 show(&paths)
             )));
         }
-        Err(e) => {
-            return Err(Error::input(e));
-        }
+        Err(e) => return Err(Error::input(e)),
     };
     let mut cases = Vec::new();
     for c in loaded {
@@ -184,9 +180,7 @@ fn suite_cases(
                 )));
             }
             Ok(case) => cases.push(case),
-            Err(e) => {
-                return Err(Error::Input(e.render()));
-            }
+            Err(e) => return Err(e.into()),
         }
     }
     Ok(cases)

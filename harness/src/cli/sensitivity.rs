@@ -7,8 +7,7 @@ use cierva_harness::fit::sensitivity::{self, BoundedQuantity};
 pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
     let (file, loading, request, quantities) = match (&a.case, &a.aircraft) {
         (Some(path), None) => {
-            let case =
-                cierva_harness::suite::case::load(path).map_err(|e| Error::Input(e.render()))?;
+            let case = cierva_harness::suite::case::load(path)?;
             sensitivity::from_case(&case, a.airspeed_mph).map_err(Error::input)?
         }
         (None, Some(path)) => {

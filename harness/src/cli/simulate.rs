@@ -53,12 +53,7 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
     use cierva_harness::inputs::controls;
     let file = load_flight(&f)?;
     let table = match (&input, &shape) {
-        (Some(p), None) => match controls::read(p) {
-            Ok(t) => Some(t),
-            Err(e) => {
-                return Err(Error::Input(e.render()));
-            }
-        },
+        (Some(p), None) => Some(controls::read(p)?),
         (None, Some(_)) => None,
         _ => {
             return Err(Error::input(

@@ -5,7 +5,7 @@ use super::*;
 pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
     use cierva_harness::inputs::record;
     use cierva_harness::synth::linear;
-    let r = reference::load(&a.model).map_err(|e| Error::Input(e.render()))?;
+    let r = reference::load(&a.model)?;
     let Some(model) = r.linear_model else {
         return Err(Error::input(format!(
             "{}: no `linear_model` block",

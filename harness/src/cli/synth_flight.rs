@@ -14,7 +14,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> Result<ExitCode, Error> {
     let control = control_index(&a.control).map_err(Error::input)?;
     let instrumentation = match &a.sensors {
         None => Instrumentation::default(),
-        Some(p) => Instrumentation::load(p).map_err(|e| Error::Input(e.render()))?,
+        Some(p) => Instrumentation::load(p)?,
     };
     let input = test_input(&a)?;
     let turbulence = turbulence(&a)?;

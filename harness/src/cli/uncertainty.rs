@@ -42,22 +42,12 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         a.paths.clone()
     };
     let cases = load_all(&paths)?;
-    let mut files = Vec::new();
-    for p in &a.corrections {
-        match cierva_harness::inputs::corrections::load(p) {
-            Ok(f) => files.push(f),
-            Err(e) => {
-                return Err(Error::Input(e.render()));
-            }
-        }
-    }
+    let files = load_corrections(&a.corrections)?;
     let mut corrected = Vec::with_capacity(cases.len());
     for case in cases {
         match cierva_harness::suite::case::with_corrections(&case, &files) {
             Ok((c, _)) => corrected.push(c),
-            Err(e) => {
-                return Err(Error::input(format!("the corrections {e}")));
-            }
+            Err(e) => return Err(Error::input(format!("the corrections {e}"))),
         }
     }
     let cases = corrected;
@@ -133,14 +123,9 @@ fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>,
                 show(paths)
             )));
         }
-        Err(e) => {
-            return Err(Error::input(e));
-        }
+        Err(e) => return Err(Error::input(e)),
     };
-    loaded
-        .into_iter()
-        .map(|c| c.map_err(|e| Error::Input(e.render())))
-        .collect()
+    loaded.into_iter().map(|c| c.map_err(Error::from)).collect()
 }
 
 /// A case's propagation as text: the inputs, then a row per quantity.

@@ -384,15 +384,7 @@ fn inputs(
     paths: &[PathBuf],
     corrections: &[PathBuf],
 ) -> Result<Inputs, Error> {
-    let mut correction_files = Vec::new();
-    for p in corrections {
-        match corrections::load(p) {
-            Ok(f) => correction_files.push(f),
-            Err(e) => {
-                return Err(Error::Input(e.render()));
-            }
-        }
-    }
+    let correction_files = load_corrections(corrections)?;
     let loaded = load_cases(paths).map_err(Error::input)?;
     if loaded.is_empty() {
         return Err(Error::input(format!(
@@ -400,8 +392,8 @@ fn inputs(
             show(paths)
         )));
     }
-    let board = scoreboard::load(suite).map_err(|e| Error::Input(e.render()))?;
-    let log = review::load_log(&suite.acceptances()).map_err(|e| Error::Input(e.render()))?;
+    let board = scoreboard::load(suite)?;
+    let log = review::load_log(&suite.acceptances())?;
     Ok((correction_files, loaded, board, log))
 }
 

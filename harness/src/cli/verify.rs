@@ -81,9 +81,7 @@ pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
             [(IDENTIFIED, &identified.model, c), (CIERVA, &cierva, c)];
         match v::verify(r, &models, &outputs) {
             Ok(res) => results.push(res),
-            Err(e) => {
-                return Err(Error::input(e));
-            }
+            Err(e) => return Err(Error::input(e)),
         }
     }
     let together = all_records(&results, &outputs);
