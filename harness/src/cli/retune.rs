@@ -44,7 +44,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         .map_err(|e| Error::input(format!("the fitted corrections: {e}")))?;
     let modes = retune::modes(&file, &after, &r.conditions);
     let busy = spinner("the responses before and after");
-    let comparisons = retune::responses::compare(&file.aircraft, &after.aircraft, &r.responses);
+    let comparisons = retune::responses::compare(&r.uncorrected, &after.aircraft, &r.responses);
     busy.finish_and_clear();
     let comparisons =
         comparisons.map_err(|e| Error::input(format!("the responses before and after: {e}")))?;

@@ -105,6 +105,10 @@ pub struct Retune {
     /// The standard errors from the cost's curvature alone (`(J' J)^-1`); `result`'s are the
     /// the larger of these and the cluster-robust ones ([`responses::robust_standard_errors`]).
     pub curvature_standard_errors: Vec<f64>,
+    /// The uncorrected aircraft's responses at every frequency of every response (and its
+    /// neighbours), by condition: the targets' standard errors came from them, and they are the
+    /// "before" of [`responses::compare`].
+    pub uncorrected: Vec<(Condition, crate::checks::frequency_response::Responses)>,
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
@@ -261,6 +265,7 @@ pub fn retune(
         reduced_chi_square,
         model,
         curvature_standard_errors,
+        uncorrected: models,
     })
 }
 

@@ -734,18 +734,16 @@ pub struct Comparison {
     pub frequencies_in_band: usize,
 }
 
-/// Each response of the records against the model's before and after (one trim and one
-/// linearisation a condition and aircraft, conditions in parallel).
+/// Each response of the records against the model's before (`before`: the uncorrected
+/// aircraft's responses the retune computed for its targets, at every frequency of every
+/// response) and after (one trim and one linearisation a condition, conditions in parallel).
 pub fn compare(
-    before: &cierva_model::aircraft::Aircraft,
+    before: &[(Condition, crate::checks::frequency_response::Responses)],
     after: &cierva_model::aircraft::Aircraft,
     responses: &[Response],
 ) -> Result<Vec<Comparison>, String> {
     use crate::checks::frequency_response::mismatch_cost;
-    let (b, a) = (
-        model_responses(before, responses, false)?,
-        model_responses(after, responses, false)?,
-    );
+    let (b, a) = (before, model_responses(after, responses, false)?);
     let mut out = Vec::new();
     for r in responses {
         let model = |m: &[(Condition, crate::checks::frequency_response::Responses)]| {
@@ -759,7 +757,7 @@ pub fn compare(
                 .map(|(p, o)| m.as_flown(&r.input, &r.output, p.frequency_hz, o))
                 .collect::<Result<Vec<_>, _>>()
         };
-        let (mb, ma) = (model(&b)?, model(&a)?);
+        let (mb, ma) = (model(b)?, model(&a)?);
         let (cb, ca) = (mismatch_cost(&r.points, &mb), mismatch_cost(&r.points, &ma));
         out.push(Comparison {
             condition: r.condition.label(),
