@@ -316,6 +316,8 @@ impl Periodic {
     /// the sidebands `n = -harmonics ..= harmonics`: `i (omega + n Omega) X_n - sum_m A_m
     /// X_(n-m) = B_n`, with `A_m`, `B_m` the samples' Fourier coefficients (exact for a system
     /// whose coefficients have no harmonic above `N/2`).
+    /// Each call reduces the balance anew: for many frequencies keep [`Periodic::baseband`]
+    /// and ask it [`Baseband::at`] each (as [`WithFlapping::baseband_response`] does).
     pub fn baseband_response(
         &self,
         omega: f64,
