@@ -13,11 +13,10 @@
 //! Each check is evaluated once, however many trials read its result (its own, the case's
 //! `::scores`, `docs::readme-validation-table`).
 
-use cierva_harness::checks::What;
-use cierva_harness::report::tables;
-use cierva_harness::suite::case::{Case, Subject};
+use cierva_harness::load_cases;
+use cierva_harness::report::{snapshots, tables};
+use cierva_harness::suite::case::Case;
 use cierva_harness::suite::outcome;
-use cierva_harness::{checks, load_cases};
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::sync::{Arc, OnceLock};
 
@@ -126,9 +125,6 @@ fn main() {
 
 /// A generated section of a document, checked against every case's results.
 type DocsCheck = fn(&[Arc<Evaluated>]) -> Result<(), Failed>;
-
-/// Renders one snapshot of a linear model.
-type Snapshotter = fn(&cierva_model::LinearModel) -> Result<String, String>;
 
 /// Every check's result, every case's.
 fn all_results(cases: &[Arc<Evaluated>]) -> Vec<outcome::CheckResult> {
@@ -262,180 +258,15 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
             .with_kind("regression"),
         );
     }
-    if let Subject::Rotor { .. } = &case.subject {
+    for snap in snapshots::of_case(case) {
         let ev = evaluated.clone();
         trials.push(
-            Trial::test(format!("{}::snapshot-autorotation", case.id), move || {
+            Trial::test(format!("{}::snapshot-{}", case.id, snap.what), move || {
                 let c = &ev.case;
-                let Subject::Rotor { file, solver } = &c.subject else {
-                    unreachable!()
-                };
-                let rows: Vec<_> = c
-                    .checks
-                    .iter()
-                    .filter_map(|k| match &k.what {
-                        What::Autorotation(a) => Some((k.id.clone(), &a.tunnel)),
-                        _ => None,
-                    })
-                    .map(|(id, t)| {
-                        let q =
-                            checks::autorotation::autorotation_quantities(&file.rotor, *solver, t);
-                        (id, checks::autorotation::quantities_or_reason(q))
-                    })
-                    .collect();
-                snapshot(c, "autorotation", Ok(tables::autorotation_table(&rows)))
+                snapshot(c, &snap.what, snap.render(c))
             })
             .with_kind("snapshot"),
         );
-    }
-    let has_time_history = case
-        .checks
-        .iter()
-        .any(|k| matches!(k.what, What::TimeHistory(_)));
-    if let Subject::Aircraft { file, loading } = &case.subject
-        && has_time_history
-    {
-        let (ev, file, loading) = (evaluated.clone(), file.clone(), *loading);
-        trials.push(
-            Trial::test(format!("{}::snapshot-time-histories", case.id), move || {
-                let c = &ev.case;
-                let mut rows = Vec::new();
-                for k in &c.checks {
-                    if let What::TimeHistory(t) = &k.what {
-                        let (m, _) = checks::time_history::time_history_metrics(&file, loading, t)?;
-                        rows.push((k.id.clone(), m));
-                    }
-                }
-                snapshot(c, "time-histories", Ok(tables::time_history_table(&rows)))
-            })
-            .with_kind("snapshot"),
-        );
-    }
-    let trim_requested = case.checks.iter().any(|k| {
-        matches!(k.what, What::Trim(_) | What::TrimSweep(_))
-            || k.linear().is_some_and(|l| l.condition.is_some())
-    });
-    if let Subject::Aircraft { .. } = &case.subject
-        && trim_requested
-    {
-        let ev = evaluated.clone();
-        trials.push(
-            Trial::test(format!("{}::snapshot-trim", case.id), move || {
-                let c = &ev.case;
-                let Subject::Aircraft { file, loading } = &c.subject else {
-                    unreachable!()
-                };
-                let mut requests = Vec::new();
-                for k in c.checks.iter() {
-                    if matches!(k.what, What::TimeHistory(_)) {
-                        continue;
-                    }
-                    if let Some(r) = k.condition() {
-                        requests.push(r);
-                    }
-                    let sweep = match &k.what {
-                        What::TrimSweep(s) => s.sweep_mph.as_slice(),
-                        _ => &[],
-                    };
-                    for v in sweep {
-                        requests.push(cierva_harness::TrimRequest {
-                            airspeed_mph: *v,
-                            climb_m_s: 0.0,
-                            turn_rate_deg_s: 0.0,
-                        });
-                    }
-                }
-                requests.sort_by(|a, b| {
-                    (a.airspeed_mph, a.climb_m_s, a.turn_rate_deg_s)
-                        .partial_cmp(&(b.airspeed_mph, b.climb_m_s, b.turn_rate_deg_s))
-                        .expect("finite conditions")
-                });
-                requests.dedup();
-                let columns: Vec<_> = requests
-                    .iter()
-                    .map(|r| {
-                        let mut label = format!("{} mph", r.airspeed_mph);
-                        if r.climb_m_s != 0.0 {
-                            label += &format!(" {:+} m/s", r.climb_m_s);
-                        }
-                        if r.turn_rate_deg_s != 0.0 {
-                            label += &format!(" {:+} deg/s", r.turn_rate_deg_s);
-                        }
-                        (label, checks::trim::trim_quantities(file, *loading, *r))
-                    })
-                    .collect();
-                snapshot(c, "trim", Ok(tables::trim_table(&columns)))
-            })
-            .with_kind("snapshot"),
-        );
-    }
-    if let Subject::Aircraft { .. } = &case.subject {
-        // One snapshot of the linearised model per condition its derivative, mode, BCAR or
-        // Milne checks use.
-        let mut conditions: Vec<cierva_harness::TrimRequest> = case
-            .checks
-            .iter()
-            .filter_map(|k| k.linear()?.condition)
-            .collect();
-        conditions.sort_by(|a, b| {
-            (a.airspeed_mph, a.climb_m_s)
-                .partial_cmp(&(b.airspeed_mph, b.climb_m_s))
-                .expect("finite conditions")
-        });
-        conditions.dedup();
-        for r in conditions {
-            let ev = evaluated.clone();
-            let label = format!("{}mph", r.airspeed_mph)
-                + &if r.climb_m_s != 0.0 {
-                    format!("-climb{}", r.climb_m_s)
-                } else {
-                    String::new()
-                };
-            let what = format!("linear-{label}");
-            trials.push(
-                Trial::test(format!("{}::snapshot-{what}", case.id), move || {
-                    let c = &ev.case;
-                    let Subject::Aircraft { file, loading } = &c.subject else {
-                        unreachable!()
-                    };
-                    let body = cierva_harness::linearise_cached(file, r, *loading).and_then(|l| {
-                        let modes = cierva_model::modes(&l.1.model).map_err(|e| e.to_string())?;
-                        Ok(format!(
-                            "{}\n{}\n{}",
-                            tables::breakdown_table(&l.1, tables::PRIMARY_DERIVATIVES),
-                            tables::modes_table(&modes),
-                            tables::derivatives_table(&l.1.model)
-                        ))
-                    });
-                    snapshot(c, &what, body)
-                })
-                .with_kind("snapshot"),
-            );
-        }
-    }
-    if let Subject::Linear { model, .. } = &case.subject {
-        let snaps: Vec<(&str, Snapshotter)> = vec![
-            ("derivatives", |m| Ok(tables::derivatives_table(m))),
-            ("modes", |m| {
-                cierva_model::modes(m)
-                    .map(|a| tables::modes_table(&a))
-                    .map_err(|e| e.to_string())
-            }),
-            ("milne", |m| Ok(tables::milne_table(m))),
-        ];
-        for (what, f) in snaps {
-            if what == "milne" && !model.has_state("Omega") {
-                continue;
-            }
-            let (m, ev) = (model.clone(), evaluated.clone());
-            trials.push(
-                Trial::test(format!("{}::snapshot-{what}", case.id), move || {
-                    let c = &ev.case;
-                    snapshot(c, what, f(&m))
-                })
-                .with_kind("snapshot"),
-            );
-        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! or, at a tip-speed ratio and rotor speed, the angle of attack at which it autorotates.
 
 use super::result::{Evaluated, Finding, Found, Quantities, compare_all};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind};
+use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Measured, Place, Placed, Snapshotted};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
 use crate::inputs::yaml::InputError;
@@ -39,19 +39,26 @@ pub struct AutorotationCheck {
     pub tunnel: TunnelSpec,
 }
 
+/// An `autorotation` check's own fields, as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AutorotationSpec {
+    /// The tunnel condition.
+    pub tunnel: TunnelSpec,
+}
+
 impl Kind for AutorotationCheck {
-    const KIND: CheckKind = CheckKind::Autorotation;
-    const FIELDS: &'static [&'static str] = &["tunnel"];
+    type Spec = AutorotationSpec;
     const SUBJECTS: &'static str = "a rotor";
 
     fn runs_on(subject: &Subject) -> bool {
         matches!(subject, Subject::Rotor { .. })
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
-        let tunnel = cx.needs(&spec.tunnel, "tunnel")?;
+    fn resolve(cx: &Cx, own: AutorotationSpec, written: &CheckSpec) -> Result<Self, InputError> {
+        let tunnel = own.tunnel;
         check_tunnel(cx, &tunnel)?;
-        if tunnel.alpha_deg.is_some() && spec.expect.contains_key(Q::RotorAlphaDeg.name()) {
+        if tunnel.alpha_deg.is_some() && written.expect.contains_key(Q::RotorAlphaDeg.name()) {
             return Err(cx.err(
                 ".expect.rotor_alpha_deg",
                 "the tunnel gives `alpha_deg`, so `rotor_alpha_deg` reads it back: check it with the angle left out (`tunnel: {tip_speed_ratio, rotor_rpm}`), where it is found",
@@ -64,6 +71,26 @@ impl Kind for AutorotationCheck {
 impl Evaluate for AutorotationCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::AUTOROTATION)
+    }
+
+    fn tunnel(&self) -> Option<&TunnelSpec> {
+        Some(&self.tunnel)
+    }
+
+    fn is_table_row(&self) -> bool {
+        true
+    }
+
+    fn measured(&self) -> Measured<'_> {
+        Measured::At(Place::Tunnel(&self.tunnel))
+    }
+
+    fn placed(&self) -> Option<Placed<'_>> {
+        Some(Placed::Tunnel(&self.tunnel))
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        vec![Snapshotted::Autorotation(&self.tunnel)]
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {

@@ -3,7 +3,8 @@
 
 use super::linear::{self, Computed, LinearSetup, OnLinear, System};
 use super::{
-    At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal, Trivial,
+    At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Placed, Refusal, Snapshotted,
+    Trivial,
 };
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
@@ -23,28 +24,34 @@ pub struct BcarCheck {
     pub linear: LinearSetup,
 }
 
+linear::linear_spec! {
+    /// A `bcar` check's own fields, as written.
+    pub struct BcarSpec {
+        /// The mode class to look at.
+        pub mode: ModeKind,
+        /// The system looked at.
+        #[serde(default)]
+        pub system: System,
+        /// The expected verdict.
+        #[serde(default)]
+        pub verdict: Option<Verdict>,
+    }
+}
+
 impl Kind for BcarCheck {
-    const KIND: CheckKind = CheckKind::Bcar;
-    const FIELDS: &'static [&'static str] = &[
-        "mode",
-        "system",
-        "verdict",
-        "condition",
-        "set",
-        "without_rotorspeed_coupling",
-    ];
+    type Spec = BcarSpec;
     const SUBJECTS: &'static str = linear::SUBJECTS;
 
     fn runs_on(subject: &Subject) -> bool {
         linear::runs_on(subject)
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
+    fn resolve(cx: &Cx, own: BcarSpec, _: &CheckSpec) -> Result<Self, InputError> {
         Ok(Self {
-            mode: cx.needs(&spec.mode, "mode")?,
-            system: spec.system,
-            verdict: spec.verdict,
-            linear: linear::resolve_setup(cx, spec)?,
+            mode: own.mode,
+            system: own.system,
+            verdict: own.verdict,
+            linear: linear::resolve_setup(cx, &own.linear())?,
         })
     }
 }
@@ -52,6 +59,31 @@ impl Kind for BcarCheck {
 impl Evaluate for BcarCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::BCAR)
+    }
+
+    /// The expected verdict is judged without an entry under `expect`.
+    fn judges_without_expect(&self) -> bool {
+        self.verdict.is_some()
+    }
+
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        self.linear.condition
+    }
+
+    fn linear(&self) -> Option<&LinearSetup> {
+        Some(&self.linear)
+    }
+
+    fn placed(&self) -> Option<Placed<'_>> {
+        Some(linear::placed_among_eigenvalues(
+            self.system,
+            &self.linear,
+            true,
+        ))
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        linear::snapshotted(&self.linear)
     }
 
     /// A constant verdict (every mode complies, or every mode fails): it passes the expected

@@ -4,8 +4,8 @@
 
 use super::linear::{self, Computed, LinearSetup, OnLinear};
 use super::{
-    At, CheckClass, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal,
-    Trivial, is_aircraft,
+    At, CheckClass, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Measured, Place, Placed,
+    Refusal, Snapshotted, Trivial, is_aircraft,
 };
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
@@ -26,17 +26,28 @@ pub struct DerivativeCheck {
     pub linear: LinearSetup,
 }
 
+linear::linear_spec! {
+    /// A `derivative` check's own fields, as written.
+    pub struct DerivativeSpec {
+        /// The derivative's name (`M_w`).
+        pub derivative: String,
+        /// On a model: check the ratio of `derivative` to this one (`Q_u` divided by `Q_w`).
+        #[serde(default)]
+        pub divided_by: Option<String>,
+        /// On an aircraft: corrections to apply; the check then also computes
+        /// `magnitude_change`, `(|corrected| - |uncorrected|) / |uncorrected|`.
+        #[serde(default)]
+        pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
+        /// On an aircraft: the derivative as this identification set-up finds it in the
+        /// aircraft linearised with its flapping states, over the set-up's band
+        /// ([`crate::identified_in_band_cached`]), not the quasi-static linearisation's.
+        #[serde(default)]
+        pub as_identified: Option<crate::ident::Setup>,
+    }
+}
+
 impl Kind for DerivativeCheck {
-    const KIND: CheckKind = CheckKind::Derivative;
-    const FIELDS: &'static [&'static str] = &[
-        "derivative",
-        "divided_by",
-        "corrections",
-        "condition",
-        "set",
-        "without_rotorspeed_coupling",
-        "as_identified",
-    ];
+    type Spec = DerivativeSpec;
     const SUBJECTS: &'static str = "a linear model, a derivative table, or an aircraft or external model linearised at the check's `condition`";
 
     fn runs_on(subject: &Subject) -> bool {
@@ -49,20 +60,21 @@ impl Kind for DerivativeCheck {
         )
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
-        let derivative = cx.needs(&spec.derivative, "derivative")?;
+    fn resolve(cx: &Cx, own: DerivativeSpec, written: &CheckSpec) -> Result<Self, InputError> {
+        let derivative = own.derivative.clone();
+        let spec = &own;
         let linear = match cx.subject {
             Subject::Table { table, column, .. } => {
                 resolve_on_table(cx, spec, table, column, &derivative)?;
                 LinearSetup::default()
             }
             _ => {
-                let mut setup = linear::resolve_setup(cx, spec)?;
+                let mut setup = linear::resolve_setup(cx, &spec.linear())?;
                 for name in std::iter::once(&derivative).chain(spec.divided_by.iter()) {
                     linear::check_derivative(cx, name, ".derivative")?;
                 }
                 if let Some(s) = spec.as_identified {
-                    resolve_as_identified(cx, spec, s, &derivative)?;
+                    resolve_as_identified(cx, spec, written, s, &derivative)?;
                     setup.as_identified = Some(s);
                 }
                 setup
@@ -79,17 +91,17 @@ impl Kind for DerivativeCheck {
                 .map_err(|e| cx.err(".corrections", e.to_string()))?;
         }
         let magnitude = Q::MagnitudeChange.name();
-        if spec.corrections.is_none() && spec.expect.contains_key(magnitude) {
+        if spec.corrections.is_none() && written.expect.contains_key(magnitude) {
             return Err(cx.err(
                 &format!(".expect.{magnitude}"),
                 "`magnitude_change` compares with corrections: give `corrections`",
             ));
         }
-        if spec.divided_by.is_some() && spec.expect.keys().any(|q| q != Q::Value.name()) {
+        if spec.divided_by.is_some() && written.expect.keys().any(|q| q != Q::Value.name()) {
             return Err(cx.err(".divided_by", "a ratio of derivatives has only a `value`"));
         }
         if !is_aircraft(cx.subject)
-            && let Some(q) = spec.expect.keys().find(|q| *q != Q::Value.name())
+            && let Some(q) = written.expect.keys().find(|q| *q != Q::Value.name())
         {
             return Err(cx.err(
                 &format!(".expect.{q}"),
@@ -100,8 +112,8 @@ impl Kind for DerivativeCheck {
         }
         Ok(Self {
             derivative,
-            divided_by: spec.divided_by.clone(),
-            corrections: spec.corrections.clone(),
+            divided_by: own.divided_by,
+            corrections: own.corrections,
             linear,
         })
     }
@@ -112,7 +124,8 @@ impl Kind for DerivativeCheck {
 /// linearisation).
 fn resolve_as_identified(
     cx: &Cx,
-    spec: &CheckSpec,
+    spec: &DerivativeSpec,
+    written: &CheckSpec,
     setup: crate::ident::Setup,
     derivative: &str,
 ) -> Result<(), InputError> {
@@ -129,7 +142,7 @@ fn resolve_as_identified(
              `without_rotorspeed_coupling` or `divided_by`",
         ));
     }
-    if let Some(q) = spec.expect.keys().find(|q| *q != Q::Value.name()) {
+    if let Some(q) = written.expect.keys().find(|q| *q != Q::Value.name()) {
         return Err(cx.err(
             &format!(".expect.{q}"),
             "an identified derivative has only a `value`",
@@ -151,7 +164,7 @@ fn resolve_as_identified(
 /// `verification` (of the transcription against the paper's statements).
 fn resolve_on_table(
     cx: &Cx,
-    spec: &CheckSpec,
+    spec: &DerivativeSpec,
     table: &crate::inputs::reference::DerivativeTable,
     column: &str,
     derivative: &str,
@@ -191,6 +204,64 @@ fn resolve_on_table(
 impl Evaluate for DerivativeCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::DERIVATIVE)
+    }
+
+    fn derivative(&self) -> Option<&str> {
+        Some(&self.derivative)
+    }
+
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        self.linear.condition
+    }
+
+    fn linear(&self) -> Option<&LinearSetup> {
+        Some(&self.linear)
+    }
+
+    fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
+        self.corrections.as_ref()
+    }
+
+    /// The derivative of the aircraft as it is at its condition; of the aircraft as the check
+    /// changes it (corrections, derivatives set or cut, a ratio, as identified), a modified one.
+    fn measured(&self) -> Measured<'_> {
+        let Some(condition) = self.linear.condition else {
+            return Measured::Elsewhere;
+        };
+        let l = &self.linear;
+        let modified = self.corrections.is_some()
+            || self.divided_by.is_some()
+            || !l.set.is_empty()
+            || l.without_rotorspeed_coupling
+            || l.as_identified.is_some();
+        if modified {
+            Measured::Modified
+        } else {
+            Measured::At(Place::Flight(condition))
+        }
+    }
+
+    /// `value` is the derivative; its components and its change under corrections are not the
+    /// aircraft's derivatives.
+    fn model_name(&self, quantity: &str) -> Option<String> {
+        (quantity == Q::Value.name()).then(|| self.derivative.clone())
+    }
+
+    fn placed(&self) -> Option<Placed<'_>> {
+        let condition = self.linear.condition?;
+        Some(Placed::Derivative {
+            label: match &self.divided_by {
+                Some(by) => format!("{} / {by}", self.derivative),
+                None => self.derivative.clone(),
+            },
+            airspeed_mph: condition.airspeed_mph,
+            corrected: self.corrections.is_some(),
+            as_identified: self.linear.as_identified.is_some(),
+        })
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        linear::snapshotted(&self.linear)
     }
 
     fn trivial(

@@ -34,13 +34,14 @@
 //! wrapping to +-180 deg (taken here, as a phase error beyond that is the same error).
 
 use super::result::{Evaluated, Finding, PlotData, compare_all};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
 use crate::checks::subject::Subject;
 use crate::ident::frequency_response as fr;
 use crate::inputs::quantity::Quantity as Q;
 use crate::inputs::record::{self, Record};
 use crate::inputs::yaml::InputError;
 use rustfft::num_complex::Complex64 as C;
+use serde::Deserialize;
 use std::path::Path;
 
 /// Least coherence of a frequency that enters the cost: Tischler and Remple (2012) compute
@@ -196,27 +197,50 @@ pub fn linear_response(
         .collect()
 }
 
+/// A `frequency_response` check's own fields, as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrequencyResponseSpec {
+    /// The control whose response is compared (`eta_s`).
+    pub input: String,
+    /// The state that responds (`q`).
+    pub output: String,
+    /// Flight records (CSV, sidecars beside them) the reference response is estimated from,
+    /// relative to the case file.
+    #[serde(default)]
+    pub records: Option<Vec<String>>,
+    /// A response file (`frequency_hz,magnitude_db,phase_deg,coherence`), relative to the case
+    /// file.
+    #[serde(default)]
+    pub reference: Option<String>,
+    /// From records: other controls the response is conditioned on.
+    #[serde(default)]
+    pub conditioned_on: Option<Vec<String>>,
+    /// From records: the windows, s (default an eighth, a quarter and a half of the shortest
+    /// record).
+    #[serde(default)]
+    pub windows_s: Option<Vec<f64>>,
+    /// From records: the band of the estimate, Hz (default the estimator's: five periods of the
+    /// longest window to a fifth of the sample rate).
+    #[serde(default)]
+    pub band_hz: Option<[f64; 2]>,
+    /// On an aircraft: the condition it is linearised at.
+    #[serde(default)]
+    pub condition: Option<crate::TrimRequest>,
+}
+
 impl Kind for FrequencyResponseCheck {
-    const KIND: CheckKind = CheckKind::FrequencyResponse;
-    const FIELDS: &'static [&'static str] = &[
-        "input",
-        "output",
-        "records",
-        "reference",
-        "conditioned_on",
-        "windows_s",
-        "band_hz",
-        "condition",
-    ];
+    type Spec = FrequencyResponseSpec;
     const SUBJECTS: &'static str = "a linear model or an aircraft";
 
     fn runs_on(subject: &Subject) -> bool {
         matches!(subject, Subject::Linear { .. } | Subject::Aircraft { .. })
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
-        let input = cx.needs(&spec.input, "input")?;
-        let output = cx.needs(&spec.output, "output")?;
+    fn resolve(cx: &Cx, own: FrequencyResponseSpec, _: &CheckSpec) -> Result<Self, InputError> {
+        let spec = &own;
+        let input = spec.input.clone();
+        let output = spec.output.clone();
         let conditioned_on = spec.conditioned_on.clone().unwrap_or_default();
         let (states, controls) = layout(cx.subject);
         if !states.contains(&output) {
@@ -313,7 +337,7 @@ fn layout(subject: &Subject) -> (Vec<String>, Vec<String>) {
 /// trim ([`crate::ident::signals`]), then the composite estimate.
 fn from_records(
     cx: &Cx,
-    spec: &CheckSpec,
+    spec: &FrequencyResponseSpec,
     files: &[String],
     input: &str,
     output: &str,
@@ -587,6 +611,10 @@ pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
 impl Evaluate for FrequencyResponseCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(crate::inputs::quantity::FREQUENCY_RESPONSE)
+    }
+
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        self.condition
     }
 
     /// A model with no response (infinitely costly wherever the reference has a band) and a

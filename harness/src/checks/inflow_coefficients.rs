@@ -2,7 +2,7 @@
 //! (seed 003), with the coning and flapping they are found from.
 
 use super::result::{Evaluated, compare_all};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Placed, Refusal, Trivial};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
 use crate::inputs::yaml::InputError;
@@ -11,16 +11,20 @@ use crate::inputs::yaml::InputError;
 #[derive(Debug, Clone, PartialEq)]
 pub struct InflowCoefficientsCheck;
 
+/// An `inflow_coefficients` check's own fields, as written: none.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InflowCoefficientsSpec {}
+
 impl Kind for InflowCoefficientsCheck {
-    const KIND: CheckKind = CheckKind::InflowCoefficients;
-    const FIELDS: &'static [&'static str] = &[];
+    type Spec = InflowCoefficientsSpec;
     const SUBJECTS: &'static str = "a teeter record (`flap_record`)";
 
     fn runs_on(subject: &Subject) -> bool {
         matches!(subject, Subject::FlapRecord { .. })
     }
 
-    fn resolve(_cx: &Cx, _spec: &CheckSpec) -> Result<Self, InputError> {
+    fn resolve(_: &Cx, _: InflowCoefficientsSpec, _: &CheckSpec) -> Result<Self, InputError> {
         Ok(Self)
     }
 }
@@ -28,6 +32,10 @@ impl Kind for InflowCoefficientsCheck {
 impl Evaluate for InflowCoefficientsCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::INFLOW_COEFFICIENTS)
+    }
+
+    fn placed(&self) -> Option<Placed<'_>> {
+        Some(Placed::FlapRecord)
     }
 
     /// Uniform inflow: no first harmonics.

@@ -13,7 +13,7 @@
 //! for the rounding of the published value itself.
 
 use super::result::{Evaluated, Locus, PlotData, compare};
-use super::{At, Check, CheckSpec, Cx, Expectation, check_condition, is_flight_model};
+use super::{At, Check, Cx, Expectation, check_condition, is_flight_model};
 use crate::checks::subject::Subject;
 use crate::checks::tolerance::ToleranceKind;
 use crate::inputs::yaml::InputError;
@@ -39,8 +39,47 @@ pub enum System {
     Eq13,
 }
 
-/// The fields every check on a linear model takes.
-pub const FIELDS: [&str; 3] = ["condition", "set", "without_rotorspeed_coupling"];
+/// Declares a linear kind's fields as written: its own, then those every check on a linear
+/// model takes ([`LinearFields`]). Every field it does not declare is refused by name.
+macro_rules! linear_spec {
+    ($(#[$m:meta])* pub struct $name:ident { $($body:tt)* }) => {
+        $(#[$m])*
+        #[derive(Debug, Clone, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            $($body)*
+            /// On an aircraft or an external model: the condition it is linearised at.
+            #[serde(default)]
+            pub condition: Option<crate::TrimRequest>,
+            /// Derivatives set to these values before the check (a what-if variant).
+            #[serde(default)]
+            pub set: std::collections::BTreeMap<String, f64>,
+            /// Zero every rotorspeed coupling derivative first (seed 002 Tables 2 and 5).
+            #[serde(default)]
+            pub without_rotorspeed_coupling: bool,
+        }
+
+        impl $name {
+            /// The fields every check on a linear model takes.
+            pub fn linear(&self) -> $crate::checks::linear::LinearFields {
+                $crate::checks::linear::LinearFields {
+                    condition: self.condition,
+                    set: self.set.clone(),
+                    without_rotorspeed_coupling: self.without_rotorspeed_coupling,
+                }
+            }
+        }
+    };
+}
+pub(crate) use linear_spec;
+
+/// The fields every check on a linear model takes, as written.
+#[derive(Debug, Clone, Default)]
+pub struct LinearFields {
+    pub condition: Option<crate::TrimRequest>,
+    pub set: BTreeMap<String, f64>,
+    pub without_rotorspeed_coupling: bool,
+}
 
 /// The subjects checks on a linear model run on, in words.
 pub const SUBJECTS: &str = "a linear model, or an aircraft linearised at the check's `condition`, or an external model's linear model there";
@@ -69,7 +108,7 @@ pub struct LinearSetup {
 
 /// Resolves the shared fields: a condition exactly on an aircraft, in straight flight; `set`
 /// names derivatives of the model, with finite values.
-pub fn resolve_setup(cx: &Cx, spec: &CheckSpec) -> Result<LinearSetup, InputError> {
+pub fn resolve_setup(cx: &Cx, spec: &LinearFields) -> Result<LinearSetup, InputError> {
     match (is_flight_model(cx.subject), &spec.condition) {
         (true, None) => {
             return Err(cx.err(
@@ -102,6 +141,35 @@ pub fn resolve_setup(cx: &Cx, spec: &CheckSpec) -> Result<LinearSetup, InputErro
         without_rotorspeed_coupling: spec.without_rotorspeed_coupling,
         as_identified: None,
     })
+}
+
+/// Where the report places a mode's check: among its system's eigenvalues, at its condition.
+/// `bcar`: the check judges the mode by BCAR Section T.
+pub fn placed_among_eigenvalues(
+    system: System,
+    setup: &LinearSetup,
+    bcar: bool,
+) -> super::Placed<'static> {
+    super::Placed::Eigenvalues {
+        system,
+        condition: setup.condition,
+        modified: !setup.set.is_empty() || setup.without_rotorspeed_coupling,
+        bcar,
+    }
+}
+
+/// What a check on a linear model adds to its case's snapshots: on an aircraft, its condition
+/// trimmed, and the linear model there.
+pub fn snapshotted(setup: &LinearSetup) -> Vec<super::Snapshotted<'static>> {
+    setup
+        .condition
+        .map(|c| {
+            vec![
+                super::Snapshotted::Trims(vec![c]),
+                super::Snapshotted::Linearised(c),
+            ]
+        })
+        .unwrap_or_default()
 }
 
 /// Checks that `name` is a derivative of the check's model (the linearised aircraft's states

@@ -3,7 +3,7 @@
 //! [`cierva_model::analysis::milne`]).
 
 use super::linear::{self, Computed, LinearSetup, OnLinear};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind};
+use super::{At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Snapshotted};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity as q;
 use crate::inputs::yaml::InputError;
@@ -17,18 +17,22 @@ pub struct MilneCheck {
     pub linear: LinearSetup,
 }
 
+linear::linear_spec! {
+    /// A `milne` check's fields, as written: those of every check on a linear model.
+    pub struct MilneSpec {}
+}
+
 impl Kind for MilneCheck {
-    const KIND: CheckKind = CheckKind::Milne;
-    const FIELDS: &'static [&'static str] = &linear::FIELDS;
+    type Spec = MilneSpec;
     const SUBJECTS: &'static str = linear::SUBJECTS;
 
     fn runs_on(subject: &Subject) -> bool {
         linear::runs_on(subject)
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
+    fn resolve(cx: &Cx, own: MilneSpec, _: &CheckSpec) -> Result<Self, InputError> {
         Ok(Self {
-            linear: linear::resolve_setup(cx, spec)?,
+            linear: linear::resolve_setup(cx, &own.linear())?,
         })
     }
 }
@@ -36,6 +40,18 @@ impl Kind for MilneCheck {
 impl Evaluate for MilneCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::MILNE)
+    }
+
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        self.linear.condition
+    }
+
+    fn linear(&self) -> Option<&LinearSetup> {
+        Some(&self.linear)
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        linear::snapshotted(&self.linear)
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {

@@ -1,19 +1,24 @@
 //! Checks: one module per kind, behind one interface.
 //!
-//! A check is written flat in a case file ([`CheckSpec`]: its `kind` and the fields that some
-//! kind takes). It stays flat on input because a serde internally-tagged enum loses the
-//! location of a field inside it, and every error in a case file names its line and column.
-//! It is resolved into a typed [`Check`], whose [`What`] holds what its kind needs and nothing
-//! else.
+//! One list, `registry!`, names every kind: its variant, its name in case files and its
+//! module's type. [`CheckKind`], [`What`] and every dispatch over kinds are generated from it.
+//!
+//! A check as written is what every check has ([`CheckSpec`]) and its kind's own fields, which
+//! the kind deserialises into its [`Kind::Spec`] (refusing any it does not take). Errors are
+//! located by serde's path to the field ([`split_written`], `from_written`), since a value
+//! already parsed carries no line. It is resolved into a typed [`Check`], whose [`What`] holds
+//! what its kind needs and nothing else.
 //!
 //! Each kind's module says, through [`Kind`] and [`Evaluate`]:
-//! - which fields of the flat spec it takes (every other field given is refused, by name);
-//! - which subjects it runs on (a linear model, a table, a rotor, a teeter record, an aircraft);
+//! - its own fields ([`Kind::Spec`]) and which subjects it runs on;
 //! - how it resolves and checks its own fields;
 //! - which quantities it computes (the keys allowed under `expect`);
 //! - what the trivial predictors give (a zero derivative, a model with no response), so that a
 //!   check they pass is refused at load;
-//! - how it is evaluated.
+//! - how it is evaluated;
+//! - what the rest of cierva asks of a check: its condition, what it measures for a fit
+//!   ([`Measured`]), where the report's figures place it ([`Placed`]), and what it adds to the
+//!   snapshots ([`Snapshotted`]). Nothing outside `checks/` matches on a kind.
 //!
 //! What is common to every kind (ids, class, expectations and their tolerances, the refusal of
 //! checks that cannot fail) is here. Running a check and judging its outcome against the case's
@@ -40,8 +45,6 @@ pub use result::{Evaluated, Finding, Locus, PlotData, QuantityResult, Trace};
 use crate::checks::subject::Subject;
 use crate::checks::tolerance::{Tolerance, ToleranceKind};
 use crate::inputs::yaml::InputError;
-use cierva_model::ModeKind;
-use cierva_model::analysis::bcar::Verdict;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -81,55 +84,119 @@ impl CheckClass {
     ];
 }
 
-/// The kinds of check (each is a module of [`crate::checks`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum CheckKind {
-    /// Characteristics of one mode.
-    Mode,
-    /// BCAR Section T verdict (and margins) of one oscillatory mode.
-    Bcar,
-    /// Weakly coupled systems values (seed 002 Eqs. 13-25).
-    Milne,
-    /// One stability or control derivative.
-    Derivative,
-    /// An isolated rotor's autorotative equilibrium in a wind tunnel.
-    Autorotation,
-    /// Inflow components from a teeter record (seed 003).
-    InflowCoefficients,
-    /// One trimmed flight condition of an aircraft.
-    Trim,
-    /// Trends of trim over a sweep of airspeeds: the least and greatest slopes between
-    /// neighbouring airspeeds, and the worst residual.
-    TrimSweep,
-    /// A reference record's control changes flown again by the model, its responses compared
-    /// with the record's: `<signal>.<metric>` (see [`crate::run::replay`]).
-    TimeHistory,
-    /// The model's frequency response from a control to a state against a reference's (from
-    /// records, or a file), judged by CIFER's mismatch cost `J`.
-    FrequencyResponse,
+/// The one list of check kinds: each kind's variant, its name in case files and its module's
+/// type. [`CheckKind`], [`What`] and every dispatch over kinds are generated from it, so a new
+/// kind is one module and one line here.
+macro_rules! registry {
+    ($( $(#[$doc:meta])* $variant:ident = $name:literal => $ty:ty; )*) => {
+        /// The kinds of check (each is a module of [`crate::checks`]).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+        pub enum CheckKind {
+            $( $(#[$doc])* #[serde(rename = $name)] $variant, )*
+        }
+
+        impl CheckKind {
+            /// Every kind, in the registry's order.
+            pub const ALL: &[CheckKind] = &[$(Self::$variant),*];
+
+            /// The kind as written in case files.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $( Self::$variant => $name, )*
+                }
+            }
+
+            /// How checks of this kind resolve.
+            fn entry(self) -> Entry {
+                match self {
+                    $( Self::$variant => Entry::of::<$ty>(), )*
+                }
+            }
+        }
+
+        /// What a check of each kind needs, typed.
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum What {
+            $( $variant($ty), )*
+        }
+
+        $(
+            impl From<$ty> for What {
+                fn from(k: $ty) -> Self {
+                    Self::$variant(k)
+                }
+            }
+        )*
+
+        impl What {
+            /// The check's kind.
+            pub fn kind(&self) -> CheckKind {
+                match self {
+                    $( Self::$variant(_) => CheckKind::$variant, )*
+                }
+            }
+
+            /// The kind's behaviour.
+            pub fn as_evaluate(&self) -> &dyn Evaluate {
+                match self {
+                    $( Self::$variant(k) => k, )*
+                }
+            }
+        }
+    };
 }
 
-impl CheckKind {
-    /// The kind as written in case files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Mode => "mode",
-            Self::Bcar => "bcar",
-            Self::Milne => "milne",
-            Self::Derivative => "derivative",
-            Self::Autorotation => "autorotation",
-            Self::InflowCoefficients => "inflow_coefficients",
-            Self::Trim => "trim",
-            Self::TrimSweep => "trim_sweep",
-            Self::TimeHistory => "time_history",
-            Self::FrequencyResponse => "frequency_response",
+registry! {
+    /// Characteristics of one mode.
+    Mode = "mode" => mode::ModeCheck;
+    /// BCAR Section T verdict (and margins) of one oscillatory mode.
+    Bcar = "bcar" => bcar::BcarCheck;
+    /// Weakly coupled systems values (seed 002 Eqs. 13-25).
+    Milne = "milne" => milne::MilneCheck;
+    /// One stability or control derivative.
+    Derivative = "derivative" => derivative::DerivativeCheck;
+    /// An isolated rotor's autorotative equilibrium in a wind tunnel.
+    Autorotation = "autorotation" => autorotation::AutorotationCheck;
+    /// Inflow components from a teeter record (seed 003).
+    InflowCoefficients = "inflow_coefficients" => inflow_coefficients::InflowCoefficientsCheck;
+    /// One trimmed flight condition of an aircraft.
+    Trim = "trim" => trim::TrimCheck;
+    /// Trends of trim over a sweep of airspeeds: the least and greatest slopes between
+    /// neighbouring airspeeds, and the worst residual.
+    TrimSweep = "trim_sweep" => trim_sweep::TrimSweepCheck;
+    /// A reference record's control changes flown again by the model, its responses compared
+    /// with the record's: `<signal>.<metric>` (see [`crate::run::replay`]).
+    TimeHistory = "time_history" => time_history::TimeHistoryCheck;
+    /// The model's frequency response from a control to a state against a reference's (from
+    /// records, or a file), judged by CIFER's mismatch cost `J`.
+    FrequencyResponse = "frequency_response" => frequency_response::FrequencyResponseCheck;
+}
+
+/// A kind's row of the registry: the subjects it runs on, and how it resolves its own fields.
+struct Entry {
+    /// The fields of its own it takes.
+    fields: fn() -> &'static [&'static str],
+    subjects: &'static str,
+    runs_on: fn(&Subject) -> bool,
+    resolve: fn(&Cx, serde_yaml::Mapping, &CheckSpec) -> Result<What, InputError>,
+}
+
+impl Entry {
+    fn of<K: Kind + Into<What>>() -> Self {
+        Self {
+            fields: fields_of::<K::Spec>,
+            subjects: K::SUBJECTS,
+            runs_on: K::runs_on,
+            resolve: |cx, own, spec| {
+                let own: K::Spec = from_written(cx.path, cx.src, cx.here, own, Some(cx.kind))?;
+                Ok(K::resolve(cx, own, spec)?.into())
+            },
         }
     }
 }
 
-/// A check as written: its kind, and the fields that some kind takes (each kind's module says
-/// which it takes; the others are refused when given).
+/// What every check has, as written. The rest of a check's fields are its kind's own: its
+/// module's `Spec`, which refuses any field it does not take ([`Kind::Spec`]).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CheckSpec {
@@ -140,81 +207,6 @@ pub struct CheckSpec {
     pub class: Option<CheckClass>,
     #[serde(default)]
     pub description: Option<String>,
-    /// `mode`, `bcar`: the system looked at.
-    #[serde(default)]
-    pub system: System,
-    /// `mode`, `bcar`: the mode class to look at.
-    #[serde(default)]
-    pub mode: Option<ModeKind>,
-    /// `derivative`: the derivative's name (`M_w`).
-    #[serde(default)]
-    pub derivative: Option<String>,
-    /// `derivative` on a model: check the ratio of `derivative` to this one (`Q_u` divided by
-    /// `Q_w`).
-    #[serde(default)]
-    pub divided_by: Option<String>,
-    /// `bcar`: the expected verdict.
-    #[serde(default)]
-    pub verdict: Option<Verdict>,
-    /// `autorotation`: the tunnel condition.
-    #[serde(default)]
-    pub tunnel: Option<autorotation::TunnelSpec>,
-    /// `trim`, `time_history`, `frequency_response` and linear kinds on an aircraft: the flight
-    /// condition.
-    #[serde(default)]
-    pub condition: Option<crate::TrimRequest>,
-    /// `trim_sweep`: the airspeeds, mph, rising.
-    #[serde(default)]
-    pub sweep_mph: Option<Vec<f64>>,
-    /// `derivative` and `time_history` on an aircraft: corrections to apply; a derivative
-    /// check then also computes `magnitude_change`, `(|corrected| - |uncorrected|) /
-    /// |uncorrected|`.
-    #[serde(default)]
-    pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
-    /// `time_history`: the reference record CSV (its sidecar beside it), relative to the case
-    /// file; `frequency_response`: a response file (`frequency_hz,magnitude_db,phase_deg,
-    /// coherence`).
-    #[serde(default)]
-    pub reference: Option<String>,
-    /// `frequency_response`: the control whose response is compared (`eta_s`).
-    #[serde(default)]
-    pub input: Option<String>,
-    /// `frequency_response`: the state that responds (`q`).
-    #[serde(default)]
-    pub output: Option<String>,
-    /// `frequency_response`: flight records (CSV, sidecars beside them) the reference response
-    /// is estimated from, relative to the case file.
-    #[serde(default)]
-    pub records: Option<Vec<String>>,
-    /// `frequency_response` from records: other controls the response is conditioned on.
-    #[serde(default)]
-    pub conditioned_on: Option<Vec<String>>,
-    /// `frequency_response` from records: the windows, s (default an eighth, a quarter and a
-    /// half of the shortest record).
-    #[serde(default)]
-    pub windows_s: Option<Vec<f64>>,
-    /// `frequency_response` from records: the band of the estimate, Hz (default the
-    /// estimator's: five periods of the longest window to a fifth of the sample rate).
-    #[serde(default)]
-    pub band_hz: Option<[f64; 2]>,
-    /// `time_history`: the model that flies the record (default the full blade model).
-    #[serde(default)]
-    pub simulation: Option<crate::run::replay::Simulation>,
-    /// `time_history` with the full blade model: the azimuth step, deg (default the aircraft
-    /// file's).
-    #[serde(default)]
-    pub azimuth_step_deg: Option<f64>,
-    /// `derivative` on an aircraft: the derivative as this identification set-up finds it in
-    /// the aircraft linearised with its flapping states, over the set-up's band
-    /// ([`crate::identified_in_band_cached`]), not the quasi-static linearisation's.
-    #[serde(default)]
-    pub as_identified: Option<crate::ident::Setup>,
-    /// Linear kinds: derivatives set to these values before the check (a what-if variant).
-    #[serde(default)]
-    pub set: BTreeMap<String, f64>,
-    /// Linear kinds: zero every rotorspeed coupling derivative first (seed 002 Tables 2 and 5).
-    #[serde(default)]
-    pub without_rotorspeed_coupling: bool,
     /// Quantity -> expectation.
     #[serde(default)]
     pub expect: BTreeMap<String, ExpectSpec>,
@@ -223,39 +215,143 @@ pub struct CheckSpec {
     pub expected_failure: Option<String>,
 }
 
-impl CheckSpec {
-    /// The kind-specific fields given, by name, in the order the spec lists them.
-    fn given(&self) -> Vec<&'static str> {
-        [
-            ("system", self.system != System::Full),
-            ("mode", self.mode.is_some()),
-            ("derivative", self.derivative.is_some()),
-            ("divided_by", self.divided_by.is_some()),
-            ("verdict", self.verdict.is_some()),
-            ("tunnel", self.tunnel.is_some()),
-            ("condition", self.condition.is_some()),
-            ("sweep_mph", self.sweep_mph.is_some()),
-            ("corrections", self.corrections.is_some()),
-            ("reference", self.reference.is_some()),
-            ("input", self.input.is_some()),
-            ("output", self.output.is_some()),
-            ("records", self.records.is_some()),
-            ("conditioned_on", self.conditioned_on.is_some()),
-            ("windows_s", self.windows_s.is_some()),
-            ("band_hz", self.band_hz.is_some()),
-            ("simulation", self.simulation.is_some()),
-            ("azimuth_step_deg", self.azimuth_step_deg.is_some()),
-            ("as_identified", self.as_identified.is_some()),
-            ("set", !self.set.is_empty()),
-            (
-                "without_rotorspeed_coupling",
-                self.without_rotorspeed_coupling,
-            ),
-        ]
-        .into_iter()
-        .filter_map(|(name, given)| given.then_some(name))
-        .collect()
+/// The fields of [`CheckSpec`]: every other field of a check is its kind's.
+const COMMON_FIELDS: [&str; 6] = [
+    "id",
+    "kind",
+    "class",
+    "description",
+    "expect",
+    "expected_failure",
+];
+
+/// A check as the case file wrote it (`here`, `checks[3]`): what every check has, and its
+/// kind's own fields, still to be read by its kind.
+pub fn split_written(
+    path: &Path,
+    src: &str,
+    here: &str,
+    written: serde_yaml::Mapping,
+) -> Result<(CheckSpec, serde_yaml::Mapping), InputError> {
+    let (mut common, mut own) = (serde_yaml::Mapping::new(), serde_yaml::Mapping::new());
+    for (k, v) in written {
+        if k.as_str().is_some_and(|k| COMMON_FIELDS.contains(&k)) {
+            common.insert(k, v);
+        } else {
+            own.insert(k, v);
+        }
     }
+    Ok((from_written(path, src, here, common, None)?, own))
+}
+
+/// Deserialises fields of the check at `here` from what was written, each error located at its
+/// field in the case file. Of a kind's own fields (`kind`), a field it does not take is said to
+/// belong to another kind, or to none, and a field it needs and is not given is named.
+fn from_written<T: serde::de::DeserializeOwned>(
+    path: &Path,
+    src: &str,
+    here: &str,
+    fields: serde_yaml::Mapping,
+    kind: Option<CheckKind>,
+) -> Result<T, InputError> {
+    serde_path_to_error::deserialize(serde_yaml::Value::Mapping(fields)).map_err(|e| {
+        let at = match e.path().to_string().as_str() {
+            "." => String::new(),
+            p => format!(".{p}"),
+        };
+        let message = e.into_inner().to_string();
+        let quoted = |prefix: &str| {
+            let rest = message.strip_prefix(prefix)?;
+            Some(rest.split_once('`')?.0.to_string())
+        };
+        if let Some(field) = quoted("unknown field `") {
+            // The path ends at the unknown field; its parent is where it was written.
+            let own_field = at == format!(".{field}");
+            let msg = match kind {
+                Some(k) if own_field => not_taken(k, &field),
+                _ => match crate::inputs::yaml::suggestion(&message) {
+                    Some(hint) => format!("{message}; {hint}"),
+                    None => message.clone(),
+                },
+            };
+            return InputError::field(path, src, &format!("{here}{at}"), msg);
+        }
+        if let (Some(k), Some(field), true) = (kind, quoted("missing field `"), at.is_empty()) {
+            return InputError::field(
+                path,
+                src,
+                here,
+                format!("a `{}` check needs `{field}`", k.name()),
+            );
+        }
+        InputError::field(path, src, &format!("{here}{at}"), message)
+    })
+}
+
+/// Why a `kind` check refuses its field `field`: another kind's, or no kind's (with the nearest
+/// field a check of this kind takes).
+fn not_taken(kind: CheckKind, field: &str) -> String {
+    let own = (kind.entry().fields)();
+    let takes = if own.is_empty() {
+        "no fields of its own".to_string()
+    } else {
+        format!("`{}`", own.join("`, `"))
+    };
+    let others: Vec<&str> = CheckKind::ALL
+        .iter()
+        .filter(|k| (k.entry().fields)().contains(&field))
+        .map(|k| k.name())
+        .collect();
+    if !others.is_empty() {
+        return format!(
+            "`{field}` does not apply to a `{}` check, which takes {takes}; it is a field of `{}` checks",
+            kind.name(),
+            others.join("`, `")
+        );
+    }
+    let known: Vec<String> = own
+        .iter()
+        .chain(&COMMON_FIELDS)
+        .map(|f| f.to_string())
+        .collect();
+    let hint = crate::inputs::yaml::nearest(field, &known)
+        .map(|n| format!("; did you mean `{n}`?"))
+        .unwrap_or_default();
+    format!(
+        "unknown field `{field}`: a `{}` check takes {takes}, besides every check's `{}`{hint}",
+        kind.name(),
+        COMMON_FIELDS.join("`, `"),
+    )
+}
+
+/// The fields a struct's `Deserialize` asks for: serde's derive names them when it asks for a
+/// struct, which a probe records (and then stops).
+fn fields_of<T: serde::de::DeserializeOwned>() -> &'static [&'static str] {
+    use serde::de::{self, Visitor};
+    struct Probe(&'static [&'static str]);
+    impl<'de> de::Deserializer<'de> for &mut Probe {
+        type Error = de::value::Error;
+        fn deserialize_any<V: Visitor<'de>>(self, _: V) -> Result<V::Value, Self::Error> {
+            Err(de::Error::custom("not a struct"))
+        }
+        fn deserialize_struct<V: Visitor<'de>>(
+            self,
+            _: &'static str,
+            fields: &'static [&'static str],
+            _: V,
+        ) -> Result<V::Value, Self::Error> {
+            self.0 = fields;
+            Err(de::Error::custom("probed"))
+        }
+        serde::forward_to_deserialize_any! {
+            bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes
+            byte_buf option unit unit_struct newtype_struct seq tuple tuple_struct map enum
+            identifier ignored_any
+        }
+    }
+    let mut probe = Probe(&[]);
+    let _ = T::deserialize(&mut probe);
+    probe.0
 }
 
 /// An expectation as written: a value and a named tolerance, or an interval tolerance alone.
@@ -286,108 +382,48 @@ pub struct Check {
     pub expected_failure: Option<String>,
 }
 
-/// What a check of each kind needs, typed.
-#[derive(Debug, Clone, PartialEq)]
-pub enum What {
-    Mode(mode::ModeCheck),
-    Bcar(bcar::BcarCheck),
-    Milne(milne::MilneCheck),
-    Derivative(derivative::DerivativeCheck),
-    Autorotation(autorotation::AutorotationCheck),
-    InflowCoefficients(inflow_coefficients::InflowCoefficientsCheck),
-    Trim(trim::TrimCheck),
-    TrimSweep(trim_sweep::TrimSweepCheck),
-    TimeHistory(time_history::TimeHistoryCheck),
-    FrequencyResponse(frequency_response::FrequencyResponseCheck),
-}
-
-impl What {
-    /// The check's kind.
-    pub fn kind(&self) -> CheckKind {
-        match self {
-            Self::Mode(_) => CheckKind::Mode,
-            Self::Bcar(_) => CheckKind::Bcar,
-            Self::Milne(_) => CheckKind::Milne,
-            Self::Derivative(_) => CheckKind::Derivative,
-            Self::Autorotation(_) => CheckKind::Autorotation,
-            Self::InflowCoefficients(_) => CheckKind::InflowCoefficients,
-            Self::Trim(_) => CheckKind::Trim,
-            Self::TrimSweep(_) => CheckKind::TrimSweep,
-            Self::TimeHistory(_) => CheckKind::TimeHistory,
-            Self::FrequencyResponse(_) => CheckKind::FrequencyResponse,
-        }
-    }
-
-    fn as_evaluate(&self) -> &dyn Evaluate {
-        match self {
-            Self::Mode(k) => k,
-            Self::Bcar(k) => k,
-            Self::Milne(k) => k,
-            Self::Derivative(k) => k,
-            Self::Autorotation(k) => k,
-            Self::InflowCoefficients(k) => k,
-            Self::Trim(k) => k,
-            Self::TrimSweep(k) => k,
-            Self::TimeHistory(k) => k,
-            Self::FrequencyResponse(k) => k,
-        }
-    }
-}
-
 impl Check {
     /// The check's kind.
     pub fn kind(&self) -> CheckKind {
         self.what.kind()
     }
 
+    /// What its kind does with it.
+    pub fn behaviour(&self) -> &dyn Evaluate {
+        self.what.as_evaluate()
+    }
+
     /// The tip-speed ratio the check's tunnel condition states, if it states one (where a
     /// score places a peak).
     pub fn tunnel_tip_speed_ratio(&self) -> Option<f64> {
-        match &self.what {
-            What::Autorotation(a) => a.tunnel.tip_speed_ratio,
-            _ => None,
-        }
+        self.behaviour().tunnel()?.tip_speed_ratio
     }
 
-    /// The flight condition the check runs at (a check on an aircraft, at one condition).
+    /// The flight condition the check trims or linearises its subject at.
     pub fn condition(&self) -> Option<crate::TrimRequest> {
-        match &self.what {
-            What::Trim(t) => Some(t.condition),
-            What::TimeHistory(t) => Some(t.condition),
-            _ => self.linear()?.condition,
-        }
+        self.behaviour().condition()
     }
 
     /// The modifications of a check on a linear model (linear kinds).
     pub fn linear(&self) -> Option<&linear::LinearSetup> {
-        match &self.what {
-            What::Mode(mode::ModeCheck { linear, .. })
-            | What::Bcar(bcar::BcarCheck { linear, .. })
-            | What::Milne(milne::MilneCheck { linear })
-            | What::Derivative(derivative::DerivativeCheck { linear, .. }) => Some(linear),
-            _ => None,
-        }
+        self.behaviour().linear()
     }
 
     /// The corrections the check applies on top of its subject's.
     pub fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
-        match &self.what {
-            What::Derivative(d) => d.corrections.as_ref(),
-            What::TimeHistory(t) => t.corrections.as_ref(),
-            _ => None,
-        }
+        self.behaviour().corrections()
     }
 
     /// The quantities the check can compute (the keys allowed under `expect`).
     pub fn quantities(&self) -> Vec<String> {
-        self.what.as_evaluate().quantities()
+        self.behaviour().quantities()
     }
 
     /// Computes the check's quantities and compares them with its expectations. `siblings` are
     /// the other checks of its case (a mode is followed from a neighbouring airspeed).
     pub fn evaluate(&self, subject: &Subject, siblings: &[Check]) -> Result<Evaluated, String> {
         let at = At { subject, siblings };
-        self.what.as_evaluate().evaluate(&at, &self.expectations)
+        self.behaviour().evaluate(&at, &self.expectations)
     }
 }
 
@@ -457,18 +493,18 @@ pub const VERDICT: &str = "verdict";
 /// A refusal at load: the field (a suffix of the check's own location, `.expect.q`) and why.
 pub type Refusal = (String, String);
 
-/// How a kind of check resolves from the flat spec.
+/// How a kind of check resolves from what the case file wrote.
 pub trait Kind: Sized {
-    const KIND: CheckKind;
-    /// The kind-specific fields of [`CheckSpec`] it takes.
-    const FIELDS: &'static [&'static str];
+    /// Its own fields as written (every check's are [`CheckSpec`]'s). It refuses the fields it
+    /// does not take (`deny_unknown_fields`): the error names the field, its line and column.
+    type Spec: serde::de::DeserializeOwned;
     /// The subjects it runs on, in words, for the error that refuses the others.
     const SUBJECTS: &'static str;
     /// Whether it runs on `subject`.
     fn runs_on(subject: &Subject) -> bool;
-    /// Resolves and checks its own fields (those in `FIELDS`, and the expectation keys where
-    /// they depend on them).
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError>;
+    /// Resolves and checks its own fields (and the expectation keys where they depend on
+    /// them; `written` is what every check has).
+    fn resolve(cx: &Cx, own: Self::Spec, written: &CheckSpec) -> Result<Self, InputError>;
 }
 
 /// What a resolved check of any kind does.
@@ -487,6 +523,120 @@ pub trait Evaluate {
     }
     /// Computes its quantities at `at` and compares them with `expectations`.
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String>;
+
+    /// Whether it judges something with no entry under `expect` (a BCAR check's verdict).
+    fn judges_without_expect(&self) -> bool {
+        false
+    }
+    /// The derivative it checks, whose entry in a derivative table a tolerance may take its
+    /// interval from.
+    fn derivative(&self) -> Option<&str> {
+        None
+    }
+    /// The flight condition it trims or linearises its subject at.
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        None
+    }
+    /// The tunnel condition of a check on an isolated rotor.
+    fn tunnel(&self) -> Option<&autorotation::TunnelSpec> {
+        None
+    }
+    /// On a linear model: where the model is taken and how the check modifies it.
+    fn linear(&self) -> Option<&linear::LinearSetup> {
+        None
+    }
+    /// The corrections it applies on top of its subject's.
+    fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
+        None
+    }
+    /// Whether it is one row of a table of conditions, whose other rows' mean reference is a
+    /// predictor it must beat ([`refuse_reference_mean`]).
+    fn is_table_row(&self) -> bool {
+        false
+    }
+    /// What it measures of its subject, for a fit or a sensitivity study.
+    fn measured(&self) -> Measured<'_> {
+        Measured::Elsewhere
+    }
+    /// The name the model gives its quantity `quantity` (a derivative check's `value` is the
+    /// derivative, `M_w`), or `None` where that quantity is not one of the subject's (a
+    /// derivative's change under corrections).
+    fn model_name(&self, quantity: &str) -> Option<String> {
+        Some(quantity.to_string())
+    }
+    /// Where the report's figures that gather checks place it (its own figures come from its
+    /// result's [`PlotData`]).
+    fn placed(&self) -> Option<Placed<'_>> {
+        None
+    }
+    /// What it adds to its case's regression snapshots (`reports/snapshots/`).
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        Vec::new()
+    }
+}
+
+/// What a check measures of its subject, for a fit or a sensitivity study.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Measured<'a> {
+    /// Its quantities of the subject as it is, at one condition.
+    At(Place<'a>),
+    /// At one condition, of the subject as the check modifies it (its own corrections,
+    /// derivatives set or cut, a ratio, a model identified from it): not a reference to fit.
+    Modified,
+    /// Not a measurement at one condition (a sweep, a record, a mode, a table).
+    Elsewhere,
+}
+
+/// One condition of a subject.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Place<'a> {
+    /// An aircraft's trimmed flight condition.
+    Flight(crate::TrimRequest),
+    /// An isolated rotor's tunnel condition.
+    Tunnel(&'a autorotation::TunnelSpec),
+}
+
+/// Where the report's figures that gather checks place one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Placed<'a> {
+    /// A trimmed condition's quantities, against airspeed, mph.
+    Airspeed(f64),
+    /// An isolated rotor's quantities, against tip-speed ratio (or disc angle).
+    Tunnel(&'a autorotation::TunnelSpec),
+    /// An aircraft's derivative at an airspeed, across cases and masses.
+    Derivative {
+        /// `M_w`, or a ratio `Q_u / Q_w`.
+        label: String,
+        airspeed_mph: f64,
+        /// The check applies corrections of its own.
+        corrected: bool,
+        /// The derivative as an identification set-up finds it.
+        as_identified: bool,
+    },
+    /// Inflow recovered from a flapping record, against the record's airspeed.
+    FlapRecord,
+    /// A mode among its system's eigenvalues; `modified` when the check sets derivatives or
+    /// cuts couplings (its eigenvalues are then not the model's).
+    Eigenvalues {
+        system: System,
+        condition: Option<crate::TrimRequest>,
+        modified: bool,
+        /// The check judges the mode by BCAR Section T: it is drawn on the BCAR chart too.
+        bcar: bool,
+    },
+}
+
+/// What a check adds to its case's regression snapshots.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Snapshotted<'a> {
+    /// Conditions its aircraft is trimmed at (columns of the trim table).
+    Trims(Vec<crate::TrimRequest>),
+    /// A condition its aircraft is linearised at (a table of the linear model there).
+    Linearised(crate::TrimRequest),
+    /// A row of the isolated rotor's autorotation table.
+    Autorotation(&'a autorotation::TunnelSpec),
+    /// A row of the table of time-history metrics.
+    TimeHistory(&'a time_history::TimeHistoryCheck),
 }
 
 /// A check's place in its case file, for located errors.
@@ -529,34 +679,29 @@ impl Cx<'_> {
 pub type ToleranceResolver<'a> =
     dyn Fn(&str, &str, Option<&str>) -> Result<Tolerance, InputError> + 'a;
 
-/// Resolves one check (`cx` says where it is, its kind and class). `tolerance(field, name,
-/// derivative)` finds a named tolerance.
+/// Resolves one check (`cx` says where it is, its kind and class) from what every check has
+/// and its kind's own fields as written. `tolerance(field, name, derivative)` finds a named
+/// tolerance.
 pub fn resolve(
     cx: &Cx,
     spec: &CheckSpec,
+    own: serde_yaml::Mapping,
     tolerance: &ToleranceResolver,
 ) -> Result<Check, InputError> {
-    let (fields, subjects, runs_on) = kind_table(spec.kind);
-    for f in spec.given() {
-        if !fields.contains(&f) {
-            return Err(cx.err(
-                &format!(".{f}"),
-                format!("`{f}` does not apply to a `{}` check", spec.kind.name()),
-            ));
-        }
-    }
-    if !runs_on(cx.subject) {
+    let entry = spec.kind.entry();
+    if !(entry.runs_on)(cx.subject) {
         return Err(cx.err(
             ".kind",
             format!(
-                "`{}` checks run on {subjects}; this case's model is {}",
+                "`{}` checks run on {}; this case's model is {}",
                 spec.kind.name(),
+                entry.subjects,
                 cx.subject.describe()
             ),
         ));
     }
-    let what = resolve_what(cx, spec)?;
-    if spec.expect.is_empty() && !(spec.kind == CheckKind::Bcar && spec.verdict.is_some()) {
+    let what = (entry.resolve)(cx, own, spec)?;
+    if spec.expect.is_empty() && !what.as_evaluate().judges_without_expect() {
         return Err(cx.err(
             "",
             "a check needs at least one entry under `expect` (a `bcar` check: `expect` or a \
@@ -588,40 +733,6 @@ pub fn resolve(
     })
 }
 
-/// A kind's fields, subjects and test of its subject.
-fn kind_table(kind: CheckKind) -> (&'static [&'static str], &'static str, fn(&Subject) -> bool) {
-    fn row<K: Kind>() -> (&'static [&'static str], &'static str, fn(&Subject) -> bool) {
-        (K::FIELDS, K::SUBJECTS, K::runs_on)
-    }
-    match kind {
-        CheckKind::Mode => row::<mode::ModeCheck>(),
-        CheckKind::Bcar => row::<bcar::BcarCheck>(),
-        CheckKind::Milne => row::<milne::MilneCheck>(),
-        CheckKind::Derivative => row::<derivative::DerivativeCheck>(),
-        CheckKind::Autorotation => row::<autorotation::AutorotationCheck>(),
-        CheckKind::InflowCoefficients => row::<inflow_coefficients::InflowCoefficientsCheck>(),
-        CheckKind::Trim => row::<trim::TrimCheck>(),
-        CheckKind::TrimSweep => row::<trim_sweep::TrimSweepCheck>(),
-        CheckKind::TimeHistory => row::<time_history::TimeHistoryCheck>(),
-        CheckKind::FrequencyResponse => row::<frequency_response::FrequencyResponseCheck>(),
-    }
-}
-
-fn resolve_what(cx: &Cx, spec: &CheckSpec) -> Result<What, InputError> {
-    Ok(match spec.kind {
-        CheckKind::Mode => What::Mode(Kind::resolve(cx, spec)?),
-        CheckKind::Bcar => What::Bcar(Kind::resolve(cx, spec)?),
-        CheckKind::Milne => What::Milne(Kind::resolve(cx, spec)?),
-        CheckKind::Derivative => What::Derivative(Kind::resolve(cx, spec)?),
-        CheckKind::Autorotation => What::Autorotation(Kind::resolve(cx, spec)?),
-        CheckKind::InflowCoefficients => What::InflowCoefficients(Kind::resolve(cx, spec)?),
-        CheckKind::Trim => What::Trim(Kind::resolve(cx, spec)?),
-        CheckKind::TrimSweep => What::TrimSweep(Kind::resolve(cx, spec)?),
-        CheckKind::TimeHistory => What::TimeHistory(Kind::resolve(cx, spec)?),
-        CheckKind::FrequencyResponse => What::FrequencyResponse(Kind::resolve(cx, spec)?),
-    })
-}
-
 /// The check's expectations: each names a quantity its kind computes, a tolerance that
 /// resolves, and a value exactly when the tolerance is not a bound.
 fn resolve_expectations(
@@ -631,10 +742,7 @@ fn resolve_expectations(
     tolerance: &ToleranceResolver,
 ) -> Result<Vec<Expectation>, InputError> {
     let allowed = what.as_evaluate().quantities();
-    let derivative = match what {
-        What::Derivative(d) => Some(d.derivative.as_str()),
-        _ => None,
-    };
+    let derivative = what.as_evaluate().derivative();
     let mut expectations = Vec::new();
     for (q, e) in &spec.expect {
         let field = format!(".expect.{q}");
@@ -656,7 +764,7 @@ fn resolve_expectations(
         // model's, given or an external model's answer to a check on its linear model.
         let on_matrices = match cx.subject {
             Subject::Linear { .. } => true,
-            Subject::External(_) => what_is_linear(what),
+            Subject::External(_) => what.as_evaluate().linear().is_some(),
             _ => false,
         };
         if matches!(t.kind, ToleranceKind::Rounding(_)) && !on_matrices {
@@ -775,7 +883,7 @@ fn refuse_trivial(
 /// fewer than two checks expect, or that every check expects at one value (a source quoting one
 /// figure for all its conditions), gives no prediction beyond the reference itself.
 pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
-    let table = |c: &Check| matches!(c.what, What::Autorotation(_) | What::Trim(_));
+    let table = |c: &Check| c.behaviour().is_table_row();
     // Per quantity: the sum and count of the expected values, and whether they differ.
     let mut sums: BTreeMap<&str, (f64, usize, f64, bool)> = BTreeMap::new();
     for c in checks.iter().filter(|c| table(c)) {
@@ -870,14 +978,6 @@ pub fn flight_model(
         Subject::External(e) => Some((Box::new(e.model.clone()), e.loading)),
         _ => None,
     }
-}
-
-/// Whether the check runs on a linear model (`mode`, `bcar`, `milne`, `derivative`).
-fn what_is_linear(what: &What) -> bool {
-    matches!(
-        what,
-        What::Mode(_) | What::Bcar(_) | What::Milne(_) | What::Derivative(_)
-    )
 }
 
 /// The subjects that are flight models, in words.

@@ -4,7 +4,8 @@
 
 use super::linear::{self, Computed, LinearSetup, OnLinear, System};
 use super::{
-    At, CheckKind, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Refusal, Trivial,
+    At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Placed, Refusal, Snapshotted,
+    Trivial,
 };
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
@@ -20,26 +21,30 @@ pub struct ModeCheck {
     pub linear: LinearSetup,
 }
 
+linear::linear_spec! {
+    /// A `mode` check's own fields, as written.
+    pub struct ModeSpec {
+        /// The mode class to look at.
+        pub mode: ModeKind,
+        /// The system looked at.
+        #[serde(default)]
+        pub system: System,
+    }
+}
+
 impl Kind for ModeCheck {
-    const KIND: CheckKind = CheckKind::Mode;
-    const FIELDS: &'static [&'static str] = &[
-        "mode",
-        "system",
-        "condition",
-        "set",
-        "without_rotorspeed_coupling",
-    ];
+    type Spec = ModeSpec;
     const SUBJECTS: &'static str = linear::SUBJECTS;
 
     fn runs_on(subject: &Subject) -> bool {
         linear::runs_on(subject)
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
+    fn resolve(cx: &Cx, own: ModeSpec, _: &CheckSpec) -> Result<Self, InputError> {
         Ok(Self {
-            mode: cx.needs(&spec.mode, "mode")?,
-            system: spec.system,
-            linear: linear::resolve_setup(cx, spec)?,
+            mode: own.mode,
+            system: own.system,
+            linear: linear::resolve_setup(cx, &own.linear())?,
         })
     }
 }
@@ -47,6 +52,26 @@ impl Kind for ModeCheck {
 impl Evaluate for ModeCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::MODE)
+    }
+
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        self.linear.condition
+    }
+
+    fn linear(&self) -> Option<&LinearSetup> {
+        Some(&self.linear)
+    }
+
+    fn placed(&self) -> Option<Placed<'_>> {
+        Some(linear::placed_among_eigenvalues(
+            self.system,
+            &self.linear,
+            false,
+        ))
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        linear::snapshotted(&self.linear)
     }
 
     /// Zero damping; a constant verdict (stable, or unstable) where the check is of a sign;

@@ -3,7 +3,7 @@
 //! [`crate::run::replay`]).
 
 use super::result::{Evaluated, PlotData, Trace, compare_all};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Snapshotted, Trivial};
 use crate::checks::subject::Subject;
 use crate::checks::tolerance::ToleranceKind;
 use crate::inputs::record::Record;
@@ -25,23 +25,36 @@ pub struct TimeHistoryCheck {
     pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
 }
 
+/// A `time_history` check's own fields, as written.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeHistorySpec {
+    /// The reference record CSV (its sidecar beside it), relative to the case file.
+    pub reference: String,
+    /// The trim the record starts from.
+    pub condition: crate::TrimRequest,
+    /// The model that flies the record (default the full blade model).
+    #[serde(default)]
+    pub simulation: Option<Simulation>,
+    /// With the full blade model: the azimuth step, deg (default the aircraft file's).
+    #[serde(default)]
+    pub azimuth_step_deg: Option<f64>,
+    /// Corrections applied to the aircraft first.
+    #[serde(default)]
+    pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
+}
+
 impl Kind for TimeHistoryCheck {
-    const KIND: CheckKind = CheckKind::TimeHistory;
-    const FIELDS: &'static [&'static str] = &[
-        "reference",
-        "condition",
-        "simulation",
-        "azimuth_step_deg",
-        "corrections",
-    ];
+    type Spec = TimeHistorySpec;
     const SUBJECTS: &'static str = super::FLIGHT_MODELS;
 
     fn runs_on(subject: &Subject) -> bool {
         super::is_flight_model(subject)
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
-        let reference = cx.needs(&spec.reference, "reference")?;
+    fn resolve(cx: &Cx, own: TimeHistorySpec, _: &CheckSpec) -> Result<Self, InputError> {
+        let spec = &own;
+        let reference = &spec.reference;
         if let Subject::External(_) = cx.subject {
             for (field, given) in [
                 ("simulation", spec.simulation.is_some()),
@@ -59,7 +72,7 @@ impl Kind for TimeHistoryCheck {
                 }
             }
         }
-        let condition = cx.needs(&spec.condition, "condition")?;
+        let condition = spec.condition;
         let simulation = spec.simulation.unwrap_or_default();
         let linear = simulation == Simulation::Linear;
         if let Some(a) = spec.azimuth_step_deg {
@@ -85,11 +98,11 @@ impl Kind for TimeHistoryCheck {
                 .map_err(|e| cx.err(".corrections", e.to_string()))?;
         }
         Ok(Self {
-            reference: Box::new(load_reference(cx, &reference)?),
+            reference: Box::new(load_reference(cx, reference)?),
             condition,
             simulation,
             azimuth_step_deg: spec.azimuth_step_deg,
-            corrections: spec.corrections.clone(),
+            corrections: own.corrections,
         })
     }
 }
@@ -115,7 +128,18 @@ fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
 }
 
 impl Evaluate for TimeHistoryCheck {
-    /// `<signal>.<metric>` for every response of the record.
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        Some(self.condition)
+    }
+
+    fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
+        self.corrections.as_ref()
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        vec![Snapshotted::TimeHistory(self)]
+    }
+
     fn quantities(&self) -> Vec<String> {
         replay::record_signals(&self.reference)
             .iter()

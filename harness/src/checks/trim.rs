@@ -2,7 +2,10 @@
 //! rotor thrust, flapping and inflow.
 
 use super::result::{Evaluated, Quantities, compare_all};
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use super::{
+    At, CheckSpec, Cx, Evaluate, Expectation, Kind, Measured, Place, Placed, Refusal, Snapshotted,
+    Trivial,
+};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity as q;
 use crate::inputs::yaml::InputError;
@@ -13,17 +16,24 @@ pub struct TrimCheck {
     pub condition: crate::TrimRequest,
 }
 
+/// A `trim` check's own fields, as written.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrimSpec {
+    /// The flight condition.
+    pub condition: crate::TrimRequest,
+}
+
 impl Kind for TrimCheck {
-    const KIND: CheckKind = CheckKind::Trim;
-    const FIELDS: &'static [&'static str] = &["condition"];
+    type Spec = TrimSpec;
     const SUBJECTS: &'static str = super::FLIGHT_MODELS;
 
     fn runs_on(subject: &Subject) -> bool {
         super::is_flight_model(subject)
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
-        let condition = cx.needs(&spec.condition, "condition")?;
+    fn resolve(cx: &Cx, own: TrimSpec, _: &CheckSpec) -> Result<Self, InputError> {
+        let condition = own.condition;
         super::check_condition(cx, &condition, false)?;
         Ok(Self { condition })
     }
@@ -32,6 +42,26 @@ impl Kind for TrimCheck {
 impl Evaluate for TrimCheck {
     fn quantities(&self) -> Vec<String> {
         super::names(q::TRIM)
+    }
+
+    fn condition(&self) -> Option<crate::TrimRequest> {
+        Some(self.condition)
+    }
+
+    fn is_table_row(&self) -> bool {
+        true
+    }
+
+    fn measured(&self) -> Measured<'_> {
+        Measured::At(Place::Flight(self.condition))
+    }
+
+    fn placed(&self) -> Option<Placed<'_>> {
+        Some(Placed::Airspeed(self.condition.airspeed_mph))
+    }
+
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        vec![Snapshotted::Trims(vec![self.condition])]
     }
 
     fn trivial(

@@ -3,7 +3,7 @@
 
 use super::result::{Evaluated, PlotData, Quantities, compare_all};
 use super::trim::refuse_enforced;
-use super::{At, CheckKind, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Snapshotted, Trivial};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
 use crate::inputs::yaml::InputError;
@@ -14,17 +14,24 @@ pub struct TrimSweepCheck {
     pub sweep_mph: Vec<f64>,
 }
 
+/// A `trim_sweep` check's own fields, as written.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrimSweepSpec {
+    /// The airspeeds, mph, rising.
+    pub sweep_mph: Vec<f64>,
+}
+
 impl Kind for TrimSweepCheck {
-    const KIND: CheckKind = CheckKind::TrimSweep;
-    const FIELDS: &'static [&'static str] = &["sweep_mph"];
+    type Spec = TrimSweepSpec;
     const SUBJECTS: &'static str = super::FLIGHT_MODELS;
 
     fn runs_on(subject: &Subject) -> bool {
         super::is_flight_model(subject)
     }
 
-    fn resolve(cx: &Cx, spec: &CheckSpec) -> Result<Self, InputError> {
-        let s = cx.needs(&spec.sweep_mph, "sweep_mph")?;
+    fn resolve(cx: &Cx, own: TrimSweepSpec, _: &CheckSpec) -> Result<Self, InputError> {
+        let s = own.sweep_mph;
         let rising = s
             .windows(2)
             .all(|w| w[1].partial_cmp(&w[0]) == Some(std::cmp::Ordering::Greater));
@@ -38,6 +45,16 @@ impl Kind for TrimSweepCheck {
 impl Evaluate for TrimSweepCheck {
     fn quantities(&self) -> Vec<String> {
         q::sweep_names()
+    }
+
+    /// The sweep's airspeeds, each trimmed in straight and level flight.
+    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
+        vec![Snapshotted::Trims(
+            self.sweep_mph
+                .iter()
+                .map(|v| crate::TrimRequest::level(*v))
+                .collect(),
+        )]
     }
 
     fn trivial(
@@ -110,11 +127,7 @@ pub fn trim_sweep_of(
     sweep_mph
         .iter()
         .map(|&v| {
-            let request = crate::TrimRequest {
-                airspeed_mph: v,
-                climb_m_s: 0.0,
-                turn_rate_deg_s: 0.0,
-            };
+            let request = crate::TrimRequest::level(v);
             model
                 .trim(request, loading)
                 .map(|q| (v, q))

@@ -43,7 +43,7 @@
 //! the value, and an interval (95 % flight bounds) gives its midpoint with a standard error of
 //! the half-width over 1.96; such an interval can also be a hard or soft bound.
 
-use crate::checks::What;
+use crate::checks::{Measured, Place};
 use crate::fit::{self, Bounds, Condition, Enforce, Measure, Parameter, ParameterKind};
 use crate::inputs::reference::Provenance;
 use crate::inputs::yaml::{self, InputError};
@@ -578,11 +578,15 @@ fn from_case(
         {
             continue;
         }
-        let condition = match (&check.what, check.condition(), case_loading) {
-            (What::Derivative(_) | What::Trim(_), Some(cond), Some(loading)) => {
-                Condition::Flight(cond, loading)
+        let condition = match (check.behaviour().measured(), case_loading) {
+            (Measured::At(Place::Flight(cond)), Some(loading)) => Condition::Flight(cond, loading),
+            (Measured::At(Place::Tunnel(tunnel)), _) => Condition::Tunnel(*tunnel),
+            (Measured::Modified, _) if t.checks.is_some() => {
+                return Err(format!(
+                    "check `{}` of {file} sets its own corrections or derivatives, or checks a ratio or an identified model: it is not a reference to fit",
+                    check.id
+                ));
             }
-            (What::Autorotation(a), _, _) => Condition::Tunnel(a.tunnel),
             _ if t.checks.is_some() => {
                 return Err(format!(
                     "check `{}` of {file} is not a derivative, trim or autorotation check at one condition",
@@ -591,16 +595,6 @@ fn from_case(
             }
             _ => continue,
         };
-        let modified = check.linear().is_some_and(|l| !l.set.is_empty());
-        if check.corrections().is_some() || modified {
-            if t.checks.is_some() {
-                return Err(format!(
-                    "check `{}` of {file} sets its own corrections or derivatives: it is not a reference to fit",
-                    check.id
-                ));
-            }
-            continue;
-        }
         for e in &check.expectations {
             if t.quantities
                 .as_ref()
@@ -608,10 +602,8 @@ fn from_case(
             {
                 continue;
             }
-            let name = match &check.what {
-                What::Derivative(d) if e.quantity == "value" => d.derivative.clone(),
-                What::Derivative(_) => continue,
-                _ => e.quantity.clone(),
+            let Some(name) = check.behaviour().model_name(&e.quantity) else {
+                continue;
             };
             let measure = Measure::parse(&condition, &name)
                 .map_err(|m| format!("check `{}` of {file}: {m}", check.id))?;

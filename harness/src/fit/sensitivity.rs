@@ -254,22 +254,18 @@ pub fn from_case(
     case: &crate::suite::case::Case,
     airspeed_mph: Option<f64>,
 ) -> Result<(AircraftFile, Loading, TrimRequest, Vec<BoundedQuantity>), String> {
-    use crate::checks::What;
+    use crate::checks::{Measured, Place};
     let crate::checks::subject::Subject::Aircraft { file, loading } = &case.subject else {
         return Err(format!("{} is not a case of an aircraft", case.id));
     };
-    let plain = |k: &crate::checks::Check| match &k.what {
-        What::Derivative(d) => {
-            d.divided_by.is_none() && d.corrections.is_none() && d.linear.set.is_empty()
-        }
-        What::Trim(_) => true,
-        _ => false,
+    let at = |k: &crate::checks::Check| match k.behaviour().measured() {
+        Measured::At(Place::Flight(c)) => Some(c),
+        _ => None,
     };
     let mut conditions: Vec<TrimRequest> = case
         .checks
         .iter()
-        .filter(|k| plain(k))
-        .filter_map(|k| k.condition())
+        .filter_map(at)
         .filter(|c| airspeed_mph.is_none_or(|v| c.airspeed_mph == v))
         .collect();
     conditions.dedup();
@@ -294,20 +290,10 @@ pub fn from_case(
         }
     };
     let mut quantities = Vec::new();
-    for k in case
-        .checks
-        .iter()
-        .filter(|k| plain(k) && k.condition() == Some(request))
-    {
+    for k in case.checks.iter().filter(|k| at(k) == Some(request)) {
         for e in &k.expectations {
-            let name = match &k.what {
-                What::Derivative(d)
-                    if e.quantity == crate::inputs::quantity::Quantity::Value.name() =>
-                {
-                    d.derivative.clone()
-                }
-                What::Derivative(_) => continue,
-                _ => e.quantity.clone(),
+            let Some(name) = k.behaviour().model_name(&e.quantity) else {
+                continue;
             };
             let bound = crate::checks::tolerance::judge(
                 &e.tolerance.kind,

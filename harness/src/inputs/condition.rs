@@ -19,6 +19,17 @@ pub struct TrimRequest {
     pub turn_rate_deg_s: f64,
 }
 
+impl TrimRequest {
+    /// Straight and level flight at `airspeed_mph`.
+    pub fn level(airspeed_mph: f64) -> Self {
+        Self {
+            airspeed_mph,
+            climb_m_s: 0.0,
+            turn_rate_deg_s: 0.0,
+        }
+    }
+}
+
 /// A flight condition as written: one airspeed in the unit of its key.
 #[derive(Debug, Clone, Copy, serde::Deserialize)]
 #[serde(deny_unknown_fields)]

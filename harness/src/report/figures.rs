@@ -11,13 +11,18 @@
 
 use super::plot::{Bar, Figure, Series, Shade, Style};
 use super::{CaseRun, Run};
-use crate::checks::What;
-use crate::suite::case::{Check, CheckKind, Subject};
+use crate::checks::Placed;
+use crate::suite::case::{Check, Subject};
 use crate::suite::outcome::{CheckResult, PlotData};
 use std::collections::BTreeMap;
 
 fn check_of<'a>(c: &'a CaseRun, r: &CheckResult) -> Option<&'a Check> {
     c.case.checks.iter().find(|k| k.id == r.check)
+}
+
+/// Where the figures that gather checks place a result's check.
+fn placed<'a>(c: &'a CaseRun, r: &CheckResult) -> Option<Placed<'a>> {
+    check_of(c, r)?.behaviour().placed()
 }
 
 fn bar(x: f64, q: &crate::suite::outcome::QuantityResult) -> Bar {
@@ -84,23 +89,23 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
         };
         let mass = loading.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
         for r in &c.results {
-            let Some(k) = check_of(c, r) else { continue };
-            let (What::Derivative(dk), Some(cond)) = (&k.what, k.condition()) else {
+            let Some(Placed::Derivative {
+                label,
+                airspeed_mph,
+                corrected,
+                as_identified,
+            }) = placed(c, r)
+            else {
                 continue;
             };
-            let d = &dk.derivative;
             let Some(q) = r.quantities.iter().find(|q| q.quantity == "value") else {
                 continue;
             };
-            let label = match &dk.divided_by {
-                Some(by) => format!("{d} / {by}"),
-                None => d.clone(),
-            };
-            let corrected = dk.corrections.is_some() || !c.corrections.is_empty();
+            let corrected = corrected || !c.corrections.is_empty();
             let series = format!(
                 "model, {mass:.0} kg{}{}",
                 if corrected { ", corrected" } else { "" },
-                if dk.linear.as_identified.is_some() {
+                if as_identified {
                     ", with flapping, as identified"
                 } else {
                     ""
@@ -120,15 +125,15 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
                 });
             if let Some(x) = spread {
                 let band = g.2.entry(series.clone()).or_default();
-                if !band.iter().any(|p| p.0 == cond.airspeed_mph) {
-                    band.push((cond.airspeed_mph, x.p2_5, x.p97_5));
+                if !band.iter().any(|p| p.0 == airspeed_mph) {
+                    band.push((airspeed_mph, x.p2_5, x.p97_5));
                 }
             }
             let pts = g.0.entry(series).or_default();
-            if !pts.iter().any(|p| p.0 == cond.airspeed_mph) {
-                pts.push((cond.airspeed_mph, q.value));
+            if !pts.iter().any(|p| p.0 == airspeed_mph) {
+                pts.push((airspeed_mph, q.value));
             }
-            g.1.push(bar(cond.airspeed_mph, q));
+            g.1.push(bar(airspeed_mph, q));
         }
     }
     groups
@@ -189,7 +194,7 @@ pub fn inflow_against_airspeed(run: &Run) -> Vec<Figure> {
         for r in c
             .results
             .iter()
-            .filter(|r| r.kind == CheckKind::InflowCoefficients)
+            .filter(|r| placed(c, r) == Some(Placed::FlapRecord))
         {
             for q in &r.quantities {
                 let g = groups
@@ -279,8 +284,10 @@ fn trim_against_airspeed(c: &CaseRun) -> Vec<Figure> {
     let pts: Vec<(f64, &crate::suite::outcome::QuantityResult)> = c
         .results
         .iter()
-        .filter(|r| r.kind == CheckKind::Trim)
-        .filter_map(|r| Some((check_of(c, r)?.condition()?.airspeed_mph, r)))
+        .filter_map(|r| match placed(c, r)? {
+            Placed::Airspeed(x) => Some((x, r)),
+            _ => None,
+        })
         .flat_map(|(x, r)| r.quantities.iter().map(move |q| (x, q)))
         .collect();
     by_quantity(
@@ -346,9 +353,8 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
     let rows: Vec<(&CheckResult, &crate::suite::case::TunnelSpec)> = c
         .results
         .iter()
-        .filter(|r| r.kind == CheckKind::Autorotation)
-        .filter_map(|r| match &check_of(c, r)?.what {
-            What::Autorotation(a) => Some((r, &a.tunnel)),
+        .filter_map(|r| match placed(c, r)? {
+            Placed::Tunnel(t) => Some((r, t)),
             _ => None,
         })
         .collect();
@@ -407,19 +413,20 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
         else {
             continue;
         };
-        let Some(k) = check_of(c, r) else { continue };
-        let system = match &k.what {
-            What::Mode(m) => m.system,
-            What::Bcar(b) => b.system,
-            _ => continue,
+        let Some(Placed::Eigenvalues {
+            system,
+            condition,
+            modified,
+            ..
+        }) = placed(c, r)
+        else {
+            continue;
         };
-        let label = match k.condition() {
+        let label = match condition {
             Some(cond) => format!("{:>5.1} mph, {system:?}", cond.airspeed_mph),
             None => format!("{system:?} system"),
         };
-        if k.linear()
-            .is_some_and(|l| !l.set.is_empty() || l.without_rotorspeed_coupling)
-        {
+        if modified {
             continue;
         }
         series
@@ -538,7 +545,9 @@ fn loci(c: &CaseRun) -> Vec<Figure> {
 fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
     let mut complies = Vec::new();
     let mut not = Vec::new();
-    for r in c.results.iter().filter(|r| r.kind == CheckKind::Bcar) {
+    let on_chart =
+        |r: &&CheckResult| matches!(placed(c, r), Some(Placed::Eigenvalues { bcar: true, .. }));
+    for r in c.results.iter().filter(on_chart) {
         let Some(PlotData::Modes {
             selected: Some(e), ..
         }) = &r.plot
@@ -553,8 +562,8 @@ fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
             2.0 * std::f64::consts::PI / e.im.abs(),
         );
         let (x, t) = (a.damping_index, a.period_s);
-        match r.verdict {
-            Some((_, cierva_model::analysis::bcar::Verdict::Complies)) => complies.push((x, t)),
+        match a.verdict {
+            cierva_model::analysis::bcar::Verdict::Complies => complies.push((x, t)),
             _ => not.push((x, t)),
         }
     }

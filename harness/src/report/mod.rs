@@ -17,6 +17,7 @@ pub mod fit;
 pub mod plot;
 pub mod retune;
 pub mod sensitivity;
+pub mod snapshots;
 pub mod tables;
 pub mod uncertainty;
 

@@ -29,7 +29,9 @@ pub struct CaseSpec {
     pub model: ModelSpec,
     #[serde(default)]
     pub tolerances: BTreeMap<String, ToleranceSpec>,
-    pub checks: Vec<CheckSpec>,
+    /// Each check as written: what every check has ([`CheckSpec`]) and its kind's own fields,
+    /// read by its kind.
+    pub checks: Vec<serde_yaml::Mapping>,
     /// The data set's scores on the scoreboard (see [`crate::suite::scoreboard`]).
     #[serde(default)]
     pub scores: Vec<crate::suite::scoreboard::ScoreSpec>,
@@ -176,8 +178,10 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
     if spec.checks.is_empty() {
         return Err(err("checks", "a case needs at least one check".into()));
     }
-    for (i, c) in spec.checks.iter().enumerate() {
+    for (i, written) in spec.checks.iter().enumerate() {
         let here = format!("checks[{i}]");
+        let (c, own) = crate::checks::split_written(path, &src, &here, written.clone())?;
+        let c = &c;
         if !seen.insert(c.id.clone()) {
             return Err(err(
                 &format!("{here}.id"),
@@ -211,7 +215,7 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
                 derivative,
             )
         };
-        checks.push(crate::checks::resolve(&cx, c, &tolerance)?);
+        checks.push(crate::checks::resolve(&cx, c, own, &tolerance)?);
     }
     crate::checks::refuse_reference_mean(&checks)
         .map_err(|(i, msg)| err(&format!("checks[{i}].expect"), msg))?;

@@ -2,7 +2,6 @@
 //! the transcriptions the cases are built from.
 
 use super::common::repo_root;
-use cierva_harness::checks::What;
 use cierva_harness::inputs;
 use cierva_harness::{Loading, TrimRequest, run_trim};
 
@@ -103,10 +102,9 @@ fn tr515_case_rows_are_the_transcribed_table() {
     assert_eq!(c.checks.len(), rows.len());
     for (k, (check, row)) in c.checks.iter().zip(&rows).enumerate() {
         assert_eq!(check.id, format!("row-{:02}", k + 1));
-        let What::Autorotation(a) = &check.what else {
+        let Some(&t) = check.behaviour().tunnel() else {
             panic!("{} is an autorotation check", check.id)
         };
-        let t = a.tunnel;
         let mu = row[col("mu")];
         assert_eq!(t.tip_speed_ratio, Some(mu), "{}", check.id);
         assert_eq!(t.rotor_rpm, Some(row[col("N_rpm")]), "{}", check.id);

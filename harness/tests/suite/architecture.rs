@@ -523,3 +523,34 @@ fn the_code_map_names_every_module() {
         "ARCHITECTURE.md's code map does not name: {missing:?}"
     );
 }
+
+/// Nothing outside `checks/` dispatches on a check's kind: the fit, the sensitivity study, the
+/// figures, the snapshots and the generated trials ask the kind (`Evaluate::measured`,
+/// `model_name`, `placed`, `snapshotted`), so a new kind is one module and one line of the
+/// registry (`checks::registry!`).
+#[test]
+fn nothing_outside_checks_matches_on_kinds() {
+    let root = super::common::repo_root();
+    let mut files = Vec::new();
+    rust_files(&root.join("harness/src"), &mut files);
+    files.push(root.join("harness/tests/cases.rs"));
+    let checks = root.join("harness/src/checks");
+    let offending: Vec<String> = files
+        .iter()
+        .filter(|f| !f.starts_with(&checks))
+        .flat_map(|f| {
+            let text = std::fs::read_to_string(f).unwrap();
+            let rel = f.strip_prefix(&root).unwrap().display().to_string();
+            text.lines()
+                .enumerate()
+                .filter(|(_, l)| l.contains("What::") || l.contains("CheckKind::"))
+                .map(|(i, l)| format!("{rel}:{}: {}", i + 1, l.trim()))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(
+        offending.is_empty(),
+        "matches on check kinds outside checks/ (ask the kind through its trait instead):\n{}",
+        offending.join("\n")
+    );
+}

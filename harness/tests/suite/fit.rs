@@ -786,3 +786,30 @@ fn corrections_are_not_applied_to_a_regime_they_make_worse() {
     assert!(e.render().contains("say why"), "{}", e.render());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A check of a ratio of derivatives (`Q_u` divided by `Q_w`) measures the aircraft changed by
+/// the check, not one derivative of it: a fit that names it is refused, where it once took the
+/// ratio's interval (0 to 1, seed 002's `Q_u < Q_w`) for an interval on `Q_u`.
+#[test]
+fn a_fit_refuses_a_check_of_a_ratio_as_a_reference() {
+    use cierva_harness::fit;
+    let case = repo().join("cases/vpm-m16-stability-max-weight.yaml");
+    let target = |check: &str| {
+        let path = scratch_fit(&format!("ratio-{check}"), "  airframe.fin.area_m2: {}\n");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (head, _) = text.split_once("targets:").unwrap();
+        let text = format!(
+            "{head}targets:\n  - case: {}\n    checks: [{check}]\n",
+            case.display()
+        );
+        std::fs::write(&path, text).unwrap();
+        fit::file::load(&path)
+    };
+    let e = target("q-u-over-q-w-30mph").unwrap_err().render();
+    assert!(
+        e.contains("q-u-over-q-w-30mph")
+            && e.contains("a ratio")
+            && e.contains("not a reference to fit"),
+        "{e}"
+    );
+}

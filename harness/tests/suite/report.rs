@@ -1,0 +1,72 @@
+//! The report's figures, built from check results through each check's placement
+//! (`Evaluate::placed`).
+
+use super::common::repo_root;
+use cierva_harness::report::{CaseRun, figures};
+use cierva_harness::suite::{case, outcome};
+
+/// A scratch case on seed 002's VPM M16 matrices (60 kn) with one BCAR check of the short
+/// period's margin and no expected verdict.
+fn bcar_case_without_a_verdict() -> case::Case {
+    let dir = std::env::temp_dir().join(format!("cierva-report-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bcar-margin.yaml");
+    let text = format!(
+        "id: bcar-margin\ntitle: t\nclass: verification\nprovenance: {{source: a test}}\n\
+         model:\n  linear_model_file: {}\n\
+         tolerances:\n  wide: {{interval: [5.0, 20.0], reason: a test}}\n\
+         checks:\n  - id: sp\n    kind: bcar\n    mode: short_period\n    expect:\n      margin_index: {{tolerance: wide}}\n",
+        repo_root()
+            .join("flight-refs/seed002-vpm-m16-60kn.yaml")
+            .display()
+    );
+    std::fs::write(&path, text).unwrap();
+    let c = case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+    let _ = std::fs::remove_dir_all(&dir);
+    c
+}
+
+/// The BCAR Section T chart places a mode by its own verdict. Seed 002's short period at 60 kn
+/// (-1.064 +- 0.864i 1/s, period 7.3 s, damping index 11, far right of the boundary) complies;
+/// a check of its margin alone, with no expected verdict, once drew it as "does not comply".
+#[test]
+fn the_bcar_chart_places_a_mode_by_its_own_verdict() {
+    let case = bcar_case_without_a_verdict();
+    let results: Vec<_> = case
+        .checks
+        .iter()
+        .map(|k| outcome::run_check(&case, k))
+        .collect();
+    assert!(results[0].outcome.ok(), "{}", results[0].explain());
+    let run = CaseRun {
+        case,
+        results,
+        seconds: 0.0,
+        corrections: vec![],
+        sensitivity: None,
+        uncertainty: None,
+    };
+    let figures = figures::of_case(&run);
+    let chart = figures
+        .iter()
+        .find(|f| f.title.contains("BCAR Section T"))
+        .expect("a BCAR chart");
+    let points = |name: &str| {
+        chart
+            .series
+            .iter()
+            .find(|s| s.name == name)
+            .map_or(0, |s| s.points.len())
+    };
+    assert_eq!((points("complies"), points("does not comply")), (1, 0));
+    let (x, t) = chart
+        .series
+        .iter()
+        .find(|s| s.name == "complies")
+        .unwrap()
+        .points[0];
+    assert!(
+        (t - 7.276).abs() < 0.01 && (x - 11.17).abs() < 0.05,
+        "({x}, {t})"
+    );
+}
