@@ -2,10 +2,7 @@
 //! margin indices (see [`cierva_model::analysis::bcar`]).
 
 use super::linear::{self, Computed, LinearSetup, OnLinear, System};
-use super::{
-    At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Placed, Refusal, Snapshotted,
-    Trivial,
-};
+use super::{At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Placed, Refusal, Trivial};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
 use crate::inputs::yaml::InputError;
@@ -66,10 +63,6 @@ impl Evaluate for BcarCheck {
         self.verdict.is_some()
     }
 
-    fn condition(&self) -> Option<crate::TrimRequest> {
-        self.linear.condition
-    }
-
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
     }
@@ -80,10 +73,6 @@ impl Evaluate for BcarCheck {
             &self.linear,
             true,
         ))
-    }
-
-    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
-        linear::snapshotted(&self.linear)
     }
 
     /// A constant verdict (every mode complies, or every mode fails): it passes the expected

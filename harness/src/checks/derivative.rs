@@ -5,7 +5,7 @@
 use super::linear::{self, Computed, LinearSetup, OnLinear};
 use super::{
     At, CheckClass, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Measured, Place, Placed,
-    Refusal, Snapshotted, Trivial, is_aircraft,
+    Refusal, Trivial, is_aircraft,
 };
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
@@ -210,10 +210,6 @@ impl Evaluate for DerivativeCheck {
         Some(&self.derivative)
     }
 
-    fn condition(&self) -> Option<crate::TrimRequest> {
-        self.linear.condition
-    }
-
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
     }
@@ -258,10 +254,6 @@ impl Evaluate for DerivativeCheck {
             corrected: self.corrections.is_some(),
             as_identified: self.linear.as_identified.is_some(),
         })
-    }
-
-    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
-        linear::snapshotted(&self.linear)
     }
 
     fn trivial(

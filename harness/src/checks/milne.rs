@@ -3,7 +3,7 @@
 //! [`cierva_model::analysis::milne`]).
 
 use super::linear::{self, Computed, LinearSetup, OnLinear};
-use super::{At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Snapshotted};
+use super::{At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity as q;
 use crate::inputs::yaml::InputError;
@@ -42,16 +42,8 @@ impl Evaluate for MilneCheck {
         super::names(q::MILNE)
     }
 
-    fn condition(&self) -> Option<crate::TrimRequest> {
-        self.linear.condition
-    }
-
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
-    }
-
-    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
-        linear::snapshotted(&self.linear)
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {

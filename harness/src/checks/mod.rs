@@ -533,9 +533,10 @@ pub trait Evaluate {
     fn derivative(&self) -> Option<&str> {
         None
     }
-    /// The flight condition it trims or linearises its subject at.
+    /// The flight condition it trims or linearises its subject at (a check on a linear model:
+    /// its setup's).
     fn condition(&self) -> Option<crate::TrimRequest> {
-        None
+        self.linear()?.condition
     }
     /// The tunnel condition of a check on an isolated rotor.
     fn tunnel(&self) -> Option<&autorotation::TunnelSpec> {
@@ -569,9 +570,10 @@ pub trait Evaluate {
     fn placed(&self) -> Option<Placed<'_>> {
         None
     }
-    /// What it adds to its case's regression snapshots (`reports/snapshots/`).
+    /// What it adds to its case's regression snapshots (`reports/snapshots/`; a check on a
+    /// linear model: its aircraft trimmed and linearised at its condition).
     fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
-        Vec::new()
+        self.linear().map(linear::snapshotted).unwrap_or_default()
     }
 }
 

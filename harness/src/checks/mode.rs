@@ -3,10 +3,7 @@
 //! double amplitude.
 
 use super::linear::{self, Computed, LinearSetup, OnLinear, System};
-use super::{
-    At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Placed, Refusal, Snapshotted,
-    Trivial,
-};
+use super::{At, CheckSpec, Cx, Evaluate, Evaluated, Expectation, Kind, Placed, Refusal, Trivial};
 use crate::checks::subject::Subject;
 use crate::inputs::quantity::{self as q, Quantity as Q};
 use crate::inputs::yaml::InputError;
@@ -54,10 +51,6 @@ impl Evaluate for ModeCheck {
         super::names(q::MODE)
     }
 
-    fn condition(&self) -> Option<crate::TrimRequest> {
-        self.linear.condition
-    }
-
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
     }
@@ -68,10 +61,6 @@ impl Evaluate for ModeCheck {
             &self.linear,
             false,
         ))
-    }
-
-    fn snapshotted(&self) -> Vec<Snapshotted<'_>> {
-        linear::snapshotted(&self.linear)
     }
 
     /// Zero damping; a constant verdict (stable, or unstable) where the check is of a sign;
