@@ -126,10 +126,26 @@ def _read_sidecar_small(text):
     return out
 
 
+def current_name(name):
+    """`inputs::record::current_name`: the old spelling `<x>_pct` is `<x>_percent`."""
+    return name[: -len("_pct")] + "_percent" if name.endswith("_pct") and name != "_pct" else name
+
+
+def _current_names(names, where):
+    """Names in today's spelling; one channel spelled both ways is an error, as in cierva."""
+    out = [current_name(n) for n in names]
+    for i, n in enumerate(out):
+        if n in out[:i] and names[out.index(n)] != names[i]:
+            raise IdentError(f"{where}: `{names[out.index(n)]}` and `{names[i]}` are one channel")
+    return out
+
+
 def read_record(csv_path):
-    """Channels (name -> samples) and the sidecar's fields the estimator needs."""
+    """Channels (name -> samples) and the sidecar's fields the estimator needs, names in
+    today's spelling (`current_name`)."""
     with open(csv_path) as f:
-        header = f.readline().strip().split(",")
+        header = [h.strip() for h in f.readline().strip().split(",")]
+    header = _current_names(header, csv_path)
     data = np.loadtxt(csv_path, delimiter=",", skiprows=1, ndmin=2)
     channels = {name: np.ascontiguousarray(data[:, i]) for i, name in enumerate(header)}
     sidecar = os.path.splitext(csv_path)[0] + ".yaml"
@@ -141,6 +157,11 @@ def read_record(csv_path):
         meta = yaml.safe_load(text)
     except ImportError:
         meta = _read_sidecar_small(text)
+    if meta.get("controls"):
+        meta["controls"] = _current_names(list(meta["controls"]), sidecar)
+    if meta.get("trim"):
+        keys = list(meta["trim"])
+        meta["trim"] = dict(zip(_current_names(keys, sidecar), meta["trim"].values()))
     return channels, meta
 
 
@@ -154,7 +175,7 @@ def longitudinal(meta, points=100, from_hz=0.05, to_hz=2.0, method="instrumental
     controls = {}
     if meta.get("controls"):
         c = meta["controls"][0]
-        name = c[: -len("_rad")] if c.endswith("_rad") else c[: -len("_pct")] if c.endswith("_pct") else c
+        name = c[: -len("_rad")] if c.endswith("_rad") else c[: -len("_percent")] if c.endswith("_percent") else c
         controls[name] = c
     return {
         "states": ["u", "w", "q", "theta", "Omega"],
@@ -569,7 +590,11 @@ def main():
     ap.add_argument("--cierva", default="target/release/cierva", help="the cierva binary (--check)")
     a = ap.parse_args()
 
-    channels, meta = read_record(a.record)
+    try:
+        channels, meta = read_record(a.record)
+    except IdentError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
     cfg = longitudinal(meta, a.points, a.from_hz, a.to_hz, a.method, a.segments, a.overlap, a.hann)
     try:
         if a.repeat:

@@ -426,7 +426,7 @@ fn from_records(
 }
 
 /// A record's input, conditioning controls and output, as a run of the estimator. An aircraft's
-/// controls are in % of travel, so its records give them in `<control>_pct`.
+/// controls are in % of travel, so its records give them in `<control>_percent`.
 fn run_of(
     cx: &Cx,
     field: &str,
@@ -443,7 +443,7 @@ fn run_of(
     let mut order = Vec::new();
     for c in std::iter::once(input).chain(conditioned_on.iter().map(String::as_str)) {
         let channel = crate::ident::control_channel(rec, c)
-            .filter(|ch| !aircraft || ch.ends_with("_pct"))
+            .filter(|ch| !aircraft || ch.ends_with("_percent"))
             .ok_or_else(|| {
                 cx.err(
                     field,
@@ -451,9 +451,9 @@ fn run_of(
                         "{}: the record has no control `{c}` among its sidecar's `controls` ({})",
                         rec.path.display(),
                         if aircraft {
-                            format!("an aircraft's controls are in % of travel: `{c}_pct`")
+                            format!("an aircraft's controls are in % of travel: `{c}_percent`")
                         } else {
-                            format!("`{c}_pct` or `{c}_rad`, in the model's unit")
+                            format!("`{c}_percent` or `{c}_rad`, in the model's unit")
                         }
                     ),
                 )
@@ -461,7 +461,7 @@ fn run_of(
         if let Subject::Linear { units, .. } = cx.subject
             && let Some(unit) = units.get(c)
         {
-            let clash = (unit.starts_with("rad") && channel.ends_with("_pct"))
+            let clash = (unit.starts_with("rad") && channel.ends_with("_percent"))
                 || (unit.contains('%') && channel.ends_with("_rad"));
             if clash {
                 return Err(cx.err(

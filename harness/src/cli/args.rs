@@ -601,7 +601,7 @@ pub(crate) enum ResponseFormat {
 /// input (records at different sample rates, a missing channel, a window longer than a
 /// record, an input with no power in the band).
 ///
-/// Example: `cierva frequency-response /tmp/vpm-m16-70mph-sweep.csv --input eta_s_pct
+/// Example: `cierva frequency-response /tmp/vpm-m16-70mph-sweep.csv --input eta_s_percent
 /// --output q_rad_s --windows-s 10 20 40 --format json`
 #[derive(clap::Args)]
 pub(crate) struct FrequencyResponseArgs {

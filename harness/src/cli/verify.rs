@@ -35,7 +35,9 @@ pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
     }
     // cierva's controls are in % of travel: a record's control in rad contradicts them.
     for (r, c) in records.iter().zip(&configs) {
-        if let Some((control, channel)) = c.controls.iter().find(|(_, ch)| !ch.ends_with("_pct")) {
+        if let Some((control, channel)) =
+            c.controls.iter().find(|(_, ch)| !ch.ends_with("_percent"))
+        {
             let side = record::sidecar_path(&r.path);
             let src = cierva_harness::inputs::yaml::read(&side)?;
             return Err(Error::from(InputError::field(
@@ -43,7 +45,7 @@ pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
                 &src,
                 "controls",
                 format!(
-                    "`{channel}`: an aircraft's controls are in % of travel, so cierva's model needs `{control}_pct`"
+                    "`{channel}`: an aircraft's controls are in % of travel, so cierva's model needs `{control}_percent`"
                 ),
             )));
         }

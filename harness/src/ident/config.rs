@@ -128,7 +128,7 @@ impl ConfigSpec {
         if let Some(c) = record.meta.controls.first() {
             let name = c
                 .strip_suffix("_rad")
-                .or_else(|| c.strip_suffix("_pct"))
+                .or_else(|| c.strip_suffix("_percent"))
                 .unwrap_or(c);
             controls.insert(name.to_string(), c.clone());
         }
@@ -170,9 +170,9 @@ pub enum Setup {
 /// The flapping states a set-up may have: the model's tip-path-plane tilts.
 pub use cierva_model::aircraft::flapping::FLAP_STATES;
 
-/// A record's channel for a control (`eta_s` -> `eta_s_pct` or `eta_s_rad`).
+/// A record's channel for a control (`eta_s` -> `eta_s_percent` or `eta_s_rad`).
 pub(crate) fn control_channel(record: &Record, control: &str) -> Option<String> {
-    [format!("{control}_pct"), format!("{control}_rad")]
+    [format!("{control}_percent"), format!("{control}_rad")]
         .into_iter()
         .find(|c| record.meta.controls.contains(c))
 }
@@ -215,7 +215,7 @@ impl ConfigSpec {
         for c in setup.layout().1 {
             let channel = control_channel(record, c).ok_or_else(|| {
                 format!(
-                    "{}: the {setup:?} set-up needs the control `{c}` ({c}_pct or {c}_rad among the sidecar's controls)",
+                    "{}: the {setup:?} set-up needs the control `{c}` ({c}_percent or {c}_rad among the sidecar's controls)",
                     record.path.display()
                 )
             })?;
@@ -225,13 +225,13 @@ impl ConfigSpec {
     }
 
     /// A set-up for a model rather than records: the longitudinal one with the longitudinal
-    /// stick, every control read from `<control>_pct`.
+    /// stick, every control read from `<control>_percent`.
     pub fn for_model(setup: Setup) -> Self {
         let map = setup
             .layout()
             .1
             .iter()
-            .map(|c| (c.to_string(), format!("{c}_pct")))
+            .map(|c| (c.to_string(), format!("{c}_percent")))
             .collect();
         Self::with_controls(setup, map)
     }

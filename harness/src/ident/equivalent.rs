@@ -22,7 +22,7 @@ use cierva_model::aircraft::flapping::WithFlapping;
 use nalgebra::DMatrix;
 
 /// What the set-up identifies from a model's response to the records' own controls: for each
-/// record, the transforms of every control the model has (its channel `<control>_pct`,
+/// record, the transforms of every control the model has (its channel `<control>_percent`,
 /// perturbed from the sidecar's trim; one the record does not carry stays at trim) at the
 /// estimator's (segment, frequency) points, exactly as the record's identification takes them,
 /// and the states' transforms the model's frequency response gives them, `X = H(i w) U`. The
@@ -49,7 +49,7 @@ pub fn identify_with_records(
             .iter()
             .filter_map(|c| {
                 control_channel(r, c)
-                    .filter(|ch| ch.ends_with("_pct"))
+                    .filter(|ch| ch.ends_with("_percent"))
                     .map(|ch| (c.clone(), ch))
             })
             .collect();

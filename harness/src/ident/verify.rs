@@ -195,7 +195,7 @@ pub fn load_identified(path: &Path) -> Result<Identified, InputError> {
 }
 
 /// The set-up that reads `identified`'s states and controls from `record`: each control from
-/// its channel in the sidecar's controls (`<control>_pct` or `<control>_rad`). A control the
+/// its channel in the sidecar's controls (`<control>_percent` or `<control>_rad`). A control the
 /// record lacks is an error naming the sidecar and the channel.
 pub fn config_for(identified: &Identified, record: &Record) -> Result<ConfigSpec, InputError> {
     let mut controls = BTreeMap::new();
@@ -212,7 +212,7 @@ pub fn config_for(identified: &Identified, record: &Record) -> Result<ConfigSpec
                     &src,
                     "controls",
                     format!(
-                        "the identified model needs the control `{c}`: no channel `{c}_pct` or `{c}_rad` among the record's controls [{}]",
+                        "the identified model needs the control `{c}`: no channel `{c}_percent` or `{c}_rad` among the record's controls [{}]",
                         record.meta.controls.join(", ")
                     ),
                 ));

@@ -20,6 +20,12 @@
 //! trim: {u_m_s: 30.8, w_m_s: 0.0, theta_rad: 0.0, omega_rotor_rad_s: 38.0, eta_s_rad: 0.0}
 //! controls: [eta_s_rad]
 //! ```
+//!
+//! A control in % of travel is `<control>_percent` (`eta_s_percent`). Records written before
+//! the spelling was made one (issue 34) have `<control>_pct`: [`load_with`] reads any channel,
+//! control or trim value named `<x>_pct` as `<x>_percent` ([`current_name`]), so nothing past
+//! the reader sees the old spelling, and a record that names one channel both ways is a
+//! located error.
 
 use crate::inputs::reference::{Provenance, check_id};
 use crate::inputs::yaml::{self, InputError};
@@ -40,6 +46,21 @@ pub const REQUIRED: [&str; 10] = [
     "theta_rad",
     "omega_rotor_rad_s",
 ];
+
+/// The unit suffix of a channel in % (a control's travel): `eta_s_percent`.
+pub const PERCENT: &str = "_percent";
+
+/// The old spelling of [`PERCENT`], read as it on load.
+const OLD_PERCENT: &str = "_pct";
+
+/// A channel's name as cierva spells it: `<x>_pct` (the old spelling) is `<x>_percent`; any
+/// other name is itself.
+pub fn current_name(name: &str) -> String {
+    match name.strip_suffix(OLD_PERCENT) {
+        Some(stem) if !stem.is_empty() => format!("{stem}{PERCENT}"),
+        _ => name.to_string(),
+    }
+}
 
 /// Where the sensors are.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
@@ -152,8 +173,9 @@ pub fn load_with(
 ) -> Result<Record, InputError> {
     let side = sidecar_path(csv_path);
     let side_src = yaml::read(&side)?;
-    let meta: RecordMeta = yaml::parse(&side, &side_src)?;
+    let mut meta: RecordMeta = yaml::parse(&side, &side_src)?;
     check_id(&side, &side_src, &meta.id)?;
+    current_names_of_sidecar(&side, &side_src, &mut meta)?;
     if !(meta.sample_rate_hz.is_finite() && meta.sample_rate_hz > 0.0) {
         return Err(InputError::field(
             &side,
@@ -170,7 +192,7 @@ pub fn load_with(
     let (_, header) = lines
         .next()
         .ok_or_else(|| InputError::file(csv_path, "the file is empty"))?;
-    let channels: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
+    let channels = current_names_of_header(csv_path, header)?;
     let controls: &[String] = if with_controls { &meta.controls } else { &[] };
     let needed: Vec<&str> = required
         .iter()
@@ -192,6 +214,80 @@ pub fn load_with(
     })
 }
 
+/// The header's channel names in today's spelling ([`current_name`]); two columns that are one
+/// channel spelled both ways are an error at the second.
+fn current_names_of_header(csv_path: &Path, header: &str) -> Result<Vec<String>, InputError> {
+    let written: Vec<&str> = header.split(',').map(str::trim).collect();
+    let mut channels: Vec<String> = Vec::with_capacity(written.len());
+    for (k, w) in written.iter().enumerate() {
+        let name = current_name(w);
+        if let Some(i) = channels.iter().position(|c| *c == name)
+            && written[i] != *w
+        {
+            return Err(at_field(
+                csv_path,
+                1,
+                header,
+                k,
+                format!(
+                    "channels `{}` (column {}) and `{w}` (column {}) are one channel, `{name}` (`{OLD_PERCENT}` is the old spelling of `{PERCENT}`): keep one",
+                    written[i],
+                    i + 1,
+                    k + 1
+                ),
+            ));
+        }
+        channels.push(name);
+    }
+    Ok(channels)
+}
+
+/// The sidecar's `controls` and `trim` names in today's spelling ([`current_name`]); one
+/// channel named both ways is an error (in `controls` at the second name, in `trim` at the old
+/// one).
+fn current_names_of_sidecar(
+    side: &Path,
+    src: &str,
+    meta: &mut RecordMeta,
+) -> Result<(), InputError> {
+    let clash = |field: String, old: &str, new: &str| {
+        InputError::field(
+            side,
+            src,
+            &field,
+            format!(
+                "`{old}` and `{new}` are one channel (`{OLD_PERCENT}` is the old spelling of `{PERCENT}`): keep one"
+            ),
+        )
+    };
+    let mut controls: Vec<String> = Vec::with_capacity(meta.controls.len());
+    for (k, c) in meta.controls.iter().enumerate() {
+        let name = current_name(c);
+        if let Some(i) = controls.iter().position(|d| *d == name)
+            && meta.controls[i] != *c
+        {
+            let (old, new) = if c.ends_with(OLD_PERCENT) {
+                (c, &meta.controls[i])
+            } else {
+                (&meta.controls[i], c)
+            };
+            return Err(clash(format!("controls[{k}]"), old, new));
+        }
+        controls.push(name);
+    }
+    meta.controls = controls;
+    let mut trim = BTreeMap::new();
+    for (key, value) in &meta.trim {
+        let name = current_name(key);
+        if name != *key && meta.trim.contains_key(&name) {
+            return Err(clash(format!("trim.{key}"), key, &name));
+        }
+        trim.insert(name, *value);
+    }
+    meta.trim = trim;
+    Ok(())
+}
+
 /// An error at a line of a CSV record.
 fn at(csv_path: &Path, line: usize, msg: String) -> InputError {
     InputError {
@@ -211,7 +307,8 @@ fn at_field(csv_path: &Path, line: usize, text: &str, k: usize, msg: String) -> 
 }
 
 /// The header's channels checked: each named, none twice, and every `needed` one there (a
-/// missing one named with the unneeded channel nearest it, as a misnamed channel).
+/// missing one named with the unneeded channel nearest it, as a misnamed channel, or with its
+/// new spelling when it is asked for in the old).
 fn check_channels(csv_path: &Path, channels: &[String], needed: &[&str]) -> Result<(), InputError> {
     for (i, c) in channels.iter().enumerate() {
         if c.is_empty() {
@@ -229,9 +326,17 @@ fn check_channels(csv_path: &Path, channels: &[String], needed: &[&str]) -> Resu
         .collect();
     for need in needed {
         if !channels.iter().any(|c| c == need) {
-            let hint = crate::inputs::yaml::nearest(need, &unexpected)
-                .map(|c| format!("; `{c}` is there: misnamed, or in other units?"))
-                .unwrap_or_default();
+            // Asked for in the old spelling (a command line from before the rename).
+            let current = current_name(need);
+            let hint = if current != *need && channels.contains(&current) {
+                format!(
+                    "; `{current}` is there (`{OLD_PERCENT}` is the old spelling of `{PERCENT}`): ask for `{current}`"
+                )
+            } else {
+                crate::inputs::yaml::nearest(need, &unexpected)
+                    .map(|c| format!("; `{c}` is there: misnamed, or in other units?"))
+                    .unwrap_or_default()
+            };
             return Err(at(
                 csv_path,
                 1,

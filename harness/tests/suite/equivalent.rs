@@ -88,7 +88,7 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
     let constant = |v: f64| vec![v; n];
     let channels = names(&cierva_harness::inputs::record::REQUIRED)
         .into_iter()
-        .chain(names(&["eta_s_pct", "eta_p_pct"]))
+        .chain(names(&["eta_s_percent", "eta_p_percent"]))
         .collect();
     let mut data = vec![t.clone()];
     data.extend([30.0, 0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.05, 40.0].map(constant));
@@ -110,11 +110,11 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
                 cg_position_m: [0.0; 3],
             }),
             condition: Default::default(),
-            trim: [("eta_s_pct", 50.0), ("eta_p_pct", 50.0)]
+            trim: [("eta_s_percent", 50.0), ("eta_p_percent", 50.0)]
                 .map(|(k, v)| (k.to_string(), v))
                 .into_iter()
                 .collect(),
-            controls: names(&["eta_s_pct", "eta_p_pct"]),
+            controls: names(&["eta_s_percent", "eta_p_percent"]),
         },
         channels,
         data,
@@ -122,7 +122,7 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
     let mut config = ConfigSpec::longitudinal(&record);
     config
         .controls
-        .insert("eta_p".to_string(), "eta_p_pct".to_string());
+        .insert("eta_p".to_string(), "eta_p_percent".to_string());
     let at = lti_response(&model);
     let found = identify_with_records(
         std::slice::from_ref(&record),

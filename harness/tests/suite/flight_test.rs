@@ -250,9 +250,13 @@ fn a_stick_doublet_pitches_the_nose_up_first() {
     );
     let f = flight::fly(&vpm_m16(), &t).unwrap();
     let q = &f.data[f.channels.iter().position(|c| c == "q_rad_s").unwrap()];
-    let eta = &f.data[f.channels.iter().position(|c| c == "eta_s_pct").unwrap()];
+    let eta = &f.data[f
+        .channels
+        .iter()
+        .position(|c| c == "eta_s_percent")
+        .unwrap()];
     // Half a second into the first pulse (the pilot's pitch hold takes a little back).
-    assert!(eta[150] - f.trim["eta_s_pct"] > 1.0, "{}", eta[150]);
+    assert!(eta[150] - f.trim["eta_s_percent"] > 1.0, "{}", eta[150]);
     assert!(q[150] > 0.01, "q {}", q[150]);
 }
 

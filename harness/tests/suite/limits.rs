@@ -57,7 +57,7 @@ fn an_identification_set_up_with_a_trillion_frequencies_is_a_located_error() {
     let config = dir.join("setup.yaml");
     std::fs::write(
         &config,
-        "states: [u, w, q, theta]\ncontrols: {eta_s: eta_s_pct}\n\
+        "states: [u, w, q, theta]\ncontrols: {eta_s: eta_s_percent}\n\
          frequencies: {from_hz: 0.05, to_hz: 2.0, points: 999999999999}\nkinematics: {theta: q}\n",
     )
     .unwrap();

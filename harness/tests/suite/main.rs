@@ -22,6 +22,7 @@ mod frequency_response_check;
 mod identification;
 mod limits;
 mod mutation;
+mod old_spelling;
 mod report;
 mod retune;
 mod retune_coverage;

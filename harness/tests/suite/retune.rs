@@ -102,7 +102,7 @@ fn retune_refuses_bad_records_with_located_errors() {
     );
     // The excited control held still: no power in the band, the file and the control named.
     let still = edited(&a, "still", |header, rows| {
-        let k = header.iter().position(|h| h == "eta_s_pct").unwrap();
+        let k = header.iter().position(|h| h == "eta_s_percent").unwrap();
         for r in rows.iter_mut() {
             r[k] = "50".into();
         }
@@ -111,7 +111,7 @@ fn retune_refuses_bad_records_with_located_errors() {
     assert_eq!(code, 2, "{stdout}{stderr}");
     assert!(
         stderr.contains(still.to_str().unwrap())
-            && stderr.contains("eta_s_pct")
+            && stderr.contains("eta_s_percent")
             && stderr.contains("no power in the band"),
         "{stderr}"
     );

@@ -201,7 +201,7 @@ fn a_record_without_a_control_the_model_needs_is_refused_located() {
     assert_eq!(code, 2, "{out}{err}");
     assert!(err.contains(&sidecar.display().to_string()), "{err}");
     assert!(
-        err.contains("`eta_c`") && err.contains("eta_c_pct"),
+        err.contains("`eta_c`") && err.contains("eta_c_percent"),
         "{err}"
     );
     assert!(err.contains("controls"), "{err}");
@@ -210,7 +210,7 @@ fn a_record_without_a_control_the_model_needs_is_refused_located() {
     let (code, _, err) = verify_against_vpm_m16(&rec, &table, &[]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains(&sidecar.display().to_string()) && err.contains("`eta_s_pct`"),
+        err.contains(&sidecar.display().to_string()) && err.contains("`eta_s_percent`"),
         "{err}"
     );
     // A table with a name that is not a derivative: the file and the row.

@@ -298,10 +298,10 @@ pub fn by_condition(records: &[Record]) -> Result<Vec<ConditionRecords<'_>>, Str
     Ok(out)
 }
 
-/// A record's control channel's model name (`eta_s_pct` -> `eta_s`).
+/// A record's control channel's model name (`eta_s_percent` -> `eta_s`).
 fn control_of(channel: &str) -> &str {
     channel
-        .strip_suffix("_pct")
+        .strip_suffix("_percent")
         .or_else(|| channel.strip_suffix("_rad"))
         .unwrap_or(channel)
 }
@@ -327,11 +327,11 @@ fn controls(g: &ConditionRecords<'_>) -> Result<Vec<String>, String> {
             )
         })?;
         let c = control_of(first);
-        if !first.ends_with("_pct") || !model.contains(&c) {
+        if !first.ends_with("_percent") || !model.contains(&c) {
             return Err(format!(
                 "{}: the excited control `{first}` is not one of the aircraft's controls in % of travel ({})",
                 r.path.display(),
-                model.map(|c| format!("{c}_pct")).join(", ")
+                model.map(|c| format!("{c}_percent")).join(", ")
             ));
         }
         if !excited.iter().any(|e| e == c) {
@@ -341,10 +341,10 @@ fn controls(g: &ConditionRecords<'_>) -> Result<Vec<String>, String> {
     for r in &g.records {
         if let Some(c) = excited
             .iter()
-            .find(|c| !r.meta.controls.contains(&format!("{c}_pct")))
+            .find(|c| !r.meta.controls.contains(&format!("{c}_percent")))
         {
             return Err(format!(
-                "{}: the record has no control `{c}_pct` among its sidecar's `controls`, which another record at {} excites",
+                "{}: the record has no control `{c}_percent` among its sidecar's `controls`, which another record at {} excites",
                 r.path.display(),
                 g.condition.label()
             ));
@@ -362,7 +362,7 @@ fn other_controls(g: &ConditionRecords<'_>, excited: &[String]) -> Vec<String> {
         .filter(|c| {
             g.records
                 .iter()
-                .all(|r| r.meta.controls.contains(&format!("{c}_pct")))
+                .all(|r| r.meta.controls.contains(&format!("{c}_percent")))
         })
         .map(|c| c.to_string())
         .collect()
@@ -376,7 +376,7 @@ fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::Run, Stri
     config.kinematics.clear();
     config.controls = inputs
         .iter()
-        .map(|c| (c.clone(), format!("{c}_pct")))
+        .map(|c| (c.clone(), format!("{c}_percent")))
         .collect();
     let (xs, us) = crate::ident::signals(rec, &config)?;
     // `signals` gives the controls in the map's (alphabetical) order.
@@ -437,7 +437,7 @@ fn located(e: &fr::FrError, g: &ConditionRecords<'_>, inputs: &[String], output:
     };
     match e {
         fr::FrError::NoPower { run, input, .. } => format!(
-            "{}: control `{}_pct`: {e}",
+            "{}: control `{}_percent`: {e}",
             file(*run),
             inputs.get(*input).map_or("?", String::as_str)
         ),
@@ -449,7 +449,7 @@ fn located(e: &fr::FrError, g: &ConditionRecords<'_>, inputs: &[String], output:
             let name = inputs
                 .get(*signal)
                 .map_or(format!("output `{output}`"), |c| {
-                    format!("control `{c}_pct`")
+                    format!("control `{c}_percent`")
                 });
             format!("{}: {name} is not finite at sample {sample}", file(*run))
         }

@@ -21,8 +21,9 @@ use sensors::Instrumentation;
 use std::collections::BTreeMap;
 use turbulence::Dryden;
 
-/// The record's control channels, in the order of the model's controls.
-pub const CONTROL_CHANNELS: [&str; 4] = ["eta_s_pct", "eta_c_pct", "eta_p_pct", "eta_t_pct"];
+/// The record's control channels, in the order of the model's controls: the columns of a
+/// controls file.
+pub const CONTROL_CHANNELS: [&str; 4] = crate::inputs::controls::CONTROL_COLUMNS;
 
 /// A record's controls as its sidecar lists them: the one the test input moves first (what a
 /// longitudinal or lateral set-up takes as the excited control), then the others.
@@ -190,7 +191,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
     };
     let u0 = start.controls;
     let b0 = start.state.body;
-    let trim_pct = [
+    let trim_percent = [
         u0.stick_longitudinal_percent,
         u0.stick_lateral_percent,
         u0.pedal_percent,
@@ -215,7 +216,7 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
             }
         }
         // The controls stop at the ends of their travel.
-        let at = |k: usize| (trim_pct[k] + d[k]).clamp(0.0, 100.0);
+        let at = |k: usize| (trim_percent[k] + d[k]).clamp(0.0, 100.0);
         Controls {
             stick_longitudinal_percent: at(0),
             stick_lateral_percent: at(1),
@@ -435,7 +436,7 @@ pub fn describe(test: &FlightTest, flown: &FlownTest, height_ft: f64) -> BTreeMa
         match &flown.pilot {
             Some(p) => format!(
                 "attitude hold (pitch, roll, heading) about references drifting 0.5 deg over 30 s: gains {:?} %/rad and {:?} %/(rad/s)",
-                p.attitude_gain_pct_per_rad, p.rate_gain_pct_per_rad_s
+                p.attitude_gain_percent_per_rad, p.rate_gain_percent_per_rad_s
             ),
             None => "none: the input open loop".into(),
         },

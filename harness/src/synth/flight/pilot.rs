@@ -36,8 +36,8 @@ const DRIFT_STEP_S: f64 = 0.1;
 /// (pitch, roll, heading), and the drifting references.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Pilot {
-    pub attitude_gain_pct_per_rad: [f64; 3],
-    pub rate_gain_pct_per_rad_s: [f64; 3],
+    pub attitude_gain_percent_per_rad: [f64; 3],
+    pub rate_gain_percent_per_rad_s: [f64; 3],
     #[serde(skip)]
     drift: Vec<[f64; 3]>,
 }
@@ -75,8 +75,8 @@ impl Pilot {
             })
             .collect();
         Ok(Self {
-            attitude_gain_pct_per_rad: attitude,
-            rate_gain_pct_per_rad_s: rate,
+            attitude_gain_percent_per_rad: attitude,
+            rate_gain_percent_per_rad_s: rate,
             drift,
         })
     }
@@ -97,8 +97,8 @@ impl Pilot {
         // Pitch on q, roll on p, heading on r.
         let rate = [rates[1], rates[0], rates[2]];
         [0, 1, 2].map(|k| {
-            self.attitude_gain_pct_per_rad[k] * (attitude_error[k] - d[k])
-                + self.rate_gain_pct_per_rad_s[k] * rate[k]
+            self.attitude_gain_percent_per_rad[k] * (attitude_error[k] - d[k])
+                + self.rate_gain_percent_per_rad_s[k] * rate[k]
         })
     }
 }

@@ -17,9 +17,13 @@
 //! A channel is measured as `lag(truth) + bias + noise`: a first-order lag of time constant
 //! `lag_s` (the anti-aliasing filter, exact for samples held over an interval), a constant bias,
 //! and seeded Gaussian noise of standard deviation `noise`, all in the channel's units.
-//! `controls_pct` applies to every control channel (`eta_*_pct`); a teetering rotor's hub
-//! speeds take the airspeed's sensor, and its azimuth is exact (a once-per-revolution pulse).
+//! `controls_percent` applies to every control channel (`eta_*_percent`); a teetering rotor's
+//! hub speeds take the airspeed's sensor, and its azimuth is exact (a once-per-revolution
+//! pulse). A file written before the spelling was made one (issue 34) names it `controls_pct`,
+//! read as `controls_percent` (under `channels` and in `sources`), as a record's `_pct`
+//! channels are ([`crate::inputs::record::current_name`]).
 
+use crate::inputs::record::current_name;
 use crate::inputs::yaml::{self, InputError};
 use crate::synth::linear::Normal;
 use serde::{Deserialize, Serialize};
@@ -36,7 +40,8 @@ pub struct Channel {
     pub lag_s: f64,
 }
 
-/// The channels a sensors file may name (as in the record; `controls_pct` for all controls).
+/// The channels a sensors file may name (as in the record; `controls_percent` for all
+/// controls).
 pub const CHANNELS: [&str; 11] = [
     "airspeed_m_s",
     "alpha_vane_rad",
@@ -47,7 +52,7 @@ pub const CHANNELS: [&str; 11] = [
     "phi_rad",
     "theta_rad",
     "omega_rotor_rad_s",
-    "controls_pct",
+    "controls_percent",
     "teeter_rad",
 ];
 
@@ -121,7 +126,7 @@ const DEFAULTS: [(&str, f64, f64, f64, &str); 11] = [
         "estimated: a once-per-revolution pick-up's speed, 0.5 rpm",
     ),
     (
-        "controls_pct",
+        "controls_percent",
         0.05,
         0.0,
         0.02,
@@ -211,6 +216,7 @@ impl Instrumentation {
         let src = yaml::read(path)?;
         let f: SensorsFile = yaml::parse(path, &src)?;
         crate::inputs::reference::check_id(path, &src, &f.id)?;
+        let sources = current_sources(path, &src, &f.sources)?;
         let mut out = Self {
             id: f.id.clone(),
             title: f.title.clone(),
@@ -219,7 +225,7 @@ impl Instrumentation {
         let sourced = |key: &str| -> Option<&String> {
             let mut k = key.to_string();
             loop {
-                if let Some(s) = f.sources.get(&k) {
+                if let Some(s) = sources.get(&k) {
                     return Some(s);
                 }
                 match k.rfind('.') {
@@ -228,13 +234,14 @@ impl Instrumentation {
                 }
             }
         };
-        let need_source = |key: &str| {
+        // `key` in today's spelling, `written` as the file has it (where an error points).
+        let need_source = |key: &str, written: &str| {
             sourced(key).cloned().ok_or_else(|| {
                 InputError::field(
                     path,
                     &src,
-                    key,
-                    format!("`{key}` has no entry under `sources` (every value needs one)"),
+                    written,
+                    format!("`{written}` has no entry under `sources` (every value needs one)"),
                 )
             })
         };
@@ -247,11 +254,26 @@ impl Instrumentation {
                     "must be finite",
                 ));
             }
-            out.sources
-                .insert("probe_from_cg_m".into(), need_source("probe_from_cg_m")?);
+            out.sources.insert(
+                "probe_from_cg_m".into(),
+                need_source("probe_from_cg_m", "probe_from_cg_m")?,
+            );
             out.probe_from_cg_m = p;
         }
-        for (name, spec) in &f.channels {
+        for (as_written, spec) in &f.channels {
+            let name = &current_name(as_written);
+            // Where the file has it (errors point there), and its key in today's spelling.
+            let written = format!("channels.{as_written}");
+            if name != as_written && f.channels.contains_key(name) {
+                return Err(old_and_new(
+                    path,
+                    &src,
+                    &written,
+                    as_written,
+                    name,
+                    "`channels`",
+                ));
+            }
             let key = format!("channels.{name}");
             if !CHANNELS.contains(&name.as_str()) {
                 let names: Vec<String> = CHANNELS.iter().map(|c| c.to_string()).collect();
@@ -261,7 +283,7 @@ impl Instrumentation {
                 return Err(InputError::field(
                     path,
                     &src,
-                    &key,
+                    &written,
                     format!("unknown channel `{name}`{hint}"),
                 ));
             }
@@ -273,7 +295,7 @@ impl Instrumentation {
                 ("lag_s", spec.lag_s, &mut ch.lag_s),
             ] {
                 let Some(v) = value else { continue };
-                let at = format!("{key}.{field}");
+                let at = format!("{written}.{field}");
                 let ok = v.is_finite() && (field == "bias" || v >= 0.0);
                 if !ok {
                     return Err(InputError::field(
@@ -287,7 +309,10 @@ impl Instrumentation {
                         },
                     ));
                 }
-                said.push(format!("{field} {v}: {}", need_source(&at)?));
+                said.push(format!(
+                    "{field} {v}: {}",
+                    need_source(&format!("{key}.{field}"), &at)?
+                ));
                 *slot = v;
             }
             if !said.is_empty() {
@@ -301,12 +326,12 @@ impl Instrumentation {
         Ok(out)
     }
 
-    /// The sensor of a record channel: `eta_*_pct` use `controls_pct`; the hub's speeds are
-    /// derived from the air data, so they take the airspeed's sensor; the rotor's azimuth comes
-    /// from a once-per-revolution pulse, exact.
+    /// The sensor of a record channel: `eta_*_percent` use `controls_percent`; the hub's speeds
+    /// are derived from the air data, so they take the airspeed's sensor; the rotor's azimuth
+    /// comes from a once-per-revolution pulse, exact.
     pub fn channel(&self, name: &str) -> Option<Channel> {
         let key = match name {
-            n if n.ends_with("_pct") => "controls_pct",
+            n if n.ends_with(crate::inputs::record::PERCENT) => "controls_percent",
             "hub_inplane_speed_m_s" | "hub_normal_speed_m_s" => "airspeed_m_s",
             "azimuth_from_front_rad" => {
                 return Some(Channel {
@@ -319,6 +344,56 @@ impl Instrumentation {
         };
         self.channels.get(key).copied()
     }
+}
+
+/// One channel under its old name (at `field`) and its new one, both in `within`.
+fn old_and_new(
+    path: &Path,
+    src: &str,
+    field: &str,
+    old: &str,
+    new: &str,
+    within: &str,
+) -> InputError {
+    InputError::field(
+        path,
+        src,
+        field,
+        format!(
+            "`{old}` is the old name of `{new}`, which {within} gives as well: keep one (`{new}`)"
+        ),
+    )
+}
+
+/// The `sources` with their channels in today's spelling (`channels.controls_pct.noise` ->
+/// `channels.controls_percent.noise`); a source given under both names is an error.
+fn current_sources(
+    path: &Path,
+    src: &str,
+    sources: &BTreeMap<String, String>,
+) -> Result<BTreeMap<String, String>, InputError> {
+    let mut out = BTreeMap::new();
+    for (key, value) in sources {
+        let current = match key.split_once('.') {
+            Some(("channels", rest)) => {
+                let (channel, tail) = rest.split_once('.').unwrap_or((rest, ""));
+                let name = current_name(channel);
+                let current = if tail.is_empty() {
+                    format!("channels.{name}")
+                } else {
+                    format!("channels.{name}.{tail}")
+                };
+                if current != *key && sources.contains_key(&current) {
+                    let at = format!("sources.{key}");
+                    return Err(old_and_new(path, src, &at, key, &current, "`sources`"));
+                }
+                current
+            }
+            _ => key.clone(),
+        };
+        out.insert(current, value.clone());
+    }
+    Ok(out)
 }
 
 impl Channel {
