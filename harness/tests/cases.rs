@@ -168,22 +168,7 @@ fn docs_scoreboard_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
 /// of its line) and `<!-- NAME:end -->` in `file` (relative to the repository) must be `want`.
 fn generated(file: &str, name: &str, want: &str) -> Result<(), Failed> {
     let text = std::fs::read_to_string(repo_root().join(file))?;
-    let start = format!("<!-- {name}:start");
-    let end = format!("<!-- {name}:end -->");
-    let got = text
-        .find(&start)
-        .and_then(|a| {
-            let body = &text[a..];
-            let first = body.find('\n')? + 1;
-            let stop = body.find(&end)?;
-            Some(&body[first..stop])
-        })
-        .ok_or(format!("{file} has no {name} markers"))?;
-    if got == want {
-        Ok(())
-    } else {
-        Err(format!("{file}'s {name} is not what the run gives; replace it with:\n{want}").into())
-    }
+    cierva_harness::report::generated::check(file, &text, name, want).map_err(Into::into)
 }
 
 fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
