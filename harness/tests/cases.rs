@@ -97,7 +97,7 @@ fn main() {
                 }
             }
             let cases = Arc::new(cases);
-            let docs: [(&str, DocsCheck); 4] = [
+            let docs: [(&str, DocsCheck); 7] = [
                 ("docs::readme-validation-table", readme_validation_table),
                 ("docs::readme-class-table", |c| {
                     generated(
@@ -114,6 +114,15 @@ fn main() {
                     )
                 }),
                 ("docs::validation-scoreboard", docs_scoreboard_table),
+                ("docs::readme-how-sure-table", |c| {
+                    how_sure(c, "README.md", "how-sure-table")
+                }),
+                ("docs::uncertainty-how-sure-table", |c| {
+                    how_sure(c, "docs/uncertainty.md", "how-sure-table")
+                }),
+                ("docs::uncertainty-how-sure-cases", |c| {
+                    how_sure(c, "docs/uncertainty.md", "how-sure-cases")
+                }),
             ];
             for (name, check) in docs {
                 let cases = cases.clone();
@@ -150,6 +159,24 @@ fn readme_validation_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
         "validation-table",
         &tables::validation_table(&validation),
     )
+}
+
+/// A "How sure" section (`how-sure-table` or `how-sure-cases`) must be what the committed
+/// uncertainty summary gives, and the summary must name the suite's cases with validation
+/// checks (CI reruns the uncertainty and compares the summary; too slow for `cargo test`).
+fn how_sure(cases: &[Arc<Evaluated>], file: &str, name: &str) -> Result<(), Failed> {
+    use cierva_harness::uncertainty::summary;
+    let s = summary::load(&suite()).map_err(|e| e.render())?;
+    let validated: Vec<&str> = (cases.iter())
+        .filter(|e| (e.case.checks.iter()).any(|k| k.class == checks::CheckClass::Validation))
+        .map(|e| e.case.id.as_str())
+        .collect();
+    summary::check_cases(&s, &validated)?;
+    let want = match name {
+        "how-sure-table" => summary::table(&s),
+        _ => summary::cases_list(&s),
+    };
+    generated(file, name, &want)
 }
 
 /// `docs/validation.md`'s scoreboard table must be the committed scoreboard's (which the

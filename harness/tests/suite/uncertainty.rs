@@ -1047,6 +1047,31 @@ fn the_how_sure_table_counts_names_and_sums_the_summary() {
     );
 }
 
+/// The docs trial (`cases::docs::readme-how-sure-table`) passes on the README as committed and
+/// fails on one whose table disagrees with the summary, with the wanted table in its message
+/// as `scripts/update-generated-docs` reads it; a document without the markers fails too.
+#[test]
+fn a_readme_whose_how_sure_table_disagrees_with_the_summary_fails_its_docs_check() {
+    use cierva_harness::report::generated;
+    use cierva_harness::uncertainty::summary;
+    let s = summary::load(&super::common::suite()).unwrap();
+    let want = summary::table(&s);
+    let readme = std::fs::read_to_string(super::common::repo_root().join("README.md")).unwrap();
+    generated::check("README.md", &readme, "how-sure-table", &want).unwrap();
+    let section = generated::section(&readme, "how-sure-table").unwrap();
+    let all = s.cases.values().map(|c| c.quantities()).sum::<usize>();
+    let row = format!("| **{all}** |");
+    assert!(section.contains(&row), "{section}");
+    let mutated = readme.replacen(&row, &format!("| **{}** |", all + 1), 1);
+    let err = generated::check("README.md", &mutated, "how-sure-table", &want).unwrap_err();
+    assert_eq!(
+        err,
+        format!("README.md's how-sure-table is not what the run gives; replace it with:\n{want}")
+    );
+    let err = generated::check("README.md", "# cierva\n", "how-sure-table", &want).unwrap_err();
+    assert_eq!(err, "README.md has no how-sure-table markers");
+}
+
 /// A summary that is not well formed is refused with the file, line and field: a field
 /// misspelt, a quantity under two verdicts, a fragile pass that is no quantity of its case; and
 /// a suite without one says which command writes it.
