@@ -42,7 +42,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             "--write-summary: the summary is the whole suite's, of its committed model: give no case paths and no --corrections",
         ));
     }
-    // Before the run, so that a suite without a marker fails in a second, not after it.
+    // Found before the run, which takes minutes.
     let summary_path = if a.write_summary {
         Some(suite()?.uncertainty_summary())
     } else {
@@ -93,8 +93,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         bar.finish_and_clear();
     }
     if let Some(path) = &summary_path {
-        let cases: Vec<CaseUncertainty> = done.iter().map(|(u, _)| u.clone()).collect();
-        let text = summary::render(&summary::of(&settings, &cases));
+        let text = summary::render(&summary::of(&settings, done.iter().map(|(u, _)| u)));
         match cierva_harness::inputs::yaml::write_if_changed(path, &text) {
             Ok(changed) => eprintln!(
                 "{} {}",

@@ -100,7 +100,10 @@ pub fn quantity_names(results: &[&QuantityUncertainty]) -> Vec<String> {
 
 /// The summary of a run with `settings` over `cases`: each case with at least one validation
 /// quantity.
-pub fn of(settings: &Settings, cases: &[CaseUncertainty]) -> Summary {
+pub fn of<'a>(
+    settings: &Settings,
+    cases: impl IntoIterator<Item = &'a CaseUncertainty>,
+) -> Summary {
     let mut out = BTreeMap::new();
     for u in cases {
         let results: Vec<&QuantityUncertainty> = u
