@@ -96,7 +96,7 @@ fn main() {
                 }
             }
             let cases = Arc::new(cases);
-            let docs: [(&str, DocsCheck); 4] = [
+            let docs: [(&str, DocsCheck); 7] = [
                 ("docs::readme-validation-table", readme_validation_table),
                 ("docs::readme-class-table", |c| {
                     generated(
@@ -113,6 +113,15 @@ fn main() {
                     )
                 }),
                 ("docs::validation-scoreboard", docs_scoreboard_table),
+                ("docs::readme-how-sure-table", |c| {
+                    how_sure(c, "README.md", "how-sure-table")
+                }),
+                ("docs::uncertainty-how-sure-table", |c| {
+                    how_sure(c, "docs/uncertainty.md", "how-sure-table")
+                }),
+                ("docs::uncertainty-how-sure-cases", |c| {
+                    how_sure(c, "docs/uncertainty.md", "how-sure-cases")
+                }),
             ];
             for (name, check) in docs {
                 let cases = cases.clone();
@@ -148,6 +157,30 @@ fn readme_validation_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
     )
 }
 
+/// A "How sure" section (`how-sure-table` or `how-sure-cases`) must be what the committed
+/// uncertainty summary gives, and the summary must name the suite's cases with validation
+/// checks (CI reruns the uncertainty and compares the summary; too slow for `cargo test`).
+fn how_sure(cases: &[Arc<Evaluated>], file: &str, name: &str) -> Result<(), Failed> {
+    use cierva_harness::uncertainty::summary;
+    let s = summary::load(&suite()).map_err(|e| e.render())?;
+    let validated: Vec<&str> = cases
+        .iter()
+        .filter(|e| {
+            e.case
+                .checks
+                .iter()
+                .any(|k| k.class == cierva_harness::checks::CheckClass::Validation)
+        })
+        .map(|e| e.case.id.as_str())
+        .collect();
+    summary::check_cases(&s, &validated)?;
+    let want = match name {
+        "how-sure-table" => summary::table(&s),
+        _ => summary::cases_list(&s),
+    };
+    generated(file, name, &want)
+}
+
 /// `docs/validation.md`'s scoreboard table must be the committed scoreboard's (which the
 /// `::scores` trials hold to the run, and the acceptance log to its last entry).
 fn docs_scoreboard_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
@@ -164,22 +197,7 @@ fn docs_scoreboard_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
 /// of its line) and `<!-- NAME:end -->` in `file` (relative to the repository) must be `want`.
 fn generated(file: &str, name: &str, want: &str) -> Result<(), Failed> {
     let text = std::fs::read_to_string(repo_root().join(file))?;
-    let start = format!("<!-- {name}:start");
-    let end = format!("<!-- {name}:end -->");
-    let got = text
-        .find(&start)
-        .and_then(|a| {
-            let body = &text[a..];
-            let first = body.find('\n')? + 1;
-            let stop = body.find(&end)?;
-            Some(&body[first..stop])
-        })
-        .ok_or(format!("{file} has no {name} markers"))?;
-    if got == want {
-        Ok(())
-    } else {
-        Err(format!("{file}'s {name} is not what the run gives; replace it with:\n{want}").into())
-    }
+    cierva_harness::report::generated::check(file, &text, name, want).map_err(Into::into)
 }
 
 fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {

@@ -574,6 +574,11 @@ pub(crate) struct UncertaintyArgs {
     /// them; a cross-validated one adds its stated predictive error to `u_input`.
     #[arg(long, num_args = 1..)]
     pub(crate) corrections: Vec<PathBuf>,
+    /// Also write every case's verdicts to the suite's reports/uncertainty-summary.yaml (which
+    /// the README's "How sure" table is generated from and CI compares with a rerun). Only for
+    /// the whole suite of the committed model: no case paths, no --corrections.
+    #[arg(long)]
+    pub(crate) write_summary: bool,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }

@@ -5,6 +5,7 @@
 use super::*;
 use cierva_harness::uncertainty::design::MIN_SAMPLES;
 use cierva_harness::uncertainty::propagate::{self, CaseUncertainty, Settings, VerdictCounts};
+use cierva_harness::uncertainty::summary;
 
 /// What `--format json` prints: every case's propagation, and every quantity's result in one
 /// list.
@@ -36,6 +37,17 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             a.samples
         )));
     }
+    if a.write_summary && !(a.paths.is_empty() && a.corrections.is_empty()) {
+        return Err(Error::input(
+            "--write-summary: the summary is the whole suite's, of its committed model: give no case paths and no --corrections",
+        ));
+    }
+    // Found before the run, which takes minutes.
+    let summary_path = if a.write_summary {
+        Some(suite()?.uncertainty_summary())
+    } else {
+        None
+    };
     let paths = if a.paths.is_empty() {
         vec![suite()?.cases().to_path_buf()]
     } else {
@@ -79,6 +91,22 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             }
         }
         bar.finish_and_clear();
+    }
+    if let Some(path) = &summary_path {
+        let text = summary::render(&summary::of(&settings, done.iter().map(|(u, _)| u)));
+        match cierva_harness::inputs::yaml::write_if_changed(path, &text) {
+            Ok(changed) => eprintln!(
+                "{} {}",
+                if changed { "wrote" } else { "unchanged:" },
+                path.display()
+            ),
+            Err(e) => {
+                return Err(Error::failure(format!(
+                    "cannot write {}: {e}",
+                    path.display()
+                )));
+            }
+        }
     }
     let results: Vec<&propagate::QuantityUncertainty> =
         done.iter().flat_map(|(u, _)| &u.results).collect();

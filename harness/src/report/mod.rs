@@ -14,6 +14,7 @@
 
 pub mod figures;
 pub mod fit;
+pub mod generated;
 pub mod plot;
 pub mod retune;
 pub mod sensitivity;

@@ -30,6 +30,10 @@ pub const MARKER: &str = "cierva.toml";
 /// The acceptance log's file name, in the reports folder beside what it accepts.
 pub const ACCEPTANCES_FILE: &str = "acceptances.yaml";
 
+/// The committed verdicts of the last whole-suite uncertainty run, in the reports folder
+/// (`crate::uncertainty::summary`).
+pub const UNCERTAINTY_SUMMARY_FILE: &str = "uncertainty-summary.yaml";
+
 /// The marker's format version this cierva reads.
 pub const FORMAT_VERSION: u32 = 1;
 
@@ -179,6 +183,12 @@ impl Suite {
     /// The committed scores.
     pub fn scoreboard(&self) -> PathBuf {
         self.reports.join("scoreboard.yaml")
+    }
+
+    /// The verdicts of the last whole-suite uncertainty run (`cierva uncertainty
+    /// --write-summary`), committed.
+    pub fn uncertainty_summary(&self) -> PathBuf {
+        self.reports.join(UNCERTAINTY_SUMMARY_FILE)
     }
 
     /// The known discrepancies' records, one file per case.

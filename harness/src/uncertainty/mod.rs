@@ -11,6 +11,8 @@
 //!   from a refined discretisation, the data's from the tolerance, and the verdicts.
 //! - [`first_order`]: a rotor case's first-order propagation (an additive surrogate through two
 //!   probes of each input, with a residual check).
+//! - [`summary`]: a whole suite's verdicts per case, as committed in
+//!   `reports/uncertainty-summary.yaml`, and the documents' tables of them.
 
 pub mod calibration;
 pub mod design;
@@ -18,4 +20,5 @@ pub mod distribution;
 pub mod first_order;
 pub mod propagate;
 pub mod sobol;
+pub mod summary;
 pub mod vv20;

@@ -35,7 +35,9 @@ pub struct Settings {
 }
 
 /// How a case's inputs are propagated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// Sampled for an aircraft, first order for a rotor (each evaluation a table of

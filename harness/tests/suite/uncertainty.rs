@@ -953,3 +953,237 @@ fn sobol_standard_errors_are_conservative_on_the_scrambled_design() {
     assert!(linear13_64.pooled(&linear13_64.first) >= 0.95, "{table}");
     assert!(linear13_64.pooled(&linear13_64.total) >= 0.90, "{table}");
 }
+
+/// Two cases as a whole-suite summary holds them: one with every verdict and a fragile pass,
+/// one without any verdict (no uncertain inputs).
+fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
+    use cierva_harness::uncertainty::propagate::Method;
+    use cierva_harness::uncertainty::summary::{CaseVerdicts, FragilePass, Summary};
+    let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    let mut cases = std::collections::BTreeMap::new();
+    cases.insert(
+        "table-2".to_string(),
+        CaseVerdicts {
+            method: "sampled".into(),
+            inputs: 16,
+            evaluations: 1154,
+            failed_points: 3,
+            agrees: names(&["Y_v"]),
+            model_form_error: names(&["L_p", "L_v", "N_v"]),
+            inconclusive: names(&["N_r", "Y_r", "L_r", "N_p"]),
+            without_verdict: Vec::new(),
+            fragile: vec![FragilePass {
+                quantity: "Y_v".into(),
+                passes_percent: 63,
+                flipped_by: names(&["fin.area_m2"]),
+            }],
+        },
+    );
+    cases.insert(
+        "trim-trend".to_string(),
+        CaseVerdicts {
+            method: "none".into(),
+            inputs: 0,
+            evaluations: 1,
+            failed_points: 0,
+            agrees: Vec::new(),
+            model_form_error: Vec::new(),
+            inconclusive: Vec::new(),
+            without_verdict: names(&["trends stick", "trends nose"]),
+            fragile: Vec::new(),
+        },
+    );
+    Summary {
+        samples: 64,
+        seed: 0,
+        method: Method::Auto,
+        cases,
+    }
+}
+
+/// The committed summary's format (`reports/uncertainty-summary.yaml`): a header naming the
+/// command that wrote it, the settings, and per case its propagation and each validation
+/// quantity under its verdict; it reads back to what was written.
+#[test]
+fn the_uncertainty_summary_file_has_its_format_and_reads_back() {
+    use cierva_harness::uncertainty::summary;
+    let s = small_summary();
+    let text = summary::render(&s);
+    assert_eq!(text, SMALL_SUMMARY_FILE, "{text}");
+    let back = summary::parse(std::path::Path::new("summary.yaml"), &text).unwrap();
+    assert_eq!(back, s);
+    assert_eq!(
+        summary::render(&back),
+        text,
+        "written twice, the same bytes"
+    );
+}
+
+/// The "How sure" table: a row per case with a verdict (names where there are at most three,
+/// counts beyond), the cases without any verdict in its sentence, the sums over every case; and
+/// the list of propagations, quantities by kind and fragile passes.
+#[test]
+fn the_how_sure_table_counts_names_and_sums_the_summary() {
+    use cierva_harness::uncertainty::summary;
+    let s = small_summary();
+    assert_eq!(
+        summary::table(&s),
+        "Validation quantities per case, from `cierva uncertainty --samples 64 --seed 0 \
+         --write-summary` (`reports/uncertainty-summary.yaml`, which CI reruns and compares; \
+         names where there are at most 3); no verdict at all (no uncertain inputs or no \
+         reference value): `trim-trend` (2):\n\
+         \n\
+         | case | quantities | agree | model-form error | inconclusive | no verdict | fragile |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n\
+         | `table-2` | 8 | 1 (Y_v) | 3 (L_p, L_v, N_v) | 4 | 0 | 1 (Y_v) |\n\
+         | **all 2 cases** | **10** | **1** | **3** | **4** | **2** | **1** |\n"
+    );
+    assert_eq!(
+        summary::cases_list(&s),
+        "- `table-2`: sampled, 16 inputs, 1154 evaluations, failed points: 3; fragile: Y_v \
+         (passes in 63 % of the evaluated draws; flipped by `fin.area_m2`).\n\
+         - `trim-trend`: none, 0 inputs, 1 evaluations, failed points: 0; by quantity: nose 1 \
+         (1 no verdict); stick 1 (1 no verdict); no fragile pass.\n"
+    );
+}
+
+/// The docs trial (`cases::docs::readme-how-sure-table`) passes on the README as committed and
+/// fails on one whose table disagrees with the summary, with the wanted table in its message
+/// as `scripts/update-generated-docs` reads it; a document without the markers fails too.
+#[test]
+fn a_readme_whose_how_sure_table_disagrees_with_the_summary_fails_its_docs_check() {
+    use cierva_harness::report::generated;
+    use cierva_harness::uncertainty::summary;
+    let s = summary::load(&super::common::suite()).unwrap();
+    let want = summary::table(&s);
+    let readme = std::fs::read_to_string(super::common::repo_root().join("README.md")).unwrap();
+    generated::check("README.md", &readme, "how-sure-table", &want).unwrap();
+    let section = generated::section(&readme, "how-sure-table").unwrap();
+    let all = s.cases.values().map(|c| c.quantities()).sum::<usize>();
+    let row = format!("| **{all}** |");
+    assert!(section.contains(&row), "{section}");
+    let mutated = readme.replacen(&row, &format!("| **{}** |", all + 1), 1);
+    let err = generated::check("README.md", &mutated, "how-sure-table", &want).unwrap_err();
+    assert_eq!(
+        err,
+        format!("README.md's how-sure-table is not what the run gives; replace it with:\n{want}")
+    );
+    let err = generated::check("README.md", "# cierva\n", "how-sure-table", &want).unwrap_err();
+    assert_eq!(err, "README.md has no how-sure-table markers");
+}
+
+/// A summary that is not well formed is refused with the file, line and field: a field
+/// misspelt, a quantity under two verdicts, a fragile pass that is no quantity of its case; and
+/// a suite without one says which command writes it.
+#[test]
+fn a_malformed_uncertainty_summary_is_a_located_error() {
+    use cierva_harness::uncertainty::summary;
+    let path = std::path::Path::new("summary.yaml");
+    let good = summary::render(&small_summary());
+    let err = summary::parse(path, &good.replace("samples:", "sampels:")).unwrap_err();
+    assert_eq!(err.line, Some(5), "{}", err.render());
+    assert!(
+        err.message.contains("did you mean `samples`"),
+        "{}",
+        err.render()
+    );
+    let twice = good.replace("    - N_r\n", "    - Y_v\n");
+    let err = summary::parse(path, &twice).unwrap_err();
+    assert!(
+        err.message.contains("Y_v is listed twice")
+            && err.field.as_deref() == Some("cases.table-2.inconclusive")
+            && err.line.is_some(),
+        "{}",
+        err.render()
+    );
+    let stray = good.replace("  - quantity: Y_v", "  - quantity: N_q");
+    let err = summary::parse(path, &stray).unwrap_err();
+    assert!(
+        err.message.contains("N_q is fragile but has no verdict") && err.line.is_some(),
+        "{}",
+        err.render()
+    );
+    let over = good.replace("passes_percent: 63", "passes_percent: 163");
+    let err = summary::parse(path, &over).unwrap_err();
+    assert!(err.message.contains("more than 100"), "{}", err.render());
+    let dir = std::env::temp_dir().join(format!("cierva-no-summary-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
+    let suite = cierva_harness::suite::Suite::open(&dir).unwrap();
+    let err = summary::load(&suite).unwrap_err();
+    assert!(
+        err.path.ends_with("reports/uncertainty-summary.yaml")
+            && err.message.contains("--write-summary"),
+        "{}",
+        err.render()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A summary whose cases are not the suite's cases with validation checks (one added or
+/// renamed since it was written) is stale, found without the run; the message says what to
+/// rerun.
+#[test]
+fn a_summary_whose_cases_are_not_the_suites_is_stale() {
+    use cierva_harness::uncertainty::summary;
+    let s = small_summary();
+    summary::check_cases(&s, &["trim-trend", "table-2"]).unwrap();
+    let err = summary::check_cases(&s, &["table-2", "trim-trend", "new-case"]).unwrap_err();
+    assert!(
+        err.contains("no verdicts for `new-case`")
+            && err.contains("cierva uncertainty --samples 64 --seed 0 --write-summary"),
+        "{err}"
+    );
+    let err = summary::check_cases(&s, &["table-2"]).unwrap_err();
+    assert!(
+        err.contains("verdicts for `trim-trend`, which are not"),
+        "{err}"
+    );
+}
+
+/// What [`small_summary`] is written as.
+const SMALL_SUMMARY_FILE: &str = "\
+# Written by `cierva uncertainty --samples 64 --seed 0 --write-summary`:
+# the ASME V&V 20 verdict of each validation quantity, per case (harness/src/uncertainty/
+# summary.rs). The README's and docs/uncertainty.md's \"How sure\" sections are generated
+# from it; CI reruns the command and fails when the file moves. Do not edit by hand.
+samples: 64
+seed: 0
+method: auto
+cases:
+  table-2:
+    method: sampled
+    inputs: 16
+    evaluations: 1154
+    failed_points: 3
+    agrees:
+    - Y_v
+    model_form_error:
+    - L_p
+    - L_v
+    - N_v
+    inconclusive:
+    - N_r
+    - Y_r
+    - L_r
+    - N_p
+    without_verdict: []
+    fragile:
+    - quantity: Y_v
+      passes_percent: 63
+      flipped_by:
+      - fin.area_m2
+  trim-trend:
+    method: none
+    inputs: 0
+    evaluations: 1
+    failed_points: 0
+    agrees: []
+    model_form_error: []
+    inconclusive: []
+    without_verdict:
+    - trends stick
+    - trends nose
+    fragile: []
+";

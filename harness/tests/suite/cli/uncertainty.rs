@@ -106,3 +106,107 @@ fn uncertainty_validation_only_leaves_other_classes_out() {
         "{out}"
     );
 }
+
+/// `--write-summary` writes the suite's `reports/uncertainty-summary.yaml`: in a new suite with
+/// one validation case (the uncertainty tutorial's, L_p and N_v of seed 001 Table 2), twice
+/// the same bytes (the Sobol' points are seeded, each sample trims from the nominal trim), each
+/// quantity under its verdict. It is refused (exit 2, before any run) with case paths or
+/// corrections: the summary is the whole suite's, of its committed model.
+#[test]
+fn uncertainty_write_summary_writes_the_suites_verdicts_the_same_each_time() {
+    use crate::common::cierva_in;
+    let case = "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml";
+    let (code, _, err) = cierva(&["uncertainty", case, "--write-summary"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no case paths and no --corrections"), "{err}");
+    let fit = "corrections/fitted/pca-2-tr515.yaml";
+    let (code, _, err) = cierva(&["uncertainty", "--corrections", fit, "--write-summary"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no case paths and no --corrections"), "{err}");
+
+    let dir = std::env::temp_dir().join(format!("cierva-summary-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (code, _, err) = cierva_in(&dir, &["init", "s"]);
+    assert_eq!(code, 0, "{err}");
+    let s = dir.join("s");
+    for sub in ["aircraft", "flight-refs"] {
+        std::fs::create_dir_all(s.join(sub)).unwrap();
+    }
+    let repo = root();
+    for f in [
+        "aircraft/vpm-m16.yaml",
+        "aircraft/vpm-m16-rotor.yaml",
+        "aircraft/vpm-m16-propeller.yaml",
+        "flight-refs/seed001-table2-vpm-m16-70mph.yaml",
+    ] {
+        std::fs::copy(repo.join(f), s.join(f)).unwrap();
+    }
+    std::fs::write(s.join("cases/derivatives-70mph.yaml"), TUTORIAL_CASE).unwrap();
+    let args = [
+        "uncertainty",
+        "--samples",
+        "8",
+        "--write-summary",
+        "--quiet",
+    ];
+    let (code, out, err) = cierva_in(&s, &args);
+    assert_eq!(code, 0, "{out}{err}");
+    let path = s.join("reports/uncertainty-summary.yaml");
+    let first = std::fs::read_to_string(&path).unwrap();
+    let (code, out, err) = cierva_in(&s, &args);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(err.contains("unchanged:"), "{err}");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), first);
+    assert!(
+        first.starts_with("# Written by `cierva uncertainty --samples 8 --seed 0 --write-summary`"),
+        "{first}"
+    );
+    let summary = cierva_harness::uncertainty::summary::parse(&path, &first).unwrap();
+    // The example case `init` wrote is a verification case: not in the summary.
+    assert_eq!(
+        summary.cases.keys().collect::<Vec<_>>(),
+        ["derivatives-70mph"],
+        "{first}"
+    );
+    let c = &summary.cases["derivatives-70mph"];
+    assert_eq!((c.method.as_str(), c.inputs), ("sampled", 16), "{first}");
+    assert_eq!(c.evaluations, 8 * 18 + 2, "{first}");
+    assert_eq!(c.quantities(), 2, "{first}");
+    assert!(c.model_form_error.contains(&"N_v".to_string()), "{first}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The uncertainty tutorial's case (docs/tutorials/uncertainty.md).
+const TUTORIAL_CASE: &str = "id: derivatives-70mph
+title: The VPM M16 at 70 mph, maximum weight, against the flight bounds of seed 001 Table 2
+class: validation
+provenance:
+  source: seed 001 (Houston, J. Aircraft 37(3), 2000), Table 2 (95 % flight bounds)
+  notes: mass 450 kg (the maximum all-up mass); density altitude 2000 ft, estimated
+model:
+  aircraft:
+    file: ../aircraft/vpm-m16.yaml
+    mass_kg: 450.0
+    density_altitude_ft: 2000.0
+tolerances:
+  flight-95:
+    interval_from:
+      file: ../flight-refs/seed001-table2-vpm-m16-70mph.yaml
+      column: flight_95
+    confidence: 0.95
+    reason: 95 % confidence bounds of the derivative identified from flight (seed 001 Table 2)
+checks:
+  - id: L_p
+    kind: derivative
+    derivative: L_p
+    condition: {airspeed_mph: 70.0}
+    expect:
+      value: {tolerance: flight-95}
+  - id: N_v
+    kind: derivative
+    derivative: N_v
+    condition: {airspeed_mph: 70.0}
+    expect:
+      value: {tolerance: flight-95}
+";
