@@ -147,7 +147,7 @@ pub fn tunnel_airspeed_m_s(t: &TunnelSpec, radius_m: f64) -> f64 {
 /// equilibrium). An error is a condition the model could not be run at.
 pub fn autorotation_quantities(
     rotor: &cierva_model::components::rotor::Rotor,
-    solver: cierva_model::components::autorotation::Options,
+    solver: cierva_model::components::autorotation::AutorotationOptions,
     t: &TunnelSpec,
 ) -> Result<Result<Quantities, Found>, String> {
     let run = match (t.alpha_deg, t.tip_speed_ratio, t.rotor_rpm) {

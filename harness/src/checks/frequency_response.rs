@@ -368,11 +368,11 @@ fn from_records(
         .iter()
         .map(|r| (r.output.len().saturating_sub(1) as f64 * r.dt_s * 10.0).floor() / 10.0)
         .fold(f64::INFINITY, f64::min);
-    let settings = fr::Settings {
+    let settings = fr::SpectralSettings {
         windows_s: spec
             .windows_s
             .clone()
-            .unwrap_or_else(|| fr::Settings::default_windows_s(shortest_s)),
+            .unwrap_or_else(|| fr::SpectralSettings::default_windows_s(shortest_s)),
         overlap: fr::DEFAULT_OVERLAP,
         points: fr::DEFAULT_POINTS,
         band_hz: spec.band_hz,
@@ -434,7 +434,7 @@ fn run_of(
     input: &str,
     output: &str,
     conditioned_on: &[String],
-) -> Result<fr::Run, InputError> {
+) -> Result<fr::RecordSignals, InputError> {
     let mut config = crate::ident::ConfigSpec::for_model(crate::ident::Setup::Longitudinal);
     config.states = vec![output.to_string()];
     config.kinematics.clear();
@@ -486,7 +486,7 @@ fn run_of(
             us[k].clone()
         })
         .collect();
-    Ok(fr::Run {
+    Ok(fr::RecordSignals {
         name: rec.path.display().to_string(),
         inputs,
         output: xs.into_iter().next().unwrap_or_default(),

@@ -974,9 +974,10 @@ pub fn flight_model(
     subject: &Subject,
 ) -> Option<(Box<dyn crate::external::FlightModel + '_>, crate::Loading)> {
     match subject {
-        Subject::Aircraft { file, loading } => {
-            Some((Box::new(crate::external::Aircraft::new(file)), *loading))
-        }
+        Subject::Aircraft { file, loading } => Some((
+            Box::new(crate::external::CiervaAircraft::new(file)),
+            *loading,
+        )),
         Subject::External(e) => Some((Box::new(e.model.clone()), e.loading)),
         _ => None,
     }

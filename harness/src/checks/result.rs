@@ -7,8 +7,9 @@ use cierva_model::analysis::bcar::Verdict;
 use cierva_model::analysis::modes::Complex;
 use serde::Serialize;
 
-/// Named computed values of a check.
-pub type Quantities = Vec<(&'static str, f64)>;
+/// Named computed values of a check, as the flight models give them (defined once, in
+/// [`crate::external`]).
+pub use crate::external::Quantities;
 
 /// What the model found instead of a check's quantities, with the numbers that describe it.
 pub type Found = (Finding, Vec<(String, f64)>);

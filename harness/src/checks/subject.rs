@@ -164,7 +164,7 @@ pub enum Subject {
         file: Box<crate::inputs::rotor::RotorFile>,
         /// The tunnel solver: the inflow model the case names, and the blade integration's
         /// numerics and Newton tolerances (the model's defaults; a grid study refines them).
-        solver: cierva_model::components::autorotation::Options,
+        solver: cierva_model::components::autorotation::AutorotationOptions,
     },
     /// An aircraft, its mass and air.
     Aircraft {

@@ -253,7 +253,7 @@ pub fn time_history_metrics(
         file.aircraft.main_rotor.numerics.azimuth_step_rad,
         f64::to_radians,
     );
-    let model = crate::external::Aircraft {
+    let model = crate::external::CiervaAircraft {
         file,
         simulation: check.simulation,
         azimuth_step_rad: step,

@@ -115,7 +115,11 @@ pub fn trim_sweep(
     loading: crate::Loading,
     sweep_mph: &[f64],
 ) -> Result<Vec<(f64, Quantities)>, String> {
-    trim_sweep_of(&crate::external::Aircraft::new(file), loading, sweep_mph)
+    trim_sweep_of(
+        &crate::external::CiervaAircraft::new(file),
+        loading,
+        sweep_mph,
+    )
 }
 
 /// [`trim_sweep`] of any flight model.

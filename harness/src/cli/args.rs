@@ -87,28 +87,28 @@ pub(crate) struct ShapeArgs {
 
 impl ShapeArgs {
     /// The input shape, if one is given.
-    pub(crate) fn input(&self) -> Option<cierva_harness::synth::linear::Input> {
-        use cierva_harness::synth::linear::Input;
+    pub(crate) fn input(&self) -> Option<cierva_harness::synth::linear::TestInput> {
+        use cierva_harness::synth::linear::TestInput;
         let (amplitude, start_s, input_s) = (self.amplitude_percent, self.start_s, self.input_s);
         self.shape.map(|c| match c {
-            InputChoice::Sweep | InputChoice::SweepDown => Input::Sweep {
+            InputChoice::Sweep | InputChoice::SweepDown => TestInput::Sweep {
                 from_hz: self.from_hz,
                 to_hz: self.to_hz,
                 duration_s: input_s,
                 amplitude,
                 descending: c == InputChoice::SweepDown,
             },
-            InputChoice::Doublet => Input::Doublet {
+            InputChoice::Doublet => TestInput::Doublet {
                 start_s,
                 pulse_s: input_s,
                 amplitude,
             },
-            InputChoice::ThreeTwoOneOne => Input::ThreeTwoOneOne {
+            InputChoice::ThreeTwoOneOne => TestInput::ThreeTwoOneOne {
                 start_s,
                 unit_s: input_s,
                 amplitude,
             },
-            InputChoice::Step => Input::Step { start_s, amplitude },
+            InputChoice::Step => TestInput::Step { start_s, amplitude },
         })
     }
 }

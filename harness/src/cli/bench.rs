@@ -462,12 +462,12 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
     let numpy = numpy::Numpy::find(&out.root);
     if let Some(model) = truth {
         for (seconds, points) in [(120.0, 100), (240.0, 100), (120.0, 200)] {
-            let settings = linear::Settings {
+            let settings = linear::LinearTest {
                 id: "bench".into(),
                 aircraft: "VPM M16".into(),
                 truth: "seed 002 Eq. 20".into(),
                 control: "eta_s".into(),
-                input: cierva_harness::synth::linear::Input::Sweep {
+                input: cierva_harness::synth::linear::TestInput::Sweep {
                     from_hz: 0.02,
                     to_hz: 2.5,
                     duration_s: seconds - 20.0,
@@ -724,7 +724,7 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     };
     let mut runs = Vec::new();
     for seed in 1..=4 {
-        let settings = linear::Settings::exponential_sweep("bench", seed);
+        let settings = linear::LinearTest::exponential_sweep("bench", seed);
         let Ok((channels, data, _)) = linear::generate(&model, &settings) else {
             return 0.0;
         };
@@ -734,7 +734,7 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
                 .position(|c| c == name)
                 .map_or_else(Vec::new, |i| data[i].clone())
         };
-        runs.push(fr::Run {
+        runs.push(fr::RecordSignals {
             name: format!("bench-{seed}"),
             inputs: vec![col("eta_s_rad")],
             output: col("q_rad_s"),
@@ -743,7 +743,7 @@ fn frequency_responses(out: &Rows, repeat: usize) -> f64 {
     }
     let mut sink = 0.0;
     for overlap in [fr::DEFAULT_OVERLAP, 0.5] {
-        let settings = fr::Settings {
+        let settings = fr::SpectralSettings {
             windows_s: vec![10.0, 20.0, 40.0],
             overlap,
             points: 100,
@@ -907,8 +907,8 @@ fn fitting(out: &Rows) {
     // throttle).
     if let Ok(ac) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml")) {
         use cierva_harness::fit::{
-            self, Condition, FitSubject, Measure, Options, Parameter, ParameterKind, Problem,
-            Target,
+            self, FitOptions, FitSubject, Measure, Parameter, ParameterKind, Problem, Target,
+            TargetCondition,
         };
         let par = |kind: ParameterKind, lower, upper| Parameter {
             kind,
@@ -931,11 +931,11 @@ fn fitting(out: &Rows) {
                 par(ParameterKind::ProfileDragScale, 0.5, 2.0),
             ],
             targets: vec![],
-            options: Options::default(),
+            options: FitOptions::default(),
         };
         for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
             for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {
-                let condition = Condition::Flight(
+                let condition = TargetCondition::Flight(
                     cierva_harness::TrimRequest {
                         airspeed_mph: mph,
                         climb_m_s: 0.0,
@@ -1107,7 +1107,7 @@ fn sweep_flight(
     azimuth_step_rad: f64,
 ) -> cierva_harness::synth::flight::FlightTest {
     use cierva_harness::synth::flight::{FlightTest, sensors::Instrumentation, turbulence};
-    use cierva_harness::synth::linear::Input;
+    use cierva_harness::synth::linear::TestInput;
     FlightTest {
         request: cierva_harness::TrimRequest {
             airspeed_mph,
@@ -1118,7 +1118,7 @@ fn sweep_flight(
             mass_kg: None,
             density_altitude_ft: 0.0,
         },
-        input: Input::ExponentialSweep {
+        input: TestInput::ExponentialSweep {
             start_s: 3.0,
             from_hz: 0.05,
             to_hz: 2.0,

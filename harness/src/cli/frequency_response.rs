@@ -2,7 +2,7 @@
 //! coherence and random error (`ident::frequency_response`).
 
 use super::*;
-use cierva_harness::ident::frequency_response::{self as fr, Estimate, FrError};
+use cierva_harness::ident::frequency_response::{self as fr, CompositeEstimate, FrError};
 use cierva_harness::inputs::record::{self, Record};
 use cierva_harness::inputs::yaml::InputError;
 
@@ -65,9 +65,9 @@ pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> Result<ExitCode, E
     let inputs: Vec<&str> = std::iter::once(a.input.as_str())
         .chain(a.conditioned_on.iter().map(String::as_str))
         .collect();
-    let runs: Vec<fr::Run> = records
+    let runs: Vec<fr::RecordSignals> = records
         .iter()
-        .map(|r| fr::Run {
+        .map(|r| fr::RecordSignals {
             name: r.path.display().to_string(),
             inputs: inputs
                 .iter()
@@ -83,9 +83,9 @@ pub(crate) fn frequency_response(a: FrequencyResponseArgs) -> Result<ExitCode, E
         .iter()
         .map(|r| (r.output.len().saturating_sub(1) as f64 * r.dt_s * 10.0).floor() / 10.0)
         .fold(f64::INFINITY, f64::min);
-    let settings = fr::Settings {
+    let settings = fr::SpectralSettings {
         windows_s: if a.windows_s.is_empty() {
-            fr::Settings::default_windows_s(shortest_s)
+            fr::SpectralSettings::default_windows_s(shortest_s)
         } else {
             a.windows_s.clone()
         },
@@ -118,7 +118,7 @@ fn json(
     a: &FrequencyResponseArgs,
     records: &[Record],
     inputs: &[&str],
-    est: &Estimate,
+    est: &CompositeEstimate,
 ) -> serde_json::Value {
     let mut v = columns(&est.inputs[0]);
     let extra = serde_json::json!({
@@ -150,7 +150,7 @@ fn cell(x: Option<f64>, digits: usize) -> String {
     x.map_or(String::new(), |v| format!("{v:.digits$}"))
 }
 
-fn csv(est: &Estimate) -> String {
+fn csv(est: &CompositeEstimate) -> String {
     let r = &est.inputs[0];
     let (mag, ph) = (r.magnitude_db(), r.phase_deg());
     let mut s = String::from("frequency_hz,magnitude_db,phase_deg,coherence,random_error\n");
@@ -167,7 +167,7 @@ fn csv(est: &Estimate) -> String {
     s
 }
 
-fn table(a: &FrequencyResponseArgs, records: &[Record], est: &Estimate) -> String {
+fn table(a: &FrequencyResponseArgs, records: &[Record], est: &CompositeEstimate) -> String {
     let r = &est.inputs[0];
     let (mag, ph) = (r.magnitude_db(), r.phase_deg());
     let mut s = format!(

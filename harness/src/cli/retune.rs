@@ -152,7 +152,7 @@ fn finite(v: f64) -> serde_json::Value {
 /// The responses' estimation settings from the arguments.
 fn how(a: &RetuneArgs) -> retune::How {
     retune::How {
-        responses: retune::responses::Settings {
+        responses: retune::responses::ResponseSettings {
             windows_s: (!a.windows_s.is_empty()).then(|| a.windows_s.clone()),
             band_hz: (a.band_hz.len() == 2).then(|| [a.band_hz[0], a.band_hz[1]]),
             outputs: (!a.outputs.is_empty()).then(|| a.outputs.clone()),
@@ -165,8 +165,8 @@ fn how(a: &RetuneArgs) -> retune::How {
 /// gives each comparison with its file's name (None where nothing finite is drawn).
 fn bode_figures(
     report: &Path,
-    comparisons: &[retune::responses::Comparison],
-) -> Result<Vec<(retune::responses::Comparison, Option<String>)>, String> {
+    comparisons: &[retune::responses::ResponseComparison],
+) -> Result<Vec<(retune::responses::ResponseComparison, Option<String>)>, String> {
     use cierva_harness::report::plot;
     let stem = report
         .file_stem()
@@ -216,7 +216,7 @@ fn bode_figures(
 fn print_text(
     r: &retune::Retune,
     (aircraft, records): (&str, usize),
-    comparisons: &[retune::responses::Comparison],
+    comparisons: &[retune::responses::ResponseComparison],
     revalidation: Option<&retune::Revalidation>,
     [output, report]: [&Path; 2],
 ) {

@@ -25,7 +25,7 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
     };
     let input = match a.shape {
         InputChoice::Sweep | InputChoice::SweepDown => {
-            cierva_harness::synth::linear::Input::Sweep {
+            cierva_harness::synth::linear::TestInput::Sweep {
                 from_hz: a.from_hz,
                 to_hz: a.to_hz,
                 duration_s: a.input_s,
@@ -33,17 +33,17 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
                 descending: a.shape == InputChoice::SweepDown,
             }
         }
-        InputChoice::Doublet => cierva_harness::synth::linear::Input::Doublet {
+        InputChoice::Doublet => cierva_harness::synth::linear::TestInput::Doublet {
             start_s: 2.0,
             pulse_s: a.input_s,
             amplitude: a.amplitude_model_units,
         },
-        InputChoice::ThreeTwoOneOne => cierva_harness::synth::linear::Input::ThreeTwoOneOne {
+        InputChoice::ThreeTwoOneOne => cierva_harness::synth::linear::TestInput::ThreeTwoOneOne {
             start_s: 2.0,
             unit_s: a.input_s,
             amplitude: a.amplitude_model_units,
         },
-        InputChoice::Step => cierva_harness::synth::linear::Input::Step {
+        InputChoice::Step => cierva_harness::synth::linear::TestInput::Step {
             start_s: 2.0,
             amplitude: a.amplitude_model_units,
         },
@@ -54,7 +54,7 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_default();
-    let settings = linear::Settings {
+    let settings = linear::LinearTest {
         id,
         aircraft: r.title.clone(),
         truth: a.model.display().to_string(),
@@ -75,7 +75,7 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
             intensity: a.turbulence_si,
             correlation_time_s: 0.5,
         }),
-        trim: linear::Trim {
+        trim: linear::TrimPoint {
             u_m_s: a.trim_u_m_s,
             w_m_s: a.trim_w_m_s,
             theta_rad: a.trim_theta_rad,

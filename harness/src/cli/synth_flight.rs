@@ -3,7 +3,7 @@
 use super::*;
 use cierva_harness::inputs::record::{RecordMeta, Sensors, Synthetic};
 use cierva_harness::synth::flight::{self, sensors::Instrumentation};
-use cierva_harness::synth::linear::Input;
+use cierva_harness::synth::linear::TestInput;
 use std::collections::BTreeMap;
 
 /// The input starts after this much trim, s, and ends this long before the record does.
@@ -112,7 +112,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> Result<ExitCode, Error> {
 
 /// The test input the arguments ask for, between `QUIET_S` of trim at each end; arguments
 /// out of range are bad input.
-fn test_input(a: &SynthFlightArgs) -> Result<Input, Error> {
+fn test_input(a: &SynthFlightArgs) -> Result<TestInput, Error> {
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(a.duration_s) && a.duration_s > 2.0 * QUIET_S + 1.0) {
         return Err(Error::input(format!(
@@ -133,7 +133,7 @@ fn test_input(a: &SynthFlightArgs) -> Result<Input, Error> {
                     a.from_hz, a.to_hz
                 )));
             }
-            Input::ExponentialSweep {
+            TestInput::ExponentialSweep {
                 start_s: QUIET_S,
                 from_hz: a.from_hz,
                 to_hz: a.to_hz,
@@ -141,12 +141,12 @@ fn test_input(a: &SynthFlightArgs) -> Result<Input, Error> {
                 amplitude: a.amplitude_percent,
             }
         }
-        Manoeuvre::ThreeTwoOneOne => Input::ThreeTwoOneOne {
+        Manoeuvre::ThreeTwoOneOne => TestInput::ThreeTwoOneOne {
             start_s: QUIET_S,
             unit_s: a.pulse_s,
             amplitude: a.amplitude_percent,
         },
-        Manoeuvre::Doublet => Input::Doublet {
+        Manoeuvre::Doublet => TestInput::Doublet {
             start_s: QUIET_S,
             pulse_s: a.pulse_s,
             amplitude: a.amplitude_percent,

@@ -7,7 +7,7 @@
 //! and its response to a record's control changes. Each is optional: a model that does not
 //! provide one says so, and a check that needs it is an error, never a pass.
 //!
-//! cierva's own aircraft is one ([`Aircraft`]). Another simulation is a subject two ways:
+//! cierva's own aircraft is one ([`CiervaAircraft`]). Another simulation is a subject two ways:
 //! - [`command`]: a program cierva runs once per request (the protocol `cierva-external/1`,
 //!   `docs/external-models.md`);
 //! - [`files`]: its outputs as files (a trim table, a linear model, a time history).
@@ -74,13 +74,13 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
 /// cierva's own aircraft at a loading, flown by `simulation` at `azimuth_step_rad` (the full
 /// blade model's step).
 #[derive(Debug, Clone, Copy)]
-pub struct Aircraft<'a> {
+pub struct CiervaAircraft<'a> {
     pub file: &'a crate::inputs::aircraft::AircraftFile,
     pub simulation: Simulation,
     pub azimuth_step_rad: f64,
 }
 
-impl<'a> Aircraft<'a> {
+impl<'a> CiervaAircraft<'a> {
     /// The aircraft, flown by the full blade model at its file's azimuth step.
     pub fn new(file: &'a crate::inputs::aircraft::AircraftFile) -> Self {
         Self {
@@ -91,7 +91,7 @@ impl<'a> Aircraft<'a> {
     }
 }
 
-impl FlightModel for Aircraft<'_> {
+impl FlightModel for CiervaAircraft<'_> {
     fn describe(&self) -> String {
         format!("the aircraft {}", self.file.path.display())
     }

@@ -44,7 +44,7 @@
 //! the half-width over 1.96; such an interval can also be a hard or soft bound.
 
 use crate::checks::{Measured, Place};
-use crate::fit::{self, Bounds, Condition, Enforce, Measure, Parameter, ParameterKind};
+use crate::fit::{self, Bounds, Enforce, Measure, Parameter, ParameterKind, TargetCondition};
 use crate::inputs::reference::Provenance;
 use crate::inputs::yaml::{self, InputError};
 use crate::suite::case::{self, AircraftModelSpec, RotorModelSpec, ToleranceKind, TunnelSpec};
@@ -221,7 +221,9 @@ pub struct FitFile {
 /// absent); an error, with its field, for a number of starts out of 1 to
 /// [`fit::starts::MAX_STARTS`] or more iterations than
 /// [`crate::inputs::limits::MAX_FIT_ITERATIONS`].
-fn options_of(spec: Option<OptionsSpec>) -> Result<(fit::Options, usize), (&'static str, String)> {
+fn options_of(
+    spec: Option<OptionsSpec>,
+) -> Result<(fit::FitOptions, usize), (&'static str, String)> {
     let starts = spec.and_then(|o| o.starts).unwrap_or(1);
     let max = fit::starts::MAX_STARTS;
     if !(1..=max).contains(&starts) {
@@ -237,7 +239,7 @@ fn options_of(spec: Option<OptionsSpec>) -> Result<(fit::Options, usize), (&'sta
             format!("{n} iterations: give at most {most} (MAX_FIT_ITERATIONS; the default is 20)"),
         ));
     }
-    let mut options = fit::Options::default();
+    let mut options = fit::FitOptions::default();
     if let Some(o) = spec {
         options.max_iterations = o.max_iterations.unwrap_or(options.max_iterations);
         options.tolerance = o.tolerance.unwrap_or(options.tolerance);
@@ -499,11 +501,13 @@ fn targets_of(
                 );
             }
             let condition = match (t.condition, t.tunnel, subject) {
-                (Some(c), None, SubjectKey::Aircraft(_, loading)) => Condition::Flight(c, *loading),
+                (Some(c), None, SubjectKey::Aircraft(_, loading)) => {
+                    TargetCondition::Flight(c, *loading)
+                }
                 (Some(_), None, SubjectKey::Rotor(..)) => {
                     return Err("a rotor alone is fitted at `tunnel` conditions, not in flight".into());
                 }
-                (None, Some(tu), _) => Condition::Tunnel(tu),
+                (None, Some(tu), _) => TargetCondition::Tunnel(tu),
                 _ => return Err("give exactly one of `condition` (flight) or `tunnel`".into()),
             };
             let (Some(q), Some(reference), Some(standard_error)) =
@@ -579,8 +583,10 @@ fn from_case(
             continue;
         }
         let condition = match (check.behaviour().measured(), case_loading) {
-            (Measured::At(Place::Flight(cond)), Some(loading)) => Condition::Flight(cond, loading),
-            (Measured::At(Place::Tunnel(tunnel)), _) => Condition::Tunnel(*tunnel),
+            (Measured::At(Place::Flight(cond)), Some(loading)) => {
+                TargetCondition::Flight(cond, loading)
+            }
+            (Measured::At(Place::Tunnel(tunnel)), _) => TargetCondition::Tunnel(*tunnel),
             (Measured::Modified, _) if t.checks.is_some() => {
                 return Err(format!(
                     "check `{}` of {file} sets its own corrections or derivatives, or checks a ratio or an identified model: it is not a reference to fit",
@@ -741,7 +747,7 @@ pub fn run(f: &FitFile) -> FitRun {
     if let fit::FitSubject::Aircraft { aircraft } = &f.problem.subject {
         let mut conditions: Vec<(crate::TrimRequest, crate::Loading)> = Vec::new();
         for t in &f.problem.targets {
-            if let Condition::Flight(c, l) = t.condition
+            if let TargetCondition::Flight(c, l) = t.condition
                 && !conditions.contains(&(c, l))
             {
                 conditions.push((c, l));
@@ -777,7 +783,7 @@ pub fn run(f: &FitFile) -> FitRun {
             let (b, a) = (eig(&start, c), eig(&result.values, c));
             for (k, name) in ["phugoid", "short_period"].into_iter().enumerate() {
                 modes.push(ModeShift {
-                    condition: Condition::Flight(c.0, c.1).label(),
+                    condition: TargetCondition::Flight(c.0, c.1).label(),
                     mode: name,
                     before: b[k],
                     after: a[k],

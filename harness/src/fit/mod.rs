@@ -36,9 +36,9 @@ mod solve;
 pub mod starts;
 mod targets;
 
-pub use solve::{FitResult, Options, Problem, Status, fit};
+pub use solve::{FitOptions, FitResult, Problem, Status, fit};
 pub use targets::{
-    Bounds, Condition, Enforce, FitSubject, Measure, Parameter, ParameterKind, ResponsePoint,
-    TUNNEL_QUANTITIES, Target, WarmStarts, check, evaluate, evaluate_each, evaluate_each_from,
-    evaluate_from, sensitivities,
+    Bounds, Enforce, FitSubject, Measure, Parameter, ParameterKind, ResponsePoint,
+    TUNNEL_QUANTITIES, Target, TargetCondition, WarmStarts, check, evaluate, evaluate_each,
+    evaluate_each_from, evaluate_from, sensitivities,
 };

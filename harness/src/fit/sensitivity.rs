@@ -122,7 +122,7 @@ pub fn check_names(
             ));
         }
     }
-    let flight = crate::fit::Condition::Flight(
+    let flight = crate::fit::TargetCondition::Flight(
         TrimRequest {
             airspeed_mph: 50.0,
             climb_m_s: 0.0,

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 /// Iteration limits and tolerances.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Options {
+pub struct FitOptions {
     pub max_iterations: usize,
     /// Converged when the step is below this fraction of every parameter's range, or the cost
     /// falls by less than this fraction.
@@ -25,7 +25,7 @@ pub struct Options {
     pub broyden: bool,
 }
 
-impl Default for Options {
+impl Default for FitOptions {
     fn default() -> Self {
         Self {
             max_iterations: 20,
@@ -101,7 +101,7 @@ pub struct Problem {
     pub subject: FitSubject,
     pub parameters: Vec<Parameter>,
     pub targets: Vec<Target>,
-    pub options: Options,
+    pub options: FitOptions,
 }
 
 /// Residuals: scaled target misfits, bound violations (penalised), then the regularisation

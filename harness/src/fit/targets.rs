@@ -193,12 +193,12 @@ pub enum FitSubject {
 /// condition (rotor, autorotating).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Condition {
+pub enum TargetCondition {
     Flight(TrimRequest, Loading),
     Tunnel(TunnelSpec),
 }
 
-impl Condition {
+impl TargetCondition {
     /// A short label: `55 mph 425 kg`, `alpha 8.3 deg mu 0.216`.
     pub fn label(&self) -> String {
         match self {
@@ -309,7 +309,7 @@ impl Measure {
     /// The measure by name at a kind of condition: a trim quantity or a derivative in flight,
     /// an autorotation quantity in a tunnel. An unknown name is an error that suggests the
     /// nearest.
-    pub fn parse(condition: &Condition, name: &str) -> Result<Self, String> {
+    pub fn parse(condition: &TargetCondition, name: &str) -> Result<Self, String> {
         let trim = crate::inputs::quantity::names(crate::inputs::quantity::TRIM);
         let tunnel = crate::inputs::quantity::names(TUNNEL_QUANTITIES);
         let hint = |have: &[&str]| {
@@ -319,7 +319,7 @@ impl Measure {
                 .unwrap_or_default()
         };
         match condition {
-            Condition::Flight(..) => {
+            TargetCondition::Flight(..) => {
                 if trim.contains(&name) {
                     return Ok(Self::Trim(name.into()));
                 }
@@ -331,7 +331,7 @@ impl Measure {
                     )),
                 }
             }
-            Condition::Tunnel(_) => {
+            TargetCondition::Tunnel(_) => {
                 if tunnel.contains(&name) {
                     Ok(Self::Tunnel(name.into()))
                 } else {
@@ -390,7 +390,7 @@ impl Bounds {
 /// A flight reference to fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Target {
-    pub condition: Condition,
+    pub condition: TargetCondition,
     pub measure: Measure,
     pub reference: f64,
     /// Its standard error (or a bound width): the residual's scale. Positive.
@@ -447,7 +447,7 @@ type AtCondition = (
 );
 
 /// The distinct frequencies of a condition's response targets, in the order they come.
-fn response_frequencies(problem: &Problem, c: &Condition) -> Vec<f64> {
+fn response_frequencies(problem: &Problem, c: &TargetCondition) -> Vec<f64> {
     let mut out: Vec<f64> = Vec::new();
     for t in &problem.targets {
         if let (true, Measure::Response(r)) = (t.condition == *c, &t.measure)
@@ -464,15 +464,17 @@ fn response_frequencies(problem: &Problem, c: &Condition) -> Vec<f64> {
 /// evaluations of a cold one. Each condition's trims run on one thread in the order the fit asks
 /// for them, so a fit stays deterministic.
 #[derive(Debug, Default)]
-pub struct WarmStarts(std::sync::Mutex<Vec<(Condition, cierva_model::aircraft::trim::WarmStart)>>);
+pub struct WarmStarts(
+    std::sync::Mutex<Vec<(TargetCondition, cierva_model::aircraft::trim::WarmStart)>>,
+);
 
 impl WarmStarts {
-    fn get(&self, c: &Condition) -> Option<cierva_model::aircraft::trim::WarmStart> {
+    fn get(&self, c: &TargetCondition) -> Option<cierva_model::aircraft::trim::WarmStart> {
         let v = self.0.lock().unwrap_or_else(|e| e.into_inner());
         v.iter().find(|(k, _)| k == c).map(|(_, w)| w.clone())
     }
 
-    fn put(&self, c: Condition, w: cierva_model::aircraft::trim::WarmStart) {
+    fn put(&self, c: TargetCondition, w: cierva_model::aircraft::trim::WarmStart) {
         let mut v = self.0.lock().unwrap_or_else(|e| e.into_inner());
         match v.iter_mut().find(|(k, _)| *k == c) {
             Some(slot) => slot.1 = w,
@@ -512,19 +514,19 @@ pub fn evaluate_each_from(
     for (par, v) in problem.parameters.iter().zip(p) {
         par.kind.set(&mut set, *v);
     }
-    let mut conditions: Vec<Condition> = Vec::new();
+    let mut conditions: Vec<TargetCondition> = Vec::new();
     for t in &problem.targets {
         if !conditions.contains(&t.condition) {
             conditions.push(t.condition);
         }
     }
-    let at = |c: &Condition| format!("at {} with {}", c.label(), describe(problem, p));
+    let at = |c: &TargetCondition| format!("at {} with {}", c.label(), describe(problem, p));
     let results: Vec<Result<AtCondition, String>> = match &problem.subject {
         FitSubject::Aircraft { aircraft } => {
             let mut a = aircraft.clone();
             set.apply_to_aircraft(&mut a)?;
             crate::parallel_map(&conditions, |c| {
-                let Condition::Flight(request, loading) = c else {
+                let TargetCondition::Flight(request, loading) = c else {
                     return Err(format!(
                         "{}: an aircraft flies, it is not in a tunnel",
                         at(c)
@@ -575,7 +577,7 @@ pub fn evaluate_each_from(
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
             crate::parallel_map(&conditions, |c| {
-                let Condition::Tunnel(t) = c else {
+                let TargetCondition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };
                 crate::checks::autorotation::quantities_or_reason(
@@ -681,8 +683,8 @@ pub fn check(problem: &Problem) -> Result<(), String> {
         }
         let fits = matches!(
             (&problem.subject, &t.condition),
-            (FitSubject::Aircraft { .. }, Condition::Flight(..))
-                | (FitSubject::Rotor { .. }, Condition::Tunnel(_))
+            (FitSubject::Aircraft { .. }, TargetCondition::Flight(..))
+                | (FitSubject::Rotor { .. }, TargetCondition::Tunnel(_))
         );
         if !fits {
             return Err(format!(

@@ -23,7 +23,7 @@ pub struct ConfigSpec {
     #[serde(default)]
     pub kinematics: BTreeMap<String, String>,
     #[serde(default)]
-    pub method: Method,
+    pub method: Estimator,
     /// Average the rotor's blade-passage shaking out of every signal before the fit: the
     /// number of blades (see [`blade_passage_average`]); none by default.
     #[serde(default)]
@@ -39,7 +39,7 @@ pub struct ConfigSpec {
 /// truth 94-99 % of the time (test `instrumental_variable_bounds_cover_the_truth`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Method {
+pub enum Estimator {
     /// Ordinary least squares (seed 000 Eq. 11).
     LeastSquares,
     /// Least squares, then instrumental variables: the first model's frequency response to the
@@ -141,7 +141,7 @@ impl ConfigSpec {
             windowing: WindowingSpec::default(),
             equations: vec![],
             kinematics,
-            method: Method::default(),
+            method: Estimator::default(),
             blade_passage_blades: None,
         }
     }
@@ -248,7 +248,7 @@ impl ConfigSpec {
                 .iter()
                 .map(|(a, b)| (a.to_string(), b.to_string()))
                 .collect(),
-            method: Method::default(),
+            method: Estimator::default(),
             blade_passage_blades: None,
         }
     }

@@ -104,7 +104,7 @@ pub struct Equation {
 
 /// One estimated coefficient.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Estimate {
+pub struct Coefficient {
     /// The variable (column) it multiplies.
     pub variable: String,
     pub value: f64,
@@ -117,7 +117,7 @@ pub struct Estimate {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EquationFit {
     pub state: String,
-    pub estimates: Vec<Estimate>,
+    pub estimates: Vec<Coefficient>,
     pub fixed: Vec<(String, f64)>,
     /// Coefficient of determination of the regression.
     pub r_squared: f64,
@@ -546,7 +546,7 @@ fn fit(
     for c in 0..p {
         let value = theta_s[c] / scales[c];
         let se = cov_s[(c, c)].sqrt() / scales[c];
-        estimates.push(Estimate {
+        estimates.push(Coefficient {
             variable: eq.estimate[c].clone(),
             value,
             standard_error: se,
@@ -637,7 +637,7 @@ fn sandwich(
 /// ill-conditioned regressors.
 fn warnings_of(
     eq: &Equation,
-    estimates: &[Estimate],
+    estimates: &[Coefficient],
     correlation: &[Vec<f64>],
     condition_number: f64,
 ) -> Vec<String> {

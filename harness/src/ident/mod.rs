@@ -82,13 +82,13 @@ pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Ident
 
 /// One run's perturbation histories for [`identify_histories`]: its name (for messages), the
 /// configured states' and controls' histories ([`signals`]), and the sample interval, s.
-pub type Run = (String, Histories, f64);
+pub type RunHistories = (String, Histories, f64);
 
 /// Identifies runs of one condition together from their histories: what
 /// [`identify_records`] does after reading the records.
 pub fn identify_histories(
     id: &str,
-    runs: Vec<Run>,
+    runs: Vec<RunHistories>,
     config: &ConfigSpec,
 ) -> Result<Identification, String> {
     if runs.is_empty() {
@@ -128,7 +128,7 @@ pub(crate) fn frequencies(config: &ConfigSpec) -> Result<Frequencies, String> {
 /// What an identification's transforms come from.
 pub(crate) enum Source {
     /// Time histories, transformed as the set-up says.
-    Runs(Vec<Run>),
+    Runs(Vec<RunHistories>),
     /// Transforms already computed: per excitation, its frequencies (rad/s) and the states'
     /// and controls' transforms at them, `[variable][frequency]`.
     Response(Vec<(Vec<f64>, Vec<Vec<estimate::C>>)>),
@@ -203,7 +203,7 @@ pub(crate) fn identify_from(
     }
     let spectra = estimate::Spectra::concatenate(parts).map_err(err)?;
     let mut fits = estimate::fit_equations(&spectra, &equations, None).map_err(err)?;
-    if config.method == Method::InstrumentalVariables {
+    if config.method == Estimator::InstrumentalVariables {
         // The first model: the full least-squares fit, with the user's equations in their rows
         // (instruments need every state's response, not only the identified equations').
         let mut base = if equations == full {

@@ -226,7 +226,7 @@ pub fn config_for(identified: &Identified, record: &Record) -> Result<ConfigSpec
         windowing: super::WindowingSpec::default(),
         equations: vec![],
         kinematics: identified.kinematics.clone(),
-        method: super::Method::default(),
+        method: super::Estimator::default(),
         blade_passage_blades: None,
     })
 }

@@ -2,7 +2,7 @@
 //! with their standard errors and sources, the frequency responses before and after, the
 //! modes, predictions of records not used and the suite rerun with the new corrections.
 
-use crate::fit::retune::responses::Comparison;
+use crate::fit::retune::responses::ResponseComparison;
 use crate::fit::retune::{ModeRow, Prediction, Retune, Revalidation};
 use std::fmt::Write;
 
@@ -13,7 +13,7 @@ pub fn markdown(
     modes: &[ModeRow],
     predictions: &[Prediction],
     revalidation: Option<&Revalidation>,
-    comparisons: &[(Comparison, Option<String>)],
+    comparisons: &[(ResponseComparison, Option<String>)],
 ) -> String {
     let g = crate::units::sig;
     let mut s = String::new();
@@ -112,7 +112,7 @@ pub fn markdown(
 
 /// The responses' section of the report: `J` per response before and after, and its Bode
 /// figure.
-fn comparisons_markdown(comparisons: &[(Comparison, Option<String>)]) -> String {
+fn comparisons_markdown(comparisons: &[(ResponseComparison, Option<String>)]) -> String {
     let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
     let mut s = format!(
         "\n## Frequency responses: the records' against the model's\n\nTischler's mismatch cost J over each response's band of coherence >= {} (Tischler and Remple 2012: J <= {} acceptable, J <= {} nearly indistinguishable from the data).\n\n| condition | response | frequencies in band | J before | J after | Bode |\n| --- | --- | ---: | ---: | ---: | --- |\n",

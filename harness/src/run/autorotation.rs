@@ -29,7 +29,7 @@ pub fn run_autorotation(
     airspeed_m_s: f64,
     collective_deg: Option<f64>,
     density_kg_m3: Option<f64>,
-    options: impl Into<cierva_model::components::autorotation::Options>,
+    options: impl Into<cierva_model::components::autorotation::AutorotationOptions>,
 ) -> Result<cierva_model::components::autorotation::Autorotation, AutorotateError> {
     use cierva_model::components::autorotation::{Tunnel, autorotate};
     let (air, collective_shift_rad) = tunnel_air(rotor, collective_deg, density_kg_m3)?;
@@ -69,7 +69,7 @@ pub fn run_autorotation_at_tip_speed_ratio(
     rotor_rpm: f64,
     collective_deg: Option<f64>,
     density_kg_m3: Option<f64>,
-    options: impl Into<cierva_model::components::autorotation::Options>,
+    options: impl Into<cierva_model::components::autorotation::AutorotationOptions>,
 ) -> Result<cierva_model::components::autorotation::AtTipSpeedRatio, AutorotateError> {
     use cierva_model::components::autorotation::{
         TipSpeedCondition, autorotate_at_tip_speed_ratio,

@@ -48,7 +48,7 @@ pub fn simulation_start(
         turn_rate_rad_s: request.turn_rate_deg_s.to_radians(),
         air,
     };
-    let pt = periodic_trim(&a, condition, &t, trim::Options::default())
+    let pt = periodic_trim(&a, condition, &t, trim::TrimOptions::default())
         .map_err(|e| format!("periodic trim of the full model: {e}"))?;
     Ok(SimulationStart {
         aircraft: a,

@@ -57,7 +57,7 @@ pub fn run_trim_from(
     Ok(trim::trim_from(
         &a,
         condition,
-        trim::Options::default(),
+        trim::TrimOptions::default(),
         start,
     )?)
 }

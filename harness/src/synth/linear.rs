@@ -51,7 +51,7 @@ impl Normal {
 
 /// Test inputs (amplitudes in the control's units).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Input {
+pub enum TestInput {
     /// A frequency sweep from `from_hz` to `to_hz` over `duration_s` (reversed when
     /// `descending`), faded in and out over its first and last 2 s (seed 000 Figs. 4-5).
     Sweep {
@@ -89,7 +89,7 @@ pub enum Input {
     Step { start_s: f64, amplitude: f64 },
 }
 
-impl Input {
+impl TestInput {
     /// The input at time `t`.
     pub fn at(&self, t: f64) -> f64 {
         match *self {
@@ -209,7 +209,7 @@ pub struct Turbulence {
 
 /// The trim the perturbations are about.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Trim {
+pub struct TrimPoint {
     pub u_m_s: f64,
     pub w_m_s: f64,
     pub theta_rad: f64,
@@ -220,7 +220,7 @@ pub struct Trim {
 /// identification's known answers, the frequency-response known answer, their benchmarks): the
 /// model's states are perturbations, so any level-flight trim near 60 kn serves; this one is
 /// 30 m/s forward, 1.5 m/s down, 0.05 rad nose up, 38 rad/s of rotor speed.
-pub const SEED002_TRIM: Trim = Trim {
+pub const SEED002_TRIM: TrimPoint = TrimPoint {
     u_m_s: 30.0,
     w_m_s: 1.5,
     theta_rad: 0.05,
@@ -236,23 +236,23 @@ pub const SEED002_SENSORS: Sensors = Sensors {
 
 /// Everything the generator needs.
 #[derive(Debug, Clone)]
-pub struct Settings {
+pub struct LinearTest {
     pub id: String,
     pub aircraft: String,
     /// The path or description of the truth model, written into the sidecar.
     pub truth: String,
     pub control: String,
-    pub input: Input,
+    pub input: TestInput,
     pub duration_s: f64,
     pub sample_rate_hz: f64,
     pub seed: u64,
     pub noise: SensorNoise,
     pub turbulence: Option<Turbulence>,
-    pub trim: Trim,
+    pub trim: TrimPoint,
     pub sensors: Sensors,
 }
 
-impl Settings {
+impl LinearTest {
     /// The frequency-response known answer's record (its tests and `cierva bench`): seed 002's
     /// linear VPM M16 (Eq. 20) at 60 kn flown through an exponential sweep of the longitudinal
     /// stick, 0.02 to 4 Hz over 116 s from 2 s, amplitude 0.01; 120 s at 100 Hz; sensor noise
@@ -265,7 +265,7 @@ impl Settings {
             aircraft: "VPM M16".into(),
             truth: "seed 002 Eq. 20".into(),
             control: "eta_s".into(),
-            input: Input::ExponentialSweep {
+            input: TestInput::ExponentialSweep {
                 start_s: 2.0,
                 from_hz: 0.02,
                 to_hz: 4.0,
@@ -293,7 +293,7 @@ const FORCE_ROWS: [&str; 7] = ["u", "v", "w", "p", "q", "r", "Omega"];
 pub type Generated = (Vec<String>, Vec<Vec<f64>>, RecordMeta);
 
 /// The record's channel names and data, and its sidecar.
-pub fn generate(model: &LinearModel, s: &Settings) -> Result<Generated, String> {
+pub fn generate(model: &LinearModel, s: &LinearTest) -> Result<Generated, String> {
     let ci = model
         .controls()
         .iter()
@@ -412,7 +412,7 @@ fn with_gust_inputs(
 /// `omega x r`), rates, attitudes, rotorspeed and the control, each with its noise.
 fn sensed(
     model: &LinearModel,
-    s: &Settings,
+    s: &LinearTest,
     xs: &[Vec<f64>],
     steps: usize,
     dt: f64,
@@ -474,7 +474,7 @@ fn sensed(
 
 /// The record's sidecar: what generated it (settings, seed, the truth model), the sensors and
 /// the trim the record is about.
-fn sidecar(s: &Settings, dt: f64, control_channel: String) -> RecordMeta {
+fn sidecar(s: &LinearTest, dt: f64, control_channel: String) -> RecordMeta {
     let mut settings = BTreeMap::new();
     settings.insert("input".into(), format!("{:?}", s.input));
     settings.insert("sensor_noise".into(), format!("{:?}", s.noise));

@@ -2,8 +2,8 @@
 //! status.
 
 use cierva_harness::fit::{
-    self, Bounds, Condition, Enforce, FitSubject, Measure, Options, Parameter, ParameterKind,
-    Problem, Status, Target,
+    self, Bounds, Enforce, FitOptions, FitSubject, Measure, Parameter, ParameterKind, Problem,
+    Status, Target, TargetCondition,
 };
 use cierva_harness::{Loading, TrimRequest};
 
@@ -16,8 +16,8 @@ fn vpm() -> cierva_model::aircraft::Aircraft {
         .aircraft
 }
 
-fn at(mph: f64) -> Condition {
-    Condition::Flight(
+fn at(mph: f64) -> TargetCondition {
+    TargetCondition::Flight(
         TrimRequest {
             airspeed_mph: mph,
             climb_m_s: 0.0,
@@ -68,7 +68,7 @@ fn a_synthetic_truth_is_recovered() {
         subject: vpm_subject(),
         parameters: blockage_and_hub([1.0, 0.5]),
         targets: vec![],
-        options: Options::default(),
+        options: FitOptions::default(),
     };
     for v in conditions {
         for n in names {
@@ -129,9 +129,9 @@ fn degenerate_problems_end_with_a_status() {
             standard_error: 0.01,
             bounds: None,
         }],
-        options: Options {
+        options: FitOptions {
             max_iterations: 3,
-            ..Options::default()
+            ..FitOptions::default()
         },
     };
     let mut blind = base.clone();
@@ -193,7 +193,7 @@ fn hard_and_soft_bounds_hold_the_fit_back() {
             standard_error: 1.0,
             bounds: None,
         }],
-        options: Options::default(),
+        options: FitOptions::default(),
     };
     problem.parameters.truncate(1);
     let y0 = fit::evaluate(&problem, &[0.0]).unwrap()[0];

@@ -6,7 +6,7 @@ use super::common::repo_root;
 use cierva_harness::synth::flight::sensors::{Channel, Instrumentation};
 use cierva_harness::synth::flight::turbulence::Dryden;
 use cierva_harness::synth::flight::{self, FlightTest};
-use cierva_harness::synth::linear::{Input, Normal};
+use cierva_harness::synth::linear::{Normal, TestInput};
 use cierva_harness::{Loading, TrimRequest};
 
 /// MIL-F-8785C's low-altitude scales at 500 ft: L_w = 500 ft, L_u = L_v = 500 / 0.5885^1.2 ft
@@ -169,7 +169,7 @@ fn vpm_m16() -> cierva_model::aircraft::Aircraft {
         .aircraft
 }
 
-fn test(input: Input, control: usize, duration_s: f64) -> FlightTest {
+fn test(input: TestInput, control: usize, duration_s: f64) -> FlightTest {
     FlightTest {
         request: TrimRequest {
             airspeed_mph: 70.0,
@@ -198,7 +198,7 @@ fn test(input: Input, control: usize, duration_s: f64) -> FlightTest {
 #[test]
 fn with_no_input_the_record_holds_its_trim() {
     let t = test(
-        Input::Step {
+        TestInput::Step {
             start_s: 0.0,
             amplitude: 0.0,
         },
@@ -240,7 +240,7 @@ fn with_no_input_the_record_holds_its_trim() {
 #[test]
 fn a_stick_doublet_pitches_the_nose_up_first() {
     let t = test(
-        Input::Doublet {
+        TestInput::Doublet {
             start_s: 1.0,
             pulse_s: 1.0,
             amplitude: 2.0,
@@ -273,7 +273,7 @@ fn as_record(k: usize, f: flight::FlownTest) -> cierva_harness::inputs::record::
 fn the_teeter_channel_gives_the_tip_path_plane() {
     let a = vpm_m16();
     let t = test(
-        Input::Step {
+        TestInput::Step {
             start_s: 0.0,
             amplitude: 0.0,
         },
@@ -336,7 +336,7 @@ fn primary_rows(a: &cierva_model::aircraft::Aircraft) -> Vec<cierva_harness::ide
         .into_iter()
         .map(|(control, amplitude)| {
             let mut t = test(
-                Input::ExponentialSweep {
+                TestInput::ExponentialSweep {
                     start_s: 3.0,
                     from_hz: 0.05,
                     to_hz: 2.0,

@@ -4,7 +4,9 @@
 
 use super::common::cierva;
 use cierva_harness::ident::fourier;
-use cierva_harness::ident::frequency_response::{self as fr, Run, Settings, spectra};
+use cierva_harness::ident::frequency_response::{
+    self as fr, RecordSignals, SpectralSettings, spectra,
+};
 use cierva_harness::synth::linear::{self, Normal};
 use nalgebra::{Complex, DMatrix};
 use rustfft::num_complex::Complex64 as C;
@@ -156,10 +158,10 @@ fn a_linear_models_record_gives_its_analytic_response() {
     .unwrap()
     .linear_model
     .unwrap();
-    let settings = linear::Settings::exponential_sweep("known", 11);
+    let settings = linear::LinearTest::exponential_sweep("known", 11);
     let (channels, data, _) = linear::generate(&model, &settings).unwrap();
     let col = |name: &str| data[channels.iter().position(|c| c == name).unwrap()].clone();
-    let run = Run {
+    let run = RecordSignals {
         name: "known".into(),
         inputs: vec![col("eta_s_rad")],
         output: col("q_rad_s"),
@@ -167,8 +169,8 @@ fn a_linear_models_record_gives_its_analytic_response() {
     };
     let est = fr::estimate(
         &[run],
-        &Settings {
-            windows_s: Settings::default_windows_s(120.0),
+        &SpectralSettings {
+            windows_s: SpectralSettings::default_windows_s(120.0),
             overlap: fr::DEFAULT_OVERLAP,
             points: 100,
             band_hz: Some([fr::composite::MIN_CYCLES / 60.0, KNOWN_TOP_HZ]),
@@ -223,7 +225,7 @@ const COVERAGE_TOLERANCE: f64 = 0.02;
 
 /// One seeded record of a first-order system with white input and white output noise, and its
 /// true response and coherence at `f`.
-fn noisy_first_order(seed: u64) -> (Run, FirstOrder, f64) {
+fn noisy_first_order(seed: u64) -> (RecordSignals, FirstOrder, f64) {
     let (n, dt, noise_sd) = (2400, 0.05, 0.6);
     let mut rng = Normal::new(seed);
     let x = white(&mut rng, n, 1.0);
@@ -233,7 +235,7 @@ fn noisy_first_order(seed: u64) -> (Run, FirstOrder, f64) {
         .into_iter()
         .map(|v| v + noise_sd * rng.sample())
         .collect();
-    let run = Run {
+    let run = RecordSignals {
         name: format!("seed {seed}"),
         inputs: vec![x],
         output: y,
@@ -245,7 +247,7 @@ fn noisy_first_order(seed: u64) -> (Run, FirstOrder, f64) {
 /// Coverage of the stated 95 % intervals over seeded records: (checks, magnitude's rate,
 /// phase's rate, the rate of the normal approximation 1.96 random errors for the magnitude).
 fn coverage(windows_s: &[f64], overlap: f64) -> (usize, f64, f64, f64) {
-    let settings = Settings {
+    let settings = SpectralSettings {
         windows_s: windows_s.to_vec(),
         overlap,
         points: 40,
@@ -310,7 +312,7 @@ fn the_random_error_holds_at_its_stated_rate() {
 /// Two correlated inputs (the second partly the first, as a pilot's hold makes a second
 /// control follow the first) driving a known two-input system, with output noise: the run and
 /// the two true responses.
-fn two_inputs(seed: u64) -> (Run, FirstOrder, FirstOrder) {
+fn two_inputs(seed: u64) -> (RecordSignals, FirstOrder, FirstOrder) {
     let (n, dt) = (6000, 0.05);
     let mut rng = Normal::new(seed);
     let x1 = white(&mut rng, n, 1.0);
@@ -322,7 +324,7 @@ fn two_inputs(seed: u64) -> (Run, FirstOrder, FirstOrder) {
     );
     let (y1, y2) = (h1.run(&x1), h2.run(&x2));
     let y: Vec<f64> = (0..n).map(|k| y1[k] + y2[k] + 0.1 * rng.sample()).collect();
-    let run = Run {
+    let run = RecordSignals {
         name: format!("two inputs, seed {seed}"),
         inputs: vec![x1, x2],
         output: y,
@@ -331,8 +333,8 @@ fn two_inputs(seed: u64) -> (Run, FirstOrder, FirstOrder) {
     (run, h1, h2)
 }
 
-fn two_input_settings() -> Settings {
-    Settings {
+fn two_input_settings() -> SpectralSettings {
+    SpectralSettings {
         windows_s: vec![10.0, 20.0, 40.0],
         overlap: fr::DEFAULT_OVERLAP,
         points: 50,
@@ -422,7 +424,7 @@ fn a_non_finite_sample_is_an_error() {
     run.output[100] = f64::NAN;
     let e = fr::estimate(
         &[run],
-        &Settings {
+        &SpectralSettings {
             windows_s: vec![10.0],
             overlap: 0.5,
             points: 10,
@@ -611,7 +613,7 @@ const AS_FLOWN_SEEDS: u64 = 60;
 /// answering the swept control's effects on another axis) and answers a low-frequency
 /// disturbance in the output (the pilot holding against turbulence), plus a drift of its own.
 /// The run (inputs: the swept control and the pilot's), the two true responses.
-fn flown_with_a_pilot(seed: u64) -> (Run, FirstOrder, FirstOrder) {
+fn flown_with_a_pilot(seed: u64) -> (RecordSignals, FirstOrder, FirstOrder) {
     let (n, dt) = (4800, 0.05);
     let mut rng = Normal::new(seed);
     let x1 = white(&mut rng, n, 1.0);
@@ -628,7 +630,7 @@ fn flown_with_a_pilot(seed: u64) -> (Run, FirstOrder, FirstOrder) {
     let y: Vec<f64> = (0..n)
         .map(|k| y1[k] + y2[k] + disturbance[k] + 0.05 * rng.sample())
         .collect();
-    let run = Run {
+    let run = RecordSignals {
         name: format!("flown with a pilot, seed {seed}"),
         inputs: vec![x1, x2],
         output: y,
@@ -722,7 +724,7 @@ fn the_stated_resolution_bias_is_the_estimators() {
         C::new(1.0, 0.0) / (C::new(1.0, 0.0) - z * a1 - z * z * a2)
     };
     for window_s in [20.0, 40.0] {
-        let settings = Settings {
+        let settings = SpectralSettings {
             windows_s: vec![window_s],
             overlap: fr::DEFAULT_OVERLAP,
             points: 8,
@@ -742,7 +744,7 @@ fn the_stated_resolution_bias_is_the_estimators() {
                     y0
                 })
                 .collect();
-            let run = Run {
+            let run = RecordSignals {
                 name: "resonator".into(),
                 inputs: vec![x],
                 output: y,

@@ -68,7 +68,7 @@ fn sweep_record(dir: &Path) -> PathBuf {
     .unwrap()
     .linear_model
     .unwrap();
-    let settings = linear::Settings::exponential_sweep("known-sweep", 11);
+    let settings = linear::LinearTest::exponential_sweep("known-sweep", 11);
     let (channels, data, meta) = linear::generate(&model, &settings).unwrap();
     let path = dir.join("known-sweep.csv");
     record::write(&path, &meta, &channels, &data).unwrap();

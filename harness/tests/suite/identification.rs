@@ -4,7 +4,7 @@ use super::common::repo_root;
 use cierva_harness::ident::{ConfigSpec, identify_record};
 use cierva_harness::inputs::record;
 use cierva_harness::inputs::reference;
-use cierva_harness::synth::linear::{self, Input, SensorNoise, Settings};
+use cierva_harness::synth::linear::{self, LinearTest, SensorNoise, TestInput};
 use cierva_model::LinearModel;
 use std::path::PathBuf;
 
@@ -20,14 +20,14 @@ fn settings(
     seed: u64,
     noise: SensorNoise,
     turbulence: Option<linear::Turbulence>,
-) -> Settings {
-    Settings {
+) -> LinearTest {
+    LinearTest {
         id: id.into(),
         aircraft: "VPM M16 (seed 002 Eq. 20 linear model)".into(),
         truth: "flight-refs/seed002-vpm-m16-60kn.yaml".into(),
         control: "eta_s".into(),
         // A sweep from 0.02 to 2.5 Hz over 100 s, then 20 s at rest for the slow modes.
-        input: Input::Sweep {
+        input: TestInput::Sweep {
             from_hz: 0.02,
             to_hz: 2.5,
             duration_s: 100.0,
@@ -52,7 +52,7 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(format!("{name}.csv"))
 }
 
-fn write_record(name: &str, s: &Settings) -> PathBuf {
+fn write_record(name: &str, s: &LinearTest) -> PathBuf {
     let (channels, data, meta) = linear::generate(&truth(), s).unwrap();
     let path = scratch(name);
     record::write(&path, &meta, &channels, &data).unwrap();
@@ -205,7 +205,7 @@ fn identified_model_predicts_a_doublet_it_was_not_fitted_on() {
         control: 0.0,
     };
     let mut s = settings("check", 6, noise, None);
-    s.input = Input::Doublet {
+    s.input = TestInput::Doublet {
         start_s: 2.0,
         pulse_s: 1.0,
         amplitude: 0.01,
@@ -305,7 +305,7 @@ fn tapered_overlapping_segments_and_fixed_parameters_work() {
         hann: true,
     };
     cfg.frequencies.from_hz = Some(0.05);
-    cfg.method = cierva_harness::ident::Method::LeastSquares;
+    cfg.method = cierva_harness::ident::Estimator::LeastSquares;
     let ident = identify_record(&rec, &cfg).unwrap();
     for d in &ident.derivatives {
         let want = truth_m.derivative_value(&d.name).unwrap();

@@ -169,14 +169,14 @@ fn a_fit_past_the_iteration_limit_is_refused_at_its_field() {
 #[test]
 fn an_autorotation_gives_up_at_its_revolution_limit_with_its_residuals() {
     use cierva_model::components::autorotation::{
-        AutorotationError, MAX_REVOLUTIONS, Options, autorotate,
+        AutorotationError, AutorotationOptions, MAX_REVOLUTIONS, autorotate,
     };
     let shipped = cierva_harness::inputs::rotor::load(
         &super::common::repo_root().join("aircraft/pca-2-rotor.yaml"),
     )
     .unwrap()
     .rotor;
-    let options = Options {
+    let options = AutorotationOptions {
         numerics: cierva_model::components::rotor::Numerics {
             azimuth_step_rad: 10f64.to_radians(),
             ..Default::default()

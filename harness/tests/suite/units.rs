@@ -906,7 +906,7 @@ mod rotor_file {
             cierva_harness::inputs::rotor::load(&root.join("aircraft/pca-2-unloaded-rotor.yaml"))
                 .unwrap()
                 .rotor;
-        let options = cierva_model::components::autorotation::Options::default();
+        let options = cierva_model::components::autorotation::AutorotationOptions::default();
         let at_mu = cierva_harness::run_autorotation_at_tip_speed_ratio(
             &rotor,
             0.181,

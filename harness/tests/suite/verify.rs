@@ -6,7 +6,7 @@ use super::common::repo_root;
 use cierva_harness::ident::verify::{self, OutputFit};
 use cierva_harness::inputs::record;
 use cierva_harness::inputs::reference;
-use cierva_harness::synth::linear::{self, Input, SensorNoise, Settings};
+use cierva_harness::synth::linear::{self, LinearTest, SensorNoise, TestInput};
 use cierva_model::LinearModel;
 use cierva_model::analysis::linear::FORCE_STATES;
 use std::path::{Path, PathBuf};
@@ -29,12 +29,12 @@ fn scratch() -> PathBuf {
 /// A 120 s record at 100 Hz: a sweep of 0.02-2.5 Hz over 100 s, then 20 s at rest (the set-up
 /// of the identification's known answers), with or without the default sensor noise.
 fn record_of(name: &str, noise: SensorNoise) -> PathBuf {
-    let s = Settings {
+    let s = LinearTest {
         id: name.into(),
         aircraft: "VPM M16 (seed 002 Eq. 20 linear model)".into(),
         truth: TRUTH.into(),
         control: "eta_s".into(),
-        input: Input::Sweep {
+        input: TestInput::Sweep {
             from_hz: 0.02,
             to_hz: 2.5,
             duration_s: 100.0,

@@ -1,5 +1,5 @@
 use super::*;
-use crate::aircraft::trim::{self, Condition, Options};
+use crate::aircraft::trim::{self, Condition, TrimOptions};
 use crate::components::rotor::{Blade, Hub};
 use crate::testdata::gyroplane;
 use std::f64::consts::PI;
@@ -34,7 +34,7 @@ fn the_full_model_averages_to_the_trim() {
             turn_rate_rad_s: turn,
             air: air(),
         };
-        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
         let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
         let start = x.flap.clone();
         let (mean, x) = full_mean(&a, x, &t.controls, 0);
@@ -129,7 +129,7 @@ fn the_full_model_averages_to_the_trim_with_heavy_blades_level_and_turning() {
             turn_rate_rad_s: turn,
             air: air(),
         };
-        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
         let r = &t.averaged.rotor;
         let trimmed = [r.a0_rad, r.a1_rad, r.b1_rad];
         // What the blades' weight and the hub's acceleration do to the trim's flapping: the
@@ -252,7 +252,7 @@ fn the_full_models_blade_and_body_accelerations_are_solved_together() {
     let g = rigid_body::G_M_S2;
     for (hub, e) in [(Hub::Teetering, 0.0), (Hub::Articulated, 0.2)] {
         let a = heavy(hub, e);
-        let t = trim::trim(&a, crate::testdata::level_70mph(), Options::default()).unwrap();
+        let t = trim::trim(&a, crate::testdata::level_70mph(), TrimOptions::default()).unwrap();
         let mut x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
         x.body.p_rad_s += 0.1;
         x.body.q_rad_s -= 0.05;
@@ -367,7 +367,7 @@ fn heavy_blades_cone_down_by_the_apparent_gravity_at_the_hub() {
             turn_rate_rad_s: turn,
             air: air(),
         };
-        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
         let b = &t.state.body;
         let (theta_s, phi_s) = (
             t.averaged.rotor.shaft_pitch_rad,
@@ -485,7 +485,7 @@ fn a_gust_loads_the_aircraft_as_the_air_relative_velocity_does() {
         turn_rate_rad_s: 0.0,
         air: air(),
     };
-    let t = trim::trim(&a, c, Options::default()).unwrap();
+    let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
     let mut x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
     (x.body.p_rad_s, x.body.q_rad_s, x.body.r_rad_s) = (0.05, 0.03, -0.04);
     let wind = [1.5, -0.8, 2.0];
@@ -542,7 +542,7 @@ fn the_pusher_at_incidence_weathercocks_and_pitches_nose_down() {
         turn_rate_rad_s: 0.0,
         air: air(),
     };
-    let t = trim::trim(&a, c, Options::default()).unwrap();
+    let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
     let loads = |a: &Aircraft, dv: f64, dw: f64| {
         let mut x = t.state;
         x.body.v_m_s += dv;
@@ -603,7 +603,7 @@ fn the_pusher_slipstream_stiffens_the_fin_and_its_swirl_yaws_the_aircraft() {
         air: air(),
     };
     let dry = gyroplane();
-    let t = trim::trim(&dry, c, Options::default()).unwrap();
+    let t = trim::trim(&dry, c, TrimOptions::default()).unwrap();
     let mut wet = dry.clone();
     wet.airframe.fin.as_mut().unwrap().slipstream_fraction = 1.0;
     let airframe = |a: &Aircraft, dv: f64| {
@@ -724,7 +724,7 @@ fn full_revolution(
 fn the_full_model_averages_to_the_averaged_model_under_body_rates() {
     let a = gyroplane();
     let c = crate::testdata::level_70mph();
-    let t = trim::trim(&a, c, Options::default()).unwrap();
+    let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
     for (dp, dq) in [(0.0, 0.05), (0.05, 0.0)] {
         let mut s = t.state;
         s.body.p_rad_s += dp;
@@ -778,7 +778,7 @@ fn the_averaged_models_heavy_blades_see_the_bodys_accelerations_off_trim() {
     let g = rigid_body::G_M_S2;
     for (hub, e) in [(Hub::Teetering, 0.0), (Hub::Articulated, 0.2)] {
         let a = heavy(hub, e);
-        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
         let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
         for (dp, dq) in [(0.0, 0.05), (0.05, 0.0)] {
             let case = format!("{hub:?}, p {dp} q {dq}");
@@ -862,7 +862,7 @@ fn the_averaged_models_heavy_blades_see_the_bodys_accelerations_off_trim() {
 fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
     let a = gyroplane();
     let c = crate::testdata::level_70mph();
-    let t = trim::trim(&a, c, Options::default()).unwrap();
+    let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
     let mut stepped = t.controls;
     stepped.pedal_percent += 10.0;
     let frame = a.rotor_frame(&t.state.body, &t.controls);

@@ -39,13 +39,13 @@ pub struct Condition {
 
 /// Trim settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Options {
+pub struct TrimOptions {
     pub newton: NewtonOptions,
     /// The rotor tip speed to start from, m/s.
     pub tip_speed_guess_m_s: f64,
 }
 
-impl Default for Options {
+impl Default for TrimOptions {
     fn default() -> Self {
         Self {
             newton: NewtonOptions {
@@ -287,7 +287,7 @@ pub struct WarmStart {
 pub fn trim(
     aircraft: &Aircraft,
     condition: Condition,
-    options: Options,
+    options: TrimOptions,
 ) -> Result<Trim, TrimError> {
     trim_from(aircraft, condition, options, None)
 }
@@ -300,7 +300,7 @@ pub fn trim(
 pub fn trim_from(
     aircraft: &Aircraft,
     condition: Condition,
-    options: Options,
+    options: TrimOptions,
     start: Option<&WarmStart>,
 ) -> Result<Trim, TrimError> {
     aircraft.validate()?;
@@ -517,7 +517,7 @@ mod tests {
     #[test]
     fn level_flight_trims_in_autorotation() {
         let a = gyroplane();
-        let t = trim(&a, condition(31.3), Options::default()).unwrap();
+        let t = trim(&a, condition(31.3), TrimOptions::default()).unwrap();
         assert!(t.residual_norm <= t.tolerance, "{:?}", t.residuals);
         let r = &t.averaged.rotor;
         assert!(r.driving_torque_n_m.abs() < 1e-3, "{r:?}");
@@ -538,14 +538,14 @@ mod tests {
     #[test]
     fn a_warm_start_lands_on_the_cold_trim_for_less() {
         let a = gyroplane();
-        let first = trim(&a, condition(31.3), Options::default()).unwrap();
+        let first = trim(&a, condition(31.3), TrimOptions::default()).unwrap();
         let mut heavier = gyroplane();
         heavier.mass.mass_kg += 5.0;
-        let cold = trim(&heavier, condition(31.3), Options::default()).unwrap();
+        let cold = trim(&heavier, condition(31.3), TrimOptions::default()).unwrap();
         let warm = trim_from(
             &heavier,
             condition(31.3),
-            Options::default(),
+            TrimOptions::default(),
             Some(&first.warm_start),
         )
         .unwrap();
@@ -568,7 +568,7 @@ mod tests {
         let again = trim_from(
             &heavier,
             condition(31.3),
-            Options::default(),
+            TrimOptions::default(),
             Some(&ignored),
         )
         .unwrap();
@@ -582,15 +582,15 @@ mod tests {
     fn trends_with_speed_and_weight() {
         let a = gyroplane();
         let mph = 0.44704;
-        let slow = trim(&a, condition(30.0 * mph), Options::default()).unwrap();
-        let fast = trim(&a, condition(70.0 * mph), Options::default()).unwrap();
+        let slow = trim(&a, condition(30.0 * mph), TrimOptions::default()).unwrap();
+        let fast = trim(&a, condition(70.0 * mph), TrimOptions::default()).unwrap();
         assert!(
             fast.controls.stick_longitudinal_percent < slow.controls.stick_longitudinal_percent
         );
         assert!(fast.pitch_rad < slow.pitch_rad);
         let mut light = gyroplane();
         light.mass.mass_kg = 380.0;
-        let l = trim(&light, condition(70.0 * mph), Options::default()).unwrap();
+        let l = trim(&light, condition(70.0 * mph), TrimOptions::default()).unwrap();
         assert!(
             l.rotor_rpm < fast.rotor_rpm,
             "{} vs {}",
@@ -603,14 +603,14 @@ mod tests {
     #[test]
     fn climbs_and_turns() {
         let a = gyroplane();
-        let level = trim(&a, condition(31.3), Options::default()).unwrap();
+        let level = trim(&a, condition(31.3), TrimOptions::default()).unwrap();
         let climb = trim(
             &a,
             Condition {
                 climb_m_s: 2.0,
                 ..condition(31.3)
             },
-            Options::default(),
+            TrimOptions::default(),
         )
         .unwrap();
         assert!(climb.controls.throttle_percent > level.controls.throttle_percent);
@@ -621,7 +621,7 @@ mod tests {
                 turn_rate_rad_s: rate,
                 ..condition(31.3)
             },
-            Options::default(),
+            TrimOptions::default(),
         )
         .unwrap();
         let coordinated = (31.3 * rate / G_M_S2).atan();
@@ -648,7 +648,7 @@ mod tests {
                 climb_m_s: 12.0,
                 ..condition(31.3)
             },
-            Options::default(),
+            TrimOptions::default(),
         );
         match steep {
             // The climb needs more power than the engine has; the stick may leave its travel
@@ -662,11 +662,11 @@ mod tests {
         let mut heavy = gyroplane();
         heavy.mass.mass_kg = -1.0;
         assert!(matches!(
-            trim(&heavy, condition(31.3), Options::default()),
+            trim(&heavy, condition(31.3), TrimOptions::default()),
             Err(TrimError::Aircraft(AircraftError::Body(_)))
         ));
         assert!(matches!(
-            trim(&a, condition(0.0), Options::default()),
+            trim(&a, condition(0.0), TrimOptions::default()),
             Err(TrimError::Condition {
                 name: "airspeed_m_s",
                 ..
@@ -679,7 +679,7 @@ mod tests {
                 climb_m_s: -9.0,
                 ..condition(10.0)
             },
-            Options::default(),
+            TrimOptions::default(),
         );
         match e {
             Err(TrimError::Solver(m)) => assert!(m.contains("outside the table"), "{m}"),

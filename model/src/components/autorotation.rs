@@ -86,14 +86,14 @@ pub struct Tunnel {
 
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Options {
+pub struct AutorotationOptions {
     pub inflow: InflowModel,
     pub numerics: Numerics,
     pub newton: NewtonOptions,
 }
 
 /// The default solver with the given inflow model.
-impl From<InflowModel> for Options {
+impl From<InflowModel> for AutorotationOptions {
     fn from(inflow: InflowModel) -> Self {
         Self {
             inflow,
@@ -102,7 +102,7 @@ impl From<InflowModel> for Options {
     }
 }
 
-impl Default for Options {
+impl Default for AutorotationOptions {
     fn default() -> Self {
         Self {
             inflow: InflowModel::PetersHaQuang {
@@ -358,7 +358,7 @@ impl<'a> Problem<'a> {
 pub fn autorotate(
     rotor: &Rotor,
     tunnel: Tunnel,
-    options: Options,
+    options: AutorotationOptions,
 ) -> Result<Autorotation, AutorotationError> {
     autorotate_from(rotor, tunnel, options, None)
 }
@@ -372,7 +372,7 @@ pub fn autorotate(
 pub fn autorotate_from(
     rotor: &Rotor,
     tunnel: Tunnel,
-    options: Options,
+    options: AutorotationOptions,
     guess: Option<(f64, Inflow)>,
 ) -> Result<Autorotation, AutorotationError> {
     let spent = Spent::default();
@@ -383,7 +383,7 @@ pub fn autorotate_from(
 fn autorotate_within(
     rotor: &Rotor,
     tunnel: Tunnel,
-    options: Options,
+    options: AutorotationOptions,
     guess: Option<(f64, Inflow)>,
     spent: &Spent,
 ) -> Result<Autorotation, AutorotationError> {
@@ -482,7 +482,7 @@ fn autorotate_within(
 /// holds.
 fn bracket_at_peak(
     p: &mut Problem,
-    options: Options,
+    options: AutorotationOptions,
     samples: &[(f64, f64, Inflow)],
 ) -> Result<Option<(f64, Inflow)>, AutorotationError> {
     let Some(k) =
@@ -644,7 +644,7 @@ fn inflow_from(model: InflowModel, x: &[f64], scale: f64) -> Inflow {
 /// and coefficients.
 fn solve_from(
     p: &mut Problem,
-    options: Options,
+    options: AutorotationOptions,
     omega0: f64,
     inflow0: Inflow,
 ) -> Result<Autorotation, AutorotationError> {
@@ -763,7 +763,7 @@ impl Problem<'_> {
     /// its equilibrium (Newton from `start`), and that inflow; `None` where it does not solve.
     fn torque_in_equilibrium(
         &mut self,
-        options: Options,
+        options: AutorotationOptions,
         omega: f64,
         start: Inflow,
     ) -> Option<(f64, Inflow)> {
@@ -919,7 +919,7 @@ pub struct AtTipSpeedRatio {
 pub fn autorotate_at_tip_speed_ratio(
     rotor: &Rotor,
     c: TipSpeedCondition,
-    options: Options,
+    options: AutorotationOptions,
 ) -> Result<AtTipSpeedRatio, AutorotationError> {
     let spent = Spent::default();
     spent.judge(at_tip_speed_ratio_within(rotor, c, options, &spent))
@@ -929,7 +929,7 @@ pub fn autorotate_at_tip_speed_ratio(
 fn at_tip_speed_ratio_within(
     rotor: &Rotor,
     c: TipSpeedCondition,
-    options: Options,
+    options: AutorotationOptions,
     spent: &Spent,
 ) -> Result<AtTipSpeedRatio, AutorotationError> {
     check(
@@ -1034,7 +1034,7 @@ const ANGLE_GRID_DEG: [f64; 2] = [0.25, 40.0];
 fn bracket_angle(
     rotor: &Rotor,
     c: TipSpeedCondition,
-    options: Options,
+    options: AutorotationOptions,
     tunnel_at: impl Fn(f64) -> Tunnel,
     spent: &Spent,
 ) -> Result<(f64, Inflow), AutorotationError> {

@@ -1,7 +1,7 @@
 //! The full individual-blade model's trim: the averaged trim ([`crate::aircraft::trim`])
 //! refined on the periodic orbit that a simulation ([`super::timehistory`]) flies.
 
-use crate::aircraft::trim::{Condition, Options, Problem, Trim, TrimError, residual_names};
+use crate::aircraft::trim::{Condition, Problem, Trim, TrimError, TrimOptions, residual_names};
 use crate::aircraft::{Air, Aircraft, AircraftError, Controls, Drive, FullState, RotorCache};
 use crate::components::rotor::Blade;
 use crate::solve::{self, SolveError};
@@ -65,7 +65,7 @@ pub fn periodic_trim(
     aircraft: &Aircraft,
     condition: Condition,
     averaged: &Trim,
-    options: Options,
+    options: TrimOptions,
 ) -> Result<PeriodicTrim, TrimError> {
     // The orbit of the model a simulation flies: the propeller on its map, as
     // `timehistory::run` has it (within 3e-5 of the exact solve, at a seventh of the cost).

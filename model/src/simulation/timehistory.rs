@@ -241,7 +241,7 @@ pub fn run_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::aircraft::trim::{self, Condition, Options};
+    use crate::aircraft::trim::{self, Condition, TrimOptions};
     use crate::components::rigid_body::BodyState;
     use crate::testdata::gyroplane;
     use std::f64::consts::PI;
@@ -256,9 +256,9 @@ mod tests {
     ) {
         let a = gyroplane();
         let c = crate::testdata::level_70mph();
-        let t = trim::trim(&a, c, Options::default()).unwrap();
-        let pt =
-            crate::simulation::periodic_trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
+        let pt = crate::simulation::periodic_trim::periodic_trim(&a, c, &t, TrimOptions::default())
+            .unwrap();
         (a, c, t, pt)
     }
 
@@ -331,7 +331,7 @@ mod tests {
             },
         };
         let c = crate::testdata::level_70mph();
-        let t = trim::trim(&a, c, Options::default()).unwrap();
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
         let lin = crate::aircraft::linearise::linearise(&a, &t, air(), Default::default()).unwrap();
         let amp = 0.5;
         let doublet = |time: f64| {
@@ -396,8 +396,8 @@ mod tests {
             steps,
         );
         // The full model from its periodic orbit, its trim the mean over one revolution.
-        let pt =
-            crate::simulation::periodic_trim::periodic_trim(&a, c, &t, Options::default()).unwrap();
+        let pt = crate::simulation::periodic_trim::periodic_trim(&a, c, &t, TrimOptions::default())
+            .unwrap();
         let step = 5f64.to_radians();
         let controls = |time: f64| Controls {
             stick_longitudinal_percent: t.controls.stick_longitudinal_percent + doublet(time),

@@ -16,7 +16,7 @@
 
 pub mod responses;
 
-use crate::fit::{self, Condition, FitSubject, Parameter, ParameterKind, Problem};
+use crate::fit::{self, FitSubject, Parameter, ParameterKind, Problem, TargetCondition};
 use crate::ident;
 use crate::inputs::aircraft::AircraftFile;
 use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec};
@@ -83,16 +83,16 @@ pub const TOLERANCE: f64 = 1e-4;
 /// How to retune: the responses' estimation.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct How {
-    pub responses: responses::Settings,
+    pub responses: responses::ResponseSettings,
 }
 
 /// A retune: the records' responses, the fit problem and its result.
 #[derive(Debug, Clone)]
 pub struct Retune {
     /// Each condition and its records' ids.
-    pub conditions: Vec<(Condition, Vec<String>)>,
+    pub conditions: Vec<(TargetCondition, Vec<String>)>,
     /// The records' responses.
-    pub responses: Vec<responses::Response>,
+    pub responses: Vec<responses::RecordedResponse>,
     pub problem: Problem,
     pub result: fit::FitResult,
     /// Where each parameter's bounds come from, in the order of the problem's parameters.
@@ -108,7 +108,10 @@ pub struct Retune {
     /// The uncorrected aircraft's responses at every frequency of every response (and its
     /// neighbours), by condition: the targets' standard errors came from them, and they are the
     /// "before" of [`responses::compare`].
-    pub uncorrected: Vec<(Condition, crate::checks::frequency_response::Responses)>,
+    pub uncorrected: Vec<(
+        TargetCondition,
+        crate::checks::frequency_response::Responses,
+    )>,
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
@@ -224,9 +227,9 @@ pub fn retune(
         },
         parameters,
         targets,
-        options: fit::Options {
+        options: fit::FitOptions {
             tolerance: TOLERANCE,
-            ..fit::Options::default()
+            ..fit::FitOptions::default()
         },
     };
     let mut problem = problem;
@@ -359,14 +362,14 @@ pub fn corrections_file(
 /// The fit again with the targets' standard errors taken at the fitted corrections.
 ///
 /// A response's standard error depends on the model's responses to the records' other
-/// controls ([`responses::Response::standard_error`]): the first fit takes them from the
+/// controls ([`responses::RecordedResponse::standard_error`]): the first fit takes them from the
 /// uncorrected aircraft, which may be far from the corrections the records hold. The second
 /// starts where the first ended, with the errors at its corrections. Its `before` and
 /// `cost_start` stay the uncorrected aircraft's (the cost with the new errors); iterations and
 /// evaluations are both fits'.
 fn refit_with_errors_at_fit(
     file: &AircraftFile,
-    estimated: &[responses::Response],
+    estimated: &[responses::RecordedResponse],
     problem: &mut Problem,
     first: fit::FitResult,
 ) -> Result<fit::FitResult, String> {
@@ -478,12 +481,12 @@ pub struct ModeRow {
 pub fn modes(
     before: &AircraftFile,
     after: &AircraftFile,
-    conditions: &[(Condition, Vec<String>)],
+    conditions: &[(TargetCondition, Vec<String>)],
 ) -> Vec<ModeRow> {
     use cierva_model::analysis::modes;
     let mut out = Vec::new();
     for (c, _) in conditions {
-        let Condition::Flight(request, loading) = *c else {
+        let TargetCondition::Flight(request, loading) = *c else {
             continue;
         };
         let analyse = |f: &AircraftFile| {

@@ -30,7 +30,7 @@
 //! instead: its response to the excited control plus its responses to the others times their
 //! measured transfers from it ([`crate::checks::frequency_response::Responses::as_flown`],
 //! exact for a linear aircraft whoever moves the controls). Each target's standard error is
-//! then that of what no control explains ([`Response::standard_error`]), with the model's
+//! then that of what no control explains ([`RecordedResponse::standard_error`]), with the model's
 //! responses to the other controls at the uncorrected aircraft for a first fit and at its
 //! corrections for the second ([`crate::fit::retune::retune`]). Seen on the model's own flights
 //! under its pilot's hold (the VPM M16's linearisation flown in a simulation with the pilot,
@@ -53,7 +53,7 @@
 //! and after, per response.
 
 use crate::checks::frequency_response::{COHERENCE_MIN, Point};
-use crate::fit::{Condition, Measure, ResponsePoint, Target};
+use crate::fit::{Measure, ResponsePoint, Target, TargetCondition};
 use crate::ident::frequency_response as fr;
 use crate::inputs::record::Record;
 use nalgebra::DMatrix;
@@ -107,8 +107,9 @@ pub const TOP_HZ: f64 = 2.0;
 
 /// How the responses are estimated.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Settings {
-    /// Window lengths, s (default: [`fr::Settings::default_windows_s`] of the shortest record).
+pub struct ResponseSettings {
+    /// Window lengths, s (default: [`fr::SpectralSettings::default_windows_s`] of the shortest
+    /// record).
     pub windows_s: Option<Vec<f64>>,
     /// The band, Hz (default: five periods of the longest window to [`TOP_HZ`]).
     pub band_hz: Option<[f64; 2]>,
@@ -118,9 +119,9 @@ pub struct Settings {
 
 /// One response estimated from a condition's records.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Response {
+pub struct RecordedResponse {
     #[serde(skip)]
-    pub condition: Condition,
+    pub condition: TargetCondition,
     pub input: String,
     pub output: String,
     /// Every frequency of the grid where the response is estimated.
@@ -140,7 +141,7 @@ pub struct Response {
     pub others: Vec<Vec<(String, C)>>,
     /// At each point, the auto- and cross-spectra of the other controls and the output (in
     /// that order, the output last) conditioned on the excited controls, row-major: what the
-    /// excited controls do not explain, from which [`Response::standard_error`] takes the part
+    /// excited controls do not explain, from which [`Self::standard_error`] takes the part
     /// the model's responses to the other controls do not explain either.
     #[serde(skip)]
     pub unexplained: Vec<Vec<C>>,
@@ -153,9 +154,9 @@ pub struct Response {
     pub input_log_slope_per_hz: Vec<f64>,
 }
 
-impl Response {
+impl RecordedResponse {
     /// The standard error of the real and of the imaginary part of point `k`'s difference from
-    /// the model's response as flown, given the model's responses to [`Response::other_controls`]
+    /// the model's response as flown, given the model's responses to [`Self::other_controls`]
     /// there (`secondary`, in that order).
     ///
     /// That difference is `G_EE^-1 G_E,r`, `r = y - sum_j G_j u_j` what no control explains (the
@@ -164,7 +165,7 @@ impl Response {
     /// input with an independent signal). The coherence's random error `|H| e_r` is the same
     /// with `G_nn`, what the excited controls alone do not explain, in place of `G_rr`; so the
     /// error is `|H| e_r sqrt(G_rr / G_nn)`, the degrees of freedom as the coherence's. `G_rr`
-    /// is `c^H M c` with `M` [`Response::unexplained`] and `c = (-G_o..., 1)`: under a pilot's
+    /// is `c^H M c` with `M` [`Self::unexplained`] and `c = (-G_o..., 1)`: under a pilot's
     /// hold the two differ, because the pilot's stick and pedals answer the disturbance and
     /// take some of it out of the output (`G_nn` smaller at the frequencies the pilot's loops
     /// reach), and they answer the input's own effects on the other axes, which is then in
@@ -222,7 +223,7 @@ pub fn resolution_bias(frequency_hz: f64, h: [C; 3], m2: f64, log_slope: f64) ->
     (d2 / at + d1 / at * (2.0 * log_slope)) * (0.5 * m2)
 }
 
-/// [`Response::standard_error`] from the coherence's error `plain` (`|H| e_r`), the spectra
+/// [`RecordedResponse::standard_error`] from the coherence's error `plain` (`|H| e_r`), the spectra
 /// of the other controls and the output conditioned on the excited controls (`unexplained`,
 /// [`conditioned`]'s second part) and the model's responses to those controls (`secondary`):
 /// `plain sqrt(G_rr / G_nn)`. `plain` itself where there is no other control or the spectra
@@ -276,7 +277,7 @@ pub fn conditioned(g: &[C], p: usize, e: usize, i: usize) -> Option<(Vec<C>, Vec
 /// A condition and its records.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConditionRecords<'a> {
-    pub condition: Condition,
+    pub condition: TargetCondition,
     pub records: Vec<&'a Record>,
 }
 
@@ -286,7 +287,7 @@ pub fn by_condition(records: &[Record]) -> Result<Vec<ConditionRecords<'_>>, Str
     let mut out: Vec<ConditionRecords<'_>> = Vec::new();
     for r in records {
         let (request, loading) = crate::ident::record_condition(r)?;
-        let c = Condition::Flight(request, loading);
+        let c = TargetCondition::Flight(request, loading);
         match out.iter_mut().find(|g| g.condition == c) {
             Some(g) => g.records.push(r),
             None => out.push(ConditionRecords {
@@ -370,7 +371,7 @@ fn other_controls(g: &ConditionRecords<'_>, excited: &[String]) -> Vec<String> {
 
 /// A record's output and inputs (changes from its trim, as identification takes them), as a
 /// run of the estimator.
-fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::Run, String> {
+fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::RecordSignals, String> {
     let mut config = crate::ident::ConfigSpec::for_model(crate::ident::Setup::Longitudinal);
     config.states = vec![output.to_string()];
     config.kinematics.clear();
@@ -388,7 +389,7 @@ fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::Run, Stri
             us[k].clone()
         })
         .collect();
-    Ok(fr::Run {
+    Ok(fr::RecordSignals {
         name: rec.path.display().to_string(),
         inputs: ordered,
         output: xs.into_iter().next().unwrap_or_default(),
@@ -397,7 +398,7 @@ fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::Run, Stri
 }
 
 /// The estimator's settings for a group's records.
-fn settings(g: &ConditionRecords<'_>, s: &Settings) -> fr::Settings {
+fn settings(g: &ConditionRecords<'_>, s: &ResponseSettings) -> fr::SpectralSettings {
     // From the first sample to the last, to a tenth of a second, as `cierva
     // frequency-response` takes it.
     let shortest_s = g
@@ -411,13 +412,13 @@ fn settings(g: &ConditionRecords<'_>, s: &Settings) -> fr::Settings {
     let windows_s = s
         .windows_s
         .clone()
-        .unwrap_or_else(|| fr::Settings::default_windows_s(shortest_s));
+        .unwrap_or_else(|| fr::SpectralSettings::default_windows_s(shortest_s));
     let longest_s = windows_s.iter().copied().fold(0.0, f64::max);
     let rate_top_hz = g
         .records
         .first()
         .map_or(f64::INFINITY, |r| fr::DEFAULT_TOP_FRACTION / r.dt_s());
-    fr::Settings {
+    fr::SpectralSettings {
         band_hz: s.band_hz.or(Some([
             fr::composite::MIN_CYCLES / longest_s,
             TOP_HZ.min(rate_top_hz),
@@ -466,8 +467,8 @@ fn estimate(
     g: &ConditionRecords<'_>,
     inputs: &[String],
     output: &str,
-    s: &fr::Settings,
-) -> Result<fr::Estimate, String> {
+    s: &fr::SpectralSettings,
+) -> Result<fr::CompositeEstimate, String> {
     let runs = g
         .records
         .iter()
@@ -479,7 +480,7 @@ fn estimate(
 /// The indices of the points to fit: coherent (at least [`COHERENCE_MIN`]), with a finite
 /// random error, and each at least [`INDEPENDENT_BINS`] bins of the shortest window the
 /// composite leans on (weight at least [`WEIGHT_MIN`]) above the last one kept.
-pub fn independent(est: &fr::Estimate, input: usize) -> Vec<usize> {
+pub fn independent(est: &fr::CompositeEstimate, input: usize) -> Vec<usize> {
     let r = &est.inputs[input];
     let mut kept: Vec<usize> = Vec::new();
     for (k, &f) in est.frequencies_hz.iter().enumerate() {
@@ -506,7 +507,10 @@ pub fn independent(est: &fr::Estimate, input: usize) -> Vec<usize> {
 }
 
 /// Every response of every condition's records: each excited control to each output.
-pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, String> {
+pub fn responses(
+    records: &[Record],
+    s: &ResponseSettings,
+) -> Result<Vec<RecordedResponse>, String> {
     if let Some(o) = &s.outputs
         && let Some(name) = o.iter().find(|n| !OUTPUTS.contains(&n.as_str()))
     {
@@ -585,7 +589,7 @@ pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, Stri
                     .into_iter()
                     .filter_map(|k| index[k])
                     .collect();
-                out.push(Response {
+                out.push(RecordedResponse {
                     condition: g.condition,
                     input: input.clone(),
                     output: output.to_string(),
@@ -605,13 +609,16 @@ pub fn responses(records: &[Record], s: &Settings) -> Result<Vec<Response>, Stri
 }
 
 /// The fit's targets: each used point's real and imaginary parts, with the record's other
-/// controls' transfers, and the standard error [`Response::standard_error`] with `models`'s
+/// controls' transfers, and the standard error [`RecordedResponse::standard_error`] with `models`'s
 /// responses to those controls (one per condition, [`model_responses`] with its
 /// neighbourhood). A point whose [`resolution_bias`] by `models` exceeds
 /// [`RESOLUTION_BIAS_MAX`] of its random error is left out.
 pub fn targets(
-    responses: &[Response],
-    models: &[(Condition, crate::checks::frequency_response::Responses)],
+    responses: &[RecordedResponse],
+    models: &[(
+        TargetCondition,
+        crate::checks::frequency_response::Responses,
+    )],
 ) -> Result<Vec<Target>, String> {
     let mut out = Vec::new();
     for r in responses {
@@ -671,17 +678,23 @@ pub fn targets(
 /// condition, conditions in parallel).
 pub fn model_responses(
     aircraft: &cierva_model::aircraft::Aircraft,
-    responses: &[Response],
+    responses: &[RecordedResponse],
     neighbourhood: bool,
-) -> Result<Vec<(Condition, crate::checks::frequency_response::Responses)>, String> {
-    let mut conditions: Vec<Condition> = Vec::new();
+) -> Result<
+    Vec<(
+        TargetCondition,
+        crate::checks::frequency_response::Responses,
+    )>,
+    String,
+> {
+    let mut conditions: Vec<TargetCondition> = Vec::new();
     for r in responses {
         if !conditions.contains(&r.condition) {
             conditions.push(r.condition);
         }
     }
     crate::parallel_map(&conditions, |c| {
-        let Condition::Flight(request, loading) = *c else {
+        let TargetCondition::Flight(request, loading) = *c else {
             return Err("a retune's condition is a flight condition".to_string());
         };
         let mut frequencies: Vec<f64> = Vec::new();
@@ -718,7 +731,7 @@ pub fn model_responses(
 
 /// One response of the records beside the model's, before and after the retune.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Comparison {
+pub struct ResponseComparison {
     pub condition: String,
     pub input: String,
     pub output: String,
@@ -738,15 +751,21 @@ pub struct Comparison {
 /// aircraft's responses the retune computed for its targets, at every frequency of every
 /// response) and after (one trim and one linearisation a condition, conditions in parallel).
 pub fn compare(
-    before: &[(Condition, crate::checks::frequency_response::Responses)],
+    before: &[(
+        TargetCondition,
+        crate::checks::frequency_response::Responses,
+    )],
     after: &cierva_model::aircraft::Aircraft,
-    responses: &[Response],
-) -> Result<Vec<Comparison>, String> {
+    responses: &[RecordedResponse],
+) -> Result<Vec<ResponseComparison>, String> {
     use crate::checks::frequency_response::mismatch_cost;
     let (b, a) = (before, model_responses(after, responses, false)?);
     let mut out = Vec::new();
     for r in responses {
-        let model = |m: &[(Condition, crate::checks::frequency_response::Responses)]| {
+        let model = |m: &[(
+            TargetCondition,
+            crate::checks::frequency_response::Responses,
+        )]| {
             let (_, m) = m
                 .iter()
                 .find(|(c, _)| *c == r.condition)
@@ -759,7 +778,7 @@ pub fn compare(
         };
         let (mb, ma) = (model(b)?, model(&a)?);
         let (cb, ca) = (mismatch_cost(&r.points, &mb), mismatch_cost(&r.points, &ma));
-        out.push(Comparison {
+        out.push(ResponseComparison {
             condition: r.condition.label(),
             input: r.input.clone(),
             output: r.output.clone(),
@@ -812,7 +831,7 @@ pub fn robust_standard_errors(
     curvature: &[f64],
 ) -> Vec<f64> {
     let n = problem.parameters.len();
-    let mut keys: Vec<(Condition, f64)> = Vec::new();
+    let mut keys: Vec<(TargetCondition, f64)> = Vec::new();
     let mut cluster = Vec::with_capacity(problem.targets.len());
     for t in &problem.targets {
         let f = match &t.measure {

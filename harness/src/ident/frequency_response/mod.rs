@@ -77,7 +77,7 @@ pub const ROUNDING: f64 = 1e-9;
 
 /// One record's signals.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Run {
+pub struct RecordSignals {
     /// What the run is called in messages (its file).
     pub name: String,
     /// The inputs, the first the one whose response is wanted, the others conditioned on.
@@ -88,7 +88,7 @@ pub struct Run {
 
 /// How the spectra are estimated.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Settings {
+pub struct SpectralSettings {
     pub windows_s: Vec<f64>,
     /// Fraction of a window by which consecutive segments overlap.
     pub overlap: f64,
@@ -97,7 +97,7 @@ pub struct Settings {
     pub band_hz: Option<[f64; 2]>,
 }
 
-impl Settings {
+impl SpectralSettings {
     /// Default windows for records whose shortest lasts `record_s`: half, a quarter and an
     /// eighth of it (at 80 % overlap the longest gives six segments, the shortest thirty-six).
     pub fn default_windows_s(record_s: f64) -> Vec<f64> {
@@ -180,7 +180,7 @@ impl InputResponse {
 
 /// The composite estimate.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Estimate {
+pub struct CompositeEstimate {
     pub frequencies_hz: Vec<f64>,
     pub windows_s: Vec<f64>,
     pub overlap: f64,
@@ -205,7 +205,7 @@ pub fn log_grid(lo_hz: f64, hi_hz: f64, points: usize) -> Vec<f64> {
 }
 
 /// Checks the runs: at least one, one sample interval, signals of one length per run, finite.
-fn check_runs(runs: &[Run]) -> Result<(f64, usize), FrError> {
+fn check_runs(runs: &[RecordSignals]) -> Result<(f64, usize), FrError> {
     let first = runs.first().ok_or(FrError::NoRuns)?;
     let dt = first.dt_s;
     if !(dt.is_finite() && dt > 0.0) {
@@ -246,7 +246,11 @@ fn check_runs(runs: &[Run]) -> Result<(f64, usize), FrError> {
 }
 
 /// The windows' segmenting and the band, checked against the runs.
-fn plan(runs: &[Run], dt: f64, s: &Settings) -> Result<(Vec<Segmenting>, Vec<f64>), FrError> {
+fn plan(
+    runs: &[RecordSignals],
+    dt: f64,
+    s: &SpectralSettings,
+) -> Result<(Vec<Segmenting>, Vec<f64>), FrError> {
     let bad = |m: String| Err(FrError::Settings(m));
     if s.windows_s.is_empty() || !s.windows_s.iter().all(|w| w.is_finite() && *w > 0.0) {
         return bad("windows must be positive lengths in seconds".into());
@@ -305,7 +309,7 @@ fn plan(runs: &[Run], dt: f64, s: &Settings) -> Result<(Vec<Segmenting>, Vec<f64
 
 /// An input with no power in the band, in any run.
 fn check_power(
-    runs: &[Run],
+    runs: &[RecordSignals],
     shortest: &spectra::WindowSpectra,
     freqs: &[f64],
 ) -> Result<(), FrError> {
@@ -337,7 +341,10 @@ fn check_power(
 
 /// The composite frequency responses of the runs' output to each of their inputs (the first
 /// conditioned on the others, and each of the others likewise).
-pub fn estimate(runs: &[Run], settings: &Settings) -> Result<Estimate, FrError> {
+pub fn estimate(
+    runs: &[RecordSignals],
+    settings: &SpectralSettings,
+) -> Result<CompositeEstimate, FrError> {
     let (dt, q) = check_runs(runs)?;
     let (segs, freqs) = plan(runs, dt, settings)?;
     let signals: Vec<Vec<Vec<f64>>> = runs
@@ -363,9 +370,9 @@ fn combine(
     windows: &[spectra::WindowSpectra],
     r: &nalgebra::DMatrix<f64>,
     freqs: &[f64],
-    settings: &Settings,
+    settings: &SpectralSettings,
     q: usize,
-) -> Estimate {
+) -> CompositeEstimate {
     let p = q + 1;
     let fitted = q as f64;
     let mut inputs = vec![
@@ -423,7 +430,7 @@ fn combine(
                 .push(composite::interval_95(e, n - fitted));
         }
     }
-    Estimate {
+    CompositeEstimate {
         frequencies_hz: freqs.to_vec(),
         windows_s: settings.windows_s.clone(),
         overlap: settings.overlap,

@@ -12,7 +12,7 @@ pub mod pilot;
 pub mod sensors;
 pub mod turbulence;
 
-use crate::synth::linear::{Input, Normal};
+use crate::synth::linear::{Normal, TestInput};
 use crate::{Loading, MPH_TO_M_S, TrimRequest};
 use cierva_model::aircraft::{Aircraft, Controls, FullState};
 use cierva_model::simulation::timehistory::{self, Drivers};
@@ -44,7 +44,7 @@ pub struct FlightTest {
     pub request: TrimRequest,
     pub loading: Loading,
     /// The test input, in % of travel.
-    pub input: Input,
+    pub input: TestInput,
     /// The control it moves (index into [`CONTROL_CHANNELS`]).
     pub control: usize,
     pub duration_s: f64,

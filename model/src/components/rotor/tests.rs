@@ -33,7 +33,7 @@ fn atan2_agrees_with_the_library_in_every_quadrant() {
     assert!(worst < 1e-14, "{worst:e}");
 }
 use crate::components::airfoil::AnalyticalSection;
-use crate::components::autorotation::{self, Options, Tunnel};
+use crate::components::autorotation::{self, AutorotationOptions, Tunnel};
 
 /// A rotor in the classical limit: constant chord, linear lift, no drag, no tip loss, zero
 /// hinge offset and cut-out, rigid blades.
@@ -202,7 +202,7 @@ fn seed003_eqs_15_17_hold_for_the_models_own_flapping() {
             speed_of_sound_m_s: 1e9,
             collective_shift_rad: 0.0,
         };
-        let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+        let a = autorotation::autorotate(&rotor, tunnel, AutorotationOptions::default()).unwrap();
         let m = FlapMeasurement {
             beta_0_rad: Some(a.a0_rad),
             beta_1c_rad: -a.a1_rad,
@@ -297,8 +297,8 @@ fn the_hubs_drag_adds_a_flat_plate_to_the_drag_alone() {
         speed_of_sound_m_s: 1e9,
         collective_shift_rad: 0.0,
     };
-    let a = autorotation::autorotate(&plain, tunnel, Options::default()).unwrap();
-    let b = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+    let a = autorotation::autorotate(&plain, tunnel, AutorotationOptions::default()).unwrap();
+    let b = autorotation::autorotate(&rotor, tunnel, AutorotationOptions::default()).unwrap();
     assert_eq!(
         (a.omega_rad_s, a.thrust_n, a.a1_rad),
         (b.omega_rad_s, b.thrust_n, b.a1_rad)
@@ -368,7 +368,7 @@ fn drag_that_falls_with_reynolds_number_makes_a_faster_tunnel_spin_the_rotor_rel
             speed_of_sound_m_s: 340.294,
             collective_shift_rad: 0.0,
         };
-        autorotation::autorotate(rotor, tunnel, Options::default()).unwrap()
+        autorotation::autorotate(rotor, tunnel, AutorotationOptions::default()).unwrap()
     };
     let (slow, fast) = (at(&rotor, 25.0), at(&rotor, 40.0));
     let rel = (fast.tip_speed_ratio - slow.tip_speed_ratio) / slow.tip_speed_ratio;
@@ -395,13 +395,13 @@ fn a_teetering_rotor_matches_the_articulated_one_at_the_same_coning() {
         speed_of_sound_m_s: 1e9,
         collective_shift_rad: 0.0,
     };
-    let art = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+    let art = autorotation::autorotate(&rotor, tunnel, AutorotationOptions::default()).unwrap();
     let teeter = Rotor {
         hub: Hub::Teetering,
         precone_rad: art.a0_rad,
         ..rotor.clone()
     };
-    let tee = autorotation::autorotate(&teeter, tunnel, Options::default()).unwrap();
+    let tee = autorotation::autorotate(&teeter, tunnel, AutorotationOptions::default()).unwrap();
     let rel = |a: f64, b: f64| ((a - b) / b).abs();
     assert!(rel(tee.rpm, art.rpm) < 0.01, "{} vs {}", tee.rpm, art.rpm);
     assert!(rel(tee.thrust_n, art.thrust_n) < 0.01);
@@ -791,7 +791,7 @@ fn autorotation_slows_the_flow_and_balances_torque() {
     // A light-gyroplane-like rotor at 10 deg and 30 m/s: in autorotation the flow slows
     // through the rotor, v0 > 0 (seed 001), the mean torque vanishes and the disc tilts back.
     let (rotor, tunnel) = gyroplane_rotor_at_10_deg_30_m_s();
-    let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+    let a = autorotation::autorotate(&rotor, tunnel, AutorotationOptions::default()).unwrap();
     assert!(a.inflow.v0 > 0.0, "{a:#?}");
     assert!(a.inflow_ratio < 0.0, "flow is up through the disc: {a:#?}");
     assert!(a.a1_rad > 0.0 && a.lift_to_drag > 1.0, "{a:#?}");
@@ -816,14 +816,14 @@ fn vertical_descent_autorotates_on_the_empirical_curve() {
         collective_shift_rad: 0.0,
     };
     let solve = |descent| {
-        let options = Options {
+        let options = AutorotationOptions {
             inflow: InflowModel::PetersHaQuang {
                 wake: WakeModel {
                     skew: SkewConvention::Signed,
                     descent,
                 },
             },
-            ..Options::default()
+            ..AutorotationOptions::default()
         };
         autorotation::autorotate(&rotor, tunnel, options)
     };
@@ -849,7 +849,7 @@ fn vertical_descent_autorotates_on_the_empirical_curve() {
 #[test]
 fn autorotation_at_a_tip_speed_ratio_finds_the_angle_back() {
     let (rotor, tunnel) = gyroplane_rotor_at_10_deg_30_m_s();
-    let a = autorotation::autorotate(&rotor, tunnel, Options::default()).unwrap();
+    let a = autorotation::autorotate(&rotor, tunnel, AutorotationOptions::default()).unwrap();
     let at = |tip_speed_ratio: f64| {
         autorotation::autorotate_at_tip_speed_ratio(
             &rotor,
@@ -860,7 +860,7 @@ fn autorotation_at_a_tip_speed_ratio_finds_the_angle_back() {
                 speed_of_sound_m_s: 340.0,
                 collective_shift_rad: 0.0,
             },
-            Options::default(),
+            AutorotationOptions::default(),
         )
     };
     let found = at(a.tip_speed_ratio).unwrap();
