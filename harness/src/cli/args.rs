@@ -568,8 +568,8 @@ pub(crate) struct UncertaintyArgs {
     /// whose evaluations are tables of autorotation searches), sampled (the Saltelli design),
     /// or first-order (an additive surrogate from each input at its 5 % and 95 % quantiles,
     /// checked at four draws of every input: 2 d + 4 evaluations).
-    #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Method::Auto)]
-    pub(crate) method: cierva_harness::uncertainty::propagate::Method,
+    #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Propagation::Auto)]
+    pub(crate) method: cierva_harness::uncertainty::propagate::Propagation,
     /// Corrections files (as `cierva fit` writes) applied as `validate --corrections` applies
     /// them; a cross-validated one adds its stated predictive error to `u_input`.
     #[arg(long, num_args = 1..)]

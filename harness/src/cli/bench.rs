@@ -1060,13 +1060,13 @@ fn retuning(out: &Rows) {
 /// `cierva uncertainty` on seed 001 Table 2's two cases (cierva's VPM M16 at both weights) at 32
 /// base samples: the design's evaluations on both cores, and the cost of one.
 fn uncertainty(out: &Rows) {
-    use cierva_harness::uncertainty::propagate::{self, Settings};
+    use cierva_harness::uncertainty::propagate::{self, PropagationSettings};
     let root = &out.root;
-    let settings = Settings {
+    let settings = PropagationSettings {
         samples: 32,
         seed: 0,
         validation_only: false,
-        method: propagate::Method::Auto,
+        method: propagate::Propagation::Auto,
     };
     let (mut seconds, mut evaluations) = (0.0, 0);
     for weight in ["max", "min"] {

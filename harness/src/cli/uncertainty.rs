@@ -4,7 +4,9 @@
 
 use super::*;
 use cierva_harness::uncertainty::design::MIN_SAMPLES;
-use cierva_harness::uncertainty::propagate::{self, CaseUncertainty, Settings, VerdictCounts};
+use cierva_harness::uncertainty::propagate::{
+    self, CaseUncertainty, PropagationSettings, VerdictCounts,
+};
 use cierva_harness::uncertainty::summary;
 
 /// What `--format json` prints: every case's propagation, and every quantity's result in one
@@ -63,7 +65,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         }
     }
     let cases = corrected;
-    let settings = Settings {
+    let settings = PropagationSettings {
         samples: a.samples,
         seed: a.seed,
         // The whole suite: its validation checks (the others include the self-consistency

@@ -48,11 +48,11 @@ pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
             a.samples
         )));
     }
-    let uncertainty = a.uncertainty.then_some(propagate::Settings {
+    let uncertainty = a.uncertainty.then_some(propagate::PropagationSettings {
         samples: a.samples,
         seed: a.seed,
         validation_only: true,
-        method: propagate::Method::Auto,
+        method: propagate::Propagation::Auto,
     });
     let report_dir = (!a.no_report).then_some(a.report_dir);
     validate_with(a.paths, a.corrections, a.format, report_dir, uncertainty)
@@ -65,7 +65,7 @@ fn validate_with(
     corrections: Vec<PathBuf>,
     format: Format,
     report_dir: Option<Option<PathBuf>>,
-    uncertainty: Option<cierva_harness::uncertainty::propagate::Settings>,
+    uncertainty: Option<cierva_harness::uncertainty::propagate::PropagationSettings>,
 ) -> Result<ExitCode, Error> {
     let started = std::time::Instant::now();
     let suite = suite()?;
@@ -401,7 +401,7 @@ fn inputs(
 /// on every core.
 fn attach_uncertainty(
     run: &mut cierva_harness::report::Run,
-    settings: cierva_harness::uncertainty::propagate::Settings,
+    settings: cierva_harness::uncertainty::propagate::PropagationSettings,
 ) -> Result<(), String> {
     use cierva_harness::uncertainty::propagate;
     for c in &mut run.cases {

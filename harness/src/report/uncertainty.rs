@@ -57,9 +57,9 @@ fn verdict_cell(r: &QuantityUncertainty) -> String {
         Some(v) => (
             v.label(),
             match v {
-                crate::uncertainty::vv20::Verdict::Agrees => "pass",
-                crate::uncertainty::vv20::Verdict::ModelFormError => "fail",
-                crate::uncertainty::vv20::Verdict::Inconclusive => "xfail",
+                crate::uncertainty::vv20::Vv20Verdict::Agrees => "pass",
+                crate::uncertainty::vv20::Vv20Verdict::ModelFormError => "fail",
+                crate::uncertainty::vv20::Vv20Verdict::Inconclusive => "xfail",
             },
         ),
         None => ("-", "muted"),

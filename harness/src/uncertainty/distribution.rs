@@ -8,7 +8,7 @@ use statrs::distribution::{ContinuousCDF, Normal};
 /// A distribution over a bounded range.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
-pub enum Distribution {
+pub enum InputDistribution {
     Uniform {
         lower: f64,
         upper: f64,
@@ -30,7 +30,7 @@ pub enum Distribution {
 /// The unit interval's ends are kept this far inside, so that a normal's quantile stays finite.
 const UNIT_MARGIN: f64 = 1e-12;
 
-impl Distribution {
+impl InputDistribution {
     /// The distribution an aircraft file's range gives a parameter whose value is `nominal`.
     pub fn of_range(nominal: f64, r: &Range) -> Self {
         match (r.distribution, r.sigma) {
@@ -144,7 +144,7 @@ impl Distribution {
 pub struct Input {
     pub name: String,
     pub nominal: f64,
-    pub distribution: Distribution,
+    pub distribution: InputDistribution,
     pub source: String,
 }
 

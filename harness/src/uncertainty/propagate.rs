@@ -10,9 +10,9 @@
 //! linearisation of another sample is reused.
 
 use super::design::Design;
-use super::distribution::{Distribution, Input};
+use super::distribution::{Input, InputDistribution};
 use super::sobol;
-use super::vv20::{self, Comparison, Verdict};
+use super::vv20::{self, Comparison, Vv20Verdict};
 use crate::checks::CheckClass;
 use crate::checks::subject::Subject;
 use crate::inputs::parameters::{parameter, set_parameter};
@@ -23,7 +23,7 @@ use statrs::distribution::{ContinuousCDF, Normal};
 
 /// What to sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Settings {
+pub struct PropagationSettings {
     /// Base points `n` of the design: `n (d + 2)` evaluations for `d` inputs.
     pub samples: usize,
     pub seed: u32,
@@ -31,7 +31,7 @@ pub struct Settings {
     /// model against measured data; a case with none is not sampled).
     pub validation_only: bool,
     /// How `u_input` is obtained.
-    pub method: Method,
+    pub method: Propagation,
 }
 
 /// How a case's inputs are propagated.
@@ -39,7 +39,7 @@ pub struct Settings {
     Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize, serde::Deserialize,
 )]
 #[serde(rename_all = "kebab-case")]
-pub enum Method {
+pub enum Propagation {
     /// Sampled for an aircraft, first order for a rotor (each evaluation a table of
     /// autorotation searches, too slow to sample).
     #[default]
@@ -103,7 +103,7 @@ pub struct QuantityUncertainty {
     pub u_data_source: String,
     pub u_val: Option<f64>,
     /// The verdict of V&V 20 (validation checks with a reference value only).
-    pub verdict: Option<Verdict>,
+    pub verdict: Option<Vv20Verdict>,
     /// Why the verdict is what it is (or why there is none), with its numbers.
     pub reason: String,
     /// Whether the check passes with the nominal inputs.
@@ -171,7 +171,7 @@ pub fn inputs(case: &Case) -> Vec<Input> {
                 Some(Input {
                     name: name.clone(),
                     nominal,
-                    distribution: Distribution::of_range(nominal, r),
+                    distribution: InputDistribution::of_range(nominal, r),
                     source: r.source.clone(),
                 })
             })
@@ -188,7 +188,7 @@ pub fn inputs(case: &Case) -> Vec<Input> {
             Some(Input {
                 name: name.clone(),
                 nominal,
-                distribution: Distribution::of_range(nominal, r),
+                distribution: InputDistribution::of_range(nominal, r),
                 source: r.source.clone(),
             })
         })
@@ -391,7 +391,7 @@ pub fn mean_std(values: &[f64]) -> (f64, f64) {
 /// Runs the propagation of one case. `done` is called after each evaluation (a progress bar).
 pub fn propagate(
     case: &Case,
-    settings: Settings,
+    settings: PropagationSettings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
     propagate_from(case, &crate::suite::outcome::run_case(case), settings, done)
@@ -402,7 +402,7 @@ pub fn propagate(
 pub fn propagate_from(
     case: &Case,
     nominal: &[CheckResult],
-    settings: Settings,
+    settings: PropagationSettings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
     if settings.validation_only {
@@ -425,7 +425,7 @@ pub fn propagate_from(
             .filter(|(_, k)| **k)
             .map(|(r, _)| r.clone())
             .collect();
-        let settings = Settings {
+        let settings = PropagationSettings {
             validation_only: false,
             ..settings
         };
@@ -442,9 +442,9 @@ pub fn propagate_from(
         return Ok(without_inputs(case, nominal));
     }
     let first = match settings.method {
-        Method::Auto => matches!(case.subject, Subject::Rotor { .. }),
-        Method::Sampled => false,
-        Method::FirstOrder => true,
+        Propagation::Auto => matches!(case.subject, Subject::Rotor { .. }),
+        Propagation::Sampled => false,
+        Propagation::FirstOrder => true,
     };
     if first {
         return Ok(super::first_order::propagate(
@@ -499,7 +499,7 @@ fn sample(
     case: &Case,
     nominal: &[CheckResult],
     inputs: &[Input],
-    settings: Settings,
+    settings: PropagationSettings,
     done: impl Fn() + Sync,
 ) -> Result<(Vec<Point>, Design), String> {
     let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
@@ -988,7 +988,7 @@ pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::Qu
         (CheckClass::Validation, Some(d), None) => {
             let model = (out.u_num.powi(2) + out.u_input.powi(2)).sqrt();
             out.u_val = Some(model);
-            out.verdict = Some(Verdict::Inconclusive);
+            out.verdict = Some(Vv20Verdict::Inconclusive);
             format!(
                 "inconclusive: the data's uncertainty is not stated, so E = {:.4e} cannot be weighed (the model's own u = {model:.3e})",
                 out.nominal - d
@@ -1007,12 +1007,14 @@ pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::Qu
 fn explain(c: &Comparison) -> String {
     let [lo, hi] = c.model_form_interval;
     match c.verdict {
-        Verdict::ModelFormError if c.estimate_error.abs() > vv20::COVERAGE * c.u_val => format!(
-            "|E| = {:.3e} > 2 u_val = {:.3e}: the model-form error lies in [{lo:.3e}, {hi:.3e}]",
-            c.estimate_error.abs(),
-            vv20::COVERAGE * c.u_val
-        ),
-        Verdict::ModelFormError => {
+        Vv20Verdict::ModelFormError if c.estimate_error.abs() > vv20::COVERAGE * c.u_val => {
+            format!(
+                "|E| = {:.3e} > 2 u_val = {:.3e}: the model-form error lies in [{lo:.3e}, {hi:.3e}]",
+                c.estimate_error.abs(),
+                vv20::COVERAGE * c.u_val
+            )
+        }
+        Vv20Verdict::ModelFormError => {
             let [a, b] = c.sampled_interval.unwrap_or([f64::NAN; 2]);
             format!(
                 "|E| = {:.3e} <= 2 u_val = {:.3e}, but the inputs spread the model one way: D lies outside the sampled 95 % interval widened by the numerics and the data, [{a:.4e}, {b:.4e}], so no plausible input explains it",
@@ -1020,14 +1022,14 @@ fn explain(c: &Comparison) -> String {
                 vv20::COVERAGE * c.u_val
             )
         }
-        Verdict::Inconclusive => format!(
+        Vv20Verdict::Inconclusive => format!(
             "|E| = {:.3e} <= 2 u_val = {:.3e}, but the model's own 2 sqrt(u_num^2 + u_input^2) = {:.3e} exceeds the tolerance's half-width {:.3e}",
             c.estimate_error.abs(),
             vv20::COVERAGE * c.u_val,
             vv20::COVERAGE * (c.u_num.powi(2) + c.u_input.powi(2)).sqrt(),
             c.tolerance_half_width
         ),
-        Verdict::Agrees => format!(
+        Vv20Verdict::Agrees => format!(
             "|E| = {:.3e} <= 2 u_val = {:.3e}, and the model's uncertainty is inside the tolerance",
             c.estimate_error.abs(),
             vv20::COVERAGE * c.u_val
@@ -1056,9 +1058,9 @@ impl VerdictCounts {
             .filter(|r| r.class == CheckClass::Validation)
         {
             match r.verdict {
-                Some(Verdict::Agrees) => c.agrees += 1,
-                Some(Verdict::ModelFormError) => c.model_form_error += 1,
-                Some(Verdict::Inconclusive) => c.inconclusive += 1,
+                Some(Vv20Verdict::Agrees) => c.agrees += 1,
+                Some(Vv20Verdict::ModelFormError) => c.model_form_error += 1,
+                Some(Vv20Verdict::Inconclusive) => c.inconclusive += 1,
                 None => c.without_verdict += 1,
             }
             c.fragile += usize::from(r.fragile);

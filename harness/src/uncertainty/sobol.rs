@@ -70,7 +70,7 @@ pub struct Indices {
 
 /// Indices of every input, and what they were computed from.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Estimate {
+pub struct SobolEstimate {
     /// The variance of the quantity over the rows of `A` and `B` used.
     pub variance: f64,
     /// The rows used (of `n`): those where every matrix's value is finite.
@@ -80,7 +80,7 @@ pub struct Estimate {
 
 /// The indices from `f(A)`, `f(B)` and `f(A_B^(i))`; `None` where fewer than two rows are
 /// finite or the quantity does not vary (no variance to share out).
-pub fn estimate(f_a: &[f64], f_b: &[f64], f_ab: &[&[f64]]) -> Option<Estimate> {
+pub fn estimate(f_a: &[f64], f_b: &[f64], f_ab: &[&[f64]]) -> Option<SobolEstimate> {
     let n = f_a.len();
     let rows: Vec<usize> = (0..n)
         .filter(|&j| {
@@ -128,7 +128,7 @@ pub fn estimate(f_a: &[f64], f_b: &[f64], f_ab: &[&[f64]]) -> Option<Estimate> {
             }
         })
         .collect();
-    Some(Estimate {
+    Some(SobolEstimate {
         variance,
         rows: rows.len(),
         indices,

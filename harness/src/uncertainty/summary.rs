@@ -10,9 +10,9 @@
 //! is written: their last digits are floating point's.
 
 use super::propagate::{
-    CaseUncertainty, FLIPPING_TOTAL_INDEX, Method, QuantityUncertainty, Settings,
+    CaseUncertainty, FLIPPING_TOTAL_INDEX, Propagation, PropagationSettings, QuantityUncertainty,
 };
-use super::vv20::Verdict;
+use super::vv20::Vv20Verdict;
 use crate::checks::CheckClass;
 use crate::inputs::yaml::{self, InputError};
 use serde::{Deserialize, Serialize};
@@ -34,7 +34,7 @@ pub struct Summary {
     /// The run's settings: `--samples`, `--seed`, `--method`.
     pub samples: usize,
     pub seed: u32,
-    pub method: Method,
+    pub method: Propagation,
     /// Each case with validation quantities, by id.
     pub cases: BTreeMap<String, CaseVerdicts>,
 }
@@ -101,7 +101,7 @@ pub fn quantity_names(results: &[&QuantityUncertainty]) -> Vec<String> {
 /// The summary of a run with `settings` over `cases`: each case with at least one validation
 /// quantity.
 pub fn of<'a>(
-    settings: &Settings,
+    settings: &PropagationSettings,
     cases: impl IntoIterator<Item = &'a CaseUncertainty>,
 ) -> Summary {
     let mut out = BTreeMap::new();
@@ -134,9 +134,9 @@ pub fn of<'a>(
                 });
             }
             match r.verdict {
-                Some(Verdict::Agrees) => c.agrees.push(name),
-                Some(Verdict::ModelFormError) => c.model_form_error.push(name),
-                Some(Verdict::Inconclusive) => c.inconclusive.push(name),
+                Some(Vv20Verdict::Agrees) => c.agrees.push(name),
+                Some(Vv20Verdict::ModelFormError) => c.model_form_error.push(name),
+                Some(Vv20Verdict::Inconclusive) => c.inconclusive.push(name),
                 None => c.without_verdict.push(name),
             }
         }
@@ -153,9 +153,9 @@ pub fn of<'a>(
 /// The command that writes a summary with these settings.
 pub fn command(s: &Summary) -> String {
     let method = match s.method {
-        Method::Auto => "",
-        Method::Sampled => " --method sampled",
-        Method::FirstOrder => " --method first-order",
+        Propagation::Auto => "",
+        Propagation::Sampled => " --method sampled",
+        Propagation::FirstOrder => " --method first-order",
     };
     format!(
         "cierva uncertainty --samples {} --seed {}{method} --write-summary",

@@ -32,13 +32,13 @@ pub const COVERAGE: f64 = 2.0;
 /// The verdict of a comparison.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Verdict {
+pub enum Vv20Verdict {
     Agrees,
     ModelFormError,
     Inconclusive,
 }
 
-impl Verdict {
+impl Vv20Verdict {
     /// For tables.
     pub fn label(self) -> &'static str {
         match self {
@@ -48,7 +48,7 @@ impl Verdict {
         }
     }
 
-    pub const ALL: [Verdict; 3] = [Self::Agrees, Self::ModelFormError, Self::Inconclusive];
+    pub const ALL: [Vv20Verdict; 3] = [Self::Agrees, Self::ModelFormError, Self::Inconclusive];
 }
 
 /// One comparison, with its numbers.
@@ -66,7 +66,7 @@ pub struct Comparison {
     pub tolerance_half_width: f64,
     /// The sampled 95 % interval of `S` widened by `2 sqrt(u_num^2 + u_D^2)`, where sampled.
     pub sampled_interval: Option<[f64; 2]>,
-    pub verdict: Verdict,
+    pub verdict: Vv20Verdict,
 }
 
 /// The standard uncertainties of a comparison.
@@ -108,11 +108,11 @@ pub fn compare(
         .map(|[lo, hi]| [lo - widen, hi + widen]);
     let outside_samples = sampled_interval.is_some_and(|[lo, hi]| !(lo..=hi).contains(&data));
     let verdict = if e.abs() > COVERAGE * u_val || outside_samples {
-        Verdict::ModelFormError
+        Vv20Verdict::ModelFormError
     } else if COVERAGE * model > tolerance_half_width {
-        Verdict::Inconclusive
+        Vv20Verdict::Inconclusive
     } else {
-        Verdict::Agrees
+        Vv20Verdict::Agrees
     };
     Some(Comparison {
         estimate_error: e,

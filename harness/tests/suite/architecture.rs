@@ -559,27 +559,9 @@ fn nothing_outside_checks_matches_on_kinds() {
 /// Each public type name (`pub struct`, `pub enum`, `pub type`, `pub trait`) is defined once
 /// across both crates (the layout issue, item 7), so that a name says which type it is without
 /// its path: `fit::TargetCondition` beside the model's `trim::Condition`, not two `Condition`s.
+/// Private helper types local to a module (a function's `Group`, an `Entry`) are not counted.
 #[test]
 fn each_type_name_is_defined_once() {
-    // Names still defined twice, each one's other definition in `uncertainty/`. Empty this list
-    // as they are renamed (the test fails on a name here that is defined once).
-    const STILL_TWICE: [&str; 5] = [
-        // uncertainty/ being edited; to be renamed (distribution.rs, beside the model's
-        // spanwise `rotor::Distribution`).
-        "Distribution",
-        // uncertainty/ being edited; to be renamed (sobol.rs, beside the model's
-        // `estimate::Estimate`).
-        "Estimate",
-        // uncertainty/ being edited; to be renamed (propagate.rs, beside the model's
-        // `estimate::Method`).
-        "Method",
-        // uncertainty/ being edited; to be renamed (propagate.rs, beside the model's
-        // `timehistory::Settings`).
-        "Settings",
-        // uncertainty/ being edited; to be renamed (vv20.rs, beside the model's
-        // `bcar::Verdict`).
-        "Verdict",
-    ];
     let root = super::common::repo_root();
     let mut defined: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for krate in ["harness/src", "model/src"] {
@@ -604,27 +586,12 @@ fn each_type_name_is_defined_once() {
     assert!(defined.len() > 100, "{} type names", defined.len());
     let twice: Vec<String> = defined
         .iter()
-        .filter(|(name, at)| at.len() > 1 && !STILL_TWICE.contains(&name.as_str()))
+        .filter(|(_, at)| at.len() > 1)
         .map(|(name, at)| format!("{name}: {}", at.join(", ")))
         .collect();
     assert!(
         twice.is_empty(),
         "type names defined more than once (give each type its own name):\n{}",
         twice.join("\n")
-    );
-    // The list holds only what it says: names defined twice, once in `uncertainty/`.
-    let stale: Vec<&str> = STILL_TWICE
-        .iter()
-        .filter(|name| {
-            defined.get(**name).is_none_or(|at| {
-                at.len() != 2 || !at.iter().any(|f| f.starts_with("harness/src/uncertainty/"))
-            })
-        })
-        .copied()
-        .collect();
-    assert!(
-        stale.is_empty(),
-        "names in STILL_TWICE that are not defined twice with one in uncertainty/ (take them \
-         off the list): {stale:?}"
     );
 }

@@ -3,14 +3,14 @@
 //! distributions' quantiles, the design, and the verdicts of V&V 20.
 
 use cierva_harness::uncertainty::design::Design;
-use cierva_harness::uncertainty::distribution::Distribution;
+use cierva_harness::uncertainty::distribution::InputDistribution;
 use cierva_harness::uncertainty::propagate::{mean_std, percentile};
 use cierva_harness::uncertainty::sobol;
-use cierva_harness::uncertainty::vv20::{self, Verdict};
+use cierva_harness::uncertainty::vv20::{self, Vv20Verdict};
 use std::f64::consts::PI;
 
 /// Values of `f` at every point of a design whose unit points are mapped through `dists`.
-fn evaluate(design: &Design, dists: &[Distribution], f: impl Fn(&[f64]) -> f64) -> Vec<f64> {
+fn evaluate(design: &Design, dists: &[InputDistribution], f: impl Fn(&[f64]) -> f64) -> Vec<f64> {
     design
         .points()
         .iter()
@@ -45,7 +45,7 @@ fn ishigami() -> (Model, f64, [f64; 3], [f64; 3]) {
 }
 
 /// The Ishigami function's inputs: uniform on [-pi, pi].
-const ISHIGAMI_INPUT: Distribution = Distribution::Uniform {
+const ISHIGAMI_INPUT: InputDistribution = InputDistribution::Uniform {
     lower: -PI,
     upper: PI,
 };
@@ -139,7 +139,7 @@ fn propagation_through_a_linear_model_of_gaussian_inputs_gives_the_analytic_mome
 fn the_distributions_sample_their_own_moments_and_stay_in_range() {
     let cases = [
         (
-            Distribution::Uniform {
+            InputDistribution::Uniform {
                 lower: 200.0,
                 upper: 320.0,
             },
@@ -147,7 +147,7 @@ fn the_distributions_sample_their_own_moments_and_stay_in_range() {
             120.0 / 12f64.sqrt(),
         ),
         (
-            Distribution::Triangular {
+            InputDistribution::Triangular {
                 lower: 0.0,
                 mode: 1.0,
                 upper: 4.0,
@@ -168,7 +168,7 @@ fn the_distributions_sample_their_own_moments_and_stay_in_range() {
         assert!((d.std_dev() - std).abs() < 1e-12 * std, "{d:?}");
         assert!((d.mean() - mean).abs() < 1e-12 * std, "{d:?}");
     }
-    let truncated = Distribution::Normal {
+    let truncated = InputDistribution::Normal {
         mean: 1.0,
         sigma: 2.0,
         lower: 0.0,
@@ -180,7 +180,7 @@ fn the_distributions_sample_their_own_moments_and_stay_in_range() {
     }
     assert_eq!(truncated.quantile(0.5), 1.0);
     // A truncated normal off centre: its mean against the mean of its quantiles.
-    let off = Distribution::Normal {
+    let off = InputDistribution::Normal {
         mean: 0.5,
         sigma: 1.0,
         lower: 0.0,
@@ -228,21 +228,24 @@ fn u(u_num: f64, u_input: f64, u_data: f64) -> vv20::Uncertainties {
 fn the_vv20_verdicts_follow_their_definitions() {
     // |E| = 0.3 > 2 u_val = 0.2: model-form error, whatever the tolerance.
     let c = vv20::compare(1.3, 1.0, u(0.0, 0.06, 0.08), 1.0, None).unwrap();
-    assert_eq!(c.verdict, Verdict::ModelFormError);
+    assert_eq!(c.verdict, Vv20Verdict::ModelFormError);
     assert!((c.u_val - 0.1).abs() < 1e-12);
     assert!((c.model_form_interval[0] - 0.1).abs() < 1e-12);
     let verdict = |s, d, us, half| vv20::compare(s, d, us, half, None).unwrap().verdict;
     // |E| = 0.1 <= 0.2, model's own 2 u = 0.12 <= 0.15: agrees.
-    assert_eq!(verdict(1.1, 1.0, u(0.0, 0.06, 0.08), 0.15), Verdict::Agrees);
+    assert_eq!(
+        verdict(1.1, 1.0, u(0.0, 0.06, 0.08), 0.15),
+        Vv20Verdict::Agrees
+    );
     // The same with a tolerance of 0.1 narrower than 0.12: inconclusive.
     assert_eq!(
         verdict(1.1, 1.0, u(0.0, 0.06, 0.08), 0.1),
-        Verdict::Inconclusive
+        Vv20Verdict::Inconclusive
     );
     // The numerical part counts with the input part.
     assert_eq!(
         verdict(1.0, 1.0, u(0.05, 0.0, 0.0), 0.09),
-        Verdict::Inconclusive
+        Vv20Verdict::Inconclusive
     );
     assert!(vv20::compare(f64::NAN, 1.0, u(0.0, 0.1, 0.1), 1.0, None).is_none());
     assert!(vv20::compare(1.0, 1.0, u(0.0, f64::INFINITY, 0.1), 1.0, None).is_none());
@@ -257,15 +260,15 @@ fn a_one_sided_spread_that_misses_the_data_is_a_model_form_error() {
     // [0.145, 0.66].
     let us = u(0.0, 0.14, 0.002);
     let c = vv20::compare(0.32, 0.059, us, 0.004, Some([0.145, 0.66])).unwrap();
-    assert_eq!(c.verdict, Verdict::ModelFormError);
+    assert_eq!(c.verdict, Vv20Verdict::ModelFormError);
     let [lo, _] = c.sampled_interval.unwrap();
     assert!((lo - (0.145 - 0.004)).abs() < 1e-12);
     // The same spread reaching down past the data: inconclusive (the inputs might explain it).
     let c = vv20::compare(0.32, 0.059, us, 0.004, Some([0.05, 0.66])).unwrap();
-    assert_eq!(c.verdict, Verdict::Inconclusive);
+    assert_eq!(c.verdict, Vv20Verdict::Inconclusive);
     // Not sampled: the symmetric test alone.
     let c = vv20::compare(0.32, 0.059, us, 0.004, None).unwrap();
-    assert_eq!(c.verdict, Verdict::Inconclusive);
+    assert_eq!(c.verdict, Vv20Verdict::Inconclusive);
 }
 
 /// SplitMix64 (Steele, Lea and Flood 2014): a seeded generator for the synthetic calibrations.
@@ -379,7 +382,7 @@ fn calibration_coverage(seed: u64) -> (f64, f64) {
 /// silent drop.
 #[test]
 fn samples_the_model_refuses_are_counted_with_their_first_error() {
-    use cierva_harness::uncertainty::propagate::{self, Settings};
+    use cierva_harness::uncertainty::propagate::{self, PropagationSettings};
     let root = super::common::repo_root();
     let mut case = cierva_harness::suite::case::load(
         &root.join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml"),
@@ -394,11 +397,11 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
     file.ranges.clear();
     file.ranges.insert("mass.ixx_kg_m2".into(), r);
     case.checks.retain(|k| k.id == "L_p");
-    let settings = Settings {
+    let settings = PropagationSettings {
         samples: 16,
         seed: 3,
         validation_only: false,
-        method: propagate::Method::Auto,
+        method: propagate::Propagation::Auto,
     };
     let u = propagate::propagate(&case, settings, || {}).unwrap();
     assert_eq!(u.evaluations, 16 * 3 + 2);
@@ -423,13 +426,13 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
 /// interval in at least [`FIRST_ORDER_COVERAGE_FLOOR`] of cases, per quantity.
 #[test]
 fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
-    use cierva_harness::uncertainty::propagate::{self, Method, Settings};
+    use cierva_harness::uncertainty::propagate::{self, Propagation, PropagationSettings};
     let root = super::common::repo_root();
     let case =
         cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
             .unwrap();
     let run = |method| {
-        let settings = Settings {
+        let settings = PropagationSettings {
             samples: 32,
             seed: 1,
             validation_only: false,
@@ -437,7 +440,7 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
         };
         propagate::propagate(&case, settings, || {}).unwrap()
     };
-    let (first, sampled) = (run(Method::Auto), run(Method::Sampled));
+    let (first, sampled) = (run(Propagation::Auto), run(Propagation::Sampled));
     assert_eq!(first.inputs.len(), 6);
     assert_eq!(first.evaluations, 2 * 6 + 4 + 2);
     assert_eq!(sampled.evaluations, 32 * 8 + 2);
@@ -523,7 +526,7 @@ const FIRST_ORDER_COVERAGE_FLOOR: f64 = 0.95 - 3.0 * 0.027;
 /// uncorrected ones) and made-up discrepancy terms.
 #[test]
 fn a_calibrations_predictive_error_is_carried_into_u_input() {
-    use cierva_harness::uncertainty::propagate::{self, Method, Settings};
+    use cierva_harness::uncertainty::propagate::{self, Propagation, PropagationSettings};
     let root = super::common::repo_root();
     let case =
         cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
@@ -544,11 +547,11 @@ fn a_calibrations_predictive_error_is_carried_into_u_input() {
     let run = |files: &[cierva_harness::inputs::corrections::CorrectionsFile]| {
         let (c, used) = cierva_harness::suite::case::with_corrections(&case, files).unwrap();
         assert_eq!(used.len(), files.len());
-        let settings = Settings {
+        let settings = PropagationSettings {
             samples: 8,
             seed: 0,
             validation_only: false,
-            method: Method::FirstOrder,
+            method: Propagation::FirstOrder,
         };
         propagate::propagate(&c, settings, || {}).unwrap().results
     };
@@ -636,7 +639,7 @@ impl Coverage {
     }
 
     /// One seed's estimate against the truth.
-    fn add(&mut self, e: &sobol::Estimate, first: &[f64], total: &[f64]) {
+    fn add(&mut self, e: &sobol::SobolEstimate, first: &[f64], total: &[f64]) {
         self.seeds += 1;
         for (i, x) in e.indices.iter().enumerate() {
             for (t, estimate, se, truth) in [
@@ -691,11 +694,11 @@ impl Coverage {
 /// `y = c0 + sum c_i x_i` of four independent Gaussian inputs: the inputs, the function, and
 /// each input's index (first order and total alike) `c_i^2 sigma_i^2 / V`; its mean and
 /// variance from [`linear_moments`].
-fn linear_gaussian() -> (Vec<Distribution>, Model, Vec<f64>) {
+fn linear_gaussian() -> (Vec<InputDistribution>, Model, Vec<f64>) {
     let dists = LINEAR_MU
         .iter()
         .zip(&LINEAR_SIGMA)
-        .map(|(&mean, &sigma)| Distribution::Normal {
+        .map(|(&mean, &sigma)| InputDistribution::Normal {
             mean,
             sigma,
             lower: f64::NEG_INFINITY,
@@ -781,7 +784,7 @@ fn linear13() -> (Model, Vec<f64>) {
 /// The coverage of the scrambled design of `n` base points over seeds 0 to 199.
 fn design_coverage(
     n: usize,
-    dists: &[Distribution],
+    dists: &[InputDistribution],
     f: Model,
     first: &[f64],
     total: &[f64],
@@ -827,7 +830,7 @@ fn sobol_standard_errors_cover_at_95_percent_over_independent_rows() {
     // = 0.035 for normal errors, more for the skewed total index: three of 0.06.
     const IID_RATIO: f64 = 0.2;
     let n = 256;
-    let run = |dists: &[Distribution], f: Model, first: &[f64], total: &[f64]| {
+    let run = |dists: &[InputDistribution], f: Model, first: &[f64], total: &[f64]| {
         let d = dists.len();
         let mut c = Coverage::new(d);
         let mut rng = Rng(2026);
@@ -919,7 +922,7 @@ fn sobol_standard_errors_are_conservative_on_the_scrambled_design() {
     let (dists, f, shares) = linear_gaussian();
     let linear = design_coverage(64, &dists, f, &shares, &shares);
     let (f, first, total) = g_function();
-    let uniform = Distribution::Uniform {
+    let uniform = InputDistribution::Uniform {
         lower: 0.0,
         upper: 1.0,
     };
@@ -957,7 +960,7 @@ fn sobol_standard_errors_are_conservative_on_the_scrambled_design() {
 /// Two cases as a whole-suite summary holds them: one with every verdict and a fragile pass,
 /// one without any verdict (no uncertain inputs).
 fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
-    use cierva_harness::uncertainty::propagate::Method;
+    use cierva_harness::uncertainty::propagate::Propagation;
     use cierva_harness::uncertainty::summary::{CaseVerdicts, FragilePass, Summary};
     let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     let mut cases = std::collections::BTreeMap::new();
@@ -996,7 +999,7 @@ fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
     Summary {
         samples: 64,
         seed: 0,
-        method: Method::Auto,
+        method: Propagation::Auto,
         cases,
     }
 }
