@@ -50,7 +50,6 @@ pub(crate) struct IdentifyArgs {
 
 pub(crate) fn identify(a: IdentifyArgs) -> Result<ExitCode, Error> {
     let (format, predict) = (a.format, a.predict.clone());
-    // Long: one command in the order it works: load, set up, identify, compare, print, predict
     let mut recs = Vec::with_capacity(a.records.len());
     for p in &a.records {
         recs.push(record::load(p)?);

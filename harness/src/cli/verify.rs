@@ -22,8 +22,6 @@ const PANEL_HEIGHT: u32 = 260;
 const FIGURE_POINTS: usize = 3000;
 
 pub(crate) fn verify(a: VerifyArgs) -> Result<ExitCode, Error> {
-    // Long: one command in the order it works: load, set up, check units and outputs,
-    // linearise, fly, print, draw
     let mut records = Vec::with_capacity(a.records.len());
     for p in &a.records {
         records.push(record::load(p)?)

@@ -140,8 +140,6 @@ pub(crate) fn identify_from(
     source: Source,
     config: &ConfigSpec,
 ) -> Result<Identification, String> {
-    // Long: one estimation, in the order it runs: the equations, the frequencies, each run's
-    // transforms, least squares, then the instrumental-variable passes
     let controls: Vec<String> = config.controls.keys().cloned().collect();
     let all: Vec<String> = config.states.iter().chain(&controls).cloned().collect();
     // Every force equation with every state and control free: the default, and the first model

@@ -191,9 +191,12 @@ fn no_module_depends_on_itself_through_others() {
     assert!(cycles.is_empty(), "import cycles:\n{}", cycles.join("\n"));
 }
 
-/// Functions (name, file, first line, length in lines) over `limit` lines without a `Long:`
-/// comment in their doc comment or their first three lines.
-fn long_functions(limit: usize) -> Vec<(String, String, usize, usize)> {
+/// A function of either crate: its name, file, first line, length in lines, and whether a
+/// `Long:` comment (in its doc comment or its first three lines) says why it is long.
+type Function = (String, String, usize, usize, bool);
+
+/// Every function of both crates.
+fn functions() -> Vec<Function> {
     let root = super::common::repo_root();
     let mut files = Vec::new();
     rust_files(&root.join("harness/src"), &mut files);
@@ -250,14 +253,12 @@ fn long_functions(limit: usize) -> Vec<(String, String, usize, usize)> {
             let first = lines[open + 1..(open + 4).min(close)]
                 .iter()
                 .any(|s| s.contains("Long:"));
-            if length > limit && !doc && !first {
-                let rel = f
-                    .strip_prefix(&root)
-                    .unwrap()
-                    .to_string_lossy()
-                    .into_owned();
-                out.push((name, rel, i + 1, length));
-            }
+            let rel = f
+                .strip_prefix(&root)
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            out.push((name, rel, i + 1, length, doc || first));
             i = open + 1;
         }
     }
@@ -265,16 +266,39 @@ fn long_functions(limit: usize) -> Vec<(String, String, usize, usize)> {
     out
 }
 
+/// A function's length past which it needs a `Long:` reason (the layout issue, item 6).
+const LONG_LINES: usize = 120;
+
+fn describe(fs: &[&Function]) -> String {
+    fs.iter()
+        .map(|(n, f, l, len, _)| format!("  {f}:{l} {n}: {len} lines"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// No function runs past 120 lines without a `Long:` comment saying why; no such comment is
+/// left on a function that has come under the limit; at most five carry one, none in `cli/`
+/// (the layout issue, item 6).
 #[test]
 fn no_function_runs_past_120_lines_without_a_reason() {
-    let long = long_functions(120);
+    let all = functions();
+    let unreasoned: Vec<&Function> = all.iter().filter(|f| f.3 > LONG_LINES && !f.4).collect();
     assert!(
-        long.is_empty(),
-        "functions over 120 lines with no `Long:` comment saying why:\n{}",
-        long.iter()
-            .map(|(n, f, l, len)| format!("  {f}:{l} {n}: {len} lines"))
-            .collect::<Vec<_>>()
-            .join("\n")
+        unreasoned.is_empty(),
+        "functions over {LONG_LINES} lines with no `Long:` comment saying why:\n{}",
+        describe(&unreasoned)
+    );
+    let stale: Vec<&Function> = all.iter().filter(|f| f.3 <= LONG_LINES && f.4).collect();
+    assert!(
+        stale.is_empty(),
+        "`Long:` comments on functions of {LONG_LINES} lines or fewer (remove them):\n{}",
+        describe(&stale)
+    );
+    let long: Vec<&Function> = all.iter().filter(|f| f.3 > LONG_LINES).collect();
+    assert!(
+        long.len() <= 5 && !long.iter().any(|f| f.1.starts_with("harness/src/cli/")),
+        "at most 5 functions over {LONG_LINES} lines, none in cli/:\n{}",
+        describe(&long)
     );
 }
 
