@@ -86,9 +86,6 @@ pub mod simulation {
     pub mod timehistory;
 }
 
-/// Airframe coefficients estimated by published methods from geometry, each with the range its
-/// method's accuracy gives (lift slopes, end plates, the pod's Munk couple and sidewash, the
-/// propeller's slipstream at the tail). Uses nothing from the assembled aircraft or above.
 pub mod estimate;
 
 pub mod solve;

@@ -523,7 +523,7 @@ pub(crate) struct RetuneArgs {
     /// Records not used in the fit, predicted before and after.
     #[arg(long, num_args = 1..)]
     pub(crate) predict: Vec<PathBuf>,
-    /// The corrections file to write (default: the suite's corrections/retuned/<aircraft id>.yaml).
+    /// The corrections file to write (default: the suite's `corrections/retuned/<aircraft id>.yaml`).
     #[arg(long)]
     pub(crate) output: Option<PathBuf>,
     /// The before/after report (default: the suite's reports/retune/<output's stem>.md).

@@ -1,7 +1,7 @@
 //! Sensitivity of checked quantities to an aircraft's physical parameters: which parameter
 //! would close a discrepancy, and is the value it would need plausible?
 //!
-//! For each parameter (see [`crate::inputs::aircraft::PARAMETERS`]) the aircraft is trimmed and
+//! For each parameter (see [`crate::inputs::parameters::PARAMETERS`]) the aircraft is trimmed and
 //! linearised with the parameter moved a step either way, and each quantity's derivative with
 //! respect to it is the central difference. For a quantity outside its bound, the change that
 //! alone would bring it to the nearer edge is the linear estimate `(edge - value) / (dq/dp)`,

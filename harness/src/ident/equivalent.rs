@@ -200,7 +200,7 @@ pub fn lti_response(model: &LinearModel) -> impl Fn(f64) -> Result<DMatrix<C>, S
 /// What the set-up identifies from a frequency response in its band: each of the set-up's
 /// controls excited alone with a unit input at every frequency (a flat spectrum), the states'
 /// responses stacked as the runs of several records are, and fitted by the set-up's method.
-/// Independent of any record, so a case can ask for it; the records' own inputs ([`identify`])
+/// Independent of any record, so a case can ask for it; the records' own inputs ([`crate::ident::estimate::identify`])
 /// weight the frequencies and controls as the flights did. The set-up's states and controls
 /// must be the response's.
 pub fn identify_response(

@@ -1,5 +1,5 @@
 //! From flight records to derivatives: the set-up ([`config`]), a record's signals
-//! ([`signals`]), Fourier transforms ([`fourier`]), equation-error regression ([`estimate`]),
+//! ([`mod@signals`]), Fourier transforms ([`fourier`]), equation-error regression ([`estimate`]),
 //! and identified derivatives beside a model's ([`compare`]); records are
 //! [`crate::inputs::record`], synthetic ones [`crate::synth`].
 //!
@@ -81,7 +81,7 @@ pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Ident
 }
 
 /// One run's perturbation histories for [`identify_histories`]: its name (for messages), the
-/// configured states' and controls' histories ([`signals`]), and the sample interval, s.
+/// configured states' and controls' histories ([`fn@signals`]), and the sample interval, s.
 pub type RunHistories = (String, Histories, f64);
 
 /// Identifies runs of one condition together from their histories: what

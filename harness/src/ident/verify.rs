@@ -4,7 +4,7 @@
 //! piecewise linear in time between samples) from the record's first measured state, and their
 //! outputs are compared with the record's measured states.
 //!
-//! The measured states are what the identification uses ([`super::signals`]: air data
+//! The measured states are what the identification uses ([`mod@super::signals`]: air data
 //! converted to centre-of-mass velocities, perturbations about the trim), and the models are
 //! flown by [`cierva_model::simulation::simulate::simulate`] (RK4 at the sample interval, the
 //! inputs evaluated exactly at each stage).

@@ -1,4 +1,4 @@
-//! A rotor case's first-order propagation ([`propagate`]): each estimated input at two
+//! A rotor case's first-order propagation (`propagate`): each estimated input at two
 //! probes, an additive surrogate through them, and a residual check of its additivity. Each
 //! evaluation of a rotor case is a table of autorotation searches, too slow to sample;
 //! [`super::propagate`] chooses this for a rotor (`--method auto`) or when asked.

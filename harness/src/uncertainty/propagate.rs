@@ -95,7 +95,7 @@ pub struct QuantityUncertainty {
     pub u_input: f64,
     /// The part of `u_input` that the corrections files applied state as their predictive
     /// error here (their cross-validated model-discrepancy term times the nominal value;
-    /// [`calibration_terms`]); zero without one.
+    /// `calibration_terms`); zero without one.
     pub u_calibration: f64,
     pub u_num: f64,
     pub u_data: Option<f64>,

@@ -170,7 +170,7 @@ impl Aircraft {
     /// [`Blade::angular_momentum_and_rate`]) and, through
     /// the blades' first mass moment, the hub force. The flap equations include the hub's
     /// rotation, and through the blades' first mass moment their weight and the hub's
-    /// acceleration (the body's, solved with the blades': [`Aircraft::coupled`]; about a teeter
+    /// acceleration (the body's, solved with the blades': `Aircraft::coupled`; about a teeter
     /// hinge these cancel unless the blades are coned). The blades' own inertia under the hub's
     /// angular acceleration (`I w'.t`, [`crate::components::rotor`]) is not modelled. Lag is
     /// not modelled.

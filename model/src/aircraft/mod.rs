@@ -39,7 +39,7 @@
 //! body's translational equation the apparent gravity at the c.g., `g - a_cg`, is `-F/m` (`F`
 //! every load but gravity). Both models take the body's accelerations from its loads, which
 //! the blades' flapping changes in turn. The full model solves the two together at each
-//! evaluation ([`Aircraft::coupled`]). The revolution-averaged model iterates its rotor's
+//! evaluation (`Aircraft::coupled`). The revolution-averaged model iterates its rotor's
 //! periodic solution, from the steady motion's accelerations (`a_cg = w x V`, `w' = 0`: a
 //! trim's, where a turn's load factor enters), to the accelerations its loads imply, within
 //! the trim's tolerance on them; at a trim the first solution is the answer. Rotors whose

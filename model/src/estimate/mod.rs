@@ -22,7 +22,8 @@
 //! not the uncertainty of the geometry fed to it: that belongs to the geometry's own ranges.
 //!
 //! Bad geometry (a zero span, a negative chord, a pod shorter than it is wide, a surface outside
-//! a chart's domain) is an [`EstimateError`] naming the input, never a panic.
+//! a chart's domain) is an [`EstimateError`] naming the input, never a panic. The module uses
+//! nothing from the assembled aircraft or above.
 
 pub mod airframe;
 pub mod body;

@@ -131,7 +131,7 @@ pub struct RecordedResponse {
     pub random_error: Vec<f64>,
     /// The points that are targets (coherent, and spaced by [`INDEPENDENT_BINS`]).
     pub used: Vec<usize>,
-    /// The records' other controls ([`other_controls`]): a pilot's hold moves them with the
+    /// The records' other controls (`other_controls`): a pilot's hold moves them with the
     /// input.
     pub other_controls: Vec<String>,
     /// At each point, each other control's measured transfer from `input`, in the order of

@@ -143,7 +143,7 @@ fn mix(mut z: u64) -> u64 {
 }
 
 /// The seed of one random source (1 the pilot's drift, 2 the turbulence, 3 the instruments'
-/// noise) of the test seeded `seed`: the pair hashed ([`mix`]), so that the streams of
+/// noise) of the test seeded `seed`: the pair hashed (`mix`), so that the streams of
 /// different seeds and sources start at unrelated points of the generator's cycle.
 ///
 /// [`Normal`]'s stream from a seed `s` is the mix of `s + k gamma`, `gamma` SplitMix64's

@@ -437,7 +437,7 @@ pub struct Numerics {
     pub azimuth_step_rad: f64,
     /// Periodicity tolerance on the flap state (rad, and rad per rad of azimuth): the
     /// periodic state is found to about this, and the revolution whose loads are taken closes
-    /// to [`steady::SAMPLED_CLOSURE`] of it.
+    /// to `steady::SAMPLED_CLOSURE` of it.
     pub periodic_tolerance: f64,
     pub max_revolutions: usize,
 }
