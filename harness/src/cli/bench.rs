@@ -228,11 +228,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
     match cierva_harness::inputs::aircraft::load(&ac_path) {
         Err(e) => eprintln!("{}", e.render()),
         Ok(ac) => {
-            let request = cierva_harness::TrimRequest {
-                airspeed_mph: 70.0,
-                climb_m_s: 0.0,
-                turn_rate_deg_s: 0.0,
-            };
+            let request = cierva_harness::TrimRequest::level(70.0);
             let loading = cierva_harness::Loading {
                 mass_kg: None,
                 density_altitude_ft: 0.0,
@@ -935,14 +931,8 @@ fn fitting(out: &Rows) {
         };
         for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
             for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {
-                let condition = TargetCondition::Flight(
-                    cierva_harness::TrimRequest {
-                        airspeed_mph: mph,
-                        climb_m_s: 0.0,
-                        turn_rate_deg_s: 0.0,
-                    },
-                    loading,
-                );
+                let condition =
+                    TargetCondition::Flight(cierva_harness::TrimRequest::level(mph), loading);
                 problem.targets.push(Target {
                     measure: Measure::parse(&condition, m).expect("known"),
                     condition,
@@ -1118,11 +1108,7 @@ fn sweep_flight(
     use cierva_harness::synth::flight::{FlightTest, sensors::Instrumentation, turbulence};
     use cierva_harness::synth::linear::TestInput;
     FlightTest {
-        request: cierva_harness::TrimRequest {
-            airspeed_mph,
-            climb_m_s: 0.0,
-            turn_rate_deg_s: 0.0,
-        },
+        request: cierva_harness::TrimRequest::level(airspeed_mph),
         loading: cierva_harness::Loading {
             mass_kg: None,
             density_altitude_ft: 0.0,

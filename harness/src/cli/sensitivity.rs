@@ -19,11 +19,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
                 mass_kg: a.mass_kg,
                 density_altitude_ft: a.density_altitude_ft,
             };
-            let request = cierva_harness::TrimRequest {
-                airspeed_mph: v,
-                climb_m_s: 0.0,
-                turn_rate_deg_s: 0.0,
-            };
+            let request = cierva_harness::TrimRequest::level(v);
             let quantities = tables::PRIMARY_DERIVATIVES
                 .iter()
                 .map(|n| BoundedQuantity {

@@ -100,11 +100,7 @@ pub fn operating_point(
         mass_kg: Some(c.mass_kg),
         density_altitude_ft: c.density_altitude_ft,
     };
-    let request = TrimRequest {
-        airspeed_mph: c.airspeed_mph,
-        climb_m_s: 0.0,
-        turn_rate_deg_s: 0.0,
-    };
+    let request = TrimRequest::level(c.airspeed_mph);
     let trim = crate::run_trim(&file.aircraft, request, loading)?;
     let atm = atmosphere::at_density_altitude(c.density_altitude_ft * FT_TO_M)
         .map_err(crate::TrimRunError::from)?;

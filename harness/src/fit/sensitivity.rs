@@ -123,11 +123,7 @@ pub fn check_names(
         }
     }
     let flight = crate::fit::TargetCondition::Flight(
-        TrimRequest {
-            airspeed_mph: 50.0,
-            climb_m_s: 0.0,
-            turn_rate_deg_s: 0.0,
-        },
+        TrimRequest::level(50.0),
         Loading {
             mass_kg: None,
             density_altitude_ft: 0.0,

@@ -6,11 +6,7 @@ use cierva_harness::inputs;
 use cierva_harness::{Loading, TrimRequest, run_trim};
 
 fn request(airspeed_mph: f64) -> TrimRequest {
-    TrimRequest {
-        airspeed_mph,
-        climb_m_s: 0.0,
-        turn_rate_deg_s: 0.0,
-    }
+    TrimRequest::level(airspeed_mph)
 }
 
 const LOADING: Loading = Loading {

@@ -17,14 +17,7 @@ fn vpm() -> cierva_model::aircraft::Aircraft {
 }
 
 fn at(mph: f64) -> TargetCondition {
-    TargetCondition::Flight(
-        TrimRequest {
-            airspeed_mph: mph,
-            climb_m_s: 0.0,
-            turn_rate_deg_s: 0.0,
-        },
-        LOADING,
-    )
+    TargetCondition::Flight(TrimRequest::level(mph), LOADING)
 }
 
 fn vpm_subject() -> FitSubject {

@@ -171,11 +171,7 @@ fn vpm_m16() -> cierva_model::aircraft::Aircraft {
 
 fn test(input: TestInput, control: usize, duration_s: f64) -> FlightTest {
     FlightTest {
-        request: TrimRequest {
-            airspeed_mph: 70.0,
-            climb_m_s: 0.0,
-            turn_rate_deg_s: 0.0,
-        },
+        request: TrimRequest::level(70.0),
         loading: Loading {
             mass_kg: None,
             density_altitude_ft: 0.0,
