@@ -96,7 +96,7 @@ fn main() {
                 }
             }
             let cases = Arc::new(cases);
-            let docs: [(&str, DocsCheck); 7] = [
+            let docs: [(&str, DocsCheck); 8] = [
                 ("docs::readme-validation-table", readme_validation_table),
                 ("docs::readme-class-table", |c| {
                     generated(
@@ -122,6 +122,7 @@ fn main() {
                 ("docs::uncertainty-how-sure-cases", |c| {
                     how_sure(c, "docs/uncertainty.md", "how-sure-cases")
                 }),
+                ("docs::quoted-numbers", quoted_numbers),
             ];
             for (name, check) in docs {
                 let cases = cases.clone();
@@ -191,6 +192,90 @@ fn docs_scoreboard_table(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
         "scoreboard-table",
         &tables::scoreboard_table(&board, &cases),
     )
+}
+
+/// Every number the documents quote from a run or a committed report, marked with its source
+/// (`report::quoted`), must be that source rounded to its printed digits.
+fn quoted_numbers(cases: &[Arc<Evaluated>]) -> Result<(), Failed> {
+    use cierva_harness::report::quoted::{self, Field, QuoteSource};
+    let root = repo_root();
+    let result = |case: &str, check: &str| -> Result<outcome::CheckResult, String> {
+        let e = cases
+            .iter()
+            .find(|e| e.case.id == case)
+            .ok_or(format!("no case `{case}`"))?;
+        let index = e
+            .case
+            .checks
+            .iter()
+            .position(|k| k.id == check)
+            .ok_or(format!("case `{case}` has no check `{check}`"))?;
+        Ok(e.result(index).clone())
+    };
+    let resolve = |source: &QuoteSource| -> Result<f64, String> {
+        match source {
+            QuoteSource::File { path, key } => quoted::from_file(&root, path, key),
+            QuoteSource::Fingerprint { case, check, name } => result(case, check)?
+                .fingerprint
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, v)| *v)
+                .ok_or(format!("{case}::{check} has no fingerprint `{name}`")),
+            QuoteSource::Check {
+                case,
+                check,
+                quantity,
+                field,
+            } => {
+                let r = result(case, check)?;
+                let q = match quantity {
+                    None => r.quantities.first(),
+                    Some(name) => r.quantities.iter().find(|q| &q.quantity == name),
+                }
+                .ok_or(format!(
+                    "{case}::{check} has no quantity {}",
+                    quantity.as_deref().unwrap_or("at all")
+                ))?;
+                Ok(match field {
+                    Field::Value => q.value,
+                    Field::Expected => q.expected.unwrap_or(f64::NAN),
+                    Field::Lower => q.lower,
+                    Field::Upper => q.upper,
+                })
+            }
+        }
+    };
+    let mut files = vec!["README.md".to_string(), "ARCHITECTURE.md".to_string()];
+    for dir in ["docs", "docs/tutorials"] {
+        let mut found: Vec<String> = std::fs::read_dir(root.join(dir))?
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().to_string())
+            .filter(|n| n.ends_with(".md"))
+            .map(|n| format!("{dir}/{n}"))
+            .collect();
+        found.sort();
+        files.extend(found);
+    }
+    let mut checked = 0;
+    let mut wrong = String::new();
+    for file in &files {
+        let text = std::fs::read_to_string(root.join(file))?;
+        match quoted::check(file, &text, &resolve) {
+            Ok(n) => checked += n,
+            Err(e) => wrong.push_str(&e),
+        }
+    }
+    if !wrong.is_empty() {
+        return Err(format!(
+            "quoted numbers that are not what their sources give \
+             (`scripts/update-generated-docs` writes them):\n{wrong}"
+        )
+        .into());
+    }
+    if checked == 0 {
+        return Err("no quoted number in the documents: the trial would check nothing".into());
+    }
+    Ok(())
 }
 
 /// A generated section of a document: the text between `<!-- NAME:start ... -->` (to the end

@@ -16,6 +16,7 @@ pub mod figures;
 pub mod fit;
 pub mod generated;
 pub mod plot;
+pub mod quoted;
 pub mod retune;
 pub mod sensitivity;
 pub mod snapshots;

@@ -23,6 +23,7 @@ mod identification;
 mod limits;
 mod mutation;
 mod old_spelling;
+mod quoted;
 mod report;
 mod retune;
 mod retune_coverage;
