@@ -168,76 +168,70 @@ pub fn quotes(text: &str) -> Result<Vec<Quote>, String> {
                 break;
             };
             from = end + CLOSE.len();
-            // A marker shown as code (between backticks, or in a fenced block) is an
-            // example, not a quote.
-            if line[..at].matches('`').count() % 2 == 1 {
-                continue;
+            // A marker shown as code (between backticks) is an example, not a quote.
+            if line[..at].matches('`').count() % 2 == 0 {
+                out.extend(quote_at(line, index + 1, at, &line[body_start..end])?);
             }
-            let body = &line[body_start..end];
-            let (is_run, spec) = if let Some(s) = body.strip_prefix("run: ") {
-                (true, s)
-            } else if let Some(s) = body.strip_prefix("file: ") {
-                (false, s)
-            } else {
-                continue;
-            };
-            let place = |col: usize| format!("line {}, column {}", index + 1, col + 1);
-            let (printed, start) = number_before(&line[..at]).ok_or_else(|| {
-                format!("{}: a `{body}` marker with no number before it", place(at))
-            })?;
-            let value = parse_number(&printed)
-                .ok_or_else(|| format!("{}: `{printed}` is not a number", place(start)))?;
-            let decimals = printed.split('.').nth(1).map_or(0, |d| d.chars().count());
-            let mut words: Vec<&str> = spec.split_whitespace().collect();
-            let mut percent = false;
-            let mut magnitude = false;
-            while let Some(last) = words.last() {
-                match *last {
-                    "percent" => percent = true,
-                    "abs" => magnitude = true,
-                    _ => break,
-                }
-                words.pop();
-            }
-            let source = if is_run {
-                match words.as_slice() {
-                    [one] => check_source(one),
-                    _ => None,
-                }
-                .ok_or_else(|| {
-                    format!(
-                        "{}: `{body}`: a run's number is `run: CASE::CHECK`, with `::QUANTITY`, \
-                         `.expected`, `.lower`, `.upper` or `#FINGERPRINT` after it",
-                        place(at)
-                    )
-                })?
-            } else {
-                match words.as_slice() {
-                    [path, key] => QuoteSource::File {
-                        path: path.to_string(),
-                        key: key.to_string(),
-                    },
-                    _ => {
-                        return Err(format!(
-                            "{}: `{body}`: a file's number is `file: PATH KEY`",
-                            place(at)
-                        ));
-                    }
-                }
-            };
-            out.push(Quote {
-                line: index + 1,
-                column: line[..start].chars().count() + 1,
-                printed,
-                value,
-                decimals,
-                source,
-                percent,
-                magnitude,
-            });
         }
     }
     Ok(out)
+}
+
+/// The quote whose marker, its text `body`, starts at byte `at` of `line` (1-based `line_no`);
+/// `None` for a comment that is no marker.
+fn quote_at(line: &str, line_no: usize, at: usize, body: &str) -> Result<Option<Quote>, String> {
+    let place = |byte: usize| {
+        format!(
+            "line {line_no}, column {}",
+            line[..byte].chars().count() + 1
+        )
+    };
+    let (is_run, spec) = match (body.strip_prefix("run: "), body.strip_prefix("file: ")) {
+        (Some(s), _) => (true, s),
+        (_, Some(s)) => (false, s),
+        _ => return Ok(None),
+    };
+    let (printed, start) = number_before(&line[..at])
+        .ok_or_else(|| format!("{}: a `{body}` marker with no number before it", place(at)))?;
+    let value = parse_number(&printed)
+        .ok_or_else(|| format!("{}: `{printed}` is not a number", place(start)))?;
+    let mut words: Vec<&str> = spec.split_whitespace().collect();
+    let (mut percent, mut magnitude) = (false, false);
+    while let Some(last) = words.last() {
+        match *last {
+            "percent" => percent = true,
+            "abs" => magnitude = true,
+            _ => break,
+        }
+        words.pop();
+    }
+    let source = match (is_run, words.as_slice()) {
+        (true, [one]) => check_source(one),
+        (false, [path, key]) => Some(QuoteSource::File {
+            path: path.to_string(),
+            key: key.to_string(),
+        }),
+        _ => None,
+    }
+    .ok_or_else(|| {
+        let form = if is_run {
+            "a run's number is `run: CASE::CHECK`, with `::QUANTITY`, `.expected`, `.lower`, \
+             `.upper` or `#FINGERPRINT` after it"
+        } else {
+            "a file's number is `file: PATH KEY`"
+        };
+        format!("{}: `{body}`: {form}", place(at))
+    })?;
+    Ok(Some(Quote {
+        line: line_no,
+        column: line[..start].chars().count() + 1,
+        decimals: printed.split('.').nth(1).map_or(0, |d| d.chars().count()),
+        printed,
+        value,
+        source,
+        percent,
+        magnitude,
+    }))
 }
 
 /// `CASE::CHECK`, `CASE::CHECK::QUANTITY[.FIELD]`, `CASE::CHECK.FIELD` or `CASE::CHECK#NAME`.
