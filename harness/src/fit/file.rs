@@ -826,6 +826,59 @@ pub fn rms_relative_error_percent(
     (rms(|r| r.0), rms(|r| r.1), rows.len())
 }
 
+/// A fit's errors over a set of targets (fitted or predicted): the RMS relative error before
+/// and after over all of them and per quantity, and how many the model did not solve. The
+/// report prints it, and the corrections file keeps it (`fit.errors`) so that documents can
+/// quote it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ErrorSummary {
+    /// Targets solved before and after, with a non-zero reference.
+    pub targets: usize,
+    pub rms_before_percent: f64,
+    pub rms_after_percent: f64,
+    pub unsolved_before: usize,
+    pub unsolved_after: usize,
+    /// Per quantity (by its name), where there are several.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub by_quantity: std::collections::BTreeMap<String, ErrorSummary>,
+}
+
+impl ErrorSummary {
+    pub fn of(targets: &[fit::Target], before: &[f64], after: &[f64]) -> Self {
+        let mut names: Vec<&str> = targets.iter().map(|t| t.measure.name()).collect();
+        names.sort_unstable();
+        names.dedup();
+        let mut whole = Self::one(targets, before, after);
+        if names.len() > 1 {
+            for name in names {
+                let keep: Vec<usize> = (0..targets.len())
+                    .filter(|&k| targets[k].measure.name() == name)
+                    .collect();
+                let pick = |y: &[f64]| keep.iter().map(|&k| y[k]).collect::<Vec<f64>>();
+                let sub: Vec<fit::Target> = keep.iter().map(|&k| targets[k].clone()).collect();
+                whole.by_quantity.insert(
+                    name.to_string(),
+                    Self::one(&sub, &pick(before), &pick(after)),
+                );
+            }
+        }
+        whole
+    }
+
+    fn one(targets: &[fit::Target], before: &[f64], after: &[f64]) -> Self {
+        let unsolved = |y: &[f64]| y.iter().filter(|v| !v.is_finite()).count();
+        let (rb, ra, n) = rms_relative_error_percent(targets, before, after);
+        Self {
+            targets: n,
+            rms_before_percent: rb,
+            rms_after_percent: ra,
+            unsolved_before: unsolved(before),
+            unsolved_after: unsolved(after),
+            by_quantity: Default::default(),
+        }
+    }
+}
+
 /// The corrections file a fit writes (id: the output file's stem).
 pub fn corrections_file(
     f: &FitFile,
@@ -879,6 +932,12 @@ pub fn corrections_file(
             "standard_errors": se,
             "targets": f.problem.targets.len(),
             "warnings": r.warnings,
+            "errors": {
+                "fitted": ErrorSummary::of(&f.problem.targets, &r.before, &r.after),
+                "predicted": (!f.predict.is_empty()).then(|| {
+                    ErrorSummary::of(&f.predict, &run.predict_before, &run.predict_after)
+                }),
+            },
         }))
         .map(|mut fit| {
             if let (Some(s), Some(m)) = (&run.starts, fit.as_object_mut()) {

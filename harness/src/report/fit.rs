@@ -2,7 +2,7 @@
 //! and one figure of every target's error before and after (`reports/fits/<id>.svg`). Reads a
 //! fit file and its run; computes nothing of its own.
 
-use crate::fit::file::{FitFile, FitRun, Origin, rms_relative_error_percent};
+use crate::fit::file::{ErrorSummary, FitFile, FitRun, Origin};
 use crate::fit::{self, Enforce};
 
 /// The before/after report of a fit, as Markdown.
@@ -131,29 +131,18 @@ fn targets_table(
             (a - t.reference) / t.standard_error,
         );
     }
-    let unsolved = |y: &[f64]| y.iter().filter(|v| !v.is_finite()).count();
-    let (rb, ra, n) = rms_relative_error_percent(targets, before, after);
+    let e = ErrorSummary::of(targets, before, after);
     let _ = writeln!(
         s,
-        "\nRMS relative error over the {n} targets solved before and after: {rb:.2} % before, {ra:.2} % after. Not solved: {} before, {} after.\n",
-        unsolved(before),
-        unsolved(after)
+        "\nRMS relative error over the {} targets solved before and after: {:.2} % before, {:.2} % after. Not solved: {} before, {} after.\n",
+        e.targets, e.rms_before_percent, e.rms_after_percent, e.unsolved_before, e.unsolved_after
     );
-    let mut names: Vec<&str> = targets.iter().map(|t| t.measure.name()).collect();
-    names.dedup();
-    names.sort_unstable();
-    names.dedup();
-    if names.len() > 1 {
-        for name in names {
-            let keep: Vec<usize> = (0..targets.len())
-                .filter(|&k| targets[k].measure.name() == name)
-                .collect();
-            let pick = |y: &[f64]| keep.iter().map(|&k| y[k]).collect::<Vec<f64>>();
-            let sub: Vec<fit::Target> = keep.iter().map(|&k| targets[k].clone()).collect();
-            let (rb, ra, n) = rms_relative_error_percent(&sub, &pick(before), &pick(after));
+    if !e.by_quantity.is_empty() {
+        for (name, q) in &e.by_quantity {
             let _ = writeln!(
                 s,
-                "- `{name}` ({n} targets): {rb:.2} % before, {ra:.2} % after"
+                "- `{name}` ({} targets): {:.2} % before, {:.2} % after",
+                q.targets, q.rms_before_percent, q.rms_after_percent
             );
         }
         let _ = writeln!(s);

@@ -303,6 +303,20 @@ fn shipped_fit_by(
         fit::file::rms_relative_error_percent(&f.problem.targets, &r.before, &r.after);
     assert_eq!(n, f.problem.targets.len());
     assert!(after < factor * before, "{before} -> {after}");
+    // The committed file's summary of the errors, which the documents quote, is this run's.
+    let text =
+        std::fs::read_to_string(repo().join(format!("corrections/fitted/{id}.yaml"))).unwrap();
+    let doc: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    let summary = &doc["fit"]["errors"]["fitted"];
+    for (key, now) in [("rms_before_percent", before), ("rms_after_percent", after)] {
+        let was = summary[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{id}: no fit.errors.fitted.{key}: re-run `cierva fit`"));
+        assert!(
+            (was - now).abs() <= 0.01 * now,
+            "{id}: committed {key} {was}, now {now}: re-run `cierva fit fits/{id}.yaml`"
+        );
+    }
     (f, run)
 }
 
