@@ -82,6 +82,27 @@ const HUB_MOTION_ITERATIONS: usize = 20;
 pub struct RotorCache {
     entries: Vec<(Operating, SteadyLoads)>,
     map: RevolutionMap,
+    /// A periodic solution known before the next lookup, with its operating state: used by that
+    /// lookup if it is at that state, dropped otherwise ([`RotorCache::seed`]).
+    seed: Option<(Operating, SteadyLoads)>,
+    /// The latest evaluation's operating state and periodic solution (its `flap_start`'s).
+    last: Option<(Operating, SteadyLoads)>,
+}
+
+impl RotorCache {
+    /// Makes the next lookup find `solution` if it is at that lookup's operating state: the same
+    /// rotor's periodic solution there, with the evaluation started from its `beta0`. Solved
+    /// afresh from that start, its first revolution would close at once with the same sums, so
+    /// the cache hands out the same loads, bit for bit, without the revolution. A next lookup
+    /// elsewhere drops it, and later lookups go on as they would have.
+    pub(crate) fn seed(&mut self, solution: Option<(Operating, SteadyLoads)>) {
+        self.seed = solution;
+    }
+
+    /// The operating state and periodic solution of the latest evaluation's main rotor.
+    pub(crate) fn last(&self) -> Option<(Operating, SteadyLoads)> {
+        self.last
+    }
 }
 
 impl Aircraft {
@@ -128,6 +149,11 @@ impl Aircraft {
         for _ in 0..HUB_MOTION_ITERATIONS {
             let hub_motion = self.hub_motion(&frame, b, &y);
             let op = self.operating(&frame, omega, state.inflow, air, &hub_motion);
+            if let Some(seed) = cache.seed.take()
+                && seed.0 == op
+            {
+                cache.entries.push(seed);
+            }
             let rl: SteadyLoads = match cache.entries.iter().find(|(o, _)| *o == op) {
                 Some((_, l)) => *l,
                 None => {
@@ -140,6 +166,7 @@ impl Aircraft {
                     l
                 }
             };
+            cache.last = Some((op, rl));
             // Loads on the airframe at the hub: mean force, mean aerodynamic moment with no
             // shaft torque (a free rotor), and the gyroscopic couple of the blades' motion
             // relative to the hub (the airframe's inertia holds the rotor as a frozen disc).

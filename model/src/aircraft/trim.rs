@@ -20,7 +20,7 @@
 
 use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, RotorCache, State};
 use crate::components::rigid_body::{BodyState, G_M_S2};
-use crate::components::rotor::{Inflow, InflowModel};
+use crate::components::rotor::{Inflow, InflowModel, Numerics, Operating, Rotor, SteadyLoads};
 use crate::solve::{self, NewtonOptions, SolveError};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -273,14 +273,42 @@ impl Problem<'_> {
     }
 }
 
-/// Where a trim ended, to start a nearby trim from: the solver's unknowns, its last Jacobian and
-/// the blade-flapping start of the periodic solution. Opaque; taken from [`Trim::warm_start`].
+/// Where a trim ended, to start a nearby trim from: the solver's unknowns, its last Jacobian,
+/// the blade-flapping start of the periodic solution and that solution itself. Opaque; taken
+/// from [`Trim::warm_start`].
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct WarmStart {
     x: Vec<f64>,
     jacobian: Option<nalgebra::DMatrix<f64>>,
     flap: [f64; 2],
     tip0: f64,
+    rotor: Option<Box<RotorStart>>,
+}
+
+/// The main rotor's periodic solution where a trim ended, with the rotor it is of: a nearby
+/// trim's first evaluation, at the same unknowns, finds the rotor in the same operating state
+/// when what changed is not the rotor or its motion (the mass, an airframe correction), and
+/// takes the solution instead of integrating its revolution again.
+#[derive(Debug, Clone, PartialEq)]
+struct RotorStart {
+    rotor: Rotor,
+    numerics: Numerics,
+    operating: Operating,
+    loads: SteadyLoads,
+}
+
+impl WarmStart {
+    /// The periodic solution to seed `aircraft`'s first evaluation with: only for the same
+    /// rotor and numerics, and started where the solution starts (so that solving it afresh
+    /// would close in its first revolution, with the same sums).
+    fn rotor_seed(&self, aircraft: &Aircraft) -> Option<(Operating, SteadyLoads)> {
+        let mr = &aircraft.main_rotor;
+        self.rotor
+            .as_deref()
+            .filter(|r| r.rotor == mr.rotor && r.numerics == mr.numerics)
+            .filter(|r| r.loads.beta0 == self.flap)
+            .map(|r| (r.operating, r.loads))
+    }
 }
 
 /// Trims the aircraft.
@@ -331,17 +359,26 @@ pub fn trim_from(
     };
     let x0 = cold_start(aircraft, &condition, tip0, engine);
     // The warm start if it fits, then (or else) the cold one.
+    // (With the start's rotor solution, the warm start's first evaluation skips a revolution.)
     let warm = start
         .filter(|w| w.x.len() == x0.len() && w.tip0 == tip0)
-        .map(|w| (w.x.clone(), w.jacobian.clone(), w.flap));
-    let cold = (x0, None, [0.0, 0.0]);
+        .map(|w| {
+            (
+                w.x.clone(),
+                w.jacobian.clone(),
+                w.flap,
+                w.rotor_seed(aircraft),
+            )
+        });
+    let cold = (x0, None, [0.0, 0.0], None);
     let mut sol = Err(SolveError::Singular {
         x: Vec::new(),
         residuals: Vec::new(),
     });
-    for (x, jacobian, flap) in warm.into_iter().chain(std::iter::once(cold)) {
+    for (x, jacobian, flap, seed) in warm.into_iter().chain(std::iter::once(cold)) {
         p.warm = flap;
         p.last = None;
+        p.rotor.seed(seed);
         sol = solve::newton_from(
             |x| p.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
             &x,
@@ -392,6 +429,14 @@ pub fn trim_from(
             x: sol.x,
             jacobian: sol.jacobian,
             tip0,
+            rotor: p.rotor.last().map(|(operating, loads)| {
+                Box::new(RotorStart {
+                    rotor: aircraft.main_rotor.rotor.clone(),
+                    numerics: aircraft.main_rotor.numerics,
+                    operating,
+                    loads,
+                })
+            }),
         },
     };
     within_travel(t)
@@ -574,6 +619,35 @@ mod tests {
         .unwrap();
         assert_eq!(again.evaluations, cold.evaluations);
         assert_eq!(again.controls, cold.controls);
+    }
+
+    /// The rotor's periodic solution that a warm start carries spares the first evaluation a
+    /// revolution and changes nothing: the trim is the one started without it, bit for bit. A
+    /// start from another rotor does not offer it.
+    #[test]
+    fn a_warm_starts_rotor_solution_changes_nothing() {
+        let a = gyroplane();
+        let first = trim(&a, condition(31.3), TrimOptions::default()).unwrap();
+        let mut heavier = gyroplane();
+        heavier.mass.mass_kg += 5.0;
+        assert!(first.warm_start.rotor_seed(&heavier).is_some());
+        let bare = WarmStart {
+            rotor: None,
+            ..first.warm_start.clone()
+        };
+        let [with, without] = [&first.warm_start, &bare].map(|start| {
+            trim_from(
+                &heavier,
+                condition(31.3),
+                TrimOptions::default(),
+                Some(start),
+            )
+            .unwrap()
+        });
+        assert_eq!(with, without);
+        let mut other = gyroplane();
+        other.main_rotor.rotor.flap_inertia_kg_m2 *= 1.01;
+        assert!(first.warm_start.rotor_seed(&other).is_none());
     }
 
     /// Seed 001 Fig. 3 trends: from 30 to 70 mph the stick moves forward (speed stability)
