@@ -17,7 +17,9 @@
 //! - `file: PATH KEY` is a number in a YAML file of the suite, `KEY` its dotted path (a list's
 //!   items by their index, from 0): the scoreboard, a discrepancy record, the acceptance log
 //!   (append-only, so an old entry's `old` and `new` stay where they are), fitted corrections,
-//!   the uncertainty summary. A key that holds dots is written as it is
+//!   the uncertainty summary; or a number in a snapshot table (`reports/snapshots/*.snap`,
+//!   which `cargo test` holds to the run), `KEY` a row's quantity (`alpha_deg`), `.N` for its
+//!   N-th column (`alpha_deg.2`). A key that holds dots is written as it is
 //!   (`corrections.estimated.mass.ixx_kg_m2`), one that holds spaces without them
 //!   (`regimes.mu>0.35.unsolved.lift_coefficient`), and a record's change in the acceptance log,
 //!   text such as `value 0.320768`, by the name of its number (`changes.34.old.value`).
@@ -313,13 +315,17 @@ fn parse_number(printed: &str) -> Option<f64> {
     plain.parse().ok()
 }
 
-/// The number at `key` (dotted; list items by index) in the YAML file `path` of the suite
-/// at `root`. A key of a mapping may hold dots, and is written without its spaces; a last
-/// part may name a number in text of
-/// `name number` pairs (the acceptance log's record changes).
+/// The number at `key` in the file `path` of the suite at `root`: in a YAML file, `key` is
+/// dotted (list items by index; a mapping's key may hold dots, and is written without its
+/// spaces; a last part may name a number in text of `name number` pairs, the acceptance log's
+/// record changes); in a snapshot (`.snap`, a table of a quantity a row), `key` is the row's
+/// quantity, with `.N` for its N-th column of numbers (the first without).
 pub fn from_file(root: &Path, path: &str, key: &str) -> Result<f64, String> {
     let file = root.join(path);
     let text = std::fs::read_to_string(&file).map_err(|e| format!("{path}: {e}"))?;
+    if path.ends_with(".snap") {
+        return from_snapshot(&text, key).map_err(|e| format!("{path}: {e}"));
+    }
     let doc: serde_yaml::Value = serde_yaml::from_str(&text).map_err(|e| format!("{path}: {e}"))?;
     let parts: Vec<&str> = key.split('.').collect();
     let mut node = &doc;
@@ -354,6 +360,30 @@ pub fn from_file(root: &Path, path: &str, key: &str) -> Result<f64, String> {
     }
     node.as_f64()
         .ok_or_else(|| format!("{path}'s `{key}` is not a number"))
+}
+
+/// The number in the row `quantity[.N]` of a snapshot's table (its body after the header's
+/// closing `---`): the row's N-th number, the first without `.N`.
+fn from_snapshot(text: &str, key: &str) -> Result<f64, String> {
+    let (quantity, column) = match key.rsplit_once('.') {
+        Some((q, n)) if n.parse::<usize>().is_ok_and(|n| n >= 1) => {
+            (q, n.parse::<usize>().unwrap_or(1))
+        }
+        _ => (key, 1),
+    };
+    let body = text
+        .splitn(3, "---")
+        .nth(2)
+        .ok_or("not a snapshot (no header)")?;
+    let row = body
+        .lines()
+        .find(|l| l.split_whitespace().next() == Some(quantity))
+        .ok_or(format!("no row `{quantity}`"))?;
+    row.split_whitespace()
+        .skip(1)
+        .filter_map(|w| w.parse::<f64>().ok())
+        .nth(column - 1)
+        .ok_or(format!("row `{quantity}` has no number {column}"))
 }
 
 /// The number after `name` in text of `name number` pairs separated by `;`.

@@ -150,3 +150,19 @@ fn a_marker_shown_as_code_is_an_example_not_a_quote() {
     assert_eq!(q.len(), 1);
     assert_eq!((q[0].printed.as_str(), q[0].line), ("2.0", 5));
 }
+
+#[test]
+fn a_snapshot_number_is_read_by_its_row_and_column() {
+    let dir = std::env::temp_dir().join(format!("cierva-quoted-snap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("t.snap"),
+        "---\nsource: x\n---\nquantity      30 mph   70 mph\nalpha_deg      2.582    1.104\nrotor_rpm      417.5    430.2\n",
+    )
+    .unwrap();
+    assert_eq!(quoted::from_file(&dir, "t.snap", "alpha_deg"), Ok(2.582));
+    assert_eq!(quoted::from_file(&dir, "t.snap", "rotor_rpm.2"), Ok(430.2));
+    assert!(quoted::from_file(&dir, "t.snap", "rotor_rpm.3").is_err());
+    assert!(quoted::from_file(&dir, "t.snap", "pitch_deg").is_err());
+    std::fs::remove_dir_all(&dir).ok();
+}
