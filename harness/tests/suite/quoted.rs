@@ -4,6 +4,30 @@
 
 use cierva_harness::report::quoted::{self, Field, QuoteSource};
 
+/// A temporary folder holding one file, `name`, with `text`; removed when dropped.
+struct Folder(std::path::PathBuf);
+
+impl Folder {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for Folder {
+    fn drop(&mut self) {
+        std::fs::remove_dir_all(&self.0).ok();
+    }
+}
+
+fn folder_with(name: &str, text: &str) -> Folder {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("cierva-quoted-{}-{k}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join(name), text).unwrap();
+    Folder(dir)
+}
+
 #[test]
 fn a_marker_takes_the_number_just_before_it_with_its_digits_and_sign() {
     let text = "N_v is 0.209<!-- run: a::N_v --> and −0.783<!-- run: a::N_r::value.lower -->, \
@@ -97,50 +121,44 @@ fn check_names_every_number_that_does_not_hold_with_what_to_write() {
 
 #[test]
 fn a_file_number_is_read_by_its_dotted_key_with_list_indices() {
-    let dir = std::env::temp_dir().join(format!("cierva-quoted-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(
-        dir.join("r.yaml"),
+    let dir = folder_with(
+        "r.yaml",
         "scores:\n  a-case:\n    rms: {value: 5.75e-2}\nlog:\n- changes: [{old: 21.0}]\n",
-    )
-    .unwrap();
+    );
+    let dir = dir.path();
     assert_eq!(
-        quoted::from_file(&dir, "r.yaml", "scores.a-case.rms.value"),
+        quoted::from_file(dir, "r.yaml", "scores.a-case.rms.value"),
         Ok(0.0575)
     );
     assert_eq!(
-        quoted::from_file(&dir, "r.yaml", "log.0.changes.0.old"),
+        quoted::from_file(dir, "r.yaml", "log.0.changes.0.old"),
         Ok(21.0)
     );
-    let e = quoted::from_file(&dir, "r.yaml", "scores.b-case.rms").unwrap_err();
+    let e = quoted::from_file(dir, "r.yaml", "scores.b-case.rms").unwrap_err();
     assert!(e.contains("no `b-case`"), "{e}");
-    assert!(quoted::from_file(&dir, "missing.yaml", "x").is_err());
-    std::fs::remove_dir_all(&dir).ok();
+    assert!(quoted::from_file(dir, "missing.yaml", "x").is_err());
 }
 
 #[test]
 fn a_key_may_hold_dots_and_a_logged_record_change_names_its_numbers() {
-    let dir = std::env::temp_dir().join(format!("cierva-quoted-dots-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(
-        dir.join("r.yaml"),
+    let dir = folder_with(
+        "r.yaml",
         "estimated:\n  airframe.fin.area_m2: 0.66\nchanges:\n- old: value 0.320768\n  new: period_s 10.3; rotor_rpm 96.2\n",
-    )
-    .unwrap();
+    );
+    let dir = dir.path();
     assert_eq!(
-        quoted::from_file(&dir, "r.yaml", "estimated.airframe.fin.area_m2"),
+        quoted::from_file(dir, "r.yaml", "estimated.airframe.fin.area_m2"),
         Ok(0.66)
     );
     assert_eq!(
-        quoted::from_file(&dir, "r.yaml", "changes.0.old.value"),
+        quoted::from_file(dir, "r.yaml", "changes.0.old.value"),
         Ok(0.320768)
     );
     assert_eq!(
-        quoted::from_file(&dir, "r.yaml", "changes.0.new.rotor_rpm"),
+        quoted::from_file(dir, "r.yaml", "changes.0.new.rotor_rpm"),
         Ok(96.2)
     );
-    assert!(quoted::from_file(&dir, "r.yaml", "changes.0.new.drag").is_err());
-    std::fs::remove_dir_all(&dir).ok();
+    assert!(quoted::from_file(dir, "r.yaml", "changes.0.new.drag").is_err());
 }
 
 #[test]
@@ -153,16 +171,13 @@ fn a_marker_shown_as_code_is_an_example_not_a_quote() {
 
 #[test]
 fn a_snapshot_number_is_read_by_its_row_and_column() {
-    let dir = std::env::temp_dir().join(format!("cierva-quoted-snap-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(
-        dir.join("t.snap"),
+    let dir = folder_with(
+        "t.snap",
         "---\nsource: x\n---\nquantity      30 mph   70 mph\nalpha_deg      2.582    1.104\nrotor_rpm      417.5    430.2\n",
-    )
-    .unwrap();
-    assert_eq!(quoted::from_file(&dir, "t.snap", "alpha_deg"), Ok(2.582));
-    assert_eq!(quoted::from_file(&dir, "t.snap", "rotor_rpm.2"), Ok(430.2));
-    assert!(quoted::from_file(&dir, "t.snap", "rotor_rpm.3").is_err());
-    assert!(quoted::from_file(&dir, "t.snap", "pitch_deg").is_err());
-    std::fs::remove_dir_all(&dir).ok();
+    );
+    let dir = dir.path();
+    assert_eq!(quoted::from_file(dir, "t.snap", "alpha_deg"), Ok(2.582));
+    assert_eq!(quoted::from_file(dir, "t.snap", "rotor_rpm.2"), Ok(430.2));
+    assert!(quoted::from_file(dir, "t.snap", "rotor_rpm.3").is_err());
+    assert!(quoted::from_file(dir, "t.snap", "pitch_deg").is_err());
 }
