@@ -78,6 +78,8 @@ pub struct Quote {
     /// Digits after the decimal point.
     pub decimals: usize,
     pub source: QuoteSource,
+    /// The marker as written (`run: CASE::CHECK percent`), for messages.
+    pub marker: String,
     /// Compare with the source times 100.
     pub percent: bool,
     /// Compare with the source's magnitude.
@@ -109,40 +111,6 @@ impl Quote {
         // The rounding's half unit, and a relative slack for the source's own last bits
         // (a value stored as 7.5000000e-2 must round to 7.5 either way).
         v.is_finite() && (v - self.value).abs() <= half_unit * (1.0 + 1e-9) + 1e-12 * v.abs()
-    }
-
-    fn describe(&self) -> String {
-        let mut s = match &self.source {
-            QuoteSource::Check {
-                case,
-                check,
-                quantity,
-                field,
-            } => {
-                let mut s = format!("run: {case}::{check}");
-                if let Some(q) = quantity {
-                    let _ = write!(s, "::{q}");
-                }
-                match field {
-                    Field::Value => {}
-                    Field::Expected => s.push_str(".expected"),
-                    Field::Lower => s.push_str(".lower"),
-                    Field::Upper => s.push_str(".upper"),
-                }
-                s
-            }
-            QuoteSource::Fingerprint { case, check, name } => {
-                format!("run: {case}::{check}#{name}")
-            }
-            QuoteSource::File { path, key } => format!("file: {path} {key}"),
-        };
-        if self.percent {
-            s.push_str(" percent");
-        }
-        if self.magnitude {
-            s.push_str(" abs");
-        }
-        s
     }
 }
 
@@ -225,6 +193,7 @@ fn quote_at(line: &str, line_no: usize, at: usize, body: &str) -> Result<Option<
         format!("{}: `{body}`: {form}", place(at))
     })?;
     Ok(Some(Quote {
+        marker: body.to_string(),
         line: line_no,
         column: line[..start].chars().count() + 1,
         decimals: printed.split('.').nth(1).map_or(0, |d| d.chars().count()),
@@ -415,7 +384,7 @@ pub fn check(
                     q.line,
                     q.column,
                     q.printed,
-                    q.describe(),
+                    q.marker,
                     q.written(v)
                 );
             }
@@ -423,10 +392,7 @@ pub fn check(
                 let _ = writeln!(
                     wrong,
                     "{file}:{}:{}: {} quotes {}, which cannot be read: {e}",
-                    q.line,
-                    q.column,
-                    q.printed,
-                    q.describe()
+                    q.line, q.column, q.printed, q.marker
                 );
             }
         }
