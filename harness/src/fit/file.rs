@@ -719,6 +719,16 @@ pub struct FitRun {
     pub starts: Option<crate::fit::starts::Starts>,
 }
 
+impl FitFile {
+    /// The fit's problem with its predictions as the targets: what the fitted values are
+    /// evaluated on to report the data the fit did not see.
+    pub fn prediction_problem(&self) -> fit::Problem {
+        let mut p = self.problem.clone();
+        p.targets = self.predict.clone();
+        p
+    }
+}
+
 /// Runs a fit file's fit, then its predictions and mode shifts.
 pub fn run(f: &FitFile) -> FitRun {
     let started = std::time::Instant::now();
@@ -733,15 +743,9 @@ pub fn run(f: &FitFile) -> FitRun {
     let mut predict_before = vec![f64::NAN; f.predict.len()];
     let mut predict_after = predict_before.clone();
     if !f.predict.is_empty() {
-        let mut p = f.problem.clone();
-        p.targets = f.predict.clone();
-        let each = |values: &[f64]| -> Vec<f64> {
-            fit::evaluate_each(&p, values).map_or(vec![f64::NAN; p.targets.len()], |v| {
-                v.into_iter().map(|y| y.unwrap_or(f64::NAN)).collect()
-            })
-        };
-        predict_before = each(&start);
-        predict_after = each(&result.values);
+        let p = f.prediction_problem();
+        predict_before = fit::values_or_nan(&p, &start);
+        predict_after = fit::values_or_nan(&p, &result.values);
     }
     let mut modes = Vec::new();
     if let fit::FitSubject::Aircraft { aircraft } = &f.problem.subject {

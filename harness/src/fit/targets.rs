@@ -504,6 +504,14 @@ pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, Str
     evaluate_each_from(problem, p, None)
 }
 
+/// [`evaluate_each`] as numbers: NaN for a target whose condition fails, and for every target
+/// when the corrections themselves are invalid (what a report prints as "not solved").
+pub fn values_or_nan(problem: &Problem, p: &[f64]) -> Vec<f64> {
+    evaluate_each(problem, p).map_or(vec![f64::NAN; problem.targets.len()], |v| {
+        v.into_iter().map(|y| y.unwrap_or(f64::NAN)).collect()
+    })
+}
+
 /// [`evaluate_each`] with warm-started trims.
 pub fn evaluate_each_from(
     problem: &Problem,

@@ -409,13 +409,7 @@ fn shipped_fit_restarted(
         fit::file::rms_relative_error_percent(&f.problem.targets, &before, &r.after);
     assert_eq!(n, f.problem.targets.len());
     assert!(after < 0.6 * before, "{before} -> {after}");
-    let mut predict = f.problem.clone();
-    predict.targets = f.predict.clone();
-    let predicted = fit::evaluate_each(&predict, &r.values)
-        .unwrap()
-        .into_iter()
-        .map(|v| v.unwrap_or(f64::NAN))
-        .collect();
+    let predicted = fit::values_or_nan(&f.prediction_problem(), &r.values);
     (f, r, predicted)
 }
 
@@ -833,11 +827,6 @@ fn a_fit_refuses_a_check_of_a_ratio_as_a_reference() {
 fn every_shipped_fits_committed_errors_are_todays() {
     use cierva_harness::fit::file::ErrorSummary;
     use cierva_harness::inputs::corrections;
-    let each = |problem: &fit::Problem, x: &[f64]| -> Vec<f64> {
-        fit::evaluate_each(problem, x).map_or(vec![f64::NAN; problem.targets.len()], |v| {
-            v.into_iter().map(|r| r.unwrap_or(f64::NAN)).collect()
-        })
-    };
     let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir(repo().join("fits"))
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -861,8 +850,7 @@ fn every_shipped_fits_committed_errors_are_todays() {
                     .expect("the committed file has it")
             })
             .collect();
-        let mut predict = f.problem.clone();
-        predict.targets = f.predict.clone();
+        let predict = f.prediction_problem();
         let today = [
             ("fitted", Some((&f.problem, &f.problem.targets))),
             (
@@ -873,7 +861,13 @@ fn every_shipped_fits_committed_errors_are_todays() {
         let doc: serde_yaml::Value =
             serde_yaml::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
         for (part, problem) in today {
-            let now = problem.map(|(p, t)| ErrorSummary::of(t, &each(p, &start), &each(p, &end)));
+            let now = problem.map(|(p, t)| {
+                ErrorSummary::of(
+                    t,
+                    &fit::values_or_nan(p, &start),
+                    &fit::values_or_nan(p, &end),
+                )
+            });
             let now = serde_yaml::to_value(now).unwrap();
             let was = &doc["fit"]["errors"][part];
             if !same_numbers(&now, was) {
