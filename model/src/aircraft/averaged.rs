@@ -5,9 +5,7 @@ use super::{Air, Aircraft, AircraftError, Controls, cross, positive_state, sum_l
 use crate::components::inflow;
 use crate::components::propeller::PropellerState;
 use crate::components::rigid_body::{self, BodyState, Loads};
-use crate::components::rotor::{
-    Blade, Hub, HubVelocity, Inflow, Operating, RevolutionMap, SteadyLoads,
-};
+use crate::components::rotor::{Blade, HubVelocity, Inflow, Operating, RevolutionMap, SteadyLoads};
 use serde::Serialize;
 
 /// The state of the revolution-averaged model.
@@ -103,6 +101,31 @@ impl RotorCache {
     pub(crate) fn last(&self) -> Option<(Operating, SteadyLoads)> {
         self.last
     }
+
+    /// What the periodic solutions so far learned of the rotor's revolution map.
+    pub(crate) fn map(&self) -> RevolutionMap {
+        self.map
+    }
+
+    /// Starts the next periodic solution's secant steps from what a nearby one learned of the
+    /// revolution map (a trim's, for the next trim or a linearisation about it): they find the
+    /// same solution, in fewer revolutions.
+    pub(crate) fn learned(&mut self, map: RevolutionMap) {
+        self.map = map;
+    }
+
+    /// Holds `solution` for every lookup at its operating state, not only the next
+    /// ([`RotorCache::seed`]; the same conditions): a linearisation's evaluations that leave
+    /// the rotor where its trim left it (an attitude, the pedal) take the trim's solution.
+    pub(crate) fn hold(&mut self, solution: Option<(Operating, SteadyLoads)>) {
+        self.entries.extend(solution);
+    }
+
+    /// How many periodic solutions it holds.
+    #[cfg(test)]
+    pub(crate) fn solutions(&self) -> usize {
+        self.entries.len()
+    }
 }
 
 impl Aircraft {
@@ -142,7 +165,7 @@ impl Aircraft {
         // The rotor's periodic solution with the hub's motion that the body's accelerations
         // imply, those accelerations depending on the rotor's loads in turn: from the steady
         // motion's (a trim's, exact there), until they agree (weightless blades: at once).
-        let heavy = mr.rotor.flap_mass_moment_kg_m != 0.0 && mr.rotor.hub != Hub::Rigid;
+        let heavy = self.heavy_blades();
         let mut y = Self::steady_accelerations(b);
         let mut warm = warm;
         let mut change = f64::INFINITY;

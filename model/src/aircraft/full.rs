@@ -319,7 +319,7 @@ impl Aircraft {
                 body_dot,
             })
         };
-        let heavy = rotor.flap_mass_moment_kg_m != 0.0 && rotor.hub != Hub::Rigid;
+        let heavy = self.heavy_blades();
         let Response {
             flap_dot, body_dot, ..
         } = if heavy {

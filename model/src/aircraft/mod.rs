@@ -84,7 +84,7 @@ use crate::components::inflow;
 use crate::components::propeller::PropellerError;
 use crate::components::rigid_body::{self, BodyError, BodyState, Loads, MassProperties};
 use crate::components::rotor::{
-    HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
+    Hub, HubVelocity, Inflow, InflowModel, Numerics, Operating, Rotor, RotorError,
 };
 use serde::Serialize;
 use thiserror::Error;
@@ -371,7 +371,19 @@ impl Aircraft {
         [p[0] + up[0], p[1] + up[1], p[2] + up[2]]
     }
 
-    /// The main rotor's operating state, its hub moving as `hub` says (hub axes).
+    /// Whether the main rotor's flapping feels the hub's motion: its blades have a mass moment
+    /// about a hinge (or the teeter bar). Their weight and the hub's acceleration act on them
+    /// only through it (`Blade::apparent_gravity_flap_moment_at`).
+    fn heavy_blades(&self) -> bool {
+        let r = &self.main_rotor.rotor;
+        r.flap_mass_moment_kg_m != 0.0 && r.hub != Hub::Rigid
+    }
+
+    /// The main rotor's operating state, its hub moving as `hub` says (hub axes). Without
+    /// [`Aircraft::heavy_blades`] the hub's motion changes none of the rotor's loads, and the
+    /// operating state leaves it out: evaluations that differ only in attitude (a trim's, a
+    /// linearisation's) then find the rotor in one operating state and share its periodic
+    /// solution.
     fn operating(
         &self,
         frame: &RotorFrame,
@@ -380,6 +392,10 @@ impl Aircraft {
         air: Air,
         hub: &HubMotion,
     ) -> Operating {
+        let (apparent_gravity, angular_acceleration) = match self.heavy_blades() {
+            true => (hub.apparent_gravity, hub.angular_acceleration),
+            false => ([0.0; 3], [0.0; 3]),
+        };
         Operating {
             omega_rad_s: omega,
             hub: frame.hub,
@@ -388,8 +404,8 @@ impl Aircraft {
             speed_of_sound_m_s: air.speed_of_sound_m_s,
             collective_shift_rad: self.main_rotor.collective_shift_rad,
             hub_rates_rad_s: frame.hub_rates,
-            apparent_gravity_m_s2: hub.apparent_gravity,
-            hub_angular_acceleration_rad_s2: hub.angular_acceleration,
+            apparent_gravity_m_s2: apparent_gravity,
+            hub_angular_acceleration_rad_s2: angular_acceleration,
         }
     }
 

@@ -96,6 +96,43 @@ fn heavy(hub: Hub, hinge_offset_m: f64) -> Aircraft {
     a
 }
 
+/// The hub's motion is in the main rotor's operating state only where the blades feel it (a
+/// mass moment about a hinge or the teeter bar). Evaluations of a weightless rotor at two
+/// attitudes then share one periodic solution, and the second is what solving it afresh gives,
+/// bit for bit; a heavy rotor's flapping feels the attitude, and it is solved again.
+#[test]
+fn only_heavy_blades_tell_attitudes_apart() {
+    let c = Condition {
+        airspeed_m_s: 31.3,
+        climb_m_s: 0.0,
+        turn_rate_rad_s: 0.0,
+        air: air(),
+    };
+    for (a, light) in [(gyroplane(), true), (heavy(Hub::Teetering, 0.0), false)] {
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
+        let mut tilted = t.state;
+        tilted.body.theta_rad += 0.01;
+        tilted.body.phi_rad += 0.01;
+        let (warm, controls) = (t.averaged.flap_start, &t.controls);
+        let mut cache = RotorCache::default();
+        let level = a
+            .averaged_cached(&t.state, controls, air(), warm, &mut cache)
+            .unwrap();
+        let solved = cache.solutions();
+        let second = a
+            .averaged_cached(&tilted, controls, air(), warm, &mut cache)
+            .unwrap();
+        let afresh = a.averaged(&tilted, controls, air(), warm).unwrap();
+        if light {
+            assert_eq!(cache.solutions(), solved);
+            assert_eq!(second, afresh);
+        } else {
+            assert!(cache.solutions() > solved);
+            assert_ne!(second.rotor.a0_rad, level.rotor.a0_rad);
+        }
+    }
+}
+
 /// The blades' weight and the hub's acceleration are the same physics in the trim and the
 /// full model. With heavy blades, in level flight and in a steady level turn at 0.25 rad/s
 /// (load factor 1.28 at 31.3 m/s), teetering (its precone leaves the pair's weight and the

@@ -20,7 +20,9 @@
 
 use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, RotorCache, State};
 use crate::components::rigid_body::{BodyState, G_M_S2};
-use crate::components::rotor::{Inflow, InflowModel, Numerics, Operating, Rotor, SteadyLoads};
+use crate::components::rotor::{
+    Inflow, InflowModel, Numerics, Operating, RevolutionMap, Rotor, SteadyLoads,
+};
 use crate::solve::{self, NewtonOptions, SolveError};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -274,8 +276,9 @@ impl Problem<'_> {
 }
 
 /// Where a trim ended, to start a nearby trim from: the solver's unknowns, its last Jacobian,
-/// the blade-flapping start of the periodic solution and that solution itself. Opaque; taken
-/// from [`Trim::warm_start`].
+/// the blade-flapping start of the periodic solution, that solution itself, and what the
+/// periodic solutions learned of the rotor's revolution map. Opaque; taken from
+/// [`Trim::warm_start`].
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct WarmStart {
     x: Vec<f64>,
@@ -283,6 +286,7 @@ pub struct WarmStart {
     flap: [f64; 2],
     tip0: f64,
     rotor: Option<Box<RotorStart>>,
+    map: RevolutionMap,
 }
 
 /// The main rotor's periodic solution where a trim ended, with the rotor it is of: a nearby
@@ -301,13 +305,19 @@ impl WarmStart {
     /// The periodic solution to seed `aircraft`'s first evaluation with: only for the same
     /// rotor and numerics, and started where the solution starts (so that solving it afresh
     /// would close in its first revolution, with the same sums).
-    fn rotor_seed(&self, aircraft: &Aircraft) -> Option<(Operating, SteadyLoads)> {
+    pub(crate) fn rotor_seed(&self, aircraft: &Aircraft) -> Option<(Operating, SteadyLoads)> {
         let mr = &aircraft.main_rotor;
         self.rotor
             .as_deref()
             .filter(|r| r.rotor == mr.rotor && r.numerics == mr.numerics)
             .filter(|r| r.loads.beta0 == self.flap)
             .map(|r| (r.operating, r.loads))
+    }
+
+    /// What the trim's periodic solutions learned of the rotor's revolution map (see
+    /// [`RevolutionMap`]): where a nearby solution's secant steps start.
+    pub(crate) fn revolution_map(&self) -> RevolutionMap {
+        self.map
     }
 }
 
@@ -358,8 +368,8 @@ pub fn trim_from(
         calls: 0,
     };
     let x0 = cold_start(aircraft, &condition, tip0, engine);
-    // The warm start if it fits, then (or else) the cold one.
-    // (With the start's rotor solution, the warm start's first evaluation skips a revolution.)
+    // The warm start if it fits (its rotor solution spares its first evaluation a revolution,
+    // what it learned of the revolution map a few more), then (or else) the cold one.
     let warm = start
         .filter(|w| w.x.len() == x0.len() && w.tip0 == tip0)
         .map(|w| {
@@ -367,18 +377,21 @@ pub fn trim_from(
                 w.x.clone(),
                 w.jacobian.clone(),
                 w.flap,
-                w.rotor_seed(aircraft),
+                (w.rotor_seed(aircraft), Some(w.map)),
             )
         });
-    let cold = (x0, None, [0.0, 0.0], None);
+    let cold = (x0, None, [0.0, 0.0], (None, None));
     let mut sol = Err(SolveError::Singular {
         x: Vec::new(),
         residuals: Vec::new(),
     });
-    for (x, jacobian, flap, seed) in warm.into_iter().chain(std::iter::once(cold)) {
+    for (x, jacobian, flap, (seed, map)) in warm.into_iter().chain(std::iter::once(cold)) {
         p.warm = flap;
         p.last = None;
         p.rotor.seed(seed);
+        if let Some(map) = map {
+            p.rotor.learned(map);
+        }
         sol = solve::newton_from(
             |x| p.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
             &x,
@@ -437,6 +450,7 @@ pub fn trim_from(
                     loads,
                 })
             }),
+            map: p.rotor.map(),
         },
     };
     within_travel(t)
