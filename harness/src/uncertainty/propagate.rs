@@ -494,7 +494,10 @@ pub fn propagate_from(
     })
 }
 
-/// Every point of the case's design evaluated, on every core.
+/// Every point of the case's design evaluated, on every core. `A` and `B` first, their trims
+/// started from the nominal one's; then each `A_B^(i)` point, which differs from its row of
+/// `A` in one input, its trims started from that row's (or the nominal's where that row has
+/// none): a nearer start, and fewer of the model's evaluations to the same tolerance.
 fn sample(
     case: &Case,
     nominal: &[CheckResult],
@@ -505,29 +508,42 @@ fn sample(
     let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
     let starts = warm_starts(case);
     let units = design.points();
-    let points = crate::parallel_map(&units, |u| {
+    let evaluate = |u: &[f64], starts: &[Start]| -> (Point, Vec<Start>) {
         let values: Vec<f64> = inputs
             .iter()
             .zip(u)
             .map(|(i, &x)| i.distribution.quantile(x))
             .collect();
         let tag = format!("u{}-{}-{:x}", settings.seed, units.len(), hash(&values));
-        let p = match with_values(case, inputs, &values, &tag) {
+        let out = match with_values(case, inputs, &values, &tag) {
             Ok(c) => {
-                prime(&c, &starts);
+                prime(&c, starts);
                 let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
+                let own = warm_starts(&c);
                 if let Subject::Aircraft { file, .. } = &c.subject {
                     crate::forget_linearisations(file);
                 }
-                p
+                (p, own)
             }
-            Err(e) => point_of(nominal, &[]).with_error(e),
+            Err(e) => (point_of(nominal, &[]).with_error(e), Vec::new()),
         };
         done();
-        p
+        out
+    };
+    let n = design.n;
+    let (a_and_b, rest) = units.split_at(2 * n);
+    let first = crate::parallel_map(a_and_b, |u| evaluate(u, &starts));
+    let indexed: Vec<(usize, &Vec<f64>)> = rest.iter().enumerate().collect();
+    let second = crate::parallel_map(&indexed, |(k, u)| {
+        let row = &first[k % n].1;
+        evaluate(u, if row.is_empty() { &starts } else { row })
     });
+    let points = first.into_iter().chain(second).map(|(p, _)| p).collect();
     Ok((points, design))
 }
+
+/// A trim to start from: the condition it is at, and where it ended.
+type Start = (crate::TrimRequest, cierva_model::aircraft::trim::WarmStart);
 
 /// One check's quantities over the samples: statistics, indices, comparison, pass fraction
 /// and fragility. A check with no number (a BCAR verdict) is propagated as whether it passes:
@@ -619,9 +635,10 @@ pub(super) fn pass_fraction(
     chances.iter().sum::<f64>() / chances.len() as f64
 }
 
-/// The nominal aircraft's trim at each condition its checks linearise at: where each sample's
-/// trim starts.
-fn warm_starts(case: &Case) -> Vec<(crate::TrimRequest, cierva_model::aircraft::trim::WarmStart)> {
+/// The case's aircraft trimmed at each condition its checks linearise at: where a nearby
+/// point's trims start (the nominal case's, for `A` and `B`; a row of `A`'s, for its `A_B^(i)`
+/// points).
+fn warm_starts(case: &Case) -> Vec<Start> {
     let Subject::Aircraft { file, loading } = &case.subject else {
         return Vec::new();
     };
@@ -640,7 +657,7 @@ fn warm_starts(case: &Case) -> Vec<(crate::TrimRequest, cierva_model::aircraft::
 /// A sample's linearisations at the nominal conditions, each trim started from the nominal
 /// one's; its checks then find them remembered. A trim that fails here is remembered as failed
 /// and the check says so.
-fn prime(case: &Case, starts: &[(crate::TrimRequest, cierva_model::aircraft::trim::WarmStart)]) {
+fn prime(case: &Case, starts: &[Start]) {
     if let Subject::Aircraft { file, loading } = &case.subject {
         for (request, start) in starts {
             let _ = crate::linearise_cached_from(file, *request, *loading, Some(start));
