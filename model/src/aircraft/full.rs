@@ -257,20 +257,16 @@ impl Aircraft {
             angular_acceleration: [0.0; 3],
         };
         let op = self.operating(&frame, omega, x.inflow, air, &still);
-        let blades = blade_positions(rotor, blade, &op, x);
-        // Each blade's angles' sines and cosines, once.
-        let angles: Vec<Angles> = blades
-            .iter()
-            .map(|&(psi, beta, _)| Angles::new(psi, beta))
-            .collect();
-        let driving_at = |op: &Operating| driving_loads(blade, &blades, &angles, op);
+        // Each blade's place, with its angles' sines and cosines, once.
+        let placed = blade_positions(rotor, blade, &op, x);
+        let driving_at = |op: &Operating| driving_loads(blade, &placed, op);
         let mut op = op;
         if mr.inflow_dynamics == InflowDynamics::QuasiSteady {
             op.inflow = self.quasi_steady_inflow(&frame, &op, air, &driving_at)?;
         }
         let op = op;
         // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
-        let blades = Blades::new(rotor, blade, op, blades, angles);
+        let blades = Blades::new(rotor, blade, op, placed);
         let (force, moment, torque, coriolis_torque) = blades.sums(omega);
         let i_r = self.rotor_polar_inertia_kg_m2();
         let omega_dot = (torque + coriolis_torque) / i_r;
@@ -295,12 +291,13 @@ impl Aircraft {
         let respond = |hub: Option<&HubMotion>| -> Result<Response, AircraftError> {
             let flap_dot = blades.flap_rates(&x.flap, hub);
             // Inertial reaction of the blades' relative motion: H_rel along the state's rates.
-            let beta_ddot: Vec<f64> = match rotor.hub {
-                Hub::Articulated => flap_dot.iter().map(|d| d[1]).collect(),
-                Hub::Teetering => vec![flap_dot[0][1], -flap_dot[0][1]],
-                Hub::Rigid => vec![0.0; blades.at.len()],
+            let beta_ddot = |k: usize| match rotor.hub {
+                Hub::Articulated => flap_dot[k][1],
+                Hub::Teetering if k == 0 => flap_dot[0][1],
+                Hub::Teetering => -flap_dot[0][1],
+                Hub::Rigid => 0.0,
             };
-            let (h0, dh, f_hub) = blades.inertia(frame.hub_rates, &beta_ddot, omega_dot, force);
+            let (h0, dh, f_hub) = blades.inertia(frame.hub_rates, beta_ddot, omega_dot, force);
             let gyro = cross(frame.hub_rates, h0);
             let m_hub = [
                 moment[0] - dh[0] - gyro[0],
@@ -402,56 +399,63 @@ impl Aircraft {
     }
 }
 
-/// The blades' azimuths, flap angles and flap rates `(psi, beta, d beta / dt)` in the full
-/// state `x`: an articulated rotor's from its flap states, a teetering rotor's two from its
-/// teeter (half a revolution apart), a rigid rotor's at the precone.
-fn blade_positions(
-    rotor: &Rotor,
-    blade: &Blade,
-    op: &Operating,
-    x: &FullState,
-) -> Vec<(f64, f64, f64)> {
+/// One blade at an instant of the full model: its flap angle and rate, its angles' sines and
+/// cosines, and its aerodynamic loads (once [`Blades::new`] has them). One vector of these
+/// per evaluation, where there were three (every right-hand side allocates them).
+#[derive(Debug, Clone, Copy)]
+struct Placed {
+    beta: f64,
+    beta_dot: f64,
+    angles: Angles,
+    loads: BladeLoads,
+}
+
+/// The blades' azimuths, flap angles and flap rates in the full state `x` (an articulated
+/// rotor's from its flap states, a teetering rotor's two from its teeter, half a revolution
+/// apart, a rigid rotor's at the precone), with their angles; no loads yet.
+fn blade_positions(rotor: &Rotor, blade: &Blade, op: &Operating, x: &FullState) -> Vec<Placed> {
     let omega = x.rotor_omega_rad_s;
     let psi1 = x.rotor_azimuth_rad;
-    let mut blades: Vec<(f64, f64, f64)> = Vec::new();
+    let place = |psi: f64, beta: f64, beta_dot: f64| Placed {
+        beta,
+        beta_dot,
+        angles: Angles::new(psi, beta),
+        loads: BladeLoads::default(),
+    };
+    let mut blades = Vec::new();
     match rotor.hub {
         Hub::Articulated => {
             let nb = rotor.blades;
             for (k, f) in x.flap.iter().enumerate() {
-                blades.push((psi1 + 2.0 * PI * k as f64 / nb as f64, f[0], f[1]));
+                blades.push(place(psi1 + 2.0 * PI * k as f64 / nb as f64, f[0], f[1]));
             }
         }
         Hub::Teetering => {
             let f = x.flap[0];
             let [(b1, d1), (b2, d2)] = blade.blade_flap(op, [f[0], f[1] / omega]);
-            blades.push((psi1, b1, d1));
-            blades.push((psi1 + PI, b2, d2));
+            blades.push(place(psi1, b1, d1));
+            blades.push(place(psi1 + PI, b2, d2));
         }
         Hub::Rigid => {
             for k in 0..rotor.blades {
                 let psi = psi1 + 2.0 * PI * k as f64 / rotor.blades as f64;
-                blades.push((psi, rotor.precone_rad, 0.0));
+                blades.push(place(psi, rotor.precone_rad, 0.0));
             }
         }
     }
     blades
 }
 
-/// The thrust and the aerodynamic roll and pitch moments of the blades at `blades`
-/// (`(psi, beta, d beta / dt)` each, their angles `angles`) at `op`: what drives the inflow.
-fn driving_loads(
-    blade: &Blade,
-    blades: &[(f64, f64, f64)],
-    angles: &[Angles],
-    op: &Operating,
-) -> inflow::DrivingLoads {
+/// The thrust and the aerodynamic roll and pitch moments of the blades `placed` at `op`: what
+/// drives the inflow.
+fn driving_loads(blade: &Blade, placed: &[Placed], op: &Operating) -> inflow::DrivingLoads {
     let mut d = inflow::DrivingLoads {
         thrust_n: 0.0,
         roll_n_m: 0.0,
         pitch_n_m: 0.0,
     };
-    for (&(_, _, beta_dot), &ang) in blades.iter().zip(angles) {
-        let l = blade.loads_at(op, ang, beta_dot);
+    for p in placed {
+        let l = blade.loads_at(op, p.angles, p.beta_dot);
         d.thrust_n -= l.force_n[2];
         d.roll_n_m += l.moment_n_m[0];
         d.pitch_n_m += l.moment_n_m[1];
@@ -459,40 +463,26 @@ fn driving_loads(
     d
 }
 
-/// The main rotor's blades at one instant of the full model: each blade's azimuth, flap angle
-/// and flap rate, its angles' sines and cosines, and its aerodynamic loads at `op`.
+/// The main rotor's blades at one instant of the full model: each blade's flap angle and flap
+/// rate, its angles' sines and cosines, and its aerodynamic loads at `op`.
 struct Blades<'a> {
     rotor: &'a Rotor,
     blade: &'a Blade<'a>,
     op: Operating,
-    /// `(psi, beta, d beta / dt)` of each blade.
-    at: Vec<(f64, f64, f64)>,
-    angles: Vec<Angles>,
-    loads: Vec<BladeLoads>,
+    placed: Vec<Placed>,
 }
 
 impl<'a> Blades<'a> {
-    /// The blades at `at` (`(psi, beta, d beta / dt)` each, their angles `angles`) and their
-    /// aerodynamic loads at `op`.
-    fn new(
-        rotor: &'a Rotor,
-        blade: &'a Blade<'a>,
-        op: Operating,
-        at: Vec<(f64, f64, f64)>,
-        angles: Vec<Angles>,
-    ) -> Self {
-        let loads: Vec<BladeLoads> = at
-            .iter()
-            .zip(&angles)
-            .map(|(&(_, _, beta_dot), &ang)| blade.loads_at(&op, ang, beta_dot))
-            .collect();
+    /// The blades `placed` with their aerodynamic loads at `op`.
+    fn new(rotor: &'a Rotor, blade: &'a Blade<'a>, op: Operating, mut placed: Vec<Placed>) -> Self {
+        for p in &mut placed {
+            p.loads = blade.loads_at(&op, p.angles, p.beta_dot);
+        }
         Self {
             rotor,
             blade,
             op,
-            at,
-            angles,
-            loads,
+            placed,
         }
     }
 
@@ -505,7 +495,13 @@ impl<'a> Blades<'a> {
         let mut moment = [0.0; 3];
         let mut torque = 0.0;
         let mut coriolis_torque = 0.0;
-        for (&(_, beta, beta_dot), l) in self.at.iter().zip(&self.loads) {
+        for &Placed {
+            beta,
+            beta_dot,
+            loads: ref l,
+            ..
+        } in &self.placed
+        {
             for k in 0..3 {
                 force[k] += l.force_n[k];
                 moment[k] += l.moment_n_m[k];
@@ -522,13 +518,14 @@ impl<'a> Blades<'a> {
     /// the hub's motion `hub` (none: weightless blades).
     fn flap_rates(&self, flap: &[[f64; 2]], hub: Option<&HubMotion>) -> Vec<[f64; 2]> {
         let (rotor, blade, op) = (self.rotor, self.blade, &self.op);
-        let (angles, loads) = (&self.angles, &self.loads);
+        let placed = &self.placed;
         let (i_b, k_b) = (rotor.flap_inertia_kg_m2, rotor.flap_spring_n_m_per_rad);
         let mut flap_dot = Vec::with_capacity(flap.len());
         match rotor.hub {
             Hub::Articulated => {
-                for ((&(_, beta, beta_dot), l), &ang) in self.at.iter().zip(loads).zip(angles) {
-                    let mut m = l.flap_moment_n_m
+                for p in placed {
+                    let (beta, beta_dot, ang) = (p.beta, p.beta_dot, p.angles);
+                    let mut m = p.loads.flap_moment_n_m
                         - blade.inertial_flap_moment_at(op, ang)
                         - k_b * (beta - rotor.precone_rad);
                     if let Some(h) = hub {
@@ -543,15 +540,16 @@ impl<'a> Blades<'a> {
             }
             Hub::Teetering => {
                 let f = flap[0];
-                let mut m = loads[0].flap_moment_n_m
-                    - loads[1].flap_moment_n_m
-                    - (blade.inertial_flap_moment_at(op, angles[0])
-                        - blade.inertial_flap_moment_at(op, angles[1]))
+                let (a0, a1) = (placed[0].angles, placed[1].angles);
+                let mut m = placed[0].loads.flap_moment_n_m
+                    - placed[1].loads.flap_moment_n_m
+                    - (blade.inertial_flap_moment_at(op, a0)
+                        - blade.inertial_flap_moment_at(op, a1))
                     - k_b * f[0];
                 if let Some(h) = hub {
                     let (g, w) = (h.apparent_gravity, h.angular_acceleration);
-                    m += blade.apparent_gravity_flap_moment_at(g, w, angles[0])
-                        - blade.apparent_gravity_flap_moment_at(g, w, angles[1]);
+                    m += blade.apparent_gravity_flap_moment_at(g, w, a0)
+                        - blade.apparent_gravity_flap_moment_at(g, w, a1);
                 }
                 flap_dot.push([f[1], m / (2.0 * i_b)]);
             }
@@ -562,12 +560,12 @@ impl<'a> Blades<'a> {
 
     /// The blades' angular momentum beyond the frozen disc and its rate, and the force on the
     /// hub (`force`, hub axes) less the motion of their centres of mass (relative acceleration
-    /// and Coriolis, the hub turning at `hub_rates`), along the blades' motion (flap
-    /// accelerations `beta_ddot`, rotorspeed rate `omega_dot`; exact rates: the chain rule).
+    /// and Coriolis, the hub turning at `hub_rates`), along the blades' motion (blade `k`'s flap
+    /// acceleration `beta_ddot(k)`, rotorspeed rate `omega_dot`; exact rates: the chain rule).
     fn inertia(
         &self,
         hub_rates: [f64; 3],
-        beta_ddot: &[f64],
+        beta_ddot: impl Fn(usize) -> f64,
         omega_dot: f64,
         force: [f64; 3],
     ) -> ([f64; 3], [f64; 3], [f64; 3]) {
@@ -576,9 +574,10 @@ impl<'a> Blades<'a> {
         let mut dh = [0.0; 3];
         let mut f_hub = force;
         let cg_mass = self.rotor.blade_mass_kg();
-        for (k, (&(_, _, beta_dot), &ang)) in self.at.iter().zip(&self.angles).enumerate() {
+        for (k, p) in self.placed.iter().enumerate() {
+            let (ang, beta_dot) = (p.angles, p.beta_dot);
             let (hb, hb_dot) =
-                blade.angular_momentum_and_rate(op, ang, beta_dot, beta_ddot[k], omega_dot);
+                blade.angular_momentum_and_rate(op, ang, beta_dot, beta_ddot(k), omega_dot);
             for j in 0..3 {
                 h0[j] += hb[j];
                 dh[j] += hb_dot[j];
@@ -586,7 +585,7 @@ impl<'a> Blades<'a> {
             // The blade's centre of mass: relative acceleration and Coriolis.
             if cg_mass > 0.0 {
                 let [_, v, a] =
-                    blade.centre_of_mass_motion(op, ang, beta_dot, beta_ddot[k], omega_dot);
+                    blade.centre_of_mass_motion(op, ang, beta_dot, beta_ddot(k), omega_dot);
                 let cor = cross(hub_rates, v);
                 for j in 0..3 {
                     f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);
