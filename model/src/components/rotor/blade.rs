@@ -5,6 +5,16 @@ use super::steady::RevolutionSums;
 use super::{Angles, Element, Hub, Numerics, Operating, Rotor, cross};
 use std::f64::consts::PI;
 
+/// An azimuth and the sines and cosines the flap equation takes there ([`Blade::azimuth`]):
+/// found once where the right-hand side is evaluated twice at one azimuth (RK4's middle
+/// stages), as `Angles::new` would find them.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Azimuth {
+    psi: f64,
+    first: (f64, f64),
+    second: (f64, f64),
+}
+
 /// The steady periodic solution of a rotor at an operating state.
 pub struct Blade<'a> {
     pub(super) rotor: &'a Rotor,
@@ -87,7 +97,19 @@ impl<'a> Blade<'a> {
 
     /// Flap (or teeter) acceleration per unit azimuth squared.
     pub(super) fn flap_rhs(&self, op: &Operating, psi: f64, s: [f64; 2]) -> [f64; 2] {
-        self.flap_rhs_sampled(op, psi, s, None)
+        self.flap_rhs_sampled(op, self.azimuth(psi), s, None)
+    }
+
+    /// The sines and cosines of azimuth `psi` that the flap equation uses: blade 1's, and a
+    /// teetering rotor's blade 2's at `psi + pi`. A rigid rotor's are found where its loads are
+    /// sampled, the only place it uses them.
+    pub(super) fn azimuth(&self, psi: f64) -> Azimuth {
+        let (first, second) = match self.rotor.hub {
+            Hub::Rigid => ((0.0, 0.0), (0.0, 0.0)),
+            Hub::Articulated => (psi.sin_cos(), (0.0, 0.0)),
+            Hub::Teetering => (psi.sin_cos(), (psi + PI).sin_cos()),
+        };
+        Azimuth { psi, first, second }
     }
 
     /// [`Self::flap_rhs`], adding the blades' loads at this point to a revolution's `sums` when
@@ -95,7 +117,7 @@ impl<'a> Blade<'a> {
     pub(super) fn flap_rhs_sampled(
         &self,
         op: &Operating,
-        psi: f64,
+        azimuth: Azimuth,
         s: [f64; 2],
         sums: Option<&mut RevolutionSums>,
     ) -> [f64; 2] {
@@ -105,7 +127,7 @@ impl<'a> Blade<'a> {
             Hub::Rigid => {
                 if let Some(sums) = sums {
                     let [(b1, d1), _] = self.blade_angles(op, s);
-                    let a1 = Angles::new(psi, b1);
+                    let a1 = Angles::new(azimuth.psi, b1);
                     sums.add(self, op, (a1, b1, d1, self.loads_at(op, a1, d1)), None);
                 }
                 return [0.0, 0.0];
@@ -114,7 +136,10 @@ impl<'a> Blade<'a> {
                 // I_t = 2 I_beta; the moments of the two blades oppose about the teeter hinge,
                 // and so do their centrifugal moments: -I Omega^2 (sin b1 cos b1 - sin b2 cos b2).
                 let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
-                let (a1, a2) = (Angles::new(psi, b1), Angles::new(psi + PI, b2));
+                let (a1, a2) = (
+                    Angles::at(azimuth.first, b1),
+                    Angles::at(azimuth.second, b2),
+                );
                 let (l1, l2) = (self.loads_at(op, a1, d1), self.loads_at(op, a2, d2));
                 let (m1, m2) = (l1.flap_moment_n_m, l2.flap_moment_n_m);
                 if let Some(sums) = sums {
@@ -139,7 +164,7 @@ impl<'a> Blade<'a> {
         }
         let beta = s[0];
         let beta_dot = s[1] * w;
-        let angles = Angles::new(psi, beta);
+        let angles = Angles::at(azimuth.first, beta);
         let l = self.loads_at(op, angles, beta_dot);
         if let Some(sums) = sums {
             sums.add(self, op, (angles, beta, beta_dot, l), None);

@@ -689,7 +689,11 @@ pub struct Angles {
 impl Angles {
     /// At azimuth `psi_rad` and flap angle `beta` (rad).
     pub fn new(psi_rad: f64, beta: f64) -> Self {
-        let (sp, cp) = psi_rad.sin_cos();
+        Self::at(psi_rad.sin_cos(), beta)
+    }
+
+    /// At an azimuth whose sine and cosine are `(sp, cp)`, and flap angle `beta` (rad).
+    pub(crate) fn at((sp, cp): (f64, f64), beta: f64) -> Self {
         let (sb, cb) = beta.sin_cos();
         Self { sp, cp, sb, cb }
     }
