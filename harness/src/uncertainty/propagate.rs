@@ -659,9 +659,9 @@ fn warm_starts(case: &Case) -> Vec<Start> {
     out
 }
 
-/// A sample's linearisations at the nominal conditions, each trim started from the nominal
-/// one's; its checks then find them remembered. A trim that fails here is remembered as failed
-/// and the check says so.
+/// A point's linearisations at the case's conditions, each trim started from a nearby trim's
+/// at that condition (`starts`: the nominal case's, or a row of `A`'s); its checks then find
+/// them remembered. A trim that fails here is remembered as failed and the check says so.
 fn prime(case: &Case, starts: &[Start]) {
     if let Subject::Aircraft { file, loading } = &case.subject {
         for (request, start) in starts {
