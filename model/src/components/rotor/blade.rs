@@ -97,7 +97,11 @@ impl<'a> Blade<'a> {
 
     /// Flap (or teeter) acceleration per unit azimuth squared.
     pub(super) fn flap_rhs(&self, op: &Operating, psi: f64, s: [f64; 2]) -> [f64; 2] {
-        self.flap_rhs_sampled(op, self.azimuth(psi), s, None)
+        let angles = |second: bool, beta: f64| match second {
+            false => Angles::new(psi, beta),
+            true => Angles::new(psi + PI, beta),
+        };
+        self.flap_rhs_with(op, psi, angles, s, None)
     }
 
     /// The sines and cosines of azimuth `psi` that the flap equation uses: blade 1's, and a
@@ -112,12 +116,31 @@ impl<'a> Blade<'a> {
         Azimuth { psi, first, second }
     }
 
-    /// [`Self::flap_rhs`], adding the blades' loads at this point to a revolution's `sums` when
-    /// given (the loads the right-hand side needs anyway, so sampling them costs nothing more).
+    /// [`Self::flap_rhs`] at an azimuth whose sines and cosines are known, adding the blades'
+    /// loads at this point to a revolution's `sums` when given (the loads the right-hand side
+    /// needs anyway, so sampling them costs nothing more).
     pub(super) fn flap_rhs_sampled(
         &self,
         op: &Operating,
-        azimuth: Azimuth,
+        azimuth: &Azimuth,
+        s: [f64; 2],
+        sums: Option<&mut RevolutionSums>,
+    ) -> [f64; 2] {
+        let angles = |second: bool, beta: f64| match second {
+            false => Angles::at(azimuth.first, beta),
+            true => Angles::at(azimuth.second, beta),
+        };
+        self.flap_rhs_with(op, azimuth.psi, angles, s, sums)
+    }
+
+    /// The flap equation at azimuth `psi`, `angles(second, beta)` giving blade 1's angles
+    /// (`second` false) or a teetering rotor's blade 2's, half a revolution on.
+    #[inline]
+    fn flap_rhs_with(
+        &self,
+        op: &Operating,
+        psi: f64,
+        angles: impl Fn(bool, f64) -> Angles,
         s: [f64; 2],
         sums: Option<&mut RevolutionSums>,
     ) -> [f64; 2] {
@@ -127,7 +150,7 @@ impl<'a> Blade<'a> {
             Hub::Rigid => {
                 if let Some(sums) = sums {
                     let [(b1, d1), _] = self.blade_angles(op, s);
-                    let a1 = Angles::new(azimuth.psi, b1);
+                    let a1 = Angles::new(psi, b1);
                     sums.add(self, op, (a1, b1, d1, self.loads_at(op, a1, d1)), None);
                 }
                 return [0.0, 0.0];
@@ -136,10 +159,7 @@ impl<'a> Blade<'a> {
                 // I_t = 2 I_beta; the moments of the two blades oppose about the teeter hinge,
                 // and so do their centrifugal moments: -I Omega^2 (sin b1 cos b1 - sin b2 cos b2).
                 let [(b1, d1), (b2, d2)] = self.blade_angles(op, s);
-                let (a1, a2) = (
-                    Angles::at(azimuth.first, b1),
-                    Angles::at(azimuth.second, b2),
-                );
+                let (a1, a2) = (angles(false, b1), angles(true, b2));
                 let (l1, l2) = (self.loads_at(op, a1, d1), self.loads_at(op, a2, d2));
                 let (m1, m2) = (l1.flap_moment_n_m, l2.flap_moment_n_m);
                 if let Some(sums) = sums {
@@ -164,7 +184,7 @@ impl<'a> Blade<'a> {
         }
         let beta = s[0];
         let beta_dot = s[1] * w;
-        let angles = Angles::at(azimuth.first, beta);
+        let angles = angles(false, beta);
         let l = self.loads_at(op, angles, beta_dot);
         if let Some(sums) = sums {
             sums.add(self, op, (angles, beta, beta_dot, l), None);

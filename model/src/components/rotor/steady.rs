@@ -245,10 +245,10 @@ impl Blade<'_> {
         let add = |a: [f64; 2], k: [f64; 2], f: f64| [a[0] + f * k[0], a[1] + f * k[1]];
         // The middle stages share their azimuth's sines and cosines.
         let middle = self.azimuth(psi + 0.5 * h);
-        let k1 = self.flap_rhs_sampled(op, self.azimuth(psi), s, sums);
-        let k2 = self.flap_rhs_sampled(op, middle, add(s, k1, 0.5 * h), None);
-        let k3 = self.flap_rhs_sampled(op, middle, add(s, k2, 0.5 * h), None);
-        let k4 = self.flap_rhs_sampled(op, self.azimuth(psi + h), add(s, k3, h), None);
+        let k1 = self.flap_rhs_sampled(op, &self.azimuth(psi), s, sums);
+        let k2 = self.flap_rhs_sampled(op, &middle, add(s, k1, 0.5 * h), None);
+        let k3 = self.flap_rhs_sampled(op, &middle, add(s, k2, 0.5 * h), None);
+        let k4 = self.flap_rhs_sampled(op, &self.azimuth(psi + h), add(s, k3, h), None);
         [
             s[0] + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]),
             s[1] + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]),
