@@ -242,6 +242,12 @@ impl Blade<'_> {
         h: f64,
         sums: Option<&mut RevolutionSums>,
     ) -> [f64; 2] {
+        if self.rotor.hub == Hub::Rigid {
+            // A rigid rotor's blades do not flap: their state stays, and only the first stage's
+            // loads are taken.
+            self.flap_rhs_sampled(op, &self.azimuth(psi), s, sums);
+            return s;
+        }
         let add = |a: [f64; 2], k: [f64; 2], f: f64| [a[0] + f * k[0], a[1] + f * k[1]];
         // The middle stages share their azimuth's sines and cosines.
         let middle = self.azimuth(psi + 0.5 * h);
