@@ -513,7 +513,9 @@ fn sample(
     let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
     let starts = warm_starts(case);
     let units = design.points();
-    let evaluate = |u: &[f64], starts: &[Start]| -> (Point, Vec<Start>) {
+    // Each point evaluated from `starts`; with `keep`, its own trims kept for the points
+    // that start from it (only `A`'s are).
+    let evaluate = |u: &[f64], starts: &[Start], keep: bool| -> (Point, Vec<Start>) {
         let values: Vec<f64> = inputs
             .iter()
             .zip(u)
@@ -524,7 +526,7 @@ fn sample(
             Ok(c) => {
                 prime(&c, starts);
                 let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
-                let own = warm_starts(&c);
+                let own = if keep { warm_starts(&c) } else { Vec::new() };
                 if let Subject::Aircraft { file, .. } = &c.subject {
                     crate::forget_linearisations(file);
                 }
@@ -537,13 +539,14 @@ fn sample(
     };
     let n = design.n;
     let (a_and_b, rest) = units.split_at(2 * n);
-    let first = crate::parallel_map(a_and_b, |u| evaluate(u, &starts));
-    let indexed: Vec<(usize, &Vec<f64>)> = rest.iter().enumerate().collect();
-    let second = crate::parallel_map(&indexed, |(k, u)| {
+    let first: Vec<(usize, &Vec<f64>)> = a_and_b.iter().enumerate().collect();
+    let first = crate::parallel_map(&first, |(k, u)| evaluate(u, &starts, *k < n));
+    let rest: Vec<(usize, &Vec<f64>)> = rest.iter().enumerate().collect();
+    let second = crate::parallel_map(&rest, |(k, u)| {
         let row = &first[k % n].1;
-        evaluate(u, if row.is_empty() { &starts } else { row })
+        evaluate(u, if row.is_empty() { &starts } else { row }, false).0
     });
-    let points = first.into_iter().chain(second).map(|(p, _)| p).collect();
+    let points = first.into_iter().map(|(p, _)| p).chain(second).collect();
     Ok((points, design))
 }
 
