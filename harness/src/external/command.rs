@@ -6,8 +6,19 @@
 //! (a time history: a CSV of changes from trim, the columns `cierva simulate` reads) and where
 //! to write the response (JSON; a time history as CSV). Every failure is an error that names
 //! the command: not found, a non-zero exit (with the last lines of its stderr), a timeout (the
-//! process is killed), a response that is missing or does not parse (with where), a quantity
-//! that is not cierva's.
+//! process is killed), a response that is missing, too large or does not parse (with where), a
+//! quantity that is not cierva's, a number too small for a double.
+//!
+//! A misbehaving model costs bounded time and memory:
+//! - on Unix the command leads a process group of its own, and at its timeout, at a response
+//!   past its size limit, and when it exits, the whole group is killed: nothing it started
+//!   lives on (on Windows, its process tree, by `taskkill /T`);
+//! - its stderr is read as it comes through a pipe, and only its last [`STDERR_KEEP_BYTES`] are
+//!   kept; an error shows its last [`STDERR_LINES`] lines, each cut to
+//!   [`crate::inputs::yaml::EXCERPT_CHARS`] characters; its stdout is not read;
+//! - its response's size is watched while it runs and refused past [`response_limit_bytes`];
+//! - identical requests in one run are answered by one run of the command, however many checks
+//!   ask at once.
 
 use super::{ControlChanges, FlightModel, Quantities, trim_name};
 use crate::run::replay::Replayed;
@@ -15,19 +26,49 @@ use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap};
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::sync::Mutex;
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError, mpsc};
 use std::time::{Duration, Instant};
 
 /// The protocol's name and version, in every request and response.
 pub const PROTOCOL: &str = "cierva-external/1";
 
 /// The last lines of a failing command's stderr shown in its error.
-const STDERR_LINES: usize = 20;
+pub const STDERR_LINES: usize = 20;
 
-/// How often a running command is polled for its exit (it is killed at its timeout).
+/// How often a running command is polled for its exit and its response's size (it is killed
+/// at its timeout, or as soon as its response passes its limit).
 const POLL: Duration = Duration::from_millis(5);
+
+/// The end of a command's stderr kept for its error, bytes: [`STDERR_LINES`] lines of a
+/// screen's width are 2 kB, and 64 KiB keeps them where lines are long. The rest is read and
+/// dropped as it comes: a model that wrote one 50 MB line once took `validate` to 2.1 GB.
+pub const STDERR_KEEP_BYTES: usize = 64 * 1024;
+
+/// How long cierva waits, once the command has exited and its process group is killed, for
+/// its stderr to close: a process that left the group (a new session) may still hold it, and
+/// is not waited for.
+const STDERR_GRACE: Duration = Duration::from_secs(1);
+
+/// The largest response to a trim or linear-model request, bytes (1 MiB): a linear model with
+/// cierva's 10 states and 4 controls, at 25 characters a number, is 4 kB.
+pub const MAX_RESPONSE_BYTES: u64 = 1024 * 1024;
+
+/// The most bytes a time-history response may take per row asked for, on top of
+/// [`MAX_RESPONSE_BYTES`]: a row of `time_s` and the 10 responses at 25 characters a number is
+/// under 300 B. A model that wrote 20 million rows where 501 were asked (440 MB) once took 32 s
+/// and 2.9 GB before its row count was refused.
+pub const MAX_HISTORY_ROW_BYTES: u64 = 4096;
+
+/// The largest response to a request for `compute` (`rows` rows for a time history), bytes.
+pub fn response_limit_bytes(compute: Compute, rows: usize) -> u64 {
+    match compute {
+        Compute::TimeHistory => MAX_RESPONSE_BYTES + rows as u64 * MAX_HISTORY_ROW_BYTES,
+        _ => MAX_RESPONSE_BYTES,
+    }
+}
 
 /// What a request asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,10 +95,14 @@ pub struct ExternalCommand {
     pub command: Vec<String>,
     pub dir: PathBuf,
     pub timeout: Duration,
-    /// Answers by request (the request's JSON without its paths): a case's checks at one
-    /// condition share one run.
-    answers: Mutex<HashMap<String, Result<Answer, String>>>,
+    /// Answers by request (what the request asks, without its paths): a case's checks at one
+    /// condition share one run. Each request has one cell, filled once: a check that asks
+    /// while another's identical request runs waits for its answer.
+    answers: Mutex<HashMap<String, Arc<AnswerCell>>>,
 }
+
+/// One request's answer, filled once.
+type AnswerCell = OnceLock<Result<Answer, String>>;
 
 #[derive(Debug, Clone)]
 enum Answer {
@@ -90,14 +135,17 @@ impl ExternalCommand {
         controls: Option<&ControlChanges>,
     ) -> Result<Answer, String> {
         let key = format!("{}|{condition:?}|{loading:?}|{controls:?}", compute.name());
-        if let Some(hit) = self.answers.lock().ok().and_then(|a| a.get(&key).cloned()) {
-            return hit;
-        }
-        let answer = self.run(compute, condition, loading, controls);
-        if let Ok(mut a) = self.answers.lock() {
-            a.insert(key, answer.clone());
-        }
-        answer
+        // The map's lock is held only to find the request's cell; the cell's own lock is held
+        // while the command runs, by the first check that asks.
+        let cell = Arc::clone(
+            self.answers
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .entry(key)
+                .or_default(),
+        );
+        cell.get_or_init(|| self.run(compute, condition, loading, controls))
+            .clone()
     }
 
     fn run(
@@ -153,28 +201,33 @@ impl ExternalCommand {
         let text = serde_json::to_string_pretty(&request).map_err(|e| e.to_string())?;
         std::fs::write(&request_path, text)
             .map_err(|e| format!("writing {}: {e}", request_path.display()))?;
-        self.execute(dir, &request_path)?;
-        let text = std::fs::read_to_string(&response).map_err(|e| {
+        let rows = controls.map_or(0, |c| c.samples + 1);
+        let limit = response_limit_bytes(compute, rows);
+        self.execute(&request_path, &response, limit)?;
+        let size = std::fs::metadata(&response).map_err(|e| {
             format!(
                 "exited 0 but wrote no response at {} ({e})",
                 response.display()
             )
         })?;
+        if size.len() > limit {
+            return Err(too_large(size.len(), limit, compute, rows));
+        }
+        let text = std::fs::read_to_string(&response)
+            .map_err(|e| format!("its response at {} ({e})", response.display()))?;
         match compute {
             Compute::Trim => parse_trim(&text).map(Answer::Trim),
             Compute::LinearModel => parse_linear(&text).map(Answer::Linear),
-            Compute::TimeHistory => {
-                super::files::parse_history(&text, Some(controls.map_or(0, |c| c.samples + 1)))
-                    .map(Answer::History)
-                    .map_err(|e| format!("(CSV): {e}"))
-            }
+            Compute::TimeHistory => super::files::parse_history(&text, Some(rows))
+                .map(Answer::History)
+                .map_err(|e| format!("(CSV): {e}")),
         }
         .map_err(|e| format!("its response {e}"))
     }
 
-    /// Runs the command with `request` as its last argument, in the case's folder; its stdout
-    /// and stderr go to files in `dir`.
-    fn execute(&self, dir: &Path, request: &Path) -> Result<(), String> {
+    /// Runs the command with `request` as its last argument, in the case's folder, until it
+    /// exits, passes its timeout, or writes a response past `limit` bytes.
+    fn execute(&self, request: &Path, response: &Path, limit: u64) -> Result<(), String> {
         let Some((program, args)) = self.command.split_first() else {
             return Err("the command is empty".into());
         };
@@ -184,76 +237,198 @@ impl ExternalCommand {
         } else {
             PathBuf::from(program)
         };
-        let stdout_path = dir.join("stdout.txt");
-        let stderr_path = dir.join("stderr.txt");
-        let file = |p: &Path| {
-            std::fs::File::create(p).map_err(|e| format!("creating {}: {e}", p.display()))
-        };
-        let mut child = Command::new(&program)
+        let mut command = Command::new(&program);
+        command
             .args(args)
             .arg(request)
             .current_dir(&self.dir)
             .stdin(Stdio::null())
-            .stdout(file(&stdout_path)?)
-            .stderr(file(&stderr_path)?)
-            .spawn()
-            .map_err(|e| match e.kind() {
-                std::io::ErrorKind::NotFound => format!(
-                    "`{}` was not found (a bare name is looked up on PATH, a path is relative to \
-                     the case file's folder {})",
-                    program.display(),
-                    self.dir.display()
-                ),
-                _ => format!("`{}` could not be started: {e}", program.display()),
-            })?;
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped());
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::CommandExt as _;
+            // Its own process group, led by it: what it starts is killed with it.
+            command.process_group(0);
+        }
+        let mut child = command.spawn().map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => format!(
+                "`{}` was not found (a bare name is looked up on PATH, a path is relative to \
+                 the case file's folder {})",
+                program.display(),
+                self.dir.display()
+            ),
+            _ => format!("`{}` could not be started: {e}", program.display()),
+        })?;
+        let stderr = StderrTail::read(&mut child);
         let start = Instant::now();
         let status = loop {
             match child.try_wait() {
                 Ok(Some(status)) => break status,
-                Ok(None) if start.elapsed() >= self.timeout => {
-                    let _ = child.kill();
-                    let _ = child.wait();
-                    return Err(format!(
-                        "timed out after {} s (`timeout_s`) and was killed{}",
-                        self.timeout.as_secs_f64(),
-                        tail(&stderr_path)
-                    ));
+                Ok(None) => {}
+                Err(e) => {
+                    kill_group(&mut child);
+                    return Err(format!("waiting for it: {e}"));
                 }
-                Ok(None) => std::thread::sleep(POLL),
-                Err(e) => return Err(format!("waiting for it: {e}")),
             }
+            if start.elapsed() >= self.timeout {
+                kill_group(&mut child);
+                return Err(format!(
+                    "timed out after {} s (`timeout_s`) and was killed{}",
+                    self.timeout.as_secs_f64(),
+                    stderr.finish()
+                ));
+            }
+            let written = std::fs::metadata(response).map_or(0, |m| m.len());
+            if written > limit {
+                kill_group(&mut child);
+                return Err(format!(
+                    "was killed: its response at {} passed {limit} bytes while it ran (the most \
+                     a response may take, `MAX_RESPONSE_BYTES` and `MAX_HISTORY_ROW_BYTES` a row \
+                     asked for){}",
+                    response.display(),
+                    stderr.finish()
+                ));
+            }
+            std::thread::sleep(POLL);
         };
+        // It has exited: whatever it left running in its group goes too (and lets go of the
+        // stderr pipe).
+        kill_group(&mut child);
+        let tail = stderr.finish();
         if !status.success() {
             let code = status.code().map_or_else(
                 || "was killed by a signal".to_string(),
                 |c| format!("exited {c}"),
             );
-            return Err(format!("{code}{}", tail(&stderr_path)));
+            return Err(format!("{code}{tail}"));
         }
         Ok(())
     }
 }
 
-/// The last lines of a command's stderr, as the end of an error message.
-fn tail(path: &Path) -> String {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
-    let lines: Vec<&str> = text.lines().collect();
-    if lines.is_empty() {
-        return "; its stderr is empty".into();
+/// Kills a command's process group (on Unix; its process tree on Windows) and reaps the
+/// command. The group is the command's own ([`Command::process_group`]), so no other process
+/// of cierva's is in it.
+fn kill_group(child: &mut Child) {
+    #[cfg(unix)]
+    if let Ok(pid) = libc::pid_t::try_from(child.id()) {
+        // SAFETY: `kill` takes plain integers and touches no memory of ours; a negative pid
+        // names the process group the command leads, which only it and what it started are in.
+        unsafe {
+            libc::kill(-pid, libc::SIGKILL);
+        }
     }
-    let from = lines.len().saturating_sub(STDERR_LINES);
-    format!(
-        "; its stderr{}:\n{}",
-        if from > 0 {
-            format!(" (last {STDERR_LINES} lines)")
+    #[cfg(windows)]
+    {
+        let _ = Command::new("taskkill")
+            .args(["/T", "/F", "/PID", &child.id().to_string()])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
+/// The end of a command's stderr, read as it comes by a thread of its own (see
+/// [`STDERR_KEEP_BYTES`]).
+struct StderrTail {
+    kept: Arc<Mutex<Kept>>,
+    closed: mpsc::Receiver<()>,
+}
+
+#[derive(Default)]
+struct Kept {
+    bytes: Vec<u8>,
+    /// Bytes read and dropped before `bytes`.
+    dropped: u64,
+}
+
+impl StderrTail {
+    fn read(child: &mut Child) -> Self {
+        let kept = Arc::new(Mutex::new(Kept::default()));
+        let (done, closed) = mpsc::channel();
+        if let Some(mut pipe) = child.stderr.take() {
+            let into = Arc::clone(&kept);
+            std::thread::spawn(move || {
+                let mut buf = [0u8; 8192];
+                while let Ok(n) = pipe.read(&mut buf) {
+                    if n == 0 {
+                        break;
+                    }
+                    let mut k = into.lock().unwrap_or_else(PoisonError::into_inner);
+                    k.bytes.extend_from_slice(&buf[..n]);
+                    if k.bytes.len() > 2 * STDERR_KEEP_BYTES {
+                        let cut = k.bytes.len() - STDERR_KEEP_BYTES;
+                        k.bytes.drain(..cut);
+                        k.dropped += cut as u64;
+                    }
+                }
+                let _ = done.send(());
+            });
+        }
+        Self { kept, closed }
+    }
+
+    /// What it wrote, as the end of an error message, once the pipe has closed (or after
+    /// [`STDERR_GRACE`]).
+    fn finish(&self) -> String {
+        let _ = self.closed.recv_timeout(STDERR_GRACE);
+        let k = self.kept.lock().unwrap_or_else(PoisonError::into_inner);
+        let total = k.dropped + k.bytes.len() as u64;
+        // The window's first bytes may fall inside a UTF-8 character or a line: the text starts
+        // at the first whole one.
+        let text = String::from_utf8_lossy(&k.bytes);
+        let lines: Vec<&str> = text.lines().collect();
+        if lines.is_empty() {
+            return "; its stderr is empty".into();
+        }
+        let from = lines.len().saturating_sub(STDERR_LINES);
+        let shown: Vec<String> = lines[from..]
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let begun_before = i == 0 && from == 0 && k.dropped > 0;
+                format!(
+                    "  | {}{}",
+                    if begun_before { "..." } else { "" },
+                    cut_line(l)
+                )
+            })
+            .collect();
+        let what = if k.dropped > 0 || from > 0 {
+            format!(" (its last {} lines of {total} bytes)", shown.len())
         } else {
             String::new()
-        },
-        lines[from..]
-            .iter()
-            .map(|l| format!("  | {l}"))
-            .collect::<Vec<_>>()
-            .join("\n")
+        };
+        format!("; its stderr{what}:\n{}", shown.join("\n"))
+    }
+}
+
+/// A line of stderr cut to [`crate::inputs::yaml::EXCERPT_CHARS`] characters, saying how many
+/// more there were.
+fn cut_line(line: &str) -> String {
+    let max = crate::inputs::yaml::EXCERPT_CHARS;
+    let n = line.chars().count();
+    if n <= max {
+        return line.to_string();
+    }
+    let head: String = line.chars().take(max).collect();
+    format!("{head}... ({} more characters)", n - max)
+}
+
+/// The error for a response of `size` bytes past `limit`.
+fn too_large(size: u64, limit: u64, compute: Compute, rows: usize) -> String {
+    let asked = match compute {
+        Compute::TimeHistory => format!(" for {rows} rows"),
+        _ => String::new(),
+    };
+    format!(
+        "its response is {size} bytes, past the {limit} a {} response{asked} may take \
+         (`MAX_RESPONSE_BYTES`, `MAX_HISTORY_ROW_BYTES`); it was not read",
+        compute.name()
     )
 }
 
@@ -297,6 +472,9 @@ fn parse_json<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, String> {
         Some(PROTOCOL) => {}
         Some(p) => return Err(format!("says protocol `{p}`; cierva speaks `{PROTOCOL}`")),
         None => return Err(format!("has no `protocol` (`{PROTOCOL}`)")),
+    }
+    if let Some((line, column, message)) = crate::inputs::yaml::json_underflow(text) {
+        return Err(format!("at line {line} column {column}: {message}"));
     }
     serde_json::from_str(text).map_err(|e| format!("does not parse: {e}"))
 }

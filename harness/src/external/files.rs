@@ -90,12 +90,11 @@ fn read_csv(text: &str) -> Result<Table, CsvError> {
         }
         let mut row = Vec::with_capacity(cells.len());
         for (k, c) in cells.iter().enumerate() {
-            let v = c.trim().parse::<f64>().ok().filter(|v| v.is_finite());
-            row.push(v.ok_or_else(|| {
+            row.push(crate::inputs::yaml::number(c).map_err(|e| {
                 CsvError::at(
                     n,
                     Some(crate::inputs::yaml::csv_field_column(line, k)),
-                    format!("`{}`: `{}` is not a finite number", columns[k], c.trim()),
+                    format!("`{}`: {e}", columns[k]),
                 )
             })?);
         }

@@ -137,21 +137,8 @@ pub fn read(path: &Path) -> Result<ControlTable, InputError> {
             ));
         }
         let value = |k: usize| -> Result<f64, InputError> {
-            cells[k]
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    at_cell(
-                        line,
-                        l,
-                        k,
-                        format!(
-                            "`{}` in column `{}` is not a finite number",
-                            cells[k], names[k]
-                        ),
-                    )
-                })
+            crate::inputs::yaml::number(cells[k])
+                .map_err(|e| at_cell(line, l, k, format!("column `{}`: {e}", names[k])))
         };
         let t = value(time_col)?;
         if let Some(&last) = table.time_s.last()

@@ -405,6 +405,15 @@ fn samples<'a>(
                     format!("channel `{}` is {x}", channels[k]),
                 ));
             }
+            if let Err(e) = crate::inputs::yaml::number(v) {
+                return Err(at_field(
+                    csv_path,
+                    line_no + 1,
+                    line,
+                    k,
+                    format!("channel `{}`: {e}", channels[k]),
+                ));
+            }
             data[k].push(x);
         }
     }

@@ -156,6 +156,87 @@ pub fn csv_field_column(line: &str, k: usize) -> usize {
     start + pad + 1
 }
 
+/// A number as a file or a model writes it (`3.2`, `-1e-3`): `Err` with the reason for text that
+/// is not a number, a number that is not finite, and a number too small for a double (below
+/// about 5e-324), which the standard parser would read as 0 without a word (`1e-400`).
+pub fn number(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let v: f64 = t
+        .parse()
+        .map_err(|_| format!("`{}` is not a number", shorten(t, EXCERPT_CHARS)))?;
+    if !v.is_finite() {
+        return Err(format!(
+            "`{}` is not a finite number",
+            shorten(t, EXCERPT_CHARS)
+        ));
+    }
+    if underflows(t, v) {
+        return Err(underflow_message(t));
+    }
+    Ok(v)
+}
+
+/// Whether the number written `t` (which reads as `v`) is not zero but reads as zero.
+fn underflows(t: &str, v: f64) -> bool {
+    v == 0.0
+        && t.split(['e', 'E'])
+            .next()
+            .is_some_and(|mantissa| mantissa.bytes().any(|b| (b'1'..=b'9').contains(&b)))
+}
+
+fn underflow_message(t: &str) -> String {
+    format!(
+        "`{}` is too small for a double (the smallest is about 5e-324) and would read as 0: \
+         write 0 where 0 is meant",
+        shorten(t, EXCERPT_CHARS)
+    )
+}
+
+/// The first number in a JSON text that is not zero but would read as zero (`1e-400`), with
+/// its 1-based line and column: JSON parsers take it as 0 without a word.
+pub fn json_underflow(text: &str) -> Option<(usize, usize, String)> {
+    let bytes = text.as_bytes();
+    let (mut line, mut line_start) = (1, 0);
+    let mut in_string = false;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if in_string {
+            match b {
+                b'\\' => i += 1,
+                b'"' => in_string = false,
+                b'\n' => (line, line_start) = (line + 1, i + 1),
+                _ => {}
+            }
+            i += 1;
+            continue;
+        }
+        match b {
+            b'"' => in_string = true,
+            b'\n' => (line, line_start) = (line + 1, i + 1),
+            b'-' | b'0'..=b'9' => {
+                let start = i;
+                while i < bytes.len()
+                    && matches!(bytes[i], b'-' | b'+' | b'.' | b'e' | b'E' | b'0'..=b'9')
+                {
+                    i += 1;
+                }
+                let t = &text[start..i];
+                if let Ok(v) = t.parse::<f64>()
+                    && underflows(t, v)
+                {
+                    let column = text[line_start..start].chars().count() + 1;
+                    return Some((line, column, underflow_message(t)));
+                }
+                continue;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    None
+}
+
 /// The closest name by edit distance, if it is close enough to be a likely typo.
 pub fn nearest<'a>(want: &str, have: &'a [String]) -> Option<&'a str> {
     have.iter()

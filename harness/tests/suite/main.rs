@@ -21,6 +21,7 @@ mod frequency_response;
 mod frequency_response_check;
 mod identification;
 mod limits;
+mod misbehaving;
 mod mutation;
 mod old_spelling;
 mod quoted;

@@ -968,3 +968,44 @@ fn a_scores_history_is_a_sparkline_of_its_finite_values() {
     let alone = sparkline_svg(&[], &spark("now", 2.0)).unwrap();
     assert_eq!(alone.matches("<circle").count(), 1, "{alone}");
 }
+
+mod yaml_numbers {
+    use cierva_harness::inputs::yaml;
+
+    #[test]
+    fn a_number_too_small_for_a_double_is_refused_not_read_as_zero() {
+        assert_eq!(yaml::number(" 1.5e-3 "), Ok(1.5e-3));
+        assert_eq!(yaml::number("0"), Ok(0.0));
+        assert_eq!(yaml::number("-0.000e-999"), Ok(0.0));
+        assert_eq!(yaml::number("4.9e-324"), Ok(4.9e-324));
+        for bad in ["1e-400", "-2.5E-330", "0.0001e-400"] {
+            let e = yaml::number(bad).unwrap_err();
+            assert!(e.contains("too small for a double"), "{bad}: {e}");
+        }
+        assert!(
+            yaml::number("1e400")
+                .unwrap_err()
+                .contains("not a finite number")
+        );
+        assert!(
+            yaml::number("NaN")
+                .unwrap_err()
+                .contains("not a finite number")
+        );
+        assert!(yaml::number("x").unwrap_err().contains("not a number"));
+    }
+
+    #[test]
+    fn a_json_number_that_underflows_is_located() {
+        assert_eq!(
+            yaml::json_underflow(r#"{"a": [1e-300, 0.0, -0e-500]}"#),
+            None
+        );
+        // Inside a string it is text, not a number.
+        assert_eq!(yaml::json_underflow(r#"{"a\"1e-400": "1e-400"}"#), None);
+        let (line, column, message) =
+            yaml::json_underflow("{\n  \"trim\": {\"pitch_deg\": 1e-400}\n}").unwrap();
+        assert_eq!((line, column), (2, 25));
+        assert!(message.contains("`1e-400`"), "{message}");
+    }
+}
