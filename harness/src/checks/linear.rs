@@ -309,7 +309,9 @@ fn on_external<K: OnLinear>(
         .setup()
         .condition
         .ok_or("a check on an external model's linear model needs a condition")?;
-    let full = e.model.linear_model(request, e.loading)?;
+    let full = e
+        .model
+        .linear_model(&crate::external::Request::at(request, e.loading))?;
     let model = if k.longitudinal() {
         longitudinal(&full)?
     } else {

@@ -71,6 +71,10 @@ pub struct FilesSpec {
 #[serde(deny_unknown_fields)]
 pub struct ExternalSpec {
     pub command: Vec<String>,
+    /// The protocol it speaks: `cierva-external/1` (the default) or `cierva-external/2`
+    /// (`describe`, and parameters in requests).
+    #[serde(default)]
+    pub protocol: Option<String>,
     /// The longest one request may run, s; the process is killed after it.
     pub timeout_s: f64,
     /// Mass, kg (passed to the model; none: the model's own).
@@ -286,10 +290,16 @@ fn external(
             format!("must be in (0, {MAX_TIMEOUT_S}] s, got {}", x.timeout_s),
         ));
     }
-    let command = crate::external::command::ExternalCommand::new(
+    let protocol = match &x.protocol {
+        None => crate::external::command::Protocol::V1,
+        Some(p) => crate::external::command::Protocol::parse(p)
+            .map_err(|e| err("model.external.protocol", e))?,
+    };
+    let command = crate::external::command::ExternalCommand::speaking(
         x.command.clone(),
         dir.to_path_buf(),
         std::time::Duration::from_secs_f64(x.timeout_s),
+        protocol,
     );
     Ok(Subject::External(Box::new(crate::external::External {
         written: format!("command: {}", command.written()),

@@ -278,7 +278,10 @@ pub fn fly_model(
         sample_s: record.dt_s(),
         samples,
     };
-    let flown = model.time_history(check.condition, loading, &controls)?;
+    let flown = model.time_history(
+        &crate::external::Request::at(check.condition, loading),
+        &controls,
+    )?;
     if strict {
         crate::external::check_response(
             &model.describe(),

@@ -76,7 +76,7 @@ impl Evaluate for TrimCheck {
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
         let (model, loading) = super::flight_model(at.subject)
             .ok_or("a trim check needs an aircraft or an external model")?;
-        let values = model.trim(self.condition, loading)?;
+        let values = model.trim(&crate::external::Request::at(self.condition, loading))?;
         if let Some(e) = expectations
             .iter()
             .find(|e| !values.iter().any(|(n, _)| *n == e.quantity))

@@ -133,7 +133,7 @@ pub fn trim_sweep_of(
         .map(|&v| {
             let request = crate::TrimRequest::level(v);
             model
-                .trim(request, loading)
+                .trim(&crate::external::Request::at(request, loading))
                 .map(|q| (v, q))
                 .map_err(|e| format!("at {v} mph: {e}"))
         })

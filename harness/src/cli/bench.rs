@@ -903,10 +903,10 @@ fn fitting(out: &Rows) {
     // throttle).
     if let Ok(ac) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml")) {
         use cierva_harness::fit::{
-            self, FitOptions, FitSubject, Measure, Parameter, ParameterKind, Problem, Target,
+            self, FitOptions, FitParameter, FitSubject, Measure, ParameterKind, Problem, Target,
             TargetCondition,
         };
-        let par = |kind: ParameterKind, lower, upper| Parameter {
+        let par = |kind: ParameterKind, lower, upper| FitParameter {
             kind,
             lower,
             upper,
@@ -974,7 +974,7 @@ fn fitting(out: &Rows) {
 /// turbulence 0.3 m/s, the pilot's hold) of the VPM M16 with hidden corrections, at one and at
 /// three airspeeds. One sample each, not a median (seconds each).
 fn retuning(out: &Rows) {
-    use cierva_harness::fit::retune::{self, How, Request};
+    use cierva_harness::fit::retune::{self, How, RetuneParameter};
     use cierva_harness::synth::flight;
     let Ok(file) = cierva_harness::inputs::aircraft::load(&out.file("aircraft/vpm-m16.yaml"))
     else {
@@ -1007,9 +1007,9 @@ fn retuning(out: &Rows) {
             condition,
         ))
     };
-    let requests: Vec<Request> = ["hub_aoa_factor", "profile_drag_scale"]
+    let requests: Vec<RetuneParameter> = ["hub_aoa_factor", "profile_drag_scale"]
         .iter()
-        .map(|n| Request {
+        .map(|n| RetuneParameter {
             name: n.to_string(),
             bounds: None,
         })

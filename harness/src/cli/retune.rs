@@ -1,7 +1,7 @@
 //! `cierva retune`: from flight records to retuned corrections in one command.
 
 use super::*;
-use cierva_harness::fit::retune::{self, Request};
+use cierva_harness::fit::retune::{self, RetuneParameter};
 use cierva_harness::inputs::corrections::{CorrectionsFile, Corrects};
 use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
@@ -122,7 +122,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
 }
 
 /// The parameters asked for, with `NAME=LO:HI` bounds.
-fn requests(fit: &[String], bounds: &[String]) -> Result<Vec<Request>, String> {
+fn requests(fit: &[String], bounds: &[String]) -> Result<Vec<RetuneParameter>, String> {
     let mut parsed = Vec::new();
     for b in bounds {
         let bad = || format!("--bounds `{b}`: write NAME=LO:HI");
@@ -137,7 +137,7 @@ fn requests(fit: &[String], bounds: &[String]) -> Result<Vec<Request>, String> {
     }
     Ok(fit
         .iter()
-        .map(|name| Request {
+        .map(|name| RetuneParameter {
             name: name.clone(),
             bounds: parsed.iter().find(|(n, _)| n == name).map(|(_, b)| *b),
         })

@@ -2,19 +2,32 @@
 //! need plausible (see [`cierva_harness::fit::sensitivity`]).
 
 use super::*;
+use cierva_harness::external::{CiervaAircraft, FlightModel};
 use cierva_harness::fit::sensitivity::{self, BoundedQuantity};
 
 pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
-    let (file, loading, request, quantities) = match (&a.case, &a.aircraft) {
+    // The model is a case's subject (an aircraft or another simulation), or an aircraft file.
+    let case;
+    let file;
+    let (model, loading, request, quantities): (
+        Box<dyn FlightModel + '_>,
+        _,
+        _,
+        Vec<BoundedQuantity>,
+    ) = match (&a.case, &a.aircraft) {
         (Some(path), None) => {
-            let case = cierva_harness::suite::case::load(path)?;
-            sensitivity::from_case(&case, a.airspeed_mph).map_err(Error::input)?
+            case = cierva_harness::suite::case::load(path)?;
+            let (loading, request, quantities) =
+                sensitivity::from_case(&case, a.airspeed_mph).map_err(Error::input)?;
+            let (model, _) = cierva_harness::checks::flight_model(&case.subject)
+                .expect("from_case took a flight model");
+            (model, loading, request, quantities)
         }
         (None, Some(path)) => {
             let Some(v) = a.airspeed_mph else {
                 return Err(Error::input("give --airspeed-mph with an aircraft file"));
             };
-            let file = load_aircraft(path)?;
+            file = load_aircraft(path)?;
             let loading = cierva_harness::Loading {
                 mass_kg: a.mass_kg,
                 density_altitude_ft: a.density_altitude_ft,
@@ -27,7 +40,12 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
                     bound: None,
                 })
                 .collect();
-            (file, loading, request, quantities)
+            (
+                Box::new(CiervaAircraft::new(&file)),
+                loading,
+                request,
+                quantities,
+            )
         }
         _ => {
             return Err(Error::input("give an aircraft file or --case, not both"));
@@ -50,23 +68,25 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
             })
             .collect()
     };
+    // What the model declares: a model that cannot say (a `describe` that fails) is bad input.
+    let declared = model.parameters().map_err(Error::input)?;
     let parameters: Vec<String> = if !a.parameters.is_empty() {
         a.parameters.clone()
-    } else if !file.ranges.is_empty() {
-        file.ranges.keys().cloned().collect()
     } else {
-        cierva_harness::inputs::parameters::PARAMETERS
-            .iter()
-            .filter(|p| {
-                cierva_harness::inputs::parameters::parameter(&file.aircraft, p.name).is_some()
-            })
-            .map(|p| p.name.to_string())
-            .collect()
+        sensitivity::default_parameters(&declared)
     };
-    if let Err(e) = sensitivity::check_names(&file, &parameters, &quantities) {
+    if parameters.is_empty() {
+        return Err(Error::input(format!(
+            "{} declares no parameters to move (an external model declares them in its \
+             `describe` response, protocol `cierva-external/2`)",
+            model.describe()
+        )));
+    }
+    if let Err(e) = sensitivity::check_names(&model.describe(), &declared, &parameters, &quantities)
+    {
         return Err(Error::input(e));
     }
-    match sensitivity::run(&file, request, loading, &parameters, &quantities) {
+    match sensitivity::run(model.as_ref(), request, loading, &parameters, &quantities) {
         Ok(study) => {
             match a.format {
                 Format::Text => print!("{}", cierva_harness::report::sensitivity::table(&study)),

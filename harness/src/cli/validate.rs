@@ -217,9 +217,11 @@ fn run_cases(
         let parameters = case.sensitivity.as_ref()?;
         Some(
             cierva_harness::fit::sensitivity::from_case(case, None).and_then(
-                |(file, loading, request, quantities)| {
+                |(loading, request, quantities)| {
+                    let (model, _) = cierva_harness::checks::flight_model(&case.subject)
+                        .expect("from_case took a flight model");
                     cierva_harness::fit::sensitivity::run(
-                        &file,
+                        model.as_ref(),
                         request,
                         loading,
                         parameters,

@@ -32,8 +32,42 @@ use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError, mpsc};
 use std::time::{Duration, Instant};
 
-/// The protocol's name and version, in every request and response.
+/// The protocol's first version's name, in every request and response of a model that speaks
+/// it: trim, linear model and time history at a condition and loading.
 pub const PROTOCOL: &str = "cierva-external/1";
+
+/// The second version's name: `/1`, and a `describe` request (what the model computes, its
+/// states and controls, and the parameters it declares), and `parameters` in every request.
+pub const PROTOCOL_2: &str = "cierva-external/2";
+
+/// A version of the protocol.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Protocol {
+    #[default]
+    V1,
+    V2,
+}
+
+impl Protocol {
+    /// Its name, as requests and responses carry it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::V1 => PROTOCOL,
+            Self::V2 => PROTOCOL_2,
+        }
+    }
+
+    /// The version a case names (`protocol:`), or the error that lists them.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        match name {
+            PROTOCOL => Ok(Self::V1),
+            PROTOCOL_2 => Ok(Self::V2),
+            other => Err(format!(
+                "`{other}` is not a protocol cierva speaks: `{PROTOCOL}` or `{PROTOCOL_2}`"
+            )),
+        }
+    }
+}
 
 /// The last lines of a failing command's stderr shown in its error.
 pub const STDERR_LINES: usize = 20;
@@ -76,16 +110,33 @@ pub enum Compute {
     Trim,
     LinearModel,
     TimeHistory,
+    /// What the model is (protocol `/2`): asked once, before any other request.
+    Describe,
 }
 
 impl Compute {
+    /// What a model may say it computes, in its `describe` response.
+    pub const ANSWERS: [Compute; 3] = [Self::Trim, Self::LinearModel, Self::TimeHistory];
+
     pub fn name(self) -> &'static str {
         match self {
             Self::Trim => "trim",
             Self::LinearModel => "linear_model",
             Self::TimeHistory => "time_history",
+            Self::Describe => "describe",
         }
     }
+}
+
+/// What a model says of itself in its `describe` response (protocol `/2`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Description {
+    /// What it computes, among [`Compute::ANSWERS`].
+    pub computes: Vec<Compute>,
+    /// Its states and controls, cierva's names (empty where it does not say).
+    pub states: Vec<String>,
+    pub controls: Vec<String>,
+    pub parameters: Vec<super::Parameter>,
 }
 
 /// An external command: the program and its arguments, the folder it runs in (the case
@@ -95,6 +146,10 @@ pub struct ExternalCommand {
     pub command: Vec<String>,
     pub dir: PathBuf,
     pub timeout: Duration,
+    /// The version it speaks.
+    pub protocol: Protocol,
+    /// Its `describe` response (protocol `/2`), asked once.
+    description: OnceLock<Result<Description, String>>,
     /// Answers by request (what the request asks, without its paths): a case's checks at one
     /// condition share one run. Each request has one cell, filled once: a check that asks
     /// while another's identical request runs waits for its answer.
@@ -109,16 +164,77 @@ enum Answer {
     Trim(Quantities),
     Linear(LinearModel),
     History(Replayed),
+    Described(Description),
 }
 
 impl ExternalCommand {
+    /// A command that speaks `cierva-external/1`.
     pub fn new(command: Vec<String>, dir: PathBuf, timeout: Duration) -> Self {
+        Self::speaking(command, dir, timeout, Protocol::V1)
+    }
+
+    /// A command that speaks `protocol`.
+    pub fn speaking(
+        command: Vec<String>,
+        dir: PathBuf,
+        timeout: Duration,
+        protocol: Protocol,
+    ) -> Self {
         Self {
             command,
             dir,
             timeout,
+            protocol,
+            description: OnceLock::new(),
             answers: Mutex::new(HashMap::new()),
         }
+    }
+
+    /// What the model says of itself: its `describe` response (protocol `/2`, asked once), or
+    /// for `/1` a model that may compute anything and declares no parameters.
+    pub fn description(&self) -> Result<Description, String> {
+        if self.protocol == Protocol::V1 {
+            return Ok(Description {
+                computes: Compute::ANSWERS.to_vec(),
+                states: Vec::new(),
+                controls: Vec::new(),
+                parameters: Vec::new(),
+            });
+        }
+        self.description
+            .get_or_init(|| {
+                let request = super::Request::at(
+                    TrimRequest::level(0.0),
+                    Loading {
+                        mass_kg: None,
+                        density_altitude_ft: 0.0,
+                    },
+                );
+                match self.run(Compute::Describe, &request, None)? {
+                    Answer::Described(d) => Ok(d),
+                    _ => Err("a describe request answered as another".into()),
+                }
+            })
+            .clone()
+    }
+
+    /// The request checked against what the model says of itself: it computes `compute`, and
+    /// every parameter value is one it declares, inside its range.
+    fn admissible(&self, compute: Compute, request: &super::Request) -> Result<(), String> {
+        let d = self.description()?;
+        if !d.computes.contains(&compute) {
+            return Err(format!(
+                "{} does not compute a {} (its `describe` says it computes [{}])",
+                self.describe(),
+                compute.name(),
+                d.computes
+                    .iter()
+                    .map(|c| c.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        super::check_values(&self.describe(), &d.parameters, &request.parameters)
     }
 
     /// The command as written.
@@ -130,11 +246,11 @@ impl ExternalCommand {
     fn ask(
         &self,
         compute: Compute,
-        condition: TrimRequest,
-        loading: Loading,
+        request: &super::Request,
         controls: Option<&ControlChanges>,
     ) -> Result<Answer, String> {
-        let key = format!("{}|{condition:?}|{loading:?}|{controls:?}", compute.name());
+        self.admissible(compute, request)?;
+        let key = format!("{}|{request:?}|{controls:?}", compute.name());
         // The map's lock is held only to find the request's cell; the cell's own lock is held
         // while the command runs, by the first check that asks.
         let cell = Arc::clone(
@@ -144,19 +260,18 @@ impl ExternalCommand {
                 .entry(key)
                 .or_default(),
         );
-        cell.get_or_init(|| self.run(compute, condition, loading, controls))
+        cell.get_or_init(|| self.run(compute, request, controls))
             .clone()
     }
 
     fn run(
         &self,
         compute: Compute,
-        condition: TrimRequest,
-        loading: Loading,
+        request: &super::Request,
         controls: Option<&ControlChanges>,
     ) -> Result<Answer, String> {
         let dir = scratch_dir().map_err(|e| format!("{}: {e}", self.describe()))?;
-        let out = self.run_in(&dir, compute, condition, loading, controls);
+        let out = self.run_in(&dir, compute, request, controls);
         let _ = std::fs::remove_dir_all(&dir);
         out.map_err(|e| format!("{} ({} request): {e}", self.describe(), compute.name()))
     }
@@ -165,16 +280,16 @@ impl ExternalCommand {
         &self,
         dir: &Path,
         compute: Compute,
-        condition: TrimRequest,
-        loading: Loading,
+        request: &super::Request,
         controls: Option<&ControlChanges>,
     ) -> Result<Answer, String> {
+        let (condition, loading) = (request.condition, request.loading);
         let response = dir.join(match compute {
             Compute::TimeHistory => "response.csv",
             _ => "response.json",
         });
-        let mut request = serde_json::json!({
-            "protocol": PROTOCOL,
+        let mut json = serde_json::json!({
+            "protocol": self.protocol.name(),
             "compute": compute.name(),
             "condition": {
                 "airspeed_mph": condition.airspeed_mph,
@@ -189,16 +304,25 @@ impl ExternalCommand {
             },
             "response": response,
         });
+        if compute == Compute::Describe {
+            // What the model is does not depend on a condition.
+            if let Some(o) = json.as_object_mut() {
+                o.remove("condition");
+                o.remove("loading");
+            }
+        } else if self.protocol == Protocol::V2 {
+            json["parameters"] = serde_json::json!(request.parameters);
+        }
         if let Some(c) = controls {
             let path = dir.join("controls.csv");
             std::fs::write(&path, controls_csv(c))
                 .map_err(|e| format!("writing {}: {e}", path.display()))?;
-            request["controls"] = serde_json::json!(path);
-            request["sample_s"] = serde_json::json!(c.sample_s);
-            request["samples"] = serde_json::json!(c.samples + 1);
+            json["controls"] = serde_json::json!(path);
+            json["sample_s"] = serde_json::json!(c.sample_s);
+            json["samples"] = serde_json::json!(c.samples + 1);
         }
         let request_path = dir.join("request.json");
-        let text = serde_json::to_string_pretty(&request).map_err(|e| e.to_string())?;
+        let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
         std::fs::write(&request_path, text)
             .map_err(|e| format!("writing {}: {e}", request_path.display()))?;
         let rows = controls.map_or(0, |c| c.samples + 1);
@@ -215,9 +339,11 @@ impl ExternalCommand {
         }
         let text = std::fs::read_to_string(&response)
             .map_err(|e| format!("its response at {} ({e})", response.display()))?;
+        let protocol = self.protocol.name();
         match compute {
-            Compute::Trim => parse_trim(&text).map(Answer::Trim),
-            Compute::LinearModel => parse_linear(&text).map(Answer::Linear),
+            Compute::Trim => parse_trim(&text, protocol).map(Answer::Trim),
+            Compute::LinearModel => parse_linear(&text, protocol).map(Answer::Linear),
+            Compute::Describe => parse_describe(&text).map(Answer::Described),
             Compute::TimeHistory => super::files::parse_history(&text, Some(rows))
                 .map(Answer::History)
                 .map_err(|e| format!("(CSV): {e}")),
@@ -462,16 +588,21 @@ fn controls_csv(c: &ControlChanges) -> String {
 }
 
 /// A response's JSON, with its protocol checked. Errors say where (line and column).
-fn parse_json<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, String> {
+fn parse_json<T: serde::de::DeserializeOwned>(text: &str, protocol: &str) -> Result<T, String> {
     #[derive(Deserialize)]
     struct Head {
         protocol: Option<String>,
     }
     let head: Head = serde_json::from_str(text).map_err(|e| format!("is not JSON: {e}"))?;
     match head.protocol.as_deref() {
-        Some(PROTOCOL) => {}
-        Some(p) => return Err(format!("says protocol `{p}`; cierva speaks `{PROTOCOL}`")),
-        None => return Err(format!("has no `protocol` (`{PROTOCOL}`)")),
+        Some(p) if p == protocol => {}
+        Some(p) => {
+            return Err(format!(
+                "says protocol `{p}`; the case asks it in `{protocol}` (`protocol:` in the case's \
+                 `external`)"
+            ));
+        }
+        None => return Err(format!("has no `protocol` (`{protocol}`)")),
     }
     if let Some((line, column, message)) = crate::inputs::yaml::json_underflow(text) {
         return Err(format!("at line {line} column {column}: {message}"));
@@ -479,7 +610,7 @@ fn parse_json<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, String> {
     serde_json::from_str(text).map_err(|e| format!("does not parse: {e}"))
 }
 
-fn parse_trim(text: &str) -> Result<Quantities, String> {
+fn parse_trim(text: &str, protocol: &str) -> Result<Quantities, String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
@@ -487,7 +618,7 @@ fn parse_trim(text: &str) -> Result<Quantities, String> {
         protocol: String,
         trim: BTreeMap<String, f64>,
     }
-    let r: Response = parse_json(text)?;
+    let r: Response = parse_json(text, protocol)?;
     let mut out = Vec::new();
     for (name, v) in r.trim {
         let name = trim_name(&name).map_err(|e| format!("`trim`: {e}"))?;
@@ -499,7 +630,7 @@ fn parse_trim(text: &str) -> Result<Quantities, String> {
     Ok(out)
 }
 
-fn parse_linear(text: &str) -> Result<LinearModel, String> {
+fn parse_linear(text: &str, protocol: &str) -> Result<LinearModel, String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
@@ -516,7 +647,7 @@ fn parse_linear(text: &str) -> Result<LinearModel, String> {
         b: Vec<Vec<f64>>,
     }
     use cierva_model::aircraft::linearise::{CONTROLS, STATES};
-    let r: Response = parse_json(text)?;
+    let r: Response = parse_json(text, protocol)?;
     let m = r.linear_model;
     for (names, known, what) in [
         (&m.states, &STATES[..], "state"),
@@ -533,24 +664,172 @@ fn parse_linear(text: &str) -> Result<LinearModel, String> {
         .map_err(|e| format!("`linear_model`: {e}"))
 }
 
+/// A `describe` response as written (see [`parse_describe`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DescribeResponse {
+    #[allow(dead_code)]
+    protocol: String,
+    describe: Described,
+}
+
+/// What the model says of itself, as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Described {
+    computes: Vec<String>,
+    #[serde(default)]
+    states: Vec<String>,
+    #[serde(default)]
+    controls: Vec<String>,
+    #[serde(default)]
+    parameters: Vec<Declared>,
+}
+
+/// A declared parameter as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Declared {
+    name: String,
+    unit: String,
+    #[serde(default)]
+    meaning: String,
+    nominal: f64,
+    #[serde(default)]
+    range: Option<DeclaredRange>,
+}
+
+/// A declared parameter's range as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DeclaredRange {
+    lower: f64,
+    upper: f64,
+    source: String,
+    #[serde(default)]
+    distribution: crate::inputs::ranges::Shape,
+    #[serde(default)]
+    sigma: Option<f64>,
+}
+
+/// A `describe` response: what the model computes, its states and controls, and its
+/// parameters, each checked (names unique, nominal values finite and inside their ranges, every
+/// range with its source).
+fn parse_describe(text: &str) -> Result<Description, String> {
+    use cierva_model::aircraft::linearise::{CONTROLS, STATES};
+    let r: DescribeResponse = parse_json(text, PROTOCOL_2)?;
+    let d = r.describe;
+    let mut computes = Vec::new();
+    for (i, c) in d.computes.iter().enumerate() {
+        let Some(known) = Compute::ANSWERS.iter().find(|k| k.name() == c) else {
+            return Err(format!(
+                "`describe.computes[{i}]`: `{c}` is not a request cierva makes; they are [{}]",
+                Compute::ANSWERS.map(Compute::name).join(", ")
+            ));
+        };
+        computes.push(*known);
+    }
+    for (names, known, what) in [
+        (&d.states, &STATES[..], "states"),
+        (&d.controls, &CONTROLS[..], "controls"),
+    ] {
+        if let Some(n) = names.iter().find(|n| !known.contains(&n.as_str())) {
+            return Err(format!(
+                "`describe.{what}`: `{n}` is not one of cierva's {what} [{}]",
+                known.join(", ")
+            ));
+        }
+    }
+    let mut parameters: Vec<super::Parameter> = Vec::new();
+    for (i, p) in d.parameters.into_iter().enumerate() {
+        let at = format!("`describe.parameters[{i}]` (`{}`)", p.name);
+        if p.name.trim().is_empty() {
+            return Err(format!("{at}: a parameter needs a name"));
+        }
+        if parameters.iter().any(|q| q.name == p.name) {
+            return Err(format!("{at}: declared twice"));
+        }
+        if !p.nominal.is_finite() {
+            return Err(format!("{at}: its nominal value is not finite"));
+        }
+        let range = p
+            .range
+            .map(|r| declared_range(&at, p.nominal, r))
+            .transpose()?;
+        parameters.push(super::Parameter {
+            name: p.name,
+            unit: p.unit,
+            meaning: p.meaning,
+            nominal: p.nominal,
+            range,
+        });
+    }
+    Ok(Description {
+        computes,
+        states: d.states,
+        controls: d.controls,
+        parameters,
+    })
+}
+
+/// A declared range, checked: an interval holding the nominal value, with a source and a
+/// well-formed distribution.
+fn declared_range(
+    at: &str,
+    nominal: f64,
+    r: DeclaredRange,
+) -> Result<crate::inputs::ranges::Range, String> {
+    use crate::inputs::ranges::{Range, Shape};
+    if !(r.lower.is_finite() && r.upper.is_finite() && r.lower <= r.upper) {
+        return Err(format!(
+            "{at}: its range [{}, {}] is not an interval",
+            r.lower, r.upper
+        ));
+    }
+    if !(r.lower..=r.upper).contains(&nominal) {
+        return Err(format!(
+            "{at}: its nominal value {nominal} is outside its range [{}, {}]",
+            r.lower, r.upper
+        ));
+    }
+    if r.source.trim().is_empty() {
+        return Err(format!(
+            "{at}: its range has no source (where the range comes from: a report and table, or \
+             \"estimated: by which method\")"
+        ));
+    }
+    if (r.distribution == Shape::Normal) != r.sigma.is_some_and(|s| s > 0.0) {
+        return Err(format!(
+            "{at}: a `normal` distribution needs a positive `sigma`, and only it"
+        ));
+    }
+    Ok(Range {
+        lower: r.lower,
+        upper: r.upper,
+        source: r.source,
+        distribution: r.distribution,
+        sigma: r.sigma,
+    })
+}
+
 impl FlightModel for ExternalCommand {
     fn describe(&self) -> String {
         format!("the command `{}`", self.written())
     }
 
-    fn trim(&self, condition: TrimRequest, loading: Loading) -> Result<Quantities, String> {
-        match self.ask(Compute::Trim, condition, loading, None)? {
+    fn parameters(&self) -> Result<Vec<super::Parameter>, String> {
+        Ok(self.description()?.parameters)
+    }
+
+    fn trim(&self, request: &super::Request) -> Result<Quantities, String> {
+        match self.ask(Compute::Trim, request, None)? {
             Answer::Trim(q) => Ok(q),
             _ => Err("a trim request answered as another".into()),
         }
     }
 
-    fn linear_model(
-        &self,
-        condition: TrimRequest,
-        loading: Loading,
-    ) -> Result<LinearModel, String> {
-        match self.ask(Compute::LinearModel, condition, loading, None)? {
+    fn linear_model(&self, request: &super::Request) -> Result<LinearModel, String> {
+        match self.ask(Compute::LinearModel, request, None)? {
             Answer::Linear(m) => Ok(m),
             _ => Err("a linear-model request answered as another".into()),
         }
@@ -558,11 +837,10 @@ impl FlightModel for ExternalCommand {
 
     fn time_history(
         &self,
-        condition: TrimRequest,
-        loading: Loading,
+        request: &super::Request,
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
-        match self.ask(Compute::TimeHistory, condition, loading, Some(controls))? {
+        match self.ask(Compute::TimeHistory, request, Some(controls))? {
             Answer::History(f) => Ok(f),
             _ => Err("a time-history request answered as another".into()),
         }

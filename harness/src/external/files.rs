@@ -12,10 +12,10 @@
 //!
 //! Files are read and checked when the case loads; errors name the file, line and column.
 
-use super::{ControlChanges, FlightModel, Quantities, trim_name};
+use super::{ControlChanges, FlightModel, Quantities, Request, check_values, trim_name};
+use crate::TrimRequest;
 use crate::inputs::yaml::InputError;
 use crate::run::replay::{Replayed, SIGNALS};
-use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use std::path::{Path, PathBuf};
 
@@ -277,7 +277,9 @@ impl FlightModel for Files {
         format!("the files {}", self.written())
     }
 
-    fn trim(&self, condition: TrimRequest, _loading: Loading) -> Result<Quantities, String> {
+    fn trim(&self, request: &Request) -> Result<Quantities, String> {
+        check_values(&self.describe(), &[], &request.parameters)?;
+        let condition = request.condition;
         let Some((path, rows)) = &self.trim_table else {
             return Err(super::not_provided(
                 &self.describe(),
@@ -303,11 +305,9 @@ impl FlightModel for Files {
             })
     }
 
-    fn linear_model(
-        &self,
-        condition: TrimRequest,
-        _loading: Loading,
-    ) -> Result<LinearModel, String> {
+    fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
+        check_values(&self.describe(), &[], &request.parameters)?;
+        let condition = request.condition;
         let Some((path, model)) = &self.linear_model else {
             return Err(super::not_provided(
                 &self.describe(),
@@ -320,10 +320,11 @@ impl FlightModel for Files {
 
     fn time_history(
         &self,
-        condition: TrimRequest,
-        _loading: Loading,
+        request: &Request,
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
+        check_values(&self.describe(), &[], &request.parameters)?;
+        let condition = request.condition;
         let Some((path, flown)) = &self.time_history else {
             return Err(super::not_provided(
                 &self.describe(),

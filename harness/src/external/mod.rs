@@ -7,19 +7,109 @@
 //! and its response to a record's control changes. Each is optional: a model that does not
 //! provide one says so, and a check that needs it is an error, never a pass.
 //!
-//! cierva's own aircraft is one ([`CiervaAircraft`]). Another simulation is a subject two ways:
-//! - [`command`]: a program cierva runs once per request (the protocol `cierva-external/1`,
-//!   `docs/external-models.md`);
+//! A model may **declare parameters** ([`FlightModel::parameters`]): corrections and estimated
+//! physical inputs, each with its unit, nominal value and plausible range with the range's
+//! source. Every [`Request`] carries values for any of them (the rest at their nominal values),
+//! so that the studies (`cierva sensitivity` today) drive any model that declares them, and a
+//! value the model does not declare, or one outside its declared range, is refused
+//! ([`check_values`]).
+//!
+//! cierva's own aircraft is one ([`CiervaAircraft`]: its parameters are the aircraft file's
+//! physical parameters, [`crate::inputs::parameters::PARAMETERS`], with the file's `ranges:`).
+//! Another simulation is a subject two ways:
+//! - [`command`]: a program cierva runs once per request (the protocol `cierva-external/1`, or
+//!   `/2` with parameters, `docs/external-models.md`);
 //! - [`files`]: its outputs as files (a trim table, a linear model, a time history).
 
 pub mod command;
 pub mod files;
 
 use crate::inputs::controls::ControlTable;
+use crate::inputs::ranges::Range;
 use crate::run::replay::{Replayed, Simulation};
 use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
+use serde::Serialize;
+use std::borrow::Cow;
+use std::collections::BTreeMap;
 use std::sync::Arc;
+
+/// Values for some of a model's declared parameters, by name, in their declared units.
+pub type Values = BTreeMap<String, f64>;
+
+/// What a model is asked at: a flight condition, a loading, and values for any of its declared
+/// parameters (those not given stay at their nominal values). Plain data: two requests are the
+/// same question when they are equal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Request {
+    pub condition: TrimRequest,
+    pub loading: Loading,
+    pub parameters: Values,
+}
+
+impl Request {
+    /// At `condition` and `loading`, every parameter at its nominal value.
+    pub fn at(condition: TrimRequest, loading: Loading) -> Self {
+        Self {
+            condition,
+            loading,
+            parameters: Values::new(),
+        }
+    }
+
+    /// The same request with `name` set to `value`.
+    pub fn with(mut self, name: &str, value: f64) -> Self {
+        self.parameters.insert(name.to_string(), value);
+        self
+    }
+}
+
+/// A parameter a model declares: what a study may move, in what unit, from what nominal value,
+/// and within what plausible range (with the range's source; `None` where the model states no
+/// range, which a study that samples or bounds the parameter refuses).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Parameter {
+    pub name: String,
+    pub unit: String,
+    pub meaning: String,
+    pub nominal: f64,
+    pub range: Option<Range>,
+}
+
+/// Checks values against the parameters a model declares: each one declared (an unknown name
+/// gets the nearest declared one), finite, and inside its declared range.
+pub fn check_values(model: &str, declared: &[Parameter], values: &Values) -> Result<(), String> {
+    for (name, &v) in values {
+        let Some(p) = declared.iter().find(|p| &p.name == name) else {
+            if declared.is_empty() {
+                return Err(format!(
+                    "{model} declares no parameters, so `{name}` cannot be set"
+                ));
+            }
+            let names: Vec<String> = declared.iter().map(|p| p.name.clone()).collect();
+            let hint = crate::inputs::yaml::nearest(name, &names)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(format!(
+                "`{name}` is not a parameter {model} declares{hint}; it declares [{}]",
+                names.join(", ")
+            ));
+        };
+        if !v.is_finite() {
+            return Err(format!("`{name}` = {v} is not a finite value"));
+        }
+        if let Some(r) = &p.range
+            && !(r.lower..=r.upper).contains(&v)
+        {
+            return Err(format!(
+                "`{name}` = {v} {} is outside the range {model} declares for it, [{}, {}] \
+                 ({})",
+                p.unit, r.lower, r.upper, r.source
+            ));
+        }
+    }
+    Ok(())
+}
 
 /// Named values (a trim's quantities), as the checks compare them.
 pub type Quantities = Vec<(&'static str, f64)>;
@@ -43,28 +133,38 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
     /// The model in words, for errors ("the command `python3 model.py`").
     fn describe(&self) -> String;
 
-    /// Its trim at `condition`: quantities named as in [`crate::inputs::quantity::TRIM`] (a subset).
-    fn trim(&self, _condition: TrimRequest, _loading: Loading) -> Result<Quantities, String> {
+    /// The parameters it declares (none by default): what a request may set.
+    fn parameters(&self) -> Result<Vec<Parameter>, String> {
+        Ok(Vec::new())
+    }
+
+    /// Its trim at the request: quantities named as in [`crate::inputs::quantity::TRIM`] (a
+    /// subset).
+    fn trim(&self, _request: &Request) -> Result<Quantities, String> {
         Err(not_provided(&self.describe(), "a trim"))
     }
 
-    /// Its linear model about the trim at `condition` (straight flight), with cierva's state
+    /// Its linear model about the trim at the request (straight flight), with cierva's state
     /// and control names and units.
-    fn linear_model(
-        &self,
-        _condition: TrimRequest,
-        _loading: Loading,
-    ) -> Result<LinearModel, String> {
+    fn linear_model(&self, _request: &Request) -> Result<LinearModel, String> {
         Err(not_provided(&self.describe(), "a linear model"))
     }
 
-    /// Its response (changes from the trim at `condition`) to `controls`, at the times they
-    /// ask for: every response of [`crate::run::replay::SIGNALS`] it computes (an empty series
-    /// for one it does not).
+    /// Its trim and its linear model about it, at one request: a model that finds both from
+    /// one trim says so here (cierva's aircraft does).
+    fn trim_and_linear_model(
+        &self,
+        request: &Request,
+    ) -> Result<(Quantities, LinearModel), String> {
+        Ok((self.trim(request)?, self.linear_model(request)?))
+    }
+
+    /// Its response (changes from the trim at the request's condition) to `controls`, at the
+    /// times they ask for: every response of [`crate::run::replay::SIGNALS`] it computes (an
+    /// empty series for one it does not).
     fn time_history(
         &self,
-        _condition: TrimRequest,
-        _loading: Loading,
+        _request: &Request,
         _controls: &ControlChanges,
     ) -> Result<Replayed, String> {
         Err(not_provided(&self.describe(), "a time history"))
@@ -91,38 +191,103 @@ impl<'a> CiervaAircraft<'a> {
     }
 }
 
+impl CiervaAircraft<'_> {
+    /// The aircraft file with the request's parameter values set (the file itself where it
+    /// sets none): each a physical parameter the aircraft has, the aircraft checked after.
+    fn with_values(
+        &self,
+        values: &Values,
+    ) -> Result<Cow<'_, crate::inputs::aircraft::AircraftFile>, String> {
+        if values.is_empty() {
+            return Ok(Cow::Borrowed(self.file));
+        }
+        check_values(&self.describe(), &self.parameters()?, values)?;
+        let mut f = self.file.clone();
+        for (name, &v) in values {
+            crate::inputs::parameters::set_parameter(&mut f.aircraft, name, v)
+                .ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
+        }
+        f.aircraft.validate().map_err(|e| {
+            format!(
+                "{} with {}: {e}",
+                self.describe(),
+                values
+                    .iter()
+                    .map(|(n, v)| format!("{n} = {v}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })?;
+        Ok(Cow::Owned(f))
+    }
+}
+
 impl FlightModel for CiervaAircraft<'_> {
     fn describe(&self) -> String {
         format!("the aircraft {}", self.file.path.display())
     }
 
-    fn trim(&self, condition: TrimRequest, loading: Loading) -> Result<Quantities, String> {
-        let t =
-            crate::run_trim(&self.file.aircraft, condition, loading).map_err(|e| e.to_string())?;
-        Ok(trim_quantities_of(&self.file.aircraft, loading, &t))
+    /// Every physical parameter of [`crate::inputs::parameters::PARAMETERS`] the aircraft has,
+    /// at the file's value, with the file's `ranges:` entry where it gives one.
+    fn parameters(&self) -> Result<Vec<Parameter>, String> {
+        Ok(crate::inputs::parameters::PARAMETERS
+            .iter()
+            .filter_map(|p| {
+                let nominal = crate::inputs::parameters::parameter(&self.file.aircraft, p.name)?;
+                Some(Parameter {
+                    name: p.name.to_string(),
+                    unit: p.unit.to_string(),
+                    meaning: p.meaning.to_string(),
+                    nominal,
+                    range: self.file.ranges.get(p.name).cloned(),
+                })
+            })
+            .collect())
     }
 
-    fn linear_model(
+    fn trim(&self, request: &Request) -> Result<Quantities, String> {
+        let file = self.with_values(&request.parameters)?;
+        let t = crate::run_trim(&file.aircraft, request.condition, request.loading)
+            .map_err(|e| e.to_string())?;
+        Ok(trim_quantities_of(&file.aircraft, request.loading, &t))
+    }
+
+    fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
+        Ok(self.trim_and_linear_model(request)?.1)
+    }
+
+    /// One trim and its linearisation: remembered per file, condition and loading where the
+    /// request sets no parameter (a case's checks at one condition share it).
+    fn trim_and_linear_model(
         &self,
-        condition: TrimRequest,
-        loading: Loading,
-    ) -> Result<LinearModel, String> {
-        Ok(crate::linearise_cached(self.file, condition, loading)?
-            .1
-            .model
-            .clone())
+        request: &Request,
+    ) -> Result<(Quantities, LinearModel), String> {
+        let (c, l) = (request.condition, request.loading);
+        let file = self.with_values(&request.parameters)?;
+        let (trim, lin) = match &file {
+            Cow::Borrowed(f) => {
+                let both = crate::linearise_cached(f, c, l)?;
+                (both.0.clone(), both.1.model.clone())
+            }
+            Cow::Owned(f) => {
+                let (t, lin) = crate::run_linearise(&f.aircraft, c, l)
+                    .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?;
+                (t, lin.model)
+            }
+        };
+        Ok((trim_quantities_of(&file.aircraft, l, &trim), lin))
     }
 
     fn time_history(
         &self,
-        condition: TrimRequest,
-        loading: Loading,
+        request: &Request,
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
+        let file = self.with_values(&request.parameters)?;
         crate::run::replay::fly(
-            &self.file.aircraft,
-            condition,
-            loading,
+            &file.aircraft,
+            request.condition,
+            request.loading,
             &|t| controls.table.at(t),
             crate::run::replay::FlySettings {
                 simulation: self.simulation,
@@ -155,23 +320,27 @@ impl<T: FlightModel + ?Sized> FlightModel for Arc<T> {
     fn describe(&self) -> String {
         self.as_ref().describe()
     }
-    fn trim(&self, condition: TrimRequest, loading: Loading) -> Result<Quantities, String> {
-        self.as_ref().trim(condition, loading)
+    fn parameters(&self) -> Result<Vec<Parameter>, String> {
+        self.as_ref().parameters()
     }
-    fn linear_model(
+    fn trim(&self, request: &Request) -> Result<Quantities, String> {
+        self.as_ref().trim(request)
+    }
+    fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
+        self.as_ref().linear_model(request)
+    }
+    fn trim_and_linear_model(
         &self,
-        condition: TrimRequest,
-        loading: Loading,
-    ) -> Result<LinearModel, String> {
-        self.as_ref().linear_model(condition, loading)
+        request: &Request,
+    ) -> Result<(Quantities, LinearModel), String> {
+        self.as_ref().trim_and_linear_model(request)
     }
     fn time_history(
         &self,
-        condition: TrimRequest,
-        loading: Loading,
+        request: &Request,
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
-        self.as_ref().time_history(condition, loading, controls)
+        self.as_ref().time_history(request, controls)
     }
 }
 

@@ -44,7 +44,7 @@
 //! the half-width over 1.96; such an interval can also be a hard or soft bound.
 
 use crate::checks::{Measured, Place};
-use crate::fit::{self, Bounds, Enforce, Measure, Parameter, ParameterKind, TargetCondition};
+use crate::fit::{self, Bounds, Enforce, FitParameter, Measure, ParameterKind, TargetCondition};
 use crate::inputs::reference::Provenance;
 use crate::inputs::yaml::{self, InputError};
 use crate::suite::case::{self, AircraftModelSpec, RotorModelSpec, ToleranceKind, TunnelSpec};
@@ -319,7 +319,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             None => estimated_parameter(aircraft_file.as_ref(), name, (p.lower, p.upper, p.start))
                 .map_err(|m| err(&field, m))?,
         };
-        parameters.push(Parameter {
+        parameters.push(FitParameter {
             kind,
             lower,
             upper,

@@ -38,7 +38,7 @@ mod targets;
 
 pub use solve::{FitOptions, FitResult, Problem, Status, fit};
 pub use targets::{
-    Bounds, Enforce, FitSubject, Measure, Parameter, ParameterKind, ResponsePoint,
+    Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,
     TUNNEL_QUANTITIES, Target, TargetCondition, WarmStarts, check, evaluate, evaluate_each,
     evaluate_each_from, evaluate_from, sensitivities, values_or_nan,
 };

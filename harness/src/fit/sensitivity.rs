@@ -1,16 +1,19 @@
-//! Sensitivity of checked quantities to an aircraft's physical parameters: which parameter
-//! would close a discrepancy, and is the value it would need plausible?
+//! Sensitivity of checked quantities to a model's parameters: which parameter would close a
+//! discrepancy, and is the value it would need plausible?
 //!
-//! For each parameter (see [`crate::inputs::parameters::PARAMETERS`]) the aircraft is trimmed and
-//! linearised with the parameter moved a step either way, and each quantity's derivative with
-//! respect to it is the central difference. For a quantity outside its bound, the change that
-//! alone would bring it to the nearer edge is the linear estimate `(edge - value) / (dq/dp)`,
-//! weighed against the parameter's plausible range from the aircraft file. It is a first-order
-//! answer: a change that is large against the step is an extrapolation, and the table says by
-//! how many steps.
+//! The study runs on any model behind the model interface
+//! ([`crate::external::FlightModel`]) that declares parameters: cierva's own aircraft (its
+//! physical parameters, [`crate::inputs::parameters::PARAMETERS`], with the aircraft file's
+//! ranges) or another simulation (protocol `cierva-external/2`). For each parameter the model
+//! is asked its trim and linear model with the parameter moved a step either way, and each
+//! quantity's derivative with respect to it is the central difference. For a quantity outside
+//! its bound, the change that alone would bring it to the nearer edge is the linear estimate
+//! `(edge - value) / (dq/dp)`, weighed against the parameter's plausible range as the model
+//! declares it. It is a first-order answer: a change that is large against the step is an
+//! extrapolation, and the table says by how many steps.
 
-use crate::inputs::aircraft::{AircraftFile, Range};
-use crate::inputs::parameters::{PARAMETERS, parameter, set_parameter};
+use crate::external::{FlightModel, Parameter, Request};
+use crate::inputs::aircraft::Range;
 use crate::{Loading, TrimRequest};
 use serde::Serialize;
 
@@ -65,7 +68,8 @@ pub struct Row {
 /// The whole study.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Study {
-    pub aircraft: String,
+    /// The model, in words ("the aircraft aircraft/vpm-m16.yaml", "the command `...`").
+    pub model: String,
     pub condition: TrimRequest,
     pub loading: Loading,
     pub parameters: Vec<MovedParameter>,
@@ -79,48 +83,64 @@ fn step_of(value: f64) -> f64 {
     (0.02 * value.abs()).max(0.02)
 }
 
-/// Every quantity's value at the aircraft as given, by name.
+/// Whether `name` is a trim quantity (else a derivative of the linear model).
+fn is_trim_quantity(name: &str) -> bool {
+    crate::inputs::quantity::TRIM
+        .iter()
+        .any(|q| q.name() == name)
+}
+
+/// Every quantity's value at the request, by name: a trim quantity from the model's trim, a
+/// derivative from its linear model (asked only where a quantity needs it).
 fn values(
-    file: &AircraftFile,
-    request: TrimRequest,
-    loading: Loading,
+    model: &dyn FlightModel,
+    request: &Request,
     quantities: &[BoundedQuantity],
 ) -> Result<Vec<f64>, String> {
-    let (trim, lin) = crate::run_linearise(&file.aircraft, request, loading)
-        .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))?;
-    let trims = crate::checks::trim::trim_quantities_of(&file.aircraft, loading, &trim);
+    let at = |e: String| format!("at {} mph: {e}", request.condition.airspeed_mph);
+    let (trims, linear) = if quantities.iter().all(|q| is_trim_quantity(&q.name)) {
+        (model.trim(request).map_err(at)?, None)
+    } else {
+        let (t, l) = model.trim_and_linear_model(request).map_err(at)?;
+        (t, Some(l))
+    };
     quantities
         .iter()
         .map(|q| {
             if let Some((_, v)) = trims.iter().find(|(n, _)| *n == q.name) {
                 return Ok(*v);
             }
-            lin.model
+            if is_trim_quantity(&q.name) {
+                return Err(format!(
+                    "{} gives no `{}` in its trim",
+                    model.describe(),
+                    q.name
+                ));
+            }
+            linear
+                .as_ref()
+                .expect("asked for where a quantity is a derivative")
                 .derivative_value(&q.name)
                 .map_err(|e| format!("`{}`: {e}", q.name))
         })
         .collect()
 }
 
-/// Checks names: every parameter one the aircraft has, every quantity a trim quantity or a
-/// derivative of the linearised model.
+/// Checks names: every parameter one the model declares, every quantity a trim quantity or a
+/// derivative of a linear model.
 pub fn check_names(
-    file: &AircraftFile,
+    model: &str,
+    declared: &[Parameter],
     parameters: &[String],
     quantities: &[BoundedQuantity],
 ) -> Result<(), String> {
-    for p in parameters {
-        if parameter(&file.aircraft, p).is_none() {
-            let names: Vec<String> = PARAMETERS.iter().map(|p| p.name.to_string()).collect();
-            let hint = crate::inputs::yaml::nearest(p, &names)
-                .map(|n| format!(" (did you mean `{n}`?)"))
-                .unwrap_or_default();
-            return Err(format!(
-                "`{p}` is not a parameter of {}{hint}; the parameters are {}",
-                file.id,
-                names.join(", ")
-            ));
-        }
+    let values: crate::external::Values = parameters
+        .iter()
+        .filter_map(|p| Some((p.clone(), declared.iter().find(|d| &d.name == p)?.nominal)))
+        .collect();
+    if let Some(p) = parameters.iter().find(|p| !values.contains_key(*p)) {
+        let lone: crate::external::Values = [(p.clone(), 0.0)].into_iter().collect();
+        crate::external::check_values(model, declared, &lone)?;
     }
     let flight = crate::fit::TargetCondition::Flight(
         TrimRequest::level(50.0),
@@ -135,32 +155,48 @@ pub fn check_names(
     Ok(())
 }
 
+/// The parameters a study moves by default: those the model declares a range for (by name), or
+/// every one it declares where it gives no range.
+pub fn default_parameters(declared: &[Parameter]) -> Vec<String> {
+    let mut ranged: Vec<String> = declared
+        .iter()
+        .filter(|p| p.range.is_some())
+        .map(|p| p.name.clone())
+        .collect();
+    if ranged.is_empty() {
+        return declared.iter().map(|p| p.name.clone()).collect();
+    }
+    ranged.sort();
+    ranged
+}
+
 /// Runs the study: each parameter moved either way, each quantity differentiated, and the
 /// change each failing quantity needs from each parameter alone.
 pub fn run(
-    file: &AircraftFile,
+    model: &dyn FlightModel,
     request: TrimRequest,
     loading: Loading,
     parameters: &[String],
     quantities: &[BoundedQuantity],
 ) -> Result<Study, String> {
-    check_names(file, parameters, quantities)?;
-    let base = values(file, request, loading, quantities)?;
+    let declared = model.parameters()?;
+    check_names(&model.describe(), &declared, parameters, quantities)?;
+    let nominal = Request::at(request, loading);
+    let base = values(model, &nominal, quantities)?;
     let moved: Vec<MovedParameter> = parameters
         .iter()
         .map(|name| {
-            let value = parameter(&file.aircraft, name).expect("checked above");
-            let info = PARAMETERS
+            let p = declared
                 .iter()
-                .find(|p| p.name == name)
-                .expect("a known parameter");
+                .find(|p| &p.name == name)
+                .expect("checked above");
             MovedParameter {
                 name: name.clone(),
-                unit: info.unit.to_string(),
-                meaning: info.meaning.to_string(),
-                value,
-                step: step_of(value),
-                range: file.ranges.get(name).cloned(),
+                unit: p.unit.clone(),
+                meaning: p.meaning.clone(),
+                value: p.nominal,
+                step: step_of(p.nominal),
+                range: p.range.clone(),
             }
         })
         .collect();
@@ -169,12 +205,8 @@ pub fn run(
         if x == p.value {
             return Ok(base.clone());
         }
-        let mut f = file.clone();
-        set_parameter(&mut f.aircraft, &p.name, x).expect("checked above");
-        f.aircraft
-            .validate()
-            .map_err(|e| format!("{} at {x}: {e}", p.name))?;
-        values(&f, request, loading, quantities).map_err(|e| format!("{} at {x}: {e}", p.name))
+        values(model, &nominal.clone().with(&p.name, x), quantities)
+            .map_err(|e| format!("{} at {x}: {e}", p.name))
     };
     // Central differences, one-sided at the edge of a plausible range (a correction at its
     // bound).
@@ -234,7 +266,7 @@ pub fn run(
         })
         .collect();
     Ok(Study {
-        aircraft: file.id.clone(),
+        model: model.describe(),
         condition: request,
         loading,
         parameters: moved,
@@ -242,17 +274,21 @@ pub fn run(
     })
 }
 
-/// What a case asks of its aircraft at one condition: the aircraft, its loading, the condition
+/// What a case asks of its model at one condition: its loading, the condition
 /// (`airspeed_mph` picks one where the case has several), and the quantities of its
-/// `derivative` and `trim` checks there (those on the aircraft as it is: no `set`, ratio or
-/// corrections of their own), each with the bound its tolerance puts on it.
+/// `derivative` and `trim` checks there (those on the model as it is: no `set`, ratio or
+/// corrections of their own), each with the bound its tolerance puts on it. The model is the
+/// case's subject ([`crate::checks::flight_model`]): an aircraft or another simulation.
 pub fn from_case(
     case: &crate::suite::case::Case,
     airspeed_mph: Option<f64>,
-) -> Result<(AircraftFile, Loading, TrimRequest, Vec<BoundedQuantity>), String> {
+) -> Result<(Loading, TrimRequest, Vec<BoundedQuantity>), String> {
     use crate::checks::{Measured, Place};
-    let crate::checks::subject::Subject::Aircraft { file, loading } = &case.subject else {
-        return Err(format!("{} is not a case of an aircraft", case.id));
+    let Some((_, loading)) = crate::checks::flight_model(&case.subject) else {
+        return Err(format!(
+            "{} is not a case of a flight model (an aircraft or an external model)",
+            case.id
+        ));
     };
     let at = |k: &crate::checks::Check| match k.behaviour().measured() {
         Measured::At(Place::Flight(c)) => Some(c),
@@ -303,5 +339,5 @@ pub fn from_case(
             }
         }
     }
-    Ok((file.as_ref().clone(), *loading, request, quantities))
+    Ok((loading, request, quantities))
 }

@@ -4,7 +4,7 @@
 
 use super::qp::qp_step;
 use super::targets::{HARD_SLACK, check, evaluate_from, jacobian};
-use super::{Enforce, FitSubject, Parameter, ParameterKind, Target, WarmStarts};
+use super::{Enforce, FitParameter, FitSubject, ParameterKind, Target, WarmStarts};
 use crate::inputs::corrections::CorrectionSet;
 use serde::Serialize;
 
@@ -99,7 +99,7 @@ impl FitResult {
 #[derive(Debug, Clone)]
 pub struct Problem {
     pub subject: FitSubject,
-    pub parameters: Vec<Parameter>,
+    pub parameters: Vec<FitParameter>,
     pub targets: Vec<Target>,
     pub options: FitOptions,
 }

@@ -169,7 +169,7 @@ impl ParameterKind {
 
 /// A fitted parameter: bounds and start.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Parameter {
+pub struct FitParameter {
     pub kind: ParameterKind,
     pub lower: f64,
     pub upper: f64,

@@ -9,20 +9,20 @@ use std::fmt::Write as _;
 /// parameter alone would need (and whether that is plausible), then the derivatives.
 pub fn table(s: &Study) -> String {
     let mut out = format!(
-        "{} at {} mph, climb {} m/s, mass {}, density altitude {} ft\n\nparameters (step either way; plausible range from the aircraft file):\n",
-        s.aircraft,
+        "{} at {} mph, climb {} m/s, mass {}, density altitude {} ft\n\nparameters (step either way; plausible range as the model declares it):\n",
+        s.model,
         s.condition.airspeed_mph,
         s.condition.climb_m_s,
         s.loading
             .mass_kg
-            .map_or("as the file".to_string(), |m| format!("{m} kg")),
+            .map_or("the model's own".to_string(), |m| format!("{m} kg")),
         s.loading.density_altitude_ft
     );
     for p in &s.parameters {
         let range = p
             .range
             .as_ref()
-            .map_or("no range in the file".to_string(), |r| {
+            .map_or("no range declared".to_string(), |r| {
                 format!("[{}, {}] ({})", r.lower, r.upper, r.source)
             });
         out += &format!(
@@ -84,7 +84,8 @@ pub fn html(study: &Result<Study, String>) -> String {
         "<h3>What would close each discrepancy</h3><p class=\"muted\"><code>cierva sensitivity</code>: \
          the change of each parameter alone that brings a quantity outside its bound to the \
          nearer edge (a linear estimate; \"steps\" says how far it extrapolates), against the \
-         parameter's plausible range from the aircraft file. Parameters that do not move the \
+         parameter's plausible range as the model declares it (an aircraft's: its file's \
+         `ranges:`). Parameters that do not move the \
          quantity are left out.</p><table><tr><th>quantity</th><th>value</th><th>bound</th>\
          <th>parameter</th><th>now</th><th>needed</th><th>plausible range</th><th>steps</th>\
          <th>plausible</th></tr>",

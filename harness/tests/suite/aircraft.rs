@@ -178,7 +178,8 @@ fn sensitivity_finds_the_fin_area_that_brings_n_v_to_its_bound() {
         "airframe.fin.area_m2".to_string(),
         "controls.shaft_pitch_deg.travel".into(),
     ];
-    let study = sensitivity::run(&file, request(70.0), loading, &parameters, &quantities).unwrap();
+    let model = cierva_harness::external::CiervaAircraft::new(&file);
+    let study = sensitivity::run(&model, request(70.0), loading, &parameters, &quantities).unwrap();
     let n_v = &study.rows[0];
     assert_eq!(n_v.inside, Some(false));
     let fin = &n_v.effects[0];

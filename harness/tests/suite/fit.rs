@@ -2,7 +2,7 @@
 //! status.
 
 use cierva_harness::fit::{
-    self, Bounds, Enforce, FitOptions, FitSubject, Measure, Parameter, ParameterKind, Problem,
+    self, Bounds, Enforce, FitOptions, FitParameter, FitSubject, Measure, ParameterKind, Problem,
     Status, Target, TargetCondition,
 };
 use cierva_harness::{Loading, TrimRequest};
@@ -31,16 +31,16 @@ const LOADING: Loading = Loading {
     density_altitude_ft: 2000.0,
 };
 
-fn blockage_and_hub(start: [f64; 2]) -> Vec<Parameter> {
+fn blockage_and_hub(start: [f64; 2]) -> Vec<FitParameter> {
     vec![
-        Parameter {
+        FitParameter {
             kind: ParameterKind::PropellerBlockage,
             lower: 0.0,
             upper: 1.0,
             start: start[0],
             regularisation: 0.0,
         },
-        Parameter {
+        FitParameter {
             kind: ParameterKind::HubAoaFactor,
             lower: 0.0,
             upper: 1.5,

@@ -22,6 +22,7 @@ mod frequency_response_check;
 mod identification;
 mod limits;
 mod misbehaving;
+mod model_interface;
 mod mutation;
 mod old_spelling;
 mod quoted;

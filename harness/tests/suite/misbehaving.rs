@@ -11,8 +11,8 @@
 //! it too: the models below write in chunks and hold little.
 
 use super::common::repo_root;
-use cierva_harness::external::FlightModel as _;
 use cierva_harness::external::command::ExternalCommand;
+use cierva_harness::external::{FlightModel as _, Request};
 use cierva_harness::inputs::condition::{Loading, TrimRequest};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -246,7 +246,9 @@ fn identical_requests_asked_at_once_run_the_command_once() {
                 s.spawn(move || {
                     barrier.wait();
                     let at = TrimRequest::level(if k % 2 == 0 { 60.0 } else { 70.0 });
-                    let q = model.trim(at, loading).expect("the model answers");
+                    let q = model
+                        .trim(&Request::at(at, loading))
+                        .expect("the model answers");
                     q.iter().find(|(n, _)| *n == "pitch_deg").unwrap().1
                 })
             })

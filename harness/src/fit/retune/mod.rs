@@ -16,7 +16,7 @@
 
 pub mod responses;
 
-use crate::fit::{self, FitSubject, Parameter, ParameterKind, Problem, TargetCondition};
+use crate::fit::{self, FitParameter, FitSubject, ParameterKind, Problem, TargetCondition};
 use crate::ident;
 use crate::inputs::aircraft::AircraftFile;
 use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec};
@@ -66,7 +66,7 @@ pub const DEFAULT_BOUNDS: [(ParameterKind, f64, f64, &str); 6] = [
 /// A parameter to retune: its name and optional bounds (`None`: the defaults above, or an
 /// estimated physical parameter's plausible range from the aircraft file).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Request {
+pub struct RetuneParameter {
     pub name: String,
     pub bounds: Option<(f64, f64)>,
 }
@@ -118,8 +118,8 @@ pub struct Retune {
 /// physical parameter's within the aircraft file's plausible range.
 pub fn parameters(
     file: &AircraftFile,
-    requests: &[Request],
-) -> Result<Vec<(Parameter, String)>, String> {
+    requests: &[RetuneParameter],
+) -> Result<Vec<(FitParameter, String)>, String> {
     requests
         .iter()
         .map(|r| {
@@ -167,7 +167,7 @@ pub fn parameters(
                 ));
             }
             Ok((
-                Parameter {
+                FitParameter {
                     kind,
                     lower,
                     upper,
@@ -184,13 +184,13 @@ pub fn parameters(
 pub fn retune(
     file: &AircraftFile,
     records: &[Record],
-    requests: &[Request],
+    requests: &[RetuneParameter],
     how: &How,
 ) -> Result<Retune, String> {
     if records.is_empty() {
         return Err("no records to retune from".into());
     }
-    let (parameters, bounds_sources): (Vec<Parameter>, Vec<String>) =
+    let (parameters, bounds_sources): (Vec<FitParameter>, Vec<String>) =
         parameters(file, requests)?.into_iter().unzip();
     if parameters.is_empty() {
         return Err("name at least one correction or parameter to fit".into());
