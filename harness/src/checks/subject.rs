@@ -75,6 +75,10 @@ pub struct ExternalSpec {
     /// (`describe`, and parameters in requests).
     #[serde(default)]
     pub protocol: Option<String>,
+    /// Started once and asked every request as a JSON line on its stdin (protocol `/2`'s
+    /// persistent mode), instead of run once per request.
+    #[serde(default)]
+    pub persistent: bool,
     /// The longest one request may run, s; the process is killed after it.
     pub timeout_s: f64,
     /// Mass, kg (passed to the model; none: the model's own).
@@ -295,12 +299,25 @@ fn external(
         Some(p) => crate::external::command::Protocol::parse(p)
             .map_err(|e| err("model.external.protocol", e))?,
     };
-    let command = crate::external::command::ExternalCommand::speaking(
+    let mut command = crate::external::command::ExternalCommand::speaking(
         x.command.clone(),
         dir.to_path_buf(),
         std::time::Duration::from_secs_f64(x.timeout_s),
         protocol,
     );
+    if x.persistent {
+        if protocol != crate::external::command::Protocol::V2 {
+            return Err(err(
+                "model.external.persistent",
+                format!(
+                    "persistent mode is protocol `{}`'s: say `protocol: {}`",
+                    crate::external::command::PROTOCOL_2,
+                    crate::external::command::PROTOCOL_2
+                ),
+            ));
+        }
+        command = command.persistent();
+    }
     Ok(Subject::External(Box::new(crate::external::External {
         written: format!("command: {}", command.written()),
         model: std::sync::Arc::new(command),

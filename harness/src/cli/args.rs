@@ -365,14 +365,16 @@ pub(crate) enum BenchGroup {
     FrequencyResponse,
     Fitting,
     Uncertainty,
+    /// The command protocol's cost a request (a trivial model, one-shot and persistent).
+    External,
 }
 
-/// Which physical parameter would close a discrepancy, and is the value it would need
-/// plausible? Trims and linearises the aircraft with each parameter moved a step either way
-/// and prints every quantity's derivative with respect to each; for a quantity outside its
-/// check's bound, the change of each parameter alone that would bring it to the nearer edge
-/// (a linear estimate), against the parameter's plausible range from the aircraft file
-/// (`ranges:`).
+/// Which parameter would close a discrepancy, and is the value it would need plausible? Asks
+/// the model's trim and linear model with each parameter moved a step either way and prints
+/// every quantity's derivative with respect to each; for a quantity outside its check's bound,
+/// the change of each parameter alone that would bring it to the nearer edge (a linear
+/// estimate), against the parameter's plausible range as the model declares it (an aircraft
+/// file's `ranges:`; an external model's `describe`, protocol `cierva-external/2`).
 ///
 /// Example: `cierva sensitivity --case cases/cierva-table2-vpm-m16-70mph-max-weight.yaml`,
 /// or `cierva sensitivity aircraft/vpm-m16.yaml --airspeed-mph 70 --quantities N_v,L_v

@@ -85,6 +85,9 @@ pub(crate) fn bench(a: BenchArgs) -> Result<ExitCode, Error> {
     if runs(BenchGroup::Uncertainty) {
         uncertainty(&out);
     }
+    if runs(BenchGroup::External) {
+        external(&out)?;
+    }
 
     if !sink.is_finite() {
         eprintln!("(a timed result was not finite)");
@@ -1129,4 +1132,81 @@ fn sweep_flight(
         seed,
         azimuth_step_rad,
     }
+}
+
+/// A trivial model behind the protocol (Python 3): a trim of two constants, one-shot with a
+/// request file's path or persistent with `--serve`.
+const TRIVIAL_MODEL: &str = "import json, sys
+def body(r):
+    return {'trim': {'pitch_deg': 3.0, 'rotor_rpm': 400.0}} if r['compute'] == 'trim' else \\
+        {'describe': {'computes': ['trim']}}
+if sys.argv[1:] == ['--serve']:
+    for line in sys.stdin:
+        r = json.loads(line)
+        b = body(r); b['protocol'] = r['protocol']; b['id'] = r['id']
+        sys.stdout.write(json.dumps(b) + '\\n'); sys.stdout.flush()
+else:
+    r = json.load(open(sys.argv[1]))
+    b = body(r); b['protocol'] = r['protocol']
+    open(r['response'], 'w').write(json.dumps(b))
+";
+
+/// The protocol's cost a request: a trivial model's trims at distinct airspeeds (so none is
+/// answered from memory), one after another, one-shot (a process a request) and persistent
+/// (one process, JSON lines). What a request costs beyond the model's own work.
+fn external(out: &Rows) -> Result<(), Error> {
+    use cierva_harness::external::command::{ExternalCommand, Protocol};
+    use cierva_harness::external::{FlightModel as _, Request};
+    let dir = std::env::temp_dir().join(format!("cierva-bench-external-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| Error::failure(e.to_string()))?;
+    std::fs::write(dir.join("model.py"), TRIVIAL_MODEL)
+        .map_err(|e| Error::failure(e.to_string()))?;
+    let loading = cierva_harness::Loading {
+        mass_kg: None,
+        density_altitude_ft: 0.0,
+    };
+    let per_request = |persistent: bool, requests: usize| -> Result<f64, Error> {
+        let mut command = vec!["python3".to_string(), "model.py".to_string()];
+        if persistent {
+            command.push("--serve".into());
+        }
+        let mut model = ExternalCommand::speaking(
+            command,
+            dir.clone(),
+            std::time::Duration::from_secs(30),
+            Protocol::V2,
+        );
+        if persistent {
+            model = model.persistent();
+        }
+        // The description and the first process's start, outside the timing.
+        model
+            .trim(&Request::at(
+                cierva_harness::TrimRequest::level(1.0),
+                loading,
+            ))
+            .map_err(Error::failure)?;
+        let started = Instant::now();
+        for k in 0..requests {
+            let at = cierva_harness::TrimRequest::level(2.0 + k as f64 * 0.01);
+            model
+                .trim(&Request::at(at, loading))
+                .map_err(Error::failure)?;
+        }
+        Ok(started.elapsed().as_secs_f64() / requests as f64)
+    };
+    let persistent = per_request(true, 1000)?;
+    let one_shot = per_request(false, 100)?;
+    let _ = std::fs::remove_dir_all(&dir);
+    row!(
+        out,
+        "| external: one request in persistent mode, a trivial Python model | {:.0} us | 1000 trims at distinct airspeeds, one after another: the request's JSON line, the model's (Python's json both ways), the answer parsed; target at most 1 ms (issue 49) |",
+        persistent * 1e6
+    );
+    row!(
+        out,
+        "| external: one request one-shot, the same model | {:.1} ms | 100 trims: a process, a request file and a response file each |",
+        one_shot * 1e3
+    );
+    Ok(())
 }

@@ -150,6 +150,9 @@ pub struct ExternalCommand {
     pub protocol: Protocol,
     /// Its `describe` response (protocol `/2`), asked once.
     description: OnceLock<Result<Description, String>>,
+    /// Its processes, where it runs in persistent mode (protocol `/2`: started once, answering
+    /// requests as JSON lines on stdin and stdout).
+    persistent: Option<super::persistent::Pool>,
     /// Answers by request (what the request asks, without its paths): a case's checks at one
     /// condition share one run. Each request has one cell, filled once: a check that asks
     /// while another's identical request runs waits for its answer.
@@ -160,7 +163,7 @@ pub struct ExternalCommand {
 type AnswerCell = OnceLock<Result<Answer, String>>;
 
 #[derive(Debug, Clone)]
-enum Answer {
+pub(super) enum Answer {
     Trim(Quantities),
     Linear(LinearModel),
     History(Replayed),
@@ -186,7 +189,43 @@ impl ExternalCommand {
             timeout,
             protocol,
             description: OnceLock::new(),
+            persistent: None,
             answers: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// The command run in persistent mode (protocol `/2`): started once (up to one process a
+    /// core, as checks ask at once), each process answering one request at a time as JSON
+    /// lines on its stdin and stdout (`docs/external-models.md`).
+    pub fn persistent(mut self) -> Self {
+        self.persistent = Some(super::persistent::Pool::new());
+        self
+    }
+
+    /// The program to run: a program named by a path is relative to the case file's folder; a
+    /// bare name is found on PATH.
+    pub(super) fn program(&self) -> Result<(PathBuf, &[String]), String> {
+        let Some((program, args)) = self.command.split_first() else {
+            return Err("the command is empty".into());
+        };
+        let program = if program.contains('/') {
+            self.dir.join(program)
+        } else {
+            PathBuf::from(program)
+        };
+        Ok((program, args))
+    }
+
+    /// The error for a program that could not be started.
+    pub(super) fn not_started(&self, program: &Path, e: &std::io::Error) -> String {
+        match e.kind() {
+            std::io::ErrorKind::NotFound => format!(
+                "`{}` was not found (a bare name is looked up on PATH, a path is relative to \
+                 the case file's folder {})",
+                program.display(),
+                self.dir.display()
+            ),
+            _ => format!("`{}` could not be started: {e}", program.display()),
         }
     }
 
@@ -270,10 +309,54 @@ impl ExternalCommand {
         request: &super::Request,
         controls: Option<&ControlChanges>,
     ) -> Result<Answer, String> {
-        let dir = scratch_dir().map_err(|e| format!("{}: {e}", self.describe()))?;
-        let out = self.run_in(&dir, compute, request, controls);
-        let _ = std::fs::remove_dir_all(&dir);
+        let out = match &self.persistent {
+            Some(pool) => pool.ask(self, compute, request, controls),
+            None => {
+                let dir = scratch_dir().map_err(|e| format!("{}: {e}", self.describe()))?;
+                let out = self.run_in(&dir, compute, request, controls);
+                let _ = std::fs::remove_dir_all(&dir);
+                out
+            }
+        };
         out.map_err(|e| format!("{} ({} request): {e}", self.describe(), compute.name()))
+    }
+
+    /// A request as JSON, without where its controls are and where its answer goes (which
+    /// the two modes say each their own way).
+    pub(super) fn request_json(
+        &self,
+        compute: Compute,
+        request: &super::Request,
+        controls: Option<&ControlChanges>,
+    ) -> serde_json::Value {
+        let (condition, loading) = (request.condition, request.loading);
+        let mut json = serde_json::json!({
+            "protocol": self.protocol.name(),
+            "compute": compute.name(),
+        });
+        if compute == Compute::Describe {
+            // What the model is does not depend on a condition.
+            return json;
+        }
+        json["condition"] = serde_json::json!({
+            "airspeed_mph": condition.airspeed_mph,
+            "airspeed_m_s": condition.airspeed_mph * crate::MPH_TO_M_S,
+            "airspeed_kn": condition.airspeed_mph / crate::MPH_PER_KN,
+            "climb_m_s": condition.climb_m_s,
+            "turn_rate_deg_s": condition.turn_rate_deg_s,
+        });
+        json["loading"] = serde_json::json!({
+            "mass_kg": loading.mass_kg,
+            "density_altitude_ft": loading.density_altitude_ft,
+        });
+        if self.protocol == Protocol::V2 {
+            json["parameters"] = serde_json::json!(request.parameters);
+        }
+        if let Some(c) = controls {
+            json["sample_s"] = serde_json::json!(c.sample_s);
+            json["samples"] = serde_json::json!(c.samples + 1);
+        }
+        json
     }
 
     fn run_in(
@@ -283,43 +366,17 @@ impl ExternalCommand {
         request: &super::Request,
         controls: Option<&ControlChanges>,
     ) -> Result<Answer, String> {
-        let (condition, loading) = (request.condition, request.loading);
         let response = dir.join(match compute {
             Compute::TimeHistory => "response.csv",
             _ => "response.json",
         });
-        let mut json = serde_json::json!({
-            "protocol": self.protocol.name(),
-            "compute": compute.name(),
-            "condition": {
-                "airspeed_mph": condition.airspeed_mph,
-                "airspeed_m_s": condition.airspeed_mph * crate::MPH_TO_M_S,
-                "airspeed_kn": condition.airspeed_mph / crate::MPH_PER_KN,
-                "climb_m_s": condition.climb_m_s,
-                "turn_rate_deg_s": condition.turn_rate_deg_s,
-            },
-            "loading": {
-                "mass_kg": loading.mass_kg,
-                "density_altitude_ft": loading.density_altitude_ft,
-            },
-            "response": response,
-        });
-        if compute == Compute::Describe {
-            // What the model is does not depend on a condition.
-            if let Some(o) = json.as_object_mut() {
-                o.remove("condition");
-                o.remove("loading");
-            }
-        } else if self.protocol == Protocol::V2 {
-            json["parameters"] = serde_json::json!(request.parameters);
-        }
+        let mut json = self.request_json(compute, request, controls);
+        json["response"] = serde_json::json!(response);
         if let Some(c) = controls {
             let path = dir.join("controls.csv");
             std::fs::write(&path, controls_csv(c))
                 .map_err(|e| format!("writing {}: {e}", path.display()))?;
             json["controls"] = serde_json::json!(path);
-            json["sample_s"] = serde_json::json!(c.sample_s);
-            json["samples"] = serde_json::json!(c.samples + 1);
         }
         let request_path = dir.join("request.json");
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
@@ -354,15 +411,7 @@ impl ExternalCommand {
     /// Runs the command with `request` as its last argument, in the case's folder, until it
     /// exits, passes its timeout, or writes a response past `limit` bytes.
     fn execute(&self, request: &Path, response: &Path, limit: u64) -> Result<(), String> {
-        let Some((program, args)) = self.command.split_first() else {
-            return Err("the command is empty".into());
-        };
-        // A program named by a path is relative to the case file; a bare name is found on PATH.
-        let program = if program.contains('/') {
-            self.dir.join(program)
-        } else {
-            PathBuf::from(program)
-        };
+        let (program, args) = self.program()?;
         let mut command = Command::new(&program);
         command
             .args(args)
@@ -377,15 +426,9 @@ impl ExternalCommand {
             // Its own process group, led by it: what it starts is killed with it.
             command.process_group(0);
         }
-        let mut child = command.spawn().map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => format!(
-                "`{}` was not found (a bare name is looked up on PATH, a path is relative to \
-                 the case file's folder {})",
-                program.display(),
-                self.dir.display()
-            ),
-            _ => format!("`{}` could not be started: {e}", program.display()),
-        })?;
+        let mut child = command
+            .spawn()
+            .map_err(|e| self.not_started(&program, &e))?;
         let stderr = StderrTail::read(&mut child);
         let start = Instant::now();
         let status = loop {
@@ -436,7 +479,7 @@ impl ExternalCommand {
 /// Kills a command's process group (on Unix; its process tree on Windows) and reaps the
 /// command. The group is the command's own ([`Command::process_group`]), so no other process
 /// of cierva's is in it.
-fn kill_group(child: &mut Child) {
+pub(super) fn kill_group(child: &mut Child) {
     #[cfg(unix)]
     if let Ok(pid) = libc::pid_t::try_from(child.id()) {
         // SAFETY: `kill` takes plain integers and touches no memory of ours; a negative pid
@@ -460,7 +503,7 @@ fn kill_group(child: &mut Child) {
 
 /// The end of a command's stderr, read as it comes by a thread of its own (see
 /// [`STDERR_KEEP_BYTES`]).
-struct StderrTail {
+pub(super) struct StderrTail {
     kept: Arc<Mutex<Kept>>,
     closed: mpsc::Receiver<()>,
 }
@@ -473,7 +516,7 @@ struct Kept {
 }
 
 impl StderrTail {
-    fn read(child: &mut Child) -> Self {
+    pub(super) fn read(child: &mut Child) -> Self {
         let kept = Arc::new(Mutex::new(Kept::default()));
         let (done, closed) = mpsc::channel();
         if let Some(mut pipe) = child.stderr.take() {
@@ -500,7 +543,7 @@ impl StderrTail {
 
     /// What it wrote, as the end of an error message, once the pipe has closed (or after
     /// [`STDERR_GRACE`]).
-    fn finish(&self) -> String {
+    pub(super) fn finish(&self) -> String {
         let _ = self.closed.recv_timeout(STDERR_GRACE);
         let k = self.kept.lock().unwrap_or_else(PoisonError::into_inner);
         let total = k.dropped + k.bytes.len() as u64;
@@ -546,7 +589,7 @@ fn cut_line(line: &str) -> String {
 }
 
 /// The error for a response of `size` bytes past `limit`.
-fn too_large(size: u64, limit: u64, compute: Compute, rows: usize) -> String {
+pub(super) fn too_large(size: u64, limit: u64, compute: Compute, rows: usize) -> String {
     let asked = match compute {
         Compute::TimeHistory => format!(" for {rows} rows"),
         _ => String::new(),
@@ -588,7 +631,10 @@ fn controls_csv(c: &ControlChanges) -> String {
 }
 
 /// A response's JSON, with its protocol checked. Errors say where (line and column).
-fn parse_json<T: serde::de::DeserializeOwned>(text: &str, protocol: &str) -> Result<T, String> {
+pub(super) fn parse_json<T: serde::de::DeserializeOwned>(
+    text: &str,
+    protocol: &str,
+) -> Result<T, String> {
     #[derive(Deserialize)]
     struct Head {
         protocol: Option<String>,
@@ -610,7 +656,7 @@ fn parse_json<T: serde::de::DeserializeOwned>(text: &str, protocol: &str) -> Res
     serde_json::from_str(text).map_err(|e| format!("does not parse: {e}"))
 }
 
-fn parse_trim(text: &str, protocol: &str) -> Result<Quantities, String> {
+pub(super) fn parse_trim(text: &str, protocol: &str) -> Result<Quantities, String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
@@ -630,7 +676,7 @@ fn parse_trim(text: &str, protocol: &str) -> Result<Quantities, String> {
     Ok(out)
 }
 
-fn parse_linear(text: &str, protocol: &str) -> Result<LinearModel, String> {
+pub(super) fn parse_linear(text: &str, protocol: &str) -> Result<LinearModel, String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
@@ -715,7 +761,7 @@ struct DeclaredRange {
 /// A `describe` response: what the model computes, its states and controls, and its
 /// parameters, each checked (names unique, nominal values finite and inside their ranges, every
 /// range with its source).
-fn parse_describe(text: &str) -> Result<Description, String> {
+pub(super) fn parse_describe(text: &str) -> Result<Description, String> {
     use cierva_model::aircraft::linearise::{CONTROLS, STATES};
     let r: DescribeResponse = parse_json(text, PROTOCOL_2)?;
     let d = r.describe;

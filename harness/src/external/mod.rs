@@ -23,6 +23,8 @@
 
 pub mod command;
 pub mod files;
+mod persistent;
+pub mod serve;
 
 use crate::inputs::controls::ControlTable;
 use crate::inputs::ranges::Range;

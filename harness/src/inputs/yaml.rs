@@ -64,7 +64,7 @@ impl fmt::Display for InputError {
 
 /// `text`, or, where it is longer than `max` characters, its first and last `max / 2 - 10`
 /// with how many were left out between them.
-fn shorten(text: &str, max: usize) -> String {
+pub(crate) fn shorten(text: &str, max: usize) -> String {
     let n = text.chars().count();
     if n <= max {
         return text.to_string();

@@ -243,8 +243,10 @@ pub fn load(path: &Path) -> Result<Case, InputError> {
     })
 }
 
-/// A sensitivity study's parameters: an aircraft case, parameters the aircraft has (default:
-/// those its file gives plausible ranges, which must then exist).
+/// A sensitivity study's parameters: a case of a flight model (an aircraft, or an external
+/// model that declares parameters), parameters the model declares (default: those it declares
+/// a plausible range for, which must then exist). An external model is asked its `describe`
+/// here, so that a study it cannot run is an input error.
 fn check_sensitivity(
     path: &Path,
     src: &str,
@@ -255,31 +257,41 @@ fn check_sensitivity(
         return Ok(None);
     };
     let err = |field: &str, msg: String| InputError::field(path, src, field, msg);
-    let Subject::Aircraft { file, .. } = subject else {
+    let Some((model, _)) = crate::checks::flight_model(subject) else {
         return Err(err(
             "sensitivity",
-            "a sensitivity study moves an aircraft's parameters: give it in an aircraft case"
+            "a sensitivity study moves a flight model's parameters: give it in a case of an \
+             aircraft or an external model"
                 .into(),
         ));
     };
+    let declared = model.parameters().map_err(|e| err("sensitivity", e))?;
     let names: Vec<String> = match &s.parameters {
         Some(p) => p.clone(),
-        None => file.ranges.keys().cloned().collect(),
+        None => {
+            let mut ranged: Vec<String> = declared
+                .iter()
+                .filter(|p| p.range.is_some())
+                .map(|p| p.name.clone())
+                .collect();
+            ranged.sort();
+            ranged
+        }
     };
     if names.is_empty() {
         return Err(err(
             "sensitivity",
             format!(
-                "name the `parameters`: {} gives no plausible ranges to take them from",
-                file.path.display()
+                "name the `parameters`: {} declares no plausible ranges to take them from",
+                model.describe()
             ),
         ));
     }
     for (i, n) in names.iter().enumerate() {
-        if crate::inputs::parameters::parameter(&file.aircraft, n).is_none() {
+        if !declared.iter().any(|p| &p.name == n) {
             return Err(err(
                 &format!("sensitivity.parameters[{i}]"),
-                format!("`{n}` is not a parameter of {}", file.id),
+                format!("`{n}` is not a parameter {} declares", model.describe()),
             ));
         }
     }

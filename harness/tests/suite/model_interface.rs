@@ -13,47 +13,73 @@ use cierva_harness::inputs::condition::{Loading, TrimRequest};
 use std::path::PathBuf;
 
 /// The test model (Python 3, standard library): `describe`, trim and linear model, with two
-/// declared parameters; it refuses a parameter it does not declare, as a model should.
+/// declared parameters; it refuses a parameter it does not declare, as a model should. Run with
+/// a request file's path it answers once (one-shot); run with `--serve` it answers JSON lines
+/// on stdin (persistent mode), and notes each start in `starts.txt`. The tests put code at
+/// `# HOOK` to make it misbehave.
 const MODEL: &str = r#"import json, sys
-r = json.load(open(sys.argv[1]))
-assert r['protocol'] == 'cierva-external/2', r['protocol']
-def answer(body):
-    body['protocol'] = 'cierva-external/2'
-    open(r['response'], 'w').write(json.dumps(body))
-if r['compute'] == 'describe':
-    answer({'describe': {
-        'computes': ['trim', 'linear_model'],
-        'states': ['u', 'w', 'q', 'theta'],
-        'controls': ['eta_s'],
-        'parameters': [
-            {'name': 'pitch_offset_deg', 'unit': 'deg', 'meaning': 'a pitch datum offset',
-             'nominal': 0.0,
-             'range': {'lower': -2.0, 'upper': 2.0, 'source': 'the test model own'}},
-            {'name': 'm_q_scale', 'unit': '1', 'meaning': 'a pitch damping factor',
-             'nominal': 1.0,
-             'range': {'lower': 0.5, 'upper': 1.5, 'source': 'the test model own'}}]}})
-    sys.exit(0)
-p = {'pitch_offset_deg': 0.0, 'm_q_scale': 1.0}
-for k, v in r['parameters'].items():
-    if k not in p:
-        sys.stderr.write('unknown parameter ' + k + '\n'); sys.exit(4)
-    p[k] = v
-v = r['condition']['airspeed_mph']
-if r['compute'] == 'trim':
-    answer({'trim': {'pitch_deg': 3.0 + p['pitch_offset_deg'],
-                     'stick_longitudinal_percent': 80.0 - 0.5 * v}})
-elif r['compute'] == 'linear_model':
-    answer({'linear_model': {'states': ['u', 'w', 'q', 'theta'], 'controls': ['eta_s'],
-        'a': [[-0.05, 0.1, 0.0, -9.81], [-0.3, -0.8, 30.0, 0.0],
-              [0.01, -0.05, -1.2 * p['m_q_scale'], 0.0], [0.0, 0.0, 1.0, 0.0]],
-        'b': [[0.0], [0.1], [-0.02], [0.0]]}})
+PROTOCOL = 'cierva-external/2'
+def answer(r):
+    assert r['protocol'] == PROTOCOL, r['protocol']
+    if r['compute'] == 'describe':
+        return {'describe': {
+            'computes': ['trim', 'linear_model'],
+            'states': ['u', 'w', 'q', 'theta'],
+            'controls': ['eta_s'],
+            'parameters': [
+                {'name': 'pitch_offset_deg', 'unit': 'deg', 'meaning': 'a pitch datum offset',
+                 'nominal': 0.0,
+                 'range': {'lower': -2.0, 'upper': 2.0, 'source': 'the test model own'}},
+                {'name': 'm_q_scale', 'unit': '1', 'meaning': 'a pitch damping factor',
+                 'nominal': 1.0,
+                 'range': {'lower': 0.5, 'upper': 1.5, 'source': 'the test model own'}}]}}
+    p = {'pitch_offset_deg': 0.0, 'm_q_scale': 1.0}
+    for k, v in r['parameters'].items():
+        if k not in p:
+            raise ValueError('unknown parameter ' + k)
+        p[k] = v
+    v = r['condition']['airspeed_mph']
+    # HOOK
+    if r['compute'] == 'trim':
+        return {'trim': {'pitch_deg': 3.0 + p['pitch_offset_deg'],
+                         'stick_longitudinal_percent': 80.0 - 0.5 * v}}
+    if r['compute'] == 'linear_model':
+        return {'linear_model': {'states': ['u', 'w', 'q', 'theta'], 'controls': ['eta_s'],
+            'a': [[-0.05, 0.1, 0.0, -9.81], [-0.3, -0.8, 30.0, 0.0],
+                  [0.01, -0.05, -1.2 * p['m_q_scale'], 0.0], [0.0, 0.0, 1.0, 0.0]],
+            'b': [[0.0], [0.1], [-0.02], [0.0]]}}
+    raise ValueError('no ' + r['compute'])
+if sys.argv[1:] == ['--serve']:
+    open('starts.txt', 'a').write('start\n')
+    for line in sys.stdin:
+        r = json.loads(line)
+        try:
+            body = answer(r)
+        except ValueError as e:
+            body = {'error': str(e)}
+        body['protocol'] = PROTOCOL
+        body['id'] = r['id']
+        sys.stdout.write(json.dumps(body) + '\n')
+        sys.stdout.flush()
 else:
-    sys.stderr.write('no ' + r['compute'] + '\n'); sys.exit(5)
+    r = json.load(open(sys.argv[1]))
+    try:
+        body = answer(r)
+    except ValueError as e:
+        sys.stderr.write(str(e) + '\n')
+        sys.exit(4)
+    body['protocol'] = PROTOCOL
+    open(r['response'], 'w').write(json.dumps(body))
 "#;
 
 /// A suite in a fresh folder with the test model and a case on it: `M_q` against
 /// [-1.0, -0.9] (outside: the model gives -1.2) and the trim pitch against 3 +- 0.5 (inside).
 fn suite(name: &str, protocol: &str) -> PathBuf {
+    suite_in(name, protocol, false)
+}
+
+/// [`suite`], the model run in persistent mode where `persistent` says so.
+fn suite_in(name: &str, protocol: &str, persistent: bool) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
         "cierva-model-interface-{}-{name}",
         std::process::id()
@@ -72,7 +98,8 @@ fn suite(name: &str, protocol: &str) -> PathBuf {
         format!(
             "id: model\ntitle: a model that declares its parameters\nclass: regression\n\
              provenance: {{source: a test of harness/tests/suite/model_interface.rs}}\n\
-             model:\n  external:\n    command: [python3, model.py]\n    protocol: {protocol}\n\
+             model:\n  external:\n    command: [python3, model.py{serve}]\n    protocol: {protocol}\n\
+             \x20   persistent: {persistent}\n\
              \x20   timeout_s: 30\n    mass_kg: 400.0\n\
              tolerances:\n  band:\n    absolute: 0.05\n    reason: the test's own\n\
              \x20 pitch:\n    absolute: 0.5\n    reason: the test's own\n\
@@ -81,7 +108,8 @@ fn suite(name: &str, protocol: &str) -> PathBuf {
              \x20   expect:\n      value: {{value: -0.95, tolerance: band}}\n\
              \x20   expected_failure: the test model's M_q is -1.2, outside on purpose\n\
              \x20 - id: pitch\n    kind: trim\n    condition: {{airspeed_mph: 60.0}}\n\
-             \x20   expect:\n      pitch_deg: {{value: 3.0, tolerance: pitch}}\n"
+             \x20   expect:\n      pitch_deg: {{value: 3.0, tolerance: pitch}}\n",
+            serve = if persistent { ", --serve" } else { "" },
         ),
     )
     .unwrap();
@@ -292,4 +320,322 @@ fn cierva_aircraft_declares_the_files_parameters_with_its_ranges() {
         )
         .unwrap_err();
     assert!(e.contains("is outside the range"), "{e}");
+}
+
+/// The `cierva` run's check rows (`case check result ...`) of `out`, by check.
+fn rows(out: &str) -> Vec<String> {
+    out.lines()
+        .filter(|l| l.starts_with("model "))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn persistent_mode_answers_as_one_shot_does_from_one_process_a_core() {
+    super::external::require_python3();
+    let one = suite("one-shot", "cierva-external/2");
+    let many = suite_in("persistent", "cierva-external/2", true);
+    let study = |dir: &PathBuf| {
+        let (code, out, err) = cierva_in(
+            dir,
+            &[
+                "sensitivity",
+                "--case",
+                "cases/model.yaml",
+                "--format",
+                "json",
+            ],
+        );
+        assert_eq!(code, 0, "{out}{err}");
+        let mut v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        // The model in words names its command, which differs by `--serve`.
+        v["model"] = serde_json::Value::Null;
+        v
+    };
+    assert_eq!(study(&one), study(&many));
+    let validate = |dir: &PathBuf| {
+        let (code, out, err) = cierva_in(dir, &["validate", "--no-report"]);
+        assert_eq!(code, 1, "{out}{err}");
+        rows(&out)
+    };
+    assert_eq!(validate(&one), validate(&many));
+    // Two runs of cierva, each with at most one process a core.
+    let starts = std::fs::read_to_string(many.join("cases/starts.txt")).unwrap();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let n = starts.lines().count();
+    assert!(
+        (2..=2 * cores).contains(&n),
+        "{n} processes started for two runs"
+    );
+    let _ = std::fs::remove_dir_all(&one);
+    let _ = std::fs::remove_dir_all(&many);
+}
+
+#[test]
+fn a_persistent_model_that_dies_hangs_floods_or_chatters_is_an_error_for_that_request() {
+    super::external::require_python3();
+    // Each: what the model does on its linear-model request (its trims are answered), and what
+    // the damping check's error must say.
+    let cases: [(&str, &str, &[&str]); 4] = [
+        (
+            "dies",
+            "if r['compute'] == 'linear_model': sys.exit(7)",
+            &[
+                "its stdout closed",
+                "exited 7",
+                "its earlier answers stand, the next request starts another",
+            ],
+        ),
+        (
+            "hangs",
+            "if r['compute'] == 'linear_model': __import__('time').sleep(60)",
+            &["timed out after 1 s (`timeout_s`) on this request and was killed"],
+        ),
+        (
+            "floods",
+            "if r['compute'] == 'linear_model': sys.stdout.write('x' * 5000000)",
+            &["was killed: its answer passed 1048576 bytes as it was read"],
+        ),
+        (
+            "chatters",
+            "if r['compute'] == 'linear_model': print('solving...')",
+            &["its answer line is not JSON", "`solving...`"],
+        ),
+    ];
+    let mut problems = Vec::new();
+    for (name, hook, want) in cases {
+        let dir = suite_in(name, "cierva-external/2", true);
+        std::fs::write(dir.join("cases/model.py"), MODEL.replace("# HOOK", hook)).unwrap();
+        let yaml = std::fs::read_to_string(dir.join("cases/model.yaml")).unwrap();
+        std::fs::write(
+            dir.join("cases/model.yaml"),
+            yaml.replace("timeout_s: 30", "timeout_s: 1"),
+        )
+        .unwrap();
+        let started = std::time::Instant::now();
+        let (code, out, err) = cierva_in(&dir, &["validate", "--no-report"]);
+        let all = format!("{out}{err}");
+        if code != 2 {
+            problems.push(format!("{name}: exit {code}, not 2:\n{all}"));
+        }
+        let rows = rows(&out);
+        if !rows
+            .iter()
+            .any(|r| r.contains(" pitch ") && r.contains(" pass "))
+        {
+            problems.push(format!("{name}: the trim was not answered:\n{all}"));
+        }
+        for w in want {
+            if !all.contains(w) {
+                problems.push(format!("{name}: no `{w}` in:\n{all}"));
+            }
+        }
+        // A hang is killed at its 1 s timeout, not the 60 s it would sleep.
+        if started.elapsed().as_secs_f64() > 30.0 {
+            problems.push(format!(
+                "{name}: took {:.0} s",
+                started.elapsed().as_secs_f64()
+            ));
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n\n"));
+}
+
+#[test]
+fn persistent_mode_needs_the_second_version() {
+    let dir = suite_in("persistent-v1", "cierva-external/1", true);
+    let e = cierva_harness::suite::case::load(&dir.join("cases/model.yaml")).unwrap_err();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        e.to_string().contains(
+            "field `model.external.persistent`: persistent mode is protocol `cierva-external/2`'s"
+        ),
+        "{e}"
+    );
+}
+
+/// The repository's cases whose subject is cierva's VPM M16, asked again through the protocol:
+/// their `model` replaced by `cierva serve` of the same aircraft file in persistent mode. The
+/// kinds they hold (derivative, BCAR, trim sweep) and the sensitivity study the Table 2 case
+/// asks for.
+const MIRRORED: [&str; 3] = [
+    "cases/cierva-table2-vpm-m16-70mph-min-weight.yaml",
+    "cases/vpm-m16-trim-max-weight.yaml",
+    "cases/vpm-m16-stability-min-weight.yaml",
+];
+
+/// How far a value through the protocol may be from the built-in one, relative: the issue's
+/// 1e-9 (JSON carries every f64 to the bit, so the two are the same numbers unless a path
+/// differs).
+const THROUGH_THE_PROTOCOL: f64 = 1e-9;
+
+/// A temporary suite holding [`MIRRORED`] with their model served by `cierva serve`, and the
+/// repository's `aircraft/` and `flight-refs/` linked beside its cases (their relative paths).
+fn mirrored_suite() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cierva-as-external-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("cases")).unwrap();
+    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
+    for linked in ["aircraft", "flight-refs"] {
+        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
+    }
+    std::fs::copy(
+        repo_root().join("cases/tolerances.yaml"),
+        dir.join("cases/tolerances.yaml"),
+    )
+    .unwrap();
+    for case in MIRRORED {
+        let text = std::fs::read_to_string(repo_root().join(case)).unwrap();
+        let mut v: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+        let a = v["model"]["aircraft"].clone();
+        let file = a["file"].as_str().unwrap();
+        let mut external = serde_yaml::Mapping::new();
+        external.insert(
+            "command".into(),
+            serde_yaml::to_value(["cierva", "serve", file]).unwrap(),
+        );
+        external.insert("protocol".into(), "cierva-external/2".into());
+        external.insert("persistent".into(), true.into());
+        external.insert("timeout_s".into(), 600.into());
+        external.insert("mass_kg".into(), a["mass_kg"].clone());
+        external.insert(
+            "density_altitude_ft".into(),
+            a["density_altitude_ft"].clone(),
+        );
+        let mut model = serde_yaml::Mapping::new();
+        model.insert("external".into(), serde_yaml::Value::Mapping(external));
+        v["model"] = serde_yaml::Value::Mapping(model);
+        let name = std::path::Path::new(case).file_name().unwrap();
+        std::fs::write(
+            dir.join("cases").join(name),
+            serde_yaml::to_string(&v).unwrap(),
+        )
+        .unwrap();
+    }
+    dir
+}
+
+/// Runs `cierva` in `dir` with the test build's `cierva` first on PATH (the cases' command).
+fn cierva_on_path(dir: &std::path::Path, args: &[&str]) -> (i32, String, String) {
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_cierva"));
+    let path = format!(
+        "{}:{}",
+        bin.parent().unwrap().display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let out = std::process::Command::new(bin)
+        .args(args)
+        .current_dir(dir)
+        .env("PATH", path)
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Each check's quantities of a `validate --format json` run: (case, check, quantity) ->
+/// (value, pass).
+fn quantities(json: &str) -> std::collections::BTreeMap<(String, String, String), (f64, bool)> {
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    let mut out = std::collections::BTreeMap::new();
+    for r in v["results"].as_array().unwrap() {
+        assert!(r["error"].is_null(), "{r}");
+        for q in r["quantities"].as_array().unwrap() {
+            out.insert(
+                (
+                    r["case"].as_str().unwrap().to_string(),
+                    r["check"].as_str().unwrap().to_string(),
+                    q["quantity"].as_str().unwrap().to_string(),
+                ),
+                (q["value"].as_f64().unwrap(), q["pass"].as_bool().unwrap()),
+            );
+        }
+    }
+    out
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= THROUGH_THE_PROTOCOL * a.abs().max(b.abs()).max(1e-300)
+}
+
+#[test]
+fn cierva_served_through_the_protocol_gives_the_built_in_numbers() {
+    let dir = mirrored_suite();
+    let mut args = vec!["validate", "--no-report", "--format", "json"];
+    let built_in_cases: Vec<String> = MIRRORED
+        .iter()
+        .map(|c| repo_root().join(c).display().to_string())
+        .collect();
+    let mut built_in_args = args.clone();
+    built_in_args.extend(built_in_cases.iter().map(String::as_str));
+    let (_, built_in, err) = cierva_on_path(&repo_root(), &built_in_args);
+    let built_in = quantities(&built_in);
+    assert!(!built_in.is_empty(), "{err}");
+    args.push("cases");
+    let (_, served, err) = cierva_on_path(&dir, &args);
+    let served = quantities(&served);
+    assert_eq!(
+        built_in.keys().collect::<Vec<_>>(),
+        served.keys().collect::<Vec<_>>(),
+        "{err}"
+    );
+    for (key, (value, pass)) in &built_in {
+        let (v, p) = served[key];
+        assert!(
+            close(*value, v) && *pass == p,
+            "{key:?}: built in {value} ({pass}), through the protocol {v} ({p})"
+        );
+    }
+    // The sensitivity study of the Table 2 case, on three of its parameters.
+    let study = |dir: &std::path::Path, case: &str| {
+        let (code, out, err) = cierva_on_path(
+            dir,
+            &[
+                "sensitivity",
+                "--case",
+                case,
+                "--parameters",
+                "mass.ixx_kg_m2,airframe.fin.area_m2,controls.shaft_roll_deg.travel",
+                "--format",
+                "json",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v
+    };
+    let a = study(&repo_root(), MIRRORED[0]);
+    let b = study(&dir, MIRRORED[0]);
+    for (ra, rb) in a["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(b["rows"].as_array().unwrap())
+    {
+        assert_eq!(ra["quantity"], rb["quantity"]);
+        for (ea, eb) in ra["effects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip(rb["effects"].as_array().unwrap())
+        {
+            let (x, y) = (
+                ea["derivative"].as_f64().unwrap(),
+                eb["derivative"].as_f64().unwrap(),
+            );
+            assert!(
+                close(x, y),
+                "{} by {}: {x} and {y}",
+                ra["quantity"],
+                ea["parameter"]
+            );
+            assert_eq!(ea["plausible"], eb["plausible"]);
+        }
+    }
+    assert_eq!(a["parameters"], b["parameters"]);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,0 +1,262 @@
+//! The protocol's other side: any [`FlightModel`] answering requests of `cierva-external/2`
+//! (`cierva serve` serves cierva's own aircraft so). One-shot, a request file in and a response
+//! file out ([`answer_file`]); persistent, JSON lines on stdin and stdout ([`answer_lines`]).
+//!
+//! It is the protocol's known answer: cierva's aircraft served through it and asked by cierva
+//! as an external model gives the numbers the built-in path gives (JSON carries every `f64` to
+//! the bit: serde_json writes the shortest text that reads back to the same number).
+
+use super::command::{Compute, PROTOCOL, PROTOCOL_2};
+use super::{ControlChanges, FlightModel, Request, Values};
+use crate::inputs::condition::{Loading, TrimRequest};
+use crate::inputs::controls::{CONTROL_COLUMNS, ControlTable};
+use crate::run::replay::{Replayed, SIGNALS};
+use serde_json::{Value, json};
+use std::io::{BufRead, Write};
+use std::path::Path;
+
+/// What a request asks, read from its JSON: the computation, the request and the controls
+/// (the one-shot request's CSV read from its path, the persistent one's columns inline).
+fn read_request(v: &Value) -> Result<(Compute, Request, Option<ControlChanges>), String> {
+    let protocol = v["protocol"].as_str().unwrap_or_default();
+    if protocol != PROTOCOL && protocol != PROTOCOL_2 {
+        return Err(format!(
+            "the request's protocol is `{protocol}`; this model speaks `{PROTOCOL_2}` and \
+             `{PROTOCOL}`"
+        ));
+    }
+    let name = v["compute"].as_str().unwrap_or_default();
+    let compute = Compute::ANSWERS
+        .into_iter()
+        .chain([Compute::Describe])
+        .find(|c| c.name() == name)
+        .ok_or_else(|| format!("`{name}` is not a request of the protocol"))?;
+    let number = |x: &Value, what: &str| {
+        x.as_f64()
+            .ok_or_else(|| format!("the request's `{what}` is not a number"))
+    };
+    if compute == Compute::Describe {
+        let nowhere = Request::at(
+            TrimRequest::level(0.0),
+            Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            },
+        );
+        return Ok((compute, nowhere, None));
+    }
+    let c = &v["condition"];
+    let condition = TrimRequest {
+        airspeed_mph: number(&c["airspeed_mph"], "condition.airspeed_mph")?,
+        climb_m_s: number(&c["climb_m_s"], "condition.climb_m_s")?,
+        turn_rate_deg_s: number(&c["turn_rate_deg_s"], "condition.turn_rate_deg_s")?,
+    };
+    let l = &v["loading"];
+    let loading = Loading {
+        mass_kg: match &l["mass_kg"] {
+            Value::Null => None,
+            m => Some(number(m, "loading.mass_kg")?),
+        },
+        density_altitude_ft: number(&l["density_altitude_ft"], "loading.density_altitude_ft")?,
+    };
+    let mut parameters = Values::new();
+    if let Some(p) = v["parameters"].as_object() {
+        for (name, x) in p {
+            parameters.insert(name.clone(), number(x, &format!("parameters.{name}"))?);
+        }
+    }
+    let controls = match &v["controls"] {
+        Value::Null => None,
+        Value::String(path) => {
+            Some(crate::inputs::controls::read(Path::new(path)).map_err(|e| e.to_string())?)
+        }
+        Value::Object(columns) => {
+            let column = |name: &str| -> Result<Vec<f64>, String> {
+                columns
+                    .get(name)
+                    .and_then(Value::as_array)
+                    .ok_or_else(|| format!("the request's controls have no `{name}`"))?
+                    .iter()
+                    .map(|x| number(x, &format!("controls.{name}")))
+                    .collect()
+            };
+            Some(ControlTable {
+                time_s: column("time_s")?,
+                changes: [
+                    column(CONTROL_COLUMNS[0])?,
+                    column(CONTROL_COLUMNS[1])?,
+                    column(CONTROL_COLUMNS[2])?,
+                    column(CONTROL_COLUMNS[3])?,
+                ],
+            })
+        }
+        _ => return Err("the request's `controls` is neither a path nor columns".into()),
+    };
+    let controls = match controls {
+        None => None,
+        Some(table) => {
+            let rows = v["samples"]
+                .as_u64()
+                .ok_or("a time-history request needs `samples`")?;
+            Some(ControlChanges {
+                table,
+                sample_s: number(&v["sample_s"], "sample_s")?,
+                samples: usize::try_from(rows.max(1) - 1).map_err(|e| e.to_string())?,
+            })
+        }
+    };
+    Ok((
+        compute,
+        Request {
+            condition,
+            loading,
+            parameters,
+        },
+        controls,
+    ))
+}
+
+/// What the model answers to one request, as the response's JSON fields (a time history as
+/// columns), without `protocol` and `id`.
+fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), String> {
+    let (compute, request, controls) = read_request(v)?;
+    let body = match compute {
+        Compute::Describe => {
+            let parameters: Vec<Value> = model
+                .parameters()?
+                .into_iter()
+                .map(|p| {
+                    let mut d = json!({
+                        "name": p.name, "unit": p.unit, "meaning": p.meaning,
+                        "nominal": p.nominal,
+                    });
+                    if let Some(r) = p.range {
+                        d["range"] = json!({
+                            "lower": r.lower, "upper": r.upper, "source": r.source,
+                            "distribution": r.distribution,
+                        });
+                        if let Some(s) = r.sigma {
+                            d["range"]["sigma"] = json!(s);
+                        }
+                    }
+                    d
+                })
+                .collect();
+            json!({"describe": {
+                "computes": Compute::ANSWERS.map(Compute::name),
+                "states": cierva_model::aircraft::linearise::STATES,
+                "controls": cierva_model::aircraft::linearise::CONTROLS,
+                "parameters": parameters,
+            }})
+        }
+        Compute::Trim => {
+            let q: serde_json::Map<String, Value> = model
+                .trim(&request)?
+                .into_iter()
+                .map(|(n, x)| (n.to_string(), json!(x)))
+                .collect();
+            json!({ "trim": q })
+        }
+        Compute::LinearModel => {
+            let m = model.linear_model(&request)?;
+            let rows = |x: &nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
+                x.row_iter().map(|r| r.iter().copied().collect()).collect()
+            };
+            json!({"linear_model": {
+                "states": m.states(), "controls": m.controls(),
+                "a": rows(m.a()), "b": rows(m.b()),
+            }})
+        }
+        Compute::TimeHistory => {
+            let controls = controls.ok_or("a time-history request needs `controls`")?;
+            let flown = model.time_history(&request, &controls)?;
+            json!({ "time_history": columns(&flown) })
+        }
+    };
+    Ok((compute, body))
+}
+
+/// A time history as columns: `time_s` and every response the model gave.
+fn columns(flown: &Replayed) -> serde_json::Map<String, Value> {
+    let mut o = serde_json::Map::new();
+    o.insert("time_s".into(), json!(flown.time_s));
+    for (name, s) in SIGNALS.iter().zip(&flown.signals) {
+        if !s.is_empty() {
+            o.insert((*name).into(), json!(s));
+        }
+    }
+    o
+}
+
+/// Answers one request file (one-shot): the response written where the request says (a time
+/// history as CSV). An `Err` is what the model cannot answer, for its stderr and a non-zero
+/// exit.
+pub fn answer_file(model: &dyn FlightModel, request: &Path) -> Result<(), String> {
+    let text = std::fs::read_to_string(request)
+        .map_err(|e| format!("reading {}: {e}", request.display()))?;
+    let v: Value = serde_json::from_str(&text)
+        .map_err(|e| format!("{} is not JSON: {e}", request.display()))?;
+    let response = v["response"]
+        .as_str()
+        .ok_or("the request has no `response` path")?
+        .to_string();
+    let (compute, mut body) = respond(model, &v)?;
+    let text = if compute == Compute::TimeHistory {
+        let cols = body["time_history"]
+            .as_object()
+            .cloned()
+            .unwrap_or_default();
+        let names: Vec<&String> = cols.keys().collect();
+        let n = cols
+            .get("time_s")
+            .and_then(Value::as_array)
+            .map_or(0, Vec::len);
+        let mut csv = names
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>()
+            .join(",")
+            + "\n";
+        for k in 0..n {
+            let row: Vec<String> = names
+                .iter()
+                .map(|c| {
+                    cols[*c][k]
+                        .as_f64()
+                        .map_or(String::new(), |x| format!("{x:?}"))
+                })
+                .collect();
+            csv += &(row.join(",") + "\n");
+        }
+        csv
+    } else {
+        body["protocol"] = v["protocol"].clone();
+        body.to_string()
+    };
+    std::fs::write(&response, text).map_err(|e| format!("writing {response}: {e}"))
+}
+
+/// Answers requests as JSON lines until `input` ends (persistent mode): each answer a line
+/// with the request's `id`, or `error` where the model cannot answer.
+pub fn answer_lines(
+    model: &dyn FlightModel,
+    input: impl BufRead,
+    mut output: impl Write,
+) -> std::io::Result<()> {
+    for line in input.lines() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let v: Value = serde_json::from_str(&line).unwrap_or(Value::Null);
+        let mut body = match respond(model, &v) {
+            Ok((_, body)) => body,
+            Err(e) => json!({ "error": e }),
+        };
+        body["protocol"] = v["protocol"].clone();
+        body["id"] = v["id"].clone();
+        writeln!(output, "{body}")?;
+        output.flush()?;
+    }
+    Ok(())
+}
