@@ -224,17 +224,20 @@ pub struct FrequencyResponseSpec {
     /// longest window to a fifth of the sample rate).
     #[serde(default)]
     pub band_hz: Option<[f64; 2]>,
-    /// On an aircraft: the condition it is linearised at.
+    /// On an aircraft or an external model: the condition its linear model is asked at.
     #[serde(default)]
     pub condition: Option<crate::TrimRequest>,
 }
 
 impl Kind for FrequencyResponseCheck {
     type Spec = FrequencyResponseSpec;
-    const SUBJECTS: &'static str = "a linear model or an aircraft";
+    const SUBJECTS: &'static str = "a linear model, an aircraft or an external model";
 
     fn runs_on(subject: &Subject) -> bool {
-        matches!(subject, Subject::Linear { .. } | Subject::Aircraft { .. })
+        matches!(
+            subject,
+            Subject::Linear { .. } | Subject::Aircraft { .. } | Subject::External(_)
+        )
     }
 
     fn resolve(cx: &Cx, own: FrequencyResponseSpec, _: &CheckSpec) -> Result<Self, InputError> {
@@ -272,7 +275,7 @@ impl Kind for FrequencyResponseCheck {
             return Err(cx.err(".conditioned_on", format!("`{input}` is the input itself")));
         }
         let condition = match cx.subject {
-            Subject::Aircraft { .. } => {
+            Subject::Aircraft { .. } | Subject::External(_) => {
                 let c = cx.needs(&spec.condition, "condition")?;
                 super::check_condition(cx, &c, true)?;
                 Some(c)
@@ -439,7 +442,9 @@ fn run_of(
     config.states = vec![output.to_string()];
     config.kinematics.clear();
     config.controls.clear();
-    let aircraft = matches!(cx.subject, Subject::Aircraft { .. });
+    // A flight model's controls are in % of travel (cierva's aircraft's, and the protocol's:
+    // an external model's B is per % of travel).
+    let aircraft = matches!(cx.subject, Subject::Aircraft { .. } | Subject::External(_));
     let mut order = Vec::new();
     for c in std::iter::once(input).chain(conditioned_on.iter().map(String::as_str)) {
         let channel = crate::ident::control_channel(rec, c)
@@ -775,7 +780,30 @@ impl FrequencyResponseCheck {
                     ))
                 }
             }
-            _ => Err("a frequency_response check needs a linear model or an aircraft".into()),
+            Subject::External(e) => {
+                let condition = self
+                    .condition
+                    .ok_or("an external model's frequency_response check needs its condition")?;
+                let model = e
+                    .model
+                    .linear_model(&crate::external::Request::at(condition, e.loading))?;
+                let (o, i) = (
+                    index(model.states(), &self.output)?,
+                    index(model.controls(), &self.input)?,
+                );
+                Ok((
+                    linear_response(&model, o, i, frequencies_hz)?,
+                    format!(
+                        "the model's response from the A and B {} gives at {} mph",
+                        e.model.describe(),
+                        condition.airspeed_mph
+                    ),
+                ))
+            }
+            _ => Err(
+                "a frequency_response check needs a linear model, an aircraft or an external model"
+                    .into(),
+            ),
         }
     }
 }

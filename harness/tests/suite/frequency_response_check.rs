@@ -276,3 +276,72 @@ fn bad_frequency_response_input_is_located() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A `frequency_response` check on another simulation (issue 49, item 2): seed 002's A and B,
+/// given three ways (the linear model file; a `files:` subject with that file at its condition;
+/// the example external command, `examples/vpm-m16-external/model/vpm_m16.py`, which serves
+/// the same matrix at 60 kn, 425 kg, 2000 ft) against one reference response, cost the same J.
+/// The reference is made up (a flat -10 dB at -120 deg, coherence 0.9): what is tested is that
+/// the three paths give one number, not the model's agreement.
+#[test]
+fn an_external_model_and_files_cost_what_their_linear_model_costs() {
+    let dir = scratch("external");
+    let mut csv = String::from("frequency_hz,magnitude_db,phase_deg,coherence\n");
+    for k in 0..20 {
+        csv += &format!("{},-10.0,-120.0,0.9\n", 0.1 * 1.2f64.powi(k));
+    }
+    std::fs::write(dir.join("reference.csv"), csv).unwrap();
+    let check = "    input: eta_s\n    output: q\n    reference: reference.csv\n    \
+                 condition: {airspeed_kn: 60}\n    \
+                 expect:\n      mismatch_cost: {tolerance: acceptable}\n";
+    let refs = root().join("flight-refs/seed002-vpm-m16-60kn.yaml");
+    let script = root().join("examples/vpm-m16-external/model/vpm_m16.py");
+    let header = |id: &str, model: String| {
+        format!(
+            "id: {id}\ntitle: t\nclass: verification\nprovenance: {{source: test}}\n\
+             model:\n{model}\
+             tolerances:\n  acceptable: {{interval: [0.0, {J_ACCEPTABLE:?}], reason: Tischler's guideline}}\n\
+             checks:\n  - id: fr\n    kind: frequency_response\n{check}"
+        )
+    };
+    let subjects = [
+        (
+            "files",
+            format!(
+                "  files:\n    linear_model_file: {}\n    at: {{airspeed_kn: 60}}\n    \
+                 mass_kg: 425.0\n    density_altitude_ft: 2000.0\n",
+                refs.display()
+            ),
+        ),
+        (
+            "command",
+            format!(
+                "  external:\n    command: [python3, {}]\n    timeout_s: 30\n    \
+                 mass_kg: 425.0\n    density_altitude_ft: 2000.0\n",
+                script.display()
+            ),
+        ),
+    ];
+    // The linear model itself: its check has no condition.
+    let linear = linear_case(
+        &dir,
+        "linear",
+        &check.replace("    condition: {airspeed_kn: 60}\n", ""),
+    );
+    let cost = |path: &Path| {
+        let c = case::load(path).unwrap_or_else(|e| panic!("{}", e.render()));
+        let r = outcome::run_check(&c, &c.checks[0]);
+        assert!(r.error.is_none(), "{}", r.explain());
+        (r.quantities[0].value, r.note.clone().unwrap_or_default())
+    };
+    let (j, _) = cost(&linear);
+    assert!(j.is_finite() && j > 0.0, "J = {j}");
+    for (id, model) in subjects {
+        let path = dir.join(format!("{id}.yaml"));
+        std::fs::write(&path, header(id, model)).unwrap();
+        let (got, note) = cost(&path);
+        assert_eq!(got, j, "{id}: J {got} against the linear model's {j}");
+        assert!(note.contains("the A and B"), "{id}: {note}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
