@@ -75,7 +75,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
     };
     let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
     for case in &cases {
-        let d = propagate::inputs(case).len();
+        let d = propagate::inputs(case).map_or(0, |i| i.len());
         let bar = progress(
             if d == 0 {
                 0

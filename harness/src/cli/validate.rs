@@ -407,7 +407,7 @@ fn attach_uncertainty(
 ) -> Result<(), String> {
     use cierva_harness::uncertainty::propagate;
     for c in &mut run.cases {
-        let d = propagate::inputs(&c.case).len();
+        let d = propagate::inputs(&c.case).map_or(0, |i| i.len());
         let bar = progress(
             if d == 0 {
                 0

@@ -743,6 +743,8 @@ struct Declared {
     nominal: f64,
     #[serde(default)]
     range: Option<DeclaredRange>,
+    #[serde(default)]
+    correction: bool,
 }
 
 /// A declared parameter's range as written.
@@ -808,6 +810,7 @@ pub(super) fn parse_describe(text: &str) -> Result<Description, String> {
             meaning: p.meaning,
             nominal: p.nominal,
             range,
+            correction: p.correction,
         });
     }
     Ok(Description {

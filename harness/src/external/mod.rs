@@ -76,6 +76,9 @@ pub struct Parameter {
     pub meaning: String,
     pub nominal: f64,
     pub range: Option<Range>,
+    /// An empirical correction (what a fit tunes), not an estimated physical input: an
+    /// uncertainty study samples the estimated inputs and leaves corrections at their values.
+    pub correction: bool,
 }
 
 /// Checks values against the parameters a model declares: each one declared (an unknown name
@@ -242,6 +245,7 @@ impl FlightModel for CiervaAircraft<'_> {
                     meaning: p.meaning.to_string(),
                     nominal,
                     range: self.file.ranges.get(p.name).cloned(),
+                    correction: p.name.starts_with("corrections."),
                 })
             })
             .collect())
@@ -298,6 +302,53 @@ impl FlightModel for CiervaAircraft<'_> {
                 azimuth_step_rad: self.azimuth_step_rad,
             },
         )
+    }
+}
+
+/// A model with some of its parameters set: every request it is asked carries these values
+/// (a request's own value for the same name wins). A study's design point on any model.
+#[derive(Debug)]
+pub struct WithValues {
+    pub model: Arc<dyn FlightModel>,
+    pub values: Values,
+}
+
+impl WithValues {
+    fn merged(&self, request: &Request) -> Request {
+        let mut parameters = self.values.clone();
+        parameters.extend(request.parameters.clone());
+        Request {
+            parameters,
+            ..request.clone()
+        }
+    }
+}
+
+impl FlightModel for WithValues {
+    fn describe(&self) -> String {
+        self.model.describe()
+    }
+    fn parameters(&self) -> Result<Vec<Parameter>, String> {
+        self.model.parameters()
+    }
+    fn trim(&self, request: &Request) -> Result<Quantities, String> {
+        self.model.trim(&self.merged(request))
+    }
+    fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
+        self.model.linear_model(&self.merged(request))
+    }
+    fn trim_and_linear_model(
+        &self,
+        request: &Request,
+    ) -> Result<(Quantities, LinearModel), String> {
+        self.model.trim_and_linear_model(&self.merged(request))
+    }
+    fn time_history(
+        &self,
+        request: &Request,
+        controls: &ControlChanges,
+    ) -> Result<Replayed, String> {
+        self.model.time_history(&self.merged(request), controls)
     }
 }
 

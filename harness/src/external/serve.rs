@@ -128,7 +128,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 .map(|p| {
                     let mut d = json!({
                         "name": p.name, "unit": p.unit, "meaning": p.meaning,
-                        "nominal": p.nominal,
+                        "nominal": p.nominal, "correction": p.correction,
                     });
                     if let Some(r) = p.range {
                         d["range"] = json!({

@@ -160,8 +160,34 @@ pub struct CaseUncertainty {
 }
 
 /// The case's uncertain inputs: its aircraft's (or rotor's) ranged parameters other than
-/// corrections, in the file's order. Empty for another subject.
-pub fn inputs(case: &Case) -> Vec<Input> {
+/// corrections, in the file's order; an external model's declared parameters with a plausible
+/// range other than corrections, by name (an `Err` where it cannot say: its `describe`
+/// failed). Empty for another subject.
+pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
+    if let Subject::External(e) = &case.subject {
+        let mut declared: Vec<Input> = e
+            .model
+            .parameters()?
+            .into_iter()
+            .filter(|p| !p.correction)
+            .filter_map(|p| {
+                let r = p.range?;
+                Some(Input {
+                    distribution: InputDistribution::of_range(p.nominal, &r),
+                    name: p.name,
+                    nominal: p.nominal,
+                    source: r.source,
+                })
+            })
+            .collect();
+        declared.sort_by(|a, b| a.name.cmp(&b.name));
+        return Ok(declared);
+    }
+    Ok(inputs_of_files(case))
+}
+
+/// [`inputs`] of an aircraft or rotor case.
+fn inputs_of_files(case: &Case) -> Vec<Input> {
     if let Subject::Rotor { file, .. } = &case.subject {
         return file
             .ranges
@@ -233,6 +259,18 @@ fn set_values(
         }
         file.aircraft.validate().map_err(|e| e.to_string())?;
         file.path = format!("{}#{tag}", file.path.display()).into();
+    }
+    if let Subject::External(e) = subject {
+        let values = inputs
+            .iter()
+            .zip(values)
+            .map(|(i, v)| (i.name.clone(), *v))
+            .collect();
+        e.model = std::sync::Arc::new(crate::external::WithValues {
+            model: e.model.clone(),
+            values,
+        });
+        e.written = format!("{}#{tag}", e.written);
     }
     if let Subject::Rotor { file, .. } = subject {
         for (input, v) in inputs.iter().zip(values) {
@@ -437,7 +475,7 @@ pub fn propagate_from(
             propagate_from(&only, &results, settings, done)
         };
     }
-    let inputs = inputs(case);
+    let inputs = inputs(case)?;
     if inputs.is_empty() {
         return Ok(without_inputs(case, nominal));
     }
@@ -684,6 +722,11 @@ fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
         Subject::Rotor { file, .. } => format!(
             "no verdict: {} gives none of its estimated parameters a plausible range (`ranges:`), so the inputs' uncertainty is unknown",
             file.id
+        ),
+        Subject::External(e) => format!(
+            "no verdict: {} declares no parameter with a plausible range (protocol \
+             `cierva-external/2`'s `describe`), so the inputs' uncertainty is unknown",
+            e.model.describe()
         ),
         s => format!(
             "no verdict: the estimated inputs of {} carry no distributions (only aircraft and rotor files' ranges are propagated), so the inputs' uncertainty is unknown",
