@@ -273,10 +273,18 @@ pub fn fly_model(
     let record = &check.reference;
     let table = replay::record_controls(record)?;
     let samples = table.time_s.len().saturating_sub(1);
+    let initial_state = replay::record_signals(record)
+        .into_iter()
+        .filter_map(|name| {
+            let first = *record.channel(&name)?.first()?;
+            Some((name, first))
+        })
+        .collect();
     let controls = crate::external::ControlChanges {
         table,
         sample_s: record.dt_s(),
         samples,
+        initial_state,
     };
     let flown = model.time_history(
         &crate::external::Request::at(check.condition, loading),

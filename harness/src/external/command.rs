@@ -355,6 +355,9 @@ impl ExternalCommand {
         if let Some(c) = controls {
             json["sample_s"] = serde_json::json!(c.sample_s);
             json["samples"] = serde_json::json!(c.samples + 1);
+            if self.protocol == Protocol::V2 {
+                json["initial_state"] = serde_json::json!(c.initial_state);
+            }
         }
         json
     }

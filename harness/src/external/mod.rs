@@ -120,12 +120,16 @@ pub fn check_values(model: &str, declared: &[Parameter], values: &Values) -> Res
 pub type Quantities = Vec<(&'static str, f64)>;
 
 /// Control changes from trim to fly: the table, and the times the response is wanted at
-/// (`k * sample_s`, `k = 0..=samples`).
+/// (`k * sample_s`, `k = 0..=samples`); and the record's first sample of each response it
+/// carries (changes from trim, named as [`crate::run::replay::SIGNALS`]), where a model may
+/// start its flight (cierva's own starts from its periodic trim, as the records it flies start
+/// in trim).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ControlChanges {
     pub table: ControlTable,
     pub sample_s: f64,
     pub samples: usize,
+    pub initial_state: BTreeMap<String, f64>,
 }
 
 /// What a model does not provide, as the error a check that needs it gives.

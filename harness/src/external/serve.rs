@@ -98,10 +98,18 @@ fn read_request(v: &Value) -> Result<(Compute, Request, Option<ControlChanges>),
             let rows = v["samples"]
                 .as_u64()
                 .ok_or("a time-history request needs `samples`")?;
+            let mut initial_state = std::collections::BTreeMap::new();
+            if let Some(o) = v["initial_state"].as_object() {
+                for (name, x) in o {
+                    initial_state
+                        .insert(name.clone(), number(x, &format!("initial_state.{name}"))?);
+                }
+            }
             Some(ControlChanges {
                 table,
                 sample_s: number(&v["sample_s"], "sample_s")?,
                 samples: usize::try_from(rows.max(1) - 1).map_err(|e| e.to_string())?,
+                initial_state,
             })
         }
     };

@@ -761,3 +761,73 @@ fn uncertainty_through_the_protocol_samples_the_built_in_inputs_and_values() {
         }
     }
 }
+
+/// A time-history request of protocol `/2` carries the record's first sample of each response
+/// (`initial_state`), inline in persistent mode as in a one-shot request file.
+#[test]
+fn a_time_history_request_carries_the_initial_state() {
+    super::external::require_python3();
+    let dir = std::env::temp_dir().join(format!("cierva-initial-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // Notes the initial state it is given, and answers a still response (every row zero).
+    let script = "import json, sys\n\
+                  def body(r):\n\
+                  \x20   if r['compute'] == 'describe':\n\
+                  \x20       return {'describe': {'computes': ['time_history']}}\n\
+                  \x20   open('initial.json', 'a').write(json.dumps(r['initial_state']) + '\\n')\n\
+                  \x20   n = r['samples']\n\
+                  \x20   return {'time_history': {'time_s': [k * r['sample_s'] for k in range(n)], 'theta_deg': [0.0] * n}}\n\
+                  if sys.argv[1:] == ['--serve']:\n\
+                  \x20   for line in sys.stdin:\n\
+                  \x20       r = json.loads(line); b = body(r); b['protocol'] = r['protocol']; b['id'] = r['id']\n\
+                  \x20       sys.stdout.write(json.dumps(b) + '\\n'); sys.stdout.flush()\n\
+                  else:\n\
+                  \x20   r = json.load(open(sys.argv[1])); b = body(r)\n\
+                  \x20   if 'time_history' in b:\n\
+                  \x20       t = b['time_history']\n\
+                  \x20       rows = ['time_s,theta_deg'] + ['%r,%r' % (a, c) for a, c in zip(t['time_s'], t['theta_deg'])]\n\
+                  \x20       open(r['response'], 'w').write('\\n'.join(rows) + '\\n')\n\
+                  \x20   else:\n\
+                  \x20       b['protocol'] = r['protocol']; open(r['response'], 'w').write(json.dumps(b))\n";
+    std::fs::write(dir.join("model.py"), script).unwrap();
+    let controls = cierva_harness::external::ControlChanges {
+        table: cierva_harness::inputs::controls::ControlTable {
+            time_s: vec![0.0, 1.0],
+            changes: [vec![0.0, 1.0], vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]],
+        },
+        sample_s: 0.5,
+        samples: 2,
+        initial_state: [("theta_deg".to_string(), 0.25), ("q_deg_s".into(), -1.5)]
+            .into_iter()
+            .collect(),
+    };
+    let at = Request::at(
+        TrimRequest::level(70.0),
+        Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+    );
+    for persistent in [false, true] {
+        let mut command = vec!["python3".to_string(), "model.py".to_string()];
+        if persistent {
+            command.push("--serve".into());
+        }
+        let mut model = cierva_harness::external::command::ExternalCommand::speaking(
+            command,
+            dir.clone(),
+            std::time::Duration::from_secs(30),
+            cierva_harness::external::command::Protocol::V2,
+        );
+        if persistent {
+            model = model.persistent();
+        }
+        let flown = model.time_history(&at, &controls).unwrap();
+        assert_eq!(flown.time_s, [0.0, 0.5, 1.0]);
+    }
+    let noted = std::fs::read_to_string(dir.join("initial.json")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let want = r#"{"q_deg_s": -1.5, "theta_deg": 0.25}"#;
+    assert_eq!(noted.lines().collect::<Vec<_>>(), [want, want]);
+}
