@@ -485,12 +485,13 @@ pub(crate) struct SynthFlightArgs {
     pub(crate) format: Format,
 }
 
-/// Retune corrections from flight records in one command: identify the records (each
-/// condition's together), fit the named corrections with clarabel so that the model's
-/// derivatives match the identified ones (weighted by their standard errors, within
-/// bounds), write the corrections file and a before/after report (derivatives against the
-/// bounds, modes, predictions of records not used), and run the validation suite's cases
-/// for this aircraft with the new corrections.
+/// Retune corrections from flight records in one command: estimate each condition's frequency
+/// responses from its records (coherence, random error), fit the named corrections with
+/// clarabel so that the model's responses as flown (its linearisation with the rotor's
+/// flapping) match them, weighted by their random errors, within bounds with their sources;
+/// write the corrections file and a before/after report (each response's mismatch cost,
+/// modes, predictions of records not used), and run the validation suite's cases for this
+/// aircraft with the new corrections.
 ///
 /// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
 /// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
@@ -538,10 +539,11 @@ pub(crate) struct RetuneArgs {
     pub(crate) format: Format,
 }
 
-/// The uncertainty of every check's quantities: the aircraft's estimated inputs sampled over
-/// their distributions (the aircraft file's `ranges:`; corrections excluded) on
-/// Owen-scrambled Sobol' points in a Saltelli design, every check evaluated at every point
-/// on every core; the numerical uncertainty from a refined discretisation; the data's from a
+/// The uncertainty of every check's quantities: the model's estimated inputs sampled over
+/// their distributions (an aircraft file's `ranges:`, an external model's declared ranges;
+/// corrections excluded) on Owen-scrambled Sobol' points in a Saltelli design, every check
+/// evaluated at every point on every core; the numerical uncertainty from a refined
+/// discretisation (cierva's own aircraft and rotors); the data's from a
 /// tolerance's confidence level. For each validation check the comparison of ASME V&V 20:
 /// E = S - D, u_val = sqrt(u_num^2 + u_input^2 + u_D^2) and a verdict (agrees, model-form
 /// error, inconclusive), whether a pass is fragile, and the inputs by Sobol' total index.

@@ -2,6 +2,10 @@
 
 use super::*;
 
+/// Make a new suite in a folder: its marker (`cierva.toml`), the shared tolerances and an example
+/// case that validates as it is written.
+///
+/// Example: `cierva init my-suite && cd my-suite && cierva validate`
 #[derive(clap::Args)]
 pub(crate) struct InitArgs {
     /// The folder to make a suite (made if missing; `.` for the working directory).

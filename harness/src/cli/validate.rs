@@ -299,14 +299,26 @@ fn external_errors(case_run: &cierva_harness::report::CaseRun) -> Vec<String> {
         return Vec::new();
     }
     let src = std::fs::read_to_string(&case.path).unwrap_or_default();
-    case_run
-        .results
-        .iter()
-        .filter_map(|r| Some((r, r.error.as_ref()?)))
-        .map(|(r, e)| {
-            let i = case.checks.iter().position(|c| c.id == r.check);
+    // Checks that fail with the same error (a command not found fails every check) are one
+    // error, located at the first of them, naming them all.
+    let mut same: Vec<(&str, Vec<&str>)> = Vec::new();
+    for r in &case_run.results {
+        let Some(e) = r.error.as_deref() else {
+            continue;
+        };
+        match same.iter_mut().find(|(m, _)| *m == e) {
+            Some((_, checks)) => checks.push(&r.check),
+            None => same.push((e, vec![&r.check])),
+        }
+    }
+    same.into_iter()
+        .map(|(e, checks)| {
+            let i = case.checks.iter().position(|c| c.id == checks[0]);
             let field = i.map_or("checks".to_string(), |i| format!("checks[{i}]"));
-            let msg = format!("check `{}`: {e}", r.check);
+            let msg = match checks.as_slice() {
+                [one] => format!("check `{one}`: {e}"),
+                many => format!("{} checks (`{}`): {e}", many.len(), many.join("`, `")),
+            };
             format!(
                 "error: {}",
                 cierva_harness::inputs::yaml::InputError::field(&case.path, &src, &field, msg)
@@ -356,11 +368,11 @@ fn print_text(
         );
     }
     println!(
-        "\n{} cases, {} checks: {}, {} input errors\nby class (only validation compares the model with measured data):\n{}",
-        cases,
-        results.len(),
+        "\n{}, {}: {}, {}\nby class (only validation compares the model with measured data):\n{}",
+        cierva_harness::units::count(cases, "case", "cases"),
+        cierva_harness::units::count(results.len(), "check", "checks"),
         tables::counts(results).describe(),
-        errors.len(),
+        cierva_harness::units::count(errors.len(), "input error", "input errors"),
         tables::class_summary(results).trim_end()
     );
     if !written.is_empty() {

@@ -198,11 +198,11 @@ pub fn html(run: &Run, dir: &Path) -> String {
     );
     let _ = writeln!(
         h,
-        "<h1>cierva validation report</h1><p class=\"muted\">{} cases, {} checks, {:.1} s. \
-         Validation against outside references; self-regression snapshots are checked by \
-         <code>cargo test</code> and reviewed with <code>cargo insta review</code>.</p>",
-        run.cases.len(),
-        counts.total(),
+        "<h1>cierva validation report</h1><p class=\"muted\">{}, {}, {:.1} s. \
+         Validation against outside references, counted apart from cross-code, verification \
+         and regression checks.</p>",
+        crate::units::count(run.cases.len(), "case", "cases"),
+        crate::units::count(counts.total(), "check", "checks"),
         run.seconds
     );
     h += &scoreboard_html(run);
@@ -534,7 +534,9 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
         id = esc(&case.id),
         title = esc(&case.title),
         link = esc(&link),
-        path = esc(&case.path.display().to_string()),
+        // The case's path from the suite's root (the report's folder's parent), never this
+        // machine's absolute path: a report sent to a colleague names files they have.
+        path = esc(&relative_link(&case.path, dir.parent().unwrap_or(dir))),
         n = c.results.len(),
         s = c.seconds,
         src = esc(&case.provenance.source),
@@ -640,12 +642,12 @@ pub fn markdown(run: &Run) -> String {
     let mut m = String::from("# cierva validation summary\n\n");
     let _ = writeln!(
         m,
-        "{} cases, {} checks in {:.1} s: **{}**, {} input errors.\n\nBy class (only validation compares the model with measured data):\n",
-        run.cases.len(),
-        k.total(),
+        "{}, {} in {:.1} s: **{}**, {}.\n\nBy class (only validation compares the model with measured data):\n",
+        crate::units::count(run.cases.len(), "case", "cases"),
+        crate::units::count(k.total(), "check", "checks"),
         run.seconds,
         k.describe(),
-        run.input_errors.len()
+        crate::units::count(run.input_errors.len(), "input error", "input errors")
     );
     for (class, c) in crate::report::tables::counts_by_class(&run.results()) {
         let _ = writeln!(

@@ -229,11 +229,13 @@ impl Figure {
                 .y_label_area_size(62)
                 .build_cartesian_2d(x0..x1, y0..y1)?;
             let powers = |v: &f64| crate::units::sig(10f64.powf(*v), 2);
-            let plain = |v: &f64| format!("{v}");
+            let plain = |v: &f64| tick_label(*v, x1 - x0);
             let x_labels: &dyn Fn(&f64) -> String = if log_x { &powers } else { &plain };
+            let y_labels = |v: &f64| tick_label(*v, y1 - y0);
             chart
                 .configure_mesh()
                 .x_label_formatter(x_labels)
+                .y_label_formatter(&y_labels)
                 .x_desc(self.x_label.as_str())
                 .y_desc(self.y_label.as_str())
                 .label_style(("sans-serif", 11))
@@ -610,4 +612,25 @@ pub fn sparkline_svg(history: &[Spark], now: &Spark) -> Option<String> {
     }
     svg.push_str("</svg>");
     Some(svg)
+}
+
+/// An axis tick's label: to the decimals the axis's `span` needs (three significant digits of
+/// the span), trailing zeros dropped, and a tick that is zero but for rounding (a step of the
+/// axis summed from a negative start, `-2.2e-16`) written `0`.
+pub fn tick_label(v: f64, span: f64) -> String {
+    let span = span.abs();
+    if !(v.is_finite() && span.is_finite() && span > 0.0) {
+        return format!("{v}");
+    }
+    if v.abs() <= 1e-9 * span {
+        return "0".into();
+    }
+    let decimals = (2.0 - span.log10().floor()).clamp(0.0, 12.0) as usize;
+    let text = format!("{v:.decimals$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    };
+    if text == "-0" { "0".into() } else { text }
 }

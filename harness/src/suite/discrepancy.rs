@@ -138,7 +138,7 @@ pub fn write(dir: &Path, record: &CaseRecord) -> std::io::Result<bool> {
     let text = format!(
         "# Written by `cierva review --accept`: what the model gives today for each check of\n\
          # `{}` that is expected to fail. Do not edit by hand. A check whose model leaves a band\n\
-         # fails as \"discrepancy moved\". RecordedBand half-width: max({BAND_RELATIVE:e} |value|, \
+         # fails as \"discrepancy moved\". Band half-width: max({BAND_RELATIVE:e} |value|, \
          {BAND_OF_TOLERANCE:e} x the tolerance's half-width).\n{body}",
         record.case
     );

@@ -142,7 +142,7 @@ impl CheckResult {
                 s += &format!(
                     "\n  this check is marked as an expected failure ({r}) but it passes: \
                      review the case and remove `expected_failure` if the discrepancy is gone, \
-                     then run `cargo run --release -- review --accept --reason TEXT`"
+                     then run `cierva review --accept --reason TEXT`"
                 )
             }
             (Outcome::DiscrepancyMoved, Some(r)) => {
@@ -151,7 +151,7 @@ impl CheckResult {
                     s += &format!("\n    {d}");
                 }
                 s += "\n  if the change is intended, record the model's new values with \
-                      `cargo run --release -- review --accept --reason TEXT` (the reason is logged)";
+                      `cierva review --accept --reason TEXT` (the reason is logged)";
             }
             (Outcome::ExpectedFailure, Some(r)) => s += &format!("\n  expected failure: {r}"),
             (Outcome::Error, Some(_)) => {

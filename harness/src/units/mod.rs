@@ -38,3 +38,8 @@ pub fn sig(x: f64, digits: usize) -> String {
         format!("{x:.*e}", digits - 1)
     }
 }
+
+/// `n` things in words, with the singular for one: `1 case`, `17 checks`.
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}

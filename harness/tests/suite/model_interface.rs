@@ -831,3 +831,30 @@ fn a_time_history_request_carries_the_initial_state() {
     let want = r#"{"q_deg_s": -1.5, "theta_deg": 0.25}"#;
     assert_eq!(noted.lines().collect::<Vec<_>>(), [want, want]);
 }
+
+/// A command that is not found fails every check the same way: one input error naming them all,
+/// and the counts in words ("1 case", issue 50).
+#[test]
+fn checks_that_fail_alike_are_one_input_error() {
+    let dir = suite("not-found", "cierva-external/2");
+    let yaml = std::fs::read_to_string(dir.join("cases/model.yaml")).unwrap();
+    std::fs::write(
+        dir.join("cases/model.yaml"),
+        yaml.replace("[python3, model.py]", "[cierva-no-such-model]"),
+    )
+    .unwrap();
+    let (code, out, err) = cierva_in(&dir, &["validate", "--no-report"]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{out}{err}");
+    let listed: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("error: ") && l.contains("cases/model.yaml"))
+        .collect();
+    assert_eq!(listed.len(), 1, "{out}");
+    assert!(
+        listed[0].contains("2 checks (`damping`, `pitch`): the command `cierva-no-such-model`"),
+        "{out}"
+    );
+    assert!(out.contains("\n1 case, 2 checks: "), "{out}");
+    assert!(out.contains(", 1 input error\n"), "{out}");
+}

@@ -485,6 +485,20 @@ mod plot {
         assert_eq!(empty.points(), 0);
         assert!(empty.svg(400, 300).is_none());
     }
+
+    /// An axis tick summed from a negative start lands at -2.2e-16, not 0: its label said
+    /// `-0.0000000000000002220446049250313` in every report's eigenvalue plot (issue 50).
+    #[test]
+    fn tick_labels_are_as_long_as_the_axis_needs() {
+        let near_zero = -0.6 + 0.2 + 0.2 + 0.2;
+        assert_ne!(near_zero, 0.0);
+        assert_eq!(tick_label(near_zero, 1.2), "0");
+        assert_eq!(tick_label(-0.4, 1.2), "-0.4");
+        assert_eq!(tick_label(0.25, 1.2), "0.25");
+        assert_eq!(tick_label(30.0, 40.0), "30");
+        assert_eq!(tick_label(0.0015, 0.004), "0.0015");
+        assert_eq!(tick_label(-1e-13, 0.004), "0");
+    }
 }
 
 mod text {
