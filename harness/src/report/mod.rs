@@ -652,9 +652,9 @@ pub fn markdown(run: &Run) -> String {
     for (class, c) in crate::report::tables::counts_by_class(&run.results()) {
         let _ = writeln!(
             m,
-            "- {}: {} checks: {}",
+            "- {}: {}: {}",
             class.name(),
-            c.total(),
+            crate::units::count(c.total(), "check", "checks"),
             c.describe()
         );
     }

@@ -11,7 +11,7 @@ pub fn table(s: &Study) -> String {
     let mut out = format!(
         "{} at {} mph, climb {} m/s, mass {}, density altitude {} ft\n\nparameters (step either way; plausible range as the model declares it):\n",
         s.model,
-        s.condition.airspeed_mph,
+        crate::units::sig(s.condition.airspeed_mph, 4),
         s.condition.climb_m_s,
         s.loading
             .mass_kg
@@ -31,9 +31,18 @@ pub fn table(s: &Study) -> String {
         );
     }
     for r in &s.rows {
-        let bound = r
-            .bound
-            .map_or(String::new(), |[lo, hi]| format!(" against [{lo}, {hi}]"));
+        let bound = r.bound.map_or(String::new(), |[lo, hi]| {
+            // The bound as written, without the float noise its arithmetic left
+            // (`3.6000000000000005`).
+            let g = |x: f64| {
+                let t = crate::units::sig(x, 12);
+                if t.contains('e') || !t.contains('.') {
+                    return t;
+                }
+                t.trim_end_matches('0').trim_end_matches('.').to_string()
+            };
+            format!(" against [{}, {}]", g(lo), g(hi))
+        });
         let verdict = match r.inside {
             Some(true) => ", inside",
             Some(false) => ", OUTSIDE",

@@ -489,9 +489,10 @@ pub fn class_summary(results: &[CheckResult]) -> String {
     for (k, c) in counts_by_class(results) {
         let _ = writeln!(
             s,
-            "  {:<13} {:>4} checks: {}",
+            "  {:<13} {:>4} {}: {}",
             k.name(),
             c.total(),
+            if c.total() == 1 { "check" } else { "checks" },
             c.describe()
         );
     }

@@ -29,7 +29,7 @@ fn a_suite_is_a_directory_that_init_makes_anywhere() {
     );
     let (code, out, err) = cierva_in(&s, &["validate"]);
     assert_eq!(code, 0, "{out}{err}");
-    assert!(out.contains("1 checks: 1 passed"), "{out}");
+    assert!(out.contains("1 check: 1 passed"), "{out}");
     assert!(
         s.join("reports/index.html").is_file(),
         "the report is the suite's"
