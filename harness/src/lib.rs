@@ -7,7 +7,8 @@
 //! and `report`. The `cierva` binary and the generated test suite (`tests/cases.rs`) are thin
 //! layers over this library.
 //!
-//! The model (`cierva-model`) does no I/O; everything that reads files lives here.
+//! The model (`cierva-model`) does no I/O; everything that reads files lives here. The root
+//! re-exports nothing: an item is named by where it lives (`crate::run::trim::run_trim`).
 
 pub mod checks;
 pub mod estimate;
@@ -21,8 +22,3 @@ pub mod suite;
 pub mod synth;
 pub mod uncertainty;
 pub mod units;
-
-pub use inputs::condition::{Loading, TrimRequest};
-pub use run::*;
-pub use suite::case::load_cases;
-pub use units::{FT_TO_M, MPH_PER_KN, MPH_TO_M_S};

@@ -13,9 +13,9 @@
 //! Each check is evaluated once, however many trials read its result (its own, the case's
 //! `::scores`, `docs::readme-validation-table`).
 
-use cierva_harness::load_cases;
 use cierva_harness::report::{snapshots, tables};
 use cierva_harness::suite::case::Case;
+use cierva_harness::suite::case::load_cases;
 use cierva_harness::suite::outcome;
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::sync::{Arc, OnceLock};

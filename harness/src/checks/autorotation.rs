@@ -151,7 +151,7 @@ pub fn autorotation_quantities(
     t: &TunnelSpec,
 ) -> Result<Result<Quantities, Found>, String> {
     let run = match (t.alpha_deg, t.tip_speed_ratio, t.rotor_rpm) {
-        (Some(alpha), ..) => crate::run_autorotation(
+        (Some(alpha), ..) => crate::run::autorotation::run_autorotation(
             rotor,
             alpha,
             tunnel_airspeed_m_s(t, rotor.radius_m),
@@ -160,20 +160,22 @@ pub fn autorotation_quantities(
             solver,
         )
         .map(|a| (alpha, a)),
-        (None, Some(mu), Some(rpm)) => crate::run_autorotation_at_tip_speed_ratio(
-            rotor,
-            mu,
-            rpm,
-            t.collective_deg,
-            t.density_kg_m3,
-            solver,
-        )
-        .map(|f| (f.alpha_rad.to_degrees(), f.autorotation)),
+        (None, Some(mu), Some(rpm)) => {
+            crate::run::autorotation::run_autorotation_at_tip_speed_ratio(
+                rotor,
+                mu,
+                rpm,
+                t.collective_deg,
+                t.density_kg_m3,
+                solver,
+            )
+            .map(|f| (f.alpha_rad.to_degrees(), f.autorotation))
+        }
         _ => return Err("the tunnel condition is incomplete".into()),
     };
     let (alpha_deg, a) = match run {
         Ok(a) => a,
-        Err(crate::AutorotateError::Autorotation(e)) => {
+        Err(crate::run::autorotation::AutorotateError::Autorotation(e)) => {
             return match no_equilibrium(&e) {
                 Some(numbers) => Ok(Err((
                     Finding::NoEquilibrium {

@@ -40,7 +40,7 @@ linear::linear_spec! {
         pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
         /// On an aircraft: the derivative as this identification set-up finds it in the
         /// aircraft linearised with its flapping states, over the set-up's band
-        /// ([`crate::identified_in_band_cached`]), not the quasi-static linearisation's.
+        /// ([`crate::run::linearise::identified_in_band_cached`]), not the quasi-static linearisation's.
         #[serde(default)]
         pub as_identified: Option<crate::ident::Setup>,
     }
@@ -386,7 +386,7 @@ impl OnLinear for DerivativeCheck {
 /// gravity, not of the aircraft.
 pub fn kinematic_or_gravity(derivative: &str, airspeed_mph: f64) -> Option<(f64, &'static str)> {
     const G: f64 = 9.80665;
-    let u0 = airspeed_mph * crate::MPH_TO_M_S;
+    let u0 = airspeed_mph * crate::units::MPH_TO_M_S;
     match derivative {
         "Z_q" => Some((u0, "the kinematic term alone (Z_q = u0, the trim airspeed)")),
         "Y_r" => Some((

@@ -106,7 +106,7 @@ pub struct FrequencyResponseCheck {
     /// Other controls the records' response is conditioned on.
     pub conditioned_on: Vec<String>,
     /// An aircraft's flight condition.
-    pub condition: Option<crate::TrimRequest>,
+    pub condition: Option<crate::inputs::condition::TrimRequest>,
     /// The reference response, every frequency where it is estimated.
     pub reference: Vec<Point>,
     pub source: Source,
@@ -226,7 +226,7 @@ pub struct FrequencyResponseSpec {
     pub band_hz: Option<[f64; 2]>,
     /// On an aircraft or an external model: the condition its linear model is asked at.
     #[serde(default)]
-    pub condition: Option<crate::TrimRequest>,
+    pub condition: Option<crate::inputs::condition::TrimRequest>,
 }
 
 impl Kind for FrequencyResponseCheck {
@@ -618,7 +618,7 @@ impl Evaluate for FrequencyResponseCheck {
         super::names(crate::inputs::quantity::FREQUENCY_RESPONSE)
     }
 
-    fn condition(&self) -> Option<crate::TrimRequest> {
+    fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {
         self.condition
     }
 
@@ -744,11 +744,15 @@ impl FrequencyResponseCheck {
                 let condition = self
                     .condition
                     .ok_or("an aircraft's frequency_response check needs its condition")?;
-                let lin = crate::linearise_cached(file, condition, *loading)?;
+                let lin = crate::run::linearise::linearise_cached(file, condition, *loading)?;
                 let teetering = file.aircraft.main_rotor.rotor.hub
                     == cierva_model::components::rotor::Hub::Teetering;
                 if teetering {
-                    let wf = crate::run_linearise_with_flapping(&file.aircraft, &lin.0, *loading)?;
+                    let wf = crate::run::linearise::run_linearise_with_flapping(
+                        &file.aircraft,
+                        &lin.0,
+                        *loading,
+                    )?;
                     let (o, i) = (
                         index(wf.model.states(), &self.output)?,
                         index(wf.model.controls(), &self.input)?,
@@ -883,8 +887,8 @@ impl Responses {
 /// An aircraft's responses ([`Responses`]) at its trim `trim` for `request` and `loading`.
 pub fn aircraft_responses(
     aircraft: &cierva_model::aircraft::Aircraft,
-    request: crate::TrimRequest,
-    loading: crate::Loading,
+    request: crate::inputs::condition::TrimRequest,
+    loading: crate::inputs::condition::Loading,
     trim: &cierva_model::aircraft::trim::Trim,
     frequencies_hz: &[f64],
 ) -> Result<Responses, String> {
@@ -895,7 +899,7 @@ pub fn aircraft_responses(
         DMatrix::from_fn(n, h.ncols(), |r, c| C::new(h[(r, c)].re, h[(r, c)].im))
     };
     if teetering {
-        let wf = crate::run_linearise_with_flapping(aircraft, trim, loading)?;
+        let wf = crate::run::linearise::run_linearise_with_flapping(aircraft, trim, loading)?;
         // The flapping, inflow and propeller states are the model's own: the records measure
         // the rigid body's (the first rows).
         let n = cierva_model::aircraft::linearise::STATES.len();
@@ -915,7 +919,7 @@ pub fn aircraft_responses(
             flapping: true,
         })
     } else {
-        let (_, lin) = crate::run_linearise_from(aircraft, request, loading, None)
+        let (_, lin) = crate::run::linearise::run_linearise_from(aircraft, request, loading, None)
             .map_err(|e| e.to_string())?;
         let model = &lin.model;
         let (ns, nc) = (model.states().len(), model.controls().len());

@@ -50,7 +50,7 @@ macro_rules! linear_spec {
             $($body)*
             /// On an aircraft or an external model: the condition it is linearised at.
             #[serde(default)]
-            pub condition: Option<crate::TrimRequest>,
+            pub condition: Option<crate::inputs::condition::TrimRequest>,
             /// Derivatives set to these values before the check (a what-if variant).
             #[serde(default)]
             pub set: std::collections::BTreeMap<String, f64>,
@@ -76,7 +76,7 @@ pub(crate) use linear_spec;
 /// The fields every check on a linear model takes, as written.
 #[derive(Debug, Clone, Default)]
 pub struct LinearFields {
-    pub condition: Option<crate::TrimRequest>,
+    pub condition: Option<crate::inputs::condition::TrimRequest>,
     pub set: BTreeMap<String, f64>,
     pub without_rotorspeed_coupling: bool,
 }
@@ -96,13 +96,13 @@ pub fn runs_on(subject: &Subject) -> bool {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LinearSetup {
     /// On an aircraft: the condition it is linearised at (straight flight).
-    pub condition: Option<crate::TrimRequest>,
+    pub condition: Option<crate::inputs::condition::TrimRequest>,
     /// Derivatives set to these values before the check (a what-if variant).
     pub set: BTreeMap<String, f64>,
     /// Zero every rotorspeed coupling derivative first (seed 002 Tables 2 and 5).
     pub without_rotorspeed_coupling: bool,
     /// On an aircraft: the model is what this set-up identifies from the aircraft linearised
-    /// with its flapping states ([`crate::identified_in_band_cached`]).
+    /// with its flapping states ([`crate::run::linearise::identified_in_band_cached`]).
     pub as_identified: Option<crate::ident::Setup>,
 }
 
@@ -385,7 +385,7 @@ fn on_aircraft<K: OnLinear>(
     k: &K,
     at: &At,
     plain: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
     expectations: &[Expectation],
 ) -> Result<Evaluated, String> {
     let request = k
@@ -400,9 +400,9 @@ fn on_aircraft<K: OnLinear>(
         }
         None => plain,
     };
-    let lin = crate::linearise_cached(file, request, loading)?;
+    let lin = crate::run::linearise::linearise_cached(file, request, loading)?;
     let model = if let Some(setup) = k.setup().as_identified {
-        crate::identified_in_band_cached(file, request, loading, setup)?
+        crate::run::linearise::identified_in_band_cached(file, request, loading, setup)?
             .as_ref()
             .clone()
     } else if k.longitudinal() {
@@ -427,7 +427,7 @@ fn on_aircraft<K: OnLinear>(
         ));
     }
     let uncorrected = |d: &str| -> Result<f64, String> {
-        let base = crate::linearise_cached(plain, request, loading)?;
+        let base = crate::run::linearise::linearise_cached(plain, request, loading)?;
         base.1.model.derivative_value(d).map_err(|e| e.to_string())
     };
     let mut out = Vec::new();
@@ -456,15 +456,15 @@ fn on_aircraft<K: OnLinear>(
 /// names its branches, it keeps the name it has at the neighbouring airspeed.
 fn neighbour_for_continuity(
     siblings: &[Check],
-    here: crate::TrimRequest,
+    here: crate::inputs::condition::TrimRequest,
     mode: Option<(ModeKind, System)>,
     file: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
 ) -> Result<Option<LinearModel>, String> {
     let Some((kind, system)) = mode else {
         return Ok(None);
     };
-    let mut others: Vec<crate::TrimRequest> = siblings
+    let mut others: Vec<crate::inputs::condition::TrimRequest> = siblings
         .iter()
         .filter_map(Check::condition)
         .filter(|c| c.climb_m_s == here.climb_m_s && c.turn_rate_deg_s == 0.0)
@@ -478,7 +478,7 @@ fn neighbour_for_continuity(
     });
     others.dedup();
     for request in others {
-        let lin = crate::linearise_cached(file, request, loading)?;
+        let lin = crate::run::linearise::linearise_cached(file, request, loading)?;
         let sys = system_model(&lin.1.model, system)?;
         let analysis = modes::modes(&sys).map_err(|e| e.to_string())?;
         if analysis.of_kind(kind).count() == 1 {

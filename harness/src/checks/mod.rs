@@ -400,7 +400,7 @@ impl Check {
     }
 
     /// The flight condition the check trims or linearises its subject at.
-    pub fn condition(&self) -> Option<crate::TrimRequest> {
+    pub fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {
         self.behaviour().condition()
     }
 
@@ -535,7 +535,7 @@ pub trait Evaluate {
     }
     /// The flight condition it trims or linearises its subject at (a check on a linear model:
     /// its setup's).
-    fn condition(&self) -> Option<crate::TrimRequest> {
+    fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {
         self.linear()?.condition
     }
     /// The tunnel condition of a check on an isolated rotor.
@@ -593,7 +593,7 @@ pub enum Measured<'a> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Place<'a> {
     /// An aircraft's trimmed flight condition.
-    Flight(crate::TrimRequest),
+    Flight(crate::inputs::condition::TrimRequest),
     /// An isolated rotor's tunnel condition.
     Tunnel(&'a autorotation::TunnelSpec),
 }
@@ -621,7 +621,7 @@ pub enum Placed<'a> {
     /// cuts couplings (its eigenvalues are then not the model's).
     Eigenvalues {
         system: System,
-        condition: Option<crate::TrimRequest>,
+        condition: Option<crate::inputs::condition::TrimRequest>,
         modified: bool,
         /// The check judges the mode by BCAR Section T: it is drawn on the BCAR chart too.
         bcar: bool,
@@ -632,9 +632,9 @@ pub enum Placed<'a> {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Snapshotted<'a> {
     /// Conditions its aircraft is trimmed at (columns of the trim table).
-    Trims(Vec<crate::TrimRequest>),
+    Trims(Vec<crate::inputs::condition::TrimRequest>),
     /// A condition its aircraft is linearised at (a table of the linear model there).
-    Linearised(crate::TrimRequest),
+    Linearised(crate::inputs::condition::TrimRequest),
     /// A row of the isolated rotor's autorotation table.
     Autorotation(&'a autorotation::TunnelSpec),
     /// A row of the table of time-history metrics.
@@ -937,7 +937,11 @@ fn names(list: &[crate::inputs::quantity::Quantity]) -> Vec<String> {
 
 /// A flight condition as a check may give it: a positive airspeed, finite climb and turn rates;
 /// `straight` when the check's model is linearised about straight flight.
-fn check_condition(cx: &Cx, t: &crate::TrimRequest, straight: bool) -> Result<(), InputError> {
+fn check_condition(
+    cx: &Cx,
+    t: &crate::inputs::condition::TrimRequest,
+    straight: bool,
+) -> Result<(), InputError> {
     let ok = t.airspeed_mph.is_finite()
         && t.airspeed_mph > 0.0
         && t.climb_m_s.is_finite()
@@ -972,7 +976,10 @@ fn is_flight_model(subject: &Subject) -> bool {
 /// blade model at its file's azimuth step) or another simulation; with its loading.
 pub fn flight_model(
     subject: &Subject,
-) -> Option<(Box<dyn crate::external::FlightModel + '_>, crate::Loading)> {
+) -> Option<(
+    Box<dyn crate::external::FlightModel + '_>,
+    crate::inputs::condition::Loading,
+)> {
     match subject {
         Subject::Aircraft { file, loading } => Some((
             Box::new(crate::external::CiervaAircraft::new(file)),

@@ -55,7 +55,7 @@ pub struct FilesSpec {
     pub time_history: Option<String>,
     /// The condition of the linear model and the time history.
     #[serde(default)]
-    pub at: Option<crate::TrimRequest>,
+    pub at: Option<crate::inputs::condition::TrimRequest>,
     /// Mass, kg, the files are at (as the checks' records and discrepancy records say).
     #[serde(default)]
     pub mass_kg: Option<f64>,
@@ -177,7 +177,7 @@ pub enum Subject {
     /// An aircraft, its mass and air.
     Aircraft {
         file: Box<crate::inputs::aircraft::AircraftFile>,
-        loading: crate::Loading,
+        loading: crate::inputs::condition::Loading,
     },
     /// Another simulation (a command, or its outputs as files) at a loading.
     External(Box<crate::external::External>),
@@ -513,7 +513,7 @@ fn check_loading(
     field: &str,
     mass_kg: Option<f64>,
     density_altitude_ft: f64,
-) -> Result<crate::Loading, InputError> {
+) -> Result<crate::inputs::condition::Loading, InputError> {
     if let Some(mass) = mass_kg
         && !(mass.is_finite() && mass > 0.0)
     {
@@ -528,7 +528,7 @@ fn check_loading(
             format!("must be in [-2000, 20000] ft, got {density_altitude_ft}"),
         ));
     }
-    Ok(crate::Loading {
+    Ok(crate::inputs::condition::Loading {
         mass_kg,
         density_altitude_ft,
     })

@@ -16,7 +16,7 @@ pub struct TimeHistoryCheck {
     /// The reference record (loaded, its channels checked).
     pub reference: Box<Record>,
     /// The trim the record starts from.
-    pub condition: crate::TrimRequest,
+    pub condition: crate::inputs::condition::TrimRequest,
     /// The model that flies it.
     pub simulation: Simulation,
     /// The full blade model's azimuth step, deg (default the aircraft file's).
@@ -32,7 +32,7 @@ pub struct TimeHistorySpec {
     /// The reference record CSV (its sidecar beside it), relative to the case file.
     pub reference: String,
     /// The trim the record starts from.
-    pub condition: crate::TrimRequest,
+    pub condition: crate::inputs::condition::TrimRequest,
     /// The model that flies the record (default the full blade model).
     #[serde(default)]
     pub simulation: Option<Simulation>,
@@ -128,7 +128,7 @@ fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
 }
 
 impl Evaluate for TimeHistoryCheck {
-    fn condition(&self) -> Option<crate::TrimRequest> {
+    fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {
         Some(self.condition)
     }
 
@@ -238,7 +238,7 @@ impl TimeHistoryCheck {
 /// response by response.
 pub fn time_history_metrics(
     file: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
     check: &TimeHistoryCheck,
 ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
     let corrected;
@@ -266,7 +266,7 @@ pub fn time_history_metrics(
 /// does not give, or gives at other times, is an error.
 pub fn fly_model(
     model: &dyn crate::external::FlightModel,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
     check: &TimeHistoryCheck,
     strict: bool,
 ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {

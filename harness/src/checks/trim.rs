@@ -13,7 +13,7 @@ use crate::inputs::yaml::InputError;
 /// A `trim` check: its flight condition.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrimCheck {
-    pub condition: crate::TrimRequest,
+    pub condition: crate::inputs::condition::TrimRequest,
 }
 
 /// A `trim` check's own fields, as written.
@@ -21,7 +21,7 @@ pub struct TrimCheck {
 #[serde(deny_unknown_fields)]
 pub struct TrimSpec {
     /// The flight condition.
-    pub condition: crate::TrimRequest,
+    pub condition: crate::inputs::condition::TrimRequest,
 }
 
 impl Kind for TrimCheck {
@@ -44,7 +44,7 @@ impl Evaluate for TrimCheck {
         super::names(q::TRIM)
     }
 
-    fn condition(&self) -> Option<crate::TrimRequest> {
+    fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {
         Some(self.condition)
     }
 
@@ -111,10 +111,11 @@ pub fn refuse_enforced(expectations: &[Expectation]) -> Result<(), Refusal> {
 /// The quantities of one trim (see [`crate::inputs::quantity::TRIM`]).
 pub fn trim_quantities(
     file: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::Loading,
-    request: crate::TrimRequest,
+    loading: crate::inputs::condition::Loading,
+    request: crate::inputs::condition::TrimRequest,
 ) -> Result<Quantities, String> {
-    let t = crate::run_trim(&file.aircraft, request, loading).map_err(|e| e.to_string())?;
+    let t =
+        crate::run::trim::run_trim(&file.aircraft, request, loading).map_err(|e| e.to_string())?;
     Ok(trim_quantities_of(&file.aircraft, loading, &t))
 }
 

@@ -52,7 +52,7 @@ impl Evaluate for TrimSweepCheck {
         vec![Snapshotted::Trims(
             self.sweep_mph
                 .iter()
-                .map(|v| crate::TrimRequest::level(*v))
+                .map(|v| crate::inputs::condition::TrimRequest::level(*v))
                 .collect(),
         )]
     }
@@ -112,7 +112,7 @@ impl Evaluate for TrimSweepCheck {
 /// its airspeed).
 pub fn trim_sweep(
     file: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
     sweep_mph: &[f64],
 ) -> Result<Vec<(f64, Quantities)>, String> {
     trim_sweep_of(
@@ -125,13 +125,13 @@ pub fn trim_sweep(
 /// [`trim_sweep`] of any flight model.
 pub fn trim_sweep_of(
     model: &dyn crate::external::FlightModel,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
     sweep_mph: &[f64],
 ) -> Result<Vec<(f64, Quantities)>, String> {
     sweep_mph
         .iter()
         .map(|&v| {
-            let request = crate::TrimRequest::level(v);
+            let request = crate::inputs::condition::TrimRequest::level(v);
             model
                 .trim(&crate::external::Request::at(request, loading))
                 .map(|q| (v, q))

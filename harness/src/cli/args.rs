@@ -26,8 +26,11 @@ pub(crate) struct FlightArgs {
 
 impl FlightArgs {
     /// The flight condition, turning at `turn_rate_deg_s`.
-    pub(crate) fn request(&self, turn_rate_deg_s: f64) -> cierva_harness::TrimRequest {
-        cierva_harness::TrimRequest {
+    pub(crate) fn request(
+        &self,
+        turn_rate_deg_s: f64,
+    ) -> cierva_harness::inputs::condition::TrimRequest {
+        cierva_harness::inputs::condition::TrimRequest {
             airspeed_mph: self.airspeed_mph,
             climb_m_s: self.climb_m_s,
             turn_rate_deg_s,
@@ -51,8 +54,8 @@ impl FlightArgs {
     }
 
     /// The mass and air.
-    pub(crate) fn loading(&self) -> cierva_harness::Loading {
-        cierva_harness::Loading {
+    pub(crate) fn loading(&self) -> cierva_harness::inputs::condition::Loading {
+        cierva_harness::inputs::condition::Loading {
             mass_kg: self.mass_kg,
             density_altitude_ft: self.density_altitude_ft,
         }

@@ -39,22 +39,24 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
             inflow,
         )
         .map(|e| (alpha_deg, airspeed_m_s, e, None)),
-        (None, None, Some(mu), Some(rpm)) => cierva_harness::run_autorotation_at_tip_speed_ratio(
-            &file.rotor,
-            mu,
-            rpm,
-            a.collective_deg,
-            a.density_kg_m3,
-            inflow,
-        )
-        .map(|f| {
-            (
-                f.alpha_rad.to_degrees(),
-                f.airspeed_m_s,
-                f.autorotation,
-                Some(f.rotor_speed_stiffness),
+        (None, None, Some(mu), Some(rpm)) => {
+            cierva_harness::run::autorotation::run_autorotation_at_tip_speed_ratio(
+                &file.rotor,
+                mu,
+                rpm,
+                a.collective_deg,
+                a.density_kg_m3,
+                inflow,
             )
-        }),
+            .map(|f| {
+                (
+                    f.alpha_rad.to_degrees(),
+                    f.airspeed_m_s,
+                    f.autorotation,
+                    Some(f.rotor_speed_stiffness),
+                )
+            })
+        }
         _ => {
             return Err(Error::input(
                 "give --alpha-deg with --airspeed-m-s, or --tip-speed-ratio with --rotor-rpm",

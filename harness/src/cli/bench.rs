@@ -197,7 +197,7 @@ fn rotor(out: &Rows, repeat: usize) -> Result<f64, Error> {
     let at_mu: Vec<f64> = (0..repeat)
         .map(|_| {
             time(&mut || {
-                sink += cierva_harness::run_autorotation_at_tip_speed_ratio(
+                sink += cierva_harness::run::autorotation::run_autorotation_at_tip_speed_ratio(
                     rotor,
                     0.525,
                     140.0,
@@ -231,8 +231,8 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
     match cierva_harness::inputs::aircraft::load(&ac_path) {
         Err(e) => eprintln!("{}", e.render()),
         Ok(ac) => {
-            let request = cierva_harness::TrimRequest::level(70.0);
-            let loading = cierva_harness::Loading {
+            let request = cierva_harness::inputs::condition::TrimRequest::level(70.0);
+            let loading = cierva_harness::inputs::condition::Loading {
                 mass_kg: None,
                 density_altitude_ft: 0.0,
             };
@@ -240,13 +240,14 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
             let trims: Vec<f64> = (0..repeat)
                 .map(|_| {
                     time(&mut || {
-                        last = cierva_harness::run_trim(&ac.aircraft, request, loading).ok();
+                        last = cierva_harness::run::trim::run_trim(&ac.aircraft, request, loading)
+                            .ok();
                     })
                 })
                 .collect();
             // The fit's case: the same condition with a correction moved a little (here the
             // mass, by 5 kg), started from the last trim's end.
-            let heavier = cierva_harness::Loading {
+            let heavier = cierva_harness::inputs::condition::Loading {
                 mass_kg: Some(ac.aircraft.mass.mass_kg + 5.0),
                 ..loading
             };
@@ -285,8 +286,12 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
                 let lins: Vec<f64> = (0..repeat)
                     .map(|_| {
                         time(&mut || {
-                            sink += cierva_harness::run_linearise(&ac.aircraft, request, loading)
-                                .map_or(0.0, |(_, l)| l.model.a()[(0, 0)])
+                            sink += cierva_harness::run::linearise::run_linearise(
+                                &ac.aircraft,
+                                request,
+                                loading,
+                            )
+                            .map_or(0.0, |(_, l)| l.model.a()[(0, 0)])
                         })
                     })
                     .collect();
@@ -338,8 +343,8 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
 /// timings and the last one's result.
 fn warm_trims(
     aircraft: &cierva_model::aircraft::Aircraft,
-    request: cierva_harness::TrimRequest,
-    heavier: cierva_harness::Loading,
+    request: cierva_harness::inputs::condition::TrimRequest,
+    heavier: cierva_harness::inputs::condition::Loading,
     last: Option<&cierva_model::aircraft::trim::Trim>,
     repeat: usize,
 ) -> (Vec<f64>, Option<cierva_model::aircraft::trim::Trim>) {
@@ -349,7 +354,7 @@ fn warm_trims(
         Some(t) => (0..repeat)
             .map(|_| {
                 time(&mut || {
-                    warm_last = cierva_harness::run_trim_from(
+                    warm_last = cierva_harness::run::trim::run_trim_from(
                         aircraft,
                         request,
                         heavier,
@@ -402,7 +407,7 @@ fn simulation_rows(
         let mut a2 = aircraft.clone();
         a2.main_rotor.rotor.elements = elements;
         let c = cierva_model::aircraft::trim::Condition {
-            airspeed_m_s: 70.0 * cierva_harness::MPH_TO_M_S,
+            airspeed_m_s: 70.0 * cierva_harness::units::MPH_TO_M_S,
             climb_m_s: 0.0,
             turn_rate_rad_s: 0.0,
             air,
@@ -840,15 +845,17 @@ fn flapping(
     let Some(Ok((req, loading))) = records.first().map(ident::record_condition) else {
         return sink;
     };
-    let Ok(trim) = cierva_harness::run_trim(aircraft, req, loading) else {
+    let Ok(trim) = cierva_harness::run::trim::run_trim(aircraft, req, loading) else {
         return sink;
     };
     let mut flapping = None;
     let t: Vec<f64> = (0..repeat)
         .map(|_| {
             time(&mut || {
-                flapping =
-                    cierva_harness::run_linearise_with_flapping(aircraft, &trim, loading).ok();
+                flapping = cierva_harness::run::linearise::run_linearise_with_flapping(
+                    aircraft, &trim, loading,
+                )
+                .ok();
             })
         })
         .collect();
@@ -916,7 +923,7 @@ fn fitting(out: &Rows) {
             start: kind.neutral().unwrap_or(lower),
             regularisation: 0.0,
         };
-        let loading = cierva_harness::Loading {
+        let loading = cierva_harness::inputs::condition::Loading {
             mass_kg: Some(425.0),
             density_altitude_ft: 2000.0,
         };
@@ -934,8 +941,10 @@ fn fitting(out: &Rows) {
         };
         for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
             for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {
-                let condition =
-                    TargetCondition::Flight(cierva_harness::TrimRequest::level(mph), loading);
+                let condition = TargetCondition::Flight(
+                    cierva_harness::inputs::condition::TrimRequest::level(mph),
+                    loading,
+                );
                 problem.targets.push(Target {
                     measure: Measure::parse(&condition, m).expect("known"),
                     condition,
@@ -1111,8 +1120,8 @@ fn sweep_flight(
     use cierva_harness::synth::flight::{FlightTest, sensors::Instrumentation, turbulence};
     use cierva_harness::synth::linear::TestInput;
     FlightTest {
-        request: cierva_harness::TrimRequest::level(airspeed_mph),
-        loading: cierva_harness::Loading {
+        request: cierva_harness::inputs::condition::TrimRequest::level(airspeed_mph),
+        loading: cierva_harness::inputs::condition::Loading {
             mass_kg: None,
             density_altitude_ft: 0.0,
         },
@@ -1161,7 +1170,7 @@ fn external(out: &Rows) -> Result<(), Error> {
     std::fs::create_dir_all(&dir).map_err(|e| Error::failure(e.to_string()))?;
     std::fs::write(dir.join("model.py"), TRIVIAL_MODEL)
         .map_err(|e| Error::failure(e.to_string()))?;
-    let loading = cierva_harness::Loading {
+    let loading = cierva_harness::inputs::condition::Loading {
         mass_kg: None,
         density_altitude_ft: 0.0,
     };
@@ -1182,13 +1191,13 @@ fn external(out: &Rows) -> Result<(), Error> {
         // The description and the first process's start, outside the timing.
         model
             .trim(&Request::at(
-                cierva_harness::TrimRequest::level(1.0),
+                cierva_harness::inputs::condition::TrimRequest::level(1.0),
                 loading,
             ))
             .map_err(Error::failure)?;
         let started = Instant::now();
         for k in 0..requests {
-            let at = cierva_harness::TrimRequest::level(2.0 + k as f64 * 0.01);
+            let at = cierva_harness::inputs::condition::TrimRequest::level(2.0 + k as f64 * 0.01);
             model
                 .trim(&Request::at(at, loading))
                 .map_err(Error::failure)?;

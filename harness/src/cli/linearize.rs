@@ -22,8 +22,8 @@ pub(crate) fn linearize(a: LinearizeArgs) -> Result<ExitCode, Error> {
     let LinearizeArgs { flight: f, format } = a;
     let file = load_flight(&f)?;
     let (request, loading) = (f.request(0.0), f.loading());
-    let (t, lin) =
-        cierva_harness::run_linearise(&file.aircraft, request, loading).map_err(|e| {
+    let (t, lin) = cierva_harness::run::linearise::run_linearise(&file.aircraft, request, loading)
+        .map_err(|e| {
             Error::of(
                 e.is_input(),
                 format!("error: {}: {e}", f.aircraft.display()),
@@ -49,7 +49,7 @@ pub(crate) fn linearize(a: LinearizeArgs) -> Result<ExitCode, Error> {
                         t.residual_norm
                     ),
                     &lin.model,
-                    &cierva_harness::linear_units(),
+                    &cierva_harness::run::linearise::linear_units(),
                 )
             );
         }

@@ -3,9 +3,9 @@
 //! JSON, and loading an aircraft for a flight condition.
 
 pub(crate) use cierva_harness::inputs::reference;
-pub(crate) use cierva_harness::load_cases;
 pub(crate) use cierva_harness::report::tables;
-pub(crate) use cierva_harness::run_autorotation;
+pub(crate) use cierva_harness::run::autorotation::run_autorotation;
+pub(crate) use cierva_harness::suite::case::load_cases;
 pub(crate) use cierva_harness::suite::case::{DescentSpec, InflowSpec, SkewSpec};
 pub(crate) use cierva_harness::suite::outcome::{self, CheckResult};
 pub(crate) use cierva_model::components::rotor::{InflowModel, WakeModel};
@@ -330,10 +330,14 @@ pub(crate) fn linearised_against(
         corrections: corrections.cloned(),
     };
     let file = load_flight(&flight)?;
-    cierva_harness::run_linearise(&file.aircraft, request, loading)
+    cierva_harness::run::linearise::run_linearise(&file.aircraft, request, loading)
         .map(|(trim, lin)| {
             let with_flapping = flapping.then(|| {
-                cierva_harness::run_linearise_with_flapping(&file.aircraft, &trim, loading)
+                cierva_harness::run::linearise::run_linearise_with_flapping(
+                    &file.aircraft,
+                    &trim,
+                    loading,
+                )
             });
             (lin.model, with_flapping)
         })

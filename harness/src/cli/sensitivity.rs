@@ -28,11 +28,11 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
                 return Err(Error::input("give --airspeed-mph with an aircraft file"));
             };
             file = load_aircraft(path)?;
-            let loading = cierva_harness::Loading {
+            let loading = cierva_harness::inputs::condition::Loading {
                 mass_kg: a.mass_kg,
                 density_altitude_ft: a.density_altitude_ft,
             };
-            let request = cierva_harness::TrimRequest::level(v);
+            let request = cierva_harness::inputs::condition::TrimRequest::level(v);
             let quantities = tables::PRIMARY_DERIVATIVES
                 .iter()
                 .map(|n| BoundedQuantity {

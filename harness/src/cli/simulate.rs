@@ -82,8 +82,13 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
     };
     let started = std::time::Instant::now();
     let busy = spinner(&format!("flying {duration_s} s"));
-    let flown =
-        cierva_harness::run_simulation(&file.aircraft, request, loading, &changes, settings);
+    let flown = cierva_harness::run::simulate::run_simulation(
+        &file.aircraft,
+        request,
+        loading,
+        &changes,
+        settings,
+    );
     busy.finish_and_clear();
     match flown {
         Ok(h) => {

@@ -28,7 +28,7 @@ pub(crate) fn trim(a: TrimArgs) -> Result<ExitCode, Error> {
     let flight = &flight;
     let file = load_flight(flight)?;
     let path = &flight.aircraft;
-    let t = cierva_harness::run_trim(&file.aircraft, request, loading)
+    let t = cierva_harness::run::trim::run_trim(&file.aircraft, request, loading)
         .map_err(|e| Error::of(e.is_input(), format!("error: {}: {e}", path.display())))?;
     match format {
         Format::Json => print_json(&t),

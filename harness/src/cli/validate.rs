@@ -213,7 +213,7 @@ fn run_cases(
         .copied()
         .filter(|c| c.sensitivity.is_some())
         .collect();
-    let mut studied = cierva_harness::parallel_map(&studies, |case| {
+    let mut studied = cierva_harness::run::parallel::parallel_map(&studies, |case| {
         let parameters = case.sensitivity.as_ref()?;
         Some(
             cierva_harness::fit::sensitivity::from_case(case, None).and_then(

@@ -8,7 +8,9 @@
 //! the averaged model about the trim (the propeller's normal force at incidence).
 
 use crate::inputs::aircraft::{AircraftFile, ConditionSpec};
-use crate::{FT_TO_M, Loading, TrimRequest};
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
+use crate::units::FT_TO_M;
 use cierva_model::aircraft::Air;
 use cierva_model::components::atmosphere;
 use cierva_model::estimate::airframe::{self, Estimates};
@@ -53,7 +55,7 @@ pub enum EstimateRunError {
     )]
     Blocked(String, f64),
     #[error("the trim at the estimates' condition failed: {0}")]
-    Trim(#[from] crate::TrimRunError),
+    Trim(#[from] crate::run::trim::TrimRunError),
     #[error("the propeller's side force about the trim: {0}")]
     Model(#[from] cierva_model::aircraft::AircraftError),
     #[error("{0}")]
@@ -101,9 +103,9 @@ pub fn operating_point(
         density_altitude_ft: c.density_altitude_ft,
     };
     let request = TrimRequest::level(c.airspeed_mph);
-    let trim = crate::run_trim(&file.aircraft, request, loading)?;
+    let trim = crate::run::trim::run_trim(&file.aircraft, request, loading)?;
     let atm = atmosphere::at_density_altitude(c.density_altitude_ft * FT_TO_M)
-        .map_err(crate::TrimRunError::from)?;
+        .map_err(crate::run::trim::TrimRunError::from)?;
     let air = Air {
         density_kg_m3: atm.density_kg_m3,
         speed_of_sound_m_s: atm.speed_of_sound_m_s,

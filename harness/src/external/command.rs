@@ -21,8 +21,9 @@
 //!   ask at once.
 
 use super::{ControlChanges, FlightModel, Quantities, trim_name};
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
 use crate::run::replay::Replayed;
-use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap};
@@ -340,8 +341,8 @@ impl ExternalCommand {
         }
         json["condition"] = serde_json::json!({
             "airspeed_mph": condition.airspeed_mph,
-            "airspeed_m_s": condition.airspeed_mph * crate::MPH_TO_M_S,
-            "airspeed_kn": condition.airspeed_mph / crate::MPH_PER_KN,
+            "airspeed_m_s": condition.airspeed_mph * crate::units::MPH_TO_M_S,
+            "airspeed_kn": condition.airspeed_mph / crate::units::MPH_PER_KN,
             "climb_m_s": condition.climb_m_s,
             "turn_rate_deg_s": condition.turn_rate_deg_s,
         });

@@ -13,7 +13,7 @@
 //! Files are read and checked when the case loads; errors name the file, line and column.
 
 use super::{ControlChanges, FlightModel, Quantities, Request, check_values, trim_name};
-use crate::TrimRequest;
+use crate::inputs::condition::TrimRequest;
 use crate::inputs::yaml::InputError;
 use crate::run::replay::{Replayed, SIGNALS};
 use cierva_model::LinearModel;
@@ -166,8 +166,8 @@ pub fn parse_trim_table(text: &str) -> Result<Vec<(f64, Quantities)>, CsvError> 
     for (c, name) in columns.iter().enumerate() {
         let to_mph = match name.as_str() {
             "airspeed_mph" => Some(1.0),
-            "airspeed_kn" => Some(crate::MPH_PER_KN),
-            "airspeed_m_s" => Some(1.0 / crate::MPH_TO_M_S),
+            "airspeed_kn" => Some(crate::units::MPH_PER_KN),
+            "airspeed_m_s" => Some(1.0 / crate::units::MPH_TO_M_S),
             _ => None,
         };
         match to_mph {

@@ -26,10 +26,11 @@ pub mod files;
 mod persistent;
 pub mod serve;
 
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
 use crate::inputs::controls::ControlTable;
 use crate::inputs::ranges::Range;
 use crate::run::replay::{Replayed, Simulation};
-use crate::{Loading, TrimRequest};
 use cierva_model::LinearModel;
 use serde::Serialize;
 use std::borrow::Cow;
@@ -257,7 +258,7 @@ impl FlightModel for CiervaAircraft<'_> {
 
     fn trim(&self, request: &Request) -> Result<Quantities, String> {
         let file = self.with_values(&request.parameters)?;
-        let t = crate::run_trim(&file.aircraft, request.condition, request.loading)
+        let t = crate::run::trim::run_trim(&file.aircraft, request.condition, request.loading)
             .map_err(|e| e.to_string())?;
         Ok(trim_quantities_of(&file.aircraft, request.loading, &t))
     }
@@ -276,11 +277,11 @@ impl FlightModel for CiervaAircraft<'_> {
         let file = self.with_values(&request.parameters)?;
         let (trim, lin) = match &file {
             Cow::Borrowed(f) => {
-                let both = crate::linearise_cached(f, c, l)?;
+                let both = crate::run::linearise::linearise_cached(f, c, l)?;
                 (both.0.clone(), both.1.model.clone())
             }
             Cow::Owned(f) => {
-                let (t, lin) = crate::run_linearise(&f.aircraft, c, l)
+                let (t, lin) = crate::run::linearise::run_linearise(&f.aircraft, c, l)
                     .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?;
                 (t, lin.model)
             }
@@ -449,7 +450,7 @@ pub fn check_response(
 /// The quantities of a trim of `aircraft` at `loading`.
 pub fn trim_quantities_of(
     aircraft: &cierva_model::aircraft::Aircraft,
-    loading: crate::Loading,
+    loading: crate::inputs::condition::Loading,
     t: &cierva_model::aircraft::trim::Trim,
 ) -> Quantities {
     let d = f64::to_degrees;
@@ -478,7 +479,7 @@ pub fn trim_quantities_of(
         (Q::ThrustCoefficientOverSolidity.name(), {
             let rotor = &aircraft.main_rotor.rotor;
             let rho = cierva_model::components::atmosphere::at_density_altitude(
-                loading.density_altitude_ft * crate::FT_TO_M,
+                loading.density_altitude_ft * crate::units::FT_TO_M,
             )
             .map_or(f64::NAN, |a| a.density_kg_m3);
             let tip = t.state.rotor_omega_rad_s * rotor.radius_m;

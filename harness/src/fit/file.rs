@@ -117,7 +117,7 @@ struct TargetSpec {
     soft_weight: Option<f64>,
     // Written out.
     #[serde(default)]
-    condition: Option<crate::TrimRequest>,
+    condition: Option<crate::inputs::condition::TrimRequest>,
     #[serde(default)]
     tunnel: Option<TunnelSpec>,
     #[serde(default)]
@@ -261,7 +261,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     let (subject, applies_to, subject_key) = match (&spec.subject.aircraft, &spec.subject.rotor) {
         (Some(a), None) => {
             let file = crate::inputs::aircraft::load(&dir.join(&a.file))?;
-            let loading = crate::Loading {
+            let loading = crate::inputs::condition::Loading {
                 mass_kg: a.mass_kg,
                 density_altitude_ft: a.density_altitude_ft,
             };
@@ -473,7 +473,7 @@ pub fn estimated_parameter(
 /// targets fly at.
 #[derive(Debug, Clone, PartialEq)]
 enum SubjectKey {
-    Aircraft(String, crate::Loading),
+    Aircraft(String, crate::inputs::condition::Loading),
     Rotor(String, cierva_model::components::rotor::InflowModel),
 }
 
@@ -642,7 +642,7 @@ fn case_of(
     dir: &Path,
     file: &str,
     subject: &SubjectKey,
-) -> Result<(case::Case, Option<crate::Loading>), String> {
+) -> Result<(case::Case, Option<crate::inputs::condition::Loading>), String> {
     let path = dir.join(file);
     let c = case::load(&path).map_err(|e| format!("the case {file}: {}", e.render()))?;
     let (key, case_loading) = match &c.subject {
@@ -749,7 +749,10 @@ pub fn run(f: &FitFile) -> FitRun {
     }
     let mut modes = Vec::new();
     if let fit::FitSubject::Aircraft { aircraft } = &f.problem.subject {
-        let mut conditions: Vec<(crate::TrimRequest, crate::Loading)> = Vec::new();
+        let mut conditions: Vec<(
+            crate::inputs::condition::TrimRequest,
+            crate::inputs::condition::Loading,
+        )> = Vec::new();
         for t in &f.problem.targets {
             if let TargetCondition::Flight(c, l) = t.condition
                 && !conditions.contains(&(c, l))
@@ -757,7 +760,11 @@ pub fn run(f: &FitFile) -> FitRun {
                 conditions.push((c, l));
             }
         }
-        let eig = |values: &[f64], (c, loading): (crate::TrimRequest, crate::Loading)| {
+        let eig = |values: &[f64],
+                   (c, loading): (
+            crate::inputs::condition::TrimRequest,
+            crate::inputs::condition::Loading,
+        )| {
             let mut set = crate::inputs::corrections::CorrectionSet::default();
             for (par, v) in f.problem.parameters.iter().zip(values) {
                 par.kind.set(&mut set, *v);
@@ -766,7 +773,7 @@ pub fn run(f: &FitFile) -> FitRun {
             let analysis = set
                 .apply_to_aircraft(&mut a)
                 .ok()
-                .and_then(|_| crate::run_linearise(&a, c, loading).ok())
+                .and_then(|_| crate::run::linearise::run_linearise(&a, c, loading).ok())
                 .and_then(|(_, lin)| cierva_model::analysis::modes::modes(&lin.model).ok());
             [
                 cierva_model::analysis::modes::ModeKind::Phugoid,

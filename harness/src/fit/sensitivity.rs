@@ -14,7 +14,8 @@
 
 use crate::external::{FlightModel, Parameter, Request};
 use crate::inputs::aircraft::Range;
-use crate::{Loading, TrimRequest};
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
 use serde::Serialize;
 
 /// A quantity to differentiate: a derivative of the linearised model or a trim quantity, with
@@ -210,7 +211,7 @@ pub fn run(
     };
     // Central differences, one-sided at the edge of a plausible range (a correction at its
     // bound).
-    let slopes: Vec<Result<Vec<f64>, String>> = crate::parallel_map(&moved, |p| {
+    let slopes: Vec<Result<Vec<f64>, String>> = crate::run::parallel::parallel_map(&moved, |p| {
         let (mut lo, mut hi) = (p.value - p.step, p.value + p.step);
         if let Some(r) = &p.range {
             (lo, hi) = (lo.max(r.lower), hi.min(r.upper));

@@ -4,9 +4,10 @@
 //! problem's own consistency (`check`).
 
 use super::Problem;
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
 use crate::inputs::corrections::CorrectionSet;
 use crate::suite::case::TunnelSpec;
-use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::{InflowModel, Rotor};
 use serde::Serialize;
@@ -533,7 +534,7 @@ pub fn evaluate_each_from(
         FitSubject::Aircraft { aircraft } => {
             let mut a = aircraft.clone();
             set.apply_to_aircraft(&mut a)?;
-            crate::parallel_map(&conditions, |c| {
+            crate::run::parallel::parallel_map(&conditions, |c| {
                 let TargetCondition::Flight(request, loading) = c else {
                     return Err(format!(
                         "{}: an aircraft flies, it is not in a tunnel",
@@ -547,11 +548,16 @@ pub fn evaluate_each_from(
                     .any(|t| t.condition == *c && matches!(t.measure, Measure::Derivative(_)));
                 let start = warm.and_then(|w| w.get(c));
                 let (trim, lin) = if linear {
-                    let (t, l) = crate::run_linearise_from(&a, *request, *loading, start.as_ref())
-                        .map_err(|e| format!("{}: {e}", at(c)))?;
+                    let (t, l) = crate::run::linearise::run_linearise_from(
+                        &a,
+                        *request,
+                        *loading,
+                        start.as_ref(),
+                    )
+                    .map_err(|e| format!("{}: {e}", at(c)))?;
                     (t, Some(l.model))
                 } else {
-                    let t = crate::run_trim_from(&a, *request, *loading, start.as_ref())
+                    let t = crate::run::trim::run_trim_from(&a, *request, *loading, start.as_ref())
                         .map_err(|e| format!("{}: {e}", at(c)))?;
                     (t, None)
                 };
@@ -584,7 +590,7 @@ pub fn evaluate_each_from(
         FitSubject::Rotor { rotor, inflow } => {
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
-            crate::parallel_map(&conditions, |c| {
+            crate::run::parallel::parallel_map(&conditions, |c| {
                 let TargetCondition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };

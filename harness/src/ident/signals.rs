@@ -38,7 +38,15 @@ pub fn blade_passage_average(x: &[f64], window: f64) -> Vec<f64> {
 /// The flight condition a record's sidecar gives (`condition`: one airspeed, and optionally
 /// `climb_m_s`, `turn_rate_deg_s`, `mass_kg`, `density_altitude_ft`), for linearising a model
 /// there.
-pub fn record_condition(record: &Record) -> Result<(crate::TrimRequest, crate::Loading), String> {
+pub fn record_condition(
+    record: &Record,
+) -> Result<
+    (
+        crate::inputs::condition::TrimRequest,
+        crate::inputs::condition::Loading,
+    ),
+    String,
+> {
     let c = &record.meta.condition;
     let number = |k: &str| -> Result<Option<f64>, String> {
         match c.get(k) {
@@ -60,11 +68,12 @@ pub fn record_condition(record: &Record) -> Result<(crate::TrimRequest, crate::L
             flight.insert(k.into(), v.into());
         }
     }
-    let request: crate::TrimRequest = serde_yaml::from_value(serde_yaml::Value::Mapping(flight))
-        .map_err(|e| format!("{}: condition: {e}", sidecar_name(record)))?;
+    let request: crate::inputs::condition::TrimRequest =
+        serde_yaml::from_value(serde_yaml::Value::Mapping(flight))
+            .map_err(|e| format!("{}: condition: {e}", sidecar_name(record)))?;
     Ok((
         request,
-        crate::Loading {
+        crate::inputs::condition::Loading {
             mass_kg: number("mass_kg")?,
             density_altitude_ft: number("density_altitude_ft")?.unwrap_or(0.0),
         },

@@ -61,7 +61,7 @@ fn derivative_unit(name: &str) -> String {
     let Some((f, x)) = name.split_once('_') else {
         return String::new();
     };
-    let units = crate::linear_units();
+    let units = crate::run::linearise::linear_units();
     let of = units.get(x).map_or("?", |s| s.as_str());
     let of = if of.starts_with('%') { "%" } else { of };
     let numerator = match f {

@@ -22,10 +22,10 @@ enum Body {
     /// The table of time-history metrics, a row per record.
     TimeHistories,
     /// The aircraft trimmed at each condition its checks use.
-    Trim(Vec<crate::TrimRequest>),
+    Trim(Vec<crate::inputs::condition::TrimRequest>),
     /// The aircraft linearised at one condition: the primary derivatives' breakdown, the
     /// modes and the derivatives.
-    Linearised(crate::TrimRequest),
+    Linearised(crate::inputs::condition::TrimRequest),
     /// A linear model given: its derivatives, its modes, its weakly coupled systems values.
     Derivatives,
     Modes,
@@ -51,7 +51,7 @@ pub fn of_case(case: &Case) -> Vec<Snapshot> {
             if any(|s| matches!(s, Snapshotted::TimeHistory(_))) {
                 out.push(snapshot("time-histories", Body::TimeHistories));
             }
-            let mut trims: Vec<crate::TrimRequest> = asked
+            let mut trims: Vec<crate::inputs::condition::TrimRequest> = asked
                 .iter()
                 .filter_map(|s| match s {
                     Snapshotted::Trims(t) => Some(t.iter().copied()),
@@ -68,7 +68,7 @@ pub fn of_case(case: &Case) -> Vec<Snapshot> {
             if !trims.is_empty() {
                 out.push(snapshot("trim", Body::Trim(trims)));
             }
-            let mut linearised: Vec<crate::TrimRequest> = asked
+            let mut linearised: Vec<crate::inputs::condition::TrimRequest> = asked
                 .iter()
                 .filter_map(|s| match s {
                     Snapshotted::Linearised(c) => Some(*c),
@@ -162,7 +162,7 @@ impl Snapshot {
                 Ok(tables::trim_table(&columns))
             }
             (Body::Linearised(r), Subject::Aircraft { file, loading }) => {
-                let l = crate::linearise_cached(file, *r, *loading)?;
+                let l = crate::run::linearise::linearise_cached(file, *r, *loading)?;
                 let modes = cierva_model::modes(&l.1.model).map_err(|e| e.to_string())?;
                 Ok(format!(
                     "{}\n{}\n{}",

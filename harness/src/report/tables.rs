@@ -502,8 +502,8 @@ pub fn class_summary(results: &[CheckResult]) -> String {
 /// A trim, for people.
 pub fn trim_report(
     title: &str,
-    request: crate::TrimRequest,
-    loading: crate::Loading,
+    request: crate::inputs::condition::TrimRequest,
+    loading: crate::inputs::condition::Loading,
     t: &cierva_model::aircraft::trim::Trim,
 ) -> String {
     use std::fmt::Write;

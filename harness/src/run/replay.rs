@@ -19,8 +19,9 @@
 //! `rms(model - ref) / (rms(model) + rms(ref))` (0 is a perfect match, 1 the worst;
 //! seed 000 Fig. 10 uses it).
 
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
 use crate::inputs::record::Record;
-use crate::{Loading, TrimRequest};
 use cierva_model::aircraft::Aircraft;
 use cierva_model::simulation::timehistory::{Sample, TimeHistory};
 use serde::{Deserialize, Serialize};
@@ -125,8 +126,8 @@ pub fn fly(
     let time_s: Vec<f64> = (0..=s.samples).map(|k| k as f64 * s.sample_s).collect();
     match s.simulation {
         Simulation::Linear => {
-            let (_, lin) =
-                crate::run_linearise(aircraft, request, loading).map_err(|e| e.to_string())?;
+            let (_, lin) = crate::run::linearise::run_linearise(aircraft, request, loading)
+                .map_err(|e| e.to_string())?;
             let m = &lin.model;
             let x0 = vec![0.0; m.states().len()];
             let input = |t: f64| changes(t).to_vec();
@@ -145,7 +146,7 @@ pub fn fly(
             Ok(Replayed { time_s, signals })
         }
         Simulation::FullBlade => {
-            let start = crate::simulation_start(aircraft, request, loading)?;
+            let start = crate::run::simulate::simulation_start(aircraft, request, loading)?;
             let settings = |duration_s| cierva_model::simulation::timehistory::Settings {
                 azimuth_step_rad: s.azimuth_step_rad,
                 duration_s,

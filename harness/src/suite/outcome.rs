@@ -231,7 +231,7 @@ pub fn run_cases(
             }
         }
     }
-    let ran = crate::parallel_map(&items, |&(i, j)| {
+    let ran = crate::run::parallel::parallel_map(&items, |&(i, j)| {
         let (case, check) = (cases[i], &cases[i].checks[j]);
         let started = std::time::Instant::now();
         let result = run_check(case, check);

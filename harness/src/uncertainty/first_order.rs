@@ -150,7 +150,7 @@ fn first_order_runs(
         .chain(moves.iter().map(|&(i, side)| Job::Moved(i, side)))
         .chain(residual.into_iter().map(Job::Drawn))
         .collect();
-    let runs = crate::parallel_map(&jobs, |job| {
+    let runs = crate::run::parallel::parallel_map(&jobs, |job| {
         let (values, tag) = match job {
             Job::Refined => {
                 let (c, _) = refined.as_ref().expect("a refined job has its case");

@@ -566,7 +566,7 @@ fn sample(
                 let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
                 let own = if keep { warm_starts(&c) } else { Vec::new() };
                 if let Subject::Aircraft { file, .. } = &c.subject {
-                    crate::forget_linearisations(file);
+                    crate::run::linearise::forget_linearisations(file);
                 }
                 (p, own)
             }
@@ -578,9 +578,9 @@ fn sample(
     let n = design.n;
     let (a_and_b, rest) = units.split_at(2 * n);
     let first: Vec<(usize, &Vec<f64>)> = a_and_b.iter().enumerate().collect();
-    let first = crate::parallel_map(&first, |(k, u)| evaluate(u, &starts, *k < n));
+    let first = crate::run::parallel::parallel_map(&first, |(k, u)| evaluate(u, &starts, *k < n));
     let rest: Vec<(usize, &Vec<f64>)> = rest.iter().enumerate().collect();
-    let second = crate::parallel_map(&rest, |(k, u)| {
+    let second = crate::run::parallel::parallel_map(&rest, |(k, u)| {
         let row = &first[k % n].1;
         evaluate(u, if row.is_empty() { &starts } else { row }, false).0
     });
@@ -589,7 +589,10 @@ fn sample(
 }
 
 /// A trim to start from: the condition it is at, and where it ended.
-type Start = (crate::TrimRequest, cierva_model::aircraft::trim::WarmStart);
+type Start = (
+    crate::inputs::condition::TrimRequest,
+    cierva_model::aircraft::trim::WarmStart,
+);
 
 /// One check's quantities over the samples: statistics, indices, comparison, pass fraction
 /// and fragility. A check with no number (a BCAR verdict) is propagated as whether it passes:
@@ -688,12 +691,12 @@ fn warm_starts(case: &Case) -> Vec<Start> {
     let Subject::Aircraft { file, loading } = &case.subject else {
         return Vec::new();
     };
-    let mut out: Vec<(crate::TrimRequest, _)> = Vec::new();
+    let mut out: Vec<(crate::inputs::condition::TrimRequest, _)> = Vec::new();
     for request in case.checks.iter().filter_map(|k| k.condition()) {
         if out.iter().any(|(r, _)| *r == request) {
             continue;
         }
-        if let Ok(lin) = crate::linearise_cached(file, request, *loading) {
+        if let Ok(lin) = crate::run::linearise::linearise_cached(file, request, *loading) {
             out.push((request, lin.0.warm_start.clone()));
         }
     }
@@ -706,7 +709,8 @@ fn warm_starts(case: &Case) -> Vec<Start> {
 fn prime(case: &Case, starts: &[Start]) {
     if let Subject::Aircraft { file, loading } = &case.subject {
         for (request, start) in starts {
-            let _ = crate::linearise_cached_from(file, *request, *loading, Some(start));
+            let _ =
+                crate::run::linearise::linearise_cached_from(file, *request, *loading, Some(start));
         }
     }
 }

@@ -3,7 +3,9 @@
 
 use super::common::repo_root;
 use cierva_harness::inputs;
-use cierva_harness::{Loading, TrimRequest, run_trim};
+use cierva_harness::inputs::condition::Loading;
+use cierva_harness::inputs::condition::TrimRequest;
+use cierva_harness::run::trim::run_trim;
 
 fn request(airspeed_mph: f64) -> TrimRequest {
     TrimRequest::level(airspeed_mph)
@@ -189,7 +191,8 @@ fn sensitivity_finds_the_fin_area_that_brings_n_v_to_its_bound() {
     assert_eq!(fin.plausible, Some(false), "outside [0.5, 0.9]");
     let mut a = file.aircraft.clone();
     a.airframe.fin.as_mut().unwrap().area_m2 = area;
-    let (_, lin) = cierva_harness::run_linearise(&a, request(70.0), loading).unwrap();
+    let (_, lin) =
+        cierva_harness::run::linearise::run_linearise(&a, request(70.0), loading).unwrap();
     let got = lin.model.derivative_value("N_v").unwrap();
     assert!(
         (got - 0.063).abs() < 0.02 * 0.063,
@@ -218,7 +221,7 @@ fn a_compressible_rotor_autorotates_at_high_mu() {
     s.compressibility = Some(Compressibility {
         drag_divergence_mach: 0.75,
     });
-    let a = cierva_harness::run_autorotation(
+    let a = cierva_harness::run::autorotation::run_autorotation(
         &rotor,
         2.3,
         36.9,

@@ -5,7 +5,8 @@ use cierva_harness::fit::{
     self, Bounds, Enforce, FitOptions, FitParameter, FitSubject, Measure, ParameterKind, Problem,
     Status, Target, TargetCondition,
 };
-use cierva_harness::{Loading, TrimRequest};
+use cierva_harness::inputs::condition::Loading;
+use cierva_harness::inputs::condition::TrimRequest;
 
 fn vpm() -> cierva_model::aircraft::Aircraft {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -3,11 +3,12 @@
 //! identified together.
 
 use super::common::repo_root;
+use cierva_harness::inputs::condition::Loading;
+use cierva_harness::inputs::condition::TrimRequest;
 use cierva_harness::synth::flight::sensors::{Channel, Instrumentation};
 use cierva_harness::synth::flight::turbulence::Dryden;
 use cierva_harness::synth::flight::{self, FlightTest};
 use cierva_harness::synth::linear::{Normal, TestInput};
-use cierva_harness::{Loading, TrimRequest};
 
 /// MIL-F-8785C's low-altitude scales at 500 ft: L_w = 500 ft, L_u = L_v = 500 / 0.5885^1.2 ft
 /// (944.6 ft), sigma_u = sigma_v = sigma_w / 0.5885^0.4 (1.2362 sigma_w).
@@ -279,8 +280,8 @@ fn the_teeter_channel_gives_the_tip_path_plane() {
     let record = as_record(0, flight::fly(&a, &t).unwrap());
     let (c, s) = cierva_harness::ident::tip_path_plane(&record).unwrap();
     let mean = |x: &[f64]| x[50..250].iter().sum::<f64>() / 200.0;
-    let trim = cierva_harness::run_trim(&a, t.request, t.loading).unwrap();
-    let e = cierva_harness::run_linearise_with_flapping(&a, &trim, t.loading)
+    let trim = cierva_harness::run::trim::run_trim(&a, t.request, t.loading).unwrap();
+    let e = cierva_harness::run::linearise::run_linearise_with_flapping(&a, &trim, t.loading)
         .unwrap()
         .equilibrium;
     let tilt = e.beta_1c_rad.hypot(e.beta_1s_rad);
@@ -361,7 +362,7 @@ fn primary_rows(a: &cierva_model::aircraft::Aircraft) -> Vec<cierva_harness::ide
     let cfg = ident::ConfigSpec::for_setup(ident::Setup::Coupled, &records[0]).unwrap();
     let identified = ident::identify_records(&records, &cfg).unwrap();
     let t = &flights[0];
-    let (_, lin) = cierva_harness::run_linearise(a, t.request, t.loading).unwrap();
+    let (_, lin) = cierva_harness::run::linearise::run_linearise(a, t.request, t.loading).unwrap();
     let rows = ident::against(&identified, &lin.model);
     assert_eq!(rows.iter().filter(|r| r.primary).count(), 13);
     rows

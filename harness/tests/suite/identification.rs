@@ -366,7 +366,15 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
     let inflow = cierva_model::components::rotor::InflowModel::PetersHaQuang {
         wake: cierva_model::components::rotor::WakeModel::SEED_001,
     };
-    let a = cierva_harness::run_autorotation(&file.rotor, 10.0, 30.0, None, None, inflow).unwrap();
+    let a = cierva_harness::run::autorotation::run_autorotation(
+        &file.rotor,
+        10.0,
+        30.0,
+        None,
+        None,
+        inflow,
+    )
+    .unwrap();
     let (sa, ca) = 10f64.to_radians().sin_cos();
     let (channels, data, meta) = cierva_harness::synth::teeter::synthesize_teeter(
         "ideal",

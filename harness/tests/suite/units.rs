@@ -758,7 +758,8 @@ mod yaml {
 mod condition {
     #[test]
     fn a_condition_takes_its_airspeed_in_any_unit() {
-        let parse = |s: &str| serde_yaml::from_str::<cierva_harness::TrimRequest>(s);
+        let parse =
+            |s: &str| serde_yaml::from_str::<cierva_harness::inputs::condition::TrimRequest>(s);
         let kn = parse("{airspeed_kn: 60.0}").unwrap();
         assert!((kn.airspeed_mph - 69.0468).abs() < 1e-4, "{kn:?}");
         let ms = parse("{airspeed_m_s: 31.2928, climb_m_s: -1.0}").unwrap();
@@ -921,7 +922,7 @@ mod rotor_file {
                 .unwrap()
                 .rotor;
         let options = cierva_model::components::autorotation::AutorotationOptions::default();
-        let at_mu = cierva_harness::run_autorotation_at_tip_speed_ratio(
+        let at_mu = cierva_harness::run::autorotation::run_autorotation_at_tip_speed_ratio(
             &rotor,
             0.181,
             98.3,
@@ -930,7 +931,7 @@ mod rotor_file {
             options,
         )
         .unwrap();
-        let at_angle = cierva_harness::run_autorotation(
+        let at_angle = cierva_harness::run::autorotation::run_autorotation(
             &rotor,
             at_mu.alpha_rad.to_degrees(),
             at_mu.airspeed_m_s,

@@ -432,7 +432,7 @@ pub fn revalidate(
         .filter(|(_, _, used)| !used.is_empty())
         .map(|(c, after, _)| (c, after))
         .collect();
-    let ran = crate::parallel_map(&touched, |(before, after)| {
+    let ran = crate::run::parallel::parallel_map(&touched, |(before, after)| {
         let (rb, ra) = (
             crate::suite::outcome::run_case(before),
             crate::suite::outcome::run_case(after),
@@ -490,7 +490,7 @@ pub fn modes(
             continue;
         };
         let analyse = |f: &AircraftFile| {
-            crate::run_linearise(&f.aircraft, request, loading)
+            crate::run::linearise::run_linearise(&f.aircraft, request, loading)
                 .ok()
                 .and_then(|(_, lin)| modes::modes(&lin.model).ok())
         };
@@ -542,8 +542,8 @@ pub fn predict(
     let (request, loading) = ident::record_condition(record)?;
     let config = ident::ConfigSpec::for_setup(ident::setup_for(&[record]), record)?;
     let fly = |f: &AircraftFile| -> Result<Vec<ident::SignalComparison>, String> {
-        let (_, lin) =
-            crate::run_linearise(&f.aircraft, request, loading).map_err(|e| e.to_string())?;
+        let (_, lin) = crate::run::linearise::run_linearise(&f.aircraft, request, loading)
+            .map_err(|e| e.to_string())?;
         let model = ident::model_for(&lin.model, &config)?;
         ident::predict(&model, record, &config)
     };

@@ -693,7 +693,7 @@ pub fn model_responses(
             conditions.push(r.condition);
         }
     }
-    crate::parallel_map(&conditions, |c| {
+    crate::run::parallel::parallel_map(&conditions, |c| {
         let TargetCondition::Flight(request, loading) = *c else {
             return Err("a retune's condition is a flight condition".to_string());
         };
@@ -713,7 +713,7 @@ pub fn model_responses(
                 }
             }
         }
-        let trim = crate::run_trim(aircraft, request, loading)
+        let trim = crate::run::trim::run_trim(aircraft, request, loading)
             .map_err(|e| format!("at {}: {e}", c.label()))?;
         crate::checks::frequency_response::aircraft_responses(
             aircraft,

@@ -12,8 +12,10 @@ pub mod pilot;
 pub mod sensors;
 pub mod turbulence;
 
+use crate::inputs::condition::Loading;
+use crate::inputs::condition::TrimRequest;
 use crate::synth::linear::{Normal, TestInput};
-use crate::{Loading, MPH_TO_M_S, TrimRequest};
+use crate::units::MPH_TO_M_S;
 use cierva_model::aircraft::{Aircraft, Controls, FullState};
 use cierva_model::simulation::timehistory::{self, Drivers};
 use pilot::Pilot;
@@ -164,12 +166,13 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
     if test.control >= CONTROL_CHANNELS.len() {
         return Err(format!("no control {}", test.control));
     }
-    let start = crate::simulation_start(aircraft, test.request, test.loading)?;
+    let start = crate::run::simulate::simulation_start(aircraft, test.request, test.loading)?;
     let dt = 1.0 / test.sample_rate_hz;
     let n = crate::inputs::limits::record_samples(test.duration_s, test.sample_rate_hz)?;
     let pilot = if test.pilot {
-        let (_, lin) = crate::run_linearise(&start.aircraft, test.request, test.loading)
-            .map_err(|e| format!("linearising for the pilot's gains: {e}"))?;
+        let (_, lin) =
+            crate::run::linearise::run_linearise(&start.aircraft, test.request, test.loading)
+                .map_err(|e| format!("linearising for the pilot's gains: {e}"))?;
         Some(Pilot::new(
             &lin.model,
             test.duration_s,
@@ -317,7 +320,7 @@ fn instruments(
 /// the true channels after the time (`row`) and the body velocities and inflow states, by
 /// name.
 fn trim_mean<R>(
-    start: &crate::SimulationStart,
+    start: &crate::run::simulate::SimulationStart,
     settings: timehistory::Settings,
     names: &[String],
     row: &R,
