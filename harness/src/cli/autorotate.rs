@@ -3,6 +3,64 @@
 
 use super::*;
 
+/// Find the autorotative equilibrium of an isolated rotor in a wind tunnel: the rotorspeed
+/// at which the mean aerodynamic torque is zero, with lift and drag coefficients on
+/// q pi R^2, L/D, tip-speed ratio, thrust coefficient, flapping and inflow.
+///
+/// Example: `cierva autorotate aircraft/pca-2-rotor.yaml --alpha-deg 6.6 --airspeed-m-s 17.7
+/// --collective-deg 1.9`. `--alpha-deg 90` is vertical descent.
+///
+/// With `--tip-speed-ratio` and `--rotor-rpm` (or `--rpm`) instead, finds the angle of attack
+/// at which the rotor autorotates there (how TR 515 plots its data): `cierva autorotate
+/// aircraft/pca-2-rotor.yaml --tip-speed-ratio 0.5 --rotor-rpm 140 --collective-deg 1.9`.
+///
+/// `--format json` gives the condition (`airspeed_m_s`, `alpha_deg`, `rpm`), the quantities
+/// by the names cases use (`rotor_alpha_deg`, `rotor_rpm`, `lift_coefficient`,
+/// `drag_coefficient`, `lift_to_drag`, ...) and the model's whole equilibrium.
+#[derive(clap::Args)]
+pub(crate) struct AutorotateArgs {
+    /// A rotor file (see aircraft/).
+    pub(crate) rotor: PathBuf,
+    /// Rotor angle of attack, deg: between the free stream and the plane normal to the
+    /// shaft, positive with the air meeting the disc from below; 90 is vertical descent (with
+    /// --airspeed-m-s).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) alpha_deg: Option<f64>,
+    /// Tunnel speed, m/s (with --alpha-deg).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) airspeed_m_s: Option<f64>,
+    /// Tip-speed ratio mu (with --rotor-rpm, instead of --alpha-deg and --airspeed-m-s): finds
+    /// the angle of attack at which the rotor autorotates at this mu and rotor speed.
+    #[arg(long)]
+    pub(crate) tip_speed_ratio: Option<f64>,
+    /// Rotor speed, rpm (with --tip-speed-ratio; `--rpm` is the same).
+    #[arg(long, alias = "rpm")]
+    pub(crate) rotor_rpm: Option<f64>,
+    /// Blade pitch at the rotor file's pitch reference station, deg; shifts the whole pitch
+    /// distribution (default: the file's distribution as it is).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) collective_deg: Option<f64>,
+    /// A corrections file for this rotor (as `cierva fit` writes), applied before solving.
+    #[arg(long)]
+    pub(crate) corrections: Option<PathBuf>,
+    /// Air density, kg/m^3 (default 1.225, ISA sea level); the speed of sound is taken
+    /// from the standard atmosphere at that density altitude.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) density_kg_m3: Option<f64>,
+    /// Inflow model.
+    #[arg(long, value_enum, default_value_t = InflowSpec::PetersHaquang)]
+    pub(crate) inflow: InflowSpec,
+    /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
+    #[arg(long, value_enum, default_value_t = SkewSpec::Signed)]
+    pub(crate) skew: SkewSpec,
+    /// The wake's mass flow in descent: momentum theory, or Johnson's empirical curve in the
+    /// vortex-ring and turbulent-wake states.
+    #[arg(long, value_enum, default_value_t = DescentSpec::Momentum)]
+    pub(crate) descent: DescentSpec,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 /// The rotor file with `--corrections` applied (the file must name this rotor).
 fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::RotorFile, Error> {
     use cierva_harness::inputs::corrections::{self, Corrects};

@@ -3,6 +3,39 @@
 use super::*;
 use std::time::Instant;
 
+/// Time the model and the harness in groups and print medians as reports/benchmarks.md holds
+/// them: the rotor (the blade right-hand side, a periodic blade solution, an autorotation), the
+/// aircraft (trims, linearisations, simulations), identification, frequency responses,
+/// fitting and retuning, uncertainty, and the command protocol's cost a request (`external`).
+///
+/// Example: `cargo run --release -- bench --repeat 51`
+#[derive(Parser)]
+pub(crate) struct BenchArgs {
+    /// Repeats of each timed operation.
+    #[arg(long, default_value_t = 21)]
+    pub(crate) repeat: usize,
+    /// `text` (a Markdown table, as in reports/benchmarks.md) or `json` (rows of operation,
+    /// median and notes).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+    /// Only this group of rows (all by default).
+    #[arg(long, value_enum)]
+    pub(crate) only: Option<BenchGroup>,
+}
+
+/// The benchmark's groups of rows.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BenchGroup {
+    Rotor,
+    Aircraft,
+    Identification,
+    FrequencyResponse,
+    Fitting,
+    Uncertainty,
+    /// The command protocol's cost a request (a trivial model, one-shot and persistent).
+    External,
+}
+
 /// The benchmark table: rows print as they are measured (text), or are gathered for JSON.
 pub(crate) struct Rows {
     format: Format,

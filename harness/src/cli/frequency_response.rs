@@ -6,6 +6,62 @@ use cierva_harness::ident::frequency_response::{self as fr, CompositeEstimate, F
 use cierva_harness::inputs::record::{self, Record};
 use cierva_harness::inputs::yaml::InputError;
 
+/// Output of `frequency-response`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ResponseFormat {
+    Text,
+    Json,
+    /// One row per frequency: `frequency_hz,magnitude_db,phase_deg,coherence,random_error`.
+    Csv,
+}
+
+/// A non-parametric frequency response from flight records: Welch's auto- and
+/// cross-spectra (Hann windows, 80 % overlap by default) over several window lengths,
+/// composited per frequency to minimise the random error (after CIFER, Tischler and Remple
+/// 2012, ch. 7-8), with coherence and the random error it implies (Bendat and Piersol 2010,
+/// ch. 9), on a log-spaced grid. Several records are averaged (not joined). With
+/// `--conditioned-on`, the response is conditioned on the other inputs (`H = G_xx^-1 G_xy`)
+/// and its coherence is the partial coherence.
+///
+/// `random_error` is the normalised random error of the magnitude (its standard deviation
+/// over |H|), which is also the phase's standard deviation in radians; `random_error_95`
+/// the half-width of the 95 % interval of ln|H| and of the phase. Exit code 2 for bad
+/// input (records at different sample rates, a missing channel, a window longer than a
+/// record, an input with no power in the band).
+///
+/// Example: `cierva frequency-response /tmp/vpm-m16-70mph-sweep.csv --input eta_s_percent
+/// --output q_rad_s --windows-s 10 20 40 --format json`
+#[derive(clap::Args)]
+pub(crate) struct FrequencyResponseArgs {
+    /// Records (CSV, with the YAML sidecar beside each): their spectra are averaged together.
+    #[arg(required = true)]
+    pub(crate) records: Vec<PathBuf>,
+    /// The input channel as the records name it, units in the name (e.g. `eta_s_rad`).
+    #[arg(long)]
+    pub(crate) input: String,
+    /// The output channel (e.g. `q_rad_s`).
+    #[arg(long)]
+    pub(crate) output: String,
+    /// Window lengths, s (default: an eighth, a quarter and half of the shortest record).
+    #[arg(long, num_args = 1..)]
+    pub(crate) windows_s: Vec<f64>,
+    /// Overlap of consecutive segments, a fraction of the window.
+    #[arg(long, default_value_t = cierva_harness::ident::frequency_response::DEFAULT_OVERLAP)]
+    pub(crate) overlap: f64,
+    /// Frequencies in the log-spaced grid.
+    #[arg(long, default_value_t = cierva_harness::ident::frequency_response::DEFAULT_POINTS)]
+    pub(crate) frequencies: usize,
+    /// The band, Hz (default: five periods of the longest window to a fifth of the sample rate).
+    #[arg(long, num_args = 2, value_names = ["LO", "HI"])]
+    pub(crate) band_hz: Option<Vec<f64>>,
+    /// Other inputs (channels) to condition the response on, when the records' inputs are
+    /// correlated (a pilot's hold moves the other controls with the one swept).
+    #[arg(long, num_args = 1..)]
+    pub(crate) conditioned_on: Vec<String>,
+    #[arg(long, value_enum, default_value_t = ResponseFormat::Text)]
+    pub(crate) format: ResponseFormat,
+}
+
 /// Loads the records with the channels the response needs, all at one sample rate.
 fn load(a: &FrequencyResponseArgs) -> Result<Vec<Record>, Error> {
     let mut needed = vec!["time_s", a.input.as_str(), a.output.as_str()];

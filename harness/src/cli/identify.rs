@@ -5,6 +5,15 @@ use super::*;
 use cierva_harness::ident;
 use cierva_harness::inputs::record;
 
+/// Output of `identify`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum IdentFormat {
+    Text,
+    Json,
+    /// A flight-refs derivative table that cases can check models against.
+    Yaml,
+}
+
 /// Identify stability and control derivatives from a flight record (frequency-domain
 /// equation error, seed 000 Sec. IV): estimates, standard errors, 95 % bounds, fit quality,
 /// correlations and warnings.

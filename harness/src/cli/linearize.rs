@@ -2,6 +2,14 @@
 
 use super::*;
 
+/// Output of `linearize`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum LinearFormat {
+    Text,
+    Json,
+    Yaml,
+}
+
 /// Trim and linearise an aircraft (seed 001 Eqs. 10-12): the nine rigid-body states and the
 /// rotorspeed, controls in % of travel, blades and inflow quasi-steady. Prints the
 /// derivatives, the modes with BCAR Section T, the longitudinal subset's modes and the

@@ -39,29 +39,29 @@ mod validate;
 mod verify;
 
 pub(crate) use args::*;
-pub(crate) use autorotate::autorotate;
-pub(crate) use bench::bench;
+pub(crate) use autorotate::{AutorotateArgs, autorotate};
+pub(crate) use bench::{BenchArgs, bench};
 pub(crate) use estimate::{EstimateArgs, estimate};
 pub(crate) use fit::{FitArgs, fit};
-pub(crate) use frequency_response::frequency_response;
+pub(crate) use frequency_response::{FrequencyResponseArgs, frequency_response};
 pub(crate) use identify::{IdentifyArgs, identify};
 pub(crate) use inflow::{InflowArgs, SynthTeeterArgs, inflow, synth_teeter};
 pub(crate) use init::{InitArgs, init};
 pub(crate) use linearize::{LinearizeArgs, linearize};
 pub(crate) use modes::{ModesArgs, modes};
 pub(crate) use new_case::{NewCaseArgs, new_case};
-pub(crate) use retune::retune;
+pub(crate) use retune::{RetuneArgs, retune};
 pub(crate) use review::{ReviewArgs, review};
-pub(crate) use sensitivity::sensitivity;
+pub(crate) use sensitivity::{SensitivityArgs, sensitivity};
 pub(crate) use serve::{ServeArgs, serve};
 pub(crate) use simulate::{SimulateArgs, simulate};
-pub(crate) use synth::synth;
-pub(crate) use synth_flight::synth_flight;
-pub(crate) use synth_history::synth_history;
+pub(crate) use synth::{SynthArgs, synth};
+pub(crate) use synth_flight::{SynthFlightArgs, synth_flight};
+pub(crate) use synth_history::{SynthHistoryArgs, synth_history};
 pub(crate) use trim::{TrimArgs, trim};
-pub(crate) use uncertainty::uncertainty;
+pub(crate) use uncertainty::{UncertaintyArgs, uncertainty};
 pub(crate) use validate::{ValidateArgs, validate};
-pub(crate) use verify::verify;
+pub(crate) use verify::{VerifyArgs, verify};
 
 /// A progress bar on stderr for `len` steps (hidden with `--quiet` or off a terminal).
 pub(crate) fn progress(len: u64, what: &str) -> indicatif::ProgressBar {

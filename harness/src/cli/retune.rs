@@ -6,6 +6,60 @@ use cierva_harness::inputs::corrections::{CorrectionsFile, Corrects};
 use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
 
+/// Retune corrections from flight records in one command: estimate each condition's frequency
+/// responses from its records (coherence, random error), fit the named corrections with
+/// clarabel so that the model's responses as flown (its linearisation with the rotor's
+/// flapping) match them, weighted by their random errors, within bounds with their sources;
+/// write the corrections file and a before/after report (each response's mismatch cost,
+/// modes, predictions of records not used), and run the validation suite's cases for this
+/// aircraft with the new corrections.
+///
+/// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
+/// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
+#[derive(clap::Args)]
+pub(crate) struct RetuneArgs {
+    /// The aircraft file whose corrections to retune.
+    pub(crate) aircraft: PathBuf,
+    /// Flight records (CSV with sidecars): records at one condition give its frequency
+    /// responses together, records at several conditions fit one set of corrections across
+    /// them.
+    #[arg(long, required = true, num_args = 1..)]
+    pub(crate) records: Vec<PathBuf>,
+    /// The corrections (or estimated physical parameters) to fit.
+    #[arg(long, required = true, num_args = 1..)]
+    pub(crate) fit: Vec<String>,
+    /// Bounds as NAME=LO:HI (default: each correction's sourced range, a physical parameter's
+    /// plausible range from the aircraft file).
+    #[arg(long, num_args = 1..)]
+    pub(crate) bounds: Vec<String>,
+    /// The responses' states, comma-separated, of u,v,w,p,q,r,Omega (default: each excited
+    /// control's own axis's, u,w,q,Omega or v,p,r).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) outputs: Vec<String>,
+    /// The responses' window lengths, s (default: an eighth, a quarter and a half of the
+    /// shortest record).
+    #[arg(long, num_args = 1..)]
+    pub(crate) windows_s: Vec<f64>,
+    /// The responses' band, Hz: LOW HIGH (default: five periods of the longest window to 2 Hz,
+    /// identification's band's top, below the rotor's harmonics).
+    #[arg(long, num_args = 2)]
+    pub(crate) band_hz: Vec<f64>,
+    /// Records not used in the fit, predicted before and after.
+    #[arg(long, num_args = 1..)]
+    pub(crate) predict: Vec<PathBuf>,
+    /// The corrections file to write (default: the suite's `corrections/retuned/<aircraft id>.yaml`).
+    #[arg(long)]
+    pub(crate) output: Option<PathBuf>,
+    /// The before/after report (default: the suite's reports/retune/<output's stem>.md).
+    #[arg(long)]
+    pub(crate) report: Option<PathBuf>,
+    /// Skip running the validation suite's cases with the new corrections.
+    #[arg(long)]
+    pub(crate) no_validate: bool,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let file = load_aircraft(&a.aircraft)?;
     let records = a

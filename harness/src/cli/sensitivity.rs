@@ -5,6 +5,45 @@ use super::*;
 use cierva_harness::external::{CiervaAircraft, FlightModel};
 use cierva_harness::fit::sensitivity::{self, BoundedQuantity};
 
+/// Which parameter would close a discrepancy, and is the value it would need plausible? Asks
+/// the model's trim and linear model with each parameter moved a step either way and prints
+/// every quantity's derivative with respect to each; for a quantity outside its check's bound,
+/// the change of each parameter alone that would bring it to the nearer edge (a linear
+/// estimate), against the parameter's plausible range as the model declares it (an aircraft
+/// file's `ranges:`; an external model's `describe`, protocol `cierva-external/2`).
+///
+/// Example: `cierva sensitivity --case cases/cierva-table2-vpm-m16-70mph-max-weight.yaml`,
+/// or `cierva sensitivity aircraft/vpm-m16.yaml --airspeed-mph 70 --quantities N_v,L_v
+/// --parameters airframe.fin.area_m2,mass.izz_kg_m2 --format json`.
+#[derive(clap::Args)]
+pub(crate) struct SensitivityArgs {
+    /// An aircraft file (see aircraft/); or give --case.
+    pub(crate) aircraft: Option<PathBuf>,
+    /// A case of an aircraft: its aircraft, loading and condition, and the quantities of its
+    /// derivative and trim checks with their bounds.
+    #[arg(long)]
+    pub(crate) case: Option<PathBuf>,
+    /// True airspeed, mph (with a case: picks one of its conditions).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) airspeed_mph: Option<f64>,
+    /// Mass, kg (default: the aircraft file's); with an aircraft file.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) mass_kg: Option<f64>,
+    /// Density altitude, ft (ISA); with an aircraft file.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    pub(crate) density_altitude_ft: f64,
+    /// Parameters to move, by their names in the aircraft file (default: those the file gives
+    /// a plausible range, or every one it has).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) parameters: Vec<String>,
+    /// Quantities to differentiate: derivatives or trim quantities (default: the case's, or the
+    /// primary derivatives).
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) quantities: Vec<String>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
     // The model is a case's subject (an aircraft or another simulation), or an aircraft file.
     let case;

@@ -2,6 +2,70 @@
 
 use super::*;
 
+/// Fly a linear model through a test input and write a synthetic flight record
+/// (RECORD.csv and its sidecar RECORD.yaml), labelled synthetic with its generator, seed and
+/// truth.
+///
+/// Example: `cierva synth flight-refs/seed002-vpm-m16-60kn.yaml --control eta_s --shape sweep
+/// --amplitude-model-units 0.01 --seed 7 --output /tmp/vpm-sweep.csv`
+#[derive(Parser)]
+pub(crate) struct SynthArgs {
+    /// A reference file with a `linear_model` block (the truth).
+    pub(crate) model: PathBuf,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+
+    /// The control to excite.
+    #[arg(long)]
+    pub(crate) control: String,
+    /// The input shape (as `--shape` of `simulate` and `synth-history`).
+    #[arg(long, value_enum, default_value_t = InputChoice::Sweep)]
+    pub(crate) shape: InputChoice,
+    /// Input amplitude, in the control's own units as the model file's `units` gives them
+    /// (a linear model's controls need not be in percent of travel).
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) amplitude_model_units: f64,
+    /// Sweep band, Hz.
+    #[arg(long, default_value_t = 0.02)]
+    pub(crate) from_hz: f64,
+    #[arg(long, default_value_t = 2.5)]
+    pub(crate) to_hz: f64,
+    /// Length of the sweep (or the pulse unit of a doublet or 3-2-1-1, s).
+    #[arg(long, default_value_t = 100.0)]
+    pub(crate) input_s: f64,
+    /// Length of the record, s.
+    #[arg(long, default_value_t = 120.0)]
+    pub(crate) duration_s: f64,
+    #[arg(long, default_value_t = 100.0)]
+    pub(crate) sample_rate_hz: f64,
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Multiplies the default sensor noise (airspeed 0.02 m/s, vanes, rates and attitudes
+    /// 5e-4 rad(/s), rotor 0.01 rad/s); 0 for a noise-free record.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_scale: f64,
+    /// Turbulence: the standard deviation of a random forcing on each equation of u, v, w, p, q,
+    /// r and Omega, in that equation's SI acceleration unit (m/s^2 or rad/s^2); 0 for none.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) turbulence_si: f64,
+    /// Trim about which the record is written (estimated defaults for the VPM M16 at 60 kn).
+    #[arg(long, default_value_t = 30.0)]
+    pub(crate) trim_u_m_s: f64,
+    #[arg(long, default_value_t = 1.5, allow_hyphen_values = true)]
+    pub(crate) trim_w_m_s: f64,
+    #[arg(long, default_value_t = 0.05, allow_hyphen_values = true)]
+    pub(crate) trim_theta_rad: f64,
+    #[arg(long, default_value_t = 38.0)]
+    pub(crate) trim_rotor_rad_s: f64,
+    /// Air-data probe position relative to the c.g., body axes, m: x,y,z.
+    #[arg(long, default_value = "2.0,0.0,-0.3", allow_hyphen_values = true)]
+    pub(crate) probe_m: String,
+    /// The record to write (its sidecar goes beside it, .yaml).
+    #[arg(long)]
+    pub(crate) output: PathBuf,
+}
+
 pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
     use cierva_harness::inputs::record;
     use cierva_harness::synth::linear;

@@ -6,6 +6,83 @@ use cierva_harness::synth::flight::{self, sensors::Instrumentation};
 use cierva_harness::synth::linear::TestInput;
 use std::collections::BTreeMap;
 
+/// A flight-test manoeuvre.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum, Debug)]
+pub(crate) enum Manoeuvre {
+    /// An exponential frequency sweep (--from-hz to --to-hz).
+    Sweep,
+    /// Pulses of 3, 2, 1 and 1 times --pulse-s, alternating.
+    #[value(name = "3211")]
+    ThreeTwoOneOne,
+    /// One pulse each way of --pulse-s.
+    Doublet,
+}
+
+/// Fly a flight test with the full individual-blade model and record it in the
+/// identification format (`cierva identify` reads it): a pilot flies the input on one
+/// control with a loose attitude hold about slowly drifting references, through Dryden
+/// turbulence, and instruments with noise, bias and lag record air data at the probe,
+/// rates, attitudes, rotorspeed and every control at 100 Hz. The sidecar says it is
+/// synthetic, with the command, seed and truth.
+///
+/// Example: `cierva synth-flight aircraft/vpm-m16.yaml --airspeed-mph 70 --manoeuvre sweep
+/// --control eta_s --amplitude-percent 4 --turbulence-m-s 0.3 --seed 1
+/// --output /tmp/vpm-m16-70mph-sweep.csv`
+#[derive(clap::Args)]
+pub(crate) struct SynthFlightArgs {
+    #[command(flatten)]
+    pub(crate) flight: FlightArgs,
+    /// The test input.
+    #[arg(long, value_enum)]
+    pub(crate) manoeuvre: Manoeuvre,
+    /// The control it moves: eta_s (longitudinal stick), eta_c (lateral stick), eta_p (pedal)
+    /// or eta_t (throttle).
+    #[arg(long)]
+    pub(crate) control: String,
+    /// The input's amplitude, % of travel.
+    #[arg(long, allow_hyphen_values = true)]
+    pub(crate) amplitude_percent: f64,
+    /// The record's length, s (the input starts after 3 s of trim and ends 3 s before the end).
+    #[arg(long, default_value_t = 120.0)]
+    pub(crate) duration_s: f64,
+    /// The sweep's frequencies, Hz.
+    #[arg(long, default_value_t = 0.05)]
+    pub(crate) from_hz: f64,
+    #[arg(long, default_value_t = 2.0)]
+    pub(crate) to_hz: f64,
+    /// The pulse unit of a doublet or 3211, s.
+    #[arg(long, default_value_t = 1.0)]
+    pub(crate) pulse_s: f64,
+    /// Vertical gust intensity sigma_w of Dryden turbulence (MIL-F-8785C), m/s; 0 for calm air.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) turbulence_m_s: f64,
+    /// Height above ground for the turbulence's scale lengths, ft (10-1000).
+    #[arg(long, default_value_t = 500.0)]
+    pub(crate) height_ft: f64,
+    /// A sensors file (probe position, each channel's noise, bias and lag); default: the
+    /// built-in instrumentation, each value with its source.
+    #[arg(long)]
+    pub(crate) sensors: Option<PathBuf>,
+    /// Fly the input open loop, without the pilot's attitude hold.
+    #[arg(long)]
+    pub(crate) no_pilot: bool,
+    #[arg(long, default_value_t = 100.0)]
+    pub(crate) sample_rate_hz: f64,
+    /// Azimuth step of the integration, deg (default: the aircraft file's).
+    #[arg(long)]
+    pub(crate) azimuth_step_deg: Option<f64>,
+    #[arg(long)]
+    pub(crate) seed: u64,
+    /// The record's title (default: what was flown).
+    #[arg(long)]
+    pub(crate) title: Option<String>,
+    /// The CSV to write; the sidecar goes beside it.
+    #[arg(long)]
+    pub(crate) output: PathBuf,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 /// The input starts after this much trim, s, and ends this long before the record does.
 const QUIET_S: f64 = 3.0;
 

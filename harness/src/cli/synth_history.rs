@@ -2,6 +2,60 @@
 
 use super::*;
 
+/// Write a synthetic time-history reference record (for `time_history` checks): the
+/// aircraft flown by the full blade model (or its linearisation) through a test input,
+/// responses as changes from trim plus seeded sensor noise, with a sidecar that says it is
+/// synthetic and how it was made.
+///
+/// Example: `cierva synth-history aircraft/vpm-m16.yaml --airspeed-mph 70 --shape doublet
+/// --amplitude-percent 2 --duration-s 8 --noise-rate-deg-s 0.2 --seed 7
+/// --output flight-refs/synthetic-vpm-m16-70mph-doublet.csv`
+#[derive(clap::Args)]
+pub(crate) struct SynthHistoryArgs {
+    #[command(flatten)]
+    pub(crate) flight: FlightArgs,
+    /// `text` for people, `json` for programs (what was written, as an object).
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+
+    #[command(flatten)]
+    pub(crate) shape: ShapeArgs,
+    /// The model that flies: full-blade (the individual-blade model) or linear.
+    #[arg(long, value_enum, default_value_t = cierva_harness::run::replay::Simulation::FullBlade)]
+    pub(crate) simulation: cierva_harness::run::replay::Simulation,
+    /// Seed 000's propeller blockage factor to fly with (0..1; default the aircraft file's).
+    #[arg(long)]
+    pub(crate) propeller_blockage: Option<f64>,
+    /// Seed 000's hub angle-of-attack factor to fly with (default the aircraft file's).
+    #[arg(long)]
+    pub(crate) hub_aoa_factor: Option<f64>,
+    /// Length of the record, s.
+    #[arg(long, default_value_t = 10.0)]
+    pub(crate) duration_s: f64,
+    #[arg(long, default_value_t = 50.0)]
+    pub(crate) sample_rate_hz: f64,
+    /// Azimuth step of the full model, deg (default: the aircraft file's).
+    #[arg(long)]
+    pub(crate) azimuth_step_deg: Option<f64>,
+    /// Standard deviations of the sensor noise: speeds m/s, rates deg/s, angles deg, rotor rpm.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_speed_m_s: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_rate_deg_s: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_angle_deg: f64,
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) noise_rpm: f64,
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// The record's title (its id is the output file's stem).
+    #[arg(long)]
+    pub(crate) title: Option<String>,
+    /// The record CSV to write (its sidecar YAML goes beside it).
+    #[arg(long)]
+    pub(crate) output: PathBuf,
+}
+
 pub(crate) fn synth_history(a: SynthHistoryArgs) -> Result<ExitCode, Error> {
     use cierva_harness::run::replay;
     use cierva_harness::synth::history;

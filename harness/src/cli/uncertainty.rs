@@ -9,6 +9,54 @@ use cierva_harness::uncertainty::propagate::{
 };
 use cierva_harness::uncertainty::summary;
 
+/// The uncertainty of every check's quantities: the model's estimated inputs sampled over
+/// their distributions (an aircraft file's `ranges:`, an external model's declared ranges;
+/// corrections excluded) on Owen-scrambled Sobol' points in a Saltelli design, every check
+/// evaluated at every point on every core; the numerical uncertainty from a refined
+/// discretisation (cierva's own aircraft and rotors); the data's from a
+/// tolerance's confidence level. For each validation check the comparison of ASME V&V 20:
+/// E = S - D, u_val = sqrt(u_num^2 + u_input^2 + u_D^2) and a verdict (agrees, model-form
+/// error, inconclusive), whether a pass is fragile, and the inputs by Sobol' total index.
+///
+/// Example: `cierva uncertainty cases/cierva-table2-vpm-m16-70mph-max-weight.yaml --samples
+/// 256 --format json`
+#[derive(clap::Args)]
+pub(crate) struct UncertaintyArgs {
+    /// Case files or folders (default: cases/, and then only their validation checks, as with
+    /// --validation-only).
+    pub(crate) paths: Vec<PathBuf>,
+    /// Base points of the Saltelli design (at least 8; a power of two balances the Sobol'
+    /// points best): a case of d uncertain inputs takes samples x (d + 2) evaluations.
+    #[arg(long, default_value_t = 256)]
+    pub(crate) samples: usize,
+    /// Seed of the scrambled Sobol' sequence (a whole number, 0 to 4294967295).
+    #[arg(long, default_value_t = 0)]
+    pub(crate) seed: u32,
+    /// Only the validation checks (the comparison with measured data), as `validate
+    /// --uncertainty` samples them: much cheaper on cases whose other checks are slow (the
+    /// self-consistency cases' flapping linearisations), and what a run over the whole suite
+    /// wants.
+    #[arg(long)]
+    pub(crate) validation_only: bool,
+    /// How the inputs are propagated: auto (sampled for an aircraft, first order for a rotor,
+    /// whose evaluations are tables of autorotation searches), sampled (the Saltelli design),
+    /// or first-order (an additive surrogate from each input at its 5 % and 95 % quantiles,
+    /// checked at four draws of every input: 2 d + 4 evaluations).
+    #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Propagation::Auto)]
+    pub(crate) method: cierva_harness::uncertainty::propagate::Propagation,
+    /// Corrections files (as `cierva fit` writes) applied as `validate --corrections` applies
+    /// them; a cross-validated one adds its stated predictive error to `u_input`.
+    #[arg(long, num_args = 1..)]
+    pub(crate) corrections: Vec<PathBuf>,
+    /// Also write every case's verdicts to the suite's reports/uncertainty-summary.yaml (which
+    /// the README's "How sure" table is generated from and CI compares with a rerun). Only for
+    /// the whole suite of the committed model: no case paths, no --corrections.
+    #[arg(long)]
+    pub(crate) write_summary: bool,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 /// What `--format json` prints: every case's propagation, and every quantity's result in one
 /// list.
 #[derive(serde::Serialize)]

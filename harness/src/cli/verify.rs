@@ -9,6 +9,55 @@ use cierva_harness::inputs::record::{self, Record};
 use cierva_harness::inputs::yaml::InputError;
 use cierva_harness::report::plot::{Figure, Series, Style, panels_svg};
 
+/// Time-domain verification, as CIFER's VERIFY does (Tischler and Remple 2012): the
+/// identified model (a derivative table from `identify --format yaml`) and cierva's model
+/// (the aircraft linearised at the records' condition, as `identify --against`) are flown
+/// through each record's controls (perturbations about the sidecar's trim, piecewise linear
+/// between samples; RK4) from its first measured state, and compared with its measured
+/// states (air data converted to centre-of-mass velocities, as the identification does).
+///
+/// Per output and model: Theil's inequality coefficient `TIC = rms(y - z) / (rms(y) +
+/// rms(z))` (0 perfect, 1 worst; about 0.25-0.3 or less is usually taken as good agreement,
+/// Jategaonkar 2006, ch. 11), the RMS error in the output's units, the mean error, and the
+/// TIC with the mean error taken off (VERIFY fits a bias per output; a note beside the plain
+/// TIC). Exit code 2 for bad input (a record without a control the model needs, a control
+/// in a unit the model contradicts, an unknown output, an unreadable table).
+///
+/// Example: `cierva verify /tmp/vpm-m16-70mph-sweep.csv --identified
+/// /tmp/vpm-m16-70mph-sweep-derivatives.yaml --against aircraft/vpm-m16.yaml --figure
+/// /tmp/verify.svg` (the table from `cierva identify /tmp/vpm-m16-70mph-sweep.csv --format
+/// yaml`, saved under its id).
+#[derive(clap::Args)]
+pub(crate) struct VerifyArgs {
+    /// Records (CSV, with the YAML sidecar beside each), all at one flight condition: each is
+    /// flown on its own, from its own first sample.
+    #[arg(required = true)]
+    pub(crate) records: Vec<PathBuf>,
+    /// The identified model: a derivative table as `cierva identify RECORD --format yaml`
+    /// writes it (its `estimate` column).
+    #[arg(long)]
+    pub(crate) identified: PathBuf,
+    /// The aircraft, linearised at the records' condition (their sidecars' `condition`), as
+    /// `identify --against` does: cierva's model, cut to the identified model's states and
+    /// controls.
+    #[arg(long)]
+    pub(crate) against: PathBuf,
+    /// A corrections file to apply to the aircraft of --against.
+    #[arg(long)]
+    pub(crate) corrections: Option<PathBuf>,
+    /// The outputs to compare, units in the names (default: every state of the identified
+    /// model): u_m_s, v_m_s, w_m_s, p_rad_s, q_rad_s, r_rad_s, phi_rad, theta_rad,
+    /// omega_rotor_rad_s.
+    #[arg(long, value_delimiter = ',')]
+    pub(crate) outputs: Vec<String>,
+    /// Write one SVG figure: a panel per output, the records (one after another in time), the
+    /// identified model and cierva's model.
+    #[arg(long)]
+    pub(crate) figure: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    pub(crate) format: Format,
+}
+
 /// The level of TIC below which a match is usually taken as good.
 const GOOD_TIC: &str = "TIC <= 0.25-0.3 is usually taken as good agreement (Jategaonkar, Flight Vehicle System Identification, 2006, ch. 11)";
 
