@@ -1113,7 +1113,7 @@ fn uncertainty(out: &Rows) {
             return;
         };
         let started = Instant::now();
-        match propagate::propagate(&case, settings, || {}) {
+        match cierva_harness::uncertainty::study::propagate(&case, settings, || {}) {
             Ok(u) => {
                 evaluations += u.evaluations;
                 inputs = u.inputs.len();

@@ -133,7 +133,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             &case.id,
         );
         let started = std::time::Instant::now();
-        match propagate::propagate(case, settings, || bar.inc(1)) {
+        match cierva_harness::uncertainty::study::propagate(case, settings, || bar.inc(1)) {
             Ok(u) => done.push((u, started.elapsed().as_secs_f64())),
             Err(e) => {
                 bar.finish_and_clear();

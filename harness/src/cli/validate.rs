@@ -428,8 +428,13 @@ fn attach_uncertainty(
             },
             &format!("uncertainty {}", c.case.id),
         );
-        let u = propagate::propagate_from(&c.case, &c.results, settings, || bar.inc(1))
-            .map_err(|e| format!("{}: {e}", c.case.path.display()))?;
+        let u = cierva_harness::uncertainty::study::propagate_from(
+            &c.case,
+            &c.results,
+            settings,
+            || bar.inc(1),
+        )
+        .map_err(|e| format!("{}: {e}", c.case.path.display()))?;
         bar.finish_and_clear();
         c.uncertainty = Some(u);
     }

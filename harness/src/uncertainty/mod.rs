@@ -7,10 +7,13 @@
 //! - [`design`]: Saltelli's sampling design on Owen-scrambled Sobol' points.
 //! - [`sobol`]: Sobol' first-order and total indices (Saltelli 2010, Jansen 1999).
 //! - [`vv20`]: the validation comparison of ASME V&V 20-2009 and its verdicts.
-//! - [`propagate`]: all of it through a case: statistics, indices, the numerical uncertainty
-//!   from a refined discretisation, the data's from the tolerance, and the verdicts.
+//! - [`propagate`]: all of it through a case, sampled: statistics, indices, the numerical
+//!   uncertainty from a refined discretisation, the data's from the tolerance, and the
+//!   verdicts; and what the first-order method shares with it.
 //! - [`first_order`]: a rotor case's first-order propagation (an additive surrogate through two
 //!   probes of each input, with a residual check).
+//! - [`study`]: the entry points, [`study::propagate`] and [`study::propagate_from`]: a case's
+//!   inputs, and the method that suits it.
 //! - [`summary`]: a whole suite's verdicts per case, as committed in
 //!   `reports/uncertainty-summary.yaml`, and the documents' tables of them.
 
@@ -20,5 +23,6 @@ pub mod distribution;
 pub mod first_order;
 pub mod propagate;
 pub mod sobol;
+pub mod study;
 pub mod summary;
 pub mod vv20;

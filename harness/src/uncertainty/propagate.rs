@@ -426,73 +426,16 @@ pub fn mean_std(values: &[f64]) -> (f64, f64) {
     (mean, var.sqrt())
 }
 
-/// Runs the propagation of one case. `done` is called after each evaluation (a progress bar).
-pub fn propagate(
-    case: &Case,
-    settings: PropagationSettings,
-    done: impl Fn() + Sync,
-) -> Result<CaseUncertainty, String> {
-    propagate_from(case, &crate::suite::outcome::run_case(case), settings, done)
-}
-
-/// [`propagate`] about results already computed with the nominal inputs (`validate`'s). A case
-/// without uncertain inputs is not re-run: its quantities get no verdict, and say why.
-pub fn propagate_from(
+/// The sampled propagation of a case about its nominal results: Saltelli's design over its
+/// `inputs`, every check at every point, the numerical uncertainty from its refined
+/// discretisation (see [`super::study`] for the entry points that choose it).
+pub(super) fn sampled(
     case: &Case,
     nominal: &[CheckResult],
+    inputs: Vec<Input>,
     settings: PropagationSettings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
-    if settings.validation_only {
-        let keep: Vec<bool> = case
-            .checks
-            .iter()
-            .map(|k| k.class == CheckClass::Validation)
-            .collect();
-        let mut only = case.clone();
-        only.checks = case
-            .checks
-            .iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(c, _)| c.clone())
-            .collect();
-        let results: Vec<CheckResult> = nominal
-            .iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(r, _)| r.clone())
-            .collect();
-        let settings = PropagationSettings {
-            validation_only: false,
-            ..settings
-        };
-        return if only.checks.is_empty() {
-            let mut none = without_inputs(&only, &results);
-            none.method = "none: the case has no validation checks".into();
-            Ok(none)
-        } else {
-            propagate_from(&only, &results, settings, done)
-        };
-    }
-    let inputs = inputs(case)?;
-    if inputs.is_empty() {
-        return Ok(without_inputs(case, nominal));
-    }
-    let first = match settings.method {
-        Propagation::Auto => matches!(case.subject, Subject::Rotor { .. }),
-        Propagation::Sampled => false,
-        Propagation::FirstOrder => true,
-    };
-    if first {
-        return Ok(super::first_order::propagate(
-            case,
-            nominal,
-            inputs,
-            refined(case),
-            done,
-        ));
-    }
     // The refined discretisation's trims start from the nominal ones (the same unknowns, to a
     // tolerance ten times finer): a warm start in place of a cold one.
     let (u_num_results, refinement) = match refined(case) {
@@ -717,7 +660,7 @@ fn prime(case: &Case, starts: &[Start]) {
 
 /// A case whose subject has no uncertain inputs: each quantity with its reference and the
 /// data's uncertainty, but no verdict (an unsampled estimate is not a known input).
-fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
+pub(super) fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncertainty {
     let why = match &case.subject {
         Subject::Aircraft { file, .. } => format!(
             "no verdict: {} gives none of its estimated parameters a plausible range (`ranges:`), so the inputs' uncertainty is unknown",

@@ -357,6 +357,22 @@ fn the_harness_groups_are_layered() {
     );
 }
 
+/// The sampled and the first-order propagations do not use each other (issue 49: they were an
+/// import cycle): the first-order method uses what the sampled one shares, and the entry
+/// points that choose between them live above both (`uncertainty/study.rs`).
+#[test]
+fn the_uncertainty_methods_do_not_use_each_other() {
+    let text = std::fs::read_to_string(
+        super::common::repo_root().join("harness/src/uncertainty/propagate.rs"),
+    )
+    .unwrap();
+    let uses: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//") && l.contains("first_order::"))
+        .collect();
+    assert!(uses.is_empty(), "propagate.rs uses first_order: {uses:?}");
+}
+
 /// The library's root declares its modules and re-exports nothing (issue 49): an item is
 /// named where it lives (`crate::run::trim::run_trim`), so a reader finds it from its path; and
 /// `run/` re-exports none of its modules' items.

@@ -403,7 +403,7 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
         validation_only: false,
         method: propagate::Propagation::Auto,
     };
-    let u = propagate::propagate(&case, settings, || {}).unwrap();
+    let u = cierva_harness::uncertainty::study::propagate(&case, settings, || {}).unwrap();
     assert_eq!(u.evaluations, 16 * 3 + 2);
     assert!(u.failed_points > 0 && u.failed_points < 48, "{u:?}");
     assert!(
@@ -426,7 +426,7 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
 /// interval in at least [`FIRST_ORDER_COVERAGE_FLOOR`] of cases, per quantity.
 #[test]
 fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
-    use cierva_harness::uncertainty::propagate::{self, Propagation, PropagationSettings};
+    use cierva_harness::uncertainty::propagate::{Propagation, PropagationSettings};
     let root = super::common::repo_root();
     let case =
         cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
@@ -438,7 +438,7 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
             validation_only: false,
             method,
         };
-        propagate::propagate(&case, settings, || {}).unwrap()
+        cierva_harness::uncertainty::study::propagate(&case, settings, || {}).unwrap()
     };
     let (first, sampled) = (run(Propagation::Auto), run(Propagation::Sampled));
     assert_eq!(first.inputs.len(), 6);
@@ -553,7 +553,9 @@ fn a_calibrations_predictive_error_is_carried_into_u_input() {
             validation_only: false,
             method: Propagation::FirstOrder,
         };
-        propagate::propagate(&c, settings, || {}).unwrap().results
+        cierva_harness::uncertainty::study::propagate(&c, settings, || {})
+            .unwrap()
+            .results
     };
     let plain = run(&[]);
     let in_regime = run(&[file(
