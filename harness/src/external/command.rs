@@ -205,7 +205,7 @@ impl ExternalCommand {
 
     /// The program to run: a program named by a path is relative to the case file's folder; a
     /// bare name is found on PATH.
-    pub(super) fn program(&self) -> Result<(PathBuf, &[String]), String> {
+    fn program(&self) -> Result<(PathBuf, &[String]), String> {
         let Some((program, args)) = self.command.split_first() else {
             return Err("the command is empty".into());
         };
@@ -217,8 +217,30 @@ impl ExternalCommand {
         Ok((program, args))
     }
 
+    /// Starts the command in the case's folder, `last` appended to its arguments, in a process
+    /// group of its own (Unix: what it starts is killed with it), its stderr piped; its stdin
+    /// and stdout piped where `piped` (persistent mode), else closed and not read.
+    pub(super) fn spawn(&self, last: Option<&Path>, piped: bool) -> Result<Child, String> {
+        let (program, args) = self.program()?;
+        let mut command = Command::new(&program);
+        let io = || if piped { Stdio::piped() } else { Stdio::null() };
+        command
+            .args(args)
+            .args(last)
+            .current_dir(&self.dir)
+            .stdin(io())
+            .stdout(io())
+            .stderr(Stdio::piped());
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::CommandExt as _;
+            command.process_group(0);
+        }
+        command.spawn().map_err(|e| self.not_started(&program, &e))
+    }
+
     /// The error for a program that could not be started.
-    pub(super) fn not_started(&self, program: &Path, e: &std::io::Error) -> String {
+    fn not_started(&self, program: &Path, e: &std::io::Error) -> String {
         match e.kind() {
             std::io::ErrorKind::NotFound => format!(
                 "`{}` was not found (a bare name is looked up on PATH, a path is relative to \
@@ -415,24 +437,7 @@ impl ExternalCommand {
     /// Runs the command with `request` as its last argument, in the case's folder, until it
     /// exits, passes its timeout, or writes a response past `limit` bytes.
     fn execute(&self, request: &Path, response: &Path, limit: u64) -> Result<(), String> {
-        let (program, args) = self.program()?;
-        let mut command = Command::new(&program);
-        command
-            .args(args)
-            .arg(request)
-            .current_dir(&self.dir)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped());
-        #[cfg(unix)]
-        {
-            use std::os::unix::process::CommandExt as _;
-            // Its own process group, led by it: what it starts is killed with it.
-            command.process_group(0);
-        }
-        let mut child = command
-            .spawn()
-            .map_err(|e| self.not_started(&program, &e))?;
+        let mut child = self.spawn(Some(request), false)?;
         let stderr = StderrTail::read(&mut child);
         let start = Instant::now();
         let status = loop {

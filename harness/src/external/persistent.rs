@@ -23,7 +23,7 @@ use super::command::{
 use super::{ControlChanges, Request};
 use crate::run::replay::{Replayed, SIGNALS};
 use std::io::{BufRead as _, BufReader, Write as _};
-use std::process::{Child, ChildStdin, Command, Stdio};
+use std::process::{Child, ChildStdin};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, PoisonError, mpsc};
 use std::time::Duration;
@@ -156,19 +156,7 @@ impl Worker {
     /// Starts the command as written (nothing appended: its own arguments say how it starts
     /// serving), in its own process group, its stdout read line by line on a thread.
     fn start(command: &ExternalCommand) -> Result<Self, String> {
-        let (program, args) = command.program()?;
-        let mut c = Command::new(&program);
-        c.args(args)
-            .current_dir(&command.dir)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
-        #[cfg(unix)]
-        {
-            use std::os::unix::process::CommandExt as _;
-            c.process_group(0);
-        }
-        let mut child = c.spawn().map_err(|e| command.not_started(&program, &e))?;
+        let mut child = command.spawn(None, true)?;
         let stderr = StderrTail::read(&mut child);
         let stdin = child.stdin.take();
         let stdout = child.stdout.take().ok_or("its stdout could not be read")?;

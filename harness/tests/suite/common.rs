@@ -182,3 +182,16 @@ pub fn retune_hub_and_drag(dir: &Path, records: &[&Path], extra: &[&str]) -> (i3
     ]);
     cierva(&args)
 }
+
+/// A new suite in `dir` (emptied first): its marker and the repository's shared tolerances in
+/// `cases/`, for a test to write its cases beside.
+pub fn new_suite(dir: &Path) {
+    let _ = std::fs::remove_dir_all(dir);
+    std::fs::create_dir_all(dir.join("cases")).unwrap();
+    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
+    std::fs::copy(
+        repo_root().join("cases/tolerances.yaml"),
+        dir.join("cases/tolerances.yaml"),
+    )
+    .unwrap();
+}

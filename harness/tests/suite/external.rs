@@ -65,15 +65,8 @@ fn the_example_external_model_validates_through_a_command_and_files() {
 }
 
 /// A suite in a fresh folder whose one case runs `command` for a trim (timeout `timeout_s`).
-fn suite_with_command(dir: &Path, command: &str, timeout_s: f64) -> PathBuf {
-    let _ = std::fs::remove_dir_all(dir);
-    std::fs::create_dir_all(dir.join("cases")).unwrap();
-    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
-    std::fs::copy(
-        repo_root().join("cases/tolerances.yaml"),
-        dir.join("cases/tolerances.yaml"),
-    )
-    .unwrap();
+pub fn suite_with_command(dir: &Path, command: &str, timeout_s: f64) -> PathBuf {
+    super::common::new_suite(dir);
     std::fs::write(
         dir.join("cases/broken.yaml"),
         format!(

@@ -10,7 +10,6 @@
 //! process and the children it waited for (`getrusage`'s `ru_maxrss`), so the model's own is in
 //! it too: the models below write in chunks and hold little.
 
-use super::common::repo_root;
 use cierva_harness::external::command::ExternalCommand;
 use cierva_harness::external::{FlightModel as _, Request};
 use cierva_harness::inputs::condition::{Loading, TrimRequest};
@@ -32,27 +31,7 @@ const MAX_PRINTED_BYTES: usize = 64_000;
 fn suite_with(name: &str, command: &str, timeout_s: f64) -> PathBuf {
     let dir =
         std::env::temp_dir().join(format!("cierva-misbehaving-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(dir.join("cases")).unwrap();
-    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
-    std::fs::copy(
-        repo_root().join("cases/tolerances.yaml"),
-        dir.join("cases/tolerances.yaml"),
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("cases/misbehaving.yaml"),
-        format!(
-            "id: misbehaving\ntitle: a misbehaving external model\nclass: regression\n\
-             provenance: {{source: a test of harness/tests/suite/misbehaving.rs}}\n\
-             model:\n  external:\n    command: {command}\n    timeout_s: {timeout_s}\n\
-             tolerances:\n  forward:\n    sign: negative\n    reason: the test's own\n\
-             checks:\n  - id: trends\n    kind: trim_sweep\n    sweep_mph: [30.0, 40.0]\n\
-             \x20   expect:\n      stick_longitudinal_percent_per_mph_max: {{tolerance: forward}}\n"
-        ),
-    )
-    .unwrap();
-    dir
+    super::external::suite_with_command(&dir, command, timeout_s)
 }
 
 /// What a run of `cierva validate --no-report` in `dir` gave: exit code, stdout and stderr

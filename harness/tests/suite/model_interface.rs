@@ -84,14 +84,7 @@ fn suite_in(name: &str, protocol: &str, persistent: bool) -> PathBuf {
         "cierva-model-interface-{}-{name}",
         std::process::id()
     ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(dir.join("cases")).unwrap();
-    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
-    std::fs::copy(
-        repo_root().join("cases/tolerances.yaml"),
-        dir.join("cases/tolerances.yaml"),
-    )
-    .unwrap();
+    super::common::new_suite(&dir);
     std::fs::write(dir.join("cases/model.py"), MODEL).unwrap();
     std::fs::write(
         dir.join("cases/model.yaml"),
@@ -474,17 +467,10 @@ const THROUGH_THE_PROTOCOL: f64 = 1e-9;
 /// repository's `aircraft/` and `flight-refs/` linked beside its cases (their relative paths).
 fn mirrored_suite() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("cierva-as-external-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(dir.join("cases")).unwrap();
-    std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();
+    super::common::new_suite(&dir);
     for linked in ["aircraft", "flight-refs"] {
         std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
     }
-    std::fs::copy(
-        repo_root().join("cases/tolerances.yaml"),
-        dir.join("cases/tolerances.yaml"),
-    )
-    .unwrap();
     for case in MIRRORED {
         let text = std::fs::read_to_string(repo_root().join(case)).unwrap();
         let mut v: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
