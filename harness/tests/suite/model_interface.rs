@@ -844,3 +844,22 @@ fn checks_that_fail_alike_are_one_input_error() {
     assert!(out.contains("\n1 case, 2 checks: "), "{out}");
     assert!(out.contains(", 1 input error\n"), "{out}");
 }
+
+/// The shipped example `examples/cierva-as-external`: cierva's VPM M16 through `cierva serve`
+/// validates (its checks are those of `cases/vpm-m16-trim-max-weight.yaml`, whose numbers the
+/// known answer above holds to the built-in path's).
+#[test]
+fn the_cierva_as_external_example_validates() {
+    let suite = repo_root().join("examples/cierva-as-external");
+    let (code, out, err) = cierva_on_path(
+        &repo_root(),
+        &[
+            "--suite",
+            suite.to_str().unwrap(),
+            "validate",
+            "--no-report",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("\n1 case, 1 check: 1 passed"), "{out}");
+}
