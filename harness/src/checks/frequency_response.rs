@@ -729,17 +729,19 @@ impl FrequencyResponseCheck {
                 .position(|n| n == name)
                 .ok_or_else(|| format!("`{name}` is not in the model"))
         };
+        // The response of a linear model's A and B, output to input.
+        let of_a_and_b = |model: &cierva_model::LinearModel| {
+            let (o, i) = (
+                index(model.states(), &self.output)?,
+                index(model.controls(), &self.input)?,
+            );
+            linear_response(model, o, i, frequencies_hz)
+        };
         match subject {
-            Subject::Linear { model, .. } => {
-                let (o, i) = (
-                    index(model.states(), &self.output)?,
-                    index(model.controls(), &self.input)?,
-                );
-                Ok((
-                    linear_response(model, o, i, frequencies_hz)?,
-                    "the model's response from its own A and B".into(),
-                ))
-            }
+            Subject::Linear { model, .. } => Ok((
+                of_a_and_b(model)?,
+                "the model's response from its own A and B".into(),
+            )),
             Subject::Aircraft { file, loading } => {
                 let condition = self
                     .condition
@@ -773,13 +775,8 @@ impl FrequencyResponseCheck {
                         ),
                     ))
                 } else {
-                    let model = &lin.1.model;
-                    let (o, i) = (
-                        index(model.states(), &self.output)?,
-                        index(model.controls(), &self.input)?,
-                    );
                     Ok((
-                        linear_response(model, o, i, frequencies_hz)?,
+                        of_a_and_b(&lin.1.model)?,
                         "the model's response: the quasi-static linearisation (no flapping linearisation for this rotor's hub)".into(),
                     ))
                 }
@@ -791,12 +788,8 @@ impl FrequencyResponseCheck {
                 let model = e
                     .model
                     .linear_model(&crate::external::Request::at(condition, e.loading))?;
-                let (o, i) = (
-                    index(model.states(), &self.output)?,
-                    index(model.controls(), &self.input)?,
-                );
                 Ok((
-                    linear_response(&model, o, i, frequencies_hz)?,
+                    of_a_and_b(&model)?,
                     format!(
                         "the model's response from the A and B {} gives at {} mph",
                         e.model.describe(),

@@ -512,12 +512,13 @@ pub(super) fn kill_group(child: &mut Child) {
 
 /// The end of a command's stderr, read as it comes by a thread of its own (see
 /// [`STDERR_KEEP_BYTES`]).
+#[derive(Debug)]
 pub(super) struct StderrTail {
     kept: Arc<Mutex<Kept>>,
     closed: mpsc::Receiver<()>,
 }
 
-#[derive(Default)]
+#[derive(Debug, Default)]
 struct Kept {
     bytes: Vec<u8>,
     /// Bytes read and dropped before `bytes`.

@@ -82,6 +82,18 @@ pub struct Parameter {
     pub correction: bool,
 }
 
+/// The parameters a study moves when it names none: those declared with a plausible range, by
+/// name (a case's `sensitivity:` block and `cierva sensitivity` alike).
+pub fn ranged_names(declared: &[Parameter]) -> Vec<String> {
+    let mut ranged: Vec<String> = declared
+        .iter()
+        .filter(|p| p.range.is_some())
+        .map(|p| p.name.clone())
+        .collect();
+    ranged.sort();
+    ranged
+}
+
 /// Checks values against the parameters a model declares: each one declared (an unknown name
 /// gets the nearest declared one), finite, and inside its declared range.
 pub fn check_values(model: &str, declared: &[Parameter], values: &Values) -> Result<(), String> {

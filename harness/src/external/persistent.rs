@@ -118,6 +118,7 @@ impl Pool {
 const EXIT_POLLS: usize = 50;
 
 /// What the reader of a process's stdout passes on: a line, or why there is none.
+#[derive(Debug)]
 enum Line {
     Text(String),
     /// The line passed its limit, bytes (the reader stops).
@@ -131,25 +132,10 @@ enum Line {
 struct Worker {
     child: Child,
     stdin: Option<ChildStdin>,
-    lines: mpsc::Receiver<LineMsg>,
+    lines: mpsc::Receiver<Line>,
     /// The longest line the reader accepts now, bytes (set before each request).
     limit: Arc<AtomicU64>,
     stderr: StderrTail,
-}
-
-/// A line as the reader sends it.
-struct LineMsg(Line);
-
-impl std::fmt::Debug for LineMsg {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("LineMsg")
-    }
-}
-
-impl std::fmt::Debug for StderrTail {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("StderrTail")
-    }
 }
 
 impl Worker {
@@ -206,8 +192,8 @@ impl Worker {
             return Err(self.end(&e));
         }
         let answer = match self.lines.recv_timeout(command.timeout) {
-            Ok(LineMsg(Line::Text(text))) => text,
-            Ok(LineMsg(Line::TooLong(n))) => {
+            Ok(Line::Text(text)) => text,
+            Ok(Line::TooLong(n)) => {
                 return Err(self.end(&format!(
                     "was killed: its answer passed {n} bytes as it was read (the most a \
                      {} answer may take{}, `MAX_RESPONSE_BYTES` and `MAX_HISTORY_ROW_BYTES`)",
@@ -219,7 +205,7 @@ impl Worker {
                     }
                 )));
             }
-            Ok(LineMsg(Line::Closed(why))) => return Err(self.end(&why)),
+            Ok(Line::Closed(why)) => return Err(self.end(&why)),
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 return Err(self.end(&format!(
                     "timed out after {} s (`timeout_s`) on this request and was killed",
@@ -277,7 +263,7 @@ impl Drop for Worker {
 }
 
 /// Reads `stdout` a line at a time, each within the limit set for the request it answers.
-fn read_lines(stdout: std::process::ChildStdout, limit: &AtomicU64, send: &mpsc::Sender<LineMsg>) {
+fn read_lines(stdout: std::process::ChildStdout, limit: &AtomicU64, send: &mpsc::Sender<Line>) {
     let mut r = BufReader::new(stdout);
     loop {
         let mut line = Vec::new();
@@ -295,7 +281,7 @@ fn read_lines(stdout: std::process::ChildStdout, limit: &AtomicU64, send: &mpsc:
             r.consume(take);
             let max = limit.load(Ordering::Relaxed);
             if line.len() as u64 > max.saturating_add(1) {
-                let _ = send.send(LineMsg(Line::TooLong(max)));
+                let _ = send.send(Line::TooLong(max));
                 return;
             }
             if done {
@@ -303,14 +289,14 @@ fn read_lines(stdout: std::process::ChildStdout, limit: &AtomicU64, send: &mpsc:
             }
         };
         if let Some(why) = closed {
-            let _ = send.send(LineMsg(Line::Closed(why)));
+            let _ = send.send(Line::Closed(why));
             return;
         }
         let text = String::from_utf8_lossy(&line).trim_end().to_string();
         if text.is_empty() {
             continue;
         }
-        if send.send(LineMsg(Line::Text(text))).is_err() {
+        if send.send(Line::Text(text)).is_err() {
             return;
         }
     }

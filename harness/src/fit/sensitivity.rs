@@ -135,14 +135,18 @@ pub fn check_names(
     parameters: &[String],
     quantities: &[BoundedQuantity],
 ) -> Result<(), String> {
-    let values: crate::external::Values = parameters
+    // Each name at its nominal value: `check_values` refuses a name the model does not declare.
+    let at_nominal: crate::external::Values = parameters
         .iter()
-        .filter_map(|p| Some((p.clone(), declared.iter().find(|d| &d.name == p)?.nominal)))
+        .map(|p| {
+            let nominal = declared
+                .iter()
+                .find(|d| &d.name == p)
+                .map_or(0.0, |d| d.nominal);
+            (p.clone(), nominal)
+        })
         .collect();
-    if let Some(p) = parameters.iter().find(|p| !values.contains_key(*p)) {
-        let lone: crate::external::Values = [(p.clone(), 0.0)].into_iter().collect();
-        crate::external::check_values(model, declared, &lone)?;
-    }
+    crate::external::check_values(model, declared, &at_nominal)?;
     let flight = crate::fit::TargetCondition::Flight(
         TrimRequest::level(50.0),
         Loading {
@@ -159,15 +163,10 @@ pub fn check_names(
 /// The parameters a study moves by default: those the model declares a range for (by name), or
 /// every one it declares where it gives no range.
 pub fn default_parameters(declared: &[Parameter]) -> Vec<String> {
-    let mut ranged: Vec<String> = declared
-        .iter()
-        .filter(|p| p.range.is_some())
-        .map(|p| p.name.clone())
-        .collect();
+    let ranged = crate::external::ranged_names(declared);
     if ranged.is_empty() {
         return declared.iter().map(|p| p.name.clone()).collect();
     }
-    ranged.sort();
     ranged
 }
 

@@ -268,15 +268,7 @@ fn check_sensitivity(
     let declared = model.parameters().map_err(|e| err("sensitivity", e))?;
     let names: Vec<String> = match &s.parameters {
         Some(p) => p.clone(),
-        None => {
-            let mut ranged: Vec<String> = declared
-                .iter()
-                .filter(|p| p.range.is_some())
-                .map(|p| p.name.clone())
-                .collect();
-            ranged.sort();
-            ranged
-        }
+        None => crate::external::ranged_names(&declared),
     };
     if names.is_empty() {
         return Err(err(

@@ -864,7 +864,11 @@ fn the_cierva_as_external_example_validates() {
     assert!(out.contains("\n1 case, 1 check: 1 passed"), "{out}");
     // The suite is self-contained (it runs where a user copies it): its aircraft files are the
     // repository's, byte for byte.
-    for file in ["vpm-m16.yaml", "vpm-m16-rotor.yaml", "vpm-m16-propeller.yaml"] {
+    for file in [
+        "vpm-m16.yaml",
+        "vpm-m16-rotor.yaml",
+        "vpm-m16-propeller.yaml",
+    ] {
         let copy = std::fs::read(suite.join("aircraft").join(file)).unwrap();
         let original = std::fs::read(repo_root().join("aircraft").join(file)).unwrap();
         assert!(
