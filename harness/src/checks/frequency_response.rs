@@ -817,8 +817,8 @@ pub struct Responses {
     pub frequencies_hz: Vec<f64>,
     /// States x controls at each frequency.
     pub at: Vec<nalgebra::DMatrix<C>>,
-    /// Whether the model is the linearisation with flapping states (else quasi-static).
-    pub flapping: bool,
+    /// Which model gave them, in words.
+    pub from: String,
 }
 
 impl Responses {
@@ -868,14 +868,44 @@ impl Responses {
     }
 
     /// Which model gave the responses, in words.
-    pub fn model(&self) -> &'static str {
-        if self.flapping {
-            "the linearisation with the rotor's flapping states, baseband response by harmonic balance"
-        } else {
-            "the quasi-static linearisation (no flapping linearisation for this rotor's hub)"
+    pub fn model(&self) -> &str {
+        &self.from
+    }
+
+    /// Every state's response to every control of a linear model's `A` and `B`
+    /// ([`linear_response`]) at each frequency; `from` says which model it is, in words.
+    pub fn of_linear_model(
+        model: &cierva_model::LinearModel,
+        frequencies_hz: &[f64],
+        from: String,
+    ) -> Result<Self, String> {
+        use nalgebra::DMatrix;
+        let (ns, nc) = (model.states().len(), model.controls().len());
+        let mut at = vec![DMatrix::from_element(ns, nc, C::new(0.0, 0.0)); frequencies_hz.len()];
+        for i in 0..nc {
+            for o in 0..ns {
+                let h = linear_response(model, o, i, frequencies_hz)?;
+                for (m, v) in at.iter_mut().zip(h) {
+                    m[(o, i)] = v;
+                }
+            }
         }
+        Ok(Self {
+            states: model.states().to_vec(),
+            controls: model.controls().to_vec(),
+            frequencies_hz: frequencies_hz.to_vec(),
+            at,
+            from,
+        })
     }
 }
+
+/// What an aircraft's responses with its rotor's flapping states are, in words.
+pub const WITH_FLAPPING: &str =
+    "the linearisation with the rotor's flapping states, baseband response by harmonic balance";
+/// What an aircraft's quasi-static responses are, in words.
+pub const QUASI_STATIC: &str =
+    "the quasi-static linearisation (no flapping linearisation for this rotor's hub)";
 
 /// An aircraft's responses ([`Responses`]) at its trim `trim` for `request` and `loading`.
 pub fn aircraft_responses(
@@ -909,28 +939,11 @@ pub fn aircraft_responses(
             controls: wf.model.controls().to_vec(),
             frequencies_hz: frequencies_hz.to_vec(),
             at,
-            flapping: true,
+            from: WITH_FLAPPING.into(),
         })
     } else {
         let (_, lin) = crate::run::linearise::run_linearise_from(aircraft, request, loading, None)
             .map_err(|e| e.to_string())?;
-        let model = &lin.model;
-        let (ns, nc) = (model.states().len(), model.controls().len());
-        let mut at = vec![DMatrix::from_element(ns, nc, C::new(0.0, 0.0)); frequencies_hz.len()];
-        for i in 0..nc {
-            for o in 0..ns {
-                let h = linear_response(model, o, i, frequencies_hz)?;
-                for (m, v) in at.iter_mut().zip(h) {
-                    m[(o, i)] = v;
-                }
-            }
-        }
-        Ok(Responses {
-            states: model.states().to_vec(),
-            controls: model.controls().to_vec(),
-            frequencies_hz: frequencies_hz.to_vec(),
-            at,
-            flapping: false,
-        })
+        Responses::of_linear_model(&lin.model, frequencies_hz, QUASI_STATIC.into())
     }
 }

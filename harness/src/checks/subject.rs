@@ -224,7 +224,7 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         ));
     }
     if let Some(x) = &m.external {
-        return external(&err, dir, x);
+        return external(&err, dir, x, "model.external").map(|e| Subject::External(Box::new(e)));
     }
     if let Some(a) = &m.aircraft {
         let file = crate::inputs::aircraft::load(&dir.join(&a.file)).map_err(|e| {
@@ -274,30 +274,31 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
     derivative_table(path, src, dir, t)
 }
 
-/// Another simulation run as a command (`external`): its loading, its command line and its
-/// time limit checked.
-fn external(
+/// Another simulation run as a command (`external`, written at `field` of a case or a fit
+/// file): its loading, its command line and its time limit checked.
+pub fn external(
     err: &dyn Fn(&str, String) -> InputError,
     dir: &Path,
     x: &ExternalSpec,
-) -> Result<Subject, InputError> {
-    let loading = check_loading(err, "model.external", x.mass_kg, x.density_altitude_ft)?;
+    field: &str,
+) -> Result<crate::external::External, InputError> {
+    let loading = check_loading(err, field, x.mass_kg, x.density_altitude_ft)?;
     if x.command.is_empty() || x.command[0].trim().is_empty() {
         return Err(err(
-            "model.external.command",
+            &format!("{field}.command"),
             "give the program and its arguments, `[python3, model.py]`".into(),
         ));
     }
     if !(x.timeout_s.is_finite() && x.timeout_s > 0.0 && x.timeout_s <= MAX_TIMEOUT_S) {
         return Err(err(
-            "model.external.timeout_s",
+            &format!("{field}.timeout_s"),
             format!("must be in (0, {MAX_TIMEOUT_S}] s, got {}", x.timeout_s),
         ));
     }
     let protocol = match &x.protocol {
         None => crate::external::command::Protocol::V1,
         Some(p) => crate::external::command::Protocol::parse(p)
-            .map_err(|e| err("model.external.protocol", e))?,
+            .map_err(|e| err(&format!("{field}.protocol"), e))?,
     };
     let mut command = crate::external::command::ExternalCommand::speaking(
         x.command.clone(),
@@ -308,7 +309,7 @@ fn external(
     if x.persistent {
         if protocol != crate::external::command::Protocol::V2 {
             return Err(err(
-                "model.external.persistent",
+                &format!("{field}.persistent"),
                 format!(
                     "persistent mode is protocol `{}`'s: say `protocol: {}`",
                     crate::external::command::PROTOCOL_2,
@@ -318,11 +319,12 @@ fn external(
         }
         command = command.persistent();
     }
-    Ok(Subject::External(Box::new(crate::external::External {
+    Ok(crate::external::External {
         written: format!("command: {}", command.written()),
         model: std::sync::Arc::new(command),
         loading,
-    })))
+        folder: crate::external::folder_of(dir),
+    })
 }
 
 /// A teeter record (`flap_record`): the record with the flapping channels, its rotor file,
@@ -489,6 +491,7 @@ fn load_files(path: &Path, src: &str, dir: &Path, f: &FilesSpec) -> Result<Subje
         written: format!("files: {}", model.written()),
         model: std::sync::Arc::new(model),
         loading,
+        folder: crate::external::folder_of(dir),
     })))
 }
 

@@ -950,10 +950,10 @@ fn fitting(out: &Rows) {
             TargetCondition,
         };
         let par = |kind: ParameterKind, lower, upper| FitParameter {
+            start: kind.neutral().unwrap_or(lower),
             kind,
             lower,
             upper,
-            start: kind.neutral().unwrap_or(lower),
             regularisation: 0.0,
         };
         let loading = cierva_harness::inputs::condition::Loading {

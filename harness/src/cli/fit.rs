@@ -7,10 +7,12 @@ use super::*;
 /// elastic twist, hub drag) to flight references within bounds, and write the fitted
 /// corrections and a before/after table.
 ///
-/// The fit file names the subject (an aircraft at a mass and density altitude, or a rotor in
-/// a tunnel), the parameters with their bounds, and the targets: checks of a case (each
-/// check's expected value, with its tolerance as the standard error) or references written
-/// out, with optional hard or soft bounds. See harness/src/fit/file.rs for the format.
+/// The fit file names the subject (an aircraft at a mass and density altitude, a rotor in a
+/// tunnel, or `case: cases/x.yaml` for the model behind the model interface that a case checks
+/// with `external:`, fitted by the parameters it declares), the parameters with their bounds,
+/// and the targets: checks of a case (each check's expected value, with its tolerance as the
+/// standard error) or references written out, with optional hard or soft bounds. See
+/// harness/src/fit/file.rs for the format.
 ///
 /// Writes the corrections file (default: the suite's `corrections/fitted/<id>.yaml`, for
 /// `cierva validate --corrections`) and a Markdown report (default: the suite's `reports/fits/<id>.md`).

@@ -234,6 +234,7 @@ pub(crate) fn load_flight(
     let applies = match &c.target {
         Corrects::Aircraft(id) => *id == file.id,
         Corrects::Rotor(id) => *id == file.main_rotor_file.id,
+        Corrects::Model(_) => false,
     };
     if !applies {
         return Err(Error::input(format!(

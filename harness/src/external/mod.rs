@@ -370,19 +370,40 @@ impl FlightModel for WithValues {
 }
 
 /// Another simulation as a subject: the model, the loading it is asked at, and what it is
-/// (its command or files, as written: two subjects are the same when these are).
+/// (its command or files as written, and the folder they are written from: two subjects are
+/// the same model when these are).
 #[derive(Debug, Clone)]
 pub struct External {
     pub model: Arc<dyn FlightModel>,
     pub loading: Loading,
     /// The subject as written, for comparison and reports.
     pub written: String,
+    /// The folder its command runs in and its files' paths start from
+    /// ([`folder_of`]): the same words in two folders can be two models.
+    pub folder: std::path::PathBuf,
+}
+
+impl External {
+    /// Whether `other` is the same model (whatever the loading it is asked at).
+    pub fn same_model(&self, other: &Self) -> bool {
+        self.written == other.written && self.folder == other.folder
+    }
 }
 
 impl PartialEq for External {
     fn eq(&self, other: &Self) -> bool {
-        self.written == other.written && self.loading == other.loading
+        self.same_model(other) && self.loading == other.loading
     }
+}
+
+/// A subject's folder as compared: canonical where it exists (`cases/../cases` is `cases`).
+pub fn folder_of(dir: &std::path::Path) -> std::path::PathBuf {
+    let dir = if dir.as_os_str().is_empty() {
+        std::path::Path::new(".")
+    } else {
+        dir
+    };
+    dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf())
 }
 
 /// A shared model is a model.

@@ -8,6 +8,8 @@
 //! subject:                               # exactly one
 //!   rotor: {file: ../aircraft/pca-2-rotor.yaml, inflow: peters_haquang, skew: signed}
 //!   # aircraft: {file: ../aircraft/vpm-m16.yaml, mass_kg: 425, density_altitude_ft: 2000}
+//!   # case: ../cases/my-model-trim.yaml    # the model a case checks (`external`: a model
+//!                                          # behind the model interface), at its loading
 //! parameters:                            # name: bounds, start (default: uncorrected), weight
 //!   pitch_offset_deg: {lower: -3, upper: 3}
 //!   profile_drag_scale: {lower: 0.5, upper: 3, regularisation: 0}
@@ -38,6 +40,13 @@
 //! allow. It starts from the file's value. An aircraft's targets are flown at their own loading
 //! (a case's mass and density altitude; written-out ones at the subject's).
 //!
+//! A model behind the model interface (`subject: {case: ...}`, the model a case checks with
+//! `external:`) is fitted by the parameters it declares
+//! ([`crate::external::FlightModel::parameters`]): each by its declared name, its bounds
+//! defaulting to (and lying within) its declared range, starting at its nominal value. Its
+//! targets come from cases that check the same model (the same command, written from the same
+//! folder), each at its own loading, and written-out ones at the subject case's.
+//!
 //! A target taken from a case check uses the check's expected value as its reference and its
 //! tolerance as the scale: an absolute tolerance is the standard error, a relative one times
 //! the value, and an interval (95 % flight bounds) gives its midpoint with a standard error of
@@ -59,6 +68,9 @@ struct SubjectSpec {
     aircraft: Option<AircraftModelSpec>,
     #[serde(default)]
     rotor: Option<RotorModelSpec>,
+    /// A case whose subject is a model behind the model interface (`external`).
+    #[serde(default)]
+    case: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -258,8 +270,25 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     crate::inputs::reference::check_id(path, &src, &spec.id)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut aircraft_file = None;
-    let (subject, applies_to, subject_key) = match (&spec.subject.aircraft, &spec.subject.rotor) {
-        (Some(a), None) => {
+    let mut declared = None;
+    let (subject, applies_to, subject_key) = match (
+        &spec.subject.aircraft,
+        &spec.subject.rotor,
+        &spec.subject.case,
+    ) {
+        (None, None, Some(c)) => {
+            let e = external_of_case(dir, c).map_err(|m| err("subject.case", m))?;
+            let parameters = e.model.parameters().map_err(|m| err("subject.case", m))?;
+            declared = Some(parameters);
+            (
+                fit::FitSubject::Model {
+                    model: e.model.clone(),
+                },
+                crate::inputs::corrections::Corrects::Model(e.written.clone()),
+                SubjectKey::Model(e.written.clone(), e.folder.clone(), e.loading),
+            )
+        }
+        (Some(a), None, None) => {
             let file = crate::inputs::aircraft::load(&dir.join(&a.file))?;
             let loading = crate::inputs::condition::Loading {
                 mass_kg: a.mass_kg,
@@ -273,7 +302,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             aircraft_file = Some(file);
             (subject, applies, key)
         }
-        (None, Some(r)) => {
+        (None, Some(r), None) => {
             let file = crate::inputs::rotor::load(&dir.join(&r.file))?;
             let inflow = r.inflow.model(r.skew, r.descent);
             let key = SubjectKey::Rotor(file.id.clone(), inflow);
@@ -289,44 +318,18 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         _ => {
             return Err(err(
                 "subject",
-                "give exactly one of `aircraft` or `rotor`".into(),
+                "give exactly one of `aircraft`, `rotor` or `case` (a case whose model is `external`)".into(),
             ));
         }
     };
-    let mut parameters = Vec::new();
-    let names = ParameterKind::names();
-    for (name, p) in &spec.parameters {
-        let field = format!("parameters.{name}");
-        let Some(kind) = ParameterKind::parse(name) else {
-            let hint = yaml::nearest(name, &names)
-                .map(|n| format!(" (did you mean `{n}`?)"))
-                .unwrap_or_default();
-            return Err(err(
-                &field,
-                format!("unknown parameter; one of {}{hint}", names.join(", ")),
-            ));
-        };
-        let (lower, upper, start) = match kind.neutral() {
-            Some(neutral) => {
-                let (Some(lower), Some(upper)) = (p.lower, p.upper) else {
-                    return Err(err(
-                        &field,
-                        "a correction needs its bounds, `lower` and `upper`".into(),
-                    ));
-                };
-                (lower, upper, p.start.unwrap_or(neutral))
-            }
-            None => estimated_parameter(aircraft_file.as_ref(), name, (p.lower, p.upper, p.start))
-                .map_err(|m| err(&field, m))?,
-        };
-        parameters.push(FitParameter {
-            kind,
-            lower,
-            upper,
-            start,
-            regularisation: p.regularisation,
-        });
-    }
+    let parameters = spec
+        .parameters
+        .iter()
+        .map(|(name, p)| {
+            fit_parameter(name, p, declared.as_deref(), aircraft_file.as_ref())
+                .map_err(|m| err(&format!("parameters.{name}"), m))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let (options, starts) = options_of(spec.options).map_err(|(f, m)| err(f, m))?;
     let read = |list: &[TargetSpec], section: &str| {
         let mut targets = Vec::new();
@@ -363,6 +366,52 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         predict_origins,
         cross_validation: spec.cross_validation,
         starts,
+    })
+}
+
+/// A fit file's parameter: a model's declared parameter where the subject is a model behind
+/// the model interface (`declared`: what it declares), else a correction (its bounds given,
+/// starting uncorrected) or an aircraft file's estimated physical parameter.
+fn fit_parameter(
+    name: &str,
+    p: &ParameterSpec,
+    declared: Option<&[crate::external::Parameter]>,
+    aircraft_file: Option<&crate::inputs::aircraft::AircraftFile>,
+) -> Result<FitParameter, String> {
+    let asked = (p.lower, p.upper, p.start);
+    let (kind, (lower, upper, start)) = if let Some(declared) = declared {
+        (
+            ParameterKind::Declared(name.to_string()),
+            declared_parameter(declared, name, asked)?,
+        )
+    } else {
+        let Some(kind) = ParameterKind::parse(name) else {
+            let names = ParameterKind::names();
+            let hint = yaml::nearest(name, &names)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(format!(
+                "unknown parameter; one of {}{hint}",
+                names.join(", ")
+            ));
+        };
+        let bounds = match kind.neutral() {
+            Some(neutral) => {
+                let (Some(lower), Some(upper)) = (p.lower, p.upper) else {
+                    return Err("a correction needs its bounds, `lower` and `upper`".into());
+                };
+                (lower, upper, p.start.unwrap_or(neutral))
+            }
+            None => estimated_parameter(aircraft_file, name, asked)?,
+        };
+        (kind, bounds)
+    };
+    Ok(FitParameter {
+        kind,
+        lower,
+        upper,
+        start,
+        regularisation: p.regularisation,
     })
 }
 
@@ -468,13 +517,68 @@ pub fn estimated_parameter(
     Ok((lower, upper, start.unwrap_or(value)))
 }
 
+/// A declared parameter's bounds and start, `(lower, upper, start)`, from the bounds and start
+/// asked for (each optional): the name must be declared; the bounds default to its declared
+/// range and may not leave it (a parameter declared without a range needs both bounds); the
+/// start defaults to its nominal value.
+pub fn declared_parameter(
+    declared: &[crate::external::Parameter],
+    name: &str,
+    (lower, upper, start): (Option<f64>, Option<f64>, Option<f64>),
+) -> Result<(f64, f64, f64), String> {
+    let Some(p) = declared.iter().find(|p| p.name == name) else {
+        let names: Vec<String> = declared.iter().map(|p| p.name.clone()).collect();
+        let hint = yaml::nearest(name, &names)
+            .map(|n| format!(" (did you mean `{n}`?)"))
+            .unwrap_or_default();
+        return Err(format!(
+            "the model declares no parameter `{name}`{hint}; it declares [{}]",
+            names.join(", ")
+        ));
+    };
+    let (lower, upper) = match (&p.range, lower, upper) {
+        (Some(r), lower, upper) => {
+            let (lower, upper) = (lower.unwrap_or(r.lower), upper.unwrap_or(r.upper));
+            if lower < r.lower || upper > r.upper {
+                return Err(format!(
+                    "bounds [{lower}, {upper}] reach outside the range the model declares for `{name}`, [{}, {}] ({})",
+                    r.lower, r.upper, r.source
+                ));
+            }
+            (lower, upper)
+        }
+        (None, Some(lower), Some(upper)) => (lower, upper),
+        (None, _, _) => {
+            return Err(format!(
+                "the model declares no range for `{name}`: give `lower` and `upper` (and their source in the file's provenance)"
+            ));
+        }
+    };
+    Ok((lower, upper, start.unwrap_or(p.nominal)))
+}
+
+/// The model a case checks, where it is one behind the model interface (`external` or
+/// `files`).
+fn external_of_case(dir: &Path, file: &str) -> Result<crate::external::External, String> {
+    let c = case::load(&dir.join(file)).map_err(|e| format!("the case {file}: {}", e.render()))?;
+    match c.subject {
+        case::Subject::External(e) => Ok(*e),
+        other => Err(format!(
+            "the case {file} checks {}: `subject.case` names a case whose model is `external` (cierva's own aircraft and rotors are `aircraft` and `rotor` subjects)",
+            other.describe()
+        )),
+    }
+}
+
 /// What a case's subject must match: the same file (aircraft; each case flies at its own
-/// loading) or the same file and inflow (rotor). The aircraft's loading is the one written-out
-/// targets fly at.
+/// loading), the same file and inflow (rotor), or the same model (one behind the model
+/// interface: its command or files as written, from the same folder). The aircraft's or the
+/// model's loading is the one written-out targets fly at.
 #[derive(Debug, Clone, PartialEq)]
 enum SubjectKey {
     Aircraft(String, crate::inputs::condition::Loading),
     Rotor(String, cierva_model::components::rotor::InflowModel),
+    Model(String, PathBuf, crate::inputs::condition::Loading),
 }
 
 fn targets_of(
@@ -501,9 +605,11 @@ fn targets_of(
                 );
             }
             let condition = match (t.condition, t.tunnel, subject) {
-                (Some(c), None, SubjectKey::Aircraft(_, loading)) => {
-                    TargetCondition::Flight(c, *loading)
-                }
+                (
+                    Some(c),
+                    None,
+                    SubjectKey::Aircraft(_, loading) | SubjectKey::Model(.., loading),
+                ) => TargetCondition::Flight(c, *loading),
                 (Some(_), None, SubjectKey::Rotor(..)) => {
                     return Err("a rotor alone is fitted at `tunnel` conditions, not in flight".into());
                 }
@@ -653,14 +759,19 @@ fn case_of(
         case::Subject::Rotor { file, solver } => {
             (SubjectKey::Rotor(file.id.clone(), solver.inflow), None)
         }
+        case::Subject::External(e) => (
+            SubjectKey::Model(e.written.clone(), e.folder.clone(), e.loading),
+            Some(e.loading),
+        ),
         _ => {
             return Err(format!(
-                "the case {file} checks neither an aircraft nor a rotor"
+                "the case {file} checks neither an aircraft, a rotor nor a model behind the model interface"
             ));
         }
     };
     let same = match (&key, subject) {
         (SubjectKey::Aircraft(a, _), SubjectKey::Aircraft(b, _)) => a == b,
+        (SubjectKey::Model(a, f, _), SubjectKey::Model(b, g, _)) => a == b && f == g,
         _ => key == *subject,
     };
     if !same {
@@ -747,59 +858,75 @@ pub fn run(f: &FitFile) -> FitRun {
         predict_before = fit::values_or_nan(&p, &start);
         predict_after = fit::values_or_nan(&p, &result.values);
     }
-    let mut modes = Vec::new();
-    if let fit::FitSubject::Aircraft { aircraft } = &f.problem.subject {
-        let mut conditions: Vec<(
-            crate::inputs::condition::TrimRequest,
-            crate::inputs::condition::Loading,
-        )> = Vec::new();
-        for t in &f.problem.targets {
-            if let TargetCondition::Flight(c, l) = t.condition
-                && !conditions.contains(&(c, l))
-            {
-                conditions.push((c, l));
-            }
+    let mut conditions: Vec<(
+        crate::inputs::condition::TrimRequest,
+        crate::inputs::condition::Loading,
+    )> = Vec::new();
+    for t in &f.problem.targets {
+        if let TargetCondition::Flight(c, l) = t.condition
+            && !conditions.contains(&(c, l))
+        {
+            conditions.push((c, l));
         }
-        let eig = |values: &[f64],
-                   (c, loading): (
-            crate::inputs::condition::TrimRequest,
-            crate::inputs::condition::Loading,
-        )| {
-            let mut set = crate::inputs::corrections::CorrectionSet::default();
-            for (par, v) in f.problem.parameters.iter().zip(values) {
-                par.kind.set(&mut set, *v);
+    }
+    // The linear model at parameter values `values` and a flight condition, where the subject
+    // flies and the model solves.
+    let linear = |values: &[f64],
+                  (c, loading): (
+        crate::inputs::condition::TrimRequest,
+        crate::inputs::condition::Loading,
+    )|
+     -> Option<cierva_model::LinearModel> {
+        match &f.problem.subject {
+            fit::FitSubject::Aircraft { aircraft } => {
+                let mut set = crate::inputs::corrections::CorrectionSet::default();
+                for (par, v) in f.problem.parameters.iter().zip(values) {
+                    par.kind.set(&mut set, *v);
+                }
+                let mut a = (**aircraft).clone();
+                set.apply_to_aircraft(&mut a).ok()?;
+                crate::run::linearise::run_linearise(&a, c, loading)
+                    .ok()
+                    .map(|(_, lin)| lin.model)
             }
-            let mut a = (**aircraft).clone();
-            let analysis = set
-                .apply_to_aircraft(&mut a)
-                .ok()
-                .and_then(|_| crate::run::linearise::run_linearise(&a, c, loading).ok())
-                .and_then(|(_, lin)| cierva_model::analysis::modes::modes(&lin.model).ok());
-            [
-                cierva_model::analysis::modes::ModeKind::Phugoid,
-                cierva_model::analysis::modes::ModeKind::ShortPeriod,
-            ]
-            .map(|k| {
-                analysis
-                    .as_ref()
-                    .and_then(|m| {
-                        m.of_kind(k)
-                            .next()
-                            .map(|m| [m.eigenvalue.re, m.eigenvalue.im])
-                    })
-                    .unwrap_or([f64::NAN; 2])
-            })
-        };
-        for c in conditions {
-            let (b, a) = (eig(&start, c), eig(&result.values, c));
-            for (k, name) in ["phugoid", "short_period"].into_iter().enumerate() {
-                modes.push(ModeShift {
-                    condition: TargetCondition::Flight(c.0, c.1).label(),
-                    mode: name,
-                    before: b[k],
-                    after: a[k],
-                });
+            fit::FitSubject::Model { model } => {
+                let mut request = crate::external::Request::at(c, loading);
+                for (par, v) in f.problem.parameters.iter().zip(values) {
+                    request = request.with(par.kind.name(), *v);
+                }
+                model.linear_model(&request).ok()
             }
+            fit::FitSubject::Rotor { .. } => None,
+        }
+    };
+    let eig = |values: &[f64], at| {
+        let analysis =
+            linear(values, at).and_then(|lin| cierva_model::analysis::modes::modes(&lin).ok());
+        [
+            cierva_model::analysis::modes::ModeKind::Phugoid,
+            cierva_model::analysis::modes::ModeKind::ShortPeriod,
+        ]
+        .map(|k| {
+            analysis
+                .as_ref()
+                .and_then(|m| {
+                    m.of_kind(k)
+                        .next()
+                        .map(|m| [m.eigenvalue.re, m.eigenvalue.im])
+                })
+                .unwrap_or([f64::NAN; 2])
+        })
+    };
+    let mut modes = Vec::new();
+    for c in conditions {
+        let (b, a) = (eig(&start, c), eig(&result.values, c));
+        for (k, name) in ["phugoid", "short_period"].into_iter().enumerate() {
+            modes.push(ModeShift {
+                condition: TargetCondition::Flight(c.0, c.1).label(),
+                mode: name,
+                before: b[k],
+                after: a[k],
+            });
         }
     }
     FitRun {
@@ -911,11 +1038,15 @@ pub fn corrections_file(
         applies_to: match &f.applies_to {
             Corrects::Aircraft(a) => AppliesTo {
                 aircraft: Some(a.clone()),
-                rotor: None,
+                ..AppliesTo::default()
             },
             Corrects::Rotor(a) => AppliesTo {
-                aircraft: None,
                 rotor: Some(a.clone()),
+                ..AppliesTo::default()
+            },
+            Corrects::Model(m) => AppliesTo {
+                model: Some(m.clone()),
+                ..AppliesTo::default()
             },
         },
         corrections: r.corrections(),

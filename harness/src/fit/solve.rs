@@ -256,7 +256,7 @@ fn unstarted(problem: &Problem, status: Status) -> FitResult {
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
     FitResult {
         status,
-        parameters: problem.parameters.iter().map(|p| p.kind).collect(),
+        parameters: problem.parameters.iter().map(|p| p.kind.clone()).collect(),
         values: start.clone(),
         standard_errors: vec![f64::INFINITY; start.len()],
         iterations: 0,
@@ -384,7 +384,7 @@ pub fn fit(problem: &Problem) -> FitResult {
     if let Err(e) = check(problem) {
         return unstarted(problem, Status::BadProblem(e));
     }
-    let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind).collect();
+    let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind.clone()).collect();
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
     let warm = WarmStarts::default();
     let y0 = match evaluate_from(problem, &start, Some(&warm)) {

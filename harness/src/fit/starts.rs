@@ -40,7 +40,7 @@ pub struct End {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Starts {
     /// The parameters' names, in order.
-    pub parameters: Vec<&'static str>,
+    pub parameters: Vec<String>,
     /// Every start's end, the file's own first.
     pub ends: Vec<End>,
     /// The end kept: the lowest cost among those that converged or reached the iteration limit.
@@ -106,7 +106,11 @@ pub fn fit_from_starts(problem: &Problem, n: usize, done: impl Fn(usize)) -> (Fi
     }
     let (best, equivalent, spread) = choose(&results);
     let starts = Starts {
-        parameters: problem.parameters.iter().map(|p| p.kind.name()).collect(),
+        parameters: problem
+            .parameters
+            .iter()
+            .map(|p| p.kind.name().to_string())
+            .collect(),
         ends: results
             .iter()
             .map(|(start, r)| End {
@@ -200,7 +204,7 @@ pub fn warnings(s: &Starts, kept: &FitResult) -> Vec<String> {
     out
 }
 
-fn values(names: &[&str], v: &[f64]) -> String {
+fn values(names: &[String], v: &[f64]) -> String {
     names
         .iter()
         .zip(v)

@@ -12,13 +12,15 @@ use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::{InflowModel, Rotor};
 use serde::Serialize;
 
-/// A parameter the fit can move: one of the model's empirical corrections, or an aircraft
-/// file's estimated physical parameter (a name of [`crate::inputs::parameters::PARAMETERS`]).
+/// A parameter the fit can move: one of the model's empirical corrections, an aircraft
+/// file's estimated physical parameter (a name of [`crate::inputs::parameters::PARAMETERS`]),
+/// or a parameter a model behind the model interface declares
+/// ([`crate::external::FlightModel::parameters`]).
 ///
 /// A fit file may name a physical parameter only where the aircraft file's source for it says
 /// "estimated", and only within the plausible range the file gives it (see
 /// [`crate::fit::file`]): a parameter with a published value is not the fit's to move.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ParameterKind {
     /// Seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the
     /// propeller disc (0..1).
@@ -44,6 +46,9 @@ pub enum ParameterKind {
     /// An aircraft's estimated physical parameter, by its name in
     /// [`crate::inputs::parameters::PARAMETERS`] (`airframe.fin.area_m2`).
     Estimated(&'static str),
+    /// A parameter a model declares, by its declared name (a [`FitSubject::Model`]'s: every
+    /// request carries its value).
+    Declared(String),
 }
 
 impl serde::Serialize for ParameterKind {
@@ -68,7 +73,7 @@ impl ParameterKind {
 
     /// The name as written (the [`CorrectionSet`] field it sets, or the physical parameter's
     /// dotted name).
-    pub fn name(self) -> &'static str {
+    pub fn name(&self) -> &str {
         match self {
             Self::PropellerBlockage => "propeller_blockage",
             Self::HubAoaFactor => "hub_aoa_factor",
@@ -80,6 +85,7 @@ impl ParameterKind {
             Self::HubDragAreaM2 => "hub_drag_area_m2",
             Self::ProfileDragReynoldsExponent => "profile_drag_reynolds_exponent",
             Self::Estimated(name) => name,
+            Self::Declared(name) => name,
         }
     }
 
@@ -109,7 +115,7 @@ impl ParameterKind {
 
     /// The uncorrected model's value of a correction; `None` for a physical parameter, whose
     /// start is the aircraft file's value.
-    pub fn neutral(self) -> Option<f64> {
+    pub fn neutral(&self) -> Option<f64> {
         match self {
             Self::PropellerBlockage
             | Self::ProfileDragIncrement
@@ -119,12 +125,12 @@ impl ParameterKind {
             | Self::HubDragAreaM2
             | Self::ProfileDragReynoldsExponent => Some(0.0),
             Self::HubAoaFactor | Self::ProfileDragScale => Some(1.0),
-            Self::Estimated(_) => None,
+            Self::Estimated(_) | Self::Declared(_) => None,
         }
     }
 
     /// Whether it needs an aircraft (rather than the blades, which a rotor alone has).
-    pub fn needs_aircraft(self) -> bool {
+    pub fn needs_aircraft(&self) -> bool {
         matches!(
             self,
             Self::PropellerBlockage | Self::HubAoaFactor | Self::Estimated(_)
@@ -132,7 +138,7 @@ impl ParameterKind {
     }
 
     /// The parameter's value in a correction set, where the set gives it.
-    pub fn get(self, c: &CorrectionSet) -> Option<f64> {
+    pub fn get(&self, c: &CorrectionSet) -> Option<f64> {
         match self {
             Self::PropellerBlockage => c.propeller_blockage,
             Self::HubAoaFactor => c.hub_aoa_factor,
@@ -143,12 +149,13 @@ impl ParameterKind {
             Self::ElasticTwistDegPerKpa => c.elastic_twist_deg_per_kpa,
             Self::HubDragAreaM2 => c.hub_drag_area_m2,
             Self::ProfileDragReynoldsExponent => c.profile_drag_reynolds_exponent,
-            Self::Estimated(name) => c.estimated.get(name).copied(),
+            Self::Estimated(name) => c.estimated.get(*name).copied(),
+            Self::Declared(name) => c.parameters.get(name).copied(),
         }
     }
 
     /// Sets the parameter in a correction set.
-    pub fn set(self, c: &mut CorrectionSet, value: f64) {
+    pub fn set(&self, c: &mut CorrectionSet, value: f64) {
         let field = match self {
             Self::PropellerBlockage => &mut c.propeller_blockage,
             Self::HubAoaFactor => &mut c.hub_aoa_factor,
@@ -163,13 +170,17 @@ impl ParameterKind {
                 c.estimated.insert(name.to_string(), value);
                 return;
             }
+            Self::Declared(name) => {
+                c.parameters.insert(name.clone(), value);
+                return;
+            }
         };
         *field = Some(value);
     }
 }
 
 /// A fitted parameter: bounds and start.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitParameter {
     pub kind: ParameterKind,
     pub lower: f64,
@@ -179,7 +190,8 @@ pub struct FitParameter {
     pub regularisation: f64,
 }
 
-/// What is fitted: an aircraft in flight or a rotor alone in a wind tunnel.
+/// What is fitted: an aircraft in flight, a rotor alone in a wind tunnel, or any model behind
+/// the model interface in flight.
 #[derive(Debug, Clone)]
 pub enum FitSubject {
     /// An aircraft, flown at each target's loading.
@@ -187,6 +199,13 @@ pub enum FitSubject {
     Rotor {
         rotor: Box<Rotor>,
         inflow: InflowModel,
+    },
+    /// A model behind the model interface (an external simulation, or cierva's own aircraft
+    /// served through it), asked at each target's condition and loading with the parameters'
+    /// values by their declared names ([`ParameterKind::Declared`]): its trim, and its linear
+    /// model where a target is a derivative or a frequency response (from its `A` and `B`).
+    Model {
+        model: std::sync::Arc<dyn crate::external::FlightModel>,
     },
 }
 
@@ -587,6 +606,7 @@ pub fn evaluate_each_from(
                 ))
             })
         }
+        FitSubject::Model { model } => on_model(problem, model.as_ref(), p, &conditions, &at),
         FitSubject::Rotor { rotor, inflow } => {
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
@@ -628,6 +648,65 @@ pub fn evaluate_each_from(
         }
     };
     Ok(problem.targets.iter().map(value).collect())
+}
+
+/// Each condition's quantities, linear model and responses from a model behind the model
+/// interface, asked with the parameters' values `p` by their declared names: its trim, or its
+/// trim and linear model where a target at the condition is a derivative or a response (the
+/// responses from its `A` and `B`). `at` says where, for errors.
+fn on_model(
+    problem: &Problem,
+    model: &dyn crate::external::FlightModel,
+    p: &[f64],
+    conditions: &[TargetCondition],
+    at: &(dyn Fn(&TargetCondition) -> String + Sync),
+) -> Vec<Result<AtCondition, String>> {
+    let values: crate::external::Values = problem
+        .parameters
+        .iter()
+        .zip(p)
+        .map(|(q, v)| (q.kind.name().to_string(), *v))
+        .collect();
+    crate::run::parallel::parallel_map(conditions, |c| {
+        let TargetCondition::Flight(condition, loading) = c else {
+            return Err(format!(
+                "{}: a model is asked in flight, not in a tunnel",
+                at(c)
+            ));
+        };
+        let request = crate::external::Request {
+            condition: *condition,
+            loading: *loading,
+            parameters: values.clone(),
+        };
+        let frequencies = response_frequencies(problem, c);
+        let linear = problem.targets.iter().any(|t| {
+            t.condition == *c && matches!(t.measure, Measure::Derivative(_) | Measure::Response(_))
+        });
+        if !linear {
+            let q = model
+                .trim(&request)
+                .map_err(|e| format!("{}: {e}", at(c)))?;
+            return Ok((q, None, None));
+        }
+        let (q, lin) = model
+            .trim_and_linear_model(&request)
+            .map_err(|e| format!("{}: {e}", at(c)))?;
+        let responses = if frequencies.is_empty() {
+            None
+        } else {
+            let from = format!("the A and B {} gives", model.describe());
+            Some(
+                crate::checks::frequency_response::Responses::of_linear_model(
+                    &lin,
+                    &frequencies,
+                    from,
+                )
+                .map_err(|e| format!("{}: {e}", at(c)))?,
+            )
+        };
+        Ok((q, Some(lin), responses))
+    })
 }
 
 fn describe(problem: &Problem, p: &[f64]) -> String {
@@ -697,14 +776,36 @@ pub fn check(problem: &Problem) -> Result<(), String> {
         }
         let fits = matches!(
             (&problem.subject, &t.condition),
-            (FitSubject::Aircraft { .. }, TargetCondition::Flight(..))
-                | (FitSubject::Rotor { .. }, TargetCondition::Tunnel(_))
+            (
+                FitSubject::Aircraft { .. } | FitSubject::Model { .. },
+                TargetCondition::Flight(..)
+            ) | (FitSubject::Rotor { .. }, TargetCondition::Tunnel(_))
         );
         if !fits {
             return Err(format!(
-                "target `{name}` at {}: an aircraft is fitted at flight conditions, a rotor at tunnel conditions",
+                "target `{name}` at {}: an aircraft or a model is fitted at flight conditions, a rotor at tunnel conditions",
                 t.condition.label()
             ));
+        }
+    }
+    let declared = |p: &&FitParameter| matches!(p.kind, ParameterKind::Declared(_));
+    match &problem.subject {
+        FitSubject::Model { model } => {
+            if let Some(p) = problem.parameters.iter().find(|p| !declared(p)) {
+                return Err(format!(
+                    "parameter `{}` is cierva's own; {} is fitted by the parameters it declares",
+                    p.kind.name(),
+                    model.describe()
+                ));
+            }
+        }
+        _ => {
+            if let Some(p) = problem.parameters.iter().find(declared) {
+                return Err(format!(
+                    "parameter `{}` is a model's declared parameter; this subject is cierva's own aircraft or rotor file",
+                    p.kind.name()
+                ));
+            }
         }
     }
     if matches!(problem.subject, FitSubject::Rotor { .. })

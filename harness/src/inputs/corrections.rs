@@ -17,7 +17,9 @@
 //! ```yaml
 //! id: vpm-m16-seed000-fit
 //! title: Propeller blockage and hub factor fitted to seed 000's X_u and Z_w
-//! applies_to: {aircraft: vpm-m16}      # or {rotor: pca-2}: the file id it corrects
+//! applies_to: {aircraft: vpm-m16}      # or {rotor: pca-2}: the file id it corrects, or
+//!                                      # {model: "command: python3 model.py --serve"}: a model
+//!                                      # behind the model interface, as its cases write it
 //! corrections:
 //!   propeller_blockage: 0.97
 //!   hub_aoa_factor: 0.55
@@ -27,6 +29,11 @@
 //!   source: "fitted by `cierva fit fits/vpm-m16-seed000.yaml` ..."
 //! fit: {...}                           # optional: the fit's status, standard errors, costs
 //! ```
+//!
+//! A model behind the model interface takes its declared parameters by name
+//! (`corrections: {parameters: {blockage_factor: 0.85}}`, and nothing else): `validate
+//! --corrections` sends them with every request to the cases whose model is written as
+//! `applies_to.model` says.
 
 use crate::inputs::reference::Provenance;
 use crate::inputs::yaml::{self, InputError};
@@ -76,6 +83,11 @@ pub struct CorrectionSet {
     /// [`crate::inputs::parameters::PARAMETERS`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub estimated: BTreeMap<String, f64>,
+    /// A model's declared parameters, by the names it declares
+    /// ([`crate::external::FlightModel::parameters`]): what a fit of a model behind the model
+    /// interface writes, and what `validate --corrections` sends with every request to it.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub parameters: BTreeMap<String, f64>,
 }
 
 impl CorrectionSet {
@@ -110,6 +122,11 @@ impl CorrectionSet {
                 e.extend(over.estimated.iter().map(|(k, v)| (k.clone(), *v)));
                 e
             },
+            parameters: {
+                let mut e = self.parameters.clone();
+                e.extend(over.parameters.iter().map(|(k, v)| (k.clone(), *v)));
+                e
+            },
         }
     }
 
@@ -138,6 +155,7 @@ impl CorrectionSet {
             .iter()
             .filter_map(|(n, v)| v.map(|v| format!("{n}={v}")))
             .chain(self.estimated.iter().map(|(n, v)| format!("{n}={v}")))
+            .chain(self.parameters.iter().map(|(n, v)| format!("{n}={v}")))
             .collect();
         if given.is_empty() {
             "none".into()
@@ -148,6 +166,7 @@ impl CorrectionSet {
 
     /// Sets the blade corrections on a rotor; an aircraft correction is an error.
     pub fn apply_to_rotor(&self, r: &mut Rotor) -> Result<(), String> {
+        self.no_declared_parameters()?;
         if self.needs_aircraft() {
             return Err(
                 "propeller_blockage, hub_aoa_factor and estimated physical parameters correct an aircraft, not an isolated rotor"
@@ -179,8 +198,20 @@ impl CorrectionSet {
         r.validate().map_err(|e| e.to_string())
     }
 
+    /// An error where the set carries a model's declared parameters: those go with every
+    /// request to the model that declares them, not onto a file of cierva's.
+    fn no_declared_parameters(&self) -> Result<(), String> {
+        match self.parameters.keys().next() {
+            Some(name) => Err(format!(
+                "`{name}` is a model's declared parameter: it is sent to the model behind the model interface, not set on an aircraft or rotor file"
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Sets every given correction on an aircraft (blade corrections on its main rotor).
     pub fn apply_to_aircraft(&self, a: &mut Aircraft) -> Result<(), String> {
+        self.no_declared_parameters()?;
         if let Some(b) = self.propeller_blockage {
             a.propeller.propeller.blockage = b;
         }
@@ -202,14 +233,18 @@ impl CorrectionSet {
     }
 }
 
-/// The file id a corrections file corrects: exactly one of the two.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize, Serialize)]
+/// What a corrections file corrects: exactly one of an aircraft file's id, a rotor file's id,
+/// or a model behind the model interface as its cases write it.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AppliesTo {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub aircraft: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotor: Option<String>,
+    /// A model behind the model interface, as its cases write it (`command: ...`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
 }
 
 /// A corrections file as written (and as `cierva fit` writes it).
@@ -330,6 +365,8 @@ impl PredictiveError {
 pub enum Corrects {
     Aircraft(String),
     Rotor(String),
+    /// A model behind the model interface, as its cases write it.
+    Model(String),
 }
 
 /// A loaded, checked corrections file.
@@ -345,30 +382,57 @@ pub struct CorrectionsFile {
     pub predictive_error: Option<PredictiveError>,
 }
 
+/// What a corrections file corrects, from its `applies_to`, where its corrections suit it: a
+/// model behind the model interface takes declared parameters only, an aircraft or a rotor
+/// file none, and a rotor no aircraft correction. An error is its field and message.
+fn target_of(spec: &CorrectionsFileSpec) -> Result<Corrects, (&'static str, String)> {
+    let declared_only = CorrectionSet {
+        parameters: BTreeMap::new(),
+        ..spec.corrections.clone()
+    } == CorrectionSet::default();
+    let a = &spec.applies_to;
+    match (&a.aircraft, &a.rotor, &a.model) {
+        (None, None, Some(m)) => {
+            if !declared_only {
+                return Err((
+                    "corrections",
+                    "a model behind the model interface takes its declared parameters only: put them under `corrections.parameters` by the names the model declares".into(),
+                ));
+            }
+            Ok(Corrects::Model(m.clone()))
+        }
+        (_, _, None) if !spec.corrections.parameters.is_empty() => {
+            Err((
+                "corrections.parameters",
+                "declared parameters go to a model behind the model interface: say `applies_to: {model: ...}` (an aircraft or rotor file takes its corrections and `estimated` by their own names)".into(),
+            ))
+        }
+        (Some(a), None, None) => Ok(Corrects::Aircraft(a.clone())),
+        (None, Some(r), None) => {
+            if spec.corrections.needs_aircraft() {
+                return Err((
+                    "corrections",
+                    "propeller_blockage, hub_aoa_factor and estimated physical parameters correct an aircraft: apply them to `aircraft`, not `rotor`".into(),
+                ));
+            }
+            Ok(Corrects::Rotor(r.clone()))
+        }
+        _ => {
+            Err((
+                "applies_to",
+                "give exactly one of `aircraft` or `rotor` (the id of the file to correct) or `model` (a model behind the model interface, as its cases write it)".into(),
+            ))
+        }
+    }
+}
+
 /// Loads and checks a corrections file.
 pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
     let src = yaml::read(path)?;
     let spec: CorrectionsFileSpec = yaml::parse(path, &src)?;
     let err = |field: &str, m: String| InputError::field(path, &src, field, m);
     crate::inputs::reference::check_id(path, &src, &spec.id)?;
-    let target = match (&spec.applies_to.aircraft, &spec.applies_to.rotor) {
-        (Some(a), None) => Corrects::Aircraft(a.clone()),
-        (None, Some(r)) => {
-            if spec.corrections.needs_aircraft() {
-                return Err(err(
-                    "corrections",
-                    "propeller_blockage, hub_aoa_factor and estimated physical parameters correct an aircraft: apply them to `aircraft`, not `rotor`".into(),
-                ));
-            }
-            Corrects::Rotor(r.clone())
-        }
-        _ => {
-            return Err(err(
-                "applies_to",
-                "give exactly one of `aircraft` or `rotor` (the id of the file to correct)".into(),
-            ));
-        }
-    };
+    let target = target_of(&spec).map_err(|(field, m)| err(field, m))?;
     let c = &spec.corrections;
     for (name, v) in c.named() {
         if let Some(v) = v
@@ -394,6 +458,14 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         }
         if !v.is_finite() {
             return Err(err(&field, format!("must be a finite number, not {v}")));
+        }
+    }
+    for (name, v) in &c.parameters {
+        if !v.is_finite() {
+            return Err(err(
+                &format!("corrections.parameters.{name}"),
+                format!("must be a finite number, not {v}"),
+            ));
         }
     }
     for (i, n) in spec.not_applied_to.iter().enumerate() {

@@ -345,14 +345,23 @@ impl Counts {
 
     /// "157 passed, 0 failed, ..." in words.
     pub fn describe(&self) -> String {
+        use crate::units::count;
         format!(
-            "{} passed, {} failed, {} expected failures, {} discrepancies moved, {} unexpected passes, {} errors",
+            "{} passed, {} failed, {}, {}, {}, {}",
             self.pass,
             self.fail,
-            self.expected_failure,
-            self.discrepancy_moved,
-            self.unexpected_pass,
-            self.error
+            count(
+                self.expected_failure,
+                "expected failure",
+                "expected failures"
+            ),
+            count(
+                self.discrepancy_moved,
+                "discrepancy moved",
+                "discrepancies moved"
+            ),
+            count(self.unexpected_pass, "unexpected pass", "unexpected passes"),
+            count(self.error, "error", "errors")
         )
     }
 }

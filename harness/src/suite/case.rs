@@ -576,7 +576,9 @@ fn check_uncertainty(
 
 /// A case with corrections files applied to its subject: an aircraft file whose id a file
 /// names, or whose main rotor's id a rotor file names; a rotor (alone, or under a teeter
-/// record) whose id a file names. Returns the case unchanged when none applies, and which files
+/// record) whose id a file names; a model behind the model interface written as a file's
+/// `applies_to.model` says (its declared parameters sent with every request, each checked
+/// against what the model declares). Returns the case unchanged when none applies, and which files
 /// applied. A check's own `corrections` still act on top. The checks a file that applies is
 /// not applied to (its `not_applied_to` for this case) keep the subject as it was before any
 /// file, with the reason (see [`Case::subject_of`]).
@@ -614,6 +616,20 @@ pub fn with_corrections(
                     file.path.display(),
                     f.corrections.describe()
                 ));
+                used.push(f.id.clone());
+            }
+            (Subject::External(e), Corrects::Model(written)) if e.written == *written => {
+                let values = f.corrections.parameters.clone();
+                crate::external::check_values(
+                    &e.model.describe(),
+                    &e.model.parameters().map_err(here)?,
+                    &values,
+                )
+                .map_err(here)?;
+                e.model = std::sync::Arc::new(crate::external::WithValues {
+                    model: e.model.clone(),
+                    values,
+                });
                 used.push(f.id.clone());
             }
             _ => {}

@@ -1,4 +1,5 @@
-//! Shared by the suite's tests: [`cierva`], the command run from the repository's root; and,
+//! Shared by the suite's tests: [`cierva`], the command run from the repository's root;
+//! [`SplitMix`], the seeded draws of known-answer trials; and,
 //! for the bad-input tests, [`check_fixtures`]: every YAML file in a folder is a broken input
 //! whose header says what the error must contain and on which line it must point.
 //!
@@ -194,4 +195,30 @@ pub fn new_suite(dir: &Path) {
         dir.join("cases/tolerances.yaml"),
     )
     .unwrap();
+}
+
+/// SplitMix64 (Steele, Lea and Flood 2014): the seeded draws of the known-answer trials and
+/// synthetic calibrations.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// A uniform draw on [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A uniform draw on [lo, hi).
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+
+    /// A standard normal draw (Box-Muller).
+    pub fn normal(&mut self) -> f64 {
+        let (u, v) = (self.next().max(1e-300), self.next());
+        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+    }
 }

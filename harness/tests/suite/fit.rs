@@ -530,7 +530,7 @@ fn a_fit_files_starts_are_bounded() {
 fn a_fit_moves_only_estimated_parameters_within_their_sourced_ranges() {
     use cierva_harness::fit;
     let f = fit::file::load(&scratch_fit("fin", "  airframe.fin.area_m2: {}\n")).unwrap();
-    let p = f.problem.parameters[0];
+    let p = f.problem.parameters[0].clone();
     assert_eq!(p.kind, ParameterKind::Estimated("airframe.fin.area_m2"));
     assert_eq!((p.lower, p.upper, p.start), (0.5, 0.9, 0.7));
     let narrower = fit::file::load(&scratch_fit(

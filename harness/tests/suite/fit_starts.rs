@@ -72,7 +72,7 @@ fn a_spread_beyond_a_standard_error_warns_and_one_within_does_not() {
         stalled: true,
     };
     let mut s = Starts {
-        parameters: vec!["pitch_offset_deg", "profile_drag_scale"],
+        parameters: vec!["pitch_offset_deg".into(), "profile_drag_scale".into()],
         ends: vec![end(vec![1.04, 1.168], 350.2), end(vec![1.06, 1.166], 349.6)],
         best: 1,
         equivalent: vec![0, 1],

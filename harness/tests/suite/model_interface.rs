@@ -452,10 +452,11 @@ fn persistent_mode_needs_the_second_version() {
 /// their `model` replaced by `cierva serve` of the same aircraft file in persistent mode. The
 /// kinds they hold (derivative, BCAR, trim sweep) and the sensitivity study the Table 2 case
 /// asks for.
-const MIRRORED: [&str; 3] = [
+const MIRRORED: [&str; 4] = [
     "cases/cierva-table2-vpm-m16-70mph-min-weight.yaml",
     "cases/vpm-m16-trim-max-weight.yaml",
     "cases/vpm-m16-stability-min-weight.yaml",
+    "cases/seed000-synthetic-xu-zw-vpm-m16.yaml",
 ];
 
 /// How far a value through the protocol may be from the built-in one, relative: the issue's
@@ -874,6 +875,255 @@ fn the_cierva_as_external_example_validates() {
         assert!(
             copy == original,
             "examples/cierva-as-external/aircraft/{file} is not the repository's: copy it again"
+        );
+    }
+}
+
+/// The test model's fit file: its two declared parameters (bounds from their declared ranges)
+/// fitted to a trim pitch and an `M_q` at 60 mph with the given references and standard
+/// errors. The model is linear in both, so the fit's answer is known in closed form:
+/// `pitch_offset_deg = pitch - 3`, `m_q_scale = M_q / -1.2`, with standard errors
+/// `pitch_se` and `m_q_se / 1.2`.
+fn fit_file(pitch: f64, pitch_se: f64, m_q: f64, m_q_se: f64) -> String {
+    format!(
+        "id: model\ntitle: the test model's declared parameters fitted to known answers\n\
+         provenance: {{source: 'a test of harness/tests/suite/model_interface.rs: references made from known parameter values'}}\n\
+         subject: {{case: ../cases/model.yaml}}\n\
+         parameters:\n  pitch_offset_deg: {{}}\n  m_q_scale: {{}}\n\
+         targets:\n\
+         \x20 - {{condition: {{airspeed_mph: 60.0}}, quantity: pitch_deg, reference: {pitch:?}, standard_error: {pitch_se:?}, source: the test's own}}\n\
+         \x20 - {{condition: {{airspeed_mph: 60.0}}, quantity: M_q, reference: {m_q:?}, standard_error: {m_q_se:?}, source: the test's own}}\n"
+    )
+}
+
+#[test]
+fn fit_runs_on_an_external_model_by_its_declared_parameters() {
+    super::external::require_python3();
+    let dir = suite_in("fit", "cierva-external/2", true);
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    // M_q -0.95: the middle of the case's band, so that the fitted corrections make the
+    // damping check (an expected failure of the model as it is) pass.
+    std::fs::write(
+        dir.join("fits/model.yaml"),
+        fit_file(3.7, 0.05, -0.95, 0.01),
+    )
+    .unwrap();
+    let (code, out, err) = cierva_in(&dir, &["fit", "fits/model.yaml"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let written = std::fs::read_to_string(dir.join("corrections/fitted/model.yaml")).unwrap();
+    let v: serde_json::Value = serde_yaml::from_str(&written).unwrap();
+    assert_eq!(
+        v["applies_to"]["model"], "command: python3 model.py --serve",
+        "{written}"
+    );
+    let f = |x: &serde_json::Value| x.as_f64().unwrap_or(f64::NAN);
+    let fitted = &v["corrections"]["parameters"];
+    // Linear in both: the fit lands on the closed form but for its convergence tolerance
+    // (1e-6 of a range, the fit's default) and the differencing of printed JSON.
+    let tight = |got: f64, want: f64| (got - want).abs() < 1e-5;
+    assert!(tight(f(&fitted["pitch_offset_deg"]), 0.7), "{written}");
+    assert!(tight(f(&fitted["m_q_scale"]), 0.95 / 1.2), "{written}");
+    let se = &v["fit"]["standard_errors"];
+    assert!(tight(f(&se["pitch_offset_deg"]), 0.05), "{written}");
+    assert!(tight(f(&se["m_q_scale"]), 0.01 / 1.2), "{written}");
+    // The corrections, applied by name, move the damping check inside its band: an
+    // unexpected pass.
+    let (code, out, err) = cierva_in(
+        &dir,
+        &[
+            "validate",
+            "--corrections",
+            "corrections/fitted/model.yaml",
+            "--format",
+            "json",
+        ],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 1, "an unexpected pass fails the run: {out}{err}");
+    let damping = quantities(&out)
+        .into_iter()
+        .find(|((_, check, _), _)| check == "damping")
+        .unwrap_or_else(|| panic!("no damping row: {out}"));
+    assert!((damping.1.0 - -0.95).abs() < 1e-5, "{out}");
+    assert!(damping.1.1, "{out}");
+}
+
+/// How far a fit through the protocol may land from the built-in fit, relative. Not the
+/// issue's 1e-9, and the test says so: the built-in fit starts each trim from the last at its
+/// condition (`fit::WarmStarts`, a third of the model evaluations), while `cierva serve` trims
+/// from cold for every request; the two trims agree to their convergence tolerance, and the
+/// fitted value and its standard error inherit that (3e-6 relative on the standard error of
+/// a trial fit, 2026-11-28: fitted values 2.6e-8 apart, standard errors 1.6e-6). 1e-5 holds
+/// the two to the trims' agreement with a margin of 3.
+const WARM_AGAINST_COLD_TRIMS: f64 = 1e-5;
+
+/// A hidden propeller blockage: the built-in aircraft's X_u and Z_w at 40-70 mph with it are
+/// the references (standard error 1 % of each); the fit recovers it, through the protocol and
+/// built in alike.
+const HIDDEN_BLOCKAGE: f64 = 0.55;
+
+#[test]
+fn a_fit_through_the_protocol_recovers_the_built_in_fit() {
+    let dir = mirrored_suite();
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    std::fs::create_dir_all(dir.join("corrections")).unwrap();
+    std::fs::write(
+        dir.join("corrections/hidden.yaml"),
+        format!(
+            "id: hidden\ntitle: the hidden blockage\napplies_to: {{aircraft: vpm-m16}}\n\
+             corrections: {{propeller_blockage: {HIDDEN_BLOCKAGE}}}\n\
+             provenance: {{source: the test's hidden value}}\n"
+        ),
+    )
+    .unwrap();
+    let mut targets = String::new();
+    for v in [40.0, 50.0, 60.0, 70.0] {
+        let speed = format!("{v}");
+        let (code, out, err) = cierva_on_path(
+            &dir,
+            &[
+                "linearize",
+                "aircraft/vpm-m16.yaml",
+                "--airspeed-mph",
+                &speed,
+                "--mass-kg",
+                "425",
+                "--density-altitude-ft",
+                "2000",
+                "--corrections",
+                "corrections/hidden.yaml",
+                "--format",
+                "json",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+        let lin: serde_json::Value = serde_json::from_str(&out).unwrap();
+        for d in lin["primary_derivatives"].as_array().unwrap() {
+            if d["name"] == "X_u" || d["name"] == "Z_w" {
+                let value = d["value"].as_f64().unwrap();
+                targets += &format!(
+                    "  - {{condition: {{airspeed_mph: {v:?}}}, quantity: {}, reference: {value:?}, standard_error: {:?}, source: the built-in model at the hidden blockage}}\n",
+                    d["name"].as_str().unwrap(),
+                    0.01 * value.abs()
+                );
+            }
+        }
+    }
+    let fit = |id: &str, subject: &str, parameter: &str| {
+        std::fs::write(
+            dir.join(format!("fits/{id}.yaml")),
+            format!(
+                "id: {id}\ntitle: the hidden blockage\nprovenance: {{source: the test's own}}\n\
+                 subject: {subject}\nparameters:\n  {parameter}: {{lower: 0.0, upper: 1.0}}\n\
+                 targets:\n{targets}"
+            ),
+        )
+        .unwrap();
+        let (code, out, err) = cierva_on_path(&dir, &["fit", &format!("fits/{id}.yaml")]);
+        assert_eq!(code, 0, "{out}{err}");
+        let text =
+            std::fs::read_to_string(dir.join(format!("corrections/fitted/{id}.yaml"))).unwrap();
+        let v: serde_json::Value = serde_yaml::from_str(&text).unwrap();
+        let value = |m: &serde_json::Value| {
+            m.as_object()
+                .unwrap()
+                .values()
+                .next()
+                .and_then(|x| x.as_f64())
+                .unwrap()
+        };
+        let fitted = if parameter.starts_with("corrections.") {
+            value(&v["corrections"]["parameters"])
+        } else {
+            value(&v["corrections"])
+        };
+        (
+            fitted,
+            value(&v["fit"]["standard_errors"]),
+            v["fit"]["cost"].as_f64().unwrap(),
+        )
+    };
+    let built_in = fit(
+        "built-in",
+        "{aircraft: {file: ../aircraft/vpm-m16.yaml, mass_kg: 425.0, density_altitude_ft: 2000.0}}",
+        "propeller_blockage",
+    );
+    let served = fit(
+        "served",
+        "{case: ../cases/seed000-synthetic-xu-zw-vpm-m16.yaml}",
+        "corrections.propeller_blockage",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    // Both recover the hidden value well inside one standard error (the references are the
+    // model's own: only the fit's tolerance and the trims' separate them from it).
+    for (path, (fitted, se, _)) in [("built in", built_in), ("served", served)] {
+        assert!(
+            (fitted - HIDDEN_BLOCKAGE).abs() < 0.01 * se,
+            "{path}: fitted {fitted} +- {se}, hidden {HIDDEN_BLOCKAGE}"
+        );
+    }
+    let near = |a: f64, b: f64| (a - b).abs() <= WARM_AGAINST_COLD_TRIMS * a.abs().max(b.abs());
+    assert!(near(built_in.0, served.0), "{built_in:?} {served:?}");
+    assert!(near(built_in.1, served.1), "{built_in:?} {served:?}");
+    // The cost at a hidden value is the trims' noise: compared absolutely, in squared
+    // standard errors.
+    assert!(
+        (built_in.2 - served.2).abs() < 1e-6,
+        "{built_in:?} {served:?}"
+    );
+}
+
+/// Trials of the external model's fit: hidden values anywhere in the declared ranges'
+/// middle, references drawn about the model's values at them with their standard errors.
+/// 200 trials, 2 intervals each: at a true coverage of 95 % the misses of one parameter are
+/// binomial (200, 0.05), mean 10, standard deviation 3.1; 3 to 19 misses (98.5-90.5 % held)
+/// holds them with probability 0.998, and misses a coverage of 89 % (22 expected) or 99 % (2
+/// expected) more often than not.
+const FIT_TRIALS: u64 = 200;
+const FIT_MISSES: std::ops::RangeInclusive<usize> = 3..=19;
+
+#[test]
+fn an_external_models_fitted_standard_errors_cover_hidden_values_at_their_rate() {
+    super::external::require_python3();
+    let dir = suite_in("fit-coverage", "cierva-external/2", true);
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    let (pitch_se, m_q_se) = (0.05, 0.01);
+    std::fs::write(
+        dir.join("fits/model.yaml"),
+        fit_file(3.0, pitch_se, -1.2, m_q_se),
+    )
+    .unwrap();
+    let file = cierva_harness::fit::file::load(&dir.join("fits/model.yaml"));
+    let file = file.unwrap_or_else(|e| panic!("{}", e.render()));
+    // The parameters in the order the file's map gives them (by name).
+    let names: Vec<String> = file
+        .problem
+        .parameters
+        .iter()
+        .map(|p| p.kind.name().to_string())
+        .collect();
+    assert_eq!(names, ["m_q_scale", "pitch_offset_deg"]);
+    let mut misses = [0usize; 2];
+    for n in 0..FIT_TRIALS {
+        let mut rng = super::common::SplitMix(0x0049_0F17 ^ n.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let hidden = [rng.uniform(0.7, 1.3), rng.uniform(-1.0, 1.0)];
+        let mut problem = file.problem.clone();
+        problem.targets[0].reference = 3.0 + hidden[1] + pitch_se * rng.normal();
+        problem.targets[1].reference = -1.2 * hidden[0] + m_q_se * rng.normal();
+        let r = cierva_harness::fit::fit(&problem);
+        assert_eq!(r.status, cierva_harness::fit::Status::Converged, "{r:?}");
+        for k in 0..2 {
+            if (r.values[k] - hidden[k]).abs() > 1.96 * r.standard_errors[k] {
+                misses[k] += 1;
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    for (k, m) in misses.iter().enumerate() {
+        assert!(
+            FIT_MISSES.contains(m),
+            "{}: {m} of {FIT_TRIALS} 95 % intervals missed the hidden value",
+            names[k]
         );
     }
 }

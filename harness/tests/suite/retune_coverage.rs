@@ -7,19 +7,7 @@
 //! sweep at one to three airspeeds, and retunes the uncorrected aircraft from those records.
 //! Every draw is seeded from the trial's number.
 
-/// SplitMix64 (Steele, Lea and Flood 2014): the trials' draws.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
+use super::common::SplitMix;
 
 /// The corrections hidden and retuned, with their default bounds
 /// (`cierva_harness::fit::retune::DEFAULT_BOUNDS`, the README's retune example's pair).

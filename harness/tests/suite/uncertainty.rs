@@ -2,6 +2,7 @@
 //! indices of the Ishigami function, propagation through a linear model of Gaussian inputs, the
 //! distributions' quantiles, the design, and the verdicts of V&V 20.
 
+use super::common::SplitMix;
 use cierva_harness::uncertainty::design::Design;
 use cierva_harness::uncertainty::distribution::InputDistribution;
 use cierva_harness::uncertainty::propagate::{mean_std, percentile};
@@ -271,27 +272,6 @@ fn a_one_sided_spread_that_misses_the_data_is_a_model_form_error() {
     assert_eq!(c.verdict, Vv20Verdict::Inconclusive);
 }
 
-/// SplitMix64 (Steele, Lea and Flood 2014): a seeded generator for the synthetic calibrations.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-    /// A standard normal draw (Box-Muller).
-    fn normal(&mut self) -> f64 {
-        let (u, v) = (self.next().max(1e-300), self.next());
-        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
-    }
-}
-
 /// The straight line through `(x, y)` weighted by `1 / se^2`: `[intercept, slope]`.
 fn line_fit(x: &[f64], y: &[f64], se: &[f64]) -> [f64; 2] {
     let (mut sw, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
@@ -332,7 +312,7 @@ fn calibration_intervals_cover_held_out_rows_at_their_stated_rate() {
 /// One run of the coverage test: the coverage with the discrepancy term and without it.
 fn calibration_coverage(seed: u64) -> (f64, f64) {
     use cierva_harness::uncertainty::calibration::{covered, discrepancy_sd};
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix(seed);
     let (mut inside, mut inside_without, mut total) = (0usize, 0usize, 0usize);
     for _ in 0..500 {
         let (a, b, c) = (
@@ -341,7 +321,7 @@ fn calibration_coverage(seed: u64) -> (f64, f64) {
             rng.uniform(-3.0, 3.0),
         );
         let truth = |x: f64| a + b * x + c * x * x;
-        let rows = |n: usize, rng: &mut Rng| -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let rows = |n: usize, rng: &mut SplitMix| -> (Vec<f64>, Vec<f64>, Vec<f64>) {
             let x: Vec<f64> = (0..n).map(|_| rng.next()).collect();
             let se: Vec<f64> = x.iter().map(|&x| 0.02 * truth(x)).collect();
             let y = x
@@ -835,7 +815,7 @@ fn sobol_standard_errors_cover_at_95_percent_over_independent_rows() {
     let run = |dists: &[InputDistribution], f: Model, first: &[f64], total: &[f64]| {
         let d = dists.len();
         let mut c = Coverage::new(d);
-        let mut rng = Rng(2026);
+        let mut rng = SplitMix(2026);
         for _ in 0..SEEDS {
             let mut draw =
                 || -> Vec<f64> { dists.iter().map(|x| x.quantile(rng.next())).collect() };

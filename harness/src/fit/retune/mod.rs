@@ -315,7 +315,7 @@ pub fn corrections_file(
         title: format!("Corrections of {} retuned from flight records", file.title),
         applies_to: AppliesTo {
             aircraft: Some(file.id.clone()),
-            rotor: None,
+            ..AppliesTo::default()
         },
         corrections: r.result.corrections(),
         provenance: crate::inputs::reference::Provenance {
