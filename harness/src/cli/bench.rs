@@ -518,6 +518,8 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
                 turbulence: None,
                 trim: linear::SEED002_TRIM,
                 sensors: linear::SEED002_SENSORS,
+                condition: Default::default(),
+                control_channel: "eta_s_rad".into(),
             };
             let Ok((channels, data, meta)) = linear::generate(&model, &settings) else {
                 continue;
@@ -527,6 +529,7 @@ fn identification(out: &Rows, repeat: usize) -> f64 {
                 meta,
                 channels,
                 data,
+                notes: Vec::new(),
             };
             let mut cfg = ident::ConfigSpec::longitudinal(&rec);
             cfg.frequencies.points = Some(points);
@@ -1070,7 +1073,12 @@ fn retuning(out: &Rows) {
             return;
         };
         let started = Instant::now();
-        let r = retune::retune(&file, &records, &requests, &How::default());
+        let r = retune::retune(
+            retune::subject::Retuned::Aircraft(&file),
+            &records,
+            &requests,
+            &How::default(),
+        );
         let total = started.elapsed().as_secs_f64();
         match r {
             Ok(r) => row!(

@@ -165,6 +165,11 @@ pub(crate) fn write_record(
     mut json: serde_json::Value,
 ) -> Result<ExitCode, Error> {
     use cierva_harness::inputs::record;
+    // The record's folder is made, as every command makes its outputs' folders.
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::input(format!("cannot make {}: {e}", dir.display())))?;
+    }
     record::write(path, meta, channels, data)
         .map_err(|e| Error::input(format!("cannot write {}: {e}", path.display())))?;
     json["wrote"] = serde_json::json!([

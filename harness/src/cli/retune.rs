@@ -2,7 +2,7 @@
 
 use super::*;
 use cierva_harness::fit::retune::{self, RetuneParameter};
-use cierva_harness::inputs::corrections::{CorrectionsFile, Corrects};
+use cierva_harness::inputs::corrections::CorrectionsFile;
 use cierva_harness::inputs::record;
 use cierva_harness::suite::Suite;
 
@@ -14,12 +14,21 @@ use cierva_harness::suite::Suite;
 /// modes, predictions of records not used), and run the validation suite's cases for this
 /// aircraft with the new corrections.
 ///
+/// Your own simulation: `--case CASE` (a case whose model is `external`, protocol
+/// `cierva-external/2`) instead of the aircraft file; `--fit` then names the parameters the
+/// model declares, their bounds default to its declared ranges, and its responses come from
+/// its linear model's A and B at each record's condition.
+///
 /// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
 /// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
 #[derive(clap::Args)]
 pub(crate) struct RetuneArgs {
-    /// The aircraft file whose corrections to retune.
-    pub(crate) aircraft: PathBuf,
+    /// The aircraft file whose corrections to retune (or give `--case`).
+    #[arg(required_unless_present = "case", conflicts_with = "case")]
+    pub(crate) aircraft: Option<PathBuf>,
+    /// A case whose model (`external`) is retuned by the parameters it declares.
+    #[arg(long)]
+    pub(crate) case: Option<PathBuf>,
     /// Flight records (CSV with sidecars): records at one condition give its frequency
     /// responses together, records at several conditions fit one set of corrections across
     /// them.
@@ -47,7 +56,8 @@ pub(crate) struct RetuneArgs {
     /// Records not used in the fit, predicted before and after.
     #[arg(long, num_args = 1..)]
     pub(crate) predict: Vec<PathBuf>,
-    /// The corrections file to write (default: the suite's `corrections/retuned/<aircraft id>.yaml`).
+    /// The corrections file to write (default: the suite's `corrections/retuned/<aircraft or
+    /// case id>.yaml`).
     #[arg(long)]
     pub(crate) output: Option<PathBuf>,
     /// The before/after report (default: the suite's reports/retune/<output's stem>.md).
@@ -61,7 +71,11 @@ pub(crate) struct RetuneArgs {
 }
 
 pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
-    let file = load_aircraft(&a.aircraft)?;
+    let (loaded, id, shown) = load(&a)?;
+    let retuned = match &loaded {
+        Loaded::Aircraft(f) => retune::subject::Retuned::Aircraft(f),
+        Loaded::Model(e) => retune::subject::Retuned::Model(e),
+    };
     let records = a
         .records
         .iter()
@@ -69,21 +83,17 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         .collect::<Result<Vec<_>, _>>()?;
     let requests = requests(&a.fit, &a.bounds).map_err(Error::input)?;
     let busy = spinner("estimating the responses and fitting");
-    let outcome = retune::retune(&file, &records, &requests, &how(&a));
+    let outcome = retune::retune(retuned, &records, &requests, &how(&a));
     busy.finish_and_clear();
     let r = outcome.map_err(Error::input)?;
-    let output = or_in_suite(
-        a.output.clone(),
-        Suite::retuned,
-        format!("{}.yaml", file.id),
-    )?;
+    let output = or_in_suite(a.output.clone(), Suite::retuned, format!("{id}.yaml"))?;
     let id = output
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let corrections = r.result.corrections();
     let command = std::env::args().skip(1).collect::<Vec<_>>().join(" ");
-    let spec = retune::corrections_file(&r, &file, &records, &id, &command);
+    let spec = retune::corrections_file(&r, retuned, &records, &id, &command);
     let write = |path: &Path, text: &str| -> Result<(), String> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -92,13 +102,14 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     };
     let yaml = serde_yaml::to_string(&spec).map_err(Error::input)?;
     write(&output, &yaml).map_err(Error::input)?;
-    // The assessment: the corrected aircraft beside the uncorrected one.
-    let after = file
-        .with_corrections(&corrections)
-        .map_err(|e| Error::input(format!("the fitted corrections: {e}")))?;
-    let modes = retune::modes(&file, &after, &r.conditions);
+    // The assessment: the corrected model beside the uncorrected one.
+    let uncorrected = cierva_harness::inputs::corrections::CorrectionSet::default();
+    let both = [&uncorrected, &corrections];
+    let modes = retune::modes(retuned, both, &r.conditions);
     let busy = spinner("the responses before and after");
-    let comparisons = retune::responses::compare(&r.uncorrected, &after.aircraft, &r.responses);
+    let comparisons = retuned
+        .responses(&corrections, &r.responses, false)
+        .and_then(|after| retune::responses::compare(&r.uncorrected, &after, &r.responses));
     busy.finish_and_clear();
     let comparisons =
         comparisons.map_err(|e| Error::input(format!("the responses before and after: {e}")))?;
@@ -106,14 +117,14 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     for p in &a.predict {
         let rec = record::load(p)?;
         predictions.extend(
-            retune::predict(&file, &after, &rec)
+            retune::predict(retuned, both, &rec)
                 .map_err(|e| Error::input(format!("predicting {}: {e}", p.display())))?,
         );
     }
     let loaded = CorrectionsFile {
         path: output.clone(),
         id: id.clone(),
-        target: Corrects::Aircraft(file.id.clone()),
+        target: retuned.corrects(),
         corrections: corrections.clone(),
         not_applied_to: vec![],
         // retune is not cross-validated: it states no predictive error.
@@ -128,7 +139,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let figures = bode_figures(&report, &comparisons).map_err(Error::input)?;
     let md = cierva_harness::report::retune::markdown(
         &r,
-        &a.aircraft.display().to_string(),
+        &shown,
         &modes,
         &predictions,
         revalidation.as_ref(),
@@ -140,6 +151,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
             "corrections": r.values_by_name(),
             "standard_errors": r.standard_errors_by_name(),
             "status": r.result.status.name(),
+            "status_detail": r.result.status.detail(),
             "curvature_standard_errors": r
                 .result
                 .parameters
@@ -166,13 +178,47 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         })),
         Format::Text => print_text(
             &r,
-            (&file.id, records.len()),
+            (&retuned.name(), records.len()),
             &comparisons,
             revalidation.as_ref(),
             [&output, &report],
         ),
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What a retune corrects: cierva's aircraft file, or the model a case checks.
+enum Loaded {
+    Aircraft(Box<cierva_harness::inputs::aircraft::AircraftFile>),
+    Model(cierva_harness::external::External),
+}
+
+/// The aircraft file or the case's model the arguments name, its id (the outputs' default
+/// stem) and its path as given.
+fn load(a: &RetuneArgs) -> Result<(Loaded, String, String), Error> {
+    Ok(match (&a.aircraft, &a.case) {
+        (Some(path), _) => {
+            let file = load_aircraft(path)?;
+            let id = file.id.clone();
+            (
+                Loaded::Aircraft(Box::new(file)),
+                id,
+                path.display().to_string(),
+            )
+        }
+        (None, Some(path)) => {
+            let case = cierva_harness::suite::case::load(path)?;
+            let cierva_harness::suite::case::Subject::External(e) = case.subject else {
+                return Err(Error::input(format!(
+                    "{}: --case names a case whose model is `external` (its model is {}); retune cierva's own aircraft by its file",
+                    path.display(),
+                    case.subject.describe()
+                )));
+            };
+            (Loaded::Model(*e), case.id, path.display().to_string())
+        }
+        (None, None) => return Err(Error::input("give the aircraft file or --case")),
+    })
 }
 
 /// The parameters asked for, with `NAME=LO:HI` bounds.
@@ -274,12 +320,13 @@ fn print_text(
     revalidation: Option<&retune::Revalidation>,
     [output, report]: [&Path; 2],
 ) {
+    use cierva_harness::units::count;
     println!(
-        "retuned {} from {} records at {} conditions: {}",
+        "retuned {} from {} at {}: {}",
         aircraft,
-        records,
-        r.conditions.len(),
-        r.result.status.name()
+        count(records, "record", "records"),
+        count(r.conditions.len(), "condition", "conditions"),
+        r.result.status.described()
     );
     for ((k, v), se) in r
         .result
@@ -297,11 +344,14 @@ fn print_text(
         );
     }
     println!(
-        "matched the records' frequency responses ({} targets) with {}; reduced chi-square {}",
-        r.problem.targets.len(),
+        "matched the records' frequency responses ({}) with {}; reduced chi-square {}",
+        count(r.problem.targets.len(), "target", "targets"),
         r.model,
         cierva_harness::units::sig(r.reduced_chi_square, 3)
     );
+    for w in &r.result.warnings {
+        println!("  warning: {w}");
+    }
     for c in comparisons {
         let j = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
         println!(
@@ -316,7 +366,10 @@ fn print_text(
     }
     if let Some(v) = revalidation {
         for (class, [n, b, a]) in &v.classes {
-            println!("  suite, {class}: {n} checks, {b} inside before, {a} after");
+            println!(
+                "  suite, {class}: {}, {b} inside before, {a} after",
+                count(*n, "check", "checks")
+            );
         }
         for c in &v.changed {
             println!(

@@ -149,6 +149,16 @@ pub(crate) fn synth(a: SynthArgs) -> Result<ExitCode, Error> {
             probe_position_m: [px, py, pz],
             cg_position_m: [0.0, 0.0, 0.0],
         },
+        condition: r.condition.clone(),
+        control_channel: format!(
+            "{}_{}",
+            a.control,
+            match r.units.get(&a.control).map(|u| u.trim()) {
+                Some("%" | "percent" | "% of travel") => "percent",
+                Some("deg") => "deg",
+                _ => "rad",
+            }
+        ),
     };
     let (channels, data, meta) = linear::generate(&model, &settings).map_err(Error::input)?;
     write_record(

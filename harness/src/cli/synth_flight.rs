@@ -172,6 +172,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> Result<ExitCode, Error> {
         condition,
         trim: flown.trim.clone(),
         controls,
+        channels: Default::default(),
     };
     write_record(
         &a.output,

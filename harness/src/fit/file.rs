@@ -1063,10 +1063,7 @@ pub fn corrections_file(
         },
         fit: Some(serde_json::json!({
             "status": r.status.name(),
-            "detail": match &r.status {
-                fit::Status::Infeasible(m) | fit::Status::ModelFailure(m) | fit::Status::BadProblem(m) => m.clone(),
-                _ => String::new(),
-            },
+            "detail": r.status.detail(),
             "iterations": r.iterations,
             "evaluations": r.evaluations,
             "cost_start": finite_or_null(r.cost_start),

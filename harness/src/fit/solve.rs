@@ -62,6 +62,23 @@ impl Status {
             Self::BadProblem(_) => "bad_problem",
         }
     }
+
+    /// Why it ended so, where a failure says (empty for a converged fit or the iteration
+    /// limit).
+    pub fn detail(&self) -> &str {
+        match self {
+            Self::Infeasible(m) | Self::ModelFailure(m) | Self::BadProblem(m) => m,
+            Self::Converged | Self::IterationLimit => "",
+        }
+    }
+
+    /// The name, and the detail after a colon where there is one.
+    pub fn described(&self) -> String {
+        match self.detail() {
+            "" => self.name().to_string(),
+            d => format!("{}: {d}", self.name()),
+        }
+    }
 }
 
 /// A fit's outcome.

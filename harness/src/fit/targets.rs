@@ -223,7 +223,15 @@ impl TargetCondition {
     pub fn label(&self) -> String {
         match self {
             Self::Flight(t, loading) => {
-                let mut s = format!("{} mph", t.airspeed_mph);
+                // As written where that is short (`62.5 mph`); a converted speed (60 kn is
+                // 69.04676688141255 mph) to two decimals.
+                let written = format!("{}", t.airspeed_mph);
+                let speed = if written.len() <= 6 {
+                    written
+                } else {
+                    format!("{:.2}", t.airspeed_mph)
+                };
+                let mut s = format!("{speed} mph");
                 if let Some(m) = loading.mass_kg {
                     s += &format!(" {m} kg");
                 }
@@ -680,18 +688,22 @@ fn on_model(
             parameters: values.clone(),
         };
         let frequencies = response_frequencies(problem, c);
-        let linear = problem.targets.iter().any(|t| {
-            t.condition == *c && matches!(t.measure, Measure::Derivative(_) | Measure::Response(_))
-        });
-        if !linear {
-            let q = model
-                .trim(&request)
-                .map_err(|e| format!("{}: {e}", at(c)))?;
-            return Ok((q, None, None));
-        }
-        let (q, lin) = model
-            .trim_and_linear_model(&request)
-            .map_err(|e| format!("{}: {e}", at(c)))?;
+        let here = |m: fn(&Measure) -> bool| {
+            problem
+                .targets
+                .iter()
+                .any(|t| t.condition == *c && m(&t.measure))
+        };
+        let linear = here(|m| matches!(m, Measure::Derivative(_) | Measure::Response(_)));
+        let trimmed = here(|m| matches!(m, Measure::Trim(_)));
+        let located = |e: String| format!("{}: {e}", at(c));
+        // Only what the targets need: a model that gives its linear model alone can be fitted
+        // to derivatives and responses.
+        let (q, lin) = match (trimmed, linear) {
+            (_, false) => return Ok((model.trim(&request).map_err(located)?, None, None)),
+            (false, true) => (Vec::new(), model.linear_model(&request).map_err(located)?),
+            (true, true) => model.trim_and_linear_model(&request).map_err(located)?,
+        };
         let responses = if frequencies.is_empty() {
             None
         } else {

@@ -4,6 +4,7 @@
 //! any file may ask for.
 
 pub mod aircraft;
+pub mod channels;
 pub mod condition;
 pub mod controls;
 pub mod corrections;

@@ -2,7 +2,10 @@
 //!
 //! `RECORD.csv` starts with a header of channel names carrying their units
 //! (`time_s,airspeed_m_s,alpha_vane_rad,...`) followed by one row per sample. Required channels
-//! are [`REQUIRED`] plus the controls named in the sidecar; others are kept as they are.
+//! are [`REQUIRED`] plus the controls named in the sidecar; others are kept as they are (or
+//! left out where they are not numbers). A column may be named otherwise and mapped by the
+//! sidecar's `channels:`, and a required channel may come in another unit (`theta_deg` for
+//! `theta_rad`): [`crate::inputs::channels`] converts it.
 //!
 //! `RECORD.yaml`, beside it:
 //!
@@ -17,6 +20,7 @@
 //!   probe_position_m: [2.0, 0.0, -0.3]  # the air-data vanes
 //!   cg_position_m: [0.0, 0.0, 0.0]
 //! condition: {airspeed_kn: 60}          # free-form, keys with units
+//! channels: {PITCH: theta_deg}           # optional: a column's cierva name, its unit the suffix
 //! trim: {u_m_s: 30.8, w_m_s: 0.0, theta_rad: 0.0, omega_rotor_rad_s: 38.0, eta_s_rad: 0.0}
 //! controls: [eta_s_rad]
 //! ```
@@ -103,6 +107,10 @@ pub struct RecordMeta {
     pub trim: BTreeMap<String, f64>,
     #[serde(default)]
     pub controls: Vec<String>,
+    /// Columns as written in the CSV mapped to cierva's channel names, with their units as the
+    /// names' suffixes ([`crate::inputs::channels`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub channels: BTreeMap<String, String>,
 }
 
 /// A loaded, checked record.
@@ -113,6 +121,9 @@ pub struct Record {
     pub channels: Vec<String>,
     /// One vector per channel, in `channels` order.
     pub data: Vec<Vec<f64>>,
+    /// What the load mapped, converted or left out, in words (empty for a record in cierva's
+    /// own names and units).
+    pub notes: Vec<String>,
 }
 
 impl Record {
@@ -192,15 +203,31 @@ pub fn load_with(
     let (_, header) = lines
         .next()
         .ok_or_else(|| InputError::file(csv_path, "the file is empty"))?;
-    let channels = current_names_of_header(csv_path, header)?;
+    let written = current_names_of_header(csv_path, header)?;
     let controls: &[String] = if with_controls { &meta.controls } else { &[] };
-    let needed: Vec<&str> = required
-        .iter()
-        .copied()
+    // Time is every record's axis, whoever asks.
+    let needed: Vec<&str> = std::iter::once("time_s")
+        .chain(required.iter().copied().filter(|c| *c != "time_s"))
         .chain(controls.iter().map(String::as_str))
         .collect();
+    let plan = crate::inputs::channels::plan(&written, &meta.channels, &needed)
+        .map_err(|(field, m)| InputError::field(&side, &side_src, &field, m))?;
+    let mut channels = plan.names;
+    let mut notes = plan.notes;
     check_channels(csv_path, &channels, &needed)?;
-    let data = samples(csv_path, lines, &channels)?;
+    let (mut data, left_out) = samples(csv_path, lines, &channels, &needed)?;
+    for (k, factor) in plan.factors.iter().enumerate() {
+        if let Some(f) = factor {
+            data[k].iter_mut().for_each(|x| *x *= f);
+        }
+    }
+    for (k, why) in left_out.into_iter().enumerate().rev() {
+        if let Some(why) = why {
+            notes.push(format!("column `{}` left out: {why}", channels[k]));
+            channels.remove(k);
+            data.remove(k);
+        }
+    }
     let t = &data[channels
         .iter()
         .position(|c| c == "time_s")
@@ -211,6 +238,7 @@ pub fn load_with(
         meta,
         channels,
         data,
+        notes,
     })
 }
 
@@ -349,13 +377,21 @@ fn check_channels(csv_path: &Path, channels: &[String], needed: &[&str]) -> Resu
 
 /// The samples of the rows after the header (`(index, line)` pairs), one vector per channel:
 /// at most [`crate::inputs::limits::MAX_RECORD_SAMPLES`] rows, each with a finite number for
-/// every channel.
+/// every `needed` channel. A column nobody needs that holds something else (a status word, a
+/// gap) is left out, with the first such value and its line: the second vector says which.
+#[allow(clippy::type_complexity)]
 fn samples<'a>(
     csv_path: &Path,
     lines: impl Iterator<Item = (usize, &'a str)>,
     channels: &[String],
-) -> Result<Vec<Vec<f64>>, InputError> {
+    needed: &[&str],
+) -> Result<(Vec<Vec<f64>>, Vec<Option<String>>), InputError> {
     let mut data = vec![Vec::new(); channels.len()];
+    let mut left_out: Vec<Option<String>> = vec![None; channels.len()];
+    let optional: Vec<bool> = channels
+        .iter()
+        .map(|c| !needed.contains(&c.as_str()))
+        .collect();
     let most = crate::inputs::limits::MAX_RECORD_SAMPLES;
     for (row, (line_no, line)) in lines.enumerate() {
         if row == most {
@@ -383,6 +419,23 @@ fn samples<'a>(
         }
         for (k, f) in fields.iter().enumerate() {
             let v = f.trim();
+            if left_out[k].is_some() {
+                continue;
+            }
+            if optional[k] {
+                match v.parse::<f64>() {
+                    Ok(x) if x.is_finite() && crate::inputs::yaml::number(v).is_ok() => {
+                        data[k].push(x)
+                    }
+                    _ => {
+                        left_out[k] = Some(format!(
+                            "`{v}` at line {} is not a number (no check asks for it)",
+                            line_no + 1
+                        ))
+                    }
+                }
+                continue;
+            }
             let x: f64 = v.parse().map_err(|_| {
                 at_field(
                     csv_path,
@@ -417,7 +470,7 @@ fn samples<'a>(
             data[k].push(x);
         }
     }
-    Ok(data)
+    Ok((data, left_out))
 }
 
 /// The time channel checked: at least two samples, increasing everywhere, then at the

@@ -20,9 +20,13 @@ pub fn markdown(
     let _ = writeln!(s, "# Retune of {aircraft}\n");
     let _ = writeln!(
         s,
-        "Written by `cierva retune` (cierva {}). Fit status: **{}**, {} iterations, {} model evaluations; cost {} -> {}.\n",
+        "Written by `cierva retune` (cierva {}). Fit status: **{}**{}, {} iterations, {} model evaluations; cost {} -> {}.\n",
         env!("CARGO_PKG_VERSION"),
         r.result.status.name(),
+        match r.result.status.detail() {
+            "" => String::new(),
+            d => format!(" ({d})"),
+        },
         r.result.iterations,
         r.result.evaluations,
         g(r.result.cost_start, 4),

@@ -115,6 +115,7 @@ pub fn synthesize(
         condition: spec.condition.clone(),
         trim: BTreeMap::new(),
         controls: controls.iter().map(|c| c.to_string()).collect(),
+        channels: Default::default(),
     };
     Ok((meta, channels, data))
 }

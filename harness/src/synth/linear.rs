@@ -250,6 +250,13 @@ pub struct LinearTest {
     pub turbulence: Option<Turbulence>,
     pub trim: TrimPoint,
     pub sensors: Sensors,
+    /// The flight condition the record's sidecar states (the truth's, where its reference file
+    /// gives one; free-form, keys with units): what a retune or an identification asks the
+    /// model at.
+    pub condition: std::collections::BTreeMap<String, serde_yaml::Value>,
+    /// The record's column for the control, named with the unit the model takes it in
+    /// (`eta_s_rad`; `eta_s_percent` for a model whose `B` is per percent of travel).
+    pub control_channel: String,
 }
 
 impl LinearTest {
@@ -283,6 +290,8 @@ impl LinearTest {
             turbulence: None,
             trim: SEED002_TRIM,
             sensors: SEED002_SENSORS,
+            condition: Default::default(),
+            control_channel: "eta_s_rad".into(),
         }
     }
 }
@@ -341,7 +350,7 @@ pub fn generate(model: &LinearModel, s: &LinearTest) -> Result<Generated, String
         dt,
         steps,
     );
-    let control_channel = format!("{}_rad", s.control);
+    let control_channel = s.control_channel.clone();
     let names: Vec<String> = crate::inputs::record::REQUIRED
         .iter()
         .map(|c| c.to_string())
@@ -513,8 +522,9 @@ fn sidecar(s: &LinearTest, dt: f64, control_channel: String) -> RecordMeta {
         aircraft: s.aircraft.clone(),
         sample_rate_hz: s.sample_rate_hz,
         sensors: Some(s.sensors),
-        condition: BTreeMap::new(),
+        condition: s.condition.clone(),
         trim,
         controls: vec![control_channel],
+        channels: Default::default(),
     }
 }

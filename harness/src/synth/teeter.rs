@@ -76,6 +76,7 @@ pub fn synthesize_teeter(
         condition: BTreeMap::new(),
         trim: BTreeMap::new(),
         controls: vec![],
+        channels: Default::default(),
     };
     (names, data, meta)
 }

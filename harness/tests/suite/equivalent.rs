@@ -115,9 +115,11 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
                 .into_iter()
                 .collect(),
             controls: names(&["eta_s_percent", "eta_p_percent"]),
+            channels: Default::default(),
         },
         channels,
         data,
+        notes: Vec::new(),
     };
     let mut config = ConfigSpec::longitudinal(&record);
     config

@@ -43,6 +43,8 @@ fn settings(
         trim: linear::SEED002_TRIM,
         // The nose boom 2 m ahead of and 0.3 m above the c.g. (estimated, typical of seed 000's rig).
         sensors: linear::SEED002_SENSORS,
+        condition: Default::default(),
+        control_channel: "eta_s_rad".into(),
     }
 }
 
@@ -130,10 +132,11 @@ fn malformed_records_get_their_errors() {
             Box::new(|t: &str| t.replacen("omega_rotor_rad_s", "rotor_speed", 1)),
             "channel `omega_rotor_rad_s` is missing",
         ),
+        // (`q_deg_s` would be read as degrees per second and converted: `records.rs`.)
         (
             "misnamed",
-            Box::new(|t: &str| t.replacen("q_rad_s", "q_deg_s", 1)),
-            "`q_deg_s` is there: misnamed, or in other units?",
+            Box::new(|t: &str| t.replacen("q_rad_s", "q_rads", 1)),
+            "`q_rads` is there: misnamed, or in other units?",
         ),
         (
             "nan",
@@ -256,6 +259,7 @@ fn instrumental_variable_bounds_cover_the_truth() {
             meta,
             channels,
             data,
+            notes: Vec::new(),
         };
         let ident = identify_record(&rec, &ConfigSpec::longitudinal(&rec)).unwrap();
         for d in &ident.derivatives {
@@ -392,6 +396,7 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
         meta,
         channels,
         data,
+        notes: Vec::new(),
     };
     let settings = flap::FlapSettings {
         coning: flap::Coning::Unknown,
@@ -429,6 +434,7 @@ fn inflow_from_a_teeter_record_within_the_derivations_limits() {
         meta,
         channels,
         data,
+        notes: Vec::new(),
     };
     assert!(
         flap::inflow_from_record(&short, &file.rotor, &settings)

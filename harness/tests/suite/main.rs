@@ -26,6 +26,7 @@ mod model_interface;
 mod mutation;
 mod old_spelling;
 mod quoted;
+mod records;
 mod report;
 mod retune;
 mod retune_coverage;

@@ -1127,3 +1127,93 @@ fn an_external_models_fitted_standard_errors_cover_hidden_values_at_their_rate()
         );
     }
 }
+
+/// The test model's linear model at a hidden `m_q_scale`, as a reference file `cierva synth`
+/// flies (`B` per percent of travel, as the model's).
+fn truth_file(m_q_scale: f64) -> String {
+    format!(
+        "id: truth\ntitle: the test model at a hidden m_q_scale\n\
+         provenance: {{source: the test model of harness/tests/suite/model_interface.rs at m_q_scale {m_q_scale}}}\n\
+         condition: {{airspeed_mph: 60, mass_kg: 400}}\n\
+         linear_model:\n  states: [u, w, q, theta]\n  controls: [eta_s]\n\
+         \x20 units: {{u: m/s, w: m/s, q: rad/s, theta: rad, eta_s: '%'}}\n\
+         \x20 a:\n    - [-0.05, 0.1, 0.0, -9.81]\n    - [-0.3, -0.8, 30.0, 0.0]\n\
+         \x20   - [0.01, -0.05, {:?}, 0.0]\n    - [0.0, 0.0, 1.0, 0.0]\n\
+         \x20 b: [[0.0], [0.1], [-0.02], [0.0]]\n",
+        -1.2 * m_q_scale
+    )
+}
+
+/// The hidden `m_q_scale` of the retune's known answer.
+const HIDDEN_M_Q_SCALE: f64 = 0.8;
+
+#[test]
+fn retune_runs_on_an_external_model_from_its_records() {
+    super::external::require_python3();
+    let dir = suite_in("retune", "cierva-external/2", true);
+    std::fs::create_dir_all(dir.join("refs")).unwrap();
+    std::fs::write(dir.join("refs/truth.yaml"), truth_file(HIDDEN_M_Q_SCALE)).unwrap();
+    let (code, out, err) = cierva_in(
+        &dir,
+        &[
+            "synth",
+            "refs/truth.yaml",
+            "--control",
+            "eta_s",
+            "--shape",
+            "sweep",
+            "--amplitude-model-units",
+            "5",
+            "--noise-scale",
+            "1",
+            "--seed",
+            "7",
+            "--output",
+            "records/sweep.csv",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, out, err) = cierva_in(
+        &dir,
+        &[
+            "retune",
+            "--case",
+            "cases/model.yaml",
+            "--records",
+            "records/sweep.csv",
+            "--fit",
+            "m_q_scale",
+            "--format",
+            "json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (value, se) = (
+        v["corrections"]["m_q_scale"].as_f64().unwrap(),
+        v["standard_errors"]["m_q_scale"].as_f64().unwrap(),
+    );
+    assert!(
+        (value - HIDDEN_M_Q_SCALE).abs() < 2.0 * se,
+        "{value} +- {se}, hidden {HIDDEN_M_Q_SCALE}"
+    );
+    // The rotorspeed response the record carries is one this model has no state for: left
+    // out, and said.
+    let written = std::fs::read_to_string(dir.join("corrections/retuned/model.yaml")).unwrap();
+    assert!(
+        written.contains("applies_to:\n  model: 'command: python3 model.py --serve'"),
+        "{written}"
+    );
+    assert!(
+        written.contains("the model has no state `Omega`"),
+        "{written}"
+    );
+    // The revalidation ran the model's case with the retuned value: the damping check moved.
+    let changed = v["revalidation"]["changed"].as_array().unwrap();
+    assert!(
+        changed.iter().any(|c| c["check"] == "model::damping"),
+        "{}",
+        v["revalidation"]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

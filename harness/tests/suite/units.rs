@@ -219,12 +219,14 @@ mod history {
             condition: BTreeMap::new(),
             trim: BTreeMap::new(),
             controls: vec![],
+            channels: Default::default(),
         };
         let rec = Record {
             path: "r.csv".into(),
             meta,
             channels: vec!["time_s".into(), "theta_deg".into()],
             data: vec![time_s.clone(), signal.to_vec()],
+            notes: Vec::new(),
         };
         let mut signals = vec![vec![0.0; n]; SIGNALS.len()];
         signals[7] = model.to_vec();

@@ -48,6 +48,8 @@ fn record_of(name: &str, noise: SensorNoise) -> PathBuf {
         turbulence: None,
         trim: linear::SEED002_TRIM,
         sensors: linear::SEED002_SENSORS,
+        condition: Default::default(),
+        control_channel: "eta_s_rad".into(),
     };
     let (channels, data, meta) = linear::generate(&truth(), &s).unwrap();
     let path = scratch().join(format!("{name}.csv"));

@@ -15,11 +15,12 @@
 //! (`docs/validation.md`, "Retuning the corrections").
 
 pub mod responses;
+pub mod subject;
 
-use crate::fit::{self, FitParameter, FitSubject, ParameterKind, Problem, TargetCondition};
+use crate::fit::{self, FitParameter, ParameterKind, Problem, TargetCondition};
 use crate::ident;
 use crate::inputs::aircraft::AircraftFile;
-use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec};
+use crate::inputs::corrections::{CorrectionSet, CorrectionsFileSpec};
 use crate::inputs::record::Record;
 use serde::Serialize;
 
@@ -180,9 +181,10 @@ pub fn parameters(
         .collect()
 }
 
-/// Estimates the records' responses (or identifies them) and fits the parameters.
+/// Estimates the records' responses and fits the parameters of `retuned` (an aircraft file, or
+/// a model behind the model interface) to them.
 pub fn retune(
-    file: &AircraftFile,
+    retuned: subject::Retuned<'_>,
     records: &[Record],
     requests: &[RetuneParameter],
     how: &How,
@@ -191,7 +193,7 @@ pub fn retune(
         return Err("no records to retune from".into());
     }
     let (parameters, bounds_sources): (Vec<FitParameter>, Vec<String>) =
-        parameters(file, requests)?.into_iter().unzip();
+        retuned.parameters(requests)?.into_iter().unzip();
     if parameters.is_empty() {
         return Err("name at least one correction or parameter to fit".into());
     }
@@ -205,7 +207,15 @@ pub fn retune(
         })
         .collect();
     let estimated = responses::responses(records, &how.responses)?;
-    let models = responses::model_responses(&file.aircraft, &estimated, true)?;
+    let uncorrected = crate::inputs::corrections::CorrectionSet::default();
+    let models = retuned.responses(&uncorrected, &estimated, true)?;
+    let (estimated, left_out) = answerable(estimated, &models);
+    if estimated.is_empty() {
+        return Err(format!(
+            "the model answers none of the records' responses: {}",
+            left_out.join("; ")
+        ));
+    }
     let targets = responses::targets(&estimated, &models)?;
     if targets.is_empty() {
         return Err(format!(
@@ -213,18 +223,9 @@ pub fn retune(
             crate::checks::frequency_response::COHERENCE_MIN
         ));
     }
-    let teetering =
-        file.aircraft.main_rotor.rotor.hub == cierva_model::components::rotor::Hub::Teetering;
-    let model = if teetering {
-        "the linearisation with the rotor's flapping states, baseband response by harmonic balance"
-    } else {
-        "the quasi-static linearisation (no flapping linearisation for this rotor's hub)"
-    }
-    .to_string();
+    let model = retuned.model_words();
     let problem = Problem {
-        subject: FitSubject::Aircraft {
-            aircraft: Box::new(file.aircraft.clone()),
-        },
+        subject: retuned.fit_subject(),
         parameters,
         targets,
         options: fit::FitOptions {
@@ -237,8 +238,9 @@ pub fn retune(
     if result.status == fit::Status::Converged
         && estimated.iter().any(|r| !r.other_controls.is_empty())
     {
-        result = refit_with_errors_at_fit(file, &estimated, &mut problem, result)?;
+        result = refit_with_errors_at_fit(retuned, &estimated, &mut problem, result)?;
     }
+    result.warnings.extend(left_out);
     let curvature_standard_errors = result.standard_errors.clone();
     if result.status == fit::Status::Converged {
         result.standard_errors = match fit::sensitivities(&problem, &result.values) {
@@ -301,22 +303,23 @@ impl Retune {
 }
 
 /// The corrections file a retune writes (`id`, for `cierva validate --corrections`): the fitted
-/// corrections for `file`'s aircraft, the command and records they came from, and the fit's
+/// corrections for what was retuned, the command and records they came from, and the fit's
 /// bounds with their sources, status, standard errors and warnings.
 pub fn corrections_file(
     r: &Retune,
-    file: &AircraftFile,
+    retuned: subject::Retuned<'_>,
     records: &[Record],
     id: &str,
     command: &str,
 ) -> CorrectionsFileSpec {
+    let title = match retuned {
+        subject::Retuned::Aircraft(file) => file.title.clone(),
+        subject::Retuned::Model(e) => e.model.describe(),
+    };
     CorrectionsFileSpec {
         id: id.to_string(),
-        title: format!("Corrections of {} retuned from flight records", file.title),
-        applies_to: AppliesTo {
-            aircraft: Some(file.id.clone()),
-            ..AppliesTo::default()
-        },
+        title: format!("Corrections of {title} retuned from flight records"),
+        applies_to: retuned.applies_to(),
         corrections: r.result.corrections(),
         provenance: crate::inputs::reference::Provenance {
             source: format!(
@@ -346,6 +349,7 @@ pub fn corrections_file(
                 })
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
             "status": r.result.status.name(),
+            "detail": r.result.status.detail(),
             "model": r.model,
             "reduced_chi_square": r.reduced_chi_square.is_finite().then_some(r.reduced_chi_square),
             "iterations": r.result.iterations,
@@ -359,6 +363,43 @@ pub fn corrections_file(
     }
 }
 
+/// The records' responses the model can give (its responses name the input, the output and
+/// every other control the record moved), and a sentence for each group it cannot: a model of
+/// four longitudinal states has no rotorspeed response to compare with a record's.
+fn answerable(
+    estimated: Vec<responses::RecordedResponse>,
+    models: &[(
+        TargetCondition,
+        crate::checks::frequency_response::Responses,
+    )],
+) -> (Vec<responses::RecordedResponse>, Vec<String>) {
+    let mut kept = Vec::new();
+    let mut left_out: Vec<String> = Vec::new();
+    for r in estimated {
+        let Some((_, m)) = models.iter().find(|(c, _)| *c == r.condition) else {
+            continue;
+        };
+        let missing = if !m.states.contains(&r.output) {
+            Some(format!("state `{}`", r.output))
+        } else {
+            std::iter::once(&r.input)
+                .chain(&r.other_controls)
+                .find(|c| !m.controls.contains(c))
+                .map(|c| format!("control `{c}`"))
+        };
+        match missing {
+            None => kept.push(r),
+            Some(what) => left_out.push(format!(
+                "the records' {}/{} response at {} is left out: the model has no {what}",
+                r.output,
+                r.input,
+                r.condition.label()
+            )),
+        }
+    }
+    (kept, left_out)
+}
+
 /// The fit again with the targets' standard errors taken at the fitted corrections.
 ///
 /// A response's standard error depends on the model's responses to the records' other
@@ -368,14 +409,12 @@ pub fn corrections_file(
 /// `cost_start` stay the uncorrected aircraft's (the cost with the new errors); iterations and
 /// evaluations are both fits'.
 fn refit_with_errors_at_fit(
-    file: &AircraftFile,
+    retuned: subject::Retuned<'_>,
     estimated: &[responses::RecordedResponse],
     problem: &mut Problem,
     first: fit::FitResult,
 ) -> Result<fit::FitResult, String> {
-    let mut fitted = file.aircraft.clone();
-    first.corrections().apply_to_aircraft(&mut fitted)?;
-    let models = responses::model_responses(&fitted, estimated, true)?;
+    let models = retuned.responses(&first.corrections(), estimated, true)?;
     problem.targets = responses::targets(estimated, &models)?;
     let mut again = problem.clone();
     for (p, v) in again.parameters.iter_mut().zip(&first.values) {
@@ -477,10 +516,11 @@ pub struct ModeRow {
     pub after: [f64; 2],
 }
 
-/// Each condition's modes (the first of each kind) before and after.
+/// Each condition's modes (the first of each kind) before and after: `retuned` with the
+/// values of `before` and `after` (an empty set: as it is).
 pub fn modes(
-    before: &AircraftFile,
-    after: &AircraftFile,
+    retuned: subject::Retuned<'_>,
+    [before, after]: [&CorrectionSet; 2],
     conditions: &[(TargetCondition, Vec<String>)],
 ) -> Vec<ModeRow> {
     use cierva_model::analysis::modes;
@@ -489,10 +529,11 @@ pub fn modes(
         let TargetCondition::Flight(request, loading) = *c else {
             continue;
         };
-        let analyse = |f: &AircraftFile| {
-            crate::run::linearise::run_linearise(&f.aircraft, request, loading)
+        let analyse = |values: &CorrectionSet| {
+            retuned
+                .linear_model(values, request, loading)
                 .ok()
-                .and_then(|(_, lin)| modes::modes(&lin.model).ok())
+                .and_then(|lin| modes::modes(&lin).ok())
         };
         let (Some(mb), Some(ma)) = (analyse(before), analyse(after)) else {
             continue;
@@ -532,19 +573,18 @@ pub struct Prediction {
 }
 
 /// Flies a record's measured controls (changes from its trim) through the model linearised at
-/// its condition, before and after, and compares the states with the record's (seed 000
-/// Fig. 10; Theil's inequality coefficient, 0 a perfect match).
+/// its condition, with the values of `before` and `after`, and compares the states with the
+/// record's (seed 000 Fig. 10; Theil's inequality coefficient, 0 a perfect match).
 pub fn predict(
-    before: &AircraftFile,
-    after: &AircraftFile,
+    retuned: subject::Retuned<'_>,
+    [before, after]: [&CorrectionSet; 2],
     record: &Record,
 ) -> Result<Vec<Prediction>, String> {
     let (request, loading) = ident::record_condition(record)?;
     let config = ident::ConfigSpec::for_setup(ident::setup_for(&[record]), record)?;
-    let fly = |f: &AircraftFile| -> Result<Vec<ident::SignalComparison>, String> {
-        let (_, lin) = crate::run::linearise::run_linearise(&f.aircraft, request, loading)
-            .map_err(|e| e.to_string())?;
-        let model = ident::model_for(&lin.model, &config)?;
+    let fly = |values: &CorrectionSet| -> Result<Vec<ident::SignalComparison>, String> {
+        let lin = retuned.linear_model(values, request, loading)?;
+        let model = ident::model_for(&lin, &config)?;
         ident::predict(&model, record, &config)
     };
     let (b, a) = (fly(before)?, fly(after)?);

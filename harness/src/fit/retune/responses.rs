@@ -672,6 +672,40 @@ pub fn targets(
     Ok(out)
 }
 
+/// Each condition of `responses` with every frequency its responses are estimated at, and
+/// with `neighbourhood` the [`neighbours`] of every used point too: where a model's responses
+/// are wanted.
+pub fn frequencies_by_condition(
+    responses: &[RecordedResponse],
+    neighbourhood: bool,
+) -> Vec<(TargetCondition, Vec<f64>)> {
+    let mut out: Vec<(TargetCondition, Vec<f64>)> = Vec::new();
+    for r in responses {
+        let k = match out.iter().position(|(c, _)| *c == r.condition) {
+            Some(k) => k,
+            None => {
+                out.push((r.condition, Vec::new()));
+                out.len() - 1
+            }
+        };
+        let frequencies = &mut out[k].1;
+        for (i, p) in r.points.iter().enumerate() {
+            let [below, above] = neighbours(p.frequency_hz);
+            let with: &[f64] = if neighbourhood && r.used.contains(&i) {
+                &[below, p.frequency_hz, above]
+            } else {
+                &[p.frequency_hz]
+            };
+            for f in with {
+                if !frequencies.contains(f) {
+                    frequencies.push(*f);
+                }
+            }
+        }
+    }
+    out
+}
+
 /// An aircraft's responses ([`crate::checks::frequency_response::aircraft_responses`]) at
 /// every condition of `responses`, at every frequency they are estimated, and with
 /// `neighbourhood` at [`neighbours`] of every used point too (one trim and one linearisation a
@@ -687,32 +721,11 @@ pub fn model_responses(
     )>,
     String,
 > {
-    let mut conditions: Vec<TargetCondition> = Vec::new();
-    for r in responses {
-        if !conditions.contains(&r.condition) {
-            conditions.push(r.condition);
-        }
-    }
-    crate::run::parallel::parallel_map(&conditions, |c| {
+    let conditions = frequencies_by_condition(responses, neighbourhood);
+    crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
         let TargetCondition::Flight(request, loading) = *c else {
             return Err("a retune's condition is a flight condition".to_string());
         };
-        let mut frequencies: Vec<f64> = Vec::new();
-        for r in responses.iter().filter(|r| r.condition == *c) {
-            for (k, p) in r.points.iter().enumerate() {
-                let [below, above] = neighbours(p.frequency_hz);
-                let with: &[f64] = if neighbourhood && r.used.contains(&k) {
-                    &[below, p.frequency_hz, above]
-                } else {
-                    &[p.frequency_hz]
-                };
-                for f in with {
-                    if !frequencies.contains(f) {
-                        frequencies.push(*f);
-                    }
-                }
-            }
-        }
         let trim = crate::run::trim::run_trim(aircraft, request, loading)
             .map_err(|e| format!("at {}: {e}", c.label()))?;
         crate::checks::frequency_response::aircraft_responses(
@@ -720,7 +733,7 @@ pub fn model_responses(
             request,
             loading,
             &trim,
-            &frequencies,
+            frequencies,
         )
         .map(|m| (*c, m))
         .map_err(|e| format!("at {}: {e}", c.label()))
@@ -748,18 +761,22 @@ pub struct ResponseComparison {
 }
 
 /// Each response of the records against the model's before (`before`: the uncorrected
-/// aircraft's responses the retune computed for its targets, at every frequency of every
-/// response) and after (one trim and one linearisation a condition, conditions in parallel).
+/// model's responses the retune computed for its targets, at every frequency of every
+/// response) and after (`after`: the retuned model's, at least at every frequency of every
+/// response, [`super::subject::Retuned::responses`]).
 pub fn compare(
     before: &[(
         TargetCondition,
         crate::checks::frequency_response::Responses,
     )],
-    after: &cierva_model::aircraft::Aircraft,
+    after: &[(
+        TargetCondition,
+        crate::checks::frequency_response::Responses,
+    )],
     responses: &[RecordedResponse],
 ) -> Result<Vec<ResponseComparison>, String> {
     use crate::checks::frequency_response::mismatch_cost;
-    let (b, a) = (before, model_responses(after, responses, false)?);
+    let (b, a) = (before, after);
     let mut out = Vec::new();
     for r in responses {
         let model = |m: &[(
@@ -776,7 +793,7 @@ pub fn compare(
                 .map(|(p, o)| m.as_flown(&r.input, &r.output, p.frequency_hz, o))
                 .collect::<Result<Vec<_>, _>>()
         };
-        let (mb, ma) = (model(b)?, model(&a)?);
+        let (mb, ma) = (model(b)?, model(a)?);
         let (cb, ca) = (mismatch_cost(&r.points, &mb), mismatch_cost(&r.points, &ma));
         out.push(ResponseComparison {
             condition: r.condition.label(),

@@ -106,9 +106,11 @@ impl FlownTest {
                 condition,
                 trim: self.trim,
                 controls: record_controls(control),
+                channels: Default::default(),
             },
             channels: self.channels,
             data: self.data,
+            notes: Vec::new(),
         }
     }
 }

@@ -1,0 +1,192 @@
+//! What a retune corrects: cierva's aircraft file (its corrections and estimated physical
+//! parameters, its responses from the linearisation with the rotor's flapping), or any model
+//! behind the model interface (its declared parameters, its responses from its `A` and `B`).
+//! Everything a retune asks of the model (the parameters and their bounds, the responses and
+//! the linear model at a set of values, what the corrections file applies to) goes through
+//! here, so that the retune itself is one path for both.
+
+use super::{RetuneParameter, responses};
+use crate::checks::frequency_response::Responses;
+use crate::fit::{FitParameter, FitSubject, ParameterKind, TargetCondition};
+use crate::inputs::aircraft::AircraftFile;
+use crate::inputs::corrections::{AppliesTo, CorrectionSet, Corrects};
+
+/// What a retune corrects.
+#[derive(Debug, Clone, Copy)]
+pub enum Retuned<'a> {
+    /// cierva's aircraft file.
+    Aircraft(&'a AircraftFile),
+    /// A model behind the model interface, as a case writes it (the loading is each record's).
+    Model(&'a crate::external::External),
+}
+
+impl Retuned<'_> {
+    /// What it is, in a few words: the aircraft file's id, or the model as its cases write it.
+    pub fn name(&self) -> String {
+        match self {
+            Self::Aircraft(f) => f.id.clone(),
+            Self::Model(e) => e.written.clone(),
+        }
+    }
+
+    /// What a corrections file of it applies to.
+    pub fn corrects(&self) -> Corrects {
+        match self {
+            Self::Aircraft(f) => Corrects::Aircraft(f.id.clone()),
+            Self::Model(e) => Corrects::Model(e.written.clone()),
+        }
+    }
+
+    /// [`Self::corrects`] as a corrections file writes it.
+    pub fn applies_to(&self) -> AppliesTo {
+        match self.corrects() {
+            Corrects::Aircraft(a) => AppliesTo {
+                aircraft: Some(a),
+                ..AppliesTo::default()
+            },
+            Corrects::Rotor(r) => AppliesTo {
+                rotor: Some(r),
+                ..AppliesTo::default()
+            },
+            Corrects::Model(m) => AppliesTo {
+                model: Some(m),
+                ..AppliesTo::default()
+            },
+        }
+    }
+
+    /// The fit's subject.
+    pub fn fit_subject(&self) -> FitSubject {
+        match self {
+            Self::Aircraft(f) => FitSubject::Aircraft {
+                aircraft: Box::new(f.aircraft.clone()),
+            },
+            Self::Model(e) => FitSubject::Model {
+                model: e.model.clone(),
+            },
+        }
+    }
+
+    /// Which model gives the responses, in words.
+    pub fn model_words(&self) -> String {
+        match self {
+            Self::Aircraft(f) => {
+                let teetering = f.aircraft.main_rotor.rotor.hub
+                    == cierva_model::components::rotor::Hub::Teetering;
+                if teetering {
+                    crate::checks::frequency_response::WITH_FLAPPING
+                } else {
+                    crate::checks::frequency_response::QUASI_STATIC
+                }
+                .to_string()
+            }
+            Self::Model(e) => format!("the A and B {} gives", e.model.describe()),
+        }
+    }
+
+    /// The parameters, with their bounds and the bounds' sources: an aircraft's correction from
+    /// the request or [`super::DEFAULT_BOUNDS`], its physical parameter within the file's plausible
+    /// range; a model's declared parameter within its declared range.
+    pub fn parameters(
+        &self,
+        requests: &[RetuneParameter],
+    ) -> Result<Vec<(FitParameter, String)>, String> {
+        match self {
+            Self::Aircraft(file) => super::parameters(file, requests),
+            Self::Model(e) => {
+                let declared = e.model.parameters()?;
+                requests
+                    .iter()
+                    .map(|r| {
+                        let (lower, upper, start) = crate::fit::file::declared_parameter(
+                            &declared,
+                            &r.name,
+                            (r.bounds.map(|b| b.0), r.bounds.map(|b| b.1), None),
+                        )
+                        .map_err(|m| format!("`{}`: {m}", r.name))?;
+                        if lower >= upper {
+                            return Err(format!(
+                                "`{}`: bounds [{lower}, {upper}] must have lower < upper",
+                                r.name
+                            ));
+                        }
+                        let source = match r.bounds {
+                            Some(_) => "asked for on the command line (--bounds)".to_string(),
+                            None => declared
+                                .iter()
+                                .find(|p| p.name == r.name)
+                                .and_then(|p| p.range.as_ref())
+                                .map_or(String::new(), |x| x.source.clone()),
+                        };
+                        Ok((
+                            FitParameter {
+                                kind: ParameterKind::Declared(r.name.clone()),
+                                lower,
+                                upper,
+                                start,
+                                regularisation: 0.0,
+                            },
+                            source,
+                        ))
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// The responses at every condition of `estimated` (with `neighbourhood` at the
+    /// neighbours of every used point, [`responses::neighbours`]), with the values of
+    /// `values` (an empty set: the file or the model as it is).
+    pub fn responses(
+        &self,
+        values: &CorrectionSet,
+        estimated: &[responses::RecordedResponse],
+        neighbourhood: bool,
+    ) -> Result<Vec<(TargetCondition, Responses)>, String> {
+        match self {
+            Self::Aircraft(file) => {
+                let mut a = file.aircraft.clone();
+                values.apply_to_aircraft(&mut a)?;
+                responses::model_responses(&a, estimated, neighbourhood)
+            }
+            Self::Model(_) => {
+                let conditions = responses::frequencies_by_condition(estimated, neighbourhood);
+                crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
+                    let TargetCondition::Flight(request, loading) = *c else {
+                        return Err("a retune's condition is a flight condition".to_string());
+                    };
+                    let lin = self.linear_model(values, request, loading)?;
+                    Responses::of_linear_model(&lin, frequencies, self.model_words())
+                        .map(|m| (*c, m))
+                        .map_err(|e| format!("at {}: {e}", c.label()))
+                })
+                .into_iter()
+                .collect()
+            }
+        }
+    }
+
+    /// The linear model at a flight condition with the values of `values`: the aircraft's
+    /// quasi-static linearisation, or the model's linear model.
+    pub fn linear_model(
+        &self,
+        values: &CorrectionSet,
+        request: crate::inputs::condition::TrimRequest,
+        loading: crate::inputs::condition::Loading,
+    ) -> Result<cierva_model::LinearModel, String> {
+        match self {
+            Self::Aircraft(file) => {
+                let mut a = file.aircraft.clone();
+                values.apply_to_aircraft(&mut a)?;
+                crate::run::linearise::run_linearise(&a, request, loading)
+                    .map(|(_, lin)| lin.model)
+                    .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))
+            }
+            Self::Model(e) => e.model.linear_model(&crate::external::Request {
+                condition: request,
+                loading,
+                parameters: values.parameters.clone(),
+            }),
+        }
+    }
+}

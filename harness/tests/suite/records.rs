@@ -1,0 +1,141 @@
+//! Flight records as they come (issue 50): columns cierva does not know are kept (or left out
+//! where they are not numbers), a sidecar's `channels:` map names a column, and a required
+//! channel in another unit is converted. The known answer: the shipped stick sweep, rewritten
+//! as a flight-test system might log it, loads to the same numbers as the canonical record.
+
+use super::common::repo_root;
+use cierva_harness::inputs::record;
+use std::path::{Path, PathBuf};
+
+/// The shipped stick sweep (cierva's own names and units), and its sidecar.
+const SWEEP: &str = "flight-refs/synthetic-flight-vpm-m16-60mph-stick-sweep";
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir()
+        .join(format!("cierva-records-{}", std::process::id()))
+        .join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The shipped sweep as a logger might write it, in `dir` as `logged.csv` and its sidecar:
+/// the pitch attitude as `PITCH` in degrees and the rotor speed as `NR` in rpm (both mapped by
+/// `channels`), the airspeed in knots under cierva's name for that unit (`airspeed_kn`), and
+/// two columns nobody asks for: a pressure altitude and a status word. `map` is the sidecar's
+/// `channels:` block.
+fn logged(dir: &Path, map: &str) -> PathBuf {
+    let root = repo_root();
+    let csv = std::fs::read_to_string(root.join(format!("{SWEEP}.csv"))).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| header.iter().position(|h| *h == n).unwrap();
+    let (theta, nr, v) = (
+        col("theta_rad"),
+        col("omega_rotor_rad_s"),
+        col("airspeed_m_s"),
+    );
+    let mut out = String::new();
+    let renamed: Vec<String> = header
+        .iter()
+        .enumerate()
+        .map(|(k, h)| match k {
+            _ if k == theta => "PITCH".to_string(),
+            _ if k == nr => "NR".to_string(),
+            _ if k == v => "airspeed_kn".to_string(),
+            _ => h.to_string(),
+        })
+        .collect();
+    out += &format!("{},alt_ft,status\n", renamed.join(","));
+    for (row, line) in lines.enumerate() {
+        let fields: Vec<String> = line
+            .split(',')
+            .enumerate()
+            .map(|(k, f)| {
+                let x: f64 = f.parse().unwrap();
+                match k {
+                    _ if k == theta => format!("{}", x.to_degrees()),
+                    _ if k == nr => format!("{}", x * 60.0 / (2.0 * std::f64::consts::PI)),
+                    _ if k == v => format!("{}", x * 3600.0 / 1852.0),
+                    _ => f.to_string(),
+                }
+            })
+            .collect();
+        out += &format!("{},{},OK\n", fields.join(","), 2000 + row);
+    }
+    std::fs::write(dir.join("logged.csv"), out).unwrap();
+    let side = std::fs::read_to_string(root.join(format!("{SWEEP}.yaml"))).unwrap();
+    let id = SWEEP.rsplit('/').next().unwrap();
+    std::fs::write(
+        dir.join("logged.yaml"),
+        side.replacen(&format!("id: {id}"), "id: logged", 1) + map,
+    )
+    .unwrap();
+    dir.join("logged.csv")
+}
+
+const MAP: &str = "channels:\n  PITCH: theta_deg\n  NR: omega_rotor_rpm\n";
+
+#[test]
+fn a_logged_record_loads_to_the_canonical_records_numbers() {
+    let dir = scratch("logged");
+    let canonical = record::load(&repo_root().join(format!("{SWEEP}.csv"))).unwrap();
+    let got = record::load(&logged(&dir, MAP)).unwrap_or_else(|e| panic!("{}", e.render()));
+    for (name, want) in canonical.channels.iter().zip(&canonical.data) {
+        let have = got
+            .channel(name)
+            .unwrap_or_else(|| panic!("no `{name}`: {:?}", got.channels));
+        for (a, b) in have.iter().zip(want) {
+            // The logger's decimal text of a converted number and back: a few units in the
+            // last place.
+            assert!(
+                (a - b).abs() <= 1e-13 * b.abs().max(1e-300),
+                "{name}: {a} against {b}"
+            );
+        }
+    }
+    // The altitude is kept as it is, the status word left out, and the load says what it did.
+    assert_eq!(got.channel("alt_ft").unwrap()[1], 2001.0);
+    assert!(got.channel("status").is_none());
+    let notes = got.notes.join("\n");
+    for said in [
+        "column `PITCH` read as `theta_deg`",
+        "`theta_deg` converted to `theta_rad` (deg to rad)",
+        "`omega_rotor_rpm` converted to `omega_rotor_rad_s` (rpm to rad/s)",
+        "`airspeed_kn` converted to `airspeed_m_s` (kn to m/s)",
+        "column `status` left out: `OK` at line 2 is not a number",
+    ] {
+        assert!(notes.contains(said), "`{said}` not in:\n{notes}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A sidecar's map that cannot be applied is a located error at its entry.
+#[test]
+fn a_bad_channel_map_is_a_located_error() {
+    let cases = [
+        (
+            "channels:\n  PTICH: theta_deg\n",
+            "the record has no column `PTICH` (did you mean `PITCH`?)",
+        ),
+        (
+            "channels:\n  PITCH: theta_degrees\n",
+            "`theta_degrees`: name the channel with its unit as a suffix",
+        ),
+        (
+            "channels:\n  PITCH: theta_deg\n  NR: theta_deg\n",
+            "is mapped to `theta_deg` too",
+        ),
+        ("channels:\n  PITCH: alt_ft\n", "`alt_ft` is already column"),
+    ];
+    for (k, (map, want)) in cases.iter().enumerate() {
+        let dir = scratch(&format!("bad-{k}"));
+        let e = record::load(&logged(&dir, map)).unwrap_err();
+        let text = e.render();
+        assert!(text.contains(want), "{map}: {text}");
+        assert!(
+            text.contains("logged.yaml") && text.contains("channels."),
+            "{text}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
