@@ -908,6 +908,29 @@ fn fit_runs_on_an_external_model_by_its_declared_parameters() {
         fit_file(3.7, 0.05, -0.95, 0.01),
     )
     .unwrap();
+    // A name the model does not declare, and bounds outside its declared range, are located
+    // errors before the fit runs.
+    for (wrong, said) in [
+        (
+            "m_q_scal: {}",
+            "the model declares no parameter `m_q_scal` (did you mean `m_q_scale`?)",
+        ),
+        (
+            "m_q_scale: {lower: 0.2, upper: 1.0}",
+            "bounds [0.2, 1] reach outside the range the model declares for `m_q_scale`, [0.5, 1.5]",
+        ),
+    ] {
+        let text = fit_file(3.7, 0.05, -0.95, 0.01)
+            .replace("m_q_scale: {}", wrong)
+            .replace("id: model", "id: bad");
+        std::fs::write(dir.join("fits/bad.yaml"), text).unwrap();
+        let (code, out, err) = cierva_in(&dir, &["fit", "fits/bad.yaml"]);
+        assert_eq!(code, 2, "{out}{err}");
+        assert!(
+            err.contains(said) && err.contains("fits/bad.yaml:"),
+            "{err}"
+        );
+    }
     let (code, out, err) = cierva_in(&dir, &["fit", "fits/model.yaml"]);
     assert_eq!(code, 0, "{out}{err}");
     let written = std::fs::read_to_string(dir.join("corrections/fitted/model.yaml")).unwrap();
