@@ -11,6 +11,10 @@ use cierva_harness::suite::{case, review, scoreboard};
 /// With `--corrections FIT_RESULT.yaml` (as `cierva fit` writes), every case whose aircraft or
 /// rotor the file names is run with those corrections; expected failures that now pass are
 /// reported as unexpected passes.
+///
+/// In CI: `--junit results.xml` writes JUnit XML (one testcase per check, the class as the
+/// suite); `-k TEXT` and `--class CLASS` run some of the checks (their scores are shown, not
+/// judged: a part of the suite is not the suite).
 #[derive(clap::Args)]
 pub(crate) struct ValidateArgs {
     /// Case files or folders searched for `*.yaml` (default: the suite's cases folder).
@@ -38,6 +42,64 @@ pub(crate) struct ValidateArgs {
     /// With --uncertainty: the Sobol' sequence's seed.
     #[arg(long, default_value_t = 0, requires = "uncertainty")]
     seed: u32,
+    /// Write the run as JUnit XML to this file (one testcase per check, the class as the
+    /// suite), for CI.
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Only the checks whose `case::check` contains this text (any case; repeatable: any of
+    /// them).
+    #[arg(short = 'k', long = "select", value_name = "TEXT")]
+    select: Vec<String>,
+    /// Only the checks of this class: validation, cross_code, verification or regression
+    /// (repeatable).
+    #[arg(long = "class", value_name = "CLASS")]
+    classes: Vec<String>,
+}
+
+/// Which checks a run takes (`-k`, `--class`): all where nothing is given.
+#[derive(Debug, Clone, Default)]
+struct Selection {
+    texts: Vec<String>,
+    classes: Vec<cierva_harness::checks::CheckClass>,
+}
+
+impl Selection {
+    fn of(a: &ValidateArgs) -> Result<Self, Error> {
+        use cierva_harness::checks::CheckClass;
+        let names: Vec<String> = CheckClass::ALL
+            .iter()
+            .map(|c| c.name().to_string())
+            .collect();
+        let classes = a
+            .classes
+            .iter()
+            .map(|c| {
+                CheckClass::ALL
+                    .into_iter()
+                    .find(|k| k.name() == c.trim())
+                    .ok_or_else(|| {
+                        let hint = cierva_harness::inputs::yaml::nearest(c, &names)
+                            .map(|n| format!(" (did you mean `{n}`?)"))
+                            .unwrap_or_default();
+                        Error::input(format!("--class `{c}`: one of {}{hint}", names.join(", ")))
+                    })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self {
+            texts: a.select.iter().map(|t| t.to_lowercase()).collect(),
+            classes,
+        })
+    }
+
+    fn everything(&self) -> bool {
+        self.texts.is_empty() && self.classes.is_empty()
+    }
+
+    fn picks(&self, case: &case::Case, check: &cierva_harness::checks::Check) -> bool {
+        let named = format!("{}::{}", case.id, check.id).to_lowercase();
+        (self.texts.is_empty() || self.texts.iter().any(|t| named.contains(t)))
+            && (self.classes.is_empty() || self.classes.contains(&check.class))
+    }
 }
 
 pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
@@ -54,8 +116,16 @@ pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
         validation_only: true,
         method: propagate::Propagation::Auto,
     });
-    let report_dir = (!a.no_report).then_some(a.report_dir);
-    validate_with(a.paths, a.corrections, a.format, report_dir, uncertainty)
+    let selection = Selection::of(&a)?;
+    let report_dir = (!a.no_report).then_some(a.report_dir.clone());
+    validate_with(
+        a.paths,
+        a.corrections,
+        (a.format, a.junit),
+        report_dir,
+        uncertainty,
+        &selection,
+    )
 }
 
 /// `validate` with its arguments checked: the report's folder (`None`: no report; `Some(None)`:
@@ -63,9 +133,10 @@ pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
 fn validate_with(
     paths: Vec<PathBuf>,
     corrections: Vec<PathBuf>,
-    format: Format,
+    (format, junit): (Format, Option<PathBuf>),
     report_dir: Option<Option<PathBuf>>,
     uncertainty: Option<cierva_harness::uncertainty::propagate::PropagationSettings>,
+    selection: &Selection,
 ) -> Result<ExitCode, Error> {
     let started = std::time::Instant::now();
     let suite = suite()?;
@@ -76,7 +147,8 @@ fn validate_with(
     };
     let report_dir = report_dir.map(|d| d.unwrap_or_else(|| suite.reports().to_path_buf()));
     let (correction_files, loaded, board, log) = inputs(&suite, &paths, &corrections)?;
-    let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files);
+    let loaded = selected(loaded, selection)?;
+    let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files, selection);
     if let Some(settings) = uncertainty
         && let Err(e) = attach_uncertainty(&mut run, settings)
     {
@@ -90,7 +162,10 @@ fn validate_with(
     run.seconds = started.elapsed().as_secs_f64();
     // Scores against corrected models are not the committed model's: shown, never judged.
     let judged = review::judge(&board, scores);
-    let scores_failing = failing_scores(&judged, !correction_files.is_empty());
+    let scores_failing = failing_scores(
+        &judged,
+        !correction_files.is_empty() || !selection.everything(),
+    );
     run.scores = judged.clone();
     if report_dir.is_some() {
         run.score_versions = scoreboard::versions(&suite);
@@ -101,7 +176,10 @@ fn validate_with(
         .iter()
         .flat_map(|c| c.results.iter().cloned())
         .collect();
-    let written = write_report(&run, report_dir.as_deref())?;
+    let mut written = write_report(&run, report_dir.as_deref())?;
+    if let Some(path) = junit {
+        written.push(write_junit(path, &results, &errors)?);
+    }
     let counts = tables::counts(&results);
     let corrections_used: Vec<serde_json::Value> = correction_files
         .iter()
@@ -173,6 +251,7 @@ fn validate_with(
 fn run_cases(
     loaded: &Loaded,
     correction_files: &[corrections::CorrectionsFile],
+    selection: &Selection,
 ) -> (
     cierva_harness::report::Run,
     Vec<String>,
@@ -194,13 +273,16 @@ fn run_cases(
         })
         .collect();
     let cases: Vec<&case::Case> = prepared.iter().flatten().map(|(case, _)| case).collect();
-    let checks: usize = cases.iter().map(|c| c.checks.len()).sum();
+    let checks: usize = cases
+        .iter()
+        .map(|c| c.checks.iter().filter(|k| selection.picks(c, k)).count())
+        .sum();
     let bar = progress(checks as u64, "validate");
     // Checks on every core, shared out one at a time: a case of many slow checks is spread
     // over the cores rather than left to one.
     let mut ran = outcome::run_cases(
         &cases,
-        |_, _| true,
+        |case, check| selection.picks(case, check),
         |case, _| {
             bar.set_message(case.id.clone());
             bar.inc(1);
@@ -380,8 +462,59 @@ fn print_text(
     }
 }
 
+/// Writes the run as JUnit XML (`--junit`), its folder made; the path written.
+fn write_junit(
+    path: PathBuf,
+    results: &[CheckResult],
+    errors: &[String],
+) -> Result<PathBuf, Error> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::input(format!("cannot make {}: {e}", dir.display())))?;
+    }
+    let xml = cierva_harness::report::junit::junit_xml(results, errors);
+    std::fs::write(&path, xml)
+        .map_err(|e| Error::input(format!("cannot write {}: {e}", path.display())))?;
+    Ok(path)
+}
+
 /// Every case file found, loaded or the error that stopped it.
 type Loaded = Vec<Result<case::Case, cierva_harness::inputs::yaml::InputError>>;
+
+/// The cases with a check the selection takes (files that did not load stay: their errors are
+/// the run's whatever it selects); an error where it takes none.
+fn selected(loaded: Loaded, selection: &Selection) -> Result<Loaded, Error> {
+    if selection.everything() {
+        return Ok(loaded);
+    }
+    let total: usize = loaded.iter().flatten().map(|c| c.checks.len()).sum();
+    let kept: Loaded = loaded
+        .into_iter()
+        .filter(|c| match c {
+            Ok(case) => case.checks.iter().any(|k| selection.picks(case, k)),
+            Err(_) => true,
+        })
+        .collect();
+    if !kept.iter().any(|c| c.is_ok()) {
+        let asked: Vec<String> = selection
+            .texts
+            .iter()
+            .map(|t| format!("-k `{t}`"))
+            .chain(
+                selection
+                    .classes
+                    .iter()
+                    .map(|c| format!("--class {}", c.name())),
+            )
+            .collect();
+        return Err(Error::input(format!(
+            "no check matches {} among {} (-k matches text in `case-id::check-id`)",
+            asked.join(" "),
+            cierva_harness::units::count(total, "check", "checks")
+        )));
+    }
+    Ok(kept)
+}
 
 /// The corrections files, the cases, the committed scoreboard and the acceptance log.
 type Inputs = (

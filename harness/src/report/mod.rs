@@ -15,6 +15,7 @@
 pub mod figures;
 pub mod fit;
 pub mod generated;
+pub mod junit;
 pub mod plot;
 pub mod quoted;
 pub mod retune;

@@ -205,3 +205,95 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
     assert!(md.contains("6 cases") && md.contains("0 failed"), "{md}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--junit` (issue 50): one testcase per check, the class as the suite, an unexpected pass as
+/// a failure with its numbers and an expected failure as skipped, read by Python's XML parser
+/// (ElementTree, as CI tools read it); `-k` and `--class` pick checks.
+#[test]
+fn junit_xml_has_one_testcase_per_check_and_selection_picks_checks() {
+    crate::external::require_python3();
+    let dir = std::env::temp_dir().join(format!("cierva-junit-{}", std::process::id()));
+    let xml = dir.join("out/junit.xml");
+    let fixture = root().join("harness/tests/fixtures/unexpected-pass.yaml");
+    let mut args = vec!["validate", "--format", "json", "--junit"];
+    let xml_arg = xml.display().to_string();
+    let fixture_arg = fixture.display().to_string();
+    args.extend([xml_arg.as_str(), fixture_arg.as_str()]);
+    args.extend(QUICK_CASES);
+    let (code, out, err) = cierva(&args);
+    assert_eq!(code, 1, "the unexpected pass fails the run: {err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let checks = json["results"].as_array().unwrap().len();
+    let script = format!(
+        "import xml.etree.ElementTree as ET\n\
+         root = ET.parse({xml:?}).getroot()\n\
+         cases = root.findall('./testsuite/testcase')\n\
+         print(len(cases), root.get('tests'), root.get('failures'), root.get('skipped'))\n\
+         print(' '.join(sorted(s.get('name') for s in root.findall('./testsuite'))))\n\
+         bad = root.find(\"./testsuite/testcase[@classname='unexpected-pass']/failure\")\n\
+         print(bad.get('message'))\n\
+         print(bad.text)\n",
+        xml = xml_arg
+    );
+    let py = std::process::Command::new("python3")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    let parsed = String::from_utf8_lossy(&py.stdout).into_owned();
+    assert!(
+        py.status.success(),
+        "{parsed}{}",
+        String::from_utf8_lossy(&py.stderr)
+    );
+    let mut lines = parsed.lines();
+    let counts: Vec<&str> = lines.next().unwrap().split(' ').collect();
+    let expected_failures = json["counts"]["expected_failure"].as_u64().unwrap();
+    assert_eq!(
+        counts,
+        [
+            checks.to_string(),
+            checks.to_string(),
+            "1".to_string(),
+            expected_failures.to_string()
+        ],
+        "{parsed}"
+    );
+    assert_eq!(lines.next().unwrap(), "verification", "{parsed}");
+    assert_eq!(lines.next().unwrap(), "unexpected pass", "{parsed}");
+    // The failure says what the check computed and what was expected.
+    let text: String = lines.collect::<Vec<_>>().join("\n");
+    assert!(text.contains("expected 1.933000e-1"), "{text}");
+    // Selection: the verification checks of one case, by text and class.
+    let (code, out, err) = cierva(&[
+        "validate",
+        "--format",
+        "json",
+        "-k",
+        "seed002-vpm-m16-60kn::",
+        "--class",
+        "verification",
+        QUICK_CASES[0],
+        QUICK_CASES[1],
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let results = json["results"].as_array().unwrap();
+    assert!(!results.is_empty());
+    assert!(
+        results
+            .iter()
+            .all(|r| r["case"] == "seed002-vpm-m16-60kn" && r["class"] == "verification"),
+        "{out}"
+    );
+    // Both quick cases are verification: a class they do not hold picks nothing, and says so.
+    let (code, _, err) = cierva(&["validate", "--class", "validation", QUICK_CASES[0]]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("no check matches --class validation among"),
+        "{err}"
+    );
+    let (code, _, err) = cierva(&["validate", "--class", "crosscode", QUICK_CASES[0]]);
+    assert_eq!(code, 2);
+    assert!(err.contains("did you mean `cross_code`?"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
