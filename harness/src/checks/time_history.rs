@@ -107,25 +107,66 @@ impl Kind for TimeHistoryCheck {
     }
 }
 
-/// The record, whose channels are controls (named in the sidecar) or responses cierva
-/// computes.
+/// The record: its controls (named in the sidecar) and the responses cierva computes
+/// ([`replay::SIGNALS`], converted from other units where the record has them so), which the
+/// check compares; other channels are kept and not compared, the record's notes say which. A
+/// channel a letter or two from a response the record lacks is a misnamed one: an error that
+/// names both, not a response silently left out.
 fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
-    let rec = crate::inputs::record::load_with(&cx.dir.join(file), &["time_s"], true)
-        .map_err(|e| cx.err(".reference", format!("in the referenced record: {e}")))?;
-    for ch in replay::record_signals(&rec) {
-        if !replay::SIGNALS.contains(&ch.as_str()) {
+    let mut rec =
+        crate::inputs::record::load_using(&cx.dir.join(file), &["time_s"], true, &replay::SIGNALS)
+            .map_err(|e| cx.err(".reference", format!("in the referenced record: {e}")))?;
+    let absent: Vec<&str> = replay::SIGNALS
+        .iter()
+        .copied()
+        .filter(|s| rec.channel(s).is_none())
+        .collect();
+    let mut ignored = Vec::new();
+    for ch in &rec.channels {
+        if ch == "time_s"
+            || rec.meta.controls.contains(ch)
+            || replay::SIGNALS.contains(&ch.as_str())
+        {
+            continue;
+        }
+        if let Some(near) = absent
+            .iter()
+            .find(|s| crate::inputs::yaml::edit_distance(ch, s) <= NEAR_MISS_EDITS)
+        {
             return Err(cx.err(
                 ".reference",
                 format!(
-                    "the record's channel `{ch}` is neither a control (the sidecar's `controls`) nor a response cierva computes ({})",
-                    replay::SIGNALS.join(", ")
+                    "the record's channel `{ch}` is neither a control nor a response cierva computes; did you mean `{near}`? (rename it, or map it in the sidecar's `channels:`)"
                 ),
             ));
         }
+        ignored.push(ch.clone());
+    }
+    if !ignored.is_empty() {
+        rec.notes.push(format!(
+            "not compared (neither a control nor a response cierva computes: {}): `{}`",
+            replay::SIGNALS.join(", "),
+            ignored.join("`, `")
+        ));
+    }
+    if replay::record_signals(&rec).is_empty() {
+        return Err(cx.err(
+            ".reference",
+            format!(
+                "the record has none of the responses cierva computes ({}) to compare",
+                replay::SIGNALS.join(", ")
+            ),
+        ));
     }
     replay::record_controls(&rec).map_err(|e| cx.err(".reference", e))?;
     Ok(rec)
 }
+
+/// How many edits away from the name of a response the record lacks a channel is taken for a
+/// misspelling of it (`theta_dg`, `rotor_rmp`) rather than another channel: two, a
+/// transposition or a dropped and a changed letter. A logger's other channels (altitudes,
+/// accelerations, temperatures: `alt_ft`, `nz_g`) lie further from these names.
+const NEAR_MISS_EDITS: usize = 2;
 
 impl Evaluate for TimeHistoryCheck {
     fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {

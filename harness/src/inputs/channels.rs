@@ -35,6 +35,20 @@ pub const CONVERSIONS: &[(&str, &str, f64, &str)] = &[
         "rpm to rad/s",
     ),
     ("_rad", "_deg", std::f64::consts::PI / 180.0, "deg to rad"),
+    // A time history's responses are in degrees and rpm (`crate::run::replay::SIGNALS`).
+    (
+        "_deg_s",
+        "_rad_s",
+        180.0 / std::f64::consts::PI,
+        "rad/s to deg/s",
+    ),
+    ("_deg", "_rad", 180.0 / std::f64::consts::PI, "rad to deg"),
+    (
+        "_rpm",
+        "_rad_s",
+        60.0 / (2.0 * std::f64::consts::PI),
+        "rad/s to rpm",
+    ),
     ("_m_s", "_kn", 1852.0 / 3600.0, "kn to m/s"),
     ("_m_s", "_mph", 0.44704, "mph to m/s"),
     ("_m_s", "_ft_s", 0.3048, "ft/s to m/s"),
@@ -66,7 +80,7 @@ pub struct Plan {
 }
 
 /// The plan for a header (names as written, in today's spelling), the sidecar's map and the
-/// channels asked for. An error is the sidecar's field and what is wrong: a map key that is no
+/// channels asked for (`needed`, then those used where present). An error is the sidecar's field and what is wrong: a map key that is no
 /// column, a name two columns would take, a unit cierva does not know.
 pub fn plan(
     header: &[String],

@@ -182,6 +182,17 @@ pub fn load_with(
     required: &[&str],
     with_controls: bool,
 ) -> Result<Record, InputError> {
+    load_using(csv_path, required, with_controls, &[])
+}
+
+/// [`load_with`], with channels the caller uses where the record has them (`used`: a time
+/// history's responses), converted to their units as the required ones are.
+pub fn load_using(
+    csv_path: &Path,
+    required: &[&str],
+    with_controls: bool,
+    used: &[&str],
+) -> Result<Record, InputError> {
     let side = sidecar_path(csv_path);
     let side_src = yaml::read(&side)?;
     let mut meta: RecordMeta = yaml::parse(&side, &side_src)?;
@@ -210,7 +221,8 @@ pub fn load_with(
         .chain(required.iter().copied().filter(|c| *c != "time_s"))
         .chain(controls.iter().map(String::as_str))
         .collect();
-    let plan = crate::inputs::channels::plan(&written, &meta.channels, &needed)
+    let wanted: Vec<&str> = needed.iter().chain(used).copied().collect();
+    let plan = crate::inputs::channels::plan(&written, &meta.channels, &wanted)
         .map_err(|(field, m)| InputError::field(&side, &side_src, &field, m))?;
     let mut channels = plan.names;
     let mut notes = plan.notes;

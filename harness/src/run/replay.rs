@@ -247,7 +247,7 @@ pub fn record_signals(record: &Record) -> Vec<String> {
     record
         .channels
         .iter()
-        .filter(|c| *c != "time_s" && !record.meta.controls.contains(c))
+        .filter(|c| SIGNALS.contains(&c.as_str()) && !record.meta.controls.contains(c))
         .cloned()
         .collect()
 }

@@ -139,3 +139,108 @@ fn a_bad_channel_map_is_a_located_error() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// The shipped time-history case's linear stick-doublet check, once on its record and once on
+/// the record as a logger might write it: the pitch attitude in radians, the pitch rate as
+/// `PITCH_RATE` in rad/s (mapped), an altitude and a status word beside them. The same numbers,
+/// and the extra channels kept out of the comparison.
+#[test]
+fn a_time_history_check_reads_a_logged_record_as_the_canonical_one() {
+    let dir = scratch("time-history");
+    super::common::new_suite(&dir);
+    for linked in ["aircraft", "flight-refs"] {
+        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
+    }
+    let record = "flight-refs/synthetic-vpm-m16-70mph-stick-doublet";
+    let csv = std::fs::read_to_string(repo_root().join(format!("{record}.csv"))).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (theta, q) = (
+        header.iter().position(|h| *h == "theta_deg").unwrap(),
+        header.iter().position(|h| *h == "q_deg_s").unwrap(),
+    );
+    let mut out = header
+        .iter()
+        .map(|h| match *h {
+            "theta_deg" => "theta_rad",
+            "q_deg_s" => "PITCH_RATE",
+            h => h,
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+        + ",alt_ft,status\n";
+    for line in lines {
+        let fields: Vec<String> = line
+            .split(',')
+            .enumerate()
+            .map(|(k, f)| match k {
+                _ if k == theta || k == q => {
+                    format!("{}", f.parse::<f64>().unwrap().to_radians())
+                }
+                _ => f.to_string(),
+            })
+            .collect();
+        out += &format!("{},1500,GOOD\n", fields.join(","));
+    }
+    std::fs::create_dir_all(dir.join("logged")).unwrap();
+    std::fs::write(dir.join("logged/doublet.csv"), out).unwrap();
+    let side = std::fs::read_to_string(repo_root().join(format!("{record}.yaml"))).unwrap();
+    let id = record.rsplit('/').next().unwrap();
+    std::fs::write(
+        dir.join("logged/doublet.yaml"),
+        side.replacen(&format!("id: {id}"), "id: doublet", 1)
+            + "channels:\n  PITCH_RATE: q_rad_s\n",
+    )
+    .unwrap();
+    let case = std::fs::read_to_string(
+        repo_root().join("cases/synthetic-time-history-vpm-m16-70mph.yaml"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("cases/synthetic-time-history-vpm-m16-70mph.yaml"),
+        case.replace(
+            "../flight-refs/synthetic-vpm-m16-70mph-stick-doublet.csv",
+            "../logged/doublet.csv",
+        ),
+    )
+    .unwrap();
+    let quantities = |dir: &Path| {
+        let (code, out, err) = super::common::cierva_in(
+            dir,
+            &[
+                "validate",
+                "--no-report",
+                "--format",
+                "json",
+                "-k",
+                "synthetic-time-history-vpm-m16-70mph::linear-stick-doublet",
+            ],
+        );
+        assert!(code == 0 || code == 1, "{out}{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let r = v["results"].as_array().unwrap()[0].clone();
+        assert!(r["error"].is_null(), "{r}");
+        r["quantities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|q| {
+                (
+                    q["quantity"].as_str().unwrap().to_string(),
+                    q["value"].as_f64().unwrap(),
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let (canonical, logged) = (quantities(&repo_root()), quantities(&dir));
+    assert_eq!(canonical.len(), logged.len());
+    for ((n, a), (m, b)) in canonical.iter().zip(&logged) {
+        assert_eq!(n, m);
+        // Degrees to radians as the logger's text and back: rounding.
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs().max(1e-12),
+            "{n}: {a} against {b}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
