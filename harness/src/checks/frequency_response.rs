@@ -227,6 +227,10 @@ pub struct FrequencyResponseSpec {
     /// On an aircraft or an external model: the condition its linear model is asked at.
     #[serde(default)]
     pub condition: Option<crate::inputs::condition::TrimRequest>,
+    /// Why the condition or the loading differs from the records' sidecars, where it does on
+    /// purpose (otherwise a difference is an error).
+    #[serde(default)]
+    pub condition_differs_from_record: Option<String>,
 }
 
 impl Kind for FrequencyResponseCheck {
@@ -355,6 +359,15 @@ fn from_records(
         let path = cx.dir.join(file);
         let rec = record::load(&path)
             .map_err(|e| cx.err(&field, format!("in the referenced record: {e}")))?;
+        if let Some(c) = &spec.condition {
+            super::condition_matches_record(
+                cx,
+                &field,
+                c,
+                &rec,
+                spec.condition_differs_from_record.as_deref(),
+            )?;
+        }
         runs.push(run_of(cx, &field, &rec, input, output, conditioned_on)?);
     }
     if let Some(w) = &spec.windows_s

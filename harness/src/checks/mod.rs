@@ -961,6 +961,84 @@ fn check_condition(
     Ok(())
 }
 
+/// How far a check's airspeed may lie from its record's before the two are different flights: 5
+/// % (3 kn at 60 kn; a test point is flown to a knot or two of its target, and the sidecar
+/// states the target or the mean).
+pub const RECORD_AIRSPEED_MATCH: f64 = 0.05;
+/// How far the check's mass may lie from its record's: 5 % (22 kg at 450 kg; an autogyro burns
+/// 15-20 kg of fuel in an hour's sortie).
+pub const RECORD_MASS_MATCH: f64 = 0.05;
+/// How far the check's density altitude may lie from its record's, ft: 1000 ft (about 3 % in
+/// density; a sortie's test points span a few hundred feet).
+pub const RECORD_DENSITY_ALTITUDE_MATCH_FT: f64 = 1000.0;
+/// How far the check's rate of climb may lie from its record's, m/s (a level point is held to
+/// about 100 ft/min).
+pub const RECORD_CLIMB_MATCH_M_S: f64 = 0.5;
+
+/// A check's condition and its subject's loading against a record's sidecar (where the sidecar
+/// states a condition): a difference beyond [`RECORD_AIRSPEED_MATCH`] and the others is an
+/// error at `field` that names both conditions, unless the check says why it differs
+/// (`condition_differs_from_record: REASON`).
+fn condition_matches_record(
+    cx: &Cx,
+    field: &str,
+    condition: &crate::inputs::condition::TrimRequest,
+    record: &crate::inputs::record::Record,
+    differs: Option<&str>,
+) -> Result<(), InputError> {
+    if record.meta.condition.is_empty() || differs.is_some_and(|r| !r.trim().is_empty()) {
+        return Ok(());
+    }
+    let (flown, at) = crate::ident::record_condition(record).map_err(|e| cx.err(field, e))?;
+    let loading = match cx.subject {
+        Subject::Aircraft { loading, .. } => Some(*loading),
+        Subject::External(e) => Some(e.loading),
+        _ => None,
+    };
+    let mut differ = Vec::new();
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-9);
+    if rel(condition.airspeed_mph, flown.airspeed_mph) > RECORD_AIRSPEED_MATCH {
+        differ.push(format!(
+            "airspeed {:.1} mph against the record's {:.1} mph (RECORD_AIRSPEED_MATCH, 5 %)",
+            condition.airspeed_mph, flown.airspeed_mph
+        ));
+    }
+    if (condition.climb_m_s - flown.climb_m_s).abs() > RECORD_CLIMB_MATCH_M_S {
+        differ.push(format!(
+            "climb {} m/s against the record's {} m/s (RECORD_CLIMB_MATCH_M_S, 0.5 m/s)",
+            condition.climb_m_s, flown.climb_m_s
+        ));
+    }
+    if let Some(l) = loading {
+        if let (Some(m), Some(r)) = (l.mass_kg, at.mass_kg)
+            && rel(m, r) > RECORD_MASS_MATCH
+        {
+            differ.push(format!(
+                "mass {m} kg against the record's {r} kg (RECORD_MASS_MATCH, 5 %)"
+            ));
+        }
+        if record.meta.condition.contains_key("density_altitude_ft")
+            && (l.density_altitude_ft - at.density_altitude_ft).abs()
+                > RECORD_DENSITY_ALTITUDE_MATCH_FT
+        {
+            differ.push(format!(
+                "density altitude {} ft against the record's {} ft (RECORD_DENSITY_ALTITUDE_MATCH_FT, 1000 ft)",
+                l.density_altitude_ft, at.density_altitude_ft
+            ));
+        }
+    }
+    if differ.is_empty() {
+        return Ok(());
+    }
+    Err(cx.err(
+        field,
+        format!(
+            "the check is not where its record was flown: {}; fix the condition or the case's loading, or say why they differ with `condition_differs_from_record: REASON`",
+            differ.join("; ")
+        ),
+    ))
+}
+
 /// Whether the subject is an aircraft.
 fn is_aircraft(subject: &Subject) -> bool {
     matches!(subject, Subject::Aircraft { .. })

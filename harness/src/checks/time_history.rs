@@ -42,6 +42,10 @@ pub struct TimeHistorySpec {
     /// Corrections applied to the aircraft first.
     #[serde(default)]
     pub corrections: Option<crate::inputs::corrections::CorrectionSet>,
+    /// Why the check's condition or loading differs from its record's sidecar, where it does
+    /// on purpose (otherwise a difference is an error).
+    #[serde(default)]
+    pub condition_differs_from_record: Option<String>,
 }
 
 impl Kind for TimeHistoryCheck {
@@ -97,8 +101,16 @@ impl Kind for TimeHistoryCheck {
             file.with_corrections(k)
                 .map_err(|e| cx.err(".corrections", e.to_string()))?;
         }
+        let record = load_reference(cx, reference)?;
+        super::condition_matches_record(
+            cx,
+            ".condition",
+            &condition,
+            &record,
+            spec.condition_differs_from_record.as_deref(),
+        )?;
         Ok(Self {
-            reference: Box::new(load_reference(cx, reference)?),
+            reference: Box::new(record),
             condition,
             simulation,
             azimuth_step_deg: spec.azimuth_step_deg,

@@ -244,3 +244,51 @@ fn a_time_history_check_reads_a_logged_record_as_the_canonical_one() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A check flown where its record was not (issue 50): the shipped time-history case asked at
+/// 80 mph and 300 kg against its record's 70 mph and 450 kg is an input error that names both
+/// conditions, located at the check; a check that says why it differs runs.
+#[test]
+fn a_check_where_its_record_was_not_flown_is_refused_with_both_conditions() {
+    let dir = scratch("condition");
+    super::common::new_suite(&dir);
+    for linked in ["aircraft", "flight-refs"] {
+        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
+    }
+    let case = std::fs::read_to_string(
+        repo_root().join("cases/synthetic-time-history-vpm-m16-70mph.yaml"),
+    )
+    .unwrap();
+    let path = dir.join("cases/synthetic-time-history-vpm-m16-70mph.yaml");
+    let moved = case
+        .replacen(
+            "condition: {airspeed_mph: 70.0}",
+            "condition: {airspeed_mph: 80.0}",
+            1,
+        )
+        .replacen("mass_kg: 450.0", "mass_kg: 300.0", 1);
+    std::fs::write(&path, &moved).unwrap();
+    let e = cierva_harness::suite::case::load(&path)
+        .unwrap_err()
+        .render();
+    for said in [
+        "airspeed 80.0 mph against the record's 70.0 mph (RECORD_AIRSPEED_MATCH, 5 %)",
+        "mass 300 kg against the record's 450 kg (RECORD_MASS_MATCH, 5 %)",
+        "condition_differs_from_record",
+        "checks[0].condition",
+    ] {
+        assert!(e.contains(said), "`{said}` not in:\n{e}");
+    }
+    let said_why = moved.replacen(
+        "    condition: {airspeed_mph: 80.0}",
+        "    condition: {airspeed_mph: 80.0}\n    condition_differs_from_record: the test's own",
+        1,
+    );
+    let said_why = said_why.replace(
+        "condition: {airspeed_mph: 70.0}",
+        "condition: {airspeed_mph: 70.0}\n    condition_differs_from_record: the test's own (the case's mass is not the record's)",
+    );
+    std::fs::write(&path, said_why).unwrap();
+    cierva_harness::suite::case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+    let _ = std::fs::remove_dir_all(&dir);
+}
