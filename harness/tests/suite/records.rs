@@ -73,6 +73,17 @@ fn logged(dir: &Path, map: &str) -> PathBuf {
     dir.join("logged.csv")
 }
 
+/// A new suite in a scratch folder with the repository's `aircraft/` and `flight-refs/` linked
+/// beside its cases (their relative paths).
+fn linked_suite(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    super::common::new_suite(&dir);
+    for linked in ["aircraft", "flight-refs"] {
+        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
+    }
+    dir
+}
+
 const MAP: &str = "channels:\n  PITCH: theta_deg\n  NR: omega_rotor_rpm\n";
 
 #[test]
@@ -146,11 +157,7 @@ fn a_bad_channel_map_is_a_located_error() {
 /// and the extra channels kept out of the comparison.
 #[test]
 fn a_time_history_check_reads_a_logged_record_as_the_canonical_one() {
-    let dir = scratch("time-history");
-    super::common::new_suite(&dir);
-    for linked in ["aircraft", "flight-refs"] {
-        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
-    }
+    let dir = linked_suite("time-history");
     let record = "flight-refs/synthetic-vpm-m16-70mph-stick-doublet";
     let csv = std::fs::read_to_string(repo_root().join(format!("{record}.csv"))).unwrap();
     let mut lines = csv.lines();
@@ -250,11 +257,7 @@ fn a_time_history_check_reads_a_logged_record_as_the_canonical_one() {
 /// conditions, located at the check; a check that says why it differs runs.
 #[test]
 fn a_check_where_its_record_was_not_flown_is_refused_with_both_conditions() {
-    let dir = scratch("condition");
-    super::common::new_suite(&dir);
-    for linked in ["aircraft", "flight-refs"] {
-        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
-    }
+    let dir = linked_suite("condition");
     let case = std::fs::read_to_string(
         repo_root().join("cases/synthetic-time-history-vpm-m16-70mph.yaml"),
     )
