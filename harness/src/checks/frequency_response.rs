@@ -913,6 +913,12 @@ impl Responses {
     }
 }
 
+/// What a model's responses from its own `A` and `B` are, in words (a model behind the model
+/// interface).
+pub fn from_a_and_b(model: &dyn crate::external::FlightModel) -> String {
+    format!("the A and B {} gives", model.describe())
+}
+
 /// What an aircraft's responses with its rotor's flapping states are, in words.
 pub const WITH_FLAPPING: &str =
     "the linearisation with the rotor's flapping states, baseband response by harmonic balance";

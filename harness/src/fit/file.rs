@@ -1024,7 +1024,7 @@ pub fn corrections_file(
     id: &str,
     command: &str,
 ) -> crate::inputs::corrections::CorrectionsFileSpec {
-    use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec, Corrects};
+    use crate::inputs::corrections::{AppliesTo, CorrectionsFileSpec};
     let r = &run.result;
     let se: serde_json::Map<String, serde_json::Value> = r
         .parameters
@@ -1035,20 +1035,7 @@ pub fn corrections_file(
     CorrectionsFileSpec {
         id: id.to_string(),
         title: format!("Corrections fitted by {}: {}", f.id, f.title),
-        applies_to: match &f.applies_to {
-            Corrects::Aircraft(a) => AppliesTo {
-                aircraft: Some(a.clone()),
-                ..AppliesTo::default()
-            },
-            Corrects::Rotor(a) => AppliesTo {
-                rotor: Some(a.clone()),
-                ..AppliesTo::default()
-            },
-            Corrects::Model(m) => AppliesTo {
-                model: Some(m.clone()),
-                ..AppliesTo::default()
-            },
-        },
+        applies_to: AppliesTo::from(&f.applies_to),
         corrections: r.corrections(),
         provenance: Provenance {
             source: format!(

@@ -707,7 +707,7 @@ fn on_model(
         let responses = if frequencies.is_empty() {
             None
         } else {
-            let from = format!("the A and B {} gives", model.describe());
+            let from = crate::checks::frequency_response::from_a_and_b(model);
             Some(
                 crate::checks::frequency_response::Responses::of_linear_model(
                     &lin,

@@ -369,6 +369,26 @@ pub enum Corrects {
     Model(String),
 }
 
+impl From<&Corrects> for AppliesTo {
+    /// What a corrections file writes for what it corrects.
+    fn from(c: &Corrects) -> Self {
+        match c {
+            Corrects::Aircraft(a) => AppliesTo {
+                aircraft: Some(a.clone()),
+                ..AppliesTo::default()
+            },
+            Corrects::Rotor(r) => AppliesTo {
+                rotor: Some(r.clone()),
+                ..AppliesTo::default()
+            },
+            Corrects::Model(m) => AppliesTo {
+                model: Some(m.clone()),
+                ..AppliesTo::default()
+            },
+        }
+    }
+}
+
 /// A loaded, checked corrections file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CorrectionsFile {

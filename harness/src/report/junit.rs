@@ -16,27 +16,24 @@ use std::fmt::Write as _;
 /// The run's checks and input errors as a JUnit XML document.
 pub fn junit_xml(results: &[CheckResult], input_errors: &[String]) -> String {
     let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let (failures, errors, skipped) = tally(results.iter());
     let _ = writeln!(
         s,
-        "<testsuites name=\"cierva validate\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">",
+        "<testsuites name=\"cierva validate\" tests=\"{}\" failures=\"{failures}\" errors=\"{}\" skipped=\"{skipped}\">",
         results.len() + input_errors.len(),
-        tally(results.iter()).0,
-        tally(results.iter()).1 + input_errors.len(),
-        tally(results.iter()).2,
+        errors + input_errors.len(),
     );
     for class in CheckClass::ALL {
         let of: Vec<&CheckResult> = results.iter().filter(|r| r.class == class).collect();
         if of.is_empty() {
             continue;
         }
+        let (failures, errors, skipped) = tally(of.iter().copied());
         let _ = writeln!(
             s,
-            "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">",
+            "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" skipped=\"{skipped}\">",
             class.name(),
             of.len(),
-            tally(of.iter().copied()).0,
-            tally(of.iter().copied()).1,
-            tally(of.iter().copied()).2,
         );
         for r in of {
             let open = format!(

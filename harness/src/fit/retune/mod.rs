@@ -223,7 +223,10 @@ pub fn retune(
             crate::checks::frequency_response::COHERENCE_MIN
         ));
     }
-    let model = retuned.model_words();
+    // Which model gave the responses, as they say (every condition's come from one model).
+    let model = models
+        .first()
+        .map_or(String::new(), |(_, m)| m.model().to_string());
     let problem = Problem {
         subject: retuned.fit_subject(),
         parameters,
@@ -319,7 +322,7 @@ pub fn corrections_file(
     CorrectionsFileSpec {
         id: id.to_string(),
         title: format!("Corrections of {title} retuned from flight records"),
-        applies_to: retuned.applies_to(),
+        applies_to: (&retuned.corrects()).into(),
         corrections: r.result.corrections(),
         provenance: crate::inputs::reference::Provenance {
             source: format!(

@@ -9,7 +9,7 @@ use super::{RetuneParameter, responses};
 use crate::checks::frequency_response::Responses;
 use crate::fit::{FitParameter, FitSubject, ParameterKind, TargetCondition};
 use crate::inputs::aircraft::AircraftFile;
-use crate::inputs::corrections::{AppliesTo, CorrectionSet, Corrects};
+use crate::inputs::corrections::{CorrectionSet, Corrects};
 
 /// What a retune corrects.
 #[derive(Debug, Clone, Copy)]
@@ -37,24 +37,6 @@ impl Retuned<'_> {
         }
     }
 
-    /// [`Self::corrects`] as a corrections file writes it.
-    pub fn applies_to(&self) -> AppliesTo {
-        match self.corrects() {
-            Corrects::Aircraft(a) => AppliesTo {
-                aircraft: Some(a),
-                ..AppliesTo::default()
-            },
-            Corrects::Rotor(r) => AppliesTo {
-                rotor: Some(r),
-                ..AppliesTo::default()
-            },
-            Corrects::Model(m) => AppliesTo {
-                model: Some(m),
-                ..AppliesTo::default()
-            },
-        }
-    }
-
     /// The fit's subject.
     pub fn fit_subject(&self) -> FitSubject {
         match self {
@@ -64,23 +46,6 @@ impl Retuned<'_> {
             Self::Model(e) => FitSubject::Model {
                 model: e.model.clone(),
             },
-        }
-    }
-
-    /// Which model gives the responses, in words.
-    pub fn model_words(&self) -> String {
-        match self {
-            Self::Aircraft(f) => {
-                let teetering = f.aircraft.main_rotor.rotor.hub
-                    == cierva_model::components::rotor::Hub::Teetering;
-                if teetering {
-                    crate::checks::frequency_response::WITH_FLAPPING
-                } else {
-                    crate::checks::frequency_response::QUASI_STATIC
-                }
-                .to_string()
-            }
-            Self::Model(e) => format!("the A and B {} gives", e.model.describe()),
         }
     }
 
@@ -149,14 +114,15 @@ impl Retuned<'_> {
                 values.apply_to_aircraft(&mut a)?;
                 responses::model_responses(&a, estimated, neighbourhood)
             }
-            Self::Model(_) => {
+            Self::Model(e) => {
                 let conditions = responses::frequencies_by_condition(estimated, neighbourhood);
                 crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
                     let TargetCondition::Flight(request, loading) = *c else {
                         return Err("a retune's condition is a flight condition".to_string());
                     };
                     let lin = self.linear_model(values, request, loading)?;
-                    Responses::of_linear_model(&lin, frequencies, self.model_words())
+                    let from = crate::checks::frequency_response::from_a_and_b(e.model.as_ref());
+                    Responses::of_linear_model(&lin, frequencies, from)
                         .map(|m| (*c, m))
                         .map_err(|e| format!("at {}: {e}", c.label()))
                 })
