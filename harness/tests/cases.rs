@@ -361,12 +361,13 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
             .with_kind("regression"),
         );
     }
-    for snap in snapshots::of_case(case) {
+    for snap in cierva_harness::suite::snapshots::of_case(case) {
         let ev = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::snapshot-{}", case.id, snap.what), move || {
                 let c = &ev.case;
-                snapshot(c, &snap.what, snap.render(c))
+                let body = snap.compute(c).map(|x| snapshots::render(&x));
+                snapshot(c, &snap.what, body)
             })
             .with_kind("snapshot"),
         );

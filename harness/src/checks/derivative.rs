@@ -81,14 +81,13 @@ impl Kind for DerivativeCheck {
             }
         };
         if let Some(k) = &spec.corrections {
-            let Subject::Aircraft { file, .. } = cx.subject else {
+            let Some((model, _)) = super::flight_model(cx.subject) else {
                 return Err(cx.err(
                     ".corrections",
-                    "`corrections` apply to a case whose model is an aircraft",
+                    "`corrections` apply to a case whose model is an aircraft or an external model",
                 ));
             };
-            file.with_corrections(k)
-                .map_err(|e| cx.err(".corrections", e.to_string()))?;
+            crate::external::corrected(model.as_ref(), k).map_err(|e| cx.err(".corrections", e))?;
         }
         let magnitude = Q::MagnitudeChange.name();
         if spec.corrections.is_none() && written.expect.contains_key(magnitude) {
@@ -100,13 +99,22 @@ impl Kind for DerivativeCheck {
         if spec.divided_by.is_some() && written.expect.keys().any(|q| q != Q::Value.name()) {
             return Err(cx.err(".divided_by", "a ratio of derivatives has only a `value`"));
         }
+        let computed_here = |q: &str| {
+            q == Q::Value.name()
+                || (q == Q::MagnitudeChange.name() && super::is_flight_model(cx.subject))
+        };
         if !is_aircraft(cx.subject)
-            && let Some(q) = written.expect.keys().find(|q| *q != Q::Value.name())
+            && let Some(q) = written.expect.keys().find(|q| !computed_here(q))
         {
             return Err(cx.err(
                 &format!(".expect.{q}"),
                 format!(
-                    "`{q}` (a component of the derivative) is computed for aircraft cases only; this case computes [value]"
+                    "`{q}` (a component of the derivative) is computed for aircraft cases only (a model behind the model interface gives its linear model whole); this case computes [{}]",
+                    if super::is_flight_model(cx.subject) {
+                        "value, magnitude_change"
+                    } else {
+                        "value"
+                    }
                 ),
             ));
         }
@@ -354,14 +362,13 @@ impl OnLinear for DerivativeCheck {
     fn of_linearisation(
         &self,
         q: &str,
-        lin: &cierva_model::aircraft::linearise::Linearised,
-        uncorrected: &dyn Fn(&str) -> Result<f64, String>,
+        at: &linear::AtCondition<'_>,
     ) -> Option<Result<f64, String>> {
         let d = &self.derivative;
         if q == Q::MagnitudeChange.name() {
             return Some((|| {
-                let b = uncorrected(d)?;
-                let c = lin.model.derivative_value(d).map_err(|e| e.to_string())?;
+                let b = at.uncorrected(d)?;
+                let c = at.linear.derivative_value(d).map_err(|e| e.to_string())?;
                 Ok((c.abs() - b.abs()) / b.abs())
             })());
         }
@@ -369,8 +376,7 @@ impl OnLinear for DerivativeCheck {
             return None;
         }
         Some((|| {
-            let parts = lin.breakdown(d).map_err(|e| e.to_string())?;
-            parts
+            at.breakdown(d)?
                 .iter()
                 .find(|(c, _)| c == q)
                 .map(|(_, v)| *v)

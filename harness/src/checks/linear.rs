@@ -254,19 +254,14 @@ pub trait OnLinear {
         unmodified: &LinearModel,
         expectations: &[Expectation],
     ) -> Result<Computed, String>;
-    /// A quantity of a linearised aircraft that is not a value of its model (a derivative's
-    /// components): `None` when `q` is computed by [`OnLinear::compute`]. `uncorrected` gives
-    /// a derivative of the aircraft linearised without the check's corrections.
-    fn of_linearisation(
-        &self,
-        _q: &str,
-        _lin: &cierva_model::aircraft::linearise::Linearised,
-        _uncorrected: &dyn Fn(&str) -> Result<f64, String>,
-    ) -> Option<Result<f64, String>> {
+    /// A quantity of a flight model's linearisation that is not a value of the check's model
+    /// (a derivative's components, its change under the check's corrections): `None` when `q`
+    /// is computed by [`OnLinear::compute`].
+    fn of_linearisation(&self, _q: &str, _at: &AtCondition<'_>) -> Option<Result<f64, String>> {
         None
     }
-    /// On a linearised aircraft, the trivial predictors that need its model (which loading
-    /// does not build: an aircraft is trimmed only when the check runs): the first that passes
+    /// On a flight model's linear model, the trivial predictors that need it (which loading
+    /// does not build: a model is asked only when the check runs): the first that passes
     /// an expectation, as the refusal's reason. `own` is the eigenvalue of the mode the check
     /// selected (by continuity where the model does not classify it), which is no neighbour of
     /// itself. None by default.
@@ -284,59 +279,87 @@ pub trait OnLinear {
     }
 }
 
-/// Evaluates a check on a linear model, or on its case's aircraft linearised at its condition.
+/// A flight model's linearisation at a check's condition, as a check's quantities beyond its
+/// model's values ask it ([`OnLinear::of_linearisation`]).
+pub struct AtCondition<'a> {
+    /// The model with the check's corrections.
+    pub model: &'a dyn crate::external::FlightModel,
+    /// The model without them.
+    pub uncorrected: &'a dyn crate::external::FlightModel,
+    pub request: &'a crate::external::Request,
+    /// `model`'s linear model at `request`.
+    pub linear: &'a LinearModel,
+}
+
+impl AtCondition<'_> {
+    /// A derivative's contributions by component ([`crate::external::FlightModel::components`]).
+    pub fn breakdown(&self, derivative: &str) -> Result<Vec<(String, f64)>, String> {
+        let e = self
+            .linear
+            .derivative(derivative)
+            .map_err(|e| e.to_string())?;
+        Ok(self
+            .model
+            .components(self.request)?
+            .iter()
+            .map(|(c, m)| (c.clone(), m.get(e)))
+            .collect())
+    }
+
+    /// A derivative of the model without the check's corrections.
+    pub fn uncorrected(&self, derivative: &str) -> Result<f64, String> {
+        self.uncorrected
+            .linear_model(self.request)?
+            .derivative_value(derivative)
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// Evaluates a check on a linear model, or on its case's flight model (cierva's aircraft or
+/// another simulation, [`super::flight_model`]) linearised at its condition.
 pub fn evaluate<K: OnLinear>(
     k: &K,
     at: &At,
     expectations: &[Expectation],
 ) -> Result<Evaluated, String> {
-    match at.subject {
-        Subject::Linear { model, .. } => on_model(k, model, expectations),
-        Subject::Aircraft { file, loading } => on_aircraft(k, at, file, *loading, expectations),
-        Subject::External(e) => on_external(k, e, expectations),
-        _ => Err("a check on a linear model needs a linear model or an aircraft".into()),
+    if let Subject::Linear { model, .. } = at.subject {
+        return on_model(k, model, expectations, None);
     }
-}
-
-/// On an external model: its linear model at the check's condition, checked as a given linear
-/// model is (its printed matrices may carry a `rounding` tolerance).
-fn on_external<K: OnLinear>(
-    k: &K,
-    e: &crate::external::External,
-    expectations: &[Expectation],
-) -> Result<Evaluated, String> {
-    let request = k
+    let (plain, loading) = super::flight_model(at.subject).ok_or(
+        "a check on a linear model needs a linear model, an aircraft or an external model",
+    )?;
+    let condition = k
         .setup()
         .condition
-        .ok_or("a check on an external model's linear model needs a condition")?;
-    let full = e
-        .model
-        .linear_model(&crate::external::Request::at(request, e.loading))?;
-    let model = if k.longitudinal() {
+        .ok_or("a check on a flight model's linear model needs a condition")?;
+    let request = crate::external::Request::at(condition, loading);
+    let corrected;
+    let model: &dyn crate::external::FlightModel = match k.corrections() {
+        Some(c) => {
+            corrected = crate::external::corrected(plain.as_ref(), c)?;
+            corrected.as_ref()
+        }
+        None => plain.as_ref(),
+    };
+    let full = model.linear_model(&request)?;
+    let linear = if let Some(setup) = k.setup().as_identified {
+        model.identified_in_band(&request, setup)?
+    } else if k.longitudinal() {
         longitudinal(&full)?
     } else {
-        full
+        full.clone()
     };
-    let base = prepare(&model, k.setup())?;
-    let nominal = k.compute(&base, None, &model, expectations)?;
-    if let Some(reason) = k.refused_on(&model, nominal.anchor, expectations) {
-        return Err(format!(
-            "refused when it ran (the model's modes come with its answer): {reason}"
-        ));
-    }
-    let mut out = Vec::new();
-    for x in expectations {
-        let value = nominal.get(&x.quantity)?;
-        out.push(compare(x, value, || {
-            propagated_rounding(&model, k, &nominal, expectations, x)
-        })?);
-    }
-    Ok(Evaluated {
-        verdict: verdict_pair(k.verdict(), &nominal)?,
-        plot: modes_plot(&model, &base, k, nominal.anchor),
-        fingerprint: k.fingerprint(&nominal),
-        ..Evaluated::of(out)
-    })
+    let at_condition = AtCondition {
+        model,
+        uncorrected: plain.as_ref(),
+        request: &request,
+        linear: &full,
+    };
+    let follow = || -> Result<LinearModel, String> {
+        neighbour_for_continuity(at.siblings, condition, k.mode(), model, loading)?
+            .ok_or_else(|| "no other airspeed of the case classifies it".to_string())
+    };
+    on_model(k, &linear, expectations, Some((&at_condition, &follow)))
 }
 
 /// The longitudinal subsystem of a model with cierva's names (as
@@ -359,16 +382,37 @@ fn longitudinal(model: &LinearModel) -> Result<LinearModel, String> {
     .map_err(|e| e.to_string())
 }
 
+/// A check on `model`; on a flight model's linear model (`flight`), with its linearisation and
+/// where to follow an unclassified mode from (the nearest airspeed of the case that classifies
+/// it, [`neighbour_for_continuity`]).
+#[allow(clippy::type_complexity)]
 fn on_model<K: OnLinear>(
     k: &K,
     model: &LinearModel,
     expectations: &[Expectation],
+    flight: Option<(&AtCondition<'_>, &dyn Fn() -> Result<LinearModel, String>)>,
 ) -> Result<Evaluated, String> {
     let base = prepare(model, k.setup())?;
-    let nominal = k.compute(&base, None, model, expectations)?;
+    let nominal = match (k.compute(&base, None, model, expectations), flight) {
+        (Err(e), Some((_, follow))) if e.starts_with(UNCLASSIFIED) && k.setup().set.is_empty() => {
+            let from = follow().map_err(|why| format!("{e}; and {why}"))?;
+            k.compute(&base, None, &from, expectations)?
+        }
+        (other, _) => other?,
+    };
+    if flight.is_some()
+        && let Some(reason) = k.refused_on(model, nominal.anchor, expectations)
+    {
+        return Err(format!(
+            "refused when it ran (a flight model's modes come with its linear model): {reason}"
+        ));
+    }
     let mut out = Vec::new();
     for e in expectations {
-        let value = nominal.get(&e.quantity)?;
+        let value = match flight.and_then(|(lin, _)| k.of_linearisation(&e.quantity, lin)) {
+            Some(v) => v?,
+            None => nominal.get(&e.quantity)?,
+        };
         out.push(compare(e, value, || {
             propagated_rounding(model, k, &nominal, expectations, e)
         })?);
@@ -376,71 +420,6 @@ fn on_model<K: OnLinear>(
     Ok(Evaluated {
         verdict: verdict_pair(k.verdict(), &nominal)?,
         plot: modes_plot(model, &base, k, nominal.anchor),
-        fingerprint: k.fingerprint(&nominal),
-        ..Evaluated::of(out)
-    })
-}
-
-fn on_aircraft<K: OnLinear>(
-    k: &K,
-    at: &At,
-    plain: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::inputs::condition::Loading,
-    expectations: &[Expectation],
-) -> Result<Evaluated, String> {
-    let request = k
-        .setup()
-        .condition
-        .ok_or("a check on the linearised aircraft needs a condition")?;
-    let corrected;
-    let file = match k.corrections() {
-        Some(c) => {
-            corrected = plain.with_corrections(c).map_err(|e| e.to_string())?;
-            &corrected
-        }
-        None => plain,
-    };
-    let lin = crate::run::linearise::linearise_cached(file, request, loading)?;
-    let model = if let Some(setup) = k.setup().as_identified {
-        crate::run::linearise::identified_in_band_cached(file, request, loading, setup)?
-            .as_ref()
-            .clone()
-    } else if k.longitudinal() {
-        lin.1.longitudinal().map_err(|e| e.to_string())?
-    } else {
-        lin.1.model.clone()
-    };
-    let base = prepare(&model, k.setup())?;
-    let nominal = match k.compute(&base, None, &model, expectations) {
-        Err(e) if e.starts_with(UNCLASSIFIED) && k.setup().set.is_empty() => {
-            // Follow the mode from the nearest airspeed of the case where it is classified
-            // (see `neighbour_for_continuity`).
-            let from = neighbour_for_continuity(at.siblings, request, k.mode(), file, loading)?
-                .ok_or_else(|| format!("{e}; and no other airspeed of the case classifies it"))?;
-            k.compute(&base, None, &from, expectations)?
-        }
-        other => other?,
-    };
-    if let Some(reason) = k.refused_on(&model, nominal.anchor, expectations) {
-        return Err(format!(
-            "refused when it ran (the aircraft's modes need its trim): {reason}"
-        ));
-    }
-    let uncorrected = |d: &str| -> Result<f64, String> {
-        let base = crate::run::linearise::linearise_cached(plain, request, loading)?;
-        base.1.model.derivative_value(d).map_err(|e| e.to_string())
-    };
-    let mut out = Vec::new();
-    for e in expectations {
-        let value = match k.of_linearisation(&e.quantity, &lin.1, &uncorrected) {
-            Some(v) => v?,
-            None => nominal.get(&e.quantity)?,
-        };
-        out.push(compare(e, value, || Ok(0.0))?);
-    }
-    Ok(Evaluated {
-        verdict: verdict_pair(k.verdict(), &nominal)?,
-        plot: modes_plot(&model, &base, k, nominal.anchor),
         fingerprint: k.fingerprint(&nominal),
         ..Evaluated::of(out)
     })
@@ -458,7 +437,7 @@ fn neighbour_for_continuity(
     siblings: &[Check],
     here: crate::inputs::condition::TrimRequest,
     mode: Option<(ModeKind, System)>,
-    file: &crate::inputs::aircraft::AircraftFile,
+    model: &dyn crate::external::FlightModel,
     loading: crate::inputs::condition::Loading,
 ) -> Result<Option<LinearModel>, String> {
     let Some((kind, system)) = mode else {
@@ -478,11 +457,11 @@ fn neighbour_for_continuity(
     });
     others.dedup();
     for request in others {
-        let lin = crate::run::linearise::linearise_cached(file, request, loading)?;
-        let sys = system_model(&lin.1.model, system)?;
+        let lin = model.linear_model(&crate::external::Request::at(request, loading))?;
+        let sys = system_model(&lin, system)?;
         let analysis = modes::modes(&sys).map_err(|e| e.to_string())?;
         if analysis.of_kind(kind).count() == 1 {
-            return Ok(Some(lin.1.model.clone()));
+            return Ok(Some(lin));
         }
     }
     Ok(None)

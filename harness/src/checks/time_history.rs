@@ -231,14 +231,7 @@ impl Evaluate for TimeHistoryCheck {
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
-        let (metrics, flown) = match at.subject {
-            Subject::Aircraft { file, loading } => time_history_metrics(file, *loading, self)?,
-            _ => {
-                let (model, loading) = super::flight_model(at.subject)
-                    .ok_or("a time_history check needs an aircraft or an external model")?;
-                fly_model(model.as_ref(), loading, self, true)?
-            }
-        };
+        let (metrics, flown) = self.flown(at.subject)?;
         let values: Vec<(String, f64)> = metrics
             .iter()
             .flat_map(|m| {
@@ -256,6 +249,22 @@ impl Evaluate for TimeHistoryCheck {
 }
 
 impl TimeHistoryCheck {
+    /// The record flown by `subject`'s flight model (cierva's aircraft by the check's
+    /// simulation, with its corrections), compared response by response; and the flight.
+    pub fn flown(
+        &self,
+        subject: &Subject,
+    ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
+        match subject {
+            Subject::Aircraft { file, loading } => time_history_metrics(file, *loading, self),
+            _ => {
+                let (model, loading) = super::flight_model(subject)
+                    .ok_or("a time_history check needs an aircraft or an external model")?;
+                fly_model(model.as_ref(), loading, self, true)
+            }
+        }
+    }
+
     /// The reference and flown responses, with the largest-error tolerance of each signal
     /// where it is absolute.
     fn plot(&self, expectations: &[Expectation], flown: &replay::Replayed) -> Option<PlotData> {
@@ -294,24 +303,24 @@ pub fn time_history_metrics(
     loading: crate::inputs::condition::Loading,
     check: &TimeHistoryCheck,
 ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
-    let corrected;
-    let file = match &check.corrections {
-        Some(c) => {
-            corrected = file.with_corrections(c).map_err(|e| e.to_string())?;
-            &corrected
-        }
-        None => file,
-    };
     let step = check.azimuth_step_deg.map_or(
         file.aircraft.main_rotor.numerics.azimuth_step_rad,
         f64::to_radians,
     );
-    let model = crate::external::CiervaAircraft {
-        file,
+    let plain = crate::external::CiervaAircraft {
+        file: std::borrow::Cow::Borrowed(file),
         simulation: check.simulation,
         azimuth_step_rad: step,
     };
-    fly_model(&model, loading, check, false)
+    let corrected;
+    let model: &dyn crate::external::FlightModel = match &check.corrections {
+        Some(c) => {
+            corrected = crate::external::corrected(&plain, c)?;
+            corrected.as_ref()
+        }
+        None => &plain,
+    };
+    fly_model(model, loading, check, false)
 }
 
 /// A `time_history` check's record flown by any flight model, compared response by response.

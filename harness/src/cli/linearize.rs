@@ -103,7 +103,7 @@ pub(crate) fn linearize(a: LinearizeArgs) -> Result<ExitCode, Error> {
             println!("\nprimary derivatives by component (SI; controls per % of travel):");
             print!(
                 "{}",
-                tables::breakdown_table(&lin, tables::PRIMARY_DERIVATIVES)
+                tables::breakdown_table(&lin.model, &lin.components, tables::PRIMARY_DERIVATIVES)
             );
             match cierva_model::modes(&lin.model) {
                 Ok(a) => {

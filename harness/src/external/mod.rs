@@ -191,13 +191,96 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
     ) -> Result<Replayed, String> {
         Err(not_provided(&self.describe(), "a time history"))
     }
+
+    /// Every state's response to every control about its trim at the request, at each of
+    /// `frequencies_hz`: by default from its linear model's A and B
+    /// ([`crate::run::responses::Responses::of_linear_model`]); a model with a
+    /// better linearisation for it says so here (cierva's aircraft with a teetering rotor: with
+    /// its flapping states, by harmonic balance).
+    fn responses(
+        &self,
+        request: &Request,
+        frequencies_hz: &[f64],
+    ) -> Result<crate::run::responses::Responses, String> {
+        crate::run::responses::Responses::of_linear_model(
+            &self.linear_model(request)?,
+            frequencies_hz,
+            crate::run::responses::from_a_and_b(&self.describe()),
+        )
+    }
+
+    /// Its linear model at the request split by component (rotor, propeller, airframe...),
+    /// the parts adding up to [`FlightModel::linear_model`]: what a derivative check's
+    /// components compare.
+    fn components(&self, _request: &Request) -> Result<Vec<(String, LinearModel)>, String> {
+        Err(not_provided(
+            &self.describe(),
+            "its linear model split by component",
+        ))
+    }
+
+    /// The derivatives `setup` identifies from its linearisation with its rotor's flapping
+    /// states over the set-up's band: what the identification of a flight of the model should
+    /// find (a derivative check's `as_identified`).
+    fn identified_in_band(
+        &self,
+        _request: &Request,
+        _setup: crate::ident::Setup,
+    ) -> Result<LinearModel, String> {
+        Err(not_provided(
+            &self.describe(),
+            "a linearisation with its rotor's flapping states (which `as_identified` identifies from)",
+        ))
+    }
+
+    /// The model with a check's corrections applied, where it applies them its own way
+    /// (cierva's aircraft takes every correction its file has); `None`, the default: it takes
+    /// them as values of the parameters it declares ([`corrected`]).
+    fn corrected<'s>(
+        &'s self,
+        _corrections: &crate::inputs::corrections::CorrectionSet,
+    ) -> Result<Option<Box<dyn FlightModel + 's>>, String> {
+        Ok(None)
+    }
+}
+
+/// `model` with a check's corrections applied: its own way ([`FlightModel::corrected`]), or
+/// as values of the parameters it declares (the set's `parameters:`, checked against them).
+pub fn corrected<'s>(
+    model: &'s dyn FlightModel,
+    corrections: &crate::inputs::corrections::CorrectionSet,
+) -> Result<Box<dyn FlightModel + 's>, String> {
+    if let Some(own) = model.corrected(corrections)? {
+        return Ok(own);
+    }
+    let only_declared = crate::inputs::corrections::CorrectionSet {
+        parameters: corrections.parameters.clone(),
+        ..Default::default()
+    };
+    if *corrections != only_declared {
+        return Err(format!(
+            "{} takes corrections as values of the parameters it declares (`parameters:` of \
+             the corrections), not as {}",
+            model.describe(),
+            corrections.describe()
+        ));
+    }
+    check_values(
+        &model.describe(),
+        &model.parameters()?,
+        &corrections.parameters,
+    )?;
+    Ok(Box::new(WithValues {
+        model,
+        values: corrections.parameters.clone(),
+    }))
 }
 
 /// cierva's own aircraft at a loading, flown by `simulation` at `azimuth_step_rad` (the full
 /// blade model's step).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct CiervaAircraft<'a> {
-    pub file: &'a crate::inputs::aircraft::AircraftFile,
+    pub file: Cow<'a, crate::inputs::aircraft::AircraftFile>,
     pub simulation: Simulation,
     pub azimuth_step_rad: f64,
 }
@@ -206,7 +289,7 @@ impl<'a> CiervaAircraft<'a> {
     /// The aircraft, flown by the full blade model at its file's azimuth step.
     pub fn new(file: &'a crate::inputs::aircraft::AircraftFile) -> Self {
         Self {
-            file,
+            file: Cow::Borrowed(file),
             simulation: Simulation::FullBlade,
             azimuth_step_rad: file.aircraft.main_rotor.numerics.azimuth_step_rad,
         }
@@ -221,10 +304,10 @@ impl CiervaAircraft<'_> {
         values: &Values,
     ) -> Result<Cow<'_, crate::inputs::aircraft::AircraftFile>, String> {
         if values.is_empty() {
-            return Ok(Cow::Borrowed(self.file));
+            return Ok(Cow::Borrowed(&*self.file));
         }
         check_values(&self.describe(), &self.parameters()?, values)?;
-        let mut f = self.file.clone();
+        let mut f = self.file.as_ref().clone();
         for (name, &v) in values {
             crate::inputs::parameters::set_parameter(&mut f.aircraft, name, v)
                 .ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
@@ -241,6 +324,33 @@ impl CiervaAircraft<'_> {
             )
         })?;
         Ok(Cow::Owned(f))
+    }
+}
+
+impl CiervaAircraft<'_> {
+    /// The file with the request's values, trimmed and linearised at it: remembered per file,
+    /// condition and loading where the request sets no parameter.
+    #[allow(clippy::type_complexity)]
+    fn linearised(
+        &self,
+        request: &Request,
+    ) -> Result<
+        (
+            Cow<'_, crate::inputs::aircraft::AircraftFile>,
+            Arc<crate::run::linearise::Linearisation>,
+        ),
+        String,
+    > {
+        let (c, l) = (request.condition, request.loading);
+        let file = self.with_values(&request.parameters)?;
+        let both = match &file {
+            Cow::Borrowed(f) => crate::run::linearise::linearise_cached(f, c, l)?,
+            Cow::Owned(f) => Arc::new(
+                crate::run::linearise::run_linearise(&f.aircraft, c, l)
+                    .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?,
+            ),
+        };
+        Ok((file, both))
     }
 }
 
@@ -285,20 +395,63 @@ impl FlightModel for CiervaAircraft<'_> {
         &self,
         request: &Request,
     ) -> Result<(Quantities, LinearModel), String> {
-        let (c, l) = (request.condition, request.loading);
+        let (file, both) = self.linearised(request)?;
+        Ok((
+            trim_quantities_of(&file.aircraft, request.loading, &both.0),
+            both.1.model.clone(),
+        ))
+    }
+
+    /// [`crate::run::responses::aircraft_responses`] at its trim for the request.
+    fn responses(
+        &self,
+        request: &Request,
+        frequencies_hz: &[f64],
+    ) -> Result<crate::run::responses::Responses, String> {
+        let (file, both) = self.linearised(request)?;
+        crate::run::responses::aircraft_responses(
+            &file.aircraft,
+            request.loading,
+            &both.0,
+            || Ok(both.1.model.clone()),
+            frequencies_hz,
+        )
+    }
+
+    /// The linearisation's components ([`cierva_model::aircraft::linearise::COMPONENTS`]).
+    fn components(&self, request: &Request) -> Result<Vec<(String, LinearModel)>, String> {
+        Ok(self.linearised(request)?.1.1.components.clone())
+    }
+
+    /// [`crate::run::linearise::identified_in_band_cached`] where the request sets no
+    /// parameter.
+    fn identified_in_band(
+        &self,
+        request: &Request,
+        setup: crate::ident::Setup,
+    ) -> Result<LinearModel, String> {
         let file = self.with_values(&request.parameters)?;
-        let (trim, lin) = match &file {
-            Cow::Borrowed(f) => {
-                let both = crate::run::linearise::linearise_cached(f, c, l)?;
-                (both.0.clone(), both.1.model.clone())
-            }
-            Cow::Owned(f) => {
-                let (t, lin) = crate::run::linearise::run_linearise(&f.aircraft, c, l)
-                    .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?;
-                (t, lin.model)
-            }
-        };
-        Ok((trim_quantities_of(&file.aircraft, l, &trim), lin))
+        let (c, l) = (request.condition, request.loading);
+        match &file {
+            Cow::Borrowed(f) => Ok(crate::run::linearise::identified_in_band_cached(
+                f, c, l, setup,
+            )?
+            .as_ref()
+            .clone()),
+            Cow::Owned(f) => crate::run::linearise::identified_in_band(f, c, l, setup),
+        }
+    }
+
+    /// The aircraft file with the corrections set ([`crate::inputs::aircraft::AircraftFile::with_corrections`]).
+    fn corrected<'s>(
+        &'s self,
+        corrections: &crate::inputs::corrections::CorrectionSet,
+    ) -> Result<Option<Box<dyn FlightModel + 's>>, String> {
+        let file = self.file.with_corrections(corrections)?;
+        Ok(Some(Box::new(CiervaAircraft {
+            file: Cow::Owned(file),
+            ..self.clone()
+        })))
     }
 
     fn time_history(
@@ -323,14 +476,15 @@ impl FlightModel for CiervaAircraft<'_> {
 }
 
 /// A model with some of its parameters set: every request it is asked carries these values
-/// (a request's own value for the same name wins). A study's design point on any model.
+/// (a request's own value for the same name wins). A study's design point on any model, and a
+/// check's corrections on a model behind the model interface.
 #[derive(Debug)]
-pub struct WithValues {
-    pub model: Arc<dyn FlightModel>,
+pub struct WithValues<M: FlightModel = Arc<dyn FlightModel>> {
+    pub model: M,
     pub values: Values,
 }
 
-impl WithValues {
+impl<M: FlightModel> WithValues<M> {
     fn merged(&self, request: &Request) -> Request {
         let mut parameters = self.values.clone();
         parameters.extend(request.parameters.clone());
@@ -341,7 +495,7 @@ impl WithValues {
     }
 }
 
-impl FlightModel for WithValues {
+impl<M: FlightModel> FlightModel for WithValues<M> {
     fn describe(&self) -> String {
         self.model.describe()
     }
@@ -366,6 +520,35 @@ impl FlightModel for WithValues {
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
         self.model.time_history(&self.merged(request), controls)
+    }
+    fn components(&self, request: &Request) -> Result<Vec<(String, LinearModel)>, String> {
+        self.model.components(&self.merged(request))
+    }
+    fn responses(
+        &self,
+        request: &Request,
+        frequencies_hz: &[f64],
+    ) -> Result<crate::run::responses::Responses, String> {
+        self.model.responses(&self.merged(request), frequencies_hz)
+    }
+    fn identified_in_band(
+        &self,
+        request: &Request,
+        setup: crate::ident::Setup,
+    ) -> Result<LinearModel, String> {
+        self.model.identified_in_band(&self.merged(request), setup)
+    }
+    /// The model's own corrected model, with these values still set.
+    fn corrected<'s>(
+        &'s self,
+        corrections: &crate::inputs::corrections::CorrectionSet,
+    ) -> Result<Option<Box<dyn FlightModel + 's>>, String> {
+        Ok(self.model.corrected(corrections)?.map(|model| {
+            Box::new(WithValues {
+                model,
+                values: self.values.clone(),
+            }) as Box<dyn FlightModel + 's>
+        }))
     }
 }
 
@@ -406,34 +589,64 @@ pub fn folder_of(dir: &std::path::Path) -> std::path::PathBuf {
     dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf())
 }
 
-/// A shared model is a model.
-impl<T: FlightModel + ?Sized> FlightModel for Arc<T> {
-    fn describe(&self) -> String {
-        self.as_ref().describe()
-    }
-    fn parameters(&self) -> Result<Vec<Parameter>, String> {
-        self.as_ref().parameters()
-    }
-    fn trim(&self, request: &Request) -> Result<Quantities, String> {
-        self.as_ref().trim(request)
-    }
-    fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
-        self.as_ref().linear_model(request)
-    }
-    fn trim_and_linear_model(
-        &self,
-        request: &Request,
-    ) -> Result<(Quantities, LinearModel), String> {
-        self.as_ref().trim_and_linear_model(request)
-    }
-    fn time_history(
-        &self,
-        request: &Request,
-        controls: &ControlChanges,
-    ) -> Result<Replayed, String> {
-        self.as_ref().time_history(request, controls)
-    }
+/// Implements [`FlightModel`] for a pointer to a model by asking the model.
+macro_rules! forward_flight_model {
+    ($($pointer:ty),*) => {$(
+        impl<T: FlightModel + ?Sized> FlightModel for $pointer {
+            fn describe(&self) -> String {
+                (**self).describe()
+            }
+            fn parameters(&self) -> Result<Vec<Parameter>, String> {
+                (**self).parameters()
+            }
+            fn trim(&self, request: &Request) -> Result<Quantities, String> {
+                (**self).trim(request)
+            }
+            fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
+                (**self).linear_model(request)
+            }
+            fn trim_and_linear_model(
+                &self,
+                request: &Request,
+            ) -> Result<(Quantities, LinearModel), String> {
+                (**self).trim_and_linear_model(request)
+            }
+            fn time_history(
+                &self,
+                request: &Request,
+                controls: &ControlChanges,
+            ) -> Result<Replayed, String> {
+                (**self).time_history(request, controls)
+            }
+            fn components(&self, request: &Request) -> Result<Vec<(String, LinearModel)>, String> {
+                (**self).components(request)
+            }
+            fn responses(
+                &self,
+                request: &Request,
+                frequencies_hz: &[f64],
+            ) -> Result<crate::run::responses::Responses, String> {
+                (**self).responses(request, frequencies_hz)
+            }
+            fn identified_in_band(
+                &self,
+                request: &Request,
+                setup: crate::ident::Setup,
+            ) -> Result<LinearModel, String> {
+                (**self).identified_in_band(request, setup)
+            }
+            fn corrected<'s>(
+                &'s self,
+                corrections: &crate::inputs::corrections::CorrectionSet,
+            ) -> Result<Option<Box<dyn FlightModel + 's>>, String> {
+                (**self).corrected(corrections)
+            }
+        }
+    )*};
 }
+
+// A shared, owned or borrowed model is a model.
+forward_flight_model!(Arc<T>, Box<T>, &T);
 
 /// A trim quantity's static name, from what a model wrote: unknown names are an error that
 /// lists the known ones.

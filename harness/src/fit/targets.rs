@@ -274,7 +274,7 @@ pub enum Measure {
     /// state at one frequency, at a flight condition: the linearisation with the rotor's
     /// flapping states where the hub has one (its baseband response by harmonic balance), the
     /// quasi-static linearisation otherwise
-    /// ([`crate::checks::frequency_response::aircraft_responses`]).
+    /// ([`crate::run::responses::aircraft_responses`]).
     Response(ResponsePoint),
 }
 
@@ -292,7 +292,7 @@ pub struct ResponsePoint {
     pub imaginary: bool,
     /// The record's other controls' measured transfers from `input` at this frequency, which
     /// the model's response adds through its own responses to them
-    /// ([`crate::checks::frequency_response::Responses::as_flown`]); empty: none moved.
+    /// ([`crate::run::responses::Responses::as_flown`]); empty: none moved.
     #[serde(skip)]
     pub others: Vec<(String, rustfft::num_complex::Complex64)>,
 }
@@ -471,7 +471,7 @@ impl Target {
 type AtCondition = (
     crate::checks::result::Quantities,
     Option<cierva_model::analysis::linear::LinearModel>,
-    Option<crate::checks::frequency_response::Responses>,
+    Option<crate::run::responses::Responses>,
 );
 
 /// The distinct frequencies of a condition's response targets, in the order they come.
@@ -561,58 +561,7 @@ pub fn evaluate_each_from(
         FitSubject::Aircraft { aircraft } => {
             let mut a = aircraft.clone();
             set.apply_to_aircraft(&mut a)?;
-            crate::run::parallel::parallel_map(&conditions, |c| {
-                let TargetCondition::Flight(request, loading) = c else {
-                    return Err(format!(
-                        "{}: an aircraft flies, it is not in a tunnel",
-                        at(c)
-                    ));
-                };
-                let frequencies = response_frequencies(problem, c);
-                let linear = problem
-                    .targets
-                    .iter()
-                    .any(|t| t.condition == *c && matches!(t.measure, Measure::Derivative(_)));
-                let start = warm.and_then(|w| w.get(c));
-                let (trim, lin) = if linear {
-                    let (t, l) = crate::run::linearise::run_linearise_from(
-                        &a,
-                        *request,
-                        *loading,
-                        start.as_ref(),
-                    )
-                    .map_err(|e| format!("{}: {e}", at(c)))?;
-                    (t, Some(l.model))
-                } else {
-                    let t = crate::run::trim::run_trim_from(&a, *request, *loading, start.as_ref())
-                        .map_err(|e| format!("{}: {e}", at(c)))?;
-                    (t, None)
-                };
-                if let Some(w) = warm {
-                    w.put(*c, trim.warm_start.clone());
-                }
-                // One linearisation (with flapping where the hub has it) for every response
-                // target at the condition, one harmonic balance a frequency.
-                let responses = if frequencies.is_empty() {
-                    None
-                } else {
-                    Some(
-                        crate::checks::frequency_response::aircraft_responses(
-                            &a,
-                            *request,
-                            *loading,
-                            &trim,
-                            &frequencies,
-                        )
-                        .map_err(|e| format!("{}: {e}", at(c)))?,
-                    )
-                };
-                Ok((
-                    crate::checks::trim::trim_quantities_of(&a, *loading, &trim),
-                    lin,
-                    responses,
-                ))
-            })
+            on_aircraft(problem, &a, &conditions, warm, &at)
         }
         FitSubject::Model { model } => on_model(problem, model.as_ref(), p, &conditions, &at),
         FitSubject::Rotor { rotor, inflow } => {
@@ -656,6 +605,71 @@ pub fn evaluate_each_from(
         }
     };
     Ok(problem.targets.iter().map(value).collect())
+}
+
+/// Each condition's quantities, linear model (where a derivative target needs it) and
+/// responses from cierva's aircraft `a` (the parameters' values set), its trims started from
+/// `warm`'s and remembered there. `at` says where, for errors.
+fn on_aircraft(
+    problem: &Problem,
+    a: &cierva_model::aircraft::Aircraft,
+    conditions: &[TargetCondition],
+    warm: Option<&WarmStarts>,
+    at: &(dyn Fn(&TargetCondition) -> String + Sync),
+) -> Vec<Result<AtCondition, String>> {
+    crate::run::parallel::parallel_map(conditions, |c| {
+        let TargetCondition::Flight(request, loading) = c else {
+            return Err(format!(
+                "{}: an aircraft flies, it is not in a tunnel",
+                at(c)
+            ));
+        };
+        let frequencies = response_frequencies(problem, c);
+        let linear = problem
+            .targets
+            .iter()
+            .any(|t| t.condition == *c && matches!(t.measure, Measure::Derivative(_)));
+        let start = warm.and_then(|w| w.get(c));
+        let (trim, lin) = if linear {
+            let (t, l) =
+                crate::run::linearise::run_linearise_from(a, *request, *loading, start.as_ref())
+                    .map_err(|e| format!("{}: {e}", at(c)))?;
+            (t, Some(l.model))
+        } else {
+            let t = crate::run::trim::run_trim_from(a, *request, *loading, start.as_ref())
+                .map_err(|e| format!("{}: {e}", at(c)))?;
+            (t, None)
+        };
+        if let Some(w) = warm {
+            w.put(*c, trim.warm_start.clone());
+        }
+        // One linearisation (with flapping where the hub has it) for every response
+        // target at the condition, one harmonic balance a frequency.
+        let responses = if frequencies.is_empty() {
+            None
+        } else {
+            Some(
+                crate::run::responses::aircraft_responses(
+                    a,
+                    *loading,
+                    &trim,
+                    || match &lin {
+                        Some(l) => Ok(l.clone()),
+                        None => crate::run::linearise::run_linearise(a, *request, *loading)
+                            .map(|(_, l)| l.model)
+                            .map_err(|e| e.to_string()),
+                    },
+                    &frequencies,
+                )
+                .map_err(|e| format!("{}: {e}", at(c)))?,
+            )
+        };
+        Ok((
+            crate::checks::trim::trim_quantities_of(a, *loading, &trim),
+            lin,
+            responses,
+        ))
+    })
 }
 
 /// Each condition's quantities, linear model and responses from a model behind the model
@@ -707,14 +721,10 @@ fn on_model(
         let responses = if frequencies.is_empty() {
             None
         } else {
-            let from = crate::checks::frequency_response::from_a_and_b(model);
+            let from = crate::run::responses::from_a_and_b(&model.describe());
             Some(
-                crate::checks::frequency_response::Responses::of_linear_model(
-                    &lin,
-                    &frequencies,
-                    from,
-                )
-                .map_err(|e| format!("{}: {e}", at(c)))?,
+                crate::run::responses::Responses::of_linear_model(&lin, &frequencies, from)
+                    .map_err(|e| format!("{}: {e}", at(c)))?,
             )
         };
         Ok((q, Some(lin), responses))

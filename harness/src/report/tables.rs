@@ -672,19 +672,21 @@ pub fn trim_table(
 
 /// The primary derivatives of a linearised aircraft split by component (seed 000 Tables 1-2).
 pub fn breakdown_table(
-    lin: &cierva_model::aircraft::linearise::Linearised,
+    model: &LinearModel,
+    components: &[(String, LinearModel)],
     names: &[&str],
 ) -> String {
     let mut s = String::new();
     let _ = write!(s, "{:<12} {:>12}", "derivative", "total");
-    for c in cierva_model::aircraft::linearise::COMPONENTS {
+    for (c, _) in components {
         let _ = write!(s, " {c:>12}");
     }
     s.push('\n');
     for n in names {
-        let (Ok(total), Ok(parts)) = (lin.model.derivative_value(n), lin.breakdown(n)) else {
+        let (Ok(total), Ok(e)) = (model.derivative_value(n), model.derivative(n)) else {
             continue;
         };
+        let parts: Vec<(&String, f64)> = components.iter().map(|(c, m)| (c, m.get(e))).collect();
         let _ = write!(s, "{n:<12} {:>12}", sig(total, SIG));
         // Round-off (a sum of parts minus the total) prints as 0.
         let scale = parts.iter().fold(total.abs(), |m, (_, v)| m.max(v.abs()));

@@ -93,7 +93,8 @@ pub fn linear_units() -> std::collections::BTreeMap<String, String> {
     .collect()
 }
 
-type Linearisation = (
+/// A trim and the linearisation about it.
+pub type Linearisation = (
     cierva_model::aircraft::trim::Trim,
     cierva_model::aircraft::linearise::Linearised,
 );
@@ -198,24 +199,46 @@ pub fn identified_in_band_cached(
     }
     let result = (|| {
         let lin = linearise_cached(file, request, loading)?;
-        let flapping = run_linearise_with_flapping(&file.aircraft, &lin.0, loading)?;
-        let config = crate::ident::ConfigSpec::for_model(setup);
-        let at = |w: f64| flapping.baseband_response(w).map_err(|e| e.to_string());
-        let identified = crate::ident::equivalent::identify_response(
-            &config,
-            crate::ident::equivalent::Response {
-                states: flapping.model.states(),
-                controls: flapping.model.controls(),
-                at: &at,
-            },
-        )?;
-        identified
-            .model
-            .map(Arc::new)
-            .ok_or_else(|| "the set-up's identified model could not be assembled".to_string())
+        identified_at(&file.aircraft, &lin.0, loading, setup).map(Arc::new)
     })();
     if let Ok(mut c) = cache.lock() {
         c.insert(key, result.clone());
     }
     result
+}
+
+/// [`identified_in_band_cached`], not remembered (an aircraft with a study's values set).
+pub fn identified_in_band(
+    file: &crate::inputs::aircraft::AircraftFile,
+    request: TrimRequest,
+    loading: Loading,
+    setup: crate::ident::Setup,
+) -> Result<cierva_model::LinearModel, String> {
+    let (trim, _) = run_linearise(&file.aircraft, request, loading)
+        .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))?;
+    identified_at(&file.aircraft, &trim, loading, setup)
+}
+
+/// What `setup` identifies from the aircraft's linearisation with its flapping states at
+/// `trim`, over the set-up's band.
+fn identified_at(
+    aircraft: &cierva_model::aircraft::Aircraft,
+    trim: &cierva_model::aircraft::trim::Trim,
+    loading: Loading,
+    setup: crate::ident::Setup,
+) -> Result<cierva_model::LinearModel, String> {
+    let flapping = run_linearise_with_flapping(aircraft, trim, loading)?;
+    let config = crate::ident::ConfigSpec::for_model(setup);
+    let at = |w: f64| flapping.baseband_response(w).map_err(|e| e.to_string());
+    let identified = crate::ident::equivalent::identify_response(
+        &config,
+        crate::ident::equivalent::Response {
+            states: flapping.model.states(),
+            controls: flapping.model.controls(),
+            at: &at,
+        },
+    )?;
+    identified
+        .model
+        .ok_or_else(|| "the set-up's identified model could not be assembled".to_string())
 }

@@ -6,5 +6,6 @@ pub mod autorotation;
 pub mod linearise;
 pub mod parallel;
 pub mod replay;
+pub mod responses;
 pub mod simulate;
 pub mod trim;

@@ -19,6 +19,7 @@ pub mod discrepancy;
 pub mod outcome;
 pub mod review;
 pub mod scoreboard;
+pub mod snapshots;
 
 use crate::inputs::yaml::InputError;
 use serde::Deserialize;

@@ -1240,3 +1240,99 @@ fn retune_runs_on_an_external_model_from_its_records() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A derivative check's `corrections` reach any model through the model interface: on a model
+/// behind the protocol as values of its declared parameters (`M_q` = -1.2 * 0.8 = -0.96, its
+/// magnitude change -0.2 exactly); a correction the model does not declare, and a component of
+/// a derivative (which the protocol does not carry), are located errors at load.
+#[test]
+fn a_checks_corrections_reach_an_external_model_by_its_declared_parameters() {
+    super::external::require_python3();
+    let dir = suite("check-corrections", "cierva-external/2");
+    let case_path = dir.join("cases/model.yaml");
+    let text = std::fs::read_to_string(&case_path).unwrap();
+    let corrected = "  - id: corrected\n    kind: derivative\n    derivative: M_q\n\
+                     \x20   condition: {airspeed_mph: 60.0}\n\
+                     \x20   corrections: {parameters: {m_q_scale: 0.8}}\n\
+                     \x20   expect:\n      value: {value: -0.96, tolerance: band}\n\
+                     \x20     magnitude_change: {value: -0.2, tolerance: band}\n";
+    std::fs::write(&case_path, format!("{text}{corrected}")).unwrap();
+    let case = cierva_harness::suite::case::load(&case_path).unwrap();
+    let results = cierva_harness::suite::outcome::run_case(&case);
+    let r = results.iter().find(|r| r.check == "corrected").unwrap();
+    assert!(r.error.is_none(), "{:?}", r.error);
+    let value = |q: &str| r.quantities.iter().find(|x| x.quantity == q).unwrap().value;
+    assert!((value("value") + 0.96).abs() < 1e-12, "{r:?}");
+    assert!((value("magnitude_change") + 0.2).abs() < 1e-12, "{r:?}");
+    assert!(r.passed, "{r:?}");
+    // The uncorrected check beside it still sees the nominal model.
+    let plain = results.iter().find(|r| r.check == "damping").unwrap();
+    assert!((plain.quantities[0].value + 1.2).abs() < 1e-12, "{plain:?}");
+
+    for (edit, says) in [
+        (
+            "corrections: {propeller_blockage: 0.5}",
+            "takes corrections as values of the parameters it declares",
+        ),
+        (
+            "corrections: {parameters: {m_q_scal: 0.8}}",
+            "did you mean `m_q_scale`?",
+        ),
+    ] {
+        let bad = corrected.replace("corrections: {parameters: {m_q_scale: 0.8}}", edit);
+        std::fs::write(&case_path, format!("{text}{bad}")).unwrap();
+        let e = cierva_harness::suite::case::load(&case_path)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("checks[2].corrections") && e.contains(says),
+            "{e}"
+        );
+    }
+    let bad = corrected.replace("magnitude_change:", "rotor:");
+    std::fs::write(&case_path, format!("{text}{bad}")).unwrap();
+    let e = cierva_harness::suite::case::load(&case_path)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("computed for aircraft cases only") && e.contains("[value, magnitude_change]"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A case on a model behind the protocol gets the snapshots an aircraft's gets (its trims, its
+/// linear model at each condition), asked through the model interface: the model's own numbers,
+/// and no breakdown by component, which the protocol does not carry.
+#[test]
+fn an_external_models_snapshots_are_its_answers() {
+    use cierva_harness::suite::snapshots::{Holds, of_case};
+    super::external::require_python3();
+    let dir = suite("snapshots", "cierva-external/2");
+    let case = cierva_harness::suite::case::load(&dir.join("cases/model.yaml")).unwrap();
+    let snaps = of_case(&case);
+    let names: Vec<&str> = snaps.iter().map(|s| s.what.as_str()).collect();
+    assert_eq!(names, ["trim", "linear-60mph"]);
+    match snaps[0].compute(&case).unwrap() {
+        Holds::Trim(columns) => {
+            assert_eq!(columns.len(), 1);
+            let q = columns[0].1.as_ref().unwrap();
+            assert_eq!(q.iter().find(|(n, _)| *n == "pitch_deg").unwrap().1, 3.0);
+        }
+        other => panic!("{other:?}"),
+    }
+    let linear = snaps[1].compute(&case).unwrap();
+    let text = cierva_harness::report::snapshots::render(&linear);
+    match linear {
+        Holds::Linearised {
+            model, components, ..
+        } => {
+            assert_eq!(model.derivative_value("M_q").unwrap(), -1.2);
+            assert!(components.is_none());
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(!text.contains("total"), "no breakdown: {text}");
+    assert!(text.contains("M_q"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -109,10 +109,7 @@ pub struct Retune {
     /// The uncorrected aircraft's responses at every frequency of every response (and its
     /// neighbours), by condition: the targets' standard errors came from them, and they are the
     /// "before" of [`responses::compare`].
-    pub uncorrected: Vec<(
-        TargetCondition,
-        crate::checks::frequency_response::Responses,
-    )>,
+    pub uncorrected: Vec<(TargetCondition, crate::run::responses::Responses)>,
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
@@ -371,10 +368,7 @@ pub fn corrections_file(
 /// four longitudinal states has no rotorspeed response to compare with a record's.
 fn answerable(
     estimated: Vec<responses::RecordedResponse>,
-    models: &[(
-        TargetCondition,
-        crate::checks::frequency_response::Responses,
-    )],
+    models: &[(TargetCondition, crate::run::responses::Responses)],
 ) -> (Vec<responses::RecordedResponse>, Vec<String>) {
     let mut kept = Vec::new();
     let mut left_out: Vec<String> = Vec::new();

@@ -28,7 +28,7 @@
 //! the one control. Conditioning on them does not remove it without bias, because they are
 //! fed back: they answer the disturbances too. So the model's response is taken as flown
 //! instead: its response to the excited control plus its responses to the others times their
-//! measured transfers from it ([`crate::checks::frequency_response::Responses::as_flown`],
+//! measured transfers from it ([`crate::run::responses::Responses::as_flown`],
 //! exact for a linear aircraft whoever moves the controls). Each target's standard error is
 //! then that of what no control explains ([`RecordedResponse::standard_error`]), with the model's
 //! responses to the other controls at the uncorrected aircraft for a first fit and at its
@@ -136,7 +136,7 @@ pub struct RecordedResponse {
     pub other_controls: Vec<String>,
     /// At each point, each other control's measured transfer from `input`, in the order of
     /// `other_controls` (conditioned on the other excited controls: `G_EE^-1 G_EO`), which the
-    /// model's response adds ([`crate::checks::frequency_response::Responses::as_flown`]).
+    /// model's response adds ([`crate::run::responses::Responses::as_flown`]).
     #[serde(skip)]
     pub others: Vec<Vec<(String, C)>>,
     /// At each point, the auto- and cross-spectra of the other controls and the output (in
@@ -615,10 +615,7 @@ pub fn responses(
 /// [`RESOLUTION_BIAS_MAX`] of its random error is left out.
 pub fn targets(
     responses: &[RecordedResponse],
-    models: &[(
-        TargetCondition,
-        crate::checks::frequency_response::Responses,
-    )],
+    models: &[(TargetCondition, crate::run::responses::Responses)],
 ) -> Result<Vec<Target>, String> {
     let mut out = Vec::new();
     for r in responses {
@@ -706,7 +703,7 @@ pub fn frequencies_by_condition(
     out
 }
 
-/// An aircraft's responses ([`crate::checks::frequency_response::aircraft_responses`]) at
+/// An aircraft's responses ([`crate::run::responses::aircraft_responses`]) at
 /// every condition of `responses`, at every frequency they are estimated, and with
 /// `neighbourhood` at [`neighbours`] of every used point too (one trim and one linearisation a
 /// condition, conditions in parallel).
@@ -714,13 +711,7 @@ pub fn model_responses(
     aircraft: &cierva_model::aircraft::Aircraft,
     responses: &[RecordedResponse],
     neighbourhood: bool,
-) -> Result<
-    Vec<(
-        TargetCondition,
-        crate::checks::frequency_response::Responses,
-    )>,
-    String,
-> {
+) -> Result<Vec<(TargetCondition, crate::run::responses::Responses)>, String> {
     let conditions = frequencies_by_condition(responses, neighbourhood);
     crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
         let TargetCondition::Flight(request, loading) = *c else {
@@ -728,11 +719,15 @@ pub fn model_responses(
         };
         let trim = crate::run::trim::run_trim(aircraft, request, loading)
             .map_err(|e| format!("at {}: {e}", c.label()))?;
-        crate::checks::frequency_response::aircraft_responses(
+        crate::run::responses::aircraft_responses(
             aircraft,
-            request,
             loading,
             &trim,
+            || {
+                crate::run::linearise::run_linearise(aircraft, request, loading)
+                    .map(|(_, l)| l.model)
+                    .map_err(|e| e.to_string())
+            },
             frequencies,
         )
         .map(|m| (*c, m))
@@ -765,24 +760,15 @@ pub struct ResponseComparison {
 /// response) and after (`after`: the retuned model's, at least at every frequency of every
 /// response, [`super::subject::Retuned::responses`]).
 pub fn compare(
-    before: &[(
-        TargetCondition,
-        crate::checks::frequency_response::Responses,
-    )],
-    after: &[(
-        TargetCondition,
-        crate::checks::frequency_response::Responses,
-    )],
+    before: &[(TargetCondition, crate::run::responses::Responses)],
+    after: &[(TargetCondition, crate::run::responses::Responses)],
     responses: &[RecordedResponse],
 ) -> Result<Vec<ResponseComparison>, String> {
     use crate::checks::frequency_response::mismatch_cost;
     let (b, a) = (before, after);
     let mut out = Vec::new();
     for r in responses {
-        let model = |m: &[(
-            TargetCondition,
-            crate::checks::frequency_response::Responses,
-        )]| {
+        let model = |m: &[(TargetCondition, crate::run::responses::Responses)]| {
             let (_, m) = m
                 .iter()
                 .find(|(c, _)| *c == r.condition)

@@ -6,10 +6,10 @@
 //! here, so that the retune itself is one path for both.
 
 use super::{RetuneParameter, responses};
-use crate::checks::frequency_response::Responses;
 use crate::fit::{FitParameter, FitSubject, ParameterKind, TargetCondition};
 use crate::inputs::aircraft::AircraftFile;
 use crate::inputs::corrections::{CorrectionSet, Corrects};
+use crate::run::responses::Responses;
 
 /// What a retune corrects.
 #[derive(Debug, Clone, Copy)]
@@ -121,7 +121,7 @@ impl Retuned<'_> {
                         return Err("a retune's condition is a flight condition".to_string());
                     };
                     let lin = self.linear_model(values, request, loading)?;
-                    let from = crate::checks::frequency_response::from_a_and_b(e.model.as_ref());
+                    let from = crate::run::responses::from_a_and_b(&e.model.describe());
                     Responses::of_linear_model(&lin, frequencies, from)
                         .map(|m| (*c, m))
                         .map_err(|e| format!("at {}: {e}", c.label()))
