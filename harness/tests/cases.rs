@@ -305,11 +305,10 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
         let e = evaluated.clone();
         trials.push(
             Trial::test(format!("{}::scores", case.id), move || {
-                use cierva_harness::suite::{review, scoreboard};
+                use cierva_harness::suite::{scoreboard, validation};
                 let suite = suite();
                 let board = scoreboard::load(&suite).map_err(|e| e.render())?;
-                let results = e.all();
-                let judged = review::judge(&board, review::scores_of(&e.case, &results));
+                let judged = validation::judge_case(&board, &e.case, &e.all());
                 let bad: Vec<String> = judged
                     .iter()
                     .filter(|j| {

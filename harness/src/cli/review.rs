@@ -79,8 +79,13 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
     let log = rv::load_log(&suite.acceptances())?;
     let cases = suite_cases(&suite, paths)?;
     let board = scoreboard::load(&suite)?;
-    let (reviews, scores) = review_cases(&cases);
-    let judged = cierva_harness::suite::review::judge(&board, scores.clone());
+    let ran = review_cases(&cases);
+    let (scores, judged) = (ran.scores(), ran.judged(&board));
+    let reviews: Vec<_> = ran
+        .cases
+        .iter()
+        .map(|c| rv::review(&c.case, &c.results))
+        .collect();
     let scores_moved: Vec<&cierva_harness::suite::review::Judged> = judged
         .iter()
         .filter(|j| j.change != scoreboard::Change::Same)
@@ -338,14 +343,11 @@ fn print_logged(
     }
 }
 
-/// Every case's review and scores: every check when the case has scores, its expected failures
-/// otherwise. Checks on every core, shared out one at a time.
+/// Every case run for its review and scores: every check when the case has scores, its
+/// expected failures otherwise. Checks on every core, shared out one at a time.
 fn review_cases(
     cases: &[cierva_harness::suite::case::Case],
-) -> (
-    Vec<cierva_harness::suite::review::CaseReview>,
-    Vec<cierva_harness::suite::scoreboard::Score>,
-) {
+) -> cierva_harness::suite::validation::Ran {
     let select = |case: &cierva_harness::suite::case::Case,
                   check: &cierva_harness::checks::Check| {
         !case.scores.is_empty() || check.expected_failure.is_some()
@@ -355,17 +357,17 @@ fn review_cases(
         .map(|case| case.checks.iter().filter(|c| select(case, c)).count())
         .sum();
     let bar = progress(selected as u64, "review");
-    let all: Vec<&cierva_harness::suite::case::Case> = cases.iter().collect();
-    let ran = outcome::run_cases(&all, select, |case, _| {
-        bar.set_message(case.id.clone());
-        bar.inc(1);
-    });
+    let ran = cierva_harness::suite::validation::validate(
+        cases.iter().cloned().map(Ok).collect(),
+        &cierva_harness::suite::validation::Options {
+            select: &select,
+            done: &|case, _| {
+                bar.set_message(case.id.clone());
+                bar.inc(1);
+            },
+            ..Default::default()
+        },
+    );
     bar.finish_and_clear();
-    let mut reviews = Vec::new();
-    let mut scores = Vec::new();
-    for (case, (results, _)) in cases.iter().zip(ran) {
-        reviews.push(cierva_harness::suite::review::review(case, &results));
-        scores.extend(cierva_harness::suite::review::scores_of(case, &results));
-    }
-    (reviews, scores)
+    ran
 }

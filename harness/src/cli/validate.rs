@@ -148,7 +148,8 @@ fn validate_with(
     let report_dir = report_dir.map(|d| d.unwrap_or_else(|| suite.reports().to_path_buf()));
     let (correction_files, loaded, board, log) = inputs(&suite, &paths, &corrections)?;
     let loaded = selected(loaded, selection)?;
-    let (mut run, corrected, errors, scores) = run_cases(&loaded, &correction_files, selection);
+    let (mut run, corrected, errors, judged) =
+        run_cases(&loaded, &correction_files, selection, &board);
     if let Some(settings) = uncertainty
         && let Err(e) = attach_uncertainty(&mut run, settings)
     {
@@ -161,7 +162,6 @@ fn validate_with(
         .collect();
     run.seconds = started.elapsed().as_secs_f64();
     // Scores against corrected models are not the committed model's: shown, never judged.
-    let judged = review::judge(&board, scores);
     let scores_failing = failing_scores(
         &judged,
         !correction_files.is_empty() || !selection.everything(),
@@ -246,61 +246,51 @@ fn validate_with(
     }
 }
 
-/// Every case run on every core (with the corrections that apply), in the order the cases were
-/// found: the run, the cases that ran corrected, the files that did not load, and the scores.
+/// Every case run on every core (with the corrections that apply,
+/// [`cierva_harness::suite::validation::validate`]), in the order the cases were found, with the
+/// sensitivity studies the cases ask for: the run, the cases that ran corrected, the input
+/// errors, and the scores judged against `board`.
 fn run_cases(
     loaded: &Loaded,
     correction_files: &[corrections::CorrectionsFile],
     selection: &Selection,
+    board: &scoreboard::Board,
 ) -> (
     cierva_harness::report::Run,
     Vec<String>,
     Vec<String>,
-    Vec<scoreboard::Score>,
+    Vec<review::Judged>,
 ) {
     use cierva_harness::report;
-    let mut errors = Vec::new();
-    let mut corrected: Vec<String> = Vec::new();
-    let mut run = report::Run::default();
-    let mut scores = Vec::new();
-    // Each case with the corrections that apply to it, or the error that stopped it.
-    let prepared: Vec<Result<(case::Case, Vec<String>), String>> = loaded
+    use cierva_harness::suite::validation;
+    let checks: usize = loaded
         .iter()
-        .map(|c| match c {
-            Ok(case) => case::with_corrections(case, correction_files)
-                .map_err(|e| format!("error: the corrections {e}")),
-            Err(e) => Err(e.render()),
-        })
-        .collect();
-    let cases: Vec<&case::Case> = prepared.iter().flatten().map(|(case, _)| case).collect();
-    let checks: usize = cases
-        .iter()
+        .flatten()
         .map(|c| c.checks.iter().filter(|k| selection.picks(c, k)).count())
         .sum();
     let bar = progress(checks as u64, "validate");
-    // Checks on every core, shared out one at a time: a case of many slow checks is spread
-    // over the cores rather than left to one.
-    let mut ran = outcome::run_cases(
-        &cases,
-        |case, check| selection.picks(case, check),
-        |case, _| {
-            bar.set_message(case.id.clone());
-            bar.inc(1);
+    let ran = validation::validate(
+        loaded
+            .iter()
+            .map(|c| c.clone().map_err(|e| e.render()))
+            .collect(),
+        &validation::Options {
+            corrections: correction_files,
+            select: &|case, check| selection.picks(case, check),
+            done: &|case, _| {
+                bar.set_message(case.id.clone());
+                bar.inc(1);
+            },
         },
-    )
-    .into_iter();
+    );
+    bar.finish_and_clear();
     // The sensitivity studies, one per case that asks for one, on every core.
-    let studies: Vec<&case::Case> = cases
-        .iter()
-        .copied()
-        .filter(|c| c.sensitivity.is_some())
-        .collect();
-    let mut studied = cierva_harness::run::parallel::parallel_map(&studies, |case| {
-        let parameters = case.sensitivity.as_ref()?;
+    let studied = cierva_harness::run::parallel::parallel_map(&ran.cases, |c| {
+        let parameters = c.case.sensitivity.as_ref()?;
         Some(
-            cierva_harness::fit::sensitivity::from_case(case, None).and_then(
+            cierva_harness::fit::sensitivity::from_case(&c.case, None).and_then(
                 |(loading, request, quantities)| {
-                    let (model, _) = cierva_harness::checks::flight_model(&case.subject)
+                    let (model, _) = cierva_harness::checks::flight_model(&c.case.subject)
                         .expect("from_case took a flight model");
                     cierva_harness::fit::sensitivity::run(
                         model.as_ref(),
@@ -312,101 +302,35 @@ fn run_cases(
                 },
             ),
         )
-    })
-    .into_iter();
-    type Ran = Result<(report::CaseRun, Vec<scoreboard::Score>), String>;
-    let ran: Vec<Ran> = prepared
-        .into_iter()
-        .map(|p| {
-            let (case, used) = p?;
-            let (results, seconds) = ran.next().expect("one result set per prepared case");
-            let sensitivity = if case.sensitivity.is_some() {
-                studied
-                    .next()
-                    .expect("one study per case that asks for one")
-            } else {
-                None
-            };
-            let scores = review::scores_of(&case, &results);
-            Ok((
-                report::CaseRun {
-                    case,
-                    results,
-                    seconds,
-                    corrections: used,
-                    sensitivity,
-                    uncertainty: None,
-                },
-                scores,
-            ))
-        })
-        .collect();
-    for r in ran {
-        match r {
-            Ok((case_run, case_scores)) => {
-                if !case_run.corrections.is_empty() {
-                    // Checks a file is not applied to by default say so, with why.
-                    let held_back = case_run
-                        .case
-                        .uncorrected
-                        .as_ref()
-                        .map(|u| format!(" [{}]", u.reasons.join("; ")))
-                        .unwrap_or_default();
-                    corrected.push(format!(
-                        "{} ({}){held_back}",
-                        case_run.case.id,
-                        case_run.corrections.join(", ")
-                    ));
-                }
-                errors.extend(external_errors(&case_run));
-                scores.extend(case_scores);
-                run.cases.push(case_run);
-            }
-            Err(e) => errors.push(e),
+    });
+    let judged = ran.judged(board);
+    let mut corrected: Vec<String> = Vec::new();
+    let mut run = report::Run::default();
+    for (c, sensitivity) in ran.cases.into_iter().zip(studied) {
+        if !c.corrections.is_empty() {
+            // Checks a file is not applied to by default say so, with why.
+            let held_back = c
+                .case
+                .uncorrected
+                .as_ref()
+                .map(|u| format!(" [{}]", u.reasons.join("; ")))
+                .unwrap_or_default();
+            corrected.push(format!(
+                "{} ({}){held_back}",
+                c.case.id,
+                c.corrections.join(", ")
+            ));
         }
+        run.cases.push(report::CaseRun {
+            case: c.case,
+            results: c.results,
+            seconds: c.seconds,
+            corrections: c.corrections,
+            sensitivity,
+            uncertainty: None,
+        });
     }
-    bar.finish_and_clear();
-    (run, corrected, errors, scores)
-}
-
-/// An external model that fails (not found, a non-zero exit, a timeout, output that does not
-/// parse, a quantity it does not give) is bad input (exit 2): each such check's error, located
-/// at the check in its case file.
-fn external_errors(case_run: &cierva_harness::report::CaseRun) -> Vec<String> {
-    let case = &case_run.case;
-    if !matches!(
-        case.subject,
-        cierva_harness::checks::subject::Subject::External(_)
-    ) {
-        return Vec::new();
-    }
-    let src = std::fs::read_to_string(&case.path).unwrap_or_default();
-    // Checks that fail with the same error (a command not found fails every check) are one
-    // error, located at the first of them, naming them all.
-    let mut same: Vec<(&str, Vec<&str>)> = Vec::new();
-    for r in &case_run.results {
-        let Some(e) = r.error.as_deref() else {
-            continue;
-        };
-        match same.iter_mut().find(|(m, _)| *m == e) {
-            Some((_, checks)) => checks.push(&r.check),
-            None => same.push((e, vec![&r.check])),
-        }
-    }
-    same.into_iter()
-        .map(|(e, checks)| {
-            let i = case.checks.iter().position(|c| c.id == checks[0]);
-            let field = i.map_or("checks".to_string(), |i| format!("checks[{i}]"));
-            let msg = match checks.as_slice() {
-                [one] => format!("check `{one}`: {e}"),
-                many => format!("{} checks (`{}`): {e}", many.len(), many.join("`, `")),
-            };
-            format!(
-                "error: {}",
-                cierva_harness::inputs::yaml::InputError::field(&case.path, &src, &field, msg)
-            )
-        })
-        .collect()
+    (run, corrected, ran.errors, judged)
 }
 
 /// The text output: every check, the scoreboard, what needs a look, the counts by class.

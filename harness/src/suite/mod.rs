@@ -20,6 +20,7 @@ pub mod outcome;
 pub mod review;
 pub mod scoreboard;
 pub mod snapshots;
+pub mod validation;
 
 use crate::inputs::yaml::InputError;
 use serde::Deserialize;

@@ -651,3 +651,44 @@ fn each_type_name_is_defined_once() {
         twice.join("\n")
     );
 }
+
+/// The pipeline "run cases, score, judge" is assembled once (issue 49):
+/// `suite::validation::validate`. Outside it (and the modules that define the pieces), no code
+/// of the library, the command line or the test generator runs a set of cases, scores a case
+/// or judges scores (a study running one case at its design points is not a validation run).
+#[test]
+fn cases_are_run_scored_and_judged_in_one_place() {
+    let root = super::common::repo_root();
+    let mut files = Vec::new();
+    rust_files(&root.join("harness/src"), &mut files);
+    files.push(root.join("harness/tests/cases.rs"));
+    let allowed = [
+        "harness/src/suite/validation.rs",
+        "harness/src/suite/outcome.rs",
+        "harness/src/suite/review.rs",
+    ];
+    let offending: Vec<String> = files
+        .iter()
+        .flat_map(|f| {
+            let rel = f.strip_prefix(&root).unwrap().display().to_string();
+            if allowed.contains(&rel.as_str()) {
+                return vec![];
+            }
+            let text = std::fs::read_to_string(f).unwrap();
+            text.lines()
+                .enumerate()
+                .filter(|(_, l)| {
+                    ["run_cases(", "scores_of(", "judge("].iter().any(|p| {
+                        l.contains(&format!("outcome::{p}")) || l.contains(&format!("review::{p}"))
+                    })
+                })
+                .map(|(i, l)| format!("{rel}:{}: {}", i + 1, l.trim()))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(
+        offending.is_empty(),
+        "cases run or scored outside suite::validation (call `validation::validate`):\n{}",
+        offending.join("\n")
+    );
+}

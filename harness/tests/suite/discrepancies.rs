@@ -85,8 +85,8 @@ fn an_unrecorded_expected_failure_is_a_moved_discrepancy() {
 /// is run: its score is the one judged, and the angle searches above it would add a minute.
 #[test]
 fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
-    use cierva_harness::suite::review;
     use cierva_harness::suite::scoreboard::{self, Change};
+    use cierva_harness::suite::validation;
     let mut c = case::load(&super::common::repo_root().join("cases/naca-tr515-table-iii.yaml"))
         .expect("the shipped case loads");
     let regime = c
@@ -99,7 +99,8 @@ fn a_changed_rotor_constant_worsens_the_tr515_scoreboard() {
     c.scores.retain(|s| s.checks.as_ref() == Some(&regime));
     assert_eq!(c.checks.len(), 48);
     let board = scoreboard::load(&super::common::suite()).expect("the scoreboard loads");
-    let judge = |c: &Case| review::judge(&board, review::scores_of(c, &outcome::run_case(c)));
+    let judge =
+        |c: &Case| validation::validate(vec![Ok(c.clone())], &Default::default()).judged(&board);
     let Subject::Rotor { file, .. } = &mut c.subject else {
         panic!("TR 515 is a rotor case")
     };

@@ -457,26 +457,31 @@ pub fn revalidate(
     cases: &[crate::suite::case::Case],
     corrections: &crate::inputs::corrections::CorrectionsFile,
 ) -> Result<Revalidation, String> {
+    use crate::suite::validation::{Options, validate};
     let files = std::slice::from_ref(corrections);
-    let touched: Vec<(&crate::suite::case::Case, crate::suite::case::Case)> = cases
-        .iter()
-        .map(|c| {
-            crate::suite::case::with_corrections(c, files).map(|(after, used)| (c, after, used))
-        })
-        .collect::<Result<Vec<_>, _>>()?
+    let mut touched = Vec::new();
+    for c in cases {
+        let (_, used) = crate::suite::case::with_corrections(c, files)?;
+        if !used.is_empty() {
+            touched.push(c.clone());
+        }
+    }
+    let before = validate(
+        touched.iter().cloned().map(Ok).collect(),
+        &Options::default(),
+    );
+    let after = validate(
+        touched.into_iter().map(Ok).collect(),
+        &Options {
+            corrections: files,
+            ..Default::default()
+        },
+    );
+    let ran = before
+        .cases
         .into_iter()
-        .filter(|(_, _, used)| !used.is_empty())
-        .map(|(c, after, _)| (c, after))
-        .collect();
-    let ran = crate::run::parallel::parallel_map(&touched, |(before, after)| {
-        let (rb, ra) = (
-            crate::suite::outcome::run_case(before),
-            crate::suite::outcome::run_case(after),
-        );
-        let sb = crate::suite::review::scores_of(before, &rb);
-        let sa = crate::suite::review::scores_of(after, &ra);
-        (before.id.clone(), rb, ra, sb, sa)
-    });
+        .zip(after.cases)
+        .map(|(b, a)| (b.case.id.clone(), b.results, a.results, b.scores, a.scores));
     let mut out = Revalidation::default();
     for (id, rb, ra, sb, sa) in ran {
         out.cases.push(id);
