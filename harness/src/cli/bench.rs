@@ -965,7 +965,7 @@ fn fitting(out: &Rows) {
         };
         let mut problem = Problem {
             subject: FitSubject::Aircraft {
-                aircraft: Box::new(ac.aircraft.clone()),
+                file: Box::new(ac.clone()),
             },
             parameters: vec![
                 par(ParameterKind::PropellerBlockage, 0.0, 1.0),

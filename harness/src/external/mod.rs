@@ -298,7 +298,9 @@ impl<'a> CiervaAircraft<'a> {
 
 impl CiervaAircraft<'_> {
     /// The aircraft file with the request's parameter values set (the file itself where it
-    /// sets none): each a physical parameter the aircraft has, the aircraft checked after.
+    /// sets none): each a physical parameter the aircraft has or one of its corrections
+    /// (`corrections.<name>`, [`crate::inputs::corrections::CORRECTIONS`]), the aircraft
+    /// checked after.
     fn with_values(
         &self,
         values: &Values,
@@ -308,22 +310,37 @@ impl CiervaAircraft<'_> {
         }
         check_values(&self.describe(), &self.parameters()?, values)?;
         let mut f = self.file.as_ref().clone();
+        let mut corrections = crate::inputs::corrections::CorrectionSet::default();
         for (name, &v) in values {
-            crate::inputs::parameters::set_parameter(&mut f.aircraft, name, v)
-                .ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
+            let set = match name.strip_prefix("corrections.") {
+                Some(c) => corrections.set_named(c, v),
+                None => crate::inputs::parameters::set_parameter(&mut f.aircraft, name, v),
+            };
+            set.ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
         }
-        f.aircraft.validate().map_err(|e| {
-            format!(
-                "{} with {}: {e}",
-                self.describe(),
-                values
-                    .iter()
-                    .map(|(n, v)| format!("{n} = {v}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
-        })?;
+        corrections
+            .apply_to_aircraft(&mut f.aircraft)
+            .map_err(|e| {
+                format!(
+                    "{} with {}: {e}",
+                    self.describe(),
+                    values
+                        .iter()
+                        .map(|(n, v)| format!("{n} = {v}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })?;
         Ok(Cow::Owned(f))
+    }
+
+    /// Where a trim of the file with a request's values starts: the file's own trim at the
+    /// request's condition and loading (remembered), so that a request's answer does not depend
+    /// on which requests came before it or on which process answers it (`cierva serve`).
+    fn start(&self, request: &Request) -> Option<cierva_model::aircraft::trim::WarmStart> {
+        crate::run::trim::trim_cached(&self.file, request.condition, request.loading)
+            .ok()
+            .map(|t| t.warm_start.clone())
     }
 }
 
@@ -346,8 +363,13 @@ impl CiervaAircraft<'_> {
         let both = match &file {
             Cow::Borrowed(f) => crate::run::linearise::linearise_cached(f, c, l)?,
             Cow::Owned(f) => Arc::new(
-                crate::run::linearise::run_linearise(&f.aircraft, c, l)
-                    .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?,
+                crate::run::linearise::run_linearise_from(
+                    &f.aircraft,
+                    c,
+                    l,
+                    self.start(request).as_ref(),
+                )
+                .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?,
             ),
         };
         Ok((file, both))
@@ -360,28 +382,54 @@ impl FlightModel for CiervaAircraft<'_> {
     }
 
     /// Every physical parameter of [`crate::inputs::parameters::PARAMETERS`] the aircraft has,
-    /// at the file's value, with the file's `ranges:` entry where it gives one.
+    /// at the file's value, and every correction as `corrections.<name>`
+    /// ([`crate::inputs::corrections::CORRECTIONS`]); each with the file's `ranges:` entry
+    /// where it gives one.
     fn parameters(&self) -> Result<Vec<Parameter>, String> {
-        Ok(crate::inputs::parameters::PARAMETERS
+        use crate::inputs::corrections::{CORRECTIONS, CorrectionSet};
+        let a = &self.file.aircraft;
+        let physical = crate::inputs::parameters::PARAMETERS
             .iter()
+            .filter(|p| !p.name.starts_with("corrections."))
             .filter_map(|p| {
-                let nominal = crate::inputs::parameters::parameter(&self.file.aircraft, p.name)?;
+                let nominal = crate::inputs::parameters::parameter(a, p.name)?;
                 Some(Parameter {
                     name: p.name.to_string(),
                     unit: p.unit.to_string(),
                     meaning: p.meaning.to_string(),
                     nominal,
                     range: self.file.ranges.get(p.name).cloned(),
-                    correction: p.name.starts_with("corrections."),
+                    correction: false,
                 })
+            });
+        let now = CorrectionSet::of_aircraft(a);
+        let corrections = CORRECTIONS.iter().filter_map(|(name, unit, meaning)| {
+            let full = format!("corrections.{name}");
+            Some(Parameter {
+                nominal: now.get_named(name)?,
+                range: self.file.ranges.get(&full).cloned(),
+                name: full,
+                unit: unit.to_string(),
+                meaning: meaning.to_string(),
+                correction: true,
             })
-            .collect())
+        });
+        Ok(physical.chain(corrections).collect())
     }
 
     fn trim(&self, request: &Request) -> Result<Quantities, String> {
         let file = self.with_values(&request.parameters)?;
-        let t = crate::run::trim::run_trim(&file.aircraft, request.condition, request.loading)
-            .map_err(|e| e.to_string())?;
+        let start = match &file {
+            Cow::Borrowed(_) => None,
+            Cow::Owned(_) => self.start(request),
+        };
+        let t = crate::run::trim::run_trim_from(
+            &file.aircraft,
+            request.condition,
+            request.loading,
+            start.as_ref(),
+        )
+        .map_err(|e| e.to_string())?;
         Ok(trim_quantities_of(&file.aircraft, request.loading, &t))
     }
 
@@ -408,12 +456,32 @@ impl FlightModel for CiervaAircraft<'_> {
         request: &Request,
         frequencies_hz: &[f64],
     ) -> Result<crate::run::responses::Responses, String> {
-        let (file, both) = self.linearised(request)?;
+        if request.parameters.is_empty() {
+            let (file, both) = self.linearised(request)?;
+            return crate::run::responses::aircraft_responses(
+                &file.aircraft,
+                request.loading,
+                &both.0,
+                || Ok(both.1.model.clone()),
+                frequencies_hz,
+            );
+        }
+        // With values: the trim alone where the responses need no quasi-static linearisation
+        // (a teetering rotor's come with its flapping states).
+        let file = self.with_values(&request.parameters)?;
+        let (c, l) = (request.condition, request.loading);
+        let start = self.start(request);
+        let trim = crate::run::trim::run_trim_from(&file.aircraft, c, l, start.as_ref())
+            .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?;
         crate::run::responses::aircraft_responses(
             &file.aircraft,
-            request.loading,
-            &both.0,
-            || Ok(both.1.model.clone()),
+            l,
+            &trim,
+            || {
+                crate::run::linearise::run_linearise_from(&file.aircraft, c, l, start.as_ref())
+                    .map(|(_, lin)| lin.model)
+                    .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))
+            },
             frequencies_hz,
         )
     }

@@ -296,7 +296,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             };
             let key = SubjectKey::Aircraft(file.id.clone(), loading);
             let subject = fit::FitSubject::Aircraft {
-                aircraft: Box::new(file.aircraft.clone()),
+                file: Box::new(file.clone()),
             };
             let applies = crate::inputs::corrections::Corrects::Aircraft(file.id.clone());
             aircraft_file = Some(file);
@@ -877,27 +877,12 @@ pub fn run(f: &FitFile) -> FitRun {
         crate::inputs::condition::Loading,
     )|
      -> Option<cierva_model::LinearModel> {
-        match &f.problem.subject {
-            fit::FitSubject::Aircraft { aircraft } => {
-                let mut set = crate::inputs::corrections::CorrectionSet::default();
-                for (par, v) in f.problem.parameters.iter().zip(values) {
-                    par.kind.set(&mut set, *v);
-                }
-                let mut a = (**aircraft).clone();
-                set.apply_to_aircraft(&mut a).ok()?;
-                crate::run::linearise::run_linearise(&a, c, loading)
-                    .ok()
-                    .map(|(_, lin)| lin.model)
-            }
-            fit::FitSubject::Model { model } => {
-                let mut request = crate::external::Request::at(c, loading);
-                for (par, v) in f.problem.parameters.iter().zip(values) {
-                    request = request.with(par.kind.name(), *v);
-                }
-                model.linear_model(&request).ok()
-            }
-            fit::FitSubject::Rotor { .. } => None,
+        let model = f.problem.subject.flight_model()?;
+        let mut request = crate::external::Request::at(c, loading);
+        for (par, v) in f.problem.parameters.iter().zip(values) {
+            request = request.with(&par.kind.model_name(), *v);
         }
+        model.linear_model(&request).ok()
     };
     let eig = |values: &[f64], at| {
         let analysis =

@@ -39,6 +39,6 @@ mod targets;
 pub use solve::{FitOptions, FitResult, Problem, Status, fit};
 pub use targets::{
     Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,
-    TUNNEL_QUANTITIES, Target, TargetCondition, WarmStarts, check, evaluate, evaluate_each,
-    evaluate_each_from, evaluate_from, sensitivities, values_or_nan,
+    TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate, evaluate_each, sensitivities,
+    values_or_nan,
 };

@@ -3,8 +3,8 @@
 //! the result with its standard errors and warnings.
 
 use super::qp::qp_step;
-use super::targets::{HARD_SLACK, check, evaluate_from, jacobian};
-use super::{Enforce, FitParameter, FitSubject, ParameterKind, Target, WarmStarts};
+use super::targets::{HARD_SLACK, check, evaluate, jacobian};
+use super::{Enforce, FitParameter, FitSubject, ParameterKind, Target};
 use crate::inputs::corrections::CorrectionSet;
 use serde::Serialize;
 
@@ -247,9 +247,9 @@ struct Iterate {
 
 impl Iterate {
     /// A finite-difference Jacobian at `p` (its evaluations counted).
-    fn refresh(&mut self, problem: &Problem, warm: &WarmStarts) -> Result<Vec<Vec<f64>>, String> {
+    fn refresh(&mut self, problem: &Problem) -> Result<Vec<Vec<f64>>, String> {
         self.evaluations += self.p.len();
-        jacobian(problem, warm, &self.p, &self.y)
+        jacobian(problem, &self.p, &self.y)
     }
 }
 
@@ -289,12 +289,7 @@ fn unstarted(problem: &Problem, status: Status) -> FitResult {
 /// One iteration's inner loop: shrink the trust region until a step lowers the cost, and take
 /// it. With an updated (not fresh) Jacobian, a failed or tiny step first refreshes the
 /// Jacobian instead.
-fn trial_steps(
-    problem: &Problem,
-    warm: &WarmStarts,
-    at: &mut Iterate,
-    initial_radius: &[f64],
-) -> Trials {
+fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> Trials {
     let mut accepted = false;
     let mut small = false;
     let mut stale = false;
@@ -334,7 +329,7 @@ fn trial_steps(
                 .collect();
         let predicted = predicted_cost(problem, at, &d);
         at.evaluations += 1;
-        match evaluate_from(problem, &trial, Some(warm)) {
+        match evaluate(problem, &trial) {
             Ok(yt) => {
                 evaluated += 1;
                 let rt = residuals(problem, &trial, &yt);
@@ -403,8 +398,7 @@ pub fn fit(problem: &Problem) -> FitResult {
     }
     let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind.clone()).collect();
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
-    let warm = WarmStarts::default();
-    let y0 = match evaluate_from(problem, &start, Some(&warm)) {
+    let y0 = match evaluate(problem, &start) {
         Ok(y) => y,
         Err(e) => return unstarted(problem, Status::ModelFailure(e)),
     };
@@ -435,7 +429,7 @@ pub fn fit(problem: &Problem) -> FitResult {
     for it in 0..problem.options.max_iterations {
         iterations = it + 1;
         if !at.fresh && (at.jt.is_empty() || want_fresh || !problem.options.broyden) {
-            at.jt = match at.refresh(problem, &warm) {
+            at.jt = match at.refresh(problem) {
                 Ok(j) => j,
                 Err(e) => {
                     status = Status::ModelFailure(e);
@@ -444,7 +438,7 @@ pub fn fit(problem: &Problem) -> FitResult {
             };
             at.fresh = true;
         }
-        let t = trial_steps(problem, &warm, &mut at, &initial_radius);
+        let t = trial_steps(problem, &mut at, &initial_radius);
         if let Some(s) = t.failed {
             status = s;
         }
@@ -465,7 +459,7 @@ pub fn fit(problem: &Problem) -> FitResult {
     if !at.fresh
         && !at.jt.is_empty()
         && !matches!(status, Status::ModelFailure(_))
-        && let Ok(j) = at.refresh(problem, &warm)
+        && let Ok(j) = at.refresh(problem)
     {
         at.jt = j;
     }

@@ -8,7 +8,6 @@ use crate::inputs::condition::Loading;
 use crate::inputs::condition::TrimRequest;
 use crate::inputs::corrections::CorrectionSet;
 use crate::suite::case::TunnelSpec;
-use cierva_model::aircraft::Aircraft;
 use cierva_model::components::rotor::{InflowModel, Rotor};
 use serde::Serialize;
 
@@ -86,6 +85,16 @@ impl ParameterKind {
             Self::ProfileDragReynoldsExponent => "profile_drag_reynolds_exponent",
             Self::Estimated(name) => name,
             Self::Declared(name) => name,
+        }
+    }
+
+    /// Its name behind the model interface: a declared or an estimated parameter's own, a
+    /// correction's `corrections.<name>` (as cierva's aircraft declares it).
+    pub fn model_name(&self) -> String {
+        match self {
+            Self::Estimated(name) => name.to_string(),
+            Self::Declared(name) => name.clone(),
+            other => format!("corrections.{}", other.name()),
         }
     }
 
@@ -194,8 +203,12 @@ pub struct FitParameter {
 /// the model interface in flight.
 #[derive(Debug, Clone)]
 pub enum FitSubject {
-    /// An aircraft, flown at each target's loading.
-    Aircraft { aircraft: Box<Aircraft> },
+    /// cierva's aircraft file, flown at each target's loading: asked through the model
+    /// interface ([`crate::external::CiervaAircraft`]) as any model is, its corrections and
+    /// estimated parameters by their declared names ([`ParameterKind::model_name`]).
+    Aircraft {
+        file: Box<crate::inputs::aircraft::AircraftFile>,
+    },
     Rotor {
         rotor: Box<Rotor>,
         inflow: InflowModel,
@@ -207,6 +220,18 @@ pub enum FitSubject {
     Model {
         model: std::sync::Arc<dyn crate::external::FlightModel>,
     },
+}
+
+impl FitSubject {
+    /// The subject as a flight model (cierva's aircraft or a model behind the model
+    /// interface); `None` for a rotor.
+    pub fn flight_model(&self) -> Option<Box<dyn crate::external::FlightModel + '_>> {
+        match self {
+            Self::Aircraft { file } => Some(Box::new(crate::external::CiervaAircraft::new(file))),
+            Self::Model { model } => Some(Box::new(model.clone())),
+            Self::Rotor { .. } => None,
+        }
+    }
 }
 
 /// Where a target is measured: a trimmed flight condition at a loading (aircraft) or a tunnel
@@ -487,49 +512,15 @@ fn response_frequencies(problem: &Problem, c: &TargetCondition) -> Vec<f64> {
     out
 }
 
-/// The last trim at each flight condition of a fit, to start the next trim there from: the
-/// parameters move little between evaluations, and a warm trim takes about a third of the model
-/// evaluations of a cold one. Each condition's trims run on one thread in the order the fit asks
-/// for them, so a fit stays deterministic.
-#[derive(Debug, Default)]
-pub struct WarmStarts(
-    std::sync::Mutex<Vec<(TargetCondition, cierva_model::aircraft::trim::WarmStart)>>,
-);
-
-impl WarmStarts {
-    fn get(&self, c: &TargetCondition) -> Option<cierva_model::aircraft::trim::WarmStart> {
-        let v = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        v.iter().find(|(k, _)| k == c).map(|(_, w)| w.clone())
-    }
-
-    fn put(&self, c: TargetCondition, w: cierva_model::aircraft::trim::WarmStart) {
-        let mut v = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        match v.iter_mut().find(|(k, _)| *k == c) {
-            Some(slot) => slot.1 = w,
-            None => v.push((c, w)),
-        }
-    }
-}
-
 /// The model's value of every target at parameter values `p`, conditions in parallel; the
 /// first failure if any target cannot be evaluated.
+///
+/// cierva's aircraft starts each trim with parameter values from its own trim at the
+/// condition ([`crate::external::CiervaAircraft`]): an evaluation does not depend on the ones
+/// before it, and a fit of the aircraft through the model interface (`cierva serve`) makes the
+/// same trims.
 pub fn evaluate(problem: &Problem, p: &[f64]) -> Result<Vec<f64>, String> {
-    evaluate_from(problem, p, None)
-}
-
-/// [`evaluate`], each trim started from the last at its condition in `warm` (and left there).
-pub fn evaluate_from(
-    problem: &Problem,
-    p: &[f64],
-    warm: Option<&WarmStarts>,
-) -> Result<Vec<f64>, String> {
-    evaluate_each_from(problem, p, warm)?.into_iter().collect()
-}
-
-/// The model's value of every target at parameter values `p`, each on its own (a condition that
-/// fails leaves the others); an error only when the corrections themselves are invalid.
-pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, String>>, String> {
-    evaluate_each_from(problem, p, None)
+    evaluate_each(problem, p)?.into_iter().collect()
 }
 
 /// [`evaluate_each`] as numbers: NaN for a target whose condition fails, and for every target
@@ -540,12 +531,9 @@ pub fn values_or_nan(problem: &Problem, p: &[f64]) -> Vec<f64> {
     })
 }
 
-/// [`evaluate_each`] with warm-started trims.
-pub fn evaluate_each_from(
-    problem: &Problem,
-    p: &[f64],
-    warm: Option<&WarmStarts>,
-) -> Result<Vec<Result<f64, String>>, String> {
+/// The model's value of every target at parameter values `p`, each on its own (a condition that
+/// fails leaves the others); an error only when the corrections themselves are invalid.
+pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, String>>, String> {
     let mut set = CorrectionSet::default();
     for (par, v) in problem.parameters.iter().zip(p) {
         par.kind.set(&mut set, *v);
@@ -558,12 +546,10 @@ pub fn evaluate_each_from(
     }
     let at = |c: &TargetCondition| format!("at {} with {}", c.label(), describe(problem, p));
     let results: Vec<Result<AtCondition, String>> = match &problem.subject {
-        FitSubject::Aircraft { aircraft } => {
-            let mut a = aircraft.clone();
-            set.apply_to_aircraft(&mut a)?;
-            on_aircraft(problem, &a, &conditions, warm, &at)
+        FitSubject::Aircraft { .. } | FitSubject::Model { .. } => {
+            let model = problem.subject.flight_model().expect("a flight model");
+            on_model(problem, model.as_ref(), p, &conditions, &at)
         }
-        FitSubject::Model { model } => on_model(problem, model.as_ref(), p, &conditions, &at),
         FitSubject::Rotor { rotor, inflow } => {
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
@@ -607,71 +593,6 @@ pub fn evaluate_each_from(
     Ok(problem.targets.iter().map(value).collect())
 }
 
-/// Each condition's quantities, linear model (where a derivative target needs it) and
-/// responses from cierva's aircraft `a` (the parameters' values set), its trims started from
-/// `warm`'s and remembered there. `at` says where, for errors.
-fn on_aircraft(
-    problem: &Problem,
-    a: &cierva_model::aircraft::Aircraft,
-    conditions: &[TargetCondition],
-    warm: Option<&WarmStarts>,
-    at: &(dyn Fn(&TargetCondition) -> String + Sync),
-) -> Vec<Result<AtCondition, String>> {
-    crate::run::parallel::parallel_map(conditions, |c| {
-        let TargetCondition::Flight(request, loading) = c else {
-            return Err(format!(
-                "{}: an aircraft flies, it is not in a tunnel",
-                at(c)
-            ));
-        };
-        let frequencies = response_frequencies(problem, c);
-        let linear = problem
-            .targets
-            .iter()
-            .any(|t| t.condition == *c && matches!(t.measure, Measure::Derivative(_)));
-        let start = warm.and_then(|w| w.get(c));
-        let (trim, lin) = if linear {
-            let (t, l) =
-                crate::run::linearise::run_linearise_from(a, *request, *loading, start.as_ref())
-                    .map_err(|e| format!("{}: {e}", at(c)))?;
-            (t, Some(l.model))
-        } else {
-            let t = crate::run::trim::run_trim_from(a, *request, *loading, start.as_ref())
-                .map_err(|e| format!("{}: {e}", at(c)))?;
-            (t, None)
-        };
-        if let Some(w) = warm {
-            w.put(*c, trim.warm_start.clone());
-        }
-        // One linearisation (with flapping where the hub has it) for every response
-        // target at the condition, one harmonic balance a frequency.
-        let responses = if frequencies.is_empty() {
-            None
-        } else {
-            Some(
-                crate::run::responses::aircraft_responses(
-                    a,
-                    *loading,
-                    &trim,
-                    || match &lin {
-                        Some(l) => Ok(l.clone()),
-                        None => crate::run::linearise::run_linearise(a, *request, *loading)
-                            .map(|(_, l)| l.model)
-                            .map_err(|e| e.to_string()),
-                    },
-                    &frequencies,
-                )
-                .map_err(|e| format!("{}: {e}", at(c)))?,
-            )
-        };
-        Ok((
-            crate::checks::trim::trim_quantities_of(a, *loading, &trim),
-            lin,
-            responses,
-        ))
-    })
-}
-
 /// Each condition's quantities, linear model and responses from a model behind the model
 /// interface, asked with the parameters' values `p` by their declared names: its trim, or its
 /// trim and linear model where a target at the condition is a derivative or a response (the
@@ -687,7 +608,7 @@ fn on_model(
         .parameters
         .iter()
         .zip(p)
-        .map(|(q, v)| (q.kind.name().to_string(), *v))
+        .map(|(q, v)| (q.kind.model_name(), *v))
         .collect();
     crate::run::parallel::parallel_map(conditions, |c| {
         let TargetCondition::Flight(condition, loading) = c else {
@@ -708,26 +629,29 @@ fn on_model(
                 .iter()
                 .any(|t| t.condition == *c && m(&t.measure))
         };
-        let linear = here(|m| matches!(m, Measure::Derivative(_) | Measure::Response(_)));
+        let linear = here(|m| matches!(m, Measure::Derivative(_)));
         let trimmed = here(|m| matches!(m, Measure::Trim(_)));
         let located = |e: String| format!("{}: {e}", at(c));
         // Only what the targets need: a model that gives its linear model alone can be fitted
-        // to derivatives and responses.
+        // to derivatives and responses (its responses come from its A and B).
         let (q, lin) = match (trimmed, linear) {
-            (_, false) => return Ok((model.trim(&request).map_err(located)?, None, None)),
-            (false, true) => (Vec::new(), model.linear_model(&request).map_err(located)?),
-            (true, true) => model.trim_and_linear_model(&request).map_err(located)?,
+            (false, false) => (Vec::new(), None),
+            (true, false) => (model.trim(&request).map_err(located)?, None),
+            (false, true) => (
+                Vec::new(),
+                Some(model.linear_model(&request).map_err(located)?),
+            ),
+            (true, true) => {
+                let (q, lin) = model.trim_and_linear_model(&request).map_err(located)?;
+                (q, Some(lin))
+            }
         };
         let responses = if frequencies.is_empty() {
             None
         } else {
-            let from = crate::run::responses::from_a_and_b(&model.describe());
-            Some(
-                crate::run::responses::Responses::of_linear_model(&lin, &frequencies, from)
-                    .map_err(|e| format!("{}: {e}", at(c)))?,
-            )
+            Some(model.responses(&request, &frequencies).map_err(located)?)
         };
-        Ok((q, Some(lin), responses))
+        Ok((q, lin, responses))
     })
 }
 
@@ -845,20 +769,14 @@ pub fn check(problem: &Problem) -> Result<(), String> {
 /// there (`[target][parameter]`), as the fit differences them: for a covariance beyond the
 /// fit's own (`crate::fit::retune`'s cluster-robust one).
 pub fn sensitivities(problem: &Problem, p: &[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
-    let warm = WarmStarts::default();
-    let y = evaluate_from(problem, p, Some(&warm))?;
-    let j = jacobian(problem, &warm, p, &y)?;
+    let y = evaluate(problem, p)?;
+    let j = jacobian(problem, p, &y)?;
     Ok((y, j))
 }
 
 /// Forward-difference sensitivities of the targets to the parameters; each step goes inwards
 /// from a bound.
-pub(super) fn jacobian(
-    problem: &Problem,
-    warm: &WarmStarts,
-    p: &[f64],
-    y: &[f64],
-) -> Result<Vec<Vec<f64>>, String> {
+pub(super) fn jacobian(problem: &Problem, p: &[f64], y: &[f64]) -> Result<Vec<Vec<f64>>, String> {
     let n = p.len();
     let mut j = vec![vec![0.0; n]; y.len()];
     for i in 0..n {
@@ -869,14 +787,14 @@ pub(super) fn jacobian(
         }
         let mut q = p.to_vec();
         q[i] += h;
-        let yq = match evaluate_from(problem, &q, Some(warm)) {
+        let yq = match evaluate(problem, &q) {
             Ok(yq) => yq,
             // Near the edge of the model's domain (a rotor at the edge of autorotation) the
             // model can fail on one side of a point it solves: difference the other way.
             Err(first) if (par.lower..=par.upper).contains(&(p[i] - h)) => {
                 h = -h;
                 q[i] = p[i] + h;
-                evaluate_from(problem, &q, Some(warm)).map_err(|_| first)?
+                evaluate(problem, &q).map_err(|_| first)?
             }
             Err(first) => return Err(first),
         };

@@ -43,6 +43,56 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// Every correction of an aircraft by its name as written: its unit and meaning (cierva's
+/// aircraft declares each through the model interface as `corrections.<name>`).
+pub const CORRECTIONS: [(&str, &str, &str); 9] = [
+    (
+        "propeller_blockage",
+        "-",
+        "seed 000's propeller blockage: the fraction of the free stream the rotor's wake takes from the propeller disc (0 none, 1 total)",
+    ),
+    (
+        "hub_aoa_factor",
+        "-",
+        "seed 000's hub angle of attack as a factor on the c.g.'s (unset: the kinematic angle, which a trim in straight flight shares with factor 1 and a linearisation does not: pitch rate moves the hub)",
+    ),
+    (
+        "profile_drag_scale",
+        "-",
+        "multiplies the main rotor's section drag coefficient",
+    ),
+    (
+        "profile_drag_increment",
+        "-",
+        "added to the main rotor's section drag coefficient",
+    ),
+    (
+        "pitch_offset_deg",
+        "deg",
+        "added to the main rotor's blade pitch",
+    ),
+    (
+        "lateral_inflow_offset_m_s",
+        "m/s",
+        "added to the main rotor's lateral induced velocity v1s (seed 003)",
+    ),
+    (
+        "elastic_twist_deg_per_kpa",
+        "deg/kPa",
+        "the main rotor's elastic torsion: the tip's pitch change per kPa of tip dynamic pressure in hover",
+    ),
+    (
+        "hub_drag_area_m2",
+        "m^2",
+        "the main rotor's hub drag as an equivalent flat-plate area",
+    ),
+    (
+        "profile_drag_reynolds_exponent",
+        "-",
+        "the main rotor's section-drag Reynolds-number exponent",
+    ),
+];
+
 /// Corrections to set (those given; the others as the file has them).
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -128,6 +178,61 @@ impl CorrectionSet {
                 e
             },
         }
+    }
+
+    /// Every correction an aircraft has, at its value (in the units written; the hub
+    /// angle-of-attack factor at 1 where the aircraft leaves it unset, see [`CORRECTIONS`]).
+    pub fn of_aircraft(a: &Aircraft) -> Self {
+        let c = &a.main_rotor.rotor.corrections;
+        Self {
+            propeller_blockage: Some(a.propeller.propeller.blockage),
+            hub_aoa_factor: Some(a.hub_aoa_factor.unwrap_or(1.0)),
+            profile_drag_scale: Some(c.profile_drag_scale),
+            profile_drag_increment: Some(c.profile_drag_increment),
+            pitch_offset_deg: Some(c.pitch_offset_rad.to_degrees()),
+            lateral_inflow_offset_m_s: Some(c.lateral_inflow_offset_m_s),
+            elastic_twist_deg_per_kpa: Some(c.elastic_twist_rad_per_pa.to_degrees() * 1000.0),
+            hub_drag_area_m2: Some(a.main_rotor.rotor.hub_drag_area_m2),
+            profile_drag_reynolds_exponent: Some(c.profile_drag_reynolds_exponent),
+            ..Self::default()
+        }
+    }
+
+    /// The set as values of the parameters cierva's aircraft declares through the model
+    /// interface: each correction given as `corrections.<name>`, each estimated parameter by
+    /// its own name (a model's declared parameters are not the aircraft's, and stay out).
+    pub fn as_declared(&self) -> BTreeMap<String, f64> {
+        self.named()
+            .into_iter()
+            .filter_map(|(n, v)| Some((format!("corrections.{n}"), v?)))
+            .chain(self.estimated.iter().map(|(n, v)| (n.clone(), *v)))
+            .collect()
+    }
+
+    /// The correction `name` (as written), where the set gives it.
+    pub fn get_named(&self, name: &str) -> Option<f64> {
+        self.named()
+            .into_iter()
+            .find(|(n, _)| *n == name)
+            .and_then(|(_, v)| v)
+    }
+
+    /// Sets the correction `name` (as written); `None` for a name that is no correction.
+    pub fn set_named(&mut self, name: &str, value: f64) -> Option<()> {
+        let slot = match name {
+            "propeller_blockage" => &mut self.propeller_blockage,
+            "hub_aoa_factor" => &mut self.hub_aoa_factor,
+            "profile_drag_scale" => &mut self.profile_drag_scale,
+            "profile_drag_increment" => &mut self.profile_drag_increment,
+            "pitch_offset_deg" => &mut self.pitch_offset_deg,
+            "lateral_inflow_offset_m_s" => &mut self.lateral_inflow_offset_m_s,
+            "elastic_twist_deg_per_kpa" => &mut self.elastic_twist_deg_per_kpa,
+            "hub_drag_area_m2" => &mut self.hub_drag_area_m2,
+            "profile_drag_reynolds_exponent" => &mut self.profile_drag_reynolds_exponent,
+            _ => return None,
+        };
+        *slot = Some(value);
+        Some(())
     }
 
     /// Every correction by its name as written, with its value where the set gives it.

@@ -61,3 +61,32 @@ pub fn run_trim_from(
         start,
     )?)
 }
+
+type TrimCache = std::sync::Mutex<
+    std::collections::HashMap<
+        String,
+        Result<std::sync::Arc<cierva_model::aircraft::trim::Trim>, String>,
+    >,
+>;
+static TRIMS: std::sync::OnceLock<TrimCache> = std::sync::OnceLock::new();
+
+/// [`run_trim`] of an aircraft file, remembered per file, condition and loading: the trim a
+/// request with parameter values starts from (cierva's aircraft through the model interface).
+pub fn trim_cached(
+    file: &crate::inputs::aircraft::AircraftFile,
+    request: TrimRequest,
+    loading: Loading,
+) -> Result<std::sync::Arc<cierva_model::aircraft::trim::Trim>, String> {
+    let key = format!("{}|{request:?}|{loading:?}", file.path.display());
+    let cache = TRIMS.get_or_init(Default::default);
+    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return hit;
+    }
+    let result = run_trim(&file.aircraft, request, loading)
+        .map(std::sync::Arc::new)
+        .map_err(|e| e.to_string());
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, result.clone());
+    }
+    result
+}

@@ -8,13 +8,15 @@ use cierva_harness::fit::{
 use cierva_harness::inputs::condition::Loading;
 use cierva_harness::inputs::condition::TrimRequest;
 
-fn vpm() -> cierva_model::aircraft::Aircraft {
+fn vpm_file() -> cierva_harness::inputs::aircraft::AircraftFile {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .unwrap();
-    cierva_harness::inputs::aircraft::load(&root.join("aircraft/vpm-m16.yaml"))
-        .unwrap()
-        .aircraft
+    cierva_harness::inputs::aircraft::load(&root.join("aircraft/vpm-m16.yaml")).unwrap()
+}
+
+fn vpm() -> cierva_model::aircraft::Aircraft {
+    vpm_file().aircraft
 }
 
 fn at(mph: f64) -> TargetCondition {
@@ -23,7 +25,7 @@ fn at(mph: f64) -> TargetCondition {
 
 fn vpm_subject() -> FitSubject {
     FitSubject::Aircraft {
-        aircraft: Box::new(vpm()),
+        file: Box::new(vpm_file()),
     }
 }
 

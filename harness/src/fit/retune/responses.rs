@@ -610,8 +610,8 @@ pub fn responses(
 
 /// The fit's targets: each used point's real and imaginary parts, with the record's other
 /// controls' transfers, and the standard error [`RecordedResponse::standard_error`] with `models`'s
-/// responses to those controls (one per condition, [`model_responses`] with its
-/// neighbourhood). A point whose [`resolution_bias`] by `models` exceeds
+/// responses to those controls (one per condition, [`super::subject::Retuned::responses`]
+/// with its neighbourhood). A point whose [`resolution_bias`] by `models` exceeds
 /// [`RESOLUTION_BIAS_MAX`] of its random error is left out.
 pub fn targets(
     responses: &[RecordedResponse],
@@ -701,40 +701,6 @@ pub fn frequencies_by_condition(
         }
     }
     out
-}
-
-/// An aircraft's responses ([`crate::run::responses::aircraft_responses`]) at
-/// every condition of `responses`, at every frequency they are estimated, and with
-/// `neighbourhood` at [`neighbours`] of every used point too (one trim and one linearisation a
-/// condition, conditions in parallel).
-pub fn model_responses(
-    aircraft: &cierva_model::aircraft::Aircraft,
-    responses: &[RecordedResponse],
-    neighbourhood: bool,
-) -> Result<Vec<(TargetCondition, crate::run::responses::Responses)>, String> {
-    let conditions = frequencies_by_condition(responses, neighbourhood);
-    crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
-        let TargetCondition::Flight(request, loading) = *c else {
-            return Err("a retune's condition is a flight condition".to_string());
-        };
-        let trim = crate::run::trim::run_trim(aircraft, request, loading)
-            .map_err(|e| format!("at {}: {e}", c.label()))?;
-        crate::run::responses::aircraft_responses(
-            aircraft,
-            loading,
-            &trim,
-            || {
-                crate::run::linearise::run_linearise(aircraft, request, loading)
-                    .map(|(_, l)| l.model)
-                    .map_err(|e| e.to_string())
-            },
-            frequencies,
-        )
-        .map(|m| (*c, m))
-        .map_err(|e| format!("at {}: {e}", c.label()))
-    })
-    .into_iter()
-    .collect()
 }
 
 /// One response of the records beside the model's, before and after the retune.

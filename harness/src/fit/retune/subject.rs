@@ -41,7 +41,7 @@ impl Retuned<'_> {
     pub fn fit_subject(&self) -> FitSubject {
         match self {
             Self::Aircraft(f) => FitSubject::Aircraft {
-                aircraft: Box::new(f.aircraft.clone()),
+                file: Box::new((*f).clone()),
             },
             Self::Model(e) => FitSubject::Model {
                 model: e.model.clone(),
@@ -99,37 +99,55 @@ impl Retuned<'_> {
         }
     }
 
+    /// The model behind the model interface: cierva's aircraft file, or the model.
+    pub fn flight_model(&self) -> Box<dyn crate::external::FlightModel + '_> {
+        match self {
+            Self::Aircraft(file) => Box::new(crate::external::CiervaAircraft::new(file)),
+            Self::Model(e) => Box::new(e.model.clone()),
+        }
+    }
+
+    /// A request at a flight condition with the values of `values` by the names the model
+    /// declares (an aircraft's corrections as `corrections.<name>`).
+    fn request(
+        &self,
+        values: &CorrectionSet,
+        condition: crate::inputs::condition::TrimRequest,
+        loading: crate::inputs::condition::Loading,
+    ) -> crate::external::Request {
+        let parameters = match self {
+            Self::Aircraft(_) => values.as_declared(),
+            Self::Model(_) => values.parameters.clone(),
+        };
+        crate::external::Request {
+            condition,
+            loading,
+            parameters,
+        }
+    }
+
     /// The responses at every condition of `estimated` (with `neighbourhood` at the
     /// neighbours of every used point, [`responses::neighbours`]), with the values of
-    /// `values` (an empty set: the file or the model as it is).
+    /// `values` (an empty set: the file or the model as it is), conditions in parallel.
     pub fn responses(
         &self,
         values: &CorrectionSet,
         estimated: &[responses::RecordedResponse],
         neighbourhood: bool,
     ) -> Result<Vec<(TargetCondition, Responses)>, String> {
-        match self {
-            Self::Aircraft(file) => {
-                let mut a = file.aircraft.clone();
-                values.apply_to_aircraft(&mut a)?;
-                responses::model_responses(&a, estimated, neighbourhood)
-            }
-            Self::Model(e) => {
-                let conditions = responses::frequencies_by_condition(estimated, neighbourhood);
-                crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
-                    let TargetCondition::Flight(request, loading) = *c else {
-                        return Err("a retune's condition is a flight condition".to_string());
-                    };
-                    let lin = self.linear_model(values, request, loading)?;
-                    let from = crate::run::responses::from_a_and_b(&e.model.describe());
-                    Responses::of_linear_model(&lin, frequencies, from)
-                        .map(|m| (*c, m))
-                        .map_err(|e| format!("at {}: {e}", c.label()))
-                })
-                .into_iter()
-                .collect()
-            }
-        }
+        let model = self.flight_model();
+        let conditions = responses::frequencies_by_condition(estimated, neighbourhood);
+        crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
+            let TargetCondition::Flight(request, loading) = *c else {
+                return Err("a retune's condition is a flight condition".to_string());
+            };
+            model
+                .responses(&self.request(values, request, loading), frequencies)
+                .map(|m| (*c, m))
+                .map_err(|e| format!("at {}: {e}", c.label()))
+        })
+        .into_iter()
+        .collect()
     }
 
     /// The linear model at a flight condition with the values of `values`: the aircraft's
@@ -140,19 +158,8 @@ impl Retuned<'_> {
         request: crate::inputs::condition::TrimRequest,
         loading: crate::inputs::condition::Loading,
     ) -> Result<cierva_model::LinearModel, String> {
-        match self {
-            Self::Aircraft(file) => {
-                let mut a = file.aircraft.clone();
-                values.apply_to_aircraft(&mut a)?;
-                crate::run::linearise::run_linearise(&a, request, loading)
-                    .map(|(_, lin)| lin.model)
-                    .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))
-            }
-            Self::Model(e) => e.model.linear_model(&crate::external::Request {
-                condition: request,
-                loading,
-                parameters: values.parameters.clone(),
-            }),
-        }
+        self.flight_model()
+            .linear_model(&self.request(values, request, loading))
+            .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))
     }
 }
