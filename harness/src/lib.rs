@@ -3,13 +3,14 @@
 //! Everything between the model and the people who use it, in groups (lowest first): `units`,
 //! `inputs` (the file formats), `ident` (flight-data analysis), `run` (the model at a case's
 //! conditions), `estimate`, `synth` (synthetic records), `external` (other simulations),
-//! `checks` (the check kinds), `suite` (cases, outcomes, the scoreboard), `fit`, `uncertainty`
-//! and `report`. The `cierva` binary and the generated test suite (`tests/cases.rs`) are thin
-//! layers over this library.
+//! `checks` (the check kinds), `suite` (cases, outcomes, the scoreboard), `fit`, `uncertainty`,
+//! `report` and `bench` (what `cierva bench` times). The `cierva` binary and the generated test
+//! suite (`tests/cases.rs`) are thin layers over this library.
 //!
 //! The model (`cierva-model`) does no I/O; everything that reads files lives here. The root
 //! re-exports nothing: an item is named by where it lives (`crate::run::trim::run_trim`).
 
+pub mod bench;
 pub mod checks;
 pub mod estimate;
 pub mod external;

@@ -31,11 +31,10 @@ pub fn linear_response(
         .collect()
 }
 
-/// An aircraft's frequency responses at one flight condition: every state to every control at
-/// each frequency, from the model [`FrequencyResponseCheck::model_response`] uses (the
-/// linearisation with the rotor's flapping states and its baseband response by harmonic
-/// balance for a teetering hub, the quasi-static linearisation otherwise), one linearisation
-/// for all of them.
+/// A flight model's frequency responses at one flight condition: every state to every control
+/// at each frequency, from one linearisation (a model's A and B; for cierva's aircraft with a
+/// teetering hub, the linearisation with the rotor's flapping states and its baseband response
+/// by harmonic balance, [`aircraft_responses`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Responses {
     pub states: Vec<String>,
