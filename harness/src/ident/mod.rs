@@ -77,7 +77,31 @@ pub fn identify_records(records: &[Record], config: &ConfigSpec) -> Result<Ident
         .map(|r| r.meta.id.as_str())
         .collect::<Vec<_>>()
         .join(" + ");
-    identify_histories(&id, parts, config)
+    identify_histories(&id, parts, config).map_err(|e| {
+        let paths: Vec<String> = records
+            .iter()
+            .map(|r| r.path.display().to_string())
+            .collect();
+        // A sidecar with no trim values (cut short, or written for perturbations) leaves
+        // the histories about zero: say so where the fit fails.
+        let untrimmed: Vec<String> = records
+            .iter()
+            .filter(|r| r.meta.trim.is_empty())
+            .map(|r| record::sidecar_path(&r.path).display().to_string())
+            .collect();
+        let hint = if untrimmed.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({} give{} no `trim:` values, so the histories are taken about zero; give \
+                 each state's and control's trim value there, or check the records are \
+                 perturbations)",
+                untrimmed.join(", "),
+                if untrimmed.len() == 1 { "s" } else { "" }
+            )
+        };
+        format!("{}: {e}{hint}", paths.join(" + "))
+    })
 }
 
 /// One run's perturbation histories for [`identify_histories`]: its name (for messages), the

@@ -198,12 +198,26 @@ pub fn load_using(
     let mut meta: RecordMeta = yaml::parse(&side, &side_src)?;
     check_id(&side, &side_src, &meta.id)?;
     current_names_of_sidecar(&side, &side_src, &mut meta)?;
-    if !(meta.sample_rate_hz.is_finite() && meta.sample_rate_hz > 0.0) {
+    if !(meta.sample_rate_hz.is_finite()
+        && meta.sample_rate_hz > 0.0
+        && (1.0 / meta.sample_rate_hz).is_finite())
+    {
         return Err(InputError::field(
             &side,
             &side_src,
             "sample_rate_hz",
-            "must be a positive number",
+            format!(
+                "must be a positive number whose time step (1 / rate) is finite, got {:e} Hz",
+                meta.sample_rate_hz
+            ),
+        ));
+    }
+    if let Some((name, v)) = meta.trim.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(InputError::field(
+            &side,
+            &side_src,
+            &format!("trim.{name}"),
+            format!("must be a finite number, got {v}"),
         ));
     }
     let src = yaml::read_csv(csv_path)?;

@@ -295,3 +295,97 @@ fn a_check_where_its_record_was_not_flown_is_refused_with_both_conditions() {
     cierva_harness::suite::case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A sidecar's own bad numbers are blamed on the sidecar, at their field (issue 50's fuzzing:
+/// they were blamed on the CSV, "signal `eta_s` is not finite at sample 0", "time step inf s").
+#[test]
+fn a_sidecars_bad_numbers_are_blamed_on_the_sidecar() {
+    let root = repo_root();
+    let side = std::fs::read_to_string(root.join(format!("{SWEEP}.yaml"))).unwrap();
+    let id = SWEEP.rsplit('/').next().unwrap();
+    let rate = side
+        .lines()
+        .find(|l| l.starts_with("sample_rate_hz:"))
+        .unwrap()
+        .to_string();
+    let trim_line = side
+        .lines()
+        .skip_while(|l| !l.starts_with("trim:"))
+        .nth(1)
+        .unwrap()
+        .to_string();
+    let key = trim_line.trim().split(':').next().unwrap().to_string();
+    for (k, (from, to, field, says)) in [
+        (
+            rate.as_str(),
+            "sample_rate_hz: 2e-320".to_string(),
+            "sample_rate_hz".to_string(),
+            "whose time step (1 / rate) is finite, got 2e-320 Hz",
+        ),
+        (
+            trim_line.as_str(),
+            format!("  {key}: -.inf"),
+            format!("trim.{key}"),
+            "must be a finite number, got -inf",
+        ),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let dir = scratch(&format!("sidecar-{k}"));
+        std::fs::copy(root.join(format!("{SWEEP}.csv")), dir.join("bad.csv")).unwrap();
+        std::fs::write(
+            dir.join("bad.yaml"),
+            side.replacen(&format!("id: {id}"), "id: bad", 1)
+                .replacen(from, to, 1),
+        )
+        .unwrap();
+        let e = record::load(&dir.join("bad.csv")).unwrap_err().render();
+        assert!(
+            e.contains("bad.yaml:") && e.contains(field.as_str()) && e.contains(says),
+            "{e}"
+        );
+        assert!(!e.contains("bad.csv"), "blamed on the CSV: {e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// A sidecar cut short before its `trim:` (issue 50's fuzzing: "regressors are singular", no
+/// file named): the identification's failure names the records and says their sidecar gives
+/// no trim values.
+#[test]
+fn an_identification_that_fails_names_its_records_and_an_empty_trim() {
+    let root = repo_root();
+    let side = std::fs::read_to_string(root.join(format!("{SWEEP}.yaml"))).unwrap();
+    let id = SWEEP.rsplit('/').next().unwrap();
+    let cut = side
+        .lines()
+        .take_while(|l| !l.starts_with("trim:"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let dir = scratch("cut-short");
+    std::fs::copy(root.join(format!("{SWEEP}.csv")), dir.join("cut.csv")).unwrap();
+    std::fs::write(
+        dir.join("cut.yaml"),
+        cut.replacen(&format!("id: {id}"), "id: cut", 1) + "\n",
+    )
+    .unwrap();
+    let (code, out, err) = super::common::cierva_in(
+        &root,
+        &[
+            "identify",
+            dir.join("cut.csv").to_str().unwrap(),
+            "--setup",
+            "longitudinal",
+        ],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("cut.csv: ")
+            && err.contains(
+                "cut.yaml gives no `trim:` values, so the histories are taken about zero"
+            ),
+        "{err}"
+    );
+}
