@@ -49,6 +49,18 @@ pub(crate) fn simulate(a: SimulateArgs) -> Result<ExitCode, Error> {
         output,
         format,
     } = a;
+    // The command line's own values are its errors (exit 2, naming the option), before any
+    // file is read: a length the run can never reach is not the aircraft's fault.
+    if !(duration_s.is_finite() && duration_s > 0.0) {
+        return Err(Error::input(format!(
+            "--duration-s {duration_s}: give the run's length as a positive, finite number of seconds"
+        )));
+    }
+    if every == 0 {
+        return Err(Error::input(
+            "--every 0: keep every n-th step with n at least 1",
+        ));
+    }
     let (shape, control) = (shape.input(), shape.control);
     use cierva_harness::inputs::controls;
     let file = load_flight(&f)?;

@@ -342,15 +342,35 @@ pub fn read_csv(path: &Path) -> Result<String, InputError> {
     read_limited(path, MAX_CSV_FILE_BYTES)
 }
 
+/// A file that is not UTF-8 text: an error at the line and column of its first bad byte
+/// (the column counts the characters before it on its line, plus one), naming the byte.
+fn not_utf8(path: &Path, bytes: &[u8], e: std::str::Utf8Error) -> InputError {
+    let good = &bytes[..e.valid_up_to()];
+    let line_start = good.iter().rposition(|b| *b == b'\n').map_or(0, |i| i + 1);
+    let line = good.iter().filter(|b| **b == b'\n').count() + 1;
+    let column = String::from_utf8_lossy(&good[line_start..]).chars().count() + 1;
+    let byte = bytes.get(e.valid_up_to()).copied().unwrap_or(0);
+    InputError {
+        path: path.to_path_buf(),
+        line: Some(line),
+        column: Some(column),
+        field: None,
+        message: format!(
+            "the file is not valid UTF-8 text: byte 0x{byte:02x} at line {line}, column \
+             {column} (save it as UTF-8; a spreadsheet's \"CSV UTF-8\" does)"
+        ),
+    }
+}
+
 /// Reads at most `limit` bytes of a file; a longer one is an error that says so.
 fn read_limited(path: &Path, limit: u64) -> Result<String, InputError> {
     let cannot = |e: std::io::Error| InputError::file(path, format!("cannot read: {e}"));
     let file = std::fs::File::open(path).map_err(cannot)?;
-    let mut src = String::new();
+    let mut bytes = Vec::new();
     file.take(limit + 1)
-        .read_to_string(&mut src)
+        .read_to_end(&mut bytes)
         .map_err(cannot)?;
-    if src.len() as u64 > limit {
+    if bytes.len() as u64 > limit {
         let kind = if limit == MAX_CSV_FILE_BYTES {
             "CSV"
         } else {
@@ -365,7 +385,7 @@ fn read_limited(path: &Path, limit: u64) -> Result<String, InputError> {
             ),
         ));
     }
-    Ok(src)
+    String::from_utf8(bytes).map_err(|e| not_utf8(path, e.as_bytes(), e.utf8_error()))
 }
 
 /// The first place where `src` nests collections deeper than `limit` levels, 1-based line and

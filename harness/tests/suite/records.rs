@@ -389,3 +389,25 @@ fn an_identification_that_fails_names_its_records_and_an_empty_trim() {
         "{err}"
     );
 }
+
+/// A file that is not UTF-8 (a logger's Latin-1 degree sign) is an error at the line and
+/// column of its first bad byte (issue 50's fuzzing: about 350 errors gave no line).
+#[test]
+fn a_file_that_is_not_utf8_is_located_at_its_first_bad_byte() {
+    let dir = scratch("latin1");
+    let path = dir.join("latin1.csv");
+    // "time_s,theta_deg\n0,1.5\n0.01,2" then a Latin-1 degree sign (0xb0) after `2`.
+    let mut bytes = b"time_s,theta_deg\n0,1.5\n0.01,2".to_vec();
+    bytes.push(0xb0);
+    bytes.extend_from_slice(b"\n");
+    std::fs::write(&path, &bytes).unwrap();
+    let e = cierva_harness::inputs::yaml::read_csv(&path).unwrap_err();
+    assert_eq!((e.line, e.column), (Some(3), Some(7)), "{}", e.render());
+    assert!(
+        e.render()
+            .contains("latin1.csv:3:7: the file is not valid UTF-8 text: byte 0xb0"),
+        "{}",
+        e.render()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

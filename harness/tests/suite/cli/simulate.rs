@@ -140,3 +140,40 @@ fn a_bad_control_csv_is_located_with_a_caret_and_a_suggestion() {
     assert!(err.contains("\n  |    ^"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A command-line value the run cannot take is blamed on its option, exit 2 (issue 50's
+/// fuzzing: `--duration-s inf` exited 1 blaming `aircraft/vpm-m16.yaml: at 0.000 s`).
+#[test]
+fn a_bad_duration_is_blamed_on_its_option() {
+    for (value, option) in [
+        ("inf", "--duration-s"),
+        ("-1", "--duration-s"),
+        ("NaN", "--duration-s"),
+        ("0", "--every"),
+    ] {
+        let mut args = vec![
+            "simulate",
+            "aircraft/vpm-m16.yaml",
+            "--airspeed-mph",
+            "70",
+            "--shape",
+            "step",
+            "--control",
+            "eta_s",
+            "--output",
+            "/dev/null",
+        ];
+        let given = format!("{option}={value}");
+        args.push(&given);
+        if option != "--duration-s" {
+            args.extend(["--duration-s", "1"]);
+        }
+        let (code, _, err) = cierva(&args);
+        assert_eq!(code, 2, "{option} {value}: {err}");
+        assert!(err.contains(&format!("{option} {value}")), "{err}");
+        assert!(
+            !err.contains("vpm-m16.yaml"),
+            "blamed on the aircraft: {err}"
+        );
+    }
+}
