@@ -85,7 +85,10 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let busy = spinner("estimating the responses and fitting");
     let outcome = retune::retune(retuned, &records, &requests, &how(&a));
     busy.finish_and_clear();
-    let r = outcome.map_err(Error::input)?;
+    let r = outcome.map_err(|e| match e {
+        retune::RetuneError::Input(m) => Error::input(m),
+        retune::RetuneError::Model(_) => Error::failure(format!("{shown}: {e}")),
+    })?;
     let output = or_in_suite(a.output.clone(), Suite::retuned, format!("{id}.yaml"))?;
     let id = output
         .file_stem()

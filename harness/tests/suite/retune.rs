@@ -142,6 +142,28 @@ fn retune_refuses_bad_records_with_located_errors() {
         stderr.contains(blind.to_str().unwrap()) && stderr.contains("omega_rotor_rad_s"),
         "{stderr}"
     );
+    // A model that fails where the record was flown (a 12 m/s climb the engine cannot give) is
+    // the model's failure, exit 1, naming the aircraft (issue 50's fuzzing: it was exit 2, no
+    // file named).
+    let steep = edited(&a, "steep", |_, _| {});
+    let side = std::fs::read_to_string(steep.with_extension("yaml")).unwrap();
+    let climb = side
+        .lines()
+        .find(|l| l.trim_start().starts_with("climb_m_s:"))
+        .unwrap()
+        .to_string();
+    std::fs::write(
+        steep.with_extension("yaml"),
+        side.replacen(&climb, "  climb_m_s: 12.0", 1),
+    )
+    .unwrap();
+    let (code, stdout, stderr) = retune(&dir, &[&steep], &[]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    assert!(
+        stderr.contains("aircraft/vpm-m16.yaml")
+            && stderr.contains("the model where the records were flown"),
+        "{stderr}"
+    );
     // An output that is not a measured state.
     let (code, _, stderr) = retune(&dir, &[&a], &["--outputs", "theta"]);
     assert_eq!(code, 2, "{stderr}");

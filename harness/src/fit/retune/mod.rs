@@ -178,6 +178,29 @@ pub fn parameters(
         .collect()
 }
 
+/// Why a retune did not run: bad input (the records, the parameters asked for), or the model
+/// failing where the records were flown (a trim that does not converge), which is no fault of
+/// the input (`cierva retune` exits 1 for it, 2 for bad input).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RetuneError {
+    #[error("{0}")]
+    Input(String),
+    #[error("the model where the records were flown: {0}")]
+    Model(String),
+}
+
+impl From<String> for RetuneError {
+    fn from(message: String) -> Self {
+        Self::Input(message)
+    }
+}
+
+impl From<&str> for RetuneError {
+    fn from(message: &str) -> Self {
+        Self::Input(message.to_string())
+    }
+}
+
 /// Estimates the records' responses and fits the parameters of `retuned` (an aircraft file, or
 /// a model behind the model interface) to them.
 pub fn retune(
@@ -185,7 +208,7 @@ pub fn retune(
     records: &[Record],
     requests: &[RetuneParameter],
     how: &How,
-) -> Result<Retune, String> {
+) -> Result<Retune, RetuneError> {
     if records.is_empty() {
         return Err("no records to retune from".into());
     }
@@ -205,20 +228,24 @@ pub fn retune(
         .collect();
     let estimated = responses::responses(records, &how.responses)?;
     let uncorrected = crate::inputs::corrections::CorrectionSet::default();
-    let models = retuned.responses(&uncorrected, &estimated, true)?;
+    let models = retuned
+        .responses(&uncorrected, &estimated, true)
+        .map_err(RetuneError::Model)?;
     let (estimated, left_out) = answerable(estimated, &models);
     if estimated.is_empty() {
         return Err(format!(
             "the model answers none of the records' responses: {}",
             left_out.join("; ")
-        ));
+        )
+        .into());
     }
     let targets = responses::targets(&estimated, &models)?;
     if targets.is_empty() {
         return Err(format!(
             "no response of the records reaches a coherence of {} at any frequency: nothing to match (inconclusive: coherence)",
             crate::checks::frequency_response::COHERENCE_MIN
-        ));
+        )
+        .into());
     }
     // Which model gave the responses, as they say (every condition's come from one model).
     let model = models
