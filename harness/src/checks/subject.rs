@@ -79,7 +79,9 @@ pub struct ExternalSpec {
     /// persistent mode), instead of run once per request.
     #[serde(default)]
     pub persistent: bool,
-    /// The longest one request may run, s; the process is killed after it.
+    /// The longest one request may run, s; the process is killed after it (default
+    /// [`DEFAULT_TIMEOUT_S`]).
+    #[serde(default = "default_timeout_s")]
     pub timeout_s: f64,
     /// Mass, kg (passed to the model; none: the model's own).
     #[serde(default)]
@@ -87,6 +89,15 @@ pub struct ExternalSpec {
     /// ISA density altitude, ft.
     #[serde(default)]
     pub density_altitude_ft: f64,
+}
+
+/// The time one request may run where a case gives no `timeout_s`, s: a flight model's trim or
+/// linearisation takes seconds, and a minute bounds a hung model without cutting a slow one
+/// short (a case whose model needs longer says so).
+pub const DEFAULT_TIMEOUT_S: f64 = 60.0;
+
+fn default_timeout_s() -> f64 {
+    DEFAULT_TIMEOUT_S
 }
 
 /// The longest `timeout_s` a case may give, s: an hour per request is already beyond a suite.

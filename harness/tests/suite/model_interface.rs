@@ -1334,3 +1334,22 @@ fn an_external_models_snapshots_are_its_answers() {
     assert!(text.contains("M_q"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An `external:` block without `timeout_s` takes the default (a first-time user met "missing
+/// field `timeout_s`", issue 50's first hour): the case loads and its checks run.
+#[test]
+fn an_external_model_without_a_timeout_takes_the_default() {
+    super::external::require_python3();
+    let dir = suite("default-timeout", "cierva-external/2");
+    let path = dir.join("cases/model.yaml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("    timeout_s: 30\n"));
+    std::fs::write(&path, text.replace("    timeout_s: 30\n", "")).unwrap();
+    let case =
+        cierva_harness::suite::case::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+    let results = cierva_harness::suite::outcome::run_case(&case);
+    let pitch = results.iter().find(|r| r.check == "pitch").unwrap();
+    assert!(pitch.passed, "{pitch:?}");
+    assert_eq!(cierva_harness::checks::subject::DEFAULT_TIMEOUT_S, 60.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
