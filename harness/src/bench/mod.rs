@@ -26,6 +26,8 @@ pub enum BenchGroup {
 /// The benchmark table: each row is handed to `each` as it is measured.
 pub struct Rows<'a> {
     each: &'a dyn Fn(&str),
+    /// What a group could not time, for the caller to warn of.
+    warnings: std::cell::RefCell<Vec<String>>,
     /// The repository whose files are timed.
     root: PathBuf,
 }
@@ -38,6 +40,10 @@ impl Rows<'_> {
 
     fn push(&self, line: String) {
         (self.each)(&line)
+    }
+
+    fn warn(&self, warning: String) {
+        self.warnings.borrow_mut().push(warning);
     }
 }
 
@@ -62,8 +68,9 @@ fn time(f: &mut dyn FnMut()) -> f64 {
 
 /// Times the groups `only` picks (all where `None`) of the repository at `root`, each timed
 /// operation `repeat` times (at least 3), handing each row (the table's header first) to
-/// `each` as it is measured; what to warn of after (a timed result that was not finite). An
-/// error where `root` is not cierva's repository, or a group cannot run.
+/// `each` as it is measured; what to warn of after (what a group could not time, a timed
+/// result that was not finite). An error where `root` is not cierva's repository, or a group
+/// cannot run.
 pub fn run(
     root: &std::path::Path,
     repeat: usize,
@@ -80,6 +87,7 @@ pub fn run(
     }
     let out = Rows {
         each,
+        warnings: Default::default(),
         root: root.to_path_buf(),
     };
     let repeat = repeat.max(3);
@@ -109,11 +117,10 @@ pub fn run(
     if runs(BenchGroup::External) {
         external(&out)?;
     }
-    Ok(if sink.is_finite() {
-        vec![]
-    } else {
-        vec!["a timed result was not finite".into()]
-    })
+    if !sink.is_finite() {
+        out.warn("a timed result was not finite".into());
+    }
+    Ok(out.warnings.take())
 }
 
 /// The isolated rotor: blade right-hand side, periodic blade solution, autorotation (the PCA-2
@@ -223,7 +230,7 @@ fn aircraft(out: &Rows, repeat: usize) -> f64 {
     // The aircraft: VPM M16 trim at 70 mph and the model's right-hand sides at that trim.
     let ac_path = out.file("aircraft/vpm-m16.yaml");
     match crate::inputs::aircraft::load(&ac_path) {
-        Err(e) => eprintln!("{}", e.render()),
+        Err(e) => out.warn(e.render()),
         Ok(ac) => {
             let request = crate::inputs::condition::TrimRequest::level(70.0);
             let loading = crate::inputs::condition::Loading {
@@ -947,7 +954,7 @@ fn fitting(out: &Rows) {
         }
         let truth = [1.0, 0.5, 1.15];
         match fit::evaluate(&problem, &truth) {
-            Err(e) => eprintln!("fit benchmark: the truth does not evaluate: {e}"),
+            Err(e) => out.warn(format!("fit benchmark: the truth does not evaluate: {e}")),
             Ok(y) => {
                 for (t, v) in problem.targets.iter_mut().zip(y) {
                     t.reference = v;
@@ -1023,7 +1030,7 @@ fn retuning(out: &Rows) {
             .map(|(v, k)| fly(v, 800 + k + v as u64))
             .collect::<Option<Vec<_>>>()
         else {
-            eprintln!("retune benchmark: a flight failed");
+            out.warn("retune benchmark: a flight failed".into());
             return;
         };
         let started = Instant::now();
@@ -1049,7 +1056,7 @@ fn retuning(out: &Rows) {
                 r.result.values[1],
                 r.result.standard_errors[1]
             ),
-            Err(e) => eprintln!("retune benchmark: {e}"),
+            Err(e) => out.warn(format!("retune benchmark: {e}")),
         }
     }
 }
@@ -1071,7 +1078,10 @@ fn uncertainty(out: &Rows) {
             "cases/cierva-table2-vpm-m16-70mph-{weight}-weight.yaml"
         ));
         let Ok(case) = crate::suite::case::load(&path) else {
-            eprintln!("uncertainty benchmark: {} does not load", path.display());
+            out.warn(format!(
+                "uncertainty benchmark: {} does not load",
+                path.display()
+            ));
             return;
         };
         let started = Instant::now();
@@ -1081,7 +1091,7 @@ fn uncertainty(out: &Rows) {
                 inputs = u.inputs.len();
             }
             Err(e) => {
-                eprintln!("uncertainty benchmark: {e}");
+                out.warn(format!("uncertainty benchmark: {e}"));
                 return;
             }
         }
