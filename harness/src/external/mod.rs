@@ -342,9 +342,7 @@ impl CiervaAircraft<'_> {
             .ok()
             .map(|t| t.warm_start.clone())
     }
-}
 
-impl CiervaAircraft<'_> {
     /// The file with the request's values, trimmed and linearised at it: remembered per file,
     /// condition and loading where the request sets no parameter.
     #[allow(clippy::type_complexity)]
@@ -506,7 +504,13 @@ impl FlightModel for CiervaAircraft<'_> {
             )?
             .as_ref()
             .clone()),
-            Cow::Owned(f) => crate::run::linearise::identified_in_band(f, c, l, setup),
+            Cow::Owned(f) => crate::run::linearise::identified_in_band(
+                &f.aircraft,
+                c,
+                l,
+                setup,
+                self.start(request).as_ref(),
+            ),
         }
     }
 

@@ -878,10 +878,10 @@ pub fn run(f: &FitFile) -> FitRun {
     )|
      -> Option<cierva_model::LinearModel> {
         let model = f.problem.subject.flight_model()?;
-        let mut request = crate::external::Request::at(c, loading);
-        for (par, v) in f.problem.parameters.iter().zip(values) {
-            request = request.with(&par.kind.model_name(), *v);
-        }
+        let request = crate::external::Request {
+            parameters: f.problem.declared_values(values),
+            ..crate::external::Request::at(c, loading)
+        };
         model.linear_model(&request).ok()
     };
     let eig = |values: &[f64], at| {

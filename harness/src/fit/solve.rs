@@ -121,6 +121,18 @@ pub struct Problem {
     pub options: FitOptions,
 }
 
+impl Problem {
+    /// The parameters' values `p` by the names the subject declares them behind the model
+    /// interface ([`ParameterKind::model_name`]): what each request to it carries.
+    pub fn declared_values(&self, p: &[f64]) -> crate::external::Values {
+        self.parameters
+            .iter()
+            .zip(p)
+            .map(|(q, v)| (q.kind.model_name(), *v))
+            .collect()
+    }
+}
+
 /// Residuals: scaled target misfits, bound violations (penalised), then the regularisation
 /// rows.
 fn residuals(problem: &Problem, p: &[f64], y: &[f64]) -> Vec<f64> {

@@ -534,10 +534,6 @@ pub fn values_or_nan(problem: &Problem, p: &[f64]) -> Vec<f64> {
 /// The model's value of every target at parameter values `p`, each on its own (a condition that
 /// fails leaves the others); an error only when the corrections themselves are invalid.
 pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, String>>, String> {
-    let mut set = CorrectionSet::default();
-    for (par, v) in problem.parameters.iter().zip(p) {
-        par.kind.set(&mut set, *v);
-    }
     let mut conditions: Vec<TargetCondition> = Vec::new();
     for t in &problem.targets {
         if !conditions.contains(&t.condition) {
@@ -551,6 +547,10 @@ pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, Str
             on_model(problem, model.as_ref(), p, &conditions, &at)
         }
         FitSubject::Rotor { rotor, inflow } => {
+            let mut set = CorrectionSet::default();
+            for (par, v) in problem.parameters.iter().zip(p) {
+                par.kind.set(&mut set, *v);
+            }
             let mut r = rotor.clone();
             set.apply_to_rotor(&mut r)?;
             crate::run::parallel::parallel_map(&conditions, |c| {
@@ -604,12 +604,7 @@ fn on_model(
     conditions: &[TargetCondition],
     at: &(dyn Fn(&TargetCondition) -> String + Sync),
 ) -> Vec<Result<AtCondition, String>> {
-    let values: crate::external::Values = problem
-        .parameters
-        .iter()
-        .zip(p)
-        .map(|(q, v)| (q.kind.model_name(), *v))
-        .collect();
+    let values = problem.declared_values(p);
     crate::run::parallel::parallel_map(conditions, |c| {
         let TargetCondition::Flight(condition, loading) = c else {
             return Err(format!(

@@ -198,14 +198,16 @@ impl CorrectionSet {
         }
     }
 
-    /// The set as values of the parameters cierva's aircraft declares through the model
-    /// interface: each correction given as `corrections.<name>`, each estimated parameter by
-    /// its own name (a model's declared parameters are not the aircraft's, and stay out).
+    /// The set as values of declared parameters, by the names a model behind the model
+    /// interface declares them: each correction given as `corrections.<name>` and each
+    /// estimated parameter by its own name (as cierva's aircraft declares them), and a model's
+    /// declared parameters as they are. A model refuses a name it does not declare.
     pub fn as_declared(&self) -> BTreeMap<String, f64> {
         self.named()
             .into_iter()
             .filter_map(|(n, v)| Some((format!("corrections.{n}"), v?)))
             .chain(self.estimated.iter().map(|(n, v)| (n.clone(), *v)))
+            .chain(self.parameters.iter().map(|(n, v)| (n.clone(), *v)))
             .collect()
     }
 

@@ -99,10 +99,7 @@ pub type Linearisation = (
     cierva_model::aircraft::linearise::Linearised,
 );
 
-type LinearisationCache = std::sync::Mutex<
-    std::collections::HashMap<String, Result<std::sync::Arc<Linearisation>, String>>,
->;
-static LINEARISATIONS: std::sync::OnceLock<LinearisationCache> = std::sync::OnceLock::new();
+static LINEARISATIONS: super::memo::Memo<Linearisation> = super::memo::Memo::new();
 
 /// `run_linearise`, remembered per aircraft file, condition and loading (a case's checks at
 /// one condition share one linearisation).
@@ -122,28 +119,16 @@ pub fn linearise_cached_from(
     loading: Loading,
     start: Option<&cierva_model::aircraft::trim::WarmStart>,
 ) -> Result<std::sync::Arc<Linearisation>, String> {
-    use std::sync::{Arc, Mutex};
-    let key = format!("{}|{request:?}|{loading:?}", file.path.display());
-    let cache = LINEARISATIONS.get_or_init(|| Mutex::new(Default::default()));
-    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
-        return hit;
-    }
-    let result = run_linearise_from(&file.aircraft, request, loading, start)
-        .map(Arc::new)
-        .map_err(|e| e.to_string());
-    if let Ok(mut c) = cache.lock() {
-        c.insert(key, result.clone());
-    }
-    result
+    LINEARISATIONS.get_or(
+        format!("{}|{request:?}|{loading:?}", file.path.display()),
+        || run_linearise_from(&file.aircraft, request, loading, start).map_err(|e| e.to_string()),
+    )
 }
 
 /// Forgets the remembered linearisations of one aircraft file (by its path): a sampled
 /// aircraft's, once its checks have run, so that thousands of samples do not fill the memory.
 pub fn forget_linearisations(file: &crate::inputs::aircraft::AircraftFile) {
-    let prefix = format!("{}|", file.path.display());
-    if let Some(Ok(mut c)) = LINEARISATIONS.get().map(|c| c.lock()) {
-        c.retain(|k, _| !k.starts_with(&prefix));
-    }
+    LINEARISATIONS.forget(&format!("{}|", file.path.display()));
 }
 
 /// The aircraft linearised at a trim with its blades' flapping, its inflow and (with an engine)
@@ -188,35 +173,28 @@ pub fn identified_in_band_cached(
     loading: Loading,
     setup: crate::ident::Setup,
 ) -> Result<std::sync::Arc<cierva_model::LinearModel>, String> {
-    use std::collections::HashMap;
-    use std::sync::{Arc, Mutex, OnceLock};
-    type Cache = Mutex<HashMap<String, Result<Arc<cierva_model::LinearModel>, String>>>;
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    let key = format!("{}|{request:?}|{loading:?}|{setup:?}", file.path.display());
-    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
-    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
-        return hit;
-    }
-    let result = (|| {
-        let lin = linearise_cached(file, request, loading)?;
-        identified_at(&file.aircraft, &lin.0, loading, setup).map(Arc::new)
-    })();
-    if let Ok(mut c) = cache.lock() {
-        c.insert(key, result.clone());
-    }
-    result
+    static IDENTIFIED: super::memo::Memo<cierva_model::LinearModel> = super::memo::Memo::new();
+    IDENTIFIED.get_or(
+        format!("{}|{request:?}|{loading:?}|{setup:?}", file.path.display()),
+        || {
+            let lin = linearise_cached(file, request, loading)?;
+            identified_at(&file.aircraft, &lin.0, loading, setup)
+        },
+    )
 }
 
-/// [`identified_in_band_cached`], not remembered (an aircraft with a study's values set).
+/// [`identified_in_band_cached`], not remembered (an aircraft with a study's values set), its
+/// trim started from `start`.
 pub fn identified_in_band(
-    file: &crate::inputs::aircraft::AircraftFile,
+    aircraft: &cierva_model::aircraft::Aircraft,
     request: TrimRequest,
     loading: Loading,
     setup: crate::ident::Setup,
+    start: Option<&cierva_model::aircraft::trim::WarmStart>,
 ) -> Result<cierva_model::LinearModel, String> {
-    let (trim, _) = run_linearise(&file.aircraft, request, loading)
+    let trim = super::trim::run_trim_from(aircraft, request, loading, start)
         .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))?;
-    identified_at(&file.aircraft, &trim, loading, setup)
+    identified_at(aircraft, &trim, loading, setup)
 }
 
 /// What `setup` identifies from the aircraft's linearisation with its flapping states at

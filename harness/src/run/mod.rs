@@ -4,6 +4,7 @@
 
 pub mod autorotation;
 pub mod linearise;
+pub mod memo;
 pub mod parallel;
 pub mod replay;
 pub mod responses;

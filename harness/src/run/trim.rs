@@ -62,13 +62,7 @@ pub fn run_trim_from(
     )?)
 }
 
-type TrimCache = std::sync::Mutex<
-    std::collections::HashMap<
-        String,
-        Result<std::sync::Arc<cierva_model::aircraft::trim::Trim>, String>,
-    >,
->;
-static TRIMS: std::sync::OnceLock<TrimCache> = std::sync::OnceLock::new();
+static TRIMS: super::memo::Memo<cierva_model::aircraft::trim::Trim> = super::memo::Memo::new();
 
 /// [`run_trim`] of an aircraft file, remembered per file, condition and loading: the trim a
 /// request with parameter values starts from (cierva's aircraft through the model interface).
@@ -77,16 +71,8 @@ pub fn trim_cached(
     request: TrimRequest,
     loading: Loading,
 ) -> Result<std::sync::Arc<cierva_model::aircraft::trim::Trim>, String> {
-    let key = format!("{}|{request:?}|{loading:?}", file.path.display());
-    let cache = TRIMS.get_or_init(Default::default);
-    if let Some(hit) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
-        return hit;
-    }
-    let result = run_trim(&file.aircraft, request, loading)
-        .map(std::sync::Arc::new)
-        .map_err(|e| e.to_string());
-    if let Ok(mut c) = cache.lock() {
-        c.insert(key, result.clone());
-    }
-    result
+    TRIMS.get_or(
+        format!("{}|{request:?}|{loading:?}", file.path.display()),
+        || run_trim(&file.aircraft, request, loading).map_err(|e| e.to_string()),
+    )
 }

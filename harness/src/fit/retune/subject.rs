@@ -108,21 +108,16 @@ impl Retuned<'_> {
     }
 
     /// A request at a flight condition with the values of `values` by the names the model
-    /// declares (an aircraft's corrections as `corrections.<name>`).
+    /// declares ([`CorrectionSet::as_declared`]).
     fn request(
-        &self,
         values: &CorrectionSet,
         condition: crate::inputs::condition::TrimRequest,
         loading: crate::inputs::condition::Loading,
     ) -> crate::external::Request {
-        let parameters = match self {
-            Self::Aircraft(_) => values.as_declared(),
-            Self::Model(_) => values.parameters.clone(),
-        };
         crate::external::Request {
             condition,
             loading,
-            parameters,
+            parameters: values.as_declared(),
         }
     }
 
@@ -142,7 +137,7 @@ impl Retuned<'_> {
                 return Err("a retune's condition is a flight condition".to_string());
             };
             model
-                .responses(&self.request(values, request, loading), frequencies)
+                .responses(&Self::request(values, request, loading), frequencies)
                 .map(|m| (*c, m))
                 .map_err(|e| format!("at {}: {e}", c.label()))
         })
@@ -159,7 +154,7 @@ impl Retuned<'_> {
         loading: crate::inputs::condition::Loading,
     ) -> Result<cierva_model::LinearModel, String> {
         self.flight_model()
-            .linear_model(&self.request(values, request, loading))
+            .linear_model(&Self::request(values, request, loading))
             .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))
     }
 }

@@ -1,0 +1,50 @@
+//! What one run computes once and every check asking the same question shares: a process-wide
+//! memo of fallible results (failures too: a trim that does not converge is not tried again),
+//! keyed by text (an aircraft file's path, a condition and a loading, ...).
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Results by key.
+type Remembered<T> = Mutex<HashMap<String, Result<Arc<T>, String>>>;
+
+/// A memo of results by key ([`Memo::get_or`]).
+pub struct Memo<T>(OnceLock<Remembered<T>>);
+
+impl<T> Default for Memo<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T> Memo<T> {
+    /// An empty memo (for a `static`).
+    pub const fn new() -> Self {
+        Self(OnceLock::new())
+    }
+
+    /// The result remembered for `key`, or `compute`'s, then remembered. Two threads asking
+    /// at once may both compute; the results are the same.
+    pub fn get_or(
+        &self,
+        key: String,
+        compute: impl FnOnce() -> Result<T, String>,
+    ) -> Result<Arc<T>, String> {
+        let map = self.0.get_or_init(Default::default);
+        if let Some(hit) = map.lock().ok().and_then(|m| m.get(&key).cloned()) {
+            return hit;
+        }
+        let result = compute().map(Arc::new);
+        if let Ok(mut m) = map.lock() {
+            m.insert(key, result.clone());
+        }
+        result
+    }
+
+    /// Forgets every result whose key starts with `prefix`.
+    pub fn forget(&self, prefix: &str) {
+        if let Some(Ok(mut m)) = self.0.get().map(|m| m.lock()) {
+            m.retain(|k, _| !k.starts_with(prefix));
+        }
+    }
+}
