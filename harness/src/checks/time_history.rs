@@ -59,25 +59,34 @@ impl Kind for TimeHistoryCheck {
     fn resolve(cx: &Cx, own: TimeHistorySpec, _: &CheckSpec) -> Result<Self, InputError> {
         let spec = &own;
         let reference = &spec.reference;
-        if let Subject::External(_) = cx.subject {
+        let (model, _) = super::flight_model(cx.subject).ok_or_else(|| {
+            cx.err(
+                "",
+                format!("a time_history check needs {}", super::FLIGHT_MODELS),
+            )
+        })?;
+        let simulation = spec.simulation.unwrap_or_default();
+        if model
+            .simulated_by(simulation, spec.azimuth_step_deg.map(f64::to_radians))
+            .is_none()
+        {
             for (field, given) in [
                 ("simulation", spec.simulation.is_some()),
                 ("azimuth_step_deg", spec.azimuth_step_deg.is_some()),
-                ("corrections", spec.corrections.is_some()),
             ] {
                 if given {
                     return Err(cx.err(
                         &format!(".{field}"),
                         format!(
-                            "`{field}` applies to cierva's own aircraft; an external model flies \
-                             the record as it is"
+                            "`{field}` chooses one of a model's simulations; {} has one, and \
+                             flies the record as it is",
+                            model.describe()
                         ),
                     ));
                 }
             }
         }
         let condition = spec.condition;
-        let simulation = spec.simulation.unwrap_or_default();
         let linear = simulation == Simulation::Linear;
         if let Some(a) = spec.azimuth_step_deg {
             if linear {
@@ -97,9 +106,8 @@ impl Kind for TimeHistoryCheck {
             }
         }
         super::check_condition(cx, &condition, linear)?;
-        if let (Some(k), Subject::Aircraft { file, .. }) = (&spec.corrections, cx.subject) {
-            file.with_corrections(k)
-                .map_err(|e| cx.err(".corrections", e.to_string()))?;
+        if let Some(k) = &spec.corrections {
+            crate::external::corrected(model.as_ref(), k).map_err(|e| cx.err(".corrections", e))?;
         }
         let record = load_reference(cx, reference)?;
         super::condition_matches_record(
@@ -249,20 +257,30 @@ impl Evaluate for TimeHistoryCheck {
 }
 
 impl TimeHistoryCheck {
-    /// The record flown by `subject`'s flight model (cierva's aircraft by the check's
-    /// simulation, with its corrections), compared response by response; and the flight.
+    /// The record flown by `subject`'s flight model (by the check's simulation where the
+    /// model has more than one, with the check's corrections), compared response by response;
+    /// and the flight.
     pub fn flown(
         &self,
         subject: &Subject,
     ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
-        match subject {
-            Subject::Aircraft { file, loading } => time_history_metrics(file, *loading, self),
-            _ => {
-                let (model, loading) = super::flight_model(subject)
-                    .ok_or("a time_history check needs an aircraft or an external model")?;
-                fly_model(model.as_ref(), loading, self, true)
+        let (plain, loading) = super::flight_model(subject)
+            .ok_or_else(|| format!("a time_history check needs {}", super::FLIGHT_MODELS))?;
+        let simulated =
+            plain.simulated_by(self.simulation, self.azimuth_step_deg.map(f64::to_radians));
+        let simulated: &dyn crate::external::FlightModel = match &simulated {
+            Some(m) => m.as_ref(),
+            None => plain.as_ref(),
+        };
+        let corrected;
+        let model = match &self.corrections {
+            Some(c) => {
+                corrected = crate::external::corrected(simulated, c)?;
+                corrected.as_ref()
             }
-        }
+            None => simulated,
+        };
+        fly_model(model, loading, self)
     }
 
     /// The reference and flown responses, with the largest-error tolerance of each signal
@@ -296,41 +314,13 @@ impl TimeHistoryCheck {
     }
 }
 
-/// A `time_history` check's record flown by its model (with its corrections), compared
-/// response by response.
-pub fn time_history_metrics(
-    file: &crate::inputs::aircraft::AircraftFile,
-    loading: crate::inputs::condition::Loading,
-    check: &TimeHistoryCheck,
-) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
-    let step = check.azimuth_step_deg.map_or(
-        file.aircraft.main_rotor.numerics.azimuth_step_rad,
-        f64::to_radians,
-    );
-    let plain = crate::external::CiervaAircraft {
-        file: std::borrow::Cow::Borrowed(file),
-        simulation: check.simulation,
-        azimuth_step_rad: step,
-    };
-    let corrected;
-    let model: &dyn crate::external::FlightModel = match &check.corrections {
-        Some(c) => {
-            corrected = crate::external::corrected(&plain, c)?;
-            corrected.as_ref()
-        }
-        None => &plain,
-    };
-    fly_model(model, loading, check, false)
-}
-
-/// A `time_history` check's record flown by any flight model, compared response by response.
-/// With `strict` (another simulation's answer), a response the record carries and the model
-/// does not give, or gives at other times, is an error.
-pub fn fly_model(
+/// A `time_history` check's record flown by a flight model, compared response by response:
+/// a response the record carries and the model does not give, or gives at other times, is an
+/// error.
+fn fly_model(
     model: &dyn crate::external::FlightModel,
     loading: crate::inputs::condition::Loading,
     check: &TimeHistoryCheck,
-    strict: bool,
 ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
     let record = &check.reference;
     let table = replay::record_controls(record)?;
@@ -352,13 +342,11 @@ pub fn fly_model(
         &crate::external::Request::at(check.condition, loading),
         &controls,
     )?;
-    if strict {
-        crate::external::check_response(
-            &model.describe(),
-            &flown,
-            &replay::record_signals(record),
-            samples,
-        )?;
-    }
+    crate::external::check_response(
+        &model.describe(),
+        &flown,
+        &replay::record_signals(record),
+        samples,
+    )?;
     Ok((replay::compare(record, &flown)?, flown))
 }

@@ -242,6 +242,18 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
     ) -> Result<Option<Box<dyn FlightModel + 's>>, String> {
         Ok(None)
     }
+
+    /// The model flown by another of its simulations, where it has more than one (cierva's
+    /// aircraft: the full blade model at an azimuth step, `azimuth_step_rad` (default its
+    /// file's), or the linear model): what a `time_history` check's `simulation` and
+    /// `azimuth_step_deg` choose. `None`, the default: it has one simulation, flown as it is.
+    fn simulated_by<'s>(
+        &'s self,
+        _simulation: Simulation,
+        _azimuth_step_rad: Option<f64>,
+    ) -> Option<Box<dyn FlightModel + 's>> {
+        None
+    }
 }
 
 /// `model` with a check's corrections applied: its own way ([`FlightModel::corrected`]), or
@@ -526,6 +538,20 @@ impl FlightModel for CiervaAircraft<'_> {
         })))
     }
 
+    /// The aircraft flown by `simulation`, at `azimuth_step_rad` or its file's step.
+    fn simulated_by<'s>(
+        &'s self,
+        simulation: Simulation,
+        azimuth_step_rad: Option<f64>,
+    ) -> Option<Box<dyn FlightModel + 's>> {
+        Some(Box::new(CiervaAircraft {
+            file: Cow::Borrowed(&*self.file),
+            simulation,
+            azimuth_step_rad: azimuth_step_rad
+                .unwrap_or(self.file.aircraft.main_rotor.numerics.azimuth_step_rad),
+        }))
+    }
+
     fn time_history(
         &self,
         request: &Request,
@@ -622,6 +648,21 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
             }) as Box<dyn FlightModel + 's>
         }))
     }
+    /// The model's other simulation, with these values still set.
+    fn simulated_by<'s>(
+        &'s self,
+        simulation: Simulation,
+        azimuth_step_rad: Option<f64>,
+    ) -> Option<Box<dyn FlightModel + 's>> {
+        self.model
+            .simulated_by(simulation, azimuth_step_rad)
+            .map(|model| {
+                Box::new(WithValues {
+                    model,
+                    values: self.values.clone(),
+                }) as Box<dyn FlightModel + 's>
+            })
+    }
 }
 
 /// Another simulation as a subject: the model, the loading it is asked at, and what it is
@@ -712,6 +753,13 @@ macro_rules! forward_flight_model {
                 corrections: &crate::inputs::corrections::CorrectionSet,
             ) -> Result<Option<Box<dyn FlightModel + 's>>, String> {
                 (**self).corrected(corrections)
+            }
+            fn simulated_by<'s>(
+                &'s self,
+                simulation: Simulation,
+                azimuth_step_rad: Option<f64>,
+            ) -> Option<Box<dyn FlightModel + 's>> {
+                (**self).simulated_by(simulation, azimuth_step_rad)
             }
         }
     )*};

@@ -1353,3 +1353,104 @@ fn an_external_model_without_a_timeout_takes_the_default() {
     assert_eq!(cierva_harness::checks::subject::DEFAULT_TIMEOUT_S, 60.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A `time_history` check flies its record through the model interface alike on every model:
+/// cierva's VPM M16 built in (its correction named) and served by `cierva serve` (the same
+/// correction as the value of its declared parameter `corrections.profile_drag_scale`) give
+/// the same metrics within [`THROUGH_THE_PROTOCOL`], with and without the correction, and the
+/// correction moves them (it is applied, not dropped). A simulation the served model does not
+/// offer (`simulation: linear`: it has one) is a located error naming the model.
+#[test]
+fn a_time_history_through_the_protocol_flies_as_the_built_in_aircraft() {
+    let dir = std::env::temp_dir().join(format!("cierva-served-history-{}", std::process::id()));
+    super::common::new_suite(&dir);
+    for linked in ["aircraft", "flight-refs"] {
+        std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
+    }
+    let case = |id: &str, model: &str, corrections: &str| {
+        format!(
+            "id: {id}\ntitle: a stick doublet flown\nclass: verification\n\
+             provenance: {{source: a test of harness/tests/suite/model_interface.rs}}\n\
+             model:\n{model}\
+             tolerances:\n  rate:\n    absolute: 2.0\n    reason: the test's own\n\
+             \x20 angle:\n    absolute: 0.1\n    reason: the test's own\n\
+             checks:\n\
+             \x20 - id: plain\n    kind: time_history\n    condition: {{airspeed_mph: 70.0}}\n\
+             \x20   reference: ../flight-refs/synthetic-vpm-m16-70mph-stick-doublet.csv\n\
+             \x20   expect:\n      q_deg_s.max_abs_error: {{value: 0.0, tolerance: rate}}\n\
+             \x20     theta_deg.rms_error: {{value: 0.0, tolerance: angle}}\n\
+             \x20 - id: corrected\n    kind: time_history\n    condition: {{airspeed_mph: 70.0}}\n\
+             \x20   reference: ../flight-refs/synthetic-vpm-m16-70mph-stick-doublet.csv\n\
+             \x20   corrections: {corrections}\n\
+             \x20   expect:\n      q_deg_s.max_abs_error: {{value: 0.0, tolerance: rate}}\n\
+             \x20     theta_deg.rms_error: {{value: 0.0, tolerance: angle}}\n"
+        )
+    };
+    std::fs::write(
+        dir.join("cases/built-in.yaml"),
+        case(
+            "built-in",
+            "  aircraft:\n    file: ../aircraft/vpm-m16.yaml\n    mass_kg: 450.0\n",
+            "{profile_drag_scale: 1.3}",
+        ),
+    )
+    .unwrap();
+    let served = "  external:\n    command: [cierva, serve, ../aircraft/vpm-m16.yaml]\n\
+                  \x20   protocol: cierva-external/2\n    persistent: true\n\
+                  \x20   timeout_s: 600\n    mass_kg: 450.0\n";
+    std::fs::write(
+        dir.join("cases/served.yaml"),
+        case(
+            "served",
+            served,
+            "{parameters: {corrections.profile_drag_scale: 1.3}}",
+        ),
+    )
+    .unwrap();
+    let (_, out, err) = cierva_on_path(&dir, &["validate", "--no-report", "--format", "json"]);
+    let all = quantities(&out);
+    let of = |id: &str| -> std::collections::BTreeMap<(String, String), f64> {
+        all.iter()
+            .filter(|((c, _, _), _)| c == id)
+            .map(|((_, k, q), (v, _))| ((k.clone(), q.clone()), *v))
+            .collect()
+    };
+    let (built_in, through) = (of("built-in"), of("served"));
+    assert_eq!(built_in.len(), 4, "{out}{err}");
+    assert_eq!(
+        built_in.keys().collect::<Vec<_>>(),
+        through.keys().collect::<Vec<_>>()
+    );
+    for (key, value) in &built_in {
+        let v = through[key];
+        assert!(
+            close(*value, v),
+            "{key:?}: built in {value}, through the protocol {v}"
+        );
+    }
+    let q = |check: &str| built_in[&(check.to_string(), "q_deg_s.max_abs_error".to_string())];
+    assert!(
+        (q("corrected") - q("plain")).abs() > 1e-6,
+        "the correction changes nothing: {built_in:?}"
+    );
+
+    let text = std::fs::read_to_string(dir.join("cases/served.yaml")).unwrap();
+    std::fs::write(
+        dir.join("cases/served.yaml"),
+        text.replacen(
+            "    corrections: {parameters: {corrections.profile_drag_scale: 1.3}}\n",
+            "    simulation: linear\n",
+            1,
+        ),
+    )
+    .unwrap();
+    let e = cierva_harness::suite::case::load(&dir.join("cases/served.yaml"))
+        .unwrap_err()
+        .to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        e.contains("checks[1].simulation")
+            && e.contains("the command `cierva serve ../aircraft/vpm-m16.yaml` has one"),
+        "{e}"
+    );
+}
