@@ -37,6 +37,7 @@ pub mod subject;
 pub mod time_history;
 pub mod tolerance;
 pub mod trim;
+pub mod trim_points;
 pub mod trim_sweep;
 
 pub use linear::System;
@@ -164,6 +165,9 @@ registry! {
     /// Trends of trim over a sweep of airspeeds: the least and greatest slopes between
     /// neighbouring airspeeds, and the worst residual.
     TrimSweep = "trim_sweep" => trim_sweep::TrimSweepCheck;
+    /// A flight test's trim points, each trimmed again: a level and a trend of the model's
+    /// error judged together against the points' scatter.
+    TrimPoints = "trim_points" => trim_points::TrimPointsCheck;
     /// A reference record's control changes flown again by the model, its responses compared
     /// with the record's: `<signal>.<metric>` (see [`crate::run::replay`]).
     TimeHistory = "time_history" => time_history::TimeHistoryCheck;

@@ -289,20 +289,18 @@ impl FlightModel for Files {
         if condition.climb_m_s != 0.0 || condition.turn_rate_deg_s != 0.0 {
             return Err(format!("{} is a table of level flight", path.display()));
         }
-        rows.iter()
-            .find(|(v, _)| (v - condition.airspeed_mph).abs() <= AIRSPEED_MATCH_MPH)
-            .map(|(_, q)| q.clone())
-            .ok_or_else(|| {
-                format!(
-                    "{} has no row at {} mph (it has {} mph)",
-                    path.display(),
-                    condition.airspeed_mph,
-                    rows.iter()
-                        .map(|(v, _)| format!("{v}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )
-            })
+        interpolated(rows, condition.airspeed_mph).ok_or_else(|| {
+            format!(
+                "{} has no row at or around {} mph: it gives {} mph, and a trim is interpolated \
+                 between its rows, never beyond them (the model's envelope as the table gives it)",
+                path.display(),
+                condition.airspeed_mph,
+                rows.iter()
+                    .map(|(v, _)| format!("{v}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
     }
 
     fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
@@ -342,4 +340,37 @@ impl FlightModel for Files {
         }
         Ok(flown.clone())
     }
+}
+
+/// A trim table's quantities at `airspeed_mph`: its row there (within
+/// [`AIRSPEED_MATCH_MPH`]), or linearly interpolated between the rows either side of it (each
+/// quantity both rows give); `None` outside the table's airspeeds. Linear interpolation errs by
+/// about an eighth of the change in slope across the interval times its width: the table's own
+/// spacing decides how near a check between rows comes to the model.
+pub fn interpolated(rows: &[(f64, Quantities)], airspeed_mph: f64) -> Option<Quantities> {
+    if let Some((_, q)) = rows
+        .iter()
+        .find(|(v, _)| (v - airspeed_mph).abs() <= AIRSPEED_MATCH_MPH)
+    {
+        return Some(q.clone());
+    }
+    let below = rows
+        .iter()
+        .filter(|(v, _)| *v < airspeed_mph)
+        .max_by(|a, b| a.0.total_cmp(&b.0))?;
+    let above = rows
+        .iter()
+        .filter(|(v, _)| *v > airspeed_mph)
+        .min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let t = (airspeed_mph - below.0) / (above.0 - below.0);
+    Some(
+        below
+            .1
+            .iter()
+            .filter_map(|(n, lo)| {
+                let (_, hi) = above.1.iter().find(|(m, _)| m == n)?;
+                Some((*n, lo + t * (hi - lo)))
+            })
+            .collect(),
+    )
 }

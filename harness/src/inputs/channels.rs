@@ -54,6 +54,10 @@ pub const CONVERSIONS: &[(&str, &str, f64, &str)] = &[
     ("_m_s", "_ft_s", 0.3048, "ft/s to m/s"),
     ("_m_s", "_km_h", 1.0 / 3.6, "km/h to m/s"),
     ("_m", "_ft", 0.3048, "ft to m"),
+    // A trim point's airspeed is in mph and its density altitude in ft, as a case's condition.
+    ("_mph", "_kn", 1852.0 / 1609.344, "kn to mph"),
+    ("_mph", "_m_s", 1.0 / 0.44704, "m/s to mph"),
+    ("_ft", "_m", 1.0 / 0.3048, "m to ft"),
     ("_kg", "_lb", 0.45359237, "lb to kg"),
     ("_s", "_ms", 1e-3, "ms to s"),
 ];

@@ -15,4 +15,5 @@ pub mod ranges;
 pub mod record;
 pub mod reference;
 pub mod rotor;
+pub mod trim_points;
 pub mod yaml;

@@ -343,7 +343,7 @@ fn current_names_of_sidecar(
 }
 
 /// An error at a line of a CSV record.
-fn at(csv_path: &Path, line: usize, msg: String) -> InputError {
+pub(crate) fn at(csv_path: &Path, line: usize, msg: String) -> InputError {
     InputError {
         path: csv_path.to_path_buf(),
         line: Some(line),
@@ -354,7 +354,13 @@ fn at(csv_path: &Path, line: usize, msg: String) -> InputError {
 }
 
 /// The same, with the caret under the `k`-th comma-separated field of `text`.
-fn at_field(csv_path: &Path, line: usize, text: &str, k: usize, msg: String) -> InputError {
+pub(crate) fn at_field(
+    csv_path: &Path,
+    line: usize,
+    text: &str,
+    k: usize,
+    msg: String,
+) -> InputError {
     let mut e = at(csv_path, line, msg);
     e.column = Some(crate::inputs::yaml::csv_field_column(text, k));
     e

@@ -30,6 +30,7 @@ mod records;
 mod report;
 mod retune;
 mod retune_coverage;
+mod trim_points;
 mod trivial;
 mod tutorials;
 mod uncertainty;

@@ -1,0 +1,277 @@
+//! `trim_points`: the model trimmed at each of a flight test's trim points (their airspeeds,
+//! and their masses and density altitudes where the file gives them), compared with the
+//! points as a level and a trend judged together against the points' own scatter.
+//!
+//! For each quantity measured at points `i` with scatter `s_i`, the model's error `r_i =
+//! model_i - flight_i` is fitted by weighted least squares (`w_i = 1 / s_i^2`) as `r = a + b
+//! (v - v_w)`, `v_w` the weighted mean airspeed:
+//! - `<q>.level_error` = `a`, the model's offset at `v_w`, with variance `1 / sum w`;
+//! - `<q>.trend_error_per_mph` = `b`, its error in slope, variance `1 / sum w (v - v_w)^2` (the
+//!   two are uncorrelated about `v_w`);
+//! - `<q>.level_trend_chi2` = `a^2 sum w + b^2 sum w (v - v_w)^2`: chi-square with 2 degrees
+//!   of freedom where the model is right and the scatter is the points' standard deviation
+//!   (95 % of such checks give at most 5.991);
+//! - `<q>.residual_chi2` = `sum w (r - a - b (v - v_w))^2`: the scatter about the fitted error,
+//!   chi-square with `n - 2` degrees of freedom (a curvature the model misses, or a scatter
+//!   stated too small).
+//!
+//! A constant trim (the points' weighted mean at every airspeed) is the trivial predictor: a
+//! check it passes cannot tell the model from a constant, and is refused at load.
+
+use super::result::{Evaluated, compare_all};
+use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
+use crate::checks::subject::Subject;
+use crate::inputs::trim_points::{PointValue, TrimPoints};
+use crate::inputs::yaml::InputError;
+
+/// A `trim_points` check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrimPointsCheck {
+    /// The points (loaded, checked).
+    pub points: Box<TrimPoints>,
+}
+
+/// A `trim_points` check's own fields, as written.
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrimPointsSpec {
+    /// The trim points CSV (its sidecar beside it), relative to the case file.
+    pub points: String,
+}
+
+/// What a `trim_points` check computes of each quantity.
+pub const METRICS: [&str; 4] = [
+    "level_error",
+    "trend_error_per_mph",
+    "level_trend_chi2",
+    "residual_chi2",
+];
+
+impl Kind for TrimPointsCheck {
+    type Spec = TrimPointsSpec;
+    const SUBJECTS: &'static str = super::FLIGHT_MODELS;
+
+    fn runs_on(subject: &Subject) -> bool {
+        super::is_flight_model(subject)
+    }
+
+    fn resolve(cx: &Cx, own: TrimPointsSpec, _: &CheckSpec) -> Result<Self, InputError> {
+        let points = crate::inputs::trim_points::load(&cx.dir.join(&own.points))
+            .map_err(|e| cx.err(".points", format!("in the trim points: {e}")))?;
+        Ok(Self {
+            points: Box::new(points),
+        })
+    }
+}
+
+/// A quantity's error against the points, fitted as a level and a trend (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevelAndTrend {
+    /// The weighted mean airspeed the level is at, mph.
+    pub airspeed_mph: f64,
+    pub level: f64,
+    pub level_sd: f64,
+    pub trend_per_mph: f64,
+    pub trend_sd: f64,
+    pub level_trend_chi2: f64,
+    pub residual_chi2: f64,
+    /// The residual's degrees of freedom, `n - 2`.
+    pub residual_dof: usize,
+}
+
+impl LevelAndTrend {
+    /// The fit of the model's values `model[i]` against the points `(airspeed, measured)`.
+    pub fn fit(points: &[(f64, PointValue)], model: &[f64]) -> Self {
+        let w: Vec<f64> = points.iter().map(|(_, m)| m.sd.powi(-2)).collect();
+        let r: Vec<f64> = points
+            .iter()
+            .zip(model)
+            .map(|((_, m), y)| y - m.value)
+            .collect();
+        let sw: f64 = w.iter().sum();
+        let v_w = points.iter().zip(&w).map(|((v, _), w)| w * v).sum::<f64>() / sw;
+        let dv: Vec<f64> = points.iter().map(|(v, _)| v - v_w).collect();
+        let sxx: f64 = w.iter().zip(&dv).map(|(w, d)| w * d * d).sum();
+        let level = w.iter().zip(&r).map(|(w, r)| w * r).sum::<f64>() / sw;
+        let trend = w
+            .iter()
+            .zip(&dv)
+            .zip(&r)
+            .map(|((w, d), r)| w * d * r)
+            .sum::<f64>()
+            / sxx;
+        let residual_chi2 = w
+            .iter()
+            .zip(&dv)
+            .zip(&r)
+            .map(|((w, d), r)| w * (r - level - trend * d).powi(2))
+            .sum();
+        Self {
+            airspeed_mph: v_w,
+            level,
+            level_sd: sw.powf(-0.5),
+            trend_per_mph: trend,
+            trend_sd: sxx.powf(-0.5),
+            level_trend_chi2: level * level * sw + trend * trend * sxx,
+            residual_chi2,
+            residual_dof: points.len().saturating_sub(2),
+        }
+    }
+
+    /// The metric named `m` ([`METRICS`]).
+    fn get(&self, m: &str) -> f64 {
+        match m {
+            "level_error" => self.level,
+            "trend_error_per_mph" => self.trend_per_mph,
+            "level_trend_chi2" => self.level_trend_chi2,
+            "residual_chi2" => self.residual_chi2,
+            _ => f64::NAN,
+        }
+    }
+}
+
+impl TrimPointsCheck {
+    /// Every quantity's fit, given the model's value of each at each of its points.
+    fn fits(&self, mut model: impl FnMut(&str) -> Vec<f64>) -> Vec<(String, LevelAndTrend)> {
+        self.points
+            .quantities
+            .iter()
+            .map(|q| {
+                (
+                    q.clone(),
+                    LevelAndTrend::fit(&self.points.series(q), &model(q)),
+                )
+            })
+            .collect()
+    }
+
+    /// The metrics of every quantity, named `<quantity>.<metric>`.
+    fn values(fits: &[(String, LevelAndTrend)]) -> Vec<(String, f64)> {
+        fits.iter()
+            .flat_map(|(q, f)| METRICS.iter().map(move |m| (format!("{q}.{m}"), f.get(m))))
+            .collect()
+    }
+}
+
+impl Evaluate for TrimPointsCheck {
+    fn quantities(&self) -> Vec<String> {
+        self.points
+            .quantities
+            .iter()
+            .flat_map(|q| METRICS.iter().map(move |m| format!("{q}.{m}")))
+            .collect()
+    }
+
+    /// A trim that does not change with airspeed, at the points' weighted mean: a check whose
+    /// every expectation it passes cannot tell the model from a constant.
+    fn trivial(
+        &self,
+        _subject: &Subject,
+        expectations: &[Expectation],
+    ) -> Result<Vec<Trivial>, Refusal> {
+        let constant = self.fits(|q| {
+            let s = self.points.series(q);
+            let w: f64 = s.iter().map(|(_, m)| m.sd.powi(-2)).sum();
+            let mean = s.iter().map(|(_, m)| m.value * m.sd.powi(-2)).sum::<f64>() / w;
+            vec![mean; s.len()]
+        });
+        let values = Self::values(&constant);
+        let admitted = |e: &Expectation| {
+            values
+                .iter()
+                .find(|(n, _)| *n == e.quantity)
+                .and_then(|(_, v)| crate::checks::tolerance::admits(&e.tolerance.kind, e.value, *v))
+                == Some(true)
+        };
+        if !expectations.is_empty() && expectations.iter().all(admitted) {
+            let first = &expectations[0];
+            return Err((
+                format!(".expect.{}", first.quantity),
+                String::from(
+                    "a trim that does not change with airspeed (each quantity at its points' \
+                     weighted mean) passes every expectation of this check: it cannot tell the \
+                     model from a constant. Judge the trend too (`<quantity>.trend_error_per_mph` \
+                     or `<quantity>.level_trend_chi2`), or give points that span more airspeed",
+                ),
+            ));
+        }
+        Ok(vec![])
+    }
+
+    fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
+        let (model, loading) = super::flight_model(at.subject)
+            .ok_or_else(|| format!("a trim_points check needs {}", super::FLIGHT_MODELS))?;
+        let path = self.points.path.display();
+        let trims = self
+            .points
+            .points
+            .iter()
+            .map(|p| {
+                let at_point = crate::inputs::condition::Loading {
+                    mass_kg: p.mass_kg.or(loading.mass_kg),
+                    density_altitude_ft: p
+                        .density_altitude_ft
+                        .unwrap_or(loading.density_altitude_ft),
+                };
+                let request = crate::external::Request::at(
+                    crate::inputs::condition::TrimRequest::level(p.airspeed_mph),
+                    at_point,
+                );
+                model.trim(&request).map_err(|e| {
+                    format!(
+                        "the point at {path}:{} ({} mph) is outside the model's envelope, or its \
+                         trim failed: {e}",
+                        p.line, p.airspeed_mph
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        let mut missing = None;
+        let fits = self.fits(|q| {
+            self.points
+                .points
+                .iter()
+                .zip(&trims)
+                .filter(|(p, _)| p.values.contains_key(q))
+                .map(|(p, t)| {
+                    t.iter().find(|(n, _)| *n == q).map_or_else(
+                        || {
+                            missing.get_or_insert((q.to_string(), p.airspeed_mph));
+                            f64::NAN
+                        },
+                        |(_, v)| *v,
+                    )
+                })
+                .collect()
+        });
+        if let Some((q, v)) = missing {
+            return Err(format!(
+                "{} gives no `{q}` in its trim at {v} mph ({path} measures it)",
+                model.describe()
+            ));
+        }
+        let values = Self::values(&fits);
+        let values: Vec<(&str, f64)> = values.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let note = fits
+            .iter()
+            .map(|(q, f)| {
+                format!(
+                    "{q}: level {:+.3} +- {:.3} at {:.1} mph, trend {:+.4} +- {:.4} per mph \
+                     (1 sd, from the points' scatter), residual chi-square {:.2} on {} dof",
+                    f.level,
+                    f.level_sd,
+                    f.airspeed_mph,
+                    f.trend_per_mph,
+                    f.trend_sd,
+                    f.residual_chi2,
+                    f.residual_dof
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
+        Ok(Evaluated {
+            note: Some(note),
+            ..Evaluated::of(compare_all(expectations, &values)?)
+        })
+    }
+}
