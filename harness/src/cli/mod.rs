@@ -232,6 +232,10 @@ pub(crate) fn load_flight(
 ) -> Result<cierva_harness::inputs::aircraft::AircraftFile, Error> {
     use cierva_harness::inputs::corrections::{self, Corrects};
     let file = load_aircraft(&f.aircraft)?;
+    if let Some(m) = f.mass_kg {
+        file.check_mass(m)
+            .map_err(|e| Error::input(format!("--mass-kg {m}: {e}")))?;
+    }
     let Some(path) = &f.corrections else {
         return Ok(file);
     };

@@ -310,13 +310,17 @@ impl<'a> CiervaAircraft<'a> {
 
 impl CiervaAircraft<'_> {
     /// The aircraft file with the request's parameter values set (the file itself where it
-    /// sets none): each a physical parameter the aircraft has or one of its corrections
+    /// sets none), its mass checked against the aircraft's stated masses: each a physical parameter the aircraft has or one of its corrections
     /// (`corrections.<name>`, [`crate::inputs::corrections::CORRECTIONS`]), the aircraft
     /// checked after.
     fn with_values(
         &self,
-        values: &Values,
+        request: &Request,
     ) -> Result<Cow<'_, crate::inputs::aircraft::AircraftFile>, String> {
+        if let Some(m) = request.loading.mass_kg {
+            self.file.check_mass(m)?;
+        }
+        let values = &request.parameters;
         if values.is_empty() {
             return Ok(Cow::Borrowed(&*self.file));
         }
@@ -369,7 +373,7 @@ impl CiervaAircraft<'_> {
         String,
     > {
         let (c, l) = (request.condition, request.loading);
-        let file = self.with_values(&request.parameters)?;
+        let file = self.with_values(request)?;
         let both = match &file {
             Cow::Borrowed(f) => crate::run::linearise::linearise_cached(f, c, l)?,
             Cow::Owned(f) => Arc::new(
@@ -428,7 +432,7 @@ impl FlightModel for CiervaAircraft<'_> {
     }
 
     fn trim(&self, request: &Request) -> Result<Quantities, String> {
-        let file = self.with_values(&request.parameters)?;
+        let file = self.with_values(request)?;
         let start = match &file {
             Cow::Borrowed(_) => None,
             Cow::Owned(_) => self.start(request),
@@ -478,7 +482,7 @@ impl FlightModel for CiervaAircraft<'_> {
         }
         // With values: the trim alone where the responses need no quasi-static linearisation
         // (a teetering rotor's come with its flapping states).
-        let file = self.with_values(&request.parameters)?;
+        let file = self.with_values(request)?;
         let (c, l) = (request.condition, request.loading);
         let start = self.start(request);
         let trim = crate::run::trim::run_trim_from(&file.aircraft, c, l, start.as_ref())
@@ -508,7 +512,7 @@ impl FlightModel for CiervaAircraft<'_> {
         request: &Request,
         setup: crate::ident::Setup,
     ) -> Result<LinearModel, String> {
-        let file = self.with_values(&request.parameters)?;
+        let file = self.with_values(request)?;
         let (c, l) = (request.condition, request.loading);
         match &file {
             Cow::Borrowed(f) => Ok(crate::run::linearise::identified_in_band_cached(
@@ -557,7 +561,7 @@ impl FlightModel for CiervaAircraft<'_> {
         request: &Request,
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
-        let file = self.with_values(&request.parameters)?;
+        let file = self.with_values(request)?;
         crate::run::replay::fly(
             &file.aircraft,
             request.condition,

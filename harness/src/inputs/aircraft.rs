@@ -5,7 +5,7 @@
 //! title: VPM M16 gyroplane
 //! provenance: {source: "...", notes: "..."}
 //! aircraft:
-//!   mass: {mass_kg: 450, ixx_kg_m2: 250, iyy_kg_m2: 650, izz_kg_m2: 450, ixz_kg_m2: 40}
+//!   mass: {mass_kg: 450, max_kg: 450, ixx_kg_m2: 250, iyy_kg_m2: 650, izz_kg_m2: 450, ixz_kg_m2: 40}  # max_kg: optional, the maximum all-up mass
 //!   cg_m: [0.0, 0.0, 0.0]              # body axes from the datum: x fwd, y stbd, z down
 //!   main_rotor:
 //!     rotor_file: vpm-m16-rotor.yaml   # a rotor file, relative to this file
@@ -101,6 +101,10 @@ use std::path::{Path, PathBuf};
 #[serde(deny_unknown_fields)]
 pub struct MassSpec {
     pub mass_kg: f64,
+    /// The maximum all-up mass, kg, where the aircraft's documents state it: a case, a command
+    /// or a trim point that asks for more is an error (a mass in pounds, most often).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_kg: Option<f64>,
     pub ixx_kg_m2: f64,
     pub iyy_kg_m2: f64,
     pub izz_kg_m2: f64,
@@ -334,6 +338,8 @@ pub struct AircraftFile {
     pub ranges: BTreeMap<String, Range>,
     /// What `cierva estimate` works from, where the file gives a planform or a pod.
     pub estimate_inputs: Option<EstimateInputs>,
+    /// Its maximum all-up mass, kg, where the file states it (`mass.max_kg`).
+    pub max_mass_kg: Option<f64>,
 }
 
 /// An aircraft file's geometry for the estimates, checked, and the condition they are made at.
@@ -440,6 +446,17 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
     aircraft
         .validate()
         .map_err(|e| err(&field_of(&e), e.to_string()))?;
+    if let Some(max) = a.mass.max_kg
+        && !(max.is_finite() && max >= a.mass.mass_kg)
+    {
+        return Err(err(
+            "aircraft.mass.max_kg",
+            format!(
+                "the maximum all-up mass is at least the file's own mass ({} kg), got {max}",
+                a.mass.mass_kg
+            ),
+        ));
+    }
     let ranges = check_ranges(&spec.ranges, &mut aircraft.clone(), &err)?;
     let estimate_inputs = estimate_inputs(a, propeller_file.rotor.radius_m, &err)?;
     Ok(AircraftFile {
@@ -453,6 +470,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
         sources: spec.sources,
         ranges,
         estimate_inputs,
+        max_mass_kg: a.mass.max_kg,
     })
 }
 
@@ -834,6 +852,30 @@ fn field_of(e: &AircraftError) -> String {
 }
 
 impl AircraftFile {
+    /// Whether `mass_kg` is within the aircraft's stated masses (at most its maximum all-up
+    /// mass, where the file states one), or why not, with the mass in pounds where it would
+    /// fit as such.
+    pub fn check_mass(&self, mass_kg: f64) -> Result<(), String> {
+        let Some(max) = self.max_mass_kg else {
+            return Ok(());
+        };
+        if mass_kg <= max {
+            return Ok(());
+        }
+        let as_pounds = mass_kg * crate::inputs::channels::KG_PER_LB;
+        let hint = if as_pounds <= max {
+            format!(" (a mass in pounds? {mass_kg} lb is {as_pounds:.1} kg)")
+        } else {
+            String::new()
+        };
+        Err(format!(
+            "{mass_kg} kg is above the maximum all-up mass of {} ({max} kg, `mass.max_kg` of \
+             {}){hint}",
+            self.id,
+            self.path.display()
+        ))
+    }
+
     /// The source the file gives a parameter of [`PARAMETERS`]: its own entry or the nearest
     /// parent's (`airframe.fin.position_m.x` is covered by `airframe.fin.position_m`,
     /// `airframe.fin` or `airframe`); `None` where nothing covers it.

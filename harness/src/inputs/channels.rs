@@ -58,9 +58,12 @@ pub const CONVERSIONS: &[(&str, &str, f64, &str)] = &[
     ("_mph", "_kn", 1852.0 / 1609.344, "kn to mph"),
     ("_mph", "_m_s", 1.0 / 0.44704, "m/s to mph"),
     ("_ft", "_m", 1.0 / 0.3048, "m to ft"),
-    ("_kg", "_lb", 0.45359237, "lb to kg"),
+    ("_kg", "_lb", KG_PER_LB, "lb to kg"),
     ("_s", "_ms", 1e-3, "ms to s"),
 ];
+
+/// The international pound, kg (exact by definition).
+pub const KG_PER_LB: f64 = 0.45359237;
 
 /// Units a mapped name may end in: those of [`CONVERSIONS`], and the ones cierva reads as
 /// they are (% of a control's travel, newtons, newton-metres, hertz).

@@ -72,3 +72,33 @@ fn shared_tolerances_are_used_and_never_shadowed() {
     let found = case::discover(&[root.join("cases")]).unwrap();
     assert!(found.iter().all(|p| !p.ends_with(case::LIBRARY_FILE)));
 }
+
+/// A mass above the aircraft's stated maximum all-up mass (`mass.max_kg`) is bad input wherever
+/// it is asked: a command's `--mass-kg` (exit 2, naming the option and the mass in pounds it
+/// probably is) as a case's `mass_kg` (the fixture `mass-in-pounds.yaml`); the maximum itself
+/// is accepted.
+#[test]
+fn a_mass_above_the_aircrafts_maximum_is_refused() {
+    let aircraft = common::repo_root().join("aircraft/vpm-m16.yaml");
+    let aircraft = aircraft.to_str().unwrap();
+    let (code, out, err) =
+        common::cierva(&["trim", aircraft, "--airspeed-mph", "60", "--mass-kg", "992"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains(
+            "error: --mass-kg 992: 992 kg is above the maximum all-up mass of vpm-m16 (450 kg"
+        ) && err.contains("a mass in pounds? 992 lb is 450.0 kg"),
+        "{err}"
+    );
+    let (code, out, err) = common::cierva(&[
+        "trim",
+        aircraft,
+        "--airspeed-mph",
+        "60",
+        "--mass-kg",
+        "450",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+}
