@@ -91,6 +91,8 @@ pub enum Source {
     Records {
         files: Vec<String>,
         windows_s: Vec<f64>,
+        /// What the records' loads mapped, converted or did not compare, by record.
+        notes: Vec<(std::path::PathBuf, String)>,
     },
     /// Read from a response file.
     File(String),
@@ -328,6 +330,7 @@ fn from_records(
         return Err(cx.err(".records", "give at least one record"));
     }
     let mut runs = Vec::new();
+    let mut notes = Vec::new();
     for (i, file) in files.iter().enumerate() {
         let field = format!(".records[{i}]");
         let path = cx.dir.join(file);
@@ -343,6 +346,7 @@ fn from_records(
             )?;
         }
         runs.push(run_of(cx, &field, &rec, input, output, conditioned_on)?);
+        notes.extend(rec.notes.iter().map(|n| (path.clone(), n.clone())));
     }
     if let Some(w) = &spec.windows_s
         && (w.is_empty() || w.iter().any(|v| !(v.is_finite() && *v > 0.0)))
@@ -411,6 +415,7 @@ fn from_records(
         Source::Records {
             files: files.to_vec(),
             windows_s: est.windows_s.clone(),
+            notes,
         },
     ))
 }
@@ -601,6 +606,13 @@ pub fn read_response(path: &Path) -> Result<Vec<Point>, InputError> {
 }
 
 impl Evaluate for FrequencyResponseCheck {
+    fn input_notes(&self) -> Vec<(std::path::PathBuf, String)> {
+        match &self.source {
+            Source::Records { notes, .. } => notes.clone(),
+            Source::File(_) => Vec::new(),
+        }
+    }
+
     fn quantities(&self) -> Vec<String> {
         super::names(crate::inputs::quantity::FREQUENCY_RESPONSE)
     }

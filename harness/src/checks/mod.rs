@@ -574,6 +574,11 @@ pub trait Evaluate {
     fn placed(&self) -> Option<Placed<'_>> {
         None
     }
+    /// What loading its inputs (records, trim points) mapped, converted or kept and did not
+    /// compare, in words, each with its file: what the report says of the check's data.
+    fn input_notes(&self) -> Vec<(std::path::PathBuf, String)> {
+        Vec::new()
+    }
     /// What it adds to its case's regression snapshots (`reports/snapshots/`; a check on a
     /// linear model: its aircraft trimmed and linearised at its condition).
     fn snapshotted(&self) -> Vec<Snapshotted<'_>> {

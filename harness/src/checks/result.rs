@@ -79,6 +79,10 @@ pub enum PlotData {
     TimeHistory { traces: Vec<Trace> },
     /// The trims of a sweep: airspeed, mph, and the quantities at it.
     Sweep { points: Vec<(f64, Quantities)> },
+    /// A flight test's trim points and the model at each, by quantity.
+    TrimPoints {
+        quantities: Vec<(String, Vec<PointAgainstModel>)>,
+    },
     /// A frequency response: the reference's (from records or a file) with its coherence, and
     /// the model's, at the reference's frequencies; `title` names the output and input.
     FrequencyResponse {
@@ -88,6 +92,16 @@ pub enum PlotData {
         coherence: Vec<f64>,
         model: Vec<rustfft::num_complex::Complex64>,
     },
+}
+
+/// A flight trim point and the model trimmed at it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointAgainstModel {
+    pub airspeed_mph: f64,
+    /// The point's value and its scatter (one standard deviation).
+    pub flight: f64,
+    pub sd: f64,
+    pub model: f64,
 }
 
 /// A root locus (seed 002 Figs. 2, 3, 6-8): the system's eigenvalues as one derivative moves

@@ -201,6 +201,15 @@ impl Evaluate for TimeHistoryCheck {
         vec![Snapshotted::TimeHistory(self)]
     }
 
+    fn input_notes(&self) -> Vec<(std::path::PathBuf, String)> {
+        let file = &self.reference.path;
+        self.reference
+            .notes
+            .iter()
+            .map(|n| (file.clone(), n.clone()))
+            .collect()
+    }
+
     fn quantities(&self) -> Vec<String> {
         replay::record_signals(&self.reference)
             .iter()

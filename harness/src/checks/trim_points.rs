@@ -21,7 +21,7 @@
 use super::result::{Evaluated, compare_all};
 use super::{At, CheckSpec, Cx, Evaluate, Expectation, Kind, Refusal, Trivial};
 use crate::checks::subject::Subject;
-use crate::inputs::trim_points::{PointValue, TrimPoints};
+use crate::inputs::trim_points::{MIN_POINTS, PointValue, TrimPoints};
 use crate::inputs::yaml::InputError;
 
 /// A `trim_points` check.
@@ -55,9 +55,38 @@ impl Kind for TrimPointsCheck {
         super::is_flight_model(subject)
     }
 
-    fn resolve(cx: &Cx, own: TrimPointsSpec, _: &CheckSpec) -> Result<Self, InputError> {
+    fn resolve(cx: &Cx, own: TrimPointsSpec, written: &CheckSpec) -> Result<Self, InputError> {
         let points = crate::inputs::trim_points::load(&cx.dir.join(&own.points))
             .map_err(|e| cx.err(".points", format!("in the trim points: {e}")))?;
+        // Each quantity the check judges has a level and a trend to fit: enough points, at two
+        // airspeeds or more (a quantity only carried along may have fewer).
+        for q in judged(written.expect.keys().map(String::as_str)) {
+            let series = points.series(&q);
+            if series.is_empty() {
+                continue;
+            }
+            let (lo, hi) = series
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (v, _)| {
+                    (lo.min(*v), hi.max(*v))
+                });
+            if series.len() < MIN_POINTS || hi <= lo {
+                return Err(cx.err(
+                    ".points",
+                    format!(
+                        "{}: `{q}` is measured at {} point(s){}: a level and a trend need at \
+                         least {MIN_POINTS} points at two airspeeds or more (MIN_POINTS)",
+                        points.path.display(),
+                        series.len(),
+                        if series.len() > 1 && hi <= lo {
+                            ", all at one airspeed"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
+            }
+        }
         Ok(Self {
             points: Box::new(points),
         })
@@ -130,11 +159,28 @@ impl LevelAndTrend {
     }
 }
 
+/// The quantities expectations judge (`<quantity>.<metric>`), each once, in order.
+fn judged<'a>(expected: impl Iterator<Item = &'a str>) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for e in expected {
+        if let Some((q, m)) = e.rsplit_once('.')
+            && METRICS.contains(&m)
+            && !out.iter().any(|o| o == q)
+        {
+            out.push(q.to_string());
+        }
+    }
+    out
+}
+
 impl TrimPointsCheck {
-    /// Every quantity's fit, given the model's value of each at each of its points.
-    fn fits(&self, mut model: impl FnMut(&str) -> Vec<f64>) -> Vec<(String, LevelAndTrend)> {
-        self.points
-            .quantities
+    /// The fit of each of `quantities`, given the model's value of each at each of its points.
+    fn fits(
+        &self,
+        quantities: &[String],
+        mut model: impl FnMut(&str) -> Vec<f64>,
+    ) -> Vec<(String, LevelAndTrend)> {
+        quantities
             .iter()
             .map(|q| {
                 (
@@ -144,7 +190,6 @@ impl TrimPointsCheck {
             })
             .collect()
     }
-
     /// The metrics of every quantity, named `<quantity>.<metric>`.
     fn values(fits: &[(String, LevelAndTrend)]) -> Vec<(String, f64)> {
         fits.iter()
@@ -154,6 +199,15 @@ impl TrimPointsCheck {
 }
 
 impl Evaluate for TrimPointsCheck {
+    fn input_notes(&self) -> Vec<(std::path::PathBuf, String)> {
+        let file = &self.points.path;
+        self.points
+            .notes
+            .iter()
+            .map(|n| (file.clone(), n.clone()))
+            .collect()
+    }
+
     fn quantities(&self) -> Vec<String> {
         self.points
             .quantities
@@ -162,38 +216,38 @@ impl Evaluate for TrimPointsCheck {
             .collect()
     }
 
-    /// A trim that does not change with airspeed, at the points' weighted mean: a check whose
-    /// every expectation it passes cannot tell the model from a constant.
+    /// A quantity judged by its level alone, or by the scatter about its fitted error alone:
+    /// a trim that does not change with airspeed, at the points' mean, has no level error by
+    /// construction, and the scatter says nothing of level or trend, so such a check cannot
+    /// tell the model from a constant. Each judged quantity needs its trend judged
+    /// (`trend_error_per_mph`, or `level_trend_chi2`, level and trend together). A quantity
+    /// flat within its scatter is still judged: the chi-square then weighs the model's level.
     fn trivial(
         &self,
         _subject: &Subject,
         expectations: &[Expectation],
     ) -> Result<Vec<Trivial>, Refusal> {
-        let constant = self.fits(|q| {
-            let s = self.points.series(q);
-            let w: f64 = s.iter().map(|(_, m)| m.sd.powi(-2)).sum();
-            let mean = s.iter().map(|(_, m)| m.value * m.sd.powi(-2)).sum::<f64>() / w;
-            vec![mean; s.len()]
-        });
-        let values = Self::values(&constant);
-        let admitted = |e: &Expectation| {
-            values
+        for q in judged(expectations.iter().map(|e| e.quantity.as_str())) {
+            let of_q: Vec<&Expectation> = expectations
                 .iter()
-                .find(|(n, _)| *n == e.quantity)
-                .and_then(|(_, v)| crate::checks::tolerance::admits(&e.tolerance.kind, e.value, *v))
-                == Some(true)
-        };
-        if !expectations.is_empty() && expectations.iter().all(admitted) {
-            let first = &expectations[0];
-            return Err((
-                format!(".expect.{}", first.quantity),
-                String::from(
-                    "a trim that does not change with airspeed (each quantity at its points' \
-                     weighted mean) passes every expectation of this check: it cannot tell the \
-                     model from a constant. Judge the trend too (`<quantity>.trend_error_per_mph` \
-                     or `<quantity>.level_trend_chi2`), or give points that span more airspeed",
-                ),
-            ));
+                .filter(|e| e.quantity.rsplit_once('.').is_some_and(|(p, _)| p == q))
+                .collect();
+            let trend = of_q.iter().any(|e| {
+                e.quantity.ends_with(".trend_error_per_mph")
+                    || e.quantity.ends_with(".level_trend_chi2")
+            });
+            if !trend {
+                return Err((
+                    format!(".expect.{}", of_q[0].quantity),
+                    format!(
+                        "`{q}` is judged by its level or its scatter alone: a trim that does not \
+                         change with airspeed (at the points' mean) passes a level by \
+                         construction, so the check cannot tell the model from a constant. Judge \
+                         its trend too (`{q}.trend_error_per_mph`, or `{q}.level_trend_chi2`: \
+                         level and trend together)"
+                    ),
+                ));
+            }
         }
         Ok(vec![])
     }
@@ -226,8 +280,10 @@ impl Evaluate for TrimPointsCheck {
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;
+        let judged = judged(expectations.iter().map(|e| e.quantity.as_str()));
         let mut missing = None;
-        let fits = self.fits(|q| {
+        let mut drawn = Vec::new();
+        let fits = self.fits(&judged, |q| {
             self.points
                 .points
                 .iter()
@@ -242,8 +298,27 @@ impl Evaluate for TrimPointsCheck {
                         |(_, v)| *v,
                     )
                 })
-                .collect()
+                .collect::<Vec<f64>>()
         });
+        for q in &judged {
+            let model = self
+                .points
+                .points
+                .iter()
+                .zip(&trims)
+                .filter_map(|(p, t)| {
+                    let m = p.values.get(q)?;
+                    let y = t.iter().find(|(n, _)| n == q).map_or(f64::NAN, |x| x.1);
+                    Some(super::result::PointAgainstModel {
+                        airspeed_mph: p.airspeed_mph,
+                        flight: m.value,
+                        sd: m.sd,
+                        model: y,
+                    })
+                })
+                .collect();
+            drawn.push((q.clone(), model));
+        }
         if let Some((q, v)) = missing {
             return Err(format!(
                 "{} gives no `{q}` in its trim at {v} mph ({path} measures it)",
@@ -271,6 +346,7 @@ impl Evaluate for TrimPointsCheck {
             .join("; ");
         Ok(Evaluated {
             note: Some(note),
+            plot: Some(super::result::PlotData::TrimPoints { quantities: drawn }),
             ..Evaluated::of(compare_all(expectations, &values)?)
         })
     }

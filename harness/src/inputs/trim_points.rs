@@ -8,6 +8,8 @@
 //! airspeed_mph,mass_kg,stick_longitudinal_percent,sd_stick_longitudinal_percent,pitch_deg,sd_pitch_deg,oat_c
 //! 41.0,452,71.2,1.5,9.1,0.5,14
 //! 52.5,449,63.0,1.5,,,14
+//! 60.2,447,59.4,1.5,4.6,0.5,15
+//! 68.0,446,56.8,1.5,3.1,0.5,15
 //! ```
 //!
 //! - `airspeed_mph` (or `airspeed_kn`, `airspeed_m_s`: converted) on every row;
@@ -17,7 +19,7 @@
 //!   solves for excepted), each with `sd_<quantity>`: the point's scatter, one standard
 //!   deviation in the same unit (a quantity in another unit converts, its scatter with it). A
 //!   blank cell is a quantity not measured at that point;
-//! - other columns (a temperature, a note) are kept and not compared; the load says which.
+//! - other columns (a temperature, a note) are not read; the load's notes name them.
 //!
 //! `POINTS.yaml`, beside it:
 //!
@@ -129,10 +131,27 @@ pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
+    let (header_no, header) = lines
         .next()
         .ok_or_else(|| InputError::file(csv_path, "the file is empty"))?;
+    let header_no = header_no + 1;
     let written: Vec<String> = header.split(',').map(|w| current_name(w.trim())).collect();
+    for (i, c) in written.iter().enumerate() {
+        if c.is_empty() {
+            return Err(at(
+                csv_path,
+                header_no,
+                format!("column {} has no name", i + 1),
+            ));
+        }
+        if written[..i].contains(c) {
+            return Err(at(
+                csv_path,
+                header_no,
+                format!("column `{c}` appears twice"),
+            ));
+        }
+    }
     let quantities = comparable();
     let mut wanted: Vec<String> = vec![AIRSPEED.into(), MASS.into(), ALTITUDE.into()];
     for q in &quantities {
@@ -145,28 +164,29 @@ pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
     let names = plan.names;
     let mut notes = plan.notes;
     for (i, c) in names.iter().enumerate() {
-        if c.is_empty() {
-            return Err(at(csv_path, 1, format!("column {} has no name", i + 1)));
-        }
         if names[..i].contains(c) {
-            return Err(at(csv_path, 1, format!("column `{c}` appears twice")));
+            return Err(at(
+                csv_path,
+                header_no,
+                format!("column `{c}` appears twice (as written or as mapped)"),
+            ));
         }
     }
     if !names.iter().any(|n| n == AIRSPEED) {
         return Err(at(
             csv_path,
-            1,
+            header_no,
             format!(
                 "no `{AIRSPEED}` column (or `airspeed_kn`, `airspeed_m_s`, or a column mapped to \
                  one of them in the sidecar's `channels:`): every point needs its airspeed"
             ),
         ));
     }
-    let (measured, ignored) = roles(csv_path, &names, &quantities)?;
+    let (measured, ignored) = roles(&|m| at(csv_path, header_no, m), &names, &quantities)?;
     if measured.is_empty() {
         return Err(at(
             csv_path,
-            1,
+            header_no,
             format!(
                 "no trim quantity to compare: name columns among {} (each with its `{SCATTER}` \
                  column)",
@@ -176,42 +196,19 @@ pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
     }
     if !ignored.is_empty() {
         notes.push(format!(
-            "not compared (no trim quantity cierva computes): `{}`",
+            "not compared (not a trim quantity cierva computes, or another unit of a column it \
+             reads): `{}`",
             ignored.join("`, `")
         ));
     }
     let points = points(csv_path, lines, &names, &plan.factors, &measured)?;
-    let out = TrimPoints {
+    Ok(TrimPoints {
         path: csv_path.to_path_buf(),
         meta,
         points,
         quantities: measured,
         notes,
-    };
-    for q in &out.quantities {
-        let series = out.series(q);
-        let (lo, hi) = series
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), (v, _)| {
-                (lo.min(*v), hi.max(*v))
-            });
-        if series.len() < MIN_POINTS || hi <= lo {
-            return Err(InputError::file(
-                csv_path,
-                format!(
-                    "`{q}` is measured at {} point(s){}: a level and a trend need at least \
-                     {MIN_POINTS} points at two airspeeds or more (MIN_POINTS)",
-                    series.len(),
-                    if series.len() > 1 && hi <= lo {
-                        " all at one airspeed"
-                    } else {
-                        ""
-                    }
-                ),
-            ));
-        }
-    }
-    Ok(out)
+    })
 }
 
 /// Each column's role: a condition, a measured quantity (returned, in the header's order), its
@@ -219,12 +216,15 @@ pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
 /// name, in any unit it converts from, is a misspelt one: an error before any pairing of
 /// values and scatters.
 fn roles(
-    csv_path: &Path,
+    at_header: &dyn Fn(String) -> InputError,
     names: &[String],
     quantities: &[&str],
 ) -> Result<(Vec<String>, Vec<String>), InputError> {
+    // Every name a column is read as, in every unit it converts from: the quantities and the
+    // point's conditions.
     let spellings: Vec<String> = quantities
         .iter()
+        .chain(&[AIRSPEED, MASS, ALTITUDE])
         .flat_map(|q| {
             std::iter::once(q.to_string()).chain(
                 crate::inputs::channels::CONVERSIONS
@@ -240,17 +240,20 @@ fn roles(
     let mut ignored: Vec<String> = Vec::new();
     for n in names.iter().filter(|n| !known(n)) {
         let q = n.strip_prefix(SCATTER).unwrap_or(n);
+        // Another unit's spelling of a name the file already has (`pitch_rad` beside
+        // `pitch_deg`): the one in cierva's unit is read.
+        if spellings.iter().any(|s| s == q) {
+            ignored.push(n.clone());
+            continue;
+        }
         if let Some(near) = crate::inputs::yaml::nearest(q, &spellings)
             .filter(|m| crate::inputs::yaml::edit_distance(q, m) <= 2)
         {
-            return Err(at(
-                csv_path,
-                1,
-                format!(
-                    "column `{n}` is no trim quantity cierva computes; did you mean `{near}`? \
-                     (rename it, or map it in the sidecar's `channels:`)"
-                ),
-            ));
+            return Err(at_header(format!(
+                "column `{n}` is nothing cierva reads from trim points; did you mean `{near}`? \
+                 (rename it; or, to keep it and not compare it, map it to another name in the \
+                 sidecar's `channels:`)"
+            )));
         }
         ignored.push(n.clone());
     }
@@ -261,23 +264,17 @@ fn roles(
         }
         if let Some(q) = n.strip_prefix(SCATTER) {
             if !names.iter().any(|m| m == q) {
-                return Err(at(
-                    csv_path,
-                    1,
-                    format!("`{n}` is the scatter of `{q}`, which the file has no column of"),
-                ));
+                return Err(at_header(format!(
+                    "`{n}` is the scatter of `{q}`, which the file has no column of"
+                )));
             }
             continue;
         }
         if !names.iter().any(|m| *m == format!("{SCATTER}{n}")) {
-            return Err(at(
-                csv_path,
-                1,
-                format!(
-                    "`{n}` has no scatter: give `{SCATTER}{n}`, one standard deviation of each \
-                     point in its unit (a point's repeatability, or the test's estimate of it)"
-                ),
-            ));
+            return Err(at_header(format!(
+                "`{n}` has no scatter: give `{SCATTER}{n}`, one standard deviation of each point \
+                 in its unit (a point's repeatability, or the test's estimate of it)"
+            )));
         }
         measured.push(n.clone());
     }
@@ -323,11 +320,17 @@ fn points<'a>(
             if v.is_empty() {
                 return Ok(None);
             }
-            let x = crate::inputs::yaml::number(v)
+            crate::inputs::yaml::number(v)
                 .ok()
+                .map(|x| x * factors[k].unwrap_or(1.0))
                 .filter(|x| x.is_finite())
-                .ok_or_else(|| bad(k, format!("`{}`: `{v}` is not a finite number", names[k])))?;
-            Ok(Some(x * factors[k].unwrap_or(1.0)))
+                .map(Some)
+                .ok_or_else(|| {
+                    bad(
+                        k,
+                        format!("`{}`: `{v}` is not a finite number (in its unit)", names[k]),
+                    )
+                })
         };
         let k = column(AIRSPEED).expect("checked");
         let airspeed_mph = value(k)?
@@ -352,13 +355,16 @@ fn points<'a>(
             );
             match (value(kq)?, value(ks)?) {
                 (None, None) => {}
-                (Some(v), Some(sd)) if sd > 0.0 => {
+                (Some(v), Some(sd)) if sd > 0.0 && sd.powi(-2).is_finite() => {
                     values.insert(q.clone(), PointValue { value: v, sd });
                 }
                 (Some(_), Some(sd)) => {
                     return Err(bad(
                         ks,
-                        format!("a scatter is a standard deviation, > 0; got {sd}"),
+                        format!(
+                            "a scatter is a standard deviation, > 0 (and above 1e-150, so that its \
+                             weight 1 / sd^2 is finite); got {sd}"
+                        ),
                     ));
                 }
                 (Some(_), None) => {

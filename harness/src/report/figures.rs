@@ -6,6 +6,7 @@
 //! - In a case: trim quantities against airspeed; a trim sweep's controls, attitudes and
 //!   rotorspeed; an isolated rotor's quantities against tip-speed ratio (TR 515); the
 //!   eigenvalues on the complex plane, one series per condition, the checked modes ringed; the
+//!   a flight test's trim points with their 95 % scatter and the model at each; the
 //!   BCAR Section T chart (seed 000 Figs. 3 and 14: period against damping index, with the
 //!   boundary); time histories, reference and model, with the allowed error as a band.
 
@@ -232,6 +233,7 @@ pub fn of_case(c: &CaseRun) -> Vec<Figure> {
     let mut out = Vec::new();
     out.extend(trim_against_airspeed(c));
     out.extend(sweeps(c));
+    out.extend(trim_points(c));
     out.extend(tunnel(c));
     out.extend(eigenvalues(c));
     out.extend(bcar_chart(c));
@@ -342,6 +344,42 @@ fn sweeps(c: &CaseRun) -> Vec<Figure> {
                         colour: None,
                     })
                     .collect(),
+                ..Figure::default()
+            });
+        }
+    }
+    out
+}
+
+/// A `trim_points` check's figures, one a quantity: each flight point with its 95 % scatter
+/// (1.96 standard deviations) as a bar, and the model trimmed at each point.
+fn trim_points(c: &CaseRun) -> Vec<Figure> {
+    let mut out = Vec::new();
+    for r in &c.results {
+        let Some(PlotData::TrimPoints { quantities }) = &r.plot else {
+            continue;
+        };
+        for (q, points) in quantities {
+            out.push(Figure {
+                title: format!("{}: {q} at the flight test's trim points", r.check),
+                x_label: "airspeed, mph".into(),
+                y_label: q.clone(),
+                series: vec![Series {
+                    name: "model, trimmed at each point".into(),
+                    points: sorted(points.iter().map(|p| (p.airspeed_mph, p.model)).collect()),
+                    style: Style::LineMarkers,
+                    colour: None,
+                }],
+                bars: points
+                    .iter()
+                    .map(|p| Bar {
+                        x: p.airspeed_mph,
+                        lower: p.flight - 1.96 * p.sd,
+                        upper: p.flight + 1.96 * p.sd,
+                        expected: Some(p.flight),
+                    })
+                    .collect(),
+                bars_name: "flight point (95 % of its scatter)".into(),
                 ..Figure::default()
             });
         }

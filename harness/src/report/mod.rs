@@ -522,6 +522,35 @@ fn figures_html(prefix: &str, figs: &[plot::Figure]) -> String {
     h += "</div>";
     h
 }
+/// What loading a case's records and trim points mapped, converted or did not compare, by file
+/// (its path from the suite's root); empty where they were read as written.
+fn data_as_read_html(case: &crate::suite::case::Case, dir: &Path) -> String {
+    let mut read: Vec<(std::path::PathBuf, String)> = Vec::new();
+    for k in &case.checks {
+        for n in k.behaviour().input_notes() {
+            if !read.contains(&n) {
+                read.push(n);
+            }
+        }
+    }
+    if read.is_empty() {
+        return String::new();
+    }
+    let items: Vec<String> = read
+        .iter()
+        .map(|(file, note)| {
+            format!(
+                "<li><code>{}</code>: {}</li>",
+                esc(&relative_link(file, dir.parent().unwrap_or(dir))),
+                esc(note)
+            )
+        })
+        .collect();
+    format!(
+        "<div class=\"prov\"><b>Data as read.</b><ul>{}</ul></div>",
+        items.concat()
+    )
+}
 
 fn case_html(c: &CaseRun, dir: &Path) -> String {
     let case = &c.case;
@@ -548,6 +577,7 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
             .map(|n| format!("<br><b>Notes.</b> {}", esc(n)))
             .unwrap_or_default()
     );
+    h += &data_as_read_html(case, dir);
     if !c.corrections.is_empty() {
         let _ = write!(
             h,

@@ -14,7 +14,8 @@ use cierva_harness::inputs::trim_points::PointValue;
 const CHI2_2_95: f64 = 5.991_464_547_107_979;
 
 /// How far a pass rate over `n` seeded trials may stray from its stated value `p`: four binomial
-/// standard deviations (a false alarm about once in 16,000 runs).
+/// standard deviations (the seeds are fixed, so the test is deterministic; a rate this far off
+/// would be a wrong statistic, not chance).
 fn binomial_band(p: f64, n: usize) -> f64 {
     4.0 * (p * (1.0 - p) / n as f64).sqrt()
 }
@@ -42,7 +43,7 @@ fn points(rng: &mut SplitMix, n: usize, truth: impl Fn(f64) -> f64) -> Vec<(f64,
 /// at 95 % (4,000 seeds of 4 to 12 points), each standard error covers its error at 95 %, and
 /// the residual chi-square averages its `n - 2` degrees of freedom. A model whose trend is off
 /// by four of its standard deviations is caught at least 90 % of the time (noncentral
-/// chi-square with 2 dof and noncentrality 16: 0.94).
+/// chi-square with 2 dof and noncentrality 16 exceeds 5.991 with probability 0.957).
 #[test]
 fn the_level_and_trend_statistic_holds_its_stated_rate() {
     let truth = |v: f64| 80.0 - 0.5 * v;
@@ -119,7 +120,8 @@ fn vpm_m16_trims(airspeeds: &[f64]) -> Vec<(f64, f64)> {
 
 /// A suite with a case of the VPM M16 and a file of trim points as a flight test gives them:
 /// airspeed in knots under the logger's own name (mapped in the sidecar), pitch in radians, an
-/// outside air temperature cierva does not compare. `stick_error_per_mph` is added to the
+/// outside air temperature cierva does not compare, a rotor speed read at two points (too few
+/// for a trend, and no expectation judges it). `stick_error_per_mph` is added to the
 /// truth's stick trend about 55 mph (a model whose trend is that much off).
 fn flight_test_suite(name: &str, stick_error_per_mph: f64) -> std::path::PathBuf {
     let dir =
@@ -132,16 +134,18 @@ fn flight_test_suite(name: &str, stick_error_per_mph: f64) -> std::path::PathBuf
     let mut rng = SplitMix(20261128);
     let (sd_stick, sd_pitch_deg) = (1.5, 0.5);
     let mut csv = String::from(
-        "IAS_KT,stick_longitudinal_percent,sd_stick_longitudinal_percent,pitch_rad,sd_pitch_rad,oat_c\n",
+        "IAS_KT,stick_longitudinal_percent,sd_stick_longitudinal_percent,pitch_rad,sd_pitch_rad,oat_c,rotor_rpm,sd_rotor_rpm\n",
     );
-    for (v, (stick, pitch)) in airspeeds.iter().zip(&truth) {
+    for (k, (v, (stick, pitch))) in airspeeds.iter().zip(&truth).enumerate() {
         let stick = stick + stick_error_per_mph * (v - 55.0) + sd_stick * rng.normal();
         let pitch = pitch + sd_pitch_deg * rng.normal();
         csv.push_str(&format!(
-            "{},{stick},{sd_stick},{},{},14\n",
+            "{},{stick},{sd_stick},{},{},14,{}\n",
             v * 1609.344 / 1852.0,
             pitch.to_radians(),
-            sd_pitch_deg.to_radians()
+            sd_pitch_deg.to_radians(),
+            // Rotor speed read at two points only: carried along, judged by no expectation.
+            if k < 2 { "420,4" } else { "," }
         ));
     }
     std::fs::write(dir.join("flight-refs/vpm-m16-trim-points.csv"), csv).unwrap();
@@ -169,8 +173,9 @@ fn flight_test_suite(name: &str, stick_error_per_mph: f64) -> std::path::PathBuf
 }
 
 /// The right model passes its synthetic flight test; a stick trend off by 0.2 % per mph (five
-/// of the points' trend standard deviations, 1.5 / sqrt(sum (v - 55)^2) = 0.039) fails it, and
-/// the report of either names the column it did not compare.
+/// of the points' trend standard deviations, 1.5 / sqrt(sum (v - 55)^2) = 0.039) fails it. The
+/// report draws the points with their scatter and the model at each, and says how it read the
+/// file (the column it mapped, the one it did not compare).
 #[test]
 fn a_synthetic_flight_test_passes_the_right_trend_and_fails_a_wrong_one() {
     for (name, error, passes) in [("right", 0.0, true), ("wrong", 0.2, false)] {
@@ -196,6 +201,31 @@ fn a_synthetic_flight_test_passes_the_right_trend_and_fails_a_wrong_one() {
         assert!(chi2("pitch_deg") <= CHI2_2_95, "{r}");
         if !passes {
             assert!(chi2("stick_longitudinal_percent") > CHI2_2_95, "{r}");
+        } else {
+            // The report draws each quantity: the points with their 95 % scatter, the model.
+            let (_, out, err) = cierva_in(&dir, &["validate"]);
+            let html = std::fs::read_to_string(dir.join("reports/index.html"))
+                .unwrap_or_else(|e| panic!("{e}: {out}{err}"));
+            for q in ["stick_longitudinal_percent", "pitch_deg"] {
+                assert!(
+                    html.contains(&format!(
+                        "stick-and-pitch: {q} at the flight test&#39;s trim points"
+                    )) || html.contains(&format!(
+                        "stick-and-pitch: {q} at the flight test's trim points"
+                    )),
+                    "no figure of {q}"
+                );
+            }
+            assert!(html.contains("flight point (95 % of its scatter)"));
+            // And says how it read the file: the column it mapped, the one it did not compare.
+            assert!(
+                html.contains("Data as read.")
+                    && html.contains("<code>flight-refs/vpm-m16-trim-points.csv</code>")
+                    && html.contains("column `IAS_KT` read as `airspeed_kn`")
+                    && html.contains("or another unit of a column it reads): `oat_c`"),
+                "{}",
+                &html[html.find("Data as read").unwrap_or(0)..][..600.min(html.len())]
+            );
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -238,7 +268,8 @@ fn trim_points_a_constant_passes_or_that_are_malformed_are_refused() {
             "`pitch_deg` has no scatter: give `sd_pitch_deg`",
         ),
         ((3, ",1.5,", ",0,"), "trim-points.csv:4:"),
-        ((0, "pitch_rad,", "pitch_rda,"), "did you mean"),
+        ((0, "pitch_rad,", "pitch_rda,"), "did you mean `pitch_rad`"),
+        ((0, "oat_c", "mass_lbs"), "did you mean `mass_lb`"),
     ] {
         let (row, from, to) = edit;
         let mut bad = lines.clone();
