@@ -254,8 +254,12 @@ pub(crate) fn load_flight(
             file.main_rotor_file.id
         )));
     }
-    file.with_corrections(&c.corrections)
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))
+    file.with_corrections(&c.corrections).map_err(|e| {
+        match c.locate(|one| file.with_corrections(one).map(|_| ())) {
+            Some(located) => Error::from(located),
+            None => Error::input(format!("{}: {e}", path.display())),
+        }
+    })
 }
 
 /// The azimuth step of a flight, rad: `--azimuth-step-deg` where given (from

@@ -509,6 +509,49 @@ pub struct CorrectionsFile {
     pub predictive_error: Option<PredictiveError>,
 }
 
+impl CorrectionsFile {
+    /// Where applying the file to a subject fails (`apply` applies a set to it): the
+    /// correction that fails alone (`corrections.hub_aoa_factor`: the file, its line and
+    /// column, and why), or `None` where none does alone.
+    pub fn locate(
+        &self,
+        apply: impl Fn(&CorrectionSet) -> Result<(), String>,
+    ) -> Option<InputError> {
+        for (name, value) in self.corrections.named() {
+            let Some(v) = value else { continue };
+            let mut one = CorrectionSet::default();
+            if one.set_named(name, v).is_some()
+                && let Err(e) = apply(&one)
+                && let Ok(src) = yaml::read(&self.path)
+            {
+                return Some(InputError::field(
+                    &self.path,
+                    &src,
+                    &format!("corrections.{name}"),
+                    e,
+                ));
+            }
+        }
+        for (name, v) in &self.corrections.estimated {
+            let one = CorrectionSet {
+                estimated: [(name.clone(), *v)].into_iter().collect(),
+                ..Default::default()
+            };
+            if let Err(e) = apply(&one)
+                && let Ok(src) = yaml::read(&self.path)
+            {
+                return Some(InputError::field(
+                    &self.path,
+                    &src,
+                    &format!("corrections.estimated.{name}"),
+                    e,
+                ));
+            }
+        }
+        None
+    }
+}
+
 /// What a corrections file corrects, from its `applies_to`, where its corrections suit it: a
 /// model behind the model interface takes declared parameters only, an aircraft or a rotor
 /// file none, and a rotor no aircraft correction. An error is its field and message.

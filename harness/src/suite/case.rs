@@ -595,22 +595,26 @@ pub fn with_corrections(
         let applied = used.len();
         match (&mut c.subject, &f.target) {
             (Subject::Aircraft { file, .. }, Corrects::Aircraft(id)) if file.id == *id => {
-                **file = file.with_corrections(&f.corrections).map_err(here)?;
+                **file = corrected_aircraft(file, f, &case.id)?;
                 used.push(f.id.clone());
             }
             (Subject::Aircraft { file, .. }, Corrects::Rotor(id))
                 if file.main_rotor_file.id == *id =>
             {
-                **file = file.with_corrections(&f.corrections).map_err(here)?;
+                **file = corrected_aircraft(file, f, &case.id)?;
                 used.push(f.id.clone());
             }
             (Subject::Rotor { file, .. }, Corrects::Rotor(id))
             | (Subject::FlapRecord { rotor: file, .. }, Corrects::Rotor(id))
                 if file.id == *id =>
             {
-                f.corrections
-                    .apply_to_rotor(&mut file.rotor)
-                    .map_err(here)?;
+                let before = file.rotor.clone();
+                f.corrections.apply_to_rotor(&mut file.rotor).map_err(|e| {
+                    match f.locate(|one| one.apply_to_rotor(&mut before.clone())) {
+                        Some(located) => format!("{located} (applied to {})", case.id),
+                        None => here(e),
+                    }
+                })?;
                 file.path = PathBuf::from(format!(
                     "{}#{}",
                     file.path.display(),
@@ -767,4 +771,19 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), InputError> {
 /// to reject.
 pub fn load_cases(paths: &[PathBuf]) -> Result<Vec<Result<Case, InputError>>, InputError> {
     Ok(discover(paths)?.iter().map(|p| load(p)).collect())
+}
+
+/// `file` with a corrections file's corrections (for case `case`), an error located at the
+/// correction that causes it ([`crate::inputs::corrections::CorrectionsFile::locate`]).
+fn corrected_aircraft(
+    file: &crate::inputs::aircraft::AircraftFile,
+    f: &crate::inputs::corrections::CorrectionsFile,
+    case: &str,
+) -> Result<crate::inputs::aircraft::AircraftFile, String> {
+    file.with_corrections(&f.corrections).map_err(|e| {
+        match f.locate(|one| file.with_corrections(one).map(|_| ())) {
+            Some(located) => format!("{located} (applied to {case})"),
+            None => format!("{} on {case}: {e}", f.path.display()),
+        }
+    })
 }

@@ -147,13 +147,27 @@ impl Suite {
             }
         })?;
         if spec.format_version != FORMAT_VERSION {
-            return Err(InputError::file(
-                marker,
-                format!(
-                    "format_version {}: this cierva reads format_version {FORMAT_VERSION}",
-                    spec.format_version
-                ),
-            ));
+            // At the key's line and column (TOML: `format_version = 2`, at the line's start).
+            let line = src
+                .lines()
+                .position(|l| l.trim_start().starts_with("format_version"))
+                .map(|k| k + 1);
+            let column = line.and_then(|k| {
+                let l = src.lines().nth(k - 1)?;
+                Some(l.len() - l.trim_start().len() + 1)
+            });
+            return Err(InputError {
+                line,
+                column,
+                ..InputError::file(
+                    marker,
+                    format!(
+                        "format_version {}: this cierva reads format_version {FORMAT_VERSION} \
+                         (the suite was written for another version of cierva)",
+                        spec.format_version
+                    ),
+                )
+            });
         }
         // Canonical, so that the suite of a case found from its path and the suite named on
         // the command line compare equal however each was spelt.

@@ -102,3 +102,76 @@ fn a_mass_above_the_aircrafts_maximum_is_refused() {
     ]);
     assert_eq!(code, 0, "{out}{err}");
 }
+
+/// A correction outside what the model accepts is located in its corrections file (line and
+/// column of the correction), by `validate --corrections` and by a command's `--corrections`;
+/// a suite marker of another format version is located at its `format_version` line (issue 50:
+/// both named no line).
+#[test]
+fn a_correction_out_of_range_and_a_format_version_are_located() {
+    let dir = std::env::temp_dir().join(format!("cierva-located-{}", std::process::id()));
+    common::new_suite(&dir);
+    std::os::unix::fs::symlink(common::repo_root().join("aircraft"), dir.join("aircraft")).unwrap();
+    std::fs::copy(
+        common::repo_root().join("cases/vpm-m16-trim-max-weight.yaml"),
+        dir.join("cases/vpm-m16-trim-max-weight.yaml"),
+    )
+    .unwrap();
+    std::fs::create_dir_all(dir.join("corrections")).unwrap();
+    for (line, field) in [
+        ("hub_aoa_factor: 5.0", "corrections.hub_aoa_factor"),
+        ("propeller_blockage: 3.0", "corrections.propeller_blockage"),
+        ("profile_drag_scale: -1.0", "corrections.profile_drag_scale"),
+    ] {
+        std::fs::write(
+            dir.join("corrections/c1.yaml"),
+            format!(
+                "id: c1\ntitle: t\nprovenance: {{source: test}}\napplies_to: {{aircraft: vpm-m16}}\n\
+                 corrections:\n  {line}\n"
+            ),
+        )
+        .unwrap();
+        let (code, out, err) = common::cierva_in(
+            &dir,
+            &[
+                "validate",
+                "--no-report",
+                "--corrections",
+                "corrections/c1.yaml",
+            ],
+        );
+        assert_eq!(code, 2, "{out}{err}");
+        assert!(
+            out.contains(&format!("c1.yaml:6:3: field `{field}`")),
+            "{line}: {out}"
+        );
+        let (code, out, err) = common::cierva_in(
+            &dir,
+            &[
+                "trim",
+                "aircraft/vpm-m16.yaml",
+                "--airspeed-mph",
+                "60",
+                "--corrections",
+                "corrections/c1.yaml",
+            ],
+        );
+        assert_eq!(code, 2, "{out}{err}");
+        assert!(
+            err.contains(&format!("c1.yaml:6:3: field `{field}`")),
+            "{line}: {err}"
+        );
+    }
+    std::fs::write(
+        dir.join("cierva.toml"),
+        "# my suite\n\nformat_version = 7\n",
+    )
+    .unwrap();
+    let (code, out, err) = common::cierva_in(&dir, &["validate", "--no-report"]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        format!("{out}{err}").contains("cierva.toml:3:1: format_version 7"),
+        "{out}{err}"
+    );
+}
