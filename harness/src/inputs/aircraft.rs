@@ -446,6 +446,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
     aircraft
         .validate()
         .map_err(|e| err(&field_of(&e), e.to_string()))?;
+    check_work(&aircraft, &err)?;
     if let Some(max) = a.mass.max_kg
         && !(max.is_finite() && max >= a.mass.mass_kg)
     {
@@ -535,6 +536,35 @@ fn check_propeller_file(
             format!(
                 "the propeller's rotor file `{}` gives hub_drag_area_m2: a spinner's drag is the airframe's (its drag table), not the propeller's",
                 p.rotor_file
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The main rotor's work a revolution (blades x elements x azimuth steps) within the model's
+/// limit with room for the numerical uncertainty's refinement, which doubles the elements and
+/// halves the step (four times the work): a file is refused here, not a study later.
+fn check_work(
+    aircraft: &Aircraft,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<(), InputError> {
+    use cierva_model::components::rotor::MAX_ELEMENT_STEPS_PER_REVOLUTION as MAX;
+    let r = &aircraft.main_rotor;
+    let steps = cierva_model::components::rotor::azimuth_steps(r.numerics.azimuth_step_rad)
+        .map_err(|e| err("aircraft.main_rotor.azimuth_step_deg", e.to_string()))?;
+    let work = r.rotor.blades * r.rotor.elements * steps;
+    if 4 * work > MAX {
+        return Err(err(
+            "aircraft.main_rotor.azimuth_step_deg",
+            format!(
+                "{} blades x {} elements x {steps} azimuth steps is {work} blade-element \
+                 evaluations a revolution; refined for the numerical uncertainty (twice the \
+                 elements, half the step) it would be {}, past the model's {MAX} \
+                 (MAX_ELEMENT_STEPS_PER_REVOLUTION): a coarser step or fewer elements",
+                r.rotor.blades,
+                r.rotor.elements,
+                4 * work
             ),
         ));
     }

@@ -6,6 +6,8 @@
 //! The model keeps the limits on its own data, which any caller meets
 //! ([`cierva_model::components::rotor::MAX_BLADES`],
 //! [`cierva_model::components::rotor::MAX_ELEMENTS_PER_BLADE`],
+//! [`cierva_model::components::rotor::MAX_BLADE_ELEMENTS`],
+//! [`cierva_model::components::rotor::MAX_ELEMENT_STEPS_PER_REVOLUTION`],
 //! [`cierva_model::components::rotor::MAX_AZIMUTH_STEPS_PER_REVOLUTION`],
 //! [`cierva_model::simulation::timehistory::MAX_STEPS`],
 //! [`cierva_model::components::autorotation::MAX_REVOLUTIONS`]); the files' sizes and nesting

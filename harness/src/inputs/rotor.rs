@@ -294,6 +294,8 @@ fn written_name(model: &str) -> &str {
         "pitch_rad" => "pitch_deg",
         "corrections.pitch_offset_rad" => "corrections.pitch_offset_deg",
         "corrections.elastic_twist_rad_per_pa" => "corrections.elastic_twist_deg_per_kpa",
+        // A product of counts is pointed at its last factor, the one most often raised.
+        "blades x elements" => "elements",
         other => other,
     }
 }

@@ -390,3 +390,65 @@ fn an_error_on_a_long_line_shows_a_screens_width_of_it() {
     assert!(fits_a_screen(&e.render()), "{}", e.render());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Counts each within its limit but together past the work a model can do in good time (issue
+/// 50, found by fuzzing): 64 blades of 100 elements (6,400 blade elements; an autorotation took
+/// 6 s to give up) is refused at the rotor file's `elements` with `MAX_BLADE_ELEMENTS`; a
+/// teetering rotor of 2 x 1000 elements at the finest azimuth step (7.2 million blade-element
+/// evaluations a revolution) is refused at the aircraft file's step with
+/// `MAX_ELEMENT_STEPS_PER_REVOLUTION`, before any study refines it.
+#[test]
+fn counts_that_together_ask_too_much_work_are_refused_with_the_limit() {
+    let dir = scratch("work");
+    let root = super::common::repo_root().join("aircraft");
+    let pca = std::fs::read_to_string(root.join("pca-2-rotor.yaml")).unwrap();
+    let text = pca
+        .replace("id: pca-2-rotor", "id: many")
+        .replace("  blades: 4\n", "  blades: 64\n")
+        .replace("  elements: 20\n", "  elements: 100\n");
+    let path = dir.join("many.yaml");
+    std::fs::write(&path, &text).unwrap();
+    let line = text.lines().position(|l| l == "  elements: 100").unwrap() + 1;
+    let (code, out, err) = common::cierva(&[
+        "autorotate",
+        path.to_str().unwrap(),
+        "--alpha-deg",
+        "5",
+        "--airspeed-m-s",
+        "30",
+    ]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains(&format!("many.yaml:{line}:3: field `rotor.elements`"))
+            && err.contains("must be at most 2000 (MAX_BLADE_ELEMENTS"),
+        "{err}"
+    );
+
+    for f in ["vpm-m16.yaml", "vpm-m16-propeller.yaml"] {
+        std::fs::copy(root.join(f), dir.join(f)).unwrap();
+    }
+    let rotor = std::fs::read_to_string(root.join("vpm-m16-rotor.yaml")).unwrap();
+    std::fs::write(
+        dir.join("vpm-m16-rotor.yaml"),
+        rotor.replace("  elements: 20\n", "  elements: 1000\n"),
+    )
+    .unwrap();
+    let aircraft = std::fs::read_to_string(root.join("vpm-m16.yaml")).unwrap();
+    let fine = aircraft.replace("azimuth_step_deg: 5.0", "azimuth_step_deg: 0.1");
+    assert_ne!(fine, aircraft);
+    std::fs::write(dir.join("vpm-m16.yaml"), fine).unwrap();
+    let (code, out, err) = common::cierva(&[
+        "trim",
+        dir.join("vpm-m16.yaml").to_str().unwrap(),
+        "--airspeed-mph",
+        "60",
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("field `aircraft.main_rotor.azimuth_step_deg`")
+            && err.contains("2 blades x 1000 elements x 3600 azimuth steps")
+            && err.contains("(MAX_ELEMENT_STEPS_PER_REVOLUTION)"),
+        "{err}"
+    );
+}

@@ -93,7 +93,11 @@ pub fn periodic_trim(
     let air = condition.air;
     let z0 = start_unknowns(averaged, engine);
     let step = aircraft.main_rotor.numerics.azimuth_step_rad;
-    let n = crate::components::rotor::azimuth_steps(step).map_err(AircraftError::from)?;
+    let n = aircraft
+        .main_rotor
+        .rotor
+        .steps_per_revolution(step)
+        .map_err(AircraftError::from)?;
     let mut warm_flap: Vec<[f64; 2]> = aircraft
         .full_state(
             &averaged.state,

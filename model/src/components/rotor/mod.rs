@@ -287,6 +287,18 @@ pub const MAX_BLADES: usize = 64;
 /// 999999999999` once aborted the process on the allocation.
 pub const MAX_ELEMENTS_PER_BLADE: usize = 1000;
 
+/// The most blade elements a rotor may have, blades times elements: the work of every
+/// evaluation of its loads. Rotors flown have 2 to 8 blades, blade-element codes 10 to 100
+/// elements (at most 800); the numerical uncertainty doubles the elements (1,600). Each count
+/// alone within its limit, 64 blades of 100 elements (6,400) took 6 s for an autorotation to
+/// give up.
+pub const MAX_BLADE_ELEMENTS: usize = 2_000;
+
+/// The most blade-element evaluations one revolution may take, blades times elements times
+/// azimuth steps: the shipped rotors at 5 deg take 2 x 20 x 72 = 2,880, the numerical
+/// uncertainty's refinement of a three-bladed rotor at the finest step 3 x 40 x 7,200 = 864,000.
+pub const MAX_ELEMENT_STEPS_PER_REVOLUTION: usize = 2_000_000;
+
 /// The most azimuth steps a revolution may take (the finest step, 0.05 deg). The shipped
 /// aircraft step 5 deg and the default is 2.5 deg (72 and 144 steps); the numerical
 /// uncertainty halves a file's step, whose finest is 0.1 deg. Beyond it a tiny step would make
@@ -614,7 +626,31 @@ impl Rotor {
                 value: self.elements as f64,
             });
         }
+        if self.blades * self.elements > MAX_BLADE_ELEMENTS {
+            return Err(RotorError::TooMany {
+                name: "blades x elements",
+                limit: MAX_BLADE_ELEMENTS,
+                why: "MAX_BLADE_ELEMENTS: the work of every evaluation; rotors flown have at most 8 blades of 100 elements, 800",
+                value: (self.blades * self.elements) as f64,
+            });
+        }
         Ok(())
+    }
+
+    /// The azimuth steps of one revolution at `step_rad` ([`azimuth_steps`]), the revolution's
+    /// blade-element evaluations within [`MAX_ELEMENT_STEPS_PER_REVOLUTION`].
+    pub fn steps_per_revolution(&self, step_rad: f64) -> Result<usize, RotorError> {
+        let n = azimuth_steps(step_rad)?;
+        let work = self.blades * self.elements * n;
+        if work > MAX_ELEMENT_STEPS_PER_REVOLUTION {
+            return Err(RotorError::TooMany {
+                name: "blades x elements x azimuth steps per revolution",
+                limit: MAX_ELEMENT_STEPS_PER_REVOLUTION,
+                why: "MAX_ELEMENT_STEPS_PER_REVOLUTION: the work of one revolution; a coarser azimuth step or fewer elements",
+                value: work as f64,
+            });
+        }
+        Ok(n)
     }
 
     /// Solidity `N_b c_mean / (pi R)`, with the area-weighted mean chord over the span.

@@ -1,7 +1,7 @@
 //! The rotor's steady periodic solution: one blade integrated round the azimuth to its periodic
 //! flapping (secant steps on the revolution map), and the mean loads over the revolution.
 
-use super::{Angles, Blade, BladeLoads, Hub, Operating, RotorError, azimuth_steps};
+use super::{Angles, Blade, BladeLoads, Hub, Operating, RotorError};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -300,7 +300,9 @@ impl Blade<'_> {
         if axisymmetric {
             return self.axisymmetric(op);
         }
-        let n = azimuth_steps(self.numerics.azimuth_step_rad)?;
+        let n = self
+            .rotor
+            .steps_per_revolution(self.numerics.azimuth_step_rad)?;
         let h = 2.0 * PI / n as f64;
         // Revolutions from `start`, each sampling the loads and flapping at its step points
         // (the first stage of every RK4 step, which the step computes anyway), with a secant
