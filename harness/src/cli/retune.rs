@@ -290,6 +290,7 @@ fn bode_figures(
                 ("model after", c.after.iter().copied().map(Some).collect()),
             ],
             &coherence,
+            cierva_harness::checks::frequency_response::COHERENCE_MIN,
         );
         let name = format!(
             "{stem}-{}-{}-{}.svg",

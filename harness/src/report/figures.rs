@@ -729,6 +729,7 @@ fn bode(c: &CaseRun) -> Vec<Figure> {
                 ("model", model.iter().copied().map(Some).collect()),
             ],
             coherence,
+            crate::checks::frequency_response::COHERENCE_MIN,
         ));
     }
     out

@@ -508,16 +508,31 @@ fn summary_html(run: &Run, counts: &Counts) -> String {
 
 fn figures_html(prefix: &str, figs: &[plot::Figure]) -> String {
     let mut h = String::from("<div class=\"plots\">");
-    for (i, f) in figs.iter().enumerate() {
-        if let Some(svg) = f.svg(460, 320) {
+    let mut i = 0;
+    while i < figs.len() {
+        // A figure alone, or the run of figures stacked under one caption on one abscissa.
+        let n = match &figs[i].stack {
+            Some(s) => figs[i..]
+                .iter()
+                .take_while(|f| f.stack.as_ref() == Some(s))
+                .count(),
+            None => 1,
+        };
+        let run = &figs[i..i + n];
+        let (svg, caption) = match &figs[i].stack {
+            Some(s) => (plot::panels_svg(run, 460, 230), s.as_str()),
+            None => (run[0].svg(460, 320), run[0].title.as_str()),
+        };
+        if let Some(svg) = svg {
             let _ = write!(
                 h,
                 "<figure class=\"plot\" id=\"fig-{}-{i}\" data-points=\"{}\">{svg}<figcaption>{}</figcaption></figure>",
                 esc(prefix),
-                f.points(),
-                esc(&f.title)
+                run.iter().map(plot::Figure::points).sum::<usize>(),
+                esc(caption)
             );
         }
+        i += n;
     }
     h += "</div>";
     h

@@ -17,6 +17,9 @@ pub enum Style {
     LineMarkers,
     /// Hollow rings, larger than markers: to pick out points drawn by another series.
     Rings,
+    /// Hollow markers, the size of markers: points of the same data set apart (a reference's
+    /// frequencies below its coherence threshold, which its comparison leaves out).
+    Hollow,
 }
 
 /// One named series of points.
@@ -66,6 +69,9 @@ pub struct Figure {
     /// The abscissae are decimal logarithms: the axis is labelled with their powers of ten (a
     /// Bode figure's frequency).
     pub log_x: bool,
+    /// Drawn stacked with the figures next to it that share this caption, on one abscissa (a
+    /// Bode diagram's magnitude, phase and coherence), under the caption.
+    pub stack: Option<String>,
 }
 
 /// The vertical pixels of a panel that are not plotting area: the caption, the x labels and
@@ -361,6 +367,13 @@ impl Figure {
                         .legend(move |(x, y)| Circle::new((x + 8, y), 3, c.filled()));
                 }
             }
+            if s.style == Style::Hollow {
+                let edge = c.stroke_width(1);
+                chart
+                    .draw_series(pts.iter().map(|p| Circle::new(*p, 3, edge)))?
+                    .label(s.name.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 3, edge));
+            }
             if s.style == Style::Rings {
                 let ring = c.stroke_width(2);
                 chart
@@ -433,6 +446,7 @@ pub fn bode_panels(
     frequencies_hz: &[f64],
     responses: &[(&str, Vec<Option<rustfft::num_complex::Complex64>>)],
     coherence: &[f64],
+    coherence_min: f64,
 ) -> Vec<Figure> {
     let x: Vec<f64> = frequencies_hz.iter().map(|f| f.log10()).collect();
     let styles = |i: usize| if i == 0 { Style::Markers } else { Style::Line };
@@ -461,18 +475,43 @@ pub fn bode_panels(
             p.iter_mut().for_each(|q| q.1 -= shift);
         }
     }
+    // Whether the first response (the records') is coherent enough at abscissa `xk` to count.
+    let coherent = |xk: f64| {
+        x.iter()
+            .position(|v| *v == xk)
+            .and_then(|k| coherence.get(k))
+            .is_some_and(|g| *g >= coherence_min)
+    };
+    let below = format!("coherence below {coherence_min}: not compared");
     let series = |values: Vec<Vec<(f64, f64)>>| -> Vec<Series> {
-        responses
-            .iter()
-            .zip(values)
-            .enumerate()
-            .map(|(i, ((name, _), points))| Series {
+        let mut out = Vec::new();
+        for (i, ((name, _), points)) in responses.iter().zip(values).enumerate() {
+            if i > 0 {
+                out.push(Series {
+                    name: name.to_string(),
+                    points,
+                    style: styles(i),
+                    colour: Some(i),
+                });
+                continue;
+            }
+            let (kept, apart): (Vec<_>, Vec<_>) = points.into_iter().partition(|p| coherent(p.0));
+            out.push(Series {
                 name: name.to_string(),
-                points,
-                style: styles(i),
-                colour: None,
-            })
-            .collect()
+                points: kept,
+                style: styles(0),
+                colour: Some(0),
+            });
+            if !apart.is_empty() {
+                out.push(Series {
+                    name: format!("{name}, {below}"),
+                    points: apart,
+                    style: Style::Hollow,
+                    colour: Some(7),
+                });
+            }
+        }
+        out
     };
     let magnitudes = responses
         .iter()
@@ -484,6 +523,7 @@ pub fn bode_panels(
         })
         .collect();
     let x_label = "frequency, Hz (log scale)".to_string();
+    let stack = Some(format!("{title}: magnitude, phase and coherence"));
     vec![
         Figure {
             title: format!("{title}: magnitude"),
@@ -491,6 +531,7 @@ pub fn bode_panels(
             y_label: "magnitude, dB".into(),
             series: series(magnitudes),
             log_x: true,
+            stack: stack.clone(),
             ..Figure::default()
         },
         Figure {
@@ -499,22 +540,69 @@ pub fn bode_panels(
             y_label: "phase, deg".into(),
             series: series(phases),
             log_x: true,
+            stack: stack.clone(),
             ..Figure::default()
         },
-        Figure {
-            title: format!("{title}: coherence of the records' estimate"),
-            x_label,
-            y_label: "coherence".into(),
-            series: vec![Series {
-                name: "coherence".into(),
-                points: x.iter().copied().zip(coherence.iter().copied()).collect(),
-                style: Style::LineMarkers,
-                colour: Some(2),
-            }],
-            log_x: true,
-            ..Figure::default()
-        },
+        coherence_panel(title, &x, coherence, coherence_min, stack),
     ]
+}
+
+/// A Bode figure's coherence panel (abscissae `x`, decimal logarithms of the frequencies): the
+/// coherent frequencies as markers, those below `coherence_min` hollow and grey, and the
+/// threshold as a line.
+fn coherence_panel(
+    title: &str,
+    x: &[f64],
+    coherence: &[f64],
+    coherence_min: f64,
+    stack: Option<String>,
+) -> Figure {
+    let (kept, apart): (Vec<_>, Vec<_>) = x
+        .iter()
+        .copied()
+        .zip(coherence.iter().copied())
+        .partition(|(_, g)| *g >= coherence_min);
+    let span = x
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    let mut coherence_series = vec![
+        Series {
+            name: "coherence".into(),
+            points: kept,
+            style: Style::Markers,
+            colour: Some(2),
+        },
+        Series {
+            name: format!("threshold {coherence_min}"),
+            points: vec![(span.0, coherence_min), (span.1, coherence_min)],
+            style: Style::Line,
+            colour: Some(7),
+        },
+    ];
+    if !apart.is_empty() {
+        coherence_series.insert(
+            1,
+            Series {
+                name: format!("coherence below {coherence_min}: not compared"),
+                points: apart,
+                style: Style::Hollow,
+                colour: Some(7),
+            },
+        );
+    }
+    Figure {
+        title: format!("{title}: coherence of the records' estimate"),
+        x_label: "frequency, Hz (log scale)".into(),
+        y_label: "coherence".into(),
+        series: coherence_series,
+        log_x: true,
+        stack,
+        ..Figure::default()
+    }
 }
 
 fn panels(figures: &[Figure], width: u32, panel_height: u32, log_x: bool) -> Option<String> {

@@ -112,9 +112,9 @@ fn a_linear_models_response_against_its_own_record_costs_j_under_5() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// validate's report draws a frequency-response check as Bode figures (issue 32, item 1): its
-/// magnitude, phase and the reference's coherence against a log frequency axis, the reference
-/// as markers and the model's response as a line.
+/// validate's report draws a frequency-response check as a Bode figure (issue 32, item 1): its
+/// magnitude, phase and the reference's coherence against a log frequency axis, stacked in one
+/// figure (issue 50), the reference as markers and the model's response as a line.
 #[test]
 fn the_report_draws_a_frequency_response_check_as_bode_figures() {
     let dir = scratch("report");
@@ -130,15 +130,18 @@ fn the_report_draws_a_frequency_response_check_as_bode_figures() {
     ]);
     assert_eq!(code, 0, "{err}");
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
-    for caption in [
+    // One figure, its three panels stacked on one frequency axis (issue 50), each titled.
+    assert!(
+        html.contains("<figcaption>fr: q / eta_s: magnitude, phase and coherence</figcaption>"),
+        "no stacked Bode figure"
+    );
+    for title in [
         "fr: q / eta_s: magnitude",
         "fr: q / eta_s: phase",
-        "fr: q / eta_s: coherence of the records' estimate",
+        // (the SVG escapes the apostrophe of "the records' estimate")
+        "fr: q / eta_s: coherence of the records",
     ] {
-        assert!(
-            html.contains(&format!("<figcaption>{caption}</figcaption>")),
-            "no figure `{caption}`"
-        );
+        assert!(html.contains(title), "no panel `{title}`");
     }
     assert_eq!(html.matches("frequency, Hz (log scale)").count(), 3);
     for series in ["reference", "model", "magnitude, dB", "phase, deg"] {

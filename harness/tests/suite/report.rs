@@ -70,3 +70,65 @@ fn the_bcar_chart_places_a_mode_by_its_own_verdict() {
         "({x}, {t})"
     );
 }
+
+/// A frequency response is drawn as CIFER's readers expect it (issue 50): magnitude, phase and
+/// coherence stacked on one frequency axis in one figure, the reference's frequencies below the
+/// coherence threshold set apart as hollow grey points (they are not in `J`), with the
+/// threshold drawn on the coherence panel.
+#[test]
+fn a_bode_diagram_is_stacked_and_sets_incoherent_points_apart() {
+    use cierva_harness::report::plot::{Style, bode_panels};
+    use rustfft::num_complex::Complex64;
+    let f = [0.1, 0.2, 0.5, 1.0, 2.0];
+    let coherence = [0.3, 0.7, 0.9, 0.95, 0.5];
+    let h: Vec<Option<Complex64>> = f.iter().map(|x| Some(Complex64::new(1.0, *x))).collect();
+    let figs = bode_panels(
+        "q/eta_s",
+        &f,
+        &[("reference", h.clone()), ("model", h)],
+        &coherence,
+        0.6,
+    );
+    assert_eq!(figs.len(), 3);
+    let stack = figs[0].stack.clone().expect("stacked");
+    assert!(
+        figs.iter().all(|g| g.stack.as_ref() == Some(&stack)),
+        "{stack}"
+    );
+    for g in &figs[..2] {
+        let apart = g
+            .series
+            .iter()
+            .find(|s| s.style == Style::Hollow)
+            .expect("hollow points");
+        assert_eq!(apart.name, "reference, coherence below 0.6: not compared");
+        assert_eq!(apart.colour, Some(7));
+        let xs: Vec<f64> = apart.points.iter().map(|p| p.0).collect();
+        assert_eq!(xs, [0.1f64.log10(), 2.0f64.log10()]);
+        let kept = g.series.iter().find(|s| s.name == "reference").unwrap();
+        assert_eq!(kept.points.len(), 3);
+    }
+    assert!(figs[2].series.iter().any(|s| s.name == "threshold 0.6"));
+
+    // In the report: one figure under the stack's caption, three panels in its SVG.
+    let dir = std::env::temp_dir().join(format!("cierva-bode-{}", std::process::id()));
+    let case =
+        super::common::repo_root().join("cases/cierva-frequency-response-vpm-m16-60mph.yaml");
+    let (code, out, err) = super::common::cierva(&[
+        "validate",
+        case.to_str().unwrap(),
+        "--report-dir",
+        dir.to_str().unwrap(),
+    ]);
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap_or_default();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(code == 0 || code == 1, "{out}{err}");
+    let captions = html
+        .matches(": magnitude, phase and coherence</figcaption>")
+        .count();
+    assert!(captions >= 1, "no stacked Bode figure");
+    assert!(
+        !html.contains(": magnitude</figcaption>"),
+        "a Bode panel drawn alone"
+    );
+}

@@ -465,6 +465,7 @@ mod plot {
             }),
             x_zero: false,
             log_x: false,
+            stack: None,
         };
         assert_eq!(f.points(), 7);
         let svg = f.svg(400, 300).expect("drawn");
