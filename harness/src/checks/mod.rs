@@ -1077,5 +1077,13 @@ pub fn flight_model(
     }
 }
 
+/// A loaded file's notes ([`Evaluate::input_notes`]), each with the file.
+fn notes_of(path: &Path, notes: &[String]) -> Vec<(std::path::PathBuf, String)> {
+    notes
+        .iter()
+        .map(|n| (path.to_path_buf(), n.clone()))
+        .collect()
+}
+
 /// The subjects that are flight models, in words.
 const FLIGHT_MODELS: &str = "an aircraft or an external model";

@@ -202,12 +202,7 @@ impl Evaluate for TimeHistoryCheck {
     }
 
     fn input_notes(&self) -> Vec<(std::path::PathBuf, String)> {
-        let file = &self.reference.path;
-        self.reference
-            .notes
-            .iter()
-            .map(|n| (file.clone(), n.clone()))
-            .collect()
+        super::notes_of(&self.reference.path, &self.reference.notes)
     }
 
     fn quantities(&self) -> Vec<String> {

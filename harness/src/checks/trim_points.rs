@@ -200,12 +200,7 @@ impl TrimPointsCheck {
 
 impl Evaluate for TrimPointsCheck {
     fn input_notes(&self) -> Vec<(std::path::PathBuf, String)> {
-        let file = &self.points.path;
-        self.points
-            .notes
-            .iter()
-            .map(|n| (file.clone(), n.clone()))
-            .collect()
+        super::notes_of(&self.points.path, &self.points.notes)
     }
 
     fn quantities(&self) -> Vec<String> {
