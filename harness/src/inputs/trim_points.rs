@@ -347,6 +347,14 @@ fn points<'a>(
             ));
         }
         let density_altitude_ft = optional(ALTITUDE)?;
+        if let Some(h) = density_altitude_ft
+            && !(-2000.0..=20000.0).contains(&h)
+        {
+            return Err(bad(
+                column(ALTITUDE).expect("read"),
+                format!("a density altitude is in [-2000, 20000] ft, as a case's; got {h}"),
+            ));
+        }
         let mut values = BTreeMap::new();
         for q in measured {
             let (kq, ks) = (
