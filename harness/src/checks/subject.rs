@@ -245,10 +245,11 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
             )
         })?;
         let loading = check_loading(&err, "model.aircraft", a.mass_kg, a.density_altitude_ft)?;
-        if let Some(m) = loading.mass_kg {
-            file.check_mass(m)
-                .map_err(|e| err("model.aircraft.mass_kg", e))?;
-        }
+        crate::external::FlightModel::check_loading(
+            &crate::external::CiervaAircraft::new(&file),
+            &loading,
+        )
+        .map_err(|e| err("model.aircraft.mass_kg", e))?;
         return Ok(Subject::Aircraft {
             file: Box::new(file),
             loading,

@@ -87,6 +87,19 @@ impl Kind for TrimPointsCheck {
                 ));
             }
         }
+        // Each point's loading is one the model can be asked at (cierva's aircraft: within
+        // its maximum all-up mass): an error at the point's line, not at its trim.
+        if let Some((model, loading)) = super::flight_model(cx.subject) {
+            for p in &points.points {
+                let at = point_loading(p, loading);
+                model.check_loading(&at).map_err(|e| {
+                    cx.err(
+                        ".points",
+                        format!("{}:{}: {e}", points.path.display(), p.line),
+                    )
+                })?;
+            }
+        }
         Ok(Self {
             points: Box::new(points),
         })
@@ -256,12 +269,7 @@ impl Evaluate for TrimPointsCheck {
             .points
             .iter()
             .map(|p| {
-                let at_point = crate::inputs::condition::Loading {
-                    mass_kg: p.mass_kg.or(loading.mass_kg),
-                    density_altitude_ft: p
-                        .density_altitude_ft
-                        .unwrap_or(loading.density_altitude_ft),
-                };
+                let at_point = point_loading(p, loading);
                 let request = crate::external::Request::at(
                     crate::inputs::condition::TrimRequest::level(p.airspeed_mph),
                     at_point,
@@ -344,5 +352,17 @@ impl Evaluate for TrimPointsCheck {
             plot: Some(super::result::PlotData::TrimPoints { quantities: drawn }),
             ..Evaluated::of(compare_all(expectations, &values)?)
         })
+    }
+}
+
+/// A point's loading: its own mass and density altitude where the file gives them, its case's
+/// otherwise.
+fn point_loading(
+    p: &crate::inputs::trim_points::FlightTrimPoint,
+    case: crate::inputs::condition::Loading,
+) -> crate::inputs::condition::Loading {
+    crate::inputs::condition::Loading {
+        mass_kg: p.mass_kg.or(case.mass_kg),
+        density_altitude_ft: p.density_altitude_ft.unwrap_or(case.density_altitude_ft),
     }
 }

@@ -243,6 +243,13 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         Ok(None)
     }
 
+    /// Whether the model can be asked at `loading`, or why not (cierva's aircraft: a mass above
+    /// its stated maximum all-up mass); any loading by default. What a check asks of its
+    /// inputs' loadings when it loads (a trim point's mass).
+    fn check_loading(&self, _loading: &Loading) -> Result<(), String> {
+        Ok(())
+    }
+
     /// The model flown by another of its simulations, where it has more than one (cierva's
     /// aircraft: the full blade model at an azimuth step, `azimuth_step_rad` (default its
     /// file's), or the linear model): what a `time_history` check's `simulation` and
@@ -317,9 +324,7 @@ impl CiervaAircraft<'_> {
         &self,
         request: &Request,
     ) -> Result<Cow<'_, crate::inputs::aircraft::AircraftFile>, String> {
-        if let Some(m) = request.loading.mass_kg {
-            self.file.check_mass(m)?;
-        }
+        self.check_loading(&request.loading)?;
         let values = &request.parameters;
         if values.is_empty() {
             return Ok(Cow::Borrowed(&*self.file));
@@ -542,6 +547,11 @@ impl FlightModel for CiervaAircraft<'_> {
         })))
     }
 
+    /// A mass above the aircraft's stated maximum all-up mass is refused.
+    fn check_loading(&self, loading: &Loading) -> Result<(), String> {
+        loading.mass_kg.map_or(Ok(()), |m| self.file.check_mass(m))
+    }
+
     /// The aircraft flown by `simulation`, at `azimuth_step_rad` or its file's step.
     fn simulated_by<'s>(
         &'s self,
@@ -651,6 +661,9 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
                 values: self.values.clone(),
             }) as Box<dyn FlightModel + 's>
         }))
+    }
+    fn check_loading(&self, loading: &Loading) -> Result<(), String> {
+        self.model.check_loading(loading)
     }
     /// The model's other simulation, with these values still set.
     fn simulated_by<'s>(
@@ -764,6 +777,9 @@ macro_rules! forward_flight_model {
                 azimuth_step_rad: Option<f64>,
             ) -> Option<Box<dyn FlightModel + 's>> {
                 (**self).simulated_by(simulation, azimuth_step_rad)
+            }
+            fn check_loading(&self, loading: &Loading) -> Result<(), String> {
+                (**self).check_loading(loading)
             }
         }
     )*};

@@ -232,8 +232,9 @@ fn a_synthetic_flight_test_passes_the_right_trend_and_fails_a_wrong_one() {
 }
 
 /// A check a constant trim passes is refused at load (only a level judged); a quantity without
-/// its scatter, a scatter of zero and a point outside the model's envelope are errors that name
-/// the file, line and column or the point.
+/// its scatter, a scatter of zero, misspelt columns, a point's mass above the aircraft's maximum
+/// and a point outside the model's envelope are errors that name the file, line and column or
+/// the point.
 #[test]
 fn trim_points_a_constant_passes_or_that_are_malformed_are_refused() {
     let dir = flight_test_suite("refused", 0.0);
@@ -283,6 +284,21 @@ fn trim_points_a_constant_passes_or_that_are_malformed_are_refused() {
             "{edit:?}: {e}"
         );
     }
+    // A point's mass above the aircraft's maximum all-up mass: refused at load, at its line.
+    let mut heavy = lines.clone();
+    heavy[0] = heavy[0].replacen("oat_c", "mass_kg", 1);
+    for (k, row) in heavy.iter_mut().enumerate().skip(1) {
+        *row = row.replacen(",14,", if k == 3 { ",992," } else { ",450," }, 1);
+    }
+    std::fs::write(&csv_path, heavy.join("\n") + "\n").unwrap();
+    let e = cierva_harness::suite::case::load(&case)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("checks[0].points")
+            && e.contains("vpm-m16-trim-points.csv:4: 992 kg is above the maximum all-up mass"),
+        "{e}"
+    );
     // A point at 400 kn: beyond what the aircraft can trim.
     lines[5] = lines[5].replacen(lines[5].split(',').next().unwrap(), "400", 1);
     std::fs::write(&csv_path, lines.join("\n") + "\n").unwrap();
