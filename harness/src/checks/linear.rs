@@ -333,14 +333,8 @@ pub fn evaluate<K: OnLinear>(
         .condition
         .ok_or("a check on a flight model's linear model needs a condition")?;
     let request = crate::external::Request::at(condition, loading);
-    let corrected;
-    let model: &dyn crate::external::FlightModel = match k.corrections() {
-        Some(c) => {
-            corrected = crate::external::corrected(plain.as_ref(), c)?;
-            corrected.as_ref()
-        }
-        None => plain.as_ref(),
-    };
+    let corrected = crate::external::corrected_by(plain.as_ref(), k.corrections())?;
+    let model = corrected.as_ref();
     let full = model.linear_model(&request)?;
     let linear = if let Some(setup) = k.setup().as_identified {
         model.identified_in_band(&request, setup)?

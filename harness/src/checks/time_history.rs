@@ -149,10 +149,9 @@ fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
         {
             continue;
         }
-        if let Some(near) = absent
-            .iter()
-            .find(|s| crate::inputs::yaml::edit_distance(ch, s) <= NEAR_MISS_EDITS)
-        {
+        if let Some(near) = absent.iter().find(|s| {
+            crate::inputs::yaml::edit_distance(ch, s) <= crate::inputs::yaml::NEAR_MISS_EDITS
+        }) {
             return Err(cx.err(
                 ".reference",
                 format!(
@@ -181,12 +180,6 @@ fn load_reference(cx: &Cx, file: &str) -> Result<Record, InputError> {
     replay::record_controls(&rec).map_err(|e| cx.err(".reference", e))?;
     Ok(rec)
 }
-
-/// How many edits away from the name of a response the record lacks a channel is taken for a
-/// misspelling of it (`theta_dg`, `rotor_rmp`) rather than another channel: two, a
-/// transposition or a dropped and a changed letter. A logger's other channels (altitudes,
-/// accelerations, temperatures: `alt_ft`, `nz_g`) lie further from these names.
-const NEAR_MISS_EDITS: usize = 2;
 
 impl Evaluate for TimeHistoryCheck {
     fn condition(&self) -> Option<crate::inputs::condition::TrimRequest> {
@@ -270,21 +263,11 @@ impl TimeHistoryCheck {
     ) -> Result<(Vec<replay::SignalMetrics>, replay::Replayed), String> {
         let (plain, loading) = super::flight_model(subject)
             .ok_or_else(|| format!("a time_history check needs {}", super::FLIGHT_MODELS))?;
-        let simulated =
-            plain.simulated_by(self.simulation, self.azimuth_step_deg.map(f64::to_radians));
-        let simulated: &dyn crate::external::FlightModel = match &simulated {
-            Some(m) => m.as_ref(),
-            None => plain.as_ref(),
-        };
-        let corrected;
-        let model = match &self.corrections {
-            Some(c) => {
-                corrected = crate::external::corrected(simulated, c)?;
-                corrected.as_ref()
-            }
-            None => simulated,
-        };
-        fly_model(model, loading, self)
+        let simulated = plain
+            .simulated_by(self.simulation, self.azimuth_step_deg.map(f64::to_radians))
+            .unwrap_or_else(|| Box::new(plain.as_ref()));
+        let model = crate::external::corrected_by(simulated.as_ref(), self.corrections.as_ref())?;
+        fly_model(model.as_ref(), loading, self)
     }
 
     /// The reference and flown responses, with the largest-error tolerance of each signal

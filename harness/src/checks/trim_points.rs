@@ -187,22 +187,6 @@ fn judged<'a>(expected: impl Iterator<Item = &'a str>) -> Vec<String> {
 }
 
 impl TrimPointsCheck {
-    /// The fit of each of `quantities`, given the model's value of each at each of its points.
-    fn fits(
-        &self,
-        quantities: &[String],
-        mut model: impl FnMut(&str) -> Vec<f64>,
-    ) -> Vec<(String, LevelAndTrend)> {
-        quantities
-            .iter()
-            .map(|q| {
-                (
-                    q.clone(),
-                    LevelAndTrend::fit(&self.points.series(q), &model(q)),
-                )
-            })
-            .collect()
-    }
     /// The metrics of every quantity, named `<quantity>.<metric>`.
     fn values(fits: &[(String, LevelAndTrend)]) -> Vec<(String, f64)> {
         fits.iter()
@@ -264,15 +248,20 @@ impl Evaluate for TrimPointsCheck {
         let (model, loading) = super::flight_model(at.subject)
             .ok_or_else(|| format!("a trim_points check needs {}", super::FLIGHT_MODELS))?;
         let path = self.points.path.display();
-        let trims = self
+        let judged = judged(expectations.iter().map(|e| e.quantity.as_str()));
+        // The points that carry a quantity the check judges, each trimmed once.
+        let needed: Vec<&crate::inputs::trim_points::FlightTrimPoint> = self
             .points
             .points
             .iter()
+            .filter(|p| judged.iter().any(|q| p.values.contains_key(q)))
+            .collect();
+        let trims = needed
+            .iter()
             .map(|p| {
-                let at_point = point_loading(p, loading);
                 let request = crate::external::Request::at(
                     crate::inputs::condition::TrimRequest::level(p.airspeed_mph),
-                    at_point,
+                    point_loading(p, loading),
                 );
                 model.trim(&request).map_err(|e| {
                     format!(
@@ -283,50 +272,42 @@ impl Evaluate for TrimPointsCheck {
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;
-        let judged = judged(expectations.iter().map(|e| e.quantity.as_str()));
-        let mut missing = None;
+        // Each judged quantity at its points, against the model there, and its fit.
         let mut drawn = Vec::new();
-        let fits = self.fits(&judged, |q| {
-            self.points
-                .points
+        let mut fits = Vec::new();
+        for q in &judged {
+            let mut at_points = Vec::new();
+            for (p, t) in needed.iter().zip(&trims) {
+                let Some(m) = p.values.get(q) else { continue };
+                let model_value = t.iter().find(|(n, _)| n == q).map(|x| x.1).ok_or_else(|| {
+                    format!(
+                        "{} gives no `{q}` in its trim at {} mph ({path} measures it)",
+                        model.describe(),
+                        p.airspeed_mph
+                    )
+                })?;
+                at_points.push(super::result::PointAgainstModel {
+                    airspeed_mph: p.airspeed_mph,
+                    flight: m.value,
+                    sd: m.sd,
+                    model: model_value,
+                });
+            }
+            let series: Vec<(f64, PointValue)> = at_points
                 .iter()
-                .zip(&trims)
-                .filter(|(p, _)| p.values.contains_key(q))
-                .map(|(p, t)| {
-                    t.iter().find(|(n, _)| *n == q).map_or_else(
-                        || {
-                            missing.get_or_insert((q.to_string(), p.airspeed_mph));
-                            f64::NAN
+                .map(|a| {
+                    (
+                        a.airspeed_mph,
+                        PointValue {
+                            value: a.flight,
+                            sd: a.sd,
                         },
-                        |(_, v)| *v,
                     )
                 })
-                .collect::<Vec<f64>>()
-        });
-        for q in &judged {
-            let model = self
-                .points
-                .points
-                .iter()
-                .zip(&trims)
-                .filter_map(|(p, t)| {
-                    let m = p.values.get(q)?;
-                    let y = t.iter().find(|(n, _)| n == q).map_or(f64::NAN, |x| x.1);
-                    Some(super::result::PointAgainstModel {
-                        airspeed_mph: p.airspeed_mph,
-                        flight: m.value,
-                        sd: m.sd,
-                        model: y,
-                    })
-                })
                 .collect();
-            drawn.push((q.clone(), model));
-        }
-        if let Some((q, v)) = missing {
-            return Err(format!(
-                "{} gives no `{q}` in its trim at {v} mph ({path} measures it)",
-                model.describe()
-            ));
+            let model_values: Vec<f64> = at_points.iter().map(|a| a.model).collect();
+            fits.push((q.clone(), LevelAndTrend::fit(&series, &model_values)));
+            drawn.push((q.clone(), at_points));
         }
         let values = Self::values(&fits);
         let values: Vec<(&str, f64)> = values.iter().map(|(n, v)| (n.as_str(), *v)).collect();

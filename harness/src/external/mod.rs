@@ -295,6 +295,17 @@ pub fn corrected<'s>(
     }))
 }
 
+/// `model` with a check's corrections where it has any ([`corrected`]), itself otherwise.
+pub fn corrected_by<'s>(
+    model: &'s dyn FlightModel,
+    corrections: Option<&crate::inputs::corrections::CorrectionSet>,
+) -> Result<Box<dyn FlightModel + 's>, String> {
+    match corrections {
+        Some(c) => corrected(model, c),
+        None => Ok(Box::new(model)),
+    }
+}
+
 /// cierva's own aircraft at a loading, flown by `simulation` at `azimuth_step_rad` (the full
 /// blade model's step).
 #[derive(Debug, Clone)]
@@ -317,9 +328,9 @@ impl<'a> CiervaAircraft<'a> {
 
 impl CiervaAircraft<'_> {
     /// The aircraft file with the request's parameter values set (the file itself where it
-    /// sets none), its mass checked against the aircraft's stated masses: each a physical parameter the aircraft has or one of its corrections
-    /// (`corrections.<name>`, [`crate::inputs::corrections::CORRECTIONS`]), the aircraft
-    /// checked after.
+    /// sets none), its loading checked first ([`FlightModel::check_loading`]): each value a
+    /// physical parameter the aircraft has or one of its corrections (`corrections.<name>`,
+    /// [`crate::inputs::corrections::CORRECTIONS`]), the aircraft checked after.
     fn with_values(
         &self,
         request: &Request,

@@ -119,6 +119,8 @@ pub fn comparable() -> Vec<&'static str> {
 const AIRSPEED: &str = "airspeed_mph";
 const MASS: &str = "mass_kg";
 const ALTITUDE: &str = "density_altitude_ft";
+/// A point's condition columns.
+const CONDITIONS: [&str; 3] = [AIRSPEED, MASS, ALTITUDE];
 
 /// Loads and checks a file of trim points and its sidecar.
 pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
@@ -153,7 +155,7 @@ pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
         }
     }
     let quantities = comparable();
-    let mut wanted: Vec<String> = vec![AIRSPEED.into(), MASS.into(), ALTITUDE.into()];
+    let mut wanted: Vec<String> = CONDITIONS.iter().map(|c| c.to_string()).collect();
     for q in &quantities {
         wanted.push((*q).to_string());
         wanted.push(format!("{SCATTER}{q}"));
@@ -224,7 +226,7 @@ fn roles(
     // point's conditions.
     let spellings: Vec<String> = quantities
         .iter()
-        .chain(&[AIRSPEED, MASS, ALTITUDE])
+        .chain(&CONDITIONS)
         .flat_map(|q| {
             std::iter::once(q.to_string()).chain(
                 crate::inputs::channels::CONVERSIONS
@@ -235,7 +237,7 @@ fn roles(
         .collect();
     let known = |n: &str| {
         let q = n.strip_prefix(SCATTER).unwrap_or(n);
-        [AIRSPEED, MASS, ALTITUDE].contains(&n) || quantities.contains(&q)
+        CONDITIONS.contains(&n) || quantities.contains(&q)
     };
     let mut ignored: Vec<String> = Vec::new();
     for n in names.iter().filter(|n| !known(n)) {
@@ -246,9 +248,9 @@ fn roles(
             ignored.push(n.clone());
             continue;
         }
-        if let Some(near) = crate::inputs::yaml::nearest(q, &spellings)
-            .filter(|m| crate::inputs::yaml::edit_distance(q, m) <= 2)
-        {
+        if let Some(near) = crate::inputs::yaml::nearest(q, &spellings).filter(|m| {
+            crate::inputs::yaml::edit_distance(q, m) <= crate::inputs::yaml::NEAR_MISS_EDITS
+        }) {
             return Err(at_header(format!(
                 "column `{n}` is nothing cierva reads from trim points; did you mean `{near}`? \
                  (rename it; or, to keep it and not compare it, map it to another name in the \
@@ -259,7 +261,7 @@ fn roles(
     }
     let mut measured: Vec<String> = Vec::new();
     for n in names.iter().filter(|n| known(n)) {
-        if [AIRSPEED, MASS, ALTITUDE].contains(&n.as_str()) {
+        if CONDITIONS.contains(&n.as_str()) {
             continue;
         }
         if let Some(q) = n.strip_prefix(SCATTER) {

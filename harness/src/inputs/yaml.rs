@@ -246,6 +246,13 @@ pub fn nearest<'a>(want: &str, have: &'a [String]) -> Option<&'a str> {
         .map(|(_, h)| h)
 }
 
+/// How many edits away from a name cierva reads (a response a record lacks, a trim point's
+/// quantity) a column is taken for a misspelling of it (`theta_dg`, `rotor_rmp`) rather than
+/// another column: two, a transposition or a dropped and a changed letter. A logger's other
+/// channels (altitudes, accelerations, temperatures: `alt_ft`, `nz_g`) lie further from these
+/// names.
+pub const NEAR_MISS_EDITS: usize = 2;
+
 /// Levenshtein distance.
 pub fn edit_distance(a: &str, b: &str) -> usize {
     let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
