@@ -13,8 +13,8 @@
 
 use crate::components::inflow;
 use crate::components::rotor::{
-    Blade, HubVelocity, Inflow, InflowModel, Numerics, Operating, RevolutionMap, Rotor, RotorError,
-    SteadyLoads,
+    Blade, DescentInflow, HubVelocity, Inflow, InflowModel, Numerics, Operating, RevolutionMap,
+    Rotor, RotorError, SteadyLoads,
 };
 use crate::solve::{self, NewtonOptions, SolveError};
 use nalgebra::DMatrix;
@@ -148,6 +148,10 @@ pub struct Autorotation {
     pub b1_rad: f64,
     pub residual_norm: f64,
     pub iterations: usize,
+    /// The model's equations used outside their stated validity at this equilibrium, in words
+    /// (momentum theory in descent through the rotor's own wake:
+    /// [`inflow::momentum_outside_validity`]); empty where none is.
+    pub outside_validity: Vec<String>,
 }
 
 /// Why the equilibrium was not found.
@@ -842,12 +846,21 @@ impl Problem<'_> {
         let lift = thrust_all * ca - h_all * sa;
         let drag = thrust_all * sa + h_all * ca;
         let q_area = 0.5 * tunnel.density_kg_m3 * v * v * PI * r * r;
-        let skew = match self.model {
+        let (skew, outside_validity) = match self.model {
             InflowModel::PetersHaQuang { wake } | InflowModel::UniformOnly { wake } => {
                 let v_h = inflow::hover_induced_m_s(thrust, tunnel.density_kg_m3, r);
-                inflow::wake(hub, inflow.v0, wake, v_h).skew_rad
+                let outside = match wake.descent {
+                    DescentInflow::Momentum => {
+                        inflow::momentum_outside_validity(hub, inflow.v0, v_h)
+                    }
+                    DescentInflow::Johnson => None,
+                };
+                (
+                    inflow::wake(hub, inflow.v0, wake, v_h).skew_rad,
+                    outside.into_iter().collect(),
+                )
             }
-            InflowModel::Prescribed { .. } => f64::NAN,
+            InflowModel::Prescribed { .. } => (f64::NAN, Vec::new()),
         };
         Ok(Autorotation {
             omega_rad_s: omega,
@@ -873,6 +886,7 @@ impl Problem<'_> {
             b1_rad: loads.b1_rad,
             residual_norm: sol.residual_norm,
             iterations: sol.iterations,
+            outside_validity,
         })
     }
 }

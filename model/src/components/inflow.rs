@@ -164,6 +164,43 @@ pub fn descent_weight(v_inplane: f64, v_z: f64, v_h: f64) -> f64 {
     axial * fade(v_inplane / (DESCENT_INPLANE_LIMIT * v_h))
 }
 
+/// Where momentum theory's uniform induced velocity `v0` is outside its validity, in words;
+/// `None` where it is valid. It has no physical solution while the rotor descends through its
+/// own wake: a descent along the shaft `V_d` (`hub.w`, positive down) between 0 and `2 v_h`
+/// (the vortex-ring and turbulent-wake states), or beyond `2 v_h` (the windmill-brake state)
+/// on its other root, `v0 > V_d / 2`, where the flow through the disc goes up and the far
+/// wake down (Johnson, Helicopter Theory, 1980, Sec. 2-7; Leishman, Principles of Helicopter
+/// Aerodynamics, Sec. 2.14: REFERENCES.md). Only where the in-plane speed is below
+/// [`DESCENT_INPLANE_LIMIT`] `v_h`, the edge of the states this model recognises (and of
+/// [`descent_weight`]); above it, Glauert's momentum theory holds. `v_h` is the hover
+/// induced velocity of the present thrust ([`hover_induced_m_s`]).
+pub fn momentum_outside_validity(hub: HubVelocity, v0: f64, v_h: f64) -> Option<String> {
+    let v_inplane = hub.u.hypot(hub.v);
+    let v_d = hub.w;
+    if v_h.is_nan() || v_h <= 0.0 || v_d <= 0.0 || v_inplane >= DESCENT_INPLANE_LIMIT * v_h {
+        return None;
+    }
+    let x = v_d / v_h;
+    if x < 2.0 {
+        return Some(format!(
+            "momentum theory outside its validity: a descent of {x:.2} v_h along the shaft \
+             (in-plane {:.2} v_h) is in the vortex-ring or turbulent-wake state (0 to 2 v_h), \
+             where it has no physical solution; Johnson's curve (`descent: johnson`) covers it",
+            v_inplane / v_h
+        ));
+    }
+    if v0 > 0.5 * v_d {
+        return Some(format!(
+            "momentum theory outside its validity: at a descent of {x:.2} v_h (the \
+             windmill-brake state) the induced velocity v0 = {:.2} V_d is on its unphysical \
+             root (above V_d / 2: the flow through the disc goes up and the far wake down); \
+             Johnson's curve (`descent: johnson`) keeps the solution off it",
+            v0 / v_d
+        ));
+    }
+    None
+}
+
 /// The rotor's aerodynamic loads that drive the inflow, hub axes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DrivingLoads {
@@ -320,6 +357,25 @@ pub fn inflow_rate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Known answers of momentum theory's validity in axial descent (`v_h = 1`): hover and
+    /// climb valid; a descent of `v_h` (the turbulent-wake state) not, whatever `v0`; at `3 v_h`
+    /// (windmill brake) the physical root `1.5 - sqrt(1.25) = 0.382` valid and the other,
+    /// `2.618`, not; the same descent with an in-plane speed of `1.5 v_h` valid (Glauert).
+    #[test]
+    fn momentum_theory_is_outside_its_validity_only_in_descent_through_its_own_wake() {
+        let hub = |u: f64, w: f64| HubVelocity { u, v: 0.0, w };
+        let physical = 1.5 - 1.25f64.sqrt();
+        let unphysical = 1.5 + 1.25f64.sqrt();
+        assert!(momentum_outside_validity(hub(0.0, 0.0), 1.0, 1.0).is_none());
+        assert!(momentum_outside_validity(hub(0.0, -1.0), 0.62, 1.0).is_none());
+        assert!(momentum_outside_validity(hub(0.0, 1.0), 0.9, 1.0).is_some());
+        assert!(momentum_outside_validity(hub(0.0, 3.0), physical, 1.0).is_none());
+        let root = momentum_outside_validity(hub(0.0, 3.0), unphysical, 1.0);
+        assert!(root.is_some_and(|w| w.contains("unphysical root")));
+        assert!(momentum_outside_validity(hub(1.5, 1.0), 0.9, 1.0).is_none());
+        assert!(momentum_outside_validity(hub(0.0, 1.0), 0.9, f64::NAN).is_none());
+    }
 
     fn momentum(skew: SkewConvention) -> WakeModel {
         WakeModel {
