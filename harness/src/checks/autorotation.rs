@@ -94,14 +94,26 @@ impl Evaluate for AutorotationCheck {
     }
 
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String> {
-        let Subject::Rotor { file, solver } = at.subject else {
+        let Subject::Rotor {
+            file,
+            solver,
+            overrides,
+        } = at.subject
+        else {
             return Err("an autorotation check needs a rotor".into());
         };
+        let note = (!overrides.is_empty()).then(|| overrides.join("; "));
         match autorotation_quantities(&file.rotor, *solver, &self.tunnel)? {
-            Ok(values) => Ok(Evaluated::of(compare_all(expectations, &values)?)),
+            Ok(a) => Ok(Evaluated {
+                quantities: compare_all(expectations, &a.quantities)?,
+                finding: a.outside_validity(),
+                note,
+                ..Evaluated::default()
+            }),
             Err((finding, fingerprint)) => Ok(Evaluated {
                 finding: Some(finding),
                 fingerprint,
+                note,
                 ..Evaluated::default()
             }),
         }
@@ -143,13 +155,30 @@ pub fn tunnel_airspeed_m_s(t: &TunnelSpec, radius_m: f64) -> f64 {
     }
 }
 
+/// An autorotative equilibrium's quantities, and where the model's equations were used
+/// outside their validity to find them (empty where nowhere).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TunnelAnswer {
+    pub quantities: Quantities,
+    pub outside_validity: Vec<String>,
+}
+
+impl TunnelAnswer {
+    /// The finding where an equation was used outside its validity (the check does not pass).
+    pub fn outside_validity(&self) -> Option<Finding> {
+        (!self.outside_validity.is_empty()).then(|| Finding::OutsideValidity {
+            reason: self.outside_validity.join("; "),
+        })
+    }
+}
+
 /// The quantities of an autorotation check, or what the model found instead (no
 /// equilibrium). An error is a condition the model could not be run at.
 pub fn autorotation_quantities(
     rotor: &cierva_model::components::rotor::Rotor,
     solver: cierva_model::components::autorotation::AutorotationOptions,
     t: &TunnelSpec,
-) -> Result<Result<Quantities, Found>, String> {
+) -> Result<Result<TunnelAnswer, Found>, String> {
     let run = match (t.alpha_deg, t.tip_speed_ratio, t.rotor_rpm) {
         (Some(alpha), ..) => crate::run::autorotation::run_autorotation(
             rotor,
@@ -188,7 +217,10 @@ pub fn autorotation_quantities(
         }
         Err(e) => return Err(e.to_string()),
     };
-    Ok(Ok(quantities_of(alpha_deg, &a)))
+    Ok(Ok(TunnelAnswer {
+        quantities: quantities_of(alpha_deg, &a),
+        outside_validity: a.outside_validity.clone(),
+    }))
 }
 
 /// The quantities of an autorotative equilibrium at `alpha_deg`, by the names checks use.
@@ -212,14 +244,19 @@ pub fn quantities_of(
     ]
 }
 
-/// An autorotation's quantities, or why there are none in words (a finding or an error).
+/// An autorotation's quantities, or why there are none in words (a finding or an error):
+/// quantities found with an equation outside its validity are not an answer (a fit does not
+/// fit to them).
 pub fn quantities_or_reason(
-    r: Result<Result<Quantities, Found>, String>,
+    r: Result<Result<TunnelAnswer, Found>, String>,
 ) -> Result<Quantities, String> {
     match r {
-        Ok(Ok(q)) => Ok(q),
+        Ok(Ok(a)) => match a.outside_validity() {
+            None => Ok(a.quantities),
+            Some(f) => Err(f.describe()),
+        },
         Ok(Err((Finding::NoEquilibrium { reason }, _))) | Err(reason) => Err(reason),
-        Ok(Err((f @ Finding::Inconclusive { .. }, _))) => Err(f.describe()),
+        Ok(Err((f, _))) => Err(f.describe()),
     }
 }
 

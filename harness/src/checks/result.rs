@@ -28,6 +28,10 @@ pub enum Finding {
     /// (a `frequency_response` check whose reference has no frequency of enough coherence,
     /// "inconclusive: coherence"). `reason` starts with what is lacking.
     Inconclusive { reason: String },
+    /// The model found its quantities with an equation outside its stated validity (momentum
+    /// theory in descent through the rotor's own wake): the quantities are shown, and the
+    /// check does not pass on them. `reason` says which equation and where.
+    OutsideValidity { reason: String },
 }
 
 impl Finding {
@@ -36,13 +40,16 @@ impl Finding {
         match self {
             Self::NoEquilibrium { reason } => format!("no equilibrium: {reason}"),
             Self::Inconclusive { reason } => format!("inconclusive: {reason}"),
+            Self::OutsideValidity { reason } => format!("outside validity: {reason}"),
         }
     }
 
     /// Why, without the label.
     pub fn reason(&self) -> &str {
         match self {
-            Self::NoEquilibrium { reason } | Self::Inconclusive { reason } => reason,
+            Self::NoEquilibrium { reason }
+            | Self::Inconclusive { reason }
+            | Self::OutsideValidity { reason } => reason,
         }
     }
 }

@@ -139,19 +139,31 @@ fn sea_level_density() -> f64 {
     1.225
 }
 
-/// A rotor subject: the file and the inflow model to run it with.
+/// A rotor subject: the file, and any of its physics settings set otherwise (each absent one
+/// is the rotor file's: [`crate::inputs::rotor::PhysicsSpec`]).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotorModelSpec {
     /// Path relative to the case file.
     pub file: String,
     #[serde(default)]
-    pub inflow: InflowSpec,
+    pub inflow: Option<InflowSpec>,
     #[serde(default)]
-    pub skew: SkewSpec,
-    /// The wake's mass flow in descent (default momentum theory).
+    pub skew: Option<SkewSpec>,
+    /// The wake's mass flow in descent.
     #[serde(default)]
-    pub descent: DescentSpec,
+    pub descent: Option<DescentSpec>,
+}
+
+impl RotorModelSpec {
+    /// The settings it states.
+    pub fn physics(&self) -> crate::inputs::rotor::PhysicsSpec {
+        crate::inputs::rotor::PhysicsSpec {
+            inflow: self.inflow,
+            skew: self.skew,
+            descent: self.descent,
+        }
+    }
 }
 
 /// A column of a derivative table in a reference file.
@@ -181,9 +193,13 @@ pub enum Subject {
     /// An isolated rotor, run with the given inflow model.
     Rotor {
         file: Box<crate::inputs::rotor::RotorFile>,
-        /// The tunnel solver: the inflow model the case names, and the blade integration's
-        /// numerics and Newton tolerances (the model's defaults; a grid study refines them).
+        /// The tunnel solver: the rotor file's inflow model (or the one the case sets), and the
+        /// blade integration's numerics and Newton tolerances (the model's defaults; a grid
+        /// study refines them).
         solver: cierva_model::components::autorotation::AutorotationOptions,
+        /// Each physics setting the case sets over the rotor file's, in words (every check's
+        /// note says so).
+        overrides: Vec<String>,
     },
     /// An aircraft, its mass and air.
     Aircraft {
@@ -265,9 +281,11 @@ pub fn load(path: &Path, src: &str, dir: &Path, m: &ModelSpec) -> Result<Subject
         let rpath = dir.join(&r.file);
         let file = crate::inputs::rotor::load(&rpath)
             .map_err(|e| err("model.rotor.file", format!("in the referenced file: {e}")))?;
+        let (physics, overrides) = r.physics().over(&file, "the case");
         return Ok(Subject::Rotor {
             file: Box::new(file),
-            solver: r.inflow.model(r.skew, r.descent).into(),
+            solver: physics.model().into(),
+            overrides,
         });
     }
     if let Some(file) = &m.linear_model_file {

@@ -136,6 +136,41 @@ pub(crate) struct TunnelArgs {
     pub(crate) collective_deg: Option<f64>,
 }
 
+/// A rotor's physics settings on the command line (shared by `autorotate` and
+/// `synth-teeter`): each absent one is the rotor file's (`physics:`), and one given says so in
+/// the output when it differs.
+#[derive(clap::Args)]
+pub(crate) struct PhysicsArgs {
+    /// Inflow model [default: the rotor file's `physics.inflow`, else peters-haquang].
+    #[arg(long, value_enum)]
+    pub(crate) inflow: Option<InflowSpec>,
+    /// Wake skew angle convention: seed 001 Eq. 15 (signed), seed 003 Eq. 5 (geometric) or
+    /// Eq. 6 (modulus) [default: the rotor file's `physics.skew`, else signed].
+    #[arg(long, value_enum)]
+    pub(crate) skew: Option<SkewSpec>,
+    /// The wake's mass flow in descent: momentum theory, or Johnson's empirical curve in the
+    /// vortex-ring and turbulent-wake states [default: the rotor file's `physics.descent`, else
+    /// momentum].
+    #[arg(long, value_enum)]
+    pub(crate) descent: Option<DescentSpec>,
+}
+
+impl PhysicsArgs {
+    /// The settings the rotor runs with: these over its file's, and each that differs from the
+    /// file's in words.
+    pub(crate) fn over(
+        &self,
+        file: &cierva_harness::inputs::rotor::RotorFile,
+    ) -> (cierva_harness::inputs::rotor::Physics, Vec<String>) {
+        cierva_harness::inputs::rotor::PhysicsSpec {
+            inflow: self.inflow,
+            skew: self.skew,
+            descent: self.descent,
+        }
+        .over(file, "the command line")
+    }
+}
+
 /// Test inputs.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum InputChoice {

@@ -47,16 +47,8 @@ pub(crate) struct AutorotateArgs {
     /// from the standard atmosphere at that density altitude.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) density_kg_m3: Option<f64>,
-    /// Inflow model.
-    #[arg(long, value_enum, default_value_t = InflowSpec::PetersHaquang)]
-    pub(crate) inflow: InflowSpec,
-    /// Wake skew angle convention in autorotation: seed 003 Eq. 5 (signed) or Eq. 6 (modulus).
-    #[arg(long, value_enum, default_value_t = SkewSpec::Signed)]
-    pub(crate) skew: SkewSpec,
-    /// The wake's mass flow in descent: momentum theory, or Johnson's empirical curve in the
-    /// vortex-ring and turbulent-wake states.
-    #[arg(long, value_enum, default_value_t = DescentSpec::Momentum)]
-    pub(crate) descent: DescentSpec,
+    #[command(flatten)]
+    pub(crate) physics: PhysicsArgs,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
@@ -86,7 +78,8 @@ fn load_rotor(a: &AutorotateArgs) -> Result<cierva_harness::inputs::rotor::Rotor
 
 pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
     let file = load_rotor(&a)?;
-    let inflow = a.inflow.model(a.skew, a.descent);
+    let (physics, overrides) = a.physics.over(&file);
+    let inflow = physics.model();
     let run = match (a.alpha_deg, a.airspeed_m_s, a.tip_speed_ratio, a.rotor_rpm) {
         (Some(alpha_deg), Some(airspeed_m_s), None, None) => run_autorotation(
             &file.rotor,
@@ -141,13 +134,21 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
             if let Some(s) = stiffness {
                 m.insert("rotor_speed_stiffness".into(), serde_json::json!(s));
             }
+            // The physics it ran with, what the command line set over the rotor file's, and
+            // where an equation was used outside its validity (the answer is then a warning).
+            m.insert("physics".into(), serde_json::json!(physics));
+            m.insert("overrides".into(), serde_json::json!(overrides));
+            m.insert("warnings".into(), serde_json::json!(e.outside_validity));
             m.insert(
                 "equilibrium".into(),
                 serde_json::to_value(&e).unwrap_or_default(),
             );
             print_json(&serde_json::Value::Object(m))
         }
-        Format::Text => print_text(&file, alpha_deg, airspeed_m_s, &e),
+        Format::Text => {
+            print_text(&file, alpha_deg, airspeed_m_s, &e);
+            print_physics(&physics, &overrides, &e.outside_validity);
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -200,4 +201,26 @@ fn print_text(
         "converged            residual {:.1e} in {} Newton iterations",
         e.residual_norm, e.iterations
     );
+}
+
+/// The physics the answer was found with, what the command line set over the rotor file's,
+/// and each equation used outside its validity (the answer is then not to be trusted).
+fn print_physics(
+    physics: &cierva_harness::inputs::rotor::Physics,
+    overrides: &[String],
+    outside_validity: &[String],
+) {
+    let words = |v: serde_json::Value| v.as_str().unwrap_or_default().to_string();
+    println!(
+        "physics              inflow {}, skew {}, descent {}",
+        words(serde_json::json!(physics.inflow)),
+        words(serde_json::json!(physics.skew)),
+        words(serde_json::json!(physics.descent)),
+    );
+    for o in overrides {
+        println!("note: {o}");
+    }
+    for w in outside_validity {
+        println!("WARNING: {w}: this answer is not the rotor's");
+    }
 }

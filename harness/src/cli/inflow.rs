@@ -10,6 +10,8 @@ use super::*;
 pub(crate) struct SynthTeeterArgs {
     #[command(flatten)]
     tunnel: TunnelArgs,
+    #[command(flatten)]
+    physics: PhysicsArgs,
     #[arg(long, default_value_t = 20.0)]
     duration_s: f64,
     #[arg(long, default_value_t = 200.0)]
@@ -109,6 +111,7 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> Result<ExitCode, Error> {
                 airspeed_m_s,
                 collective_deg,
             },
+        physics,
         duration_s,
         sample_rate_hz,
         seed,
@@ -120,9 +123,11 @@ pub(crate) fn synth_teeter(a: SynthTeeterArgs) -> Result<ExitCode, Error> {
         return Err(Error::input(e));
     }
     let file = cierva_harness::inputs::rotor::load(&rotor)?;
-    let inflow = InflowModel::PetersHaQuang {
-        wake: WakeModel::SEED_001,
-    };
+    let (physics, overrides) = physics.over(&file);
+    for o in &overrides {
+        eprintln!("note: {o}");
+    }
+    let inflow = physics.model();
     let a = run_autorotation(
         &file.rotor,
         alpha_deg,

@@ -8,7 +8,6 @@ pub(crate) use cierva_harness::run::autorotation::run_autorotation;
 pub(crate) use cierva_harness::suite::case::load_cases;
 pub(crate) use cierva_harness::suite::case::{DescentSpec, InflowSpec, SkewSpec};
 pub(crate) use cierva_harness::suite::outcome::CheckResult;
-pub(crate) use cierva_model::components::rotor::{InflowModel, WakeModel};
 pub(crate) use clap::{Parser, ValueEnum};
 pub(crate) use std::path::{Path, PathBuf};
 pub(crate) use std::process::ExitCode;

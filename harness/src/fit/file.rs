@@ -6,7 +6,8 @@
 //! title: PCA-2 pitch offset and profile drag against NACA TR 515 Table III
 //! provenance: {source: "...", notes: "..."}
 //! subject:                               # exactly one
-//!   rotor: {file: ../aircraft/pca-2-rotor.yaml, inflow: peters_haquang, skew: signed}
+//!   rotor: {file: ../aircraft/pca-2-rotor.yaml}   # its `physics`; inflow, skew, descent set over
+//!                                                 # them are in the fit's report
 //!   # aircraft: {file: ../aircraft/vpm-m16.yaml, mass_kg: 425, density_altitude_ft: 2000}
 //!   # case: ../cases/my-model-trim.yaml    # the model a case checks (`external`: a model
 //!                                          # behind the model interface), at its loading
@@ -227,6 +228,9 @@ pub struct FitFile {
     pub cross_validation: Option<CrossValidationSpec>,
     /// How many starts the fit runs from ([`crate::fit::starts`]; 1: the file's own).
     pub starts: usize,
+    /// Each physics setting a rotor fit sets over its rotor file's, in words (its report says
+    /// so).
+    pub physics_overrides: Vec<String>,
 }
 
 /// The solver's options and the number of starts from a fit file's `options` (defaults where
@@ -271,6 +275,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut aircraft_file = None;
     let mut declared = None;
+    let mut physics_overrides = Vec::new();
     let (subject, applies_to, subject_key) = match (
         &spec.subject.aircraft,
         &spec.subject.rotor,
@@ -304,7 +309,9 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         }
         (None, Some(r), None) => {
             let file = crate::inputs::rotor::load(&dir.join(&r.file))?;
-            let inflow = r.inflow.model(r.skew, r.descent);
+            let (physics, notes) = r.physics().over(&file, "the fit");
+            physics_overrides = notes;
+            let inflow = physics.model();
             let key = SubjectKey::Rotor(file.id.clone(), inflow);
             (
                 fit::FitSubject::Rotor {
@@ -366,6 +373,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         predict_origins,
         cross_validation: spec.cross_validation,
         starts,
+        physics_overrides,
     })
 }
 
@@ -756,7 +764,7 @@ fn case_of(
             SubjectKey::Aircraft(file.id.clone(), *loading),
             Some(*loading),
         ),
-        case::Subject::Rotor { file, solver } => {
+        case::Subject::Rotor { file, solver, .. } => {
             (SubjectKey::Rotor(file.id.clone(), solver.inflow), None)
         }
         case::Subject::External(e) => (

@@ -11,9 +11,8 @@
 //!     rotor_file: vpm-m16-rotor.yaml   # a rotor file, relative to this file
 //!     pivot_m: [0.0, 0.0, -1.6]
 //!     spindle_length_m: 0.2
-//!     inflow: peters_haquang           # or uniform (harmonics zeroed, seed 001 Fig. 4)
-//!     skew: signed                     # or modulus (seed 003 Eq. 5 or Eq. 6)
-//!     descent: momentum                # optional: or johnson (empirical vortex-ring inflow)
+//!     # inflow, skew and descent: the rotor file's `physics` (one answer per rotor); an aircraft
+//!     # file may state one its rotor file leaves out, never one that differs from it
 //!     inflow_dynamics: dynamic         # optional: or quasi_steady (full model only)
 //!     azimuth_step_deg: 5
 //!   propeller:
@@ -117,17 +116,14 @@ pub struct MainRotorSpec {
     pub rotor_file: String,
     pub pivot_m: [f64; 3],
     pub spindle_length_m: f64,
-    #[serde(default)]
-    pub inflow: crate::inputs::rotor::InflowSpec,
-    #[serde(default)]
-    pub skew: crate::inputs::rotor::SkewSpec,
-    /// Left out of the sources check while momentum theory (the default): an aircraft file
-    /// that asks for the empirical curve says why.
-    #[serde(
-        default,
-        skip_serializing_if = "crate::inputs::rotor::DescentSpec::is_momentum"
-    )]
-    pub descent: crate::inputs::rotor::DescentSpec,
+    /// The rotor's physics settings belong in its rotor file (`physics:`); one stated here
+    /// must agree with the rotor file's, and needs a source (older files state them here).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inflow: Option<crate::inputs::rotor::InflowSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skew: Option<crate::inputs::rotor::SkewSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub descent: Option<crate::inputs::rotor::DescentSpec>,
     /// In the full model: `dynamic` (seed 001 Eq. 3, the default) or `quasi_steady`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inflow_dynamics: Option<InflowDynamicsSpec>,
@@ -393,6 +389,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             .map_err(|e| err(field, format!("in the referenced file: {e}")))
     };
     let main_rotor_file = nested("aircraft.main_rotor.rotor_file", &a.main_rotor.rotor_file)?;
+    let physics = main_rotor_physics(&a.main_rotor, &main_rotor_file, &err)?;
     let propeller_file = nested("aircraft.propeller.rotor_file", &a.propeller.rotor_file)?;
     check_propeller_file(&a.propeller, &propeller_file, &err)?;
     check_step_and_controls(a, &err)?;
@@ -421,7 +418,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
             ixz_kg_m2: a.mass.ixz_kg_m2,
         },
         cg_m: a.cg_m,
-        main_rotor: main_rotor_of(&a.main_rotor, main_rotor),
+        main_rotor: main_rotor_of(&a.main_rotor, main_rotor, physics),
         propeller: PropellerInstallation {
             propeller: Propeller {
                 rotor: propeller_file.rotor.clone(),
@@ -631,15 +628,54 @@ fn drive_of(d: &DriveSpec, err: &dyn Fn(&str, String) -> InputError) -> Result<D
     })
 }
 
-/// The main rotor as installed: the (corrected) rotor on its pivot and spindle, with the
-/// file's inflow model and azimuth step.
-fn main_rotor_of(m: &MainRotorSpec, rotor: Rotor) -> MainRotor {
+/// The main rotor's physics settings: its rotor file's, with any the aircraft file states
+/// where the rotor file leaves them out; one that differs from the rotor file's is an error at
+/// its line (one answer per rotor).
+fn main_rotor_physics(
+    m: &MainRotorSpec,
+    file: &crate::inputs::rotor::RotorFile,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<crate::inputs::rotor::Physics, InputError> {
+    let stated = crate::inputs::rotor::PhysicsSpec {
+        inflow: m.inflow,
+        skew: m.skew,
+        descent: m.descent,
+    };
+    let (physics, differ) = stated.over_named(file, "the aircraft file");
+    let theirs = &file.physics;
+    let in_rotor_file = |name: &str| match name {
+        "inflow" => theirs.inflow.is_some(),
+        "skew" => theirs.skew.is_some(),
+        _ => theirs.descent.is_some(),
+    };
+    for (name, d) in &differ {
+        if in_rotor_file(name) {
+            return Err(err(
+                &format!("aircraft.main_rotor.{name}"),
+                format!(
+                    "{d}; a rotor's physics settings live in its rotor file (`physics:`), so \
+                     that every case, fit and command of the rotor gives one answer: remove \
+                     `{name}` here, or change the rotor file with its evidence"
+                ),
+            ));
+        }
+    }
+    Ok(physics)
+}
+
+/// The main rotor as installed: the (corrected) rotor on its pivot and spindle, with its
+/// physics settings (its rotor file's) and the aircraft file's azimuth step.
+fn main_rotor_of(
+    m: &MainRotorSpec,
+    rotor: Rotor,
+    physics: crate::inputs::rotor::Physics,
+) -> MainRotor {
     MainRotor {
         rotor,
         pivot_m: m.pivot_m,
         spindle_length_m: m.spindle_length_m,
         collective_shift_rad: 0.0,
-        inflow: m.inflow.model(m.skew, m.descent),
+        inflow: physics.model(),
         inflow_dynamics: match m.inflow_dynamics {
             Some(InflowDynamicsSpec::QuasiSteady) => InflowDynamics::QuasiSteady,
             _ => InflowDynamics::Dynamic,

@@ -32,10 +32,19 @@
 //!                 pitch_offset_deg: 0.0, lateral_inflow_offset_m_s: 0.0,
 //!                 elastic_twist_deg_per_kpa: 0.0,
 //!                 profile_drag_reynolds_exponent: 0.0}   # needs drag_reynolds_number
+//! physics:                             # optional: the settings every command, case and fit
+//!   inflow: peters_haquang             #   of this rotor runs with (each absent one: its
+//!   skew: modulus                      #   default, peters_haquang, signed, momentum)
+//!   descent: johnson
 //! sources:                             # one entry for every field of `rotor`
 //!   blades: "NACA TR 487 p. 12"
 //!   hinge_offset_m: "estimated: ..."
+//!   physics.skew: "reports/skew-forms.md: ..."   # and one for every setting of `physics`
 //! ```
+//!
+//! A case, a fit, an aircraft file or a command that sets one of `physics` differently says
+//! so: a case or fit in its checks' notes, a command in its output; an aircraft file may not
+//! (one answer per rotor).
 
 use crate::inputs::reference::{Provenance, check_id};
 use crate::inputs::yaml::{self, InputError};
@@ -138,6 +147,106 @@ pub struct RotorSpec {
     pub drag_reynolds_number: Option<f64>,
 }
 
+/// A rotor's physics settings as written: in its file (`physics:`), in a case's or a fit's
+/// rotor subject, on an aircraft's main rotor, or on the command line; each absent one is
+/// left to the next (the rotor file's, then the default).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicsSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inflow: Option<InflowSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skew: Option<SkewSpec>,
+    /// The wake's mass flow in descent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub descent: Option<DescentSpec>,
+}
+
+/// A rotor's physics settings, resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct Physics {
+    pub inflow: InflowSpec,
+    pub skew: SkewSpec,
+    pub descent: DescentSpec,
+}
+
+impl Physics {
+    /// The model's inflow model with these settings.
+    pub fn model(&self) -> cierva_model::components::rotor::InflowModel {
+        self.inflow.model(self.skew, self.descent)
+    }
+}
+
+impl PhysicsSpec {
+    /// Each setting in words (`skew: modulus`), with its value as the files write it.
+    fn stated(&self) -> Vec<(&'static str, String)> {
+        let name = |v: serde_yaml::Value| v.as_str().unwrap_or_default().to_string();
+        let mut out = Vec::new();
+        if let Some(i) = self.inflow {
+            out.push(("inflow", name(serde_yaml::to_value(i).unwrap_or_default())));
+        }
+        if let Some(k) = self.skew {
+            out.push(("skew", name(serde_yaml::to_value(k).unwrap_or_default())));
+        }
+        if let Some(d) = self.descent {
+            out.push(("descent", name(serde_yaml::to_value(d).unwrap_or_default())));
+        }
+        out
+    }
+
+    /// These settings over the rotor file's (`physics:`) and the defaults: each one stated here
+    /// replaces the file's. With, in words, every one that differs from what the file runs
+    /// with, `who` naming what sets it ("the case", "--skew").
+    pub fn over(&self, file: &RotorFile, who: &str) -> (Physics, Vec<String>) {
+        let (physics, named) = self.over_named(file, who);
+        (physics, named.into_iter().map(|(_, words)| words).collect())
+    }
+
+    /// [`Self::over`], each override with the setting's name (`skew`).
+    pub fn over_named(
+        &self,
+        file: &RotorFile,
+        who: &str,
+    ) -> (Physics, Vec<(&'static str, String)>) {
+        let base = file.physics();
+        let mine = Physics {
+            inflow: self.inflow.unwrap_or(base.inflow),
+            skew: self.skew.unwrap_or(base.skew),
+            descent: self.descent.unwrap_or(base.descent),
+        };
+        let theirs: std::collections::BTreeMap<_, _> = file.physics.stated().into_iter().collect();
+        let base_words: std::collections::BTreeMap<_, _> = PhysicsSpec {
+            inflow: Some(base.inflow),
+            skew: Some(base.skew),
+            descent: Some(base.descent),
+        }
+        .stated()
+        .into_iter()
+        .collect();
+        let notes = self
+            .stated()
+            .into_iter()
+            .filter(|(k, v)| base_words.get(k) != Some(v))
+            .map(|(k, v)| {
+                let was = match theirs.get(k) {
+                    Some(t) => format!("the rotor file's {t}"),
+                    None => format!(
+                        "the default {} (the rotor file states none)",
+                        base_words.get(k).map_or("", |s| s.as_str())
+                    ),
+                };
+                let words = format!(
+                    "{who} sets `{k}: {v}` over {was} ({}): the rotor's answer differs from \
+                     what its file gives",
+                    file.path.display()
+                );
+                (k, words)
+            })
+            .collect();
+        (mine, notes)
+    }
+}
+
 /// A rotor file as written.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -146,6 +255,9 @@ pub struct RotorFileSpec {
     pub title: String,
     pub provenance: Provenance,
     pub rotor: RotorSpec,
+    /// The physics settings every command, case and fit of this rotor runs with.
+    #[serde(default)]
+    pub physics: PhysicsSpec,
     pub sources: BTreeMap<String, String>,
     /// Plausible ranges of the estimated parameters
     /// ([`crate::inputs::parameters::ROTOR_PARAMETERS`]), each with its source and distribution, as an
@@ -162,9 +274,23 @@ pub struct RotorFile {
     pub title: String,
     pub provenance: Provenance,
     pub rotor: Rotor,
+    /// The physics settings it states (each absent one: its default).
+    pub physics: PhysicsSpec,
     pub sources: BTreeMap<String, String>,
     /// Plausible ranges of its estimated parameters, by name.
     pub ranges: BTreeMap<String, crate::inputs::ranges::Range>,
+}
+
+impl RotorFile {
+    /// The physics settings the rotor runs with: its file's, each absent one at its default.
+    pub fn physics(&self) -> Physics {
+        let d = Physics::default();
+        Physics {
+            inflow: self.physics.inflow.unwrap_or(d.inflow),
+            skew: self.physics.skew.unwrap_or(d.skew),
+            descent: self.physics.descent.unwrap_or(d.descent),
+        }
+    }
 }
 
 /// Loads and checks a rotor file.
@@ -173,36 +299,7 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
     let spec: RotorFileSpec = yaml::parse(path, &src)?;
     check_id(path, &src, &spec.id)?;
     let err = |field: &str, msg: String| InputError::field(path, &src, field, msg);
-    // Every field of `rotor` has a source, and every source names a field.
-    let written =
-        serde_yaml::to_value(&spec.rotor).map_err(|e| InputError::file(path, e.to_string()))?;
-    let fields: Vec<String> = written
-        .as_mapping()
-        .map(|m| {
-            m.keys()
-                .filter_map(|k| k.as_str().map(String::from))
-                .collect()
-        })
-        .unwrap_or_default();
-    for f in &fields {
-        match spec.sources.get(f) {
-            Some(s) if !s.trim().is_empty() => {}
-            _ => {
-                return Err(err(
-                    &format!("rotor.{f}"),
-                    format!(
-                        "`{f}` has no entry under `sources`: say where the number comes from (or \"estimated: why\")"
-                    ),
-                ));
-            }
-        }
-    }
-    if let Some(extra) = spec.sources.keys().find(|k| !fields.contains(k)) {
-        return Err(err(
-            &format!("sources.{extra}"),
-            format!("`{extra}` is not a field of `rotor`"),
-        ));
-    }
+    check_sources(path, &spec, &err)?;
     let r = &spec.rotor;
     let dist = |d: &DistributionSpec, scale: f64| Distribution {
         stations_r_over_r: d.r_over_r.clone(),
@@ -281,9 +378,76 @@ pub fn load(path: &Path) -> Result<RotorFile, InputError> {
         title: spec.title,
         provenance: spec.provenance,
         rotor,
+        physics: spec.physics,
         sources: spec.sources,
         ranges,
     })
+}
+
+/// Every field of a rotor file's `rotor` and every setting of its `physics` has a source, and
+/// every source names one of them.
+fn check_sources(
+    path: &Path,
+    spec: &RotorFileSpec,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<(), InputError> {
+    let written =
+        serde_yaml::to_value(&spec.rotor).map_err(|e| InputError::file(path, e.to_string()))?;
+    let fields: Vec<String> = written
+        .as_mapping()
+        .map(|m| {
+            m.keys()
+                .filter_map(|k| k.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    for f in &fields {
+        match spec.sources.get(f) {
+            Some(s) if !s.trim().is_empty() => {}
+            _ => {
+                return Err(err(
+                    &format!("rotor.{f}"),
+                    format!(
+                        "`{f}` has no entry under `sources`: say where the number comes from (or \"estimated: why\")"
+                    ),
+                ));
+            }
+        }
+    }
+    let settings: Vec<String> = spec
+        .physics
+        .stated()
+        .into_iter()
+        .map(|(k, _)| format!("physics.{k}"))
+        .collect();
+    for f in &settings {
+        match spec.sources.get(f) {
+            Some(s) if !s.trim().is_empty() => {}
+            _ => {
+                return Err(err(
+                    f,
+                    format!(
+                        "`{f}` has no entry under `sources`: say what it was chosen on (a report, \
+                         a comparison, a paper)"
+                    ),
+                ));
+            }
+        }
+    }
+    if let Some(extra) = spec
+        .sources
+        .keys()
+        .find(|k| !fields.contains(k) && !settings.contains(k))
+    {
+        return Err(err(
+            &format!("sources.{extra}"),
+            match extra.strip_prefix("physics.") {
+                Some(_) => format!("`{extra}` is not a setting `physics` states"),
+                None => format!("`{extra}` is not a field of `rotor`"),
+            },
+        ));
+    }
+    Ok(())
 }
 
 /// A rotor field's name as the file writes it, from the model's (which holds angles in radians

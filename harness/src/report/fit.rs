@@ -15,6 +15,9 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
     if let Some(n) = &f.provenance.notes {
         let _ = writeln!(s, "{n}\n");
     }
+    for o in &f.physics_overrides {
+        let _ = writeln!(s, "**Note:** {o}.\n");
+    }
     let detail = match &r.status {
         fit::Status::Infeasible(m) | fit::Status::ModelFailure(m) | fit::Status::BadProblem(m) => {
             format!(": {m}")

@@ -115,7 +115,9 @@ impl CheckResult {
             Some(Finding::NoEquilibrium { reason, .. }) => {
                 s += &format!("\n  the model has no equilibrium here: {reason}")
             }
-            Some(f @ Finding::Inconclusive { .. }) => s += &format!("\n  {}", f.describe()),
+            Some(f @ (Finding::Inconclusive { .. } | Finding::OutsideValidity { .. })) => {
+                s += &format!("\n  {}", f.describe())
+            }
             None => {}
         }
         if let Some(n) = &self.note {

@@ -136,7 +136,7 @@ impl Snapshot {
     pub fn compute(&self, case: &Case) -> Result<Holds, String> {
         let flight = crate::checks::flight_model(&case.subject);
         match (&self.body, &case.subject, &flight) {
-            (Body::Autorotation, Subject::Rotor { file, solver }, _) => {
+            (Body::Autorotation, Subject::Rotor { file, solver, .. }, _) => {
                 use crate::checks::autorotation::{autorotation_quantities, quantities_or_reason};
                 let rows = case
                     .checks

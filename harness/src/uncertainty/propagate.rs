@@ -302,7 +302,7 @@ pub fn refined(case: &Case) -> Option<(Case, String)> {
 
 /// A subject's discretisation refined in place, and the refinement in words.
 fn refine(subject: &mut Subject) -> Option<String> {
-    if let Subject::Rotor { file, solver } = subject {
+    if let Subject::Rotor { file, solver, .. } = subject {
         let (n, newton) = (&mut solver.numerics, &mut solver.newton);
         let words = format!(
             "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",

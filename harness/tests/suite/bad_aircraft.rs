@@ -10,7 +10,7 @@ use std::path::Path;
 #[test]
 fn every_bad_aircraft_gets_its_located_error() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-aircraft");
-    let problems = common::check_fixtures(&dir, 27, aircraft::load);
+    let problems = common::check_fixtures(&dir, 28, aircraft::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
@@ -22,6 +22,6 @@ fn every_bad_aircraft_gets_its_located_error() {
 #[test]
 fn every_bad_rotor_gets_its_located_error() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-rotor");
-    let problems = common::check_fixtures(&dir, 6, cierva_harness::inputs::rotor::load);
+    let problems = common::check_fixtures(&dir, 7, cierva_harness::inputs::rotor::load);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }

@@ -29,7 +29,8 @@ fn inflow_reads_a_teeter_record() {
 }
 
 /// The synthetic teeter records regenerate bit for bit from committed code with the command
-/// scripts/regenerate-references gives (the record and its sidecar, byte for byte).
+/// scripts/regenerate-references gives (the record and its sidecar, byte for byte): seed 001's
+/// wake set over the rotor file's physics, which the command says.
 #[test]
 fn a_synthetic_teeter_record_regenerates_bit_for_bit() {
     let dir = std::env::temp_dir().join(format!("cierva-teeter-regen-{}", std::process::id()));
@@ -56,6 +57,10 @@ fn a_synthetic_teeter_record_regenerates_bit_for_bit() {
             "10",
             "--sample-rate-hz",
             "100",
+            "--skew",
+            "signed",
+            "--descent",
+            "momentum",
             "--output",
             &format!("{name}.csv"),
             "--quiet",
@@ -63,6 +68,11 @@ fn a_synthetic_teeter_record_regenerates_bit_for_bit() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains("the command line sets `skew: signed` over the rotor file's modulus"),
+        "{said}"
+    );
     for ext in ["csv", "yaml"] {
         let fresh = std::fs::read(dir.join(format!("{name}.{ext}"))).unwrap();
         let committed = std::fs::read(root().join(format!("{name}.{ext}"))).unwrap();
