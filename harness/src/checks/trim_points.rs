@@ -265,8 +265,8 @@ impl Evaluate for TrimPointsCheck {
                 );
                 model.trim(&request).map_err(|e| {
                     format!(
-                        "the point at {path}:{} ({} mph) is outside the model's envelope, or its \
-                         trim failed: {e}",
+                        "the point at {path}:{} ({:.2} mph) is outside the model's envelope, or \
+                         its trim failed: {e}",
                         p.line, p.airspeed_mph
                     )
                 })
@@ -281,7 +281,7 @@ impl Evaluate for TrimPointsCheck {
                 let Some(m) = p.values.get(q) else { continue };
                 let model_value = t.iter().find(|(n, _)| n == q).map(|x| x.1).ok_or_else(|| {
                     format!(
-                        "{} gives no `{q}` in its trim at {} mph ({path} measures it)",
+                        "{} gives no `{q}` in its trim at {:.2} mph ({path} measures it)",
                         model.describe(),
                         p.airspeed_mph
                     )
