@@ -5,7 +5,7 @@
 use super::*;
 use cierva_harness::uncertainty::design::MIN_SAMPLES;
 use cierva_harness::uncertainty::propagate::{
-    self, CaseUncertainty, PropagationSettings, VerdictCounts,
+    self, CaseUncertainty, MAX_FAILED_SHARE, PropagationSettings, VerdictCounts,
 };
 use cierva_harness::uncertainty::summary;
 
@@ -183,7 +183,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         }),
         Format::Text => {
             for (u, s) in &done {
-                print!("{}", text_of(u, *s));
+                print!("{}", text_of(u, *s, a.samples));
             }
             println!("validation quantities: {}", verdicts.describe());
         }
@@ -207,7 +207,7 @@ fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>,
 }
 
 /// A case's propagation as text: the inputs, then a row per quantity.
-fn text_of(u: &CaseUncertainty, seconds: f64) -> String {
+fn text_of(u: &CaseUncertainty, seconds: f64, samples: usize) -> String {
     let mut out = format!(
         "{}\n  inputs ({}): {}\n  numerics: refined {}\n  {} evaluations in {seconds:.1} s; {} points failed{}\n",
         u.case,
@@ -250,10 +250,9 @@ fn text_of(u: &CaseUncertainty, seconds: f64) -> String {
             (None, true) => "-, FRAGILE".into(),
             (None, false) => "-".into(),
         };
-        let top = r
-            .contributors
-            .first()
-            .map_or("-".to_string(), |c| format!("{} ({:.2})", c.input, c.total));
+        let top = r.contributors.first().map_or("-".to_string(), |c| {
+            format!("{} ({})", c.input, c.total_in_words(samples))
+        });
         out += &format!(
             "  {:24} {:>11.4e} {:>11} [{:>10.3e}, {:>10.3e}] {:>10.3e} {:>9.2e} {:>9} {:>9} {:>8.0}%  {:16} {top}\n",
             format!("{} {}", r.check, r.quantity),
@@ -268,6 +267,18 @@ fn text_of(u: &CaseUncertainty, seconds: f64) -> String {
             100.0 * r.pass_fraction,
             verdict
         );
+        // Failed draws: the reason where they leave no verdict (it names the causes), else
+        // their count and causes.
+        if r.verdict.is_none() && r.failed_samples as f64 > MAX_FAILED_SHARE * r.samples as f64 {
+            out += &format!("      {}\n", r.reason);
+        } else if r.failed_samples > 0 {
+            out += &format!(
+                "      failed at {} of {} draws: {}\n",
+                r.failed_samples,
+                r.samples,
+                r.failure_causes.join("; ")
+            );
+        }
     }
     out + "\n"
 }

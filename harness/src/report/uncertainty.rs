@@ -27,7 +27,8 @@ pub fn html(run: &Run) -> String {
          their plausible ranges, the numerics refined, the data's confidence interval. \
          <b>agrees</b>: |E| ≤ 2 u_val with the model's own uncertainty inside the tolerance; \
          <b>model-form error</b>: |E| &gt; 2 u_val, no plausible input explains it; \
-         <b>inconclusive</b>: the inputs must be known better first. A <b>fragile</b> pass \
+         <b>inconclusive</b>: the inputs must be known better first; <b>no data \
+         uncertainty</b>: the data state none, so E is given but not weighed. A <b>fragile</b> pass \
          fails somewhere in the inputs' distribution. In all: {}.</p>",
         esc(&all.describe())
     );
@@ -59,7 +60,8 @@ fn verdict_cell(r: &QuantityUncertainty) -> String {
             match v {
                 crate::uncertainty::vv20::Vv20Verdict::Agrees => "pass",
                 crate::uncertainty::vv20::Vv20Verdict::ModelFormError => "fail",
-                crate::uncertainty::vv20::Vv20Verdict::Inconclusive => "xfail",
+                crate::uncertainty::vv20::Vv20Verdict::Inconclusive
+                | crate::uncertainty::vv20::Vv20Verdict::NoDataUncertainty => "xfail",
             },
         ),
         None => ("-", "muted"),
@@ -80,10 +82,10 @@ fn table<'a>(results: impl Iterator<Item = &'a QuantityUncertainty>) -> String {
     );
     let opt = |x: Option<f64>| x.map_or("-".to_string(), num);
     for r in results.filter(|r| r.class == CheckClass::Validation) {
-        let top = r
-            .contributors
-            .first()
-            .map_or("-".to_string(), |c| format!("{} ({:.2})", c.input, c.total));
+        let top = r.contributors.first().map_or("-".to_string(), |c| {
+            // (The draws are the design's rows of A and B: two per base point.)
+            format!("{} ({})", c.input, c.total_in_words(r.draws.len() / 2))
+        });
         let _ = write!(
             h,
             "<tr><td>{}</td><td>{} {}</td><td class=\"n\">{}</td><td class=\"n\">{}</td>\
@@ -121,10 +123,14 @@ fn indices<'a>(results: impl Iterator<Item = &'a QuantityUncertainty>) -> String
          design's rows: on the Sobol' points at 256 samples it overstates the error of a smooth \
          quantity, the first order's the more as the quantity's mean is large against its \
          spread; at 64 samples of 13 inputs a total index's may understate it; \
-         docs/uncertainty.md).</p>\
+         docs/uncertainty.md); \"not resolved\" where the error exceeds 0.1: the samples \
+         cannot rank the inputs there.</p>\
          <div class=\"sobol\">",
     );
     let with_se = |x: f64, se: Option<f64>| match se {
+        Some(se) if se > crate::uncertainty::propagate::UNRESOLVED_INDEX_SE || !se.is_finite() => {
+            format!("{x:.2} ± {se:.2} (not resolved)")
+        }
         Some(se) => format!("{x:.2} ± {se:.2}"),
         None => format!("{x:.2}"),
     };

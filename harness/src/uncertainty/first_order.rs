@@ -5,8 +5,9 @@
 
 use super::distribution::Input;
 use super::propagate::{
-    CaseUncertainty, Contributor, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty, hash, judge,
-    mean_std, pass_fraction, percentile, point_of, unjudged, with_terms, with_values,
+    CaseUncertainty, Contributor, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty,
+    failure_causes, hash, judge, mean_std, pass_fraction, percentile, point_of, unjudged,
+    with_terms, with_values,
 };
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
@@ -402,6 +403,14 @@ fn first_order_quantity(
         false => (spread, contributors),
     };
     let mut out = unjudged(case, (check, n, q), spread, refined, contributors, failed);
+    out.samples = points.len() + drawn.len();
+    out.failure_causes = failure_causes(
+        points
+            .iter()
+            .map(|(_, p)| p)
+            .chain(drawn.iter().map(|(_, p)| p)),
+        j,
+    );
     if u_input.is_finite() {
         judge(&mut out, q);
     } else {

@@ -56,6 +56,18 @@ pub enum Propagation {
 pub const FRAGILE_FAIL_FRACTION: f64 = 0.05;
 /// The total Sobol' index above which an input is named among those that flip a fragile check.
 pub const FLIPPING_TOTAL_INDEX: f64 = 0.1;
+/// The largest share of a check's samples the model may fail to evaluate before its quantities
+/// get no verdict: beyond it the samples left are not a draw of the inputs' distribution (the
+/// failures cluster where the inputs take the aircraft out of its envelope), so their mean and
+/// spread are biased (issue 51: `phugoid-30mph` lost 239 of 1152, its mean 9.61 s against a
+/// nominal 10.66). 5 %, the share a 95 % interval leaves out.
+pub const MAX_FAILED_SHARE: f64 = 0.05;
+
+/// The largest standard error a Sobol' index may have and still be read as a number: beyond it
+/// the index is shown as "not resolved at N samples" (issue 51: at 64 base points of 16
+/// inputs, standard errors of 0.46 to 1.18 were printed as if the indices meant something; an
+/// index spans [0, 1], so an error above a tenth of that range cannot rank the inputs).
+pub const UNRESOLVED_INDEX_SE: f64 = 0.1;
 
 /// One input's share of a quantity's variance.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -71,6 +83,22 @@ pub struct Contributor {
     pub total_se: Option<f64>,
     /// The standard error of `first`, as `total_se`.
     pub first_se: Option<f64>,
+}
+
+impl Contributor {
+    /// Its total index in words: `0.42 +- 0.03` where sampled, `0.42` where not (a first-order
+    /// share), and "not resolved at N samples" where its standard error exceeds
+    /// [`UNRESOLVED_INDEX_SE`].
+    pub fn total_in_words(&self, samples: usize) -> String {
+        match self.total_se {
+            Some(se) if se > UNRESOLVED_INDEX_SE || !se.is_finite() => format!(
+                "{:.2} +- {se:.2}: not resolved at {samples} samples",
+                self.total
+            ),
+            Some(se) => format!("{:.2} +- {se:.2}", self.total),
+            None => format!("{:.2}", self.total),
+        }
+    }
 }
 
 /// One quantity of one check, propagated and (for a validation check with a reference value)
@@ -118,6 +146,12 @@ pub struct QuantityUncertainty {
     pub contributors: Vec<Contributor>,
     /// Samples the model could not evaluate for this quantity (left out of every statistic).
     pub failed_samples: usize,
+    /// Samples drawn for it, evaluated or not.
+    pub samples: usize,
+    /// Why its check's samples failed, most frequent first: `<count> x <cause>` (the cause is
+    /// the first such error in words, its numbers left in; causes that differ only in their
+    /// numbers are counted together).
+    pub failure_causes: Vec<String>,
     /// The quantity's values at the sampled points of `A` and `B` (independent draws of the
     /// inputs; NaN where the model gave none), in the design's order; empty from a first-order
     /// propagation. Not written out: the tests judge a propagation's intervals on them.
@@ -351,26 +385,31 @@ pub(super) struct Point {
     pub(super) values: Vec<Vec<f64>>,
     pub(super) passed: Vec<Option<bool>>,
     pub(super) error: Option<String>,
+    /// Why each check gave no values here (an error or a finding), by check.
+    pub(super) check_errors: Vec<Option<String>>,
 }
 
 pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Point {
     let mut error = None;
     let mut values = Vec::new();
     let mut passed = Vec::new();
+    let mut check_errors = Vec::new();
     for (j, n) in nominal.iter().enumerate() {
         // A point whose case could not be made (an input the aircraft refuses) has no results.
         let Some(r) = results.get(j) else {
             passed.push(None);
             values.push(vec![f64::NAN; n.quantities.len()]);
+            check_errors.push(None);
             continue;
         };
-        if let Some(e) = r
+        let why = r
             .error
             .as_deref()
-            .or(r.finding.as_ref().map(|f| f.reason()))
-        {
+            .or(r.finding.as_ref().map(|f| f.reason()));
+        if let Some(e) = why {
             error.get_or_insert_with(|| format!("{}: {e}", r.check));
         }
+        check_errors.push(why.map(String::from));
         let evaluated = r.error.is_none() && r.finding.is_none();
         passed.push((r.error.is_none()).then_some(r.passed));
         // The same quantities in the same order as the nominal run's, or (a check whose list
@@ -401,7 +440,54 @@ pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Poin
         values,
         passed,
         error,
+        check_errors,
     }
+}
+
+/// The longest a failure's cause is printed: the autorotation search's longest reasons (about
+/// 400 characters, the verdict at their end) whole.
+pub const CAUSE_CHARS: usize = 480;
+
+/// Why check `j` gave no values at the points where it gave none, most frequent first, each as
+/// `<count> x <cause>`: causes that differ only in their numbers are counted together, and each
+/// is shown by its first occurrence (shortened to [`CAUSE_CHARS`]). A point whose case could
+/// not be made at all is counted by the point's own error.
+pub(super) fn failure_causes<'a>(
+    points: impl IntoIterator<Item = &'a Point>,
+    j: usize,
+) -> Vec<String> {
+    let mut causes: Vec<(String, String, usize)> = Vec::new();
+    for p in points {
+        let failed = p
+            .values
+            .get(j)
+            .is_some_and(|v| v.iter().any(|x| !x.is_finite()));
+        if !failed {
+            continue;
+        }
+        let Some(why) = p
+            .check_errors
+            .get(j)
+            .cloned()
+            .flatten()
+            .or_else(|| p.error.clone())
+        else {
+            continue;
+        };
+        let key: String = why
+            .chars()
+            .map(|c| if c.is_ascii_digit() { '#' } else { c })
+            .collect();
+        match causes.iter_mut().find(|(k, _, _)| *k == key) {
+            Some(c) => c.2 += 1,
+            None => causes.push((key, why, 1)),
+        }
+    }
+    causes.sort_by_key(|c| std::cmp::Reverse(c.2));
+    causes
+        .into_iter()
+        .map(|(_, why, n)| format!("{n} x {}", crate::inputs::yaml::shorten(&why, CAUSE_CHARS)))
+        .collect()
 }
 
 /// The `p`-th percentile (0-100) of finite values, by linear interpolation between order
@@ -560,6 +646,7 @@ fn check_results(
         .iter()
         .filter_map(|p| p.passed[j])
         .collect();
+    let causes = failure_causes(points, j);
     let mut out = Vec::new();
     for (k, q) in quantities.iter().enumerate() {
         let all: Vec<f64> = points
@@ -573,7 +660,16 @@ fn check_results(
             true => Some(as_number(r.passed)),
             false => r.quantities.get(k).map(|x| x.value),
         });
-        let mut r = summarise(case, check, n, q, &all, refined, Some(design), inputs);
+        let mut r = summarise(
+            case,
+            check,
+            n,
+            q,
+            &all,
+            refined,
+            Some(design),
+            (inputs, &causes),
+        );
         if verdict_only {
             r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
         }
@@ -688,7 +784,7 @@ pub(super) fn without_inputs(case: &Case, nominal: &[CheckResult]) -> CaseUncert
             n.quantities.clone()
         };
         for q in &quantities {
-            let mut r = summarise(case, check, n, q, &[], None, None, &[]);
+            let mut r = summarise(case, check, n, q, &[], None, None, (&[], &[]));
             r.verdict = None;
             r.u_val = None;
             r.reason = why.clone();
@@ -802,7 +898,7 @@ fn summarise(
     all: &[f64],
     refined: Option<f64>,
     design: Option<&Design>,
-    inputs: &[Input],
+    (inputs, causes): (&[Input], &[String]),
 ) -> QuantityUncertainty {
     let (stats, contributors, failed) = match design {
         Some(d) => {
@@ -837,6 +933,8 @@ fn summarise(
     let mut out = unjudged(case, (check, n, q), stats, refined, contributors, failed);
     if let Some(d) = design {
         out.draws = all[..2 * d.n].to_vec();
+        out.samples = all.len();
+        out.failure_causes = causes.to_vec();
     }
     judge(&mut out, q);
     out
@@ -897,6 +995,8 @@ pub(super) fn unjudged(
         flipped_by: Vec::new(),
         contributors,
         failed_samples,
+        samples: 0,
+        failure_causes: Vec::new(),
         draws: Vec::new(),
     }
 }
@@ -983,6 +1083,22 @@ pub(super) fn with_terms(
 /// The V&V 20 verdict of a validation quantity, or why there is none.
 pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::QuantityResult) {
     let half = 0.5 * (q.upper - q.lower);
+    if out.class == CheckClass::Validation
+        && out.failed_samples as f64 > MAX_FAILED_SHARE * out.samples as f64
+    {
+        out.reason = format!(
+            "no verdict: the inputs' range leaves the model's envelope at {:.0} % of draws ({} of {}; more than {:.0} %), so the statistics of the rest are not the inputs'{}",
+            100.0 * out.failed_samples as f64 / out.samples as f64,
+            out.failed_samples,
+            out.samples,
+            100.0 * MAX_FAILED_SHARE,
+            match out.failure_causes.first() {
+                Some(c) => format!(": {c}"),
+                None => String::new(),
+            }
+        );
+        return;
+    }
     out.reason = match (out.class, out.reference, out.u_data) {
         (CheckClass::Validation, Some(d), Some(u_d)) => {
             let u = vv20::Uncertainties {
@@ -1002,11 +1118,14 @@ pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::Qu
         }
         (CheckClass::Validation, Some(d), None) => {
             let model = (out.u_num.powi(2) + out.u_input.powi(2)).sqrt();
+            let e = out.nominal - d;
             out.u_val = Some(model);
-            out.verdict = Some(Vv20Verdict::Inconclusive);
+            out.verdict = Some(Vv20Verdict::NoDataUncertainty);
             format!(
-                "inconclusive: the data's uncertainty is not stated, so E = {:.4e} cannot be weighed (the model's own u = {model:.3e})",
-                out.nominal - d
+                "no data uncertainty: the data state none, so E = {e:.4e} cannot be weighed; it is {:.1} times the model's own u = {model:.3e} (u_num {:.3e}, u_input {:.3e})",
+                e.abs() / model,
+                out.u_num,
+                out.u_input
             )
         }
         (CheckClass::Validation, None, _) => {
@@ -1044,6 +1163,12 @@ fn explain(c: &Comparison) -> String {
             vv20::COVERAGE * (c.u_num.powi(2) + c.u_input.powi(2)).sqrt(),
             c.tolerance_half_width
         ),
+        // (Not a comparison's verdict: `judge` gives it where the data state no uncertainty.)
+        Vv20Verdict::NoDataUncertainty => format!(
+            "no data uncertainty: E = {:.3e} against the model's own u = {:.3e}",
+            c.estimate_error,
+            (c.u_num.powi(2) + c.u_input.powi(2)).sqrt()
+        ),
         Vv20Verdict::Agrees => format!(
             "|E| = {:.3e} <= 2 u_val = {:.3e}, and the model's uncertainty is inside the tolerance",
             c.estimate_error.abs(),
@@ -1058,6 +1183,8 @@ pub struct VerdictCounts {
     pub agrees: usize,
     pub model_form_error: usize,
     pub inconclusive: usize,
+    /// Compared with data that state no uncertainty: `E` given, not weighed.
+    pub no_data_uncertainty: usize,
     /// Nominal passes whose verdict flips within the input distribution.
     pub fragile: usize,
     /// Validation quantities without a verdict (no reference value, or inputs not sampled).
@@ -1076,6 +1203,7 @@ impl VerdictCounts {
                 Some(Vv20Verdict::Agrees) => c.agrees += 1,
                 Some(Vv20Verdict::ModelFormError) => c.model_form_error += 1,
                 Some(Vv20Verdict::Inconclusive) => c.inconclusive += 1,
+                Some(Vv20Verdict::NoDataUncertainty) => c.no_data_uncertainty += 1,
                 None => c.without_verdict += 1,
             }
             c.fragile += usize::from(r.fragile);
@@ -1085,16 +1213,21 @@ impl VerdictCounts {
 
     /// Validation quantities counted.
     pub fn total(&self) -> usize {
-        self.agrees + self.model_form_error + self.inconclusive + self.without_verdict
+        self.agrees
+            + self.model_form_error
+            + self.inconclusive
+            + self.no_data_uncertainty
+            + self.without_verdict
     }
 
     /// In words, for summaries.
     pub fn describe(&self) -> String {
         format!(
-            "{} agree, {} model-form error, {} inconclusive, {} without a verdict; {} fragile passes",
+            "{} agree, {} model-form error, {} inconclusive, {} without data uncertainty, {} without a verdict; {} fragile passes",
             self.agrees,
             self.model_form_error,
             self.inconclusive,
+            self.no_data_uncertainty,
             self.without_verdict,
             self.fragile
         )

@@ -52,7 +52,9 @@ pub struct CaseVerdicts {
     pub agrees: Vec<String>,
     pub model_form_error: Vec<String>,
     pub inconclusive: Vec<String>,
-    /// No verdict: no reference value, or no uncertain inputs.
+    /// Compared with data that state no uncertainty: `E` given, not weighed.
+    pub no_data_uncertainty: Vec<String>,
+    /// No verdict: no reference value, no uncertain inputs, or too many failed samples.
     pub without_verdict: Vec<String>,
     pub fragile: Vec<FragilePass>,
 }
@@ -74,6 +76,7 @@ impl CaseVerdicts {
         self.agrees.len()
             + self.model_form_error.len()
             + self.inconclusive.len()
+            + self.no_data_uncertainty.len()
             + self.without_verdict.len()
     }
 }
@@ -122,6 +125,7 @@ pub fn of<'a>(
             agrees: Vec::new(),
             model_form_error: Vec::new(),
             inconclusive: Vec::new(),
+            no_data_uncertainty: Vec::new(),
             without_verdict: Vec::new(),
             fragile: Vec::new(),
         };
@@ -137,6 +141,7 @@ pub fn of<'a>(
                 Some(Vv20Verdict::Agrees) => c.agrees.push(name),
                 Some(Vv20Verdict::ModelFormError) => c.model_form_error.push(name),
                 Some(Vv20Verdict::Inconclusive) => c.inconclusive.push(name),
+                Some(Vv20Verdict::NoDataUncertainty) => c.no_data_uncertainty.push(name),
                 None => c.without_verdict.push(name),
             }
         }
@@ -185,6 +190,7 @@ pub fn parse(path: &Path, src: &str) -> Result<Summary, InputError> {
             ("agrees", &c.agrees),
             ("model_form_error", &c.model_form_error),
             ("inconclusive", &c.inconclusive),
+            ("no_data_uncertainty", &c.no_data_uncertainty),
             ("without_verdict", &c.without_verdict),
         ] {
             for name in names {
@@ -316,17 +322,18 @@ pub fn table(s: &Summary) -> String {
          compares; names where there are at most {NAMED_AT_MOST}){without}:\n\n",
         command(s)
     );
-    o += "| case | quantities | agree | model-form error | inconclusive | no verdict | fragile |\n";
-    o += "| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+    o += "| case | quantities | agree | model-form error | inconclusive | no data uncertainty | no verdict | fragile |\n";
+    o += "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for (id, c) in &judged {
         let fragile: Vec<String> = c.fragile.iter().map(|f| f.quantity.clone()).collect();
         let _ = writeln!(
             o,
-            "| `{id}` | {} | {} | {} | {} | {} | {} |",
+            "| `{id}` | {} | {} | {} | {} | {} | {} | {} |",
             c.quantities(),
             cell(&c.agrees),
             cell(&c.model_form_error),
             cell(&c.inconclusive),
+            cell(&c.no_data_uncertainty),
             cell(&c.without_verdict),
             cell(&fragile)
         );
@@ -334,12 +341,13 @@ pub fn table(s: &Summary) -> String {
     let sum = |f: fn(&CaseVerdicts) -> usize| s.cases.values().map(f).sum::<usize>();
     let _ = writeln!(
         o,
-        "| **all {} cases** | **{}** | **{}** | **{}** | **{}** | **{}** | **{}** |",
+        "| **all {} cases** | **{}** | **{}** | **{}** | **{}** | **{}** | **{}** | **{}** |",
         s.cases.len(),
         sum(CaseVerdicts::quantities),
         sum(|c| c.agrees.len()),
         sum(|c| c.model_form_error.len()),
         sum(|c| c.inconclusive.len()),
+        sum(|c| c.no_data_uncertainty.len()),
         sum(|c| c.without_verdict.len()),
         sum(|c| c.fragile.len())
     );
@@ -349,11 +357,12 @@ pub fn table(s: &Summary) -> String {
 /// A case's quantities by kind, where its checks have several (a tunnel row's rotor speed, C_L,
 /// ...): each kind with its count and its verdicts counted; empty where each check has one.
 fn by_quantity(c: &CaseVerdicts) -> String {
-    let mut kinds: BTreeMap<&str, [usize; 4]> = BTreeMap::new();
+    let mut kinds: BTreeMap<&str, [usize; 5]> = BTreeMap::new();
     for (i, names) in [
         &c.agrees,
         &c.model_form_error,
         &c.inconclusive,
+        &c.no_data_uncertainty,
         &c.without_verdict,
     ]
     .into_iter()
@@ -365,7 +374,13 @@ fn by_quantity(c: &CaseVerdicts) -> String {
             }
         }
     }
-    let labels = ["agree", "model-form error", "inconclusive", "no verdict"];
+    let labels = [
+        "agree",
+        "model-form error",
+        "inconclusive",
+        "no data uncertainty",
+        "no verdict",
+    ];
     kinds
         .iter()
         .map(|(kind, n)| {

@@ -23,6 +23,10 @@
 //!   purpose: for a check against a 95 % flight bound the tolerance *is* `1.96 u_D`, so `2 u_val`
 //!   would exceed it by construction and every such check would be inconclusive.
 //! - **agrees**: `|E| <= 2 u_val` and the model's uncertainty is inside the tolerance.
+//! - **no data uncertainty**: the data state no uncertainty, so `u_val` cannot be formed and
+//!   `E` cannot be weighed (a single flight point without its scatter); `E` and the model's own
+//!   uncertainty are given, not a verdict on them. Apart from inconclusive, which says the
+//!   inputs must be known better.
 
 use serde::Serialize;
 
@@ -36,6 +40,8 @@ pub enum Vv20Verdict {
     Agrees,
     ModelFormError,
     Inconclusive,
+    /// The data state no uncertainty: `E` is given, not weighed.
+    NoDataUncertainty,
 }
 
 impl Vv20Verdict {
@@ -45,10 +51,16 @@ impl Vv20Verdict {
             Self::Agrees => "agrees",
             Self::ModelFormError => "model-form error",
             Self::Inconclusive => "inconclusive",
+            Self::NoDataUncertainty => "no data uncertainty",
         }
     }
 
-    pub const ALL: [Vv20Verdict; 3] = [Self::Agrees, Self::ModelFormError, Self::Inconclusive];
+    pub const ALL: [Vv20Verdict; 4] = [
+        Self::Agrees,
+        Self::ModelFormError,
+        Self::Inconclusive,
+        Self::NoDataUncertainty,
+    ];
 }
 
 /// One comparison, with its numbers.

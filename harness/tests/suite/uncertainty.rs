@@ -393,6 +393,26 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
     let l_p = &u.results[0];
     assert!(l_p.failed_samples > 0, "{l_p:?}");
     assert!(l_p.mean.is_finite() && l_p.u_input.is_finite(), "{l_p:?}");
+    // A third of the draws failing (more than MAX_FAILED_SHARE) leaves no verdict: the draws
+    // left are not the inputs' distribution. The check's failures are counted by cause.
+    assert_eq!(l_p.samples, 48, "{l_p:?}");
+    assert!(
+        l_p.failed_samples as f64 > propagate::MAX_FAILED_SHARE * 48.0,
+        "{l_p:?}"
+    );
+    assert_eq!(l_p.verdict, None, "{}", l_p.reason);
+    assert!(
+        l_p.reason
+            .starts_with("no verdict: the inputs' range leaves the model's envelope at"),
+        "{}",
+        l_p.reason
+    );
+    let counted: usize = l_p
+        .failure_causes
+        .iter()
+        .map(|c| c.split(" x ").next().unwrap().parse::<usize>().unwrap())
+        .sum();
+    assert_eq!(counted, l_p.failed_samples, "{:?}", l_p.failure_causes);
 }
 
 /// A rotor case is propagated to first order (each input one standard deviation either way):
@@ -445,6 +465,21 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
             s.u_input
         );
         assert_eq!(f.verdict, s.verdict, "{}", f.quantity);
+        // TR 487 gives its flight point without scatter: E is given and weighed against the
+        // model's own uncertainty, and the verdict says the data state none (issue 51: it read
+        // inconclusive, like a model too uncertain for its tolerance).
+        assert_eq!(
+            f.verdict,
+            Some(cierva_harness::uncertainty::vv20::Vv20Verdict::NoDataUncertainty),
+            "{}",
+            f.quantity
+        );
+        assert!(
+            f.reason.starts_with("no data uncertainty")
+                && f.reason.contains("times the model's own u"),
+            "{}",
+            f.reason
+        );
         // The largest input (the first order's residual term, interactions, is not one).
         let largest = f
             .contributors
@@ -956,6 +991,7 @@ fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
             agrees: names(&["Y_v"]),
             model_form_error: names(&["L_p", "L_v", "N_v"]),
             inconclusive: names(&["N_r", "Y_r", "L_r", "N_p"]),
+            no_data_uncertainty: names(&["T_ph"]),
             without_verdict: Vec::new(),
             fragile: vec![FragilePass {
                 quantity: "Y_v".into(),
@@ -974,6 +1010,7 @@ fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
             agrees: Vec::new(),
             model_form_error: Vec::new(),
             inconclusive: Vec::new(),
+            no_data_uncertainty: Vec::new(),
             without_verdict: names(&["trends stick", "trends nose"]),
             fragile: Vec::new(),
         },
@@ -1018,10 +1055,10 @@ fn the_how_sure_table_counts_names_and_sums_the_summary() {
          names where there are at most 3); no verdict at all (no uncertain inputs or no \
          reference value): `trim-trend` (2):\n\
          \n\
-         | case | quantities | agree | model-form error | inconclusive | no verdict | fragile |\n\
-         | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n\
-         | `table-2` | 8 | 1 (Y_v) | 3 (L_p, L_v, N_v) | 4 | 0 | 1 (Y_v) |\n\
-         | **all 2 cases** | **10** | **1** | **3** | **4** | **2** | **1** |\n"
+         | case | quantities | agree | model-form error | inconclusive | no data uncertainty | no verdict | fragile |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n\
+         | `table-2` | 9 | 1 (Y_v) | 3 (L_p, L_v, N_v) | 4 | 1 (T_ph) | 0 | 1 (Y_v) |\n\
+         | **all 2 cases** | **11** | **1** | **3** | **4** | **1** | **2** | **1** |\n"
     );
     assert_eq!(
         summary::cases_list(&s),
@@ -1153,6 +1190,8 @@ cases:
     - Y_r
     - L_r
     - N_p
+    no_data_uncertainty:
+    - T_ph
     without_verdict: []
     fragile:
     - quantity: Y_v
@@ -1167,6 +1206,7 @@ cases:
     agrees: []
     model_form_error: []
     inconclusive: []
+    no_data_uncertainty: []
     without_verdict:
     - trends stick
     - trends nose
