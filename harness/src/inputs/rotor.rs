@@ -401,37 +401,26 @@ fn check_sources(
                 .collect()
         })
         .unwrap_or_default();
-    for f in &fields {
-        match spec.sources.get(f) {
-            Some(s) if !s.trim().is_empty() => {}
-            _ => {
-                return Err(err(
-                    &format!("rotor.{f}"),
-                    format!(
-                        "`{f}` has no entry under `sources`: say where the number comes from (or \"estimated: why\")"
-                    ),
-                ));
-            }
-        }
-    }
     let settings: Vec<String> = spec
         .physics
         .stated()
         .into_iter()
         .map(|(k, _)| format!("physics.{k}"))
         .collect();
-    for f in &settings {
-        match spec.sources.get(f) {
-            Some(s) if !s.trim().is_empty() => {}
-            _ => {
-                return Err(err(
-                    f,
-                    format!(
-                        "`{f}` has no entry under `sources`: say what it was chosen on (a report, \
-                         a comparison, a paper)"
-                    ),
-                ));
-            }
+    let numbers = fields.iter().map(|f| {
+        let what = "say where the number comes from (or \"estimated: why\")";
+        (f, format!("rotor.{f}"), what)
+    });
+    let chosen = settings.iter().map(|f| {
+        let what = "say what it was chosen on (a report, a comparison, a paper)";
+        (f, f.clone(), what)
+    });
+    for (key, at, what) in numbers.chain(chosen) {
+        if spec.sources.get(key).is_none_or(|s| s.trim().is_empty()) {
+            return Err(err(
+                &at,
+                format!("`{key}` has no entry under `sources`: {what}"),
+            ));
         }
     }
     if let Some(extra) = spec
