@@ -148,6 +148,14 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
         Format::Text => {
             print_text(&file, alpha_deg, airspeed_m_s, &e);
             print_physics(&physics, &overrides, &e.outside_validity);
+            if file.physics == cierva_harness::inputs::rotor::PhysicsSpec::default() {
+                println!(
+                    "hint: {} states no `physics:`, so these are the defaults; give the settings \
+                     this rotor is validated with, each with its evidence under `sources` \
+                     (docs/physics.md, \"Where the equations hold\")",
+                    a.rotor.display()
+                );
+            }
         }
     }
     Ok(ExitCode::SUCCESS)

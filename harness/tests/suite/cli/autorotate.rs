@@ -261,6 +261,40 @@ fn the_command_gives_the_rotor_files_answer_and_warns_outside_momentum_theorys_v
         text.contains("note: the command line sets `descent: momentum`"),
         "{text}"
     );
+    assert!(!text.contains("hint:"), "{text}");
+
+    // A rotor file of the user's that states no physics runs with the defaults, and the text
+    // says so and how to give them.
+    let dir = std::env::temp_dir().join(format!("cierva-no-physics-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = std::fs::read_to_string(root().join("aircraft/pca-2-rotor.yaml")).unwrap();
+    let (head, rest) = src.split_once("physics:\n").unwrap();
+    let (_, sources) = rest.split_once("sources:\n").unwrap();
+    let sources: String = sources
+        .lines()
+        .skip_while(|l| l.starts_with("  physics.") || l.starts_with("    "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let file = dir.join("pca-2-rotor.yaml");
+    std::fs::write(&file, format!("{head}sources:\n{sources}")).unwrap();
+    let (code, text, err) = cierva(&[
+        "autorotate",
+        &file.display().to_string(),
+        "--alpha-deg",
+        "90",
+        "--airspeed-m-s",
+        "10.790",
+        "--density-kg-m3",
+        "1.0823",
+    ]);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("physics              inflow peters_haquang, skew signed, descent momentum")
+            && text.contains("states no `physics:`, so these are the defaults")
+            && text.contains("WARNING: momentum theory outside its validity"),
+        "{text}"
+    );
 }
 
 /// A case that sets momentum theory over the rotor file's curve at TR 487's descent: its check
