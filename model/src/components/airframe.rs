@@ -23,8 +23,9 @@
 //! growth: its excess over the free stream is the induced growth less the blocked share of the
 //! free stream's axial speed at the disc (the same speed the propeller sees before blockage).
 //!
-//! A surface's `dynamic_pressure_ratio` scales its loads: the share of the free stream's
-//! dynamic pressure that reaches it past the airframe ahead (DATCOM's `q_v / q`; 1: all of it).
+//! A surface's `dynamic_pressure_ratio` scales the loads of its part outside the slipstream:
+//! the share of the free stream's dynamic pressure that reaches it past the airframe ahead
+//! (DATCOM's `q_v / q`; 1: all of it). The part in the slipstream meets the propeller's jet.
 //!
 //! The pod's potential flow in sideslip makes a couple of its own, Munk's (`munk_yaw_m3`): a
 //! body of revolution along x moving with `(u, v)` through still air carries the lateral
@@ -78,8 +79,9 @@ pub struct Surface {
     /// downwash gradient `d epsilon / d alpha` of a tailplane (0: none). It acts on the
     /// free stream's angle only, not on the flow the body's rotation makes at the surface.
     pub wash_gradient: f64,
-    /// The dynamic pressure at the surface over what it would be with nothing ahead of it
-    /// (DATCOM's `q_v / q`, the airframe's wakes; 1: none), a factor on its loads.
+    /// The dynamic pressure at the part of the surface outside the slipstream over what it
+    /// would be with nothing ahead of it (DATCOM's `q_v / q`, the airframe's wakes; 1: none), a
+    /// factor on that part's loads (the part in the slipstream meets the propeller's).
     pub dynamic_pressure_ratio: f64,
 }
 
@@ -364,18 +366,24 @@ impl Airframe {
             (&self.fin, true, deflections_rad[1]),
         ] {
             if let Some(sf) = surface {
-                let stream = match slipstream {
+                // The slipstream's velocity over the surface's share in it, and that share
+                // (none without a slipstream: all of the surface is outside it then).
+                let (stream, inside) = match slipstream {
                     Some(st) if sf.slipstream_fraction > 0.0 => {
                         // The free stream's axial speed at the disc, as the propeller takes it.
                         let at_disc = cross(pqr, sub(st.disc_centre_m, cg_m));
                         let free_axial = (uvw[0] + at_disc[0]).max(0.0);
-                        st.velocity_at(sf.position_m, free_axial)
-                            .map(|c| sf.slipstream_fraction * c)
+                        let jet = st.velocity_at(sf.position_m, free_axial);
+                        (
+                            jet.map(|c| sf.slipstream_fraction * c),
+                            sf.slipstream_fraction,
+                        )
                     }
-                    _ => [0.0; 3],
+                    _ => ([0.0; 3], 0.0),
                 };
                 let flow = (uvw, pqr, density_kg_m3);
-                let (fs, ms) = surface_loads(sf, vertical, flow, stream, cg_m, deflection);
+                let (fs, ms) =
+                    surface_loads(sf, vertical, flow, (stream, inside), cg_m, deflection);
                 for k in 0..3 {
                     total[k] += fs[k];
                     total[k + 3] += ms[k];
@@ -395,12 +403,14 @@ impl Airframe {
 
 /// A surface's force and moment about the centre of mass: lift normal to its local flow in its
 /// plane (x-z for the tailplane, x-y for the fin), drag along the local flow. `stream` is the
-/// velocity of the air at the surface relative to the free stream (the slipstream's share).
+/// velocity of the air at the surface relative to the free stream (the slipstream's share),
+/// and `inside` the share of its area in the slipstream: the dynamic-pressure ratio acts on
+/// the rest alone (the slipstream's dynamic pressure is the propeller's).
 fn surface_loads(
     s: &Surface,
     vertical: bool,
     (uvw, pqr, rho): ([f64; 3], [f64; 3], f64),
-    stream: [f64; 3],
+    (stream, inside): ([f64; 3], f64),
     cg_m: [f64; 3],
     deflection_rad: f64,
 ) -> ([f64; 3], [f64; 3]) {
@@ -439,7 +449,9 @@ fn surface_loads(
         }
         + s.control_effectiveness * deflection_rad;
     let a = angle.clamp(-s.stall_alpha_rad, s.stall_alpha_rad);
-    let q = 0.5 * rho * v2 * s.area_m2 * s.dynamic_pressure_ratio;
+    // inside + (1 - inside) eta, written so that eta = 1 gives exactly 1.
+    let ratio = 1.0 - (1.0 - inside) * (1.0 - s.dynamic_pressure_ratio);
+    let q = 0.5 * rho * v2 * s.area_m2 * ratio;
     let (lift, drag) = (q * s.lift_slope_per_rad * a, q * s.cd0);
     // Lift opposes the normal flow (pushes the surface against it), drag along the flow.
     let fx = (lift * un - drag * ux) / v;
@@ -677,6 +689,31 @@ mod tests {
         }
         a.fin.as_mut().unwrap().slipstream_fraction = 1.5;
         assert!(a.validate().is_err());
+    }
+
+    /// The dynamic-pressure ratio is the part of the surface outside the slipstream's (issue
+    /// 52, item 3: the estimate defines it there; the slipstream carries its own dynamic
+    /// pressure, the propeller's): a fin 0.7 in the slipstream at a ratio of 0.8 keeps
+    /// 0.7 + 0.3 x 0.8 = 0.94 of its side force, not 0.8; with no slipstream (the propeller not
+    /// modelled) all of the fin is outside it, 0.8.
+    #[test]
+    fn the_dynamic_pressure_ratio_acts_on_the_surface_outside_the_slipstream() {
+        let mut a = airframe();
+        a.tailplane = None;
+        a.fin.as_mut().unwrap().slipstream_fraction = 0.7;
+        let (u, v0) = (30.0, 5.0);
+        let st = Slipstream::of_propeller([600.0, 0.0, -0.5], 0.75, 1.0, (u, v0), 0.0, 1.2);
+        let y = |a: &Airframe, st: Option<&Slipstream>| {
+            a.loads([u, 2.0, 0.0], [0.0; 3], 1.2, [0.0; 3], [0.0; 2], st)
+                .unwrap()
+                .y_n
+        };
+        let (whole, whole_free) = (y(&a, Some(&st)), y(&a, None));
+        a.fin.as_mut().unwrap().dynamic_pressure_ratio = 0.8;
+        let ratio = y(&a, Some(&st)) / whole;
+        assert!((ratio - 0.94).abs() < 1e-12, "{ratio}");
+        let ratio = y(&a, None) / whole_free;
+        assert!((ratio - 0.8).abs() < 1e-12, "{ratio}");
     }
 
     /// Sidewash ahead of a fin takes its share of the sideslip and none of the yaw rate's flow:
