@@ -277,16 +277,10 @@ fn the_command_gives_the_rotor_files_answer_and_warns_outside_momentum_theorys_v
         .collect();
     let file = dir.join("pca-2-rotor.yaml");
     std::fs::write(&file, format!("{head}sources:\n{sources}")).unwrap();
-    let (code, text, err) = cierva(&[
-        "autorotate",
-        &file.display().to_string(),
-        "--alpha-deg",
-        "90",
-        "--airspeed-m-s",
-        "10.790",
-        "--density-kg-m3",
-        "1.0823",
-    ]);
+    let path = file.display().to_string();
+    let mut a = tr487.to_vec();
+    a[1] = &path;
+    let (code, text, err) = cierva(&a);
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(code, 0, "{err}");
     assert!(
