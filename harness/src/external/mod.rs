@@ -10,7 +10,9 @@
 //! A model may **declare parameters** ([`FlightModel::parameters`]): corrections and estimated
 //! physical inputs, each with its unit, nominal value and plausible range with the range's
 //! source. Every [`Request`] carries values for any of them (the rest at their nominal values),
-//! so that the studies (`cierva sensitivity` today) drive any model that declares them, and a
+//! so that the fit, the retune and the sensitivity and uncertainty studies drive any model that
+//! declares them (a study also asks a model for its refined self and where its answers start:
+//! [`FlightModel::refined`], [`FlightModel::starting_from`]), and a
 //! value the model does not declare, or one outside its declared range, is refused
 //! ([`check_values`]).
 //!
@@ -250,6 +252,26 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         Ok(())
     }
 
+    /// The model whose answers with parameter values start from its answer with `values` at
+    /// the same condition and loading (a nearby point's: a sampled study's `A_B^(i)` point
+    /// starts from its row of `A`), where it finds an answer by iterating from a start
+    /// (cierva's aircraft: its trims). `None`, the default: it answers as it does.
+    fn starting_from(&self, _values: &Values) -> Option<Arc<dyn FlightModel>> {
+        None
+    }
+
+    /// The model with its discretisation refined, and the refinement in words: what an
+    /// uncertainty study's numerical uncertainty comes from. `None`, the default: no grid
+    /// study.
+    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
+        None
+    }
+
+    /// Forgets what it remembers of its answers with these parameter values (a study's point,
+    /// once its checks have run), so that thousands of points do not fill the memory; nothing
+    /// by default.
+    fn forget(&self, _values: &Values) {}
+
     /// The model flown by another of its simulations, where it has more than one (cierva's
     /// aircraft: the full blade model at an azimuth step, `azimuth_step_rad` (default its
     /// file's), or the linear model): what a `time_history` check's `simulation` and
@@ -306,6 +328,11 @@ pub fn corrected_by<'s>(
     }
 }
 
+/// [`CiervaAircraft`]'s linearisations with parameter values (or started elsewhere), by file,
+/// values, condition and loading ([`CiervaAircraft::key_of`]).
+static WITH_VALUES: crate::run::memo::Memo<crate::run::linearise::Linearisation> =
+    crate::run::memo::Memo::new();
+
 /// cierva's own aircraft at a loading, flown by `simulation` at `azimuth_step_rad` (the full
 /// blade model's step).
 #[derive(Debug, Clone)]
@@ -313,6 +340,10 @@ pub struct CiervaAircraft<'a> {
     pub file: Cow<'a, crate::inputs::aircraft::AircraftFile>,
     pub simulation: Simulation,
     pub azimuth_step_rad: f64,
+    /// Where a trim with parameter values (and any trim of a refined aircraft) starts: the
+    /// trim of this file with these values at the request's condition and loading
+    /// ([`FlightModel::starting_from`], [`FlightModel::refined`]); `None`: the file's own trim.
+    pub starts_from: Option<(Arc<crate::inputs::aircraft::AircraftFile>, Values)>,
 }
 
 impl<'a> CiervaAircraft<'a> {
@@ -322,6 +353,17 @@ impl<'a> CiervaAircraft<'a> {
             file: Cow::Borrowed(file),
             simulation: Simulation::FullBlade,
             azimuth_step_rad: file.aircraft.main_rotor.numerics.azimuth_step_rad,
+            starts_from: None,
+        }
+    }
+
+    /// The aircraft, owned: a model a study can share ([`Arc<dyn FlightModel>`]).
+    pub fn owned(file: crate::inputs::aircraft::AircraftFile) -> CiervaAircraft<'static> {
+        CiervaAircraft {
+            azimuth_step_rad: file.aircraft.main_rotor.numerics.azimuth_step_rad,
+            file: Cow::Owned(file),
+            simulation: Simulation::FullBlade,
+            starts_from: None,
         }
     }
 }
@@ -368,15 +410,44 @@ impl CiervaAircraft<'_> {
 
     /// Where a trim of the file with a request's values starts: the file's own trim at the
     /// request's condition and loading (remembered), so that a request's answer does not depend
-    /// on which requests came before it or on which process answers it (`cierva serve`).
+    /// on which requests came before it or on which process answers it (`cierva serve`); or,
+    /// where the model was made to start elsewhere ([`Self::starts_from`]), that file's trim
+    /// with its values (remembered: a study's row of `A`, found before its `A_B^(i)` points).
     fn start(&self, request: &Request) -> Option<cierva_model::aircraft::trim::WarmStart> {
-        crate::run::trim::trim_cached(&self.file, request.condition, request.loading)
+        let (c, l) = (request.condition, request.loading);
+        let Some((file, values)) = &self.starts_from else {
+            return crate::run::trim::trim_cached(&self.file, c, l)
+                .ok()
+                .map(|t| t.warm_start.clone());
+        };
+        if values.is_empty() {
+            return crate::run::trim::trim_cached(file, c, l)
+                .ok()
+                .map(|t| t.warm_start.clone());
+        }
+        let from = CiervaAircraft {
+            file: Cow::Borrowed(&**file),
+            starts_from: None,
+            ..self.clone()
+        };
+        let at = Request {
+            parameters: values.clone(),
+            ..request.clone()
+        };
+        from.linearised(&at)
             .ok()
-            .map(|t| t.warm_start.clone())
+            .map(|(_, l)| l.0.warm_start.clone())
+    }
+
+    /// The memo key of the file with `values` (every request's with them starts with it):
+    /// what [`FlightModel::forget`] forgets.
+    fn key_of(&self, values: &Values) -> String {
+        format!("{}|{values:?}|", self.file.path.display())
     }
 
     /// The file with the request's values, trimmed and linearised at it: remembered per file,
-    /// condition and loading where the request sets no parameter.
+    /// values, condition and loading (a case's checks at one condition share it, a study's
+    /// sample as the nominal aircraft), each trim with values started from [`Self::start`].
     #[allow(clippy::type_complexity)]
     fn linearised(
         &self,
@@ -390,18 +461,20 @@ impl CiervaAircraft<'_> {
     > {
         let (c, l) = (request.condition, request.loading);
         let file = self.with_values(request)?;
-        let both = match &file {
-            Cow::Borrowed(f) => crate::run::linearise::linearise_cached(f, c, l)?,
-            Cow::Owned(f) => Arc::new(
-                crate::run::linearise::run_linearise_from(
-                    &f.aircraft,
-                    c,
-                    l,
-                    self.start(request).as_ref(),
-                )
-                .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?,
-            ),
-        };
+        if request.parameters.is_empty() && self.starts_from.is_none() {
+            let both = crate::run::linearise::linearise_cached(&file, c, l)?;
+            return Ok((file, both));
+        }
+        let key = format!("{}{c:?}|{l:?}", self.key_of(&request.parameters));
+        let both = WITH_VALUES.get_or(key, || {
+            crate::run::linearise::run_linearise_from(
+                &file.aircraft,
+                c,
+                l,
+                self.start(request).as_ref(),
+            )
+            .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))
+        })?;
         Ok((file, both))
     }
 }
@@ -449,9 +522,9 @@ impl FlightModel for CiervaAircraft<'_> {
 
     fn trim(&self, request: &Request) -> Result<Quantities, String> {
         let file = self.with_values(request)?;
-        let start = match &file {
-            Cow::Borrowed(_) => None,
-            Cow::Owned(_) => self.start(request),
+        let start = match request.parameters.is_empty() && self.starts_from.is_none() {
+            true => None,
+            false => self.start(request),
         };
         let t = crate::run::trim::run_trim_from(
             &file.aircraft,
@@ -522,28 +595,23 @@ impl FlightModel for CiervaAircraft<'_> {
     }
 
     /// [`crate::run::linearise::identified_in_band_cached`] where the request sets no
-    /// parameter.
+    /// parameter; from the linearisation with the values otherwise.
     fn identified_in_band(
         &self,
         request: &Request,
         setup: crate::ident::Setup,
     ) -> Result<LinearModel, String> {
-        let file = self.with_values(request)?;
         let (c, l) = (request.condition, request.loading);
-        match &file {
-            Cow::Borrowed(f) => Ok(crate::run::linearise::identified_in_band_cached(
-                f, c, l, setup,
-            )?
-            .as_ref()
-            .clone()),
-            Cow::Owned(f) => crate::run::linearise::identified_in_band(
-                &f.aircraft,
-                c,
-                l,
-                setup,
-                self.start(request).as_ref(),
-            ),
+        if request.parameters.is_empty() && self.starts_from.is_none() {
+            self.check_loading(&l)?;
+            return Ok(
+                crate::run::linearise::identified_in_band_cached(&self.file, c, l, setup)?
+                    .as_ref()
+                    .clone(),
+            );
         }
+        let (file, both) = self.linearised(request)?;
+        crate::run::linearise::identified_at(&file.aircraft, &both.0, l, setup)
     }
 
     /// The aircraft file with the corrections set ([`crate::inputs::aircraft::AircraftFile::with_corrections`]).
@@ -574,7 +642,57 @@ impl FlightModel for CiervaAircraft<'_> {
             simulation,
             azimuth_step_rad: azimuth_step_rad
                 .unwrap_or(self.file.aircraft.main_rotor.numerics.azimuth_step_rad),
+            starts_from: self.starts_from.clone(),
         }))
+    }
+
+    /// The aircraft whose trims with values start from its trim with `values`.
+    fn starting_from(&self, values: &Values) -> Option<Arc<dyn FlightModel>> {
+        let file = Arc::new(self.file.as_ref().clone());
+        Some(Arc::new(CiervaAircraft {
+            file: Cow::Owned(file.as_ref().clone()),
+            simulation: self.simulation,
+            azimuth_step_rad: self.azimuth_step_rad,
+            starts_from: Some((file, values.clone())),
+        }))
+    }
+
+    /// Its main rotor's azimuth step halved, the blade elements of both rotors doubled and the
+    /// periodicity tolerance a tenth; each trim started from the aircraft's own (the same
+    /// unknowns, to a tolerance ten times finer).
+    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
+        let mut file = self.file.as_ref().clone();
+        let main = &mut file.aircraft.main_rotor;
+        let words = format!(
+            "azimuth step {:.3} -> {:.3} deg, main rotor elements {} -> {}, propeller elements {} -> {}, periodicity tolerance {:e} -> {:e}",
+            main.numerics.azimuth_step_rad.to_degrees(),
+            0.5 * main.numerics.azimuth_step_rad.to_degrees(),
+            main.rotor.elements,
+            2 * main.rotor.elements,
+            file.aircraft.propeller.propeller.rotor.elements,
+            2 * file.aircraft.propeller.propeller.rotor.elements,
+            main.numerics.periodic_tolerance,
+            0.1 * main.numerics.periodic_tolerance,
+        );
+        main.numerics.azimuth_step_rad *= 0.5;
+        main.numerics.periodic_tolerance *= 0.1;
+        main.rotor.elements *= 2;
+        file.aircraft.propeller.propeller.rotor.elements *= 2;
+        file.path = format!("{}#refined", file.path.display()).into();
+        let step = 0.5 * self.azimuth_step_rad;
+        Some((
+            Arc::new(CiervaAircraft {
+                file: Cow::Owned(file),
+                simulation: self.simulation,
+                azimuth_step_rad: step,
+                starts_from: Some((Arc::new(self.file.as_ref().clone()), Values::new())),
+            }),
+            words,
+        ))
+    }
+
+    fn forget(&self, values: &Values) {
+        WITH_VALUES.forget(&self.key_of(values));
     }
 
     fn time_history(
@@ -675,6 +793,32 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
     }
     fn check_loading(&self, loading: &Loading) -> Result<(), String> {
         self.model.check_loading(loading)
+    }
+    /// The model starting from its answer with `values` over these.
+    fn starting_from(&self, values: &Values) -> Option<Arc<dyn FlightModel>> {
+        let mut all = self.values.clone();
+        all.extend(values.clone());
+        let model = self.model.starting_from(&all)?;
+        Some(Arc::new(WithValues {
+            model,
+            values: self.values.clone(),
+        }))
+    }
+    /// The model refined, with these values still set.
+    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
+        let (model, words) = self.model.refined()?;
+        Some((
+            Arc::new(WithValues {
+                model,
+                values: self.values.clone(),
+            }),
+            words,
+        ))
+    }
+    fn forget(&self, values: &Values) {
+        let mut all = self.values.clone();
+        all.extend(values.clone());
+        self.model.forget(&all)
     }
     /// The model's other simulation, with these values still set.
     fn simulated_by<'s>(
@@ -791,6 +935,15 @@ macro_rules! forward_flight_model {
             }
             fn check_loading(&self, loading: &Loading) -> Result<(), String> {
                 (**self).check_loading(loading)
+            }
+            fn starting_from(&self, values: &Values) -> Option<Arc<dyn FlightModel>> {
+                (**self).starting_from(values)
+            }
+            fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
+                (**self).refined()
+            }
+            fn forget(&self, values: &Values) {
+                (**self).forget(values)
             }
         }
     )*};

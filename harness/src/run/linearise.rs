@@ -108,27 +108,10 @@ pub fn linearise_cached(
     request: TrimRequest,
     loading: Loading,
 ) -> Result<std::sync::Arc<Linearisation>, String> {
-    linearise_cached_from(file, request, loading, None)
-}
-
-/// [`linearise_cached`], its trim (where not remembered yet) started from a nearby trim's end:
-/// a sampled aircraft starts from the nominal one's trim (`cierva uncertainty`).
-pub fn linearise_cached_from(
-    file: &crate::inputs::aircraft::AircraftFile,
-    request: TrimRequest,
-    loading: Loading,
-    start: Option<&cierva_model::aircraft::trim::WarmStart>,
-) -> Result<std::sync::Arc<Linearisation>, String> {
     LINEARISATIONS.get_or(
         format!("{}|{request:?}|{loading:?}", file.path.display()),
-        || run_linearise_from(&file.aircraft, request, loading, start).map_err(|e| e.to_string()),
+        || run_linearise_from(&file.aircraft, request, loading, None).map_err(|e| e.to_string()),
     )
-}
-
-/// Forgets the remembered linearisations of one aircraft file (by its path): a sampled
-/// aircraft's, once its checks have run, so that thousands of samples do not fill the memory.
-pub fn forget_linearisations(file: &crate::inputs::aircraft::AircraftFile) {
-    LINEARISATIONS.forget(&format!("{}|", file.path.display()));
 }
 
 /// The aircraft linearised at a trim with its blades' flapping, its inflow and (with an engine)
@@ -183,23 +166,9 @@ pub fn identified_in_band_cached(
     )
 }
 
-/// [`identified_in_band_cached`], not remembered (an aircraft with a study's values set), its
-/// trim started from `start`.
-pub fn identified_in_band(
-    aircraft: &cierva_model::aircraft::Aircraft,
-    request: TrimRequest,
-    loading: Loading,
-    setup: crate::ident::Setup,
-    start: Option<&cierva_model::aircraft::trim::WarmStart>,
-) -> Result<cierva_model::LinearModel, String> {
-    let trim = super::trim::run_trim_from(aircraft, request, loading, start)
-        .map_err(|e| format!("at {} mph: {e}", request.airspeed_mph))?;
-    identified_at(aircraft, &trim, loading, setup)
-}
-
 /// What `setup` identifies from the aircraft's linearisation with its flapping states at
 /// `trim`, over the set-up's band.
-fn identified_at(
+pub fn identified_at(
     aircraft: &cierva_model::aircraft::Aircraft,
     trim: &cierva_model::aircraft::trim::Trim,
     loading: Loading,

@@ -6,8 +6,8 @@
 use super::distribution::Input;
 use super::propagate::{
     CaseUncertainty, Contributor, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty,
-    failure_causes, hash, judge, mean_std, pass_fraction, percentile, point_of, unjudged,
-    with_terms, with_values,
+    failure_causes, forget, hash, judge, mean_std, pass_fraction, percentile, point_of, unjudged,
+    values_of, with_terms, with_values,
 };
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
@@ -172,8 +172,12 @@ fn first_order_runs(
             ),
             Job::Drawn(values) => (values.clone(), format!("residual-{:x}", hash(values))),
         };
-        let p = match with_values(case, inputs, &values, &tag) {
-            Ok(c) => point_of(nominal, &crate::suite::outcome::run_case(&c)),
+        let p = match with_values(case, inputs, &values, (&tag, None)) {
+            Ok(c) => {
+                let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
+                forget(case, &values_of(inputs, &values));
+                p
+            }
             Err(e) => point_of(nominal, &[]).with_error(e),
         };
         done();

@@ -15,7 +15,7 @@ use super::sobol;
 use super::vv20::{self, Comparison, Vv20Verdict};
 use crate::checks::CheckClass;
 use crate::checks::subject::Subject;
-use crate::inputs::parameters::{parameter, set_parameter};
+use crate::external::Values;
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
 use serde::Serialize;
@@ -193,14 +193,13 @@ pub struct CaseUncertainty {
     pub results: Vec<QuantityUncertainty>,
 }
 
-/// The case's uncertain inputs: its aircraft's (or rotor's) ranged parameters other than
-/// corrections, in the file's order; an external model's declared parameters with a plausible
-/// range other than corrections, by name (an `Err` where it cannot say: its `describe`
-/// failed). Empty for another subject.
+/// The case's uncertain inputs: a flight model's declared parameters with a plausible range
+/// other than corrections, by name (cierva's aircraft's: its file's ranged physical
+/// parameters), an `Err` where it cannot say (its `describe` failed); a rotor's ranged
+/// parameters, in its file's order. Empty for another subject.
 pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
-    if let Subject::External(e) = &case.subject {
-        let mut declared: Vec<Input> = e
-            .model
+    if let Some((model, _)) = crate::checks::flight_model(&case.subject) {
+        let mut declared: Vec<Input> = model
             .parameters()?
             .into_iter()
             .filter(|p| !p.correction)
@@ -217,34 +216,14 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
         declared.sort_by(|a, b| a.name.cmp(&b.name));
         return Ok(declared);
     }
-    Ok(inputs_of_files(case))
-}
-
-/// [`inputs`] of an aircraft or rotor case.
-fn inputs_of_files(case: &Case) -> Vec<Input> {
-    if let Subject::Rotor { file, .. } = &case.subject {
-        return file
-            .ranges
-            .iter()
-            .filter_map(|(name, r)| {
-                let nominal = crate::inputs::parameters::rotor_parameter(&file.rotor, name)?;
-                Some(Input {
-                    name: name.clone(),
-                    nominal,
-                    distribution: InputDistribution::of_range(nominal, r),
-                    source: r.source.clone(),
-                })
-            })
-            .collect();
-    }
-    let Subject::Aircraft { file, .. } = &case.subject else {
-        return Vec::new();
+    let Subject::Rotor { file, .. } = &case.subject else {
+        return Ok(Vec::new());
     };
-    file.ranges
+    Ok(file
+        .ranges
         .iter()
-        .filter(|(name, _)| !name.starts_with("corrections."))
         .filter_map(|(name, r)| {
-            let nominal = parameter(&file.aircraft, name)?;
+            let nominal = crate::inputs::parameters::rotor_parameter(&file.rotor, name)?;
             Some(Input {
                 name: name.clone(),
                 nominal,
@@ -252,59 +231,59 @@ fn inputs_of_files(case: &Case) -> Vec<Input> {
                 source: r.source.clone(),
             })
         })
-        .collect()
+        .collect())
 }
 
-/// The case with its aircraft's inputs at `values` (in the order of `inputs`), checked, under
-/// a path of its own (`tag`).
+/// The case with its inputs at `values` (in the order of `inputs`), checked, under a path of
+/// its own (`tag`): a flight model asked with the values as parameters
+/// ([`crate::external::WithValues`]), its answers started from its answers at `start` (a
+/// nearby point's values) where it can ([`crate::external::FlightModel::starting_from`]); a
+/// rotor file with them set.
 pub(super) fn with_values(
     case: &Case,
     inputs: &[Input],
     values: &[f64],
-    tag: &str,
+    (tag, start): (&str, Option<&Values>),
 ) -> Result<Case, String> {
     let mut c = case.clone();
-    set_values(&mut c.subject, inputs, values, tag)?;
+    set_values(&mut c.subject, inputs, values, (tag, start))?;
     // Checks a corrections file is not applied to run on the uncorrected subject: it takes the
     // same inputs.
     if let Some(u) = &mut c.uncorrected {
-        set_values(
-            &mut u.subject,
-            inputs,
-            values,
-            &format!("{tag}-uncorrected"),
-        )?;
+        let tag = format!("{tag}-uncorrected");
+        set_values(&mut u.subject, inputs, values, (&tag, start))?;
     }
     Ok(c)
 }
 
-/// `values` (in the order of `inputs`) set on an aircraft's or a rotor's parameters, checked,
-/// under a path of its own (`tag`).
+/// `values` (in the order of `inputs`) as a point's parameters.
+pub(super) fn values_of(inputs: &[Input], values: &[f64]) -> Values {
+    inputs
+        .iter()
+        .zip(values)
+        .map(|(i, v)| (i.name.clone(), *v))
+        .collect()
+}
+
+/// `values` (in the order of `inputs`) set on a subject, checked, under a path of its own
+/// (`tag`); see [`with_values`].
 fn set_values(
     subject: &mut Subject,
     inputs: &[Input],
     values: &[f64],
-    tag: &str,
+    (tag, start): (&str, Option<&Values>),
 ) -> Result<(), String> {
-    if let Subject::Aircraft { file, .. } = subject {
-        for (input, v) in inputs.iter().zip(values) {
-            set_parameter(&mut file.aircraft, &input.name, *v)
-                .ok_or_else(|| format!("`{}` is not a parameter of {}", input.name, file.id))?;
-        }
-        file.aircraft.validate().map_err(|e| e.to_string())?;
-        file.path = format!("{}#{tag}", file.path.display()).into();
-    }
-    if let Subject::External(e) = subject {
-        let values = inputs
-            .iter()
-            .zip(values)
-            .map(|(i, v)| (i.name.clone(), *v))
-            .collect();
-        e.model = std::sync::Arc::new(crate::external::WithValues {
-            model: e.model.clone(),
-            values,
-        });
+    if let Some(mut e) = as_model(subject) {
+        let declared = e.model.parameters()?;
+        let values = values_of(inputs, values);
+        crate::external::check_values(&e.model.describe(), &declared, &values)?;
+        let model = start
+            .and_then(|v| e.model.starting_from(v))
+            .unwrap_or_else(|| e.model.clone());
+        e.model = std::sync::Arc::new(crate::external::WithValues { model, values });
         e.written = format!("{}#{tag}", e.written);
+        *subject = Subject::External(Box::new(e));
+        return Ok(());
     }
     if let Subject::Rotor { file, .. } = subject {
         for (input, v) in inputs.iter().zip(values) {
@@ -317,14 +296,42 @@ fn set_values(
     Ok(())
 }
 
+/// A flight-model subject as a model behind the model interface, owned: another simulation as
+/// it is, cierva's aircraft as [`crate::external::CiervaAircraft`]. What a study asks with
+/// its values, the same way for every model.
+fn as_model(subject: &Subject) -> Option<crate::external::External> {
+    match subject {
+        Subject::External(e) => Some((**e).clone()),
+        Subject::Aircraft { file, loading } => Some(crate::external::External {
+            model: std::sync::Arc::new(crate::external::CiervaAircraft::owned((**file).clone())),
+            loading: *loading,
+            written: format!("aircraft: {}", file.path.display()),
+            folder: file.path.parent().map(Into::into).unwrap_or_default(),
+        }),
+        _ => None,
+    }
+}
+
+/// Forgets what the point's model remembers of its answers (its values'), once its checks
+/// have run (the uncorrected subject's too).
+pub(super) fn forget(case: &Case, values: &Values) {
+    let uncorrected = case.uncorrected.as_ref().map(|u| &u.subject);
+    for subject in std::iter::once(&case.subject).chain(uncorrected) {
+        if let Some(e) = as_model(subject) {
+            e.model.forget(values);
+        }
+    }
+}
+
 /// What a case without a refinement says about its numerical uncertainty.
 pub(super) const NO_GRID_STUDY: &str = "none: no grid study for this subject";
 
 /// The case with its discretisation refined, and the refinement in words (`None` for a
-/// subject without one here). For an aircraft: the main rotor's azimuth step halved, the blade
-/// elements of both rotors doubled and the periodicity tolerance a tenth. For a rotor in a
-/// tunnel: its blade elements doubled, the tunnel solver's azimuth step halved, and its
-/// periodicity and Newton tolerances a tenth.
+/// subject without one). A flight model refines itself
+/// ([`crate::external::FlightModel::refined`]; cierva's aircraft: its main rotor's azimuth step
+/// halved, the blade elements of both rotors doubled and the periodicity tolerance a tenth).
+/// For a rotor in a tunnel: its blade elements doubled, the tunnel solver's azimuth step
+/// halved, and its periodicity and Newton tolerances a tenth.
 pub fn refined(case: &Case) -> Option<(Case, String)> {
     let mut c = case.clone();
     let words = refine(&mut c.subject)?;
@@ -336,45 +343,32 @@ pub fn refined(case: &Case) -> Option<(Case, String)> {
 
 /// A subject's discretisation refined in place, and the refinement in words.
 fn refine(subject: &mut Subject) -> Option<String> {
-    if let Subject::Rotor { file, solver, .. } = subject {
-        let (n, newton) = (&mut solver.numerics, &mut solver.newton);
-        let words = format!(
-            "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",
-            file.rotor.elements,
-            2 * file.rotor.elements,
-            n.azimuth_step_rad.to_degrees(),
-            0.5 * n.azimuth_step_rad.to_degrees(),
-            n.periodic_tolerance,
-            0.1 * n.periodic_tolerance,
-            newton.tolerance,
-            0.1 * newton.tolerance,
-        );
-        file.rotor.elements *= 2;
-        n.azimuth_step_rad *= 0.5;
-        n.periodic_tolerance *= 0.1;
-        newton.tolerance *= 0.1;
-        file.path = format!("{}#refined", file.path.display()).into();
+    if let Some(mut e) = as_model(subject) {
+        let (model, words) = e.model.refined()?;
+        e.model = model;
+        e.written = format!("{}#refined", e.written);
+        *subject = Subject::External(Box::new(e));
         return Some(words);
     }
-    let Subject::Aircraft { file, .. } = subject else {
+    let Subject::Rotor { file, solver, .. } = subject else {
         return None;
     };
-    let main = &mut file.aircraft.main_rotor;
+    let (n, newton) = (&mut solver.numerics, &mut solver.newton);
     let words = format!(
-        "azimuth step {:.3} -> {:.3} deg, main rotor elements {} -> {}, propeller elements {} -> {}, periodicity tolerance {:e} -> {:e}",
-        main.numerics.azimuth_step_rad.to_degrees(),
-        0.5 * main.numerics.azimuth_step_rad.to_degrees(),
-        main.rotor.elements,
-        2 * main.rotor.elements,
-        file.aircraft.propeller.propeller.rotor.elements,
-        2 * file.aircraft.propeller.propeller.rotor.elements,
-        main.numerics.periodic_tolerance,
-        0.1 * main.numerics.periodic_tolerance,
+        "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",
+        file.rotor.elements,
+        2 * file.rotor.elements,
+        n.azimuth_step_rad.to_degrees(),
+        0.5 * n.azimuth_step_rad.to_degrees(),
+        n.periodic_tolerance,
+        0.1 * n.periodic_tolerance,
+        newton.tolerance,
+        0.1 * newton.tolerance,
     );
-    main.numerics.azimuth_step_rad *= 0.5;
-    main.numerics.periodic_tolerance *= 0.1;
-    main.rotor.elements *= 2;
-    file.aircraft.propeller.propeller.rotor.elements *= 2;
+    file.rotor.elements *= 2;
+    n.azimuth_step_rad *= 0.5;
+    n.periodic_tolerance *= 0.1;
+    newton.tolerance *= 0.1;
     file.path = format!("{}#refined", file.path.display()).into();
     Some(words)
 }
@@ -522,13 +516,8 @@ pub(super) fn sampled(
     settings: PropagationSettings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
-    // The refined discretisation's trims start from the nominal ones (the same unknowns, to a
-    // tolerance ten times finer): a warm start in place of a cold one.
     let (u_num_results, refinement) = match refined(case) {
-        Some((c, words)) => {
-            prime(&c, &warm_starts(case));
-            (Some(crate::suite::outcome::run_case(&c)), words)
-        }
+        Some((c, words)) => (Some(crate::suite::outcome::run_case(&c)), words),
         None => (None, NO_GRID_STUDY.to_string()),
     };
     let (points, design) = sample(case, nominal, &inputs, settings, done)?;
@@ -566,10 +555,12 @@ pub(super) fn sampled(
     })
 }
 
-/// Every point of the case's design evaluated, on every core. `A` and `B` first, their trims
-/// started from the nominal one's; then each `A_B^(i)` point, which differs from its row of
-/// `A` in one input, its trims started from that row's (or the nominal's where that row has
-/// none): a nearer start, and fewer of the model's evaluations to the same tolerance.
+/// Every point of the case's design evaluated, on every core. `A` and `B` first; then each
+/// `A_B^(i)` point, which differs from its row of `A` in one input, its model's answers started
+/// from that row's where it can ([`crate::external::FlightModel::starting_from`]; cierva's
+/// aircraft's trims): a nearer start, and fewer of the model's evaluations to the same
+/// tolerance. What a point's model remembers is forgotten once its checks have run (a row of
+/// `A`'s once its `A_B^(i)` points have), so that thousands of points do not fill the memory.
 fn sample(
     case: &Case,
     nominal: &[CheckResult],
@@ -578,28 +569,26 @@ fn sample(
     done: impl Fn() + Sync,
 ) -> Result<(Vec<Point>, Design), String> {
     let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
-    let starts = warm_starts(case);
     let units = design.points();
-    // Each point evaluated from `starts`; with `keep`, its own trims kept for the points
-    // that start from it (only `A`'s are).
-    let evaluate = |u: &[f64], starts: &[Start], keep: bool| -> (Point, Vec<Start>) {
-        let values: Vec<f64> = inputs
+    let values_at = |u: &[f64]| -> Vec<f64> {
+        inputs
             .iter()
             .zip(u)
             .map(|(i, &x)| i.distribution.quantile(x))
-            .collect();
-        let tag = format!("u{}-{}-{:x}", settings.seed, units.len(), hash(&values));
-        let out = match with_values(case, inputs, &values, &tag) {
+            .collect()
+    };
+    // Each point evaluated from `start`; forgotten after unless `keep`.
+    let evaluate = |values: &[f64], start: Option<&Values>, keep: bool| -> Point {
+        let tag = format!("u{}-{}-{:x}", settings.seed, units.len(), hash(values));
+        let out = match with_values(case, inputs, values, (&tag, start)) {
             Ok(c) => {
-                prime(&c, starts);
                 let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
-                let own = if keep { warm_starts(&c) } else { Vec::new() };
-                if let Subject::Aircraft { file, .. } = &c.subject {
-                    crate::run::linearise::forget_linearisations(file);
+                if !keep {
+                    forget(case, &values_of(inputs, values));
                 }
-                (p, own)
+                p
             }
-            Err(e) => (point_of(nominal, &[]).with_error(e), Vec::new()),
+            Err(e) => point_of(nominal, &[]).with_error(e),
         };
         done();
         out
@@ -607,21 +596,22 @@ fn sample(
     let n = design.n;
     let (a_and_b, rest) = units.split_at(2 * n);
     let first: Vec<(usize, &Vec<f64>)> = a_and_b.iter().enumerate().collect();
-    let first = crate::run::parallel::parallel_map(&first, |(k, u)| evaluate(u, &starts, *k < n));
+    let first =
+        crate::run::parallel::parallel_map(&first, |(k, u)| evaluate(&values_at(u), None, *k < n));
+    let rows: Vec<Values> = a_and_b[..n]
+        .iter()
+        .map(|u| values_of(inputs, &values_at(u)))
+        .collect();
     let rest: Vec<(usize, &Vec<f64>)> = rest.iter().enumerate().collect();
     let second = crate::run::parallel::parallel_map(&rest, |(k, u)| {
-        let row = &first[k % n].1;
-        evaluate(u, if row.is_empty() { &starts } else { row }, false).0
+        evaluate(&values_at(u), Some(&rows[k % n]), false)
     });
-    let points = first.into_iter().map(|(p, _)| p).chain(second).collect();
+    for row in &rows {
+        forget(case, row);
+    }
+    let points = first.into_iter().chain(second).collect();
     Ok((points, design))
 }
-
-/// A trim to start from: the condition it is at, and where it ended.
-type Start = (
-    crate::inputs::condition::TrimRequest,
-    cierva_model::aircraft::trim::WarmStart,
-);
 
 /// One check's quantities over the samples: statistics, indices, comparison, pass fraction
 /// and fragility. A check with no number (a BCAR verdict) is propagated as whether it passes:
@@ -721,37 +711,6 @@ pub(super) fn pass_fraction(
         .collect();
     // (NaN where no draw has every value.)
     chances.iter().sum::<f64>() / chances.len() as f64
-}
-
-/// The case's aircraft trimmed at each condition its checks linearise at: where a nearby
-/// point's trims start (the nominal case's, for `A` and `B`; a row of `A`'s, for its `A_B^(i)`
-/// points).
-fn warm_starts(case: &Case) -> Vec<Start> {
-    let Subject::Aircraft { file, loading } = &case.subject else {
-        return Vec::new();
-    };
-    let mut out: Vec<(crate::inputs::condition::TrimRequest, _)> = Vec::new();
-    for request in case.checks.iter().filter_map(|k| k.condition()) {
-        if out.iter().any(|(r, _)| *r == request) {
-            continue;
-        }
-        if let Ok(lin) = crate::run::linearise::linearise_cached(file, request, *loading) {
-            out.push((request, lin.0.warm_start.clone()));
-        }
-    }
-    out
-}
-
-/// A point's linearisations at the case's conditions, each trim started from a nearby trim's
-/// at that condition (`starts`: the nominal case's, or a row of `A`'s); its checks then find
-/// them remembered. A trim that fails here is remembered as failed and the check says so.
-fn prime(case: &Case, starts: &[Start]) {
-    if let Subject::Aircraft { file, loading } = &case.subject {
-        for (request, start) in starts {
-            let _ =
-                crate::run::linearise::linearise_cached_from(file, *request, *loading, Some(start));
-        }
-    }
 }
 
 /// A case whose subject has no uncertain inputs: each quantity with its reference and the

@@ -1454,3 +1454,125 @@ fn a_time_history_through_the_protocol_flies_as_the_built_in_aircraft() {
         "{e}"
     );
 }
+
+/// How much the test's refined model moves the trim pitch, deg: the `u_num` the study must
+/// report for it, exactly (the refinement's change, taken whole).
+const REFINEMENT_PITCH_DEG: f64 = 0.001;
+
+/// What the study asked of [`Refinable`] beyond its answers.
+#[derive(Debug, Default)]
+struct Asked {
+    /// The values each `starting_from` was given.
+    started_from: std::sync::Mutex<Vec<cierva_harness::external::Values>>,
+    /// The values each `forget` was given.
+    forgotten: std::sync::Mutex<Vec<cierva_harness::external::Values>>,
+}
+
+/// The test model behind the protocol, wrapped by a model of the test's own that has a grid
+/// study (its refined self moves the pitch by [`REFINEMENT_PITCH_DEG`]) and notes what a study
+/// asks of it.
+#[derive(Debug)]
+struct Refinable {
+    inner: std::sync::Arc<dyn cierva_harness::external::FlightModel>,
+    pitch_moved_deg: f64,
+    asked: std::sync::Arc<Asked>,
+}
+
+impl cierva_harness::external::FlightModel for Refinable {
+    fn describe(&self) -> String {
+        format!("the refinable {}", self.inner.describe())
+    }
+    fn parameters(&self) -> Result<Vec<cierva_harness::external::Parameter>, String> {
+        self.inner.parameters()
+    }
+    fn trim(&self, request: &Request) -> Result<cierva_harness::external::Quantities, String> {
+        let mut q = self.inner.trim(request)?;
+        for (name, v) in &mut q {
+            if *name == "pitch_deg" {
+                *v += self.pitch_moved_deg;
+            }
+        }
+        Ok(q)
+    }
+    fn linear_model(&self, request: &Request) -> Result<cierva_model::LinearModel, String> {
+        self.inner.linear_model(request)
+    }
+    fn starting_from(
+        &self,
+        values: &cierva_harness::external::Values,
+    ) -> Option<std::sync::Arc<dyn cierva_harness::external::FlightModel>> {
+        self.asked.started_from.lock().unwrap().push(values.clone());
+        None
+    }
+    fn refined(
+        &self,
+    ) -> Option<(
+        std::sync::Arc<dyn cierva_harness::external::FlightModel>,
+        String,
+    )> {
+        let refined = Refinable {
+            inner: self.inner.clone(),
+            pitch_moved_deg: self.pitch_moved_deg + REFINEMENT_PITCH_DEG,
+            asked: std::sync::Arc::default(),
+        };
+        Some((std::sync::Arc::new(refined), "the test's refinement".into()))
+    }
+    fn forget(&self, values: &cierva_harness::external::Values) {
+        self.asked.forgotten.lock().unwrap().push(values.clone());
+    }
+}
+
+/// The uncertainty study asks any model through the interface what it asks of cierva's
+/// aircraft: its refined self for `u_num` (a model of the user's own with a grid study gets
+/// one), its answers started from a nearby point's for each `A_B^(i)` point, and to forget each
+/// point once its checks have run. Before, the study did all three for cierva's aircraft alone,
+/// by editing its file: another model had no `u_num`.
+#[test]
+fn the_uncertainty_study_asks_any_model_for_its_refinement_starts_and_memory() {
+    use cierva_harness::uncertainty::propagate::{Propagation, PropagationSettings};
+    super::external::require_python3();
+    let dir = suite_in("study-interface", "cierva-external/2", true);
+    let mut case = cierva_harness::suite::case::load(&dir.join("cases/model.yaml")).unwrap();
+    let asked = std::sync::Arc::new(Asked::default());
+    let cierva_harness::checks::subject::Subject::External(e) = &mut case.subject else {
+        panic!("the test case's model is external");
+    };
+    e.model = std::sync::Arc::new(Refinable {
+        inner: e.model.clone(),
+        pitch_moved_deg: 0.0,
+        asked: asked.clone(),
+    });
+    let samples = 8;
+    let settings = PropagationSettings {
+        samples,
+        seed: 0,
+        validation_only: false,
+        method: Propagation::Sampled,
+    };
+    let study = cierva_harness::uncertainty::study::propagate(&case, settings, || ()).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(study.refinement, "the test's refinement");
+    let u_num = |check: &str| {
+        study
+            .results
+            .iter()
+            .find(|r| r.check == check)
+            .unwrap_or_else(|| panic!("no {check}"))
+            .u_num
+    };
+    assert!((u_num("pitch") - REFINEMENT_PITCH_DEG).abs() < 1e-12);
+    assert_eq!(u_num("damping"), 0.0);
+    // Two inputs: each of the 2 x 8 `A_B^(i)` points starts from its row of `A` (8 rows).
+    let started = asked.started_from.lock().unwrap();
+    assert_eq!(started.len(), 2 * samples);
+    let rows: std::collections::BTreeSet<String> =
+        started.iter().map(|v| format!("{v:?}")).collect();
+    assert_eq!(rows.len(), samples, "{started:?}");
+    // Every point of A, B and the A_B^(i), once: 8 (2 + 2) points.
+    let forgotten = asked.forgotten.lock().unwrap();
+    assert_eq!(forgotten.len(), samples * 4);
+    let distinct: std::collections::BTreeSet<String> =
+        forgotten.iter().map(|v| format!("{v:?}")).collect();
+    assert_eq!(distinct.len(), samples * 4);
+    assert!(rows.is_subset(&distinct));
+}
