@@ -97,11 +97,38 @@ pub const MAX_RESPONSE_BYTES: u64 = 1024 * 1024;
 /// and 2.9 GB before its row count was refused.
 pub const MAX_HISTORY_ROW_BYTES: u64 = 4096;
 
-/// The largest response to a request for `compute` (`rows` rows for a time history), bytes.
+/// The most bytes a frequency-response answer may take per frequency asked for, on top of
+/// [`MAX_RESPONSE_BYTES`]: 20 states by 8 controls, real and imaginary parts at 25 characters
+/// a number, are 8 kB.
+pub const MAX_FREQUENCY_BYTES: u64 = 16 * 1024;
+
+/// The largest response to a request for `compute` (`rows` rows for a time history, `rows`
+/// frequencies for a frequency response), bytes.
 pub fn response_limit_bytes(compute: Compute, rows: usize) -> u64 {
     match compute {
         Compute::TimeHistory => MAX_RESPONSE_BYTES + rows as u64 * MAX_HISTORY_ROW_BYTES,
+        Compute::FrequencyResponse => MAX_RESPONSE_BYTES + rows as u64 * MAX_FREQUENCY_BYTES,
         _ => MAX_RESPONSE_BYTES,
+    }
+}
+
+/// What a request carries beyond its condition, loading and parameters: a time history's
+/// controls, or a frequency response's frequencies.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct With<'a> {
+    pub controls: Option<&'a ControlChanges>,
+    pub frequencies_hz: Option<&'a [f64]>,
+}
+
+impl With<'_> {
+    /// The rows an answer has: a time history's samples, or a frequency response's
+    /// frequencies (0 for another).
+    pub fn rows(&self) -> usize {
+        match (self.controls, self.frequencies_hz) {
+            (Some(c), _) => c.samples + 1,
+            (None, Some(f)) => f.len(),
+            (None, None) => 0,
+        }
     }
 }
 
@@ -111,19 +138,32 @@ pub enum Compute {
     Trim,
     LinearModel,
     TimeHistory,
+    /// Every state's response to every control about the trim, at frequencies (protocol `/2`;
+    /// a model that does not compute it is asked its linear model, and its responses follow
+    /// from A and B).
+    FrequencyResponse,
     /// What the model is (protocol `/2`): asked once, before any other request.
     Describe,
 }
 
 impl Compute {
     /// What a model may say it computes, in its `describe` response.
-    pub const ANSWERS: [Compute; 3] = [Self::Trim, Self::LinearModel, Self::TimeHistory];
+    pub const ANSWERS: [Compute; 4] = [
+        Self::Trim,
+        Self::LinearModel,
+        Self::TimeHistory,
+        Self::FrequencyResponse,
+    ];
+
+    /// What a model of the first version computes (it has no `describe` to say).
+    pub const FIRST_VERSION: [Compute; 3] = [Self::Trim, Self::LinearModel, Self::TimeHistory];
 
     pub fn name(self) -> &'static str {
         match self {
             Self::Trim => "trim",
             Self::LinearModel => "linear_model",
             Self::TimeHistory => "time_history",
+            Self::FrequencyResponse => "frequency_response",
             Self::Describe => "describe",
         }
     }
@@ -168,6 +208,7 @@ pub(super) enum Answer {
     Trim(Quantities),
     Linear(LinearModel),
     History(Replayed),
+    Responses(crate::run::responses::Responses),
     Described(Description),
 }
 
@@ -257,7 +298,7 @@ impl ExternalCommand {
     pub fn description(&self) -> Result<Description, String> {
         if self.protocol == Protocol::V1 {
             return Ok(Description {
-                computes: Compute::ANSWERS.to_vec(),
+                computes: Compute::FIRST_VERSION.to_vec(),
                 states: Vec::new(),
                 controls: Vec::new(),
                 parameters: Vec::new(),
@@ -272,7 +313,7 @@ impl ExternalCommand {
                         density_altitude_ft: 0.0,
                     },
                 );
-                match self.run(Compute::Describe, &request, None)? {
+                match self.run(Compute::Describe, &request, With::default())? {
                     Answer::Described(d) => Ok(d),
                     _ => Err("a describe request answered as another".into()),
                 }
@@ -309,10 +350,10 @@ impl ExternalCommand {
         &self,
         compute: Compute,
         request: &super::Request,
-        controls: Option<&ControlChanges>,
+        with: With<'_>,
     ) -> Result<Answer, String> {
         self.admissible(compute, request)?;
-        let key = format!("{}|{request:?}|{controls:?}", compute.name());
+        let key = format!("{}|{request:?}|{with:?}", compute.name());
         // The map's lock is held only to find the request's cell; the cell's own lock is held
         // while the command runs, by the first check that asks.
         let cell = Arc::clone(
@@ -322,7 +363,7 @@ impl ExternalCommand {
                 .entry(key)
                 .or_default(),
         );
-        cell.get_or_init(|| self.run(compute, request, controls))
+        cell.get_or_init(|| self.run(compute, request, with))
             .clone()
     }
 
@@ -330,13 +371,13 @@ impl ExternalCommand {
         &self,
         compute: Compute,
         request: &super::Request,
-        controls: Option<&ControlChanges>,
+        with: With<'_>,
     ) -> Result<Answer, String> {
         let out = match &self.persistent {
-            Some(pool) => pool.ask(self, compute, request, controls),
+            Some(pool) => pool.ask(self, compute, request, with),
             None => {
                 let dir = scratch_dir().map_err(|e| format!("{}: {e}", self.describe()))?;
-                let out = self.run_in(&dir, compute, request, controls);
+                let out = self.run_in(&dir, compute, request, with);
                 let _ = std::fs::remove_dir_all(&dir);
                 out
             }
@@ -350,7 +391,7 @@ impl ExternalCommand {
         &self,
         compute: Compute,
         request: &super::Request,
-        controls: Option<&ControlChanges>,
+        with: With<'_>,
     ) -> serde_json::Value {
         let (condition, loading) = (request.condition, request.loading);
         let mut json = serde_json::json!({
@@ -375,7 +416,10 @@ impl ExternalCommand {
         if self.protocol == Protocol::V2 {
             json["parameters"] = serde_json::json!(request.parameters);
         }
-        if let Some(c) = controls {
+        if let Some(f) = with.frequencies_hz {
+            json["frequencies_hz"] = serde_json::json!(f);
+        }
+        if let Some(c) = with.controls {
             json["sample_s"] = serde_json::json!(c.sample_s);
             json["samples"] = serde_json::json!(c.samples + 1);
             if self.protocol == Protocol::V2 {
@@ -390,15 +434,15 @@ impl ExternalCommand {
         dir: &Path,
         compute: Compute,
         request: &super::Request,
-        controls: Option<&ControlChanges>,
+        with: With<'_>,
     ) -> Result<Answer, String> {
         let response = dir.join(match compute {
             Compute::TimeHistory => "response.csv",
             _ => "response.json",
         });
-        let mut json = self.request_json(compute, request, controls);
+        let mut json = self.request_json(compute, request, with);
         json["response"] = serde_json::json!(response);
-        if let Some(c) = controls {
+        if let Some(c) = with.controls {
             let path = dir.join("controls.csv");
             std::fs::write(&path, controls_csv(c))
                 .map_err(|e| format!("writing {}: {e}", path.display()))?;
@@ -408,7 +452,7 @@ impl ExternalCommand {
         let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
         std::fs::write(&request_path, text)
             .map_err(|e| format!("writing {}: {e}", request_path.display()))?;
-        let rows = controls.map_or(0, |c| c.samples + 1);
+        let rows = with.rows();
         let limit = response_limit_bytes(compute, rows);
         self.execute(&request_path, &response, limit)?;
         let size = std::fs::metadata(&response).map_err(|e| {
@@ -430,6 +474,11 @@ impl ExternalCommand {
             Compute::TimeHistory => super::files::parse_history(&text, Some(rows))
                 .map(Answer::History)
                 .map_err(|e| format!("(CSV): {e}")),
+            Compute::FrequencyResponse => {
+                let asked = with.frequencies_hz.unwrap_or(&[]);
+                parse_frequency_response(&text, protocol, asked, &self.describe())
+                    .map(Answer::Responses)
+            }
         }
         .map_err(|e| format!("its response {e}"))
     }
@@ -602,6 +651,7 @@ fn cut_line(line: &str) -> String {
 pub(super) fn too_large(size: u64, limit: u64, compute: Compute, rows: usize) -> String {
     let asked = match compute {
         Compute::TimeHistory => format!(" for {rows} rows"),
+        Compute::FrequencyResponse => format!(" for {rows} frequencies"),
         _ => String::new(),
     };
     format!(
@@ -718,6 +768,93 @@ pub(super) fn parse_linear(text: &str, protocol: &str) -> Result<LinearModel, St
     }
     LinearModel::from_rows(m.states, m.controls, &m.a, &m.b)
         .map_err(|e| format!("`linear_model`: {e}"))
+}
+
+/// A `frequency_response` answer: every state's response to every control at each of the
+/// `asked` frequencies (the same numbers, in order), as `real` and `imag` parts indexed
+/// `[frequency][state][control]`, each finite; cierva's state and control names; `method`, what
+/// gave them in words (optional), said with `model`, the model in words.
+pub(super) fn parse_frequency_response(
+    text: &str,
+    protocol: &str,
+    asked: &[f64],
+    model: &str,
+) -> Result<crate::run::responses::Responses, String> {
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Response {
+        #[allow(dead_code)]
+        protocol: String,
+        frequency_response: Answered,
+    }
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Answered {
+        states: Vec<String>,
+        controls: Vec<String>,
+        frequencies_hz: Vec<f64>,
+        real: Vec<Vec<Vec<f64>>>,
+        imag: Vec<Vec<Vec<f64>>>,
+        #[serde(default)]
+        method: Option<String>,
+    }
+    use cierva_model::aircraft::linearise::{CONTROLS, STATES};
+    let r: Response = parse_json(text, protocol)?;
+    let m = r.frequency_response;
+    let at = "`frequency_response`";
+    for (names, known, what) in [
+        (&m.states, &STATES[..], "state"),
+        (&m.controls, &CONTROLS[..], "control"),
+    ] {
+        if let Some(n) = names.iter().find(|n| !known.contains(&n.as_str())) {
+            return Err(format!(
+                "{at}: `{n}` is not one of cierva's {what}s [{}]",
+                known.join(", ")
+            ));
+        }
+    }
+    if m.frequencies_hz != asked {
+        return Err(format!(
+            "{at}: `frequencies_hz` are not the {} frequencies asked for, in their order",
+            asked.len()
+        ));
+    }
+    let (n, i, j) = (asked.len(), m.states.len(), m.controls.len());
+    let mut out = Vec::with_capacity(n);
+    for k in 0..n {
+        let mut h = nalgebra::DMatrix::<rustfft::num_complex::Complex64>::zeros(i, j);
+        for (part, name) in [(&m.real, "real"), (&m.imag, "imag")] {
+            let rows = part.get(k).filter(|rows| rows.len() == i);
+            let ok = rows.is_some_and(|rows| rows.iter().all(|r| r.len() == j));
+            let Some(rows) = rows.filter(|_| ok) else {
+                return Err(format!(
+                    "{at}: `{name}` is not {n} frequencies of {i} states by {j} controls"
+                ));
+            };
+            for (s, row) in rows.iter().enumerate() {
+                for (c, &x) in row.iter().enumerate() {
+                    if !x.is_finite() {
+                        return Err(format!("{at}: `{name}[{k}][{s}][{c}]` is not finite"));
+                    }
+                    match name {
+                        "real" => h[(s, c)].re = x,
+                        _ => h[(s, c)].im = x,
+                    }
+                }
+            }
+        }
+        out.push(h);
+    }
+    Ok(crate::run::responses::Responses {
+        states: m.states,
+        controls: m.controls,
+        frequencies_hz: m.frequencies_hz,
+        at: out,
+        from: match m.method {
+            Some(method) => format!("{method} ({model}'s frequency response)"),
+            None => format!("the frequency response {model} gives"),
+        },
+    })
 }
 
 /// A `describe` response as written (see [`parse_describe`]).
@@ -881,14 +1018,14 @@ impl FlightModel for ExternalCommand {
     }
 
     fn trim(&self, request: &super::Request) -> Result<Quantities, String> {
-        match self.ask(Compute::Trim, request, None)? {
+        match self.ask(Compute::Trim, request, With::default())? {
             Answer::Trim(q) => Ok(q),
             _ => Err("a trim request answered as another".into()),
         }
     }
 
     fn linear_model(&self, request: &super::Request) -> Result<LinearModel, String> {
-        match self.ask(Compute::LinearModel, request, None)? {
+        match self.ask(Compute::LinearModel, request, With::default())? {
             Answer::Linear(m) => Ok(m),
             _ => Err("a linear-model request answered as another".into()),
         }
@@ -899,9 +1036,41 @@ impl FlightModel for ExternalCommand {
         request: &super::Request,
         controls: &ControlChanges,
     ) -> Result<Replayed, String> {
-        match self.ask(Compute::TimeHistory, request, Some(controls))? {
+        let with = With {
+            controls: Some(controls),
+            frequencies_hz: None,
+        };
+        match self.ask(Compute::TimeHistory, request, with)? {
             Answer::History(f) => Ok(f),
             _ => Err("a time-history request answered as another".into()),
+        }
+    }
+
+    /// Its `frequency_response` answer where it says it computes one (protocol `/2`); from its
+    /// linear model's A and B otherwise.
+    fn responses(
+        &self,
+        request: &super::Request,
+        frequencies_hz: &[f64],
+    ) -> Result<crate::run::responses::Responses, String> {
+        if !self
+            .description()?
+            .computes
+            .contains(&Compute::FrequencyResponse)
+        {
+            return crate::run::responses::Responses::of_linear_model(
+                &self.linear_model(request)?,
+                frequencies_hz,
+                crate::run::responses::from_a_and_b(&self.describe()),
+            );
+        }
+        let with = With {
+            controls: None,
+            frequencies_hz: Some(frequencies_hz),
+        };
+        match self.ask(Compute::FrequencyResponse, request, with)? {
+            Answer::Responses(r) => Ok(r),
+            _ => Err("a frequency-response request answered as another".into()),
         }
     }
 }

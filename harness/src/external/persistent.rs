@@ -17,10 +17,10 @@
 //! requests it had answered stand), and the next request starts a new one.
 
 use super::command::{
-    Answer, Compute, ExternalCommand, StderrTail, kill_group, parse_describe, parse_linear,
-    parse_trim, response_limit_bytes,
+    Answer, Compute, ExternalCommand, StderrTail, With, kill_group, parse_describe,
+    parse_frequency_response, parse_linear, parse_trim, response_limit_bytes,
 };
-use super::{ControlChanges, Request};
+use super::{ControlChanges, FlightModel as _, Request};
 use crate::run::replay::{Replayed, SIGNALS};
 use std::io::{BufRead as _, BufReader, Write as _};
 use std::process::{Child, ChildStdin};
@@ -62,7 +62,7 @@ impl Pool {
         command: &ExternalCommand,
         compute: Compute,
         request: &Request,
-        controls: Option<&ControlChanges>,
+        with: With<'_>,
     ) -> Result<Answer, String> {
         let worker = {
             let mut s = self.state.lock().unwrap_or_else(PoisonError::into_inner);
@@ -89,7 +89,7 @@ impl Pool {
             }
         };
         let id = self.next_id.fetch_add(1, Ordering::Relaxed);
-        match worker.ask(command, id, compute, request, controls) {
+        match worker.ask(command, id, compute, request, with) {
             Ok(answer) => {
                 let mut s = self.state.lock().unwrap_or_else(PoisonError::into_inner);
                 s.idle.push(worker);
@@ -167,14 +167,14 @@ impl Worker {
         id: u64,
         compute: Compute,
         request: &Request,
-        controls: Option<&ControlChanges>,
+        with: With<'_>,
     ) -> Result<Result<Answer, String>, String> {
-        let rows = controls.map_or(0, |c| c.samples + 1);
+        let rows = with.rows();
         let limit = response_limit_bytes(compute, rows);
         self.limit.store(limit, Ordering::Relaxed);
-        let mut json = command.request_json(compute, request, controls);
+        let mut json = command.request_json(compute, request, with);
         json["id"] = serde_json::json!(id);
-        if let Some(c) = controls {
+        if let Some(c) = with.controls {
             json["controls"] = controls_json(c);
         }
         let mut line = serde_json::to_string(&json).map_err(|e| e.to_string())?;
@@ -196,12 +196,13 @@ impl Worker {
             Ok(Line::TooLong(n)) => {
                 return Err(self.end(&format!(
                     "was killed: its answer passed {n} bytes as it was read (the most a \
-                     {} answer may take{}, `MAX_RESPONSE_BYTES` and `MAX_HISTORY_ROW_BYTES`)",
+                     {} answer may take{}, `MAX_RESPONSE_BYTES` and `MAX_HISTORY_ROW_BYTES` or \
+                     `MAX_FREQUENCY_BYTES`)",
                     compute.name(),
-                    if rows > 0 {
-                        format!(" for {rows} rows")
-                    } else {
-                        String::new()
+                    match (rows > 0, compute) {
+                        (true, Compute::FrequencyResponse) => format!(" for {rows} frequencies"),
+                        (true, _) => format!(" for {rows} rows"),
+                        (false, _) => String::new(),
                     }
                 )));
             }
@@ -216,7 +217,12 @@ impl Worker {
                 return Err(self.end("its stdout's reader stopped"));
             }
         };
-        match parse_answer(&answer, id, compute, rows, command.protocol.name()) {
+        let asked = Asked {
+            with,
+            protocol: command.protocol.name(),
+            model: command.describe(),
+        };
+        match parse_answer(&answer, id, compute, &asked) {
             Ok(answer) => Ok(answer),
             // An answer that is not an answer to this request: the stream is out of step.
             Err(Fatal(e)) => Err(self.end(&e)),
@@ -319,14 +325,20 @@ fn controls_json(c: &ControlChanges) -> serde_json::Value {
 /// `id`): the process's answers are out of step, so it is not used again.
 struct Fatal(String);
 
+/// What an answer must answer: what the request carried, in which protocol, of which model.
+struct Asked<'a> {
+    with: With<'a>,
+    protocol: &'a str,
+    model: String,
+}
+
 /// One answer line: its `id` checked, an `error` passed on, else the response the one-shot
 /// parsers read (the line less its `id`).
 fn parse_answer(
     text: &str,
     id: u64,
     compute: Compute,
-    rows: usize,
-    protocol: &str,
+    asked: &Asked<'_>,
 ) -> Result<Result<Answer, String>, Fatal> {
     let mut v: serde_json::Value = serde_json::from_str(text).map_err(|e| {
         Fatal(format!(
@@ -352,7 +364,7 @@ fn parse_answer(
             )));
         }
     }
-    Ok(parse_response(v, text, compute, rows, protocol))
+    Ok(parse_response(v, text, compute, asked))
 }
 
 /// The response in an answer whose `id` was right.
@@ -360,9 +372,9 @@ fn parse_response(
     mut v: serde_json::Value,
     text: &str,
     compute: Compute,
-    rows: usize,
-    protocol: &str,
+    asked: &Asked<'_>,
 ) -> Result<Answer, String> {
+    let (protocol, rows) = (asked.protocol, asked.with.rows());
     if let Some(e) = v.as_object_mut().and_then(|o| o.remove("error")) {
         return Err(format!(
             "it answered with an error: {}",
@@ -380,6 +392,11 @@ fn parse_response(
         Compute::LinearModel => parse_linear(&rest, protocol).map(Answer::Linear),
         Compute::Describe => parse_describe(&rest).map(Answer::Described),
         Compute::TimeHistory => parse_history_columns(&rest, protocol, rows).map(Answer::History),
+        Compute::FrequencyResponse => {
+            let frequencies = asked.with.frequencies_hz.unwrap_or(&[]);
+            parse_frequency_response(&rest, protocol, frequencies, &asked.model)
+                .map(Answer::Responses)
+        }
     };
     parsed.map_err(|e| format!("its answer {e}"))
 }

@@ -11,13 +11,24 @@ use super::{ControlChanges, FlightModel, Request, Values};
 use crate::inputs::condition::{Loading, TrimRequest};
 use crate::inputs::controls::{CONTROL_COLUMNS, ControlTable};
 use crate::run::replay::{Replayed, SIGNALS};
+use rustfft::num_complex::Complex64 as C;
 use serde_json::{Value, json};
 use std::io::{BufRead, Write};
 use std::path::Path;
 
-/// What a request asks, read from its JSON: the computation, the request and the controls
-/// (the one-shot request's CSV read from its path, the persistent one's columns inline).
-fn read_request(v: &Value) -> Result<(Compute, Request, Option<ControlChanges>), String> {
+/// What a request asks, read from its JSON.
+struct Read {
+    compute: Compute,
+    request: Request,
+    /// A time history's (the one-shot request's CSV read from its path, the persistent
+    /// one's columns inline).
+    controls: Option<ControlChanges>,
+    /// A frequency response's, Hz.
+    frequencies_hz: Vec<f64>,
+}
+
+/// What a request asks, read from its JSON (see [`Read`]).
+fn read_request(v: &Value) -> Result<Read, String> {
     let protocol = v["protocol"].as_str().unwrap_or_default();
     if protocol != PROTOCOL && protocol != PROTOCOL_2 {
         return Err(format!(
@@ -43,7 +54,12 @@ fn read_request(v: &Value) -> Result<(Compute, Request, Option<ControlChanges>),
                 density_altitude_ft: 0.0,
             },
         );
-        return Ok((compute, nowhere, None));
+        return Ok(Read {
+            compute,
+            request: nowhere,
+            controls: None,
+            frequencies_hz: Vec::new(),
+        });
     }
     let c = &v["condition"];
     let condition = TrimRequest {
@@ -113,21 +129,35 @@ fn read_request(v: &Value) -> Result<(Compute, Request, Option<ControlChanges>),
             })
         }
     };
-    Ok((
+    let frequencies_hz = match &v["frequencies_hz"] {
+        Value::Null => Vec::new(),
+        Value::Array(f) => f
+            .iter()
+            .map(|x| number(x, "frequencies_hz"))
+            .collect::<Result<_, _>>()?,
+        _ => return Err("the request's `frequencies_hz` is not a list".into()),
+    };
+    Ok(Read {
         compute,
-        Request {
+        request: Request {
             condition,
             loading,
             parameters,
         },
         controls,
-    ))
+        frequencies_hz,
+    })
 }
 
 /// What the model answers to one request, as the response's JSON fields (a time history as
 /// columns), without `protocol` and `id`.
 fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), String> {
-    let (compute, request, controls) = read_request(v)?;
+    let Read {
+        compute,
+        request,
+        controls,
+        frequencies_hz,
+    } = read_request(v)?;
     let body = match compute {
         Compute::Describe => {
             let parameters: Vec<Value> = model
@@ -179,6 +209,22 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
             let controls = controls.ok_or("a time-history request needs `controls`")?;
             let flown = model.time_history(&request, &controls)?;
             json!({ "time_history": columns(&flown) })
+        }
+        Compute::FrequencyResponse => {
+            let r = model.responses(&request, &frequencies_hz)?;
+            let part = |f: fn(&C) -> f64| -> Vec<Vec<Vec<f64>>> {
+                r.at.iter()
+                    .map(|h| {
+                        h.row_iter()
+                            .map(|row| row.iter().map(f).collect())
+                            .collect()
+                    })
+                    .collect()
+            };
+            json!({"frequency_response": {
+                "states": r.states, "controls": r.controls, "frequencies_hz": r.frequencies_hz,
+                "real": part(|c| c.re), "imag": part(|c| c.im), "method": r.from,
+            }})
         }
     };
     Ok((compute, body))

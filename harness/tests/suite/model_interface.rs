@@ -1576,3 +1576,135 @@ fn the_uncertainty_study_asks_any_model_for_its_refinement_starts_and_memory() {
     assert_eq!(distinct.len(), samples * 4);
     assert!(rows.is_subset(&distinct));
 }
+
+/// cierva's VPM M16 served by `cierva serve` answers `frequency_response` (protocol `/2`) with
+/// the built-in responses, its teetering rotor's flapping states by harmonic balance, one-shot
+/// and persistent, to the bit (JSON carries every `f64` exactly). Before, a model behind the
+/// protocol could give only its A and B, whose quasi-static responses miss the blades' lag.
+#[test]
+fn the_frequency_response_through_the_protocol_is_the_built_in_one() {
+    use cierva_harness::external::command::{ExternalCommand, Protocol};
+    let path = repo_root().join("aircraft/vpm-m16.yaml");
+    let file = cierva_harness::inputs::aircraft::load(&path).unwrap();
+    let request = Request::at(
+        TrimRequest::level(60.0),
+        Loading {
+            mass_kg: Some(450.0),
+            density_altitude_ft: 2000.0,
+        },
+    )
+    .with("corrections.propeller_blockage", 0.5);
+    let frequencies_hz = [0.1, 0.5, 1.3];
+    let built_in = cierva_harness::external::CiervaAircraft::new(&file)
+        .responses(&request, &frequencies_hz)
+        .unwrap();
+    let command = vec![
+        env!("CARGO_BIN_EXE_cierva").to_string(),
+        "serve".to_string(),
+        path.display().to_string(),
+    ];
+    for persistent in [false, true] {
+        let mut model = ExternalCommand::speaking(
+            command.clone(),
+            repo_root(),
+            std::time::Duration::from_secs(600),
+            Protocol::V2,
+        );
+        if persistent {
+            model = model.persistent();
+        }
+        let served = model.responses(&request, &frequencies_hz).unwrap();
+        assert_eq!(served.states, built_in.states);
+        assert_eq!(served.controls, built_in.controls);
+        assert_eq!(served.frequencies_hz, frequencies_hz);
+        assert_eq!(served.at, built_in.at, "persistent: {persistent}");
+        assert!(
+            served
+                .model()
+                .contains(cierva_harness::run::responses::WITH_FLAPPING),
+            "{}",
+            served.model()
+        );
+    }
+}
+
+/// The bounds both retunes of the README example take: the hub factor's and the profile-drag
+/// scale's defaults (`fit::retune::DEFAULT_BOUNDS`), which the VPM M16's file gives no range
+/// for, so that the served model is asked within the same bounds.
+const README_BOUNDS: [&str; 2] = [
+    "corrections.hub_aoa_factor=0:1",
+    "corrections.profile_drag_scale=0.5:2",
+];
+
+/// The README example's retune through the protocol: the same synthetic record, retuned built
+/// in (`cierva retune aircraft/vpm-m16.yaml`) and through `cierva serve` of the same file
+/// (`cierva retune --case`, persistent), gives the same corrections, standard errors and cost
+/// within [`THROUGH_THE_PROTOCOL`] (and the same reduced chi-square and `J` per response): both
+/// ask `CiervaAircraft` for its frequency responses with the trial values, the served one
+/// through `frequency_response` requests.
+#[test]
+#[ignore = "slow known answer (a synthetic flight and two retunes): run by .ci/run with `cargo test --test suite -- --ignored`"]
+fn the_readme_retune_through_the_protocol_is_the_built_in_one() {
+    let dir = mirrored_suite();
+    let secret = super::common::hidden_corrections(
+        &dir,
+        &[
+            ("hub_aoa_factor".into(), 0.55),
+            ("profile_drag_scale".into(), 1.3),
+        ],
+        "the test's corrections",
+        "test: chosen by the known-answer test",
+    );
+    let record = dir.join("lon-60.csv");
+    let (code, out, err) =
+        super::common::synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, built_in, err) = super::common::retune_hub_and_drag(&dir, &[&record], &[]);
+    assert_eq!(code, 0, "{built_in}{err}");
+    let mut args = vec![
+        "retune",
+        "--case",
+        "cases/vpm-m16-trim-max-weight.yaml",
+        "--records",
+        record.to_str().unwrap(),
+        "--fit",
+        "corrections.hub_aoa_factor",
+        "corrections.profile_drag_scale",
+        "--bounds",
+    ];
+    args.extend(README_BOUNDS);
+    args.extend(["--no-validate", "--format", "json"]);
+    let (code, served, err) = cierva_on_path(&dir, &args);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 0, "{served}{err}");
+    let (a, b): (serde_json::Value, serde_json::Value) = (
+        serde_json::from_str(&built_in).unwrap(),
+        serde_json::from_str(&served).unwrap(),
+    );
+    assert_eq!(a["status"], "converged", "{built_in}");
+    assert_eq!(b["status"], "converged", "{served}");
+    let f = |x: &serde_json::Value| x.as_f64().unwrap_or(f64::NAN);
+    for name in ["hub_aoa_factor", "profile_drag_scale"] {
+        let declared = format!("corrections.{name}");
+        for part in ["corrections", "standard_errors"] {
+            let (p, q) = (f(&a[part][name]), f(&b[part][&declared]));
+            assert!(
+                close(p, q),
+                "{part}.{name}: built in {p}, through the protocol {q}"
+            );
+        }
+    }
+    let k = "reduced_chi_square";
+    assert!(close(f(&a[k]), f(&b[k])), "{k}: {} against {}", a[k], b[k]);
+    let (ra, rb) = (
+        a["responses"].as_array().unwrap(),
+        b["responses"].as_array().unwrap(),
+    );
+    assert_eq!(ra.len(), rb.len(), "{built_in}\n{served}");
+    for (x, y) in ra.iter().zip(rb) {
+        assert_eq!(x["output"], y["output"]);
+        for j in ["j_before", "j_after"] {
+            assert!(close(f(&x[j]), f(&y[j])), "{j}: {x} against {y}");
+        }
+    }
+}
