@@ -543,7 +543,7 @@ pub trait Evaluate {
         self.linear()?.condition
     }
     /// The tunnel condition of a check on an isolated rotor.
-    fn tunnel(&self) -> Option<&autorotation::TunnelSpec> {
+    fn tunnel(&self) -> Option<&crate::inputs::condition::TunnelSpec> {
         None
     }
     /// On a linear model: where the model is taken and how the check modifies it.
@@ -604,7 +604,7 @@ pub enum Place<'a> {
     /// An aircraft's trimmed flight condition.
     Flight(crate::inputs::condition::TrimRequest),
     /// An isolated rotor's tunnel condition.
-    Tunnel(&'a autorotation::TunnelSpec),
+    Tunnel(&'a crate::inputs::condition::TunnelSpec),
 }
 
 /// Where the report's figures that gather checks place one.
@@ -613,7 +613,7 @@ pub enum Placed<'a> {
     /// A trimmed condition's quantities, against airspeed, mph.
     Airspeed(f64),
     /// An isolated rotor's quantities, against tip-speed ratio (or disc angle).
-    Tunnel(&'a autorotation::TunnelSpec),
+    Tunnel(&'a crate::inputs::condition::TunnelSpec),
     /// An aircraft's derivative at an airspeed, across cases and masses.
     Derivative {
         /// `M_w`, or a ratio `Q_u / Q_w`.
@@ -645,7 +645,7 @@ pub enum Snapshotted<'a> {
     /// A condition its aircraft is linearised at (a table of the linear model there).
     Linearised(crate::inputs::condition::TrimRequest),
     /// A row of the isolated rotor's autorotation table.
-    Autorotation(&'a autorotation::TunnelSpec),
+    Autorotation(&'a crate::inputs::condition::TunnelSpec),
     /// A row of the table of time-history metrics.
     TimeHistory(&'a time_history::TimeHistoryCheck),
 }
@@ -1074,6 +1074,18 @@ pub fn flight_model(
         )),
         Subject::External(e) => Some((Box::new(e.model.clone()), e.loading)),
         _ => None,
+    }
+}
+
+/// A case's subject as a model behind the model interface, if it is one: a flight model
+/// ([`flight_model`]), or cierva's rotor in a tunnel
+/// ([`crate::external::rotor::CiervaRotor`], solved as the case says).
+pub fn model_of(subject: &Subject) -> Option<Box<dyn crate::external::FlightModel + '_>> {
+    match subject {
+        Subject::Rotor { file, solver, .. } => Some(Box::new(
+            crate::external::rotor::CiervaRotor::new(file, *solver),
+        )),
+        _ => flight_model(subject).map(|(model, _)| model),
     }
 }
 

@@ -126,8 +126,7 @@ pub(crate) fn autorotate(a: AutorotateArgs) -> Result<ExitCode, Error> {
             m.insert("airspeed_m_s".into(), serde_json::json!(airspeed_m_s));
             m.insert("alpha_deg".into(), serde_json::json!(alpha_deg));
             m.insert("rpm".into(), serde_json::json!(e.rpm));
-            for (name, value) in cierva_harness::checks::autorotation::quantities_of(alpha_deg, &e)
-            {
+            for (name, value) in cierva_harness::run::autorotation::quantities_of(alpha_deg, &e) {
                 m.insert(name.into(), serde_json::json!(value));
             }
             // Where the angle was found: how firmly the rotor holds its speed there.

@@ -26,6 +26,7 @@
 pub mod command;
 pub mod files;
 mod persistent;
+pub mod rotor;
 pub mod serve;
 
 use crate::inputs::condition::Loading;
@@ -67,6 +68,14 @@ impl Request {
         self.parameters.insert(name.to_string(), value);
         self
     }
+}
+
+/// What a model of a rotor in a wind tunnel is asked: a tunnel condition and values for any of
+/// its declared parameters (those not given stay at their nominal values).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TunnelRequest {
+    pub tunnel: crate::inputs::condition::TunnelSpec,
+    pub parameters: Values,
 }
 
 /// A parameter a model declares: what a study may move, in what unit, from what nominal value,
@@ -218,6 +227,18 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         Err(not_provided(
             &self.describe(),
             "its linear model split by component",
+        ))
+    }
+
+    /// Its rotor's autorotation in a wind tunnel at the request's condition: the equilibrium's
+    /// quantities, or no equilibrium there (cierva's isolated rotor, NACA TR 515 and TR 487).
+    fn autorotation(
+        &self,
+        _request: &TunnelRequest,
+    ) -> Result<crate::run::autorotation::Autorotated, String> {
+        Err(not_provided(
+            &self.describe(),
+            "an autorotation in a tunnel",
         ))
     }
 
@@ -779,6 +800,17 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
     ) -> Result<LinearModel, String> {
         self.model.identified_in_band(&self.merged(request), setup)
     }
+    fn autorotation(
+        &self,
+        request: &TunnelRequest,
+    ) -> Result<crate::run::autorotation::Autorotated, String> {
+        let mut parameters = self.values.clone();
+        parameters.extend(request.parameters.clone());
+        self.model.autorotation(&TunnelRequest {
+            parameters,
+            ..request.clone()
+        })
+    }
     /// The model's own corrected model, with these values still set.
     fn corrected<'s>(
         &'s self,
@@ -919,6 +951,12 @@ macro_rules! forward_flight_model {
                 setup: crate::ident::Setup,
             ) -> Result<LinearModel, String> {
                 (**self).identified_in_band(request, setup)
+            }
+            fn autorotation(
+                &self,
+                request: &TunnelRequest,
+            ) -> Result<crate::run::autorotation::Autorotated, String> {
+                (**self).autorotation(request)
             }
             fn corrected<'s>(
                 &'s self,

@@ -557,11 +557,10 @@ pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, Str
                 let TargetCondition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };
-                crate::checks::autorotation::quantities_or_reason(
-                    crate::checks::autorotation::autorotation_quantities(&r, (*inflow).into(), t),
-                )
-                .map(|q| (q, None, None))
-                .map_err(|e| format!("{}: {e}", at(c)))
+                crate::run::autorotation::at_tunnel(&r, (*inflow).into(), t)
+                    .and_then(crate::run::autorotation::Autorotated::quantities_or_reason)
+                    .map(|q| (q, None, None))
+                    .map_err(|e| format!("{}: {e}", at(c)))
             })
         }
     };

@@ -76,3 +76,39 @@ pub struct Loading {
     pub mass_kg: Option<f64>,
     pub density_altitude_ft: f64,
 }
+
+/// A wind-tunnel condition: the angle of attack and either the airspeed or the tip-speed ratio
+/// with the rotor speed that the airspeed follows from (`V = mu Omega R / cos alpha`, TR 515).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TunnelSpec {
+    /// Absent: the angle is found at `tip_speed_ratio` and `rotor_rpm` (how TR 515 plots its
+    /// data), and the check computes it as `rotor_alpha_deg`.
+    #[serde(default)]
+    pub alpha_deg: Option<f64>,
+    #[serde(default)]
+    pub airspeed_m_s: Option<f64>,
+    #[serde(default)]
+    pub tip_speed_ratio: Option<f64>,
+    /// Rotor speed, rpm (`rpm` is the same key).
+    #[serde(default, alias = "rpm")]
+    pub rotor_rpm: Option<f64>,
+    /// Blade pitch at the rotor's reference station, deg (default: the file's pitch as it is).
+    #[serde(default)]
+    pub collective_deg: Option<f64>,
+    /// Air density (default ISA sea level).
+    #[serde(default)]
+    pub density_kg_m3: Option<f64>,
+}
+
+/// The airspeed of a tunnel condition (given, or `mu Omega R / cos alpha`; unknown, NaN, while
+/// the angle is to be found).
+pub fn tunnel_airspeed_m_s(t: &TunnelSpec, radius_m: f64) -> f64 {
+    match (t.airspeed_m_s, t.tip_speed_ratio, t.rotor_rpm, t.alpha_deg) {
+        (Some(v), _, _, _) => v,
+        (None, Some(mu), Some(rpm), Some(alpha)) => {
+            mu * rpm * std::f64::consts::PI / 30.0 * radius_m / alpha.to_radians().cos()
+        }
+        _ => f64::NAN,
+    }
+}

@@ -4,13 +4,13 @@
 //! checked: unknown fields are rejected, a tolerance must have a reason, an expectation must
 //! name a quantity that its check kind computes, and a check that is expected to fail says why.
 
-pub use crate::checks::autorotation::TunnelSpec;
 pub use crate::checks::subject::{
     AircraftModelSpec, DescentSpec, FlapRecordSpec, InflowSpec, ModelSpec, RotorModelSpec,
     SkewSpec, Subject, TableColumnSpec,
 };
 pub use crate::checks::tolerance::{RoundingSpec, Sign, Tolerance, ToleranceKind};
 pub use crate::checks::{Check, CheckClass, CheckKind, CheckSpec, ExpectSpec, Expectation, System};
+pub use crate::inputs::condition::TunnelSpec;
 use crate::inputs::reference::{self, Entry, Provenance};
 use crate::inputs::yaml::{self, InputError};
 use serde::Deserialize;

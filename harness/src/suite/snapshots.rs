@@ -136,8 +136,8 @@ impl Snapshot {
     pub fn compute(&self, case: &Case) -> Result<Holds, String> {
         let flight = crate::checks::flight_model(&case.subject);
         match (&self.body, &case.subject, &flight) {
-            (Body::Autorotation, Subject::Rotor { file, solver, .. }, _) => {
-                use crate::checks::autorotation::{autorotation_quantities, quantities_or_reason};
+            (Body::Autorotation, Subject::Rotor { .. }, _) => {
+                let model = crate::checks::model_of(&case.subject).ok_or("no rotor")?;
                 let rows = case
                     .checks
                     .iter()
@@ -151,8 +151,14 @@ impl Snapshot {
                             })
                     })
                     .map(|(id, t)| {
-                        let q = autorotation_quantities(&file.rotor, *solver, t);
-                        (id, quantities_or_reason(q))
+                        let request = crate::external::TunnelRequest {
+                            tunnel: *t,
+                            parameters: Default::default(),
+                        };
+                        let q = model
+                            .autorotation(&request)
+                            .and_then(|a| a.quantities_or_reason());
+                        (id, q)
                     })
                     .collect();
                 Ok(Holds::Autorotation(rows))

@@ -193,52 +193,36 @@ pub struct CaseUncertainty {
     pub results: Vec<QuantityUncertainty>,
 }
 
-/// The case's uncertain inputs: a flight model's declared parameters with a plausible range
-/// other than corrections, by name (cierva's aircraft's: its file's ranged physical
-/// parameters), an `Err` where it cannot say (its `describe` failed); a rotor's ranged
-/// parameters, in its file's order. Empty for another subject.
+/// The case's uncertain inputs: its model's declared parameters with a plausible range other
+/// than corrections, by name (cierva's aircraft's and rotor's: their files' ranged physical
+/// parameters), an `Err` where it cannot say (its `describe` failed). Empty for a subject
+/// that is not a model (a table, a linear model given).
 pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
-    if let Some((model, _)) = crate::checks::flight_model(&case.subject) {
-        let mut declared: Vec<Input> = model
-            .parameters()?
-            .into_iter()
-            .filter(|p| !p.correction)
-            .filter_map(|p| {
-                let r = p.range?;
-                Some(Input {
-                    distribution: InputDistribution::of_range(p.nominal, &r),
-                    name: p.name,
-                    nominal: p.nominal,
-                    source: r.source,
-                })
-            })
-            .collect();
-        declared.sort_by(|a, b| a.name.cmp(&b.name));
-        return Ok(declared);
-    }
-    let Subject::Rotor { file, .. } = &case.subject else {
+    let Some(model) = crate::checks::model_of(&case.subject) else {
         return Ok(Vec::new());
     };
-    Ok(file
-        .ranges
-        .iter()
-        .filter_map(|(name, r)| {
-            let nominal = crate::inputs::parameters::rotor_parameter(&file.rotor, name)?;
+    let mut declared: Vec<Input> = model
+        .parameters()?
+        .into_iter()
+        .filter(|p| !p.correction)
+        .filter_map(|p| {
+            let r = p.range?;
             Some(Input {
-                name: name.clone(),
-                nominal,
-                distribution: InputDistribution::of_range(nominal, r),
-                source: r.source.clone(),
+                distribution: InputDistribution::of_range(p.nominal, &r),
+                name: p.name,
+                nominal: p.nominal,
+                source: r.source,
             })
         })
-        .collect())
+        .collect();
+    declared.sort_by(|a, b| a.name.cmp(&b.name));
+    Ok(declared)
 }
 
 /// The case with its inputs at `values` (in the order of `inputs`), checked, under a path of
-/// its own (`tag`): a flight model asked with the values as parameters
+/// its own (`tag`): its model asked with the values as parameters
 /// ([`crate::external::WithValues`]), its answers started from its answers at `start` (a
-/// nearby point's values) where it can ([`crate::external::FlightModel::starting_from`]); a
-/// rotor file with them set.
+/// nearby point's values) where it can ([`crate::external::FlightModel::starting_from`]).
 pub(super) fn with_values(
     case: &Case,
     inputs: &[Input],
@@ -273,43 +257,57 @@ fn set_values(
     values: &[f64],
     (tag, start): (&str, Option<&Values>),
 ) -> Result<(), String> {
-    if let Some(mut e) = as_model(subject) {
-        let declared = e.model.parameters()?;
-        let values = values_of(inputs, values);
-        crate::external::check_values(&e.model.describe(), &declared, &values)?;
-        let model = start
-            .and_then(|v| e.model.starting_from(v))
-            .unwrap_or_else(|| e.model.clone());
-        e.model = std::sync::Arc::new(crate::external::WithValues { model, values });
-        e.written = format!("{}#{tag}", e.written);
-        *subject = Subject::External(Box::new(e));
-        return Ok(());
-    }
-    if let Subject::Rotor { file, .. } = subject {
-        for (input, v) in inputs.iter().zip(values) {
-            crate::inputs::parameters::set_rotor_parameter(&mut file.rotor, &input.name, *v)
-                .ok_or_else(|| format!("`{}` is not a parameter of {}", input.name, file.id))?;
-        }
-        file.rotor.validate().map_err(|e| e.to_string())?;
-        file.path = format!("{}#{tag}", file.path.display()).into();
-    }
+    let mut e = as_model(subject).ok_or("the subject is not a model")?;
+    let declared = e.model.parameters()?;
+    let values = values_of(inputs, values);
+    crate::external::check_values(&e.model.describe(), &declared, &values)?;
+    let model = start
+        .and_then(|v| e.model.starting_from(v))
+        .unwrap_or_else(|| e.model.clone());
+    e.model = std::sync::Arc::new(crate::external::WithValues { model, values });
+    e.written = format!("{}#{tag}", e.written);
+    *subject = Subject::External(Box::new(e));
     Ok(())
 }
 
-/// A flight-model subject as a model behind the model interface, owned: another simulation as
-/// it is, cierva's aircraft as [`crate::external::CiervaAircraft`]. What a study asks with
-/// its values, the same way for every model.
+/// A subject that is a model as a model behind the model interface, owned: another simulation
+/// as it is, cierva's aircraft as [`crate::external::CiervaAircraft`] and its rotor in a
+/// tunnel as [`crate::external::rotor::CiervaRotor`]. What a study asks with its values, the
+/// same way for every model.
 fn as_model(subject: &Subject) -> Option<crate::external::External> {
-    match subject {
-        Subject::External(e) => Some((**e).clone()),
-        Subject::Aircraft { file, loading } => Some(crate::external::External {
-            model: std::sync::Arc::new(crate::external::CiervaAircraft::owned((**file).clone())),
-            loading: *loading,
-            written: format!("aircraft: {}", file.path.display()),
-            folder: file.path.parent().map(Into::into).unwrap_or_default(),
-        }),
-        _ => None,
-    }
+    let (model, loading, written, path): (
+        std::sync::Arc<dyn crate::external::FlightModel>,
+        _,
+        _,
+        _,
+    ) = match subject {
+        Subject::External(e) => return Some((**e).clone()),
+        Subject::Aircraft { file, loading } => (
+            std::sync::Arc::new(crate::external::CiervaAircraft::owned((**file).clone())),
+            *loading,
+            "aircraft",
+            &file.path,
+        ),
+        Subject::Rotor { file, solver, .. } => (
+            std::sync::Arc::new(crate::external::rotor::CiervaRotor::owned(
+                (**file).clone(),
+                *solver,
+            )),
+            crate::inputs::condition::Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            },
+            "rotor",
+            &file.path,
+        ),
+        _ => return None,
+    };
+    Some(crate::external::External {
+        model,
+        loading,
+        written: format!("{written}: {}", path.display()),
+        folder: path.parent().map(Into::into).unwrap_or_default(),
+    })
 }
 
 /// Forgets what the point's model remembers of its answers (its values'), once its checks
@@ -327,11 +325,11 @@ pub(super) fn forget(case: &Case, values: &Values) {
 pub(super) const NO_GRID_STUDY: &str = "none: no grid study for this subject";
 
 /// The case with its discretisation refined, and the refinement in words (`None` for a
-/// subject without one). A flight model refines itself
-/// ([`crate::external::FlightModel::refined`]; cierva's aircraft: its main rotor's azimuth step
-/// halved, the blade elements of both rotors doubled and the periodicity tolerance a tenth).
-/// For a rotor in a tunnel: its blade elements doubled, the tunnel solver's azimuth step
-/// halved, and its periodicity and Newton tolerances a tenth.
+/// subject without one): its model refined as it refines itself
+/// ([`crate::external::FlightModel::refined`]: cierva's aircraft's main rotor's azimuth step
+/// halved, the blade elements of both rotors doubled and the periodicity tolerance a tenth; its
+/// rotor in a tunnel's blade elements doubled, the tunnel solver's azimuth step halved, and its
+/// periodicity and Newton tolerances a tenth).
 pub fn refined(case: &Case) -> Option<(Case, String)> {
     let mut c = case.clone();
     let words = refine(&mut c.subject)?;
@@ -343,33 +341,11 @@ pub fn refined(case: &Case) -> Option<(Case, String)> {
 
 /// A subject's discretisation refined in place, and the refinement in words.
 fn refine(subject: &mut Subject) -> Option<String> {
-    if let Some(mut e) = as_model(subject) {
-        let (model, words) = e.model.refined()?;
-        e.model = model;
-        e.written = format!("{}#refined", e.written);
-        *subject = Subject::External(Box::new(e));
-        return Some(words);
-    }
-    let Subject::Rotor { file, solver, .. } = subject else {
-        return None;
-    };
-    let (n, newton) = (&mut solver.numerics, &mut solver.newton);
-    let words = format!(
-        "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",
-        file.rotor.elements,
-        2 * file.rotor.elements,
-        n.azimuth_step_rad.to_degrees(),
-        0.5 * n.azimuth_step_rad.to_degrees(),
-        n.periodic_tolerance,
-        0.1 * n.periodic_tolerance,
-        newton.tolerance,
-        0.1 * newton.tolerance,
-    );
-    file.rotor.elements *= 2;
-    n.azimuth_step_rad *= 0.5;
-    n.periodic_tolerance *= 0.1;
-    newton.tolerance *= 0.1;
-    file.path = format!("{}#refined", file.path.display()).into();
+    let mut e = as_model(subject)?;
+    let (model, words) = e.model.refined()?;
+    e.model = model;
+    e.written = format!("{}#refined", e.written);
+    *subject = Subject::External(Box::new(e));
     Some(words)
 }
 

@@ -1708,3 +1708,79 @@ fn the_readme_retune_through_the_protocol_is_the_built_in_one() {
         }
     }
 }
+
+/// How much the test's rotor model adds to cierva's rotor speed, rad/s.
+const SPED_UP_RAD_S: f64 = 0.1;
+
+/// cierva's rotor in a tunnel with [`SPED_UP_RAD_S`] added to its rotor speed: a model of the
+/// test's own that answers `autorotation` through the model interface.
+#[derive(Debug)]
+struct SpedUp(cierva_harness::external::rotor::CiervaRotor<'static>);
+
+impl cierva_harness::external::FlightModel for SpedUp {
+    fn describe(&self) -> String {
+        format!("the sped-up {}", self.0.describe())
+    }
+    fn autorotation(
+        &self,
+        request: &cierva_harness::external::TunnelRequest,
+    ) -> Result<cierva_harness::run::autorotation::Autorotated, String> {
+        use cierva_harness::run::autorotation::Autorotated;
+        let mut a = self.0.autorotation(request)?;
+        if let Autorotated::Equilibrium(e) = &mut a {
+            for (name, v) in &mut e.quantities {
+                if *name == "rotor_omega_rad_s" {
+                    *v += SPED_UP_RAD_S;
+                }
+            }
+        }
+        Ok(a)
+    }
+}
+
+/// An `autorotation` check asks its model through the model interface
+/// (`FlightModel::autorotation`), whatever the model: TR 487's check on a model that wraps
+/// cierva's rotor gives the rotor's speed plus [`SPED_UP_RAD_S`], and every other quantity as it
+/// is. Before, the check read cierva's rotor file itself and refused any other subject.
+#[test]
+fn an_autorotation_check_asks_any_model_through_the_interface() {
+    use cierva_harness::checks::subject::Subject;
+    let case = cierva_harness::suite::case::load(
+        &repo_root().join("cases/naca-tr487-vertical-descent.yaml"),
+    )
+    .unwrap();
+    let Subject::Rotor { file, solver, .. } = &case.subject else {
+        panic!("TR 487's case is of a rotor");
+    };
+    let rotor = cierva_harness::external::rotor::CiervaRotor::owned((**file).clone(), *solver);
+    let mut other = case.clone();
+    other.subject = Subject::External(Box::new(cierva_harness::external::External {
+        model: std::sync::Arc::new(SpedUp(rotor)),
+        loading: Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+        written: "the test's sped-up rotor".into(),
+        folder: repo_root(),
+    }));
+    let (a, b) = (
+        cierva_harness::suite::outcome::run_case(&case),
+        cierva_harness::suite::outcome::run_case(&other),
+    );
+    assert_eq!(a.len(), b.len());
+    let mut sped_up = 0;
+    for (x, y) in a.iter().zip(&b) {
+        assert!(y.error.is_none(), "{:?}", y.error);
+        for (p, q) in x.quantities.iter().zip(&y.quantities) {
+            assert_eq!(p.quantity, q.quantity);
+            let moved = if p.quantity == "rotor_omega_rad_s" {
+                SPED_UP_RAD_S
+            } else {
+                0.0
+            };
+            assert_eq!(q.value, p.value + moved, "{}", p.quantity);
+            sped_up += usize::from(moved != 0.0);
+        }
+    }
+    assert!(sped_up > 0, "TR 487's case checks no rotor speed");
+}

@@ -344,7 +344,6 @@ fn a_check_on_an_answer_outside_an_equations_validity_does_not_pass() {
 /// main rotor runs with the physics its rotor file gives `autorotate`.
 #[test]
 fn every_commands_default_answer_for_a_shipped_rotor_or_aircraft_is_its_cases() {
-    use cierva_harness::checks::autorotation::autorotation_quantities;
     use cierva_harness::checks::subject::Subject;
     use cierva_harness::external::FlightModel;
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-9);
@@ -363,10 +362,15 @@ fn every_commands_default_answer_for_a_shipped_rotor_or_aircraft_is_its_cases() 
                 let Some(t) = case.checks.iter().find_map(|k| k.behaviour().tunnel()) else {
                     continue;
                 };
-                let want = autorotation_quantities(&file.rotor, *solver, t)
+                let request = cierva_harness::external::TunnelRequest {
+                    tunnel: *t,
+                    parameters: Default::default(),
+                };
+                let want = cierva_harness::external::rotor::CiervaRotor::new(file, *solver)
+                    .autorotation(&request)
                     .unwrap()
-                    .unwrap()
-                    .quantities;
+                    .quantities_or_reason()
+                    .unwrap();
                 let mut args = vec![
                     "autorotate".to_string(),
                     file.path.display().to_string(),
@@ -382,7 +386,7 @@ fn every_commands_default_answer_for_a_shipped_rotor_or_aircraft_is_its_cases() 
                 flag(
                     "airspeed-m-s",
                     t.alpha_deg.map(|_| {
-                        cierva_harness::checks::autorotation::tunnel_airspeed_m_s(
+                        cierva_harness::inputs::condition::tunnel_airspeed_m_s(
                             t,
                             file.rotor.radius_m,
                         )

@@ -1,0 +1,105 @@
+//! cierva's isolated rotor in a wind tunnel as a model behind the model interface
+//! ([`CiervaRotor`]): what an `autorotation` check, the uncertainty study and the snapshots ask
+//! of a rotor, through [`super::FlightModel::autorotation`] as of any model.
+
+use super::{FlightModel, Parameter, TunnelRequest, Values, check_values};
+use crate::inputs::rotor::RotorFile;
+use crate::run::autorotation::Autorotated;
+use cierva_model::components::autorotation::AutorotationOptions;
+use std::borrow::Cow;
+use std::sync::Arc;
+
+/// cierva's rotor of a rotor file, in a tunnel, solved by `solver` (the inflow model of its
+/// file's physics or a case's, and the blade integration's numerics and Newton tolerances).
+#[derive(Debug, Clone)]
+pub struct CiervaRotor<'a> {
+    pub file: Cow<'a, RotorFile>,
+    pub solver: AutorotationOptions,
+}
+
+impl<'a> CiervaRotor<'a> {
+    /// The rotor of `file`, solved by `solver`.
+    pub fn new(file: &'a RotorFile, solver: AutorotationOptions) -> Self {
+        Self {
+            file: Cow::Borrowed(file),
+            solver,
+        }
+    }
+
+    /// The rotor, owned: a model a study can share ([`Arc<dyn FlightModel>`]).
+    pub fn owned(file: RotorFile, solver: AutorotationOptions) -> CiervaRotor<'static> {
+        CiervaRotor {
+            file: Cow::Owned(file),
+            solver,
+        }
+    }
+
+    /// The rotor with the values set (itself where none are), checked.
+    fn with_values(&self, values: &Values) -> Result<Cow<'_, RotorFile>, String> {
+        if values.is_empty() {
+            return Ok(Cow::Borrowed(&*self.file));
+        }
+        check_values(&self.describe(), &self.parameters()?, values)?;
+        let mut f = self.file.as_ref().clone();
+        for (name, &v) in values {
+            crate::inputs::parameters::set_rotor_parameter(&mut f.rotor, name, v)
+                .ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
+        }
+        f.rotor.validate().map_err(|e| e.to_string())?;
+        Ok(Cow::Owned(f))
+    }
+}
+
+impl FlightModel for CiervaRotor<'_> {
+    fn describe(&self) -> String {
+        format!("the rotor {}", self.file.path.display())
+    }
+
+    /// Every parameter of [`crate::inputs::parameters::ROTOR_PARAMETERS`] the rotor has, at the
+    /// file's value, with the file's `ranges:` entry where it gives one.
+    fn parameters(&self) -> Result<Vec<Parameter>, String> {
+        Ok(crate::inputs::parameters::ROTOR_PARAMETERS
+            .iter()
+            .filter_map(|p| {
+                let nominal = crate::inputs::parameters::rotor_parameter(&self.file.rotor, p.name)?;
+                Some(Parameter {
+                    name: p.name.to_string(),
+                    unit: p.unit.to_string(),
+                    meaning: p.meaning.to_string(),
+                    nominal,
+                    range: self.file.ranges.get(p.name).cloned(),
+                    correction: false,
+                })
+            })
+            .collect())
+    }
+
+    fn autorotation(&self, request: &TunnelRequest) -> Result<Autorotated, String> {
+        let file = self.with_values(&request.parameters)?;
+        crate::run::autorotation::at_tunnel(&file.rotor, self.solver, &request.tunnel)
+    }
+
+    /// Its blade elements doubled, the tunnel solver's azimuth step halved, and its periodicity
+    /// and Newton tolerances a tenth.
+    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
+        let (mut file, mut solver) = (self.file.as_ref().clone(), self.solver);
+        let (n, newton) = (&mut solver.numerics, &mut solver.newton);
+        let words = format!(
+            "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",
+            file.rotor.elements,
+            2 * file.rotor.elements,
+            n.azimuth_step_rad.to_degrees(),
+            0.5 * n.azimuth_step_rad.to_degrees(),
+            n.periodic_tolerance,
+            0.1 * n.periodic_tolerance,
+            newton.tolerance,
+            0.1 * newton.tolerance,
+        );
+        file.rotor.elements *= 2;
+        n.azimuth_step_rad *= 0.5;
+        n.periodic_tolerance *= 0.1;
+        newton.tolerance *= 0.1;
+        file.path = format!("{}#refined", file.path.display()).into();
+        Some((Arc::new(CiervaRotor::owned(file, solver)), words))
+    }
+}
