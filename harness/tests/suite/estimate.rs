@@ -16,7 +16,9 @@ fn estimate_prints_the_derivation_with_sources_and_ranges() {
     for needle in [
         "propeller in trim at 70 mph, 450 kg, density altitude 2000 ft",
         "fin: effective aspect ratio",
-        "fin: lift slope at its effective aspect ratio (lift_slope_per_rad)",
+        "fin: lift slope at its effective aspect ratio",
+        "fin: the body's factor on its side force, k_v",
+        "fin: lift slope against sideslip, k_v x the slope (lift_slope_per_rad)",
         "fin: share in the slipstream (slipstream_fraction)",
         "pod: Munk couple (k2 - k1) Vol (munk_yaw_m3)",
         "DATCOM Sec. 5.3.1.1",

@@ -386,6 +386,66 @@ fn tailplane_steps(
     })
 }
 
+/// The fin's lift slope against sideslip: Helmbold's at its effective aspect ratio (over the
+/// aspect ratio's range), times the body's factor `k_v`.
+fn fin_slope_steps(
+    f: &FinGeometry,
+    plates: &EndPlates,
+    aspect_ratio: Estimate,
+    steps: &mut Vec<Step>,
+) -> Result<Estimate, PartError> {
+    let p = &f.surface.planform;
+    let slope = lifting_surface::lift_slope(
+        aspect_ratio.value,
+        p.half_chord_sweep_rad,
+        f.surface.section_lift_slope_per_rad,
+    )
+    .map_err(at(Part::Fin))?;
+    let ends = [aspect_ratio.lower, aspect_ratio.upper].map(|a| {
+        lifting_surface::lift_slope(
+            a,
+            p.half_chord_sweep_rad,
+            f.surface.section_lift_slope_per_rad,
+        )
+    });
+    let [lo, hi] = ends;
+    let (lo, hi) = (lo.map_err(at(Part::Fin))?, hi.map_err(at(Part::Fin))?);
+    let alone = Estimate::within(slope.value, lo.lower, hi.upper);
+    steps.push(Step {
+        quantity: "fin: lift slope at its effective aspect ratio",
+        unit: "1/rad",
+        value: alone,
+        method: Some(lifting_surface::LIFT_SLOPE),
+        inputs: vec![
+            ("effective aspect ratio", aspect_ratio.value),
+            ("half-chord sweep, deg", p.half_chord_sweep_rad.to_degrees()),
+            ("section slope, 1/rad", f.surface.section_lift_slope_per_rad),
+        ],
+    });
+    let k_v =
+        lifting_surface::fin_body_factor(plates.span_over_body_depth).map_err(at(Part::Fin))?;
+    steps.push(Step {
+        quantity: "fin: the body's factor on its side force, k_v",
+        unit: "-",
+        value: k_v,
+        method: Some(lifting_surface::FIN_BODY_FACTOR),
+        inputs: vec![("b_v / 2 r_1", plates.span_over_body_depth)],
+    });
+    let slope = Estimate::within(
+        k_v.value * alone.value,
+        k_v.lower * alone.lower,
+        k_v.upper * alone.upper,
+    );
+    steps.push(Step {
+        quantity: "fin: lift slope against sideslip, k_v x the slope (lift_slope_per_rad)",
+        unit: "1/rad",
+        value: slope,
+        method: None,
+        inputs: vec![("k_v", k_v.value), ("lift slope", alone.value)],
+    });
+    Ok(slope)
+}
+
 /// The fin: its effective aspect ratio and lift slope, its slipstream, and the sidewash at it.
 fn fin_steps(
     f: &FinGeometry,
@@ -420,33 +480,7 @@ fn fin_steps(
         method: Some(lifting_surface::FIN_ASPECT_RATIO),
         inputs,
     });
-    let slope = lifting_surface::lift_slope(
-        aspect.aspect_ratio.value,
-        p.half_chord_sweep_rad,
-        f.surface.section_lift_slope_per_rad,
-    )
-    .map_err(at(Part::Fin))?;
-    let ends = [aspect.aspect_ratio.lower, aspect.aspect_ratio.upper].map(|a| {
-        lifting_surface::lift_slope(
-            a,
-            p.half_chord_sweep_rad,
-            f.surface.section_lift_slope_per_rad,
-        )
-    });
-    let [lo, hi] = ends;
-    let (lo, hi) = (lo.map_err(at(Part::Fin))?, hi.map_err(at(Part::Fin))?);
-    let slope = Estimate::within(slope.value, lo.lower, hi.upper);
-    steps.push(Step {
-        quantity: "fin: lift slope at its effective aspect ratio (lift_slope_per_rad)",
-        unit: "1/rad",
-        value: slope,
-        method: Some(lifting_surface::LIFT_SLOPE),
-        inputs: vec![
-            ("effective aspect ratio", aspect.aspect_ratio.value),
-            ("half-chord sweep, deg", p.half_chord_sweep_rad.to_degrees()),
-            ("section slope, 1/rad", f.surface.section_lift_slope_per_rad),
-        ],
-    });
+    let slope = fin_slope_steps(f, &plates, aspect.aspect_ratio, steps)?;
     let frame = fin_frame(f);
     let place = Placement {
         planform: *p,
@@ -612,6 +646,42 @@ mod tests {
                 .all(|s| s.method.is_some() || !s.inputs.is_empty())
         );
         assert!(e.tailplane.unwrap().wash_gradient.is_none());
+    }
+
+    /// DATCOM's `k_v` (Sec. 5.3.1.1; Roskam Part VI Eq. 10.28, Fig. 10.12): a fin on a body as
+    /// deep as its span keeps 0.75 of its lift slope against sideslip, 0.875 half-way up the
+    /// chart's ramp (b_v / 2 r_1 = 2.75), and all of it on a keel (10.5).
+    #[test]
+    fn a_fin_on_a_deep_body_loses_a_quarter_of_its_slope() {
+        for (span_over_depth, k_v) in [(1.5, 0.75), (2.75, 0.875), (10.5, 1.0)] {
+            let mut g = geometry();
+            let fin = g.fin.as_mut().unwrap();
+            // b_v / 2 r_1 = (span + d / 2) / d.
+            fin.body_depth_m = fin.surface.planform.span_m / (span_over_depth - 0.5);
+            let e = estimate(&g, &cruise()).unwrap();
+            let effective = e
+                .steps
+                .iter()
+                .find(|s| s.quantity == "fin: effective aspect ratio")
+                .unwrap()
+                .value
+                .value;
+            let planform = g.fin.unwrap().surface.planform;
+            let helmbold = lifting_surface::lift_slope(
+                effective,
+                planform.half_chord_sweep_rad,
+                lifting_surface::THIN_AEROFOIL_SLOPE_PER_RAD,
+            )
+            .unwrap()
+            .value;
+            let slope = e.fin.unwrap().lift_slope_per_rad;
+            assert!(
+                (slope.value - k_v * helmbold).abs() < 1e-12,
+                "b_v / 2 r_1 = {span_over_depth}: {} against {k_v} x {helmbold}",
+                slope.value
+            );
+            assert!(slope.lower <= slope.value && slope.value <= slope.upper);
+        }
     }
 
     /// Bad geometry is refused with the part it belongs to: a fin of no span, a pod wider than

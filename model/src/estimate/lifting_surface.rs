@@ -140,6 +140,36 @@ pub const FIN_ASPECT_RATIO: Method = Method {
 /// The reading uncertainty of a chart value.
 const CHART_READING: f64 = 0.03;
 
+/// The body's empirical factor on a fin's side force.
+pub const FIN_BODY_FACTOR: Method = Method {
+    name: "the body's empirical factor on a fin's side force (k_v)",
+    source: "DATCOM Sec. 5.3.1.1: (C_Y_beta)_v = -k_v C_L_alpha_v (1 + d sigma / d beta) eta_v S_v / S, with k_v against the fin's span from the body's centre line over the body's depth at the fin (b_v / 2 r_1): 0.75 up to 2, rising linearly to 1 at 3.5, and 1 beyond (Roskam Part VI Eq. 10.28 and Fig. 10.12, read by hand; DATCOM's own figure number not confirmed here)",
+    accuracy: "estimated: the chart's reading +-0.03 below b_v / 2 r_1 = 3.5 (no accuracy stated for it was reached), never above 1; from 3.5 on, exactly 1 (the fin without the body's interference)",
+};
+
+/// [`FIN_BODY_FACTOR`]'s `k_v` against `b_v / 2 r_1` (infinite for a fin on no body: 1).
+pub fn fin_body_factor(span_over_body_depth: f64) -> Result<Estimate, EstimateError> {
+    let r = span_over_body_depth;
+    if r.is_nan() || r <= 0.0 {
+        return Err(EstimateError::Domain {
+            name: "b_v / 2 r_1 (the fin's span from the body's centre line over the body's depth)",
+            value: r,
+            method: "DATCOM's k_v",
+            domain: "positive",
+        });
+    }
+    if r >= 3.5 {
+        // The chart's upper plateau is the fin without the body's interference.
+        return Ok(Estimate::exact(1.0));
+    }
+    let k = 0.75 + 0.25 * ((r - 2.0) / 1.5).clamp(0.0, 1.0);
+    Ok(Estimate::within(
+        k,
+        k - CHART_READING,
+        (k + CHART_READING).min(1.0),
+    ))
+}
+
 /// `A_v(B) / A_v` against `b_v / 2 r_1`, taper ratio 0.6 and below (read from the chart).
 const BODY_TAPER_06: [(f64, f64); 18] = [
     (0.25, 0.92),
