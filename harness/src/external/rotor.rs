@@ -34,18 +34,24 @@ impl<'a> CiervaRotor<'a> {
         }
     }
 
-    /// The rotor with the values set (itself where none are), checked.
+    /// The rotor with the values set (itself where none are), checked: each a physical
+    /// parameter of [`crate::inputs::parameters::ROTOR_PARAMETERS`] or one of its corrections
+    /// (`corrections.<name>`, [`crate::inputs::corrections::CorrectionSet::of_rotor`]).
     fn with_values(&self, values: &Values) -> Result<Cow<'_, RotorFile>, String> {
         if values.is_empty() {
             return Ok(Cow::Borrowed(&*self.file));
         }
         check_values(&self.describe(), &self.parameters()?, values)?;
         let mut f = self.file.as_ref().clone();
+        let mut corrections = crate::inputs::corrections::CorrectionSet::default();
         for (name, &v) in values {
-            crate::inputs::parameters::set_rotor_parameter(&mut f.rotor, name, v)
-                .ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
+            let set = match name.strip_prefix("corrections.") {
+                Some(c) => corrections.set_named(c, v),
+                None => crate::inputs::parameters::set_rotor_parameter(&mut f.rotor, name, v),
+            };
+            set.ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
         }
-        f.rotor.validate().map_err(|e| e.to_string())?;
+        corrections.apply_to_rotor(&mut f.rotor)?;
         Ok(Cow::Owned(f))
     }
 }
@@ -56,12 +62,16 @@ impl FlightModel for CiervaRotor<'_> {
     }
 
     /// Every parameter of [`crate::inputs::parameters::ROTOR_PARAMETERS`] the rotor has, at the
-    /// file's value, with the file's `ranges:` entry where it gives one.
+    /// file's value, and every correction a rotor takes as `corrections.<name>`
+    /// ([`crate::inputs::corrections::CorrectionSet::of_rotor`]); each with the file's
+    /// `ranges:` entry where it gives one.
     fn parameters(&self) -> Result<Vec<Parameter>, String> {
-        Ok(crate::inputs::parameters::ROTOR_PARAMETERS
+        use crate::inputs::corrections::{CORRECTIONS, CorrectionSet};
+        let r = &self.file.rotor;
+        let physical = crate::inputs::parameters::ROTOR_PARAMETERS
             .iter()
             .filter_map(|p| {
-                let nominal = crate::inputs::parameters::rotor_parameter(&self.file.rotor, p.name)?;
+                let nominal = crate::inputs::parameters::rotor_parameter(r, p.name)?;
                 Some(Parameter {
                     name: p.name.to_string(),
                     unit: p.unit.to_string(),
@@ -70,8 +80,20 @@ impl FlightModel for CiervaRotor<'_> {
                     range: self.file.ranges.get(p.name).cloned(),
                     correction: false,
                 })
+            });
+        let now = CorrectionSet::of_rotor(r);
+        let corrections = CORRECTIONS.iter().filter_map(|(name, unit, meaning)| {
+            let full = format!("corrections.{name}");
+            Some(Parameter {
+                nominal: now.get_named(name)?,
+                range: self.file.ranges.get(&full).cloned(),
+                name: full,
+                unit: unit.to_string(),
+                meaning: meaning.to_string(),
+                correction: true,
             })
-            .collect())
+        });
+        Ok(physical.chain(corrections).collect())
     }
 
     fn autorotation(&self, request: &TunnelRequest) -> Result<Autorotated, String> {

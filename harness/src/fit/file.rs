@@ -315,7 +315,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
             let key = SubjectKey::Rotor(file.id.clone(), inflow);
             (
                 fit::FitSubject::Rotor {
-                    rotor: Box::new(file.rotor),
+                    file: Box::new(file.clone()),
                     inflow,
                 },
                 crate::inputs::corrections::Corrects::Rotor(file.id),

@@ -8,7 +8,7 @@ use crate::inputs::condition::Loading;
 use crate::inputs::condition::TrimRequest;
 use crate::inputs::corrections::CorrectionSet;
 use crate::suite::case::TunnelSpec;
-use cierva_model::components::rotor::{InflowModel, Rotor};
+use cierva_model::components::rotor::InflowModel;
 use serde::Serialize;
 
 /// A parameter the fit can move: one of the model's empirical corrections, an aircraft
@@ -209,8 +209,11 @@ pub enum FitSubject {
     Aircraft {
         file: Box<crate::inputs::aircraft::AircraftFile>,
     },
+    /// cierva's rotor of a rotor file in a tunnel, solved with `inflow`: asked through the
+    /// model interface ([`crate::external::rotor::CiervaRotor`]) at each target's tunnel
+    /// condition, its corrections by their declared names.
     Rotor {
-        rotor: Box<Rotor>,
+        file: Box<crate::inputs::rotor::RotorFile>,
         inflow: InflowModel,
     },
     /// A model behind the model interface (an external simulation, or cierva's own aircraft
@@ -546,18 +549,18 @@ pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, Str
             let model = problem.subject.flight_model().expect("a flight model");
             on_model(problem, model.as_ref(), p, &conditions, &at)
         }
-        FitSubject::Rotor { rotor, inflow } => {
-            let mut set = CorrectionSet::default();
-            for (par, v) in problem.parameters.iter().zip(p) {
-                par.kind.set(&mut set, *v);
-            }
-            let mut r = rotor.clone();
-            set.apply_to_rotor(&mut r)?;
+        FitSubject::Rotor { file, inflow } => {
+            let model = crate::external::rotor::CiervaRotor::new(file, (*inflow).into());
+            let parameters = problem.declared_values(p);
             crate::run::parallel::parallel_map(&conditions, |c| {
                 let TargetCondition::Tunnel(t) = c else {
                     return Err(format!("{}: a rotor alone is tested in a tunnel", at(c)));
                 };
-                crate::run::autorotation::at_tunnel(&r, (*inflow).into(), t)
+                let request = crate::external::TunnelRequest {
+                    tunnel: *t,
+                    parameters: parameters.clone(),
+                };
+                crate::external::FlightModel::autorotation(&model, &request)
                     .and_then(crate::run::autorotation::Autorotated::quantities_or_reason)
                     .map(|q| (q, None, None))
                     .map_err(|e| format!("{}: {e}", at(c)))

@@ -198,6 +198,22 @@ impl CorrectionSet {
         }
     }
 
+    /// Every correction an isolated rotor has, at its value (in the units written): its blade
+    /// corrections and its hub's drag area ([`Self::apply_to_rotor`] sets the same).
+    pub fn of_rotor(r: &Rotor) -> Self {
+        let c = &r.corrections;
+        Self {
+            profile_drag_scale: Some(c.profile_drag_scale),
+            profile_drag_increment: Some(c.profile_drag_increment),
+            pitch_offset_deg: Some(c.pitch_offset_rad.to_degrees()),
+            lateral_inflow_offset_m_s: Some(c.lateral_inflow_offset_m_s),
+            elastic_twist_deg_per_kpa: Some(c.elastic_twist_rad_per_pa.to_degrees() * 1000.0),
+            hub_drag_area_m2: Some(r.hub_drag_area_m2),
+            profile_drag_reynolds_exponent: Some(c.profile_drag_reynolds_exponent),
+            ..Self::default()
+        }
+    }
+
     /// The set as values of declared parameters, by the names a model behind the model
     /// interface declares them: each correction given as `corrections.<name>` and each
     /// estimated parameter by its own name (as cierva's aircraft declares them), and a model's
