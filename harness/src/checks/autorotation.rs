@@ -28,10 +28,10 @@ pub struct AutorotationSpec {
 
 impl Kind for AutorotationCheck {
     type Spec = AutorotationSpec;
-    const SUBJECTS: &'static str = "a rotor";
+    const SUBJECTS: &'static str = "a rotor, or an external model that autorotates";
 
     fn runs_on(subject: &Subject) -> bool {
-        matches!(subject, Subject::Rotor { .. })
+        matches!(subject, Subject::Rotor { .. } | Subject::External(_))
     }
 
     fn resolve(cx: &Cx, own: AutorotationSpec, written: &CheckSpec) -> Result<Self, InputError> {

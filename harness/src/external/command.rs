@@ -118,6 +118,8 @@ pub fn response_limit_bytes(compute: Compute, rows: usize) -> u64 {
 pub struct With<'a> {
     pub controls: Option<&'a ControlChanges>,
     pub frequencies_hz: Option<&'a [f64]>,
+    /// An autorotation's tunnel condition (in place of a flight condition and loading).
+    pub tunnel: Option<&'a crate::inputs::condition::TunnelSpec>,
 }
 
 impl With<'_> {
@@ -142,13 +144,25 @@ pub enum Compute {
     /// a model that does not compute it is asked its linear model, and its responses follow
     /// from A and B).
     FrequencyResponse,
+    /// A rotor's autorotation in a wind tunnel (protocol `/2`): its equilibrium's quantities,
+    /// or no equilibrium.
+    Autorotation,
     /// What the model is (protocol `/2`): asked once, before any other request.
     Describe,
 }
 
 impl Compute {
     /// What a model may say it computes, in its `describe` response.
-    pub const ANSWERS: [Compute; 4] = [
+    pub const ANSWERS: [Compute; 5] = [
+        Self::Trim,
+        Self::LinearModel,
+        Self::TimeHistory,
+        Self::FrequencyResponse,
+        Self::Autorotation,
+    ];
+
+    /// What a flight model answers (cierva's aircraft: everything but an autorotation).
+    pub const FLIGHT: [Compute; 4] = [
         Self::Trim,
         Self::LinearModel,
         Self::TimeHistory,
@@ -164,6 +178,7 @@ impl Compute {
             Self::LinearModel => "linear_model",
             Self::TimeHistory => "time_history",
             Self::FrequencyResponse => "frequency_response",
+            Self::Autorotation => "autorotation",
             Self::Describe => "describe",
         }
     }
@@ -209,6 +224,7 @@ pub(super) enum Answer {
     Linear(LinearModel),
     History(Replayed),
     Responses(crate::run::responses::Responses),
+    Autorotated(crate::run::autorotation::Autorotated),
     Described(Description),
 }
 
@@ -402,6 +418,11 @@ impl ExternalCommand {
             // What the model is does not depend on a condition.
             return json;
         }
+        if let Some(t) = with.tunnel {
+            json["tunnel"] = serde_json::json!(t);
+            json["parameters"] = serde_json::json!(request.parameters);
+            return json;
+        }
         json["condition"] = serde_json::json!({
             "airspeed_mph": condition.airspeed_mph,
             "airspeed_m_s": condition.airspeed_mph * crate::units::MPH_TO_M_S,
@@ -479,6 +500,7 @@ impl ExternalCommand {
                 parse_frequency_response(&text, protocol, asked, &self.describe())
                     .map(Answer::Responses)
             }
+            Compute::Autorotation => parse_autorotation(&text, protocol).map(Answer::Autorotated),
         }
         .map_err(|e| format!("its response {e}"))
     }
@@ -857,6 +879,69 @@ pub(super) fn parse_frequency_response(
     })
 }
 
+/// An `autorotation` answer: `{"quantities": {...}, "outside_validity": [...]}` (an
+/// equilibrium: quantities named as an `autorotation` check's, each finite; where the model's
+/// equations were used outside their validity, optional) or `{"no_equilibrium": "why",
+/// "numbers": {...}}` (none there: why, and the numbers that say how far from one, optional).
+pub(super) fn parse_autorotation(
+    text: &str,
+    protocol: &str,
+) -> Result<crate::run::autorotation::Autorotated, String> {
+    use crate::run::autorotation::{Autorotated, TunnelAnswer};
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Response {
+        #[allow(dead_code)]
+        protocol: String,
+        autorotation: Answered,
+    }
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Answered {
+        #[serde(default)]
+        quantities: Option<BTreeMap<String, f64>>,
+        #[serde(default)]
+        outside_validity: Vec<String>,
+        #[serde(default)]
+        no_equilibrium: Option<String>,
+        #[serde(default)]
+        numbers: BTreeMap<String, f64>,
+    }
+    let r: Response = parse_json(text, protocol)?;
+    let a = r.autorotation;
+    let at = "`autorotation`";
+    match (a.quantities, a.no_equilibrium) {
+        (Some(q), None) => {
+            let known = crate::inputs::quantity::AUTOROTATION;
+            let mut quantities = Vec::new();
+            for (name, v) in q {
+                let Some(k) = known.iter().find(|k| k.name() == name) else {
+                    let names: Vec<&str> = known.iter().map(|k| k.name()).collect();
+                    return Err(format!(
+                        "{at}: `{name}` is not an autorotation quantity; they are [{}]",
+                        names.join(", ")
+                    ));
+                };
+                if !v.is_finite() {
+                    return Err(format!("{at}: `quantities.{name}` is not finite"));
+                }
+                quantities.push((k.name(), v));
+            }
+            Ok(Autorotated::Equilibrium(TunnelAnswer {
+                quantities,
+                outside_validity: a.outside_validity,
+            }))
+        }
+        (None, Some(reason)) => Ok(Autorotated::NoEquilibrium {
+            reason,
+            numbers: a.numbers.into_iter().collect(),
+        }),
+        _ => Err(format!(
+            "{at}: give `quantities` (an equilibrium) or `no_equilibrium` (why there is none), one of them"
+        )),
+    }
+}
+
 /// A `describe` response as written (see [`parse_describe`]).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -1038,7 +1123,7 @@ impl FlightModel for ExternalCommand {
     ) -> Result<Replayed, String> {
         let with = With {
             controls: Some(controls),
-            frequencies_hz: None,
+            ..With::default()
         };
         match self.ask(Compute::TimeHistory, request, with)? {
             Answer::History(f) => Ok(f),
@@ -1065,12 +1150,37 @@ impl FlightModel for ExternalCommand {
             );
         }
         let with = With {
-            controls: None,
             frequencies_hz: Some(frequencies_hz),
+            ..With::default()
         };
         match self.ask(Compute::FrequencyResponse, request, with)? {
             Answer::Responses(r) => Ok(r),
             _ => Err("a frequency-response request answered as another".into()),
+        }
+    }
+
+    fn autorotation(
+        &self,
+        request: &super::TunnelRequest,
+    ) -> Result<crate::run::autorotation::Autorotated, String> {
+        let with = With {
+            tunnel: Some(&request.tunnel),
+            ..With::default()
+        };
+        // The tunnel's condition stands in for a flight condition and loading.
+        let asked = super::Request {
+            parameters: request.parameters.clone(),
+            ..super::Request::at(
+                crate::inputs::condition::TrimRequest::level(0.0),
+                crate::inputs::condition::Loading {
+                    mass_kg: None,
+                    density_altitude_ft: 0.0,
+                },
+            )
+        };
+        match self.ask(Compute::Autorotation, &asked, with)? {
+            Answer::Autorotated(a) => Ok(a),
+            _ => Err("an autorotation request answered as another".into()),
         }
     }
 }

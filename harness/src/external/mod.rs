@@ -171,6 +171,12 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         Ok(Vec::new())
     }
 
+    /// What it answers, by the protocol's requests: what `cierva serve` says of it in
+    /// `describe` (a flight model's, [`command::Compute::FLIGHT`], by default).
+    fn computes(&self) -> Vec<command::Compute> {
+        command::Compute::FLIGHT.to_vec()
+    }
+
     /// Its trim at the request: quantities named as in [`crate::inputs::quantity::TRIM`] (a
     /// subset).
     fn trim(&self, _request: &Request) -> Result<Quantities, String> {
@@ -764,6 +770,9 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
     fn parameters(&self) -> Result<Vec<Parameter>, String> {
         self.model.parameters()
     }
+    fn computes(&self) -> Vec<command::Compute> {
+        self.model.computes()
+    }
     fn trim(&self, request: &Request) -> Result<Quantities, String> {
         self.model.trim(&self.merged(request))
     }
@@ -915,6 +924,9 @@ macro_rules! forward_flight_model {
             }
             fn parameters(&self) -> Result<Vec<Parameter>, String> {
                 (**self).parameters()
+            }
+            fn computes(&self) -> Vec<command::Compute> {
+                (**self).computes()
             }
             fn trim(&self, request: &Request) -> Result<Quantities, String> {
                 (**self).trim(request)

@@ -17,8 +17,8 @@
 //! requests it had answered stand), and the next request starts a new one.
 
 use super::command::{
-    Answer, Compute, ExternalCommand, StderrTail, With, kill_group, parse_describe,
-    parse_frequency_response, parse_linear, parse_trim, response_limit_bytes,
+    Answer, Compute, ExternalCommand, StderrTail, With, kill_group, parse_autorotation,
+    parse_describe, parse_frequency_response, parse_linear, parse_trim, response_limit_bytes,
 };
 use super::{ControlChanges, FlightModel as _, Request};
 use crate::run::replay::{Replayed, SIGNALS};
@@ -397,6 +397,7 @@ fn parse_response(
             parse_frequency_response(&rest, protocol, frequencies, &asked.model)
                 .map(Answer::Responses)
         }
+        Compute::Autorotation => parse_autorotation(&rest, protocol).map(Answer::Autorotated),
     };
     parsed.map_err(|e| format!("its answer {e}"))
 }

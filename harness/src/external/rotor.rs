@@ -96,6 +96,11 @@ impl FlightModel for CiervaRotor<'_> {
         Ok(physical.chain(corrections).collect())
     }
 
+    /// An autorotation alone.
+    fn computes(&self) -> Vec<super::command::Compute> {
+        vec![super::command::Compute::Autorotation]
+    }
+
     fn autorotation(&self, request: &TunnelRequest) -> Result<Autorotated, String> {
         let file = self.with_values(&request.parameters)?;
         crate::run::autorotation::at_tunnel(&file.rotor, self.solver, &request.tunnel)

@@ -25,6 +25,8 @@ struct Read {
     controls: Option<ControlChanges>,
     /// A frequency response's, Hz.
     frequencies_hz: Vec<f64>,
+    /// An autorotation's tunnel condition.
+    tunnel: Option<crate::inputs::condition::TunnelSpec>,
 }
 
 /// What a request asks, read from its JSON (see [`Read`]).
@@ -59,6 +61,26 @@ fn read_request(v: &Value) -> Result<Read, String> {
             request: nowhere,
             controls: None,
             frequencies_hz: Vec::new(),
+            tunnel: None,
+        });
+    }
+    if compute == Compute::Autorotation {
+        let tunnel = serde_json::from_value(v["tunnel"].clone())
+            .map_err(|e| format!("the request's `tunnel`: {e}"))?;
+        let mut request = Request::at(
+            TrimRequest::level(0.0),
+            Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            },
+        );
+        request.parameters = parameters_of(v)?;
+        return Ok(Read {
+            compute,
+            request,
+            controls: None,
+            frequencies_hz: Vec::new(),
+            tunnel: Some(tunnel),
         });
     }
     let c = &v["condition"];
@@ -75,12 +97,36 @@ fn read_request(v: &Value) -> Result<Read, String> {
         },
         density_altitude_ft: number(&l["density_altitude_ft"], "loading.density_altitude_ft")?,
     };
-    let mut parameters = Values::new();
-    if let Some(p) = v["parameters"].as_object() {
-        for (name, x) in p {
-            parameters.insert(name.clone(), number(x, &format!("parameters.{name}"))?);
-        }
-    }
+    let parameters = parameters_of(v)?;
+    let controls = controls_of(v)?;
+    let frequencies_hz = match &v["frequencies_hz"] {
+        Value::Null => Vec::new(),
+        Value::Array(f) => f
+            .iter()
+            .map(|x| number(x, "frequencies_hz"))
+            .collect::<Result<_, _>>()?,
+        _ => return Err("the request's `frequencies_hz` is not a list".into()),
+    };
+    Ok(Read {
+        compute,
+        request: Request {
+            condition,
+            loading,
+            parameters,
+        },
+        controls,
+        frequencies_hz,
+        tunnel: None,
+    })
+}
+
+/// A time-history request's controls: the one-shot request's CSV read from its path, the
+/// persistent one's columns inline; `None` for another request.
+fn controls_of(v: &Value) -> Result<Option<ControlChanges>, String> {
+    let number = |x: &Value, what: &str| {
+        x.as_f64()
+            .ok_or_else(|| format!("the request's `{what}` is not a number"))
+    };
     let controls = match &v["controls"] {
         Value::Null => None,
         Value::String(path) => {
@@ -129,24 +175,21 @@ fn read_request(v: &Value) -> Result<Read, String> {
             })
         }
     };
-    let frequencies_hz = match &v["frequencies_hz"] {
-        Value::Null => Vec::new(),
-        Value::Array(f) => f
-            .iter()
-            .map(|x| number(x, "frequencies_hz"))
-            .collect::<Result<_, _>>()?,
-        _ => return Err("the request's `frequencies_hz` is not a list".into()),
-    };
-    Ok(Read {
-        compute,
-        request: Request {
-            condition,
-            loading,
-            parameters,
-        },
-        controls,
-        frequencies_hz,
-    })
+    Ok(controls)
+}
+
+/// A request's parameter values, by name.
+fn parameters_of(v: &Value) -> Result<Values, String> {
+    let mut parameters = Values::new();
+    if let Some(p) = v["parameters"].as_object() {
+        for (name, x) in p {
+            let x = x
+                .as_f64()
+                .ok_or_else(|| format!("the request's `parameters.{name}` is not a number"))?;
+            parameters.insert(name.clone(), x);
+        }
+    }
+    Ok(parameters)
 }
 
 /// What the model answers to one request, as the response's JSON fields (a time history as
@@ -157,6 +200,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
         request,
         controls,
         frequencies_hz,
+        tunnel,
     } = read_request(v)?;
     let body = match compute {
         Compute::Describe => {
@@ -181,7 +225,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 })
                 .collect();
             json!({"describe": {
-                "computes": Compute::ANSWERS.map(Compute::name),
+                "computes": model.computes().into_iter().map(Compute::name).collect::<Vec<_>>(),
                 "states": cierva_model::aircraft::linearise::STATES,
                 "controls": cierva_model::aircraft::linearise::CONTROLS,
                 "parameters": parameters,
@@ -225,6 +269,30 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 "states": r.states, "controls": r.controls, "frequencies_hz": r.frequencies_hz,
                 "real": part(|c| c.re), "imag": part(|c| c.im), "method": r.from,
             }})
+        }
+        Compute::Autorotation => {
+            let tunnel = tunnel.ok_or("an autorotation request needs `tunnel`")?;
+            let a = model.autorotation(&super::TunnelRequest {
+                tunnel,
+                parameters: request.parameters,
+            })?;
+            match a {
+                crate::run::autorotation::Autorotated::Equilibrium(e) => {
+                    let q: serde_json::Map<String, Value> = e
+                        .quantities
+                        .into_iter()
+                        .map(|(n, x)| (n.to_string(), json!(x)))
+                        .collect();
+                    json!({"autorotation": {
+                        "quantities": q, "outside_validity": e.outside_validity,
+                    }})
+                }
+                crate::run::autorotation::Autorotated::NoEquilibrium { reason, numbers } => {
+                    let n: serde_json::Map<String, Value> =
+                        numbers.into_iter().map(|(k, x)| (k, json!(x))).collect();
+                    json!({"autorotation": {"no_equilibrium": reason, "numbers": n}})
+                }
+            }
         }
     };
     Ok((compute, body))

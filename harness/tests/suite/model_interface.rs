@@ -1784,3 +1784,47 @@ fn an_autorotation_check_asks_any_model_through_the_interface() {
     }
     assert!(sped_up > 0, "TR 487's case checks no rotor speed");
 }
+
+/// cierva's PCA-2 rotor served by `cierva serve` (a rotor file: it answers `autorotation`,
+/// protocol `/2`, persistent) gives TR 487's case the built-in values, every verdict the same:
+/// an `autorotation` check runs on any model that answers the request. Before, the check ran on
+/// cierva's rotor file alone and the protocol had no such request.
+#[test]
+fn a_rotor_through_the_protocol_autorotates_as_the_built_in_one() {
+    let case = "cases/naca-tr487-vertical-descent.yaml";
+    let dir = std::env::temp_dir().join(format!("cierva-rotor-served-{}", std::process::id()));
+    super::common::new_suite(&dir);
+    std::os::unix::fs::symlink(repo_root().join("aircraft"), dir.join("aircraft")).unwrap();
+    std::os::unix::fs::symlink(repo_root().join("flight-refs"), dir.join("flight-refs")).unwrap();
+    let text = std::fs::read_to_string(repo_root().join(case)).unwrap();
+    let mut v: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    let file = v["model"]["rotor"]["file"].as_str().unwrap().to_string();
+    let external: serde_yaml::Value = serde_yaml::from_str(&format!(
+        "external: {{command: [cierva, serve, {file}], protocol: cierva-external/2, persistent: true, timeout_s: 600}}"
+    ))
+    .unwrap();
+    v["model"] = external;
+    std::fs::write(dir.join(case), serde_yaml::to_string(&v).unwrap()).unwrap();
+    let args = ["validate", "--no-report", "--format", "json"];
+    let (_, built_in, err) = cierva_on_path(
+        &repo_root(),
+        &[&args[..], &[repo_root().join(case).to_str().unwrap()]].concat(),
+    );
+    let built_in = quantities(&built_in);
+    assert!(!built_in.is_empty(), "{err}");
+    let (_, served, err) = cierva_on_path(&dir, &[&args[..], &[case]].concat());
+    let _ = std::fs::remove_dir_all(&dir);
+    let served = quantities(&served);
+    assert_eq!(
+        built_in.keys().collect::<Vec<_>>(),
+        served.keys().collect::<Vec<_>>(),
+        "{err}"
+    );
+    for (key, (value, pass)) in &built_in {
+        let (v, p) = served[key];
+        assert!(
+            close(*value, v) && *pass == p,
+            "{key:?}: built in {value} ({pass}), through the protocol {v} ({p})"
+        );
+    }
+}
