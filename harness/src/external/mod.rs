@@ -360,6 +360,43 @@ pub fn corrected_by<'s>(
 static WITH_VALUES: crate::run::memo::Memo<crate::run::linearise::Linearisation> =
     crate::run::memo::Memo::new();
 
+/// What cierva's own file declares: each of `physical` it has (`value` gives its value, `None`
+/// where it has none), then each correction `now` gives as `corrections.<name>`
+/// ([`crate::inputs::corrections::CORRECTIONS`]); each with the file's `ranges:` entry where it
+/// gives one.
+pub(crate) fn declared<'p>(
+    physical: impl Iterator<Item = &'p crate::inputs::parameters::ParameterInfo>,
+    value: impl Fn(&str) -> Option<f64>,
+    now: &crate::inputs::corrections::CorrectionSet,
+    ranges: &BTreeMap<String, Range>,
+) -> Vec<Parameter> {
+    let physical = physical.filter_map(|p| {
+        Some(Parameter {
+            nominal: value(p.name)?,
+            name: p.name.to_string(),
+            unit: p.unit.to_string(),
+            meaning: p.meaning.to_string(),
+            range: ranges.get(p.name).cloned(),
+            correction: false,
+        })
+    });
+    let corrections =
+        crate::inputs::corrections::CORRECTIONS
+            .iter()
+            .filter_map(|(name, unit, meaning)| {
+                let full = format!("corrections.{name}");
+                Some(Parameter {
+                    nominal: now.get_named(name)?,
+                    range: ranges.get(&full).cloned(),
+                    name: full,
+                    unit: unit.to_string(),
+                    meaning: meaning.to_string(),
+                    correction: true,
+                })
+            });
+    physical.chain(corrections).collect()
+}
+
 /// cierva's own aircraft at a loading, flown by `simulation` at `azimuth_step_rad` (the full
 /// blade model's step).
 #[derive(Debug, Clone)]
@@ -516,35 +553,16 @@ impl FlightModel for CiervaAircraft<'_> {
     /// ([`crate::inputs::corrections::CORRECTIONS`]); each with the file's `ranges:` entry
     /// where it gives one.
     fn parameters(&self) -> Result<Vec<Parameter>, String> {
-        use crate::inputs::corrections::{CORRECTIONS, CorrectionSet};
         let a = &self.file.aircraft;
         let physical = crate::inputs::parameters::PARAMETERS
             .iter()
-            .filter(|p| !p.name.starts_with("corrections."))
-            .filter_map(|p| {
-                let nominal = crate::inputs::parameters::parameter(a, p.name)?;
-                Some(Parameter {
-                    name: p.name.to_string(),
-                    unit: p.unit.to_string(),
-                    meaning: p.meaning.to_string(),
-                    nominal,
-                    range: self.file.ranges.get(p.name).cloned(),
-                    correction: false,
-                })
-            });
-        let now = CorrectionSet::of_aircraft(a);
-        let corrections = CORRECTIONS.iter().filter_map(|(name, unit, meaning)| {
-            let full = format!("corrections.{name}");
-            Some(Parameter {
-                nominal: now.get_named(name)?,
-                range: self.file.ranges.get(&full).cloned(),
-                name: full,
-                unit: unit.to_string(),
-                meaning: meaning.to_string(),
-                correction: true,
-            })
-        });
-        Ok(physical.chain(corrections).collect())
+            .filter(|p| !p.name.starts_with("corrections."));
+        Ok(declared(
+            physical,
+            |name| crate::inputs::parameters::parameter(a, name),
+            &crate::inputs::corrections::CorrectionSet::of_aircraft(a),
+            &self.file.ranges,
+        ))
     }
 
     fn trim(&self, request: &Request) -> Result<Quantities, String> {

@@ -66,34 +66,13 @@ impl FlightModel for CiervaRotor<'_> {
     /// ([`crate::inputs::corrections::CorrectionSet::of_rotor`]); each with the file's
     /// `ranges:` entry where it gives one.
     fn parameters(&self) -> Result<Vec<Parameter>, String> {
-        use crate::inputs::corrections::{CORRECTIONS, CorrectionSet};
         let r = &self.file.rotor;
-        let physical = crate::inputs::parameters::ROTOR_PARAMETERS
-            .iter()
-            .filter_map(|p| {
-                let nominal = crate::inputs::parameters::rotor_parameter(r, p.name)?;
-                Some(Parameter {
-                    name: p.name.to_string(),
-                    unit: p.unit.to_string(),
-                    meaning: p.meaning.to_string(),
-                    nominal,
-                    range: self.file.ranges.get(p.name).cloned(),
-                    correction: false,
-                })
-            });
-        let now = CorrectionSet::of_rotor(r);
-        let corrections = CORRECTIONS.iter().filter_map(|(name, unit, meaning)| {
-            let full = format!("corrections.{name}");
-            Some(Parameter {
-                nominal: now.get_named(name)?,
-                range: self.file.ranges.get(&full).cloned(),
-                name: full,
-                unit: unit.to_string(),
-                meaning: meaning.to_string(),
-                correction: true,
-            })
-        });
-        Ok(physical.chain(corrections).collect())
+        Ok(super::declared(
+            crate::inputs::parameters::ROTOR_PARAMETERS.iter(),
+            |name| crate::inputs::parameters::rotor_parameter(r, name),
+            &crate::inputs::corrections::CorrectionSet::of_rotor(r),
+            &self.file.ranges,
+        ))
     }
 
     /// An autorotation alone.

@@ -161,6 +161,25 @@ pub fn synth_stick_sweep(
     ])
 }
 
+/// The README example's record, written into `dir`: the VPM M16 flying a 60 mph stick sweep
+/// (6 %, 0.268 m/s turbulence, seed 60) with the hub factor at 0.55 and the profile drag at 1.3
+/// times its tabulated value, both hidden in `secret.yaml`.
+pub fn readme_record(dir: &Path) -> std::path::PathBuf {
+    let secret = hidden_corrections(
+        dir,
+        &[
+            ("hub_aoa_factor".into(), 0.55),
+            ("profile_drag_scale".into(), 1.3),
+        ],
+        "the test's corrections",
+        "test: chosen by the known-answer test",
+    );
+    let record = dir.join("lon-60.csv");
+    let (code, stdout, stderr) = synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    record
+}
+
 /// `cierva retune` of the uncorrected VPM M16 from `records` for the hub factor and the
 /// profile-drag scale (the known-answer tests' pair), `extra` arguments added, writing
 /// `retuned.yaml` and `retuned.md` into `dir`, without revalidating, as JSON: the exit code,

@@ -545,6 +545,27 @@ fn quantities(json: &str) -> std::collections::BTreeMap<(String, String, String)
     out
 }
 
+/// The same checks' quantities built in and through the protocol: every value within
+/// [`THROUGH_THE_PROTOCOL`], every pass the same.
+fn same_quantities(
+    built_in: &std::collections::BTreeMap<(String, String, String), (f64, bool)>,
+    served: &std::collections::BTreeMap<(String, String, String), (f64, bool)>,
+    err: &str,
+) {
+    assert_eq!(
+        built_in.keys().collect::<Vec<_>>(),
+        served.keys().collect::<Vec<_>>(),
+        "{err}"
+    );
+    for (key, (value, pass)) in built_in {
+        let (v, p) = served[key];
+        assert!(
+            close(*value, v) && *pass == p,
+            "{key:?}: built in {value} ({pass}), through the protocol {v} ({p})"
+        );
+    }
+}
+
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= THROUGH_THE_PROTOCOL * a.abs().max(b.abs()).max(1e-300)
 }
@@ -565,18 +586,7 @@ fn cierva_served_through_the_protocol_gives_the_built_in_numbers() {
     args.push("cases");
     let (_, served, err) = cierva_on_path(&dir, &args);
     let served = quantities(&served);
-    assert_eq!(
-        built_in.keys().collect::<Vec<_>>(),
-        served.keys().collect::<Vec<_>>(),
-        "{err}"
-    );
-    for (key, (value, pass)) in &built_in {
-        let (v, p) = served[key];
-        assert!(
-            close(*value, v) && *pass == p,
-            "{key:?}: built in {value} ({pass}), through the protocol {v} ({p})"
-        );
-    }
+    same_quantities(&built_in, &served, &err);
     // The sensitivity study of the Table 2 case, on three of its parameters.
     let study = |dir: &std::path::Path, case: &str| {
         let (code, out, err) = cierva_on_path(
@@ -1646,19 +1656,7 @@ const README_BOUNDS: [&str; 2] = [
 #[ignore = "slow known answer (a synthetic flight and two retunes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn the_readme_retune_through_the_protocol_is_the_built_in_one() {
     let dir = mirrored_suite();
-    let secret = super::common::hidden_corrections(
-        &dir,
-        &[
-            ("hub_aoa_factor".into(), 0.55),
-            ("profile_drag_scale".into(), 1.3),
-        ],
-        "the test's corrections",
-        "test: chosen by the known-answer test",
-    );
-    let record = dir.join("lon-60.csv");
-    let (code, out, err) =
-        super::common::synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
-    assert_eq!(code, 0, "{out}{err}");
+    let record = super::common::readme_record(&dir);
     let (code, built_in, err) = super::common::retune_hub_and_drag(&dir, &[&record], &[]);
     assert_eq!(code, 0, "{built_in}{err}");
     let mut args = vec![
@@ -1815,16 +1813,5 @@ fn a_rotor_through_the_protocol_autorotates_as_the_built_in_one() {
     let (_, served, err) = cierva_on_path(&dir, &[&args[..], &[case]].concat());
     let _ = std::fs::remove_dir_all(&dir);
     let served = quantities(&served);
-    assert_eq!(
-        built_in.keys().collect::<Vec<_>>(),
-        served.keys().collect::<Vec<_>>(),
-        "{err}"
-    );
-    for (key, (value, pass)) in &built_in {
-        let (v, p) = served[key];
-        assert!(
-            close(*value, v) && *pass == p,
-            "{key:?}: built in {value} ({pass}), through the protocol {v} ({p})"
-        );
-    }
+    same_quantities(&built_in, &served, &err);
 }

@@ -188,19 +188,7 @@ fn retune_refuses_bad_records_with_located_errors() {
 fn readme_example(tag: &str) -> (serde_json::Value, PathBuf) {
     let dir = std::env::temp_dir().join(format!("cierva-retune-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let secret = super::common::hidden_corrections(
-        &dir,
-        &[
-            ("hub_aoa_factor".into(), 0.55),
-            ("profile_drag_scale".into(), 1.3),
-        ],
-        "the test's corrections",
-        "test: chosen by the known-answer test",
-    );
-    let record = dir.join("lon-60.csv");
-    let (code, stdout, stderr) =
-        super::common::synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
-    assert_eq!(code, 0, "{stdout}{stderr}");
+    let record = super::common::readme_record(&dir);
     let (code, stdout, stderr) = super::common::retune_hub_and_drag(&dir, &[&record], &[]);
     assert_eq!(code, 0, "{stdout}{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
