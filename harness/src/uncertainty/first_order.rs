@@ -6,8 +6,8 @@
 use super::distribution::Input;
 use super::propagate::{
     CaseUncertainty, Contributor, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty,
-    failure_causes, forget, hash, judge, mean_std, pass_fraction, percentile, point_of, unjudged,
-    values_of, with_terms, with_values,
+    failure_causes, forget, hash, judge, mean_std, pass_fraction, percentile, point_of,
+    refined_value, unjudged, values_of, with_terms, with_values,
 };
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
@@ -67,10 +67,10 @@ pub(super) fn propagate(
         // Each quantity's normal spread beyond the surrogate's draws.
         let mut spread = Vec::new();
         for (k, q) in n.quantities.iter().enumerate() {
-            let refined = refined
-                .and_then(|r| r.get(j))
-                .and_then(|r| r.quantities.get(k))
-                .map(|r| r.value);
+            let refined = refined.map(|r| match r.get(j) {
+                Some(r) => refined_value(r, q),
+                None => Err("the refined run has no such check".to_string()),
+            });
             let (out, values, u_interactions) = first_order_quantity(
                 case,
                 (check, n, q),
@@ -323,7 +323,7 @@ fn first_order_quantity(
         draws,
     }: Probes,
     inputs: &[Input],
-    refined: Option<f64>,
+    refined: Option<Result<f64, String>>,
 ) -> (QuantityUncertainty, Vec<f64>, f64) {
     let s0 = q.value;
     let mut failed = 0;

@@ -125,7 +125,13 @@ pub struct QuantityUncertainty {
     /// error here (their cross-validated model-discrepancy term times the nominal value;
     /// `calibration_terms`); zero without one.
     pub u_calibration: f64,
+    /// `|S_refined - S|` from the refined discretisation (0 where the subject has no grid
+    /// study; NaN where the refined run gave no value, `u_num_missing` says why).
     pub u_num: f64,
+    /// Why the refined run gave no value for the quantity, where it gave none: the quantity
+    /// then has no verdict.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub u_num_missing: Option<String>,
     pub u_data: Option<f64>,
     /// Where `u_data` comes from, or why there is none.
     pub u_data_source: String,
@@ -414,6 +420,28 @@ pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Poin
     }
 }
 
+/// A quantity's value in the refined run (`refined`, its check's result there): found by the
+/// quantity's name and tolerance, as the nominal run has it; `Err` with why where the refined
+/// run gave none (an error or a finding there, or no such quantity).
+pub(super) fn refined_value(
+    refined: &CheckResult,
+    q: &crate::suite::outcome::QuantityResult,
+) -> Result<f64, String> {
+    if let Some(e) = &refined.error {
+        return Err(e.clone());
+    }
+    if let Some(f) = &refined.finding {
+        return Err(f.describe());
+    }
+    refined
+        .quantities
+        .iter()
+        .find(|x| x.quantity == q.quantity && x.tolerance == q.tolerance)
+        .map(|x| x.value)
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("the refined run has no finite `{}`", q.quantity))
+}
+
 /// The longest a failure's cause is printed: the autorotation search's longest reasons (about
 /// 400 characters, the verdict at their end) whole.
 pub const CAUSE_CHARS: usize = 480;
@@ -622,9 +650,9 @@ fn check_results(
                 false => p.values[j][k],
             })
             .collect();
-        let refined = refined.and_then(|r| match verdict_only {
-            true => Some(as_number(r.passed)),
-            false => r.quantities.get(k).map(|x| x.value),
+        let refined = refined.map(|r| match verdict_only {
+            true => Ok(as_number(r.passed)),
+            false => refined_value(r, q),
         });
         let mut r = summarise(
             case,
@@ -831,7 +859,7 @@ fn summarise(
     n: &CheckResult,
     q: &crate::suite::outcome::QuantityResult,
     all: &[f64],
-    refined: Option<f64>,
+    refined: Option<Result<f64, String>>,
     design: Option<&Design>,
     (inputs, causes): (&[Input], &[String]),
 ) -> QuantityUncertainty {
@@ -889,7 +917,7 @@ pub(super) fn unjudged(
     case: &Case,
     (check, n, q): Quantity,
     (mean, p2_5, p97_5, u_input): (f64, f64, f64, f64),
-    refined: Option<f64>,
+    refined: Option<Result<f64, String>>,
     contributors: Vec<Contributor>,
     failed_samples: usize,
 ) -> QuantityUncertainty {
@@ -918,7 +946,12 @@ pub(super) fn unjudged(
         estimate_error: reference.map(|d| q.value - d),
         u_input,
         u_calibration,
-        u_num: refined.map_or(0.0, |r| (r - q.value).abs()),
+        u_num: match &refined {
+            None => 0.0,
+            Some(Ok(r)) => (r - q.value).abs(),
+            Some(Err(_)) => f64::NAN,
+        },
+        u_num_missing: refined.and_then(Result::err),
         u_data,
         u_data_source,
         u_val: None,
@@ -1018,6 +1051,12 @@ pub(super) fn with_terms(
 /// The V&V 20 verdict of a validation quantity, or why there is none.
 pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::QuantityResult) {
     let half = 0.5 * (q.upper - q.lower);
+    if let Some(why) = &out.u_num_missing {
+        out.reason = format!(
+            "no verdict: the refined discretisation gave no value, so the numerical uncertainty is not known: {why}"
+        );
+        return;
+    }
     if out.class == CheckClass::Validation
         && out.failed_samples as f64 > MAX_FAILED_SHARE * out.samples as f64
     {

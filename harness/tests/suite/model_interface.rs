@@ -1815,3 +1815,91 @@ fn a_rotor_through_the_protocol_autorotates_as_the_built_in_one() {
     let served = quantities(&served);
     same_quantities(&built_in, &served, &err);
 }
+
+/// The test model behind the protocol, whose refined self cannot trim (its linear model as the
+/// model's).
+#[derive(Debug)]
+struct RefinedCannotTrim(std::sync::Arc<dyn cierva_harness::external::FlightModel>);
+
+impl cierva_harness::external::FlightModel for RefinedCannotTrim {
+    fn describe(&self) -> String {
+        self.0.describe()
+    }
+    fn parameters(&self) -> Result<Vec<cierva_harness::external::Parameter>, String> {
+        self.0.parameters()
+    }
+    fn trim(&self, request: &Request) -> Result<cierva_harness::external::Quantities, String> {
+        self.0.trim(request)
+    }
+    fn linear_model(&self, request: &Request) -> Result<cierva_model::LinearModel, String> {
+        self.0.linear_model(request)
+    }
+    fn refined(
+        &self,
+    ) -> Option<(
+        std::sync::Arc<dyn cierva_harness::external::FlightModel>,
+        String,
+    )> {
+        #[derive(Debug)]
+        struct NoTrim(std::sync::Arc<dyn cierva_harness::external::FlightModel>);
+        impl cierva_harness::external::FlightModel for NoTrim {
+            fn describe(&self) -> String {
+                self.0.describe()
+            }
+            fn parameters(&self) -> Result<Vec<cierva_harness::external::Parameter>, String> {
+                self.0.parameters()
+            }
+            fn linear_model(&self, request: &Request) -> Result<cierva_model::LinearModel, String> {
+                self.0.linear_model(request)
+            }
+        }
+        Some((
+            std::sync::Arc::new(NoTrim(self.0.clone())),
+            "the test's refinement, which cannot trim".into(),
+        ))
+    }
+}
+
+/// A quantity the refined discretisation gives no value for has no verdict, and says why
+/// (issue 51, item 3): its `u_num` is not known, not 0. The damping, which the refined model
+/// gives, keeps its `u_num` (0: the same linear model).
+#[test]
+fn a_quantity_the_refined_run_cannot_give_has_no_verdict() {
+    use cierva_harness::uncertainty::propagate::{Propagation, PropagationSettings};
+    super::external::require_python3();
+    let dir = suite_in("refined-cannot-trim", "cierva-external/2", true);
+    let mut case = cierva_harness::suite::case::load(&dir.join("cases/model.yaml")).unwrap();
+    let cierva_harness::checks::subject::Subject::External(e) = &mut case.subject else {
+        panic!("the test case's model is external");
+    };
+    e.model = std::sync::Arc::new(RefinedCannotTrim(e.model.clone()));
+    let settings = PropagationSettings {
+        samples: 8,
+        seed: 0,
+        validation_only: false,
+        method: Propagation::Sampled,
+    };
+    let study = cierva_harness::uncertainty::study::propagate(&case, settings, || ()).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let row = |check: &str| study.results.iter().find(|r| r.check == check).unwrap();
+    let pitch = row("pitch");
+    assert!(pitch.u_num.is_nan(), "{pitch:?}");
+    assert!(
+        pitch
+            .u_num_missing
+            .as_deref()
+            .is_some_and(|w| w.contains("does not provide a trim")),
+        "{pitch:?}"
+    );
+    assert!(pitch.verdict.is_none());
+    assert!(
+        pitch
+            .reason
+            .starts_with("no verdict: the refined discretisation gave no value"),
+        "{}",
+        pitch.reason
+    );
+    let damping = row("damping");
+    assert_eq!(damping.u_num, 0.0);
+    assert!(damping.u_num_missing.is_none());
+}
