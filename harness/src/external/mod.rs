@@ -360,6 +360,25 @@ pub fn corrected_by<'s>(
 static WITH_VALUES: crate::run::memo::Memo<crate::run::linearise::Linearisation> =
     crate::run::memo::Memo::new();
 
+/// `values` set on one of cierva's own files: each physical parameter by `set_physical` (`None`
+/// for a name it does not have), and each correction (`corrections.<name>`) into the set
+/// returned, for the caller to apply; a name neither takes is an error naming `model`.
+pub(crate) fn set_values(
+    model: &str,
+    values: &Values,
+    mut set_physical: impl FnMut(&str, f64) -> Option<()>,
+) -> Result<crate::inputs::corrections::CorrectionSet, String> {
+    let mut corrections = crate::inputs::corrections::CorrectionSet::default();
+    for (name, &v) in values {
+        let set = match name.strip_prefix("corrections.") {
+            Some(c) => corrections.set_named(c, v),
+            None => set_physical(name, v),
+        };
+        set.ok_or_else(|| format!("`{name}` cannot be set on {model}"))?;
+    }
+    Ok(corrections)
+}
+
 /// What cierva's own file declares: each of `physical` it has (`value` gives its value, `None`
 /// where it has none), then each correction `now` gives as `corrections.<name>`
 /// ([`crate::inputs::corrections::CORRECTIONS`]); each with the file's `ranges:` entry where it
@@ -448,14 +467,9 @@ impl CiervaAircraft<'_> {
         }
         check_values(&self.describe(), &self.parameters()?, values)?;
         let mut f = self.file.as_ref().clone();
-        let mut corrections = crate::inputs::corrections::CorrectionSet::default();
-        for (name, &v) in values {
-            let set = match name.strip_prefix("corrections.") {
-                Some(c) => corrections.set_named(c, v),
-                None => crate::inputs::parameters::set_parameter(&mut f.aircraft, name, v),
-            };
-            set.ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
-        }
+        let corrections = set_values(&self.describe(), values, |name, v| {
+            crate::inputs::parameters::set_parameter(&mut f.aircraft, name, v)
+        })?;
         corrections
             .apply_to_aircraft(&mut f.aircraft)
             .map_err(|e| {

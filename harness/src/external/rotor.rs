@@ -43,14 +43,9 @@ impl<'a> CiervaRotor<'a> {
         }
         check_values(&self.describe(), &self.parameters()?, values)?;
         let mut f = self.file.as_ref().clone();
-        let mut corrections = crate::inputs::corrections::CorrectionSet::default();
-        for (name, &v) in values {
-            let set = match name.strip_prefix("corrections.") {
-                Some(c) => corrections.set_named(c, v),
-                None => crate::inputs::parameters::set_rotor_parameter(&mut f.rotor, name, v),
-            };
-            set.ok_or_else(|| format!("`{name}` cannot be set on {}", self.describe()))?;
-        }
+        let corrections = super::set_values(&self.describe(), values, |name, v| {
+            crate::inputs::parameters::set_rotor_parameter(&mut f.rotor, name, v)
+        })?;
         corrections.apply_to_rotor(&mut f.rotor)?;
         Ok(Cow::Owned(f))
     }

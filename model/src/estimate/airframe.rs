@@ -581,6 +581,16 @@ mod tests {
         }
     }
 
+    /// The value of the step named `quantity`.
+    fn step_value(e: &Estimates, quantity: &str) -> f64 {
+        e.steps
+            .iter()
+            .find(|s| s.quantity == quantity)
+            .unwrap_or_else(|| panic!("no step `{quantity}`"))
+            .value
+            .value
+    }
+
     fn cruise() -> OperatingPoint {
         OperatingPoint {
             airspeed_m_s: 31.3,
@@ -611,13 +621,7 @@ mod tests {
         }
         // Helmbold's slope lies under the slender wing's pi A / 2 at low aspect ratio.
         let a = fin.lift_slope_per_rad.value;
-        let effective = e
-            .steps
-            .iter()
-            .find(|s| s.quantity == "fin: effective aspect ratio")
-            .unwrap()
-            .value
-            .value;
+        let effective = step_value(&e, "fin: effective aspect ratio");
         let slender = std::f64::consts::PI * effective / 2.0;
         assert!(a < slender && a > 0.8 * slender, "{a} {effective}");
         assert!((0.0..=1.0).contains(&fin.slipstream_fraction.value));
@@ -628,13 +632,7 @@ mod tests {
             .unwrap()
             .value
             .value;
-        let pod = e
-            .steps
-            .iter()
-            .find(|s| s.quantity == "fin: sidewash of the pod's cross-flow")
-            .unwrap()
-            .value
-            .value;
+        let pod = step_value(&e, "fin: sidewash of the pod's cross-flow");
         let wash = fin.wash_gradient.unwrap().value;
         assert!(
             (wash - (fin.slipstream_fraction.value * straightening + pod)).abs() < 1e-15,
@@ -659,13 +657,7 @@ mod tests {
             // b_v / 2 r_1 = (span + d / 2) / d.
             fin.body_depth_m = fin.surface.planform.span_m / (span_over_depth - 0.5);
             let e = estimate(&g, &cruise()).unwrap();
-            let effective = e
-                .steps
-                .iter()
-                .find(|s| s.quantity == "fin: effective aspect ratio")
-                .unwrap()
-                .value
-                .value;
+            let effective = step_value(&e, "fin: effective aspect ratio");
             let planform = g.fin.unwrap().surface.planform;
             let helmbold = lifting_surface::lift_slope(
                 effective,
