@@ -54,7 +54,7 @@ pub const CORRECTIONS: [(&str, &str, &str); 9] = [
     (
         "hub_aoa_factor",
         "-",
-        "seed 000's hub angle of attack as a factor on the c.g.'s (unset: the kinematic angle, which a trim in straight flight shares with factor 1 and a linearisation does not: pitch rate moves the hub)",
+        "seed 000's hub angle of attack as a factor on the c.g.'s (the free stream's angle at the hub; what pitch rate adds stays kinematic, so 1 is no correction)",
     ),
     (
         "profile_drag_scale",
@@ -181,7 +181,7 @@ impl CorrectionSet {
     }
 
     /// Every correction an aircraft has, at its value (in the units written; the hub
-    /// angle-of-attack factor at 1 where the aircraft leaves it unset, see [`CORRECTIONS`]).
+    /// angle-of-attack factor at 1 where the aircraft leaves it unset, which is the same model).
     pub fn of_aircraft(a: &Aircraft) -> Self {
         let c = &a.main_rotor.rotor.corrections;
         Self {

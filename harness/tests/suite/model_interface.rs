@@ -1903,3 +1903,92 @@ fn a_quantity_the_refined_run_cannot_give_has_no_verdict() {
     assert_eq!(damping.u_num, 0.0);
     assert!(damping.u_num_missing.is_none());
 }
+
+/// How closely a request carrying every declared parameter at its nominal value must give the
+/// model's own answer: a value declared in another unit than the file's (degrees for radians,
+/// deg/kPa for rad/Pa) goes back through its conversion, a few rounding steps.
+const NOMINAL_REQUEST_AGREEMENT: f64 = 1e-12;
+
+/// A declared parameter's nominal value is the model as it is: for every shipped aircraft and
+/// rotor, a request that sets every declared parameter to its nominal value gets the answer of
+/// a request that sets none (trim, linear model; autorotation). Before, the hub angle-of-attack
+/// factor was declared at 1 where the aircraft leaves it unset, and factor 1 dropped what pitch
+/// rate adds to the hub's angle, so a study's nominal point was not the model.
+#[test]
+fn a_request_at_every_declared_nominal_value_is_the_model_as_it_is() {
+    use cierva_harness::external::Values;
+    let close = |x: f64, y: f64| (x - y).abs() <= NOMINAL_REQUEST_AGREEMENT * (1.0 + y.abs());
+    let nominal = |model: &dyn cierva_harness::external::FlightModel| -> Values {
+        let declared = model.parameters().unwrap();
+        assert!(!declared.is_empty(), "{}", model.describe());
+        declared.into_iter().map(|p| (p.name, p.nominal)).collect()
+    };
+    for (file, airspeed_mph) in [("vpm-m16", 60.0), ("montgomerie-parsons", 50.0)] {
+        let path = repo_root().join(format!("aircraft/{file}.yaml"));
+        let loaded = cierva_harness::inputs::aircraft::load(&path).unwrap();
+        let model = cierva_harness::external::CiervaAircraft::new(&loaded);
+        let values = nominal(&model);
+        assert!(
+            values.contains_key("corrections.hub_aoa_factor"),
+            "{values:?}"
+        );
+        let bare = Request::at(
+            TrimRequest::level(airspeed_mph),
+            Loading {
+                mass_kg: None,
+                density_altitude_ft: 0.0,
+            },
+        );
+        let set = Request {
+            parameters: values,
+            ..bare.clone()
+        };
+        let (trim_a, lin_a) = model.trim_and_linear_model(&bare).unwrap();
+        let (trim_b, lin_b) = model.trim_and_linear_model(&set).unwrap();
+        for ((name, x), (_, y)) in trim_a.iter().zip(&trim_b) {
+            assert!(close(*y, *x), "{file} trim {name}: {y} against {x}");
+        }
+        assert_eq!(lin_a.states(), lin_b.states());
+        for (m, n, what) in [(lin_a.a(), lin_b.a(), "A"), (lin_a.b(), lin_b.b(), "B")] {
+            assert_eq!(m.shape(), n.shape());
+            for ((i, j), x) in m
+                .iter()
+                .enumerate()
+                .map(|(k, x)| ((k % m.nrows(), k / m.nrows()), x))
+            {
+                let y = n[(i, j)];
+                assert!(close(y, *x), "{file} {what}[{i}][{j}]: {y} against {x}");
+            }
+        }
+    }
+    for (file, case) in [
+        (
+            "TR 487's PCA-2 rotor",
+            "cases/naca-tr487-vertical-descent.yaml",
+        ),
+        ("TR 515's PCA-2 rotor", "cases/naca-tr515-table-iii.yaml"),
+    ] {
+        let case = cierva_harness::suite::case::load(&repo_root().join(case));
+        let Ok(case) = case else {
+            panic!("{file}: {case:?}");
+        };
+        let model = cierva_harness::checks::model_of(&case.subject).unwrap();
+        let values = nominal(model.as_ref());
+        let tunnel = case
+            .checks
+            .iter()
+            .find_map(|c| c.behaviour().tunnel().copied())
+            .unwrap_or_else(|| panic!("{file}: no tunnel condition"));
+        let ask = |parameters: Values| {
+            let request = cierva_harness::external::TunnelRequest { tunnel, parameters };
+            match model.autorotation(&request).unwrap() {
+                cierva_harness::run::autorotation::Autorotated::Equilibrium(e) => e.quantities,
+                other => panic!("{file}: {other:?}"),
+            }
+        };
+        let (a, b) = (ask(Values::new()), ask(values));
+        for ((name, x), (_, y)) in a.iter().zip(&b) {
+            assert!(close(*y, *x), "{file} {name}: {y} against {x}");
+        }
+    }
+}

@@ -94,10 +94,14 @@ impl Aircraft {
         let rot = cross(pqr, arm);
         let mut v_hub_body = [uvw[0] + rot[0], uvw[1] + rot[1], uvw[2] + rot[2]];
         if let Some(k) = self.hub_aoa_factor {
+            // The free stream's angle at the hub becomes `k alpha_cg`: the hub's velocity turns
+            // in the body x-z plane by `(k - 1) alpha_cg`, keeping its magnitude, its sideslip
+            // and what the airframe's rotation adds (pitch rate moves the hub). `k = 1` is the
+            // kinematic angle, exactly.
             let alpha_cg = uvw[2].atan2(uvw[0]);
-            let vxz = v_hub_body[0].hypot(v_hub_body[2]);
-            let (sa, ca) = (k * alpha_cg).sin_cos();
-            v_hub_body = [vxz * ca, v_hub_body[1], vxz * sa];
+            let (s, c) = ((k - 1.0) * alpha_cg).sin_cos();
+            let [x, y, z] = v_hub_body;
+            v_hub_body = [x * c - z * s, y, x * s + z * c];
         }
         let vh = apply(&c, v_hub_body);
         RotorFrame {

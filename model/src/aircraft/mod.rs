@@ -64,9 +64,12 @@
 //! # Hub angle-of-attack correction
 //! Seed 000 Sec. VII replaces the kinematic angle of attack at the hub by a factor times the
 //! angle of attack at the c.g. (0.5 in the seed), to stand for the wake's skew as it approaches
-//! the disc. With `hub_aoa_factor = Some(k)` the hub's air velocity keeps its magnitude in the
-//! body x-z plane and its sideslip, and its angle is `k alpha_cg`. `None` is the kinematic
-//! value (no correction).
+//! the disc. With `hub_aoa_factor = Some(k)` the hub's air velocity turns in the body x-z
+//! plane by `(k - 1) alpha_cg`, keeping its magnitude and its sideslip: in steady straight
+//! flight, where the hub moves with the c.g., its angle is `k alpha_cg` as the seed says, and
+//! what the airframe's rotation adds at the hub (pitch rate times the hub's arm) stays
+//! kinematic, since the wake's skew acts on the free stream, not on the hub's own motion.
+//! `k = 1` is the kinematic value exactly, as `None` is (no correction).
 
 pub mod flapping;
 pub mod linearise;

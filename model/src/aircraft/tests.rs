@@ -986,3 +986,64 @@ fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
         -sense * dw[0]
     );
 }
+
+/// Seed 000 Sec. VII's hub angle-of-attack factor turns the free stream's angle at the hub to
+/// `k alpha_cg` and leaves the hub's own motion kinematic. In straight flight the hub's angle
+/// is `k alpha_cg` with its speed kept; with pitch rate, what the rate adds at the hub is the
+/// same with any factor; and factor 1 is the kinematic hub (no correction) exactly, so a
+/// request that sets the factor to 1 is the aircraft that leaves it unset. The old form, angle
+/// `k alpha_cg` whatever the rates, dropped the pitch rate's part of the hub's angle, so factor
+/// 1 and no factor differed in every derivative with respect to `q`.
+#[test]
+fn the_hub_angle_factor_turns_the_free_stream_and_keeps_the_hubs_motion() {
+    let (a, t) = crate::testdata::trimmed_gyroplane(31.3);
+    let alpha_cg = t.state.body.w_m_s.atan2(t.state.body.u_m_s);
+    assert!(alpha_cg.abs() > 0.01, "{alpha_cg}");
+    let in_body = |aircraft: &Aircraft, q_rad_s: f64| {
+        let body = BodyState {
+            q_rad_s,
+            p_rad_s: 0.0,
+            r_rad_s: 0.0,
+            ..t.state.body
+        };
+        let f = aircraft.rotor_frame(&body, &t.controls);
+        // Back from hub axes to body axes (the transform is a rotation).
+        let h = [f.hub.u, f.hub.v, f.hub.w];
+        let c = f.c;
+        [0, 1, 2].map(|j| (0..3).map(|i| c[i][j] * h[i]).sum::<f64>())
+    };
+    let with = |k: Option<f64>| Aircraft {
+        hub_aoa_factor: k,
+        ..a.clone()
+    };
+    let angle = |v: [f64; 3]| v[2].atan2(v[0]);
+    let speed_xz = |v: [f64; 3]| v[0].hypot(v[2]);
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + y.abs());
+    for q_rad_s in [0.0, 0.3] {
+        let kinematic = in_body(&with(None), q_rad_s);
+        let unit = in_body(&with(Some(1.0)), q_rad_s);
+        for j in 0..3 {
+            assert!(
+                close(unit[j], kinematic[j]),
+                "q {q_rad_s}: {unit:?} {kinematic:?}"
+            );
+        }
+        for k in [0.0, 0.5, 1.4] {
+            let v = in_body(&with(Some(k)), q_rad_s);
+            let want = angle(kinematic) + (k - 1.0) * alpha_cg;
+            assert!(
+                close(angle(v), want),
+                "k {k} q {q_rad_s}: {} {want}",
+                angle(v)
+            );
+            assert!(close(speed_xz(v), speed_xz(kinematic)));
+            assert!(close(v[1], kinematic[1]));
+        }
+    }
+    // In straight flight the hub's angle is the seed's `k alpha_cg`.
+    let half = in_body(&with(Some(0.5)), 0.0);
+    assert!(close(angle(half), 0.5 * alpha_cg), "{}", angle(half));
+    // Pitch rate moves the hub: its angle differs from the c.g.'s by a measurable amount.
+    let turned = angle(in_body(&with(None), 0.3)) - angle(in_body(&with(None), 0.0));
+    assert!(turned.abs() > 1e-4, "{turned}");
+}
