@@ -174,7 +174,7 @@ fn validate_with(
     let results: Vec<CheckResult> = run
         .cases
         .iter()
-        .flat_map(|c| c.results.iter().cloned())
+        .flat_map(|c| c.ran.results.iter().cloned())
         .collect();
     let mut written = write_report(&run, report_dir.as_deref())?;
     if let Some(path) = junit {
@@ -322,10 +322,7 @@ fn run_cases(
             ));
         }
         run.cases.push(report::CaseRun {
-            case: c.case,
-            results: c.results,
-            seconds: c.seconds,
-            corrections: c.corrections,
+            ran: c,
             sensitivity,
             uncertainty: None,
         });
@@ -476,22 +473,22 @@ fn attach_uncertainty(
 ) -> Result<(), String> {
     use cierva_harness::uncertainty::propagate;
     for c in &mut run.cases {
-        let d = propagate::inputs(&c.case).map_or(0, |i| i.len());
+        let d = propagate::inputs(&c.ran.case).map_or(0, |i| i.len());
         let bar = progress(
             if d == 0 {
                 0
             } else {
                 (settings.samples * (d + 2)) as u64
             },
-            &format!("uncertainty {}", c.case.id),
+            &format!("uncertainty {}", c.ran.case.id),
         );
         let u = cierva_harness::uncertainty::study::propagate_from(
-            &c.case,
-            &c.results,
+            &c.ran.case,
+            &c.ran.results,
             settings,
             || bar.inc(1),
         )
-        .map_err(|e| format!("{}: {e}", c.case.path.display()))?;
+        .map_err(|e| format!("{}: {e}", c.ran.case.path.display()))?;
         bar.finish_and_clear();
         c.uncertainty = Some(u);
     }
@@ -508,7 +505,7 @@ fn with_uncertainty(
         |r: &CheckResult| -> Vec<&cierva_harness::uncertainty::propagate::QuantityUncertainty> {
             run.cases
                 .iter()
-                .filter(|c| c.case.id == r.case)
+                .filter(|c| c.ran.case.id == r.case)
                 .filter_map(|c| c.uncertainty.as_ref())
                 .flat_map(|u| u.results.iter().filter(|q| q.check == r.check))
                 .collect()

@@ -18,7 +18,7 @@ use crate::suite::outcome::{CheckResult, PlotData};
 use std::collections::BTreeMap;
 
 fn check_of<'a>(c: &'a CaseRun, r: &CheckResult) -> Option<&'a Check> {
-    c.case.checks.iter().find(|k| k.id == r.check)
+    c.ran.case.checks.iter().find(|k| k.id == r.check)
 }
 
 /// Where the figures that gather checks place a result's check.
@@ -85,11 +85,11 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
     );
     let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
     for c in &run.cases {
-        let Subject::Aircraft { file, loading } = &c.case.subject else {
+        let Subject::Aircraft { file, loading } = &c.ran.case.subject else {
             continue;
         };
         let mass = loading.mass_kg.unwrap_or(file.aircraft.mass.mass_kg);
-        for r in &c.results {
+        for r in &c.ran.results {
             let Some(Placed::Derivative {
                 label,
                 airspeed_mph,
@@ -102,7 +102,7 @@ pub fn across_cases(run: &Run) -> Vec<Figure> {
             let Some(q) = r.quantities.iter().find(|q| q.quantity == "value") else {
                 continue;
             };
-            let corrected = corrected || !c.corrections.is_empty();
+            let corrected = corrected || !c.ran.corrections.is_empty();
             let series = format!(
                 "model, {mass:.0} kg{}{}",
                 if corrected { ", corrected" } else { "" },
@@ -183,7 +183,7 @@ pub fn inflow_against_airspeed(run: &Run) -> Vec<Figure> {
     type Group = (Vec<(f64, f64)>, Vec<Bar>);
     let mut groups: BTreeMap<(String, String), Group> = BTreeMap::new();
     for c in &run.cases {
-        let Subject::FlapRecord { record, rotor, .. } = &c.case.subject else {
+        let Subject::FlapRecord { record, rotor, .. } = &c.ran.case.subject else {
             continue;
         };
         let mean = |n: &str| {
@@ -193,6 +193,7 @@ pub fn inflow_against_airspeed(run: &Run) -> Vec<Figure> {
         };
         let speed = mean("hub_inplane_speed_m_s").hypot(mean("hub_normal_speed_m_s"));
         for r in c
+            .ran
             .results
             .iter()
             .filter(|r| placed(c, r) == Some(Placed::FlapRecord))
@@ -284,6 +285,7 @@ fn by_quantity(
 
 fn trim_against_airspeed(c: &CaseRun) -> Vec<Figure> {
     let pts: Vec<(f64, &crate::suite::outcome::QuantityResult)> = c
+        .ran
         .results
         .iter()
         .filter_map(|r| match placed(c, r)? {
@@ -321,7 +323,7 @@ fn sweeps(c: &CaseRun) -> Vec<Figure> {
         ("rotorspeed", "rpm", &["rotor_rpm"]),
     ];
     let mut out = Vec::new();
-    for r in &c.results {
+    for r in &c.ran.results {
         let Some(PlotData::Sweep { points }) = &r.plot else {
             continue;
         };
@@ -355,7 +357,7 @@ fn sweeps(c: &CaseRun) -> Vec<Figure> {
 /// (1.96 standard deviations) as a bar, and the model trimmed at each point.
 fn trim_points(c: &CaseRun) -> Vec<Figure> {
     let mut out = Vec::new();
-    for r in &c.results {
+    for r in &c.ran.results {
         let Some(PlotData::TrimPoints { quantities }) = &r.plot else {
             continue;
         };
@@ -389,6 +391,7 @@ fn trim_points(c: &CaseRun) -> Vec<Figure> {
 
 fn tunnel(c: &CaseRun) -> Vec<Figure> {
     let rows: Vec<(&CheckResult, &crate::suite::case::TunnelSpec)> = c
+        .ran
         .results
         .iter()
         .filter_map(|r| match placed(c, r)? {
@@ -442,7 +445,7 @@ fn tunnel(c: &CaseRun) -> Vec<Figure> {
 fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
     let mut series: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
     let mut selected = Vec::new();
-    for r in &c.results {
+    for r in &c.ran.results {
         let Some(PlotData::Modes {
             eigenvalues,
             selected: s,
@@ -496,7 +499,7 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
         colour: Some(7),
     });
     vec![Figure {
-        title: format!("{}: eigenvalues", c.case.id),
+        title: format!("{}: eigenvalues", c.ran.case.id),
         x_label: "real part, 1/s".into(),
         y_label: "imaginary part, rad/s".into(),
         series: s,
@@ -509,7 +512,7 @@ fn eigenvalues(c: &CaseRun) -> Vec<Figure> {
 fn loci(c: &CaseRun) -> Vec<Figure> {
     let mut seen: Vec<(String, u64)> = Vec::new();
     let mut out = Vec::new();
-    for r in &c.results {
+    for r in &c.ran.results {
         let Some(PlotData::Modes {
             locus: Some(l),
             selected,
@@ -569,7 +572,7 @@ fn loci(c: &CaseRun) -> Vec<Figure> {
             });
         }
         out.push(Figure {
-            title: format!("{}: root locus in {}", c.case.id, l.derivative),
+            title: format!("{}: root locus in {}", c.ran.case.id, l.derivative),
             x_label: "real part, 1/s".into(),
             y_label: "imaginary part, rad/s".into(),
             series,
@@ -585,7 +588,7 @@ fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
     let mut not = Vec::new();
     let on_chart =
         |r: &&CheckResult| matches!(placed(c, r), Some(Placed::Eigenvalues { bcar: true, .. }));
-    for r in c.results.iter().filter(on_chart) {
+    for r in c.ran.results.iter().filter(on_chart) {
         let Some(PlotData::Modes {
             selected: Some(e), ..
         }) = &r.plot
@@ -627,7 +630,7 @@ fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
     vec![Figure {
         title: format!(
             "{}: BCAR Section T (complies to the right of the boundary)",
-            c.case.id
+            c.ran.case.id
         ),
         x_label: "damping index T / t_half (1 / cycles to half amplitude)".into(),
         y_label: "period, s".into(),
@@ -658,7 +661,7 @@ fn bcar_chart(c: &CaseRun) -> Vec<Figure> {
 
 fn time_histories(c: &CaseRun) -> Vec<Figure> {
     let mut out = Vec::new();
-    for r in &c.results {
+    for r in &c.ran.results {
         let Some(PlotData::TimeHistory { traces }) = &r.plot else {
             continue;
         };
@@ -710,7 +713,7 @@ fn time_histories(c: &CaseRun) -> Vec<Figure> {
 /// log frequency): the reference's response as markers, the model's as a line.
 fn bode(c: &CaseRun) -> Vec<Figure> {
     let mut out = Vec::new();
-    for r in &c.results {
+    for r in &c.ran.results {
         let Some(PlotData::FrequencyResponse {
             title,
             frequencies_hz,

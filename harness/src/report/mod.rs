@@ -25,19 +25,17 @@ pub mod tables;
 pub mod uncertainty;
 
 use crate::report::tables::Counts;
-use crate::suite::case::Case;
 use crate::suite::outcome::{CheckResult, Outcome};
+use crate::suite::validation::CaseRan;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// One case as it ran.
+/// One case as it ran, with the studies the report shows beside it.
 #[derive(Debug, Clone)]
 pub struct CaseRun {
-    pub case: Case,
-    pub results: Vec<CheckResult>,
-    pub seconds: f64,
-    /// The corrections the case ran with (`--corrections`), described.
-    pub corrections: Vec<String>,
+    /// The case, its results, its time, the corrections it ran with and its scores, as the
+    /// validation ran it.
+    pub ran: CaseRan,
     /// The case's sensitivity study, if it asks for one (or why it could not be run).
     pub sensitivity: Option<Result<crate::fit::sensitivity::Study, String>>,
     /// The case's uncertainty (`validate --uncertainty`).
@@ -66,7 +64,7 @@ impl Run {
     pub fn counts(&self) -> Counts {
         let mut all = Counts::default();
         for c in &self.cases {
-            all.merge(&crate::report::tables::counts(&c.results));
+            all.merge(&crate::report::tables::counts(&c.ran.results));
         }
         all
     }
@@ -75,7 +73,7 @@ impl Run {
     pub fn results(&self) -> Vec<CheckResult> {
         self.cases
             .iter()
-            .flat_map(|c| c.results.iter().cloned())
+            .flat_map(|c| c.ran.results.iter().cloned())
             .collect()
     }
 }
@@ -228,7 +226,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
     h += &fits_html(dir);
     h += "<h2>Cases</h2><nav><ul>";
     for c in &run.cases {
-        let k = crate::report::tables::counts(&c.results);
+        let k = crate::report::tables::counts(&c.ran.results);
         let _ = write!(
             h,
             "<li><a href=\"#case-{id}\">{id}</a> <span class=\"muted\">{} pass, {} xfail{}</span></li>",
@@ -239,7 +237,7 @@ pub fn html(run: &Run, dir: &Path) -> String {
                 .filter(|o| !o.ok() && k.of(**o) > 0)
                 .map(|o| format!(", <span class=\"fail\">{} {}</span>", k.of(*o), o.label()))
                 .collect::<String>(),
-            id = esc(&c.case.id)
+            id = esc(&c.ran.case.id)
         );
     }
     h += "</ul></nav>\n";
@@ -474,7 +472,7 @@ fn summary_html(run: &Run, counts: &Counts) -> String {
         let _ = write!(h, "<pre class=\"fail\">{}</pre>", esc(e));
     }
     let mut slow: Vec<&CaseRun> = run.cases.iter().collect();
-    slow.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
+    slow.sort_by(|a, b| b.ran.seconds.total_cmp(&a.ran.seconds));
     h += "<h3>Slowest cases</h3><p class=\"muted\">Time of each case's checks, summed over \
           the threads that ran them; a linearisation that several cases share is computed once, by the first case that needs \
           it.</p><table><tr><th>case</th><th>checks</th><th>time, s</th></tr>";
@@ -482,9 +480,9 @@ fn summary_html(run: &Run, counts: &Counts) -> String {
         let _ = write!(
             h,
             "<tr><td><a href=\"#case-{id}\">{id}</a></td><td class=\"n\">{}</td><td class=\"n\">{:.2}</td></tr>",
-            c.results.len(),
-            c.seconds,
-            id = esc(&c.case.id)
+            c.ran.results.len(),
+            c.ran.seconds,
+            id = esc(&c.ran.case.id)
         );
     }
     h += "</table><h3>Versions and corrections</h3><table>";
@@ -568,7 +566,7 @@ fn data_as_read_html(case: &crate::suite::case::Case, dir: &Path) -> String {
 }
 
 fn case_html(c: &CaseRun, dir: &Path) -> String {
-    let case = &c.case;
+    let case = &c.ran.case;
     let link = relative_link(&case.path, dir);
     let mut h = String::new();
     let _ = write!(
@@ -582,8 +580,8 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
         // The case's path from the suite's root (the report's folder's parent), never this
         // machine's absolute path: a report sent to a colleague names files they have.
         path = esc(&relative_link(&case.path, dir.parent().unwrap_or(dir))),
-        n = c.results.len(),
-        s = c.seconds,
+        n = c.ran.results.len(),
+        s = c.ran.seconds,
         src = esc(&case.provenance.source),
         notes = case
             .provenance
@@ -593,11 +591,11 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
             .unwrap_or_default()
     );
     h += &data_as_read_html(case, dir);
-    if !c.corrections.is_empty() {
+    if !c.ran.corrections.is_empty() {
         let _ = write!(
             h,
             "<p class=\"xfail\">Run with corrections: {}</p>",
-            esc(&c.corrections.join("; "))
+            esc(&c.ran.corrections.join("; "))
         );
     }
     let figs = figures::of_case(c);
@@ -606,7 +604,7 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
     }
     h += "<table><tr><th>check</th><th>quantity</th><th>value</th><th>expected</th>\
           <th>allowed</th><th>tolerance and reason</th><th>margin</th><th>verdict</th></tr>";
-    for r in &c.results {
+    for r in &c.ran.results {
         let rows = r.quantities.len().max(1);
         let class = outcome_class(r.outcome);
         let head = format!(
@@ -730,26 +728,26 @@ pub fn markdown(run: &Run) -> String {
     m += "\nTime is each case's checks, summed over the threads that ran them; a linearisation that several cases share is computed \
           once, by the first case that needs it.\n\n| case | class | checks | pass | FAIL | xfail | MOVED | XPASS | ERROR | time, s |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for c in &run.cases {
-        let n = crate::report::tables::counts(&c.results);
+        let n = crate::report::tables::counts(&c.ran.results);
         let _ = writeln!(
             m,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
-            c.case.id,
-            c.case.class.name(),
-            c.results.len(),
+            c.ran.case.id,
+            c.ran.case.class.name(),
+            c.ran.results.len(),
             n.pass,
             n.fail,
             n.expected_failure,
             n.discrepancy_moved,
             n.unexpected_pass,
             n.error,
-            c.seconds
+            c.ran.seconds
         );
     }
     let bad: Vec<&CheckResult> = run
         .cases
         .iter()
-        .flat_map(|c| c.results.iter())
+        .flat_map(|c| c.ran.results.iter())
         .filter(|r| !r.outcome.ok())
         .collect();
     if !bad.is_empty() {

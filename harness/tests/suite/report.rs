@@ -39,10 +39,13 @@ fn the_bcar_chart_places_a_mode_by_its_own_verdict() {
         .collect();
     assert!(results[0].outcome.ok(), "{}", results[0].explain());
     let run = CaseRun {
-        case,
-        results,
-        seconds: 0.0,
-        corrections: vec![],
+        ran: cierva_harness::suite::validation::CaseRan {
+            case,
+            results,
+            seconds: 0.0,
+            corrections: vec![],
+            scores: vec![],
+        },
         sensitivity: None,
         uncertainty: None,
     };
