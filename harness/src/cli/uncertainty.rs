@@ -38,8 +38,9 @@ pub(crate) struct UncertaintyArgs {
     /// wants.
     #[arg(long)]
     pub(crate) validation_only: bool,
-    /// How the inputs are propagated: auto (sampled for an aircraft, first order for a rotor,
-    /// whose evaluations are tables of autorotation searches), sampled (the Saltelli design),
+    /// How the inputs are propagated: auto (first order for a case with autorotation checks,
+    /// whose evaluations are tables of autorotation searches, on any model; sampled for any
+    /// other), sampled (the Saltelli design),
     /// or first-order (an additive surrogate from each input at its 5 % and 95 % quantiles,
     /// checked at four draws of every input: 2 d + 4 evaluations).
     #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Propagation::Auto)]

@@ -1,7 +1,7 @@
-//! A rotor case's first-order propagation (`propagate`): each estimated input at two
-//! probes, an additive surrogate through them, and a residual check of its additivity. Each
-//! evaluation of a rotor case is a table of autorotation searches, too slow to sample;
-//! [`super::propagate`] chooses this for a rotor (`--method auto`) or when asked.
+//! First-order propagation (`propagate`): each estimated input at two probes, an additive
+//! surrogate through them, and a residual check of its additivity. Each evaluation of a case
+//! with autorotation checks is a table of autorotation searches, too slow to sample;
+//! [`super::study`] chooses this for such a case on any model (`--method auto`) or when asked.
 
 use super::distribution::Input;
 use super::propagate::{
@@ -12,8 +12,8 @@ use super::propagate::{
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
 
-/// First-order propagation (a rotor case: each evaluation is a table of autorotation searches,
-/// too slow to sample). Each input is moved to its 5 % and 95 % quantiles ([`PROBE_QUANTILE`]),
+/// First-order propagation (a case with autorotation checks: each evaluation is a table of
+/// autorotation searches, too slow to sample). Each input is moved to its 5 % and 95 % quantiles ([`PROBE_QUANTILE`]),
 /// all others nominal (`2 d` evaluations, on every core). The quantity is then taken as
 /// additive in its inputs, `S(x) = S0 + sum_i g_i(x_i)`, each `g_i` the parabola through the
 /// input's three values (the line through two where one side finds no equilibrium): the

@@ -10,8 +10,8 @@
 //! - [`propagate`]: all of it through a case, sampled: statistics, indices, the numerical
 //!   uncertainty from a refined discretisation, the data's from the tolerance, and the
 //!   verdicts; and what the first-order method shares with it.
-//! - [`first_order`]: a rotor case's first-order propagation (an additive surrogate through two
-//!   probes of each input, with a residual check).
+//! - [`first_order`]: the first-order propagation of a case with autorotation checks (an
+//!   additive surrogate through two probes of each input, with a residual check).
 //! - [`study`]: the entry points, [`study::propagate`] and [`study::propagate_from`]: a case's
 //!   inputs, and the method that suits it.
 //! - [`summary`]: a whole suite's verdicts per case, as committed in

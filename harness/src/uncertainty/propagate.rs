@@ -40,8 +40,9 @@ pub struct PropagationSettings {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum Propagation {
-    /// Sampled for an aircraft, first order for a rotor (each evaluation a table of
-    /// autorotation searches, too slow to sample).
+    /// First order for a case with `autorotation` checks (each evaluation a table of
+    /// autorotation searches, too slow to sample), whatever model answers them; sampled for
+    /// any other case.
     #[default]
     Auto,
     /// The Saltelli design: `samples (d + 2)` evaluations.

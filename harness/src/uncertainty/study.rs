@@ -6,7 +6,6 @@ use super::propagate::{
     CaseUncertainty, Propagation, PropagationSettings, inputs, refined, sampled, without_inputs,
 };
 use crate::checks::CheckClass;
-use crate::checks::subject::Subject;
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
 
@@ -64,7 +63,7 @@ pub fn propagate_from(
         return Ok(without_inputs(case, nominal));
     }
     let first = match settings.method {
-        Propagation::Auto => matches!(case.subject, Subject::Rotor { .. }),
+        Propagation::Auto => case.checks.iter().any(|c| c.behaviour().tunnel().is_some()),
         Propagation::Sampled => false,
         Propagation::FirstOrder => true,
     };

@@ -1992,3 +1992,56 @@ fn a_request_at_every_declared_nominal_value_is_the_model_as_it_is() {
         }
     }
 }
+
+/// `--method auto` chooses the first-order propagation by what a case asks (autorotation
+/// checks: each evaluation a table of autorotation searches), not by the subject's type: TR
+/// 487's case on cierva's rotor behind the model interface (an `external` subject) is propagated
+/// as the rotor file's case is, with the same inputs and every quantity's `u_input`, `u_num` and
+/// verdict the same. Before, `auto` sampled any model but a rotor file (its Saltelli design, 50
+/// times the evaluations).
+#[test]
+fn the_automatic_propagation_follows_the_checks_not_the_subjects_type() {
+    use cierva_harness::checks::subject::Subject;
+    use cierva_harness::uncertainty::propagate::{Propagation, PropagationSettings};
+    let case = cierva_harness::suite::case::load(
+        &repo_root().join("cases/naca-tr487-vertical-descent.yaml"),
+    )
+    .unwrap();
+    let Subject::Rotor { file, solver, .. } = &case.subject else {
+        panic!("TR 487's case is of a rotor");
+    };
+    let rotor = cierva_harness::external::rotor::CiervaRotor::owned((**file).clone(), *solver);
+    let mut other = case.clone();
+    other.subject = Subject::External(Box::new(cierva_harness::external::External {
+        model: std::sync::Arc::new(rotor),
+        loading: Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+        written: "cierva's rotor behind the model interface".into(),
+        folder: repo_root(),
+    }));
+    let settings = PropagationSettings {
+        samples: 8,
+        seed: 0,
+        validation_only: true,
+        method: Propagation::Auto,
+    };
+    let study = |c| cierva_harness::uncertainty::study::propagate(c, settings, || ()).unwrap();
+    let (a, b) = (study(&case), study(&other));
+    assert!(a.method.starts_with("first order"), "{}", a.method);
+    assert_eq!(b.method, a.method);
+    assert_eq!(b.evaluations, a.evaluations);
+    let names = |s: &cierva_harness::uncertainty::propagate::CaseUncertainty| {
+        s.inputs.iter().map(|i| i.name.clone()).collect::<Vec<_>>()
+    };
+    assert_eq!(names(&b), names(&a));
+    assert_eq!(b.results.len(), a.results.len());
+    assert!(!a.results.is_empty());
+    for (x, y) in a.results.iter().zip(&b.results) {
+        assert_eq!((&y.check, &y.quantity), (&x.check, &x.quantity));
+        assert_eq!(y.u_input, x.u_input, "{}", x.quantity);
+        assert_eq!(y.u_num, x.u_num, "{}", x.quantity);
+        assert_eq!(y.verdict, x.verdict, "{}", x.quantity);
+    }
+}
