@@ -173,6 +173,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> Result<ExitCode, Error> {
         trim: flown.trim.clone(),
         controls,
         channels: Default::default(),
+        travel: Default::default(),
     };
     write_record(
         &a.output,

@@ -111,6 +111,10 @@ pub struct RecordMeta {
     /// names' suffixes ([`crate::inputs::channels`]).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub channels: BTreeMap<String, String>,
+    /// Controls logged in their own unit, by control (`eta_s`): their travel, and whether the
+    /// columns are positions or changes from trim ([`crate::inputs::channels::Travel`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub travel: BTreeMap<String, crate::inputs::channels::Travel>,
 }
 
 /// A loaded, checked record.
@@ -220,6 +224,7 @@ pub fn load_using(
             format!("must be a finite number, got {v}"),
         ));
     }
+    check_travel(&side, &side_src, &mut meta)?;
     let src = yaml::read_csv(csv_path)?;
     let mut lines = src
         .lines()
@@ -236,7 +241,7 @@ pub fn load_using(
         .chain(controls.iter().map(String::as_str))
         .collect();
     let wanted: Vec<&str> = needed.iter().chain(used).copied().collect();
-    let plan = crate::inputs::channels::plan(&written, &meta.channels, &wanted)
+    let plan = crate::inputs::channels::plan(&written, &meta.channels, &meta.travel, &wanted)
         .map_err(|(field, m)| InputError::field(&side, &side_src, &field, m))?;
     let mut channels = plan.names;
     let mut notes = plan.notes;
@@ -244,7 +249,8 @@ pub fn load_using(
     let (mut data, left_out) = samples(csv_path, lines, &channels, &needed)?;
     for (k, factor) in plan.factors.iter().enumerate() {
         if let Some(f) = factor {
-            data[k].iter_mut().for_each(|x| *x *= f);
+            let offset = plan.offsets[k];
+            data[k].iter_mut().for_each(|x| *x = *x * f + offset);
         }
     }
     for (k, why) in left_out.into_iter().enumerate().rev() {
@@ -266,6 +272,55 @@ pub fn load_using(
         data,
         notes,
     })
+}
+
+/// A sidecar's `travel:` checked, and its trim values in a control's own unit taken to % of
+/// travel (a trim value is a position). Each control must be one the record lists, its travel
+/// well formed, and its trim given once.
+fn check_travel(side: &Path, src: &str, meta: &mut RecordMeta) -> Result<(), InputError> {
+    let controls: Vec<String> = meta
+        .controls
+        .iter()
+        .filter_map(|c| c.strip_suffix(PERCENT).map(str::to_string))
+        .collect();
+    for (control, t) in &meta.travel {
+        let field = format!("travel.{control}");
+        if !controls.contains(control) {
+            let hint = yaml::nearest(control, &controls)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(InputError::field(
+                side,
+                src,
+                &field,
+                format!(
+                    "`{control}` is not a control of this record{hint}: `controls:` lists {}",
+                    if controls.is_empty() {
+                        "none".to_string()
+                    } else {
+                        format!("`{}`", controls.join("`, `"))
+                    }
+                ),
+            ));
+        }
+        if let Some(problem) = t.problem() {
+            return Err(InputError::field(side, src, &field, problem));
+        }
+        let own = format!("{control}_{}", t.unit);
+        if let Some(x) = meta.trim.remove(&own) {
+            let percent = format!("{control}{PERCENT}");
+            if meta.trim.contains_key(&percent) {
+                return Err(InputError::field(
+                    side,
+                    src,
+                    &format!("trim.{own}"),
+                    format!("the trim gives `{percent}` too: give the control's trim once"),
+                ));
+            }
+            meta.trim.insert(percent, t.position_percent(x));
+        }
+    }
+    Ok(())
 }
 
 /// The header's channel names in today's spelling ([`current_name`]); two columns that are one

@@ -161,7 +161,7 @@ pub fn load(csv_path: &Path) -> Result<TrimPoints, InputError> {
         wanted.push(format!("{SCATTER}{q}"));
     }
     let wanted: Vec<&str> = wanted.iter().map(String::as_str).collect();
-    let plan = crate::inputs::channels::plan(&written, &meta.channels, &wanted)
+    let plan = crate::inputs::channels::plan(&written, &meta.channels, &BTreeMap::new(), &wanted)
         .map_err(|(field, m)| InputError::field(&side, &side_src, &field, m))?;
     let names = plan.names;
     let mut notes = plan.notes;

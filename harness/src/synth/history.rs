@@ -116,6 +116,7 @@ pub fn synthesize(
         trim: BTreeMap::new(),
         controls: controls.iter().map(|c| c.to_string()).collect(),
         channels: Default::default(),
+        travel: Default::default(),
     };
     Ok((meta, channels, data))
 }

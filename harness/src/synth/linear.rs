@@ -526,5 +526,6 @@ fn sidecar(s: &LinearTest, dt: f64, control_channel: String) -> RecordMeta {
         trim,
         controls: vec![control_channel],
         channels: Default::default(),
+        travel: Default::default(),
     }
 }

@@ -77,6 +77,7 @@ pub fn synthesize_teeter(
         trim: BTreeMap::new(),
         controls: vec![],
         channels: Default::default(),
+        travel: Default::default(),
     };
     (names, data, meta)
 }

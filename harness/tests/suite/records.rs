@@ -411,3 +411,197 @@ fn a_file_that_is_not_utf8_is_located_at_its_first_bad_byte() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The stick's travel in the tests' own unit: -12 deg at 0 %, 14 deg at 100 % (a stick's
+/// fore-and-aft angle; any two distinct ends would do).
+const STICK_AT_0_DEG: f64 = -12.0;
+const STICK_AT_100_DEG: f64 = 14.0;
+
+/// `record`'s CSV and sidecar rewritten into `dir` as `stick.csv`, with the column
+/// `eta_s_percent` logged as `STICK` in degrees (mapped to `eta_s_deg`), its values `x` becoming
+/// `at_0 + x (at_100 - at_0) / 100` for positions or `x (at_100 - at_0) / 100` for changes
+/// from trim, the trim's `eta_s_percent` given in degrees, and `extra` appended to the sidecar.
+fn stick_in_degrees(dir: &Path, record: &str, positions: bool, extra: &str) -> PathBuf {
+    let span = STICK_AT_100_DEG - STICK_AT_0_DEG;
+    let to_deg = |x: f64| {
+        if positions {
+            STICK_AT_0_DEG + x * span / 100.0
+        } else {
+            x * span / 100.0
+        }
+    };
+    let csv = std::fs::read_to_string(repo_root().join(format!("{record}.csv"))).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == "eta_s_percent").unwrap();
+    let mut out = header
+        .iter()
+        .map(|h| if *h == "eta_s_percent" { "STICK" } else { h })
+        .collect::<Vec<_>>()
+        .join(",")
+        + "\n";
+    for line in lines {
+        let fields: Vec<String> = line
+            .split(',')
+            .enumerate()
+            .map(|(j, f)| match j {
+                _ if j == k => format!("{}", to_deg(f.parse().unwrap())),
+                _ => f.to_string(),
+            })
+            .collect();
+        out += &(fields.join(",") + "\n");
+    }
+    std::fs::write(dir.join("stick.csv"), out).unwrap();
+    let side = std::fs::read_to_string(repo_root().join(format!("{record}.yaml"))).unwrap();
+    let id = record.rsplit('/').next().unwrap();
+    let side: String = side
+        .replacen(&format!("id: {id}"), "id: stick", 1)
+        .lines()
+        .map(|l| match l.strip_prefix("  eta_s_percent: ") {
+            Some(x) => format!(
+                "  eta_s_deg: {}\n",
+                STICK_AT_0_DEG + x.parse::<f64>().unwrap() * span / 100.0
+            ),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let logged = if positions {
+        "position"
+    } else {
+        "change_from_trim"
+    };
+    std::fs::write(
+        dir.join("stick.yaml"),
+        format!(
+            "{side}channels:\n  STICK: eta_s_deg\ntravel:\n  eta_s: {{unit: deg, at_0_percent: \
+             {STICK_AT_0_DEG}, at_100_percent: {STICK_AT_100_DEG}, logged: {logged}}}\n{extra}"
+        ),
+    )
+    .unwrap();
+    dir.join("stick.csv")
+}
+
+/// How closely a control logged in degrees comes back to % of travel: the logger's decimal text
+/// of `at_0 + x span / 100` and back, a few rounding steps on values of order 100 %.
+const TRAVEL_ROUND_TRIP_PERCENT: f64 = 1e-11;
+
+/// A control logged in its own unit comes to % of travel through the sidecar's `travel:`, as a
+/// position (an identification record: the shipped stick sweep, the stick in degrees, its trim
+/// too) or as a change from trim (a time history: the shipped stick doublet), to the canonical
+/// record's numbers. The same doublet read as positions is off by the travel's offset, so the
+/// sidecar must say which. Before, a control had to be logged in %.
+#[test]
+fn a_control_in_its_own_unit_comes_to_percent_through_its_travel() {
+    let dir = scratch("travel");
+    let sweep = record::load(&repo_root().join(format!("{SWEEP}.csv"))).unwrap();
+    let got = record::load(&stick_in_degrees(&dir, SWEEP, true, ""))
+        .unwrap_or_else(|e| panic!("{}", e.render()));
+    for (name, want) in sweep.channels.iter().zip(&sweep.data) {
+        let have = got.channel(name).unwrap_or_else(|| panic!("no `{name}`"));
+        for (a, b) in have.iter().zip(want) {
+            assert!(
+                (a - b).abs() <= TRAVEL_ROUND_TRIP_PERCENT * b.abs().max(1.0),
+                "{name}: {a} against {b}"
+            );
+        }
+    }
+    let (a, b) = (
+        got.meta.trim["eta_s_percent"],
+        sweep.meta.trim["eta_s_percent"],
+    );
+    assert!((a - b).abs() <= TRAVEL_ROUND_TRIP_PERCENT * b, "{a} {b}");
+    assert!(!got.meta.trim.contains_key("eta_s_deg"));
+    let notes = got.notes.join("\n");
+    assert!(
+        notes.contains(
+            "`eta_s_deg` converted to `eta_s_percent` through its travel (-12 deg at 0 %, 14 deg \
+             at 100 %; positions)"
+        ),
+        "{notes}"
+    );
+
+    let doublet = "flight-refs/synthetic-vpm-m16-70mph-stick-doublet";
+    let canonical =
+        record::load_with(&repo_root().join(format!("{doublet}.csv")), &[], true).unwrap();
+    let want = canonical.channel("eta_s_percent").unwrap();
+    assert!(want.iter().any(|x| *x != 0.0));
+    for positions in [false, true] {
+        let sub = dir.join(format!("doublet-{positions}"));
+        std::fs::create_dir_all(&sub).unwrap();
+        // Written as changes; read as the sidecar says (positions: wrongly).
+        let csv = stick_in_degrees(&sub, doublet, false, "");
+        if positions {
+            let side = std::fs::read_to_string(sub.join("stick.yaml")).unwrap();
+            std::fs::write(
+                sub.join("stick.yaml"),
+                side.replace("logged: change_from_trim", "logged: position"),
+            )
+            .unwrap();
+        }
+        let got = record::load_with(&csv, &[], true).unwrap_or_else(|e| panic!("{}", e.render()));
+        let have = got.channel("eta_s_percent").unwrap();
+        let offset = 100.0 * STICK_AT_0_DEG / (STICK_AT_100_DEG - STICK_AT_0_DEG);
+        for (a, b) in have.iter().zip(want) {
+            let b = if positions { b - offset } else { *b };
+            assert!(
+                (a - b).abs() <= TRAVEL_ROUND_TRIP_PERCENT * b.abs().max(1.0),
+                "positions {positions}: {a} against {b}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A travel that cannot be applied is a located error at its entry in the sidecar.
+#[test]
+fn a_bad_travel_is_a_located_error() {
+    let cases = [
+        (
+            ("eta_s: {unit: deg", "eta_z: {unit: deg"),
+            "travel.eta_z",
+            "`eta_z` is not a control of this record (did you mean `eta_s`?)",
+        ),
+        (
+            ("at_100_percent: 14", "at_100_percent: -12"),
+            "travel.eta_s",
+            "a travel has two ends",
+        ),
+        (
+            ("unit: deg", "unit: percent"),
+            "travel.eta_s",
+            "not `percent`",
+        ),
+        (
+            ("logged: position", "logged: absolute"),
+            "logged",
+            "position",
+        ),
+    ];
+    for (k, ((from, to), field, want)) in cases.iter().enumerate() {
+        let dir = scratch(&format!("bad-travel-{k}"));
+        let csv = stick_in_degrees(&dir, SWEEP, true, "");
+        let side = std::fs::read_to_string(dir.join("stick.yaml")).unwrap();
+        assert!(side.contains(from), "{from}");
+        std::fs::write(dir.join("stick.yaml"), side.replacen(from, to, 1)).unwrap();
+        let text = record::load(&csv).unwrap_err().render();
+        assert!(text.contains(want), "{to}: {text}");
+        assert!(
+            text.contains("stick.yaml") && text.contains(field),
+            "{text}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // The control's trim given twice, in % and in its own unit.
+    let dir = scratch("bad-travel-trim");
+    let csv = stick_in_degrees(&dir, SWEEP, true, "");
+    let side = std::fs::read_to_string(dir.join("stick.yaml")).unwrap();
+    std::fs::write(
+        dir.join("stick.yaml"),
+        side.replacen("trim:\n", "trim:\n  eta_s_percent: 48.0\n", 1),
+    )
+    .unwrap();
+    let text = record::load(&csv).unwrap_err().render();
+    assert!(text.contains("trim.eta_s_deg"), "{text}");
+    assert!(text.contains("give the control's trim once"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

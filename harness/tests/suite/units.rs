@@ -220,6 +220,7 @@ mod history {
             trim: BTreeMap::new(),
             controls: vec![],
             channels: Default::default(),
+            travel: Default::default(),
         };
         let rec = Record {
             path: "r.csv".into(),

@@ -107,6 +107,7 @@ impl FlownTest {
                 trim: self.trim,
                 controls: record_controls(control),
                 channels: Default::default(),
+                travel: Default::default(),
             },
             channels: self.channels,
             data: self.data,
