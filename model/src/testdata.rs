@@ -204,6 +204,8 @@ pub fn gyroplane() -> crate::aircraft::Aircraft {
                 table(&|_, b| -0.1 * b),
             ],
             munk_yaw_m3: 0.0,
+            munk_axial_m3: 0.0,
+            munk_centre_m: [0.0; 3],
             tailplane: Some(surface([-2.6, 0.0, -0.2], 0.45, 0.0)),
             fin: Some(surface([-2.8, 0.0, -0.6], 0.7, 0.5)),
         },

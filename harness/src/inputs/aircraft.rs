@@ -432,7 +432,7 @@ pub fn load(path: &Path) -> Result<AircraftFile, InputError> {
                 RotationSpec::Anticlockwise => Rotation::Anticlockwise,
             },
         },
-        airframe: airframe_of(&a.airframe),
+        airframe: airframe_of(&a.airframe, &err)?,
         controls: ControlMaps {
             shaft_pitch_rad: deg(a.controls.shaft_pitch_deg),
             shaft_roll_rad: deg(a.controls.shaft_roll_deg),
@@ -705,11 +705,37 @@ fn surface(s: &SurfaceSpec) -> Surface {
     }
 }
 
-/// The airframe: its reference geometry, its six coefficient tables, the pod's Munk couple
-/// (absent: none) and its tail surfaces.
-fn airframe_of(af: &AirframeSpec) -> Airframe {
+/// The airframe: its reference geometry, its six coefficient tables, the pod's apparent masses
+/// (absent: none) and its tail surfaces. A Munk couple needs the pod: its centroid is where the
+/// apparent masses move, and its shape gives their axial part (`k1 Vol`, Lamb's spheroid).
+fn airframe_of(
+    af: &AirframeSpec,
+    err: &dyn Fn(&str, String) -> InputError,
+) -> Result<Airframe, InputError> {
     let c = &af.coefficients;
-    Airframe {
+    let munk_yaw_m3 = af.munk_yaw_m3.unwrap_or(0.0);
+    let (munk_axial_m3, munk_centre_m) = match (&af.pod, munk_yaw_m3 > 0.0) {
+        (_, false) => (0.0, af.reference_point_m),
+        (None, true) => {
+            return Err(err(
+                "aircraft.airframe.munk_yaw_m3",
+                "the pod's Munk couple acts where its apparent mass moves: give the pod's shape and centroid under `airframe.pod` ({length_m, width_m, height_m, centroid_m})".into(),
+            ));
+        }
+        (Some(p), true) => {
+            let pod = cierva_model::estimate::body::Pod {
+                length_m: p.length_m,
+                width_m: p.width_m,
+                height_m: p.height_m,
+            };
+            let (k1, _) = pod
+                .checked()
+                .and_then(|pod| cierva_model::estimate::body::apparent_mass_factors(pod.fineness()))
+                .map_err(|e| err("aircraft.airframe.pod", e.to_string()))?;
+            (k1 * pod.volume_m3(), p.centroid_m)
+        }
+    };
+    Ok(Airframe {
         reference_area_m2: af.reference_area_m2,
         reference_length_m: af.reference_length_m,
         reference_span_m: af.reference_span_m,
@@ -723,10 +749,12 @@ fn airframe_of(af: &AirframeSpec) -> Airframe {
             c.cm.clone(),
             c.cn.clone(),
         ],
-        munk_yaw_m3: af.munk_yaw_m3.unwrap_or(0.0),
+        munk_yaw_m3,
+        munk_axial_m3,
+        munk_centre_m,
         tailplane: af.tailplane.as_ref().map(surface),
         fin: af.fin.as_ref().map(surface),
-    }
+    })
 }
 
 /// The geometry the estimates work from, checked (`None` where the file gives no planform and

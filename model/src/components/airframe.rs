@@ -28,13 +28,19 @@
 //! (DATCOM's `q_v / q`; 1: all of it). The part in the slipstream meets the propeller's jet.
 //!
 //! The pod's potential flow in sideslip makes a couple of its own, Munk's (`munk_yaw_m3`): a
-//! body of revolution along x moving with `(u, v)` through still air carries the lateral
-//! momentum of its apparent mass, and the couple of that momentum, `N = -K rho u v` with `K =
-//! (k2 - k1) Vol` (Munk 1924; [`crate::estimate::body`]), yaws its nose away from the wind. It is
-//! a pure couple (no side force), so it acts the same about any point. It is a parameter rather
-//! than part of the `cn` table so that its estimated range can be sampled; the pod's pitching
-//! counterpart is in the `cm` table, where the aircraft files put their pod's instability in
-//! pitch.
+//! body of revolution along x moving with `(u_p, v_p)` at its centroid through still air
+//! carries the momentum of its apparent masses, `P = rho (A11 u_p, A22 v_p)` with `A11 = k1 Vol`
+//! (`munk_axial_m3`) and `A22 = A11 + K`, `K = (k2 - k1) Vol` (Munk 1924;
+//! [`crate::estimate::body`]). Kirchhoff's equations for steady motion give the couple `-rho K
+//! u_p v_p` about the centroid, which yaws its nose away from the wind, and, when it turns at
+//! yaw rate `r`, the force `-r x P` at the centroid (`r A22 v_p` along x, `-r A11 u_p` across).
+//! The centroid (`munk_centre_m`) is not the centre of mass: its velocity `v_p = v + x_p r`
+//! carries the yaw rate, and the force's arm adds `-A11 rho u x_p r`, so the pod gives `N_r =
+//! -k2 rho Vol u x_p` as well as `N_v = -K rho u`. The apparent masses' inertia (their
+//! accelerations) is left out, a small share of the aircraft's mass and inertia. `K` is a
+//! parameter rather than part of the `cn` table so that its estimated range (separation gives
+//! part of it back) can be sampled; the pod's pitching counterpart is in the `cm` table, where
+//! the aircraft files put their pod's instability in pitch.
 //!
 //! `alpha = atan2(w, u)`, `beta = asin(v / V)` of the air-relative velocity at the centre of
 //! mass (body axes: x forward, y starboard, z down). Angles outside a table are an error naming
@@ -176,9 +182,14 @@ pub struct Airframe {
     pub side_force_centre_m: Option<[f64; 3]>,
     /// Body-axis coefficients: `cx, cy, cz, cl, cm, cn`.
     pub coefficients: [Table2; 6],
-    /// The pod's Munk couple `K = (k2 - k1) Vol`, m^3: a yawing moment `-K rho u v` (module
-    /// docs; 0: none).
+    /// The pod's Munk couple `K = (k2 - k1) Vol`, m^3: a yawing moment `-K rho u_p v_p` about
+    /// its centroid (module docs; 0: none).
     pub munk_yaw_m3: f64,
+    /// The pod's axial apparent volume `k1 Vol`, m^3: the momentum along its axis that its
+    /// turning makes a side force (module docs; 0: none).
+    pub munk_axial_m3: f64,
+    /// The pod's centroid, where its apparent masses move, body axes from the datum, m.
+    pub munk_centre_m: [f64; 3],
     pub tailplane: Option<Surface>,
     pub fin: Option<Surface>,
 }
@@ -304,7 +315,16 @@ impl Airframe {
         if !(self.munk_yaw_m3.is_finite() && self.munk_yaw_m3 >= 0.0) {
             return Err(AirframeError::Surface("the Munk couple (munk_yaw_m3)"));
         }
-        let points = [Some(self.reference_point_m), self.side_force_centre_m];
+        if !(self.munk_axial_m3.is_finite() && self.munk_axial_m3 >= 0.0) {
+            return Err(AirframeError::Surface(
+                "the pod's axial apparent volume (munk_axial_m3)",
+            ));
+        }
+        let points = [
+            Some(self.reference_point_m),
+            self.side_force_centre_m,
+            Some(self.munk_centre_m),
+        ];
         if points.iter().flatten().flatten().any(|x| !x.is_finite()) {
             return Err(AirframeError::Surface(
                 "reference point and side-force centre",
@@ -351,15 +371,25 @@ impl Airframe {
         let along = cross(arm_from(self.reference_point_m), [f[0], 0.0, f[2]]);
         let side = cross(arm_from(side_centre), [0.0, f[1], 0.0]);
         let transfer = [along[0] + side[0], along[1] + side[1], along[2] + side[2]];
-        // The pod's Munk couple: a pure couple, the same about any point.
-        let munk = -self.munk_yaw_m3 * density_kg_m3 * uvw[0] * uvw[1];
+        // The pod's apparent masses (module docs): Munk's couple about its centroid, at the
+        // centroid's velocity, and the force its yawing makes of their momentum, there.
+        let pod_arm = arm_from(self.munk_centre_m);
+        let at_pod = cross(pqr, pod_arm);
+        let (u_p, v_p) = (uvw[0] + at_pod[0], uvw[1] + at_pod[1]);
+        let (a11, a22) = (
+            density_kg_m3 * self.munk_axial_m3,
+            density_kg_m3 * (self.munk_axial_m3 + self.munk_yaw_m3),
+        );
+        let munk = -(a22 - a11) * u_p * v_p;
+        let pod_force = [pqr[2] * a22 * v_p, -pqr[2] * a11 * u_p, 0.0];
+        let pod_moment = cross(pod_arm, pod_force);
         let mut total = [
-            f[0],
-            f[1],
+            f[0] + pod_force[0],
+            f[1] + pod_force[1],
             f[2],
-            m_ref[0] + transfer[0],
-            m_ref[1] + transfer[1],
-            m_ref[2] + transfer[2] + munk,
+            m_ref[0] + transfer[0] + pod_moment[0],
+            m_ref[1] + transfer[1] + pod_moment[1],
+            m_ref[2] + transfer[2] + pod_moment[2] + munk,
         ];
         for (surface, vertical, deflection) in [
             (&self.tailplane, false, deflections_rad[0]),
@@ -499,6 +529,8 @@ mod tests {
             side_force_centre_m: None,
             coefficients: std::array::from_fn(|_| zero_table()),
             munk_yaw_m3: 0.0,
+            munk_axial_m3: 0.0,
+            munk_centre_m: [0.0; 3],
             tailplane: Some(surface([-3.0, 0.0, 0.0], 0.6)),
             fin: Some(surface([-3.0, 0.0, -0.5], 0.5)),
         }
@@ -775,6 +807,40 @@ mod tests {
         assert!((y(&f) / whole - 0.8).abs() < 1e-12);
         f.fin.as_mut().unwrap().dynamic_pressure_ratio = 0.0;
         assert!(f.validate().is_err());
+    }
+
+    /// The pod's apparent masses at a centroid ahead of the centre of mass (Kirchhoff's
+    /// equations for steady motion): its `N_v` is `-K rho u` and its `N_r` is `-k2 rho Vol u
+    /// x_p` (`k2 Vol = K + k1 Vol`), its `Y_r` `-k1 rho Vol u`; with the centroid at the centre of
+    /// mass its `N_r` is 0. The old couple, `-K rho u v` at the c.g.'s velocity, gave no `N_r`
+    /// and no `Y_r` (issue 52, item 1).
+    #[test]
+    fn the_pods_apparent_mass_damps_yaw_rate_from_ahead_of_the_cg() {
+        let mut a = airframe();
+        a.tailplane = None;
+        a.fin = None;
+        let (k, k1_vol, x_p) = (0.57, 0.135, 0.4);
+        a.munk_yaw_m3 = k;
+        a.munk_axial_m3 = k1_vol;
+        a.munk_centre_m = [x_p, 0.0, 0.0];
+        let (rho, u) = (1.16, 31.3);
+        let at = |a: &Airframe, v: f64, r: f64| {
+            a.loads([u, v, 1.0], [0.0, 0.0, r], rho, [0.0; 3], [0.0; 2], None)
+                .unwrap()
+        };
+        let h = 1e-4;
+        let d = |f: &dyn Fn(f64) -> f64| (f(h) - f(-h)) / (2.0 * h);
+        let n_v = d(&|v| at(&a, v, 0.0).n_n_m);
+        let n_r = d(&|r| at(&a, 0.0, r).n_n_m);
+        let y_r = d(&|r| at(&a, 0.0, r).y_n);
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-7 * y.abs();
+        assert!(close(n_v, -k * rho * u), "{n_v}");
+        assert!(close(n_r, -(k + k1_vol) * rho * u * x_p), "{n_r}");
+        assert!(close(y_r, -k1_vol * rho * u), "{y_r}");
+        // About -10 N m s for the VPM M16's pod.
+        assert!((-11.0..-9.0).contains(&n_r), "{n_r}");
+        a.munk_centre_m = [0.0; 3];
+        assert!(d(&|r| at(&a, 0.0, r).n_n_m).abs() < 1e-9);
     }
 
     #[test]

@@ -13,10 +13,12 @@
 //! the upper end of what it can be.
 //!
 //! The cross-flow round the body is, far from it, a doublet across the stream of strength
-//! `(1 + k2) Vol v / (4 pi)` (the sphere's `a^3 v / 2` when `k2 = 1/2`): at a point a distance
-//! `r` behind it on its axis (normal to the doublet's axis) the lateral perturbation is `-(1 +
-//! k2) Vol v / (4 pi r^3)`, against the cross-flow: a sidewash that takes that share of the
-//! sideslip away from a fin there.
+//! `(1 + k2) Vol v / (4 pi)` (the sphere's `a^3 v / 2` when `k2 = 1/2`). At a point a distance
+//! `r` behind it on its axis (normal to the doublet's axis) the flow speeds up as it does at a
+//! sphere's equator: the fluid alongside a body moving sideways flows against the body's motion,
+//! so relative to the body the cross-flow there is `(1 + k2) Vol / (4 pi r^3)` larger than the
+//! sideslip's. A fin there sees more sideslip, not less: the pod's sidewash gradient is
+//! negative, `-(1 + k2) Vol / (4 pi r^3)`.
 
 use super::{Estimate, EstimateError, Method, positive};
 use serde::Serialize;
@@ -99,7 +101,7 @@ pub fn apparent_mass_factors(fineness: f64) -> Result<(f64, f64), EstimateError>
 /// The pod's Munk couple in sideslip.
 pub const MUNK_YAW: Method = Method {
     name: "the pod's destabilising potential-flow couple in sideslip (Munk)",
-    source: "Munk 1924 (NACA TR 184): the couple of an airship hull is (k2 - k1) Vol q sin 2 beta, away from the wind; here N = -K rho u v with K = (k2 - k1) Vol of the pod's spheroid (N_beta = -2 K q at zero sideslip)",
+    source: "Munk 1924 (NACA TR 184): the couple of an airship hull is (k2 - k1) Vol q sin 2 beta, away from the wind; here N = -K rho u_p v_p about the pod's centroid with K = (k2 - k1) Vol of the pod's spheroid (N_beta = -2 K q at zero sideslip); the centroid's velocity carries the yaw rate, and with the axial apparent mass's side force the pod gives N_r = -k2 rho Vol u x_p (Kirchhoff's equations for a solid moving through a liquid, Lamb 1932 Ch. VI)",
     accuracy: "estimated: 0.5 to 1.0 of the value: potential flow is the upper end (the after body's separated boundary layer gives part of the couple back, the more so the blunter the body), and a pod with an open cockpit and an engine behind it is neither a spheroid nor closed",
 };
 
@@ -114,18 +116,19 @@ pub fn munk_yaw_m3(pod: &Pod) -> Result<Estimate, EstimateError> {
 /// The sidewash of a pod's cross-flow at a point behind it.
 pub const BODY_SIDEWASH: Method = Method {
     name: "sidewash of the pod's cross-flow at the fin",
-    source: "the far field of the pod's cross-flow, a doublet of strength (1 + k2) Vol v / (4 pi) (potential flow, Lamb 1932 Arts. 92 and 373): at a distance r behind it the share of the sideslip taken away is (1 + k2) Vol / (4 pi r^3); DATCOM's wing-body sidewash correlation (Sec. 5.4.1.1) needs a wing and does not apply to a gyroplane's pod",
+    source: "the far field of the pod's cross-flow, a doublet of strength (1 + k2) Vol v / (4 pi) (potential flow, Lamb 1932 Arts. 92 and 373): at a distance r behind it on its axis the flow is sped up, as at a sphere's equator, so the share of the sideslip added is (1 + k2) Vol / (4 pi r^3) and the gradient its negative; DATCOM's wing-body sidewash correlation (Sec. 5.4.1.1) needs a wing and does not apply to a gyroplane's pod",
     accuracy: "estimated: 0 to 3 times the value: the doublet is the field far from the body and the fin is little more than a pod's length behind it; the separated wake at small sideslip adds no cross-flow of its own",
 };
 
-/// [`BODY_SIDEWASH`]: the share of the sideslip the pod's cross-flow takes away at `distance_m`
-/// from its centroid (the model's `wash_gradient`).
+/// [`BODY_SIDEWASH`]: the sidewash gradient of the pod's cross-flow at `distance_m` behind its
+/// centroid (the model's `wash_gradient`, which takes `wash x v` from the sideslip): negative,
+/// since the pod's cross-flow adds to the sideslip there.
 pub fn sidewash_gradient(pod: &Pod, distance_m: f64) -> Result<Estimate, EstimateError> {
     pod.checked()?;
     let r = positive("distance from the pod to the fin", distance_m)?;
     let (_, k2) = apparent_mass_factors(pod.fineness())?;
-    let value = (1.0 + k2) * pod.volume_m3() / (4.0 * PI * r.powi(3));
-    Ok(Estimate::within(value, 0.0, 3.0 * value))
+    let added = (1.0 + k2) * pod.volume_m3() / (4.0 * PI * r.powi(3));
+    Ok(Estimate::within(-added, -3.0 * added, 0.0))
 }
 
 #[cfg(test)]
@@ -192,16 +195,32 @@ mod tests {
         );
     }
 
-    /// The sphere's doublet: a^3 / (2 r^3) of the cross-flow at distance r.
+    /// The sphere's doublet: a^3 / (2 r^3) of the cross-flow at distance r, added to it. The
+    /// sphere in a cross-stream `U`, potential `U (r + a^3 / (2 r^2)) cos theta` (Lamb Art. 92),
+    /// has at a point on the axis normal to the stream the lateral velocity `U (1 + a^3 / (2
+    /// r^3))` (1.5 U at its equator): the fin there sees more sideslip, so the gradient is
+    /// `-a^3 / (2 r^3)`, within `[-3, 0]` times the doublet's. It was `+a^3 / (2 r^3)` (issue
+    /// 52, item 2).
     #[test]
-    fn the_sidewash_far_behind_a_sphere_is_its_doublets() {
+    fn the_sidewash_far_behind_a_sphere_adds_its_doublets_cross_flow() {
         let sphere = Pod {
             length_m: 2.0,
             width_m: 2.0,
             height_m: 2.0,
         };
-        let s = sidewash_gradient(&sphere, 5.0).unwrap();
-        assert!((s.value - 1.0 / (2.0 * 125.0)).abs() < 1e-12, "{s:?}");
+        let (a, r) = (1.0_f64, 5.0_f64);
+        // The potential's lateral velocity on the normal axis, by a central difference of
+        // phi = U (y + a^3 y / (2 rho^3)) along y at (x = r, y = 0), over U.
+        let phi = |y: f64| {
+            let rho = (r * r + y * y).sqrt();
+            y + a.powi(3) * y / (2.0 * rho.powi(3))
+        };
+        let h = 1e-5;
+        let lateral = (phi(h) - phi(-h)) / (2.0 * h);
+        let s = sidewash_gradient(&sphere, r).unwrap();
+        assert!((s.value - (1.0 - lateral)).abs() < 1e-9, "{s:?} {lateral}");
+        assert!((s.value + 1.0 / (2.0 * 125.0)).abs() < 1e-12, "{s:?}");
+        assert_eq!((s.lower, s.upper), (3.0 * s.value, 0.0));
         assert!(sidewash_gradient(&sphere, 0.0).is_err());
     }
 }
