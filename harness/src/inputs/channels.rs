@@ -195,14 +195,21 @@ pub fn plan(
                 .unwrap_or_default();
             return Err((field, format!("the record has no column `{column}`{hint}")));
         };
-        if !known
+        // A control in its own unit is named by its travel (`eta_p_mm` with `travel: {eta_p:
+        // {unit: mm, ..}}`), whatever the unit.
+        let by_travel = travel
             .iter()
-            .any(|u| name.ends_with(u) && name.len() > u.len())
+            .any(|(control, t)| *name == format!("{control}_{}", t.unit));
+        if !by_travel
+            && !known
+                .iter()
+                .any(|u| name.ends_with(u) && name.len() > u.len())
         {
             return Err((
                 field,
                 format!(
-                    "`{name}`: name the channel with its unit as a suffix, one of {}",
+                    "`{name}`: name the channel with its unit as a suffix, one of {} (or a \
+                     control's own unit, given with its travel under `travel:`)",
                     known.join(", ")
                 ),
             ));

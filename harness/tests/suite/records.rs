@@ -549,6 +549,29 @@ fn a_control_in_its_own_unit_comes_to_percent_through_its_travel() {
             );
         }
     }
+    // A unit cierva does not convert (the stick in mm), mapped by the sidecar's `channels:`:
+    // the travel names it.
+    let sub = dir.join("mm");
+    std::fs::create_dir_all(&sub).unwrap();
+    let csv = stick_in_degrees(&sub, SWEEP, true, "");
+    let side = std::fs::read_to_string(sub.join("stick.yaml")).unwrap();
+    std::fs::write(
+        sub.join("stick.yaml"),
+        side.replace("STICK: eta_s_deg", "STICK: eta_s_mm")
+            .replace("eta_s_deg:", "eta_s_mm:")
+            .replace("unit: deg", "unit: mm"),
+    )
+    .unwrap();
+    let got = record::load(&csv).unwrap_or_else(|e| panic!("{}", e.render()));
+    let (a, b) = (
+        got.channel("eta_s_percent").unwrap(),
+        sweep.channel("eta_s_percent").unwrap(),
+    );
+    assert!(
+        a.iter()
+            .zip(b)
+            .all(|(a, b)| (a - b).abs() <= TRAVEL_ROUND_TRIP_PERCENT * b.abs().max(1.0))
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
