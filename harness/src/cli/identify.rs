@@ -148,6 +148,11 @@ fn print_text(
             "{} ({}): {}",
             rec.meta.title, rec.meta.id, rec.meta.provenance.source
         );
+        // How its columns were read (mapped, converted, left out), so that a wrong map or
+        // travel shows before its numbers are trusted.
+        for note in &rec.notes {
+            println!("  read: {note}");
+        }
     }
     match compared {
         None => {

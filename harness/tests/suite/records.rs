@@ -575,6 +575,25 @@ fn a_control_in_its_own_unit_comes_to_percent_through_its_travel() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `cierva identify` on a record with its stick in degrees says how it read each column before
+/// its estimates, so that a wrong travel shows.
+#[test]
+fn identify_says_how_it_read_a_logged_record() {
+    let dir = scratch("identify-notes");
+    let csv = stick_in_degrees(&dir, SWEEP, true, "");
+    let (code, out, err) = super::common::cierva_in(&dir, &["identify", csv.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("  read: column `STICK` read as `eta_s_deg`"),
+        "{out}"
+    );
+    assert!(
+        out.contains("  read: `eta_s_deg` converted to `eta_s_percent` through its travel"),
+        "{out}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A travel that cannot be applied is a located error at its entry in the sidecar.
 #[test]
 fn a_bad_travel_is_a_located_error() {
