@@ -1707,6 +1707,39 @@ fn the_readme_retune_through_the_protocol_is_the_built_in_one() {
     }
 }
 
+/// TR 487's case, and the same case with its rotor behind the model interface as `wrap` makes
+/// it (an `external` subject).
+fn tr487_on_an_external_model(
+    wrap: impl FnOnce(
+        cierva_harness::external::rotor::CiervaRotor<'static>,
+    ) -> std::sync::Arc<dyn cierva_harness::external::FlightModel>,
+    written: &str,
+) -> (
+    cierva_harness::suite::case::Case,
+    cierva_harness::suite::case::Case,
+) {
+    use cierva_harness::checks::subject::Subject;
+    let case = cierva_harness::suite::case::load(
+        &repo_root().join("cases/naca-tr487-vertical-descent.yaml"),
+    )
+    .unwrap();
+    let Subject::Rotor { file, solver, .. } = &case.subject else {
+        panic!("TR 487's case is of a rotor");
+    };
+    let rotor = cierva_harness::external::rotor::CiervaRotor::owned((**file).clone(), *solver);
+    let mut other = case.clone();
+    other.subject = Subject::External(Box::new(cierva_harness::external::External {
+        model: wrap(rotor),
+        loading: Loading {
+            mass_kg: None,
+            density_altitude_ft: 0.0,
+        },
+        written: written.into(),
+        folder: repo_root(),
+    }));
+    (case, other)
+}
+
 /// How much the test's rotor model adds to cierva's rotor speed, rad/s.
 const SPED_UP_RAD_S: f64 = 0.1;
 
@@ -1742,25 +1775,10 @@ impl cierva_harness::external::FlightModel for SpedUp {
 /// is. Before, the check read cierva's rotor file itself and refused any other subject.
 #[test]
 fn an_autorotation_check_asks_any_model_through_the_interface() {
-    use cierva_harness::checks::subject::Subject;
-    let case = cierva_harness::suite::case::load(
-        &repo_root().join("cases/naca-tr487-vertical-descent.yaml"),
-    )
-    .unwrap();
-    let Subject::Rotor { file, solver, .. } = &case.subject else {
-        panic!("TR 487's case is of a rotor");
-    };
-    let rotor = cierva_harness::external::rotor::CiervaRotor::owned((**file).clone(), *solver);
-    let mut other = case.clone();
-    other.subject = Subject::External(Box::new(cierva_harness::external::External {
-        model: std::sync::Arc::new(SpedUp(rotor)),
-        loading: Loading {
-            mass_kg: None,
-            density_altitude_ft: 0.0,
-        },
-        written: "the test's sped-up rotor".into(),
-        folder: repo_root(),
-    }));
+    let (case, other) = tr487_on_an_external_model(
+        |rotor| std::sync::Arc::new(SpedUp(rotor)),
+        "the test's sped-up rotor",
+    );
     let (a, b) = (
         cierva_harness::suite::outcome::run_case(&case),
         cierva_harness::suite::outcome::run_case(&other),
@@ -2001,26 +2019,11 @@ fn a_request_at_every_declared_nominal_value_is_the_model_as_it_is() {
 /// times the evaluations).
 #[test]
 fn the_automatic_propagation_follows_the_checks_not_the_subjects_type() {
-    use cierva_harness::checks::subject::Subject;
     use cierva_harness::uncertainty::propagate::{Propagation, PropagationSettings};
-    let case = cierva_harness::suite::case::load(
-        &repo_root().join("cases/naca-tr487-vertical-descent.yaml"),
-    )
-    .unwrap();
-    let Subject::Rotor { file, solver, .. } = &case.subject else {
-        panic!("TR 487's case is of a rotor");
-    };
-    let rotor = cierva_harness::external::rotor::CiervaRotor::owned((**file).clone(), *solver);
-    let mut other = case.clone();
-    other.subject = Subject::External(Box::new(cierva_harness::external::External {
-        model: std::sync::Arc::new(rotor),
-        loading: Loading {
-            mass_kg: None,
-            density_altitude_ft: 0.0,
-        },
-        written: "cierva's rotor behind the model interface".into(),
-        folder: repo_root(),
-    }));
+    let (case, other) = tr487_on_an_external_model(
+        |rotor| std::sync::Arc::new(rotor),
+        "cierva's rotor behind the model interface",
+    );
     let settings = PropagationSettings {
         samples: 8,
         seed: 0,
