@@ -235,3 +235,93 @@ fn a_compressible_rotor_autorotates_at_high_mu() {
     let rpm = a.omega_rad_s * 30.0 / std::f64::consts::PI;
     assert!((rpm / 117.2 - 1.0).abs() < 0.2, "{rpm} rpm");
 }
+
+/// Every fixed-angle path keeps only the equilibrium a tunnel holds, `d(C_Q/sigma)/d(ln Omega)
+/// < 0` (issue 52, item 5). At TR 515 row 75's tip-speed ratio and rotor speed the PCA-2 rotor's
+/// equilibrium (1.06 deg) is the slow, unstable one, as the tip-speed search reports; started
+/// there, the fixed-angle search at that angle and airspeed gives the fast rotor's equilibrium,
+/// the one it finds from a fast rotor, or says none is stable; never the slow one. The old
+/// warm-start path kept the slow root it started on.
+#[test]
+fn a_warm_start_on_the_slow_unstable_root_does_not_keep_it() {
+    use cierva_harness::checks::subject::Subject;
+    use cierva_model::components::atmosphere;
+    use cierva_model::components::autorotation::{self, AutorotationError, Tunnel};
+    use cierva_model::components::rotor::Inflow;
+    let case =
+        cierva_harness::suite::case::load(&repo_root().join("cases/naca-tr515-table-iii.yaml"))
+            .unwrap();
+    let Subject::Rotor { file, solver, .. } = &case.subject else {
+        panic!("TR 515's case is of a rotor");
+    };
+    let rotor = &file.rotor;
+    let options = *solver;
+    let t = case
+        .checks
+        .iter()
+        .find(|c| c.id == "row-75")
+        .and_then(|c| c.behaviour().tunnel().copied())
+        .expect("row 75's tunnel");
+    let (mu, rpm) = (t.tip_speed_ratio.unwrap(), t.rotor_rpm.unwrap());
+    let slow = cierva_harness::run::autorotation::run_autorotation_at_tip_speed_ratio(
+        rotor,
+        mu,
+        rpm,
+        t.collective_deg,
+        t.density_kg_m3,
+        *solver,
+    );
+    let Err(cierva_harness::run::autorotation::AutorotateError::Autorotation(
+        AutorotationError::SlowBranch {
+            alpha_deg,
+            omega_rad_s,
+            ..
+        },
+    )) = slow
+    else {
+        panic!("row 75 is no longer on the slow branch: {slow:?}");
+    };
+    let air = match t.density_kg_m3 {
+        Some(rho) => {
+            atmosphere::at_density_altitude(atmosphere::density_altitude_m(rho).unwrap()).unwrap()
+        }
+        None => atmosphere::Atmosphere::standard().at(0.0).unwrap(),
+    };
+    let alpha = alpha_deg.to_radians();
+    let tunnel = Tunnel {
+        alpha_rad: alpha,
+        airspeed_m_s: mu * omega_rad_s * rotor.radius_m / alpha.cos(),
+        density_kg_m3: air.density_kg_m3,
+        speed_of_sound_m_s: air.speed_of_sound_m_s,
+        collective_shift_rad: t
+            .collective_deg
+            .map_or(0.0, |c| rotor.collective_shift_for(c.to_radians())),
+    };
+    let cold = autorotation::autorotate(rotor, tunnel, options);
+    for inflow in [
+        Inflow::default(),
+        Inflow {
+            v0: 0.5,
+            ..Inflow::default()
+        },
+    ] {
+        let warm =
+            autorotation::autorotate_from(rotor, tunnel, options, Some((omega_rad_s, inflow)));
+        match (&warm, &cold) {
+            (Ok(w), Ok(c)) => assert!(
+                (w.omega_rad_s / c.omega_rad_s - 1.0).abs() < 1e-6,
+                "from the slow root {omega_rad_s} rad/s: {} against the cold search's {}",
+                w.omega_rad_s,
+                c.omega_rad_s
+            ),
+            (Err(_), Err(_)) => {}
+            _ => panic!("from the slow root {omega_rad_s} rad/s: {warm:?} against {cold:?}"),
+        }
+        if let Ok(w) = &warm {
+            assert!(
+                (w.omega_rad_s / omega_rad_s - 1.0).abs() > 1e-3,
+                "kept the slow root {omega_rad_s} rad/s"
+            );
+        }
+    }
+}

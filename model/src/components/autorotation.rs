@@ -394,10 +394,13 @@ fn autorotate_within(
     rotor.validate()?;
     check_tunnel(&tunnel)?;
     let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow, spent);
+    // A warm start is kept only where it lands on a stable equilibrium: near the fold it can
+    // converge to the slow rotor's, which the bracket from a fast rotor never gives.
     if let Some((omega, inflow)) = guess
         && omega.is_finite()
         && omega > 0.0
         && let Ok(a) = solve_from(&mut p, options, omega, inflow)
+        && p.stable(&a, options)?
     {
         return Ok(a);
     }
@@ -475,6 +478,9 @@ fn autorotate_within(
         torques: torques.clone(),
     })?;
 
+    // From a fast rotor the first change of sign is the fast rotor's equilibrium, which is not
+    // judged again here: under momentum theory's unphysical root in descent it is unstable by
+    // the criterion too (TR 487 with `--descent momentum`), and is reported outside validity.
     solve_from(&mut p, options, omega0, inflow0)
 }
 
@@ -761,6 +767,20 @@ impl Problem<'_> {
             return Ok(f64::NAN);
         };
         Ok(jac[(0, 0)] - (jac.view((0, 1), (1, n)) * x)[(0, 0)])
+    }
+
+    /// Whether an equilibrium is one a tunnel holds: `d(C_Q / sigma) / d(ln Omega) < 0` with the
+    /// inflow in equilibrium ([`Self::rotor_speed_stiffness`], at the problem's own numerics and
+    /// the solver's step), the criterion the tip-speed-ratio search applies.
+    fn stable(
+        &mut self,
+        a: &Autorotation,
+        options: AutorotationOptions,
+    ) -> Result<bool, AutorotationError> {
+        let free = unknowns(options.inflow);
+        let stiffness =
+            self.rotor_speed_stiffness(a.omega_rad_s, a.inflow, free, options.newton.fd_step)?;
+        Ok(stiffness < 0.0)
     }
 
     /// The torque coefficient over solidity at rotor speed `omega` with the inflow solved into
