@@ -297,6 +297,11 @@ fn a_warm_start_on_the_slow_unstable_root_does_not_keep_it() {
             .collective_deg
             .map_or(0.0, |c| rotor.collective_shift_for(c.to_radians())),
     };
+    // One root is another's within Newton's convergence (its residuals to 1e-9 move the rotor
+    // speed by far less than a millionth); the slow and fast roots here are 13 % apart, so a
+    // thousandth tells them apart with room.
+    const SAME_ROOT: f64 = 1e-6;
+    const OTHER_ROOT: f64 = 1e-3;
     let cold = autorotation::autorotate(rotor, tunnel, options);
     for inflow in [
         Inflow::default(),
@@ -309,7 +314,7 @@ fn a_warm_start_on_the_slow_unstable_root_does_not_keep_it() {
             autorotation::autorotate_from(rotor, tunnel, options, Some((omega_rad_s, inflow)));
         match (&warm, &cold) {
             (Ok(w), Ok(c)) => assert!(
-                (w.omega_rad_s / c.omega_rad_s - 1.0).abs() < 1e-6,
+                (w.omega_rad_s / c.omega_rad_s - 1.0).abs() < SAME_ROOT,
                 "from the slow root {omega_rad_s} rad/s: {} against the cold search's {}",
                 w.omega_rad_s,
                 c.omega_rad_s
@@ -319,7 +324,7 @@ fn a_warm_start_on_the_slow_unstable_root_does_not_keep_it() {
         }
         if let Ok(w) = &warm {
             assert!(
-                (w.omega_rad_s / omega_rad_s - 1.0).abs() > 1e-3,
+                (w.omega_rad_s / omega_rad_s - 1.0).abs() > OTHER_ROOT,
                 "kept the slow root {omega_rad_s} rad/s"
             );
         }

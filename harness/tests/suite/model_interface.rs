@@ -1969,13 +1969,10 @@ fn a_request_at_every_declared_nominal_value_is_the_model_as_it_is() {
         assert_eq!(lin_a.states(), lin_b.states());
         for (m, n, what) in [(lin_a.a(), lin_b.a(), "A"), (lin_a.b(), lin_b.b(), "B")] {
             assert_eq!(m.shape(), n.shape());
-            for ((i, j), x) in m
-                .iter()
-                .enumerate()
-                .map(|(k, x)| ((k % m.nrows(), k / m.nrows()), x))
-            {
-                let y = n[(i, j)];
-                assert!(close(y, *x), "{file} {what}[{i}][{j}]: {y} against {x}");
+            // Column-major, as nalgebra stores them.
+            for (k, (x, y)) in m.iter().zip(n.iter()).enumerate() {
+                let (i, j) = (k % m.nrows(), k / m.nrows());
+                assert!(close(*y, *x), "{file} {what}[{i}][{j}]: {y} against {x}");
             }
         }
     }

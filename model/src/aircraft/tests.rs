@@ -1018,6 +1018,7 @@ fn the_hub_angle_factor_turns_the_free_stream_and_keeps_the_hubs_motion() {
     };
     let angle = |v: [f64; 3]| v[2].atan2(v[0]);
     let speed_xz = |v: [f64; 3]| v[0].hypot(v[2]);
+    // A rotation by an angle and its sines and cosines: rounding, a few units in the last place.
     let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + y.abs());
     for q_rad_s in [0.0, 0.3] {
         let kinematic = in_body(&with(None), q_rad_s);

@@ -833,6 +833,8 @@ mod tests {
         let n_v = d(&|v| at(&a, v, 0.0).n_n_m);
         let n_r = d(&|r| at(&a, 0.0, r).n_n_m);
         let y_r = d(&|r| at(&a, 0.0, r).y_n);
+        // Central differences of step 1e-4 on loads quadratic in (v, r): exact but for
+        // rounding, a few 1e-12 of the loads over 2e-4, well under 1e-7 of the derivatives.
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-7 * y.abs();
         assert!(close(n_v, -k * rho * u), "{n_v}");
         assert!(close(n_r, -(k + k1_vol) * rho * u * x_p), "{n_r}");
