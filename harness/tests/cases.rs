@@ -74,6 +74,9 @@ fn main() {
         })),
         Ok(loaded) => {
             let mut cases = Vec::new();
+            // A case that did not load fails as itself, not as a case the board has and the
+            // suite lacks.
+            let all_loaded = loaded.iter().all(Result::is_ok);
             for c in loaded {
                 match c {
                     Ok(case) => {
@@ -124,6 +127,33 @@ fn main() {
                 }),
                 ("docs::quoted-numbers", quoted_numbers),
             ];
+            {
+                let cases = cases.clone();
+                trials.push(
+                    Trial::test("scoreboard::every-committed-score-is-declared", move || {
+                        use cierva_harness::suite::{review, scoreboard};
+                        let suite = suite();
+                        let board = scoreboard::load(&suite).map_err(|e| e.render())?;
+                        let all: Vec<&cierva_harness::suite::case::Case> =
+                            cases.iter().map(|e| &e.case).collect();
+                        let gone = review::undeclared(&board, &all, all_loaded);
+                        if gone.is_empty() {
+                            Ok(())
+                        } else {
+                            Err(format!(
+                                "committed scores in {} that no case declares:\n  {}\n\
+                                 a score leaves the board only through `cargo run --release -- \
+                                 review --accept --reason TEXT --because CASE/ITEM=TEXT`, which \
+                                 drops it and logs why",
+                                suite.scoreboard().display(),
+                                gone.join("\n  ")
+                            )
+                            .into())
+                        }
+                    })
+                    .with_kind("scoreboard"),
+                );
+            }
             for (name, check) in docs {
                 let cases = cases.clone();
                 trials.push(Trial::test(name, move || check(&cases)).with_kind("docs"));
@@ -311,18 +341,19 @@ fn add_case(trials: &mut Vec<Trial>, evaluated: Arc<Evaluated>) {
                 let judged = validation::judge_case(&board, &e.case, &e.all());
                 let bad: Vec<String> = judged
                     .iter()
-                    .filter(|j| {
-                        matches!(j.change, scoreboard::Change::Worse | scoreboard::Change::New)
-                    })
+                    .filter(|j| j.change != scoreboard::Change::Same)
                     .map(|j| format!("  {}", j.describe()))
                     .collect();
                 if bad.is_empty() {
                     Ok(())
                 } else {
                     Err(format!(
-                        "scores worse than committed in {} by more than their noise floor, or not committed:\n{}\n\
-                         if the change is intended, `cargo run --release -- review --accept --reason TEXT` \
-                         commits the new values (an improvement is committed the same way) and logs why",
+                        "scores that differ from {} by more than their noise floor (worse; better, \
+                         which the board keeps only once accepted, so that losing it again fails; \
+                         or not committed):\n{}\n\
+                         if the change is intended, `cargo run --release -- review --accept --reason TEXT \
+                         --because CASE/ITEM=TEXT ...` commits the new values and logs why, item by item \
+                         (`cargo run --release -- review` lists the items)",
                         suite.scoreboard().display(),
                         bad.join("\n")
                     )

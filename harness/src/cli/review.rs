@@ -21,13 +21,14 @@ use cierva_harness::suite::{discrepancy, scoreboard};
 /// recorded bands; when the model moves (better or worse), `cargo test` and `cierva validate`
 /// fail it as "discrepancy moved". This command lists what moved; `--accept` records the
 /// model's values as they are now (as `cargo insta review` accepts snapshots), with a
-/// reason (`--reason`), appending an entry to `reports/acceptances.yaml`: the date, commit,
-/// reason, each change (old, new, better or worse) and the fingerprint of the files
-/// written. Exit code 0 when nothing moved or all was accepted, 1 otherwise, 2 on bad input
+/// reason (`--reason`) and one per changed item (`--because`), appending an entry to
+/// `reports/acceptances.yaml`: the date, commit, reason, each change (old, new, better or
+/// worse, its reason), the fingerprint of the files written and the entry's hash chain link. Exit code 0 when nothing moved or all was accepted, 1 otherwise, 2 on bad input
 /// (`--accept` without `--reason`).
 ///
 /// Example: `cierva review cases/naca-tr515-table-iii.yaml`, then `cierva review --accept
-/// --reason "hub drag from the fitted corrections"`
+/// --reason "hub drag from the fitted corrections" --because
+/// 'naca-tr515-table-iii/low-mu-*=the hub drag now comes from the fit'`
 #[derive(clap::Args)]
 pub(crate) struct ReviewArgs {
     /// Case files or folders searched for `*.yaml` (default: `cases`).
@@ -39,13 +40,28 @@ pub(crate) struct ReviewArgs {
     /// `reports/acceptances.yaml` with what changed.
     #[arg(long, value_name = "TEXT")]
     reason: Option<String>,
+    /// Why one changed score or record may change, `CASE/ITEM=TEXT` (`*` allowed in ITEM, the
+    /// case named in full); every changed item needs one with `--accept`, and `cierva review`
+    /// lists the ones to fill. Repeat for each item.
+    #[arg(long, value_name = "CASE/ITEM=TEXT")]
+    because: Vec<rv::ItemReason>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
 }
 
 /// The reason to log when accepting, or why the arguments are refused: `--accept` needs a
-/// reason that says something, and `--reason` goes only with `--accept`.
-fn reason_for(accept: bool, reason: Option<String>) -> Result<Option<String>, &'static str> {
+/// reason that says something, and `--reason` and `--because` go only with `--accept`.
+fn reason_for(
+    accept: bool,
+    reason: Option<String>,
+    because: &[rv::ItemReason],
+) -> Result<Option<String>, &'static str> {
+    if !accept && !because.is_empty() {
+        return Err(
+            "`--because` goes with `--accept` (it is an item's reason logged for accepting); \
+             without `--accept` nothing is written",
+        );
+    }
     match (accept, reason) {
         (false, None) => Ok(None),
         (false, Some(_)) => Err(
@@ -72,9 +88,10 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
         paths,
         accept,
         reason,
+        because,
         format,
     } = a;
-    let reason = reason_for(accept, reason).map_err(Error::input)?;
+    let reason = reason_for(accept, reason, &because).map_err(Error::input)?;
     let suite = suite()?;
     let log = rv::load_log(&suite.acceptances())?;
     let cases = suite_cases(&suite, paths)?;
@@ -104,16 +121,17 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
     let stale: Vec<String> = dropped.iter().map(|(c, id)| format!("{c} {id}")).collect();
     let mut written = Vec::new();
     let mut logged = None;
+    let mut changes = rv::changes(&board, &judged, &dropped, &reviews);
     if let Some(reason) = reason {
         // The commit is read before anything is written: the files written make the tree dirty.
         let commit = rv::head_commit(&suite.root);
-        let changes = rv::changes(&board, &judged, &dropped, &reviews);
+        rv::assign_reasons(&mut changes, &because).map_err(Error::input)?;
         let board = (!(scores_moved.is_empty() && stale.is_empty()))
             .then(|| scoreboard::with(&board, &reviewed, &scores));
         if let Err(e) = write_accepted(&suite, board.as_ref(), &reviews, &mut written) {
             return Err(Error::input(e));
         }
-        match log_acceptance(&suite, &log, reason, commit, changes) {
+        match log_acceptance(&suite, &log, reason, commit, changes.clone()) {
             Ok(entry) => logged = Some(entry),
             Err(e) => return Err(Error::input(e)),
         }
@@ -141,6 +159,16 @@ pub(crate) fn review(a: ReviewArgs) -> Result<ExitCode, Error> {
                 accept,
                 &suite.scoreboard(),
             );
+            if !accept && !changes.is_empty() {
+                println!(
+                    "each changed item needs its own reason when accepted:\n{}",
+                    changes
+                        .iter()
+                        .map(rv::because_line)
+                        .collect::<Vec<_>>()
+                        .join("\n")
+                );
+            }
             print_logged(&suite, logged.as_ref(), &log);
         }
     }
@@ -252,7 +280,8 @@ fn print_text(
         println!(
             "{} cases, {recorded} known discrepancies: {moved} cases or scores moved; if \
              the changes are intended, record them with `cierva review --accept --reason \
-             TEXT` (the reason is logged in reports/acceptances.yaml)",
+             TEXT --because CASE/ITEM=TEXT ...` (the reasons are logged in \
+             reports/acceptances.yaml)",
             reviews.len()
         );
     }
@@ -290,10 +319,11 @@ fn write_accepted(
     Ok(())
 }
 
-/// Appends the acceptance to the log, with the fingerprint of the files as now written.
-/// Nothing is logged (`None`) when nothing changed and the log's last entry already holds that
-/// fingerprint; with no changes, an entry is logged only for a missing log or files that
-/// differ from its last entry.
+/// Appends the acceptance to the log, with the fingerprint of the files as now written and its
+/// chain link. Nothing is logged (`None`) when nothing changed and the log's last entry already
+/// holds that fingerprint and a link; with no changes, an entry is logged only for a missing
+/// log, files that differ from its last entry, or a last entry logged before the chain (the
+/// new entry starts it).
 fn log_acceptance(
     suite: &cierva_harness::suite::Suite,
     log: &rv::Log,
@@ -303,7 +333,8 @@ fn log_acceptance(
 ) -> Result<Option<Acceptance>, String> {
     let fingerprint = rv::fingerprint(suite.reports())?;
     let last = log.acceptances.last();
-    if changes.is_empty() && last.is_some_and(|l| l.fingerprint == fingerprint) {
+    if changes.is_empty() && last.is_some_and(|l| l.fingerprint == fingerprint && l.chain.is_some())
+    {
         return Ok(None);
     }
     let entry = Acceptance {
@@ -312,9 +343,9 @@ fn log_acceptance(
         reason,
         changes,
         fingerprint,
+        chain: None,
     };
-    rv::append_log(&suite.acceptances(), &entry)?;
-    Ok(Some(entry))
+    rv::append_log(&suite.acceptances(), &entry).map(Some)
 }
 
 /// The text output's last line for an acceptance: what was logged, or that nothing was.

@@ -140,6 +140,7 @@ fn validate_with(
 ) -> Result<ExitCode, Error> {
     let started = std::time::Instant::now();
     let suite = suite()?;
+    let whole_suite = paths.is_empty();
     let paths = if paths.is_empty() {
         vec![suite.cases().to_path_buf()]
     } else {
@@ -162,10 +163,16 @@ fn validate_with(
         .collect();
     run.seconds = started.elapsed().as_secs_f64();
     // Scores against corrected models are not the committed model's: shown, never judged.
-    let scores_failing = failing_scores(
-        &judged,
-        !correction_files.is_empty() || !selection.everything(),
-    );
+    let judged_here = correction_files.is_empty() && selection.everything();
+    let scores_failing = failing_scores(&judged, !judged_here);
+    // Committed scores that no case declares any more: a score leaves the board only through
+    // `review --accept`.
+    let ran_cases: Vec<&case::Case> = run.cases.iter().map(|c| &c.ran.case).collect();
+    let undeclared = if judged_here {
+        review::undeclared(&board, &ran_cases, whole_suite)
+    } else {
+        Vec::new()
+    };
     run.scores = judged.clone();
     if report_dir.is_some() {
         run.score_versions = scoreboard::versions(&suite);
@@ -198,6 +205,7 @@ fn validate_with(
                 "corrected_cases": corrected,
                 "counts": counts,
                 "scores": judged,
+                "scores_no_longer_declared": undeclared,
                 "counts_by_class": tables::counts_by_class(&results)
                     .into_iter()
                     .map(|(k, c)| (k.name(), c))
@@ -229,16 +237,9 @@ fn validate_with(
     }
     if !errors.is_empty() {
         Ok(ExitCode::from(2))
-    } else if counts.failing() > 0 || !scores_failing.is_empty() {
-        if !scores_failing.is_empty() && format == Format::Text {
-            println!(
-                "scores worse than committed or not committed: {}; if intended, `cierva review --accept --reason TEXT`",
-                scores_failing
-                    .iter()
-                    .map(|j| format!("{} {}", j.score.case, j.score.id))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
+    } else if counts.failing() > 0 || !scores_failing.is_empty() || !undeclared.is_empty() {
+        if format == Format::Text {
+            print_score_failures(&scores_failing, &undeclared);
         }
         Ok(ExitCode::from(1))
     } else {
@@ -565,14 +566,49 @@ fn uncertainty_cases(run: &cierva_harness::report::Run) -> serde_json::Value {
         .collect()
 }
 
-/// The scores that fail the run: worse than committed, or not committed. None with corrections
-/// (a corrected model's scores are not the committed model's: shown, never judged).
+/// The scores that fail the run: worse than committed, better than committed (the board keeps
+/// a gain only once it is accepted, so that losing it again fails), or not committed. None with
+/// corrections (a corrected model's scores are not the committed model's: shown, never judged).
 fn failing_scores(judged: &[review::Judged], corrected: bool) -> Vec<&review::Judged> {
-    use scoreboard::Change;
     judged
         .iter()
-        .filter(|j| !corrected && matches!(j.change, Change::Worse | Change::New))
+        .filter(|j| !corrected && j.change != scoreboard::Change::Same)
         .collect()
+}
+
+/// What the text output says of the scores that fail the run and the committed scores no case
+/// declares, with what to do.
+fn print_score_failures(failing: &[&review::Judged], undeclared: &[String]) {
+    use scoreboard::Change;
+    let named = |which: &[Change]| {
+        failing
+            .iter()
+            .filter(|j| which.contains(&j.change))
+            .map(|j| format!("{} {}", j.score.case, j.score.id))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let (worse, better) = (
+        named(&[Change::Worse, Change::New]),
+        named(&[Change::Better]),
+    );
+    if !worse.is_empty() {
+        println!("scores worse than committed or not committed: {worse}");
+    }
+    if !better.is_empty() {
+        println!(
+            "scores better than committed: {better}; accept the gain so that losing it again fails"
+        );
+    }
+    for u in undeclared {
+        println!("{u}");
+    }
+    if !(worse.is_empty() && better.is_empty() && undeclared.is_empty()) {
+        println!(
+            "if intended, `cierva review --accept --reason TEXT --because CASE/ITEM=TEXT ...` \
+             (`cierva review` lists the items)"
+        );
+    }
 }
 
 /// The report written into `dir` (nothing without one); exit 2 when it cannot be written.

@@ -5,11 +5,12 @@
 //! # The acceptance log
 //! Every `cierva review --accept --reason TEXT` appends one entry to `reports/acceptances.yaml`
 //! ([`Acceptance`]): when (UTC), on which commit, why, what changed (each score and record, old
-//! and new, and which way), and the fingerprint of what it left: the FNV-1a 64 hash of the
-//! bytes of `reports/scoreboard.yaml` and of every `reports/discrepancies/*.yaml`. The log is
-//! only ever appended to ([`append_log`]); [`acceptance_state`] tells whether the committed
-//! files are still what its last entry accepted, so that a score or a record never changes
-//! without a logged reason.
+//! and new, which way, and each one's own reason), the fingerprint of what it left (the FNV-1a
+//! 64 hash of the bytes of `reports/scoreboard.yaml` and of every `reports/discrepancies/*.yaml`),
+//! and its link in a hash chain over the entries' content ([`link`]). The log is only ever
+//! appended to ([`append_log`]); [`acceptance_state`] tells whether the committed files are
+//! still what its last entry accepted and whether the chain holds, so that a score or a record
+//! never changes without a logged reason, and an entry edited or appended by hand is found.
 
 use crate::inputs::yaml::{self, InputError};
 use crate::suite::discrepancy::{CaseRecord, Recorded, RecordedBand};
@@ -244,6 +245,37 @@ pub struct Judged {
     pub change: Change,
 }
 
+/// The committed scores no case declares any more, as `case score-id` with why: for each of
+/// `cases`, a committed score it does not declare; with `whole_suite` (the cases are all the
+/// suite's), also every case on the board that is not among them. A score leaves the board only
+/// through `cierva review --accept`, which drops it with its reason; removing it from its case
+/// alone fails the run.
+pub fn undeclared(
+    board: &Board,
+    cases: &[&crate::suite::case::Case],
+    whole_suite: bool,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for (case, scores) in &board.scores {
+        match cases.iter().find(|c| &c.id == case) {
+            Some(c) => out.extend(
+                scores
+                    .keys()
+                    .filter(|id| !c.scores.iter().any(|s| &s.id == *id))
+                    .map(|id| {
+                        format!("{case} {id}: committed, but its case no longer declares it")
+                    }),
+            ),
+            None if whole_suite => out.push(format!(
+                "{case}: {} committed, but the suite has no case `{case}`",
+                crate::units::count(scores.len(), "score", "scores")
+            )),
+            None => {}
+        }
+    }
+    out
+}
+
 /// Judges scores against the board.
 pub fn judge(board: &Board, scores: Vec<Score>) -> Vec<Judged> {
     scores
@@ -301,6 +333,11 @@ pub struct Acceptance {
     pub changes: Vec<Accepted>,
     /// Each accepted file (relative to `reports/`) and the hash of its bytes after writing.
     pub fingerprint: BTreeMap<String, String>,
+    /// The link of the hash chain ([`link`]): the FNV-1a 64 hash of the previous entry's link
+    /// and this entry's content. Entries logged before the chain began have none; every entry
+    /// after the first one with a link must have one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain: Option<String>,
 }
 
 /// One score or record an acceptance changed.
@@ -315,6 +352,10 @@ pub struct Accepted {
     /// None for a dropped one.
     pub new: Option<Value>,
     pub direction: Direction,
+    /// Why this item may change (`--because CASE/ITEM=TEXT`): required of every change of a
+    /// chained entry; entries logged before per-item reasons have none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
 }
 
 /// A logged value: a score's number, or a record in short.
@@ -382,6 +423,7 @@ pub fn changes(
             old: j.committed.map(Value::Number),
             new: Some(Value::Number(j.score.value)),
             direction,
+            reason: None,
         })
     });
     let gone = dropped.iter().map(|(case, id)| Accepted {
@@ -394,6 +436,7 @@ pub fn changes(
             .map(|c| Value::Number(c.value)),
         new: None,
         direction: Direction::Dropped,
+        reason: None,
     });
     scores
         .chain(gone)
@@ -423,6 +466,7 @@ pub fn record_changes(r: &CaseReview) -> Vec<Accepted> {
                 old: old.map(summary),
                 new: new.map(summary),
                 direction,
+                reason: None,
             })
         })
         .collect()
@@ -492,12 +536,218 @@ pub fn fingerprint(reports: &Path) -> Result<BTreeMap<String, String>, String> {
     Ok(out)
 }
 
+/// An entry's content as its chain link hashes it: every field but the link, in order, one per
+/// line, each number by its bits (a NaN as `nan`), so that the link does not hang on how YAML
+/// quotes a string or prints a number.
+fn canonical(a: &Acceptance) -> String {
+    use std::fmt::Write as _;
+    let value = |v: &Option<Value>| match v {
+        None => "none".to_string(),
+        Some(Value::Number(x)) if x.is_nan() => "nan".to_string(),
+        Some(Value::Number(x)) => format!("number {:016x}", x.to_bits()),
+        Some(Value::Text(t)) => format!("text {t:?}"),
+    };
+    let mut o = format!(
+        "date {:?}\ncommit {:?}\nreason {:?}\n",
+        a.date, a.commit, a.reason
+    );
+    for c in &a.changes {
+        let _ = writeln!(
+            o,
+            "change {:?} {:?} {} {} {} {:?}",
+            c.case,
+            c.item,
+            value(&c.old),
+            value(&c.new),
+            c.direction.name(),
+            c.reason
+        );
+    }
+    for (f, h) in &a.fingerprint {
+        let _ = writeln!(o, "file {f:?} {h:?}");
+    }
+    o
+}
+
+/// The chain link of `entry` after an entry whose link is `previous` (`""` before the first
+/// entry): `fnv1a64:` and the FNV-1a 64 hash of `previous`, a newline and the entry's content
+/// ([`canonical`]). Editing, removing or inserting an entry changes every later link; an entry
+/// appended by hand has none. (FNV is not a cryptographic hash: the chain shows an edit made by
+/// mistake or by hand, not one made by someone who recomputes it on purpose.)
+pub fn link(previous: &str, entry: &Acceptance) -> String {
+    let text = format!("{previous}\n{}", canonical(entry));
+    format!("fnv1a64:{:016x}", fnv1a64(text.as_bytes()))
+}
+
+/// The links the log's entries should carry, in order (each computed, whether or not the
+/// entry carries one).
+fn links(log: &Log) -> Vec<String> {
+    let mut previous = String::new();
+    log.acceptances
+        .iter()
+        .map(|a| {
+            previous = link(&previous, a);
+            previous.clone()
+        })
+        .collect()
+}
+
+/// Whether the log's hash chain holds: it is not broken ([`chain_breaks`]) and its last entry
+/// has a link.
+pub fn chain_state(log: &Log) -> Result<(), String> {
+    chain_breaks(log)?;
+    match log.acceptances.last() {
+        Some(last) if last.chain.is_none() => Err(format!(
+            "the last acceptance ({}, {}) has no chain link: the log's entries are not \
+             chained; `cierva review --accept --reason TEXT` logs a chained entry",
+            last.date, last.commit
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Whether the log's hash chain is broken: a link an entry carries that is not the one its
+/// content and the entries before it give, or an entry without a link after one with a link.
+/// An error names the first entry that breaks it (by index and date) and why.
+fn chain_breaks(log: &Log) -> Result<(), String> {
+    let mut chained = false;
+    for (i, (a, want)) in log.acceptances.iter().zip(links(log)).enumerate() {
+        match &a.chain {
+            Some(got) if *got != want => {
+                return Err(format!(
+                    "acceptances[{i}] ({}, {}): its chain link is {got}, but the entries up to it \
+                     give {want}: it, or an entry before it, was edited, inserted or removed by hand",
+                    a.date, a.commit
+                ));
+            }
+            Some(_) => chained = true,
+            None if chained => {
+                return Err(format!(
+                    "acceptances[{i}] ({}, {}): no chain link after chained entries: it was not \
+                     written by `cierva review --accept`",
+                    a.date, a.commit
+                ));
+            }
+            None => {}
+        }
+    }
+    Ok(())
+}
+
+/// A reason given for some changed items: `CASE/ITEM=TEXT` (`--because`), where `ITEM` may
+/// hold `*` (any run of characters) to name several items of one case; the case is named in full.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ItemReason {
+    pub case: String,
+    pub item: String,
+    pub text: String,
+}
+
+impl std::str::FromStr for ItemReason {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let form = "give it as CASE/ITEM=TEXT, e.g. `naca-tr515-table-iii/low-mu-rpm-rms=the \
+                    hub drag's new estimate`";
+        let (name, text) = s
+            .split_once('=')
+            .ok_or_else(|| format!("`{s}`: no `=`; {form}"))?;
+        let (case, item) = name
+            .trim()
+            .split_once('/')
+            .ok_or_else(|| format!("`{name}`: no `/` between the case and the item; {form}"))?;
+        let (case, item, text) = (case.trim(), item.trim(), text.trim());
+        if case.is_empty() || item.is_empty() || text.is_empty() {
+            return Err(format!(
+                "`{s}`: the case, the item and the reason each need a text; {form}"
+            ));
+        }
+        if case.contains('*') {
+            return Err(format!(
+                "`{s}`: the case is named in full (a `*` may stand in the item only): one reason \
+                 does not cover several data sets"
+            ));
+        }
+        Ok(Self {
+            case: case.into(),
+            item: item.into(),
+            text: text.into(),
+        })
+    }
+}
+
+/// Whether `pattern` (with `*` for any run of characters) matches all of `s`.
+fn glob(pattern: &str, s: &str) -> bool {
+    match pattern.split_once('*') {
+        None => pattern == s,
+        Some((head, rest)) => {
+            let Some(tail) = s.strip_prefix(head) else {
+                return false;
+            };
+            (0..=tail.len())
+                .filter(|&i| tail.is_char_boundary(i))
+                .any(|i| glob(rest, &tail[i..]))
+        }
+    }
+}
+
+/// The `--because` argument to fill for a change, with what changed:
+/// `  --because 'case/item=TEXT'   # worse: 0.05 -> 0.06`.
+pub fn because_line(c: &Accepted) -> String {
+    format!(
+        "  --because '{}/{}=TEXT'   # {}{}",
+        c.case,
+        c.item,
+        c.direction.name(),
+        match (&c.old, &c.new) {
+            (Some(o), Some(n)) => format!(": {} -> {}", o.show(), n.show()),
+            _ => String::new(),
+        }
+    )
+}
+
+/// Gives each change its reason from `given`: an item named exactly takes that reason, else
+/// the first pattern of its case that matches it. Refused, with every item that has no reason
+/// (and a `--because` line to fill for each) or every reason that names no changed item.
+pub fn assign_reasons(changes: &mut [Accepted], given: &[ItemReason]) -> Result<(), String> {
+    let matches = |r: &ItemReason, c: &Accepted| r.case == c.case && glob(&r.item, &c.item);
+    let mut missing = Vec::new();
+    for c in changes.iter_mut() {
+        let exact = given.iter().find(|r| r.case == c.case && r.item == c.item);
+        match exact.or_else(|| given.iter().find(|r| matches(r, c))) {
+            Some(r) => c.reason = Some(r.text.clone()),
+            None => missing.push(because_line(c)),
+        }
+    }
+    let unused: Vec<String> = given
+        .iter()
+        .filter(|r| !changes.iter().any(|c| matches(r, c)))
+        .map(|r| format!("`{}/{}`", r.case, r.item))
+        .collect();
+    if !missing.is_empty() {
+        return Err(format!(
+            "every changed score and record needs its own reason (`--because CASE/ITEM=TEXT`, \
+             `*` allowed in ITEM); {} without one:\n{}\nNothing was written",
+            missing.len(),
+            missing.join("\n")
+        ));
+    }
+    if !unused.is_empty() {
+        return Err(format!(
+            "reasons for items that did not change: {}; nothing was written",
+            unused.join(", ")
+        ));
+    }
+    Ok(())
+}
+
 /// Whether the scoreboard and the discrepancy records under `reports` are what the acceptance
 /// log there (`reports/acceptances.yaml`) last accepted: an error names every file that
 /// differs, is missing or was never accepted.
 pub fn acceptance_state(reports: &Path) -> Result<(), String> {
     let path = reports.join(LOG_FILE);
     let log = load_log(&path).map_err(|e| e.to_string())?;
+    chain_state(&log).map_err(|e| format!("{}: {e}", path.display()))?;
     let Some(last) = log.acceptances.last() else {
         return Err(format!(
             "{}: no acceptance logged; accept with `cierva review --accept --reason TEXT`",
@@ -551,6 +801,21 @@ pub fn load_log(path: &Path) -> Result<Log, InputError> {
             "an acceptance needs a reason",
         ));
     }
+    // A chained entry gives every change its own reason.
+    for (i, a) in log.acceptances.iter().enumerate() {
+        let unreasoned = a
+            .changes
+            .iter()
+            .position(|c| c.reason.as_deref().is_none_or(|r| r.trim().is_empty()));
+        if let (Some(_), Some(j)) = (&a.chain, unreasoned) {
+            return Err(InputError::field(
+                path,
+                &src,
+                &format!("acceptances[{i}].changes[{j}]"),
+                "each change of a chained acceptance needs its own reason",
+            ));
+        }
+    }
     Ok(log)
 }
 
@@ -559,14 +824,37 @@ const LOG_HEADER: &str = "# Written by `cierva review --accept --reason TEXT`, o
      # never rewritten, never edited by hand. Each entry's fingerprint is the FNV-1a 64 hash of\n\
      # the bytes of reports/scoreboard.yaml and of each reports/discrepancies/*.yaml as it left\n\
      # them; `cargo test` fails when the committed files are not what the last entry accepted.\n\
+     # Each entry's `chain` hashes the previous entry's and its own content: an entry edited,\n\
+     # removed or appended by hand breaks it. Every change carries its own reason.\n\
      acceptances:\n";
 
-/// Appends `entry` to the log at `path` (creating it): the bytes already there are never
-/// rewritten (the file is opened for appending), and a log that does not load, or that would
-/// not read back as its earlier entries followed by this one, is refused untouched.
-pub fn append_log(path: &Path, entry: &Acceptance) -> Result<(), String> {
+/// Appends `entry` to the log at `path` (creating it), with its chain link ([`link`]), and
+/// returns it as logged: the bytes already there are never rewritten (the file is opened for
+/// appending). Refused untouched: a log that does not load, whose chain is broken, or that
+/// would not read back as its earlier entries followed by this one, and an entry with a change
+/// that has no reason of its own.
+pub fn append_log(path: &Path, entry: &Acceptance) -> Result<Acceptance, String> {
     use std::io::Write as _;
     let before = load_log(path).map_err(|e| e.to_string())?;
+    // A broken chain is refused: a new link would vouch for the entry that broke it.
+    chain_breaks(&before).map_err(|e| format!("{}: {e}; refused", path.display()))?;
+    let previous = links(&before).pop().unwrap_or_default();
+    let entry = &Acceptance {
+        chain: Some(link(&previous, entry)),
+        ..entry.clone()
+    };
+    if let Some(j) = entry
+        .changes
+        .iter()
+        .position(|c| c.reason.as_deref().is_none_or(|r| r.trim().is_empty()))
+    {
+        return Err(format!(
+            "{}: change {j} ({}/{}) has no reason of its own; refused",
+            path.display(),
+            entry.changes[j].case,
+            entry.changes[j].item
+        ));
+    }
     let old = std::fs::read_to_string(path).unwrap_or_default();
     let mut added = String::new();
     if old.trim().is_empty() {
@@ -604,7 +892,8 @@ pub fn append_log(path: &Path, entry: &Acceptance) -> Result<(), String> {
         .open(path)
         .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
     file.write_all(added.as_bytes())
-        .map_err(|e| format!("cannot append to {}: {e}", path.display()))
+        .map_err(|e| format!("cannot append to {}: {e}", path.display()))?;
+    Ok(entry.clone())
 }
 
 /// The civil date and time in UTC, ISO 8601, of a time in seconds since 1970 (Howard Hinnant's

@@ -580,6 +580,7 @@ mod acceptance_log {
                     old: Some(Value::Number(old)),
                     new: Some(Value::Number(0.05)),
                     direction: Direction::Better,
+                    reason: Some("the hub drag's new estimate".into()),
                 },
                 Accepted {
                     case: "c".into(),
@@ -587,9 +588,11 @@ mod acceptance_log {
                     old: None,
                     new: Some(Value::Text("rotor_rpm 96.8694; no equilibrium".into())),
                     direction: Direction::New,
+                    reason: Some("row 1 is now an expected failure".into()),
                 },
             ],
             fingerprint: BTreeMap::from([("scoreboard.yaml".into(), "fnv1a64:00ff".into())]),
+            chain: None,
         }
     }
 
@@ -625,12 +628,20 @@ mod acceptance_log {
         append_log(&path, &first).unwrap();
         let once = std::fs::read_to_string(&path).unwrap();
         let second = entry("a smaller hub drag", 0.06);
-        append_log(&path, &second).unwrap();
+        let logged = append_log(&path, &second).unwrap();
         let twice = std::fs::read_to_string(&path).unwrap();
         assert!(twice.starts_with(&once) && twice.len() > once.len());
         let log = load_log(&path).unwrap();
         assert_eq!(log.acceptances.len(), 2);
-        assert_eq!(log.acceptances[1], second);
+        assert_eq!(log.acceptances[1], logged);
+        assert_eq!(
+            Acceptance {
+                chain: None,
+                ..logged
+            },
+            second
+        );
+        assert_eq!(chain_state(&log), Ok(()));
         assert_eq!(log.acceptances[0].reason, first.reason);
         assert!(matches!(log.acceptances[0].changes[0].old, Some(Value::Number(x)) if x.is_nan()));
         // A hand-broken log is refused, and left as it was.
@@ -648,6 +659,140 @@ mod acceptance_log {
         let e = load_log(&path).unwrap_err().to_string();
         assert!(e.contains("needs a reason"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The log is hash-chained over its entries' content (issue 51, item 8): an entry appended
+    /// by hand (no link, or `changes: []` under a copied link), an earlier entry edited, or an
+    /// entry removed, each breaks the chain, naming the entry; a log whose chain is broken is
+    /// not appended to. Entries logged before the chain began are covered by the first link.
+    #[test]
+    fn an_entry_appended_or_edited_by_hand_breaks_the_chain() {
+        let dir = std::env::temp_dir().join(format!("cierva-chain-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(LOG_FILE);
+        let _ = std::fs::remove_file(&path);
+        // An entry from before the chain (no link, no per-item reasons), as the repository's
+        // first entries are.
+        let mut old = entry("before the chain", 0.07);
+        for c in &mut old.changes {
+            c.reason = None;
+        }
+        std::fs::write(
+            &path,
+            format!("acceptances:\n{}", serde_yaml::to_string(&[&old]).unwrap()),
+        )
+        .unwrap();
+        let e = chain_state(&load_log(&path).unwrap()).unwrap_err();
+        assert!(e.contains("has no chain link"), "{e}");
+        for reason in ["starts the chain", "a smaller hub drag"] {
+            append_log(&path, &entry(reason, 0.06)).unwrap();
+        }
+        let good = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(chain_state(&load_log(&path).unwrap()), Ok(()));
+        let breaks = |text: &str, says: &str| {
+            std::fs::write(&path, text).unwrap();
+            let log = load_log(&path).unwrap();
+            let e = chain_state(&log).unwrap_err();
+            assert!(e.contains(says), "{e}");
+            let e = append_log(&path, &entry("after", 0.05)).unwrap_err();
+            assert!(e.contains("refused"), "{e}");
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), text, "untouched");
+        };
+        // A hand-appended entry with `changes: []`, without a link and with the last link.
+        let last = load_log(&path).unwrap().acceptances[2].clone();
+        let hand = Acceptance {
+            reason: "hand".into(),
+            changes: vec![],
+            chain: None,
+            ..last.clone()
+        };
+        let appended = format!("{good}{}", serde_yaml::to_string(&[&hand]).unwrap());
+        breaks(&appended, "acceptances[3]");
+        breaks(&appended, "no chain link after chained entries");
+        let copied = Acceptance {
+            chain: last.chain.clone(),
+            ..hand
+        };
+        breaks(
+            &format!("{good}{}", serde_yaml::to_string(&[&copied]).unwrap()),
+            "acceptances[3]",
+        );
+        // An earlier entry edited: the unchained one, or a chained one's change.
+        breaks(
+            &good.replacen("before the chain", "before the chain!", 1),
+            "acceptances[1]",
+        );
+        breaks(
+            &good.replacen("0.07", "0.071", 1),
+            "edited, inserted or removed",
+        );
+        // An entry removed: the middle one.
+        let log = load_log(&{
+            std::fs::write(&path, &good).unwrap();
+            path.clone()
+        })
+        .unwrap();
+        let mut without = log.clone();
+        without.acceptances.remove(1);
+        let e = chain_state(&without).unwrap_err();
+        assert!(e.contains("acceptances[1]"), "{e}");
+        // A chained entry's change without its own reason does not load.
+        std::fs::write(
+            &path,
+            good.replacen("reason: the hub drag's new estimate", "reason: ' '", 2),
+        )
+        .unwrap();
+        let e = load_log(&path).unwrap_err().to_string();
+        assert!(e.contains("needs its own reason"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every changed item takes its own reason (issue 51, item 8): named exactly, or by a `*`
+    /// in its item within its case; an item without one, a reason naming nothing that changed,
+    /// and a case given by pattern are each refused with what to write.
+    #[test]
+    fn each_changed_item_needs_its_own_reason() {
+        let parse = |s: &str| s.parse::<ItemReason>();
+        let mut changes = entry("r", 0.06).changes;
+        let e = assign_reasons(&mut changes, &[]).unwrap_err();
+        assert!(
+            e.contains("--because 'naca-tr515-table-iii/low-mu-rpm-rms=TEXT'")
+                && e.contains("--because 'c/row-01=TEXT'")
+                && e.contains("2 without one"),
+            "{e}"
+        );
+        let given = [
+            parse("naca-tr515-table-iii/low-mu-*=hub drag").unwrap(),
+            parse("c/row-01 = a new expected failure").unwrap(),
+        ];
+        assign_reasons(&mut changes, &given).unwrap();
+        assert_eq!(changes[0].reason.as_deref(), Some("hub drag"));
+        assert_eq!(changes[1].reason.as_deref(), Some("a new expected failure"));
+        // Exact beats a pattern, whatever the order.
+        let given = [
+            parse("c/row-*=any row").unwrap(),
+            parse("c/row-01=this row").unwrap(),
+            parse("naca-tr515-table-iii/*=all").unwrap(),
+        ];
+        assign_reasons(&mut changes, &given).unwrap();
+        assert_eq!(changes[1].reason.as_deref(), Some("this row"));
+        // A reason for nothing that changed.
+        let mut more = given.to_vec();
+        more.push(parse("c/row-02=not changed").unwrap());
+        let e = assign_reasons(&mut changes, &more).unwrap_err();
+        assert!(
+            e.contains("`c/row-02`") && e.contains("did not change"),
+            "{e}"
+        );
+        for (bad, says) in [
+            ("*/low-mu-rpm-rms=x", "the case is named in full"),
+            ("c/row-01", "no `=`"),
+            ("row-01=x", "no `/`"),
+            ("c/row-01=  ", "each need a text"),
+        ] {
+            let e = parse(bad).unwrap_err();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
     }
 }
 
