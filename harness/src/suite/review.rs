@@ -571,7 +571,7 @@ fn canonical(a: &Acceptance) -> String {
 
 /// The chain link of `entry` after an entry whose link is `previous` (`""` before the first
 /// entry): `fnv1a64:` and the FNV-1a 64 hash of `previous`, a newline and the entry's content
-/// ([`canonical`]). Editing, removing or inserting an entry changes every later link; an entry
+/// (`canonical`). Editing, removing or inserting an entry changes every later link; an entry
 /// appended by hand has none. (FNV is not a cryptographic hash: the chain shows an edit made by
 /// mistake or by hand, not one made by someone who recomputes it on purpose.)
 pub fn link(previous: &str, entry: &Acceptance) -> String {
@@ -592,7 +592,7 @@ fn links(log: &Log) -> Vec<String> {
         .collect()
 }
 
-/// Whether the log's hash chain holds: it is not broken ([`chain_breaks`]) and its last entry
+/// Whether the log's hash chain holds: it is not broken (`chain_breaks`) and its last entry
 /// has a link.
 pub fn chain_state(log: &Log) -> Result<(), String> {
     chain_breaks(log)?;
