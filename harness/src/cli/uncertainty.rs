@@ -210,7 +210,7 @@ fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>,
 /// A case's propagation as text: the inputs, then a row per quantity.
 fn text_of(u: &CaseUncertainty, seconds: f64, samples: usize) -> String {
     let mut out = format!(
-        "{}\n  inputs ({}): {}\n  numerics: refined {}\n  {} evaluations in {seconds:.1} s; {} points failed{}\n",
+        "{}\n  inputs ({}): {}\n  numerics (a grid convergence index per parameter): {}\n  {} evaluations in {seconds:.1} s; {} points failed{}\n",
         u.case,
         u.method,
         u.inputs.len(),

@@ -12,7 +12,7 @@
 //! source. Every [`Request`] carries values for any of them (the rest at their nominal values),
 //! so that the fit, the retune and the sensitivity and uncertainty studies drive any model that
 //! declares them (a study also asks a model for its refined self and where its answers start:
-//! [`FlightModel::refined`], [`FlightModel::starting_from`]), and a
+//! [`FlightModel::refinements`], [`FlightModel::starting_from`]), and a
 //! value the model does not declare, or one outside its declared range, is refused
 //! ([`check_values`]).
 //!
@@ -287,11 +287,12 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         None
     }
 
-    /// The model with its discretisation refined, and the refinement in words: what an
-    /// uncertainty study's numerical uncertainty comes from. `None`, the default: no grid
-    /// study.
-    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
-        None
+    /// Its discretisation parameters, each refined alone ([`Refinement`]): what an uncertainty
+    /// study's numerical uncertainty comes from, a grid convergence index per parameter. A
+    /// refined model that refines the same parameter again gives the study a third level, and
+    /// with it the observed order. Empty, the default: no grid study.
+    fn refinements(&self) -> Vec<Refinement> {
+        Vec::new()
     }
 
     /// Forgets what it remembers of its answers with these parameter values (a study's point,
@@ -416,6 +417,25 @@ pub(crate) fn declared<'p>(
     physical.chain(corrections).collect()
 }
 
+/// One discretisation parameter of a model refined alone ([`FlightModel::refinements`]).
+#[derive(Clone)]
+pub struct Refinement {
+    /// The parameter, in words and the same at every level ("main rotor azimuth step"): a
+    /// refined model's refinement of the same name is the next level.
+    pub parameter: String,
+    /// Its value before and after, in words ("5.000 -> 2.500 deg").
+    pub words: String,
+    /// The refinement ratio `r > 1`: 2 for a step halved or elements doubled, 10 for a
+    /// tolerance a tenth.
+    pub ratio: f64,
+    /// The order `p` at which the error falls with the parameter in theory (4 for a
+    /// fourth-order Runge-Kutta step, 2 for midpoint sums over elements, 1 for an iteration's
+    /// tolerance, whose error is at most of its order).
+    pub formal_order: f64,
+    /// The model with this parameter refined and the others as they were.
+    pub model: Arc<dyn FlightModel>,
+}
+
 /// cierva's own aircraft at a loading, flown by `simulation` at `azimuth_step_rad` (the full
 /// blade model's step).
 #[derive(Debug, Clone)]
@@ -425,7 +445,7 @@ pub struct CiervaAircraft<'a> {
     pub azimuth_step_rad: f64,
     /// Where a trim with parameter values (and any trim of a refined aircraft) starts: the
     /// trim of this file with these values at the request's condition and loading
-    /// ([`FlightModel::starting_from`], [`FlightModel::refined`]); `None`: the file's own trim.
+    /// ([`FlightModel::starting_from`], [`FlightModel::refinements`]); `None`: the file's own trim.
     pub starts_from: Option<(Arc<crate::inputs::aircraft::AircraftFile>, Values)>,
 }
 
@@ -716,38 +736,78 @@ impl FlightModel for CiervaAircraft<'_> {
         }))
     }
 
-    /// Its main rotor's azimuth step halved, the blade elements of both rotors doubled and the
-    /// periodicity tolerance a tenth; each trim started from the aircraft's own (the same
-    /// unknowns, to a tolerance ten times finer).
-    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
-        let mut file = self.file.as_ref().clone();
-        let main = &mut file.aircraft.main_rotor;
-        let words = format!(
-            "azimuth step {:.3} -> {:.3} deg, main rotor elements {} -> {}, propeller elements {} -> {}, periodicity tolerance {:e} -> {:e}",
-            main.numerics.azimuth_step_rad.to_degrees(),
-            0.5 * main.numerics.azimuth_step_rad.to_degrees(),
-            main.rotor.elements,
-            2 * main.rotor.elements,
-            file.aircraft.propeller.propeller.rotor.elements,
-            2 * file.aircraft.propeller.propeller.rotor.elements,
-            main.numerics.periodic_tolerance,
-            0.1 * main.numerics.periodic_tolerance,
-        );
-        main.numerics.azimuth_step_rad *= 0.5;
-        main.numerics.periodic_tolerance *= 0.1;
-        main.rotor.elements *= 2;
-        file.aircraft.propeller.propeller.rotor.elements *= 2;
-        file.path = format!("{}#refined", file.path.display()).into();
-        let step = 0.5 * self.azimuth_step_rad;
-        Some((
-            Arc::new(CiervaAircraft {
-                file: Cow::Owned(file),
-                simulation: self.simulation,
-                azimuth_step_rad: step,
-                starts_from: Some((Arc::new(self.file.as_ref().clone()), Values::new())),
-            }),
-            words,
-        ))
+    /// Each alone: the main rotor's azimuth step halved (the trim's and a simulation's; its
+    /// blade is integrated by fourth-order Runge-Kutta), the main rotor's and the propeller's
+    /// blade elements doubled (midpoint sums), and the periodicity tolerance a tenth. Each
+    /// refined trim starts from the aircraft's own (the same unknowns, to a finer tolerance).
+    fn refinements(&self) -> Vec<Refinement> {
+        let file = self.file.as_ref();
+        let main = &file.aircraft.main_rotor;
+        let propeller = &file.aircraft.propeller.propeller.rotor;
+        let step_deg = main.numerics.azimuth_step_rad.to_degrees();
+        let refined =
+            |tag: &str, change: &dyn Fn(&mut crate::inputs::aircraft::AircraftFile), step: f64| {
+                let mut f = file.clone();
+                change(&mut f);
+                f.path = format!("{}#{tag}", f.path.display()).into();
+                Arc::new(CiervaAircraft {
+                    file: Cow::Owned(f),
+                    simulation: self.simulation,
+                    azimuth_step_rad: step,
+                    starts_from: Some((Arc::new(file.clone()), Values::new())),
+                }) as Arc<dyn FlightModel>
+            };
+        let step = self.azimuth_step_rad;
+        vec![
+            Refinement {
+                parameter: "main rotor azimuth step".into(),
+                words: format!("{step_deg:.3} -> {:.3} deg", 0.5 * step_deg),
+                ratio: 2.0,
+                formal_order: 4.0,
+                model: refined(
+                    "azimuth-step",
+                    &|f| f.aircraft.main_rotor.numerics.azimuth_step_rad *= 0.5,
+                    0.5 * step,
+                ),
+            },
+            Refinement {
+                parameter: "main rotor blade elements".into(),
+                words: format!("{} -> {}", main.rotor.elements, 2 * main.rotor.elements),
+                ratio: 2.0,
+                formal_order: 2.0,
+                model: refined(
+                    "main-elements",
+                    &|f| f.aircraft.main_rotor.rotor.elements *= 2,
+                    step,
+                ),
+            },
+            Refinement {
+                parameter: "propeller blade elements".into(),
+                words: format!("{} -> {}", propeller.elements, 2 * propeller.elements),
+                ratio: 2.0,
+                formal_order: 2.0,
+                model: refined(
+                    "propeller-elements",
+                    &|f| f.aircraft.propeller.propeller.rotor.elements *= 2,
+                    step,
+                ),
+            },
+            Refinement {
+                parameter: "periodicity tolerance".into(),
+                words: format!(
+                    "{:e} -> {:e}",
+                    main.numerics.periodic_tolerance,
+                    0.1 * main.numerics.periodic_tolerance
+                ),
+                ratio: 10.0,
+                formal_order: 1.0,
+                model: refined(
+                    "periodicity",
+                    &|f| f.aircraft.main_rotor.numerics.periodic_tolerance *= 0.1,
+                    step,
+                ),
+            },
+        ]
     }
 
     fn forget(&self, values: &Values) {
@@ -877,16 +937,19 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
             values: self.values.clone(),
         }))
     }
-    /// The model refined, with these values still set.
-    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
-        let (model, words) = self.model.refined()?;
-        Some((
-            Arc::new(WithValues {
-                model,
-                values: self.values.clone(),
-            }),
-            words,
-        ))
+    /// The model's refinements, with these values still set.
+    fn refinements(&self) -> Vec<Refinement> {
+        self.model
+            .refinements()
+            .into_iter()
+            .map(|r| Refinement {
+                model: Arc::new(WithValues {
+                    model: r.model,
+                    values: self.values.clone(),
+                }),
+                ..r
+            })
+            .collect()
     }
     fn forget(&self, values: &Values) {
         let mut all = self.values.clone();
@@ -1021,8 +1084,8 @@ macro_rules! forward_flight_model {
             fn starting_from(&self, values: &Values) -> Option<Arc<dyn FlightModel>> {
                 (**self).starting_from(values)
             }
-            fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
-                (**self).refined()
+            fn refinements(&self) -> Vec<Refinement> {
+                (**self).refinements()
             }
             fn forget(&self, values: &Values) {
                 (**self).forget(values)

@@ -80,27 +80,54 @@ impl FlightModel for CiervaRotor<'_> {
         crate::run::autorotation::at_tunnel(&file.rotor, self.solver, &request.tunnel)
     }
 
-    /// Its blade elements doubled, the tunnel solver's azimuth step halved, and its periodicity
-    /// and Newton tolerances a tenth.
-    fn refined(&self) -> Option<(Arc<dyn FlightModel>, String)> {
-        let (mut file, mut solver) = (self.file.as_ref().clone(), self.solver);
-        let (n, newton) = (&mut solver.numerics, &mut solver.newton);
-        let words = format!(
-            "blade elements {} -> {}, azimuth step {:.3} -> {:.3} deg, periodicity tolerance {:.0e} -> {:.0e}, Newton tolerance {:.0e} -> {:.0e}",
-            file.rotor.elements,
-            2 * file.rotor.elements,
-            n.azimuth_step_rad.to_degrees(),
-            0.5 * n.azimuth_step_rad.to_degrees(),
-            n.periodic_tolerance,
-            0.1 * n.periodic_tolerance,
-            newton.tolerance,
-            0.1 * newton.tolerance,
-        );
-        file.rotor.elements *= 2;
-        n.azimuth_step_rad *= 0.5;
-        n.periodic_tolerance *= 0.1;
-        newton.tolerance *= 0.1;
-        file.path = format!("{}#refined", file.path.display()).into();
-        Some((Arc::new(CiervaRotor::owned(file, solver)), words))
+    /// Each alone: its blade elements doubled (midpoint sums), the tunnel solver's azimuth step
+    /// halved (fourth-order Runge-Kutta), and the solver's iterations converged ten times
+    /// further (its periodicity and Newton tolerances a tenth, together: both are iteration
+    /// error, not discretisation).
+    fn refinements(&self) -> Vec<super::Refinement> {
+        let (file, solver) = (self.file.as_ref(), self.solver);
+        let (n, newton) = (&solver.numerics, &solver.newton);
+        let refined = |tag: &str, change: &dyn Fn(&mut RotorFile, &mut AutorotationOptions)| {
+            let (mut f, mut s) = (file.clone(), solver);
+            change(&mut f, &mut s);
+            f.path = format!("{}#{tag}", f.path.display()).into();
+            Arc::new(CiervaRotor::owned(f, s)) as Arc<dyn FlightModel>
+        };
+        vec![
+            super::Refinement {
+                parameter: "blade elements".into(),
+                words: format!("{} -> {}", file.rotor.elements, 2 * file.rotor.elements),
+                ratio: 2.0,
+                formal_order: 2.0,
+                model: refined("elements", &|f, _| f.rotor.elements *= 2),
+            },
+            super::Refinement {
+                parameter: "azimuth step".into(),
+                words: format!(
+                    "{:.3} -> {:.3} deg",
+                    n.azimuth_step_rad.to_degrees(),
+                    0.5 * n.azimuth_step_rad.to_degrees()
+                ),
+                ratio: 2.0,
+                formal_order: 4.0,
+                model: refined("azimuth-step", &|_, s| s.numerics.azimuth_step_rad *= 0.5),
+            },
+            super::Refinement {
+                parameter: "solver tolerances".into(),
+                words: format!(
+                    "periodicity {:.0e} -> {:.0e}, Newton {:.0e} -> {:.0e}",
+                    n.periodic_tolerance,
+                    0.1 * n.periodic_tolerance,
+                    newton.tolerance,
+                    0.1 * newton.tolerance
+                ),
+                ratio: 10.0,
+                formal_order: 1.0,
+                model: refined("tolerances", &|_, s| {
+                    s.numerics.periodic_tolerance *= 0.1;
+                    s.newton.tolerance *= 0.1;
+                }),
+            },
+        ]
     }
 }

@@ -25,22 +25,24 @@ use crate::suite::outcome::CheckResult;
 /// interval (its 2.5 and 97.5 percentiles), the check's pass probability (the share of draws
 /// in which every quantity is inside its tolerance) and each input's share of the variance,
 /// `Var g_i / sum_j Var g_j`, which stands for both Sobol' indices (equal in an additive
-/// model). The refined case (`u_num`) runs in the same batch as the moves, first, as the
-/// longest.
+/// model). The grid study's refined cases (`u_num`) run in the same batch as the moves, first,
+/// as the longest.
 pub(super) fn propagate(
     case: &Case,
     nominal: &[CheckResult],
     inputs: Vec<Input>,
-    refined: Option<(Case, String)>,
+    grid: Option<super::numerics::GridStudy>,
     done: impl Fn() + Sync,
 ) -> CaseUncertainty {
     let moves: Vec<(usize, f64)> = (0..inputs.len())
         .flat_map(|i| [(i, 1.0), (i, -1.0)])
         .collect();
     let (refined_results, points, drawn) =
-        first_order_runs(case, nominal, &inputs, (&moves, refined.as_ref()), done);
-    let refinement = refined.map_or(NO_GRID_STUDY.to_string(), |(_, words)| words);
-    let refined = refined_results.as_deref();
+        first_order_runs(case, nominal, &inputs, (&moves, grid.as_ref()), done);
+    let refinement = grid.as_ref().map_or(
+        NO_GRID_STUDY.to_string(),
+        super::numerics::GridStudy::describe,
+    );
     // A point fails where a check the nominal inputs evaluate gets no value (rows that find no
     // equilibrium at the nominal inputs already say so in their own results).
     let lost = |p: &Point| {
@@ -67,10 +69,9 @@ pub(super) fn propagate(
         // Each quantity's normal spread beyond the surrogate's draws.
         let mut spread = Vec::new();
         for (k, q) in n.quantities.iter().enumerate() {
-            let refined = refined.map(|r| match r.get(j) {
-                Some(r) => refined_value(r, q),
-                None => Err("the refined run has no such check".to_string()),
-            });
+            let numerics = grid
+                .as_ref()
+                .map(|g| g.numerical(&refined_results, j, q.value, &|r| refined_value(r, q)));
             let (out, values, u_interactions) = first_order_quantity(
                 case,
                 (check, n, q),
@@ -81,7 +82,7 @@ pub(super) fn propagate(
                     draws: &draws,
                 },
                 &inputs,
-                refined,
+                numerics,
             );
             spread.push(out.u_calibration.hypot(u_interactions));
             rows.push(out);
@@ -107,7 +108,7 @@ pub(super) fn propagate(
             moves.len()
         ),
         inputs,
-        evaluations: moves.len() + drawn.len() + 1 + usize::from(refined.is_some()),
+        evaluations: moves.len() + drawn.len() + 1 + refined_results.len(),
         failed_points,
         first_error,
         refinement,
@@ -115,26 +116,26 @@ pub(super) fn propagate(
     }
 }
 
-/// A first-order propagation's evaluations, on every core in one batch: the refined case (first,
-/// as the longest), each input at its two probes, and the residual check's draws. Returns the
-/// refined results, the moved inputs' values and points (in `moves`' order), and the draws with
+/// A first-order propagation's evaluations, on every core in one batch: the grid study's refined
+/// cases (first, as the longest), each input at its two probes, and the residual check's draws.
+/// Returns the refined results (in the study's order), the moved inputs' values and points (in `moves`' order), and the draws with
 /// their points.
 #[allow(clippy::type_complexity)]
 fn first_order_runs(
     case: &Case,
     nominal: &[CheckResult],
     inputs: &[Input],
-    (moves, refined): (&[(usize, f64)], Option<&(Case, String)>),
+    (moves, grid): (&[(usize, f64)], Option<&super::numerics::GridStudy>),
     done: impl Fn() + Sync,
 ) -> (
-    Option<Vec<CheckResult>>,
+    Vec<Vec<CheckResult>>,
     Vec<(f64, Point)>,
     Vec<(Vec<f64>, Point)>,
 ) {
-    /// A job: the refined case, an input moved (which, up or down), or every input drawn (the
-    /// residual check's draw).
-    enum Job {
-        Refined,
+    /// A job: a refined case of the grid study, an input moved (which, up or down), or every
+    /// input drawn (the residual check's draw).
+    enum Job<'c> {
+        Refined(&'c Case),
         Moved(usize, f64),
         Drawn(Vec<f64>),
     }
@@ -145,18 +146,18 @@ fn first_order_runs(
         Drawn(Vec<f64>, Point),
     }
     let residual = residual_draws(inputs);
-    let jobs: Vec<Job> = refined
-        .iter()
-        .map(|_| Job::Refined)
+    let refined_cases = grid
+        .map(super::numerics::GridStudy::cases)
+        .unwrap_or_default();
+    let jobs: Vec<Job> = refined_cases
+        .into_iter()
+        .map(Job::Refined)
         .chain(moves.iter().map(|&(i, side)| Job::Moved(i, side)))
         .chain(residual.into_iter().map(Job::Drawn))
         .collect();
     let runs = crate::run::parallel::parallel_map(&jobs, |job| {
         let (values, tag) = match job {
-            Job::Refined => {
-                let (c, _) = refined.as_ref().expect("a refined job has its case");
-                return Run::Refined(crate::suite::outcome::run_case(c));
-            }
+            Job::Refined(c) => return Run::Refined(crate::suite::outcome::run_case(c)),
             Job::Moved(i, side) => (
                 inputs
                     .iter()
@@ -186,12 +187,12 @@ fn first_order_runs(
             _ => Run::Drawn(values, p),
         }
     });
-    let mut refined_results = None;
+    let mut refined_results = Vec::new();
     let mut points = Vec::with_capacity(moves.len());
     let mut drawn = Vec::with_capacity(RESIDUAL_DRAWS);
     for r in runs {
         match r {
-            Run::Refined(results) => refined_results = Some(results),
+            Run::Refined(results) => refined_results.push(results),
             Run::Moved(x, p) => points.push((x, p)),
             Run::Drawn(x, p) => drawn.push((x, p)),
         }
@@ -323,7 +324,7 @@ fn first_order_quantity(
         draws,
     }: Probes,
     inputs: &[Input],
-    refined: Option<Result<f64, String>>,
+    numerics: Option<Result<super::numerics::Numerical, String>>,
 ) -> (QuantityUncertainty, Vec<f64>, f64) {
     let s0 = q.value;
     let mut failed = 0;
@@ -406,7 +407,7 @@ fn first_order_quantity(
         }
         false => (spread, contributors),
     };
-    let mut out = unjudged(case, (check, n, q), spread, refined, contributors, failed);
+    let mut out = unjudged(case, (check, n, q), spread, numerics, contributors, failed);
     out.samples = points.len() + drawn.len();
     out.failure_causes = failure_causes(
         points

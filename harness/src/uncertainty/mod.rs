@@ -7,9 +7,11 @@
 //! - [`design`]: Saltelli's sampling design on Owen-scrambled Sobol' points.
 //! - [`sobol`]: Sobol' first-order and total indices (Saltelli 2010, Jansen 1999).
 //! - [`vv20`]: the validation comparison of ASME V&V 20-2009 and its verdicts.
+//! - [`numerics`]: the numerical uncertainty, a grid study of each discretisation parameter
+//!   refined alone and Roache's grid convergence index for each.
 //! - [`propagate`]: all of it through a case, sampled: statistics, indices, the numerical
-//!   uncertainty from a refined discretisation, the data's from the tolerance, and the
-//!   verdicts; and what the first-order method shares with it.
+//!   uncertainty from the grid study, the data's from the tolerance, and the verdicts; and
+//!   what the first-order method shares with it.
 //! - [`first_order`]: the first-order propagation of a case with autorotation checks (an
 //!   additive surrogate through two probes of each input, with a residual check).
 //! - [`study`]: the entry points, [`study::propagate`] and [`study::propagate_from`]: a case's
@@ -21,6 +23,7 @@ pub mod calibration;
 pub mod design;
 pub mod distribution;
 pub mod first_order;
+pub mod numerics;
 pub mod propagate;
 pub mod sobol;
 pub mod study;

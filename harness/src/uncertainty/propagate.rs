@@ -11,6 +11,7 @@
 
 use super::design::Design;
 use super::distribution::{Input, InputDistribution};
+use super::numerics::Numerical;
 use super::sobol;
 use super::vv20::{self, Comparison, Vv20Verdict};
 use crate::checks::CheckClass;
@@ -126,10 +127,14 @@ pub struct QuantityUncertainty {
     /// error here (their cross-validated model-discrepancy term times the nominal value;
     /// `calibration_terms`); zero without one.
     pub u_calibration: f64,
-    /// `|S_refined - S|` from the refined discretisation (0 where the subject has no grid
-    /// study; NaN where the refined run gave no value, `u_num_missing` says why).
+    /// The grid convergence indices of the discretisation parameters, each refined alone,
+    /// root-sum-squared ([`super::numerics`]): 0 where the subject has no grid study; NaN
+    /// where a refined run gave no value, `u_num_missing` says why.
     pub u_num: f64,
-    /// Why the refined run gave no value for the quantity, where it gave none: the quantity
+    /// Each parameter's index and what it came from (empty without a grid study).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub u_num_terms: Vec<super::numerics::GciTerm>,
+    /// Why a refined run gave no value for the quantity, where one gave none: the quantity
     /// then has no verdict.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub u_num_missing: Option<String>,
@@ -195,7 +200,7 @@ pub struct CaseUncertainty {
     /// Points at which some check could not be evaluated, and the first such error.
     pub failed_points: usize,
     pub first_error: Option<String>,
-    /// The refinement the numerical uncertainty comes from.
+    /// The grid study the numerical uncertainty comes from, in words.
     pub refinement: String,
     pub results: Vec<QuantityUncertainty>,
 }
@@ -281,7 +286,7 @@ fn set_values(
 /// as it is, cierva's aircraft as [`crate::external::CiervaAircraft`] and its rotor in a
 /// tunnel as [`crate::external::rotor::CiervaRotor`]. What a study asks with its values, the
 /// same way for every model.
-fn as_model(subject: &Subject) -> Option<crate::external::External> {
+pub(super) fn as_model(subject: &Subject) -> Option<crate::external::External> {
     let (model, loading, written, path): (
         std::sync::Arc<dyn crate::external::FlightModel>,
         _,
@@ -330,31 +335,6 @@ pub(super) fn forget(case: &Case, values: &Values) {
 
 /// What a case without a refinement says about its numerical uncertainty.
 pub(super) const NO_GRID_STUDY: &str = "none: no grid study for this subject";
-
-/// The case with its discretisation refined, and the refinement in words (`None` for a
-/// subject without one): its model refined as it refines itself
-/// ([`crate::external::FlightModel::refined`]: cierva's aircraft's main rotor's azimuth step
-/// halved, the blade elements of both rotors doubled and the periodicity tolerance a tenth; its
-/// rotor in a tunnel's blade elements doubled, the tunnel solver's azimuth step halved, and its
-/// periodicity and Newton tolerances a tenth).
-pub fn refined(case: &Case) -> Option<(Case, String)> {
-    let mut c = case.clone();
-    let words = refine(&mut c.subject)?;
-    if let Some(u) = &mut c.uncorrected {
-        refine(&mut u.subject);
-    }
-    Some((c, words))
-}
-
-/// A subject's discretisation refined in place, and the refinement in words.
-fn refine(subject: &mut Subject) -> Option<String> {
-    let mut e = as_model(subject)?;
-    let (model, words) = e.model.refined()?;
-    e.model = model;
-    e.written = format!("{}#refined", e.written);
-    *subject = Subject::External(Box::new(e));
-    Some(words)
-}
 
 /// One evaluation of every check: each quantity's value (NaN where it could not be computed)
 /// and whether the check passed, by check then quantity, in the nominal results' order.
@@ -421,27 +401,7 @@ pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Poin
     }
 }
 
-/// A quantity's value in the refined run (`refined`, its check's result there): found by the
-/// quantity's name and tolerance, as the nominal run has it; `Err` with why where the refined
-/// run gave none (an error or a finding there, or no such quantity).
-pub(super) fn refined_value(
-    refined: &CheckResult,
-    q: &crate::suite::outcome::QuantityResult,
-) -> Result<f64, String> {
-    if let Some(e) = &refined.error {
-        return Err(e.clone());
-    }
-    if let Some(f) = &refined.finding {
-        return Err(f.describe());
-    }
-    refined
-        .quantities
-        .iter()
-        .find(|x| x.quantity == q.quantity && x.tolerance == q.tolerance)
-        .map(|x| x.value)
-        .filter(|v| v.is_finite())
-        .ok_or_else(|| format!("the refined run has no finite `{}`", q.quantity))
-}
+pub(super) use super::numerics::refined_value;
 
 /// The longest a failure's cause is printed: the autorotation search's longest reasons (about
 /// 400 characters, the verdict at their end) whole.
@@ -512,8 +472,7 @@ pub fn mean_std(values: &[f64]) -> (f64, f64) {
 }
 
 /// The sampled propagation of a case about its nominal results: Saltelli's design over its
-/// `inputs`, every check at every point, the numerical uncertainty from its refined
-/// discretisation (see [`super::study`] for the entry points that choose it).
+/// `inputs`, every check at every point, the numerical uncertainty from its grid study (see [`super::study`] for the entry points that choose it).
 pub(super) fn sampled(
     case: &Case,
     nominal: &[CheckResult],
@@ -521,22 +480,28 @@ pub(super) fn sampled(
     settings: PropagationSettings,
     done: impl Fn() + Sync,
 ) -> Result<CaseUncertainty, String> {
-    let (u_num_results, refinement) = match refined(case) {
-        Some((c, words)) => (Some(crate::suite::outcome::run_case(&c)), words),
-        None => (None, NO_GRID_STUDY.to_string()),
-    };
+    let study = super::numerics::grid_study(case);
+    let grid = study.as_ref().map(|g| {
+        let cases = g.cases();
+        let results =
+            crate::run::parallel::parallel_map(&cases, |c| crate::suite::outcome::run_case(c));
+        (g, results)
+    });
+    let refinement = study.as_ref().map_or(
+        NO_GRID_STUDY.to_string(),
+        super::numerics::GridStudy::describe,
+    );
     let (points, design) = sample(case, nominal, &inputs, settings, done)?;
     let failed_points = points.iter().filter(|p| p.error.is_some()).count();
     let first_error = points.iter().find_map(|p| p.error.clone());
     let mut results = Vec::new();
     for (j, (check, n)) in case.checks.iter().zip(nominal).enumerate() {
-        let refined = u_num_results.as_ref().and_then(|r| r.get(j));
         results.extend(check_results(
             case,
             (j, check, n),
             &points,
             &design,
-            refined,
+            grid.as_ref().map(|(g, r)| (*g, r.as_slice())),
             &inputs,
         ));
     }
@@ -552,7 +517,7 @@ pub(super) fn sampled(
         case: case.id.clone(),
         method,
         inputs,
-        evaluations: points.len() + 1 + usize::from(u_num_results.is_some()),
+        evaluations: points.len() + 1 + grid.as_ref().map_or(0, |(_, r)| r.len()),
         failed_points,
         first_error,
         refinement,
@@ -621,13 +586,13 @@ fn sample(
 /// One check's quantities over the samples: statistics, indices, comparison, pass fraction
 /// and fragility. A check with no number (a BCAR verdict) is propagated as whether it passes:
 /// its pass fraction, and the Sobol' indices of the pass (1) or fail (0) say which inputs flip
-/// it. `refined` is its result with the discretisation refined.
+/// it. `grid` is the case's grid study and its refined runs' results.
 fn check_results(
     case: &Case,
     (j, check, n): (usize, &crate::checks::Check, &CheckResult),
     points: &[Point],
     design: &Design,
-    refined: Option<&CheckResult>,
+    grid: Option<(&super::numerics::GridStudy, &[Vec<CheckResult>])>,
     inputs: &[Input],
 ) -> Vec<QuantityUncertainty> {
     let verdict_only = n.quantities.is_empty();
@@ -651,9 +616,15 @@ fn check_results(
                 false => p.values[j][k],
             })
             .collect();
-        let refined = refined.map(|r| match verdict_only {
-            true => Ok(as_number(r.passed)),
-            false => refined_value(r, q),
+        let nominal = match verdict_only {
+            true => as_number(n.passed),
+            false => q.value,
+        };
+        let numerics = grid.map(|(g, results)| {
+            g.numerical(results, j, nominal, &|r| match verdict_only {
+                true => Ok(as_number(r.passed)),
+                false => refined_value(r, q),
+            })
         });
         let mut r = summarise(
             case,
@@ -661,7 +632,7 @@ fn check_results(
             n,
             q,
             &all,
-            refined,
+            numerics,
             Some(design),
             (inputs, &causes),
         );
@@ -860,7 +831,7 @@ fn summarise(
     n: &CheckResult,
     q: &crate::suite::outcome::QuantityResult,
     all: &[f64],
-    refined: Option<Result<f64, String>>,
+    numerics: Option<Result<Numerical, String>>,
     design: Option<&Design>,
     (inputs, causes): (&[Input], &[String]),
 ) -> QuantityUncertainty {
@@ -894,7 +865,7 @@ fn summarise(
         }
         None => ((q.value, q.value, q.value, 0.0), Vec::new(), 0),
     };
-    let mut out = unjudged(case, (check, n, q), stats, refined, contributors, failed);
+    let mut out = unjudged(case, (check, n, q), stats, numerics, contributors, failed);
     if let Some(d) = design {
         out.draws = all[..2 * d.n].to_vec();
         out.samples = all.len();
@@ -911,14 +882,14 @@ pub(super) type Quantity<'a> = (
     &'a crate::suite::outcome::QuantityResult,
 );
 
-/// A quantity's uncertainties before its verdict: the reference value, `u_num` from the refined
-/// run, `u_D` from the tolerance, and the spread `(mean, p2_5, p97_5, u_input)` and contributors
+/// A quantity's uncertainties before its verdict: the reference value, `u_num` from the grid
+/// study, `u_D` from the tolerance, and the spread `(mean, p2_5, p97_5, u_input)` and contributors
 /// over the inputs; the verdict, pass fraction and fragility are the caller's.
 pub(super) fn unjudged(
     case: &Case,
     (check, n, q): Quantity,
     (mean, p2_5, p97_5, u_input): (f64, f64, f64, f64),
-    refined: Option<Result<f64, String>>,
+    numerics: Option<Result<Numerical, String>>,
     contributors: Vec<Contributor>,
     failed_samples: usize,
 ) -> QuantityUncertainty {
@@ -947,12 +918,16 @@ pub(super) fn unjudged(
         estimate_error: reference.map(|d| q.value - d),
         u_input,
         u_calibration,
-        u_num: match &refined {
+        u_num: match &numerics {
             None => 0.0,
-            Some(Ok(r)) => (r - q.value).abs(),
+            Some(Ok(n)) => n.u_num,
             Some(Err(_)) => f64::NAN,
         },
-        u_num_missing: refined.and_then(Result::err),
+        u_num_terms: match &numerics {
+            Some(Ok(n)) => n.terms.clone(),
+            _ => Vec::new(),
+        },
+        u_num_missing: numerics.and_then(Result::err),
         u_data,
         u_data_source,
         u_val: None,
@@ -1054,7 +1029,7 @@ pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::Qu
     let half = 0.5 * (q.upper - q.lower);
     if let Some(why) = &out.u_num_missing {
         out.reason = format!(
-            "no verdict: the refined discretisation gave no value, so the numerical uncertainty is not known: {why}"
+            "no verdict: a refined discretisation gave no value, so the numerical uncertainty is not known: {why}"
         );
         return;
     }

@@ -3,7 +3,7 @@
 //! here, above both, so that neither method's module uses the other's.
 
 use super::propagate::{
-    CaseUncertainty, Propagation, PropagationSettings, inputs, refined, sampled, without_inputs,
+    CaseUncertainty, Propagation, PropagationSettings, inputs, sampled, without_inputs,
 };
 use crate::checks::CheckClass;
 use crate::suite::case::Case;
@@ -72,7 +72,7 @@ pub fn propagate_from(
             case,
             nominal,
             inputs,
-            refined(case),
+            super::numerics::grid_study(case),
             done,
         ));
     }

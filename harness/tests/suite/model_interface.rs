@@ -1465,11 +1465,21 @@ fn a_time_history_through_the_protocol_flies_as_the_built_in_aircraft() {
     );
 }
 
-/// How much the test's refined model moves the trim pitch, deg: the `u_num` the study must
-/// report for it, exactly (the refinement's change, taken whole).
-const REFINEMENT_PITCH_DEG: f64 = 0.001;
+/// The test model's discretisation error in the trim pitch, deg, at its nominal levels: from
+/// its step (falling as the step's square), its elements (falling as their count to the power
+/// 1.5, where a scheme of second order is claimed) and its tolerance (a tenth per level, refined
+/// once only). Each is refined alone; the `u_num` the study must report follows from these
+/// exactly (`REFINABLE_U_NUM_DEG`).
+const REFINABLE_ERRORS_DEG: [f64; 3] = [0.004, 0.003, 0.0009];
 
-/// What the study asked of [`Refinable`] beyond its answers.
+/// The `u_num` of the test model's pitch, deg, by the grid convergence index of each
+/// parameter: the step's three levels show order 2 (its formal order), so Fs 1.25 and an index
+/// of 1.25 times its error; the elements' show order 1.5, within a factor 2 of the formal 2,
+/// so Fs 1.25 at order 1.5: 1.25 times its error; the tolerance has two levels, so Fs 3 at its
+/// formal order 1 and ratio 10: 3 x 0.9 x 0.0009 x 10 / 9. Root-sum-squared.
+const REFINABLE_U_NUM_DEG: f64 = 0.006_808_267_033_540_915;
+
+/// What the study asked of [`Refinable`] beyond its answers./// What the study asked of [`Refinable`] beyond its answers.
 #[derive(Debug, Default)]
 struct Asked {
     /// The values each `starting_from` was given.
@@ -1479,13 +1489,22 @@ struct Asked {
 }
 
 /// The test model behind the protocol, wrapped by a model of the test's own that has a grid
-/// study (its refined self moves the pitch by [`REFINEMENT_PITCH_DEG`]) and notes what a study
-/// asks of it.
+/// study (three parameters, [`REFINABLE_ERRORS_DEG`]) and notes what a study asks of it.
 #[derive(Debug)]
 struct Refinable {
     inner: std::sync::Arc<dyn cierva_harness::external::FlightModel>,
-    pitch_moved_deg: f64,
+    /// How many times each parameter was refined: step, elements, tolerance.
+    levels: [i32; 3],
     asked: std::sync::Arc<Asked>,
+}
+
+impl Refinable {
+    /// The pitch's discretisation error at these levels, deg.
+    fn pitch_error_deg(&self) -> f64 {
+        let [a, b, c] = REFINABLE_ERRORS_DEG;
+        let [s, e, t] = self.levels;
+        a * 0.25f64.powi(s) + b * 2f64.powf(-1.5 * f64::from(e)) + c * 0.1f64.powi(t)
+    }
 }
 
 impl cierva_harness::external::FlightModel for Refinable {
@@ -1499,7 +1518,7 @@ impl cierva_harness::external::FlightModel for Refinable {
         let mut q = self.inner.trim(request)?;
         for (name, v) in &mut q {
             if *name == "pitch_deg" {
-                *v += self.pitch_moved_deg;
+                *v += self.pitch_error_deg();
             }
         }
         Ok(q)
@@ -1514,18 +1533,31 @@ impl cierva_harness::external::FlightModel for Refinable {
         self.asked.started_from.lock().unwrap().push(values.clone());
         None
     }
-    fn refined(
-        &self,
-    ) -> Option<(
-        std::sync::Arc<dyn cierva_harness::external::FlightModel>,
-        String,
-    )> {
-        let refined = Refinable {
-            inner: self.inner.clone(),
-            pitch_moved_deg: self.pitch_moved_deg + REFINEMENT_PITCH_DEG,
-            asked: std::sync::Arc::default(),
+    fn refinements(&self) -> Vec<cierva_harness::external::Refinement> {
+        let refined = |k: usize| {
+            let mut levels = self.levels;
+            levels[k] += 1;
+            std::sync::Arc::new(Refinable {
+                inner: self.inner.clone(),
+                levels,
+                asked: std::sync::Arc::default(),
+            }) as std::sync::Arc<dyn cierva_harness::external::FlightModel>
         };
-        Some((std::sync::Arc::new(refined), "the test's refinement".into()))
+        let one = |k: usize, parameter: &str, ratio: f64, formal_order: f64| {
+            cierva_harness::external::Refinement {
+                parameter: parameter.into(),
+                words: format!("level {} -> {}", self.levels[k], self.levels[k] + 1),
+                ratio,
+                formal_order,
+                model: refined(k),
+            }
+        };
+        let mut out = vec![one(0, "step", 2.0, 2.0), one(1, "elements", 2.0, 2.0)];
+        // The tolerance is refined once only: two levels.
+        if self.levels[2] == 0 {
+            out.push(one(2, "tolerance", 10.0, 1.0));
+        }
+        out
     }
     fn forget(&self, values: &cierva_harness::external::Values) {
         self.asked.forgotten.lock().unwrap().push(values.clone());
@@ -1549,7 +1581,7 @@ fn the_uncertainty_study_asks_any_model_for_its_refinement_starts_and_memory() {
     };
     e.model = std::sync::Arc::new(Refinable {
         inner: e.model.clone(),
-        pitch_moved_deg: 0.0,
+        levels: [0; 3],
         asked: asked.clone(),
     });
     let samples = 8;
@@ -1561,17 +1593,51 @@ fn the_uncertainty_study_asks_any_model_for_its_refinement_starts_and_memory() {
     };
     let study = cierva_harness::uncertainty::study::propagate(&case, settings, || ()).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(study.refinement, "the test's refinement");
-    let u_num = |check: &str| {
+    assert_eq!(
+        study.refinement,
+        "step level 0 -> 1; level 1 -> 2 (r 2, formal order 2), alone | elements level 0 -> 1; \
+         level 1 -> 2 (r 2, formal order 2), alone | tolerance level 0 -> 1 (r 10, formal \
+         order 1), alone"
+    );
+    let row = |check: &str| {
         study
             .results
             .iter()
             .find(|r| r.check == check)
             .unwrap_or_else(|| panic!("no {check}"))
-            .u_num
     };
-    assert!((u_num("pitch") - REFINEMENT_PITCH_DEG).abs() < 1e-12);
-    assert_eq!(u_num("damping"), 0.0);
+    // Known answers, to rounding: each parameter refined alone, its index by the book.
+    let pitch = row("pitch");
+    assert!(
+        (pitch.u_num - REFINABLE_U_NUM_DEG).abs() < 1e-9,
+        "{:?}",
+        pitch.u_num_terms
+    );
+    let orders: Vec<(Option<f64>, f64, f64)> = pitch
+        .u_num_terms
+        .iter()
+        .map(|t| {
+            let round = |p: f64| (p * 1e9).round() / 1e9;
+            (t.observed_order.map(round), round(t.order), t.safety_factor)
+        })
+        .collect();
+    assert_eq!(
+        orders,
+        [
+            (Some(2.0), 2.0, 1.25),
+            (Some(1.5), 1.5, 1.25),
+            (None, 1.0, 3.0)
+        ],
+        "{:?}",
+        pitch.u_num_terms
+    );
+    for (t, error) in pitch.u_num_terms.iter().zip(REFINABLE_ERRORS_DEG) {
+        assert!(
+            t.gci >= error,
+            "the index covers the parameter's error: {t:?}"
+        );
+    }
+    assert_eq!(row("damping").u_num, 0.0);
     // Two inputs: each of the 2 x 8 `A_B^(i)` points starts from its row of `A` (8 rows).
     let started = asked.started_from.lock().unwrap();
     assert_eq!(started.len(), 2 * samples);
@@ -1852,12 +1918,7 @@ impl cierva_harness::external::FlightModel for RefinedCannotTrim {
     fn linear_model(&self, request: &Request) -> Result<cierva_model::LinearModel, String> {
         self.0.linear_model(request)
     }
-    fn refined(
-        &self,
-    ) -> Option<(
-        std::sync::Arc<dyn cierva_harness::external::FlightModel>,
-        String,
-    )> {
+    fn refinements(&self) -> Vec<cierva_harness::external::Refinement> {
         #[derive(Debug)]
         struct NoTrim(std::sync::Arc<dyn cierva_harness::external::FlightModel>);
         impl cierva_harness::external::FlightModel for NoTrim {
@@ -1871,10 +1932,13 @@ impl cierva_harness::external::FlightModel for RefinedCannotTrim {
                 self.0.linear_model(request)
             }
         }
-        Some((
-            std::sync::Arc::new(NoTrim(self.0.clone())),
-            "the test's refinement, which cannot trim".into(),
-        ))
+        vec![cierva_harness::external::Refinement {
+            parameter: "the test's refinement, which cannot trim".into(),
+            words: "once".into(),
+            ratio: 2.0,
+            formal_order: 2.0,
+            model: std::sync::Arc::new(NoTrim(self.0.clone())),
+        }]
     }
 }
 
@@ -1913,7 +1977,7 @@ fn a_quantity_the_refined_run_cannot_give_has_no_verdict() {
     assert!(
         pitch
             .reason
-            .starts_with("no verdict: the refined discretisation gave no value"),
+            .starts_with("no verdict: a refined discretisation gave no value"),
         "{}",
         pitch.reason
     );

@@ -1173,3 +1173,48 @@ mod yaml_numbers {
         assert!(message.contains("`1e-400`"), "{message}");
     }
 }
+
+mod grid_convergence_index {
+    use cierva_harness::uncertainty::numerics::*;
+
+    /// Agreement of an index with its closed form: rounding only.
+    const ROUNDING: f64 = 1e-12;
+
+    /// Roache's index on known answers (issue 51, item 3): a quantity `S(h) = T + C h^p`
+    /// refined by `r` gives back `p` over three levels and an index of 1.25 times its true
+    /// error `C h^p`; two levels give Fs 3 at the formal order; an oscillating, a diverging and
+    /// a barely converging sequence (an observed order far from the formal) fall back to Fs 3
+    /// on the larger difference; a quantity the refinement does not move has an index of 0.
+    #[test]
+    fn the_index_follows_roache() {
+        let s = |h: f64, p: f64| 10.0 + 0.5 * h.powf(p);
+        for (p, r) in [(2.0, 2.0), (4.0, 2.0), (1.0, 10.0), (1.5, 3.0)] {
+            let t = gci("x", &[s(1.0, p), s(1.0 / r, p), s(1.0 / r / r, p)], r, p);
+            assert!((t.observed_order.unwrap() - p).abs() < 1e-9, "{t:?}");
+            assert_eq!(t.safety_factor, FS_OBSERVED);
+            assert!((t.gci - FS_OBSERVED * 0.5).abs() < ROUNDING, "{t:?}");
+        }
+        // Two levels: Fs 3 at the formal order, whatever the data.
+        let t = gci("x", &[s(1.0, 2.0), s(0.5, 2.0)], 2.0, 2.0);
+        assert_eq!(
+            (t.observed_order, t.safety_factor, t.order),
+            (None, 3.0, 2.0)
+        );
+        assert!((t.gci - 3.0 * 0.5).abs() < ROUNDING);
+        // Observed order 1 against a formal 4: not trusted, Fs 3 at order 4 on the larger step.
+        let t = gci("x", &[s(1.0, 1.0), s(0.5, 1.0), s(0.25, 1.0)], 2.0, 4.0);
+        assert_eq!((t.safety_factor, t.order), (3.0, 4.0));
+        assert!((t.gci - 3.0 * 0.25 * 16.0 / 15.0).abs() < ROUNDING, "{t:?}");
+        // Oscillating and diverging sequences.
+        for values in [[1.0, 1.1, 1.05], [1.0, 1.1, 1.3]] {
+            let t = gci("x", &values, 2.0, 2.0);
+            assert_eq!((t.observed_order, t.safety_factor), (None, 3.0), "{t:?}");
+            let larger = (values[1] - values[0])
+                .abs()
+                .max((values[2] - values[1]).abs());
+            assert!((t.gci - 3.0 * larger * 4.0 / 3.0).abs() < ROUNDING, "{t:?}");
+        }
+        let t = gci("x", &[2.0, 2.0, 2.0], 2.0, 2.0);
+        assert_eq!(t.gci, 0.0);
+    }
+}
