@@ -820,7 +820,8 @@ fn resolve_expectations(
 /// Refuses a check that cannot fail: one that reads back its own input, or that a trivial
 /// predictor passes (a zero derivative, a model with no response at all, a constant verdict).
 /// A constant verdict passes every check of a sign or a verdict: such a check is accepted only
-/// as `verification`, where the sign is the point, with the reason in its `description`.
+/// as `verification`, where the sign is the point, or as `regression`, where the side is the
+/// model's own (no source gives the flight's), with the reason in its `description`.
 fn refuse_trivial(
     subject: &Subject,
     what: &What,
@@ -829,7 +830,8 @@ fn refuse_trivial(
     description: Option<&str>,
 ) -> Result<(), Refusal> {
     let trivial = what.as_evaluate().trivial(subject, expectations)?;
-    let verification = class == CheckClass::Verification;
+    // The classes that say a constant verdict is not evidence against the data.
+    let verification = matches!(class, CheckClass::Verification | CheckClass::Regression);
     let reasoned = description.is_some_and(|d| !d.trim().is_empty());
     for t in &trivial {
         let passes: Option<(String, String)> = if t.quantity == VERDICT {
@@ -868,11 +870,13 @@ fn refuse_trivial(
                 continue;
             }
             let why = if verification {
-                "; a verification check whose point is the sign says why in `description`"
+                "; a verification check whose point is the sign, or a regression check that \
+                 guards the side the model's own mode is on, says why in `description`"
             } else {
                 ". Give the number the source gives (a value or an interval), or, where the \
-                 sign is the point, make the check `class: verification` and say why in its \
-                 `description`"
+                 sign is the point, make the check `class: verification`, or, where no source \
+                 gives the verdict and it guards the model's own side, `class: regression`, and \
+                 say why in its `description`"
             };
             return Err((field, format!("{msg}{why}")));
         }
