@@ -27,6 +27,9 @@ pub struct Tolerance {
     /// the value for `relative`), from repeat runs.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub standard_deviation: Option<f64>,
+    /// The degrees of freedom of `standard_deviation` (none: taken as known).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub degrees_of_freedom: Option<f64>,
 }
 
 /// Tolerance for published numbers that were rounded: the inputs (the model's matrices) to

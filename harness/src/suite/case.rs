@@ -80,6 +80,11 @@ pub struct ToleranceSpec {
     /// data's standard uncertainty (`cierva uncertainty`).
     #[serde(default)]
     pub standard_deviation: Option<f64>,
+    /// With a `standard_deviation`: the degrees of freedom it was estimated with (repeat pairs
+    /// pooled: one per pair). The comparison's coverage factor then follows Student's t at the
+    /// effective degrees of freedom (Welch-Satterthwaite) instead of 2.
+    #[serde(default)]
+    pub degrees_of_freedom: Option<f64>,
     pub reason: String,
 }
 
@@ -490,6 +495,7 @@ fn tolerance_of(
         reason: t.reason.clone(),
         confidence: t.confidence,
         standard_deviation: t.standard_deviation,
+        degrees_of_freedom: t.degrees_of_freedom,
     })
 }
 
@@ -533,7 +539,7 @@ fn interval_from(
 
 /// A tolerance's statement of uncertainty checked against its kind: a `confidence` level (in
 /// (0, 1)) only on an interval, a measurement's `standard_deviation` (finite, > 0) only on an
-/// absolute or relative tolerance.
+/// absolute or relative tolerance, its `degrees_of_freedom` (at least 1) only with it.
 fn check_uncertainty(
     t: &ToleranceSpec,
     kind: &ToleranceKind,
@@ -568,6 +574,21 @@ fn check_uncertainty(
             return Err(err(
                 &format!("{tfield}.standard_deviation"),
                 format!("a standard deviation is finite and > 0, got {sd}"),
+            ));
+        }
+    }
+    if let Some(n) = t.degrees_of_freedom {
+        if t.standard_deviation.is_none() {
+            return Err(err(
+                &format!("{tfield}.degrees_of_freedom"),
+                "degrees of freedom belong to a `standard_deviation` (what it was estimated with)"
+                    .into(),
+            ));
+        }
+        if !(n.is_finite() && n >= 1.0) {
+            return Err(err(
+                &format!("{tfield}.degrees_of_freedom"),
+                format!("degrees of freedom are finite and at least 1, got {n}"),
             ));
         }
     }

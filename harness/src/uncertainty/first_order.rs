@@ -5,7 +5,7 @@
 
 use super::distribution::Input;
 use super::propagate::{
-    CaseUncertainty, Contributor, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty,
+    CaseUncertainty, Contributor, Interval, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty,
     failure_causes, forget, hash, judge, mean_std, pass_fraction, percentile, point_of,
     refined_value, unjudged, values_of, with_terms, with_values,
 };
@@ -417,7 +417,9 @@ fn first_order_quantity(
         j,
     );
     if u_input.is_finite() {
-        judge(&mut out, q);
+        // The surrogate's interval is not the model's (its residual rests on RESIDUAL_DRAWS
+        // draws): only `|E| > 2 u_val` judges a model-form error here.
+        judge(&mut out, q, Interval::None);
     } else {
         out.reason = "no verdict: a perturbed input finds no equilibrium on either side, so the inputs' uncertainty is unknown here".into();
     }

@@ -139,6 +139,10 @@ pub struct QuantityUncertainty {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub u_num_missing: Option<String>,
     pub u_data: Option<f64>,
+    /// The degrees of freedom of `u_data`, where its tolerance states them (a standard
+    /// deviation from few repeats); none where it is taken as known.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub u_data_dof: Option<f64>,
     /// Where `u_data` comes from, or why there is none.
     pub u_data_source: String,
     pub u_val: Option<f64>,
@@ -776,7 +780,7 @@ pub(super) fn hash(values: &[f64]) -> u64 {
 fn data_uncertainty(
     check: &crate::checks::Check,
     q: &crate::suite::outcome::QuantityResult,
-) -> (Option<f64>, String) {
+) -> (Option<f64>, Option<f64>, String) {
     let tolerance = check
         .expectations
         .iter()
@@ -794,8 +798,11 @@ fn data_uncertainty(
         };
         return (
             Some(u),
+            t.degrees_of_freedom,
             format!(
-                "the measurement's standard deviation from repeat runs ({what}; tolerance `{}`)",
+                "the measurement's standard deviation from repeat runs ({what}{}; tolerance `{}`)",
+                t.degrees_of_freedom
+                    .map_or(String::new(), |n| format!(", {n} degrees of freedom")),
                 t.name
             ),
         );
@@ -806,6 +813,7 @@ fn data_uncertainty(
             let half = 0.5 * (q.upper - q.lower);
             (
                 Some(half / z),
+                None,
                 format!(
                     "the half-width of the {} % confidence interval ({half:.4e}) over {z:.3}",
                     100.0 * c
@@ -813,6 +821,7 @@ fn data_uncertainty(
             )
         }
         None => (
+            None,
             None,
             format!(
                 "not stated: tolerance `{}` gives no confidence level",
@@ -871,7 +880,7 @@ fn summarise(
         out.samples = all.len();
         out.failure_causes = causes.to_vec();
     }
-    judge(&mut out, q);
+    judge(&mut out, q, Interval::Sampled);
     out
 }
 
@@ -897,7 +906,7 @@ pub(super) fn unjudged(
         let mid = 0.5 * (q.lower + q.upper);
         mid.is_finite().then_some(mid)
     });
-    let (u_data, u_data_source) = data_uncertainty(check, q);
+    let (u_data, u_data_dof, u_data_source) = data_uncertainty(check, q);
     let calibrations = calibration_terms(case, check, q);
     let u_calibration = calibrations.iter().map(|(_, u)| u * u).sum::<f64>().sqrt();
     let (u_input, p2_5, p97_5, contributors) = if u_calibration > 0.0 {
@@ -929,6 +938,7 @@ pub(super) fn unjudged(
         },
         u_num_missing: numerics.and_then(Result::err),
         u_data,
+        u_data_dof,
         u_data_source,
         u_val: None,
         verdict: None,
@@ -1024,8 +1034,23 @@ pub(super) fn with_terms(
     )
 }
 
-/// The V&V 20 verdict of a validation quantity, or why there is none.
-pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::QuantityResult) {
+/// Whose 95 % interval of the model a verdict's second model-form test may use: a sampled
+/// propagation's (its draws are the model's), or none (a first-order surrogate's, whose residual
+/// term rests on [`super::first_order`]'s few draws, is not an interval of the model to test
+/// against: issue 51, item 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Interval {
+    Sampled,
+    None,
+}
+
+/// The V&V 20 verdict of a validation quantity, or why there is none. `interval` says whether
+/// the second model-form test (the data outside the model's own 95 % interval, widened) runs.
+pub(super) fn judge(
+    out: &mut QuantityUncertainty,
+    q: &crate::suite::outcome::QuantityResult,
+    interval: Interval,
+) {
     let half = 0.5 * (q.upper - q.lower);
     if let Some(why) = &out.u_num_missing {
         out.reason = format!(
@@ -1055,8 +1080,10 @@ pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::Qu
                 u_num: out.u_num,
                 u_input: out.u_input,
                 u_data: u_d,
+                data_dof: out.u_data_dof,
             };
-            let sampled = (!out.contributors.is_empty()).then_some([out.p2_5, out.p97_5]);
+            let sampled = (interval == Interval::Sampled && !out.contributors.is_empty())
+                .then_some([out.p2_5, out.p97_5]);
             match vv20::compare(out.nominal, d, u, half, sampled) {
                 Some(c) => {
                     out.u_val = Some(c.u_val);
@@ -1088,28 +1115,38 @@ pub(super) fn judge(out: &mut QuantityUncertainty, q: &crate::suite::outcome::Qu
     };
 }
 
-fn explain(c: &Comparison) -> String {
-    let [lo, hi] = c.model_form_interval;
-    match c.verdict {
-        Vv20Verdict::ModelFormError if c.estimate_error.abs() > vv20::COVERAGE * c.u_val => {
+/// The coverage factor as the reasons write it: `2`, or `2.31` with the effective degrees of
+/// freedom where Student's t sets it.
+fn k_label(c: &Comparison) -> String {
+    match c.effective_dof {
+        Some(nu) if c.coverage > vv20::COVERAGE => {
             format!(
-                "|E| = {:.3e} > 2 u_val = {:.3e}: the model-form error lies in [{lo:.3e}, {hi:.3e}]",
-                c.estimate_error.abs(),
-                vv20::COVERAGE * c.u_val
+                "{:.2} (Student's t, {nu:.1} effective degrees of freedom)",
+                c.coverage
             )
         }
+        _ => "2".into(),
+    }
+}
+
+fn explain(c: &Comparison) -> String {
+    let [lo, hi] = c.model_form_interval;
+    let (k, ku) = (k_label(c), c.coverage * c.u_val);
+    match c.verdict {
+        Vv20Verdict::ModelFormError if c.estimate_error.abs() > ku => format!(
+            "|E| = {:.3e} > {k} u_val = {ku:.3e}: the model-form error lies in [{lo:.3e}, {hi:.3e}]",
+            c.estimate_error.abs(),
+        ),
         Vv20Verdict::ModelFormError => {
             let [a, b] = c.sampled_interval.unwrap_or([f64::NAN; 2]);
             format!(
-                "|E| = {:.3e} <= 2 u_val = {:.3e}, but the inputs spread the model one way: D lies outside the sampled 95 % interval widened by the numerics and the data, [{a:.4e}, {b:.4e}], so no plausible input explains it",
+                "|E| = {:.3e} <= {k} u_val = {ku:.3e}, but the inputs spread the model one way: D lies outside the sampled 95 % interval widened by the numerics and the data, [{a:.4e}, {b:.4e}], so no plausible input explains it",
                 c.estimate_error.abs(),
-                vv20::COVERAGE * c.u_val
             )
         }
         Vv20Verdict::Inconclusive => format!(
-            "|E| = {:.3e} <= 2 u_val = {:.3e}, but the model's own 2 sqrt(u_num^2 + u_input^2) = {:.3e} exceeds the tolerance's half-width {:.3e}",
+            "|E| = {:.3e} <= {k} u_val = {ku:.3e}, but the model's own 2 sqrt(u_num^2 + u_input^2) = {:.3e} exceeds the tolerance's half-width {:.3e}",
             c.estimate_error.abs(),
-            vv20::COVERAGE * c.u_val,
             vv20::COVERAGE * (c.u_num.powi(2) + c.u_input.powi(2)).sqrt(),
             c.tolerance_half_width
         ),
@@ -1120,9 +1157,8 @@ fn explain(c: &Comparison) -> String {
             (c.u_num.powi(2) + c.u_input.powi(2)).sqrt()
         ),
         Vv20Verdict::Agrees => format!(
-            "|E| = {:.3e} <= 2 u_val = {:.3e}, and the model's uncertainty is inside the tolerance",
+            "|E| = {:.3e} <= {k} u_val = {ku:.3e}, and the model's uncertainty is inside the tolerance",
             c.estimate_error.abs(),
-            vv20::COVERAGE * c.u_val
         ),
     }
 }

@@ -7,7 +7,9 @@
 //! ```
 //!
 //! from the numerical solution (`u_num`), the model's inputs (`u_input`) and the data (`u_D`),
-//! each a standard uncertainty. The model-form error lies in `E +- 2 u_val` (about 95 %).
+//! each a standard uncertainty. The model-form error lies in `E +- k u_val` (about 95 %), with
+//! `k = 2`, or Student's t at the effective degrees of freedom where the data's standard
+//! deviation comes from few repeats ([`coverage`]); `2` below stands for `k`.
 //!
 //! # Verdicts
 //! - **model-form error**: `|E| > 2 u_val`. No plausible input, numerical error or data error
@@ -30,8 +32,28 @@
 
 use serde::Serialize;
 
-/// The coverage factor: `2 u` is about a 95 % interval.
+/// The coverage factor: `2 u` is about a 95 % interval. It is the least one: where the data's
+/// standard deviation comes from few repeats, [`coverage`] gives Student's t at the effective
+/// degrees of freedom.
 pub const COVERAGE: f64 = 2.0;
+
+/// The coverage factor of `u_val` at 95 %: Student's t at the effective degrees of freedom of
+/// Welch and Satterthwaite, `nu_eff = u_val^4 / (u_D^4 / nu_D)` (the model's terms, from many
+/// samples or a grid study, taken as known), and never below [`COVERAGE`]; [`COVERAGE`] where the
+/// data's degrees of freedom are not stated. (JCGM 100:2008, G.4 and G.6.4.)
+pub fn coverage(u_val: f64, u_data: f64, data_dof: Option<f64>) -> (f64, Option<f64>) {
+    let Some(nu) = data_dof else {
+        return (COVERAGE, None);
+    };
+    if u_data <= 0.0 {
+        return (COVERAGE, None);
+    }
+    let nu_eff = u_val.powi(4) / (u_data.powi(4) / nu);
+    let t = statrs::distribution::StudentsT::new(0.0, 1.0, nu_eff)
+        .map(|d| statrs::distribution::ContinuousCDF::inverse_cdf(&d, 0.975))
+        .unwrap_or(COVERAGE);
+    (t.max(COVERAGE), Some(nu_eff))
+}
 
 /// The verdict of a comparison.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -72,7 +94,12 @@ pub struct Comparison {
     pub u_input: f64,
     pub u_data: f64,
     pub u_val: f64,
-    /// Where the model-form error lies: `E -+ 2 u_val`.
+    /// The coverage factor `k` of `u_val` ([`coverage`]): 2, or Student's t at the effective
+    /// degrees of freedom where the data's are stated.
+    pub coverage: f64,
+    /// The effective degrees of freedom of `u_val`, where the data's are stated.
+    pub effective_dof: Option<f64>,
+    /// Where the model-form error lies: `E -+ k u_val`.
     pub model_form_interval: [f64; 2],
     /// The check's tolerance as a half-width about `D`.
     pub tolerance_half_width: f64,
@@ -87,6 +114,8 @@ pub struct Uncertainties {
     pub u_num: f64,
     pub u_input: f64,
     pub u_data: f64,
+    /// The degrees of freedom of `u_data` (none: known).
+    pub data_dof: Option<f64>,
 }
 
 /// Compares `simulation` with `data`, given the uncertainties, the check's tolerance as a
@@ -104,6 +133,7 @@ pub fn compare(
         u_num,
         u_input,
         u_data,
+        data_dof,
     } = u;
     let e = simulation - data;
     let u_val = (u_num * u_num + u_input * u_input + u_data * u_data).sqrt();
@@ -114,12 +144,13 @@ pub fn compare(
     {
         return None;
     }
+    let (k, effective_dof) = coverage(u_val, u_data, data_dof);
     let widen = COVERAGE * (u_num * u_num + u_data * u_data).sqrt();
     let sampled_interval = sampled
         .filter(|[lo, hi]| lo.is_finite() && hi.is_finite())
         .map(|[lo, hi]| [lo - widen, hi + widen]);
     let outside_samples = sampled_interval.is_some_and(|[lo, hi]| !(lo..=hi).contains(&data));
-    let verdict = if e.abs() > COVERAGE * u_val || outside_samples {
+    let verdict = if e.abs() > k * u_val || outside_samples {
         Vv20Verdict::ModelFormError
     } else if COVERAGE * model > tolerance_half_width {
         Vv20Verdict::Inconclusive
@@ -132,7 +163,9 @@ pub fn compare(
         u_input,
         u_data,
         u_val,
-        model_form_interval: [e - COVERAGE * u_val, e + COVERAGE * u_val],
+        coverage: k,
+        effective_dof,
+        model_form_interval: [e - k * u_val, e + k * u_val],
         tolerance_half_width,
         sampled_interval,
         verdict,

@@ -379,6 +379,7 @@ mod linear {
                 reason: "test".into(),
                 confidence: None,
                 standard_deviation: None,
+                degrees_of_freedom: None,
             },
         };
         let es = [e.clone()];
