@@ -165,13 +165,11 @@ fn validate_with(
     // Scores against corrected models are not the committed model's: shown, never judged.
     let judged_here = correction_files.is_empty() && selection.everything();
     let scores_failing = failing_scores(&judged, !judged_here);
-    // Committed scores that no case declares any more: a score leaves the board only through
-    // `review --accept`.
     let ran_cases: Vec<&case::Case> = run.cases.iter().map(|c| &c.ran.case).collect();
-    let undeclared = if judged_here {
-        review::undeclared(&board, &ran_cases, whole_suite)
+    let (undeclared, unaccepted) = if judged_here {
+        committed_state(&suite, &board, &ran_cases, whole_suite)
     } else {
-        Vec::new()
+        (Vec::new(), None)
     };
     run.scores = judged.clone();
     if report_dir.is_some() {
@@ -206,6 +204,7 @@ fn validate_with(
                 "counts": counts,
                 "scores": judged,
                 "scores_no_longer_declared": undeclared,
+                "acceptance_state": unaccepted,
                 "counts_by_class": tables::counts_by_class(&results)
                     .into_iter()
                     .map(|(k, c)| (k.name(), c))
@@ -237,14 +236,29 @@ fn validate_with(
     }
     if !errors.is_empty() {
         Ok(ExitCode::from(2))
-    } else if counts.failing() > 0 || !scores_failing.is_empty() || !undeclared.is_empty() {
-        if format == Format::Text {
-            print_score_failures(&scores_failing, &undeclared);
-        }
-        Ok(ExitCode::from(1))
     } else {
-        Ok(ExitCode::SUCCESS)
+        let committed = (scores_failing.as_slice(), undeclared.as_slice(), unaccepted);
+        Ok(failing(counts.failing() > 0, committed, format))
     }
+}
+
+/// Exit 1 when a check fails, a score moved or is no longer declared, or the committed files
+/// are not what the acceptance log accepted (said in the text output), 0 otherwise.
+fn failing(
+    checks_fail: bool,
+    (scores, undeclared, unaccepted): (&[&review::Judged], &[String], Option<String>),
+    format: Format,
+) -> ExitCode {
+    if !checks_fail && scores.is_empty() && undeclared.is_empty() && unaccepted.is_none() {
+        return ExitCode::SUCCESS;
+    }
+    if format == Format::Text {
+        print_score_failures(scores, undeclared);
+        if let Some(e) = &unaccepted {
+            println!("the acceptance log: {e}");
+        }
+    }
+    ExitCode::from(1)
 }
 
 /// Every case run on every core (with the corrections that apply,
@@ -574,6 +588,25 @@ fn failing_scores(judged: &[review::Judged], corrected: bool) -> Vec<&review::Ju
         .iter()
         .filter(|j| !corrected && j.change != scoreboard::Change::Same)
         .collect()
+}
+
+/// What is wrong with the committed board and records, for a run that judges scores: the
+/// committed scores no case that ran declares any more (a score leaves the board only through
+/// `review --accept`), and, on the whole suite where it has committed any, why the scoreboard
+/// and records are not what the acceptance log last accepted or why its chain does not hold
+/// (an entry appended by hand).
+fn committed_state(
+    suite: &cierva_harness::suite::Suite,
+    board: &scoreboard::Board,
+    ran: &[&case::Case],
+    whole_suite: bool,
+) -> (Vec<String>, Option<String>) {
+    let undeclared = review::undeclared(board, ran, whole_suite);
+    let committed = suite.acceptances().exists() || suite.scoreboard().exists();
+    let unaccepted = (whole_suite && committed)
+        .then(|| review::acceptance_state(suite.reports()).err())
+        .flatten();
+    (undeclared, unaccepted)
 }
 
 /// What the text output says of the scores that fail the run and the committed scores no case

@@ -45,7 +45,8 @@ fn review_accept_needs_a_reason() {
 /// - with it, the score is committed and the log's entry is chained, with the item's reason;
 /// - a better score fails `validate` until accepted, and `review --accept` writes it back, so
 ///   that falling back to the old value then fails as worse;
-/// - a score removed from its case fails `validate` until `review --accept` drops it.
+/// - a score removed from its case fails `validate` until `review --accept` drops it;
+/// - an entry appended to the log by hand fails `validate`.
 #[test]
 fn the_scoreboard_ratchets_item_by_item() {
     use crate::common::cierva_in;
@@ -140,5 +141,16 @@ fn the_scoreboard_ratchets_item_by_item() {
     );
     assert_eq!(validate().0, 0);
     assert_eq!(acceptance_state(&s.join("reports")), Ok(()));
+    // An entry appended by hand fails `validate` too, not only the repository's `cargo test`.
+    let log = s.join("reports/acceptances.yaml");
+    let mut text = std::fs::read_to_string(&log).unwrap();
+    text += "- date: 2026-11-29T10:00:00Z\n  commit: abc\n  reason: by hand\n  changes: []\n  fingerprint: {}\n";
+    std::fs::write(&log, text).unwrap();
+    let (code, out, _) = validate();
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("the acceptance log:") && out.contains("no chain link after chained entries"),
+        "{out}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
