@@ -795,7 +795,7 @@ impl FlightModel for CiervaAircraft<'_> {
             Refinement {
                 parameter: "periodicity tolerance".into(),
                 words: format!(
-                    "{:e} -> {:e}",
+                    "{:.2e} -> {:.2e}",
                     main.numerics.periodic_tolerance,
                     0.1 * main.numerics.periodic_tolerance
                 ),
