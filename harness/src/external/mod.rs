@@ -745,6 +745,8 @@ impl FlightModel for CiervaAircraft<'_> {
         let main = &file.aircraft.main_rotor;
         let propeller = &file.aircraft.propeller.propeller.rotor;
         let step_deg = main.numerics.azimuth_step_rad.to_degrees();
+        // Where every refined trim starts: this aircraft's, shared by the four.
+        let start = Arc::new(file.clone());
         let refined =
             |tag: &str, change: &dyn Fn(&mut crate::inputs::aircraft::AircraftFile), step: f64| {
                 let mut f = file.clone();
@@ -754,7 +756,7 @@ impl FlightModel for CiervaAircraft<'_> {
                     file: Cow::Owned(f),
                     simulation: self.simulation,
                     azimuth_step_rad: step,
-                    starts_from: Some((Arc::new(file.clone()), Values::new())),
+                    starts_from: Some((start.clone(), Values::new())),
                 }) as Arc<dyn FlightModel>
             };
         let step = self.azimuth_step_rad;

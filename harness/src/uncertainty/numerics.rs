@@ -133,20 +133,23 @@ pub fn grid_study(case: &Case) -> Option<GridStudy> {
     };
     let mut parameters = Vec::new();
     for r in first {
-        let (mut levels, mut words) = (Vec::new(), Vec::new());
-        let (mut now, mut next) = (case.clone(), Some(r.clone()));
-        while let Some(step) = next.take().filter(|_| levels.len() < LEVELS) {
-            let mut c = now;
-            c.subject = refined_subject(&c.subject, &step);
+        let (mut levels, mut words): (Vec<Case>, Vec<String>) = (Vec::new(), Vec::new());
+        let mut step = Some(r.clone());
+        // Each level refines the one before; the model is asked for the next only while one
+        // is wanted.
+        while let Some(s) = step.take() {
+            let mut c = levels.last().unwrap_or(case).clone();
+            c.subject = refined_subject(&c.subject, &s);
             if let Some(u) = &mut c.uncorrected
                 && let Some(twin) = same(&u.subject, &r.parameter)
             {
                 u.subject = refined_subject(&u.subject, &twin);
             }
-            words.push(step.words.clone());
-            next = same(&c.subject, &r.parameter);
-            levels.push(c.clone());
-            now = c;
+            words.push(s.words);
+            if levels.len() + 1 < LEVELS {
+                step = same(&c.subject, &r.parameter);
+            }
+            levels.push(c);
         }
         parameters.push(ParameterStudy {
             parameter: r.parameter.clone(),
