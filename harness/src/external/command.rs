@@ -193,6 +193,23 @@ pub struct Description {
     pub states: Vec<String>,
     pub controls: Vec<String>,
     pub parameters: Vec<super::Parameter>,
+    /// Its discretisation parameters, each of which it refines alone when a request says
+    /// `refine` (empty: no grid study).
+    pub refinements: Vec<GridParameter>,
+}
+
+/// A discretisation parameter a model declares in its `describe` (protocol `/2`): a request
+/// with `"refine": {"parameter": name, "level": k}` asks the model with this parameter refined
+/// `k` times by `ratio`, everything else as it is ([`super::FlightModel::refinements`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridParameter {
+    pub name: String,
+    /// Its value before and after each refinement, in words, level by level (may be fewer).
+    pub words: Vec<String>,
+    pub ratio: f64,
+    pub formal_order: f64,
+    /// How many times the model refines it (a request's `level` is 1 to this).
+    pub levels: usize,
 }
 
 /// An external command: the program and its arguments, the folder it runs in (the case
@@ -209,6 +226,9 @@ pub struct ExternalCommand {
     /// Its processes, where it runs in persistent mode (protocol `/2`: started once, answering
     /// requests as JSON lines on stdin and stdout).
     persistent: Option<super::persistent::Pool>,
+    /// The discretisation parameter this command's requests refine and how many times
+    /// ([`GridParameter`]): a refined model of a grid study; `None` for the model as it is.
+    refine: Option<(String, usize)>,
     /// Answers by request (what the request asks, without its paths): a case's checks at one
     /// condition share one run. Each request has one cell, filled once: a check that asks
     /// while another's identical request runs waits for its answer.
@@ -248,6 +268,29 @@ impl ExternalCommand {
             protocol,
             description: OnceLock::new(),
             persistent: None,
+            refine: None,
+            answers: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// The same command asked with `parameter` refined `level` times: its description known
+    /// (not asked again), processes of its own in persistent mode, and answers of its own.
+    fn refined_at(&self, parameter: &str, level: usize) -> Self {
+        let description = OnceLock::new();
+        if let Some(d) = self.description.get() {
+            let _ = description.set(d.clone());
+        }
+        Self {
+            command: self.command.clone(),
+            dir: self.dir.clone(),
+            timeout: self.timeout,
+            protocol: self.protocol,
+            description,
+            persistent: self
+                .persistent
+                .as_ref()
+                .map(|_| super::persistent::Pool::new()),
+            refine: Some((parameter.to_string(), level)),
             answers: Mutex::new(HashMap::new()),
         }
     }
@@ -318,6 +361,7 @@ impl ExternalCommand {
                 states: Vec::new(),
                 controls: Vec::new(),
                 parameters: Vec::new(),
+                refinements: Vec::new(),
             });
         }
         self.description
@@ -421,6 +465,9 @@ impl ExternalCommand {
         if let Some(t) = with.tunnel {
             json["tunnel"] = serde_json::json!(t);
             json["parameters"] = serde_json::json!(request.parameters);
+            if let Some((parameter, level)) = &self.refine {
+                json["refine"] = serde_json::json!({"parameter": parameter, "level": level});
+            }
             return json;
         }
         json["condition"] = serde_json::json!({
@@ -436,6 +483,9 @@ impl ExternalCommand {
         });
         if self.protocol == Protocol::V2 {
             json["parameters"] = serde_json::json!(request.parameters);
+        }
+        if let Some((parameter, level)) = &self.refine {
+            json["refine"] = serde_json::json!({"parameter": parameter, "level": level});
         }
         if let Some(f) = with.frequencies_hz {
             json["frequencies_hz"] = serde_json::json!(f);
@@ -962,6 +1012,27 @@ struct Described {
     controls: Vec<String>,
     #[serde(default)]
     parameters: Vec<Declared>,
+    #[serde(default)]
+    refinements: Vec<DeclaredGrid>,
+}
+
+/// A declared discretisation parameter as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DeclaredGrid {
+    name: String,
+    #[serde(default)]
+    words: Vec<String>,
+    ratio: f64,
+    formal_order: f64,
+    #[serde(default = "two_levels")]
+    levels: usize,
+}
+
+/// A declared discretisation parameter's levels where it does not say: the grid study's
+/// ([`crate::uncertainty::numerics::LEVELS`]).
+fn two_levels() -> usize {
+    crate::uncertainty::numerics::LEVELS
 }
 
 /// A declared parameter as written.
@@ -1045,11 +1116,47 @@ pub(super) fn parse_describe(text: &str) -> Result<Description, String> {
             correction: p.correction,
         });
     }
+    let mut refinements: Vec<GridParameter> = Vec::new();
+    for (i, g) in d.refinements.into_iter().enumerate() {
+        let at = format!("`describe.refinements[{i}]` (`{}`)", g.name);
+        if g.name.trim().is_empty() {
+            return Err(format!("{at}: a discretisation parameter needs a name"));
+        }
+        if refinements.iter().any(|r| r.name == g.name) {
+            return Err(format!("{at}: declared twice"));
+        }
+        if !(g.ratio.is_finite() && g.ratio > 1.0) {
+            return Err(format!(
+                "{at}: its `ratio` {} is not a refinement ratio (a finite number above 1: 2 \
+                 for a step halved, 10 for a tolerance a tenth)",
+                g.ratio
+            ));
+        }
+        if !(g.formal_order.is_finite() && g.formal_order > 0.0) {
+            return Err(format!(
+                "{at}: its `formal_order` {} is not an order (a finite number above 0)",
+                g.formal_order
+            ));
+        }
+        if g.levels == 0 {
+            return Err(format!(
+                "{at}: `levels` is 0 (how many times the model refines it, at least 1)"
+            ));
+        }
+        refinements.push(GridParameter {
+            name: g.name,
+            words: g.words,
+            ratio: g.ratio,
+            formal_order: g.formal_order,
+            levels: g.levels,
+        });
+    }
     Ok(Description {
         computes,
         states: d.states,
         controls: d.controls,
         parameters,
+        refinements,
     })
 }
 
@@ -1095,11 +1202,48 @@ fn declared_range(
 
 impl FlightModel for ExternalCommand {
     fn describe(&self) -> String {
-        format!("the command `{}`", self.written())
+        match &self.refine {
+            None => format!("the command `{}`", self.written()),
+            Some((parameter, level)) => format!(
+                "the command `{}` with its {parameter} refined {level} time{}",
+                self.written(),
+                if *level == 1 { "" } else { "s" }
+            ),
+        }
     }
 
     fn parameters(&self) -> Result<Vec<super::Parameter>, String> {
         Ok(self.description()?.parameters)
+    }
+
+    /// Each discretisation parameter its `describe` declares, refined once by a request's
+    /// `refine`; a refined command refines its own parameter again, to its declared `levels`.
+    /// None where its `describe` fails (which every other request then reports).
+    fn refinements(&self) -> Vec<super::Refinement> {
+        let Ok(d) = self.description() else {
+            return Vec::new();
+        };
+        d.refinements
+            .iter()
+            .filter_map(|g| {
+                let level = match &self.refine {
+                    None => 1,
+                    Some((name, k)) if *name == g.name && *k < g.levels => k + 1,
+                    Some(_) => return None,
+                };
+                Some(super::Refinement {
+                    parameter: g.name.clone(),
+                    words: g
+                        .words
+                        .get(level - 1)
+                        .cloned()
+                        .unwrap_or_else(|| format!("refined {level} time(s) by {}", g.ratio)),
+                    ratio: g.ratio,
+                    formal_order: g.formal_order,
+                    model: Arc::new(self.refined_at(&g.name, level)),
+                })
+            })
+            .collect()
     }
 
     fn trim(&self, request: &super::Request) -> Result<Quantities, String> {

@@ -27,6 +27,9 @@ struct Read {
     frequencies_hz: Vec<f64>,
     /// An autorotation's tunnel condition.
     tunnel: Option<crate::inputs::condition::TunnelSpec>,
+    /// The discretisation parameter refined and how many times, where the request says
+    /// (`refine`).
+    refine: Option<(String, usize)>,
 }
 
 /// What a request asks, read from its JSON (see [`Read`]).
@@ -62,6 +65,7 @@ fn read_request(v: &Value) -> Result<Read, String> {
             controls: None,
             frequencies_hz: Vec::new(),
             tunnel: None,
+            refine: None,
         });
     }
     if compute == Compute::Autorotation {
@@ -81,6 +85,7 @@ fn read_request(v: &Value) -> Result<Read, String> {
             controls: None,
             frequencies_hz: Vec::new(),
             tunnel: Some(tunnel),
+            refine: refine_of(v)?,
         });
     }
     let c = &v["condition"];
@@ -117,7 +122,81 @@ fn read_request(v: &Value) -> Result<Read, String> {
         controls,
         frequencies_hz,
         tunnel: None,
+        refine: refine_of(v)?,
     })
+}
+
+/// A request's `refine` (`{"parameter": name, "level": k}`), where it has one.
+fn refine_of(v: &Value) -> Result<Option<(String, usize)>, String> {
+    match &v["refine"] {
+        Value::Null => Ok(None),
+        r => {
+            let parameter = r["parameter"]
+                .as_str()
+                .ok_or("the request's `refine.parameter` is not a name")?;
+            let level = r["level"]
+                .as_u64()
+                .and_then(|k| usize::try_from(k).ok())
+                .filter(|k| *k >= 1)
+                .ok_or("the request's `refine.level` is not a whole number from 1")?;
+            Ok(Some((parameter.to_string(), level)))
+        }
+    }
+}
+
+/// `model` with `parameter` refined `level` times, each time by its own refinement of that
+/// name ([`FlightModel::refinements`]).
+fn refined(
+    model: &dyn FlightModel,
+    parameter: &str,
+    level: usize,
+) -> Result<std::sync::Arc<dyn FlightModel>, String> {
+    let next = |m: &dyn FlightModel, k: usize| {
+        m.refinements()
+            .into_iter()
+            .find(|r| r.parameter == parameter)
+            .map(|r| r.model)
+            .ok_or_else(|| {
+                format!(
+                    "{} has no refinement {k} of `{parameter}` (its `describe` lists what it \
+                     refines and to how many levels)",
+                    m.describe()
+                )
+            })
+    };
+    let mut m = next(model, 1)?;
+    for k in 2..=level {
+        m = next(m.as_ref(), k)?;
+    }
+    Ok(m)
+}
+
+/// What `model` says it refines, for its `describe`: each parameter with its words level by
+/// level, to as many levels as it refines it (at most the grid study's).
+fn refinements_declared(model: &dyn FlightModel) -> Vec<Value> {
+    model
+        .refinements()
+        .into_iter()
+        .map(|r| {
+            let mut words = vec![r.words.clone()];
+            let mut at = r.model.clone();
+            while words.len() < crate::uncertainty::numerics::LEVELS {
+                let Some(n) = at
+                    .refinements()
+                    .into_iter()
+                    .find(|x| x.parameter == r.parameter)
+                else {
+                    break;
+                };
+                words.push(n.words);
+                at = n.model;
+            }
+            json!({
+                "name": r.parameter, "words": words, "ratio": r.ratio,
+                "formal_order": r.formal_order, "levels": words.len(),
+            })
+        })
+        .collect()
 }
 
 /// A time-history request's controls: the one-shot request's CSV read from its path, the
@@ -201,7 +280,16 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
         controls,
         frequencies_hz,
         tunnel,
+        refine,
     } = read_request(v)?;
+    let refined_model;
+    let model = match refine {
+        None => model,
+        Some((parameter, level)) => {
+            refined_model = refined(model, &parameter, level)?;
+            refined_model.as_ref()
+        }
+    };
     let body = match compute {
         Compute::Describe => {
             let parameters: Vec<Value> = model
@@ -229,6 +317,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 "states": cierva_model::aircraft::linearise::STATES,
                 "controls": cierva_model::aircraft::linearise::CONTROLS,
                 "parameters": parameters,
+                "refinements": refinements_declared(model),
             }})
         }
         Compute::Trim => {

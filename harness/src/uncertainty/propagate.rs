@@ -338,7 +338,8 @@ pub(super) fn forget(case: &Case, values: &Values) {
 }
 
 /// What a case without a refinement says about its numerical uncertainty.
-pub(super) const NO_GRID_STUDY: &str = "none: no grid study for this subject";
+pub(super) const NO_GRID_STUDY: &str =
+    "none: no grid study for this subject (its model names no discretisation parameter to refine)";
 
 /// One evaluation of every check: each quantity's value (NaN where it could not be computed)
 /// and whether the check passed, by check then quantity, in the nominal results' order.

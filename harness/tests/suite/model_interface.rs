@@ -709,6 +709,100 @@ fn uncertainty_propagates_an_external_models_declared_ranges() {
     }
 }
 
+/// The test model with a discretisation parameter, `pitch step` (`h = 0.2 / 2^level`, order
+/// 2), whose trim pitch carries the error `0.4 h^2`: a grid study through the protocol's
+/// `refine` gets 3.016, 3.004 and 3.001, the observed order 2 and Roache's index
+/// `1.25 x 0.012 x 4/3 = 0.02` exactly.
+fn refinable_model(refinements: &str) -> String {
+    MODEL
+        .replace(
+            "'controls': ['eta_s'],\n            'parameters': [",
+            &format!("'controls': ['eta_s'],\n            'refinements': {refinements},\n            'parameters': ["),
+        )
+        .replace(
+            "    # HOOK",
+            "    h = 0.2 / 2 ** (r.get('refine') or {}).get('level', 0)",
+        )
+        .replace(
+            "3.0 + p['pitch_offset_deg']",
+            "3.0 + p['pitch_offset_deg'] + 0.4 * h * h",
+        )
+}
+
+#[test]
+fn a_model_behind_the_protocol_gets_a_grid_study_from_its_declared_refinements() {
+    super::external::require_python3();
+    let dir = suite("grid-study", "cierva-external/2");
+    let declared = "[{'name': 'pitch step', 'ratio': 2, 'formal_order': 2, \
+                    'words': ['0.2 -> 0.1', '0.1 -> 0.05']}]";
+    std::fs::write(dir.join("cases/model.py"), refinable_model(declared)).unwrap();
+    let (code, out, err) = cierva_in(
+        &dir,
+        &[
+            "uncertainty",
+            "cases/model.yaml",
+            "--samples",
+            "8",
+            "--format",
+            "json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let pitch = v["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["check"] == "pitch")
+        .unwrap_or_else(|| panic!("no pitch: {v}"))
+        .clone();
+    let term = &pitch["u_num_terms"][0];
+    assert_eq!(term["parameter"], "pitch step", "{pitch}");
+    let values: Vec<f64> = term["values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    for (got, want) in values.iter().zip([3.016, 3.004, 3.001]) {
+        assert!((got - want).abs() < 1e-12, "{values:?}");
+    }
+    assert_eq!(values.len(), 3, "{values:?}");
+    assert!(
+        (term["observed_order"].as_f64().unwrap() - 2.0).abs() < 1e-9,
+        "{term}"
+    );
+    assert!(
+        (pitch["u_num"].as_f64().unwrap() - 0.02).abs() < 1e-9,
+        "{pitch}"
+    );
+    // A model that refines nothing through a request it does not know: M_q does not depend on
+    // the step, so its index is 0, not missing.
+    let damping = v["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["check"] == "damping")
+        .unwrap()
+        .clone();
+    assert_eq!(damping["u_num"].as_f64(), Some(0.0), "{damping}");
+    // A declared refinement that is not one: a located reason, exit 2.
+    std::fs::write(
+        dir.join("cases/model.py"),
+        refinable_model("[{'name': 'pitch step', 'ratio': 1, 'formal_order': 2}]"),
+    )
+    .unwrap();
+    let (code, out, err) = cierva_in(&dir, &["uncertainty", "cases/model.yaml", "--samples", "8"]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains(
+            "`describe.refinements[0]` (`pitch step`): its `ratio` 1 is not a refinement ratio"
+        ),
+        "{err}"
+    );
+}
+
 /// How far a sampled statistic through the protocol may be from the built-in one, relative:
 /// the issue's 1e-9. Each sample's trims start from the nominal aircraft's trim on both paths
 /// (the built-in study primes them so; `CiervaAircraft` starts every request with parameter
@@ -745,6 +839,7 @@ fn uncertainty_through_the_protocol_samples_the_built_in_inputs_and_values() {
         b["results"].as_array().unwrap(),
     );
     assert_eq!(ra.len(), rb.len());
+    let mut refined = 0;
     for (x, y) in ra.iter().zip(rb) {
         assert_eq!(x["check"], y["check"]);
         let f = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap();
@@ -757,7 +852,20 @@ fn uncertainty_through_the_protocol_samples_the_built_in_inputs_and_values() {
                 x["check"]
             );
         }
+        // The grid study through the protocol's `refine`: the same parameters refined alone
+        // to the same levels, so the same indices (before 2026-11-29 a model behind the
+        // protocol had no grid study, and `u_num` was 0 there).
+        let (p, q) = (f(x, "u_num"), f(y, "u_num"));
+        refined += usize::from(p > 0.0);
+        assert!(
+            close(p, q),
+            "{} u_num: built in {p}, through the protocol {q}",
+            x["check"]
+        );
+        assert_eq!(x["u_num_terms"], y["u_num_terms"], "{}", x["check"]);
+        assert_eq!(x["verdict"], y["verdict"], "{}", x["check"]);
     }
+    assert!(refined > 0, "the built-in grid study moved no quantity");
 }
 
 /// A time-history request of protocol `/2` carries the record's first sample of each response
