@@ -1030,9 +1030,9 @@ struct DeclaredGrid {
 }
 
 /// A declared discretisation parameter's levels where it does not say: the grid study's
-/// ([`crate::uncertainty::numerics::LEVELS`]).
+/// ([`super::GRID_LEVELS`]).
 fn two_levels() -> usize {
-    crate::uncertainty::numerics::LEVELS
+    super::GRID_LEVELS
 }
 
 /// A declared parameter as written.

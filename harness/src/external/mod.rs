@@ -417,6 +417,11 @@ pub(crate) fn declared<'p>(
     physical.chain(corrections).collect()
 }
 
+/// The levels beyond the nominal that a grid study refines a parameter to, where the model
+/// refines it again: three levels in all, which give the observed order
+/// (`crate::uncertainty::numerics`).
+pub const GRID_LEVELS: usize = 2;
+
 /// One discretisation parameter of a model refined alone ([`FlightModel::refinements`]).
 #[derive(Clone)]
 pub struct Refinement {

@@ -180,7 +180,7 @@ fn refinements_declared(model: &dyn FlightModel) -> Vec<Value> {
         .map(|r| {
             let mut words = vec![r.words.clone()];
             let mut at = r.model.clone();
-            while words.len() < crate::uncertainty::numerics::LEVELS {
+            while words.len() < super::GRID_LEVELS {
                 let Some(n) = at
                     .refinements()
                     .into_iter()

@@ -47,8 +47,9 @@ pub const FS_TWO_GRIDS: f64 = 3.0;
 pub const ORDER_AGREEMENT: f64 = 2.0;
 
 /// The levels beyond the nominal that a parameter is refined to, where the model refines it
-/// again: three levels in all, which give the observed order.
-pub const LEVELS: usize = 2;
+/// again: three levels in all, which give the observed order ([`crate::external::GRID_LEVELS`],
+/// which a model behind the protocol is refined to by default).
+pub const LEVELS: usize = crate::external::GRID_LEVELS;
 
 /// One discretisation parameter's cases, refined once and (where the model refines it again)
 /// twice.
