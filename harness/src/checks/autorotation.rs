@@ -56,8 +56,8 @@ impl Evaluate for AutorotationCheck {
         Some(&self.tunnel)
     }
 
-    fn is_table_row(&self) -> bool {
-        true
+    fn series(&self) -> Option<String> {
+        Some("autorotation".into())
     }
 
     fn measured(&self) -> Measured<'_> {

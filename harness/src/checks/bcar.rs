@@ -58,6 +58,13 @@ impl Evaluate for BcarCheck {
         super::names(q::BCAR)
     }
 
+    /// The mode's BCAR margins, of the model as it is, over the case's airspeeds.
+    fn series(&self) -> Option<String> {
+        self.linear
+            .plain_at_a_condition()
+            .then(|| format!("bcar {:?} {:?}", self.mode, self.system))
+    }
+
     /// The expected verdict is judged without an entry under `expect`.
     fn judges_without_expect(&self) -> bool {
         self.verdict.is_some()

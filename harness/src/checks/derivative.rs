@@ -218,6 +218,12 @@ impl Evaluate for DerivativeCheck {
         Some(&self.derivative)
     }
 
+    /// The derivative of the aircraft as it is, over the case's airspeeds.
+    fn series(&self) -> Option<String> {
+        matches!(self.measured(), Measured::At(_))
+            .then(|| format!("derivative {}", self.derivative))
+    }
+
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
     }
@@ -262,6 +268,11 @@ impl Evaluate for DerivativeCheck {
             corrected: self.corrections.is_some(),
             as_identified: self.linear.as_identified.is_some(),
         })
+    }
+
+    /// A ratio of two derivatives (`divided_by`).
+    fn is_ratio(&self) -> bool {
+        self.divided_by.is_some()
     }
 
     fn trivial(

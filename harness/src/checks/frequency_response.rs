@@ -621,6 +621,11 @@ impl Evaluate for FrequencyResponseCheck {
         self.condition
     }
 
+    /// Its mismatch cost is zero for a perfect fit: a model with no response stands in.
+    fn zero_predicts(&self, _quantity: &str) -> bool {
+        false
+    }
+
     /// A model with no response (infinitely costly wherever the reference has a band) and a
     /// pure gain: the reference's mean magnitude in dB over the band, at zero phase.
     fn trivial(

@@ -106,6 +106,17 @@ pub struct LinearSetup {
     pub as_identified: Option<crate::ident::Setup>,
 }
 
+impl LinearSetup {
+    /// Whether it is the model as it is at a flight condition (nothing set, cut or
+    /// identified): a row of a series over a case's airspeeds ([`super::Evaluate::series`]).
+    pub fn plain_at_a_condition(&self) -> bool {
+        self.condition.is_some()
+            && self.set.is_empty()
+            && !self.without_rotorspeed_coupling
+            && self.as_identified.is_none()
+    }
+}
+
 /// Resolves the shared fields: a condition exactly on an aircraft, in straight flight; `set`
 /// names derivatives of the model, with finite values.
 pub fn resolve_setup(cx: &Cx, spec: &LinearFields) -> Result<LinearSetup, InputError> {

@@ -42,6 +42,13 @@ impl Evaluate for MilneCheck {
         super::names(q::MILNE)
     }
 
+    /// The weakly coupled systems' values of the model as it is, over the case's airspeeds.
+    fn series(&self) -> Option<String> {
+        self.linear
+            .plain_at_a_condition()
+            .then(|| "milne".to_string())
+    }
+
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
     }

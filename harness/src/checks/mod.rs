@@ -528,6 +528,20 @@ pub trait Evaluate {
     /// Computes its quantities at `at` and compares them with `expectations`.
     fn evaluate(&self, at: &At, expectations: &[Expectation]) -> Result<Evaluated, String>;
 
+    /// Whether zero is a prediction of `quantity` (a derivative, a slope, an eigenvalue, a
+    /// coefficient), which every kind is tried against (`generic_trivial`); not where zero is
+    /// a perfect score (an error, a cost: smaller is better), which the kind's own predictors
+    /// stand in for (a model with no response).
+    fn zero_predicts(&self, _quantity: &str) -> bool {
+        true
+    }
+    /// Whether it checks a ratio of two of the model's quantities (`derivative / divided_by`),
+    /// whose interval (a qualitative inequality: `Q_u < Q_w`, both positive) is passed by its
+    /// own midpoint, a constant ratio.
+    fn is_ratio(&self) -> bool {
+        false
+    }
+
     /// Whether it judges something with no entry under `expect` (a BCAR check's verdict).
     fn judges_without_expect(&self) -> bool {
         false
@@ -554,10 +568,11 @@ pub trait Evaluate {
     fn corrections(&self) -> Option<&crate::inputs::corrections::CorrectionSet> {
         None
     }
-    /// Whether it is one row of a table of conditions, whose other rows' mean reference is a
-    /// predictor it must beat ([`refuse_reference_mean`]).
-    fn is_table_row(&self) -> bool {
-        false
+    /// What makes it one row of a series over a case's conditions (a trim, an autorotation,
+    /// one derivative or one mode at several airspeeds): the other rows' mean reference is a
+    /// constant predictor it must beat ([`refuse_reference_mean`]). `None`: not a row.
+    fn series(&self) -> Option<String> {
+        None
     }
     /// What it measures of its subject, for a fit or a sensitivity study.
     fn measured(&self) -> Measured<'_> {
@@ -829,7 +844,8 @@ fn refuse_trivial(
     class: CheckClass,
     description: Option<&str>,
 ) -> Result<(), Refusal> {
-    let trivial = what.as_evaluate().trivial(subject, expectations)?;
+    let mut trivial = what.as_evaluate().trivial(subject, expectations)?;
+    trivial.extend(generic_trivial(what.as_evaluate(), expectations));
     // The classes that say a constant verdict is not evidence against the data.
     let verification = matches!(class, CheckClass::Verification | CheckClass::Regression);
     let reasoned = description.is_some_and(|d| !d.trim().is_empty());
@@ -891,21 +907,66 @@ fn refuse_trivial(
     Ok(())
 }
 
-/// The reference's mean as a predictor, for the checks of a table (`autorotation`, `trim`):
-/// for each check, the mean of every other check's expected value of each quantity (leave one
-/// out: a row's own value is not a prediction of it). A check all of whose valued expectations
-/// that mean passes cannot tell the model from a constant: its index and why. A quantity that
+/// The predictors every kind is tried against (issue 51, item 7), besides its own:
+/// - **sign-only**: any value of the expected sign passes an expectation of a sign;
+/// - **zero**: no effect at all, on every quantity of which zero is a prediction
+///   ([`Evaluate::zero_predicts`]);
+/// - **a constant ratio**: a ratio's interval is passed by its own midpoint.
+///
+/// Each is a verdict in the sense of [`refuse_trivial`]: a check it passes says nothing a
+/// constant would not, so it is refused as `validation` or `cross_code`, and accepted as
+/// `verification` (where the sign or the zero is the point: a symmetry, a law) or `regression`
+/// (guarding the model's own side) with its reason in `description`. The constant across a
+/// case's conditions is [`refuse_reference_mean`]'s.
+fn generic_trivial(kind: &dyn Evaluate, expectations: &[Expectation]) -> Vec<Trivial> {
+    use crate::checks::tolerance::Sign;
+    let mut out = Vec::new();
+    for e in expectations {
+        match e.tolerance.kind {
+            ToleranceKind::Sign(s) => out.push(Trivial::verdict(
+                &e.quantity,
+                if s == Sign::Positive { 1.0 } else { -1.0 },
+                "a sign-only predictor (any value of the expected sign)",
+            )),
+            ToleranceKind::Interval(lower, upper) if kind.is_ratio() => {
+                out.push(Trivial::verdict(
+                    &e.quantity,
+                    0.5 * (lower + upper),
+                    "a constant ratio (the interval's own midpoint)",
+                ));
+            }
+            _ => {}
+        }
+        if kind.zero_predicts(&e.quantity) {
+            out.push(Trivial::verdict(
+                &e.quantity,
+                0.0,
+                "a zero (no effect at all)",
+            ));
+        }
+    }
+    out
+}
+
+/// The reference's mean as a constant predictor, for the rows of a series over a case's
+/// conditions ([`Evaluate::series`]: a trim, an autorotation, one derivative, mode or BCAR
+/// margin at several airspeeds): for each check, the mean of every other row's reference of
+/// each quantity (its expected value or its interval's middle; leave one out: a row's own value
+/// is not a prediction of it). A check all of whose references that mean passes cannot tell
+/// the model from a constant: its index and why, unless it is `verification` or `regression`
+/// with its reason in `description` (as for a constant verdict, `refuse_trivial`). A quantity that
 /// fewer than two checks expect, or that every check expects at one value (a source quoting one
 /// figure for all its conditions), gives no prediction beyond the reference itself.
 pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
-    let table = |c: &Check| c.behaviour().is_table_row();
-    // Per quantity: the sum and count of the expected values, and whether they differ.
-    let mut sums: BTreeMap<&str, (f64, usize, f64, bool)> = BTreeMap::new();
-    for c in checks.iter().filter(|c| table(c)) {
+    let series: Vec<Option<String>> = checks.iter().map(|c| c.behaviour().series()).collect();
+    // Per series and quantity: the sum and count of the references, and whether they differ.
+    let mut sums: BTreeMap<(&str, &str), (f64, usize, f64, bool)> = BTreeMap::new();
+    for (c, key) in checks.iter().zip(&series) {
+        let Some(key) = key else { continue };
         for e in &c.expectations {
-            if let Some(v) = e.value {
+            if let Some(v) = reference_of(e) {
                 let s = sums
-                    .entry(e.quantity.as_str())
+                    .entry((key.as_str(), e.quantity.as_str()))
                     .or_insert((0.0, 0, v, false));
                 s.0 += v;
                 s.1 += 1;
@@ -913,18 +974,28 @@ pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
             }
         }
     }
-    for (i, c) in checks.iter().enumerate().filter(|(_, c)| table(c)) {
+    for (i, (c, key)) in checks.iter().zip(&series).enumerate() {
+        let Some(key) = key else { continue };
+        // A verification or regression check says in its description why a constant is no
+        // objection (a self-consistency whose point is the level, not the trend).
+        let reasoned = matches!(c.class, CheckClass::Verification | CheckClass::Regression)
+            && c.description
+                .as_deref()
+                .is_some_and(|d| !d.trim().is_empty());
+        if reasoned {
+            continue;
+        }
         let mut passed = Vec::new();
         let mut valued = 0;
         for e in &c.expectations {
-            let Some(v) = e.value else { continue };
+            let Some(v) = reference_of(e) else { continue };
             valued += 1;
-            let (sum, n, _, varies) = sums[e.quantity.as_str()];
+            let (sum, n, _, varies) = sums[&(key.as_str(), e.quantity.as_str())];
             if n < 2 || !varies {
                 continue;
             }
             let mean = (sum - v) / (n - 1) as f64;
-            if crate::checks::tolerance::admits(&e.tolerance.kind, Some(v), mean) == Some(true) {
+            if crate::checks::tolerance::admits(&e.tolerance.kind, e.value, mean) == Some(true) {
                 passed.push(format!("{} = {mean:.4e}", e.quantity));
             }
         }
@@ -932,15 +1003,27 @@ pub fn refuse_reference_mean(checks: &[Check]) -> Result<(), (usize, String)> {
             return Err((
                 i,
                 format!(
-                    "the mean of the other rows' expected values ({}) passes every expectation \
-                     of this check: it cannot tell the model from a constant. Give a tighter \
-                     tolerance with its reason, or leave the row out",
+                    "the mean of the other rows' references ({}; the same quantity at the \
+                     case's other conditions) passes every expectation of this check: it cannot \
+                     tell the model from a constant. Give a tighter tolerance with its reason, \
+                     leave the row out, or, where the level and not the trend is the point, make \
+                     it `class: verification` or `class: regression` and say why in its \
+                     `description`",
                     passed.join(", ")
                 ),
             ));
         }
     }
     Ok(())
+}
+
+/// An expectation's reference value, for the mean of a series: its expected value, or its
+/// interval's middle; none for a sign.
+fn reference_of(e: &Expectation) -> Option<f64> {
+    match e.tolerance.kind {
+        ToleranceKind::Interval(lower, upper) => Some(0.5 * (lower + upper)),
+        _ => e.value,
+    }
 }
 
 /// Names of quantities, as the `expect` keys write them.

@@ -51,6 +51,13 @@ impl Evaluate for ModeCheck {
         super::names(q::MODE)
     }
 
+    /// The mode of the model as it is, over the case's airspeeds.
+    fn series(&self) -> Option<String> {
+        self.linear
+            .plain_at_a_condition()
+            .then(|| format!("mode {:?} {:?}", self.mode, self.system))
+    }
+
     fn linear(&self) -> Option<&LinearSetup> {
         Some(&self.linear)
     }

@@ -205,6 +205,11 @@ impl Evaluate for TimeHistoryCheck {
             .collect()
     }
 
+    /// Its metrics are errors (zero is a perfect fit): a model with no response stands in.
+    fn zero_predicts(&self, _quantity: &str) -> bool {
+        false
+    }
+
     /// A model with no response, and one that holds still at the record's own mean.
     fn trivial(
         &self,

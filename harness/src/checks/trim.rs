@@ -48,8 +48,8 @@ impl Evaluate for TrimCheck {
         Some(self.condition)
     }
 
-    fn is_table_row(&self) -> bool {
-        true
+    fn series(&self) -> Option<String> {
+        Some("trim".into())
     }
 
     fn measured(&self) -> Measured<'_> {

@@ -208,6 +208,11 @@ impl Evaluate for TrimPointsCheck {
             .collect()
     }
 
+    /// Its metrics are errors and chi-squares (zero is a perfect fit).
+    fn zero_predicts(&self, _quantity: &str) -> bool {
+        false
+    }
+
     /// A quantity judged by its level alone, or by the scatter about its fitted error alone:
     /// a trim that does not change with airspeed, at the points' mean, has no level error by
     /// construction, and the scatter says nothing of level or trend, so such a check cannot

@@ -75,6 +75,7 @@ pub fn suite_with_command(dir: &Path, command: &str, timeout_s: f64) -> PathBuf 
              model:\n  external:\n    command: {command}\n    timeout_s: {timeout_s}\n\
              tolerances:\n  forward:\n    sign: negative\n    reason: the test's own\n\
              checks:\n  - id: trends\n    kind: trim_sweep\n    sweep_mph: [30.0, 40.0]\n\
+             \x20   description: the sign guards the model's side (a test's)\n\
              \x20   expect:\n      stick_longitudinal_percent_per_mph_max: {{tolerance: forward}}\n"
         ),
     )
@@ -167,6 +168,7 @@ fn a_bad_trim_table_is_a_located_error() {
          model:\n  files:\n    trim_table: trim.csv\n\
          tolerances:\n  forward:\n    sign: negative\n    reason: the test's own\n\
          checks:\n  - id: trends\n    kind: trim_sweep\n    sweep_mph: [30.0, 40.0]\n\
+         \x20   description: the sign guards the model's side (a test's)\n\
          \x20   expect:\n      stick_longitudinal_percent_per_mph_max: {tolerance: forward}\n",
     )
     .unwrap();
