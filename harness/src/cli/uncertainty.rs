@@ -12,9 +12,10 @@ use cierva_harness::uncertainty::summary;
 /// The uncertainty of every check's quantities: the model's estimated inputs sampled over
 /// their distributions (an aircraft file's `ranges:`, an external model's declared ranges;
 /// corrections excluded) on Owen-scrambled Sobol' points in a Saltelli design, every check
-/// evaluated at every point on every core; the numerical uncertainty from a refined
-/// discretisation (cierva's own aircraft and rotors); the data's from a
-/// tolerance's confidence level. For each validation check the comparison of ASME V&V 20:
+/// evaluated at every point on every core; the numerical uncertainty from a grid study, each
+/// discretisation parameter the model names refined alone (cierva's aircraft and rotors; an
+/// external model's declared `refinements`), by Roache's grid convergence index; the data's
+/// from a tolerance's confidence level. For each validation check the comparison of ASME V&V 20:
 /// E = S - D, u_val = sqrt(u_num^2 + u_input^2 + u_D^2) and a verdict (agrees, model-form
 /// error, inconclusive), whether a pass is fragile, and the inputs by Sobol' total index.
 ///
