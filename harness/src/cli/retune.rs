@@ -97,12 +97,6 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let corrections = r.result.corrections();
     let command = std::env::args().skip(1).collect::<Vec<_>>().join(" ");
     let spec = retune::corrections_file(&r, retuned, &records, &id, &command);
-    let write = |path: &Path, text: &str| -> Result<(), String> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
-        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
-    };
     let yaml = serde_yaml::to_string(&spec).map_err(Error::input)?;
     write(&output, &yaml).map_err(Error::input)?;
     // The assessment: the corrected model beside the uncorrected one.
@@ -132,6 +126,8 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         not_applied_to: vec![],
         // retune is not cross-validated: it states no predictive error.
         predictive_error: None,
+        domain: spec.domain.clone(),
+        calibrated_on: spec.calibrated_on.clone(),
     };
     let revalidation = if a.no_validate {
         None
@@ -400,4 +396,12 @@ fn revalidate(loaded: &CorrectionsFile) -> Result<retune::Revalidation, Error> {
     let v = retune::revalidate(&cases, loaded);
     busy.finish_and_clear();
     v.map_err(Error::input)
+}
+
+/// Writes `text` at `path`, its folder made.
+fn write(path: &Path, text: &str) -> Result<(), String> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }

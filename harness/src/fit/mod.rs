@@ -36,7 +36,7 @@ mod solve;
 pub mod starts;
 mod targets;
 
-pub use solve::{FitOptions, FitResult, Problem, Status, fit};
+pub use solve::{Birge, FitOptions, FitResult, Problem, Status, fit, scale_by_birge};
 pub use targets::{
     Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,
     TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate, evaluate_each, sensitivities,

@@ -238,6 +238,62 @@ fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>
     (se, warnings)
 }
 
+/// The scatter of a fit's targets about the fitted model against their stated standard
+/// errors, and the factor its standard errors were scaled by ([`scale_by_birge`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Birge {
+    /// `sum ((y - reference) / standard_error)^2` over the targets the fitted model solves.
+    pub chi_square: f64,
+    /// Those targets less the parameters the fit identifies (a finite standard error).
+    pub degrees_of_freedom: usize,
+    /// `sqrt(chi^2 / nu)` where that exceeds 1 (the standard errors were multiplied by it),
+    /// else 1.
+    pub factor: f64,
+}
+
+/// Scales a fit's standard errors by Birge's ratio `sqrt(chi^2 / nu)` where it exceeds 1:
+/// targets that scatter about the fitted model by more than their standard errors say carry
+/// more error than stated (the model's own form, a systematic part of the data), and the
+/// parameters' standard errors from `(J'J)^-1` alone are too small by that factor (Birge 1932;
+/// the Particle Data Group's scale factor for inconsistent measurements; REFERENCES.md). Where the
+/// scatter is within the stated errors the standard errors are kept: a fit does not shrink
+/// them on a lucky draw. `None` where no degree of freedom is left (as many identified
+/// parameters as solved targets, or none identified).
+pub fn scale_by_birge(problem: &Problem, result: &mut FitResult) -> Option<Birge> {
+    let solved: Vec<f64> = problem
+        .targets
+        .iter()
+        .zip(&result.after)
+        .filter(|(_, y)| y.is_finite())
+        .map(|(t, y)| (y - t.reference) / t.standard_error)
+        .collect();
+    let identified = result
+        .standard_errors
+        .iter()
+        .filter(|s| s.is_finite())
+        .count();
+    if identified == 0 || solved.len() <= identified {
+        return None;
+    }
+    let chi_square: f64 = solved.iter().map(|r| r * r).sum();
+    let degrees_of_freedom = solved.len() - identified;
+    let ratio = chi_square / degrees_of_freedom as f64;
+    let factor = if ratio > 1.0 { ratio.sqrt() } else { 1.0 };
+    if factor > 1.0 {
+        for s in result.standard_errors.iter_mut().filter(|s| s.is_finite()) {
+            *s *= factor;
+        }
+        result.warnings.push(format!(
+            "the targets scatter about the fitted model by chi^2/nu = {chi_square:.1}/{degrees_of_freedom} = {ratio:.2}, more than their standard errors say: the standard errors are scaled by sqrt(chi^2/nu) = {factor:.2} (Birge)"
+        ));
+    }
+    Some(Birge {
+        chi_square,
+        degrees_of_freedom,
+        factor,
+    })
+}
+
 /// Whether a step reaches its trust region's edge in any parameter.
 fn limited_by(step: &[f64], radius: &[f64]) -> bool {
     step.iter().zip(radius).any(|(d, r)| d.abs() >= 0.99 * r)

@@ -393,6 +393,91 @@ pub struct CorrectionsFileSpec {
     /// cross-validation). Delete an entry to apply the corrections there anyway.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_applied_to: Vec<NotApplied>,
+    /// Where the corrections were fitted: the span of their targets' conditions (`cierva fit`
+    /// and `cierva retune` write it). A check outside it is run with them, and labelled an
+    /// extrapolation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub domain: Option<Domain>,
+    /// The checks the fit was fitted to, by case (`cierva fit` writes them from its targets):
+    /// with the corrections applied, such a check is `calibrated_on` the file, its verdict
+    /// reported apart and never counted as validation evidence.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub calibrated_on: BTreeMap<String, Vec<String>>,
+}
+
+/// The span of the conditions a corrections file was fitted on, each `[lowest, highest]` over
+/// its targets where they state it. A check outside any stated span is an extrapolation of the
+/// corrections ([`Domain::outside`]); a span the targets do not state says nothing.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// A tunnel's tip-speed ratio (TR 515's rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip_speed_ratio: Option<[f64; 2]>,
+    /// A tunnel's airspeed, m/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tunnel_airspeed_m_s: Option<[f64; 2]>,
+    /// A flight condition's airspeed, mph.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub airspeed_mph: Option<[f64; 2]>,
+    /// A flight condition's mass, kg (where the targets state one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<[f64; 2]>,
+}
+
+/// How far past a domain's end a condition may lie and still be inside, relative: the
+/// rounding of a written condition (a tip-speed ratio to three decimals, a speed converted from
+/// knots).
+pub const DOMAIN_ROUNDING: f64 = 1e-6;
+
+impl Domain {
+    /// The span of `values` (finite ones), `None` without any.
+    pub fn span(values: impl Iterator<Item = f64>) -> Option<[f64; 2]> {
+        values
+            .filter(|v| v.is_finite())
+            .fold(None, |s: Option<[f64; 2]>, v| match s {
+                None => Some([v, v]),
+                Some([lo, hi]) => Some([lo.min(v), hi.max(v)]),
+            })
+    }
+
+    /// Why a condition lies outside the domain (each stated quantity outside its span, in
+    /// words), or `None` inside: a tunnel's tip-speed ratio and airspeed, or a flight's
+    /// airspeed and mass, whichever the condition states.
+    pub fn outside(
+        &self,
+        tunnel: Option<&crate::inputs::condition::TunnelSpec>,
+        flight: Option<(f64, Option<f64>)>,
+    ) -> Option<String> {
+        let mut why = Vec::new();
+        let mut judge = |name: &str, unit: &str, value: Option<f64>, span: Option<[f64; 2]>| {
+            if let (Some(v), Some([lo, hi])) = (value, span) {
+                let slack = DOMAIN_ROUNDING * lo.abs().max(hi.abs());
+                if v < lo - slack || v > hi + slack {
+                    why.push(format!("{name} {v}{unit} outside [{lo}, {hi}]{unit}"));
+                }
+            }
+        };
+        if let Some(t) = tunnel {
+            judge(
+                "tip-speed ratio",
+                "",
+                t.tip_speed_ratio,
+                self.tip_speed_ratio,
+            );
+            judge(
+                "tunnel airspeed",
+                " m/s",
+                t.airspeed_m_s,
+                self.tunnel_airspeed_m_s,
+            );
+        }
+        if let Some((airspeed_mph, mass_kg)) = flight {
+            judge("airspeed", " mph", Some(airspeed_mph), self.airspeed_mph);
+            judge("mass", " kg", mass_kg, self.mass_kg);
+        }
+        (!why.is_empty()).then(|| why.join(", "))
+    }
 }
 
 /// A regime of a case's checks that a corrections file is not applied to, and why.
@@ -523,6 +608,10 @@ pub struct CorrectionsFile {
     pub not_applied_to: Vec<NotApplied>,
     /// Its stated predictive error, if its fit was cross-validated.
     pub predictive_error: Option<PredictiveError>,
+    /// Where it was fitted ([`CorrectionsFileSpec::domain`]), where it says.
+    pub domain: Option<Domain>,
+    /// The checks it was fitted to, by case ([`CorrectionsFileSpec::calibrated_on`]).
+    pub calibrated_on: BTreeMap<String, Vec<String>>,
 }
 
 impl CorrectionsFile {
@@ -702,5 +791,7 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         corrections: spec.corrections,
         not_applied_to: spec.not_applied_to,
         predictive_error,
+        domain: spec.domain,
+        calibrated_on: spec.calibrated_on,
     })
 }

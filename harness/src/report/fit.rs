@@ -137,22 +137,12 @@ fn targets_table(
     let e = ErrorSummary::of(targets, before, after);
     let _ = writeln!(
         s,
-        "\nRMS relative error over the {} before and after: {:.2} % before, {:.2} % after. Not solved: {} before, {} after.\n",
-        crate::units::count(e.targets, "target solved", "targets solved"),
-        e.rms_before_percent,
-        e.rms_after_percent,
-        e.unsolved_before,
-        e.unsolved_after
+        "\nRMS relative error over the targets solved before and after: {}.\n",
+        e.line()
     );
     if !e.by_quantity.is_empty() {
         for (name, q) in &e.by_quantity {
-            let _ = writeln!(
-                s,
-                "- `{name}` ({}): {:.2} % before, {:.2} % after",
-                crate::units::count(q.targets, "target", "targets"),
-                q.rms_before_percent,
-                q.rms_after_percent
-            );
+            let _ = writeln!(s, "- `{name}`: {}", q.line());
         }
         let _ = writeln!(s);
     }

@@ -628,6 +628,7 @@ fn case_html(c: &CaseRun, dir: &Path) -> String {
                 esc(why)
             );
         }
+        verdict += &corrections_labels(r);
         let vcell = format!("<td rowspan=\"{rows}\">{verdict}</td>");
         if r.quantities.is_empty() {
             let (class, text) = match (&r.error, &r.plot) {
@@ -770,4 +771,21 @@ pub fn write(run: &Run, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     std::fs::write(&index, html(run, dir))?;
     std::fs::write(&summary, markdown(run))?;
     Ok(vec![index, summary])
+}
+
+/// What a check's verdict cell says of the corrections applied to it: an extrapolation beyond
+/// the domain they were fitted on, and whether it was one of their fit's targets.
+fn corrections_labels(r: &crate::suite::outcome::CheckResult) -> String {
+    let mut h = String::new();
+    if let Some(x) = &r.extrapolation {
+        let _ = write!(h, "<div class=\"why\">{}</div>", esc(x));
+    }
+    if let Some(by) = &r.calibrated_on {
+        let _ = write!(
+            h,
+            "<div class=\"why\">calibrated on: a target of the fit of {}, so no evidence for it</div>",
+            esc(by)
+        );
+    }
+    h
 }

@@ -260,6 +260,15 @@ pub fn results_table(results: &[CheckResult]) -> String {
         if let Some(n) = &r.note {
             let _ = writeln!(s, "{head} note: {n}");
         }
+        if let Some(x) = &r.extrapolation {
+            let _ = writeln!(s, "{head} {x}");
+        }
+        if let Some(by) = &r.calibrated_on {
+            let _ = writeln!(
+                s,
+                "{head} calibrated on: a target of the fit of {by}, so no evidence for it"
+            );
+        }
         if let Some((want, got)) = r.verdict {
             let _ = writeln!(
                 s,
@@ -502,6 +511,33 @@ pub fn class_summary(results: &[CheckResult]) -> String {
             k.name(),
             c.total(),
             if c.total() == 1 { "check" } else { "checks" },
+            c.describe()
+        );
+    }
+    // Checks a corrections file applied was fitted to: their agreement is the fit's, so they
+    // are counted apart, by class.
+    let calibrated: Vec<&CheckResult> = results
+        .iter()
+        .filter(|r| r.calibrated_on.is_some())
+        .collect();
+    if !calibrated.is_empty() {
+        let mut c = Counts::default();
+        for r in &calibrated {
+            c.add(r.outcome);
+        }
+        let validation = calibrated
+            .iter()
+            .filter(|r| r.class == CheckClass::Validation)
+            .count();
+        let _ = writeln!(
+            s,
+            "  calibrated on {:>4} {} above, {validation} of them validation: targets of the corrections' fit, no evidence for it: {}",
+            calibrated.len(),
+            if calibrated.len() == 1 {
+                "check"
+            } else {
+                "checks"
+            },
             c.describe()
         );
     }

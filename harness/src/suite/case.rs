@@ -121,6 +121,13 @@ pub struct Case {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Calibration {
     pub id: String,
+    /// The case's checks outside the domain the file was fitted on, each with why
+    /// ([`crate::inputs::corrections::Domain`]): run with the corrections, labelled an
+    /// extrapolation.
+    pub extrapolated: BTreeMap<String, String>,
+    /// The case's checks the file was fitted to (its `calibrated_on` for this case), with the
+    /// corrections applied: no evidence for them.
+    pub calibrated_on: std::collections::BTreeSet<String>,
     /// `None`: its fit was not cross-validated, so it states no predictive error.
     pub predictive_error: Option<crate::inputs::corrections::PredictiveError>,
 }
@@ -660,7 +667,10 @@ pub fn with_corrections(
             _ => {}
         }
         if used.len() > applied {
+            let (extrapolated, calibrated_on) = marks(case, f);
             c.calibrations.push(Calibration {
+                extrapolated,
+                calibrated_on,
                 id: f.id.clone(),
                 predictive_error: f.predictive_error.clone(),
             });
@@ -682,6 +692,69 @@ pub fn with_corrections(
         }
     }
     Ok((c, used))
+}
+
+/// The case's checks that a corrections file applied to it marks: those outside the domain it
+/// was fitted on, each with why, and those it was fitted to; the checks it is not applied to
+/// are neither.
+fn marks(
+    case: &Case,
+    f: &crate::inputs::corrections::CorrectionsFile,
+) -> (BTreeMap<String, String>, std::collections::BTreeSet<String>) {
+    let held_back: Vec<&String> = f
+        .not_applied_to
+        .iter()
+        .filter(|n| n.case == case.id)
+        .flat_map(|n| &n.checks)
+        .collect();
+    let mass_kg =
+        crate::checks::flight_model(&case.subject).and_then(|(_, loading)| loading.mass_kg);
+    let extrapolated = f
+        .domain
+        .as_ref()
+        .map(|d| {
+            case.checks
+                .iter()
+                .filter(|k| !held_back.contains(&&k.id))
+                .filter_map(|k| {
+                    let b = k.behaviour();
+                    let flight = b.condition().map(|t| (t.airspeed_mph, mass_kg));
+                    let why = d.outside(b.tunnel(), flight)?;
+                    Some((
+                        k.id.clone(),
+                        format!(
+                            "extrapolation: {} was fitted on {}; this check's {why}",
+                            f.id,
+                            domain_words(d)
+                        ),
+                    ))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let calibrated_on = f
+        .calibrated_on
+        .get(&case.id)
+        .into_iter()
+        .flatten()
+        .filter(|k| !held_back.contains(k))
+        .cloned()
+        .collect();
+    (extrapolated, calibrated_on)
+}
+
+/// A domain in words: "tip-speed ratio [0.15, 0.35], tunnel airspeed [...] m/s".
+fn domain_words(d: &crate::inputs::corrections::Domain) -> String {
+    [
+        ("tip-speed ratio", "", d.tip_speed_ratio),
+        ("tunnel airspeed", " m/s", d.tunnel_airspeed_m_s),
+        ("airspeed", " mph", d.airspeed_mph),
+        ("mass", " kg", d.mass_kg),
+    ]
+    .into_iter()
+    .filter_map(|(name, unit, span)| span.map(|[lo, hi]| format!("{name} [{lo}, {hi}]{unit}")))
+    .collect::<Vec<_>>()
+    .join(", ")
 }
 
 /// Finds case files (`*.yaml`, `*.yml`) under the given paths, sorted; a file is taken as given.

@@ -93,6 +93,14 @@ pub struct CheckResult {
     /// frequency response).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
+    /// Where it runs with corrections outside the domain they were fitted on: which file, its
+    /// domain, and what of the check lies outside.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extrapolation: Option<String>,
+    /// The corrections files applied whose fit was fitted to this check: its agreement is what
+    /// the fit made, no evidence for them (reported apart, never counted as validation).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub calibrated_on: Option<String>,
     /// What the report plots beyond the quantities (not in the JSON results).
     #[serde(skip)]
     pub plot: Option<PlotData>,
@@ -119,6 +127,12 @@ impl CheckResult {
                 s += &format!("\n  {}", f.describe())
             }
             None => {}
+        }
+        if let Some(x) = &self.extrapolation {
+            s += &format!("\n  {x}");
+        }
+        if let Some(by) = &self.calibrated_on {
+            s += &format!("\n  calibrated on: a target of the fit of {by}, so no evidence for it");
         }
         if let Some(n) = &self.note {
             s += &format!("\n  {n}");
@@ -265,6 +279,23 @@ pub fn run_check(case: &Case, check: &Check) -> CheckResult {
         fingerprint: vec![],
         departures: vec![],
         note: None,
+        extrapolation: {
+            let e: Vec<&String> = case
+                .calibrations
+                .iter()
+                .filter_map(|c| c.extrapolated.get(&check.id))
+                .collect();
+            (!e.is_empty()).then(|| e.iter().map(|s| s.as_str()).collect::<Vec<_>>().join("; "))
+        },
+        calibrated_on: {
+            let by: Vec<&str> = case
+                .calibrations
+                .iter()
+                .filter(|c| c.calibrated_on.contains(&check.id))
+                .map(|c| c.id.as_str())
+                .collect();
+            (!by.is_empty()).then(|| by.join(", "))
+        },
         plot: None,
     };
     match check.evaluate(case.subject_of(&check.id), &case.checks) {

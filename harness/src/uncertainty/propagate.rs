@@ -146,6 +146,10 @@ pub struct QuantityUncertainty {
     /// Where `u_data` comes from, or why there is none.
     pub u_data_source: String,
     pub u_val: Option<f64>,
+    /// The corrections files applied whose fit was fitted to its check: its verdict is
+    /// reported apart and never counted as validation evidence ([`VerdictCounts`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub calibrated_on: Option<String>,
     /// The verdict of V&V 20 (validation checks with a reference value only).
     pub verdict: Option<Vv20Verdict>,
     /// Why the verdict is what it is (or why there is none), with its numbers.
@@ -942,6 +946,7 @@ pub(super) fn unjudged(
         u_data_dof,
         u_data_source,
         u_val: None,
+        calibrated_on: n.calibrated_on.clone(),
         verdict: None,
         reason: String::new(),
         passes_nominal: n.passed,
@@ -1176,6 +1181,9 @@ pub struct VerdictCounts {
     pub fragile: usize,
     /// Validation quantities without a verdict (no reference value, or inputs not sampled).
     pub without_verdict: usize,
+    /// Validation quantities of checks a corrections file applied was fitted to
+    /// (`calibrated_on`): apart from every count above, since their agreement is the fit's.
+    pub calibrated_on: usize,
 }
 
 impl VerdictCounts {
@@ -1186,6 +1194,10 @@ impl VerdictCounts {
             .into_iter()
             .filter(|r| r.class == CheckClass::Validation)
         {
+            if r.calibrated_on.is_some() {
+                c.calibrated_on += 1;
+                continue;
+            }
             match r.verdict {
                 Some(Vv20Verdict::Agrees) => c.agrees += 1,
                 Some(Vv20Verdict::ModelFormError) => c.model_form_error += 1,
@@ -1209,8 +1221,16 @@ impl VerdictCounts {
 
     /// In words, for summaries.
     pub fn describe(&self) -> String {
+        let apart = if self.calibrated_on > 0 {
+            format!(
+                "; apart, {} calibrated on (targets of the corrections' fit: no evidence for them)",
+                self.calibrated_on
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "{} agree, {} model-form error, {} inconclusive, {} without data uncertainty, {} without a verdict; {} fragile passes",
+            "{} agree, {} model-form error, {} inconclusive, {} without data uncertainty, {} without a verdict; {} fragile passes{apart}",
             self.agrees,
             self.model_form_error,
             self.inconclusive,

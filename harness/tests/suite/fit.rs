@@ -791,6 +791,200 @@ fn corrections_are_not_applied_to_a_regime_they_make_worse() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A corrections file states the domain it was fitted on, and a check outside it runs with the
+/// corrections and says it is an extrapolation (issue 51, item 5): TR 515's rows above the
+/// fitted tip-speed ratios, in the check's result (text and JSON) and its explanation. On the
+/// old code a file had no domain and nothing said so.
+#[test]
+fn a_check_outside_the_fitted_domain_is_labelled_an_extrapolation() {
+    use cierva_harness::inputs::corrections;
+    use cierva_harness::suite::{case, outcome};
+    let dir = std::env::temp_dir().join(format!("cierva-domain-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("low-mu.yaml");
+    std::fs::write(
+        &path,
+        "id: low-mu\ntitle: t\napplies_to: {rotor: pca-2-rotor}\ncorrections: \
+         {profile_drag_scale: 1.1}\nprovenance: {source: a test}\n\
+         domain: {tip_speed_ratio: [0.1, 0.35]}\n",
+    )
+    .unwrap();
+    let file = corrections::load(&path).unwrap();
+    let tr515 = case::load(&repo().join("cases/naca-tr515-table-iii.yaml")).unwrap();
+    let (corrected, used) = case::with_corrections(&tr515, &[file]).unwrap();
+    assert_eq!(used, ["low-mu"]);
+    let extrapolated = &corrected.calibrations[0].extrapolated;
+    let mu = |id: &str| {
+        tr515
+            .checks
+            .iter()
+            .find(|c| c.id == id)
+            .and_then(|c| c.behaviour().tunnel())
+            .and_then(|t| t.tip_speed_ratio)
+            .unwrap()
+    };
+    // Exactly the rows whose tip-speed ratio lies above the domain.
+    for c in &tr515.checks {
+        let outside = mu(&c.id) > 0.35 * (1.0 + corrections::DOMAIN_ROUNDING);
+        assert_eq!(
+            extrapolated.contains_key(&c.id),
+            outside,
+            "{} at mu {}",
+            c.id,
+            mu(&c.id)
+        );
+    }
+    let (id, why) = extrapolated.iter().next().expect("rows above mu 0.35");
+    assert!(
+        why.contains("extrapolation: low-mu was fitted on tip-speed ratio [0.1, 0.35]"),
+        "{why}"
+    );
+    let check = tr515.checks.iter().find(|c| &c.id == id).unwrap();
+    let r = outcome::run_check(&corrected, check);
+    assert_eq!(r.extrapolation.as_deref(), Some(why.as_str()));
+    assert!(
+        r.explain().contains("extrapolation: low-mu"),
+        "{}",
+        r.explain()
+    );
+    let json = serde_json::to_value(&r).unwrap();
+    assert_eq!(json["extrapolation"].as_str(), Some(why.as_str()));
+    // Inside the domain, nothing is said.
+    let inside = tr515.checks.iter().find(|c| mu(&c.id) <= 0.35).unwrap();
+    assert!(
+        outcome::run_check(&corrected, inside)
+            .extrapolation
+            .is_none()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A check the fit was fitted to is `calibrated_on` its corrections file once they are applied
+/// (issue 51, item 1): `cierva fit` writes the fit's checks by case, the check's result says so
+/// (text and JSON), and an uncertainty study counts its verdict apart, never as validation. On
+/// the old code nothing marked a fit's own targets.
+#[test]
+fn a_fits_own_targets_are_calibrated_on_it_and_counted_apart() {
+    use cierva_harness::inputs::corrections;
+    use cierva_harness::suite::{case, outcome};
+    // What the TR 515 fit writes: its ten rows, by case.
+    let f = fit::file::load(&repo().join("fits/pca-2-tr515.yaml")).unwrap();
+    let on = fit::file::calibrated_on(&f.origins);
+    let rows = &on["naca-tr515-table-iii"];
+    assert_eq!(on.len(), 1, "{on:?}");
+    assert_eq!(rows.len(), 10, "{rows:?}");
+    assert!(rows.contains(&"row-01".to_string()), "{rows:?}");
+    // Applied to TR 487 with its one check among the fit's.
+    let dir = std::env::temp_dir().join(format!("cierva-calibrated-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("own.yaml");
+    std::fs::write(
+        &path,
+        "id: own\ntitle: t\napplies_to: {rotor: pca-2-rotor}\ncorrections: \
+         {profile_drag_scale: 1.1}\nprovenance: {source: a test}\n\
+         calibrated_on: {naca-tr487-vertical-descent: [flight]}\n",
+    )
+    .unwrap();
+    let file = corrections::load(&path).unwrap();
+    let tr487 = case::load(&repo().join("cases/naca-tr487-vertical-descent.yaml")).unwrap();
+    let check = &tr487.checks[0];
+    assert!(outcome::run_check(&tr487, check).calibrated_on.is_none());
+    let (corrected, _) = case::with_corrections(&tr487, &[file]).unwrap();
+    let r = outcome::run_check(&corrected, check);
+    assert_eq!(r.calibrated_on.as_deref(), Some("own"));
+    assert!(
+        r.explain()
+            .contains("calibrated on: a target of the fit of own"),
+        "{}",
+        r.explain()
+    );
+    assert_eq!(serde_json::to_value(&r).unwrap()["calibrated_on"], "own");
+    let summary = cierva_harness::report::tables::class_summary(std::slice::from_ref(&r));
+    assert!(
+        summary.contains("calibrated on    1 check above, 1 of them validation"),
+        "{summary}"
+    );
+    // Its quantities' verdicts count apart from the validation verdicts.
+    let settings = cierva_harness::uncertainty::propagate::PropagationSettings {
+        samples: 4,
+        seed: 0,
+        validation_only: true,
+        method: Default::default(),
+    };
+    let study = cierva_harness::uncertainty::study::propagate(&corrected, settings, || ());
+    std::fs::remove_dir_all(&dir).ok();
+    let study = study.unwrap();
+    let counts = cierva_harness::uncertainty::propagate::VerdictCounts::of(&study.results);
+    assert_eq!(counts.total(), 0, "{counts:?}");
+    assert_eq!(counts.calibrated_on, study.results.len(), "{counts:?}");
+    assert!(
+        counts.describe().contains("calibrated on"),
+        "{}",
+        counts.describe()
+    );
+}
+
+/// Birge's ratio: a fit whose targets scatter about the fitted model by more than their
+/// standard errors say has its standard errors scaled by `sqrt(chi^2 / nu)`, and says so; one
+/// within them keeps its standard errors (issue 51, item 5). The synthetic truth's targets
+/// with one of them moved by 10 standard errors: chi^2 is known from the fit's own residuals.
+#[test]
+fn standard_errors_are_scaled_by_birges_ratio_where_the_targets_scatter() {
+    let conditions = [40.0, 55.0, 70.0];
+    let names = ["X_u", "Z_w"];
+    let mut problem = Problem {
+        subject: vpm_subject(),
+        parameters: blockage_and_hub([1.0, 0.5]),
+        targets: vec![],
+        options: FitOptions::default(),
+    };
+    for v in conditions {
+        for n in names {
+            problem.targets.push(Target {
+                condition: at(v),
+                measure: Measure::Derivative(n.into()),
+                reference: 0.0,
+                standard_error: 1.0,
+                bounds: None,
+            });
+        }
+    }
+    let y = fit::evaluate(&problem, &[1.0, 0.5]).unwrap();
+    for (t, v) in problem.targets.iter_mut().zip(&y) {
+        t.reference = *v;
+        t.standard_error = 0.05 * v.abs();
+    }
+    // At the truth, within the standard errors: nothing is scaled.
+    let exact = fit::fit(&problem);
+    let mut kept = exact.clone();
+    let b = fit::scale_by_birge(&problem, &mut kept).unwrap();
+    assert_eq!(b.factor, 1.0, "{b:?}");
+    assert_eq!(kept.standard_errors, exact.standard_errors);
+    assert_eq!(b.degrees_of_freedom, 6 - 2);
+    // One target 10 standard errors off: chi^2/nu well above 1, and the factor is its root.
+    problem.targets[3].reference += 10.0 * problem.targets[3].standard_error;
+    let moved = fit::fit(&problem);
+    let mut scaled = moved.clone();
+    let b = fit::scale_by_birge(&problem, &mut scaled).unwrap();
+    let chi2: f64 = problem
+        .targets
+        .iter()
+        .zip(&moved.after)
+        .map(|(t, y)| ((y - t.reference) / t.standard_error).powi(2))
+        .sum();
+    assert!((b.chi_square - chi2).abs() <= 1e-9 * chi2);
+    assert!(b.chi_square / 4.0 > 1.0, "{b:?}");
+    assert!((b.factor - (chi2 / 4.0).sqrt()).abs() < 1e-12, "{b:?}");
+    for (s, s0) in scaled.standard_errors.iter().zip(&moved.standard_errors) {
+        assert!((s / s0 - b.factor).abs() < 1e-12, "{s} {s0}");
+    }
+    assert!(
+        scaled.warnings.iter().any(|w| w.contains("(Birge)")),
+        "{:?}",
+        scaled.warnings
+    );
+}
+
 /// A check of a ratio of derivatives (`Q_u` divided by `Q_w`) measures the aircraft changed by
 /// the check, not one derivative of it: a fit that names it is refused, where it once took the
 /// ratio's interval (0 to 1, seed 002's `Q_u < Q_w`) for an interval on `Q_u`.

@@ -449,9 +449,9 @@ fn samples_the_model_refuses_are_counted_with_their_first_error() {
 }
 
 /// A rotor case is propagated to first order (each input one standard deviation either way):
-/// on TR 487's descent (the PCA-2 rotor's six estimated inputs) it gives the sampled `u_input`
-/// within 15 %, the same verdicts and the same largest contributor, at 14 evaluations against
-/// 258. The bound is the sampled estimate's own: at 32 base points its rotor-speed `u_input`
+/// on TR 487's descent (the PCA-2 rotor's five ranged inputs; the hub's drag area has none
+/// since issue 51, item 2) it gives the sampled `u_input` within 15 %, the same verdicts and the
+/// same largest contributor, at 21 evaluations against 231. The bound is the sampled estimate's own: at 32 base points its rotor-speed `u_input`
 /// ranges over 1.54e-2 to 1.84e-2 rad/s across seeds 0-3 (+-9 %; first order gives 1.71e-2).
 ///
 /// And its 95 % interval holds at its stated rate: the sampled run's 64 draws of the inputs
@@ -474,10 +474,10 @@ fn first_order_propagation_of_a_rotor_agrees_with_sampling() {
         cierva_harness::uncertainty::study::propagate(&case, settings, || {}).unwrap()
     };
     let (first, sampled) = (run(Propagation::Auto), run(Propagation::Sampled));
-    assert_eq!(first.inputs.len(), 6);
+    assert_eq!(first.inputs.len(), 5);
     // Each with the nominal and the rotor's 3 discretisation parameters at 2 refined levels.
-    assert_eq!(first.evaluations, 2 * 6 + 4 + 1 + 6);
-    assert_eq!(sampled.evaluations, 32 * 8 + 1 + 6);
+    assert_eq!(first.evaluations, 2 * 5 + 4 + 1 + 6);
+    assert_eq!(sampled.evaluations, 32 * 7 + 1 + 6);
     assert!(first.method.starts_with("first order"), "{}", first.method);
     for (f, s) in first.results.iter().zip(&sampled.results) {
         eprintln!(

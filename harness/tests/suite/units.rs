@@ -119,6 +119,8 @@ mod scoreboard {
             fingerprint: vec![],
             departures: vec![],
             note: None,
+            extrapolation: None,
+            calibrated_on: None,
             plot: None,
         };
         let results = [result("low", 1.1), result("high", 1.5)];

@@ -387,6 +387,9 @@ pub fn corrections_file(
         })),
         cross_validation: None,
         not_applied_to: vec![],
+        domain: Some(crate::fit::file::domain_of(&r.problem.targets)),
+        // Fitted to records' responses, not to any case's checks.
+        calibrated_on: Default::default(),
     }
 }
 
