@@ -55,6 +55,13 @@ pub(crate) struct UncertaintyArgs {
     /// the whole suite of the committed model: no case paths, no --corrections.
     #[arg(long)]
     pub(crate) write_summary: bool,
+    /// Grow the design until every total Sobol' index (of every quantity the inputs move; the
+    /// index the tables show) has a standard error at most this (0 to 1; 0.05 ranks inputs whose shares
+    /// differ by a tenth): each case starts at --samples and doubles them, to at most
+    /// 16384 base points (MAX_TARGET_SAMPLES), and says where it stopped and why. Sampled
+    /// propagations only (a first-order one states no sampling error).
+    #[arg(long)]
+    pub(crate) target_se: Option<f64>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
@@ -80,6 +87,10 @@ struct CaseSummary<'a> {
     first_error: Option<&'a str>,
     refinement: &'a str,
     seconds: f64,
+    /// The base points the case was sampled at (`--samples`, or as `--target-se` grew them).
+    samples: usize,
+    /// Where `--target-se` stopped, and why.
+    target_se: Option<&'a str>,
 }
 
 pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
@@ -88,6 +99,18 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             "--samples {}: give at least {MIN_SAMPLES} (the percentiles and Sobol' indices of fewer mean nothing)",
             a.samples
         )));
+    }
+    if let Some(t) = a.target_se
+        && !(t > 0.0 && t < 1.0)
+    {
+        return Err(Error::input(format!(
+            "--target-se {t}: give a standard error between 0 and 1 (an index spans [0, 1]; 0.05 ranks inputs whose shares differ by a tenth)"
+        )));
+    }
+    if a.write_summary && a.target_se.is_some() {
+        return Err(Error::input(
+            "--write-summary takes the committed --samples (64) and no --target-se: the summary is compared with a rerun at a fixed design",
+        ));
     }
     if a.write_summary && !(a.paths.is_empty() && a.corrections.is_empty()) {
         return Err(Error::input(
@@ -124,25 +147,11 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         method: a.method,
     };
     let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
+    let mut sizes: Vec<(usize, Option<String>)> = Vec::new();
     for case in &cases {
-        let d = propagate::inputs(case).map_or(0, |i| i.len());
-        let bar = progress(
-            if d == 0 {
-                0
-            } else {
-                (a.samples * (d + 2)) as u64
-            },
-            &case.id,
-        );
-        let started = std::time::Instant::now();
-        match cierva_harness::uncertainty::study::propagate(case, settings, || bar.inc(1)) {
-            Ok(u) => done.push((u, started.elapsed().as_secs_f64())),
-            Err(e) => {
-                bar.finish_and_clear();
-                return Err(Error::input(format!("{}: {e}", case.path.display())));
-            }
-        }
-        bar.finish_and_clear();
+        let (u, seconds, samples, said) = study(case, settings, a.target_se)?;
+        done.push((u, seconds));
+        sizes.push((samples, said));
     }
     if let Some(path) = &summary_path {
         let text = summary::render(&summary::of(&settings, done.iter().map(|(u, _)| u)));
@@ -169,7 +178,8 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             seed: a.seed,
             cases: done
                 .iter()
-                .map(|(u, s)| CaseSummary {
+                .enumerate()
+                .map(|(i, (u, s))| CaseSummary {
                     case: &u.case,
                     method: &u.method,
                     inputs: &u.inputs,
@@ -178,14 +188,19 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
                     first_error: u.first_error.as_deref(),
                     refinement: &u.refinement,
                     seconds: *s,
+                    samples: sizes[i].0,
+                    target_se: sizes[i].1.as_deref(),
                 })
                 .collect(),
             results: results.clone(),
             verdicts,
         }),
         Format::Text => {
-            for (u, s) in &done {
-                print!("{}", text_of(u, *s, a.samples));
+            for ((u, s), (n, said)) in done.iter().zip(&sizes) {
+                print!("{}", text_of(u, *s, *n));
+                if let Some(said) = said {
+                    println!("  --target-se: {said}");
+                }
             }
             println!("validation quantities: {}", verdicts.describe());
         }
@@ -283,4 +298,75 @@ fn text_of(u: &CaseUncertainty, seconds: f64, samples: usize) -> String {
         }
     }
     out + "\n"
+}
+
+/// The most base points `--target-se` grows a case's design to: 16384 (a Table 2 case of 16
+/// inputs is 295,000 evaluations there, hours on 2 cores; the delta-method standard error
+/// falls as 1/sqrt(N), so an index at 0.1 at 64 points reaches 0.05 at about 256).
+pub(crate) const MAX_TARGET_SAMPLES: usize = 16384;
+
+/// Whether `--target-se` wants the design doubled after a study at `samples` base points, and
+/// what to say where it stops: reached (the largest index standard error and where), not
+/// reached at the cap, or not applicable (nothing sampled).
+fn target_reached(
+    target: Option<f64>,
+    u: &CaseUncertainty,
+    samples: usize,
+) -> (bool, Option<String>) {
+    let Some(t) = target else {
+        return (false, None);
+    };
+    match u.worst_index_se() {
+        None => (
+            false,
+            Some(format!(
+                "not applicable: {} states no sampled index",
+                u.method
+            )),
+        ),
+        Some((se, _)) if se > t && samples * 2 <= MAX_TARGET_SAMPLES => (true, None),
+        Some((se, at)) if se > t => (
+            false,
+            Some(format!(
+                "not reached: the largest index standard error is {se:.3} ({at}) at {samples} base points, the most it grows to (MAX_TARGET_SAMPLES)"
+            )),
+        ),
+        Some((se, at)) => (
+            false,
+            Some(format!(
+                "reached at {samples} base points: the largest index standard error is {se:.3} ({at}), at most {t}"
+            )),
+        ),
+    }
+}
+
+/// One case's study at `settings`, its design doubled while `--target-se` wants it
+/// ([`target_reached`]): the study, its wall time, the base points it ended at and what
+/// `--target-se` says of it.
+fn study(
+    case: &cierva_harness::suite::case::Case,
+    mut settings: PropagationSettings,
+    target_se: Option<f64>,
+) -> Result<(CaseUncertainty, f64, usize, Option<String>), Error> {
+    let d = propagate::inputs(case).map_or(0, |i| i.len());
+    let started = std::time::Instant::now();
+    loop {
+        let bar = progress(
+            if d == 0 {
+                0
+            } else {
+                (settings.samples * (d + 2)) as u64
+            },
+            &case.id,
+        );
+        let u = cierva_harness::uncertainty::study::propagate(case, settings, || bar.inc(1));
+        bar.finish_and_clear();
+        let u = u.map_err(|e| Error::input(format!("{}: {e}", case.path.display())))?;
+        match target_reached(target_se, &u, settings.samples) {
+            (true, _) => settings.samples *= 2,
+            (false, said) => {
+                return Ok((u, started.elapsed().as_secs_f64(), settings.samples, said));
+            }
+        }
+    }
 }

@@ -213,6 +213,31 @@ pub struct CaseUncertainty {
     pub results: Vec<QuantityUncertainty>,
 }
 
+impl CaseUncertainty {
+    /// The largest standard error of any total Sobol' index of any quantity whose inputs move
+    /// it (`u_input > 0`), and of which quantity and input: what `--target-se` grows the design
+    /// until it is small enough, and the index shown as resolved or not
+    /// ([`Contributor::total_in_words`]). Not the first-order indices': their estimator is not
+    /// centred, so its error grows with a quantity's mean against its spread (`M_q`'s -1.2
+    /// against a spread of 0.35 leaves 0.08 at 4096 base points where the total index is
+    /// resolved at a few hundred; docs/uncertainty.md). A non-finite one counts as unresolved
+    /// (infinite). `None` where no index was sampled (a first-order propagation, no inputs).
+    pub fn worst_index_se(&self) -> Option<(f64, String)> {
+        let mut worst: Option<(f64, String)> = None;
+        for r in self.results.iter().filter(|r| r.u_input > 0.0) {
+            for c in &r.contributors {
+                if let Some(se) = c.total_se {
+                    let se = if se.is_finite() { se } else { f64::INFINITY };
+                    if worst.as_ref().is_none_or(|(w, _)| se > *w) {
+                        worst = Some((se, format!("{}::{} by {}", r.check, r.quantity, c.input)));
+                    }
+                }
+            }
+        }
+        worst
+    }
+}
+
 /// The case's uncertain inputs: its model's declared parameters with a plausible range other
 /// than corrections, by name (cierva's aircraft's and rotor's: their files' ranged physical
 /// parameters), an `Err` where it cannot say (its `describe` failed). Empty for a subject

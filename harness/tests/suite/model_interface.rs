@@ -803,6 +803,65 @@ fn a_model_behind_the_protocol_gets_a_grid_study_from_its_declared_refinements()
     );
 }
 
+/// `--target-se` doubles the design until every Sobol' index's standard error is at most the
+/// target, and stops at the first size that reaches it (issue 51, item 4): on the test model
+/// with its pitch made `3 + offset + 2 (scale - 1)` (two inputs sharing the variance, 4:1), the
+/// size it stops at resolves every index, and half of it does not.
+#[test]
+fn target_se_grows_the_design_until_the_indices_are_resolved() {
+    super::external::require_python3();
+    let dir = suite_in("target-se", "cierva-external/2", true);
+    std::fs::write(
+        dir.join("cases/model.py"),
+        MODEL.replace(
+            "3.0 + p['pitch_offset_deg']",
+            "3.0 + p['pitch_offset_deg'] + 2.0 * (p['m_q_scale'] - 1.0)",
+        ),
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let mut all = vec!["uncertainty", "cases/model.yaml", "--format", "json"];
+        all.extend_from_slice(args);
+        let (code, out, err) = cierva_in(&dir, &all);
+        assert_eq!(code, 0, "{out}{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    // The largest index standard error of a run's quantities that the inputs move.
+    let worst = |v: &serde_json::Value| -> f64 {
+        v["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r["u_input"].as_f64().unwrap() > 0.0)
+            .flat_map(|r| r["contributors"].as_array().unwrap().clone())
+            .map(|c| c["total_se"].as_f64().unwrap_or(f64::INFINITY))
+            .fold(0.0, f64::max)
+    };
+    let target = 0.05;
+    let grown = run(&["--samples", "8", "--target-se", "0.05"]);
+    let n = grown["cases"][0]["samples"].as_u64().unwrap();
+    let said = grown["cases"][0]["target_se"].as_str().unwrap().to_string();
+    assert!(
+        said.starts_with(&format!("reached at {n} base points")),
+        "{said}"
+    );
+    assert!(n > 8 && n.is_power_of_two(), "{n}");
+    assert!(worst(&grown) <= target, "{}", worst(&grown));
+    let half = run(&["--samples", &(n / 2).to_string()]);
+    assert!(worst(&half) > target, "{} at {}", worst(&half), n / 2);
+    // A target that is not a standard error is refused before anything runs.
+    let (code, _, err) = cierva_in(
+        &dir,
+        &["uncertainty", "cases/model.yaml", "--target-se", "1.5"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--target-se 1.5: give a standard error between 0 and 1"),
+        "{err}"
+    );
+}
+
 /// How far a sampled statistic through the protocol may be from the built-in one, relative:
 /// the issue's 1e-9. Each sample's trims start from the nominal aircraft's trim on both paths
 /// (the built-in study primes them so; `CiervaAircraft` starts every request with parameter
