@@ -94,12 +94,7 @@ pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
             files.push((&svg_path, svg.clone()));
         }
         for (path, text) in files {
-            if let Some(dir) = path.parent()
-                && !dir.as_os_str().is_empty()
-            {
-                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-            }
-            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            write_making_folder(path, &text)?;
         }
         Ok(())
     })();

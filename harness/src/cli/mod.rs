@@ -182,6 +182,14 @@ pub(crate) fn write_record(
 pub(crate) static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// `given`, or `name` in the suite's `folder` (the suite is looked for only then).
+/// Writes `text` at `path`, its folder made (as every command makes its outputs' folders).
+pub(crate) fn write_making_folder(path: &Path, text: &str) -> Result<(), String> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
 pub(crate) fn or_in_suite(
     given: Option<PathBuf>,
     folder: fn(&cierva_harness::suite::Suite) -> PathBuf,

@@ -98,7 +98,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let command = std::env::args().skip(1).collect::<Vec<_>>().join(" ");
     let spec = retune::corrections_file(&r, retuned, &records, &id, &command);
     let yaml = serde_yaml::to_string(&spec).map_err(Error::input)?;
-    write(&output, &yaml).map_err(Error::input)?;
+    write_making_folder(&output, &yaml).map_err(Error::input)?;
     // The assessment: the corrected model beside the uncorrected one.
     let uncorrected = cierva_harness::inputs::corrections::CorrectionSet::default();
     let both = [&uncorrected, &corrections];
@@ -144,7 +144,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         revalidation.as_ref(),
         &figures,
     );
-    write(&report, &md).map_err(Error::input)?;
+    write_making_folder(&report, &md).map_err(Error::input)?;
     match a.format {
         Format::Json => print_json(&serde_json::json!({
             "corrections": r.values_by_name(),
@@ -396,12 +396,4 @@ fn revalidate(loaded: &CorrectionsFile) -> Result<retune::Revalidation, Error> {
     let v = retune::revalidate(&cases, loaded);
     busy.finish_and_clear();
     v.map_err(Error::input)
-}
-
-/// Writes `text` at `path`, its folder made.
-fn write(path: &Path, text: &str) -> Result<(), String> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }

@@ -1094,12 +1094,12 @@ pub(super) fn parse_describe(text: &str) -> Result<Description, String> {
     let mut parameters: Vec<super::Parameter> = Vec::new();
     for (i, p) in d.parameters.into_iter().enumerate() {
         let at = format!("`describe.parameters[{i}]` (`{}`)", p.name);
-        if p.name.trim().is_empty() {
-            return Err(format!("{at}: a parameter needs a name"));
-        }
-        if parameters.iter().any(|q| q.name == p.name) {
-            return Err(format!("{at}: declared twice"));
-        }
+        named_once(
+            &at,
+            &p.name,
+            "a parameter",
+            parameters.iter().map(|q| &q.name),
+        )?;
         if !p.nominal.is_finite() {
             return Err(format!("{at}: its nominal value is not finite"));
         }
@@ -1119,12 +1119,12 @@ pub(super) fn parse_describe(text: &str) -> Result<Description, String> {
     let mut refinements: Vec<GridParameter> = Vec::new();
     for (i, g) in d.refinements.into_iter().enumerate() {
         let at = format!("`describe.refinements[{i}]` (`{}`)", g.name);
-        if g.name.trim().is_empty() {
-            return Err(format!("{at}: a discretisation parameter needs a name"));
-        }
-        if refinements.iter().any(|r| r.name == g.name) {
-            return Err(format!("{at}: declared twice"));
-        }
+        named_once(
+            &at,
+            &g.name,
+            "a discretisation parameter",
+            refinements.iter().map(|r| &r.name),
+        )?;
         if !(g.ratio.is_finite() && g.ratio > 1.0) {
             return Err(format!(
                 "{at}: its `ratio` {} is not a refinement ratio (a finite number above 1: 2 \
@@ -1158,6 +1158,23 @@ pub(super) fn parse_describe(text: &str) -> Result<Description, String> {
         parameters,
         refinements,
     })
+}
+
+/// A declared name at `at`, checked: not blank (`what` needs a name), and not among those
+/// declared before it.
+fn named_once<'a>(
+    at: &str,
+    name: &str,
+    what: &str,
+    before: impl IntoIterator<Item = &'a String>,
+) -> Result<(), String> {
+    if name.trim().is_empty() {
+        return Err(format!("{at}: {what} needs a name"));
+    }
+    if before.into_iter().any(|n| n == name) {
+        return Err(format!("{at}: declared twice"));
+    }
+    Ok(())
 }
 
 /// A declared range, checked: an interval holding the nominal value, with a source and a
