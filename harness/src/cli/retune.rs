@@ -128,6 +128,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         predictive_error: None,
         domain: spec.domain.clone(),
         calibrated_on: spec.calibrated_on.clone(),
+        posterior: spec.posterior.clone(),
     };
     let revalidation = if a.no_validate {
         None

@@ -11,7 +11,8 @@ use cierva_harness::uncertainty::summary;
 
 /// The uncertainty of every check's quantities: the model's estimated inputs sampled over
 /// their distributions (an aircraft file's `ranges:`, an external model's declared ranges;
-/// corrections excluded) on Owen-scrambled Sobol' points in a Saltelli design, every check
+/// corrections excluded, except those a `--corrections` file fitted: drawn from its fit's
+/// `posterior:`) on Owen-scrambled Sobol' points in a Saltelli design, every check
 /// evaluated at every point on every core; the numerical uncertainty from a grid study, each
 /// discretisation parameter the model names refined alone (cierva's aircraft and rotors; an
 /// external model's declared `refinements`), by Roache's grid convergence index; the data's
@@ -47,7 +48,8 @@ pub(crate) struct UncertaintyArgs {
     #[arg(long, value_enum, default_value_t = cierva_harness::uncertainty::propagate::Propagation::Auto)]
     pub(crate) method: cierva_harness::uncertainty::propagate::Propagation,
     /// Corrections files (as `cierva fit` writes) applied as `validate --corrections` applies
-    /// them; a cross-validated one adds its stated predictive error to `u_input`.
+    /// them: the parameters a file's fit fitted are drawn from its `posterior:` (not their
+    /// ranges), and a cross-validated one adds its stated predictive error to `u_input`.
     #[arg(long, num_args = 1..)]
     pub(crate) corrections: Vec<PathBuf>,
     /// Also write every case's verdicts to the suite's reports/uncertainty-summary.yaml (which

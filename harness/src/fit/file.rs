@@ -1101,6 +1101,7 @@ pub fn corrections_file(
         not_applied_to: vec![],
         domain: Some(domain_of(&f.problem.targets)),
         calibrated_on: calibrated_on(&f.origins),
+        posterior: fit::posterior(&f.problem, r),
     }
 }
 

@@ -36,7 +36,9 @@ mod solve;
 pub mod starts;
 mod targets;
 
-pub use solve::{Birge, FitOptions, FitResult, Problem, Status, fit, scale_by_birge};
+pub use solve::{
+    Birge, FitOptions, FitResult, POSTERIOR_METHOD, Problem, Status, fit, posterior, scale_by_birge,
+};
 pub use targets::{
     Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,
     TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate, evaluate_each, sensitivities,

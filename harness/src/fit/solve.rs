@@ -99,6 +99,12 @@ pub struct FitResult {
     pub after: Vec<f64>,
     /// Remarks: parameters with no effect, active bounds.
     pub warnings: Vec<String>,
+    /// The targets' information about the parameters at the end, `J' W J` of the
+    /// finite-difference Jacobian weighted by the targets' standard errors
+    /// (`[parameter][parameter]`; empty where none was computed): what the fit's posterior
+    /// ([`posterior`]) is made of.
+    #[serde(skip)]
+    pub information: Vec<Vec<f64>>,
 }
 
 impl FitResult {
@@ -177,10 +183,10 @@ fn broyden_update(jt: &mut [Vec<f64>], p: &[f64], q: &[f64], y: &[f64], yq: &[f6
     }
 }
 
-/// Standard errors from `(J' J)^-1` of the scaled residual Jacobian (targets only).
-fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>) {
+/// The targets' information `J' W J` about the parameters: the Jacobian `jt`
+/// (`[target][parameter]`) weighted by each target's standard error.
+fn information(problem: &Problem, jt: &[Vec<f64>]) -> nalgebra::DMatrix<f64> {
     let n = problem.parameters.len();
-    let mut warnings = Vec::new();
     let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
     for (t, row) in problem.targets.iter().zip(jt) {
         for a in 0..n {
@@ -189,6 +195,14 @@ fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>
             }
         }
     }
+    m
+}
+
+/// Standard errors from `(J' J)^-1` of the scaled residual Jacobian (targets only).
+fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>) {
+    let n = problem.parameters.len();
+    let mut warnings = Vec::new();
+    let m = information(problem, jt);
     let mut se = vec![f64::INFINITY; n];
     // Blind: moving the parameter across its whole range moves the targets by less than a
     // millionth of their standard errors.
@@ -294,6 +308,75 @@ pub fn scale_by_birge(problem: &Problem, result: &mut FitResult) -> Option<Birge
     })
 }
 
+/// What [`posterior`] says of how it was made.
+pub const POSTERIOR_METHOD: &str = "Laplace approximation about the fitted values: the targets' information J'WJ there, rescaled so that each identified parameter's variance is its stated standard error squared (Birge's factor, or retune's cluster-robust errors, with the curvature's correlations kept), plus each parameter's bounds as a normal of a uniform's variance (width^2/12); drawn values outside the bounds are reflected into them";
+
+/// The fitted parameters' joint distribution ([`crate::inputs::corrections::Posterior`]): a
+/// normal about the fitted values, of covariance `(K^-1 J'WJ K^-1 + P)^-1`, where `J'WJ` is
+/// the targets' information at the end, `K` rescales each parameter whose standard error is
+/// finite to the stated one (`result.standard_errors`, after Birge's factor or a retune's
+/// cluster-robust errors; the curvature's correlations are kept) and `P` holds each
+/// parameter's bounds as a normal of a uniform's variance, `12 / width^2`: where the targets
+/// do not see a direction (more parameters than targets), the bounds set its spread. `None`
+/// for a fit that did not converge or has no information.
+pub fn posterior(
+    problem: &Problem,
+    result: &FitResult,
+) -> Option<crate::inputs::corrections::Posterior> {
+    use crate::inputs::corrections::{Posterior, PosteriorParameter};
+    let n = problem.parameters.len();
+    if result.status != Status::Converged || result.information.len() != n || n == 0 {
+        return None;
+    }
+    let info = nalgebra::DMatrix::from_fn(n, n, |a, b| result.information[a][b]);
+    if !info.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    // Each identified parameter's curvature standard error, against its stated one.
+    let curvature = info.clone().try_inverse();
+    let scale: Vec<f64> = (0..n)
+        .map(|i| {
+            let stated = result.standard_errors[i];
+            let own = curvature.as_ref().map_or(f64::NAN, |c| c[(i, i)].sqrt());
+            if stated.is_finite() && own.is_finite() && own > 0.0 {
+                stated / own
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let mut precision =
+        nalgebra::DMatrix::from_fn(n, n, |a, b| info[(a, b)] / (scale[a] * scale[b]));
+    for (i, q) in problem.parameters.iter().enumerate() {
+        precision[(i, i)] += 12.0 / (q.upper - q.lower).powi(2);
+    }
+    let covariance = precision.try_inverse()?;
+    // Symmetric to the bit, as a file states it.
+    let covariance: Vec<Vec<f64>> = (0..n)
+        .map(|a| {
+            (0..n)
+                .map(|b| 0.5 * (covariance[(a, b)] + covariance[(b, a)]))
+                .collect()
+        })
+        .collect();
+    let posterior = Posterior {
+        method: POSTERIOR_METHOD.into(),
+        parameters: problem
+            .parameters
+            .iter()
+            .zip(&result.values)
+            .map(|(q, v)| PosteriorParameter {
+                name: q.kind.model_name(),
+                value: *v,
+                lower: q.lower,
+                upper: q.upper,
+            })
+            .collect(),
+        covariance,
+    };
+    posterior.problem().is_none().then_some(posterior)
+}
+
 /// Whether a step reaches its trust region's edge in any parameter.
 fn limited_by(step: &[f64], radius: &[f64]) -> bool {
     step.iter().zip(radius).any(|(d, r)| d.abs() >= 0.99 * r)
@@ -351,6 +434,7 @@ fn unstarted(problem: &Problem, status: Status) -> FitResult {
         before: vec![f64::NAN; problem.targets.len()],
         after: vec![f64::NAN; problem.targets.len()],
         warnings: vec![],
+        information: Vec::new(),
     }
 }
 
@@ -536,6 +620,13 @@ pub fn fit(problem: &Problem) -> FitResult {
     } else {
         standard_errors(problem, &at.jt)
     };
+    let information = match at.jt.is_empty() {
+        true => Vec::new(),
+        false => {
+            let m = information(problem, &at.jt);
+            m.row_iter().map(|r| r.iter().copied().collect()).collect()
+        }
+    };
     if !matches!(status, Status::ModelFailure(_) | Status::BadProblem(_))
         && let Some(s) = hard_bounds_left_violated(problem, &at.y)
     {
@@ -554,6 +645,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         before: y0,
         after: at.y,
         warnings,
+        information,
     }
 }
 

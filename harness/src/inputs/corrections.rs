@@ -403,6 +403,82 @@ pub struct CorrectionsFileSpec {
     /// reported apart and never counted as validation evidence.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub calibrated_on: BTreeMap<String, Vec<String>>,
+    /// The fitted parameters' joint distribution (`cierva fit` writes it): what an
+    /// uncertainty study with the corrections applied samples them from, instead of their
+    /// prior ranges.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub posterior: Option<Posterior>,
+}
+
+/// A fit's parameters' joint distribution about its estimate: a normal of covariance
+/// `(J'WJ / b^2 + P)^-1`, where `J'WJ` is the targets' information at the end (each target
+/// weighted by its standard error), `b` the Birge factor its standard errors were scaled by
+/// and `P` each parameter's bounds as a normal of the same variance (a uniform's,
+/// `width^2 / 12`). The bounds' term keeps it finite where the targets do not see a direction
+/// (more parameters than targets); where they do, it is small. Drawn values outside the bounds
+/// are reflected into them (so an estimate on a bound gets a half-normal). A Laplace
+/// approximation of the posterior under a uniform prior over the bounds, not the posterior:
+/// its shape far from the estimate is the normal's.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Posterior {
+    /// How it was made, in words.
+    pub method: String,
+    /// Each fitted parameter by the name its model takes it under, in the covariance's order.
+    pub parameters: Vec<PosteriorParameter>,
+    /// The covariance, a row per parameter.
+    pub covariance: Vec<Vec<f64>>,
+}
+
+/// A fitted parameter in a [`Posterior`]: its name as the model takes it
+/// (`corrections.pitch_offset_deg`, `airframe.fin.area_m2`), its fitted value and its bounds.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PosteriorParameter {
+    pub name: String,
+    pub value: f64,
+    pub lower: f64,
+    pub upper: f64,
+}
+
+impl Posterior {
+    /// Where it is not a distribution: a field and what is wrong with it.
+    pub fn problem(&self) -> Option<(String, String)> {
+        let n = self.parameters.len();
+        for (i, p) in self.parameters.iter().enumerate() {
+            let ok = [p.value, p.lower, p.upper].iter().all(|v| v.is_finite())
+                && p.lower < p.upper
+                && (p.lower..=p.upper).contains(&p.value);
+            if !ok {
+                return Some((
+                    format!("posterior.parameters[{i}]"),
+                    format!(
+                        "`{}`: its value {} must lie in finite bounds [{}, {}] that are not empty",
+                        p.name, p.value, p.lower, p.upper
+                    ),
+                ));
+            }
+        }
+        if self.covariance.len() != n || self.covariance.iter().any(|r| r.len() != n) {
+            return Some((
+                "posterior.covariance".into(),
+                format!("must be {n} rows of {n} numbers, one per parameter"),
+            ));
+        }
+        let m = nalgebra::DMatrix::from_fn(n, n, |a, b| self.covariance[a][b]);
+        let symmetric = (0..n).all(|a| {
+            (0..n).all(|b| {
+                (m[(a, b)] - m[(b, a)]).abs() <= 1e-9 * m[(a, a)].abs().max(m[(b, b)].abs())
+            })
+        });
+        if !m.iter().all(|v| v.is_finite()) || !symmetric || m.clone().cholesky().is_none() {
+            return Some((
+                "posterior.covariance".into(),
+                "must be a symmetric, positive definite matrix of finite numbers".into(),
+            ));
+        }
+        None
+    }
 }
 
 /// The span of the conditions a corrections file was fitted on, each `[lowest, highest]` over
@@ -612,6 +688,8 @@ pub struct CorrectionsFile {
     pub domain: Option<Domain>,
     /// The checks it was fitted to, by case ([`CorrectionsFileSpec::calibrated_on`]).
     pub calibrated_on: BTreeMap<String, Vec<String>>,
+    /// Its fitted parameters' joint distribution ([`CorrectionsFileSpec::posterior`]).
+    pub posterior: Option<Posterior>,
 }
 
 impl CorrectionsFile {
@@ -758,6 +836,9 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
             ));
         }
     }
+    if let Some((field, m)) = spec.posterior.as_ref().and_then(Posterior::problem) {
+        return Err(err(&field, m));
+    }
     let predictive_error = match &spec.cross_validation {
         None => None,
         Some(v) => {
@@ -793,5 +874,6 @@ pub fn load(path: &Path) -> Result<CorrectionsFile, InputError> {
         predictive_error,
         domain: spec.domain,
         calibrated_on: spec.calibrated_on,
+        posterior: spec.posterior,
     })
 }

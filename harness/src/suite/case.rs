@@ -130,6 +130,9 @@ pub struct Calibration {
     pub calibrated_on: std::collections::BTreeSet<String>,
     /// `None`: its fit was not cross-validated, so it states no predictive error.
     pub predictive_error: Option<crate::inputs::corrections::PredictiveError>,
+    /// Its fitted parameters' joint distribution, where its fit stated one: what an
+    /// uncertainty study samples them from.
+    pub posterior: Option<crate::inputs::corrections::Posterior>,
 }
 
 /// The checks of a corrected case that keep the uncorrected subject, and why.
@@ -673,6 +676,7 @@ pub fn with_corrections(
                 calibrated_on,
                 id: f.id.clone(),
                 predictive_error: f.predictive_error.clone(),
+                posterior: f.posterior.clone(),
             });
             for n in f.not_applied_to.iter().filter(|n| n.case == case.id) {
                 let u = c.uncorrected.get_or_insert_with(|| Uncorrected {

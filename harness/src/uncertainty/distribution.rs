@@ -146,6 +146,84 @@ pub struct Input {
     pub nominal: f64,
     pub distribution: InputDistribution,
     pub source: String,
+    /// Where it is a factor of a joint distribution (a fit's posterior,
+    /// [`crate::inputs::corrections::Posterior`]): the parameters it moves, each by
+    /// `per_unit` times its value. Empty: it is the parameter of its name.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub moves: Vec<Moved>,
+}
+
+/// A parameter a factor input moves ([`Input::moves`]): its value is `value` plus the sum
+/// of `per_unit` times each of its factors' values, reflected into `[lower, upper]`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Moved {
+    pub parameter: String,
+    pub value: f64,
+    pub per_unit: f64,
+    pub lower: f64,
+    pub upper: f64,
+}
+
+impl Input {
+    /// The factors of a fit's joint distribution (`id`: its corrections file's): one standard
+    /// normal input per principal direction of its covariance, largest first, each moving
+    /// every fitted parameter by the direction's component times its standard deviation.
+    /// Named `<id>: factor k (mostly <parameter>)`.
+    pub fn factors_of(id: &str, posterior: &crate::inputs::corrections::Posterior) -> Vec<Input> {
+        let n = posterior.parameters.len();
+        let c = nalgebra::DMatrix::from_fn(n, n, |a, b| posterior.covariance[a][b]);
+        let eigen = nalgebra::SymmetricEigen::new(c);
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));
+        order
+            .iter()
+            .enumerate()
+            .filter(|(_, k)| eigen.eigenvalues[**k] > 0.0)
+            .map(|(rank, &k)| {
+                let sd = eigen.eigenvalues[k].sqrt();
+                let v = eigen.eigenvectors.column(k);
+                let main = (0..n)
+                    .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
+                    .map_or("", |a| posterior.parameters[a].name.as_str());
+                Input {
+                    name: format!("{id}: factor {} (mostly {main})", rank + 1),
+                    nominal: 0.0,
+                    distribution: InputDistribution::Normal {
+                        mean: 0.0,
+                        sigma: 1.0,
+                        lower: f64::NEG_INFINITY,
+                        upper: f64::INFINITY,
+                    },
+                    source: format!("the fit of {id}: {}", posterior.method),
+                    moves: posterior
+                        .parameters
+                        .iter()
+                        .enumerate()
+                        .map(|(a, p)| Moved {
+                            parameter: p.name.clone(),
+                            value: p.value,
+                            per_unit: v[a] * sd,
+                            lower: p.lower,
+                            upper: p.upper,
+                        })
+                        .collect(),
+                }
+            })
+            .collect()
+    }
+}
+
+/// `x` reflected into `[lower, upper]` at whichever bound it left by (then held there, if it
+/// left by more than the width).
+pub fn reflected(x: f64, lower: f64, upper: f64) -> f64 {
+    let r = if x < lower {
+        2.0 * lower - x
+    } else if x > upper {
+        2.0 * upper - x
+    } else {
+        x
+    };
+    r.clamp(lower, upper)
 }
 
 /// A truncated normal's bounds in standard deviations from its mean.

@@ -257,10 +257,19 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
                 name: p.name,
                 nominal: p.nominal,
                 source: r.source,
+                moves: Vec::new(),
             })
         })
         .collect();
     declared.sort_by(|a, b| a.name.cmp(&b.name));
+    // A calibration's fitted parameters are no longer priors: drawn from its fit's joint
+    // distribution, not from their ranges.
+    for c in &case.calibrations {
+        if let Some(p) = &c.posterior {
+            declared.retain(|i| !p.parameters.iter().any(|q| q.name == i.name));
+            declared.extend(Input::factors_of(&c.id, p));
+        }
+    }
     Ok(declared)
 }
 
@@ -286,12 +295,29 @@ pub(super) fn with_values(
 }
 
 /// `values` (in the order of `inputs`) as a point's parameters.
+/// A factor input ([`Input::moves`]) adds to each parameter it moves, each such parameter
+/// reflected into its bounds once every factor is added.
 pub(super) fn values_of(inputs: &[Input], values: &[f64]) -> Values {
-    inputs
-        .iter()
-        .zip(values)
-        .map(|(i, v)| (i.name.clone(), *v))
-        .collect()
+    let mut out = Values::new();
+    let mut moved: Vec<(&super::distribution::Moved, f64)> = Vec::new();
+    for (i, v) in inputs.iter().zip(values) {
+        if i.moves.is_empty() {
+            out.insert(i.name.clone(), *v);
+        }
+        for m in &i.moves {
+            match moved.iter_mut().find(|(n, _)| n.parameter == m.parameter) {
+                Some((_, x)) => *x += m.per_unit * v,
+                None => moved.push((m, m.value + m.per_unit * v)),
+            }
+        }
+    }
+    for (m, x) in moved {
+        out.insert(
+            m.parameter.clone(),
+            super::distribution::reflected(x, m.lower, m.upper),
+        );
+    }
+    out
 }
 
 /// `values` (in the order of `inputs`) set on a subject, checked, under a path of its own

@@ -20,6 +20,7 @@ fn ended(values: [f64; 2], cost: f64, status: Status) -> FitResult {
         before: vec![],
         after: vec![],
         warnings: vec![],
+        information: vec![],
     }
 }
 

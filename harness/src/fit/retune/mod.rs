@@ -390,6 +390,7 @@ pub fn corrections_file(
         domain: Some(crate::fit::file::domain_of(&r.problem.targets)),
         // Fitted to records' responses, not to any case's checks.
         calibrated_on: Default::default(),
+        posterior: fit::posterior(&r.problem, &r.result),
     }
 }
 
