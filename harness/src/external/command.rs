@@ -1061,6 +1061,8 @@ struct DeclaredRange {
     distribution: crate::inputs::ranges::Shape,
     #[serde(default)]
     sigma: Option<f64>,
+    #[serde(default)]
+    shares: Option<String>,
 }
 
 /// A `describe` response: what the model computes, its states and controls, and its
@@ -1214,6 +1216,7 @@ fn declared_range(
         source: r.source,
         distribution: r.distribution,
         sigma: r.sigma,
+        shares: r.shares,
     })
 }
 

@@ -308,6 +308,9 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                         if let Some(s) = r.sigma {
                             d["range"]["sigma"] = json!(s);
                         }
+                        if let Some(m) = r.shares {
+                            d["range"]["shares"] = json!(m);
+                        }
                     }
                     d
                 })

@@ -196,9 +196,149 @@ pub struct NamedChecks {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CrossValidationSpec {
+    /// Groups of the fitted targets' checks, each left out in turn (the predictions by the
+    /// whole fit). Give these or `bands`.
+    #[serde(default)]
     pub groups: Vec<NamedChecks>,
+    /// Contiguous bands of one condition, each left out in turn with every row in it, fitted
+    /// or not ([`Bands`]). Give these or `groups`.
+    #[serde(default)]
+    pub bands: Option<Bands>,
     #[serde(default)]
     pub regimes: Vec<NamedChecks>,
+}
+
+/// Cross-validation by bands: the fitted targets' distinct values of one condition (`by`),
+/// sorted, are cut into `count` contiguous runs of near-equal size; each band reaches halfway
+/// to the next run's first value, and holds every target and prediction of the fit in it. A
+/// band's fit is redone on the fitted targets outside it and predicts every row in it: data
+/// it did not see, beyond its own neighbours, and a repeat run is held out with the row it
+/// repeats.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bands {
+    pub by: BandCondition,
+    pub count: usize,
+}
+
+/// The condition a fit's rows are banded by ([`Bands`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BandCondition {
+    /// A tunnel's tip-speed ratio.
+    TipSpeedRatio,
+    /// A flight condition's airspeed.
+    AirspeedMph,
+    /// A flight condition's mass.
+    MassKg,
+}
+
+impl BandCondition {
+    /// A target's value of it (`None` where its condition does not state it).
+    pub fn of(self, t: &fit::Target) -> Option<f64> {
+        match (self, &t.condition) {
+            (Self::TipSpeedRatio, TargetCondition::Tunnel(s)) => s.tip_speed_ratio,
+            (Self::AirspeedMph, TargetCondition::Flight(c, _)) => Some(c.airspeed_mph),
+            (Self::MassKg, TargetCondition::Flight(_, l)) => l.mass_kg,
+            _ => None,
+        }
+    }
+
+    /// In words, for a band's name.
+    pub fn words(self) -> &'static str {
+        match self {
+            Self::TipSpeedRatio => "mu",
+            Self::AirspeedMph => "airspeed (mph)",
+            Self::MassKg => "mass (kg)",
+        }
+    }
+}
+
+/// One band of a cross-validation ([`Bands`]): its name, and the fit's targets and
+/// predictions in it, by index.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CrossValidationBand {
+    pub name: String,
+    pub fitted: Vec<usize>,
+    pub predicted: Vec<usize>,
+}
+
+impl Bands {
+    /// The fit's bands: an error where a target or prediction does not state the condition,
+    /// or where the fitted targets have fewer distinct values of it than bands.
+    pub fn of(
+        &self,
+        targets: &[fit::Target],
+        predict: &[fit::Target],
+    ) -> Result<Vec<CrossValidationBand>, String> {
+        let value = |t: &fit::Target, what: &str, i: usize| {
+            self.by.of(t).filter(|v| v.is_finite()).ok_or_else(|| {
+                format!(
+                    "{what} {} ({}) states no {}: bands cannot hold it",
+                    i + 1,
+                    t.measure.name(),
+                    self.by.words()
+                )
+            })
+        };
+        let fitted: Vec<f64> = (targets.iter().enumerate())
+            .map(|(i, t)| value(t, "target", i))
+            .collect::<Result<_, _>>()?;
+        let predicted: Vec<f64> = (predict.iter().enumerate())
+            .map(|(i, t)| value(t, "prediction", i))
+            .collect::<Result<_, _>>()?;
+        let mut xs = fitted.clone();
+        xs.sort_by(f64::total_cmp);
+        xs.dedup();
+        if self.count < 2 || xs.len() < self.count {
+            return Err(format!(
+                "{} bands of {} over {} distinct fitted values: give at least 2, and at most one a value",
+                self.count,
+                self.by.words(),
+                xs.len()
+            ));
+        }
+        // Run k holds xs[k n / count .. (k + 1) n / count]; its upper edge is halfway to the
+        // next run's first value.
+        let n = xs.len();
+        let starts: Vec<usize> = (0..self.count).map(|k| k * n / self.count).collect();
+        let edges: Vec<f64> = starts[1..]
+            .iter()
+            .map(|&s| 0.5 * (xs[s - 1] + xs[s]))
+            .collect();
+        let band_of = |x: f64| edges.iter().take_while(|e| x > **e).count();
+        let mut bands: Vec<CrossValidationBand> = (0..self.count)
+            .map(|_| CrossValidationBand {
+                name: String::new(),
+                fitted: Vec::new(),
+                predicted: Vec::new(),
+            })
+            .collect();
+        for (i, x) in fitted.iter().enumerate() {
+            bands[band_of(*x)].fitted.push(i);
+        }
+        for (i, x) in predicted.iter().enumerate() {
+            bands[band_of(*x)].predicted.push(i);
+        }
+        for b in &mut bands {
+            let all = b
+                .fitted
+                .iter()
+                .map(|&i| fitted[i])
+                .chain(b.predicted.iter().map(|&i| predicted[i]));
+            let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            });
+            b.name = format!("{} {} to {}", self.by.words(), round3(lo), round3(hi));
+        }
+        Ok(bands)
+    }
+}
+
+/// `x` to 3 significant decimals, as a band's name writes it.
+fn round3(x: f64) -> String {
+    let s = format!("{x:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// Where a target's reference comes from (for the before/after table).
@@ -361,6 +501,10 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
     fit::check(&problem).map_err(|m| err("parameters", m))?;
     check_cross_validation(spec.cross_validation.as_ref(), &origins, &predict_origins)
         .map_err(|(field, m)| err(&format!("cross_validation.{field}"), m))?;
+    if let Some(b) = spec.cross_validation.as_ref().and_then(|c| c.bands) {
+        b.of(&problem.targets, &predict)
+            .map_err(|m| err("cross_validation.bands", m))?;
+    }
     Ok(FitFile {
         path: path.to_path_buf(),
         id: spec.id,
@@ -439,6 +583,21 @@ fn check_cross_validation(
     let check_of = |o: &Origin| check_of(&o.label);
     let fitted: Vec<String> = origins.iter().map(check_of).collect();
     let predicted: Vec<String> = predict_origins.iter().map(check_of).collect();
+    match (cv.groups.is_empty(), cv.bands.is_some()) {
+        (false, true) => {
+            return Err(("bands".into(), "give `groups` or `bands`, not both".into()));
+        }
+        (true, false) => {
+            return Err((
+                "groups".into(),
+                "give `bands` (contiguous bands of one condition, each left out with every row in it) or `groups` of the fitted checks".into(),
+            ));
+        }
+        _ => {}
+    }
+    if cv.groups.is_empty() {
+        return check_regimes(cv, &fitted, &predicted);
+    }
     if cv.groups.len() < 2 {
         return Err((
             "groups".into(),
@@ -469,6 +628,15 @@ fn check_cross_validation(
             ));
         }
     }
+    check_regimes(cv, &fitted, &predicted)
+}
+
+/// Each regime names targets or predictions of the fit.
+fn check_regimes(
+    cv: &CrossValidationSpec,
+    fitted: &[String],
+    predicted: &[String],
+) -> Result<(), (String, String)> {
     for (i, r) in cv.regimes.iter().enumerate() {
         if let Some(c) = r
             .checks

@@ -20,6 +20,12 @@ pub struct RangeSpec {
     /// The standard deviation of a `normal` distribution, in the parameter's unit.
     #[serde(default)]
     pub sigma: Option<f64>,
+    /// The estimating method whose error this range shares with every other range of the
+    /// file that names it (one contraction model for two of the fin's inputs, one lift-slope
+    /// equation for the fin and the tailplane): `cierva uncertainty` draws that method's error
+    /// once, each such parameter at the same quantile of its own distribution.
+    #[serde(default)]
+    pub shares: Option<String>,
 }
 
 /// The shape of a parameter's distribution over its plausible range. The file's value is the
@@ -48,6 +54,10 @@ pub struct Range {
     /// A normal distribution's standard deviation (`None` for the other shapes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sigma: Option<f64>,
+    /// The estimating method whose error it shares with the other ranges that name it
+    /// ([`RangeSpec::shares`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shares: Option<String>,
 }
 
 /// Ranges of a file's parameters, checked: each names one of `names` that `value_of` reads
@@ -120,8 +130,25 @@ pub(crate) fn checked(
                 source: r.source.clone(),
                 distribution: r.distribution,
                 sigma,
+                shares: r.shares.clone(),
             },
         );
+    }
+    for (name, r) in &out {
+        if let Some(method) = &r.shares {
+            let with = out
+                .values()
+                .filter(|o| o.shares.as_ref() == Some(method))
+                .count();
+            if method.trim().is_empty() || with < 2 {
+                return Err(err(
+                    &format!("ranges.{name}.shares"),
+                    format!(
+                        "`{method}`: a method's error is shared by two ranges or more; no other range of {what} names it"
+                    ),
+                ));
+            }
+        }
     }
     Ok(out)
 }

@@ -87,7 +87,11 @@ pub struct Errors {
 /// A cross-validation of a fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CrossValidation {
+    /// Its folds' names (bands or groups).
     pub groups: Vec<String>,
+    /// Whether its folds are bands that hold every row in them (else groups of fitted checks,
+    /// the predictions by the whole fit).
+    pub bands: bool,
     /// Every target's group fit's status (`converged`, ...), by group.
     pub fits: BTreeMap<String, String>,
     pub all: Errors,
@@ -140,10 +144,48 @@ pub fn errors<'a>(rows: impl IntoIterator<Item = &'a HeldOut>) -> Errors {
     out
 }
 
-/// The fit's targets left out a group at a time (the fit file's `cross_validation.groups`):
-/// each group's fit on the rest, its targets predicted; and the fit file's predictions, which
-/// no fit saw, by the whole fit (`run`). The regimes report apart. `done` is called after each
-/// group's fit (a progress bar). The fits run one after another (each uses the cores).
+/// One fold of a cross-validation: its name, and the fit's targets and predictions it holds
+/// out (by index).
+struct Fold {
+    name: String,
+    fitted: Vec<usize>,
+    predicted: Vec<usize>,
+}
+
+/// The fit file's folds: its bands, each with every row in it
+/// ([`crate::fit::file::Bands`]), or its groups of fitted checks (its predictions then by the
+/// whole fit).
+fn folds(f: &FitFile, spec: &crate::fit::file::CrossValidationSpec) -> Result<Vec<Fold>, String> {
+    if let Some(b) = &spec.bands {
+        return Ok(b
+            .of(&f.problem.targets, &f.predict)?
+            .into_iter()
+            .map(|b| Fold {
+                name: b.name,
+                fitted: b.fitted,
+                predicted: b.predicted,
+            })
+            .collect());
+    }
+    Ok(spec
+        .groups
+        .iter()
+        .map(|g| Fold {
+            name: g.name.clone(),
+            fitted: (f.origins.iter().enumerate())
+                .filter(|(_, o)| g.checks.contains(&check_of(&o.label)))
+                .map(|(i, _)| i)
+                .collect(),
+            predicted: Vec::new(),
+        })
+        .collect())
+}
+
+/// The fit's targets left out a fold at a time (the fit file's `cross_validation`: `bands`, or
+/// `groups`): each fold's fit on the rest, and its held-out rows predicted (a band's fitted
+/// and unfitted rows alike); a prediction no fold holds, by the whole fit (`run`). The regimes
+/// report apart. `done` is called after each fold's fit (a progress bar). The fits run one
+/// after another (each uses the cores).
 pub fn cross_validate(
     f: &FitFile,
     run: &FitRun,
@@ -152,44 +194,42 @@ pub fn cross_validate(
     let Some(spec) = &f.cross_validation else {
         return Ok(None);
     };
+    let folds = folds(f, spec)?;
     let mut held_out = Vec::new();
     let mut fits = BTreeMap::new();
-    for g in &spec.groups {
-        let out: Vec<usize> = f
-            .origins
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| g.checks.contains(&check_of(&o.label)))
-            .map(|(i, _)| i)
-            .collect();
+    for g in &folds {
         let mut rest = f.problem.clone();
-        rest.targets = f
-            .problem
-            .targets
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| !out.contains(i))
+        rest.targets = (f.problem.targets.iter().enumerate())
+            .filter(|(i, _)| !g.fitted.contains(i))
             .map(|(_, t)| t.clone())
             .collect();
         let r = fit::fit(&rest);
         fits.insert(g.name.clone(), r.status.name().to_string());
         let mut left = f.problem.clone();
-        left.targets = out.iter().map(|&i| f.problem.targets[i].clone()).collect();
+        left.targets = (g.fitted.iter().map(|&i| f.problem.targets[i].clone()))
+            .chain(g.predicted.iter().map(|&i| f.predict[i].clone()))
+            .collect();
         let predicted =
-            fit::evaluate_each(&left, &r.values).map_err(|e| format!("group `{}`: {e}", g.name))?;
-        for (&i, p) in out.iter().zip(predicted) {
-            let before = run.result.before.get(i).copied().unwrap_or(f64::NAN);
-            held_out.push(held(
-                &f.problem.targets[i],
-                &f.origins[i].label,
-                &g.name,
-                p.unwrap_or(f64::NAN),
-                before,
-            ));
+            fit::evaluate_each(&left, &r.values).map_err(|e| format!("fold `{}`: {e}", g.name))?;
+        let rows = (g.fitted.iter())
+            .map(|&i| {
+                let before = run.result.before.get(i).copied().unwrap_or(f64::NAN);
+                (&f.problem.targets[i], &f.origins[i].label, before)
+            })
+            .chain(g.predicted.iter().map(|&i| {
+                (
+                    &f.predict[i],
+                    &f.predict_origins[i].label,
+                    run.predict_before[i],
+                )
+            }));
+        for ((t, label, before), p) in rows.zip(predicted) {
+            held_out.push(held(t, label, &g.name, p.unwrap_or(f64::NAN), before));
         }
         done(&g.name);
     }
-    for (i, t) in f.predict.iter().enumerate() {
+    let in_a_fold = |i: usize| folds.iter().any(|g| g.predicted.contains(&i));
+    for (i, t) in f.predict.iter().enumerate().filter(|(i, _)| !in_a_fold(*i)) {
         held_out.push(held(
             t,
             &f.predict_origins[i].label,
@@ -213,11 +253,12 @@ pub fn cross_validate(
         })
         .collect();
     Ok(Some(CrossValidation {
-        groups: spec.groups.iter().map(|g| g.name.clone()).collect(),
+        groups: folds.iter().map(|g| g.name.clone()).collect(),
         fits,
         all: errors(&held_out),
         regimes,
         held_out,
+        bands: spec.bands.is_some(),
     }))
 }
 
@@ -259,8 +300,17 @@ pub fn summary(f: &FitFile, cv: &CrossValidation) -> serde_json::Value {
         m.insert(
             "method".into(),
             serde_json::json!(format!(
-                "leave one group out ({} groups, each refitted), and the fit file's predictions by the whole fit; relative errors (model - reference) / reference; discrepancy sd = sqrt(max(0, mean(e^2 - se^2)))",
-                cv.groups.len()
+                "{}; relative errors (model - reference) / reference; discrepancy sd = sqrt(max(0, mean(e^2 - se^2)))",
+                match cv.bands {
+                    true => format!(
+                        "leave one band out ({} contiguous bands, each refitted on the fitted rows outside it and predicting every row in it, fitted or not)",
+                        cv.groups.len()
+                    ),
+                    false => format!(
+                        "leave one group out ({} groups, each refitted), and the fit file's predictions by the whole fit",
+                        cv.groups.len()
+                    ),
+                }
             )),
         );
         m.insert(

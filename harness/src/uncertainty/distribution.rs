@@ -81,6 +81,37 @@ impl InputDistribution {
         }
     }
 
+    /// The probability of a value at most `x` (the inverse of [`Self::quantile`]).
+    pub fn cdf(&self, x: f64) -> f64 {
+        match *self {
+            Self::Uniform { lower, upper } => ((x - lower) / (upper - lower)).clamp(0.0, 1.0),
+            Self::Triangular { lower, mode, upper } => {
+                let width = upper - lower;
+                if x <= lower {
+                    0.0
+                } else if x >= upper {
+                    1.0
+                } else if x <= mode {
+                    (x - lower).powi(2) / (width * (mode - lower))
+                } else {
+                    1.0 - (upper - x).powi(2) / (width * (upper - mode))
+                }
+            }
+            Self::Normal {
+                mean,
+                sigma,
+                lower,
+                upper,
+            } => {
+                let standard = Normal::standard();
+                let (a, b) = standardised(mean, sigma, lower, upper);
+                let (ca, cb) = (standard.cdf(a), standard.cdf(b));
+                let cx = standard.cdf(((x - mean) / sigma).clamp(a, b));
+                ((cx - ca) / (cb - ca)).clamp(0.0, 1.0)
+            }
+        }
+    }
+
     /// Its standard deviation (a truncated normal's is taken as its `sigma`, an upper bound).
     pub fn std_dev(&self) -> f64 {
         match *self {
@@ -154,7 +185,9 @@ pub struct Input {
 }
 
 /// A parameter a factor input moves ([`Input::moves`]): its value is `value` plus the sum
-/// of `per_unit` times each of its factors' values, reflected into `[lower, upper]`.
+/// of `per_unit` times each of its factors' values, reflected into `[lower, upper]`; or, where
+/// it is drawn at the factor's quantile (`quantile_of`: a method's shared error), that
+/// distribution's value at it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Moved {
     pub parameter: String,
@@ -162,6 +195,8 @@ pub struct Moved {
     pub per_unit: f64,
     pub lower: f64,
     pub upper: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quantile_of: Option<InputDistribution>,
 }
 
 impl Input {
@@ -205,12 +240,65 @@ impl Input {
                             per_unit: v[a] * sd,
                             lower: p.lower,
                             upper: p.upper,
+                            quantile_of: None,
                         })
                         .collect(),
                 }
             })
             .collect()
     }
+}
+
+/// The inputs that share an estimating method's error (their ranges' `shares`) as one input
+/// each: a uniform quantile, named `method <name>: <parameters>`, that draws every such
+/// parameter at the same quantile of its own distribution (perfectly rank-correlated: the
+/// method's error sampled once). A method only one input names leaves it as it is. The
+/// shared input's nominal is the quantile of the first parameter's nominal value.
+pub fn shared_by_method(inputs: Vec<Input>, shares: &dyn Fn(&str) -> Option<String>) -> Vec<Input> {
+    let mut methods: Vec<(String, Vec<Input>)> = Vec::new();
+    let mut out = Vec::new();
+    for i in inputs {
+        match shares(&i.name) {
+            Some(m) if i.moves.is_empty() => match methods.iter_mut().find(|(n, _)| *n == m) {
+                Some((_, v)) => v.push(i),
+                None => methods.push((m, vec![i])),
+            },
+            _ => out.push(i),
+        }
+    }
+    for (method, members) in methods {
+        if members.len() < 2 {
+            out.extend(members);
+            continue;
+        }
+        let names: Vec<&str> = members.iter().map(|m| m.name.as_str()).collect();
+        let nominal = members[0].distribution.cdf(members[0].nominal);
+        out.push(Input {
+            name: format!("method {method}: {}", names.join(", ")),
+            nominal,
+            distribution: InputDistribution::Uniform {
+                lower: 0.0,
+                upper: 1.0,
+            },
+            source: members
+                .iter()
+                .map(|m| format!("{}: {}", m.name, m.source))
+                .collect::<Vec<_>>()
+                .join("; "),
+            moves: members
+                .iter()
+                .map(|m| Moved {
+                    parameter: m.name.clone(),
+                    value: m.nominal,
+                    per_unit: 0.0,
+                    lower: f64::NEG_INFINITY,
+                    upper: f64::INFINITY,
+                    quantile_of: Some(m.distribution),
+                })
+                .collect(),
+        });
+    }
+    out
 }
 
 /// `x` reflected into `[lower, upper]` at whichever bound it left by (then held there, if it

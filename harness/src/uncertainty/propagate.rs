@@ -246,8 +246,15 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
     let Some(model) = crate::checks::model_of(&case.subject) else {
         return Ok(Vec::new());
     };
-    let mut declared: Vec<Input> = model
-        .parameters()?
+    let parameters = model.parameters()?;
+    let shares = |name: &str| {
+        parameters
+            .iter()
+            .find(|p| p.name == name)
+            .and_then(|p| p.range.as_ref()?.shares.clone())
+    };
+    let mut declared: Vec<Input> = parameters
+        .clone()
         .into_iter()
         .filter(|p| !p.correction)
         .filter_map(|p| {
@@ -263,12 +270,17 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
         .collect();
     declared.sort_by(|a, b| a.name.cmp(&b.name));
     // A calibration's fitted parameters are no longer priors: drawn from its fit's joint
-    // distribution, not from their ranges.
-    for c in &case.calibrations {
-        if let Some(p) = &c.posterior {
-            declared.retain(|i| !p.parameters.iter().any(|q| q.name == i.name));
-            declared.extend(Input::factors_of(&c.id, p));
-        }
+    // distribution, not from their ranges (nor with a method's shared error).
+    let posteriors: Vec<_> = (case.calibrations.iter())
+        .filter_map(|c| Some((c.id.as_str(), c.posterior.as_ref()?)))
+        .collect();
+    declared.retain(|i| {
+        !(posteriors.iter()).any(|(_, p)| p.parameters.iter().any(|q| q.name == i.name))
+    });
+    // Inputs estimated by one method share its error: drawn once.
+    let mut declared = super::distribution::shared_by_method(declared, &shares);
+    for (id, p) in posteriors {
+        declared.extend(Input::factors_of(id, p));
     }
     Ok(declared)
 }
@@ -304,7 +316,11 @@ pub(super) fn values_of(inputs: &[Input], values: &[f64]) -> Values {
         if i.moves.is_empty() {
             out.insert(i.name.clone(), *v);
         }
-        for m in &i.moves {
+        for m in i.moves.iter().filter(|m| m.quantile_of.is_some()) {
+            let d = m.quantile_of.expect("filtered");
+            out.insert(m.parameter.clone(), d.quantile(*v));
+        }
+        for m in i.moves.iter().filter(|m| m.quantile_of.is_none()) {
             match moved.iter_mut().find(|(n, _)| n.parameter == m.parameter) {
                 Some((_, x)) => *x += m.per_unit * v,
                 None => moved.push((m, m.value + m.per_unit * v)),

@@ -717,6 +717,7 @@ fn corrections_are_not_applied_to_a_regime_they_make_worse() {
     };
     let cv = CrossValidation {
         groups: vec![],
+        bands: true,
         fits: Default::default(),
         all: Errors::default(),
         regimes: [

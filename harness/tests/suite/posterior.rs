@@ -15,7 +15,7 @@ use std::sync::Arc;
 /// A model whose trim is linear in three declared parameters `a`, `b` and `c`, with
 /// sensitivities that change with airspeed: a known answer for a fit's covariance.
 #[derive(Debug)]
-struct Linear;
+pub(super) struct Linear;
 
 const NAMES: [&str; 3] = ["a", "b", "c"];
 
@@ -350,6 +350,216 @@ fn a_study_draws_a_calibrations_fitted_parameters_from_its_posterior() {
     .render();
     assert!(
         e.contains("posterior.covariance") && e.contains("positive definite"),
+        "{e}"
+    );
+}
+
+/// Cross-validation by bands (issue 51, item 5). The linear model is fitted at 30-100 mph to
+/// references that carry a discrepancy growing with airspeed, with predictions (rows never
+/// fitted) between and beyond the fitted airspeeds. Each of 4 bands holds its fitted rows and
+/// every prediction inside it. Its fit, redone on the rows outside it, predicts them all, and
+/// no prediction is left to the whole fit. A repeat run (a prediction at a fitted row's
+/// airspeed) is held out with that row. Each held-out error is the one an independent refit
+/// without the band gives.
+#[test]
+fn bands_hold_out_every_row_in_them_fitted_or_not() {
+    use cierva_harness::fit::file::{
+        BandCondition, Bands, CrossValidationSpec, FitFile, FitRun, Origin,
+    };
+    let mut rng = SplitMix(0x0051_0005);
+    let truth = [0.3, 0.6, 0.4];
+    let with_discrepancy = |speeds: &[f64], rng: &mut SplitMix| {
+        let mut p = problem(truth, speeds, 1.0, rng);
+        for t in &mut p.targets {
+            let TargetCondition::Flight(c, _) = t.condition else {
+                unreachable!()
+            };
+            t.reference += 0.05 * (c.airspeed_mph / 50.0 - 1.0).powi(3);
+        }
+        p
+    };
+    let fitted = [30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0, 100.0];
+    let problem = with_discrepancy(&fitted, &mut rng);
+    // Between fitted airspeeds, beyond them, and one repeat of 60 mph.
+    let predict = with_discrepancy(&[25.0, 47.0, 60.0, 75.0, 110.0], &mut rng).targets;
+    let origin = |t: &Target| Origin {
+        label: format!("linear/{} at {:?}", t.measure.name(), t.condition),
+        reason: "synthetic".into(),
+    };
+    let spec = CrossValidationSpec {
+        groups: vec![],
+        bands: Some(Bands {
+            by: BandCondition::AirspeedMph,
+            count: 4,
+        }),
+        regimes: vec![],
+    };
+    let bands = spec.bands.unwrap().of(&problem.targets, &predict).unwrap();
+    let speed = |t: &Target| match t.condition {
+        TargetCondition::Flight(c, _) => c.airspeed_mph,
+        TargetCondition::Tunnel(_) => unreachable!(),
+    };
+    let spans: Vec<Vec<f64>> = bands
+        .iter()
+        .map(|b| {
+            let mut v: Vec<f64> = b.predicted.iter().map(|&i| speed(&predict[i])).collect();
+            v.dedup();
+            v
+        })
+        .collect();
+    // Runs of two fitted airspeeds; edges halfway: 45, 65 and 85 mph.
+    assert_eq!(
+        spans,
+        vec![vec![25.0], vec![47.0, 60.0], vec![75.0], vec![110.0]]
+    );
+    assert_eq!(bands[1].name, "airspeed (mph) 47 to 60");
+    let f = FitFile {
+        path: "linear.yaml".into(),
+        id: "linear".into(),
+        title: "a linear model".into(),
+        provenance: cierva_harness::inputs::reference::Provenance {
+            source: "synthetic: tests/suite/posterior.rs, SplitMix 0x0051_0005".into(),
+            notes: None,
+        },
+        applies_to: cierva_harness::inputs::corrections::Corrects::Model("linear".into()),
+        origins: problem.targets.iter().map(origin).collect(),
+        predict_origins: predict.iter().map(origin).collect(),
+        predict: predict.clone(),
+        problem: problem.clone(),
+        cross_validation: Some(spec),
+        starts: 1,
+        physics_overrides: vec![],
+    };
+    let result = fit::fit(&problem);
+    let start = [0.5; 3];
+    let run = FitRun {
+        predict_before: fit::values_or_nan(&f.prediction_problem(), &start),
+        predict_after: fit::values_or_nan(&f.prediction_problem(), &result.values),
+        result,
+        seconds: 0.0,
+        modes: vec![],
+        starts: None,
+        birge: None,
+    };
+    let cv = cierva_harness::uncertainty::calibration::cross_validate(&f, &run, |_| {})
+        .unwrap()
+        .unwrap();
+    assert!(cv.bands);
+    assert_eq!(cv.held_out.len(), problem.targets.len() + predict.len());
+    assert!(cv.held_out.iter().all(|h| h.group != "predicted"));
+    // The repeat of 60 mph is held out with the band that holds 60 mph.
+    let repeat = cv
+        .held_out
+        .iter()
+        .find(|h| h.label.contains("airspeed_mph: 60.0") && h.label.contains("pitch"))
+        .unwrap();
+    assert_eq!(repeat.group, bands[1].name);
+    // Each held-out error is an independent refit's without the band.
+    for b in &bands {
+        let mut rest = problem.clone();
+        rest.targets = (problem.targets.iter().enumerate())
+            .filter(|(i, _)| !b.fitted.contains(i))
+            .map(|(_, t)| t.clone())
+            .collect();
+        let r = fit::fit(&rest);
+        for &i in &b.predicted {
+            let mut one = problem.clone();
+            one.targets = vec![predict[i].clone()];
+            let y = fit::evaluate(&one, &r.values).unwrap()[0];
+            let e = (y - predict[i].reference) / predict[i].reference;
+            let h = cv
+                .held_out
+                .iter()
+                .filter(|h| h.group == b.name && h.label == origin(&predict[i]).label)
+                .map(|h| h.relative_error)
+                .collect::<Vec<_>>();
+            assert!(h.iter().any(|x| (x - e).abs() < 1e-12), "{h:?} against {e}");
+        }
+    }
+    // Too many bands for the fitted values is a located error; so is a file with both.
+    let too_many = Bands {
+        by: BandCondition::AirspeedMph,
+        count: 9,
+    };
+    let e = too_many.of(&problem.targets, &predict).unwrap_err();
+    assert!(e.contains("9 bands") && e.contains("8 distinct"), "{e}");
+}
+
+/// Inputs estimated by one method share its error (issue 51, item 2): the ranges that name a
+/// method (`shares:`) become one uniform input that sets each at the same quantile of its own
+/// distribution, and a method only one range names is refused at its field.
+#[test]
+fn inputs_of_one_method_are_drawn_at_one_quantile() {
+    use cierva_harness::uncertainty::distribution::{Input, InputDistribution, shared_by_method};
+    let input = |name: &str, distribution: InputDistribution, nominal: f64| Input {
+        name: name.into(),
+        nominal,
+        distribution,
+        source: "a test".into(),
+        moves: vec![],
+    };
+    let fin = InputDistribution::Uniform {
+        lower: 1.7,
+        upper: 2.48,
+    };
+    let tail = InputDistribution::Triangular {
+        lower: 3.02,
+        mode: 3.36,
+        upper: 3.7,
+    };
+    let other = InputDistribution::Uniform {
+        lower: 0.0,
+        upper: 1.0,
+    };
+    let shares = |name: &str| (name != "other").then(|| "helmbold-slope".to_string());
+    let out = shared_by_method(
+        vec![
+            input("fin", fin, 2.09),
+            input("other", other, 0.5),
+            input("tail", tail, 3.36),
+        ],
+        &shares,
+    );
+    assert_eq!(out.len(), 2, "{out:?}");
+    let method = out.iter().find(|i| !i.moves.is_empty()).unwrap();
+    assert_eq!(method.name, "method helmbold-slope: fin, tail");
+    assert!(
+        (method.nominal - 0.5).abs() < 1e-12,
+        "the fin's value is its range's middle"
+    );
+    for u in [0.0, 0.1, 0.5, 0.93, 1.0] {
+        let at: Vec<f64> = (method.moves.iter())
+            .map(|m| m.quantile_of.unwrap().quantile(u))
+            .collect();
+        assert_eq!(at, vec![fin.quantile(u), tail.quantile(u)]);
+    }
+    // cdf is quantile's inverse.
+    for d in [fin, tail] {
+        for u in [0.05, 0.3, 0.7, 0.99] {
+            assert!((d.cdf(d.quantile(u)) - u).abs() < 1e-12);
+        }
+    }
+    // A method one range names is refused, at its field.
+    let root = super::common::repo_root();
+    let text = std::fs::read_to_string(root.join("aircraft/vpm-m16.yaml")).unwrap();
+    let once = text.replacen("shares: wake-dynamic-pressure, ", "", 1);
+    assert_ne!(once, text);
+    let dir = std::env::temp_dir().join(format!("cierva-shares-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The files it refers to, beside it.
+    for entry in std::fs::read_dir(root.join("aircraft")).unwrap() {
+        let from = entry.unwrap().path();
+        if from.is_file() {
+            std::fs::copy(&from, dir.join(from.file_name().unwrap())).unwrap();
+        }
+    }
+    let path = dir.join("vpm-m16.yaml");
+    std::fs::write(&path, once).unwrap();
+    let e = cierva_harness::inputs::aircraft::load(&path)
+        .unwrap_err()
+        .render();
+    assert!(
+        e.contains("shares") && e.contains("wake-dynamic-pressure") && e.contains("no other range"),
         "{e}"
     );
 }
