@@ -292,7 +292,7 @@ impl Bands {
         xs.dedup();
         if self.count < 2 || xs.len() < self.count {
             return Err(format!(
-                "{} bands of {} over {} distinct fitted values: give at least 2, and at most one a value",
+                "{} bands of {} over {} distinct fitted values: give at least 2 bands, and at most one per distinct value",
                 self.count,
                 self.by.words(),
                 xs.len()
@@ -329,7 +329,10 @@ impl Bands {
             let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
                 (lo.min(x), hi.max(x))
             });
-            b.name = format!("{} {} to {}", self.by.words(), round3(lo), round3(hi));
+            b.name = match round3(lo) == round3(hi) {
+                true => format!("{} {}", self.by.words(), round3(lo)),
+                false => format!("{} {} to {}", self.by.words(), round3(lo), round3(hi)),
+            };
         }
         Ok(bands)
     }

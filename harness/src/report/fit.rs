@@ -242,19 +242,30 @@ pub fn figure(f: &FitFile, run: &FitRun) -> crate::report::plot::Figure {
 /// RMS relative error against the uncorrected model's on the same targets, the discrepancy
 /// term, and which regimes the calibration makes worse.
 pub fn cross_validation_markdown(cv: &crate::uncertainty::calibration::CrossValidation) -> String {
+    let fits = cv
+        .fits
+        .iter()
+        .map(|(g, s)| format!("{g}: {s}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let how = match cv.bands {
+        true => format!(
+            "Each of {} contiguous bands left out with every row in it, fitted or not, and the \
+             fit redone on the fitted rows outside it ({fits}), which predicts the band",
+            cv.groups.len()
+        ),
+        false => format!(
+            "Each of {} groups of the fitted targets left out and the fit redone on the rest \
+             ({fits}), plus the fit file's predictions by the whole fit",
+            cv.groups.len()
+        ),
+    };
     let mut m = format!(
-        "\n## Predictive error (cross-validation)\n\nEach of {} groups of the fitted targets left \
-         out and the fit redone on the rest ({}), plus the fit file's predictions by the whole \
-         fit: data the calibration did not see. Relative errors, RMS over the targets both \
-         models solved; the discrepancy term is the spread beyond the data's scatter.\n\n\
+        "\n## Predictive error (cross-validation)\n\n{how}: data the calibration did not see. \
+         Relative errors, RMS over the targets both models solved; the discrepancy term is the \
+         spread beyond the data's scatter.\n\n\
          | regime | quantity | targets | held-out RMS | uncorrected RMS | discrepancy sd | \
-         unsolved (uncorrected) | verdict |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | --- |\n",
-        cv.groups.len(),
-        cv.fits
-            .iter()
-            .map(|(g, s)| format!("{g}: {s}"))
-            .collect::<Vec<_>>()
-            .join(", ")
+         unsolved (uncorrected) | verdict |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | --- |\n"
     );
     let rows =
         std::iter::once(("all", &cv.all)).chain(cv.regimes.iter().map(|(k, v)| (k.as_str(), v)));
