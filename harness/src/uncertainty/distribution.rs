@@ -72,11 +72,9 @@ impl InputDistribution {
                 lower,
                 upper,
             } => {
-                let standard = Normal::standard();
-                let (a, b) = standardised(mean, sigma, lower, upper);
-                let (a, b) = (standard.cdf(a), standard.cdf(b));
+                let (a, b) = truncation(mean, sigma, lower, upper);
                 let p = (a + u * (b - a)).clamp(UNIT_MARGIN, 1.0 - UNIT_MARGIN);
-                (mean + sigma * standard.inverse_cdf(p)).clamp(lower, upper)
+                (mean + sigma * Normal::standard().inverse_cdf(p)).clamp(lower, upper)
             }
         }
     }
@@ -103,10 +101,10 @@ impl InputDistribution {
                 lower,
                 upper,
             } => {
-                let standard = Normal::standard();
-                let (a, b) = standardised(mean, sigma, lower, upper);
-                let (ca, cb) = (standard.cdf(a), standard.cdf(b));
-                let cx = standard.cdf(((x - mean) / sigma).clamp(a, b));
+                let (ca, cb) = truncation(mean, sigma, lower, upper);
+                let cx = Normal::standard().cdf(
+                    ((x - mean) / sigma).clamp((lower - mean) / sigma, (upper - mean) / sigma),
+                );
                 ((cx - ca) / (cb - ca)).clamp(0.0, 1.0)
             }
         }
@@ -312,6 +310,13 @@ pub fn reflected(x: f64, lower: f64, upper: f64) -> f64 {
         x
     };
     r.clamp(lower, upper)
+}
+
+/// A truncated normal's bounds as cumulative probabilities of the untruncated one.
+fn truncation(mean: f64, sigma: f64, lower: f64, upper: f64) -> (f64, f64) {
+    let standard = Normal::standard();
+    let (a, b) = standardised(mean, sigma, lower, upper);
+    (standard.cdf(a), standard.cdf(b))
 }
 
 /// A truncated normal's bounds in standard deviations from its mean.
