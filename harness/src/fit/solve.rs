@@ -198,11 +198,11 @@ fn information(problem: &Problem, jt: &[Vec<f64>]) -> nalgebra::DMatrix<f64> {
     m
 }
 
-/// Standard errors from `(J' J)^-1` of the scaled residual Jacobian (targets only).
-fn standard_errors(problem: &Problem, jt: &[Vec<f64>]) -> (Vec<f64>, Vec<String>) {
+/// Standard errors from `(J' J)^-1` of the scaled residual Jacobian (targets only), given as
+/// the targets' information `m` ([`information`]).
+fn standard_errors(problem: &Problem, m: &nalgebra::DMatrix<f64>) -> (Vec<f64>, Vec<String>) {
     let n = problem.parameters.len();
     let mut warnings = Vec::new();
-    let m = information(problem, jt);
     let mut se = vec![f64::INFINITY; n];
     // Blind: moving the parameter across its whole range moves the targets by less than a
     // millionth of their standard errors.
@@ -332,12 +332,12 @@ pub fn posterior(
     if !info.iter().all(|v| v.is_finite()) {
         return None;
     }
-    // Each identified parameter's curvature standard error, against its stated one.
-    let curvature = info.clone().try_inverse();
+    // Each identified parameter's curvature standard error (as the fit found its own, the
+    // parameters the targets do not see left out), against its stated one.
+    let (curvature, _) = standard_errors(problem, &info);
     let scale: Vec<f64> = (0..n)
         .map(|i| {
-            let stated = result.standard_errors[i];
-            let own = curvature.as_ref().map_or(f64::NAN, |c| c[(i, i)].sqrt());
+            let (stated, own) = (result.standard_errors[i], curvature[i]);
             if stated.is_finite() && own.is_finite() && own > 0.0 {
                 stated / own
             } else {
@@ -615,17 +615,13 @@ pub fn fit(problem: &Problem) -> FitResult {
     {
         at.jt = j;
     }
-    let (se, mut warnings) = if at.jt.is_empty() {
-        (vec![f64::INFINITY; at.p.len()], vec![])
+    let (se, mut warnings, information) = if at.jt.is_empty() {
+        (vec![f64::INFINITY; at.p.len()], vec![], Vec::new())
     } else {
-        standard_errors(problem, &at.jt)
-    };
-    let information = match at.jt.is_empty() {
-        true => Vec::new(),
-        false => {
-            let m = information(problem, &at.jt);
-            m.row_iter().map(|r| r.iter().copied().collect()).collect()
-        }
+        let m = information(problem, &at.jt);
+        let (se, warnings) = standard_errors(problem, &m);
+        let rows = m.row_iter().map(|r| r.iter().copied().collect()).collect();
+        (se, warnings, rows)
     };
     if !matches!(status, Status::ModelFailure(_) | Status::BadProblem(_))
         && let Some(s) = hard_bounds_left_violated(problem, &at.y)

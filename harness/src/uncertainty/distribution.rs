@@ -182,19 +182,27 @@ pub struct Input {
     pub moves: Vec<Moved>,
 }
 
-/// A parameter a factor input moves ([`Input::moves`]): its value is `value` plus the sum
-/// of `per_unit` times each of its factors' values, reflected into `[lower, upper]`; or, where
-/// it is drawn at the factor's quantile (`quantile_of`: a method's shared error), that
-/// distribution's value at it.
+/// A parameter a factor input moves ([`Input::moves`]), and how.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Moved {
     pub parameter: String,
-    pub value: f64,
-    pub per_unit: f64,
-    pub lower: f64,
-    pub upper: f64,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub quantile_of: Option<InputDistribution>,
+    pub by: Move,
+}
+
+/// How a factor input moves a parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Move {
+    /// Linearly, with the other factors that move it (a fit's posterior): `value` plus the
+    /// sum of `per_unit` times each factor's value, reflected into `[lower, upper]`.
+    Linear {
+        value: f64,
+        per_unit: f64,
+        lower: f64,
+        upper: f64,
+    },
+    /// To the factor's quantile of its own distribution (a method's shared error).
+    AtQuantile(InputDistribution),
 }
 
 impl Input {
@@ -234,11 +242,12 @@ impl Input {
                         .enumerate()
                         .map(|(a, p)| Moved {
                             parameter: p.name.clone(),
-                            value: p.value,
-                            per_unit: v[a] * sd,
-                            lower: p.lower,
-                            upper: p.upper,
-                            quantile_of: None,
+                            by: Move::Linear {
+                                value: p.value,
+                                per_unit: v[a] * sd,
+                                lower: p.lower,
+                                upper: p.upper,
+                            },
                         })
                         .collect(),
                 }
@@ -287,11 +296,7 @@ pub fn shared_by_method(inputs: Vec<Input>, shares: &dyn Fn(&str) -> Option<Stri
                 .iter()
                 .map(|m| Moved {
                     parameter: m.name.clone(),
-                    value: m.nominal,
-                    per_unit: 0.0,
-                    lower: f64::NEG_INFINITY,
-                    upper: f64::INFINITY,
-                    quantile_of: Some(m.distribution),
+                    by: Move::AtQuantile(m.distribution),
                 })
                 .collect(),
         });

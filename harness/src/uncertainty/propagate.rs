@@ -247,14 +247,11 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
         return Ok(Vec::new());
     };
     let parameters = model.parameters()?;
-    let shares = |name: &str| {
-        parameters
-            .iter()
-            .find(|p| p.name == name)
-            .and_then(|p| p.range.as_ref()?.shares.clone())
-    };
+    let methods: std::collections::BTreeMap<String, String> = (parameters.iter())
+        .filter_map(|p| Some((p.name.clone(), p.range.as_ref()?.shares.clone()?)))
+        .collect();
+    let shares = |name: &str| methods.get(name).cloned();
     let mut declared: Vec<Input> = parameters
-        .clone()
         .into_iter()
         .filter(|p| !p.correction)
         .filter_map(|p| {
@@ -306,32 +303,38 @@ pub(super) fn with_values(
     Ok(c)
 }
 
-/// `values` (in the order of `inputs`) as a point's parameters.
-/// A factor input ([`Input::moves`]) adds to each parameter it moves, each such parameter
-/// reflected into its bounds once every factor is added.
+/// `values` (in the order of `inputs`) as a point's parameters. A factor input
+/// ([`Input::moves`]) sets each parameter it moves at its quantile, or adds to it linearly
+/// with the other factors that move it, each such parameter reflected into its bounds once
+/// every factor is added.
 pub(super) fn values_of(inputs: &[Input], values: &[f64]) -> Values {
+    use super::distribution::{Move, reflected};
     let mut out = Values::new();
-    let mut moved: Vec<(&super::distribution::Moved, f64)> = Vec::new();
+    // Linearly moved parameters: (name, value so far, bounds).
+    let mut linear: Vec<(&str, f64, f64, f64)> = Vec::new();
     for (i, v) in inputs.iter().zip(values) {
         if i.moves.is_empty() {
             out.insert(i.name.clone(), *v);
         }
-        for m in i.moves.iter().filter(|m| m.quantile_of.is_some()) {
-            let d = m.quantile_of.expect("filtered");
-            out.insert(m.parameter.clone(), d.quantile(*v));
-        }
-        for m in i.moves.iter().filter(|m| m.quantile_of.is_none()) {
-            match moved.iter_mut().find(|(n, _)| n.parameter == m.parameter) {
-                Some((_, x)) => *x += m.per_unit * v,
-                None => moved.push((m, m.value + m.per_unit * v)),
+        for m in &i.moves {
+            match m.by {
+                Move::AtQuantile(d) => {
+                    out.insert(m.parameter.clone(), d.quantile(*v));
+                }
+                Move::Linear {
+                    value,
+                    per_unit,
+                    lower,
+                    upper,
+                } => match linear.iter_mut().find(|(n, ..)| *n == m.parameter) {
+                    Some((_, x, ..)) => *x += per_unit * v,
+                    None => linear.push((&m.parameter, value + per_unit * v, lower, upper)),
+                },
             }
         }
     }
-    for (m, x) in moved {
-        out.insert(
-            m.parameter.clone(),
-            super::distribution::reflected(x, m.lower, m.upper),
-        );
+    for (name, x, lower, upper) in linear {
+        out.insert(name.to_string(), reflected(x, lower, upper));
     }
     out
 }

@@ -118,6 +118,14 @@ fn distance(
     (m, within)
 }
 
+/// A linear factor's move per unit of the factor.
+fn per_unit(m: &cierva_harness::uncertainty::distribution::Moved) -> f64 {
+    match m.by {
+        cierva_harness::uncertainty::distribution::Move::Linear { per_unit, .. } => per_unit,
+        other => panic!("{other:?} is not a linear move"),
+    }
+}
+
 /// Trials per scenario: a 95 % rate over 200 has a binomial standard deviation of 1.5 %.
 const TRIALS: u64 = 200;
 
@@ -269,7 +277,7 @@ fn a_posteriors_factors_give_back_its_covariance() {
         for (b, c) in row.iter().enumerate() {
             let sum: f64 = factors
                 .iter()
-                .map(|f| f.moves[a].per_unit * f.moves[b].per_unit)
+                .map(|f| per_unit(&f.moves[a]) * per_unit(&f.moves[b]))
                 .sum();
             assert!((sum - c).abs() < 1e-12, "{a} {b}: {sum}");
         }
@@ -325,7 +333,10 @@ fn a_study_draws_a_calibrations_fitted_parameters_from_its_posterior() {
         .iter()
         .find(|i| i.name == "fitted: factor 1 (mostly corrections.pitch_offset_deg)")
         .unwrap_or_else(|| panic!("{inputs:?}"));
-    assert!((factor.moves[0].per_unit - 0.3).abs() < 1e-12, "{factor:?}");
+    assert!(
+        (per_unit(&factor.moves[0]) - 0.3).abs() < 1e-12,
+        "{factor:?}"
+    );
     assert_eq!(inputs.len(), plain_inputs.len() + 1);
     let by = |r: &[propagate::QuantityUncertainty], q: &str| {
         r.iter().find(|x| x.quantity == q).unwrap().clone()
@@ -529,7 +540,10 @@ fn inputs_of_one_method_are_drawn_at_one_quantile() {
     );
     for u in [0.0, 0.1, 0.5, 0.93, 1.0] {
         let at: Vec<f64> = (method.moves.iter())
-            .map(|m| m.quantile_of.unwrap().quantile(u))
+            .map(|m| match m.by {
+                cierva_harness::uncertainty::distribution::Move::AtQuantile(d) => d.quantile(u),
+                other => panic!("{other:?} is not a quantile move"),
+            })
             .collect();
         assert_eq!(at, vec![fin.quantile(u), tail.quantile(u)]);
     }
