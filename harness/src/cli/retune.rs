@@ -150,6 +150,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         Format::Json => print_json(&serde_json::json!({
             "corrections": r.values_by_name(),
             "standard_errors": r.standard_errors_by_name(),
+            "intervals_95": r.intervals_by_name(),
             "status": r.result.status.name(),
             "status_detail": r.result.status.detail(),
             "curvature_standard_errors": r
@@ -329,19 +330,32 @@ fn print_text(
         count(r.conditions.len(), "condition", "conditions"),
         r.result.status.described()
     );
-    for ((k, v), se) in r
+    let sig = cierva_harness::units::sig;
+    for (((k, v), se), i) in r
         .result
         .parameters
         .iter()
         .zip(&r.result.values)
         .zip(&r.result.standard_errors)
+        .zip(r.intervals())
     {
+        let interval = i.map_or("no interval".to_string(), |i| {
+            format!(
+                "95 %: [{}, {}]{}",
+                sig(i.lower, 4),
+                sig(i.upper, 4),
+                if i.one_sided {
+                    ", one-sided: on its bound"
+                } else {
+                    ""
+                }
+            )
+        });
         println!(
-            "  {:<28} {:>12} +- {} (95 %: +- {})",
+            "  {:<28} {:>12} +- {} ({interval})",
             k.name(),
-            cierva_harness::units::sig(*v, 5),
-            cierva_harness::units::sig(*se, 3),
-            cierva_harness::units::sig(1.96 * se, 3)
+            sig(*v, 5),
+            sig(*se, 3),
         );
     }
     println!(

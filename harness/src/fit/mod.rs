@@ -37,7 +37,8 @@ pub mod starts;
 mod targets;
 
 pub use solve::{
-    Birge, FitOptions, FitResult, POSTERIOR_METHOD, Problem, Status, fit, posterior, scale_by_birge,
+    Birge, FitOptions, FitResult, INTERVAL_Z, Interval, POSTERIOR_METHOD, Problem, Status, fit,
+    interval, posterior, scale_by_birge,
 };
 pub use targets::{
     Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,

@@ -19,6 +19,16 @@ pub struct FitOptions {
     pub difference_step: f64,
     /// Initial trust region as a fraction of each parameter's range.
     pub trust_region: f64,
+    /// Converged also when, on a finite-difference Jacobian, the step to the linearisation's
+    /// minimum (within the parameters' bounds, whatever the trust region) is predicted to lower
+    /// the cost by at most this much: MINUIT's estimated distance to the minimum, EDM (James
+    /// 1994). Only for a cost in chi-square units (every target weighted by its standard
+    /// error), where a fall of `d` puts the minimum `sqrt(d)` standard errors away along the
+    /// worst direction; `None` for a cost in other units. It ends a fit whose model evaluations
+    /// carry numerical noise (a trim, a harmonic balance) that keeps every step above
+    /// [`FitOptions::tolerance`] without lowering the cost. A step that lowers the cost by at
+    /// most this much also counts as small, even where the trust region held it back.
+    pub distance_to_minimum: Option<f64>,
     /// Update the Jacobian by Broyden's rank-one formula between finite-difference refreshes
     /// (`true`), or difference it afresh every iteration (`false`). Convergence is judged,
     /// and standard errors computed, on a fresh one either way.
@@ -32,6 +42,7 @@ impl Default for FitOptions {
             tolerance: 1e-6,
             difference_step: 1e-3,
             trust_region: 0.5,
+            distance_to_minimum: None,
             broyden: true,
         }
     }
@@ -448,6 +459,16 @@ fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> T
     let mut reopened = false;
     let (mut evaluated, mut lost) = (0usize, 0usize);
     let mut failed = None;
+    if at.fresh && near_minimum(problem, at, initial_radius) {
+        return Trials {
+            accepted,
+            small: true,
+            stale,
+            evaluated,
+            lost,
+            failed,
+        };
+    }
     for _ in 0..8 {
         let d = match qp_step(problem, &at.p, &at.y, &at.r, &at.jt, &at.radius) {
             Ok(d) => d,
@@ -502,8 +523,15 @@ fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> T
                     at.fresh = false;
                     (at.p, at.y, at.r, at.c) = (trial, yt, rt, ct);
                     accepted = true;
-                    // (A small drop from a step the region held back is not convergence.)
-                    if drop <= problem.options.tolerance && !at_edge {
+                    // (A small drop from a step the region held back is not convergence, unless
+                    // the cost is a chi-square and the drop below its distance to the minimum:
+                    // then the region was shrunk by steps the model's noise defeated, and what
+                    // is left to gain is below the noise.)
+                    let below_noise = problem
+                        .options
+                        .distance_to_minimum
+                        .is_some_and(|edm| c - ct <= edm);
+                    if (drop <= problem.options.tolerance && !at_edge) || below_noise {
                         small = true;
                     }
                     break;
@@ -529,6 +557,18 @@ fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> T
         lost,
         failed,
     }
+}
+
+/// Whether the linearisation's minimum within the bounds (the trust region opened to its
+/// initial size) is predicted to lower the cost by at most [`FitOptions::distance_to_minimum`].
+fn near_minimum(problem: &Problem, at: &Iterate, initial_radius: &[f64]) -> bool {
+    let Some(edm) = problem.options.distance_to_minimum else {
+        return false;
+    };
+    qp_step(problem, &at.p, &at.y, &at.r, &at.jt, initial_radius).is_ok_and(|d| {
+        let fall = at.c - predicted_cost(problem, at, &d);
+        fall <= edm
+    })
 }
 
 /// The cost the linearisation predicts for the step `d` (unclamped).
@@ -645,6 +685,53 @@ pub fn fit(problem: &Problem) -> FitResult {
     }
 }
 
+/// The normal quantile of a two-sided 95 % interval.
+pub const INTERVAL_Z: f64 = 1.96;
+
+/// A fitted parameter's 95 % interval within its bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Interval {
+    pub lower: f64,
+    pub upper: f64,
+    /// The estimate ends on a bound, so the interval reaches from that bound into the range
+    /// only.
+    pub one_sided: bool,
+}
+
+/// The 95 % interval of an estimate `value` with standard error `se` fitted within
+/// `[lower, upper]`: `value -+ 1.96 se` cut at the bounds, one-sided where the estimate ends on
+/// a bound (within the fit's step tolerance `tolerance`, a fraction of the range: a fit stops
+/// that close to a bound it is pressing on). None where the standard error is not finite.
+///
+/// An estimate on a bound is the free estimate held there: the free one lies beyond it. With
+/// the estimate on its upper bound `b`, `[b - 1.96 se, b]` misses a truth inside the bounds only
+/// where the truth is below `b - 1.96 se`, and then the free estimate's error exceeds `1.96 se`
+/// upwards (probability 2.5 %); so the interval holds a truth within the bounds at least as
+/// often as the free interval does, 95 %, whether the estimate is free or bound. The free
+/// estimate's standard error is the curvature's at the bound.
+pub fn interval(
+    value: f64,
+    se: f64,
+    (lower, upper): (f64, f64),
+    tolerance: f64,
+) -> Option<Interval> {
+    if !(se.is_finite() && value.is_finite()) {
+        return None;
+    }
+    Some(Interval {
+        lower: (value - INTERVAL_Z * se).max(lower),
+        upper: (value + INTERVAL_Z * se).min(upper),
+        one_sided: on_bound(value, (lower, upper), tolerance),
+    })
+}
+
+/// Whether `v` ends on one of the bounds `[lower, upper]`, within `tolerance` of the range (and
+/// at least 1e-9 of it).
+fn on_bound(v: f64, (lower, upper): (f64, f64), tolerance: f64) -> bool {
+    let tol = tolerance.max(1e-9) * (upper - lower);
+    (v - lower).abs() <= tol || (v - upper).abs() <= tol
+}
+
 /// A hard bound left violated at the end: the bounds contradict each other or the model cannot
 /// reach them, and the fit is infeasible.
 fn hard_bounds_left_violated(problem: &Problem, y: &[f64]) -> Option<Status> {
@@ -686,11 +773,10 @@ fn end_warnings(problem: &Problem, p: &[f64], stalled: Option<usize>, warnings: 
         ));
     }
     for (q, v) in problem.parameters.iter().zip(p) {
-        if (v - q.lower).abs() <= 1e-9 * (q.upper - q.lower)
-            || (v - q.upper).abs() <= 1e-9 * (q.upper - q.lower)
-        {
+        if on_bound(*v, (q.lower, q.upper), problem.options.tolerance) {
             warnings.push(format!(
-                "parameter `{}` ends on a bound ({v}): its standard error assumes it is free",
+                "parameter `{}` ends on a bound ({v}): its standard error is the free estimate's \
+                 there, and its 95 % interval is one-sided, from the bound into the range",
                 q.kind.name()
             ));
         }

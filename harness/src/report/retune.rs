@@ -49,9 +49,9 @@ pub fn markdown(
     );
     let _ = writeln!(
         s,
-        "\n## Fitted\n\nStandard errors: the larger of the cost's curvature, `(J'J)^-1`, and a cluster-robust sandwich around it (the residuals grouped by frequency; Liang and Zeger 1986). The coverage test checks them against known answers (docs/validation.md, \"Retuning the corrections\").\n\n| parameter | value | standard error | from the curvature alone | bounds | the bounds' source |\n| --- | --- | --- | --- | --- | --- |"
+        "\n## Fitted\n\nStandard errors: the larger of the cost's curvature, `(J'J)^-1`, and a cluster-robust sandwich around it (the residuals grouped by frequency; Liang and Zeger 1986). The coverage test checks them against known answers (docs/validation.md, \"Retuning the corrections\").\n\n| parameter | value | standard error | from the curvature alone | 95 % interval | bounds | the bounds' source |\n| --- | --- | --- | --- | --- | --- | --- |"
     );
-    for ((((p, v), se), curvature), source) in r
+    for (((((p, v), se), curvature), source), i) in r
         .problem
         .parameters
         .iter()
@@ -59,10 +59,23 @@ pub fn markdown(
         .zip(&r.result.standard_errors)
         .zip(&r.curvature_standard_errors)
         .zip(&r.bounds_sources)
+        .zip(r.intervals())
     {
+        let interval = i.map_or("none".to_string(), |i| {
+            format!(
+                "[{}, {}]{}",
+                g(i.lower, 4),
+                g(i.upper, 4),
+                if i.one_sided {
+                    " one-sided (on its bound)"
+                } else {
+                    ""
+                }
+            )
+        });
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | [{}, {}] | {source} |",
+            "| {} | {} | {} | {} | {interval} | [{}, {}] | {source} |",
             p.kind.name(),
             g(*v, 5),
             g(*se, 3),

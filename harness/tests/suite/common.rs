@@ -128,11 +128,12 @@ pub fn hidden_corrections(
     secret
 }
 
-/// `cierva synth-flight` of the VPM M16 flying a longitudinal stick sweep with `corrections`
+/// `cierva synth-flight` of the VPM M16 flying a sweep of `control` with `corrections`
 /// (`--airspeed-mph`, `--amplitude-percent`, `--turbulence-m-s` and `--seed` as written),
 /// written to `output`: the exit code, stdout and stderr.
-pub fn synth_stick_sweep(
+pub fn synth_sweep(
     output: &Path,
+    control: &str,
     airspeed_mph: &str,
     amplitude_percent: &str,
     turbulence_m_s: &str,
@@ -147,7 +148,7 @@ pub fn synth_stick_sweep(
         "--manoeuvre",
         "sweep",
         "--control",
-        "eta_s",
+        control,
         "--amplitude-percent",
         amplitude_percent,
         "--turbulence-m-s",
@@ -159,6 +160,28 @@ pub fn synth_stick_sweep(
         "--output",
         output.to_str().unwrap(),
     ])
+}
+
+/// `cierva synth-flight` of the VPM M16 flying a longitudinal stick sweep with `corrections`
+/// (`--airspeed-mph`, `--amplitude-percent`, `--turbulence-m-s` and `--seed` as written),
+/// written to `output`: the exit code, stdout and stderr.
+pub fn synth_stick_sweep(
+    output: &Path,
+    airspeed_mph: &str,
+    amplitude_percent: &str,
+    turbulence_m_s: &str,
+    seed: &str,
+    corrections: &Path,
+) -> (i32, String, String) {
+    synth_sweep(
+        output,
+        "eta_s",
+        airspeed_mph,
+        amplitude_percent,
+        turbulence_m_s,
+        seed,
+        corrections,
+    )
 }
 
 /// The README example's record, written into `dir`: the VPM M16 flying a 60 mph stick sweep
@@ -185,11 +208,28 @@ pub fn readme_record(dir: &Path) -> std::path::PathBuf {
 /// `retuned.yaml` and `retuned.md` into `dir`, without revalidating, as JSON: the exit code,
 /// stdout and stderr.
 pub fn retune_hub_and_drag(dir: &Path, records: &[&Path], extra: &[&str]) -> (i32, String, String) {
+    retune_corrections(
+        dir,
+        records,
+        &["hub_aoa_factor", "profile_drag_scale"],
+        extra,
+    )
+}
+
+/// `cierva retune` of the uncorrected VPM M16 from `records` for the corrections `fit`, as
+/// [`retune_hub_and_drag`] does for its pair.
+pub fn retune_corrections(
+    dir: &Path,
+    records: &[&Path],
+    fit: &[&str],
+    extra: &[&str],
+) -> (i32, String, String) {
     let (output, report) = (dir.join("retuned.yaml"), dir.join("retuned.md"));
     let paths: Vec<&str> = records.iter().map(|p| p.to_str().unwrap()).collect();
     let mut args = vec!["retune", "aircraft/vpm-m16.yaml", "--records"];
     args.extend(paths);
-    args.extend(["--fit", "hub_aoa_factor", "profile_drag_scale"]);
+    args.push("--fit");
+    args.extend(fit);
     args.extend(extra);
     args.extend([
         "--no-validate",

@@ -577,3 +577,107 @@ fn inputs_of_one_method_are_drawn_at_one_quantile() {
         "{e}"
     );
 }
+
+/// [`Linear`] with numerical noise: each quantity carries a deterministic ripple of amplitude
+/// `RIPPLE` of the stated standard error and a period of a thousandth of a parameter's range,
+/// as a trim's or a harmonic balance's tolerance leaves in a model's outputs.
+#[derive(Debug)]
+struct Rippled;
+
+/// The ripple's amplitude, in stated standard errors.
+const RIPPLE: f64 = 0.05;
+
+impl FlightModel for Rippled {
+    fn describe(&self) -> String {
+        "a model linear in a, b and c, with numerical noise".into()
+    }
+    fn parameters(&self) -> Result<Vec<Parameter>, String> {
+        Linear.parameters()
+    }
+    fn trim(&self, request: &Request) -> Result<Quantities, String> {
+        let p = |n: &str| request.parameters.get(n).copied().unwrap_or(0.5);
+        let phase = 2.0 * std::f64::consts::PI * 1000.0 * (p("a") + 1.3 * p("b") + 1.7 * p("c"));
+        let out = Linear.trim(request)?;
+        Ok(out
+            .into_iter()
+            .enumerate()
+            .map(|(k, (n, v))| (n, v + RIPPLE * STATED_SE * (phase + k as f64).sin()))
+            .collect())
+    }
+}
+
+/// A fit whose model's outputs carry numerical noise ([`Rippled`]) never takes steps below its
+/// relative tolerance once it is within the noise of the minimum; MINUIT's estimated distance
+/// to the minimum (`FitOptions::distance_to_minimum`, as `cierva retune` uses it) ends it there.
+/// With the rule every fit converges, within a tenth of a standard error of the noise-free fit;
+/// without it, 2 of the 10 ran to their iteration limit (measured 2026-11-29) and the others
+/// stopped on the relative rule by chance.
+#[test]
+fn a_fit_of_a_noisy_model_stops_within_a_tenth_of_a_standard_error_of_the_minimum() {
+    let mut rng = SplitMix(0x0051_0006_0000_0001);
+    let (mut limited, mut converged) = (0, 0);
+    for _ in 0..10 {
+        let truth = [0.2, 0.5, 0.8].map(|v| v + rng.uniform(-0.1, 0.1));
+        let clean = problem(truth, &[40.0, 55.0, 70.0], 1.0, &mut rng);
+        let mut noisy = clean.clone();
+        noisy.subject = FitSubject::Model {
+            model: Arc::new(Rippled),
+        };
+        noisy.options.tolerance = 1e-9;
+        noisy.options.difference_step = 1e-2;
+        let without = fit::fit(&noisy);
+        limited += usize::from(without.status == Status::IterationLimit);
+        noisy.options.distance_to_minimum = Some(0.01);
+        let with = fit::fit(&noisy);
+        let reference = fit::fit(&clean);
+        assert_eq!(with.status, Status::Converged, "{with:?}");
+        converged += 1;
+        for k in 0..3 {
+            let off = (with.values[k] - reference.values[k]) / reference.standard_errors[k];
+            assert!(
+                off.abs() <= 0.1,
+                "parameter {k}: {} against the noise-free {} +- {}: {off:+.3} standard errors",
+                with.values[k],
+                reference.values[k],
+                reference.standard_errors[k]
+            );
+        }
+    }
+    eprintln!(
+        "without the rule {limited} of 10 fits ran to their limit; with it {converged} converged"
+    );
+    assert!(
+        limited >= 1,
+        "no fit without the rule ran to its limit: the ripple does not test the rule"
+    );
+}
+
+/// An estimate that ends on a bound gets a one-sided 95 % interval (`fit::interval`) that
+/// holds a truth within the bounds at least at its stated rate: truths drawn within 0.03 of the
+/// upper bound (about one and a half standard errors of `a`), where a quarter of the estimates
+/// end on it. Measured 2026-11-29: 192 of 200 hold it, 52 one-sided.
+#[test]
+fn an_estimate_on_its_bound_gets_a_one_sided_interval_that_holds_the_truth() {
+    let mut rng = SplitMix(0x0051_0006_0000_0002);
+    let (mut held, mut one_sided) = (0, 0);
+    for _ in 0..TRIALS {
+        let truth = [rng.uniform(0.97, 1.0), 0.5, 0.5];
+        let p = problem(truth, &[40.0, 55.0, 70.0], 1.0, &mut rng);
+        let r = fit::fit(&p);
+        assert_eq!(r.status, Status::Converged, "{r:?}");
+        let (v, se) = (r.values[0], r.standard_errors[0]);
+        let i = fit::interval(v, se, (0.0, 1.0), p.options.tolerance).unwrap();
+        held += usize::from((i.lower..=i.upper).contains(&truth[0]));
+        if i.one_sided {
+            one_sided += 1;
+            assert_eq!(i.upper, 1.0, "{i:?}");
+        }
+    }
+    let rate = held as f64 / TRIALS as f64;
+    eprintln!("{held} of {TRIALS} intervals hold the truth; {one_sided} one-sided");
+    assert!(
+        one_sided >= TRIALS as usize / 5,
+        "{one_sided} estimates on the bound: the test does not test it"
+    );
+    assert!(rate >= COVERAGE_BAND.0, "{rate}: below {COVERAGE_BAND:?}");
+}

@@ -1,31 +1,58 @@
-//! The coverage of `cierva retune`'s standard errors (issue 32, item 4): known-answer trials
-//! whose 95 % intervals must hold the truth at their stated rate.
+//! The coverage of `cierva retune`'s 95 % intervals, per parameter (issue 32, item 4; issue 51,
+//! item 6): known-answer trials whose intervals must hold the truth at their stated rate.
 //!
-//! Each trial hides corrections drawn anywhere within their default bounds, flies the full
-//! individual-blade VPM M16 with them (`cierva synth-flight`: the pilot's attitude hold,
-//! Dryden turbulence of 0 to 0.5 m/s, the default instruments) through a longitudinal stick
-//! sweep at one to three airspeeds, and retunes the uncorrected aircraft from those records.
-//! Every draw is seeded from the trial's number.
-
-use super::common::SplitMix;
+//! Each trial hides the three default corrections (the hub factor, the propeller blockage and
+//! the profile-drag scale), drawn anywhere within their default bounds, flies the full
+//! individual-blade VPM M16 with them (`cierva synth-flight`: the pilot's attitude hold, Dryden
+//! turbulence of 0 to 0.5 m/s, the default instruments) through a longitudinal stick sweep and a
+//! throttle sweep at one to three airspeeds, and retunes the uncorrected aircraft from those
+//! records. Each parameter is judged alone.
+//!
+//! Every draw comes from wyrand (the `fastrand` crate) seeded with [`SEED`] and the trial's
+//! number: a generator the method was not developed on (its earlier trials drew from SplitMix64
+//! with other seeds), so the method was not tuned to these trials.
 
 /// The corrections hidden and retuned, with their default bounds
-/// (`cierva_harness::fit::retune::DEFAULT_BOUNDS`, the README's retune example's pair).
-const HIDDEN: [(&str, f64, f64); 2] = [
+/// (`cierva_harness::fit::retune::DEFAULT_BOUNDS`).
+const HIDDEN: [(&str, f64, f64); 3] = [
     ("hub_aoa_factor", 0.0, 1.0),
+    ("propeller_blockage", 0.0, 1.0),
     ("profile_drag_scale", 0.5, 2.0),
 ];
 
-/// Trials. With 2 parameters each, 60 intervals: at a true coverage of 95 % the misses are
-/// binomial (60, 0.05), mean 3, and the 90-99 % band (54 to 59 intervals holding the truth, 1
-/// to 6 misses) holds them with probability 0.92 (P(misses <= 6) = 0.970 less P(0) = 0.046);
-/// at a true coverage of 85 % (9 misses expected) the band holds with probability 0.18, at
-/// 99.5 % (0.3 expected) 0.26. (Intervals of one trial share its records, so the misses are
-/// not quite independent; the band is the issue's.)
-const TRIALS: u64 = 30;
+/// The seed of the trials' generator: issue 51, item 6, written as a number.
+const SEED: u64 = 0x0051_0006;
 
-/// The issue's band for the rate at which the 95 % intervals hold the truth.
+/// Trials, each giving one interval per parameter. At a true coverage of 95 % a parameter's
+/// misses are binomial (40, 0.05), mean 2, and the 90-99 % band (36 to 39 of 40 holding the
+/// truth, 1 to 4 misses) holds them with probability 0.82; at 85 % (6 misses expected) with
+/// probability 0.13. (The band is the issue's; 40 trials keep the test's run in a test build
+/// near 8 minutes.)
+const TRIALS: u64 = 40;
+
+/// The issue's band for the rate at which each parameter's 95 % intervals hold the truth.
 const COVERAGE_BAND: (f64, f64) = (0.90, 0.99);
+
+/// Parameters whose intervals are known to miss the band: the name, the count of the
+/// [`TRIALS`] intervals that held the truth when it was measured, and why. Each is a known
+/// discrepancy, reported by the test and guarded at its count; the band is not moved for it.
+/// A parameter listed here that comes into the band fails the test until it is taken off.
+///
+/// The hub factor, measured 2026-11-29: 32 of 40 (0.80), six of its eight misses high (+2.0
+/// to +3.3 standard errors). Found on the investigation's trials (`scripts/retune-trials`;
+/// reports/investigations.md, "Retune's intervals per parameter"): the bias is the pilot's
+/// attitude hold answering turbulence at the band's low end. In calm air the errors are
+/// centred (mean -0.2 standard errors over 30 trials); in turbulence they are +1.3 to +1.5;
+/// with 60 s records, whose band starts at 0.17 Hz instead of 0.08 Hz, +0.0 in turbulence;
+/// with the pilot's loops open (60 s records), -0.3. The swept control then carries the
+/// pilot's answer to the disturbance, correlated with the output's noise, which biases a
+/// frequency response estimated from it (closed-loop identification's bias). Issue 51, item 6
+/// stays open on it.
+const KNOWN_MISSES: [(&str, usize, &str); 1] = [(
+    "hub_aoa_factor",
+    32,
+    "the pilot's attitude hold in turbulence biases the band's lowest frequencies (issue 51, item 6)",
+)];
 
 /// Airspeeds a trial picks from, mph: the VPM M16's cruise range (seed 001 flew 30-70 mph).
 const AIRSPEEDS_MPH: [u32; 3] = [50, 60, 70];
@@ -33,31 +60,48 @@ const AIRSPEEDS_MPH: [u32; 3] = [50, 60, 70];
 /// The stick sweep's amplitude, % of travel.
 const SWEEP_PERCENT: &str = "3";
 
+/// The throttle sweep's amplitude, % of travel: the test's choice, enough for the propeller's
+/// thrust to give coherent responses of `u`, `w`, `q` and the rotor speed over the band.
+const THROTTLE_SWEEP_PERCENT: &str = "5";
+
 /// The most turbulence a trial flies in, sigma_w m/s (the issue's range: 0 to 0.5).
 const TURBULENCE_MAX_M_S: f64 = 0.5;
 
-/// One trial's outcome: each parameter's truth, value and standard error.
+/// One trial's outcome: each parameter's truth, value, standard error and whether its 95 %
+/// interval holds the truth.
 #[derive(Debug)]
 struct Outcome {
     trial: u64,
     speeds: Vec<u32>,
     turbulence_m_s: f64,
-    parameters: Vec<(String, f64, f64, f64)>,
+    parameters: Vec<Judged>,
     reduced_chi_square: f64,
+    status: String,
+}
+
+/// One parameter of one trial.
+#[derive(Debug)]
+struct Judged {
+    name: String,
+    truth: f64,
+    value: f64,
+    se: f64,
+    held: bool,
+    one_sided: bool,
 }
 
 /// Flies one trial's records and retunes from them; `Err` with the reason when
 /// the hidden aircraft cannot be flown (it will not trim within the controls' travel, or the
 /// flight diverges): such a draw is no trial, as no flight test flies it.
 fn trial(n: u64, dir: &std::path::Path) -> Result<Outcome, String> {
-    let mut rng = SplitMix(0xC0FE_0032 ^ n.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let mut rng = fastrand::Rng::with_seed(SEED.wrapping_mul(1_000_003).wrapping_add(n));
     let truth: Vec<(String, f64)> = HIDDEN
         .iter()
-        .map(|(name, lo, hi)| (name.to_string(), rng.uniform(*lo, *hi)))
+        .map(|(name, lo, hi)| (name.to_string(), lo + (hi - lo) * rng.f64()))
         .collect();
-    let turbulence = rng.uniform(0.0, TURBULENCE_MAX_M_S);
-    let count = 1 + (rng.uniform(0.0, 3.0) as usize).min(2);
-    let first = rng.uniform(0.0, 3.0) as usize % 3;
+    let turbulence = TURBULENCE_MAX_M_S * rng.f64();
+    let count = rng.usize(1..=3);
+    let first = rng.usize(0..3);
     let speeds: Vec<u32> = (0..count).map(|k| AIRSPEEDS_MPH[(first + k) % 3]).collect();
     let dir = dir.join(format!("trial-{n}"));
     std::fs::create_dir_all(&dir).unwrap();
@@ -69,21 +113,27 @@ fn trial(n: u64, dir: &std::path::Path) -> Result<Outcome, String> {
     );
     let mut records = Vec::new();
     for v in &speeds {
-        let out = dir.join(format!("lon-{v}.csv"));
-        let (speed, sigma, seed) = (
-            v.to_string(),
-            format!("{turbulence:.4}"),
-            (1000 * n + u64::from(*v)).to_string(),
-        );
-        let (code, stdout, stderr) =
-            super::common::synth_stick_sweep(&out, &speed, SWEEP_PERCENT, &sigma, &seed, &secret);
-        if code != 0 {
-            return Err(format!("trial {n} at {v} mph: {stdout}{stderr}"));
+        for (control, amplitude) in [("eta_s", SWEEP_PERCENT), ("eta_t", THROTTLE_SWEEP_PERCENT)] {
+            let out = dir.join(format!("{control}-{v}.csv"));
+            let (speed, sigma, seed) = (
+                v.to_string(),
+                format!("{turbulence:.4}"),
+                rng.u32(1..u32::MAX).to_string(),
+            );
+            let (code, stdout, stderr) = super::common::synth_sweep(
+                &out, control, &speed, amplitude, &sigma, &seed, &secret,
+            );
+            if code != 0 {
+                return Err(format!(
+                    "trial {n} at {v} mph ({control}): {stdout}{stderr}"
+                ));
+            }
+            records.push(out);
         }
-        records.push(out.to_str().unwrap().to_string());
     }
-    let paths: Vec<&std::path::Path> = records.iter().map(std::path::Path::new).collect();
-    let (code, stdout, stderr) = super::common::retune_hub_and_drag(&dir, &paths, &[]);
+    let paths: Vec<&std::path::Path> = records.iter().map(|p| p.as_path()).collect();
+    let names: Vec<&str> = HIDDEN.iter().map(|h| h.0).collect();
+    let (code, stdout, stderr) = super::common::retune_corrections(&dir, &paths, &names, &[]);
     assert_eq!(code, 0, "trial {n}: {stdout}{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     // A fit that did not converge states no interval: its parameters count as not held.
@@ -95,16 +145,22 @@ fn trial(n: u64, dir: &std::path::Path) -> Result<Outcome, String> {
         parameters: truth
             .into_iter()
             .map(|(k, t)| {
-                let value = if converged {
-                    v["corrections"][&k].as_f64().unwrap_or(f64::NAN)
-                } else {
-                    f64::NAN
-                };
-                let se = v["standard_errors"][&k].as_f64().unwrap_or(f64::NAN);
-                (k, t, value, se)
+                let interval = &v["intervals_95"][&k];
+                let (lo, hi) = (interval["lower"].as_f64(), interval["upper"].as_f64());
+                // NaN never passes: an interval that is not stated does not hold the truth.
+                let held = converged && lo.zip(hi).is_some_and(|(lo, hi)| (lo..=hi).contains(&t));
+                Judged {
+                    value: v["corrections"][&k].as_f64().unwrap_or(f64::NAN),
+                    se: v["standard_errors"][&k].as_f64().unwrap_or(f64::NAN),
+                    one_sided: interval["one_sided"].as_bool().unwrap_or(false),
+                    name: k,
+                    truth: t,
+                    held,
+                }
             })
             .collect(),
         reduced_chi_square: v["reduced_chi_square"].as_f64().unwrap_or(f64::NAN),
+        status: v["status"].as_str().unwrap_or("").to_string(),
     })
 }
 
@@ -162,35 +218,38 @@ fn trials() -> (Vec<Outcome>, Vec<String>) {
 
 /// Per parameter: intervals, how many hold the truth, and a table of every trial.
 fn coverage(outcomes: &[Outcome]) -> (Vec<(String, usize, usize)>, String) {
-    let mut table =
-        String::from("trial speeds turbulence chi2_red | parameter truth value se error_in_se\n");
+    let mut table = String::from(
+        "trial speeds turbulence chi2_red status | parameter truth value se error_in_se held\n",
+    );
     let mut per: Vec<(String, usize, usize)> =
         HIDDEN.iter().map(|h| (h.0.to_string(), 0, 0)).collect();
     for o in outcomes {
-        for (k, (name, truth, value, se)) in o.parameters.iter().enumerate() {
-            let z = (value - truth) / se;
-            // NaN never passes: an interval that is not finite does not hold the truth.
-            let held = z.is_finite() && z.abs() <= 1.96;
+        for (k, j) in o.parameters.iter().enumerate() {
             per[k].1 += 1;
-            per[k].2 += usize::from(held);
+            per[k].2 += usize::from(j.held);
             table += &format!(
-                "{} {:?} {:.3} {:.2} | {name} {truth:.4} {value:.4} {se:.4} {z:+.2}\n",
-                o.trial, o.speeds, o.turbulence_m_s, o.reduced_chi_square
+                "{} {:?} {:.3} {:.2} {} | {} {:.4} {:.4} {:.4} {:+.2} {}{}\n",
+                o.trial,
+                o.speeds,
+                o.turbulence_m_s,
+                o.reduced_chi_square,
+                o.status,
+                j.name,
+                j.truth,
+                j.value,
+                j.se,
+                (j.value - j.truth) / j.se,
+                if j.held { "held" } else { "MISSED" },
+                if j.one_sided { " (one-sided)" } else { "" }
             );
         }
     }
     (per, table)
 }
 
-/// The 95 % intervals against the truth: inside the issue's band, 90-99 % ([`COVERAGE_BAND`]).
-/// Measured 2026-11-26 with the wake skew in seed 003's modulus form (issue 33, item 4): 54 of
-/// 60 (0.90, the band's edge; the hub factor 25 of 30, the profile drag 29 of 30); with the
-/// signed form 56 of 60 (0.93; 27 and 29), the errors' mean +0.75 and spread 0.78 standard
-/// errors. (The derivatives' method, removed, held 18 of 60 with the signed form and 50, 0.83,
-/// with the modulus form: below the band either way.)
 #[test]
-#[ignore = "slow coverage test (30 trials of one to three synthetic flights and a retune; about 3 minutes in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
-fn retune_intervals_hold_the_truth_at_their_stated_rate() {
+#[ignore = "slow coverage test (40 trials of two to six synthetic flights and a retune; about 8 minutes in a test build): run by .ci/run with `cargo test --test suite -- --ignored`"]
+fn retune_intervals_hold_the_truth_at_their_stated_rate_per_parameter() {
     let (outcomes, passed_over) = trials();
     for p in &passed_over {
         eprintln!(
@@ -205,16 +264,36 @@ fn retune_intervals_hold_the_truth_at_their_stated_rate() {
         outcomes.len()
     );
     let (per, table) = coverage(&outcomes);
-    let (n, held) = per
-        .iter()
-        .fold((0, 0), |(n, h), (_, pn, ph)| (n + pn, h + ph));
-    let rate = held as f64 / n as f64;
     eprintln!("{table}");
-    for (name, pn, ph) in &per {
-        eprintln!("{name}: {ph} of {pn} intervals hold the truth");
+    let mut failures = Vec::new();
+    for (name, n, held) in &per {
+        let rate = *held as f64 / *n as f64;
+        let inside = (COVERAGE_BAND.0..=COVERAGE_BAND.1).contains(&rate);
+        let known = KNOWN_MISSES.iter().find(|k| k.0 == name);
+        eprintln!(
+            "{name}: {held} of {n} intervals hold the truth ({rate:.3}){}",
+            match (inside, known) {
+                (true, _) => String::new(),
+                (false, Some((_, _, why))) => format!(
+                    ": MISSES the issue's band {COVERAGE_BAND:?}, a known discrepancy ({why})"
+                ),
+                (false, None) => format!(": MISSES the issue's band {COVERAGE_BAND:?}"),
+            }
+        );
+        match known {
+            None if !inside => failures.push(format!("{name} {held} of {n} ({rate:.3})")),
+            Some((_, measured, _)) if !inside && held < measured => failures.push(format!(
+                "{name} {held} of {n}, below its known discrepancy's {measured}"
+            )),
+            Some(_) if inside => failures.push(format!(
+                "{name} {held} of {n} is inside the band now: take it off KNOWN_MISSES"
+            )),
+            _ => {}
+        }
     }
     assert!(
-        (COVERAGE_BAND.0..=COVERAGE_BAND.1).contains(&rate),
-        "{held} of {n} intervals ({rate:.3}) hold the truth, outside the issue's band {COVERAGE_BAND:?}:\n{table}"
+        failures.is_empty(),
+        "the issue's band is {COVERAGE_BAND:?}: {}\n{table}",
+        failures.join("; ")
     );
 }

@@ -81,6 +81,35 @@ pub struct RetuneParameter {
 /// interval.
 pub const TOLERANCE: f64 = 1e-4;
 
+/// A retune has also converged when a fresh linearisation predicts the cost to fall by at most
+/// this much, or an accepted step lowers it by at most this much
+/// ([`fit::FitOptions::distance_to_minimum`]): the minimum is then within 0.1 of a standard
+/// error along any direction, which moves a 95 % interval's coverage to 94.9 %. The retune's
+/// cost is a chi-square (each response point weighted by its random error). Measured on the
+/// coverage trials (`scripts/retune-trials --throttle`, three corrections): near the minimum
+/// the model's texture (below, [`DIFFERENCE_STEP`]) makes predicted falls of 0.2-1 that the
+/// evaluated cost does not follow, and accepted steps of 1e-4; 9 of 60 fits ran to their
+/// iteration limit there before this rule and the wider step, none of 60 after.
+pub const DISTANCE_TO_MINIMUM: f64 = 0.01;
+
+/// A retune's finite-difference step, a fraction of each parameter's range (the fit's default
+/// is 1e-3). The responses come from a trim and a harmonic balance whose tolerances leave a
+/// ripple in them, and from tabulated section data whose breakpoints put kinks in the cost: on
+/// a coverage trial's records, the cost along the profile-drag scale changes its slope by 19
+/// chi-square units per unit at the optimum within 0.003 of it. A step of 1e-3 of the range
+/// (0.0015 of the drag scale) differences that texture, and the fitted direction changed sign
+/// between fresh Jacobians; a step of 1e-2 spans it and measures the slope over a tenth of a
+/// standard error or so. Measured on 30 trials with three corrections, stick and throttle
+/// sweeps (`scripts/retune-trials --throttle`, seed 1): 5 fits ran to their iteration limit
+/// with 1e-3, none with 1e-2; the profile drag's intervals held 24 and 29 of 30.
+pub const DIFFERENCE_STEP: f64 = 1e-2;
+
+/// A retune's iteration limit (the fit's default is 20): three corrections from the
+/// uncorrected aircraft, far from a truth near a bound, were still falling after 20 iterations
+/// in one coverage trial of 40, and converged after 29 (the first fit's and the second's
+/// together).
+pub const MAX_ITERATIONS: usize = 50;
+
 /// How to retune: the responses' estimation.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct How {
@@ -257,6 +286,9 @@ pub fn retune(
         targets,
         options: fit::FitOptions {
             tolerance: TOLERANCE,
+            distance_to_minimum: Some(DISTANCE_TO_MINIMUM),
+            difference_step: DIFFERENCE_STEP,
+            max_iterations: MAX_ITERATIONS,
             ..fit::FitOptions::default()
         },
     };
@@ -309,6 +341,31 @@ impl Retune {
             .iter()
             .zip(&self.result.values)
             .map(|(k, v)| (k.name().to_string(), serde_json::json!(v)))
+            .collect()
+    }
+
+    /// Each parameter's 95 % interval within its bounds ([`fit::interval`]: one-sided where the
+    /// estimate ends on a bound), in the order of the problem's parameters.
+    pub fn intervals(&self) -> Vec<Option<fit::Interval>> {
+        self.problem
+            .parameters
+            .iter()
+            .zip(&self.result.values)
+            .zip(&self.result.standard_errors)
+            .map(|((q, v), se)| {
+                fit::interval(*v, *se, (q.lower, q.upper), self.problem.options.tolerance)
+            })
+            .collect()
+    }
+
+    /// [`Self::intervals`] by the parameters' names (null where the standard error is not
+    /// finite).
+    pub fn intervals_by_name(&self) -> serde_json::Map<String, serde_json::Value> {
+        self.result
+            .parameters
+            .iter()
+            .zip(self.intervals())
+            .map(|(k, i)| (k.name().to_string(), serde_json::json!(i)))
             .collect()
     }
 
@@ -382,6 +439,7 @@ pub fn corrections_file(
             "iterations": r.result.iterations,
             "evaluations": r.result.evaluations,
             "standard_errors": r.standard_errors_by_name(),
+            "intervals_95": r.intervals_by_name(),
             "targets": r.problem.targets.len(),
             "warnings": r.result.warnings,
         })),
