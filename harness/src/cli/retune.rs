@@ -340,16 +340,7 @@ fn print_text(
         .zip(r.intervals())
     {
         let interval = i.map_or("no interval".to_string(), |i| {
-            format!(
-                "95 %: [{}, {}]{}",
-                sig(i.lower, 4),
-                sig(i.upper, 4),
-                if i.one_sided {
-                    ", one-sided: on its bound"
-                } else {
-                    ""
-                }
-            )
+            format!("95 %: {}", i.described())
         });
         println!(
             "  {:<28} {:>12} +- {} ({interval})",

@@ -698,6 +698,23 @@ pub struct Interval {
     pub one_sided: bool,
 }
 
+impl Interval {
+    /// `[lower, upper]` to four significant figures, and `, one-sided: on its bound` where it is.
+    pub fn described(&self) -> String {
+        let g = crate::units::sig;
+        format!(
+            "[{}, {}]{}",
+            g(self.lower, 4),
+            g(self.upper, 4),
+            if self.one_sided {
+                ", one-sided: on its bound"
+            } else {
+                ""
+            }
+        )
+    }
+}
+
 /// The 95 % interval of an estimate `value` with standard error `se` fitted within
 /// `[lower, upper]`: `value -+ 1.96 se` cut at the bounds, one-sided where the estimate ends on
 /// a bound (within the fit's step tolerance `tolerance`, a fraction of the range: a fit stops

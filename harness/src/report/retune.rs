@@ -61,18 +61,7 @@ pub fn markdown(
         .zip(&r.bounds_sources)
         .zip(r.intervals())
     {
-        let interval = i.map_or("none".to_string(), |i| {
-            format!(
-                "[{}, {}]{}",
-                g(i.lower, 4),
-                g(i.upper, 4),
-                if i.one_sided {
-                    " one-sided (on its bound)"
-                } else {
-                    ""
-                }
-            )
-        });
+        let interval = i.map_or("none".to_string(), |i| i.described());
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {interval} | [{}, {}] | {source} |",

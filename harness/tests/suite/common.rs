@@ -162,28 +162,6 @@ pub fn synth_sweep(
     ])
 }
 
-/// `cierva synth-flight` of the VPM M16 flying a longitudinal stick sweep with `corrections`
-/// (`--airspeed-mph`, `--amplitude-percent`, `--turbulence-m-s` and `--seed` as written),
-/// written to `output`: the exit code, stdout and stderr.
-pub fn synth_stick_sweep(
-    output: &Path,
-    airspeed_mph: &str,
-    amplitude_percent: &str,
-    turbulence_m_s: &str,
-    seed: &str,
-    corrections: &Path,
-) -> (i32, String, String) {
-    synth_sweep(
-        output,
-        "eta_s",
-        airspeed_mph,
-        amplitude_percent,
-        turbulence_m_s,
-        seed,
-        corrections,
-    )
-}
-
 /// The README example's record, written into `dir`: the VPM M16 flying a 60 mph stick sweep
 /// (6 %, 0.268 m/s turbulence, seed 60) with the hub factor at 0.55 and the profile drag at 1.3
 /// times its tabulated value, both hidden in `secret.yaml`.
@@ -198,7 +176,7 @@ pub fn readme_record(dir: &Path) -> std::path::PathBuf {
         "test: chosen by the known-answer test",
     );
     let record = dir.join("lon-60.csv");
-    let (code, stdout, stderr) = synth_stick_sweep(&record, "60", "6", "0.268", "60", &secret);
+    let (code, stdout, stderr) = synth_sweep(&record, "eta_s", "60", "6", "0.268", "60", &secret);
     assert_eq!(code, 0, "{stdout}{stderr}");
     record
 }
