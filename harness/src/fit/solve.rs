@@ -20,14 +20,16 @@ pub struct FitOptions {
     /// Initial trust region as a fraction of each parameter's range.
     pub trust_region: f64,
     /// Converged also when, on a finite-difference Jacobian, the step to the linearisation's
-    /// minimum (within the parameters' bounds, whatever the trust region) is predicted to lower
-    /// the cost by at most this much: MINUIT's estimated distance to the minimum, EDM (James
-    /// 1994). Only for a cost in chi-square units (every target weighted by its standard
-    /// error), where a fall of `d` puts the minimum `sqrt(d)` standard errors away along the
-    /// worst direction; `None` for a cost in other units. It ends a fit whose model evaluations
-    /// carry numerical noise (a trim, a harmonic balance) that keeps every step above
-    /// [`FitOptions::tolerance`] without lowering the cost. A step that lowers the cost by at
-    /// most this much also counts as small, even where the trust region held it back.
+    /// minimum (within the parameters' bounds and the initial trust region, [`Self::trust_region`])
+    /// is predicted to lower the cost by at most this much: MINUIT's estimated distance to the
+    /// minimum, EDM (James 1994). Only for a cost in chi-square units (every target weighted by
+    /// its standard error, the cost not halved), where that fall is the squared Mahalanobis
+    /// distance to the linearisation's minimum: every parameter, and every linear combination,
+    /// is then within `sqrt(d)` of its own standard error of it; `None` for a cost in other
+    /// units. It ends a fit whose model evaluations carry numerical noise (a trim, a harmonic
+    /// balance) that keeps every step above [`FitOptions::tolerance`] without lowering the cost.
+    /// A step that lowers the cost by at most this much, even one the trust region held back,
+    /// sends the fit to a fresh Jacobian, where this check decides.
     pub distance_to_minimum: Option<f64>,
     /// Update the Jacobian by Broyden's rank-one formula between finite-difference refreshes
     /// (`true`), or difference it afresh every iteration (`false`). Convergence is judged,
@@ -523,10 +525,9 @@ fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> T
                     at.fresh = false;
                     (at.p, at.y, at.r, at.c) = (trial, yt, rt, ct);
                     accepted = true;
-                    // (A small drop from a step the region held back is not convergence, unless
-                    // the cost is a chi-square and the drop below its distance to the minimum:
-                    // then the region was shrunk by steps the model's noise defeated, and what
-                    // is left to gain is below the noise.)
+                    // (A small drop from a step the region held back is not convergence; on a
+                    // chi-square cost a drop below `distance_to_minimum` has the fit judged
+                    // again on a fresh Jacobian, where `near_minimum` decides.)
                     let below_noise = problem
                         .options
                         .distance_to_minimum
@@ -723,9 +724,12 @@ impl Interval {
 /// An estimate on a bound is the free estimate held there: the free one lies beyond it. With
 /// the estimate on its upper bound `b`, `[b - 1.96 se, b]` misses a truth inside the bounds only
 /// where the truth is below `b - 1.96 se`, and then the free estimate's error exceeds `1.96 se`
-/// upwards (probability 2.5 %); so the interval holds a truth within the bounds at least as
-/// often as the free interval does, 95 %, whether the estimate is free or bound. The free
-/// estimate's standard error is the curvature's at the bound.
+/// upwards (probability at most 2.5 %). The interval always contains the free interval cut at
+/// the bounds, so for one parameter on one bound, the others free and the model locally
+/// linear, it holds a truth within the bounds at least 95 % of the time. It is not shown for
+/// several active bounds (a correlated parameter's bound can hold this one on its own bound
+/// with its free estimate inside), and the standard error is the slope's at the bound, which
+/// a nonlinear model may not keep beyond it.
 pub fn interval(
     value: f64,
     se: f64,

@@ -82,9 +82,10 @@ pub struct RetuneParameter {
 pub const TOLERANCE: f64 = 1e-4;
 
 /// A retune has also converged when a fresh linearisation predicts the cost to fall by at most
-/// this much, or an accepted step lowers it by at most this much
-/// ([`fit::FitOptions::distance_to_minimum`]): the minimum is then within 0.1 of a standard
-/// error along any direction, which moves a 95 % interval's coverage to 94.9 %. The retune's
+/// this much ([`fit::FitOptions::distance_to_minimum`]; an accepted step that lowers it by at
+/// most this much sends the fit to that check): the linearisation's minimum is then within 0.1
+/// of a standard error of every parameter, which moves a 95 % interval's coverage to 94.9 % at
+/// worst. The retune's
 /// cost is a chi-square (each response point weighted by its random error). Measured on the
 /// coverage trials (`scripts/retune-trials --throttle`, three corrections): near the minimum
 /// the model's texture (below, [`DIFFERENCE_STEP`]) makes predicted falls of 0.2-1 that the
