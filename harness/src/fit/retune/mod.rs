@@ -85,12 +85,12 @@ pub const TOLERANCE: f64 = 1e-4;
 /// this much ([`fit::FitOptions::distance_to_minimum`]; an accepted step that lowers it by at
 /// most this much sends the fit to that check): the linearisation's minimum is then within 0.1
 /// of a standard error of every parameter, which moves a 95 % interval's coverage to 94.9 % at
-/// worst. The retune's
-/// cost is a chi-square (each response point weighted by its random error). Measured on the
-/// coverage trials (`scripts/retune-trials --throttle`, three corrections): near the minimum
-/// the model's texture (below, [`DIFFERENCE_STEP`]) makes predicted falls of 0.2-1 that the
-/// evaluated cost does not follow, and accepted steps of 1e-4; 9 of 60 fits ran to their
-/// iteration limit there before this rule and the wider step, none of 60 after.
+/// worst. The retune's cost is a chi-square (each response point weighted by its random
+/// error). Measured on the coverage trials (`scripts/retune-trials --throttle`, three
+/// corrections): near the minimum the model's texture (below, [`DIFFERENCE_STEP`]) makes
+/// predicted falls of 0.2-1 that the evaluated cost does not follow, and accepted steps of
+/// 1e-4; 9 of 60 fits ran to their iteration limit there before this rule and the wider step,
+/// none of 60 after.
 pub const DISTANCE_TO_MINIMUM: f64 = 0.01;
 
 /// A retune's finite-difference step, a fraction of each parameter's range (the fit's default
@@ -102,7 +102,8 @@ pub const DISTANCE_TO_MINIMUM: f64 = 0.01;
 /// between fresh Jacobians; a step of 1e-2 spans it and measures the slope over a tenth of a
 /// standard error or so. Measured on 30 trials with three corrections, stick and throttle
 /// sweeps (`scripts/retune-trials --throttle`, seed 1): 5 fits ran to their iteration limit
-/// with 1e-3, none with 1e-2; the profile drag's intervals held 24 and 29 of 30.
+/// with 1e-3 (4 with the distance rule above), none with 1e-2 and the rule; the profile drag's
+/// intervals held 24 of 30 with 1e-3 and the rule, 29 with 1e-2.
 pub const DIFFERENCE_STEP: f64 = 1e-2;
 
 /// A retune's iteration limit (the fit's default is 20): three corrections from the
