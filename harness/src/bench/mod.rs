@@ -1109,6 +1109,50 @@ fn uncertainty(out: &Rows) {
         "| uncertainty: one evaluation of that design, wall time on both cores | {:.1} ms | the two cases' time over their {evaluations} evaluations |",
         1e3 * per
     );
+    plan_overhead(out, settings);
+}
+
+/// The max-weight Table 2 study as a plan on this machine: written, run as one shard (every
+/// core), finished; beside the same study run directly. What the plan's own work adds (its
+/// checks, each evaluation's results written as it finishes, the shard's file, reading them
+/// back); an engine's start and its workers' are measured apart (docs/scaling.md).
+fn plan_overhead(out: &Rows, settings: crate::uncertainty::propagate::PropagationSettings) {
+    use crate::plan::{self, StudySettings};
+    let path = (out.root).join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml");
+    let Ok(case) = crate::suite::case::load(&path) else {
+        return out.warn(format!("plan benchmark: {} does not load", path.display()));
+    };
+    let dir = std::env::temp_dir().join(format!("cierva-bench-plan-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let started = Instant::now();
+    let direct = crate::uncertainty::study::propagate(&case, settings, || {});
+    let one = started.elapsed().as_secs_f64();
+    let started = Instant::now();
+    let study = StudySettings {
+        samples: settings.samples,
+        seed: settings.seed,
+        method: settings.method,
+        validation_only: settings.validation_only,
+    };
+    let planned = plan::write(&dir, std::slice::from_ref(&case), &[], study)
+        .and_then(|_| plan::load(&dir))
+        .and_then(|p| plan::evaluate(&p, (1, 1), || ()).and_then(|_| plan::finish(&p)));
+    let seconds = started.elapsed().as_secs_f64();
+    let _ = std::fs::remove_dir_all(&dir);
+    let json = |u: &crate::uncertainty::propagate::CaseUncertainty| serde_json::to_string(u).ok();
+    match (direct, planned) {
+        (Ok(d), Ok(p)) if p.len() == 1 && json(&p[0].0) == json(&d) => row!(
+            out,
+            "| uncertainty as a plan on this machine: the max-weight case at {} samples, written, run as one shard, finished | {seconds:.1} s | the same study run directly {one:.1} s ({:+.0} %); the same numbers |",
+            settings.samples,
+            100.0 * (seconds / one - 1.0)
+        ),
+        (Ok(_), Ok(_)) => {
+            out.warn("plan benchmark: the plan's study differs from the direct one".into())
+        }
+        (Err(e), _) => out.warn(format!("plan benchmark: {e}")),
+        (_, Err(e)) => out.warn(format!("plan benchmark: {e:?}")),
+    }
 }
 
 /// The benchmarks' flight test: level flight at `(airspeed mph, control)`, an exponential sweep

@@ -16,7 +16,7 @@ pub type Found = (Finding, Vec<(String, f64)>);
 
 /// What the model found instead of the quantities a check asks for: a physical answer, not an
 /// evaluation error.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[serde(tag = "finding", rename_all = "snake_case")]
 pub enum Finding {
     /// The model has no equilibrium where the reference has one (an isolated rotor whose
@@ -55,7 +55,7 @@ impl Finding {
 }
 
 /// One quantity compared with its expectation.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct QuantityResult {
     pub quantity: String,
     pub value: f64,

@@ -64,6 +64,16 @@ pub(crate) struct UncertaintyArgs {
     /// propagations only (a first-order one states no sampling error).
     #[arg(long)]
     pub(crate) target_se: Option<f64>,
+    /// Write the study as a plan of independent evaluations to this folder, and stop: run its
+    /// shards with `cierva evaluate DIR --shard I/N` on any engine (a Slurm job array, Dask),
+    /// then finish it with `--from-plan DIR` (docs/scaling.md).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["from_plan", "target_se", "write_summary"])]
+    pub(crate) plan: Option<PathBuf>,
+    /// Finish the study a plan in this folder describes, from its shards' results (every
+    /// setting is the plan's: give no case paths, samples, seed, method or corrections). The
+    /// same numbers as the one-machine run; a missing shard is named, and no verdict drawn.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["paths", "samples", "seed", "method", "corrections", "validation_only", "target_se", "write_summary"])]
+    pub(crate) from_plan: Option<PathBuf>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
@@ -96,6 +106,9 @@ struct CaseSummary<'a> {
 }
 
 pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
+    if let Some(dir) = &a.from_plan {
+        return from_plan(dir, a.format);
+    }
     if a.samples < MIN_SAMPLES {
         return Err(Error::input(format!(
             "--samples {}: give at least {MIN_SAMPLES} (the percentiles and Sobol' indices of fewer mean nothing)",
@@ -148,6 +161,9 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
         validation_only: a.validation_only || a.paths.is_empty(),
         method: a.method,
     };
+    if let Some(dir) = &a.plan {
+        return write_plan(dir, &cases, &a.corrections, settings);
+    }
     let mut done: Vec<(CaseUncertainty, f64)> = Vec::new();
     let mut sizes: Vec<(usize, Option<String>)> = Vec::new();
     for case in &cases {
@@ -171,13 +187,25 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             }
         }
     }
+    print_studies(&done, &sizes, (a.samples, a.seed), a.format);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The studies, as text or JSON: each case's with its wall time, and the base points it ended
+/// at with what `--target-se` said of it.
+fn print_studies(
+    done: &[(CaseUncertainty, f64)],
+    sizes: &[(usize, Option<String>)],
+    (samples, seed): (usize, u32),
+    format: Format,
+) {
     let results: Vec<&propagate::QuantityUncertainty> =
         done.iter().flat_map(|(u, _)| &u.results).collect();
     let verdicts = VerdictCounts::of(results.iter().copied());
-    match a.format {
+    match format {
         Format::Json => print_json(&Output {
-            samples: a.samples,
-            seed: a.seed,
+            samples,
+            seed,
             cases: done
                 .iter()
                 .enumerate()
@@ -198,7 +226,7 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             verdicts,
         }),
         Format::Text => {
-            for ((u, s), (n, said)) in done.iter().zip(&sizes) {
+            for ((u, s), (n, said)) in done.iter().zip(sizes) {
                 print!("{}", text_of(u, *s, *n));
                 if let Some(said) = said {
                     println!("  --target-se: {said}");
@@ -207,6 +235,51 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             println!("validation quantities: {}", verdicts.describe());
         }
     }
+}
+
+/// `--plan DIR`: the studies' evaluations written as a plan, and what to run next.
+fn write_plan(
+    dir: &Path,
+    cases: &[cierva_harness::suite::case::Case],
+    corrections: &[PathBuf],
+    settings: PropagationSettings,
+) -> Result<ExitCode, Error> {
+    use cierva_harness::plan::{self, PlanError, StudySettings};
+    let study = StudySettings {
+        samples: settings.samples,
+        seed: settings.seed,
+        method: settings.method,
+        validation_only: settings.validation_only,
+    };
+    let file = plan::write(dir, cases, corrections, study).map_err(|e| match e {
+        PlanError::Input(m) | PlanError::Incomplete(m) => Error::input(m),
+    })?;
+    let d = dir.display();
+    println!(
+        "wrote {}: {} evaluations of {} in {} groups (a group shares a model's answers: the unit a shard takes)\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N (one command a worker: a Slurm job array, Dask; docs/scaling.md), then `cierva uncertainty --from-plan {d}`",
+        plan::plan_path(dir).display(),
+        file.evaluations.len(),
+        match file.cases.len() {
+            1 => "1 case".to_string(),
+            n => format!("{n} cases"),
+        },
+        file.groups
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--from-plan DIR`: the studies finished from a plan's results.
+fn from_plan(dir: &Path, format: Format) -> Result<ExitCode, Error> {
+    use cierva_harness::plan::{self, PlanError};
+    let to_error = |e: PlanError| match e {
+        PlanError::Input(m) => Error::input(m),
+        PlanError::Incomplete(m) => Error::failure(m),
+    };
+    let loaded = plan::load(dir).map_err(to_error)?;
+    let done = plan::finish(&loaded).map_err(to_error)?;
+    let s = loaded.file.study;
+    let sizes: Vec<(usize, Option<String>)> = done.iter().map(|_| (s.samples, None)).collect();
+    print_studies(&done, &sizes, (s.samples, s.seed), format);
     Ok(ExitCode::SUCCESS)
 }
 

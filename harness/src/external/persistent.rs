@@ -50,7 +50,7 @@ impl Pool {
         Self {
             state: Mutex::new(State::default()),
             freed: Condvar::new(),
-            most: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            most: crate::run::parallel::threads(),
             next_id: AtomicU64::new(0),
         }
     }

@@ -370,7 +370,7 @@ fn not_utf8(path: &Path, bytes: &[u8], e: std::str::Utf8Error) -> InputError {
 }
 
 /// Reads at most `limit` bytes of a file; a longer one is an error that says so.
-fn read_limited(path: &Path, limit: u64) -> Result<String, InputError> {
+pub fn read_limited(path: &Path, limit: u64) -> Result<String, InputError> {
     let cannot = |e: std::io::Error| InputError::file(path, format!("cannot read: {e}"));
     let file = std::fs::File::open(path).map_err(cannot)?;
     let mut bytes = Vec::new();

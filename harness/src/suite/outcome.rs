@@ -12,10 +12,10 @@ use crate::checks::{Check, CheckClass, CheckKind};
 pub use crate::checks::{Finding, Locus, PlotData, QuantityResult, Trace};
 use crate::suite::case::Case;
 use cierva_model::analysis::bcar::Verdict;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The outcome of a check.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Outcome {
     Pass,
@@ -63,8 +63,9 @@ impl Outcome {
     ];
 }
 
-/// The result of one check.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// The result of one check (read back from a plan's results, [`crate::plan`], without its
+/// plot).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CheckResult {
     pub case: String,
     pub check: String,

@@ -6,11 +6,38 @@
 use super::distribution::Input;
 use super::propagate::{
     CaseUncertainty, Contributor, Interval, NO_GRID_STUDY, Point, Quantity, QuantityUncertainty,
-    failure_causes, forget, hash, judge, mean_std, pass_fraction, percentile, point_of,
-    refined_value, unjudged, values_of, with_terms, with_values,
+    failure_causes, hash, judge, mean_std, pass_fraction, percentile, refined_value, unjudged,
+    with_terms,
 };
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
+
+/// A first-order propagation's points: each input at its two probes (up, then down; the
+/// moves, `(input, side)`), then the residual check's draws of every input.
+pub(super) fn jobs(inputs: &[Input]) -> (Vec<(usize, f64)>, Vec<super::jobs::PointJob>) {
+    let moves: Vec<(usize, f64)> = (0..inputs.len())
+        .flat_map(|i| [(i, 1.0), (i, -1.0)])
+        .collect();
+    let moved = moves.iter().map(|&(i, side)| super::jobs::PointJob {
+        values: (inputs.iter().enumerate())
+            .map(|(k, x)| match k == i {
+                true => (x.distribution).quantile(PROBE_QUANTILE[usize::from(side < 0.0)]),
+                false => x.nominal,
+            })
+            .collect(),
+        start: None,
+        tag: format!("first-order-{i}-{side}"),
+    });
+    let drawn = residual_draws(inputs)
+        .into_iter()
+        .map(|values| super::jobs::PointJob {
+            tag: format!("residual-{:x}", hash(&values)),
+            values,
+            start: None,
+        });
+    let points = moved.chain(drawn).collect();
+    (moves, points)
+}
 
 /// First-order propagation (a case with autorotation checks: each evaluation is a table of
 /// autorotation searches, too slow to sample). Each input is moved to its 5 % and 95 % quantiles ([`PROBE_QUANTILE`]),
@@ -26,20 +53,29 @@ use crate::suite::outcome::CheckResult;
 /// in which every quantity is inside its tolerance) and each input's share of the variance,
 /// `Var g_i / sum_j Var g_j`, which stands for both Sobol' indices (equal in an additive
 /// model). The grid study's refined cases (`u_num`) run in the same batch as the moves, first,
-/// as the longest.
-pub(super) fn propagate(
-    case: &Case,
+/// as the longest ([`super::jobs::CaseJobs::run_locally`]).
+pub(super) fn summary(
+    study: &super::jobs::CaseJobs,
     nominal: &[CheckResult],
-    inputs: Vec<Input>,
-    grid: Option<super::numerics::GridStudy>,
-    done: impl Fn() + Sync,
+    moves: &[(usize, f64)],
+    evaluated: Vec<Point>,
+    refined_results: Vec<Vec<CheckResult>>,
 ) -> CaseUncertainty {
-    let moves: Vec<(usize, f64)> = (0..inputs.len())
-        .flat_map(|i| [(i, 1.0), (i, -1.0)])
+    let (case, inputs, grid) = (&study.case, &study.inputs, study.grid.as_ref());
+    // Each moved input's value and point (in `moves`' order), then the draws and theirs.
+    let mut evaluated = evaluated.into_iter();
+    let points: Vec<(f64, Point)> = (moves.iter().zip(&study.points))
+        .map(|(&(i, _), job)| (job.values[i], evaluated.next().expect("a point a move")))
         .collect();
-    let (refined_results, points, drawn) =
-        first_order_runs(case, nominal, &inputs, (&moves, grid.as_ref()), done);
-    let refinement = grid.as_ref().map_or(
+    let drawn: Vec<(Vec<f64>, Point)> = (study.points[moves.len()..].iter())
+        .map(|job| {
+            (
+                job.values.clone(),
+                evaluated.next().expect("a point a draw"),
+            )
+        })
+        .collect();
+    let refinement = grid.map_or(
         NO_GRID_STUDY.to_string(),
         super::numerics::GridStudy::describe,
     );
@@ -51,7 +87,7 @@ pub(super) fn propagate(
         })
     };
     let failed_points = points.iter().filter(|(_, p)| lost(p).is_some()).count();
-    let first_error = points.iter().zip(&moves).find_map(|((x, p), &(i, side))| {
+    let first_error = points.iter().zip(moves).find_map(|((x, p), &(i, side))| {
         lost(p).map(|(_, n)| {
             format!(
                 "{}: no value with {} at {x} (its {} % quantile)",
@@ -61,7 +97,7 @@ pub(super) fn propagate(
             )
         })
     });
-    let draws = surrogate_draws(&inputs);
+    let draws = surrogate_draws(inputs);
     let mut results = Vec::new();
     for (j, (check, n)) in case.checks.iter().zip(nominal).enumerate() {
         let mut rows = Vec::new();
@@ -69,9 +105,8 @@ pub(super) fn propagate(
         // Each quantity's normal spread beyond the surrogate's draws.
         let mut spread = Vec::new();
         for (k, q) in n.quantities.iter().enumerate() {
-            let numerics = grid
-                .as_ref()
-                .map(|g| g.numerical(&refined_results, j, q.value, &|r| refined_value(r, q)));
+            let numerics =
+                grid.map(|g| g.numerical(&refined_results, j, q.value, &|r| refined_value(r, q)));
             let (out, values, u_interactions) = first_order_quantity(
                 case,
                 (check, n, q),
@@ -81,7 +116,7 @@ pub(super) fn propagate(
                     drawn: &drawn,
                     draws: &draws,
                 },
-                &inputs,
+                inputs,
                 numerics,
             );
             spread.push(out.u_calibration.hypot(u_interactions));
@@ -107,97 +142,13 @@ pub(super) fn propagate(
             inputs.len(),
             moves.len()
         ),
-        inputs,
+        inputs: inputs.clone(),
         evaluations: moves.len() + drawn.len() + 1 + refined_results.len(),
         failed_points,
         first_error,
         refinement,
         results,
     }
-}
-
-/// A first-order propagation's evaluations, on every core in one batch: the grid study's refined
-/// cases (first, as the longest), each input at its two probes, and the residual check's draws.
-/// Returns the refined results (in the study's order), the moved inputs' values and points (in `moves`' order), and the draws with
-/// their points.
-#[allow(clippy::type_complexity)]
-fn first_order_runs(
-    case: &Case,
-    nominal: &[CheckResult],
-    inputs: &[Input],
-    (moves, grid): (&[(usize, f64)], Option<&super::numerics::GridStudy>),
-    done: impl Fn() + Sync,
-) -> (
-    Vec<Vec<CheckResult>>,
-    Vec<(f64, Point)>,
-    Vec<(Vec<f64>, Point)>,
-) {
-    /// A job: a refined case of the grid study, an input moved (which, up or down), or every
-    /// input drawn (the residual check's draw).
-    enum Job<'c> {
-        Refined(&'c Case),
-        Moved(usize, f64),
-        Drawn(Vec<f64>),
-    }
-    /// A job's outcome.
-    enum Run {
-        Refined(Vec<CheckResult>),
-        Moved(f64, Point),
-        Drawn(Vec<f64>, Point),
-    }
-    let residual = residual_draws(inputs);
-    let refined_cases = grid
-        .map(super::numerics::GridStudy::cases)
-        .unwrap_or_default();
-    let jobs: Vec<Job> = refined_cases
-        .into_iter()
-        .map(Job::Refined)
-        .chain(moves.iter().map(|&(i, side)| Job::Moved(i, side)))
-        .chain(residual.into_iter().map(Job::Drawn))
-        .collect();
-    let runs = crate::run::parallel::parallel_map(&jobs, |job| {
-        let (values, tag) = match job {
-            Job::Refined(c) => return Run::Refined(crate::suite::outcome::run_case(c)),
-            Job::Moved(i, side) => (
-                inputs
-                    .iter()
-                    .enumerate()
-                    .map(|(k, x)| match k == *i {
-                        true => x
-                            .distribution
-                            .quantile(PROBE_QUANTILE[usize::from(*side < 0.0)]),
-                        false => x.nominal,
-                    })
-                    .collect::<Vec<f64>>(),
-                format!("first-order-{i}-{side}"),
-            ),
-            Job::Drawn(values) => (values.clone(), format!("residual-{:x}", hash(values))),
-        };
-        let p = match with_values(case, inputs, &values, (&tag, None)) {
-            Ok(c) => {
-                let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
-                forget(case, &values_of(inputs, &values));
-                p
-            }
-            Err(e) => point_of(nominal, &[]).with_error(e),
-        };
-        done();
-        match job {
-            Job::Moved(i, _) => Run::Moved(values[*i], p),
-            _ => Run::Drawn(values, p),
-        }
-    });
-    let mut refined_results = Vec::new();
-    let mut points = Vec::with_capacity(moves.len());
-    let mut drawn = Vec::with_capacity(RESIDUAL_DRAWS);
-    for r in runs {
-        match r {
-            Run::Refined(results) => refined_results.push(results),
-            Run::Moved(x, p) => points.push((x, p)),
-            Run::Drawn(x, p) => drawn.push((x, p)),
-        }
-    }
-    (refined_results, points, drawn)
 }
 
 /// Where a first-order propagation moves each input, up then down: its 95 % and 5 % quantiles,

@@ -14,6 +14,9 @@
 //!   what the first-order method shares with it.
 //! - [`first_order`]: the first-order propagation of a case with autorotation checks (an
 //!   additive surrogate through two probes of each input, with a residual check).
+//! - [`jobs`]: a case's study as the evaluations it needs (the nominal run, the grid study's
+//!   refined cases, the propagation's points), run on this machine's cores or from a plan's
+//!   shards ([`crate::plan`]), and what their results make.
 //! - [`study`]: the entry points, [`study::propagate`] and [`study::propagate_from`]: a case's
 //!   inputs, and the method that suits it.
 //! - [`summary`]: a whole suite's verdicts per case, as committed in
@@ -23,6 +26,7 @@ pub mod calibration;
 pub mod design;
 pub mod distribution;
 pub mod first_order;
+pub mod jobs;
 pub mod numerics;
 pub mod propagate;
 pub mod sobol;

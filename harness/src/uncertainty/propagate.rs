@@ -550,27 +550,45 @@ pub fn mean_std(values: &[f64]) -> (f64, f64) {
     (mean, var.sqrt())
 }
 
-/// The sampled propagation of a case about its nominal results: Saltelli's design over its
-/// `inputs`, every check at every point, the numerical uncertainty from its grid study (see [`super::study`] for the entry points that choose it).
-pub(super) fn sampled(
-    case: &Case,
-    nominal: &[CheckResult],
-    inputs: Vec<Input>,
+/// The sampled propagation's points: Saltelli's design over the `inputs` and its points,
+/// `A` and `B` first, then each `A_B^(i)` point, which differs from its row of `A` in one input
+/// and starts from that row's answers where its model can
+/// ([`crate::external::FlightModel::starting_from`]; cierva's aircraft's trims): a nearer
+/// start, and fewer of the model's evaluations to the same tolerance.
+pub(super) fn sampled_jobs(
+    inputs: &[Input],
     settings: PropagationSettings,
-    done: impl Fn() + Sync,
-) -> Result<CaseUncertainty, String> {
-    let study = super::numerics::grid_study(case);
-    let grid = study.as_ref().map(|g| {
-        let cases = g.cases();
-        let results =
-            crate::run::parallel::parallel_map(&cases, |c| crate::suite::outcome::run_case(c));
-        (g, results)
-    });
-    let refinement = study.as_ref().map_or(
-        NO_GRID_STUDY.to_string(),
-        super::numerics::GridStudy::describe,
-    );
-    let (points, design) = sample(case, nominal, &inputs, settings, done)?;
+) -> Result<(Design, Vec<super::jobs::PointJob>), String> {
+    let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
+    let units = design.points();
+    let n = design.n;
+    let jobs = (units.iter().enumerate())
+        .map(|(k, u)| {
+            let values: Vec<f64> = (inputs.iter().zip(u))
+                .map(|(i, &x)| i.distribution.quantile(x))
+                .collect();
+            super::jobs::PointJob {
+                tag: format!("u{}-{}-{:x}", settings.seed, units.len(), hash(&values)),
+                values,
+                start: (k >= 2 * n).then(|| (k - 2 * n) % n),
+            }
+        })
+        .collect();
+    Ok((design, jobs))
+}
+
+/// The sampled propagation of a case from its evaluations (see [`super::jobs`]): each check's
+/// statistics, indices and verdicts over the design's `points`, the numerical uncertainty from
+/// the grid study's results.
+pub(super) fn sampled_summary(
+    study: &super::jobs::CaseJobs,
+    nominal: &[CheckResult],
+    design: &Design,
+    points: Vec<Point>,
+    grid: Option<(&super::numerics::GridStudy, &[Vec<CheckResult>])>,
+) -> CaseUncertainty {
+    let (case, inputs, settings) = (&study.case, &study.inputs, study.settings);
+    let refinement = grid.map_or(NO_GRID_STUDY.to_string(), |(g, _)| g.describe());
     let failed_points = points.iter().filter(|p| p.error.is_some()).count();
     let first_error = points.iter().find_map(|p| p.error.clone());
     let mut results = Vec::new();
@@ -579,9 +597,9 @@ pub(super) fn sampled(
             case,
             (j, check, n),
             &points,
-            &design,
-            grid.as_ref().map(|(g, r)| (*g, r.as_slice())),
-            &inputs,
+            design,
+            grid,
+            inputs,
         ));
     }
     let method = format!(
@@ -592,74 +610,16 @@ pub(super) fn sampled(
         points.len(),
         2 * design.n
     );
-    Ok(CaseUncertainty {
+    CaseUncertainty {
         case: case.id.clone(),
         method,
-        inputs,
-        evaluations: points.len() + 1 + grid.as_ref().map_or(0, |(_, r)| r.len()),
+        inputs: inputs.clone(),
+        evaluations: points.len() + 1 + grid.map_or(0, |(_, r)| r.len()),
         failed_points,
         first_error,
         refinement,
         results,
-    })
-}
-
-/// Every point of the case's design evaluated, on every core. `A` and `B` first; then each
-/// `A_B^(i)` point, which differs from its row of `A` in one input, its model's answers started
-/// from that row's where it can ([`crate::external::FlightModel::starting_from`]; cierva's
-/// aircraft's trims): a nearer start, and fewer of the model's evaluations to the same
-/// tolerance. What a point's model remembers is forgotten once its checks have run (a row of
-/// `A`'s once its `A_B^(i)` points have), so that thousands of points do not fill the memory.
-fn sample(
-    case: &Case,
-    nominal: &[CheckResult],
-    inputs: &[Input],
-    settings: PropagationSettings,
-    done: impl Fn() + Sync,
-) -> Result<(Vec<Point>, Design), String> {
-    let design = Design::sobol(settings.samples, inputs.len(), settings.seed)?;
-    let units = design.points();
-    let values_at = |u: &[f64]| -> Vec<f64> {
-        inputs
-            .iter()
-            .zip(u)
-            .map(|(i, &x)| i.distribution.quantile(x))
-            .collect()
-    };
-    // Each point evaluated from `start`; forgotten after unless `keep`.
-    let evaluate = |values: &[f64], start: Option<&Values>, keep: bool| -> Point {
-        let tag = format!("u{}-{}-{:x}", settings.seed, units.len(), hash(values));
-        let out = match with_values(case, inputs, values, (&tag, start)) {
-            Ok(c) => {
-                let p = point_of(nominal, &crate::suite::outcome::run_case(&c));
-                if !keep {
-                    forget(case, &values_of(inputs, values));
-                }
-                p
-            }
-            Err(e) => point_of(nominal, &[]).with_error(e),
-        };
-        done();
-        out
-    };
-    let n = design.n;
-    let (a_and_b, rest) = units.split_at(2 * n);
-    let first: Vec<(usize, &Vec<f64>)> = a_and_b.iter().enumerate().collect();
-    let first =
-        crate::run::parallel::parallel_map(&first, |(k, u)| evaluate(&values_at(u), None, *k < n));
-    let rows: Vec<Values> = a_and_b[..n]
-        .iter()
-        .map(|u| values_of(inputs, &values_at(u)))
-        .collect();
-    let rest: Vec<(usize, &Vec<f64>)> = rest.iter().enumerate().collect();
-    let second = crate::run::parallel::parallel_map(&rest, |(k, u)| {
-        evaluate(&values_at(u), Some(&rows[k % n]), false)
-    });
-    for row in &rows {
-        forget(case, row);
     }
-    let points = first.into_iter().chain(second).collect();
-    Ok((points, design))
 }
 
 /// One check's quantities over the samples: statistics, indices, comparison, pass fraction

@@ -320,7 +320,7 @@ fn the_harness_root_holds_only_groups() {
 /// The harness library's groups, lowest first: each depends only on groups before it. Input
 /// formats know nothing of running the model; identification nothing of the runners; the
 /// checks nothing of the suite that holds them; fits, uncertainty and reports sit on top.
-const HARNESS_LAYERS: [&str; 13] = [
+const HARNESS_LAYERS: [&str; 14] = [
     "units",
     "inputs",
     "ident",
@@ -332,6 +332,7 @@ const HARNESS_LAYERS: [&str; 13] = [
     "suite",
     "fit",
     "uncertainty",
+    "plan",
     "report",
     "bench",
 ];

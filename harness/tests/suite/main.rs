@@ -25,6 +25,7 @@ mod misbehaving;
 mod model_interface;
 mod mutation;
 mod old_spelling;
+mod plan;
 mod posterior;
 mod quoted;
 mod records;

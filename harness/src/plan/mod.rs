@@ -1,0 +1,770 @@
+//! A study as a plan of independent evaluations, for models too slow for one machine
+//! (`cierva uncertainty --plan`, `cierva evaluate`, `cierva uncertainty --from-plan`).
+//!
+//! - [`write()`] writes every evaluation a study needs to `DIR/plan.yaml` ([`PlanFile`]): each
+//!   case's nominal run, its grid study's refined cases and its propagation's points, each
+//!   point with the parameter values its model is asked with (the model interface's request:
+//!   the case's conditions and loadings, these values). Evaluations that share a model's
+//!   answers (a row of `A` and the `A_B^(i)` points that start from it) form a group, the unit
+//!   a shard takes.
+//! - [`evaluate`] runs shard `I` of `N` (an `N`th of the groups, dealt by [`shard_of`]) and writes its results to
+//!   `DIR/results/shard-I-of-N.yaml` at once (written to a temporary file and renamed), each
+//!   evaluation first to a file of its own under `DIR/results/shard-I-of-N/`: a killed shard
+//!   loses only the evaluation it was running, and a rerun takes up where it stopped; a shard
+//!   already done is skipped.
+//! - [`finish`] reads the results and finishes each case's study with the same code as the
+//!   one-machine run ([`crate::uncertainty::jobs::CaseJobs::finish`]): the same numbers, bit
+//!   for bit. A missing shard is named, and no study is finished without every evaluation.
+//!
+//! A plan is checked before it is used: its format and the cierva version that wrote it, and
+//! each case's fingerprint (its file, its aircraft or rotor file, the corrections files and
+//! the inputs its model declares), so that results are never merged into a study of other
+//! cases. Any engine runs the shards: `cierva evaluate` is a command (docs/scaling.md).
+
+use crate::inputs::yaml::InputError;
+use crate::suite::case::Case;
+use crate::suite::outcome::CheckResult;
+use crate::uncertainty::jobs::{CaseJobs, Runs};
+use crate::uncertainty::propagate::{CaseUncertainty, Propagation, PropagationSettings};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The plan's format, in `plan.yaml` and every results file.
+pub const FORMAT: &str = "cierva-plan/1";
+
+/// The cierva version that writes a plan, which only the same version evaluates and finishes:
+/// another version may evaluate the same point differently.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The largest plan or results file read (1 GiB): a plan of 43,000 points of 40 inputs is
+/// about 100 MB.
+pub const MAX_PLAN_FILE_BYTES: u64 = 1 << 30;
+
+/// `DIR/plan.yaml`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanFile {
+    pub format: String,
+    pub cierva_version: String,
+    /// The study's settings, as `cierva uncertainty` was given them.
+    pub study: StudySettings,
+    /// The corrections files applied to every case (absolute paths).
+    pub corrections: Vec<PathBuf>,
+    pub cases: Vec<PlannedCase>,
+    /// Groups of evaluations, numbered from 0: shard `I` of `N` takes those [`shard_of`] deals
+    /// it.
+    pub groups: usize,
+    pub evaluations: Vec<Evaluation>,
+}
+
+/// Evaluates a study was asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudySettings {
+    pub samples: usize,
+    pub seed: u32,
+    pub method: Propagation,
+    pub validation_only: bool,
+}
+
+impl StudySettings {
+    fn propagation(self) -> PropagationSettings {
+        PropagationSettings {
+            samples: self.samples,
+            seed: self.seed,
+            validation_only: self.validation_only,
+            method: self.method,
+        }
+    }
+}
+
+/// A case of the plan: where it is, what it was, and what its study evaluates.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlannedCase {
+    /// The case file (absolute: a shard may run in another folder).
+    pub path: PathBuf,
+    pub id: String,
+    /// FNV-1a (64 bits, hex) of what the study depends on ([`fingerprint`]).
+    pub fingerprint: String,
+    /// The uncertain inputs, in the order of each point's `values`.
+    pub inputs: Vec<String>,
+}
+
+/// One evaluation: a case's nominal run, a refined case of its grid study, or a point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Evaluation {
+    /// Its place in the plan, from 0.
+    pub index: usize,
+    /// Its case's place in `cases`.
+    pub case: usize,
+    pub group: usize,
+    pub what: Evaluates,
+}
+
+/// Evaluates an evaluation runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Evaluates {
+    /// Every check of the case with its model's nominal parameters.
+    Nominal,
+    /// Every check with the model refined ([`crate::uncertainty::numerics`]): the `level`-th
+    /// refined case of the grid study, in its order.
+    Refined { level: usize, model: String },
+    /// Every check with the inputs at `values` (the case's `inputs`' order): the model asked
+    /// with `parameters` (what the values set, by the model's parameter names), started from
+    /// point `start`'s answers where it can.
+    Point {
+        point: usize,
+        values: Vec<f64>,
+        parameters: BTreeMap<String, f64>,
+        start: Option<usize>,
+        tag: String,
+    },
+}
+
+/// One evaluation's results: every check's, or why the case could not be made.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EvaluationResult {
+    pub evaluation: usize,
+    /// Its wall time, s.
+    pub seconds: f64,
+    pub results: Option<Vec<CheckResult>>,
+    pub error: Option<String>,
+}
+
+/// A results file: one evaluation's (under `results/shard-I-of-N/`) or a whole shard's
+/// (`results/shard-I-of-N.yaml`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResultsFile {
+    pub format: String,
+    /// The plan's id ([`plan_id`]).
+    pub plan: String,
+    pub shard: usize,
+    pub of: usize,
+    pub evaluations: Vec<EvaluationResult>,
+}
+
+/// Why a plan could not be written, run or finished: bad input (exit 2; located where a file
+/// is at fault), or a study not yet complete (a missing shard, named; exit 1).
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlanError {
+    Input(String),
+    Incomplete(String),
+}
+
+impl From<InputError> for PlanError {
+    /// The file's error with its location and excerpt (without the `error: ` the command line
+    /// puts before every message).
+    fn from(e: InputError) -> Self {
+        let text = e.render();
+        Self::Input(text.strip_prefix("error: ").unwrap_or(&text).to_string())
+    }
+}
+
+/// A plan read back and checked: the file, its id, and each case's study.
+pub struct LoadedPlan {
+    pub dir: PathBuf,
+    pub file: PlanFile,
+    pub id: String,
+    pub studies: Vec<CaseJobs>,
+}
+
+/// The path of the plan in `dir`.
+pub fn plan_path(dir: &Path) -> PathBuf {
+    dir.join("plan.yaml")
+}
+
+/// A plan's id: FNV-1a (64 bits, hex) of its file's text.
+pub fn plan_id(text: &str) -> String {
+    format!("{:016x}", crate::suite::review::fnv1a64(text.as_bytes()))
+}
+
+/// Evaluates a case's study depends on, hashed (FNV-1a, 64 bits, hex): the case file, its aircraft
+/// or rotor file, the corrections files and each uncertain input (name, nominal value and
+/// distribution). A change to a simulation behind the protocol that leaves its declared
+/// parameters alone is not seen.
+pub fn fingerprint(case: &Case, corrections: &[PathBuf], study: &CaseJobs) -> String {
+    use crate::checks::subject::Subject;
+    let mut bytes = std::fs::read(&case.path).unwrap_or_default();
+    let file = match &case.subject {
+        Subject::Aircraft { file, .. } => Some(file.path.clone()),
+        Subject::Rotor { file, .. } => Some(file.path.clone()),
+        _ => None,
+    };
+    for p in file.iter().chain(corrections) {
+        bytes.extend(std::fs::read(p).unwrap_or_default());
+    }
+    for i in &study.inputs {
+        bytes.extend(format!("{}={:?};{:?}", i.name, i.nominal, i.distribution).bytes());
+    }
+    format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
+}
+
+/// The plan of every case's study (`cases`: each case as loaded from its path, with the
+/// corrections applied), written to `dir/plan.yaml`. A folder that holds another plan is
+/// refused (its results would be mixed); the same plan again is left as it is.
+pub fn write(
+    dir: &Path,
+    cases: &[Case],
+    corrections: &[PathBuf],
+    study: StudySettings,
+) -> Result<PlanFile, PlanError> {
+    let corrections: Vec<PathBuf> = corrections.iter().map(|p| absolute(p)).collect();
+    let mut planned = Vec::new();
+    let mut evaluations = Vec::new();
+    let mut groups = 0;
+    for (c, case) in cases.iter().enumerate() {
+        let jobs = CaseJobs::of(case, study.propagation())
+            .map_err(|e| PlanError::Input(format!("{}: {e}", case.path.display())))?;
+        planned.push(PlannedCase {
+            path: absolute(&case.path),
+            id: case.id.clone(),
+            fingerprint: fingerprint(case, &corrections, &jobs),
+            inputs: jobs.inputs.iter().map(|i| i.name.clone()).collect(),
+        });
+        for (what, group) in evaluations_of(&jobs) {
+            evaluations.push(Evaluation {
+                index: evaluations.len(),
+                case: c,
+                group: groups + group,
+                what,
+            });
+        }
+        groups = evaluations.last().map_or(groups, |e| e.group + 1);
+    }
+    let file = PlanFile {
+        format: FORMAT.into(),
+        cierva_version: VERSION.into(),
+        study,
+        corrections,
+        cases: planned,
+        groups,
+        evaluations,
+    };
+    let text = serde_yaml::to_string(&file).map_err(|e| PlanError::Input(e.to_string()))?;
+    let path = plan_path(dir);
+    if let Ok(old) = std::fs::read_to_string(&path) {
+        if old == text {
+            return Ok(file);
+        }
+        return Err(PlanError::Input(format!(
+            "{} holds another plan: give a new folder, or remove it and its results first",
+            path.display()
+        )));
+    }
+    write_atomically(&path, &text)?;
+    Ok(file)
+}
+
+/// A case study's evaluations in plan order, each with its group (from 0 within the case):
+/// the nominal run, each refined case, then the points, a start with the points that start
+/// from it (in their order), each other point alone.
+fn evaluations_of(jobs: &CaseJobs) -> Vec<(Evaluates, usize)> {
+    let mut out = vec![(Evaluates::Nominal, 0)];
+    for (level, model) in jobs.refined_words().into_iter().enumerate() {
+        out.push((Evaluates::Refined { level, model }, out.len()));
+    }
+    let point = |k: usize| {
+        let p = &jobs.points[k];
+        Evaluates::Point {
+            point: k,
+            values: p.values.clone(),
+            parameters: jobs.parameters_of(k).into_iter().collect(),
+            start: p.start,
+            tag: p.tag.clone(),
+        }
+    };
+    let starts = jobs.starts();
+    let mut followers: Vec<Vec<usize>> = vec![Vec::new(); jobs.points.len()];
+    for (k, p) in jobs.points.iter().enumerate() {
+        if let Some(s) = p.start {
+            followers[s].push(k);
+        }
+    }
+    for k in (0..jobs.points.len()).filter(|&k| jobs.points[k].start.is_none()) {
+        let group = out.last().map_or(0, |(_, g)| g + 1);
+        out.push((point(k), group));
+        if starts[k] {
+            for &f in &followers[k] {
+                out.push((point(f), group));
+            }
+        }
+    }
+    out
+}
+
+/// The path made absolute against the current folder (as it is, where that fails).
+fn absolute(p: &Path) -> PathBuf {
+    std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf())
+}
+
+/// Writes `text` to `path` at once: to a temporary file beside it, then renamed over it, so
+/// that a reader (or a killed writer) never sees half a file.
+fn write_atomically(path: &Path, text: &str) -> Result<(), PlanError> {
+    let cannot =
+        |e: std::io::Error| PlanError::Input(format!("cannot write {}: {e}", path.display()));
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(cannot)?;
+    }
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy());
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    std::fs::write(&tmp, text).map_err(cannot)?;
+    std::fs::rename(&tmp, path).map_err(cannot)
+}
+
+/// Reads and parses a plan's or a results file, its errors located.
+fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<(T, String), PlanError> {
+    let text = crate::inputs::yaml::read_limited(path, MAX_PLAN_FILE_BYTES)?;
+    let value = crate::inputs::yaml::parse(path, &text)?;
+    Ok((value, text))
+}
+
+/// The plan in `dir`, checked: its format and version, each case loaded as it was planned
+/// (with the corrections applied) and unchanged (its fingerprint), and its evaluations those
+/// its study needs now.
+pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
+    let path = plan_path(dir);
+    if !path.exists() {
+        return Err(PlanError::Input(format!(
+            "{}: no plan here (write one with `cierva uncertainty CASES --plan {}`)",
+            path.display(),
+            dir.display()
+        )));
+    }
+    let (file, text): (PlanFile, String) = read_yaml(&path)?;
+    let at = |field: &str, m: String| PlanError::from(InputError::field(&path, &text, field, m));
+    if file.format != FORMAT {
+        return Err(at(
+            "format",
+            format!("`{}`: this cierva reads plans of `{FORMAT}`", file.format),
+        ));
+    }
+    if file.cierva_version != VERSION {
+        return Err(at(
+            "cierva_version",
+            format!(
+                "the plan was written by cierva {} and this is {VERSION}: another version may evaluate a point differently; write the plan again with this one",
+                file.cierva_version
+            ),
+        ));
+    }
+    let corrections = (file.corrections.iter())
+        .map(|p| crate::inputs::corrections::load(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut studies = Vec::new();
+    for (c, planned) in file.cases.iter().enumerate() {
+        let case = crate::suite::case::load(&planned.path)?;
+        let (case, _) = crate::suite::case::with_corrections(&case, &corrections)
+            .map_err(|e| at(&format!("cases[{c}]"), format!("the corrections {e}")))?;
+        let jobs = CaseJobs::of(&case, file.study.propagation())
+            .map_err(|e| at(&format!("cases[{c}]"), e))?;
+        if fingerprint(&case, &file.corrections, &jobs) != planned.fingerprint
+            || case.id != planned.id
+        {
+            return Err(at(
+                &format!("cases[{c}].fingerprint"),
+                format!(
+                    "{} has changed since the plan was written (its file, its aircraft or rotor file, the corrections or its model's declared inputs): write the plan again",
+                    planned.path.display()
+                ),
+            ));
+        }
+        studies.push(jobs);
+    }
+    let expected: Vec<(usize, Evaluates)> = (studies.iter().enumerate())
+        .flat_map(|(c, j)| evaluations_of(j).into_iter().map(move |(w, _)| (c, w)))
+        .collect();
+    let planned: Vec<(usize, Evaluates)> = (file.evaluations.iter())
+        .map(|e| (e.case, e.what.clone()))
+        .collect();
+    if let Some(k) =
+        (0..expected.len().max(planned.len())).find(|&k| expected.get(k) != planned.get(k))
+    {
+        return Err(at(
+            &format!("evaluations[{k}]"),
+            "not the evaluation its case's study needs (the plan was edited, or written for other settings): write the plan again".into(),
+        ));
+    }
+    Ok(LoadedPlan {
+        dir: dir.to_path_buf(),
+        id: plan_id(&text),
+        file,
+        studies,
+    })
+}
+
+/// A shard, `I` of `N` (from 1), as `--shard I/N` gives it.
+pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("--shard {text}: give I/N, shard I (1 to N) of N shards, such as 2/8");
+    let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (
+        i.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
+    if n == 0 || i == 0 || i > n {
+        return Err(format!(
+            "--shard {text}: shard {i} is out of range: shards are numbered 1 to {n}"
+        ));
+    }
+    Ok((i, n))
+}
+
+/// The shard (1 to `n`) that group `g` belongs to: the groups dealt to the shards in a snake
+/// (1 to `n`, then `n` to 1, and again), so that a run of costly groups (the grid study's
+/// refined cases, each finer than the one before, all at the start) is spread over the shards
+/// instead of every other one falling to the same shard.
+pub fn shard_of(g: usize, n: usize) -> usize {
+    let (round, place) = (g / n, g % n);
+    if round % 2 == 0 { place + 1 } else { n - place }
+}
+
+/// The results file of shard `i` of `n`, and the folder of its evaluations' files while it runs.
+fn shard_paths(dir: &Path, (i, n): (usize, usize)) -> (PathBuf, PathBuf) {
+    let results = dir.join("results");
+    (
+        results.join(format!("shard-{i}-of-{n}.yaml")),
+        results.join(format!("shard-{i}-of-{n}")),
+    )
+}
+
+/// Evaluates [`evaluate`] did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShardReport {
+    pub shard: usize,
+    pub of: usize,
+    pub evaluations: usize,
+    /// Evaluations already done by an earlier run of the shard (0 for a fresh one; all of them
+    /// for a shard already complete, which is skipped).
+    pub already_done: usize,
+    pub path: PathBuf,
+    pub seconds: f64,
+}
+
+/// Runs shard `shard = (I, N)` of the plan (its groups: [`shard_of`]): each of its groups on a core of its own, each
+/// group's evaluations in order (a start before the points that start from it), each
+/// evaluation's results written as it finishes; then the shard's file, and the evaluations'
+/// files removed. A complete shard is skipped; an interrupted one takes up where it stopped.
+/// `done` is called after each evaluation.
+pub fn evaluate(
+    plan: &LoadedPlan,
+    shard: (usize, usize),
+    done: impl Fn() + Sync,
+) -> Result<ShardReport, PlanError> {
+    let started = std::time::Instant::now();
+    let (i, n) = shard;
+    let (path, partial) = shard_paths(&plan.dir, shard);
+    let mine: Vec<&Evaluation> = (plan.file.evaluations.iter())
+        .filter(|e| shard_of(e.group, n) == i)
+        .collect();
+    if n > plan.file.groups {
+        return Err(PlanError::Input(format!(
+            "--shard {i}/{n}: the plan has {} groups of evaluations (the unit a shard takes), so at most {} shards",
+            plan.file.groups, plan.file.groups
+        )));
+    }
+    let report = |already_done: usize| ShardReport {
+        shard: i,
+        of: n,
+        evaluations: mine.len(),
+        already_done,
+        path: path.clone(),
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    if path.exists() {
+        read_results(plan, &path, Some(shard))?;
+        return Ok(report(mine.len()));
+    }
+    let mut have: BTreeMap<usize, EvaluationResult> = BTreeMap::new();
+    if partial.is_dir() {
+        for r in read_partial(plan, &partial, shard)? {
+            have.insert(r.evaluation, r);
+        }
+    }
+    let already_done = have.len();
+    let mut groups: BTreeMap<usize, Vec<&Evaluation>> = BTreeMap::new();
+    for e in mine.iter().filter(|e| !have.contains_key(&e.index)) {
+        groups.entry(e.group).or_default().push(e);
+    }
+    let groups: Vec<Vec<&Evaluation>> = groups.into_values().collect();
+    let ran = crate::run::parallel::parallel_map(&groups, |group| {
+        let mut out = Vec::new();
+        for e in group {
+            let r = run_one(plan, e);
+            let file = ResultsFile {
+                format: FORMAT.into(),
+                plan: plan.id.clone(),
+                shard: i,
+                of: n,
+                evaluations: vec![r.clone()],
+            };
+            let text = serde_yaml::to_string(&file).map_err(|x| PlanError::Input(x.to_string()))?;
+            write_atomically(&partial.join(format!("evaluation-{}.yaml", e.index)), &text)?;
+            out.push(r);
+            done();
+        }
+        // Evaluates the group's model remembers, once every point of it has run.
+        for e in group {
+            if let Evaluates::Point { point, .. } = e.what {
+                plan.studies[e.case].forget(point);
+            }
+        }
+        Ok::<_, PlanError>(out)
+    });
+    for r in ran {
+        for e in r? {
+            have.insert(e.evaluation, e);
+        }
+    }
+    let file = ResultsFile {
+        format: FORMAT.into(),
+        plan: plan.id.clone(),
+        shard: i,
+        of: n,
+        evaluations: have.into_values().collect(),
+    };
+    let text = serde_yaml::to_string(&file).map_err(|x| PlanError::Input(x.to_string()))?;
+    write_atomically(&path, &text)?;
+    // The evaluations' files are in the shard's now (a failure to remove them leaves
+    // duplicates, which read the same).
+    let _ = std::fs::remove_dir_all(&partial);
+    Ok(report(already_done))
+}
+
+/// One evaluation run: its case's checks, nominal, refined or at the point's values.
+fn run_one(plan: &LoadedPlan, e: &Evaluation) -> EvaluationResult {
+    let started = std::time::Instant::now();
+    let jobs = &plan.studies[e.case];
+    let results = match &e.what {
+        Evaluates::Nominal => Ok(crate::suite::outcome::run_case(&jobs.case)),
+        Evaluates::Refined { level, .. } => Ok(crate::suite::outcome::run_case(
+            jobs.refined_cases()[*level],
+        )),
+        Evaluates::Point { point, .. } => jobs.evaluate(*point),
+    };
+    let (results, error) = match results {
+        Ok(r) => (Some(r), None),
+        Err(e) => (None, Some(e)),
+    };
+    EvaluationResult {
+        evaluation: e.index,
+        seconds: started.elapsed().as_secs_f64(),
+        results,
+        error,
+    }
+}
+
+/// A results file read and checked: of this plan, of the shard its name says (where given),
+/// and of that shard's evaluations.
+fn read_results(
+    plan: &LoadedPlan,
+    path: &Path,
+    shard: Option<(usize, usize)>,
+) -> Result<Vec<EvaluationResult>, PlanError> {
+    let (file, text): (ResultsFile, String) = read_yaml(path)?;
+    let at = |field: &str, m: String| PlanError::from(InputError::field(path, &text, field, m));
+    if file.format != FORMAT {
+        return Err(at(
+            "format",
+            format!("`{}`: this cierva reads `{FORMAT}`", file.format),
+        ));
+    }
+    if file.plan != plan.id {
+        return Err(at(
+            "plan",
+            format!(
+                "results of another plan ({}; the plan in {} is {}): remove them, or finish the plan they belong to",
+                file.plan,
+                plan.dir.display(),
+                plan.id
+            ),
+        ));
+    }
+    if let Some((i, n)) = shard
+        && (file.shard, file.of) != (i, n)
+    {
+        return Err(at(
+            "shard",
+            format!(
+                "shard {} of {} in a file of shard {i} of {n}",
+                file.shard, file.of
+            ),
+        ));
+    }
+    if file.of == 0 || file.shard == 0 || file.shard > file.of {
+        return Err(at(
+            "shard",
+            format!("shard {} of {}: out of range", file.shard, file.of),
+        ));
+    }
+    for (k, r) in file.evaluations.iter().enumerate() {
+        let Some(e) = plan.file.evaluations.get(r.evaluation) else {
+            return Err(at(
+                &format!("evaluations[{k}].evaluation"),
+                format!(
+                    "{}: the plan has {} evaluations",
+                    r.evaluation,
+                    plan.file.evaluations.len()
+                ),
+            ));
+        };
+        if shard_of(e.group, file.of) != file.shard {
+            return Err(at(
+                &format!("evaluations[{k}].evaluation"),
+                format!(
+                    "evaluation {} is not shard {} of {}'s",
+                    r.evaluation, file.shard, file.of
+                ),
+            ));
+        }
+        let checks = plan.studies[e.case].case.checks.len();
+        if r.results.as_ref().is_some_and(|x| x.len() != checks)
+            || r.results.is_none() == r.error.is_none()
+        {
+            return Err(at(
+                &format!("evaluations[{k}]"),
+                format!(
+                    "evaluation {}: give the results of its {checks} checks, or the error that stopped it",
+                    r.evaluation
+                ),
+            ));
+        }
+    }
+    Ok(file.evaluations)
+}
+
+/// The evaluations' files of an interrupted shard.
+fn read_partial(
+    plan: &LoadedPlan,
+    folder: &Path,
+    shard: (usize, usize),
+) -> Result<Vec<EvaluationResult>, PlanError> {
+    let cannot =
+        |e: std::io::Error| PlanError::Input(format!("cannot read {}: {e}", folder.display()));
+    let mut out = Vec::new();
+    let mut paths: Vec<PathBuf> = (std::fs::read_dir(folder).map_err(cannot)?)
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "yaml"))
+        .collect();
+    paths.sort();
+    for p in paths {
+        out.extend(read_results(plan, &p, Some(shard))?);
+    }
+    Ok(out)
+}
+
+/// Every evaluation's results found in the plan's folder (complete shards' files and
+/// interrupted shards' evaluations), by evaluation, with the shard counts they were run in.
+fn gather(plan: &LoadedPlan) -> Result<(BTreeMap<usize, EvaluationResult>, Vec<usize>), PlanError> {
+    let results = plan.dir.join("results");
+    let mut have = BTreeMap::new();
+    let mut counts = Vec::new();
+    let Ok(entries) = std::fs::read_dir(&results) else {
+        return Ok((have, counts));
+    };
+    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    for p in paths {
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        let Some(shard) = name
+            .strip_prefix("shard-")
+            .map(|s| s.trim_end_matches(".yaml").replace("-of-", "/"))
+            .and_then(|s| parse_shard(&s).ok())
+        else {
+            continue;
+        };
+        let found = if p.is_dir() {
+            read_partial(plan, &p, shard)?
+        } else {
+            read_results(plan, &p, Some(shard))?
+        };
+        counts.push(shard.1);
+        for r in found {
+            have.insert(r.evaluation, r);
+        }
+    }
+    counts.sort_unstable();
+    counts.dedup();
+    Ok((have, counts))
+}
+
+/// Every case's study from the plan's results, with the wall time its evaluations took
+/// (summed over them, s); [`PlanError::Incomplete`] naming the shards whose results are
+/// missing, where any are.
+pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanError> {
+    let (mut have, counts) = gather(plan)?;
+    let missing: Vec<&Evaluation> = (plan.file.evaluations.iter())
+        .filter(|e| !have.contains_key(&e.index))
+        .collect();
+    if !missing.is_empty() {
+        return Err(PlanError::Incomplete(incomplete(plan, &missing, &counts)));
+    }
+    let mut out = Vec::new();
+    for (c, jobs) in plan.studies.iter().enumerate() {
+        let mut nominal = Vec::new();
+        let mut refined = Vec::new();
+        let mut points: Vec<Option<Result<Vec<CheckResult>, String>>> =
+            (0..jobs.points.len()).map(|_| None).collect();
+        let mut seconds = 0.0;
+        for e in plan.file.evaluations.iter().filter(|e| e.case == c) {
+            let r = have.remove(&e.index).expect("every evaluation found");
+            seconds += r.seconds;
+            let result = match (r.results, r.error) {
+                (Some(x), _) => Ok(x),
+                (None, e) => Err(e.unwrap_or_default()),
+            };
+            match (&e.what, result) {
+                (Evaluates::Nominal, Ok(x)) => nominal = x,
+                (Evaluates::Refined { .. }, Ok(x)) => refined.push(x),
+                (Evaluates::Point { point, .. }, x) => points[*point] = Some(x),
+                (_, Err(x)) => {
+                    return Err(PlanError::Input(format!("evaluation {}: {x}", e.index)));
+                }
+            }
+        }
+        let runs = Runs::from_results(
+            nominal,
+            refined,
+            points.into_iter().map(|p| p.expect("every point found")),
+        );
+        out.push((jobs.finish(runs), seconds));
+    }
+    Ok(out)
+}
+
+/// The missing evaluations in words, by the shard that holds them (in the shard count the
+/// results were run in, or the most evaluations where none were).
+fn incomplete(plan: &LoadedPlan, missing: &[&Evaluation], counts: &[usize]) -> String {
+    let total = plan.file.evaluations.len();
+    let dir = plan.dir.display();
+    let Some(&n) = counts.last() else {
+        return format!(
+            "{} of {total} evaluations have no results in {dir}/results: run `cierva evaluate {dir} --shard I/N` for each shard I of N, then finish the study",
+            missing.len()
+        );
+    };
+    let mut by_shard: BTreeMap<usize, usize> = BTreeMap::new();
+    for e in missing {
+        *by_shard.entry(shard_of(e.group, n)).or_default() += 1;
+    }
+    let shards: Vec<String> = (by_shard.iter())
+        .map(|(i, k)| {
+            let of = (plan.file.evaluations.iter()).filter(|e| shard_of(e.group, n) == *i).count();
+            format!("shard {i} of {n} ({k} of its {of} evaluations; `cierva evaluate {dir} --shard {i}/{n}`)")
+        })
+        .collect();
+    format!(
+        "the study is not complete: {} of {total} evaluations have no results, so no verdict is drawn. Missing: {}",
+        missing.len(),
+        shards.join("; ")
+    )
+}

@@ -1,0 +1,236 @@
+//! A study as a plan of independent evaluations (issue 53): written, run in shards, finished;
+//! the same numbers as the one-machine run, bit for bit; every bad input a located error.
+
+use crate::common::{cierva_in, repo_root};
+use cierva_harness::plan::{self, PlanError, StudySettings};
+use cierva_harness::uncertainty::propagate::{Propagation, PropagationSettings};
+use std::path::{Path, PathBuf};
+
+/// A fresh folder of its own under the system's temporary one.
+fn fresh(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cierva-plan-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The slow stand-in model's suite (examples/distributed/slow-model) copied to `dir`, its
+/// trims instant (`--seconds 0`): a study's plumbing without its cost.
+fn instant_model(dir: &Path) -> PathBuf {
+    let from = repo_root().join("examples/distributed/slow-model");
+    for sub in ["cases", "model"] {
+        std::fs::create_dir_all(dir.join(sub)).unwrap();
+        for f in std::fs::read_dir(from.join(sub)).unwrap() {
+            let f = f.unwrap().path();
+            std::fs::copy(&f, dir.join(sub).join(f.file_name().unwrap())).unwrap();
+        }
+    }
+    let case = dir.join("cases/slow-model-trim.yaml");
+    let text = std::fs::read_to_string(&case).unwrap().replace(
+        "command: [python3, ../model/slow_model.py, --serve]",
+        "command: [python3, ../model/slow_model.py, --serve, --seconds, '0']",
+    );
+    std::fs::write(&case, text).unwrap();
+    case
+}
+
+fn settings(samples: usize) -> StudySettings {
+    StudySettings {
+        samples,
+        seed: 5,
+        method: Propagation::Auto,
+        validation_only: false,
+    }
+}
+
+/// Seed 001 Table 2's case at 8 base points, planned, run in 3 shards out of order and
+/// finished: every number the one-machine study states, bit for bit (the JSON of both, which
+/// prints each double to the digits that read back to it).
+#[test]
+fn a_plan_finishes_as_the_one_machine_study_bit_for_bit() {
+    let dir = fresh("table2");
+    let path = repo_root().join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml");
+    let case = cierva_harness::suite::case::load(&path).unwrap();
+    let file = plan::write(&dir, std::slice::from_ref(&case), &[], settings(8)).unwrap();
+    // The nominal run, the grid study's refined cases, and 8 (14 + 2) points.
+    assert_eq!(file.evaluations.len(), 1 + 8 + 8 * 16, "{:?}", file.cases);
+    let loaded = plan::load(&dir).unwrap();
+    for shard in [3, 1, 2] {
+        let r = plan::evaluate(&loaded, (shard, 3), || ()).unwrap();
+        assert_eq!(r.already_done, 0);
+    }
+    let finished = plan::finish(&loaded).unwrap();
+    let one = cierva_harness::uncertainty::study::propagate(
+        &case,
+        PropagationSettings {
+            samples: 8,
+            seed: 5,
+            validation_only: false,
+            method: Propagation::Auto,
+        },
+        || (),
+    )
+    .unwrap();
+    assert_eq!(finished.len(), 1);
+    assert!(one.failed_points < one.evaluations, "{:?}", one.first_error);
+    assert_eq!(
+        serde_json::to_string(&finished[0].0).unwrap(),
+        serde_json::to_string(&one).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A shard stopped part-way takes up where it stopped (its evaluations' files kept), and a
+/// shard done is skipped; the finished study is the same.
+#[test]
+fn a_stopped_shard_resumes_and_a_done_one_is_skipped() {
+    let dir = fresh("resume");
+    let case = cierva_harness::suite::case::load(&instant_model(&dir)).unwrap();
+    let study = dir.join("study");
+    plan::write(&study, std::slice::from_ref(&case), &[], settings(8)).unwrap();
+    let loaded = plan::load(&study).unwrap();
+    plan::evaluate(&loaded, (1, 1), || ()).unwrap();
+    let whole = serde_json::to_string(&plan::finish(&loaded).unwrap()[0].0).unwrap();
+    // Stopped after 5 evaluations: the shard's file gone, 5 evaluations' files left.
+    let shard_file = study.join("results/shard-1-of-1.yaml");
+    let text = std::fs::read_to_string(&shard_file).unwrap();
+    let all: plan::ResultsFile = serde_yaml::from_str(&text).unwrap();
+    std::fs::remove_file(&shard_file).unwrap();
+    let partial = study.join("results/shard-1-of-1");
+    std::fs::create_dir_all(&partial).unwrap();
+    for r in all.evaluations.iter().take(5) {
+        let one = plan::ResultsFile {
+            evaluations: vec![r.clone()],
+            ..all.clone()
+        };
+        std::fs::write(
+            partial.join(format!("evaluation-{}.yaml", r.evaluation)),
+            serde_yaml::to_string(&one).unwrap(),
+        )
+        .unwrap();
+    }
+    match plan::finish(&loaded) {
+        Err(PlanError::Incomplete(m)) => {
+            assert!(m.contains("shard 1 of 1 (36 of its 41 evaluations"), "{m}")
+        }
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    let r = plan::evaluate(&loaded, (1, 1), || ()).unwrap();
+    assert_eq!((r.already_done, r.evaluations), (5, 41));
+    assert!(!partial.exists());
+    let r = plan::evaluate(&loaded, (1, 1), || ()).unwrap();
+    assert_eq!(r.already_done, 41, "a done shard is skipped");
+    let again = serde_json::to_string(&plan::finish(&loaded).unwrap()[0].0).unwrap();
+    assert_eq!(again, whole);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Each bad input of a plan is a located error with exit code 2 (a missing shard: named, exit
+/// 1, no verdict printed).
+#[test]
+fn a_plan_s_bad_input_is_a_located_error() {
+    let dir = fresh("bad");
+    let case_path = instant_model(&dir);
+    let (code, out, err) = cierva_in(
+        &dir,
+        &[
+            "uncertainty",
+            "cases/slow-model-trim.yaml",
+            "--samples",
+            "8",
+            "--plan",
+            "a",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("41 evaluations of 1 case in"), "{out}");
+    // A shard out of range.
+    for shard in ["0/2", "3/2", "2", "a/b", "1/42"] {
+        let (code, _, err) = cierva_in(&dir, &["evaluate", "a", "--shard", shard]);
+        assert_eq!(code, 2, "{shard}: {err}");
+        assert!(err.contains(&format!("--shard {shard}")), "{err}");
+    }
+    // Not complete: shard 2 of 2 named, no verdict printed.
+    assert_eq!(cierva_in(&dir, &["evaluate", "a", "--shard", "1/2"]).0, 0);
+    let (code, out, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(
+        err.contains("shard 2 of 2") && err.contains("--shard 2/2"),
+        "{err}"
+    );
+    // Results of another plan (seed 6): refused, naming the file.
+    let (code, _, err) = cierva_in(
+        &dir,
+        &[
+            "uncertainty",
+            "cases/slow-model-trim.yaml",
+            "--samples",
+            "8",
+            "--seed",
+            "6",
+            "--plan",
+            "b",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    std::fs::create_dir_all(dir.join("b/results")).unwrap();
+    std::fs::copy(
+        dir.join("a/results/shard-1-of-2.yaml"),
+        dir.join("b/results/shard-1-of-2.yaml"),
+    )
+    .unwrap();
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "b"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("b/results/shard-1-of-2.yaml:") && err.contains("results of another plan"),
+        "{err}"
+    );
+    // A corrupted results file: its line and column.
+    let shard = dir.join("a/results/shard-1-of-2.yaml");
+    let text = std::fs::read_to_string(&shard).unwrap();
+    std::fs::write(&shard, text.replacen("seconds:", "seconds: [", 1)).unwrap();
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("a/results/shard-1-of-2.yaml:"), "{err}");
+    std::fs::write(&shard, &text).unwrap();
+    // Another cierva version's plan.
+    let plan_path = dir.join("a/plan.yaml");
+    let plan_text = std::fs::read_to_string(&plan_path).unwrap();
+    std::fs::write(
+        &plan_path,
+        plan_text.replacen(
+            &format!("cierva_version: {}", plan::VERSION),
+            "cierva_version: 0.0.1",
+            1,
+        ),
+    )
+    .unwrap();
+    let (code, _, err) = cierva_in(&dir, &["evaluate", "a", "--shard", "2/2"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("plan.yaml:2:") && err.contains("written by cierva 0.0.1"),
+        "{err}"
+    );
+    std::fs::write(&plan_path, &plan_text).unwrap();
+    // A plan for other cases: the case changed since.
+    let case_text = std::fs::read_to_string(&case_path).unwrap();
+    std::fs::write(&case_path, case_text.replace("value: 3.95", "value: 3.96")).unwrap();
+    let (code, _, err) = cierva_in(&dir, &["evaluate", "a", "--shard", "2/2"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("cases[0].fingerprint")
+            && err.contains("has changed since the plan was written"),
+        "{err}"
+    );
+    std::fs::write(&case_path, &case_text).unwrap();
+    // Settings the plan fixes are not taken beside it.
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a", "--seed", "3"]);
+    assert_eq!(code, 2, "{err}");
+    // And, all put back, the study finishes.
+    assert_eq!(cierva_in(&dir, &["evaluate", "a", "--shard", "2/2"]).0, 0);
+    let (code, out, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("slow-model-trim"), "{out}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
