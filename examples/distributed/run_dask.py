@@ -87,7 +87,11 @@ def main():
                              key=f"cierva-shard-{i}-of-{a.shards}", pure=False, retries=a.retries)
                for i in range(1, a.shards + 1)]
     failed = []
-    for future in as_completed(futures):
+    # Only `as_completed` holds the futures: each is released once read, so that a worker lost
+    # later does not make Dask run its finished shards again.
+    pending = as_completed(futures)
+    del futures
+    for future in pending:
         try:
             r = future.result()
             print(f"shard {r['shard']}/{r['of']}: {r['evaluations']} evaluations "
@@ -95,6 +99,7 @@ def main():
         except Exception as e:  # a shard that failed: named, and the others still run
             failed.append(str(e))
             print(f"failed: {e}", file=sys.stderr, flush=True)
+        future.release()
     client.close()
     print(f"all shards in {time.monotonic() - started:.1f} s", flush=True)
     if failed:

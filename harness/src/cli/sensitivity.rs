@@ -40,11 +40,79 @@ pub(crate) struct SensitivityArgs {
     /// primary derivatives).
     #[arg(long, value_delimiter = ',')]
     pub(crate) quantities: Vec<String>,
+    /// With --case: write the study's requests as a plan to this folder and stop; run its
+    /// shards with `cierva evaluate DIR --shard I/N` on any engine, then finish it with
+    /// `--from-plan DIR` (docs/scaling.md). For a simulation whose trims take minutes.
+    #[arg(
+        long,
+        value_name = "DIR",
+        requires = "case",
+        conflicts_with = "from_plan"
+    )]
+    pub(crate) plan: Option<PathBuf>,
+    /// Finish the study a plan in this folder describes, from its shards' results (its case,
+    /// condition, parameters and quantities are the plan's).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["aircraft", "case", "airspeed_mph", "mass_kg", "parameters", "quantities"])]
+    pub(crate) from_plan: Option<PathBuf>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
 }
 
+/// The study as text or JSON.
+fn print_study(study: &sensitivity::Study, format: Format) {
+    match format {
+        Format::Text => print!("{}", cierva_harness::report::sensitivity::table(study)),
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(study).expect("a study serialises")
+        ),
+    }
+}
+
+/// `--plan DIR` (with `--case`) and `--from-plan DIR`.
+fn planned(a: &SensitivityArgs) -> Option<Result<ExitCode, Error>> {
+    use cierva_harness::plan::{self, PlanError, SensitivitySettings};
+    let to_error = |e: PlanError| match e {
+        PlanError::Input(m) => Error::input(m),
+        PlanError::Incomplete(m) => Error::failure(m),
+    };
+    if let Some(dir) = &a.from_plan {
+        let done = plan::load(dir)
+            .and_then(|p| plan::finish_sensitivity(&p))
+            .map_err(to_error);
+        return Some(done.and_then(|(study, _)| match study {
+            Ok(s) => {
+                print_study(&s, a.format);
+                Ok(ExitCode::SUCCESS)
+            }
+            Err(e) => Err(Error::failure(e)),
+        }));
+    }
+    let (dir, path) = (a.plan.as_ref()?, a.case.as_ref()?);
+    let written = (cierva_harness::suite::case::load(path).map_err(Error::from)).and_then(|case| {
+        let settings = SensitivitySettings {
+            airspeed_mph: a.airspeed_mph,
+            parameters: a.parameters.clone(),
+            quantities: a.quantities.clone(),
+        };
+        plan::write_sensitivity(dir, &case, settings).map_err(to_error)
+    });
+    Some(written.map(|file| {
+        let d = dir.display();
+        println!(
+            "wrote {}: {} requests of {}'s model\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N (docs/scaling.md), then `cierva sensitivity --from-plan {d}`",
+            plan::plan_path(dir).display(),
+            file.evaluations.len(),
+            file.cases[0].id
+        );
+        ExitCode::SUCCESS
+    }))
+}
+
 pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
+    if let Some(done) = planned(&a) {
+        return done;
+    }
     // The model is a case's subject (an aircraft or another simulation), or an aircraft file.
     let case;
     let file;
@@ -127,13 +195,7 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
     }
     match sensitivity::run(model.as_ref(), request, loading, &parameters, &quantities) {
         Ok(study) => {
-            match a.format {
-                Format::Text => print!("{}", cierva_harness::report::sensitivity::table(&study)),
-                Format::Json => println!(
-                    "{}",
-                    serde_json::to_string_pretty(&study).expect("a study serialises")
-                ),
-            }
+            print_study(&study, a.format);
             Ok(ExitCode::SUCCESS)
         }
         Err(e) => Err(Error::failure(e)),

@@ -277,7 +277,10 @@ fn from_plan(dir: &Path, format: Format) -> Result<ExitCode, Error> {
     };
     let loaded = plan::load(dir).map_err(to_error)?;
     let done = plan::finish(&loaded).map_err(to_error)?;
-    let s = loaded.file.study;
+    let cierva_harness::plan::PlannedStudy::Uncertainty(s) = loaded.file.study else {
+        // `finish` refused it above.
+        return Err(Error::input("not an uncertainty study's plan"));
+    };
     let sizes: Vec<(usize, Option<String>)> = done.iter().map(|_| (s.samples, None)).collect();
     print_studies(&done, &sizes, (s.samples, s.seed), format);
     Ok(ExitCode::SUCCESS)

@@ -170,19 +170,32 @@ pub fn default_parameters(declared: &[Parameter]) -> Vec<String> {
     ranged
 }
 
-/// Runs the study: each parameter moved either way, each quantity differentiated, and the
-/// change each failing quantity needs from each parameter alone.
-pub fn run(
+/// A study's requests, before any is asked: the nominal one first, then each parameter moved
+/// down and up (central differences, one-sided at the edge of a plausible range: a correction
+/// at its bound). What [`run`] asks on this machine's cores, and what a plan's shards ask
+/// anywhere ([`crate::plan`]); [`finish`] reads the answers either way.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensitivityJobs {
+    pub model: String,
+    pub condition: TrimRequest,
+    pub loading: Loading,
+    pub moved: Vec<MovedParameter>,
+    pub quantities: Vec<BoundedQuantity>,
+    /// The requests in order: the nominal one, then each parameter's down and up.
+    pub requests: Vec<Request>,
+}
+
+/// The study's requests (see [`SensitivityJobs`]), its names checked against the model's.
+pub fn jobs(
     model: &dyn FlightModel,
     request: TrimRequest,
     loading: Loading,
     parameters: &[String],
     quantities: &[BoundedQuantity],
-) -> Result<Study, String> {
+) -> Result<SensitivityJobs, String> {
     let declared = model.parameters()?;
     check_names(&model.describe(), &declared, parameters, quantities)?;
     let nominal = Request::at(request, loading);
-    let base = values(model, &nominal, quantities)?;
     let moved: Vec<MovedParameter> = parameters
         .iter()
         .map(|name| {
@@ -200,29 +213,103 @@ pub fn run(
             }
         })
         .collect();
-    // The quantities with the parameter at `x` (the base values at its own value).
-    let at = |p: &MovedParameter, x: f64| -> Result<Vec<f64>, String> {
-        if x == p.value {
-            return Ok(base.clone());
+    let mut requests = vec![nominal.clone()];
+    for p in &moved {
+        let (lo, hi) = span(p);
+        requests.push(nominal.clone().with(&p.name, lo));
+        requests.push(nominal.clone().with(&p.name, hi));
+    }
+    Ok(SensitivityJobs {
+        model: model.describe(),
+        condition: request,
+        loading,
+        moved,
+        quantities: quantities.to_vec(),
+        requests,
+    })
+}
+
+/// Where a parameter is moved to, down and up: a step either way, cut at its plausible range.
+fn span(p: &MovedParameter) -> (f64, f64) {
+    let (mut lo, mut hi) = (p.value - p.step, p.value + p.step);
+    if let Some(r) = &p.range {
+        (lo, hi) = (lo.max(r.lower), hi.min(r.upper));
+    }
+    (lo, hi)
+}
+
+impl SensitivityJobs {
+    /// Whether request `k` is asked: a moved parameter at its own nominal value (its range
+    /// ends there) is not asked again, the nominal request's answer standing for it.
+    pub fn asked(&self, k: usize) -> bool {
+        if k == 0 {
+            return true;
         }
-        values(model, &nominal.clone().with(&p.name, x), quantities)
-            .map_err(|e| format!("{} at {x}: {e}", p.name))
-    };
-    // Central differences, one-sided at the edge of a plausible range (a correction at its
-    // bound).
-    let slopes: Vec<Result<Vec<f64>, String>> = crate::run::parallel::parallel_map(&moved, |p| {
-        let (mut lo, mut hi) = (p.value - p.step, p.value + p.step);
-        if let Some(r) = &p.range {
-            (lo, hi) = (lo.max(r.lower), hi.min(r.upper));
-        }
-        let (down, up) = (at(p, lo)?, at(p, hi)?);
-        Ok(up
-            .iter()
-            .zip(&down)
-            .map(|(u, d)| (u - d) / (hi - lo))
-            .collect())
+        let p = &self.moved[(k - 1) / 2];
+        let (lo, hi) = span(p);
+        [lo, hi][(k - 1) % 2] != p.value
+    }
+
+    /// Request `k` asked: the quantities' values there.
+    pub fn evaluate(&self, model: &dyn FlightModel, k: usize) -> Result<Vec<f64>, String> {
+        values(model, &self.requests[k], &self.quantities)
+    }
+}
+
+/// Runs the study: each parameter moved either way, each quantity differentiated, and the
+/// change each failing quantity needs from each parameter alone.
+pub fn run(
+    model: &dyn FlightModel,
+    request: TrimRequest,
+    loading: Loading,
+    parameters: &[String],
+    quantities: &[BoundedQuantity],
+) -> Result<Study, String> {
+    let jobs = jobs(model, request, loading, parameters, quantities)?;
+    let base = jobs.evaluate(model, 0)?;
+    let moved: Vec<usize> = (1..jobs.requests.len()).collect();
+    let answers = crate::run::parallel::parallel_map(&moved, |&k| {
+        jobs.asked(k).then(|| jobs.evaluate(model, k))
     });
-    let slopes: Vec<Vec<f64>> = slopes.into_iter().collect::<Result<_, _>>()?;
+    finish(
+        &jobs,
+        std::iter::once(Some(Ok(base))).chain(answers).collect(),
+    )
+}
+
+/// The study from its requests' answers (in [`SensitivityJobs::requests`]' order; `None` where
+/// a request was not asked, [`SensitivityJobs::evaluate`]): the first failure, or each
+/// quantity's derivatives and what would close it.
+pub fn finish(
+    jobs: &SensitivityJobs,
+    answers: Vec<Option<Result<Vec<f64>, String>>>,
+) -> Result<Study, String> {
+    let at = jobs.requests[0].condition.airspeed_mph;
+    let base = match answers.first() {
+        Some(Some(Ok(v))) => v.clone(),
+        Some(Some(Err(e))) => return Err(e.clone()),
+        _ => return Err(format!("the nominal request at {at} mph has no answer")),
+    };
+    let quantities = &jobs.quantities;
+    let moved = jobs.moved.clone();
+    let mut slopes: Vec<Vec<f64>> = Vec::new();
+    for (i, p) in moved.iter().enumerate() {
+        let (lo, hi) = span(p);
+        let side = |k: usize, x: f64| -> Result<Vec<f64>, String> {
+            match &answers[k] {
+                None => Ok(base.clone()),
+                Some(Ok(v)) => Ok(v.clone()),
+                Some(Err(e)) => Err(format!("{} at {x}: {e}", p.name)),
+            }
+        };
+        let (down, up) = (side(1 + 2 * i, lo)?, side(2 + 2 * i, hi)?);
+        slopes.push(
+            up.iter()
+                .zip(&down)
+                .map(|(u, d)| (u - d) / (hi - lo))
+                .collect(),
+        );
+    }
     let rows = quantities
         .iter()
         .zip(&base)
@@ -266,9 +353,9 @@ pub fn run(
         })
         .collect();
     Ok(Study {
-        model: model.describe(),
-        condition: request,
-        loading,
+        model: jobs.model.clone(),
+        condition: jobs.condition,
+        loading: jobs.loading,
         parameters: moved,
         rows,
     })

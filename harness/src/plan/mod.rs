@@ -21,6 +21,7 @@
 //! the inputs its model declares), so that results are never merged into a study of other
 //! cases. Any engine runs the shards: `cierva evaluate` is a command (docs/scaling.md).
 
+use crate::fit::sensitivity::{BoundedQuantity, SensitivityJobs, Study};
 use crate::inputs::yaml::InputError;
 use crate::suite::case::Case;
 use crate::suite::outcome::CheckResult;
@@ -47,8 +48,8 @@ pub const MAX_PLAN_FILE_BYTES: u64 = 1 << 30;
 pub struct PlanFile {
     pub format: String,
     pub cierva_version: String,
-    /// The study's settings, as `cierva uncertainty` was given them.
-    pub study: StudySettings,
+    /// The study and its settings, as the command was given them.
+    pub study: PlannedStudy,
     /// The corrections files applied to every case (absolute paths).
     pub corrections: Vec<PathBuf>,
     pub cases: Vec<PlannedCase>,
@@ -58,7 +59,28 @@ pub struct PlanFile {
     pub evaluations: Vec<Evaluation>,
 }
 
-/// Evaluates a study was asked for.
+/// The study a plan is of.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PlannedStudy {
+    /// `cierva uncertainty`'s, of every case.
+    Uncertainty(StudySettings),
+    /// `cierva sensitivity --case`'s, of the one case's model at one of its conditions.
+    Sensitivity(SensitivitySettings),
+}
+
+/// What a sensitivity study was asked for (as `cierva sensitivity --case` takes it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensitivitySettings {
+    pub airspeed_mph: Option<f64>,
+    /// The parameters moved (none: the model's default, those it gives a range).
+    pub parameters: Vec<String>,
+    /// The quantities differentiated (none: the case's).
+    pub quantities: Vec<String>,
+}
+
+/// What an uncertainty study was asked for.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StudySettings {
@@ -104,7 +126,7 @@ pub struct Evaluation {
     pub what: Evaluates,
 }
 
-/// Evaluates an evaluation runs.
+/// What an evaluation runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Evaluates {
@@ -113,6 +135,13 @@ pub enum Evaluates {
     /// Every check with the model refined ([`crate::uncertainty::numerics`]): the `level`-th
     /// refined case of the grid study, in its order.
     Refined { level: usize, model: String },
+    /// One request of a sensitivity study (the `request`-th: the nominal one, then each
+    /// parameter down and up), the model asked its trim (and linear model) at the case's
+    /// condition and loading with `parameters`.
+    Request {
+        request: usize,
+        parameters: BTreeMap<String, f64>,
+    },
     /// Every check with the inputs at `values` (the case's `inputs`' order): the model asked
     /// with `parameters` (what the values set, by the model's parameter names), started from
     /// point `start`'s answers where it can.
@@ -132,7 +161,12 @@ pub struct EvaluationResult {
     pub evaluation: usize,
     /// Its wall time, s.
     pub seconds: f64,
+    /// Every check's results (the nominal run, a refined case, a point).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub results: Option<Vec<CheckResult>>,
+    /// The quantities' values (a sensitivity study's request).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub values: Option<Vec<f64>>,
     pub error: Option<String>,
 }
 
@@ -166,12 +200,14 @@ impl From<InputError> for PlanError {
     }
 }
 
-/// A plan read back and checked: the file, its id, and each case's study.
+/// A plan read back and checked: the file, its id, and each case's uncertainty study, or the
+/// case and the requests of its sensitivity study.
 pub struct LoadedPlan {
     pub dir: PathBuf,
     pub file: PlanFile,
     pub id: String,
     pub studies: Vec<CaseJobs>,
+    pub sensitivity: Option<(Case, SensitivityJobs)>,
 }
 
 /// The path of the plan in `dir`.
@@ -184,11 +220,11 @@ pub fn plan_id(text: &str) -> String {
     format!("{:016x}", crate::suite::review::fnv1a64(text.as_bytes()))
 }
 
-/// Evaluates a case's study depends on, hashed (FNV-1a, 64 bits, hex): the case file, its aircraft
+/// What a case's study depends on, hashed (FNV-1a, 64 bits, hex): the case file, its aircraft
 /// or rotor file, the corrections files and each uncertain input (name, nominal value and
 /// distribution). A change to a simulation behind the protocol that leaves its declared
 /// parameters alone is not seen.
-pub fn fingerprint(case: &Case, corrections: &[PathBuf], study: &CaseJobs) -> String {
+pub fn fingerprint(case: &Case, corrections: &[PathBuf], inputs: &str) -> String {
     use crate::checks::subject::Subject;
     let mut bytes = std::fs::read(&case.path).unwrap_or_default();
     let file = match &case.subject {
@@ -199,10 +235,25 @@ pub fn fingerprint(case: &Case, corrections: &[PathBuf], study: &CaseJobs) -> St
     for p in file.iter().chain(corrections) {
         bytes.extend(std::fs::read(p).unwrap_or_default());
     }
-    for i in &study.inputs {
-        bytes.extend(format!("{}={:?};{:?}", i.name, i.nominal, i.distribution).bytes());
-    }
+    bytes.extend(inputs.bytes());
     format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
+}
+
+/// An uncertainty study's inputs as its fingerprint reads them: each name, nominal value and
+/// distribution.
+fn inputs_text(jobs: &CaseJobs) -> String {
+    (jobs.inputs.iter())
+        .map(|i| format!("{}={:?};{:?}", i.name, i.nominal, i.distribution))
+        .collect()
+}
+
+/// A sensitivity study's moved parameters as its fingerprint reads them (name, value, step,
+/// range), and its quantities.
+fn requests_text(jobs: &SensitivityJobs) -> String {
+    format!(
+        "{:?}{:?}{:?}",
+        jobs.moved, jobs.quantities, jobs.requests[0]
+    )
 }
 
 /// The plan of every case's study (`cases`: each case as loaded from its path, with the
@@ -224,7 +275,7 @@ pub fn write(
         planned.push(PlannedCase {
             path: absolute(&case.path),
             id: case.id.clone(),
-            fingerprint: fingerprint(case, &corrections, &jobs),
+            fingerprint: fingerprint(case, &corrections, &inputs_text(&jobs)),
             inputs: jobs.inputs.iter().map(|i| i.name.clone()).collect(),
         });
         for (what, group) in evaluations_of(&jobs) {
@@ -240,12 +291,99 @@ pub fn write(
     let file = PlanFile {
         format: FORMAT.into(),
         cierva_version: VERSION.into(),
-        study,
+        study: PlannedStudy::Uncertainty(study),
         corrections,
         cases: planned,
         groups,
         evaluations,
     };
+    write_plan_file(dir, file)
+}
+
+/// The plan of a sensitivity study of `case`'s model (see [`crate::fit::sensitivity`]): each
+/// request its own group.
+pub fn write_sensitivity(
+    dir: &Path,
+    case: &Case,
+    settings: SensitivitySettings,
+) -> Result<PlanFile, PlanError> {
+    let jobs = sensitivity_jobs(case, &settings).map_err(PlanError::Input)?;
+    let evaluations: Vec<Evaluation> = requests_of(&jobs)
+        .into_iter()
+        .enumerate()
+        .map(|(index, what)| Evaluation {
+            index,
+            case: 0,
+            group: index,
+            what,
+        })
+        .collect();
+    let file = PlanFile {
+        format: FORMAT.into(),
+        cierva_version: VERSION.into(),
+        study: PlannedStudy::Sensitivity(settings),
+        corrections: Vec::new(),
+        cases: vec![PlannedCase {
+            path: absolute(&case.path),
+            id: case.id.clone(),
+            fingerprint: fingerprint(case, &[], &requests_text(&jobs)),
+            inputs: jobs.moved.iter().map(|p| p.name.clone()).collect(),
+        }],
+        groups: evaluations.len(),
+        evaluations,
+    };
+    write_plan_file(dir, file)
+}
+
+/// A sensitivity study's requests of `case`'s model, as `cierva sensitivity --case` makes
+/// them: the case's condition (`airspeed_mph` picks one), its quantities (or those named),
+/// the parameters named (or the model's default).
+pub fn sensitivity_jobs(case: &Case, s: &SensitivitySettings) -> Result<SensitivityJobs, String> {
+    use crate::fit::sensitivity;
+    let (loading, request, bounded) = sensitivity::from_case(case, s.airspeed_mph)?;
+    let (model, _) =
+        crate::checks::flight_model(&case.subject).expect("from_case took a flight model");
+    let quantities: Vec<BoundedQuantity> = if s.quantities.is_empty() {
+        bounded
+    } else {
+        (s.quantities.iter())
+            .map(|n| {
+                (bounded.iter().find(|q| &q.name == n).cloned()).unwrap_or(BoundedQuantity {
+                    name: n.clone(),
+                    bound: None,
+                })
+            })
+            .collect()
+    };
+    let parameters = if s.parameters.is_empty() {
+        sensitivity::default_parameters(&model.parameters()?)
+    } else {
+        s.parameters.clone()
+    };
+    if parameters.is_empty() {
+        return Err(format!(
+            "{} declares no parameters to move (an external model declares them in its `describe` response, protocol `cierva-external/2`)",
+            model.describe()
+        ));
+    }
+    sensitivity::jobs(model.as_ref(), request, loading, &parameters, &quantities)
+}
+
+/// A sensitivity study's requests that are asked, in order (a moved parameter at its own value
+/// is not asked again).
+fn requests_of(jobs: &SensitivityJobs) -> Vec<Evaluates> {
+    (0..jobs.requests.len())
+        .filter(|&k| jobs.asked(k))
+        .map(|k| Evaluates::Request {
+            request: k,
+            parameters: jobs.requests[k].parameters.clone(),
+        })
+        .collect()
+}
+
+/// Writes a plan file to `dir/plan.yaml`: refused where another plan is there, left as it is
+/// where the same one is.
+fn write_plan_file(dir: &Path, file: PlanFile) -> Result<PlanFile, PlanError> {
     let text = serde_yaml::to_string(&file).map_err(|e| PlanError::Input(e.to_string()))?;
     let path = plan_path(dir);
     if let Ok(old) = std::fs::read_to_string(&path) {
@@ -355,32 +493,52 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
             ),
         ));
     }
-    let corrections = (file.corrections.iter())
-        .map(|p| crate::inputs::corrections::load(p))
-        .collect::<Result<Vec<_>, _>>()?;
+    let changed = |c: usize, planned: &PlannedCase| {
+        at(
+            &format!("cases[{c}].fingerprint"),
+            format!(
+                "{} has changed since the plan was written (its file, its aircraft or rotor file, the corrections or its model's declared inputs): write the plan again",
+                planned.path.display()
+            ),
+        )
+    };
     let mut studies = Vec::new();
-    for (c, planned) in file.cases.iter().enumerate() {
-        let case = crate::suite::case::load(&planned.path)?;
-        let (case, _) = crate::suite::case::with_corrections(&case, &corrections)
-            .map_err(|e| at(&format!("cases[{c}]"), format!("the corrections {e}")))?;
-        let jobs = CaseJobs::of(&case, file.study.propagation())
-            .map_err(|e| at(&format!("cases[{c}]"), e))?;
-        if fingerprint(&case, &file.corrections, &jobs) != planned.fingerprint
-            || case.id != planned.id
-        {
-            return Err(at(
-                &format!("cases[{c}].fingerprint"),
-                format!(
-                    "{} has changed since the plan was written (its file, its aircraft or rotor file, the corrections or its model's declared inputs): write the plan again",
-                    planned.path.display()
-                ),
-            ));
+    let mut sensitivity = None;
+    let expected: Vec<(usize, Evaluates)> = match &file.study {
+        PlannedStudy::Uncertainty(settings) => {
+            let corrections = (file.corrections.iter())
+                .map(|p| crate::inputs::corrections::load(p))
+                .collect::<Result<Vec<_>, _>>()?;
+            for (c, planned) in file.cases.iter().enumerate() {
+                let case = crate::suite::case::load(&planned.path)?;
+                let (case, _) = crate::suite::case::with_corrections(&case, &corrections)
+                    .map_err(|e| at(&format!("cases[{c}]"), format!("the corrections {e}")))?;
+                let jobs = CaseJobs::of(&case, settings.propagation())
+                    .map_err(|e| at(&format!("cases[{c}]"), e))?;
+                let print = fingerprint(&case, &file.corrections, &inputs_text(&jobs));
+                if print != planned.fingerprint || case.id != planned.id {
+                    return Err(changed(c, planned));
+                }
+                studies.push(jobs);
+            }
+            (studies.iter().enumerate())
+                .flat_map(|(c, j)| evaluations_of(j).into_iter().map(move |(w, _)| (c, w)))
+                .collect()
         }
-        studies.push(jobs);
-    }
-    let expected: Vec<(usize, Evaluates)> = (studies.iter().enumerate())
-        .flat_map(|(c, j)| evaluations_of(j).into_iter().map(move |(w, _)| (c, w)))
-        .collect();
+        PlannedStudy::Sensitivity(settings) => {
+            let Some(planned) = file.cases.first() else {
+                return Err(at("cases", "a sensitivity plan names its case".into()));
+            };
+            let case = crate::suite::case::load(&planned.path)?;
+            let jobs = sensitivity_jobs(&case, settings).map_err(|e| at("cases[0]", e))?;
+            if fingerprint(&case, &[], &requests_text(&jobs)) != planned.fingerprint {
+                return Err(changed(0, planned));
+            }
+            let expected = requests_of(&jobs).into_iter().map(|w| (0, w)).collect();
+            sensitivity = Some((case, jobs));
+            expected
+        }
+    };
     let planned: Vec<(usize, Evaluates)> = (file.evaluations.iter())
         .map(|e| (e.case, e.what.clone()))
         .collect();
@@ -397,6 +555,7 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
         id: plan_id(&text),
         file,
         studies,
+        sensitivity,
     })
 }
 
@@ -434,7 +593,7 @@ fn shard_paths(dir: &Path, (i, n): (usize, usize)) -> (PathBuf, PathBuf) {
     )
 }
 
-/// Evaluates [`evaluate`] did.
+/// What [`evaluate`] did.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ShardReport {
     pub shard: usize,
@@ -493,10 +652,14 @@ pub fn evaluate(
         groups.entry(e.group).or_default().push(e);
     }
     let groups: Vec<Vec<&Evaluation>> = groups.into_values().collect();
+    // A sensitivity study's model, made once for the shard (a simulation's processes shared).
+    let model = (plan.sensitivity.as_ref())
+        .and_then(|(case, _)| crate::checks::flight_model(&case.subject))
+        .map(|(m, _)| m);
     let ran = crate::run::parallel::parallel_map(&groups, |group| {
         let mut out = Vec::new();
         for e in group {
-            let r = run_one(plan, e);
+            let r = run_one(plan, model.as_deref(), e);
             let file = ResultsFile {
                 format: FORMAT.into(),
                 plan: plan.id.clone(),
@@ -538,25 +701,37 @@ pub fn evaluate(
 }
 
 /// One evaluation run: its case's checks, nominal, refined or at the point's values.
-fn run_one(plan: &LoadedPlan, e: &Evaluation) -> EvaluationResult {
+fn run_one(
+    plan: &LoadedPlan,
+    model: Option<&dyn crate::external::FlightModel>,
+    e: &Evaluation,
+) -> EvaluationResult {
     let started = std::time::Instant::now();
-    let jobs = &plan.studies[e.case];
-    let results = match &e.what {
-        Evaluates::Nominal => Ok(crate::suite::outcome::run_case(&jobs.case)),
-        Evaluates::Refined { level, .. } => Ok(crate::suite::outcome::run_case(
-            jobs.refined_cases()[*level],
-        )),
-        Evaluates::Point { point, .. } => jobs.evaluate(*point),
-    };
-    let (results, error) = match results {
-        Ok(r) => (Some(r), None),
-        Err(e) => (None, Some(e)),
+    let (mut results, mut values) = (None, None);
+    let outcome = match (&e.what, &plan.sensitivity, model) {
+        (Evaluates::Request { request, .. }, Some((_, jobs)), Some(model)) => {
+            (jobs.evaluate(model, *request)).map(|v| values = Some(v))
+        }
+        (Evaluates::Request { .. }, ..) => Err("not a sensitivity plan".into()),
+        (what, ..) => {
+            let jobs = &plan.studies[e.case];
+            match what {
+                Evaluates::Nominal => Ok(crate::suite::outcome::run_case(&jobs.case)),
+                Evaluates::Refined { level, .. } => Ok(crate::suite::outcome::run_case(
+                    jobs.refined_cases()[*level],
+                )),
+                Evaluates::Point { point, .. } => jobs.evaluate(*point),
+                Evaluates::Request { .. } => Err("not an uncertainty plan".into()),
+            }
+            .map(|r| results = Some(r))
+        }
     };
     EvaluationResult {
         evaluation: e.index,
         seconds: started.elapsed().as_secs_f64(),
         results,
-        error,
+        values,
+        error: outcome.err(),
     }
 }
 
@@ -623,14 +798,26 @@ fn read_results(
                 ),
             ));
         }
-        let checks = plan.studies[e.case].case.checks.len();
-        if r.results.as_ref().is_some_and(|x| x.len() != checks)
-            || r.results.is_none() == r.error.is_none()
-        {
+        let (given, size, what) = match (&e.what, &plan.sensitivity) {
+            (Evaluates::Request { .. }, Some((_, jobs))) => (
+                r.values.as_ref().map(Vec::len),
+                jobs.quantities.len(),
+                "quantities' values",
+            ),
+            _ => {
+                let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
+                (r.results.as_ref().map(Vec::len), checks, "checks' results")
+            }
+        };
+        let other = match &e.what {
+            Evaluates::Request { .. } => r.results.is_some(),
+            _ => r.values.is_some(),
+        };
+        if other || given.is_some_and(|n| n != size) || given.is_none() == r.error.is_none() {
             return Err(at(
                 &format!("evaluations[{k}]"),
                 format!(
-                    "evaluation {}: give the results of its {checks} checks, or the error that stopped it",
+                    "evaluation {}: give its {size} {what}, or the error that stopped it",
                     r.evaluation
                 ),
             ));
@@ -701,13 +888,14 @@ fn gather(plan: &LoadedPlan) -> Result<(BTreeMap<usize, EvaluationResult>, Vec<u
 /// (summed over them, s); [`PlanError::Incomplete`] naming the shards whose results are
 /// missing, where any are.
 pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanError> {
-    let (mut have, counts) = gather(plan)?;
-    let missing: Vec<&Evaluation> = (plan.file.evaluations.iter())
-        .filter(|e| !have.contains_key(&e.index))
-        .collect();
-    if !missing.is_empty() {
-        return Err(PlanError::Incomplete(incomplete(plan, &missing, &counts)));
+    if plan.sensitivity.is_some() {
+        return Err(PlanError::Input(format!(
+            "{} is a sensitivity study's plan: finish it with `cierva sensitivity --from-plan {}`",
+            plan_path(&plan.dir).display(),
+            plan.dir.display()
+        )));
     }
+    let mut have = complete(plan)?;
     let mut out = Vec::new();
     for (c, jobs) in plan.studies.iter().enumerate() {
         let mut nominal = Vec::new();
@@ -726,6 +914,12 @@ pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanErro
                 (Evaluates::Nominal, Ok(x)) => nominal = x,
                 (Evaluates::Refined { .. }, Ok(x)) => refined.push(x),
                 (Evaluates::Point { point, .. }, x) => points[*point] = Some(x),
+                (Evaluates::Request { .. }, _) => {
+                    return Err(PlanError::Input(format!(
+                        "evaluation {}: a sensitivity study's request in an uncertainty study's plan",
+                        e.index
+                    )));
+                }
                 (_, Err(x)) => {
                     return Err(PlanError::Input(format!("evaluation {}: {x}", e.index)));
                 }
@@ -739,6 +933,45 @@ pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanErro
         out.push((jobs.finish(runs), seconds));
     }
     Ok(out)
+}
+
+/// Every evaluation's results, by evaluation; [`PlanError::Incomplete`] naming the shards whose
+/// results are missing, where any are.
+fn complete(plan: &LoadedPlan) -> Result<BTreeMap<usize, EvaluationResult>, PlanError> {
+    let (have, counts) = gather(plan)?;
+    let missing: Vec<&Evaluation> = (plan.file.evaluations.iter())
+        .filter(|e| !have.contains_key(&e.index))
+        .collect();
+    if !missing.is_empty() {
+        return Err(PlanError::Incomplete(incomplete(plan, &missing, &counts)));
+    }
+    Ok(have)
+}
+
+/// A sensitivity study from its plan's results, with the wall time its requests took (summed,
+/// s): the same study `cierva sensitivity --case` gives on one machine.
+pub fn finish_sensitivity(plan: &LoadedPlan) -> Result<(Result<Study, String>, f64), PlanError> {
+    let Some((_, jobs)) = &plan.sensitivity else {
+        return Err(PlanError::Input(format!(
+            "{} is an uncertainty study's plan: finish it with `cierva uncertainty --from-plan {}`",
+            plan_path(&plan.dir).display(),
+            plan.dir.display()
+        )));
+    };
+    let mut have = complete(plan)?;
+    let mut answers: Vec<Option<Result<Vec<f64>, String>>> = vec![None; jobs.requests.len()];
+    let mut seconds = 0.0;
+    for e in &plan.file.evaluations {
+        let r = have.remove(&e.index).expect("every evaluation found");
+        seconds += r.seconds;
+        if let Evaluates::Request { request, .. } = e.what {
+            answers[request] = Some(match (r.values, r.error) {
+                (Some(v), _) => Ok(v),
+                (None, e) => Err(e.unwrap_or_default()),
+            });
+        }
+    }
+    Ok((crate::fit::sensitivity::finish(jobs, answers), seconds))
 }
 
 /// The missing evaluations in words, by the shard that holds them (in the shard count the

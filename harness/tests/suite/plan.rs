@@ -234,3 +234,51 @@ fn a_plan_s_bad_input_is_a_located_error() {
     assert!(out.contains("slow-model-trim"), "{out}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A sensitivity study as a plan (the stand-in model, its trims instant): its requests run in
+/// two shards and finished give the study `cierva sensitivity --case` prints, byte for byte but
+/// the model's description (which names the case's folder by its absolute path); an
+/// uncertainty study's finish refuses its plan.
+#[test]
+fn a_sensitivity_plan_finishes_as_the_one_machine_study() {
+    let dir = fresh("sensitivity");
+    instant_model(&dir);
+    let case = ["--case", "cases/slow-model-trim.yaml"];
+    let (code, one, err) = cierva_in(
+        &dir,
+        &[&["sensitivity"], &case[..], &["--format", "json"]].concat(),
+    );
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = cierva_in(
+        &dir,
+        &[&["sensitivity"], &case[..], &["--plan", "s"]].concat(),
+    );
+    assert_eq!(code, 0, "{err}");
+    // The nominal request and each of 3 parameters down and up.
+    assert!(
+        out.contains("7 requests of slow-model-trim's model"),
+        "{out}"
+    );
+    for shard in ["2/2", "1/2"] {
+        let (code, _, err) = cierva_in(&dir, &["evaluate", "s", "--shard", shard]);
+        assert_eq!(code, 0, "{err}");
+    }
+    let (code, merged, err) = cierva_in(
+        &dir,
+        &["sensitivity", "--from-plan", "s", "--format", "json"],
+    );
+    assert_eq!(code, 0, "{err}");
+    // The model's description names its folder by the plan's absolute path; all else is equal.
+    let without_model = |t: &str| -> String {
+        (t.lines())
+            .filter(|l| !l.trim_start().starts_with("\"model\":"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(without_model(&merged), without_model(&one));
+    assert!(merged.contains("\"derivative\""), "{merged}");
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "s"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("a sensitivity study's plan"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
