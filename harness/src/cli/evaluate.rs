@@ -1,7 +1,7 @@
 //! `cierva evaluate`: one shard of a plan (see [`cierva_harness::plan`]).
 
 use super::*;
-use cierva_harness::plan::{self, PlanError};
+use cierva_harness::plan;
 
 /// Evaluate shard I of N of a plan (`cierva uncertainty --plan DIR` writes one): an Nth of
 /// its groups of evaluations, on every core this process may use, each evaluation's results
@@ -35,16 +35,12 @@ pub(crate) fn evaluate(a: EvaluateArgs) -> Result<ExitCode, Error> {
         Some(n) => cierva_harness::run::parallel::set_threads(n),
         None => {}
     }
-    let to_error = |e: PlanError| match e {
-        PlanError::Input(m) => Error::input(m),
-        PlanError::Incomplete(m) => Error::failure(m),
-    };
-    let loaded = plan::load(&a.dir).map_err(to_error)?;
+    let loaded = plan::load(&a.dir).map_err(Error::from)?;
     let mine = (loaded.file.evaluations.iter())
         .filter(|e| plan::shard_of(e.group, shard.1) == shard.0)
         .count();
     let bar = progress(mine as u64, &format!("shard {}/{}", shard.0, shard.1));
-    let report = plan::evaluate(&loaded, shard, || bar.inc(1)).map_err(to_error)?;
+    let report = plan::evaluate(&loaded, shard, || bar.inc(1)).map_err(Error::from)?;
     bar.finish_and_clear();
     let text = if report.already_done == report.evaluations {
         format!(

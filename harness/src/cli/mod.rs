@@ -148,6 +148,16 @@ impl Error {
     }
 }
 
+impl From<cierva_harness::plan::PlanError> for Error {
+    /// A plan's bad input (exit 2), or a study whose shards are not all done (exit 1).
+    fn from(e: cierva_harness::plan::PlanError) -> Self {
+        match e {
+            cierva_harness::plan::PlanError::Input(m) => Self::input(m),
+            cierva_harness::plan::PlanError::Incomplete(m) => Self::failure(m),
+        }
+    }
+}
+
 impl From<cierva_harness::inputs::yaml::InputError> for Error {
     /// A file that does not load, with its location.
     fn from(e: cierva_harness::inputs::yaml::InputError) -> Self {

@@ -71,15 +71,11 @@ fn print_study(study: &sensitivity::Study, format: Format) {
 
 /// `--plan DIR` (with `--case`) and `--from-plan DIR`.
 fn planned(a: &SensitivityArgs) -> Option<Result<ExitCode, Error>> {
-    use cierva_harness::plan::{self, PlanError, SensitivitySettings};
-    let to_error = |e: PlanError| match e {
-        PlanError::Input(m) => Error::input(m),
-        PlanError::Incomplete(m) => Error::failure(m),
-    };
+    use cierva_harness::plan::{self, SensitivitySettings};
     if let Some(dir) = &a.from_plan {
         let done = plan::load(dir)
             .and_then(|p| plan::finish_sensitivity(&p))
-            .map_err(to_error);
+            .map_err(Error::from);
         return Some(done.and_then(|(study, _)| match study {
             Ok(s) => {
                 print_study(&s, a.format);
@@ -95,7 +91,7 @@ fn planned(a: &SensitivityArgs) -> Option<Result<ExitCode, Error>> {
             parameters: a.parameters.clone(),
             quantities: a.quantities.clone(),
         };
-        plan::write_sensitivity(dir, &case, settings).map_err(to_error)
+        plan::write_sensitivity(dir, &case, settings).map_err(Error::from)
     });
     Some(written.map(|file| {
         let d = dir.display();

@@ -98,6 +98,7 @@ struct CaseSummary<'a> {
     failed_points: usize,
     first_error: Option<&'a str>,
     refinement: &'a str,
+    /// Its wall time, s (`--from-plan`: its evaluations' wall times added over the shards).
     seconds: f64,
     /// The base points the case was sampled at (`--samples`, or as `--target-se` grew them).
     samples: usize,
@@ -187,17 +188,19 @@ pub(crate) fn uncertainty(a: UncertaintyArgs) -> Result<ExitCode, Error> {
             }
         }
     }
-    print_studies(&done, &sizes, (a.samples, a.seed), a.format);
+    print_studies(&done, &sizes, (a.samples, a.seed), a.format, false);
     Ok(ExitCode::SUCCESS)
 }
 
-/// The studies, as text or JSON: each case's with its wall time, and the base points it ended
-/// at with what `--target-se` said of it.
+/// The studies, as text or JSON: each case's with its wall time (`summed`: its evaluations'
+/// wall times added, a plan's), and the base points it ended at with what `--target-se` said
+/// of it.
 fn print_studies(
     done: &[(CaseUncertainty, f64)],
     sizes: &[(usize, Option<String>)],
     (samples, seed): (usize, u32),
     format: Format,
+    summed: bool,
 ) {
     let results: Vec<&propagate::QuantityUncertainty> =
         done.iter().flat_map(|(u, _)| &u.results).collect();
@@ -227,7 +230,7 @@ fn print_studies(
         }),
         Format::Text => {
             for ((u, s), (n, said)) in done.iter().zip(sizes) {
-                print!("{}", text_of(u, *s, *n));
+                print!("{}", text_of(u, (*s, summed), *n));
                 if let Some(said) = said {
                     println!("  --target-se: {said}");
                 }
@@ -244,16 +247,14 @@ fn write_plan(
     corrections: &[PathBuf],
     settings: PropagationSettings,
 ) -> Result<ExitCode, Error> {
-    use cierva_harness::plan::{self, PlanError, StudySettings};
+    use cierva_harness::plan::{self, StudySettings};
     let study = StudySettings {
         samples: settings.samples,
         seed: settings.seed,
         method: settings.method,
         validation_only: settings.validation_only,
     };
-    let file = plan::write(dir, cases, corrections, study).map_err(|e| match e {
-        PlanError::Input(m) | PlanError::Incomplete(m) => Error::input(m),
-    })?;
+    let file = plan::write(dir, cases, corrections, study).map_err(Error::from)?;
     let d = dir.display();
     println!(
         "wrote {}: {} evaluations of {} in {} groups (a group shares a model's answers: the unit a shard takes)\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N (one command a worker: a Slurm job array, Dask; docs/scaling.md), then `cierva uncertainty --from-plan {d}`",
@@ -270,19 +271,15 @@ fn write_plan(
 
 /// `--from-plan DIR`: the studies finished from a plan's results.
 fn from_plan(dir: &Path, format: Format) -> Result<ExitCode, Error> {
-    use cierva_harness::plan::{self, PlanError};
-    let to_error = |e: PlanError| match e {
-        PlanError::Input(m) => Error::input(m),
-        PlanError::Incomplete(m) => Error::failure(m),
-    };
-    let loaded = plan::load(dir).map_err(to_error)?;
-    let done = plan::finish(&loaded).map_err(to_error)?;
+    use cierva_harness::plan;
+    let loaded = plan::load(dir).map_err(Error::from)?;
+    let done = plan::finish(&loaded).map_err(Error::from)?;
     let cierva_harness::plan::PlannedStudy::Uncertainty(s) = loaded.file.study else {
         // `finish` refused it above.
         return Err(Error::input("not an uncertainty study's plan"));
     };
     let sizes: Vec<(usize, Option<String>)> = done.iter().map(|_| (s.samples, None)).collect();
-    print_studies(&done, &sizes, (s.samples, s.seed), format);
+    print_studies(&done, &sizes, (s.samples, s.seed), format, true);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -302,9 +299,13 @@ fn load_all(paths: &[PathBuf]) -> Result<Vec<cierva_harness::suite::case::Case>,
 }
 
 /// A case's propagation as text: the inputs, then a row per quantity.
-fn text_of(u: &CaseUncertainty, seconds: f64, samples: usize) -> String {
+fn text_of(u: &CaseUncertainty, (seconds, summed): (f64, bool), samples: usize) -> String {
+    let time = match summed {
+        true => format!("{seconds:.1} s of evaluation, summed over a plan's shards"),
+        false => format!("{seconds:.1} s"),
+    };
     let mut out = format!(
-        "{}\n  inputs ({}): {}\n  numerics (a grid convergence index per parameter): {}\n  {} evaluations in {seconds:.1} s; {} points failed{}\n",
+        "{}\n  inputs ({}): {}\n  numerics (a grid convergence index per parameter): {}\n  {} evaluations in {time}; {} points failed{}\n",
         u.case,
         u.method,
         u.inputs.len(),

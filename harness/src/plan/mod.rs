@@ -471,8 +471,9 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
     let path = plan_path(dir);
     if !path.exists() {
         return Err(PlanError::Input(format!(
-            "{}: no plan here (write one with `cierva uncertainty CASES --plan {}`)",
+            "{}: no plan here (write one with `cierva uncertainty CASES --plan {}`, or `cierva sensitivity --case CASE --plan {}`)",
             path.display(),
+            dir.display(),
             dir.display()
         )));
     }
