@@ -23,15 +23,21 @@ import subprocess
 import sys
 import threading
 import time
+import uuid
+
+# Loaded once, in the worker, before any fork: `die_with_parent` runs between fork and exec,
+# where loading a library is not safe in a threaded process.
+try:
+    LIBC = ctypes.CDLL("libc.so.6", use_errno=True)
+except OSError:
+    LIBC = None
 
 
 def die_with_parent():
     """Ends the shard's cierva when the worker that started it dies (Linux), so a killed
     worker leaves no shard running beside the one Dask starts again."""
-    try:
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    except OSError:
-        pass
+    if LIBC is not None:
+        LIBC.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
 
 
 def evaluate_shard(cierva, plan, shard, shards, threads):
@@ -65,10 +71,14 @@ def main():
     ap.add_argument("--threads", type=int, default=1,
                     help="evaluations a shard runs at once (default 1: one a worker)")
     ap.add_argument("--scheduler", help="an existing cluster's scheduler address instead of a LocalCluster")
-    ap.add_argument("--cierva", default=shutil.which("cierva") or "cierva", help="the cierva binary")
-    ap.add_argument("--retries", type=int, default=3, help="times a shard is started again after its worker is lost")
+    ap.add_argument("--cierva", default=shutil.which("cierva") or "cierva",
+                    help="the cierva binary, as the workers find it (default: the one on this PATH)")
+    ap.add_argument("--retries", type=int, default=0,
+                    help="times a shard whose command failed is run again (default 0: a failure is "
+                         "bad input or the model's, and named at the end; a shard whose worker is "
+                         "lost is started again by Dask itself, distributed.scheduler.allowed-failures)")
     ap.add_argument("--kill-one-worker-after", type=float, metavar="S",
-                    help="(measurement) SIGKILL one worker after S seconds")
+                    help="(measurement, LocalCluster only) SIGKILL one worker after S seconds")
     a = ap.parse_args()
     from dask.distributed import Client, LocalCluster, as_completed
 
@@ -81,10 +91,14 @@ def main():
                                dashboard_address=":0")
         client = Client(cluster)
     print(f"workers up in {time.monotonic() - started:.1f} s", flush=True)
+    if a.kill_one_worker_after is not None and a.scheduler:
+        ap.error("--kill-one-worker-after kills a local worker: give no --scheduler")
     if a.kill_one_worker_after is not None:
         kill_one_worker_after(client, a.kill_one_worker_after)
+    # Keys of this run's own: another plan's shards on a shared scheduler are other tasks.
+    run = uuid.uuid4().hex[:8]
     futures = [client.submit(evaluate_shard, a.cierva, plan, i, a.shards, a.threads,
-                             key=f"cierva-shard-{i}-of-{a.shards}", pure=False, retries=a.retries)
+                             key=f"cierva-{run}-shard-{i}-of-{a.shards}", pure=False, retries=a.retries)
                for i in range(1, a.shards + 1)]
     failed = []
     # Only `as_completed` holds the futures: each is released once read, so that a worker lost

@@ -35,7 +35,7 @@ pub(crate) fn evaluate(a: EvaluateArgs) -> Result<ExitCode, Error> {
         Some(n) => cierva_harness::run::parallel::set_threads(n),
         None => {}
     }
-    let loaded = plan::load(&a.dir).map_err(Error::from)?;
+    let loaded = plan::load(&plan::enter(&a.dir)?).map_err(Error::from)?;
     let mine = (loaded.file.evaluations.iter())
         .filter(|e| plan::shard_of(e.group, shard.1) == shard.0)
         .count();

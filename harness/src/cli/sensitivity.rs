@@ -73,7 +73,8 @@ fn print_study(study: &sensitivity::Study, format: Format) {
 fn planned(a: &SensitivityArgs) -> Option<Result<ExitCode, Error>> {
     use cierva_harness::plan::{self, SensitivitySettings};
     if let Some(dir) = &a.from_plan {
-        let done = plan::load(dir)
+        let done = plan::enter(dir)
+            .and_then(|d| plan::load(&d))
             .and_then(|p| plan::finish_sensitivity(&p))
             .map_err(Error::from);
         return Some(done.and_then(|(study, _)| match study {

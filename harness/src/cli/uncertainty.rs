@@ -272,7 +272,7 @@ fn write_plan(
 /// `--from-plan DIR`: the studies finished from a plan's results.
 fn from_plan(dir: &Path, format: Format) -> Result<ExitCode, Error> {
     use cierva_harness::plan;
-    let loaded = plan::load(dir).map_err(Error::from)?;
+    let loaded = plan::load(&plan::enter(dir)?).map_err(Error::from)?;
     let done = plan::finish(&loaded).map_err(Error::from)?;
     let cierva_harness::plan::PlannedStudy::Uncertainty(s) = loaded.file.study else {
         // `finish` refused it above.

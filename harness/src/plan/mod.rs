@@ -50,7 +50,11 @@ pub struct PlanFile {
     pub cierva_version: String,
     /// The study and its settings, as the command was given them.
     pub study: PlannedStudy,
-    /// The corrections files applied to every case (absolute paths).
+    /// The folder the plan was written from (absolute): the case and corrections paths are as
+    /// they were given there, and `cierva evaluate` and `--from-plan` work from it, so that
+    /// every path a result names reads as in the one-machine run.
+    pub folder: PathBuf,
+    /// The corrections files applied to every case.
     pub corrections: Vec<PathBuf>,
     pub cases: Vec<PlannedCase>,
     /// Groups of evaluations, numbered from 0: shard `I` of `N` takes those [`shard_of`] deals
@@ -105,7 +109,7 @@ impl StudySettings {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlannedCase {
-    /// The case file (absolute: a shard may run in another folder).
+    /// The case file, as given (relative to the plan's `folder`).
     pub path: PathBuf,
     pub id: String,
     /// FNV-1a (64 bits, hex) of what the study depends on ([`fingerprint`]).
@@ -265,33 +269,26 @@ pub fn write(
     corrections: &[PathBuf],
     study: StudySettings,
 ) -> Result<PlanFile, PlanError> {
-    let corrections: Vec<PathBuf> = corrections.iter().map(|p| absolute(p)).collect();
+    let corrections = corrections.to_vec();
     let mut planned = Vec::new();
-    let mut evaluations = Vec::new();
-    let mut groups = 0;
-    for (c, case) in cases.iter().enumerate() {
+    let mut studies = Vec::new();
+    for case in cases {
         let jobs = CaseJobs::of(case, study.propagation())
             .map_err(|e| PlanError::Input(format!("{}: {e}", case.path.display())))?;
         planned.push(PlannedCase {
-            path: absolute(&case.path),
+            path: case.path.clone(),
             id: case.id.clone(),
             fingerprint: fingerprint(case, &corrections, &inputs_text(&jobs)),
             inputs: jobs.inputs.iter().map(|i| i.name.clone()).collect(),
         });
-        for (what, group) in evaluations_of(&jobs) {
-            evaluations.push(Evaluation {
-                index: evaluations.len(),
-                case: c,
-                group: groups + group,
-                what,
-            });
-        }
-        groups = evaluations.last().map_or(groups, |e| e.group + 1);
+        studies.push(jobs);
     }
+    let (evaluations, groups) = planned_evaluations(&studies);
     let file = PlanFile {
         format: FORMAT.into(),
         cierva_version: VERSION.into(),
         study: PlannedStudy::Uncertainty(study),
+        folder: absolute(Path::new(".")),
         corrections,
         cases: planned,
         groups,
@@ -308,28 +305,20 @@ pub fn write_sensitivity(
     settings: SensitivitySettings,
 ) -> Result<PlanFile, PlanError> {
     let jobs = sensitivity_jobs(case, &settings).map_err(PlanError::Input)?;
-    let evaluations: Vec<Evaluation> = requests_of(&jobs)
-        .into_iter()
-        .enumerate()
-        .map(|(index, what)| Evaluation {
-            index,
-            case: 0,
-            group: index,
-            what,
-        })
-        .collect();
+    let (evaluations, groups) = sensitivity_evaluations(&jobs);
     let file = PlanFile {
         format: FORMAT.into(),
         cierva_version: VERSION.into(),
         study: PlannedStudy::Sensitivity(settings),
+        folder: absolute(Path::new(".")),
         corrections: Vec::new(),
         cases: vec![PlannedCase {
-            path: absolute(&case.path),
+            path: case.path.clone(),
             id: case.id.clone(),
             fingerprint: fingerprint(case, &[], &requests_text(&jobs)),
             inputs: jobs.moved.iter().map(|p| p.name.clone()).collect(),
         }],
-        groups: evaluations.len(),
+        groups,
         evaluations,
     };
     write_plan_file(dir, file)
@@ -399,6 +388,39 @@ fn write_plan_file(dir: &Path, file: PlanFile) -> Result<PlanFile, PlanError> {
     Ok(file)
 }
 
+/// Every case's study's evaluations, numbered, each case's groups after the one before's, and
+/// how many groups there are.
+fn planned_evaluations(studies: &[CaseJobs]) -> (Vec<Evaluation>, usize) {
+    let mut evaluations = Vec::new();
+    let mut groups = 0;
+    for (c, jobs) in studies.iter().enumerate() {
+        for (what, group) in evaluations_of(jobs) {
+            evaluations.push(Evaluation {
+                index: evaluations.len(),
+                case: c,
+                group: groups + group,
+                what,
+            });
+        }
+        groups = evaluations.last().map_or(groups, |e| e.group + 1);
+    }
+    (evaluations, groups)
+}
+
+/// A sensitivity study's evaluations: each request asked, its own group.
+fn sensitivity_evaluations(jobs: &SensitivityJobs) -> (Vec<Evaluation>, usize) {
+    let evaluations: Vec<Evaluation> = (requests_of(jobs).into_iter().enumerate())
+        .map(|(index, what)| Evaluation {
+            index,
+            case: 0,
+            group: index,
+            what,
+        })
+        .collect();
+    let groups = evaluations.len();
+    (evaluations, groups)
+}
+
 /// A case study's evaluations in plan order, each with its group (from 0 within the case):
 /// the nominal run, each refined case, then the points, a start with the points that start
 /// from it (in their order), each other point alone.
@@ -452,7 +474,12 @@ fn write_atomically(path: &Path, text: &str) -> Result<(), PlanError> {
     let name = path
         .file_name()
         .map_or("out".into(), |n| n.to_string_lossy());
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    // Unique to this host, process and moment: two workers that run the same shard at once on
+    // a shared file system (an engine that started it again) never write the same file.
+    let host = std::env::var("HOSTNAME").unwrap_or_default();
+    let nanos = (std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH))
+        .map_or(0, |d| d.as_nanos());
+    let tmp = path.with_file_name(format!(".{name}.{host}.{}.{nanos}.tmp", std::process::id()));
     std::fs::write(&tmp, text).map_err(cannot)?;
     std::fs::rename(&tmp, path).map_err(cannot)
 }
@@ -505,13 +532,20 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
     };
     let mut studies = Vec::new();
     let mut sensitivity = None;
-    let expected: Vec<(usize, Evaluates)> = match &file.study {
+    // A path as given where the plan was written: as it is from that folder (the command line
+    // works from it), else from the folder joined.
+    let here = absolute(Path::new("."));
+    let resolve = |p: &Path| match p.is_relative() && here != file.folder {
+        true => file.folder.join(p),
+        false => p.to_path_buf(),
+    };
+    let expected: (Vec<Evaluation>, usize) = match &file.study {
         PlannedStudy::Uncertainty(settings) => {
             let corrections = (file.corrections.iter())
-                .map(|p| crate::inputs::corrections::load(p))
+                .map(|p| crate::inputs::corrections::load(&resolve(p)))
                 .collect::<Result<Vec<_>, _>>()?;
             for (c, planned) in file.cases.iter().enumerate() {
-                let case = crate::suite::case::load(&planned.path)?;
+                let case = crate::suite::case::load(&resolve(&planned.path))?;
                 let (case, _) = crate::suite::case::with_corrections(&case, &corrections)
                     .map_err(|e| at(&format!("cases[{c}]"), format!("the corrections {e}")))?;
                 let jobs = CaseJobs::of(&case, settings.propagation())
@@ -522,33 +556,40 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
                 }
                 studies.push(jobs);
             }
-            (studies.iter().enumerate())
-                .flat_map(|(c, j)| evaluations_of(j).into_iter().map(move |(w, _)| (c, w)))
-                .collect()
+            planned_evaluations(&studies)
         }
         PlannedStudy::Sensitivity(settings) => {
             let Some(planned) = file.cases.first() else {
                 return Err(at("cases", "a sensitivity plan names its case".into()));
             };
-            let case = crate::suite::case::load(&planned.path)?;
+            let case = crate::suite::case::load(&resolve(&planned.path))?;
             let jobs = sensitivity_jobs(&case, settings).map_err(|e| at("cases[0]", e))?;
             if fingerprint(&case, &[], &requests_text(&jobs)) != planned.fingerprint {
                 return Err(changed(0, planned));
             }
-            let expected = requests_of(&jobs).into_iter().map(|w| (0, w)).collect();
+            let expected = sensitivity_evaluations(&jobs);
             sensitivity = Some((case, jobs));
             expected
         }
     };
-    let planned: Vec<(usize, Evaluates)> = (file.evaluations.iter())
-        .map(|e| (e.case, e.what.clone()))
-        .collect();
+    // Every evaluation as its study needs it: its place, case, group and what it runs.
+    let (expected, groups) = expected;
+    let planned = &file.evaluations;
     if let Some(k) =
         (0..expected.len().max(planned.len())).find(|&k| expected.get(k) != planned.get(k))
     {
         return Err(at(
             &format!("evaluations[{k}]"),
             "not the evaluation its case's study needs (the plan was edited, or written for other settings): write the plan again".into(),
+        ));
+    }
+    if file.groups != groups {
+        return Err(at(
+            "groups",
+            format!(
+                "{}: the evaluations make {groups} groups; write the plan again",
+                file.groups
+            ),
         ));
     }
     Ok(LoadedPlan {
@@ -558,6 +599,26 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
         studies,
         sensitivity,
     })
+}
+
+/// For the command line: the plan's folder `dir` made absolute, and the working folder set to
+/// the one the plan was written from (where it still exists), so that its cases' paths, and
+/// every path a result names, read as they did there. A library caller that leaves the working
+/// folder alone gets the same numbers, the paths in its messages joined to that folder.
+pub fn enter(dir: &Path) -> Result<PathBuf, PlanError> {
+    #[derive(Deserialize)]
+    struct Folder {
+        folder: PathBuf,
+    }
+    let dir = absolute(dir);
+    let text = std::fs::read_to_string(plan_path(&dir)).unwrap_or_default();
+    if let Ok(Folder { folder }) = serde_yaml::from_str::<Folder>(&text)
+        && folder.is_dir()
+    {
+        std::env::set_current_dir(&folder)
+            .map_err(|e| PlanError::Input(format!("cannot work from {}: {e}", folder.display())))?;
+    }
+    Ok(dir)
 }
 
 /// A shard, `I` of `N` (from 1), as `--shard I/N` gives it.
@@ -637,14 +698,22 @@ pub fn evaluate(
         path: path.clone(),
         seconds: started.elapsed().as_secs_f64(),
     };
-    if path.exists() {
-        read_results(plan, &path, Some(shard))?;
-        return Ok(report(mine.len()));
-    }
     let mut have: BTreeMap<usize, EvaluationResult> = BTreeMap::new();
-    if partial.is_dir() {
-        for r in read_partial(plan, &partial, shard)? {
+    if path.exists() {
+        for r in read_results(plan, &path, Some(shard))? {
             have.insert(r.evaluation, r);
+        }
+        if mine.iter().all(|e| have.contains_key(&e.index)) {
+            return Ok(report(mine.len()));
+        }
+    }
+    if partial.is_dir() {
+        // An evaluation that failed before is asked again: its failure may have been the
+        // worker's (a process killed, the memory short), not the model's at its values.
+        for r in read_partial(plan, &partial, shard)? {
+            if r.error.is_none() {
+                have.insert(r.evaluation, r);
+            }
         }
     }
     let already_done = have.len();
@@ -870,7 +939,11 @@ fn gather(plan: &LoadedPlan) -> Result<(BTreeMap<usize, EvaluationResult>, Vec<u
         else {
             continue;
         };
-        let found = if p.is_dir() {
+        let done = p.with_file_name(format!("{name}.yaml"));
+        let found = if p.is_dir() && done.exists() {
+            // A shard's file holds what its folder held (a leftover beside it is not read).
+            continue;
+        } else if p.is_dir() {
             read_partial(plan, &p, shard)?
         } else {
             read_results(plan, &p, Some(shard))?
@@ -975,8 +1048,8 @@ pub fn finish_sensitivity(plan: &LoadedPlan) -> Result<(Result<Study, String>, f
     Ok((crate::fit::sensitivity::finish(jobs, answers), seconds))
 }
 
-/// The missing evaluations in words, by the shard that holds them (in the shard count the
-/// results were run in, or the most evaluations where none were).
+/// The missing evaluations in words, by the shard that holds them, in the shard count the
+/// results were run in (the largest, where they were run in several).
 fn incomplete(plan: &LoadedPlan, missing: &[&Evaluation], counts: &[usize]) -> String {
     let total = plan.file.evaluations.len();
     let dir = plan.dir.display();
