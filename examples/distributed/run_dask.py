@@ -25,26 +25,23 @@ import threading
 import time
 import uuid
 
-# Loaded once, in the worker, before any fork: `die_with_parent` runs between fork and exec,
-# where loading a library is not safe in a threaded process.
-try:
-    LIBC = ctypes.CDLL("libc.so.6", use_errno=True)
-except OSError:
-    LIBC = None
-
-
 def die_with_parent():
-    """Ends the shard's cierva when the worker that started it dies (Linux), so a killed
-    worker leaves no shard running beside the one Dask starts again."""
-    if LIBC is not None:
-        LIBC.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    """What the shard's cierva runs before it starts (between fork and exec): end it when the
+    worker that started it dies (Linux), so a killed worker leaves no shard running beside the
+    one Dask starts again. libc is loaded here, in the worker, before the fork: loading a
+    library between fork and exec is not safe in a threaded process."""
+    try:
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+    except OSError:
+        return None
+    return lambda: libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
 
 
 def evaluate_shard(cierva, plan, shard, shards, threads):
     """One shard, run as a command on the worker; its report (cierva's JSON)."""
     command = [cierva, "--quiet", "evaluate", plan, "--shard", f"{shard}/{shards}",
                "--threads", str(threads), "--format", "json"]
-    done = subprocess.run(command, capture_output=True, text=True, preexec_fn=die_with_parent)
+    done = subprocess.run(command, capture_output=True, text=True, preexec_fn=die_with_parent())
     if done.returncode != 0:
         raise RuntimeError(f"shard {shard}/{shards}: exit {done.returncode}: {done.stderr.strip()}")
     return json.loads(done.stdout)
