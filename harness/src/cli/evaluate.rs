@@ -36,9 +36,7 @@ pub(crate) fn evaluate(a: EvaluateArgs) -> Result<ExitCode, Error> {
         None => {}
     }
     let loaded = plan::load(&plan::enter(&a.dir)?).map_err(Error::from)?;
-    let mine = (loaded.file.evaluations.iter())
-        .filter(|e| plan::shard_of(e.group, shard.1) == shard.0)
-        .count();
+    let mine = plan::shard_evaluations(&loaded, shard).len();
     let bar = progress(mine as u64, &format!("shard {}/{}", shard.0, shard.1));
     let report = plan::evaluate(&loaded, shard, || bar.inc(1)).map_err(Error::from)?;
     bar.finish_and_clear();

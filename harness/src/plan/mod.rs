@@ -541,8 +541,9 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
     };
     let expected: (Vec<Evaluation>, usize) = match &file.study {
         PlannedStudy::Uncertainty(settings) => {
-            let corrections = (file.corrections.iter())
-                .map(|p| crate::inputs::corrections::load(&resolve(p)))
+            let paths: Vec<PathBuf> = file.corrections.iter().map(|p| resolve(p)).collect();
+            let corrections = (paths.iter())
+                .map(|p| crate::inputs::corrections::load(p))
                 .collect::<Result<Vec<_>, _>>()?;
             for (c, planned) in file.cases.iter().enumerate() {
                 let case = crate::suite::case::load(&resolve(&planned.path))?;
@@ -550,7 +551,7 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
                     .map_err(|e| at(&format!("cases[{c}]"), format!("the corrections {e}")))?;
                 let jobs = CaseJobs::of(&case, settings.propagation())
                     .map_err(|e| at(&format!("cases[{c}]"), e))?;
-                let print = fingerprint(&case, &file.corrections, &inputs_text(&jobs));
+                let print = fingerprint(&case, &paths, &inputs_text(&jobs));
                 if print != planned.fingerprint || case.id != planned.id {
                     return Err(changed(c, planned));
                 }
@@ -646,6 +647,45 @@ pub fn shard_of(g: usize, n: usize) -> usize {
     if round % 2 == 0 { place + 1 } else { n - place }
 }
 
+/// The evaluations of shard `(I, N)`, in plan order.
+pub fn shard_evaluations(plan: &LoadedPlan, (i, n): (usize, usize)) -> Vec<&Evaluation> {
+    (plan.file.evaluations.iter())
+        .filter(|e| shard_of(e.group, n) == i)
+        .collect()
+}
+
+/// A result's value, or the error that stopped it, as a `Result` (what a results file holds
+/// apart).
+fn outcome<T>(value: Option<T>, error: Option<String>) -> Result<T, String> {
+    value.ok_or_else(|| error.unwrap_or_default())
+}
+
+/// A `Result` as a results file holds it: the value, or the error ([`outcome`]'s inverse).
+fn split<T>(r: Result<T, String>) -> (Option<T>, Option<String>) {
+    match r {
+        Ok(x) => (Some(x), None),
+        Err(e) => (None, Some(e)),
+    }
+}
+
+/// A results file of shard `(I, N)` holding `evaluations`, written at once to `path`.
+fn write_results(
+    plan: &LoadedPlan,
+    (shard, of): (usize, usize),
+    evaluations: Vec<EvaluationResult>,
+    path: &Path,
+) -> Result<(), PlanError> {
+    let file = ResultsFile {
+        format: FORMAT.into(),
+        plan: plan.id.clone(),
+        shard,
+        of,
+        evaluations,
+    };
+    let text = serde_yaml::to_string(&file).map_err(|x| PlanError::Input(x.to_string()))?;
+    write_atomically(path, &text)
+}
+
 /// The results file of shard `i` of `n`, and the folder of its evaluations' files while it runs.
 fn shard_paths(dir: &Path, (i, n): (usize, usize)) -> (PathBuf, PathBuf) {
     let results = dir.join("results");
@@ -681,9 +721,7 @@ pub fn evaluate(
     let started = std::time::Instant::now();
     let (i, n) = shard;
     let (path, partial) = shard_paths(&plan.dir, shard);
-    let mine: Vec<&Evaluation> = (plan.file.evaluations.iter())
-        .filter(|e| shard_of(e.group, n) == i)
-        .collect();
+    let mine = shard_evaluations(plan, shard);
     if n > plan.file.groups {
         return Err(PlanError::Input(format!(
             "--shard {i}/{n}: the plan has {} groups of evaluations (the unit a shard takes), so at most {} shards",
@@ -730,19 +768,12 @@ pub fn evaluate(
         let mut out = Vec::new();
         for e in group {
             let r = run_one(plan, model.as_deref(), e);
-            let file = ResultsFile {
-                format: FORMAT.into(),
-                plan: plan.id.clone(),
-                shard: i,
-                of: n,
-                evaluations: vec![r.clone()],
-            };
-            let text = serde_yaml::to_string(&file).map_err(|x| PlanError::Input(x.to_string()))?;
-            write_atomically(&partial.join(format!("evaluation-{}.yaml", e.index)), &text)?;
+            let file = partial.join(format!("evaluation-{}.yaml", e.index));
+            write_results(plan, shard, vec![r.clone()], &file)?;
             out.push(r);
             done();
         }
-        // Evaluates the group's model remembers, once every point of it has run.
+        // What the group's model remembers, once every point of it has run.
         for e in group {
             if let Evaluates::Point { point, .. } = e.what {
                 plan.studies[e.case].forget(point);
@@ -755,15 +786,7 @@ pub fn evaluate(
             have.insert(e.evaluation, e);
         }
     }
-    let file = ResultsFile {
-        format: FORMAT.into(),
-        plan: plan.id.clone(),
-        shard: i,
-        of: n,
-        evaluations: have.into_values().collect(),
-    };
-    let text = serde_yaml::to_string(&file).map_err(|x| PlanError::Input(x.to_string()))?;
-    write_atomically(&path, &text)?;
+    write_results(plan, shard, have.into_values().collect(), &path)?;
     // The evaluations' files are in the shard's now (a failure to remove them leaves
     // duplicates, which read the same).
     let _ = std::fs::remove_dir_all(&partial);
@@ -777,23 +800,23 @@ fn run_one(
     e: &Evaluation,
 ) -> EvaluationResult {
     let started = std::time::Instant::now();
-    let (mut results, mut values) = (None, None);
-    let outcome = match (&e.what, &plan.sensitivity, model) {
+    let (results, values, error) = match (&e.what, &plan.sensitivity, model) {
         (Evaluates::Request { request, .. }, Some((_, jobs)), Some(model)) => {
-            (jobs.evaluate(model, *request)).map(|v| values = Some(v))
+            let (values, error) = split(jobs.evaluate(model, *request));
+            (None, values, error)
         }
-        (Evaluates::Request { .. }, ..) => Err("not a sensitivity plan".into()),
+        (Evaluates::Request { .. }, ..) => (None, None, Some("not a sensitivity plan".into())),
         (what, ..) => {
             let jobs = &plan.studies[e.case];
-            match what {
+            let (results, error) = split(match what {
                 Evaluates::Nominal => Ok(crate::suite::outcome::run_case(&jobs.case)),
                 Evaluates::Refined { level, .. } => Ok(crate::suite::outcome::run_case(
                     jobs.refined_cases()[*level],
                 )),
                 Evaluates::Point { point, .. } => jobs.evaluate(*point),
-                Evaluates::Request { .. } => Err("not an uncertainty plan".into()),
-            }
-            .map(|r| results = Some(r))
+                Evaluates::Request { .. } => unreachable!("matched above"),
+            });
+            (results, None, error)
         }
     };
     EvaluationResult {
@@ -801,7 +824,7 @@ fn run_one(
         seconds: started.elapsed().as_secs_f64(),
         results,
         values,
-        error: outcome.err(),
+        error,
     }
 }
 
@@ -980,10 +1003,7 @@ pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanErro
         for e in plan.file.evaluations.iter().filter(|e| e.case == c) {
             let r = have.remove(&e.index).expect("every evaluation found");
             seconds += r.seconds;
-            let result = match (r.results, r.error) {
-                (Some(x), _) => Ok(x),
-                (None, e) => Err(e.unwrap_or_default()),
-            };
+            let result = outcome(r.results, r.error);
             match (&e.what, result) {
                 (Evaluates::Nominal, Ok(x)) => nominal = x,
                 (Evaluates::Refined { .. }, Ok(x)) => refined.push(x),
@@ -1039,10 +1059,7 @@ pub fn finish_sensitivity(plan: &LoadedPlan) -> Result<(Result<Study, String>, f
         let r = have.remove(&e.index).expect("every evaluation found");
         seconds += r.seconds;
         if let Evaluates::Request { request, .. } = e.what {
-            answers[request] = Some(match (r.values, r.error) {
-                (Some(v), _) => Ok(v),
-                (None, e) => Err(e.unwrap_or_default()),
-            });
+            answers[request] = Some(outcome(r.values, r.error));
         }
     }
     Ok((crate::fit::sensitivity::finish(jobs, answers), seconds))

@@ -176,7 +176,7 @@ impl CaseJobs {
     /// refuses). What the point's model remembers is kept: see [`Self::forget`].
     pub fn evaluate(&self, k: usize) -> Result<Vec<CheckResult>, String> {
         let job = &self.points[k];
-        let start = (job.start).map(|s| values_of(&self.inputs, &self.points[s].values));
+        let start = (job.start).map(|s| self.parameters_of(s));
         let c = with_values(
             &self.case,
             &self.inputs,
@@ -194,7 +194,7 @@ impl CaseJobs {
 
     /// Forgets what the model remembers of point `k`'s answers.
     pub fn forget(&self, k: usize) {
-        forget(&self.case, &values_of(&self.inputs, &self.points[k].values));
+        forget(&self.case, &self.parameters_of(k));
     }
 
     /// Whether another point starts from each point's answers (which are then kept until it
