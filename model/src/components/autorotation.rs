@@ -150,7 +150,9 @@ pub struct Autorotation {
     pub iterations: usize,
     /// The model's equations used outside their stated validity at this equilibrium, in words
     /// (momentum theory in descent through the rotor's own wake:
-    /// [`inflow::momentum_outside_validity`]); empty where none is.
+    /// [`inflow::momentum_outside_validity`]), and whether the equilibrium is unstable in rotor
+    /// speed, so that a tunnel does not hold it ([`judge`]); empty where neither is. No check
+    /// passes on an answer with any.
     pub outside_validity: Vec<String>,
 }
 
@@ -199,6 +201,26 @@ pub enum AutorotationError {
         omega_rad_s: f64,
         alpha_deg: f64,
         why: String,
+    },
+    #[error(
+        "the inflow found no equilibrium at {omega_rad_s:.4} rad/s (the blades' flapping not periodic, or Newton on the inflow not converging)"
+    )]
+    NoInflowEquilibrium { omega_rad_s: f64 },
+    #[error(
+        "the rotor is driven from {omega_rad_s:.3} rad/s (C_Q/sigma {torque:.3e}) up to the fastest rotor speed tried, {fastest_rad_s:.3} rad/s: no equilibrium a tunnel holds was found below it"
+    )]
+    DrivenToTheEnd {
+        omega_rad_s: f64,
+        torque: f64,
+        fastest_rad_s: f64,
+    },
+    #[error(
+        "Newton was started {restarts} times from a faster rotor's root and a faster rotor was still driven (at {faster_rad_s:.3} rad/s, above the last equilibrium's {omega_rad_s:.3} rad/s)"
+    )]
+    Restarts {
+        restarts: usize,
+        omega_rad_s: f64,
+        faster_rad_s: f64,
     },
 }
 
@@ -394,13 +416,13 @@ fn autorotate_within(
     rotor.validate()?;
     check_tunnel(&tunnel)?;
     let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow, spent);
-    // A warm start is kept only where it lands on a stable equilibrium: near the fold it can
-    // converge to the slow rotor's, which the bracket from a fast rotor never gives.
+    // A warm start is kept only where it lands on the equilibrium a tunnel holds: near the fold
+    // it can converge to the slow rotor's, which the bracket from a fast rotor never gives.
     if let Some((omega, inflow)) = guess
         && omega.is_finite()
         && omega > 0.0
         && let Ok(a) = solve_from(&mut p, options, omega, inflow)
-        && p.stable(&a, options)?
+        && p.judge(options, a.omega_rad_s, a.inflow)?.holds()
     {
         return Ok(a);
     }
@@ -470,7 +492,8 @@ fn autorotate_within(
     // 71's angle and airspeed: -1.2e-5 coarse where the full numerics autorotate): look at the
     // peak between the scan's highest point's neighbours with the full numerics.
     if start.is_none() {
-        start = bracket_at_peak(&mut p, options, &samples)?;
+        start =
+            bracket_at_peak(&mut p, options, &samples)?.map(|(omega, _, inflow)| (omega, inflow));
     }
     let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
         low_rad_s: ratios[ratios.len() - 1] * v / r,
@@ -478,10 +501,131 @@ fn autorotate_within(
         torques: torques.clone(),
     })?;
 
-    // From a fast rotor the first change of sign is the fast rotor's equilibrium, which is not
-    // judged again here: under momentum theory's unphysical root in descent it is unstable by
-    // the criterion too (TR 487 with `--descent momentum`), and is reported outside validity.
-    solve_from(&mut p, options, omega0, inflow0)
+    // From a fast rotor the first change of sign is the fast rotor's equilibrium where the
+    // coarse scan saw the torque as the full numerics do. It is judged as every path judges
+    // (`Problem::judge`, full numerics): where a faster rotor is driven after all, Newton starts
+    // again from that rotor's root; where the equilibrium is unstable in rotor speed (momentum
+    // theory's unphysical root in descent: TR 487 with `--descent momentum`) it is returned
+    // marked so, and no check passes on it.
+    let a = solve_from(&mut p, options, omega0, inflow0)?;
+    // The bracket's points faster than the equilibrium are the judgement's coarse scan.
+    let scanned: Vec<(f64, f64, Inflow)> = samples
+        .iter()
+        .rev()
+        .filter(|s| s.0 > a.omega_rad_s * (1.0 + JUST_ABOVE))
+        .copied()
+        .collect();
+    hold(&mut p, options, a, scanned)
+}
+
+/// The fixed-angle search's equilibrium `a` judged ([`Problem::judge`], first on the
+/// bracket's own coarse points above it, `scanned`): kept where a tunnel holds it; solved
+/// again from a faster rotor's root where one is driven (at most [`RESTARTS`] times); marked
+/// in its `outside_validity` where it is unstable in rotor speed.
+fn hold(
+    p: &mut Problem,
+    options: AutorotationOptions,
+    mut a: Autorotation,
+    scanned: Vec<(f64, f64, Inflow)>,
+) -> Result<Autorotation, AutorotationError> {
+    let mut scanned = Some(scanned);
+    for _ in 0..RESTARTS {
+        let judgement = p.judge_scanned(options, a.omega_rad_s, a.inflow, scanned.take())?;
+        match judgement.faster {
+            Some(DrivenFaster {
+                start: Some((omega, inflow)),
+                ..
+            }) => a = solve_from(p, options, omega, inflow)?,
+            Some(DrivenFaster {
+                omega_rad_s,
+                torque,
+                start: None,
+            }) => {
+                return Err(AutorotationError::DrivenToTheEnd {
+                    omega_rad_s,
+                    torque,
+                    fastest_rad_s: fastest(p),
+                });
+            }
+            None => {
+                if judgement.stiffness.is_nan() || judgement.stiffness >= 0.0 {
+                    a.outside_validity
+                        .push(unstable_in_rotor_speed(judgement.stiffness));
+                }
+                return Ok(a);
+            }
+        }
+    }
+    let judgement = p.judge(options, a.omega_rad_s, a.inflow)?;
+    Err(AutorotationError::Restarts {
+        restarts: RESTARTS,
+        omega_rad_s: a.omega_rad_s,
+        faster_rad_s: judgement.faster.map_or(f64::NAN, |d| d.omega_rad_s),
+    })
+}
+
+/// How many times the fixed-angle search starts Newton again from a faster rotor's root the
+/// judgement found: each start is a faster root than the one before, and a torque curve with
+/// more than three roots above the bracket's is not one a rotor in TR 487, TR 515 or the
+/// VPM M16's range has shown.
+const RESTARTS: usize = 3;
+
+/// An inflow carried to a rotor speed `s` times faster, as a fraction of the tip speed (the
+/// prescribed inflow as it is).
+fn scaled(model: InflowModel, inflow: Inflow, s: f64) -> Inflow {
+    match model {
+        InflowModel::Prescribed { .. } => inflow,
+        _ => Inflow {
+            v0: inflow.v0 * s,
+            v1s: inflow.v1s * s,
+            v1c: inflow.v1c * s,
+        },
+    }
+}
+
+/// The fastest rotor speed the searches try: 40 times the airspeed over the radius (a
+/// tip-speed ratio of 0.025).
+fn fastest(p: &Problem) -> f64 {
+    40.0 * p.tunnel.airspeed_m_s / p.rotor.radius_m
+}
+
+/// What an equilibrium unstable in rotor speed is marked with (in
+/// [`Autorotation::outside_validity`]): a tunnel does not hold it.
+fn unstable_in_rotor_speed(stiffness: f64) -> String {
+    format!(
+        "the equilibrium is unstable in rotor speed (d(C_Q/sigma)/d(ln Omega) = {stiffness:.3e} with the inflow in equilibrium: the driving torque rises as the rotor speeds up), so a tunnel does not hold it"
+    )
+}
+
+/// A rotor speed faster than an equilibrium's at which the rotor is driven (the torque
+/// coefficient over solidity `torque >= 0`, full numerics, the inflow in equilibrium), and
+/// where Newton may start for the root above it (`None` where the rotor is driven up to the
+/// fastest speed tried).
+#[derive(Debug, Clone, Copy)]
+pub struct DrivenFaster {
+    pub omega_rad_s: f64,
+    /// The torque coefficient over solidity there.
+    pub torque: f64,
+    /// Where Newton starts for the root above it: rotor speed and inflow.
+    pub start: Option<(f64, Inflow)>,
+}
+
+/// Whether an equilibrium is the one a tunnel holds, decided the same way on every path (a
+/// cold start at a fixed angle, a warm start, the tip-speed-ratio search), at the problem's own
+/// numerics: stable in rotor speed, and no faster rotor driven (a rotor spun up settles there
+/// first).
+#[derive(Debug, Clone, Copy)]
+pub struct StabilityJudgement {
+    /// `d(C_Q / sigma) / d(ln Omega)` with the inflow in equilibrium.
+    pub stiffness: f64,
+    pub faster: Option<DrivenFaster>,
+}
+
+impl StabilityJudgement {
+    /// Stable in rotor speed, and no faster rotor driven.
+    pub fn holds(&self) -> bool {
+        self.stiffness < 0.0 && self.faster.is_none()
+    }
 }
 
 /// Where a scan of the driving torque from a fast rotor to a slow one (`samples`: rotor speed,
@@ -494,7 +638,7 @@ fn bracket_at_peak(
     p: &mut Problem,
     options: AutorotationOptions,
     samples: &[(f64, f64, Inflow)],
-) -> Result<Option<(f64, Inflow)>, AutorotationError> {
+) -> Result<Option<(f64, f64, Inflow)>, AutorotationError> {
     let Some(k) =
         (1..samples.len().saturating_sub(1)).max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))
     else {
@@ -525,16 +669,16 @@ fn bracket_at_peak(
             if torque_at(hi).is_none_or(|q| q.0 >= 0.0) {
                 return Ok(None);
             }
-            let mut found = best.1;
+            let mut found = best;
             for _ in 0..ROOT_STEPS {
                 let m = 0.5 * (lo + hi);
                 match torque_at(m) {
-                    Some((q, i)) if q >= 0.0 => (lo, found) = (m, i),
+                    Some((q, i)) if q >= 0.0 => (lo, found) = (m, (q, i)),
                     Some(_) => hi = m,
                     None => return Ok(None),
                 }
             }
-            return Ok(Some((lo.exp(), found)));
+            return Ok(Some((lo.exp(), found.0, found.1)));
         }
         if qc.0 >= qd.0 {
             (b, d, qd) = (d, c, qc);
@@ -548,6 +692,44 @@ fn bracket_at_peak(
     }
     Ok(None)
 }
+
+/// The ratio of one rotor speed to the next in [`Problem::faster_driving`]'s scan: about the
+/// cold search's (20 points from 40 to 1.2 times the airspeed over the radius, a ratio of
+/// 1.2025), so that [`bracket_at_peak`] looks between neighbours as far apart as there.
+const SCAN_STEP: f64 = 1.2;
+
+/// How far the coarse numerics' torque coefficient over solidity (8 elements, 7.5 deg steps,
+/// the inflow relaxed in four passes) may lie from the full numerics' (the inflow in
+/// equilibrium), below which [`judge`]'s scan of faster rotor speeds takes its sign without computing it
+/// again: five times the largest difference measured, 2.0e-5, over the 1,101 rotor speeds the
+/// TR 515 case's judgements scan (rows 1-81, the PCA-2 rotor at 20 elements and 2.5 deg
+/// steps), and guarded by a test that measures it again.
+pub const COARSE_TORQUE_ERROR: f64 = 1e-4;
+
+/// The largest value of the parabola through three points `(rotor speed, torque, _)` in
+/// `ln Omega` (the middle one the highest): where the torque peaks between them; the highest
+/// of the three where they do not bend down.
+fn parabola_peak(points: [(f64, f64, Inflow); 3]) -> f64 {
+    let [(w0, q0, _), (w1, q1, _), (w2, q2, _)] = points;
+    let (x0, x1, x2) = (w0.ln(), w1.ln(), w2.ln());
+    // The parabola a + b x + c x^2 from divided differences; its vertex at -b / 2c.
+    let d01 = (q1 - q0) / (x1 - x0);
+    let d12 = (q2 - q1) / (x2 - x1);
+    let c = (d12 - d01) / (x2 - x0);
+    if c.is_nan() || c >= 0.0 {
+        return q1.max(q0).max(q2);
+    }
+    let b = d01 - c * (x0 + x1);
+    let a = q0 - b * x0 - c * x0 * x0;
+    a - b * b / (4.0 * c)
+}
+
+/// Where [`Problem::faster_driving`]'s scan starts above an equilibrium, relative: a stable
+/// equilibrium's torque is negative there by its stiffness times this (about 1e-5 to 1e-4 of
+/// C_Q/sigma on TR 515's rows), far above the inflow's convergence, and a driven band closer
+/// than this lies where the stiffness itself is near zero (the fold), which the stiffness
+/// judges.
+const JUST_ABOVE: f64 = 1e-2;
 
 /// Bisection steps of [`bracket_at_peak`] towards the fast rotor's root: from the peak to the
 /// faster neighbour (at most a factor 1.44) to 0.05 % of rotor speed, Newton's start.
@@ -769,18 +951,36 @@ impl Problem<'_> {
         Ok(jac[(0, 0)] - (jac.view((0, 1), (1, n)) * x)[(0, 0)])
     }
 
-    /// Whether an equilibrium is one a tunnel holds: `d(C_Q / sigma) / d(ln Omega) < 0` with the
-    /// inflow in equilibrium ([`Self::rotor_speed_stiffness`], at the problem's own numerics and
-    /// the solver's step), the criterion the tip-speed-ratio search applies.
-    fn stable(
+    /// Whether the equilibrium at `(omega, inflow)` is the one a tunnel holds
+    /// ([`StabilityJudgement`]): its stiffness in rotor speed ([`Self::rotor_speed_stiffness`], the
+    /// solver's step) and the first faster rotor speed that is driven
+    /// ([`Self::faster_driving`]), both at the problem's own numerics.
+    fn judge(
         &mut self,
-        a: &Autorotation,
         options: AutorotationOptions,
-    ) -> Result<bool, AutorotationError> {
+        omega: f64,
+        inflow: Inflow,
+    ) -> Result<StabilityJudgement, AutorotationError> {
+        self.judge_scanned(options, omega, inflow, None)
+    }
+
+    /// [`Self::judge`], with the coarse scan above `omega` given where a search already made
+    /// it (`scanned`: (rotor speed, coarse torque, inflow), slow to fast, every point above
+    /// `omega`): the fixed-angle search's own bracket, in about the same steps.
+    fn judge_scanned(
+        &mut self,
+        options: AutorotationOptions,
+        omega: f64,
+        inflow: Inflow,
+        scanned: Option<Vec<(f64, f64, Inflow)>>,
+    ) -> Result<StabilityJudgement, AutorotationError> {
         let free = unknowns(options.inflow);
-        let stiffness =
-            self.rotor_speed_stiffness(a.omega_rad_s, a.inflow, free, options.newton.fd_step)?;
-        Ok(stiffness < 0.0)
+        let stiffness = self.rotor_speed_stiffness(omega, inflow, free, options.newton.fd_step)?;
+        let faster = match scanned {
+            Some(samples) => self.screen(options, samples, false)?,
+            None => self.faster_driving(options, omega, inflow)?,
+        };
+        Ok(StabilityJudgement { stiffness, faster })
     }
 
     /// The torque coefficient over solidity at rotor speed `omega` with the inflow solved into
@@ -814,36 +1014,145 @@ impl Problem<'_> {
         Some((r[0], inflow))
     }
 
-    /// The first rotor speed faster than `omega` (steps of 1.25 times, up to 40 times the
-    /// airspeed over the radius, as [`autorotate`] brackets) at which the driving torque is
-    /// positive, with its torque coefficient over solidity: where a rotor spun up would settle
-    /// before slowing to `omega`. The inflow is relaxed from `inflow` scaled with the tip speed.
+    /// The first rotor speed faster than `omega` at which the driving torque is positive
+    /// (where a rotor spun up would settle before slowing to `omega`), judged at the problem's
+    /// own numerics with the inflow in equilibrium, with where Newton may start for the root
+    /// above it.
+    ///
+    /// A scan from just above `omega` ([`JUST_ABOVE`]) to [`fastest`] in the bracket's steps
+    /// ([`SCAN_STEP`]) screens with coarse numerics and the inflow relaxed: a point whose
+    /// torque comes within [`COARSE_TORQUE_ERROR`] of zero is computed again at the full
+    /// numerics, and only the full numerics' sign counts. Where no point is driven, the peak
+    /// between the highest point's neighbours (a driven band narrower than a step, as at the
+    /// edge of autorotation) is searched at the full numerics ([`bracket_at_peak`]) where a
+    /// parabola through the three puts it within [`COARSE_TORQUE_ERROR`] of zero.
     fn faster_driving(
         &mut self,
+        options: AutorotationOptions,
         omega: f64,
         inflow: Inflow,
-    ) -> Result<Option<(f64, f64)>, RotorError> {
-        let fastest = 40.0 * self.tunnel.airspeed_m_s / self.rotor.radius_m;
-        let mut w = omega;
-        let mut current = inflow;
-        while w * 1.25 <= fastest {
-            let s = 1.25;
-            w *= s;
-            if !matches!(self.model, InflowModel::Prescribed { .. }) {
-                current = Inflow {
-                    v0: current.v0 * s,
-                    v1s: current.v1s * s,
-                    v1c: current.v1c * s,
-                };
+    ) -> Result<Option<DrivenFaster>, AutorotationError> {
+        let samples = self.coarse_scan_above(options, omega, inflow)?;
+        self.screen(options, samples, true)
+    }
+
+    /// The coarse torque (coarse numerics, the inflow relaxed) from just above `omega`
+    /// ([`JUST_ABOVE`]) to [`fastest`] in steps of [`SCAN_STEP`], the inflow carried from
+    /// point to point: (rotor speed, torque, inflow), slow to fast. A rotor speed without
+    /// periodic flapping is passed over, the inflow started again from `inflow` scaled.
+    fn coarse_scan_above(
+        &mut self,
+        options: AutorotationOptions,
+        omega: f64,
+        inflow: Inflow,
+    ) -> Result<Vec<(f64, f64, Inflow)>, AutorotationError> {
+        let fastest = fastest(self);
+        let coarse_rotor = coarse(self.rotor);
+        let mut coarse = Problem::new(
+            &coarse_rotor,
+            coarse_numerics(options.numerics),
+            self.tunnel,
+            options.inflow,
+            self.spent,
+        );
+        let mut samples = Vec::new();
+        let mut w = omega * (1.0 + JUST_ABOVE);
+        let mut current = scaled(options.inflow, inflow, 1.0 + JUST_ABOVE);
+        while w <= fastest {
+            match coarse.rough_torque(w, &mut current) {
+                Ok(q) => samples.push((w, q, current)),
+                Err(e) if no_periodic_flapping(&e) => {
+                    current = scaled(options.inflow, inflow, w / omega)
+                }
+                Err(e) => return Err(e.into()),
             }
-            match self.rough_torque(w, &mut current) {
-                Ok(q) if q >= 0.0 => return Ok(Some((w, q))),
-                Ok(_) => {}
-                Err(e) if no_periodic_flapping(&e) => current = inflow,
-                Err(e) => return Err(e),
+            w *= SCAN_STEP;
+            current = scaled(options.inflow, current, SCAN_STEP);
+        }
+        Ok(samples)
+    }
+
+    /// [`Self::faster_driving`]'s decision on coarse `samples` of the torque above an
+    /// equilibrium (slow to fast): each within [`COARSE_TORQUE_ERROR`] of zero computed again
+    /// at the full numerics (the first one too unless `skip_first`: just above the equilibrium
+    /// it is near zero by the stiffness, which judges it), then the peak between the highest
+    /// point's neighbours.
+    fn screen(
+        &mut self,
+        options: AutorotationOptions,
+        mut samples: Vec<(f64, f64, Inflow)>,
+        skip_first: bool,
+    ) -> Result<Option<DrivenFaster>, AutorotationError> {
+        for (k, &(w, q, inflow)) in samples.iter().enumerate() {
+            if (k > 0 || !skip_first)
+                && q >= -COARSE_TORQUE_ERROR
+                && let Some((q, i)) = self.torque_in_equilibrium(options, w, inflow)
+                && q >= 0.0
+            {
+                return Ok(Some(self.driven_from(options, w, q, i)));
             }
         }
-        Ok(None)
+        let Some(k) = (1..samples.len().saturating_sub(1))
+            .max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))
+        else {
+            return Ok(None);
+        };
+        // A peak is where the torque rises from the slower neighbour; where it falls from the
+        // equilibrium throughout, the highest torque is the equilibrium's own.
+        if samples[k - 1].1 >= samples[k].1
+            || parabola_peak([samples[k - 1], samples[k], samples[k + 1]]) < -COARSE_TORQUE_ERROR
+        {
+            return Ok(None);
+        }
+        samples.reverse();
+        Ok(
+            bracket_at_peak(self, options, &samples)?.map(|(w, q, i)| DrivenFaster {
+                omega_rad_s: w,
+                torque: q,
+                start: Some((w, i)),
+            }),
+        )
+    }
+
+    /// A driven rotor speed `omega` (torque `q`, inflow `inflow`, full numerics) and the root
+    /// above it: the scan goes on up at the full numerics until the torque turns negative, and
+    /// Newton's start is interpolated between the two points.
+    fn driven_from(
+        &mut self,
+        options: AutorotationOptions,
+        omega: f64,
+        q: f64,
+        inflow: Inflow,
+    ) -> DrivenFaster {
+        let fastest = fastest(self);
+        let (mut w0, mut q0, mut i0) = (omega, q, inflow);
+        let mut start = None;
+        while w0 * SCAN_STEP <= fastest {
+            let w = w0 * SCAN_STEP;
+            let guess = scaled(options.inflow, i0, SCAN_STEP);
+            let Some((q, i)) = self.torque_in_equilibrium(options, w, guess) else {
+                break;
+            };
+            if q < 0.0 {
+                let t = q0 / (q0 - q);
+                let mix = |x: f64, y: f64| x + t * (y - x);
+                start = Some((
+                    mix(w0, w),
+                    Inflow {
+                        v0: mix(i0.v0, i.v0),
+                        v1s: mix(i0.v1s, i.v1s),
+                        v1c: mix(i0.v1c, i.v1c),
+                    },
+                ));
+                break;
+            }
+            (w0, q0, i0) = (w, q, i);
+        }
+        DrivenFaster {
+            omega_rad_s: omega,
+            torque: q,
+            start,
+        }
     }
 
     /// The equilibrium Newton found at `(omega, inflow)`: its loads and coefficients.
@@ -908,6 +1217,76 @@ impl Problem<'_> {
             iterations: sol.iterations,
             outside_validity,
         })
+    }
+}
+
+/// Whether the equilibrium at rotor speed `omega_rad_s` and inflow `inflow` in `tunnel` is the
+/// one a tunnel holds, judged as every search judges its answer: `d(C_Q/sigma)/d(ln Omega)`
+/// with the inflow in equilibrium, and the first faster rotor speed that is driven
+/// ([`StabilityJudgement`]).
+pub fn judge(
+    rotor: &Rotor,
+    tunnel: Tunnel,
+    options: AutorotationOptions,
+    omega_rad_s: f64,
+    inflow: Inflow,
+) -> Result<StabilityJudgement, AutorotationError> {
+    rotor.validate()?;
+    check_tunnel(&tunnel)?;
+    check("omega_rad_s", omega_rad_s, omega_rad_s > 0.0, "positive")?;
+    let spent = Spent::default();
+    let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow, &spent);
+    spent.judge(p.judge(options, omega_rad_s, inflow))
+}
+
+/// The numerics [`torque_over_solidity`] computes the torque with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TorqueNumerics {
+    /// The rotor's own numerics, the inflow solved into its equilibrium.
+    Full,
+    /// The brackets' (at most 8 elements, 7.5 deg steps), the inflow relaxed toward its
+    /// equilibrium in four passes.
+    Coarse,
+}
+
+/// The driving torque coefficient over solidity at rotor speed `omega_rad_s` in `tunnel`, the
+/// inflow started from `inflow`: how the searches see the torque curve (positive: the rotor is
+/// driven and speeds up).
+pub fn torque_over_solidity(
+    rotor: &Rotor,
+    tunnel: Tunnel,
+    options: AutorotationOptions,
+    omega_rad_s: f64,
+    inflow: Inflow,
+    numerics: TorqueNumerics,
+) -> Result<f64, AutorotationError> {
+    rotor.validate()?;
+    check_tunnel(&tunnel)?;
+    check("omega_rad_s", omega_rad_s, omega_rad_s > 0.0, "positive")?;
+    let spent = Spent::default();
+    match numerics {
+        TorqueNumerics::Full => {
+            let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow, &spent);
+            p.torque_in_equilibrium(options, omega_rad_s, inflow)
+                .map(|(q, _)| q)
+                .ok_or_else(|| {
+                    spent
+                        .gave_up()
+                        .unwrap_or(AutorotationError::NoInflowEquilibrium { omega_rad_s })
+                })
+        }
+        TorqueNumerics::Coarse => {
+            let coarse_rotor = coarse(rotor);
+            let mut p = Problem::new(
+                &coarse_rotor,
+                coarse_numerics(options.numerics),
+                tunnel,
+                options.inflow,
+                &spent,
+            );
+            let mut inflow = inflow;
+            Ok(p.rough_torque(omega_rad_s, &mut inflow)?)
+        }
     }
 }
 
@@ -989,7 +1368,6 @@ fn at_tip_speed_ratio_within(
     };
     check_tunnel(&tunnel_at(ANGLE_GRID_DEG[0].to_radians()))?;
     let (alpha0, inflow0) = bracket_angle(rotor, c, options, tunnel_at, spent)?;
-    let coarse_rotor = coarse(rotor);
 
     // Newton on the scaled unknowns [alpha / alpha0, v0 / u, v1s / u, v1c / u].
     let mut p = Problem::new(
@@ -1033,22 +1411,17 @@ fn at_tip_speed_ratio_within(
         alpha_deg: alpha.to_degrees(),
         why,
     };
-    let stiffness = p.rotor_speed_stiffness(c.omega_rad_s, inflow, free, options.newton.fd_step)?;
+    let judgement = p.judge(options, c.omega_rad_s, inflow)?;
+    let stiffness = judgement.stiffness;
     if stiffness.is_nan() || stiffness >= 0.0 {
         return Err(slow_branch(format!(
             "it is unstable in rotor speed (d(C_Q/sigma)/d(ln Omega) = {stiffness:.3e} with the inflow in equilibrium: the driving torque rises as the rotor speeds up)"
         )));
     }
-    let mut coarse = Problem::new(
-        &coarse_rotor,
-        coarse_numerics(options.numerics),
-        p.tunnel,
-        options.inflow,
-        spent,
-    );
-    if let Some((omega, q)) = coarse.faster_driving(c.omega_rad_s, inflow)? {
+    if let Some(d) = judgement.faster {
         return Err(slow_branch(format!(
-            "a faster rotor is driven at that angle too (C_Q/sigma {q:.3e} at {omega:.3} rad/s, coarse numerics, the inflow relaxed), and a rotor spun up settles there first"
+            "a faster rotor is driven at that angle too (C_Q/sigma {:.3e} at {:.3} rad/s, the inflow in equilibrium), and a rotor spun up settles there first",
+            d.torque, d.omega_rad_s
         )));
     }
     Ok(AtTipSpeedRatio {
