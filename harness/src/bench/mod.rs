@@ -936,6 +936,7 @@ fn fitting(out: &Rows) {
             ],
             targets: vec![],
             options: FitOptions::default(),
+            executor: crate::fit::Executor::Local,
         };
         for mph in [40.0, 45.0, 55.0, 62.5, 70.0] {
             for (m, se) in [("X_u", 0.05), ("Z_w", 0.05), ("rotor_rpm", 0.01)] {

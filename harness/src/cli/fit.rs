@@ -19,6 +19,12 @@ use super::*;
 /// Exit code 0 when the fit converged, 1 when it did not (iteration limit, infeasible, model
 /// failure), 2 on bad input.
 ///
+/// For a model too slow for one machine, `--evaluate-with CMD` sends each batch of the fit's
+/// evaluations (the targets at a point; a Jacobian's steps together) through a plan of its own
+/// under `--plans DIR`, which CMD runs on an engine (`{plan}`: the batch's folder; `{shards}`:
+/// how many shards to run it in, at most `--shards`); the fit is the same bit for bit, and a fit
+/// run again reads the batches already done (docs/scaling.md).
+///
 /// Example: `cierva fit fits/pca-2-tr515.yaml`
 #[derive(clap::Args)]
 pub(crate) struct FitArgs {
@@ -32,6 +38,17 @@ pub(crate) struct FitArgs {
     report: Option<PathBuf>,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
+    /// Run each batch of evaluations through a plan with this command, such as `cierva
+    /// evaluate {plan} --shard 1/1` or `python3 examples/distributed/run_dask.py {plan} --shards
+    /// {shards}` (default: this machine's threads).
+    #[arg(long, value_name = "CMD")]
+    evaluate_with: Option<String>,
+    /// With --evaluate-with: where the batches' plans go (default: `fit-plans/<fit id>` here).
+    #[arg(long, value_name = "DIR", requires = "evaluate_with")]
+    plans: Option<PathBuf>,
+    /// With --evaluate-with: the most shards a batch is run in.
+    #[arg(long, default_value_t = 2, requires = "evaluate_with")]
+    shards: usize,
 }
 
 pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
@@ -40,9 +57,18 @@ pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
         output,
         report,
         format,
+        evaluate_with,
+        plans,
+        shards,
     } = a;
     use cierva_harness::fit;
-    let (f, output, report) = inputs(&file, output, report)?;
+    let (mut f, output, report) = inputs(&file, output, report)?;
+    if let Some(command) = &evaluate_with {
+        let dir = plans.unwrap_or_else(|| Path::new("fit-plans").join(&f.id));
+        let batches =
+            cierva_harness::plan::fit::batches(&f, &dir, command, shards).map_err(Error::input)?;
+        f.problem.executor = fit::Executor::Batches(std::sync::Arc::new(batches));
+    }
     let busy = spinner(&if f.starts > 1 {
         format!("fitting {} from {} starts", f.id, f.starts)
     } else {

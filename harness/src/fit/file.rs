@@ -499,6 +499,7 @@ pub fn load(path: &Path) -> Result<FitFile, InputError> {
         parameters,
         targets,
         options,
+        executor: fit::Executor::Local,
     };
     // The problem's own checks (bounds, kinds), as a located input error.
     fit::check(&problem).map_err(|m| err("parameters", m))?;

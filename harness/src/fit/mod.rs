@@ -37,11 +37,11 @@ pub mod starts;
 mod targets;
 
 pub use solve::{
-    Birge, FitOptions, FitResult, INTERVAL_Z, Interval, POSTERIOR_METHOD, Problem, Status, fit,
-    interval, posterior, scale_by_birge,
+    BatchEvaluator, Birge, Executor, FitOptions, FitResult, INTERVAL_Z, Interval, POSTERIOR_METHOD,
+    Problem, Status, fit, interval, posterior, scale_by_birge,
 };
 pub use targets::{
     Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,
-    TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate, evaluate_each, sensitivities,
-    values_or_nan,
+    TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate, evaluate_each, evaluate_each_here,
+    sensitivities, values_or_nan,
 };

@@ -138,6 +138,43 @@ pub struct Problem {
     pub parameters: Vec<FitParameter>,
     pub targets: Vec<Target>,
     pub options: FitOptions,
+    /// Where its evaluations run: this machine's threads (the default), or an engine through
+    /// a plan a batch (`cierva fit --evaluate-with`).
+    pub executor: Executor,
+}
+
+/// Runs a batch of a fit's evaluations somewhere else than this process: each parameter
+/// vector of `points`, every target of `problem` at it, as [`crate::fit::evaluate_each`] gives
+/// them (the outer error where the corrections themselves are invalid). The plan module
+/// implements it ([`crate::plan::fit`]); the fit module knows only this.
+pub trait BatchEvaluator: Send + Sync {
+    fn evaluate_batch(
+        &self,
+        problem: &Problem,
+        points: &[Vec<f64>],
+    ) -> Vec<Result<Vec<Result<f64, String>>, String>>;
+    /// In words, for the report and errors ("plans in runs/ run by `...`").
+    fn describe(&self) -> String;
+}
+
+/// Where a fit's evaluations run.
+#[derive(Clone, Default)]
+pub enum Executor {
+    /// On this machine's threads, conditions in parallel.
+    #[default]
+    Local,
+    /// A batch at a time (the targets at a point, or a Jacobian's steps together) through a
+    /// [`BatchEvaluator`].
+    Batches(std::sync::Arc<dyn BatchEvaluator>),
+}
+
+impl std::fmt::Debug for Executor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Executor::Local => write!(f, "Local"),
+            Executor::Batches(b) => write!(f, "Batches({})", b.describe()),
+        }
+    }
 }
 
 impl Problem {

@@ -535,8 +535,40 @@ pub fn values_or_nan(problem: &Problem, p: &[f64]) -> Vec<f64> {
 }
 
 /// The model's value of every target at parameter values `p`, each on its own (a condition that
-/// fails leaves the others); an error only when the corrections themselves are invalid.
+/// fails leaves the others); an error only when the corrections themselves are invalid. Run
+/// where the problem's [`crate::fit::Executor`] says.
 pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, String>>, String> {
+    match &problem.executor {
+        crate::fit::Executor::Local => evaluate_each_here(problem, p),
+        crate::fit::Executor::Batches(b) => b
+            .evaluate_batch(problem, &[p.to_vec()])
+            .pop()
+            .unwrap_or_else(|| Err("the batch returned no evaluation".into())),
+    }
+}
+
+/// [`evaluate_each`] at each of `points`: one batch where the problem's executor sends its
+/// evaluations elsewhere (a Jacobian's steps together), else one after the other here.
+fn evaluate_many(
+    problem: &Problem,
+    points: &[Vec<f64>],
+) -> Vec<Result<Vec<Result<f64, String>>, String>> {
+    match &problem.executor {
+        crate::fit::Executor::Local => points
+            .iter()
+            .map(|p| evaluate_each_here(problem, p))
+            .collect(),
+        crate::fit::Executor::Batches(b) if !points.is_empty() => b.evaluate_batch(problem, points),
+        crate::fit::Executor::Batches(_) => Vec::new(),
+    }
+}
+
+/// [`evaluate_each`] on this machine's threads, conditions in parallel: what every executor
+/// runs in the end (`cierva evaluate` runs it on a plan's evaluations).
+pub fn evaluate_each_here(
+    problem: &Problem,
+    p: &[f64],
+) -> Result<Vec<Result<f64, String>>, String> {
     let mut conditions: Vec<TargetCondition> = Vec::new();
     for t in &problem.targets {
         if !conditions.contains(&t.condition) {
@@ -776,27 +808,44 @@ pub fn sensitivities(problem: &Problem, p: &[f64]) -> Result<(Vec<f64>, Vec<Vec<
 pub(super) fn jacobian(problem: &Problem, p: &[f64], y: &[f64]) -> Result<Vec<Vec<f64>>, String> {
     let n = p.len();
     let mut j = vec![vec![0.0; n]; y.len()];
-    for i in 0..n {
-        let par = &problem.parameters[i];
-        let mut h = problem.options.difference_step * (par.upper - par.lower);
-        if p[i] + h > par.upper {
-            h = -h;
-        }
+    let stepped = |i: usize, h: f64| {
         let mut q = p.to_vec();
         q[i] += h;
-        let yq = match evaluate(problem, &q) {
-            Ok(yq) => yq,
-            // Near the edge of the model's domain (a rotor at the edge of autorotation) the
-            // model can fail on one side of a point it solves: difference the other way.
-            Err(first) if (par.lower..=par.upper).contains(&(p[i] - h)) => {
-                h = -h;
-                q[i] = p[i] + h;
-                evaluate(problem, &q).map_err(|_| first)?
-            }
-            Err(first) => return Err(first),
-        };
+        q
+    };
+    let steps: Vec<f64> = (0..n)
+        .map(|i| {
+            let par = &problem.parameters[i];
+            let h = problem.options.difference_step * (par.upper - par.lower);
+            if p[i] + h > par.upper { -h } else { h }
+        })
+        .collect();
+    // Every parameter's step in one batch; then, near the edge of the model's domain (a rotor
+    // at the edge of autorotation), where the model fails on one side of a point it solves, the
+    // other way, in a second batch.
+    let forward: Vec<Vec<f64>> = (0..n).map(|i| stepped(i, steps[i])).collect();
+    let all = |r: Result<Vec<Result<f64, String>>, String>| r?.into_iter().collect();
+    let mut answers: Vec<Result<Vec<f64>, String>> = evaluate_many(problem, &forward)
+        .into_iter()
+        .map(all)
+        .collect();
+    let back: Vec<usize> = (0..n)
+        .filter(|&i| {
+            let par = &problem.parameters[i];
+            answers[i].is_err() && (par.lower..=par.upper).contains(&(p[i] - steps[i]))
+        })
+        .collect();
+    let backward: Vec<Vec<f64>> = back.iter().map(|&i| stepped(i, -steps[i])).collect();
+    let mut h = steps;
+    for (&i, answer) in back.iter().zip(evaluate_many(problem, &backward)) {
+        if let Ok(yq) = all(answer) {
+            (answers[i], h[i]) = (Ok(yq), -h[i]);
+        }
+    }
+    for (i, answer) in answers.into_iter().enumerate() {
+        let yq = answer?;
         for k in 0..y.len() {
-            j[k][i] = (yq[k] - y[k]) / h;
+            j[k][i] = (yq[k] - y[k]) / h[i];
         }
     }
     Ok(j)

@@ -31,6 +31,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+pub mod fit;
+
 /// The plan's format, in `plan.yaml` and every results file.
 pub const FORMAT: &str = "cierva-plan/1";
 
@@ -71,6 +73,17 @@ pub enum PlannedStudy {
     Uncertainty(StudySettings),
     /// `cierva sensitivity --case`'s, of the one case's model at one of its conditions.
     Sensitivity(SensitivitySettings),
+    /// A batch of `cierva fit --evaluate-with`'s evaluations (the fit file in `cases`): the
+    /// targets at a point, or a Jacobian's steps ([`fit`]).
+    Fit(FitBatch),
+}
+
+/// Which batch of a fit a plan is.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FitBatch {
+    /// The batch's number in the fit, from 1.
+    pub batch: usize,
 }
 
 /// What a sensitivity study was asked for (as `cierva sensitivity --case` takes it).
@@ -146,6 +159,13 @@ pub enum Evaluates {
         request: usize,
         parameters: BTreeMap<String, f64>,
     },
+    /// A fit's targets at one condition (`targets`: their places among the fit file's targets
+    /// and then its predictions), the parameters at `values` (the fit file's order): what
+    /// [`crate::fit::evaluate_each`] gives for them.
+    Targets {
+        targets: Vec<usize>,
+        values: Vec<f64>,
+    },
     /// Every check with the inputs at `values` (the case's `inputs`' order): the model asked
     /// with `parameters` (what the values set, by the model's parameter names), started from
     /// point `start`'s answers where it can.
@@ -168,9 +188,13 @@ pub struct EvaluationResult {
     /// Every check's results (the nominal run, a refined case, a point).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub results: Option<Vec<CheckResult>>,
-    /// The quantities' values (a sensitivity study's request).
+    /// The quantities' values (a sensitivity study's request), or the targets' (a fit's
+    /// batch: NaN where `errors` gives why not).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub values: Option<Vec<f64>>,
+    /// A fit's batch: why each target has no value (`None` where it has one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub errors: Option<Vec<Option<String>>>,
     pub error: Option<String>,
 }
 
@@ -212,6 +236,8 @@ pub struct LoadedPlan {
     pub id: String,
     pub studies: Vec<CaseJobs>,
     pub sensitivity: Option<(Case, SensitivityJobs)>,
+    /// A fit's batch: the fit file, loaded.
+    pub fit: Option<Box<crate::fit::file::FitFile>>,
 }
 
 /// The path of the plan in `dir`.
@@ -532,6 +558,7 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
     };
     let mut studies = Vec::new();
     let mut sensitivity = None;
+    let mut fit = None;
     // A path as given where the plan was written: as it is from that folder (the command line
     // works from it), else from the folder joined.
     let here = absolute(Path::new("."));
@@ -572,6 +599,16 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
             sensitivity = Some((case, jobs));
             expected
         }
+        PlannedStudy::Fit(_) => {
+            let planned = (file.cases.first()).ok_or_else(|| at("cases", "no fit file".into()))?;
+            let f = crate::fit::file::load(&resolve(&planned.path))?;
+            if self::fit::fingerprint(&f) != planned.fingerprint || f.id != planned.id {
+                return Err(changed(0, planned));
+            }
+            self::fit::check_evaluations(&f, &file.evaluations).map_err(|(k, m)| at(&k, m))?;
+            fit = Some(Box::new(f));
+            (file.evaluations.clone(), file.evaluations.len())
+        }
     };
     // Every evaluation as its study needs it: its place, case, group and what it runs.
     let (expected, groups) = expected;
@@ -599,6 +636,7 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
         file,
         studies,
         sensitivity,
+        fit,
     })
 }
 
@@ -800,12 +838,21 @@ fn run_one(
     e: &Evaluation,
 ) -> EvaluationResult {
     let started = std::time::Instant::now();
+    let mut errors = None;
     let (results, values, error) = match (&e.what, &plan.sensitivity, model) {
         (Evaluates::Request { request, .. }, Some((_, jobs)), Some(model)) => {
             let (values, error) = split(jobs.evaluate(model, *request));
             (None, values, error)
         }
         (Evaluates::Request { .. }, ..) => (None, None, Some("not a sensitivity plan".into())),
+        (Evaluates::Targets { targets, values }, ..) => match &plan.fit {
+            Some(f) => {
+                let (values, each, error) = self::fit::evaluate(f, targets, values);
+                errors = each;
+                (None, values, error)
+            }
+            None => (None, None, Some("not a fit's plan".into())),
+        },
         (what, ..) => {
             let jobs = &plan.studies[e.case];
             let (results, error) = split(match what {
@@ -814,7 +861,9 @@ fn run_one(
                     jobs.refined_cases()[*level],
                 )),
                 Evaluates::Point { point, .. } => jobs.evaluate(*point),
-                Evaluates::Request { .. } => unreachable!("matched above"),
+                Evaluates::Request { .. } | Evaluates::Targets { .. } => {
+                    unreachable!("matched above")
+                }
             });
             (results, None, error)
         }
@@ -824,6 +873,7 @@ fn run_one(
         seconds: started.elapsed().as_secs_f64(),
         results,
         values,
+        errors,
         error,
     }
 }
@@ -897,14 +947,22 @@ fn read_results(
                 jobs.quantities.len(),
                 "quantities' values",
             ),
+            (Evaluates::Targets { targets, .. }, _) => (
+                r.values.as_ref().map(Vec::len),
+                targets.len(),
+                "targets' values",
+            ),
             _ => {
                 let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
                 (r.results.as_ref().map(Vec::len), checks, "checks' results")
             }
         };
         let other = match &e.what {
-            Evaluates::Request { .. } => r.results.is_some(),
-            _ => r.values.is_some(),
+            Evaluates::Request { .. } => r.results.is_some() || r.errors.is_some(),
+            Evaluates::Targets { targets, .. } => {
+                r.results.is_some() || r.errors.as_ref().is_some_and(|x| x.len() != targets.len())
+            }
+            _ => r.values.is_some() || r.errors.is_some(),
         };
         if other || given.is_some_and(|n| n != size) || given.is_none() == r.error.is_none() {
             return Err(at(
@@ -985,6 +1043,12 @@ fn gather(plan: &LoadedPlan) -> Result<(BTreeMap<usize, EvaluationResult>, Vec<u
 /// (summed over them, s); [`PlanError::Incomplete`] naming the shards whose results are
 /// missing, where any are.
 pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanError> {
+    if plan.fit.is_some() {
+        return Err(PlanError::Input(format!(
+            "{} is a batch of a fit's evaluations: `cierva fit --evaluate-with` reads it",
+            plan_path(&plan.dir).display()
+        )));
+    }
     if plan.sensitivity.is_some() {
         return Err(PlanError::Input(format!(
             "{} is a sensitivity study's plan: finish it with `cierva sensitivity --from-plan {}`",
@@ -1008,9 +1072,9 @@ pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanErro
                 (Evaluates::Nominal, Ok(x)) => nominal = x,
                 (Evaluates::Refined { .. }, Ok(x)) => refined.push(x),
                 (Evaluates::Point { point, .. }, x) => points[*point] = Some(x),
-                (Evaluates::Request { .. }, _) => {
+                (Evaluates::Request { .. } | Evaluates::Targets { .. }, _) => {
                     return Err(PlanError::Input(format!(
-                        "evaluation {}: a sensitivity study's request in an uncertainty study's plan",
+                        "evaluation {}: another study's evaluation in an uncertainty study's plan",
                         e.index
                     )));
                 }
@@ -1045,6 +1109,12 @@ fn complete(plan: &LoadedPlan) -> Result<BTreeMap<usize, EvaluationResult>, Plan
 /// A sensitivity study from its plan's results, with the wall time its requests took (summed,
 /// s): the same study `cierva sensitivity --case` gives on one machine.
 pub fn finish_sensitivity(plan: &LoadedPlan) -> Result<(Result<Study, String>, f64), PlanError> {
+    if plan.fit.is_some() {
+        return Err(PlanError::Input(format!(
+            "{} is a batch of a fit's evaluations: `cierva fit --evaluate-with` reads it",
+            plan_path(&plan.dir).display()
+        )));
+    }
     let Some((_, jobs)) = &plan.sensitivity else {
         return Err(PlanError::Input(format!(
             "{} is an uncertainty study's plan: finish it with `cierva uncertainty --from-plan {}`",

@@ -62,6 +62,7 @@ fn synthetic_truth() -> Problem {
         parameters: blockage_and_hub([1.0, 0.5]),
         targets: vec![],
         options: FitOptions::default(),
+        executor: cierva_harness::fit::Executor::Local,
     };
     for v in [40.0, 55.0, 70.0] {
         for n in ["X_u", "Z_w"] {
@@ -134,6 +135,7 @@ fn degenerate_problems_end_with_a_status() {
             max_iterations: 3,
             ..FitOptions::default()
         },
+        executor: cierva_harness::fit::Executor::Local,
     };
     let mut blind = base.clone();
     blind.targets[0].measure = Measure::Derivative("X_phi".into());
@@ -195,6 +197,7 @@ fn hard_and_soft_bounds_hold_the_fit_back() {
             bounds: None,
         }],
         options: FitOptions::default(),
+        executor: cierva_harness::fit::Executor::Local,
     };
     problem.parameters.truncate(1);
     let y0 = fit::evaluate(&problem, &[0.0]).unwrap()[0];

@@ -18,7 +18,7 @@ fn fresh(name: &str) -> PathBuf {
 /// trims instant (`--seconds 0`): a study's plumbing without its cost.
 fn instant_model(dir: &Path) -> PathBuf {
     let from = repo_root().join("examples/distributed/slow-model");
-    for sub in ["cases", "model"] {
+    for sub in ["cases", "model", "fits"] {
         std::fs::create_dir_all(dir.join(sub)).unwrap();
         for f in std::fs::read_dir(from.join(sub)).unwrap() {
             let f = f.unwrap().path();
@@ -286,4 +286,101 @@ fn a_sensitivity_plan_finishes_as_the_one_machine_study() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("a sensitivity study's plan"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A fit's run (without its wall time) as `cierva fit --format json` prints it, and its exit code.
+fn fit_run(dir: &Path, extra: &[&str]) -> (i32, serde_json::Value, String) {
+    let mut args = vec![
+        "fit",
+        "fits/slow-model.yaml",
+        "--output",
+        "out/c.yaml",
+        "--report",
+        "out/r.md",
+        "--format",
+        "json",
+    ];
+    args.extend(extra);
+    let (code, out, err) = cierva_in(dir, &args);
+    let mut v: serde_json::Value = serde_json::from_str(&out).unwrap_or_default();
+    if let Some(run) = v.get_mut("run").and_then(|r| r.as_object_mut()) {
+        run.remove("seconds");
+    }
+    (code, v["run"].clone(), err)
+}
+
+/// A fit whose batches of evaluations go through plans (`cierva fit --evaluate-with`, issue
+/// 53, item 3), each run by a command as an engine would (here `cierva evaluate` on each shard
+/// in turn): the same fit as on one machine, bit for bit (its values, standard errors, every
+/// target before and after, the predictions). Run again on the same folder it reads the
+/// batches done and runs nothing (the command would fail); with a command that runs no shard
+/// it is a model failure that names the batch and what to run; a command that does not name
+/// `{plan}` is refused (exit 2).
+#[test]
+fn a_fit_through_plans_is_the_fit_on_one_machine() {
+    let dir = fresh("fit");
+    instant_model(&dir);
+    std::fs::copy(
+        repo_root().join("examples/distributed/slow-model/cierva.toml"),
+        dir.join("cierva.toml"),
+    )
+    .unwrap();
+    let (code, local, err) = fit_run(&dir, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(local["result"]["status"]["status"], "converged", "{local}");
+    let engine = format!(
+        "for i in $(seq 1 {{shards}}); do '{}' evaluate {{plan}} --shard $i/{{shards}} --quiet || exit 1; done",
+        env!("CARGO_BIN_EXE_cierva")
+    );
+    let (code, planned, err) = fit_run(
+        &dir,
+        &[
+            "--evaluate-with",
+            &engine,
+            "--plans",
+            "plans",
+            "--shards",
+            "2",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(planned, local, "{err}");
+    let batches = std::fs::read_dir(dir.join("plans")).unwrap().count();
+    assert!(batches >= 3, "{batches} batches");
+
+    let (code, again, err) = fit_run(
+        &dir,
+        &["--evaluate-with", "false {plan}", "--plans", "plans"],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(again, local, "{err}");
+
+    let (code, failed, err) = fit_run(&dir, &["--evaluate-with", "true {plan}", "--plans", "none"]);
+    assert_eq!(code, 1, "{failed}");
+    let status = failed["result"]["status"].to_string();
+    assert!(
+        status.contains("batch 1 of the fit") && status.contains("cierva evaluate"),
+        "{status} {err}"
+    );
+
+    let (code, _, err) = cierva_in(
+        &dir,
+        &["fit", "fits/slow-model.yaml", "--evaluate-with", "echo"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("{plan}"), "{err}");
+
+    // A batch's plan edited to name a target the fit file does not have: a located error.
+    let batch = dir.join("plans/batch-0002");
+    let text = std::fs::read_to_string(batch.join("plan.yaml")).unwrap();
+    let edited = text.replacen("    - 3\n", "    - 99\n", 1);
+    assert_ne!(edited, text);
+    std::fs::write(batch.join("plan.yaml"), edited).unwrap();
+    let at = batch.display().to_string();
+    let (code, _, err) = cierva_in(&dir, &["evaluate", &at]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("evaluations[1]") && err.contains("target 99") && err.contains("plan.yaml:"),
+        "{err}"
+    );
 }

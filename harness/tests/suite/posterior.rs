@@ -97,6 +97,7 @@ fn problem(truth: [f64; 3], airspeeds: &[f64], noise: f64, rng: &mut SplitMix) -
             .collect(),
         targets,
         options: FitOptions::default(),
+        executor: cierva_harness::fit::Executor::Local,
     }
 }
 

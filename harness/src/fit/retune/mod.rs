@@ -293,6 +293,7 @@ pub fn retune(
             max_iterations: MAX_ITERATIONS,
             ..fit::FitOptions::default()
         },
+        executor: crate::fit::Executor::Local,
     };
     let mut problem = problem;
     let mut result = fit::fit(&problem);
