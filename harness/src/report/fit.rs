@@ -34,6 +34,9 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
         r.cost_start,
         r.cost
     );
+    if let fit::Executor::Batches(b) = &f.problem.executor {
+        let _ = writeln!(s, "Evaluations through {}.\n", b.describe());
+    }
     parameters_table(&mut s, f, r);
     if let Some(st) = &run.starts {
         s += &starts_markdown(st);
