@@ -332,35 +332,59 @@ fn shipped_fit_by(
 }
 
 /// Seed 000's story: from the uncorrected model, the fit finds seed 000's corrections
-/// (blockage at its bound 1, hub factor 0.54 +- 0.025, seed 000's 0.5 within two standard
+/// (blockage at its bound 1, hub factor 0.487 +- 0.036, seed 000's 0.5 within two standard
 /// errors), and the phugoid's damping falls at every speed (seed 000 Fig. 14: "the unmodified
-/// simulation predicts too much damping"). Every derivative was outside its (hard) flight bound
-/// and ends inside it, but for X_u and Z_w at 40 mph: since the VPM M16's tailplane sits wholly
-/// in the propeller's slipstream (its share estimated by `cierva estimate`), the fit ends
-/// infeasible, those two outside by 0.67 and 0.24 standard errors. The synthetic bounds were
-/// derived once from the model before its tail estimates; the guard is that: no other target
-/// outside, and those two within a standard error of their bounds.
+/// simulation predicts too much damping"). Every derivative was outside its flight bound; the
+/// bounds are soft (issue 52, item 13), and what seed 000 claims is checked on the result: each
+/// derivative inside its bounds "over most of the speed range", 3 or more of the 4 airspeeds.
+/// The one miss, X_u at 40 mph (the VPM M16's tailplane in the propeller's slipstream: the fit
+/// file's notes), is a known discrepancy guarded at its measured size.
 #[test]
 fn seed000_story_fit_brings_x_u_and_z_w_inside_and_lightens_the_phugoid() {
-    let (f, run) = shipped_fit("vpm-m16-seed000", false);
+    // "Over most of the speed range" (seed 000, beside Fig. 13) of its four airspeeds.
+    const MOST_OF_FOUR: usize = 3;
+    // X_u at 40 mph ends 0.995 standard errors outside its bound (measured at 0.4868 hub
+    // factor); the guard moves with the model, not to meet the bound (issue 52, item 13).
+    const X_U_40_MISS_SE: f64 = 0.995;
+    const MISS_MOVES: f64 = 0.05;
+    let (f, run) = shipped_fit("vpm-m16-seed000", true);
     let r = &run.result;
+    assert_eq!(r.status, cierva_harness::fit::Status::Converged, "{r:?}");
     assert!(
         (r.values[0] - 0.5).abs() < 2.0 * r.standard_errors[0],
         "{r:?}"
     );
     assert!((r.values[1] - 1.0).abs() < 1e-6, "{r:?}");
+    let mut inside: std::collections::BTreeMap<&str, usize> = Default::default();
     let mut outside = Vec::new();
     for (t, (b, a)) in f.problem.targets.iter().zip(r.before.iter().zip(&r.after)) {
         let bounds = t.bounds.unwrap();
         assert!(!(bounds.lower..=bounds.upper).contains(b), "{t:?}: {b}");
-        if !(bounds.lower..=bounds.upper).contains(a) {
+        if (bounds.lower..=bounds.upper).contains(a) {
+            *inside.entry(t.measure.name()).or_default() += 1;
+        } else {
             let by = (bounds.lower - a).max(a - bounds.upper) / t.standard_error;
-            assert!(by < 1.0, "{t:?}: {a}, {by} standard errors outside");
-            outside.push(t.measure.name());
+            outside.push((t.measure.name(), t.condition.label(), by));
         }
     }
-    outside.sort();
-    assert_eq!(outside, ["X_u", "Z_w"], "the 40 mph pair only");
+    for name in ["X_u", "Z_w"] {
+        let n = inside.get(name).copied().unwrap_or(0);
+        assert!(
+            n >= MOST_OF_FOUR,
+            "{name} inside at {n} of 4 airspeeds: {outside:?}"
+        );
+    }
+    assert_eq!(outside.len(), 1, "{outside:?}");
+    let (name, at, by) = &outside[0];
+    assert_eq!(
+        (*name, at.as_str()),
+        ("X_u", "40 mph 425 kg"),
+        "{outside:?}"
+    );
+    assert!(
+        (by - X_U_40_MISS_SE).abs() < MISS_MOVES,
+        "X_u at 40 mph {by:.3} standard errors outside, guarded at {X_U_40_MISS_SE}"
+    );
     let phugoids: Vec<_> = run.modes.iter().filter(|m| m.mode == "phugoid").collect();
     assert_eq!(phugoids.len(), 4);
     for m in phugoids {

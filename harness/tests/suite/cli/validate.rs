@@ -92,7 +92,7 @@ fn validate_with_fitted_corrections_reports_the_checks_that_now_pass() {
         "corrections/fitted/vpm-m16-seed000.yaml",
     ]);
     assert_eq!(code, 1, "{out}\n{err}");
-    assert!(out.contains("6 unexpected passes"), "{out}");
+    assert!(out.contains("7 unexpected passes"), "{out}");
     assert!(
         out.contains(
             "cases run with corrections: seed000-synthetic-xu-zw-vpm-m16 (vpm-m16-seed000)"
