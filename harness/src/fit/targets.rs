@@ -24,7 +24,7 @@ pub enum ParameterKind {
     /// Seed 000 Sec. VII.A: the fraction of the free stream the rotor's wake takes from the
     /// propeller disc (0..1).
     PropellerBlockage,
-    /// Seed 000 Sec. VII.B: the hub's angle of attack as a factor on the c.g.'s.
+    /// Seed 000 Sec. VII.A: the hub's angle of attack as a factor on the c.g.'s.
     HubAoaFactor,
     /// Multiplies the main rotor's section drag coefficient.
     ProfileDragScale,

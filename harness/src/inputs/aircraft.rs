@@ -53,7 +53,7 @@
 //!     rudder_deg: {at_0_percent: -25, at_100_percent: 25}        # pedal left -> right
 //!   corrections:                       # optional; absent means none
 //!     propeller_blockage: 0.0          # seed 000 Sec. VII.A (0 none, 1 total)
-//!     hub_aoa_factor: 0.5              # seed 000 Sec. VII.B; omit for the kinematic angle
+//!     hub_aoa_factor: 0.5              # seed 000 Sec. VII.A; omit for the kinematic angle
 //!     # and the main rotor's blade corrections, over its rotor file's: profile_drag_scale,
 //!     # profile_drag_increment, pitch_offset_deg, lateral_inflow_offset_m_s,
 //!     # elastic_twist_deg_per_kpa, hub_drag_area_m2 (the hub's flat-plate area),

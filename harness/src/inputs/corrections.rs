@@ -101,7 +101,7 @@ pub struct CorrectionSet {
     /// propeller disc (0 none, 1 total).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub propeller_blockage: Option<f64>,
-    /// Seed 000 Sec. VII.B: the hub's angle of attack as a factor on the c.g.'s (omit for the
+    /// Seed 000 Sec. VII.A: the hub's angle of attack as a factor on the c.g.'s (omit for the
     /// kinematic angle).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hub_aoa_factor: Option<f64>,

@@ -228,10 +228,10 @@ fn retune_by_responses_reports_j_and_bode_figures_per_response() {
     );
     assert!(md.contains("Reduced chi-square"), "{md}");
     // Every bound names its source: the hub factor's is seed 000's.
-    assert!(md.contains("seed 000 Sec. VII.B"), "{md}");
+    assert!(md.contains("seed 000 Sec. VII.A"), "{md}");
     let output = dir.join("retuned.yaml");
     let written = std::fs::read_to_string(&output).unwrap();
-    assert!(written.contains("seed 000 Sec. VII.B"), "{written}");
+    assert!(written.contains("seed 000 Sec. VII.A"), "{written}");
     let loaded = cierva_harness::inputs::corrections::load(&output).unwrap();
     assert!(loaded.corrections.hub_aoa_factor.is_some());
     assert!(loaded.corrections.profile_drag_scale.is_some());

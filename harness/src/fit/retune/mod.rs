@@ -36,7 +36,7 @@ pub const DEFAULT_BOUNDS: [(ParameterKind, f64, f64, &str); 6] = [
         ParameterKind::HubAoaFactor,
         0.0,
         1.0,
-        "seed 000 Sec. VII.B: the hub sees a fraction of the c.g.'s angle of attack (the wake of the pod and mast slows and turns the flow), none to all of it",
+        "seed 000 Sec. VII.A: the hub sees a fraction of the c.g.'s angle of attack (the wake of the pod and mast slows and turns the flow), none to all of it",
     ),
     (
         ParameterKind::ProfileDragScale,
