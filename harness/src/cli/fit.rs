@@ -63,11 +63,14 @@ pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
     } = a;
     use cierva_harness::fit;
     let (mut f, output, report) = inputs(&file, output, report)?;
+    let mut engine = None;
     if let Some(command) = &evaluate_with {
         let dir = plans.unwrap_or_else(|| Path::new("fit-plans").join(&f.id));
-        let batches =
-            cierva_harness::plan::fit::batches(&f, &dir, command, shards).map_err(Error::input)?;
-        f.problem.executor = fit::Executor::Batches(std::sync::Arc::new(batches));
+        let batches = std::sync::Arc::new(
+            cierva_harness::plan::fit::batches(&f, &dir, command, shards).map_err(Error::input)?,
+        );
+        f.problem.executor = fit::Executor::Batches(batches.clone());
+        engine = Some(batches);
     }
     let busy = spinner(&if f.starts > 1 {
         format!("fitting {} from {} starts", f.id, f.starts)
@@ -80,6 +83,14 @@ pub(crate) fn fit(a: FitArgs) -> Result<ExitCode, Error> {
         busy.set_message(format!("cross-validating {}: {g} done", f.id))
     });
     busy.finish_and_clear();
+    // A batch the engine left without results: the fit went on without it, so what it found is
+    // not the fit; nothing is written.
+    if let Some(failure) = engine.as_ref().and_then(|e| e.failure()) {
+        return Err(Error::failure(format!(
+            "the fit of {} through plans stopped: {failure}",
+            f.id
+        )));
+    }
     let cv = cv.map_err(|e| Error::failure(format!("cross-validation of {}: {e}", f.id)))?;
     let id = output
         .file_stem()

@@ -18,21 +18,48 @@ use crate::fit::{Problem, Target, TargetCondition};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// What a fit's evaluations depend on, hashed (FNV-1a, 64 bits, hex): the fit file, and the
-/// aircraft or rotor file it fits. A change to a simulation behind the protocol that leaves the
-/// fit file alone is not seen.
+/// What a fit's evaluations depend on, hashed (FNV-1a, 64 bits, hex): the fit file, the
+/// aircraft or rotor file it fits, and every file it names by a `file:` or `case:` (the cases
+/// its targets come from, the case whose model it fits), read relative to it. A change to a
+/// simulation behind the protocol that leaves these files alone is not seen.
 pub fn fingerprint(f: &FitFile) -> String {
     use crate::fit::FitSubject;
-    let mut bytes = std::fs::read(&f.path).unwrap_or_default();
+    let text = std::fs::read_to_string(&f.path).unwrap_or_default();
+    let mut bytes = text.clone().into_bytes();
     let subject = match &f.problem.subject {
         FitSubject::Aircraft { file } => Some(file.path.clone()),
         FitSubject::Rotor { file, .. } => Some(file.path.clone()),
         FitSubject::Model { .. } => None,
     };
-    if let Some(p) = subject {
+    let here = f.path.parent().unwrap_or(Path::new("."));
+    let mut named: Vec<PathBuf> = Vec::new();
+    if let Ok(value) = serde_yaml::from_str::<serde_yaml::Value>(&text) {
+        named_files(&value, &mut named);
+    }
+    let mut files: Vec<PathBuf> = subject.into_iter().collect();
+    files.extend(named.iter().map(|p| here.join(p)));
+    files.dedup();
+    for p in files {
         bytes.extend(std::fs::read(p).unwrap_or_default());
     }
     format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
+}
+
+/// Every string under a `file` or `case` key of a YAML value, in order.
+fn named_files(value: &serde_yaml::Value, out: &mut Vec<PathBuf>) {
+    use serde_yaml::Value;
+    match value {
+        Value::Mapping(m) => {
+            for (k, v) in m {
+                if let (Some("file" | "case"), Value::String(p)) = (k.as_str(), v) {
+                    out.push(PathBuf::from(p));
+                }
+                named_files(v, out);
+            }
+        }
+        Value::Sequence(items) => items.iter().for_each(|v| named_files(v, out)),
+        _ => {}
+    }
 }
 
 /// The fit file's targets and then its predictions: what a batch's evaluations name by place.
@@ -124,10 +151,15 @@ pub(super) fn evaluate(f: &FitFile, targets: &[usize], values: &[f64]) -> Target
 /// `command` (its `{plan}` the batch's folder, `{shards}` the shards to run it in), read back.
 pub struct PlanBatches {
     file: Box<FitFile>,
+    /// The fit file's fingerprint when the fit started: every batch's.
+    fingerprint: String,
     dir: PathBuf,
     command: String,
     shards: usize,
     batches: AtomicUsize,
+    /// The first batch the engine left without results, and why: the fit's result is then not
+    /// the one-machine fit's, and no batch after it is sent.
+    failed: std::sync::Mutex<Option<String>>,
 }
 
 /// Why a fit cannot be sent through plans (a located message for the command line).
@@ -147,14 +179,23 @@ pub fn batches(
     }
     Ok(PlanBatches {
         file: Box::new(file.clone()),
+        fingerprint: fingerprint(file),
         dir: absolute(dir),
         command: command.to_string(),
         shards,
         batches: AtomicUsize::new(0),
+        failed: std::sync::Mutex::new(None),
     })
 }
 
 impl PlanBatches {
+    /// Why the engine left a batch without results, if it did: the fit that ran is not the
+    /// one-machine fit, and its result must not be used (`cierva fit` exits 1 and writes
+    /// nothing).
+    pub fn failure(&self) -> Option<String> {
+        self.failed.lock().map_or(None, |f| f.clone())
+    }
+
     /// The places among the fit file's targets and predictions of `problem`'s targets (the
     /// fit's own, a cross-validation band's, the predictions).
     fn places(&self, problem: &Problem) -> Result<Vec<usize>, String> {
@@ -178,6 +219,14 @@ impl PlanBatches {
             .collect()
     }
 
+    /// Records the first batch the engine failed (see [`Self::failure`]), and gives its message.
+    fn fail(&self, m: String) -> String {
+        if let Ok(mut f) = self.failed.lock() {
+            f.get_or_insert_with(|| m.clone());
+        }
+        m
+    }
+
     /// Writes the batch's plan, runs the command on it, and reads its results: each
     /// evaluation's, by its place.
     fn run(
@@ -190,8 +239,18 @@ impl PlanBatches {
         ),
         String,
     > {
+        if let Some(f) = self.failure() {
+            return Err(f);
+        }
         let batch = self.batches.fetch_add(1, Ordering::SeqCst) + 1;
-        let dir = self.dir.join(format!("batch-{batch:04}"));
+        // Named by its number and what it evaluates: the same fit run again finds its batches
+        // where they were, and a fit that went another way (other values, another fit file)
+        // never meets another's plan.
+        let content = format!("{}{:?}", self.fingerprint, evaluations);
+        let hash = crate::suite::review::fnv1a64(content.as_bytes());
+        let dir = self
+            .dir
+            .join(format!("batch-{batch:04}-{:08x}", hash >> 32));
         let groups = evaluations.len();
         let file = PlanFile {
             format: FORMAT.into(),
@@ -202,7 +261,7 @@ impl PlanBatches {
             cases: vec![PlannedCase {
                 path: self.file.path.clone(),
                 id: self.file.id.clone(),
-                fingerprint: fingerprint(&self.file),
+                fingerprint: self.fingerprint.clone(),
                 inputs: (self.file.problem.parameters.iter())
                     .map(|p| p.kind.model_name())
                     .collect(),
@@ -213,14 +272,16 @@ impl PlanBatches {
         let message = |e: PlanError| match e {
             PlanError::Input(m) | PlanError::Incomplete(m) => m,
         };
-        write_plan_file(&dir, file).map_err(message)?;
-        let plan = load(&dir).map_err(message)?;
+        write_plan_file(&dir, file).map_err(|e| self.fail(message(e)))?;
+        let plan = load(&dir).map_err(|e| self.fail(message(e)))?;
         // A batch already complete (the fit run again after it stopped) is read as it is.
         if complete(&plan).is_err() {
             let shards = self.shards.min(groups).max(1);
+            // The folder quoted for the shell (a working folder with a space in it).
+            let quoted = format!("'{}'", dir.display().to_string().replace('\'', "'\\''"));
             let command = self
                 .command
-                .replace("{plan}", &dir.display().to_string())
+                .replace("{plan}", &quoted)
                 .replace("{shards}", &shards.to_string());
             // The command's output goes to stderr: stdout is the fit's (its JSON).
             let status = std::process::Command::new("sh")
@@ -234,12 +295,15 @@ impl PlanBatches {
                 eprintln!("note: `{command}` exited with {status}");
             }
         }
-        let have = complete(&plan).map_err(|e| match e {
-            PlanError::Incomplete(m) => format!(
-                "batch {batch} of the fit ({}): {m} (the command ran no shard or not all: run the fit again with the same --plans to go on from the batches done)",
-                dir.display()
-            ),
-            PlanError::Input(m) => m,
+        let have = complete(&plan).map_err(|e| {
+            let m = match e {
+                PlanError::Incomplete(m) => format!(
+                    "batch {batch} of the fit ({}): {m} (the command ran no shard or not all: run the fit again with the same --plans to go on from the batches done)",
+                    dir.display()
+                ),
+                PlanError::Input(m) => m,
+            };
+            self.fail(m)
         })?;
         Ok((plan, have))
     }

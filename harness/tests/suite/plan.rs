@@ -293,13 +293,14 @@ fn fit_run(dir: &Path, extra: &[&str]) -> (i32, serde_json::Value, String) {
     let mut args = vec![
         "fit",
         "fits/slow-model.yaml",
-        "--output",
-        "out/c.yaml",
         "--report",
         "out/r.md",
         "--format",
         "json",
     ];
+    if !extra.contains(&"--output") {
+        args.extend(["--output", "out/c.yaml"]);
+    }
     args.extend(extra);
     let (code, out, err) = cierva_in(dir, &args);
     let mut v: serde_json::Value = serde_json::from_str(&out).unwrap_or_default();
@@ -355,13 +356,49 @@ fn a_fit_through_plans_is_the_fit_on_one_machine() {
     assert_eq!(code, 0, "{err}");
     assert_eq!(again, local, "{err}");
 
-    let (code, failed, err) = fit_run(&dir, &["--evaluate-with", "true {plan}", "--plans", "none"]);
-    assert_eq!(code, 1, "{failed}");
-    let status = failed["result"]["status"].to_string();
-    assert!(
-        status.contains("batch 1 of the fit") && status.contains("cierva evaluate"),
-        "{status} {err}"
+    // An engine that runs no shard: the fit stops at its first batch (exit 1), says which and
+    // what to run, and writes nothing.
+    let (code, _, err) = fit_run(
+        &dir,
+        &[
+            "--evaluate-with",
+            "true {plan}",
+            "--plans",
+            "none",
+            "--output",
+            "out/none.yaml",
+        ],
     );
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("through plans stopped")
+            && err.contains("batch 1 of the fit")
+            && err.contains("cierva evaluate"),
+        "{err}"
+    );
+    assert!(!dir.join("out/none.yaml").exists());
+
+    // An engine that fails on the third batch only (a trial step's): the fit stops there, not
+    // on another path; run again with a sound engine on the same folder, it reads the two
+    // batches done and ends as the one-machine fit.
+    let flaky = format!("case {{plan}} in *batch-0003-*) exit 1;; esac; {engine}");
+    let (code, _, err) = fit_run(
+        &dir,
+        &[
+            "--evaluate-with",
+            &flaky,
+            "--plans",
+            "flaky",
+            "--output",
+            "out/flaky.yaml",
+        ],
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("batch 3 of the fit"), "{err}");
+    assert!(!dir.join("out/flaky.yaml").exists());
+    let (code, resumed, err) = fit_run(&dir, &["--evaluate-with", &engine, "--plans", "flaky"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(resumed, local, "{err}");
 
     let (code, _, err) = cierva_in(
         &dir,
@@ -371,7 +408,11 @@ fn a_fit_through_plans_is_the_fit_on_one_machine() {
     assert!(err.contains("{plan}"), "{err}");
 
     // A batch's plan edited to name a target the fit file does not have: a located error.
-    let batch = dir.join("plans/batch-0002");
+    let batch = std::fs::read_dir(dir.join("plans"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_string_lossy().contains("batch-0002-"))
+        .unwrap();
     let text = std::fs::read_to_string(batch.join("plan.yaml")).unwrap();
     let edited = text.replacen("    - 3\n", "    - 99\n", 1);
     assert_ne!(edited, text);

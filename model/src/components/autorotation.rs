@@ -207,7 +207,7 @@ pub enum AutorotationError {
     )]
     NoInflowEquilibrium { omega_rad_s: f64 },
     #[error(
-        "the rotor is driven from {omega_rad_s:.3} rad/s (C_Q/sigma {torque:.3e}) up to the fastest rotor speed tried, {fastest_rad_s:.3} rad/s: no equilibrium a tunnel holds was found below it"
+        "the rotor is driven at {omega_rad_s:.3} rad/s (C_Q/sigma {torque:.3e}), faster than the equilibrium found, and no equilibrium was found above it (up to {fastest_rad_s:.3} rad/s, the fastest rotor speed tried)"
     )]
     DrivenToTheEnd {
         omega_rad_s: f64,
@@ -492,8 +492,9 @@ fn autorotate_within(
     // 71's angle and airspeed: -1.2e-5 coarse where the full numerics autorotate): look at the
     // peak between the scan's highest point's neighbours with the full numerics.
     if start.is_none() {
-        start =
-            bracket_at_peak(&mut p, options, &samples)?.map(|(omega, _, inflow)| (omega, inflow));
+        start = bracket_at_peak(&mut p, options, &samples)?
+            .filter(|d| d.bracketed)
+            .map(|d| (d.omega_rad_s, d.inflow));
     }
     let (omega0, inflow0) = start.ok_or_else(|| AutorotationError::NoBracket {
         low_rad_s: ratios[ratios.len() - 1] * v / r,
@@ -529,13 +530,28 @@ fn hold(
     scanned: Vec<(f64, f64, Inflow)>,
 ) -> Result<Autorotation, AutorotationError> {
     let mut scanned = Some(scanned);
-    for _ in 0..RESTARTS {
+    let mut restart = 0;
+    loop {
         let judgement = p.judge_scanned(options, a.omega_rad_s, a.inflow, scanned.take())?;
         match judgement.faster {
             Some(DrivenFaster {
+                omega_rad_s: faster,
+                start: Some(_),
+                ..
+            }) if restart == RESTARTS => {
+                return Err(AutorotationError::Restarts {
+                    restarts: RESTARTS,
+                    omega_rad_s: a.omega_rad_s,
+                    faster_rad_s: faster,
+                });
+            }
+            Some(DrivenFaster {
                 start: Some((omega, inflow)),
                 ..
-            }) => a = solve_from(p, options, omega, inflow)?,
+            }) => {
+                a = solve_from(p, options, omega, inflow)?;
+                restart += 1;
+            }
             Some(DrivenFaster {
                 omega_rad_s,
                 torque,
@@ -556,12 +572,6 @@ fn hold(
             }
         }
     }
-    let judgement = p.judge(options, a.omega_rad_s, a.inflow)?;
-    Err(AutorotationError::Restarts {
-        restarts: RESTARTS,
-        omega_rad_s: a.omega_rad_s,
-        faster_rad_s: judgement.faster.map_or(f64::NAN, |d| d.omega_rad_s),
-    })
 }
 
 /// How many times the fixed-angle search starts Newton again from a faster rotor's root the
@@ -638,7 +648,7 @@ fn bracket_at_peak(
     p: &mut Problem,
     options: AutorotationOptions,
     samples: &[(f64, f64, Inflow)],
-) -> Result<Option<(f64, f64, Inflow)>, AutorotationError> {
+) -> Result<Option<DrivenPeak>, AutorotationError> {
     let Some(k) =
         (1..samples.len().saturating_sub(1)).max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))
     else {
@@ -666,8 +676,15 @@ fn bracket_at_peak(
             // The fast rotor's root, between the faster neighbour and the peak, by bisection:
             // near the fold Newton from anywhere between may fall to the slow rotor's.
             let (mut lo, mut hi) = (x, b);
+            // Driven there, whether or not the root above it is bracketed.
+            let driven = |lo: f64, (torque, inflow): (f64, Inflow), bracketed| DrivenPeak {
+                omega_rad_s: lo.exp(),
+                torque,
+                inflow,
+                bracketed,
+            };
             if torque_at(hi).is_none_or(|q| q.0 >= 0.0) {
-                return Ok(None);
+                return Ok(Some(driven(lo, best, false)));
             }
             let mut found = best;
             for _ in 0..ROOT_STEPS {
@@ -675,10 +692,10 @@ fn bracket_at_peak(
                 match torque_at(m) {
                     Some((q, i)) if q >= 0.0 => (lo, found) = (m, (q, i)),
                     Some(_) => hi = m,
-                    None => return Ok(None),
+                    None => return Ok(Some(driven(lo, found, false))),
                 }
             }
-            return Ok(Some((lo.exp(), found.0, found.1)));
+            return Ok(Some(driven(lo, found, true)));
         }
         if qc.0 >= qd.0 {
             (b, d, qd) = (d, c, qc);
@@ -700,7 +717,8 @@ const SCAN_STEP: f64 = 1.2;
 
 /// How far the coarse numerics' torque coefficient over solidity (8 elements, 7.5 deg steps,
 /// the inflow relaxed in four passes) may lie from the full numerics' (the inflow in
-/// equilibrium), below which [`judge`]'s scan of faster rotor speeds takes its sign without computing it
+/// equilibrium): a coarse torque further below zero than this is taken as negative by [`judge`]'s
+/// scan of faster rotor speeds without computing it
 /// again: five times the largest difference measured, 2.0e-5, over the 1,101 rotor speeds the
 /// TR 515 case's judgements scan (rows 1-81, the PCA-2 rotor at 20 elements and 2.5 deg
 /// steps), and guarded by a test that measures it again.
@@ -730,6 +748,17 @@ fn parabola_peak(points: [(f64, f64, Inflow); 3]) -> f64 {
 /// than this lies where the stiffness itself is near zero (the fold), which the stiffness
 /// judges.
 const JUST_ABOVE: f64 = 1e-2;
+
+/// A driven rotor speed [`bracket_at_peak`] found between a scan's points: its torque
+/// coefficient over solidity and inflow, and whether it is the fast rotor's root's start
+/// (bisected to [`ROOT_STEPS`]) or only a driven speed whose root above was not bracketed.
+#[derive(Debug, Clone, Copy)]
+struct DrivenPeak {
+    omega_rad_s: f64,
+    torque: f64,
+    inflow: Inflow,
+    bracketed: bool,
+}
 
 /// Bisection steps of [`bracket_at_peak`] towards the fast rotor's root: from the peak to the
 /// faster neighbour (at most a factor 1.44) to 0.05 % of rotor speed, Newton's start.
@@ -1106,10 +1135,10 @@ impl Problem<'_> {
         }
         samples.reverse();
         Ok(
-            bracket_at_peak(self, options, &samples)?.map(|(w, q, i)| DrivenFaster {
-                omega_rad_s: w,
-                torque: q,
-                start: Some((w, i)),
+            bracket_at_peak(self, options, &samples)?.map(|d| DrivenFaster {
+                omega_rad_s: d.omega_rad_s,
+                torque: d.torque,
+                start: d.bracketed.then_some((d.omega_rad_s, d.inflow)),
             }),
         )
     }
