@@ -36,9 +36,13 @@ pub fn fingerprint(f: &FitFile) -> String {
     if let Ok(value) = serde_yaml::from_str::<serde_yaml::Value>(&text) {
         named_files(&value, &mut named);
     }
+    // Each file once, where the fit file names a case for its targets and its predictions.
     let mut files: Vec<PathBuf> = subject.into_iter().collect();
-    files.extend(named.iter().map(|p| here.join(p)));
-    files.dedup();
+    for p in named.iter().map(|p| here.join(p)) {
+        if !files.contains(&p) {
+            files.push(p);
+        }
+    }
     for p in files {
         bytes.extend(std::fs::read(p).unwrap_or_default());
     }

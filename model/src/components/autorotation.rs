@@ -450,14 +450,7 @@ fn autorotate_within(
     let mut previous_omega = ratios[0] * v / r;
     for ratio in &ratios {
         let omega = ratio * v / r;
-        if !matches!(options.inflow, InflowModel::Prescribed { .. }) {
-            let s = omega / previous_omega;
-            inflow = Inflow {
-                v0: inflow.v0 * s,
-                v1s: inflow.v1s * s,
-                v1c: inflow.v1c * s,
-            };
-        }
+        inflow = scaled(options.inflow, inflow, omega / previous_omega);
         previous_omega = omega;
         let q = match coarse.rough_torque(omega, &mut inflow) {
             Ok(q) => q,
@@ -657,13 +650,11 @@ fn bracket_at_peak(
     let (fast, peak, slow) = (samples[k - 1], samples[k], samples[k + 1]);
     let mut torque_at = |ln_omega: f64| -> Option<(f64, Inflow)> {
         let omega = ln_omega.exp();
-        let s = omega / peak.0;
-        let start = Inflow {
-            v0: peak.2.v0 * s,
-            v1s: peak.2.v1s * s,
-            v1c: peak.2.v1c * s,
-        };
-        p.torque_in_equilibrium(options, omega, start)
+        p.torque_in_equilibrium(
+            options,
+            omega,
+            scaled(options.inflow, peak.2, omega / peak.0),
+        )
     };
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut a, mut b) = (slow.0.ln(), fast.0.ln());
@@ -1260,12 +1251,18 @@ pub fn judge(
     omega_rad_s: f64,
     inflow: Inflow,
 ) -> Result<StabilityJudgement, AutorotationError> {
-    rotor.validate()?;
-    check_tunnel(&tunnel)?;
-    check("omega_rad_s", omega_rad_s, omega_rad_s > 0.0, "positive")?;
+    check_at(rotor, &tunnel, omega_rad_s)?;
     let spent = Spent::default();
     let mut p = Problem::new(rotor, options.numerics, tunnel, options.inflow, &spent);
     spent.judge(p.judge(options, omega_rad_s, inflow))
+}
+
+/// The checks of a rotor, a tunnel and a rotor speed asked of [`judge`] and
+/// [`torque_over_solidity`] (a located error for each).
+fn check_at(rotor: &Rotor, tunnel: &Tunnel, omega_rad_s: f64) -> Result<(), AutorotationError> {
+    rotor.validate()?;
+    check_tunnel(tunnel)?;
+    check("omega_rad_s", omega_rad_s, omega_rad_s > 0.0, "positive")
 }
 
 /// The numerics [`torque_over_solidity`] computes the torque with.
@@ -1289,9 +1286,7 @@ pub fn torque_over_solidity(
     inflow: Inflow,
     numerics: TorqueNumerics,
 ) -> Result<f64, AutorotationError> {
-    rotor.validate()?;
-    check_tunnel(&tunnel)?;
-    check("omega_rad_s", omega_rad_s, omega_rad_s > 0.0, "positive")?;
+    check_at(rotor, &tunnel, omega_rad_s)?;
     let spent = Spent::default();
     match numerics {
         TorqueNumerics::Full => {
