@@ -966,7 +966,7 @@ fn fitting(out: &Rows) {
                 let total = started.elapsed().as_secs_f64();
                 row!(
                     out,
-                    "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, warm-started from the last at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; target: under 5 s |",
+                    "| fit: 3 parameters, 5 conditions, 15 targets (synthetic truth) | {total:.2} s | {} in {} iterations ({:.2} s each), {} evaluations (trim, started from the fit's current point's at its condition, and linearisation at 5 conditions on two threads); found {:.4}, {:.4}, {:.4} against 1, 0.5, 1.15; target: under 5 s |",
                     r.status.name(),
                     r.iterations,
                     total / r.iterations.max(1) as f64,
@@ -1045,7 +1045,7 @@ fn retuning(out: &Rows) {
         match r {
             Ok(r) => row!(
                 out,
-                "| retune (frequency responses) from {} records at {} airspeed(s), 2 corrections | {total:.2} s | {} targets, {} in {} iterations, {} evaluations (trim, flapping linearisation and harmonic balance at each target frequency, conditions on two threads); found {:.3} +- {:.3}, {:.3} +- {:.3} against 0.55, 1.3; target: under 30 s |",
+                "| retune (frequency responses) from {} records at {} airspeed(s), 2 corrections | {total:.2} s | {} targets, {} in {} iterations, {} evaluations (trim started from the fit's current point's, flapping linearisation and harmonic balance at each target frequency, conditions on two threads); found {:.3} +- {:.3}, {:.3} +- {:.3} against 0.55, 1.3; target: under 30 s |",
                 records.len(),
                 speeds.len(),
                 r.problem.targets.len(),

@@ -233,6 +233,9 @@ pub struct ExternalCommand {
     /// condition share one run. Each request has one cell, filled once: a check that asks
     /// while another's identical request runs waits for its answer.
     answers: Mutex<HashMap<String, Arc<AnswerCell>>>,
+    /// Where its answers ended, by request, where it said (an answer's `start`):
+    /// [`FlightModel::start_after`].
+    starts: Mutex<HashMap<String, super::Start>>,
 }
 
 /// One request's answer, filled once.
@@ -240,10 +243,10 @@ type AnswerCell = OnceLock<Result<Answer, String>>;
 
 #[derive(Debug, Clone)]
 pub(super) enum Answer {
-    Trim(Quantities),
-    Linear(LinearModel),
+    Trim(Quantities, Option<super::Start>),
+    Linear(LinearModel, Option<super::Start>),
     History(Replayed),
-    Responses(crate::run::responses::Responses),
+    Responses(crate::run::responses::Responses, Option<super::Start>),
     Autorotated(crate::run::autorotation::Autorotated),
     Described(Description),
 }
@@ -270,6 +273,7 @@ impl ExternalCommand {
             persistent: None,
             refine: None,
             answers: Mutex::new(HashMap::new()),
+            starts: Mutex::new(HashMap::new()),
         }
     }
 
@@ -292,6 +296,7 @@ impl ExternalCommand {
                 .map(|_| super::persistent::Pool::new()),
             refine: Some((parameter.to_string(), level)),
             answers: Mutex::new(HashMap::new()),
+            starts: Mutex::new(HashMap::new()),
         }
     }
 
@@ -423,8 +428,22 @@ impl ExternalCommand {
                 .entry(key)
                 .or_default(),
         );
-        cell.get_or_init(|| self.run(compute, request, with))
-            .clone()
+        cell.get_or_init(|| {
+            let answer = self.run(compute, request, with);
+            if let Ok(
+                Answer::Trim(_, Some(s))
+                | Answer::Linear(_, Some(s))
+                | Answer::Responses(_, Some(s)),
+            ) = &answer
+            {
+                self.starts
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .insert(format!("{request:?}"), s.clone());
+            }
+            answer
+        })
+        .clone()
     }
 
     fn run(
@@ -490,6 +509,13 @@ impl ExternalCommand {
         if let Some(f) = with.frequencies_hz {
             json["frequencies_hz"] = serde_json::json!(f);
         }
+        if let Some(s) = request
+            .start
+            .as_ref()
+            .filter(|_| self.protocol == Protocol::V2)
+        {
+            json["start"] = (*s.0).clone();
+        }
         if let Some(c) = with.controls {
             json["sample_s"] = serde_json::json!(c.sample_s);
             json["samples"] = serde_json::json!(c.samples + 1);
@@ -539,8 +565,10 @@ impl ExternalCommand {
             .map_err(|e| format!("its response at {} ({e})", response.display()))?;
         let protocol = self.protocol.name();
         match compute {
-            Compute::Trim => parse_trim(&text, protocol).map(Answer::Trim),
-            Compute::LinearModel => parse_linear(&text, protocol).map(Answer::Linear),
+            Compute::Trim => parse_trim(&text, protocol).map(|(q, s)| Answer::Trim(q, s)),
+            Compute::LinearModel => {
+                parse_linear(&text, protocol).map(|(m, s)| Answer::Linear(m, s))
+            }
             Compute::Describe => parse_describe(&text).map(Answer::Described),
             Compute::TimeHistory => super::files::parse_history(&text, Some(rows))
                 .map(Answer::History)
@@ -548,7 +576,7 @@ impl ExternalCommand {
             Compute::FrequencyResponse => {
                 let asked = with.frequencies_hz.unwrap_or(&[]);
                 parse_frequency_response(&text, protocol, asked, &self.describe())
-                    .map(Answer::Responses)
+                    .map(|(r, s)| Answer::Responses(r, s))
             }
             Compute::Autorotation => parse_autorotation(&text, protocol).map(Answer::Autorotated),
         }
@@ -788,13 +816,26 @@ pub(super) fn parse_json<T: serde::de::DeserializeOwned>(
     serde_json::from_str(text).map_err(|e| format!("does not parse: {e}"))
 }
 
-pub(super) fn parse_trim(text: &str, protocol: &str) -> Result<Quantities, String> {
+/// An answer's `start` (protocol `/2`): where the model's answer ended, any JSON it makes,
+/// for cierva to hand back with a request near it ([`super::Start`]).
+fn start_in(start: Option<serde_json::Value>) -> Option<super::Start> {
+    start
+        .filter(|s| !s.is_null())
+        .map(|s| super::Start(Arc::new(s)))
+}
+
+pub(super) fn parse_trim(
+    text: &str,
+    protocol: &str,
+) -> Result<(Quantities, Option<super::Start>), String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
         #[allow(dead_code)]
         protocol: String,
         trim: BTreeMap<String, f64>,
+        #[serde(default)]
+        start: Option<serde_json::Value>,
     }
     let r: Response = parse_json(text, protocol)?;
     let mut out = Vec::new();
@@ -805,16 +846,21 @@ pub(super) fn parse_trim(text: &str, protocol: &str) -> Result<Quantities, Strin
         }
         out.push((name, v));
     }
-    Ok(out)
+    Ok((out, start_in(r.start)))
 }
 
-pub(super) fn parse_linear(text: &str, protocol: &str) -> Result<LinearModel, String> {
+pub(super) fn parse_linear(
+    text: &str,
+    protocol: &str,
+) -> Result<(LinearModel, Option<super::Start>), String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
         #[allow(dead_code)]
         protocol: String,
         linear_model: Linear,
+        #[serde(default)]
+        start: Option<serde_json::Value>,
     }
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
@@ -839,6 +885,7 @@ pub(super) fn parse_linear(text: &str, protocol: &str) -> Result<LinearModel, St
         }
     }
     LinearModel::from_rows(m.states, m.controls, &m.a, &m.b)
+        .map(|m| (m, start_in(r.start)))
         .map_err(|e| format!("`linear_model`: {e}"))
 }
 
@@ -851,13 +898,15 @@ pub(super) fn parse_frequency_response(
     protocol: &str,
     asked: &[f64],
     model: &str,
-) -> Result<crate::run::responses::Responses, String> {
+) -> Result<(crate::run::responses::Responses, Option<super::Start>), String> {
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Response {
         #[allow(dead_code)]
         protocol: String,
         frequency_response: Answered,
+        #[serde(default)]
+        start: Option<serde_json::Value>,
     }
     #[derive(Deserialize)]
     #[serde(deny_unknown_fields)]
@@ -917,7 +966,7 @@ pub(super) fn parse_frequency_response(
         }
         out.push(h);
     }
-    Ok(crate::run::responses::Responses {
+    let responses = crate::run::responses::Responses {
         states: m.states,
         controls: m.controls,
         frequencies_hz: m.frequencies_hz,
@@ -926,7 +975,8 @@ pub(super) fn parse_frequency_response(
             Some(method) => format!("{method} ({model}'s frequency response)"),
             None => format!("the frequency response {model} gives"),
         },
-    })
+    };
+    Ok((responses, start_in(r.start)))
 }
 
 /// An `autorotation` answer: `{"quantities": {...}, "outside_validity": [...]}` (an
@@ -1239,6 +1289,15 @@ impl FlightModel for ExternalCommand {
     /// Each discretisation parameter its `describe` declares, refined once by a request's
     /// `refine`; a refined command refines its own parameter again, to its declared `levels`.
     /// None where its `describe` fails (which every other request then reports).
+    /// The `start` its answer to the request gave, where it gave one.
+    fn start_after(&self, request: &super::Request) -> Option<super::Start> {
+        self.starts
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get(&format!("{request:?}"))
+            .cloned()
+    }
+
     fn refinements(&self) -> Vec<super::Refinement> {
         let Ok(d) = self.description() else {
             return Vec::new();
@@ -1268,14 +1327,14 @@ impl FlightModel for ExternalCommand {
 
     fn trim(&self, request: &super::Request) -> Result<Quantities, String> {
         match self.ask(Compute::Trim, request, With::default())? {
-            Answer::Trim(q) => Ok(q),
+            Answer::Trim(q, _) => Ok(q),
             _ => Err("a trim request answered as another".into()),
         }
     }
 
     fn linear_model(&self, request: &super::Request) -> Result<LinearModel, String> {
         match self.ask(Compute::LinearModel, request, With::default())? {
-            Answer::Linear(m) => Ok(m),
+            Answer::Linear(m, _) => Ok(m),
             _ => Err("a linear-model request answered as another".into()),
         }
     }
@@ -1318,7 +1377,7 @@ impl FlightModel for ExternalCommand {
             ..With::default()
         };
         match self.ask(Compute::FrequencyResponse, request, with)? {
-            Answer::Responses(r) => Ok(r),
+            Answer::Responses(r, _) => Ok(r),
             _ => Err("a frequency-response request answered as another".into()),
         }
     }

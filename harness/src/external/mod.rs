@@ -44,13 +44,18 @@ use std::sync::Arc;
 pub type Values = BTreeMap<String, f64>;
 
 /// What a model is asked at: a flight condition, a loading, and values for any of its declared
-/// parameters (those not given stay at their nominal values). Plain data: two requests are the
-/// same question when they are equal.
+/// parameters (those not given stay at their nominal values), and where its answer may start
+/// (`start`: none, the model's own start). Plain data: two requests are the same question
+/// when they are equal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Request {
     pub condition: TrimRequest,
     pub loading: Loading,
     pub parameters: Values,
+    /// Where an earlier answer near this one ended ([`FlightModel::start_after`]), for the
+    /// model to start from: a fit's trial steps and finite differences start from its
+    /// iterate's answers.
+    pub start: Option<Start>,
 }
 
 impl Request {
@@ -60,13 +65,45 @@ impl Request {
             condition,
             loading,
             parameters: Values::new(),
+            start: None,
         }
+    }
+
+    /// The same request started from `start`.
+    pub fn starting_at(self, start: Option<Start>) -> Self {
+        Self { start, ..self }
     }
 
     /// The same request with `name` set to `value`.
     pub fn with(mut self, name: &str, value: f64) -> Self {
         self.parameters.insert(name.to_string(), value);
         self
+    }
+}
+
+/// Where a model's answer ended, for a request near it to start from
+/// ([`FlightModel::start_after`], [`Request::start`]): a value the model made, opaque to
+/// cierva, handed back unchanged. cierva's aircraft's is its trim's unknowns and last Jacobian
+/// ([`cierva_model::aircraft::trim::StartPoint`]); a model behind the command protocol gives
+/// its own as an answer's `start` and reads it back from a request's.
+///
+/// A start saves a model iterations; the answer is the one it finds from that start, to its
+/// convergence tolerance. cierva asks the same requests with the same starts whichever process
+/// answers them, so the same model gives the same answers through the protocol as in
+/// process.
+#[derive(Clone, PartialEq)]
+pub struct Start(pub Arc<serde_json::Value>);
+
+impl Start {
+    /// The start as its compact JSON text (what a memo of answers keys it by).
+    pub fn text(&self) -> String {
+        self.0.to_string()
+    }
+}
+
+impl std::fmt::Debug for Start {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Start({})", self.0)
     }
 }
 
@@ -287,6 +324,14 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         None
     }
 
+    /// Where its answer to `request` ended, once it has answered it (a trim, a linear model),
+    /// for a request near it to start from ([`Request::start`]): what a fit's trial steps and
+    /// finite differences start from, its iterate's answers. `None`, the default: it gives
+    /// none, and every request starts where the model starts it.
+    fn start_after(&self, _request: &Request) -> Option<Start> {
+        None
+    }
+
     /// Its discretisation parameters, each refined alone ([`Refinement`]): what an uncertainty
     /// study's numerical uncertainty comes from, a grid convergence index per parameter. A
     /// refined model that refines the same parameter again gives the study a third level, and
@@ -360,6 +405,22 @@ pub fn corrected_by<'s>(
 /// values, condition and loading ([`CiervaAircraft::key_of`]).
 static WITH_VALUES: crate::run::memo::Memo<crate::run::linearise::Linearisation> =
     crate::run::memo::Memo::new();
+
+/// [`CiervaAircraft`]'s trims with parameter values (or started elsewhere), keyed as
+/// [`WITH_VALUES`] ([`CiervaAircraft::key_of_request`]).
+static TRIMMED_WITH_VALUES: crate::run::memo::Memo<cierva_model::aircraft::trim::Trim> =
+    crate::run::memo::Memo::new();
+
+/// The warm start a [`Start`] describes, if it is one of cierva's aircraft's
+/// ([`cierva_model::aircraft::trim::StartPoint`]); an error that says why not.
+fn start_of(start: &Start) -> Result<cierva_model::aircraft::trim::WarmStart, String> {
+    let point: cierva_model::aircraft::trim::StartPoint =
+        serde_json::from_value((*start.0).clone()).map_err(|e| {
+            format!("the request's `start` is not a start cierva's aircraft gave: {e}")
+        })?;
+    cierva_model::aircraft::trim::WarmStart::from_point(&point)
+        .map_err(|e| format!("the request's `start` is not a start of a trim: {e}"))
+}
 
 /// `values` set on one of cierva's own files: each physical parameter by `set_physical` (`None`
 /// for a name it does not have), and each correction (`corrections.<name>`) into the set
@@ -516,7 +577,23 @@ impl CiervaAircraft<'_> {
     /// on which requests came before it or on which process answers it (`cierva serve`); or,
     /// where the model was made to start elsewhere ([`Self::starts_from`]), that file's trim
     /// with its values (remembered: a study's row of `A`, found before its `A_B^(i)` points).
-    fn start(&self, request: &Request) -> Option<cierva_model::aircraft::trim::WarmStart> {
+    /// A request's own `start` comes first: a start this aircraft gave
+    /// ([`FlightModel::start_after`]), or an error that says why it is not one.
+    fn start(
+        &self,
+        request: &Request,
+    ) -> Result<Option<cierva_model::aircraft::trim::WarmStart>, String> {
+        if let Some(s) = &request.start {
+            return start_of(s).map(Some);
+        }
+        Ok(self.start_elsewhere(request))
+    }
+
+    /// [`Self::start`] for a request without its own.
+    fn start_elsewhere(
+        &self,
+        request: &Request,
+    ) -> Option<cierva_model::aircraft::trim::WarmStart> {
         let (c, l) = (request.condition, request.loading);
         let Some((file, values)) = &self.starts_from else {
             return crate::run::trim::trim_cached(&self.file, c, l)
@@ -535,6 +612,7 @@ impl CiervaAircraft<'_> {
         };
         let at = Request {
             parameters: values.clone(),
+            start: None,
             ..request.clone()
         };
         from.linearised(&at)
@@ -546,6 +624,50 @@ impl CiervaAircraft<'_> {
     /// what [`FlightModel::forget`] forgets.
     fn key_of(&self, values: &Values) -> String {
         format!("{}|{values:?}|", self.file.path.display())
+    }
+
+    /// The memo key of a request: its file and values ([`Self::key_of`]), condition, loading
+    /// and start.
+    fn key_of_request(&self, request: &Request) -> String {
+        format!(
+            "{}{:?}|{:?}|{}",
+            self.key_of(&request.parameters),
+            request.condition,
+            request.loading,
+            request.start.as_ref().map_or(String::new(), Start::text)
+        )
+    }
+
+    /// Whether the request is the file's own question (no values, no start of its own or
+    /// elsewhere): answered from the run's shared memo of the file's trims.
+    fn plain(&self, request: &Request) -> bool {
+        request.parameters.is_empty() && request.start.is_none() && self.starts_from.is_none()
+    }
+
+    /// The trim of the file with the request's values from [`Self::start`], remembered as
+    /// [`Self::linearised`] is (a fit's trim targets, and where its next trims start).
+    fn trimmed(
+        &self,
+        request: &Request,
+    ) -> Result<
+        (
+            Cow<'_, crate::inputs::aircraft::AircraftFile>,
+            Arc<cierva_model::aircraft::trim::Trim>,
+        ),
+        String,
+    > {
+        let file = self.with_values(request)?;
+        let (c, l) = (request.condition, request.loading);
+        if self.plain(request) {
+            let t = crate::run::trim::trim_cached(&file, c, l)?;
+            return Ok((file, t));
+        }
+        let start = self.start(request)?;
+        let t = TRIMMED_WITH_VALUES.get_or(self.key_of_request(request), || {
+            crate::run::trim::run_trim_from(&file.aircraft, c, l, start.as_ref())
+                .map_err(|e| e.to_string())
+        })?;
+        Ok((file, t))
     }
 
     /// The file with the request's values, trimmed and linearised at it: remembered per file,
@@ -564,19 +686,14 @@ impl CiervaAircraft<'_> {
     > {
         let (c, l) = (request.condition, request.loading);
         let file = self.with_values(request)?;
-        if request.parameters.is_empty() && self.starts_from.is_none() {
+        if self.plain(request) {
             let both = crate::run::linearise::linearise_cached(&file, c, l)?;
             return Ok((file, both));
         }
-        let key = format!("{}{c:?}|{l:?}", self.key_of(&request.parameters));
-        let both = WITH_VALUES.get_or(key, || {
-            crate::run::linearise::run_linearise_from(
-                &file.aircraft,
-                c,
-                l,
-                self.start(request).as_ref(),
-            )
-            .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))
+        let start = self.start(request)?;
+        let both = WITH_VALUES.get_or(self.key_of_request(request), || {
+            crate::run::linearise::run_linearise_from(&file.aircraft, c, l, start.as_ref())
+                .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))
         })?;
         Ok((file, both))
     }
@@ -605,19 +722,22 @@ impl FlightModel for CiervaAircraft<'_> {
     }
 
     fn trim(&self, request: &Request) -> Result<Quantities, String> {
-        let file = self.with_values(request)?;
-        let start = match request.parameters.is_empty() && self.starts_from.is_none() {
-            true => None,
-            false => self.start(request),
-        };
-        let t = crate::run::trim::run_trim_from(
-            &file.aircraft,
-            request.condition,
-            request.loading,
-            start.as_ref(),
-        )
-        .map_err(|e| e.to_string())?;
+        let (file, t) = self.trimmed(request)?;
         Ok(trim_quantities_of(&file.aircraft, request.loading, &t))
+    }
+
+    /// Its trim's end as plain numbers ([`cierva_model::aircraft::trim::StartPoint`]): the
+    /// linearisation's trim where the request was linearised, else its trim (remembered, or
+    /// found now).
+    fn start_after(&self, request: &Request) -> Option<Start> {
+        let key = self.key_of_request(request);
+        let trim = match WITH_VALUES.get(&key).and_then(Result::ok) {
+            Some(both) if !self.plain(request) => both.0.warm_start.clone(),
+            _ => self.trimmed(request).ok()?.1.warm_start.clone(),
+        };
+        serde_json::to_value(trim.point())
+            .ok()
+            .map(|v| Start(Arc::new(v)))
     }
 
     fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
@@ -643,7 +763,7 @@ impl FlightModel for CiervaAircraft<'_> {
         request: &Request,
         frequencies_hz: &[f64],
     ) -> Result<crate::run::responses::Responses, String> {
-        if request.parameters.is_empty() {
+        if request.parameters.is_empty() && request.start.is_none() {
             let (file, both) = self.linearised(request)?;
             return crate::run::responses::aircraft_responses(
                 &file.aircraft,
@@ -655,11 +775,11 @@ impl FlightModel for CiervaAircraft<'_> {
         }
         // With values: the trim alone where the responses need no quasi-static linearisation
         // (a teetering rotor's come with its flapping states).
-        let file = self.with_values(request)?;
         let (c, l) = (request.condition, request.loading);
-        let start = self.start(request);
-        let trim = crate::run::trim::run_trim_from(&file.aircraft, c, l, start.as_ref())
+        let (file, trim) = self
+            .trimmed(request)
             .map_err(|e| format!("at {} mph: {e}", c.airspeed_mph))?;
+        let start = self.start(request)?;
         crate::run::responses::aircraft_responses(
             &file.aircraft,
             l,
@@ -819,6 +939,7 @@ impl FlightModel for CiervaAircraft<'_> {
 
     fn forget(&self, values: &Values) {
         WITH_VALUES.forget(&self.key_of(values));
+        TRIMMED_WITH_VALUES.forget(&self.key_of(values));
     }
 
     fn time_history(
@@ -963,6 +1084,9 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
         all.extend(values.clone());
         self.model.forget(&all)
     }
+    fn start_after(&self, request: &Request) -> Option<Start> {
+        self.model.start_after(&self.merged(request))
+    }
     /// The model's other simulation, with these values still set.
     fn simulated_by<'s>(
         &'s self,
@@ -1096,6 +1220,9 @@ macro_rules! forward_flight_model {
             }
             fn forget(&self, values: &Values) {
                 (**self).forget(values)
+            }
+            fn start_after(&self, request: &Request) -> Option<Start> {
+                (**self).start_after(request)
             }
         }
     )*};

@@ -388,14 +388,14 @@ fn parse_response(
         ));
     }
     let parsed = match compute {
-        Compute::Trim => parse_trim(&rest, protocol).map(Answer::Trim),
-        Compute::LinearModel => parse_linear(&rest, protocol).map(Answer::Linear),
+        Compute::Trim => parse_trim(&rest, protocol).map(|(q, s)| Answer::Trim(q, s)),
+        Compute::LinearModel => parse_linear(&rest, protocol).map(|(m, s)| Answer::Linear(m, s)),
         Compute::Describe => parse_describe(&rest).map(Answer::Described),
         Compute::TimeHistory => parse_history_columns(&rest, protocol, rows).map(Answer::History),
         Compute::FrequencyResponse => {
             let frequencies = asked.with.frequencies_hz.unwrap_or(&[]);
             parse_frequency_response(&rest, protocol, frequencies, &asked.model)
-                .map(Answer::Responses)
+                .map(|(r, s)| Answer::Responses(r, s))
         }
         Compute::Autorotation => parse_autorotation(&rest, protocol).map(Answer::Autorotated),
     };

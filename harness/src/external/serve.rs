@@ -118,6 +118,7 @@ fn read_request(v: &Value) -> Result<Read, String> {
             condition,
             loading,
             parameters,
+            start: start_of(v),
         },
         controls,
         frequencies_hz,
@@ -329,17 +330,18 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 .into_iter()
                 .map(|(n, x)| (n.to_string(), json!(x)))
                 .collect();
-            json!({ "trim": q })
+            with_start(json!({ "trim": q }), model, &request)
         }
         Compute::LinearModel => {
             let m = model.linear_model(&request)?;
             let rows = |x: &nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
                 x.row_iter().map(|r| r.iter().copied().collect()).collect()
             };
-            json!({"linear_model": {
+            let body = json!({"linear_model": {
                 "states": m.states(), "controls": m.controls(),
                 "a": rows(m.a()), "b": rows(m.b()),
-            }})
+            }});
+            with_start(body, model, &request)
         }
         Compute::TimeHistory => {
             let controls = controls.ok_or("a time-history request needs `controls`")?;
@@ -357,10 +359,11 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                     })
                     .collect()
             };
-            json!({"frequency_response": {
+            let body = json!({"frequency_response": {
                 "states": r.states, "controls": r.controls, "frequencies_hz": r.frequencies_hz,
                 "real": part(|c| c.re), "imag": part(|c| c.im), "method": r.from,
-            }})
+            }});
+            with_start(body, model, &request)
         }
         Compute::Autorotation => {
             let tunnel = tunnel.ok_or("an autorotation request needs `tunnel`")?;
@@ -388,6 +391,23 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
         }
     };
     Ok((compute, body))
+}
+
+/// An answer with where the model's answer ended, where it gives one
+/// ([`FlightModel::start_after`]): the `start` a request near it may carry back.
+fn with_start(mut body: Value, model: &dyn FlightModel, request: &Request) -> Value {
+    if let Some(s) = model.start_after(request) {
+        body["start"] = (*s.0).clone();
+    }
+    body
+}
+
+/// A request's `start`, carried back from an answer as it was (the model reads it).
+fn start_of(v: &Value) -> Option<super::Start> {
+    match &v["start"] {
+        Value::Null => None,
+        s => Some(super::Start(std::sync::Arc::new(s.clone()))),
+    }
 }
 
 /// A time history as columns: `time_s` and every response the model gave.

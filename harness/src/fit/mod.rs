@@ -41,7 +41,8 @@ pub use solve::{
     Problem, Status, fit, interval, posterior, scale_by_birge,
 };
 pub use targets::{
-    Bounds, Enforce, FitParameter, FitSubject, Measure, ParameterKind, ResponsePoint,
-    TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate, evaluate_each, evaluate_each_here,
+    Bounds, ConditionStarts, Enforce, FitParameter, FitSubject, Measure, ParameterKind,
+    PointEvaluation, ResponsePoint, TUNNEL_QUANTITIES, Target, TargetCondition, check, evaluate,
+    evaluate_each, evaluate_each_from, evaluate_each_here, evaluate_each_here_from, evaluate_from,
     sensitivities, values_or_nan,
 };

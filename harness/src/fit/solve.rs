@@ -3,7 +3,7 @@
 //! the result with its standard errors and warnings.
 
 use super::qp::qp_step;
-use super::targets::{HARD_SLACK, check, evaluate, jacobian};
+use super::targets::{ConditionStarts, HARD_SLACK, check, evaluate_from, jacobian};
 use super::{Enforce, FitParameter, FitSubject, ParameterKind, Target};
 use crate::inputs::corrections::CorrectionSet;
 use serde::Serialize;
@@ -148,11 +148,14 @@ pub struct Problem {
 /// them (the outer error where the corrections themselves are invalid). The plan module
 /// implements it ([`crate::plan::fit`]); the fit module knows only this.
 pub trait BatchEvaluator: Send + Sync {
+    /// Each point's trims start from `from` (the fit's iterate's answers); each evaluation
+    /// says where its own ended.
     fn evaluate_batch(
         &self,
         problem: &Problem,
         points: &[Vec<f64>],
-    ) -> Vec<Result<Vec<Result<f64, String>>, String>>;
+        from: &ConditionStarts,
+    ) -> Vec<Result<super::targets::PointEvaluation, String>>;
     /// In words, for the report and errors ("plans in runs/ run by `...`").
     fn describe(&self) -> String;
 }
@@ -444,13 +447,16 @@ struct Iterate {
     fresh: bool,
     radius: Vec<f64>,
     evaluations: usize,
+    /// Where the model's answers at `p` ended: where the trial steps' and finite differences'
+    /// start.
+    starts: ConditionStarts,
 }
 
 impl Iterate {
     /// A finite-difference Jacobian at `p` (its evaluations counted).
     fn refresh(&mut self, problem: &Problem) -> Result<Vec<Vec<f64>>, String> {
         self.evaluations += self.p.len();
-        jacobian(problem, &self.p, &self.y)
+        jacobian(problem, &self.p, &self.y, &self.starts)
     }
 }
 
@@ -541,8 +547,8 @@ fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> T
                 .collect();
         let predicted = predicted_cost(problem, at, &d);
         at.evaluations += 1;
-        match evaluate(problem, &trial) {
-            Ok(yt) => {
+        match evaluate_from(problem, &trial, &at.starts) {
+            Ok((yt, st)) => {
                 evaluated += 1;
                 let rt = residuals(problem, &trial, &yt);
                 let ct = cost(&rt);
@@ -560,7 +566,7 @@ fn trial_steps(problem: &Problem, at: &mut Iterate, initial_radius: &[f64]) -> T
                         broyden_update(&mut at.jt, &at.p, &trial, &at.y, &yt);
                     }
                     at.fresh = false;
-                    (at.p, at.y, at.r, at.c) = (trial, yt, rt, ct);
+                    (at.p, at.y, at.r, at.c, at.starts) = (trial, yt, rt, ct, st);
                     accepted = true;
                     // (A small drop from a step the region held back is not convergence; on a
                     // chi-square cost a drop below `distance_to_minimum` has the fit judged
@@ -628,7 +634,7 @@ pub fn fit(problem: &Problem) -> FitResult {
     }
     let kinds: Vec<ParameterKind> = problem.parameters.iter().map(|p| p.kind.clone()).collect();
     let start: Vec<f64> = problem.parameters.iter().map(|p| p.start).collect();
-    let y0 = match evaluate(problem, &start) {
+    let (y0, starts) = match evaluate_from(problem, &start, &ConditionStarts::default()) {
         Ok(y) => y,
         Err(e) => return unstarted(problem, Status::ModelFailure(e)),
     };
@@ -648,6 +654,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         fresh: false,
         radius: initial_radius.clone(),
         evaluations: 1,
+        starts,
     };
     let mut status = Status::IterationLimit;
     let mut iterations = 0;

@@ -500,7 +500,30 @@ type AtCondition = (
     crate::checks::result::Quantities,
     Option<cierva_model::analysis::linear::LinearModel>,
     Option<crate::run::responses::Responses>,
+    Option<crate::external::Start>,
 );
+
+/// Where a fit's evaluations at each condition start: where the model's answers there ended
+/// at a point (its iterate), condition by condition
+/// ([`crate::external::FlightModel::start_after`]). Empty (the default): where the model
+/// starts them.
+///
+/// The fit's trial steps and finite differences start from its iterate's answers, and an
+/// accepted step's answers become the next iterate's starts: a chain the fit's own path
+/// decides, so an evaluation does not depend on which evaluations ran before it or where
+/// (threads, a model's processes, an engine's shards).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ConditionStarts(pub Vec<(TargetCondition, crate::external::Start)>);
+
+impl ConditionStarts {
+    /// The start at condition `c`, if there is one.
+    pub fn at(&self, c: &TargetCondition) -> Option<crate::external::Start> {
+        self.0.iter().find(|(k, _)| k == c).map(|(_, s)| s.clone())
+    }
+}
+
+/// Every target's value (or why not) at a point, and where the model's answers there ended.
+pub type PointEvaluation = (Vec<Result<f64, String>>, ConditionStarts);
 
 /// The distinct frequencies of a condition's response targets, in the order they come.
 fn response_frequencies(problem: &Problem, c: &TargetCondition) -> Vec<f64> {
@@ -523,7 +546,17 @@ fn response_frequencies(problem: &Problem, c: &TargetCondition) -> Vec<f64> {
 /// before it, and a fit of the aircraft through the model interface (`cierva serve`) makes the
 /// same trims.
 pub fn evaluate(problem: &Problem, p: &[f64]) -> Result<Vec<f64>, String> {
-    evaluate_each(problem, p)?.into_iter().collect()
+    Ok(evaluate_from(problem, p, &ConditionStarts::default())?.0)
+}
+
+/// [`evaluate`] with each condition's trims started from `from`, and where they ended.
+pub fn evaluate_from(
+    problem: &Problem,
+    p: &[f64],
+    from: &ConditionStarts,
+) -> Result<(Vec<f64>, ConditionStarts), String> {
+    let (each, starts) = evaluate_each_from(problem, p, from)?;
+    Ok((each.into_iter().collect::<Result<_, _>>()?, starts))
 }
 
 /// [`evaluate_each`] as numbers: NaN for a target whose condition fails, and for every target
@@ -538,10 +571,19 @@ pub fn values_or_nan(problem: &Problem, p: &[f64]) -> Vec<f64> {
 /// fails leaves the others); an error only when the corrections themselves are invalid. Run
 /// where the problem's [`crate::fit::Executor`] says.
 pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, String>>, String> {
+    Ok(evaluate_each_from(problem, p, &ConditionStarts::default())?.0)
+}
+
+/// [`evaluate_each`] with each condition's trims started from `from`, and where they ended.
+pub fn evaluate_each_from(
+    problem: &Problem,
+    p: &[f64],
+    from: &ConditionStarts,
+) -> Result<PointEvaluation, String> {
     match &problem.executor {
-        crate::fit::Executor::Local => evaluate_each_here(problem, p),
+        crate::fit::Executor::Local => evaluate_each_here_from(problem, p, from),
         crate::fit::Executor::Batches(b) => b
-            .evaluate_batch(problem, &[p.to_vec()])
+            .evaluate_batch(problem, &[p.to_vec()], from)
             .pop()
             .unwrap_or_else(|| Err("the batch returned no evaluation".into())),
     }
@@ -552,13 +594,16 @@ pub fn evaluate_each(problem: &Problem, p: &[f64]) -> Result<Vec<Result<f64, Str
 fn evaluate_many(
     problem: &Problem,
     points: &[Vec<f64>],
-) -> Vec<Result<Vec<Result<f64, String>>, String>> {
+    from: &ConditionStarts,
+) -> Vec<Result<PointEvaluation, String>> {
     match &problem.executor {
         crate::fit::Executor::Local => points
             .iter()
-            .map(|p| evaluate_each_here(problem, p))
+            .map(|p| evaluate_each_here_from(problem, p, from))
             .collect(),
-        crate::fit::Executor::Batches(b) if !points.is_empty() => b.evaluate_batch(problem, points),
+        crate::fit::Executor::Batches(b) if !points.is_empty() => {
+            b.evaluate_batch(problem, points, from)
+        }
         crate::fit::Executor::Batches(_) => Vec::new(),
     }
 }
@@ -569,6 +614,16 @@ pub fn evaluate_each_here(
     problem: &Problem,
     p: &[f64],
 ) -> Result<Vec<Result<f64, String>>, String> {
+    Ok(evaluate_each_here_from(problem, p, &ConditionStarts::default())?.0)
+}
+
+/// [`evaluate_each_here`] with each condition's trims started from `from`, and where they
+/// ended.
+pub fn evaluate_each_here_from(
+    problem: &Problem,
+    p: &[f64],
+    from: &ConditionStarts,
+) -> Result<PointEvaluation, String> {
     let mut conditions: Vec<TargetCondition> = Vec::new();
     for t in &problem.targets {
         if !conditions.contains(&t.condition) {
@@ -579,7 +634,7 @@ pub fn evaluate_each_here(
     let results: Vec<Result<AtCondition, String>> = match &problem.subject {
         FitSubject::Aircraft { .. } | FitSubject::Model { .. } => {
             let model = problem.subject.flight_model().expect("a flight model");
-            on_model(problem, model.as_ref(), p, &conditions, &at)
+            on_model(problem, model.as_ref(), p, &conditions, from, &at)
         }
         FitSubject::Rotor { file, inflow } => {
             let model = crate::external::rotor::CiervaRotor::new(file, (*inflow).into());
@@ -594,7 +649,7 @@ pub fn evaluate_each_here(
                 };
                 crate::external::FlightModel::autorotation(&model, &request)
                     .and_then(crate::run::autorotation::Autorotated::quantities_or_reason)
-                    .map(|q| (q, None, None))
+                    .map(|q| (q, None, None, None))
                     .map_err(|e| format!("{}: {e}", at(c)))
             })
         }
@@ -604,7 +659,7 @@ pub fn evaluate_each_here(
             .iter()
             .position(|c| *c == t.condition)
             .expect("listed");
-        let (quantities, lin, responses) = results[k].as_ref().map_err(Clone::clone)?;
+        let (quantities, lin, responses, _) = results[k].as_ref().map_err(Clone::clone)?;
         match (&t.measure, lin) {
             (Measure::Derivative(d), Some(lin)) => {
                 lin.derivative_value(d).map_err(|e| e.to_string())
@@ -624,7 +679,15 @@ pub fn evaluate_each_here(
                 .ok_or_else(|| format!("`{}` is not computed {}", m.name(), at(&t.condition))),
         }
     };
-    Ok(problem.targets.iter().map(value).collect())
+    let starts = conditions
+        .iter()
+        .zip(&results)
+        .filter_map(|(c, r)| Some((*c, r.as_ref().ok()?.3.clone()?)))
+        .collect();
+    Ok((
+        problem.targets.iter().map(value).collect(),
+        ConditionStarts(starts),
+    ))
 }
 
 /// Each condition's quantities, linear model and responses from a model behind the model
@@ -636,6 +699,7 @@ fn on_model(
     model: &dyn crate::external::FlightModel,
     p: &[f64],
     conditions: &[TargetCondition],
+    from: &ConditionStarts,
     at: &(dyn Fn(&TargetCondition) -> String + Sync),
 ) -> Vec<Result<AtCondition, String>> {
     let values = problem.declared_values(p);
@@ -650,6 +714,7 @@ fn on_model(
             condition: *condition,
             loading: *loading,
             parameters: values.clone(),
+            start: from.at(c),
         };
         let frequencies = response_frequencies(problem, c);
         let here = |m: fn(&Measure) -> bool| {
@@ -680,7 +745,7 @@ fn on_model(
         } else {
             Some(model.responses(&request, &frequencies).map_err(located)?)
         };
-        Ok((q, lin, responses))
+        Ok((q, lin, responses, model.start_after(&request)))
     })
 }
 
@@ -798,14 +863,19 @@ pub fn check(problem: &Problem) -> Result<(), String> {
 /// there (`[target][parameter]`), as the fit differences them: for a covariance beyond the
 /// fit's own (`crate::fit::retune`'s cluster-robust one).
 pub fn sensitivities(problem: &Problem, p: &[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
-    let y = evaluate(problem, p)?;
-    let j = jacobian(problem, p, &y)?;
+    let (y, starts) = evaluate_from(problem, p, &ConditionStarts::default())?;
+    let j = jacobian(problem, p, &y, &starts)?;
     Ok((y, j))
 }
 
-/// Forward-difference sensitivities of the targets to the parameters; each step goes inwards
-/// from a bound.
-pub(super) fn jacobian(problem: &Problem, p: &[f64], y: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+/// Forward-difference sensitivities of the targets to the parameters, each step's trims started
+/// from `from` (the answers at `p`); each step goes inwards from a bound.
+pub(super) fn jacobian(
+    problem: &Problem,
+    p: &[f64],
+    y: &[f64],
+    from: &ConditionStarts,
+) -> Result<Vec<Vec<f64>>, String> {
     let n = p.len();
     let mut j = vec![vec![0.0; n]; y.len()];
     let stepped = |i: usize, h: f64| {
@@ -824,8 +894,8 @@ pub(super) fn jacobian(problem: &Problem, p: &[f64], y: &[f64]) -> Result<Vec<Ve
     // at the edge of autorotation), where the model fails on one side of a point it solves, the
     // other way, in a second batch.
     let forward: Vec<Vec<f64>> = (0..n).map(|i| stepped(i, steps[i])).collect();
-    let all = |r: Result<Vec<Result<f64, String>>, String>| r?.into_iter().collect();
-    let mut answers: Vec<Result<Vec<f64>, String>> = evaluate_many(problem, &forward)
+    let all = |r: Result<PointEvaluation, String>| r?.0.into_iter().collect();
+    let mut answers: Vec<Result<Vec<f64>, String>> = evaluate_many(problem, &forward, from)
         .into_iter()
         .map(all)
         .collect();
@@ -837,7 +907,7 @@ pub(super) fn jacobian(problem: &Problem, p: &[f64], y: &[f64]) -> Result<Vec<Ve
         .collect();
     let backward: Vec<Vec<f64>> = back.iter().map(|&i| stepped(i, -steps[i])).collect();
     let mut h = steps;
-    for (&i, answer) in back.iter().zip(evaluate_many(problem, &backward)) {
+    for (&i, answer) in back.iter().zip(evaluate_many(problem, &backward, from)) {
         if let Ok(yq) = all(answer) {
             (answers[i], h[i]) = (Ok(yq), -h[i]);
         }

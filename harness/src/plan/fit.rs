@@ -14,7 +14,7 @@ use super::{
     PlannedStudy, VERSION, absolute, complete, load, write_plan_file,
 };
 use crate::fit::file::FitFile;
-use crate::fit::{Problem, Target, TargetCondition};
+use crate::fit::{ConditionStarts, Problem, Target, TargetCondition};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -84,7 +84,10 @@ pub(super) fn check_evaluations(
 fn check_each(f: &FitFile, evaluations: &[Evaluation]) -> Result<(), (usize, String)> {
     let all = all_targets(f);
     for (k, e) in evaluations.iter().enumerate() {
-        let Evaluates::Targets { targets, values } = &e.what else {
+        let Evaluates::Targets {
+            targets, values, ..
+        } = &e.what
+        else {
             return Err((k, "a fit's batch holds targets' evaluations only".into()));
         };
         if e.index != k || e.group != k || e.case != 0 {
@@ -131,23 +134,39 @@ type TargetsResult = (
 );
 
 /// One evaluation of a fit's batch: the fit file's targets at places `targets` (one condition)
-/// with the parameters at `values`, on this machine: the values (NaN where a target has none),
-/// why each has none, or the error that stopped them all.
-pub(super) fn evaluate(f: &FitFile, targets: &[usize], values: &[f64]) -> TargetsResult {
+/// with the parameters at `values`, the model's trims started from `start` where given, on
+/// this machine: the values (NaN where a target has none), why each has none, or the error
+/// that stopped them all; and where the model's answers ended.
+pub(super) fn evaluate(
+    f: &FitFile,
+    targets: &[usize],
+    values: &[f64],
+    start: Option<&serde_json::Value>,
+) -> (TargetsResult, Option<serde_json::Value>) {
     let all = all_targets(f);
     let mut problem = f.problem.clone();
     problem.targets = targets.iter().map(|&t| all[t].clone()).collect();
-    match crate::fit::evaluate_each_here(&problem, values) {
-        Ok(each) => (
-            Some(
-                each.iter()
-                    .map(|r| *r.as_ref().unwrap_or(&f64::NAN))
-                    .collect(),
+    let from = match (start, problem.targets.first()) {
+        (Some(s), Some(t)) => ConditionStarts(vec![(
+            t.condition,
+            crate::external::Start(std::sync::Arc::new(s.clone())),
+        )]),
+        _ => ConditionStarts::default(),
+    };
+    match crate::fit::evaluate_each_here_from(&problem, values, &from) {
+        Ok((each, ended)) => (
+            (
+                Some(
+                    each.iter()
+                        .map(|r| *r.as_ref().unwrap_or(&f64::NAN))
+                        .collect(),
+                ),
+                Some(each.into_iter().map(Result::err).collect()),
+                None,
             ),
-            Some(each.into_iter().map(Result::err).collect()),
-            None,
+            ended.0.into_iter().next().map(|(_, s)| (*s.0).clone()),
         ),
-        Err(e) => (None, None, Some(e)),
+        Err(e) => ((None, None, Some(e)), None),
     }
 }
 
@@ -318,7 +337,8 @@ impl crate::fit::BatchEvaluator for PlanBatches {
         &self,
         problem: &Problem,
         points: &[Vec<f64>],
-    ) -> Vec<Result<Vec<Result<f64, String>>, String>> {
+        from: &ConditionStarts,
+    ) -> Vec<Result<crate::fit::PointEvaluation, String>> {
         let failed = |e: String| (0..points.len()).map(|_| Err(e.clone())).collect();
         let places = match self.places(problem) {
             Ok(p) => p,
@@ -349,6 +369,7 @@ impl crate::fit::BatchEvaluator for PlanBatches {
                     what: Evaluates::Targets {
                         targets,
                         values: p.clone(),
+                        start: from.at(c).map(|s| (*s.0).clone()),
                     },
                 });
             }
@@ -363,8 +384,14 @@ impl crate::fit::BatchEvaluator for PlanBatches {
             // Each condition's results, as the fit's targets come.
             let mut at: Vec<std::vec::IntoIter<Result<f64, String>>> = Vec::new();
             let mut stopped = None;
-            for k in mine {
+            let mut ended = ConditionStarts::default();
+            for (k, c) in mine.into_iter().zip(&conditions) {
                 let r = have.remove(&k).expect("a complete batch");
+                if let Some(s) = r.start {
+                    ended
+                        .0
+                        .push((*c, crate::external::Start(std::sync::Arc::new(s))));
+                }
                 match (r.values, r.errors, r.error) {
                     (Some(v), errors, None) => {
                         let errors = errors.unwrap_or_else(|| vec![None; v.len()]);
@@ -390,7 +417,7 @@ impl crate::fit::BatchEvaluator for PlanBatches {
                         .unwrap_or_else(|| Err("no result for the target".into()))
                 })
                 .collect();
-            out.push(Ok(each));
+            out.push(Ok((each, ended)));
         }
         out
     }

@@ -165,6 +165,10 @@ pub enum Evaluates {
     Targets {
         targets: Vec<usize>,
         values: Vec<f64>,
+        /// Where the model's trims start (the fit's iterate's answers' end there:
+        /// [`crate::external::Start`]), where the fit gives one.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        start: Option<serde_json::Value>,
     },
     /// Every check with the inputs at `values` (the case's `inputs`' order): the model asked
     /// with `parameters` (what the values set, by the model's parameter names), started from
@@ -196,6 +200,10 @@ pub struct EvaluationResult {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub errors: Option<Vec<Option<String>>>,
     pub error: Option<String>,
+    /// A fit's batch: where the model's answers ended ([`crate::external::Start`]), where it
+    /// says.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<serde_json::Value>,
 }
 
 /// A results file: one evaluation's (under `results/shard-I-of-N/`) or a whole shard's
@@ -838,17 +846,25 @@ fn run_one(
     e: &Evaluation,
 ) -> EvaluationResult {
     let started = std::time::Instant::now();
-    let mut errors = None;
+    let (mut errors, mut start) = (None, None);
     let (results, values, error) = match (&e.what, &plan.sensitivity, model) {
         (Evaluates::Request { request, .. }, Some((_, jobs)), Some(model)) => {
             let (values, error) = split(jobs.evaluate(model, *request));
             (None, values, error)
         }
         (Evaluates::Request { .. }, ..) => (None, None, Some("not a sensitivity plan".into())),
-        (Evaluates::Targets { targets, values }, ..) => match &plan.fit {
+        (
+            Evaluates::Targets {
+                targets,
+                values,
+                start: from,
+            },
+            ..,
+        ) => match &plan.fit {
             Some(f) => {
-                let (values, each, error) = self::fit::evaluate(f, targets, values);
-                errors = each;
+                let ((values, each, error), ended) =
+                    self::fit::evaluate(f, targets, values, from.as_ref());
+                (errors, start) = (each, ended);
                 (None, values, error)
             }
             None => (None, None, Some("not a fit's plan".into())),
@@ -875,6 +891,7 @@ fn run_one(
         values,
         errors,
         error,
+        start,
     }
 }
 

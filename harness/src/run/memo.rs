@@ -41,6 +41,11 @@ impl<T> Memo<T> {
         result
     }
 
+    /// The result remembered for `key`, if there is one.
+    pub fn get(&self, key: &str) -> Option<Result<Arc<T>, String>> {
+        self.0.get()?.lock().ok()?.get(key).cloned()
+    }
+
     /// Forgets every result whose key starts with `prefix`.
     pub fn forget(&self, prefix: &str) {
         if let Some(Ok(mut m)) = self.0.get().map(|m| m.lock()) {

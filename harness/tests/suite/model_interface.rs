@@ -2276,3 +2276,124 @@ fn the_automatic_propagation_follows_the_checks_not_the_subjects_type() {
         assert_eq!(y.verdict, x.verdict, "{}", x.quantity);
     }
 }
+
+/// A start goes out with an answer and comes back with a request (`start`, protocol `/2`):
+/// cierva's VPM M16 built in and served by `cierva serve` (persistent) give the same start
+/// after the same trim, to the bit, and the same trim from it; the trim from a start lands on
+/// the cold trim within the trim's tolerance; a start that is not one is a located error.
+#[test]
+fn a_start_goes_out_with_an_answer_and_comes_back_with_a_request() {
+    use cierva_harness::external::command::{ExternalCommand, Protocol};
+    let path = repo_root().join("aircraft/vpm-m16.yaml");
+    let file = cierva_harness::inputs::aircraft::load(&path).unwrap();
+    let built_in = cierva_harness::external::CiervaAircraft::new(&file);
+    let served = ExternalCommand::speaking(
+        vec![
+            env!("CARGO_BIN_EXE_cierva").to_string(),
+            "serve".to_string(),
+            path.display().to_string(),
+        ],
+        repo_root(),
+        std::time::Duration::from_secs(600),
+        Protocol::V2,
+    )
+    .persistent();
+    let at = Request::at(
+        TrimRequest::level(60.0),
+        Loading {
+            mass_kg: Some(450.0),
+            density_altitude_ft: 2000.0,
+        },
+    );
+    let iterate = at.clone().with("corrections.propeller_blockage", 0.5);
+    // The same quantities (the served answer's in the order of their names).
+    let sorted = |mut q: Vec<(&'static str, f64)>| {
+        q.sort_by(|a, b| a.0.cmp(b.0));
+        q
+    };
+    assert_eq!(
+        sorted(built_in.trim(&iterate).unwrap()),
+        served.trim(&iterate).unwrap()
+    );
+    let start = built_in
+        .start_after(&iterate)
+        .expect("the aircraft gives a start");
+    assert_eq!(served.start_after(&iterate), Some(start.clone()));
+    // A trial step from the iterate, started there, and the same step cold.
+    let step = at.with("corrections.propeller_blockage", 0.55);
+    let from = step.clone().starting_at(Some(start));
+    let warm = built_in.trim(&from).unwrap();
+    assert_eq!(sorted(warm.clone()), served.trim(&from).unwrap());
+    let cold = built_in.trim(&step).unwrap();
+    let value = |q: &[(&str, f64)], name: &str| q.iter().find(|(n, _)| *n == name).unwrap().1;
+    // The trim's residuals are within 1e-7 (scaled): the two solutions agree to a few times
+    // that (the model crate's `a_warm_start_lands_on_the_cold_trim_for_less`).
+    assert!((value(&warm, "pitch_deg") - value(&cold, "pitch_deg")).abs() < 1e-4);
+    assert!((value(&warm, "rotor_rpm") - value(&cold, "rotor_rpm")).abs() < 1e-3);
+    let bad = step.starting_at(Some(cierva_harness::external::Start(std::sync::Arc::new(
+        serde_json::json!({"x": "not numbers"}),
+    ))));
+    for e in [built_in.trim(&bad), served.trim(&bad)].map(Result::unwrap_err) {
+        assert!(
+            e.contains("the request's `start` is not a start cierva's aircraft gave"),
+            "{e}"
+        );
+    }
+}
+
+/// A user's model that gives a `start` with each answer gets it back with the fit's next
+/// requests near it: every request a fit sends with a start carries the start of an answer the
+/// model gave before at the same condition (the fit's iterate), the first carries none, and
+/// the fit is the one the model gives without starts.
+#[test]
+fn a_fit_hands_a_models_start_back_from_its_iterate() {
+    super::external::require_python3();
+    let dir = suite_in("fit-starts", "cierva-external/2", true);
+    let logged = MODEL
+        .replace(
+            "            body = answer(r)\n",
+            "            body = answer(r)\n            if 'trim' in body or 'linear_model' in body:\n                body['start'] = {'values': r['parameters'], 'airspeed_mph': r['condition']['airspeed_mph']}\n            open('requests.jsonl', 'a').write(json.dumps({'compute': r['compute'], 'parameters': r.get('parameters'), 'start': r.get('start')}) + '\\n')\n",
+        );
+    std::fs::write(dir.join("cases/model.py"), logged).unwrap();
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    std::fs::write(
+        dir.join("fits/model.yaml"),
+        fit_file(3.7, 0.05, -0.95, 0.01),
+    )
+    .unwrap();
+    let file = cierva_harness::fit::file::load(&dir.join("fits/model.yaml"));
+    let file = file.unwrap_or_else(|e| panic!("{}", e.render()));
+    let r = cierva_harness::fit::fit(&file.problem);
+    assert_eq!(r.status, cierva_harness::fit::Status::Converged, "{r:?}");
+    let log = std::fs::read_to_string(dir.join("cases/requests.jsonl")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let requests: Vec<serde_json::Value> = log
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .filter(|r: &serde_json::Value| r["compute"] != "describe")
+        .collect();
+    assert!(requests[0]["start"].is_null(), "{}", requests[0]);
+    let mut answered: Vec<serde_json::Value> = Vec::new();
+    let mut started = 0;
+    for r in &requests {
+        if r["start"].is_null() {
+            // Only the fit's first point (its trim and its linear model) starts where the
+            // model starts it.
+            assert_eq!(r["parameters"], requests[0]["parameters"], "{r}");
+        } else {
+            started += 1;
+            assert_eq!(r["start"]["airspeed_mph"], 60.0, "{r}");
+            assert!(
+                answered.contains(&r["start"]["values"]),
+                "a start from no earlier answer: {r}"
+            );
+            assert_ne!(r["start"]["values"], r["parameters"], "{r}");
+        }
+        answered.push(r["parameters"].clone());
+    }
+    // Every trial step and finite difference after it starts from an iterate.
+    assert_eq!(started, requests.len() - 2, "{log}");
+    // The model is exact in its parameters: the fit lands on the hidden values, started or not.
+    assert!((r.values[1] - 0.7).abs() < 1e-6, "{:?}", r.values);
+    assert!((r.values[0] - 0.95 / 1.2).abs() < 1e-6, "{:?}", r.values);
+}

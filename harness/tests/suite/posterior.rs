@@ -72,6 +72,7 @@ fn problem(truth: [f64; 3], airspeeds: &[f64], noise: f64, rng: &mut SplitMix) -
                 .zip(truth)
                 .map(|(n, x)| (n.to_string(), x))
                 .collect(),
+            start: None,
         };
         for (name, y) in model.trim(&request).unwrap() {
             targets.push(Target {

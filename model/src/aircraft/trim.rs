@@ -301,6 +301,22 @@ struct RotorStart {
     loads: SteadyLoads,
 }
 
+/// A warm start as plain numbers, to carry between processes (a model behind cierva's
+/// command protocol hands it out with an answer and takes it back with a request near it):
+/// the trim's unknowns, its last Jacobian by rows, the flapping start of its periodic
+/// solution, the tip-speed guess it was found with and what it learned of the revolution map.
+/// The periodic solution itself is not carried (it is a rotor's: [`WarmStart::point`] leaves
+/// it), so a start read back ([`WarmStart::from_point`]) finds the same trim as the start it
+/// came from, from the same unknowns, at the cost of its first revolution.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct StartPoint {
+    pub x: Vec<f64>,
+    pub jacobian: Option<Vec<Vec<f64>>>,
+    pub flap: [f64; 2],
+    pub tip0: f64,
+    pub map: Option<[[f64; 2]; 2]>,
+}
+
 impl WarmStart {
     /// The periodic solution to seed `aircraft`'s first evaluation with: only for the same
     /// rotor and numerics, and started where the solution starts (so that solving it afresh
@@ -318,6 +334,55 @@ impl WarmStart {
     /// [`RevolutionMap`]): where a nearby solution's secant steps start.
     pub(crate) fn revolution_map(&self) -> RevolutionMap {
         self.map
+    }
+
+    /// The start as plain numbers (without its periodic solution: [`StartPoint`]).
+    pub fn point(&self) -> StartPoint {
+        StartPoint {
+            x: self.x.clone(),
+            jacobian: self.jacobian.as_ref().map(|j| {
+                (0..j.nrows())
+                    .map(|r| j.row(r).iter().copied().collect())
+                    .collect()
+            }),
+            flap: self.flap,
+            tip0: self.tip0,
+            map: self.map.jacobian(),
+        }
+    }
+
+    /// The start a [`StartPoint`] describes, or what is wrong with it: its Jacobian square, of
+    /// the unknowns' size, and every number finite. A start that does not fit the aircraft it
+    /// is given to (another number of unknowns, another tip-speed guess) is left by the trim
+    /// for a cold one, as any warm start is ([`trim_from`]).
+    pub fn from_point(p: &StartPoint) -> Result<Self, String> {
+        let n = p.x.len();
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if n == 0 || !finite(&p.x) || !finite(&p.flap) || !p.tip0.is_finite() {
+            return Err("its `x`, `flap` and `tip0` must be finite numbers, `x` not empty".into());
+        }
+        if p.map.is_some_and(|m| !finite(&m.concat())) {
+            return Err("its `map` must be finite".into());
+        }
+        let jacobian = match &p.jacobian {
+            None => None,
+            Some(rows) => {
+                if rows.len() != n || rows.iter().any(|r| r.len() != n || !finite(r)) {
+                    return Err(format!(
+                        "its `jacobian` must be {n} rows of {n} finite numbers (one a trim unknown)"
+                    ));
+                }
+                Some(nalgebra::DMatrix::from_fn(n, n, |r, c| rows[r][c]))
+            }
+        };
+        Ok(Self {
+            x: p.x.clone(),
+            jacobian,
+            flap: p.flap,
+            tip0: p.tip0,
+            rotor: None,
+            map: RevolutionMap::with_jacobian(p.map),
+        })
     }
 }
 
@@ -633,6 +698,50 @@ mod tests {
         .unwrap();
         assert_eq!(again.evaluations, cold.evaluations);
         assert_eq!(again.controls, cold.controls);
+    }
+
+    /// A warm start carried as numbers ([`StartPoint`]) is the start it came from, less its
+    /// rotor solution: the trim from it is the trim from the start itself, bit for bit. A point
+    /// that does not describe a start is refused, saying why.
+    #[test]
+    fn a_start_carried_as_numbers_finds_the_same_trim() {
+        let first = trim(&gyroplane(), condition(31.3), TrimOptions::default()).unwrap();
+        let point = first.warm_start.point();
+        let back = WarmStart::from_point(&point).unwrap();
+        assert_eq!(back.point(), point);
+        assert_eq!(
+            back,
+            WarmStart {
+                rotor: None,
+                ..first.warm_start.clone()
+            }
+        );
+        let mut heavier = gyroplane();
+        heavier.mass.mass_kg += 5.0;
+        let [from_start, from_point] = [&first.warm_start, &back].map(|start| {
+            trim_from(
+                &heavier,
+                condition(31.3),
+                TrimOptions::default(),
+                Some(start),
+            )
+            .unwrap()
+        });
+        assert_eq!(from_start, from_point);
+        let short = StartPoint {
+            jacobian: Some(vec![vec![1.0; 2]; 2]),
+            ..point.clone()
+        };
+        assert!(
+            WarmStart::from_point(&short)
+                .unwrap_err()
+                .contains("rows of")
+        );
+        let nan = StartPoint {
+            tip0: f64::NAN,
+            ..point
+        };
+        assert!(WarmStart::from_point(&nan).unwrap_err().contains("finite"));
     }
 
     /// The rotor's periodic solution that a warm start carries spares the first evaluation a

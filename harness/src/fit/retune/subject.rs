@@ -118,6 +118,7 @@ impl Retuned<'_> {
             condition,
             loading,
             parameters: values.as_declared(),
+            start: None,
         }
     }
 

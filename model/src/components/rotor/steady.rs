@@ -96,6 +96,19 @@ pub struct RevolutionMap {
     pub(super) jacobian: Option<[[f64; 2]; 2]>,
 }
 
+impl RevolutionMap {
+    /// What it learned, as numbers: the Jacobian of `P(x) - x` by rows, where it has one
+    /// (a warm start carried as plain data: [`crate::aircraft::trim::StartPoint`]).
+    pub fn jacobian(&self) -> Option<[[f64; 2]; 2]> {
+        self.jacobian
+    }
+
+    /// The map that learned `jacobian` (none: an empty map).
+    pub fn with_jacobian(jacobian: Option<[[f64; 2]; 2]>) -> Self {
+        Self { jacobian }
+    }
+}
+
 /// The fixed point of the revolution map, by secant steps. The plain iteration `x <- P(x)`
 /// converges at the blade's damping per revolution (about 0.05 for a Lock number near 8: a
 /// decade in every 0.8 revolution). With the Jacobian `J` of `f(x) = P(x) - x`, the step
