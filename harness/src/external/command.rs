@@ -233,9 +233,6 @@ pub struct ExternalCommand {
     /// condition share one run. Each request has one cell, filled once: a check that asks
     /// while another's identical request runs waits for its answer.
     answers: Mutex<HashMap<String, Arc<AnswerCell>>>,
-    /// Where its answers ended, by request, where it said (an answer's `start`):
-    /// [`FlightModel::start_after`].
-    starts: Mutex<HashMap<String, super::Start>>,
 }
 
 /// One request's answer, filled once.
@@ -273,7 +270,6 @@ impl ExternalCommand {
             persistent: None,
             refine: None,
             answers: Mutex::new(HashMap::new()),
-            starts: Mutex::new(HashMap::new()),
         }
     }
 
@@ -296,7 +292,6 @@ impl ExternalCommand {
                 .map(|_| super::persistent::Pool::new()),
             refine: Some((parameter.to_string(), level)),
             answers: Mutex::new(HashMap::new()),
-            starts: Mutex::new(HashMap::new()),
         }
     }
 
@@ -418,7 +413,7 @@ impl ExternalCommand {
         with: With<'_>,
     ) -> Result<Answer, String> {
         self.admissible(compute, request)?;
-        let key = format!("{}|{request:?}|{with:?}", compute.name());
+        let key = Self::key(compute, request, with);
         // The map's lock is held only to find the request's cell; the cell's own lock is held
         // while the command runs, by the first check that asks.
         let cell = Arc::clone(
@@ -428,22 +423,13 @@ impl ExternalCommand {
                 .entry(key)
                 .or_default(),
         );
-        cell.get_or_init(|| {
-            let answer = self.run(compute, request, with);
-            if let Ok(
-                Answer::Trim(_, Some(s))
-                | Answer::Linear(_, Some(s))
-                | Answer::Responses(_, Some(s)),
-            ) = &answer
-            {
-                self.starts
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .insert(format!("{request:?}"), s.clone());
-            }
-            answer
-        })
-        .clone()
+        cell.get_or_init(|| self.run(compute, request, with))
+            .clone()
+    }
+
+    /// What a request is remembered by: what it computes, the request and what it carries.
+    fn key(compute: Compute, request: &super::Request, with: With<'_>) -> String {
+        format!("{}|{request:?}|{with:?}", compute.name())
     }
 
     fn run(
@@ -818,10 +804,17 @@ pub(super) fn parse_json<T: serde::de::DeserializeOwned>(
 
 /// An answer's `start` (protocol `/2`): where the model's answer ended, any JSON it makes,
 /// for cierva to hand back with a request near it ([`super::Start`]).
-fn start_in(start: Option<serde_json::Value>) -> Option<super::Start> {
-    start
-        .filter(|s| !s.is_null())
-        .map(|s| super::Start(Arc::new(s)))
+fn start_in(
+    start: Option<serde_json::Value>,
+    protocol: &str,
+) -> Result<Option<super::Start>, String> {
+    match start.filter(|s| !s.is_null()) {
+        None => Ok(None),
+        Some(_) if protocol != PROTOCOL_2 => Err(format!(
+            "has a `start`, which is `{PROTOCOL_2}`'s (the case asks in `{protocol}`)"
+        )),
+        Some(s) => Ok(Some(super::Start(Arc::new(s)))),
+    }
 }
 
 pub(super) fn parse_trim(
@@ -846,7 +839,7 @@ pub(super) fn parse_trim(
         }
         out.push((name, v));
     }
-    Ok((out, start_in(r.start)))
+    Ok((out, start_in(r.start, protocol)?))
 }
 
 pub(super) fn parse_linear(
@@ -884,8 +877,9 @@ pub(super) fn parse_linear(
             ));
         }
     }
+    let start = start_in(r.start, protocol)?;
     LinearModel::from_rows(m.states, m.controls, &m.a, &m.b)
-        .map(|m| (m, start_in(r.start)))
+        .map(|m| (m, start))
         .map_err(|e| format!("`linear_model`: {e}"))
 }
 
@@ -976,7 +970,7 @@ pub(super) fn parse_frequency_response(
             None => format!("the frequency response {model} gives"),
         },
     };
-    Ok((responses, start_in(r.start)))
+    Ok((responses, start_in(r.start, protocol)?))
 }
 
 /// An `autorotation` answer: `{"quantities": {...}, "outside_validity": [...]}` (an
@@ -1286,18 +1280,54 @@ impl FlightModel for ExternalCommand {
         Ok(self.description()?.parameters)
     }
 
+    /// Forgets its answers to requests with these values (a study's point, once its checks
+    /// have run).
+    fn forget(&self, values: &super::Values) {
+        let with = format!("parameters: {values:?}, start:");
+        self.answers
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .retain(|key, _| !key.contains(&with));
+    }
+
+    /// The `start` its answer `of` the request gave, where it gave one (read from the
+    /// answer remembered: never asked for it alone).
+    fn start_after(&self, request: &super::Request, of: &super::AnswerOf) -> Option<super::Start> {
+        let (compute, frequencies);
+        let with = match of {
+            super::AnswerOf::Trim => {
+                compute = Compute::Trim;
+                With::default()
+            }
+            super::AnswerOf::LinearModel => {
+                compute = Compute::LinearModel;
+                With::default()
+            }
+            super::AnswerOf::Responses(f) => {
+                compute = Compute::FrequencyResponse;
+                frequencies = f.as_slice();
+                With {
+                    frequencies_hz: Some(frequencies),
+                    ..With::default()
+                }
+            }
+        };
+        let key = Self::key(compute, request, with);
+        let cell = self
+            .answers
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get(&key)
+            .cloned()?;
+        match cell.get()? {
+            Ok(Answer::Trim(_, s) | Answer::Linear(_, s) | Answer::Responses(_, s)) => s.clone(),
+            _ => None,
+        }
+    }
+
     /// Each discretisation parameter its `describe` declares, refined once by a request's
     /// `refine`; a refined command refines its own parameter again, to its declared `levels`.
     /// None where its `describe` fails (which every other request then reports).
-    /// The `start` its answer to the request gave, where it gave one.
-    fn start_after(&self, request: &super::Request) -> Option<super::Start> {
-        self.starts
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .get(&format!("{request:?}"))
-            .cloned()
-    }
-
     fn refinements(&self) -> Vec<super::Refinement> {
         let Ok(d) = self.description() else {
             return Vec::new();

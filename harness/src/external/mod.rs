@@ -101,6 +101,16 @@ impl Start {
     }
 }
 
+/// Which of a model's answers to a request a start is asked of ([`FlightModel::start_after`]):
+/// a model may end each its own way (cierva's aircraft ends all three at the same trim).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnswerOf {
+    Trim,
+    LinearModel,
+    /// Its frequency responses at these frequencies, Hz.
+    Responses(Vec<f64>),
+}
+
 impl std::fmt::Debug for Start {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "Start({})", self.0)
@@ -324,11 +334,11 @@ pub trait FlightModel: std::fmt::Debug + Send + Sync {
         None
     }
 
-    /// Where its answer to `request` ended, once it has answered it (a trim, a linear model),
-    /// for a request near it to start from ([`Request::start`]): what a fit's trial steps and
-    /// finite differences start from, its iterate's answers. `None`, the default: it gives
-    /// none, and every request starts where the model starts it.
-    fn start_after(&self, _request: &Request) -> Option<Start> {
+    /// Where its answer `of` the request ended, once it has given it, for a request near it to
+    /// start from ([`Request::start`]): what a fit's trial steps and finite differences start
+    /// from, its iterate's answers. `None`, the default: it gives none, and every request
+    /// starts where the model starts it.
+    fn start_after(&self, _request: &Request, _of: &AnswerOf) -> Option<Start> {
         None
     }
 
@@ -404,12 +414,19 @@ pub fn corrected_by<'s>(
 /// [`CiervaAircraft`]'s linearisations with parameter values (or started elsewhere), by file,
 /// values, condition and loading ([`CiervaAircraft::key_of`]).
 static WITH_VALUES: crate::run::memo::Memo<crate::run::linearise::Linearisation> =
-    crate::run::memo::Memo::new();
+    crate::run::memo::Memo::bounded(MEMO_LIMIT);
+
+/// How many trims (and as many linearisations) with parameter values [`CiervaAircraft`]
+/// remembers before it forgets them all (each is a function of its key, found again the same
+/// when asked again): a few fits' worth of conditions and steps. A study forgets each point's
+/// once its checks have run ([`FlightModel::forget`]); a served aircraft (`cierva serve`) is
+/// never told to, and this bounds its memory.
+const MEMO_LIMIT: usize = 2048;
 
 /// [`CiervaAircraft`]'s trims with parameter values (or started elsewhere), keyed as
 /// [`WITH_VALUES`] ([`CiervaAircraft::key_of_request`]).
 static TRIMMED_WITH_VALUES: crate::run::memo::Memo<cierva_model::aircraft::trim::Trim> =
-    crate::run::memo::Memo::new();
+    crate::run::memo::Memo::bounded(MEMO_LIMIT);
 
 /// The warm start a [`Start`] describes, if it is one of cierva's aircraft's
 /// ([`cierva_model::aircraft::trim::StartPoint`]); an error that says why not.
@@ -626,15 +643,19 @@ impl CiervaAircraft<'_> {
         format!("{}|{values:?}|", self.file.path.display())
     }
 
-    /// The memo key of a request: its file and values ([`Self::key_of`]), condition, loading
-    /// and start.
+    /// The memo key of a request: its file and values ([`Self::key_of`]), condition, loading,
+    /// start, and where the model was made to start elsewhere ([`Self::starts_from`]): an
+    /// answer is a function of its key.
     fn key_of_request(&self, request: &Request) -> String {
+        let elsewhere = self.starts_from.as_ref().map_or(String::new(), |(f, v)| {
+            format!("{}|{v:?}", f.path.display())
+        });
         format!(
-            "{}{:?}|{:?}|{}",
+            "{}{:?}|{:?}|{}|{elsewhere}",
             self.key_of(&request.parameters),
             request.condition,
             request.loading,
-            request.start.as_ref().map_or(String::new(), Start::text)
+            request.start.as_ref().map_or(String::new(), Start::text),
         )
     }
 
@@ -726,18 +747,19 @@ impl FlightModel for CiervaAircraft<'_> {
         Ok(trim_quantities_of(&file.aircraft, request.loading, &t))
     }
 
-    /// Its trim's end as plain numbers ([`cierva_model::aircraft::trim::StartPoint`]): the
-    /// linearisation's trim where the request was linearised, else its trim (remembered, or
-    /// found now).
-    fn start_after(&self, request: &Request) -> Option<Start> {
+    /// Its trim's end as plain numbers ([`cierva_model::aircraft::trim::StartPoint`]), the
+    /// same whichever answer it is of (each is at the request's one trim): the linearisation's
+    /// trim where the request was linearised, else its trim (remembered, or found now). None
+    /// where the point would not read back as a start (a number not finite).
+    fn start_after(&self, request: &Request, _of: &AnswerOf) -> Option<Start> {
         let key = self.key_of_request(request);
         let trim = match WITH_VALUES.get(&key).and_then(Result::ok) {
             Some(both) if !self.plain(request) => both.0.warm_start.clone(),
             _ => self.trimmed(request).ok()?.1.warm_start.clone(),
         };
-        serde_json::to_value(trim.point())
-            .ok()
-            .map(|v| Start(Arc::new(v)))
+        let point = trim.point();
+        cierva_model::aircraft::trim::WarmStart::from_point(&point).ok()?;
+        serde_json::to_value(point).ok().map(|v| Start(Arc::new(v)))
     }
 
     fn linear_model(&self, request: &Request) -> Result<LinearModel, String> {
@@ -1084,8 +1106,8 @@ impl<M: FlightModel> FlightModel for WithValues<M> {
         all.extend(values.clone());
         self.model.forget(&all)
     }
-    fn start_after(&self, request: &Request) -> Option<Start> {
-        self.model.start_after(&self.merged(request))
+    fn start_after(&self, request: &Request, of: &AnswerOf) -> Option<Start> {
+        self.model.start_after(&self.merged(request), of)
     }
     /// The model's other simulation, with these values still set.
     fn simulated_by<'s>(
@@ -1221,8 +1243,8 @@ macro_rules! forward_flight_model {
             fn forget(&self, values: &Values) {
                 (**self).forget(values)
             }
-            fn start_after(&self, request: &Request) -> Option<Start> {
-                (**self).start_after(request)
+            fn start_after(&self, request: &Request, of: &AnswerOf) -> Option<Start> {
+                (**self).start_after(request, of)
             }
         }
     )*};

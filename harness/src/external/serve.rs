@@ -7,7 +7,7 @@
 //! the bit: serde_json writes the shortest text that reads back to the same number).
 
 use super::command::{Compute, PROTOCOL, PROTOCOL_2};
-use super::{ControlChanges, FlightModel, Request, Values};
+use super::{AnswerOf, ControlChanges, FlightModel, Request, Values};
 use crate::inputs::condition::{Loading, TrimRequest};
 use crate::inputs::controls::{CONTROL_COLUMNS, ControlTable};
 use crate::run::replay::{Replayed, SIGNALS};
@@ -330,7 +330,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 .into_iter()
                 .map(|(n, x)| (n.to_string(), json!(x)))
                 .collect();
-            with_start(json!({ "trim": q }), model, &request)
+            with_start(json!({ "trim": q }), model, &request, &AnswerOf::Trim, v)
         }
         Compute::LinearModel => {
             let m = model.linear_model(&request)?;
@@ -341,7 +341,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 "states": m.states(), "controls": m.controls(),
                 "a": rows(m.a()), "b": rows(m.b()),
             }});
-            with_start(body, model, &request)
+            with_start(body, model, &request, &AnswerOf::LinearModel, v)
         }
         Compute::TimeHistory => {
             let controls = controls.ok_or("a time-history request needs `controls`")?;
@@ -363,7 +363,8 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
                 "states": r.states, "controls": r.controls, "frequencies_hz": r.frequencies_hz,
                 "real": part(|c| c.re), "imag": part(|c| c.im), "method": r.from,
             }});
-            with_start(body, model, &request)
+            let of = AnswerOf::Responses(frequencies_hz.clone());
+            with_start(body, model, &request, &of, v)
         }
         Compute::Autorotation => {
             let tunnel = tunnel.ok_or("an autorotation request needs `tunnel`")?;
@@ -394,9 +395,18 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
 }
 
 /// An answer with where the model's answer ended, where it gives one
-/// ([`FlightModel::start_after`]): the `start` a request near it may carry back.
-fn with_start(mut body: Value, model: &dyn FlightModel, request: &Request) -> Value {
-    if let Some(s) = model.start_after(request) {
+/// ([`FlightModel::start_after`]) and the request `v` speaks protocol `/2`: the `start` a
+/// request near it may carry back.
+fn with_start(
+    mut body: Value,
+    model: &dyn FlightModel,
+    request: &Request,
+    of: &AnswerOf,
+    v: &Value,
+) -> Value {
+    if v["protocol"] == PROTOCOL_2
+        && let Some(s) = model.start_after(request, of)
+    {
         body["start"] = (*s.0).clone();
     }
     body

@@ -745,7 +745,14 @@ fn on_model(
         } else {
             Some(model.responses(&request, &frequencies).map_err(located)?)
         };
-        Ok((q, lin, responses, model.start_after(&request)))
+        // Where the condition's answers ended: its linear model's where it was asked, else its
+        // trim's, else its responses' (one rule, whatever else a run asked before).
+        let of = match (linear, trimmed) {
+            (true, _) => crate::external::AnswerOf::LinearModel,
+            (false, true) => crate::external::AnswerOf::Trim,
+            (false, false) => crate::external::AnswerOf::Responses(frequencies),
+        };
+        Ok((q, lin, responses, model.start_after(&request, &of)))
     })
 }
 

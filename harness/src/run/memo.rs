@@ -8,8 +8,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// Results by key.
 type Remembered<T> = Mutex<HashMap<String, Result<Arc<T>, String>>>;
 
-/// A memo of results by key ([`Memo::get_or`]).
-pub struct Memo<T>(OnceLock<Remembered<T>>);
+/// A memo of results by key ([`Memo::get_or`]), holding at most `limit` of them.
+pub struct Memo<T>(OnceLock<Remembered<T>>, usize);
 
 impl<T> Default for Memo<T> {
     fn default() -> Self {
@@ -18,9 +18,17 @@ impl<T> Default for Memo<T> {
 }
 
 impl<T> Memo<T> {
-    /// An empty memo (for a `static`).
+    /// An empty memo (for a `static`), without a limit.
     pub const fn new() -> Self {
-        Self(OnceLock::new())
+        Self(OnceLock::new(), usize::MAX)
+    }
+
+    /// An empty memo that forgets everything it holds when it holds `limit` results: for
+    /// results that are a function of their key alone, recomputed the same when asked again,
+    /// where nothing else forgets them (a served model's answers, which its client never
+    /// tells it to forget).
+    pub const fn bounded(limit: usize) -> Self {
+        Self(OnceLock::new(), limit)
     }
 
     /// The result remembered for `key`, or `compute`'s, then remembered. Two threads asking
@@ -36,6 +44,9 @@ impl<T> Memo<T> {
         }
         let result = compute().map(Arc::new);
         if let Ok(mut m) = map.lock() {
+            if m.len() >= self.1 {
+                m.clear();
+            }
             m.insert(key, result.clone());
         }
         result

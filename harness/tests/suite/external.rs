@@ -88,7 +88,7 @@ fn a_broken_external_command_is_an_error_that_shows_why() {
     require_python3();
     let base = std::env::temp_dir().join(format!("cierva-external-{}", std::process::id()));
     // Each: the command, and what the error must say.
-    let cases: [(&str, &str, &[&str]); 5] = [
+    let cases: [(&str, &str, &[&str]); 6] = [
         (
             "not-found",
             "[cierva-no-such-program-here]",
@@ -113,6 +113,13 @@ fn a_broken_external_command_is_an_error_that_shows_why() {
             "missing-quantity",
             "[python3, -c, \"import sys, json; r = json.load(open(sys.argv[1])); open(r['response'], 'w').write(json.dumps({'protocol': 'cierva-external/1', 'trim': {'pitch_deg': 3.0}}))\"]",
             &["gives no `stick_longitudinal_percent` in its trim at 30 mph"],
+        ),
+        (
+            "start-in-v1",
+            "[python3, -c, \"import sys, json; r = json.load(open(sys.argv[1])); open(r['response'], 'w').write(json.dumps({'protocol': 'cierva-external/1', 'trim': {'pitch_deg': 3.0}, 'start': [1.0]}))\"]",
+            &[
+                "has a `start`, which is `cierva-external/2`'s (the case asks in `cierva-external/1`)",
+            ],
         ),
     ];
     let mut problems = Vec::new();

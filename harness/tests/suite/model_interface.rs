@@ -2315,10 +2315,14 @@ fn a_start_goes_out_with_an_answer_and_comes_back_with_a_request() {
         sorted(built_in.trim(&iterate).unwrap()),
         served.trim(&iterate).unwrap()
     );
+    let of = cierva_harness::external::AnswerOf::Trim;
     let start = built_in
-        .start_after(&iterate)
+        .start_after(&iterate, &of)
         .expect("the aircraft gives a start");
-    assert_eq!(served.start_after(&iterate), Some(start.clone()));
+    assert_eq!(served.start_after(&iterate, &of), Some(start.clone()));
+    // Only the answer asked of gives it: the served model was asked no linear model.
+    let linear = cierva_harness::external::AnswerOf::LinearModel;
+    assert_eq!(served.start_after(&iterate, &linear), None);
     // A trial step from the iterate, started there, and the same step cold.
     let step = at.with("corrections.propeller_blockage", 0.55);
     let from = step.clone().starting_at(Some(start));
@@ -2396,4 +2400,73 @@ fn a_fit_hands_a_models_start_back_from_its_iterate() {
     // The model is exact in its parameters: the fit lands on the hidden values, started or not.
     assert!((r.values[1] - 0.7).abs() < 1e-6, "{:?}", r.values);
     assert!((r.values[0] - 0.95 / 1.2).abs() < 1e-6, "{:?}", r.values);
+}
+
+/// A model behind the command protocol forgets a study point's answers when told to
+/// (`FlightModel::forget`), as cierva's aircraft does, so that a long study does not keep every
+/// answer: the same request after it runs the command again. A bounded memo forgets all it
+/// holds at its limit and finds the same results again.
+#[test]
+fn remembered_answers_are_forgotten_when_told_and_at_a_memos_limit() {
+    use cierva_harness::external::command::{ExternalCommand, Protocol};
+    super::external::require_python3();
+    let dir = suite_in("forget", "cierva-external/2", false);
+    let counted = MODEL.replace(
+        "    # HOOK\n",
+        "    open('asked.txt', 'a').write(r['compute'] + '\\n')\n",
+    );
+    std::fs::write(dir.join("cases/model.py"), counted).unwrap();
+    let model = ExternalCommand::speaking(
+        vec!["python3".into(), "model.py".into()],
+        dir.join("cases"),
+        std::time::Duration::from_secs(30),
+        Protocol::V2,
+    );
+    let request = Request::at(
+        TrimRequest::level(60.0),
+        Loading {
+            mass_kg: Some(400.0),
+            density_altitude_ft: 0.0,
+        },
+    )
+    .with("m_q_scale", 0.8);
+    let asked = || {
+        std::fs::read_to_string(dir.join("cases/asked.txt"))
+            .unwrap()
+            .lines()
+            .filter(|l| *l == "trim")
+            .count()
+    };
+    let first = model.trim(&request).unwrap();
+    assert_eq!(model.trim(&request).unwrap(), first);
+    assert_eq!(asked(), 1);
+    model.forget(&[("m_q_scale".to_string(), 0.7)].into());
+    assert_eq!(model.trim(&request).unwrap(), first);
+    assert_eq!(
+        asked(),
+        1,
+        "another point's answers forgotten, not this one's"
+    );
+    model.forget(&request.parameters);
+    assert_eq!(model.trim(&request).unwrap(), first);
+    assert_eq!(asked(), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+
+    let memo = cierva_harness::run::memo::Memo::<usize>::bounded(2);
+    let runs = std::sync::atomic::AtomicUsize::new(0);
+    let get = |key: &str| {
+        *memo
+            .get_or(key.to_string(), || {
+                runs.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                Ok(key.len())
+            })
+            .unwrap()
+    };
+    assert_eq!((get("a"), get("a"), get("bb")), (1, 1, 2));
+    assert_eq!(runs.load(std::sync::atomic::Ordering::SeqCst), 2);
+    // A third key finds the memo full: it forgets both, then holds the third.
+    assert_eq!(get("ccc"), 3);
+    assert!(memo.get("a").is_none() && memo.get("ccc").is_some());
+    assert_eq!(get("a"), 1);
+    assert_eq!(runs.load(std::sync::atomic::Ordering::SeqCst), 4);
 }
