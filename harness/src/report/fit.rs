@@ -59,6 +59,12 @@ pub fn markdown(f: &FitFile, run: &FitRun) -> String {
     s
 }
 
+/// Whether a mode was found before or after (a model that gives no linear model, or a mode its
+/// eigenvalues do not hold, has neither).
+fn found(m: &crate::fit::file::ModeShift) -> bool {
+    m.before.iter().chain(&m.after).any(|x| x.is_finite())
+}
+
 /// The fitted parameters' table (bounds, start, fitted value and standard error, or "not
 /// identifiable"), then the fit's warnings.
 fn parameters_table(s: &mut String, f: &FitFile, r: &fit::FitResult) {
@@ -156,6 +162,14 @@ fn targets_table(
 fn modes_table(s: &mut String, modes: &[crate::fit::file::ModeShift]) {
     use std::fmt::Write;
     let _ = writeln!(s, "## Longitudinal modes before and after\n");
+    if !modes.iter().any(found) {
+        let _ = writeln!(
+            s,
+            "None found: the model gives no linear model at the targets' conditions, or its \
+             eigenvalues hold no phugoid or short period there.\n"
+        );
+        return;
+    }
     let _ = writeln!(
         s,
         "| condition | mode | eigenvalue before | eigenvalue after | damping ratio before | after | period before, s | after, s |"
@@ -163,7 +177,7 @@ fn modes_table(s: &mut String, modes: &[crate::fit::file::ModeShift]) {
     let _ = writeln!(s, "| --- | --- | --- | --- | ---: | ---: | ---: | ---: |");
     let zeta = |e: [f64; 2]| -e[0] / e[0].hypot(e[1]);
     let period = |e: [f64; 2]| 2.0 * std::f64::consts::PI / e[1];
-    for m in modes {
+    for m in modes.iter().filter(|m| found(m)) {
         let _ = writeln!(
             s,
             "| {} | {} | {:.4} {:+.4}i | {:.4} {:+.4}i | {:.4} | {:.4} | {:.2} | {:.2} |",

@@ -2470,3 +2470,37 @@ fn remembered_answers_are_forgotten_when_told_and_at_a_memos_limit() {
     assert_eq!(get("a"), 1);
     assert_eq!(runs.load(std::sync::atomic::Ordering::SeqCst), 4);
 }
+
+/// A fit of a model that gives its trim alone reports no modes in words, not a table of NaN
+/// (found trying a user's trim-only model with the installed binary).
+#[test]
+fn a_fit_of_a_trim_only_model_reports_no_modes_in_words() {
+    super::external::require_python3();
+    let dir = suite_in("trim-only-fit", "cierva-external/2", true);
+    let trim_only = MODEL.replace(
+        "'computes': ['trim', 'linear_model'],",
+        "'computes': ['trim'],",
+    );
+    std::fs::write(dir.join("cases/model.py"), trim_only).unwrap();
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    std::fs::write(
+        dir.join("fits/trim-only.yaml"),
+        "id: trim-only\ntitle: the test model's pitch offset\n\
+         provenance: {source: 'a test of harness/tests/suite/model_interface.rs'}\n\
+         subject: {case: ../cases/model.yaml}\nparameters:\n  pitch_offset_deg: {}\n\
+         targets:\n  - {condition: {airspeed_mph: 60.0}, quantity: pitch_deg, reference: 3.5, standard_error: 0.05, source: the test's own}\n",
+    )
+    .unwrap();
+    let (code, out, err) = cierva_in(&dir, &["fit", "fits/trim-only.yaml"]);
+    let report = std::fs::read_to_string(dir.join("reports/fits/trim-only.md"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 0, "{out}{err}");
+    let report = report.unwrap();
+    assert!(
+        report.contains(
+            "## Longitudinal modes before and after\n\nNone found: the model gives no linear model"
+        ),
+        "{report}"
+    );
+    assert!(!report.contains("NaN"), "{report}");
+}
