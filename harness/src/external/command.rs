@@ -1107,6 +1107,8 @@ struct DeclaredRange {
     sigma: Option<f64>,
     #[serde(default)]
     shares: Option<String>,
+    #[serde(default)]
+    taken_from: Vec<String>,
 }
 
 /// A `describe` response: what the model computes, its states and controls, and its
@@ -1254,6 +1256,10 @@ fn declared_range(
             "{at}: a `normal` distribution needs a positive `sigma`, and only it"
         ));
     }
+    for (k, t) in r.taken_from.iter().enumerate() {
+        crate::inputs::ranges::check_taken_from(t)
+            .map_err(|m| format!("{at}: its range's `taken_from[{k}]`: {m}"))?;
+    }
     Ok(Range {
         lower: r.lower,
         upper: r.upper,
@@ -1261,6 +1267,7 @@ fn declared_range(
         distribution: r.distribution,
         sigma: r.sigma,
         shares: r.shares,
+        taken_from: r.taken_from,
     })
 }
 

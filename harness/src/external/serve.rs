@@ -292,38 +292,7 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
         }
     };
     let body = match compute {
-        Compute::Describe => {
-            let parameters: Vec<Value> = model
-                .parameters()?
-                .into_iter()
-                .map(|p| {
-                    let mut d = json!({
-                        "name": p.name, "unit": p.unit, "meaning": p.meaning,
-                        "nominal": p.nominal, "correction": p.correction,
-                    });
-                    if let Some(r) = p.range {
-                        d["range"] = json!({
-                            "lower": r.lower, "upper": r.upper, "source": r.source,
-                            "distribution": r.distribution,
-                        });
-                        if let Some(s) = r.sigma {
-                            d["range"]["sigma"] = json!(s);
-                        }
-                        if let Some(m) = r.shares {
-                            d["range"]["shares"] = json!(m);
-                        }
-                    }
-                    d
-                })
-                .collect();
-            json!({"describe": {
-                "computes": model.computes().into_iter().map(Compute::name).collect::<Vec<_>>(),
-                "states": cierva_model::aircraft::linearise::STATES,
-                "controls": cierva_model::aircraft::linearise::CONTROLS,
-                "parameters": parameters,
-                "refinements": refinements_declared(model),
-            }})
-        }
+        Compute::Describe => described(model)?,
         Compute::Trim => {
             let q: serde_json::Map<String, Value> = model
                 .trim(&request)?
@@ -392,6 +361,44 @@ fn respond(model: &dyn FlightModel, v: &Value) -> Result<(Compute, Value), Strin
         }
     };
     Ok((compute, body))
+}
+
+/// What `model` says of itself, for its `describe` answer: what it computes, cierva's states
+/// and controls, its parameters with their ranges, and what it refines.
+fn described(model: &dyn FlightModel) -> Result<Value, String> {
+    let parameters: Vec<Value> = model
+        .parameters()?
+        .into_iter()
+        .map(|p| {
+            let mut d = json!({
+                "name": p.name, "unit": p.unit, "meaning": p.meaning,
+                "nominal": p.nominal, "correction": p.correction,
+            });
+            if let Some(r) = p.range {
+                d["range"] = json!({
+                    "lower": r.lower, "upper": r.upper, "source": r.source,
+                    "distribution": r.distribution,
+                });
+                if let Some(s) = r.sigma {
+                    d["range"]["sigma"] = json!(s);
+                }
+                if !r.taken_from.is_empty() {
+                    d["range"]["taken_from"] = json!(r.taken_from);
+                }
+                if let Some(m) = r.shares {
+                    d["range"]["shares"] = json!(m);
+                }
+            }
+            d
+        })
+        .collect();
+    Ok(json!({"describe": {
+        "computes": model.computes().into_iter().map(Compute::name).collect::<Vec<_>>(),
+        "states": cierva_model::aircraft::linearise::STATES,
+        "controls": cierva_model::aircraft::linearise::CONTROLS,
+        "parameters": parameters,
+        "refinements": refinements_declared(model),
+    }}))
 }
 
 /// An answer with where the model's answer ended, where it gives one

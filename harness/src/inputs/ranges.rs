@@ -26,6 +26,12 @@ pub struct RangeSpec {
     /// once, each such parameter at the same quantile of its own distribution.
     #[serde(default)]
     pub shares: Option<String>,
+    /// The cases (`case-id`) or checks (`case-id/check-id`) whose reference data the range was
+    /// taken from (the flat plate that closes a table's drag deficit, a band read off the
+    /// flight it is judged against): a study judging one of them with this range is circular,
+    /// and its verdict is reported apart, never counted as validation evidence.
+    #[serde(default)]
+    pub taken_from: Vec<String>,
 }
 
 /// The shape of a parameter's distribution over its plausible range. The file's value is the
@@ -58,6 +64,29 @@ pub struct Range {
     /// ([`RangeSpec::shares`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shares: Option<String>,
+    /// The cases or checks whose data it was taken from ([`RangeSpec::taken_from`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub taken_from: Vec<String>,
+}
+
+/// A `taken_from` entry checked: a case id, or a case id and a check id as `case/check`
+/// (ids are letters, digits, `-`, `_` and `.`); what is wrong with it otherwise.
+pub fn check_taken_from(entry: &str) -> Result<(), String> {
+    let id = |s: &str| {
+        !s.is_empty()
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+    };
+    let ok = match entry.split_once('/') {
+        None => id(entry),
+        Some((case, check)) => id(case) && id(check),
+    };
+    match ok {
+        true => Ok(()),
+        false => Err(format!(
+            "`{entry}` is not a case id or `case-id/check-id` (the case or check whose data the range was taken from)"
+        )),
+    }
 }
 
 /// Ranges of a file's parameters, checked: each names one of `names` that `value_of` reads
@@ -122,6 +151,9 @@ pub(crate) fn checked(
             }
             (_, None) => None,
         };
+        for (k, t) in r.taken_from.iter().enumerate() {
+            check_taken_from(t).map_err(|m| err(&format!("{field}.taken_from[{k}]"), m))?;
+        }
         out.insert(
             name.clone(),
             Range {
@@ -131,6 +163,7 @@ pub(crate) fn checked(
                 distribution: r.distribution,
                 sigma,
                 shares: r.shares.clone(),
+                taken_from: r.taken_from.clone(),
             },
         );
     }

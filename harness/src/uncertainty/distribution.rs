@@ -180,6 +180,20 @@ pub struct Input {
     /// `per_unit` times its value. Empty: it is the parameter of its name.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub moves: Vec<Moved>,
+    /// The cases or checks whose data its range was taken from
+    /// ([`crate::inputs::ranges::RangeSpec::taken_from`]): a check among them judged with it is
+    /// circular.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub taken_from: Vec<String>,
+}
+
+impl Input {
+    /// Whether its range was taken from the data of `case`'s check `check`.
+    pub fn taken_from_check(&self, case: &str, check: &str) -> bool {
+        self.taken_from
+            .iter()
+            .any(|t| t == case || *t == format!("{case}/{check}"))
+    }
 }
 
 /// A parameter a factor input moves ([`Input::moves`]), and how.
@@ -236,6 +250,7 @@ impl Input {
                         upper: f64::INFINITY,
                     },
                     source: format!("the fit of {id}: {}", posterior.method),
+                    taken_from: Vec::new(),
                     moves: posterior
                         .parameters
                         .iter()
@@ -292,6 +307,10 @@ pub fn shared_by_method(inputs: Vec<Input>, shares: &dyn Fn(&str) -> Option<Stri
                 .map(|m| format!("{}: {}", m.name, m.source))
                 .collect::<Vec<_>>()
                 .join("; "),
+            taken_from: members
+                .iter()
+                .flat_map(|m| m.taken_from.iter().cloned())
+                .collect(),
             moves: members
                 .iter()
                 .map(|m| Moved {

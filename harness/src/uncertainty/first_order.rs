@@ -374,5 +374,6 @@ fn first_order_quantity(
     } else {
         out.reason = "no verdict: a perturbed input finds no equilibrium on either side, so the inputs' uncertainty is unknown here".into();
     }
+    super::propagate::mark_circular(&mut out, inputs);
     (out, values, u_interactions)
 }

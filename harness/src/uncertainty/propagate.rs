@@ -150,6 +150,11 @@ pub struct QuantityUncertainty {
     /// reported apart and never counted as validation evidence ([`VerdictCounts`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub calibrated_on: Option<String>,
+    /// The inputs whose plausible ranges were taken from this check's own data (their ranges'
+    /// `taken_from`), in words: the verdict is circular, reported apart and never counted as
+    /// validation evidence ([`VerdictCounts`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub circular: Option<String>,
     /// The verdict of V&V 20 (validation checks with a reference value only).
     pub verdict: Option<Vv20Verdict>,
     /// Why the verdict is what it is (or why there is none), with its numbers.
@@ -262,6 +267,7 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
                 nominal: p.nominal,
                 source: r.source,
                 moves: Vec::new(),
+                taken_from: r.taken_from,
             })
         })
         .collect();
@@ -916,7 +922,36 @@ fn summarise(
         out.failure_causes = causes.to_vec();
     }
     judge(&mut out, q, Interval::Sampled);
+    mark_circular(&mut out, inputs);
     out
+}
+
+/// Marks a judged quantity whose inputs include ranges taken from its check's own data
+/// ([`crate::inputs::ranges::RangeSpec::taken_from`]): `circular` names them, and the reason
+/// says the verdict is no evidence.
+pub(super) fn mark_circular(out: &mut QuantityUncertainty, inputs: &[Input]) {
+    let names: Vec<&str> = inputs
+        .iter()
+        .filter(|i| i.taken_from_check(&out.case, &out.check))
+        .map(|i| i.name.as_str())
+        .collect();
+    if names.is_empty() {
+        return;
+    }
+    let why = format!(
+        "{} {} taken from this check's own data",
+        names.join(", "),
+        if names.len() == 1 {
+            "has a range"
+        } else {
+            "have ranges"
+        }
+    );
+    out.reason = format!(
+        "{} Circular: {why}, so the verdict is reported apart and is no evidence.",
+        out.reason
+    );
+    out.circular = Some(why);
 }
 
 /// A quantity of a check: the check, its nominal result, and the quantity's result.
@@ -977,6 +1012,7 @@ pub(super) fn unjudged(
         u_data_source,
         u_val: None,
         calibrated_on: n.calibrated_on.clone(),
+        circular: None,
         verdict: None,
         reason: String::new(),
         passes_nominal: n.passed,
@@ -1214,6 +1250,9 @@ pub struct VerdictCounts {
     /// Validation quantities of checks a corrections file applied was fitted to
     /// (`calibrated_on`): apart from every count above, since their agreement is the fit's.
     pub calibrated_on: usize,
+    /// Validation quantities judged with an input whose range was taken from their own data
+    /// (`circular`): apart from every count above, since the range was chosen to fit them.
+    pub circular: usize,
 }
 
 impl VerdictCounts {
@@ -1226,6 +1265,10 @@ impl VerdictCounts {
         {
             if r.calibrated_on.is_some() {
                 c.calibrated_on += 1;
+                continue;
+            }
+            if r.circular.is_some() {
+                c.circular += 1;
                 continue;
             }
             match r.verdict {
@@ -1251,14 +1294,19 @@ impl VerdictCounts {
 
     /// In words, for summaries.
     pub fn describe(&self) -> String {
-        let apart = if self.calibrated_on > 0 {
-            format!(
+        let mut apart = String::new();
+        if self.calibrated_on > 0 {
+            apart += &format!(
                 "; apart, {} calibrated on (targets of the corrections' fit: no evidence for them)",
                 self.calibrated_on
-            )
-        } else {
-            String::new()
-        };
+            );
+        }
+        if self.circular > 0 {
+            apart += &format!(
+                "; apart, {} circular (judged with an input range taken from their own data: no evidence)",
+                self.circular
+            );
+        }
         format!(
             "{} agree, {} model-form error, {} inconclusive, {} without data uncertainty, {} without a verdict; {} fragile passes{apart}",
             self.agrees,

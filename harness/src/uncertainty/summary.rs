@@ -57,6 +57,10 @@ pub struct CaseVerdicts {
     /// No verdict: no reference value, no uncertain inputs, or too many failed samples.
     pub without_verdict: Vec<String>,
     pub fragile: Vec<FragilePass>,
+    /// Judged with an input range taken from their own data (`taken_from`): apart from the
+    /// verdicts above, no evidence.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub circular: Vec<String>,
 }
 
 /// A nominal pass that fails somewhere in the inputs' distribution.
@@ -128,8 +132,13 @@ pub fn of<'a>(
             no_data_uncertainty: Vec::new(),
             without_verdict: Vec::new(),
             fragile: Vec::new(),
+            circular: Vec::new(),
         };
         for (r, name) in results.iter().zip(quantity_names(&results)) {
+            if r.circular.is_some() {
+                c.circular.push(name);
+                continue;
+            }
             if r.fragile {
                 c.fragile.push(FragilePass {
                     quantity: name.clone(),

@@ -2504,3 +2504,81 @@ fn a_fit_of_a_trim_only_model_reports_no_modes_in_words() {
     );
     assert!(!report.contains("NaN"), "{report}");
 }
+
+/// A range taken from the data it is judged against (`taken_from`) makes that check's verdict
+/// circular: reported apart with the input named, never counted as validation evidence; a
+/// check whose inputs' ranges come from elsewhere is judged as before. A `taken_from` that names
+/// no case or check is a located error.
+#[test]
+fn a_range_taken_from_the_data_it_is_judged_against_makes_a_circular_verdict() {
+    super::external::require_python3();
+    let dir = suite_in("circular", "cierva-external/2", true);
+    let circular = MODEL.replace(
+        "'range': {'lower': -2.0, 'upper': 2.0, 'source': 'the test model own'}}",
+        "'range': {'lower': -2.0, 'upper': 2.0, 'source': 'the pitch check\\'s own band', 'taken_from': ['model/pitch']}}",
+    );
+    assert_ne!(circular, MODEL);
+    std::fs::write(dir.join("cases/model.py"), &circular).unwrap();
+    let case = std::fs::read_to_string(dir.join("cases/model.yaml")).unwrap();
+    let validation = case
+        .replace("class: regression", "class: validation")
+        .replace(
+            "  pitch:\n    absolute: 0.5\n",
+            "  pitch:\n    absolute: 0.5\n    standard_deviation: 0.2\n",
+        );
+    assert_ne!(validation, case);
+    std::fs::write(dir.join("cases/model.yaml"), validation).unwrap();
+    let args = [
+        "uncertainty",
+        "cases/model.yaml",
+        "--samples",
+        "16",
+        "--format",
+        "json",
+    ];
+    let (code, out, err) = cierva_in(&dir, &args);
+    assert_eq!(code, 0, "{out}{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let result = |check: &str| {
+        v["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["check"] == check)
+            .unwrap_or_else(|| panic!("no {check}: {v}"))
+            .clone()
+    };
+    let pitch = result("pitch");
+    assert_eq!(
+        pitch["circular"], "pitch_offset_deg has a range taken from this check's own data",
+        "{pitch}"
+    );
+    assert!(
+        pitch["reason"]
+            .as_str()
+            .unwrap()
+            .ends_with("so the verdict is reported apart and is no evidence."),
+        "{pitch}"
+    );
+    assert!(result("damping")["circular"].is_null());
+    let (code, text, err) = cierva_in(&dir, &args[..4]);
+    assert_eq!(code, 0, "{text}{err}");
+    assert!(
+        text.contains(
+            "apart, 1 circular (judged with an input range taken from their own data: no evidence)"
+        ),
+        "{text}"
+    );
+    let bad = circular.replace(
+        "'taken_from': ['model/pitch']",
+        "'taken_from': ['model/pitch check']",
+    );
+    std::fs::write(dir.join("cases/model.py"), bad).unwrap();
+    let (code, out, err) = cierva_in(&dir, &args);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("its range's `taken_from[0]`: `model/pitch check` is not a case id or `case-id/check-id`"),
+        "{err}"
+    );
+}

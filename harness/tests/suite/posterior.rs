@@ -510,6 +510,7 @@ fn inputs_of_one_method_are_drawn_at_one_quantile() {
         distribution,
         source: "a test".into(),
         moves: vec![],
+        taken_from: vec![],
     };
     let fin = InputDistribution::Uniform {
         lower: 1.7,

@@ -1047,6 +1047,7 @@ fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
                 passes_percent: 63,
                 flipped_by: names(&["fin.area_m2"]),
             }],
+            circular: Vec::new(),
         },
     );
     cases.insert(
@@ -1062,6 +1063,7 @@ fn small_summary() -> cierva_harness::uncertainty::summary::Summary {
             no_data_uncertainty: Vec::new(),
             without_verdict: names(&["trends stick", "trends nose"]),
             fragile: Vec::new(),
+            circular: Vec::new(),
         },
     );
     Summary {
