@@ -247,25 +247,9 @@ fn write_plan(
     corrections: &[PathBuf],
     settings: PropagationSettings,
 ) -> Result<ExitCode, Error> {
-    use cierva_harness::plan::{self, StudySettings};
-    let study = StudySettings {
-        samples: settings.samples,
-        seed: settings.seed,
-        method: settings.method,
-        validation_only: settings.validation_only,
-    };
-    let file = plan::write(dir, cases, corrections, study).map_err(Error::from)?;
-    let d = dir.display();
-    println!(
-        "wrote {}: {} evaluations of {} in {} groups (a group shares a model's answers: the unit a shard takes)\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N (one command a worker: a Slurm job array, Dask; docs/scaling.md), then `cierva uncertainty --from-plan {d}`",
-        plan::plan_path(dir).display(),
-        file.evaluations.len(),
-        match file.cases.len() {
-            1 => "1 case".to_string(),
-            n => format!("{n} cases"),
-        },
-        file.groups
-    );
+    use cierva_harness::plan;
+    let file = plan::write(dir, cases, corrections, settings.into()).map_err(Error::from)?;
+    println!("{}", plan::next_steps(dir, &file, "uncertainty"));
     Ok(ExitCode::SUCCESS)
 }
 

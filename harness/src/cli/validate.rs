@@ -42,6 +42,20 @@ pub(crate) struct ValidateArgs {
     /// With --uncertainty: the Sobol' sequence's seed.
     #[arg(long, default_value_t = 0, requires = "uncertainty")]
     seed: u32,
+    /// With --uncertainty: write the studies' evaluations as a plan in DIR and stop, to run on
+    /// an engine in shards (`cierva evaluate DIR --shard I/N`), then finish with --from-plan
+    /// (docs/scaling.md).
+    #[arg(
+        long,
+        value_name = "DIR",
+        requires = "uncertainty",
+        conflicts_with = "from_plan"
+    )]
+    plan: Option<PathBuf>,
+    /// With --uncertainty: the run's checks as usual, each case's uncertainty from a plan's
+    /// results (written by --plan, its shards run); the plan's samples and seed.
+    #[arg(long, value_name = "DIR", requires = "uncertainty", conflicts_with_all = ["samples", "seed"])]
+    from_plan: Option<PathBuf>,
     /// Write the run as JUnit XML to this file (one testcase per check, the class as the
     /// suite), for CI.
     #[arg(long)]
@@ -117,6 +131,14 @@ pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
         method: propagate::Propagation::Auto,
     });
     let selection = Selection::of(&a)?;
+    if let (Some(dir), Some(settings)) = (&a.plan, uncertainty) {
+        return write_plan(dir, &a.paths, &a.corrections, settings, &selection);
+    }
+    let uncertainty = match (&a.from_plan, uncertainty) {
+        (Some(dir), Some(_)) => Some(Uncertainty::FromPlan(dir.clone())),
+        (None, Some(settings)) => Some(Uncertainty::Run(settings)),
+        (_, None) => None,
+    };
     let report_dir = (!a.no_report).then_some(a.report_dir.clone());
     validate_with(
         a.paths,
@@ -128,6 +150,104 @@ pub(crate) fn validate(a: ValidateArgs) -> Result<ExitCode, Error> {
     )
 }
 
+/// Where a run's uncertainty comes from: computed here with these settings, or from a plan's
+/// results.
+enum Uncertainty {
+    Run(cierva_harness::uncertainty::propagate::PropagationSettings),
+    FromPlan(PathBuf),
+}
+
+/// `validate --uncertainty --plan DIR`: the studies of the cases (with the corrections) written
+/// as a plan, as `cierva uncertainty --plan` writes them, and what to run next. A plan is of
+/// whole cases: `-k` and `--class` are refused.
+fn write_plan(
+    dir: &std::path::Path,
+    paths: &[PathBuf],
+    corrections: &[PathBuf],
+    settings: cierva_harness::uncertainty::propagate::PropagationSettings,
+    selection: &Selection,
+) -> Result<ExitCode, Error> {
+    if !selection.everything() {
+        return Err(Error::input(
+            "--plan: a plan is of whole cases; give case paths, not -k or --class (--from-plan then takes them)",
+        ));
+    }
+    let suite = suite()?;
+    let paths = match paths.is_empty() {
+        true => vec![suite.cases().to_path_buf()],
+        false => paths.to_vec(),
+    };
+    let (correction_files, loaded, _, _) = inputs(&suite, &paths, corrections)?;
+    let mut cases = Vec::new();
+    for case in loaded {
+        let case = case.map_err(Error::from)?;
+        let (c, _) = cierva_harness::suite::case::with_corrections(&case, &correction_files)
+            .map_err(|e| Error::input(format!("the corrections {e}")))?;
+        cases.push(c);
+    }
+    use cierva_harness::plan;
+    let file = plan::write(dir, &cases, corrections, settings.into()).map_err(Error::from)?;
+    println!("{}", plan::next_steps(dir, &file, "validate --uncertainty"));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Each case's uncertainty from the plan in `dir`: every case of the run must be one of the
+/// plan's, with the same corrections; a case's quantities are kept for the checks the run
+/// took (`-k`, `--class`).
+fn attach_from_plan(
+    run: &mut cierva_harness::report::Run,
+    dir: &std::path::Path,
+    corrections: &[PathBuf],
+) -> Result<(), Error> {
+    use cierva_harness::plan;
+    let loaded = plan::load(&plan::enter(dir)?).map_err(Error::from)?;
+    let written = |c: &[PathBuf]| -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = c
+            .iter()
+            .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()))
+            .collect();
+        v.sort();
+        v
+    };
+    let planned: Vec<PathBuf> = loaded
+        .file
+        .corrections
+        .iter()
+        .map(|p| loaded.file.folder.join(p))
+        .collect();
+    if written(&planned) != written(corrections) {
+        return Err(Error::input(format!(
+            "--from-plan {}: the plan was written with --corrections [{}], this run applies [{}]: give the same corrections",
+            dir.display(),
+            show(&loaded.file.corrections),
+            show(corrections)
+        )));
+    }
+    let mut done = plan::finish(&loaded).map_err(Error::from)?;
+    for c in &mut run.cases {
+        let id = &c.ran.case.id;
+        let Some(k) = done.iter().position(|(u, _)| u.case == *id) else {
+            return Err(Error::input(format!(
+                "--from-plan {}: case `{id}` ({}) is not in the plan (it holds {}): write the plan for the cases this run takes",
+                dir.display(),
+                c.ran.case.path.display(),
+                loaded
+                    .file
+                    .cases
+                    .iter()
+                    .map(|p| format!("`{}`", p.id))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        };
+        let (mut u, _) = done.swap_remove(k);
+        let ran: Vec<&str> = c.ran.results.iter().map(|r| r.check.as_str()).collect();
+        u.results.retain(|q| ran.contains(&q.check.as_str()));
+        c.uncertainty = Some(u);
+    }
+    Ok(())
+}
+
 /// `validate` with its arguments checked: the report's folder (`None`: no report; `Some(None)`:
 /// the suite's) and the uncertainty's settings (`None`: none).
 fn validate_with(
@@ -135,7 +255,7 @@ fn validate_with(
     corrections: Vec<PathBuf>,
     (format, junit): (Format, Option<PathBuf>),
     report_dir: Option<Option<PathBuf>>,
-    uncertainty: Option<cierva_harness::uncertainty::propagate::PropagationSettings>,
+    uncertainty: Option<Uncertainty>,
     selection: &Selection,
 ) -> Result<ExitCode, Error> {
     let started = std::time::Instant::now();
@@ -151,10 +271,12 @@ fn validate_with(
     let loaded = selected(loaded, selection)?;
     let (mut run, corrected, errors, judged) =
         run_cases(&loaded, &correction_files, selection, &board);
-    if let Some(settings) = uncertainty
-        && let Err(e) = attach_uncertainty(&mut run, settings)
-    {
-        return Err(Error::input(e));
+    match &uncertainty {
+        Some(Uncertainty::Run(settings)) => {
+            attach_uncertainty(&mut run, *settings).map_err(Error::input)?;
+        }
+        Some(Uncertainty::FromPlan(dir)) => attach_from_plan(&mut run, dir, &corrections)?,
+        None => {}
     }
     run.input_errors = errors.clone();
     run.corrections = correction_files

@@ -248,6 +248,33 @@ pub struct LoadedPlan {
     pub fit: Option<Box<crate::fit::file::FitFile>>,
 }
 
+impl From<PropagationSettings> for StudySettings {
+    fn from(s: PropagationSettings) -> Self {
+        Self {
+            samples: s.samples,
+            seed: s.seed,
+            method: s.method,
+            validation_only: s.validation_only,
+        }
+    }
+}
+
+/// What a plan just written in `dir` holds and what to run next: its shards, then `cierva
+/// <finish> --from-plan DIR` (`uncertainty`, `validate --uncertainty`).
+pub fn next_steps(dir: &Path, file: &PlanFile, finish: &str) -> String {
+    let d = dir.display();
+    format!(
+        "wrote {}: {} evaluations of {} in {} groups (a group shares a model's answers: the unit a shard takes)\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N (one command a worker: a Slurm job array, Dask; docs/scaling.md), then `cierva {finish} --from-plan {d}`",
+        plan_path(dir).display(),
+        file.evaluations.len(),
+        match file.cases.len() {
+            1 => "1 case".to_string(),
+            n => format!("{n} cases"),
+        },
+        file.groups
+    )
+}
+
 /// The path of the plan in `dir`.
 pub fn plan_path(dir: &Path) -> PathBuf {
     dir.join("plan.yaml")

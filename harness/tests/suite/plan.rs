@@ -425,3 +425,113 @@ fn a_fit_through_plans_is_the_fit_on_one_machine() {
         "{err}"
     );
 }
+
+/// `validate --uncertainty --plan DIR` writes the plan `uncertainty --plan` would, and says
+/// how to finish it; its shards run, `validate --uncertainty --from-plan DIR` gives the
+/// one-machine run's uncertainty, number for number. A plan is of whole cases (`-k` refused
+/// with `--plan`), its samples are its own (`--samples` refused with `--from-plan`), and its
+/// corrections must be the run's.
+#[test]
+fn validate_with_uncertainty_runs_through_a_plan() {
+    let dir = fresh("validate");
+    let case = instant_model(&dir);
+    std::fs::copy(
+        repo_root().join("examples/distributed/slow-model/cierva.toml"),
+        dir.join("cierva.toml"),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&case).unwrap();
+    std::fs::write(
+        &case,
+        text.replace("class: regression", "class: validation"),
+    )
+    .unwrap();
+    let json = |args: &[&str]| -> serde_json::Value {
+        let (code, out, err) = cierva_in(&dir, args);
+        assert!(code == 0 || code == 1, "{args:?}: exit {code}\n{out}{err}");
+        let mut v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let u = v["uncertainty"].take();
+        assert!(
+            u.is_array() || u.is_object(),
+            "{args:?}: no uncertainty in {out}"
+        );
+        u
+    };
+    let run = [
+        "validate",
+        "--uncertainty",
+        "--no-report",
+        "--format",
+        "json",
+    ];
+    let one = json(&[&run[..], &["--samples", "8"]].concat());
+    let (code, out, err) = cierva_in(
+        &dir,
+        &["validate", "--uncertainty", "--samples", "8", "--plan", "p"],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("then `cierva validate --uncertainty --from-plan p`"),
+        "{out}"
+    );
+    for shard in ["2/2", "1/2"] {
+        let (code, _, err) = cierva_in(&dir, &["evaluate", "p", "--shard", shard]);
+        assert_eq!(code, 0, "{err}");
+    }
+    let merged = json(&[&run[..], &["--from-plan", "p"]].concat());
+    assert_eq!(strip_seconds(merged), strip_seconds(one));
+    let other = repo_root().join("corrections/seed000-vpm-m16.yaml");
+    let other = other.to_str().unwrap();
+    for (args, want) in [
+        (
+            &["validate", "--uncertainty", "--plan", "q", "-k", "pitch"][..],
+            "a plan is of whole cases",
+        ),
+        (
+            &[
+                "validate",
+                "--uncertainty",
+                "--from-plan",
+                "p",
+                "--samples",
+                "16",
+            ][..],
+            "cannot be used with",
+        ),
+        (
+            &[
+                "validate",
+                "--uncertainty",
+                "--from-plan",
+                "p",
+                "--corrections",
+                other,
+            ][..],
+            "the plan was written with --corrections []",
+        ),
+    ] {
+        let (code, out, err) = cierva_in(&dir, args);
+        assert_eq!(code, 2, "{args:?}\n{out}{err}");
+        assert!(err.contains(want), "{args:?}: no `{want}` in\n{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A JSON value with every `seconds` field taken out (wall times differ between runs).
+fn strip_seconds(mut v: serde_json::Value) -> serde_json::Value {
+    match &mut v {
+        serde_json::Value::Object(m) => {
+            m.remove("seconds");
+            for x in m.values_mut() {
+                *x = strip_seconds(x.take());
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for x in a.iter_mut() {
+                *x = strip_seconds(x.take());
+            }
+        }
+        _ => {}
+    }
+    v
+}
