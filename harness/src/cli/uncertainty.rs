@@ -330,6 +330,10 @@ fn text_of(u: &CaseUncertainty, (seconds, summed): (f64, bool), samples: usize) 
             (None, true) => "-, FRAGILE".into(),
             (None, false) => "-".into(),
         };
+        let verdict = match r.circular {
+            Some(_) => format!("{verdict}, CIRCULAR"),
+            None => verdict,
+        };
         let top = r.contributors.first().map_or("-".to_string(), |c| {
             format!("{} ({})", c.input, c.total_in_words(samples))
         });

@@ -191,31 +191,42 @@ fn write_plan(
     Ok(ExitCode::SUCCESS)
 }
 
-/// Each case's uncertainty from the plan in `dir`: every case of the run must be one of the
-/// plan's, with the same corrections; a case's quantities are kept for the checks the run
-/// took (`-k`, `--class`).
-fn attach_from_plan(
-    run: &mut cierva_harness::report::Run,
+/// How near a plan's nominal value of a quantity must be to the run's, relative: the same
+/// computation on the same inputs gives the same number, so anything beyond rounding says the
+/// plan is of another case, model or build.
+const PLAN_NOMINAL_MATCH: f64 = 1e-9;
+
+/// The finished studies of the plan in `dir`, checked before the run takes its time: a plan of
+/// `validate --uncertainty` (validation checks, the automatic method), written with the same
+/// corrections. Read without leaving the working folder (the run's paths stay its own).
+fn studies_from_plan(
     dir: &std::path::Path,
     corrections: &[PathBuf],
-) -> Result<(), Error> {
-    use cierva_harness::plan;
-    let loaded = plan::load(&plan::enter(dir)?).map_err(Error::from)?;
-    let written = |c: &[PathBuf]| -> Vec<PathBuf> {
-        let mut v: Vec<PathBuf> = c
-            .iter()
-            .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()))
+) -> Result<Vec<cierva_harness::uncertainty::propagate::CaseUncertainty>, Error> {
+    use cierva_harness::plan::{self, PlannedStudy};
+    use cierva_harness::uncertainty::propagate::Propagation;
+    let at = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
+    let loaded = plan::load(&at).map_err(Error::from)?;
+    match &loaded.file.study {
+        PlannedStudy::Uncertainty(s) if s.validation_only && s.method == Propagation::Auto => {}
+        _ => {
+            return Err(Error::input(format!(
+                "--from-plan {}: not a plan of `validate --uncertainty` (its validation checks, the automatic method): write it with `cierva validate --uncertainty --plan`, or finish it with `cierva uncertainty --from-plan`",
+                dir.display()
+            )));
+        }
+    }
+    let canonical = |c: Vec<PathBuf>| -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = (c.into_iter())
+            .map(|p| std::fs::canonicalize(&p).unwrap_or(p))
             .collect();
         v.sort();
         v
     };
-    let planned: Vec<PathBuf> = loaded
-        .file
-        .corrections
-        .iter()
+    let planned: Vec<PathBuf> = (loaded.file.corrections.iter())
         .map(|p| loaded.file.folder.join(p))
         .collect();
-    if written(&planned) != written(corrections) {
+    if canonical(planned) != canonical(corrections.to_vec()) {
         return Err(Error::input(format!(
             "--from-plan {}: the plan was written with --corrections [{}], this run applies [{}]: give the same corrections",
             dir.display(),
@@ -223,26 +234,53 @@ fn attach_from_plan(
             show(corrections)
         )));
     }
-    let mut done = plan::finish(&loaded).map_err(Error::from)?;
+    let done = plan::finish(&loaded).map_err(Error::from)?;
+    Ok(done.into_iter().map(|(u, _)| u).collect())
+}
+
+/// Each case's uncertainty from a plan's studies (`studies_from_plan`): every case of the run
+/// must be one of the plan's, its quantities kept for the checks the run took (`-k`,
+/// `--class`), and each nominal value the run's within [`PLAN_NOMINAL_MATCH`].
+fn attach_from_plan(
+    run: &mut cierva_harness::report::Run,
+    dir: &std::path::Path,
+    mut done: Vec<cierva_harness::uncertainty::propagate::CaseUncertainty>,
+) -> Result<(), Error> {
+    let held: Vec<String> = done.iter().map(|u| format!("`{}`", u.case)).collect();
     for c in &mut run.cases {
         let id = &c.ran.case.id;
-        let Some(k) = done.iter().position(|(u, _)| u.case == *id) else {
+        let Some(k) = done.iter().position(|u| u.case == *id) else {
             return Err(Error::input(format!(
                 "--from-plan {}: case `{id}` ({}) is not in the plan (it holds {}): write the plan for the cases this run takes",
                 dir.display(),
                 c.ran.case.path.display(),
-                loaded
-                    .file
-                    .cases
-                    .iter()
-                    .map(|p| format!("`{}`", p.id))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                held.join(", ")
             )));
         };
-        let (mut u, _) = done.swap_remove(k);
-        let ran: Vec<&str> = c.ran.results.iter().map(|r| r.check.as_str()).collect();
-        u.results.retain(|q| ran.contains(&q.check.as_str()));
+        let mut u = done.swap_remove(k);
+        u.results
+            .retain(|q| c.ran.results.iter().any(|r| r.check == q.check));
+        for q in &u.results {
+            let value = (c.ran.results.iter())
+                .filter(|r| r.check == q.check)
+                .flat_map(|r| &r.quantities)
+                .find(|x| x.quantity == q.quantity)
+                .map(|x| x.value);
+            let near = value.is_some_and(|v| {
+                v == q.nominal
+                    || (v - q.nominal).abs() <= PLAN_NOMINAL_MATCH * v.abs().max(q.nominal.abs())
+            });
+            if !near && q.quantity != "passes" {
+                return Err(Error::input(format!(
+                    "--from-plan {}: `{id}::{}` {}: the plan's nominal value is {}, this run's {}: the plan is of another case, model or build; write it again",
+                    dir.display(),
+                    q.check,
+                    q.quantity,
+                    q.nominal,
+                    value.map_or("none".to_string(), |v| v.to_string())
+                )));
+            }
+        }
         c.uncertainty = Some(u);
     }
     Ok(())
@@ -268,15 +306,19 @@ fn validate_with(
     };
     let report_dir = report_dir.map(|d| d.unwrap_or_else(|| suite.reports().to_path_buf()));
     let (correction_files, loaded, board, log) = inputs(&suite, &paths, &corrections)?;
+    // A plan's studies are read and checked before the run.
+    let planned = match &uncertainty {
+        Some(Uncertainty::FromPlan(dir)) => Some((dir, studies_from_plan(dir, &corrections)?)),
+        _ => None,
+    };
     let loaded = selected(loaded, selection)?;
     let (mut run, corrected, errors, judged) =
         run_cases(&loaded, &correction_files, selection, &board);
-    match &uncertainty {
-        Some(Uncertainty::Run(settings)) => {
-            attach_uncertainty(&mut run, *settings).map_err(Error::input)?;
-        }
-        Some(Uncertainty::FromPlan(dir)) => attach_from_plan(&mut run, dir, &corrections)?,
-        None => {}
+    if let Some(Uncertainty::Run(settings)) = &uncertainty {
+        attach_uncertainty(&mut run, *settings).map_err(Error::input)?;
+    }
+    if let Some((dir, done)) = planned {
+        attach_from_plan(&mut run, dir, done)?;
     }
     run.input_errors = errors.clone();
     run.corrections = correction_files
@@ -619,17 +661,30 @@ fn attach_uncertainty(
             },
             &format!("uncertainty {}", c.ran.case.id),
         );
-        let u = cierva_harness::uncertainty::study::propagate_from(
-            &c.ran.case,
-            &c.ran.results,
-            settings,
-            || bar.inc(1),
-        )
-        .map_err(|e| format!("{}: {e}", c.ran.case.path.display()))?;
+        // The study of the checks the run took (`-k`, `--class`), each with its own nominal
+        // result: a study pairs a case's checks with their results in order.
+        let (case, nominal) = ran_checks(&c.ran.case, &c.ran.results);
+        let u =
+            cierva_harness::uncertainty::study::propagate_from(&case, &nominal, settings, || {
+                bar.inc(1)
+            })
+            .map_err(|e| format!("{}: {e}", c.ran.case.path.display()))?;
         bar.finish_and_clear();
         c.uncertainty = Some(u);
     }
     Ok(())
+}
+
+/// The case with only the checks a run took, in the case's order, and their results in that
+/// order (matched by check id).
+fn ran_checks(case: &case::Case, results: &[CheckResult]) -> (case::Case, Vec<CheckResult>) {
+    let mut kept = case.clone();
+    kept.checks
+        .retain(|k| results.iter().any(|r| r.check == k.id));
+    let nominal = (kept.checks.iter())
+        .filter_map(|k| results.iter().find(|r| r.check == k.id).cloned())
+        .collect();
+    (kept, nominal)
 }
 
 /// The results as JSON, each with its quantities' uncertainty under `uncertainty` when it was
@@ -674,7 +729,7 @@ fn print_uncertainty(run: &cierva_harness::report::Run) {
     println!("\nuncertainty (ASME V&V 20; validation quantities):");
     for c in &cases {
         let k = VerdictCounts::of(&c.results);
-        if k.total() > 0 {
+        if k.total() + k.apart() > 0 {
             println!("  {:48} {}", c.case, k.describe());
         }
     }

@@ -709,7 +709,7 @@ pub fn markdown(run: &Run) -> String {
             .filter_map(|c| c.uncertainty.as_ref())
             .flat_map(|u| &u.results),
     );
-    if verdicts.total() > 0 {
+    if verdicts.total() + verdicts.apart() > 0 {
         let _ = writeln!(
             m,
             "\nUncertainty (ASME V&V 20), validation quantities: {}.",

@@ -69,7 +69,11 @@ fn verdict_cell(r: &QuantityUncertainty) -> String {
     format!(
         "<td class=\"{class}\" title=\"{}\">{label}{}</td>",
         esc(&r.reason),
-        if r.fragile { ", fragile" } else { "" }
+        match (r.fragile, r.circular.is_some()) {
+            (_, true) => ", circular: no evidence",
+            (true, false) => ", fragile",
+            (false, false) => "",
+        }
     )
 }
 

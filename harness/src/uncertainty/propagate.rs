@@ -684,6 +684,7 @@ fn check_results(
         if verdict_only {
             r.reason = "no verdict: a check of a verdict (BCAR, a mode's class) has no number to compare; the quantity `passes` is 1 where it passes, and its indices say which inputs flip it".into();
         }
+        mark_circular(&mut r, inputs);
         out.push(r);
     }
     let pass_fraction = if evaluated.is_empty() {
@@ -922,7 +923,6 @@ fn summarise(
         out.failure_causes = causes.to_vec();
     }
     judge(&mut out, q, Interval::Sampled);
-    mark_circular(&mut out, inputs);
     out
 }
 
@@ -1281,6 +1281,11 @@ impl VerdictCounts {
             c.fragile += usize::from(r.fragile);
         }
         c
+    }
+
+    /// Validation quantities counted apart from the verdicts: calibrated on, or circular.
+    pub fn apart(&self) -> usize {
+        self.calibrated_on + self.circular
     }
 
     /// Validation quantities counted.

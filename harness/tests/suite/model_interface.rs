@@ -2507,8 +2507,8 @@ fn a_fit_of_a_trim_only_model_reports_no_modes_in_words() {
 
 /// A range taken from the data it is judged against (`taken_from`) makes that check's verdict
 /// circular: reported apart with the input named, never counted as validation evidence; a
-/// check whose inputs' ranges come from elsewhere is judged as before. A `taken_from` that names
-/// no case or check is a located error.
+/// check whose inputs' ranges come from elsewhere is judged as before. A `taken_from` entry that
+/// is not a case id or `case/check` is a located error.
 #[test]
 fn a_range_taken_from_the_data_it_is_judged_against_makes_a_circular_verdict() {
     super::external::require_python3();

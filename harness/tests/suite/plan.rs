@@ -440,12 +440,16 @@ fn validate_with_uncertainty_runs_through_a_plan() {
         dir.join("cierva.toml"),
     )
     .unwrap();
-    let text = std::fs::read_to_string(&case).unwrap();
-    std::fs::write(
-        &case,
-        text.replace("class: regression", "class: validation"),
-    )
-    .unwrap();
+    // A regression check ahead of the validation one: `--class validation` then runs the
+    // second of the case's checks alone.
+    let text = std::fs::read_to_string(&case)
+        .unwrap()
+        .replace("class: regression", "class: validation")
+        .replace(
+            "checks:\n",
+            "checks:\n  - id: pitch-60mph\n    class: regression\n    description: the stand-in's pitch at 60 mph (synthetic)\n    kind: trim\n    condition: {airspeed_mph: 60.0}\n    expect:\n      pitch_deg: {value: 3.95, tolerance: made-up}\n",
+        );
+    std::fs::write(&case, text).unwrap();
     let json = |args: &[&str]| -> serde_json::Value {
         let (code, out, err) = cierva_in(&dir, args);
         assert!(code == 0 || code == 1, "{args:?}: exit {code}\n{out}{err}");
@@ -455,7 +459,13 @@ fn validate_with_uncertainty_runs_through_a_plan() {
             u.is_array() || u.is_object(),
             "{args:?}: no uncertainty in {out}"
         );
-        u
+        // The validation check's quantities, with the case's summary.
+        let check = (v["results"].as_array().unwrap().iter())
+            .find(|r| r["check"] == "pitch-70mph")
+            .map(|r| r["uncertainty"].clone())
+            .unwrap_or_else(|| panic!("{args:?}: no pitch-70mph in {out}"));
+        assert!(check.to_string().contains("u_input"), "{check}");
+        serde_json::json!({"case": u, "check": check})
     };
     let run = [
         "validate",
@@ -479,7 +489,13 @@ fn validate_with_uncertainty_runs_through_a_plan() {
         assert_eq!(code, 0, "{err}");
     }
     let merged = json(&[&run[..], &["--from-plan", "p"]].concat());
-    assert_eq!(strip_seconds(merged), strip_seconds(one));
+    assert_eq!(strip_seconds(merged), strip_seconds(one.clone()));
+    // A run of some of a case's checks studies those, each with its own nominal result (it
+    // studied none when the validation check was not the case's first).
+    let selected = json(&[&run[..], &["--samples", "8", "--class", "validation"]].concat());
+    assert_eq!(strip_seconds(selected), strip_seconds(one.clone()));
+    let narrowed = json(&[&run[..], &["--from-plan", "p", "--class", "validation"]].concat());
+    assert_eq!(strip_seconds(narrowed), strip_seconds(one.clone()));
     let other = repo_root().join("corrections/seed000-vpm-m16.yaml");
     let other = other.to_str().unwrap();
     for (args, want) in [
