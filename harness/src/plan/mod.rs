@@ -264,15 +264,18 @@ impl From<PropagationSettings> for StudySettings {
 pub fn next_steps(dir: &Path, file: &PlanFile, finish: &str) -> String {
     let d = dir.display();
     format!(
-        "wrote {}: {} evaluations of {} in {} groups (a group shares a model's answers: the unit a shard takes)\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N (one command a worker: a Slurm job array, Dask; docs/scaling.md), then `cierva {finish} --from-plan {d}`",
+        "wrote {}: {} of {} in {} (a group shares a model's answers: the unit a shard takes)\nnext: `cierva evaluate {d} --shard I/N` for I = 1 to N, N at most {} (one command a worker: a Slurm job array, Dask; docs/scaling.md), then `cierva {finish} --from-plan {d}`",
         plan_path(dir).display(),
-        file.evaluations.len(),
-        match file.cases.len() {
-            1 => "1 case".to_string(),
-            n => format!("{n} cases"),
-        },
+        counted(file.evaluations.len(), "evaluation", "evaluations"),
+        counted(file.cases.len(), "case", "cases"),
+        counted(file.groups, "group", "groups"),
         file.groups
     )
+}
+
+/// `n` and the noun, singular for one.
+fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 /// The path of the plan in `dir`.
@@ -797,8 +800,14 @@ pub fn evaluate(
     let mine = shard_evaluations(plan, shard);
     if n > plan.file.groups {
         return Err(PlanError::Input(format!(
-            "--shard {i}/{n}: the plan has {} groups of evaluations (the unit a shard takes), so at most {} shards",
-            plan.file.groups, plan.file.groups
+            "--shard {i}/{n}: the plan has {} of evaluations (the unit a shard takes), so at most {} {}",
+            counted(plan.file.groups, "group", "groups"),
+            plan.file.groups,
+            if plan.file.groups == 1 {
+                "shard: --shard 1/1"
+            } else {
+                "shards"
+            }
         )));
     }
     let report = |already_done: usize| ShardReport {
