@@ -272,6 +272,24 @@ pub fn inputs(case: &Case) -> Result<Vec<Input>, String> {
         })
         .collect();
     declared.sort_by(|a, b| a.name.cmp(&b.name));
+    // A range taken from one of this case's checks names a check the case has.
+    for i in &declared {
+        for t in &i.taken_from {
+            if let Some((c, check)) = t.split_once('/')
+                && c == case.id
+                && !case.checks.iter().any(|k| k.id == check)
+            {
+                return Err(format!(
+                    "`{}`'s range is `taken_from` `{t}`, but case `{c}` has no check `{check}` (its checks: {})",
+                    i.name,
+                    (case.checks.iter())
+                        .map(|k| k.id.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+        }
+    }
     // A calibration's fitted parameters are no longer priors: drawn from its fit's joint
     // distribution, not from their ranges (nor with a method's shared error).
     let posteriors: Vec<_> = (case.calibrations.iter())

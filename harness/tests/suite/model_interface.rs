@@ -2508,7 +2508,7 @@ fn a_fit_of_a_trim_only_model_reports_no_modes_in_words() {
 /// A range taken from the data it is judged against (`taken_from`) makes that check's verdict
 /// circular: reported apart with the input named, never counted as validation evidence; a
 /// check whose inputs' ranges come from elsewhere is judged as before. A `taken_from` entry that
-/// is not a case id or `case/check` is a located error.
+/// names a check the case does not have, or is not a case id or `case/check`, is an error.
 #[test]
 fn a_range_taken_from_the_data_it_is_judged_against_makes_a_circular_verdict() {
     super::external::require_python3();
@@ -2568,6 +2568,17 @@ fn a_range_taken_from_the_data_it_is_judged_against_makes_a_circular_verdict() {
             "apart, 1 circular (judged with an input range taken from their own data: no evidence)"
         ),
         "{text}"
+    );
+    let typo = circular.replace(
+        "'taken_from': ['model/pitch']",
+        "'taken_from': ['model/pich']",
+    );
+    std::fs::write(dir.join("cases/model.py"), typo).unwrap();
+    let (code, out, err) = cierva_in(&dir, &args);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("`pitch_offset_deg`'s range is `taken_from` `model/pich`, but case `model` has no check `pich` (its checks: damping, pitch)"),
+        "{err}"
     );
     let bad = circular.replace(
         "'taken_from': ['model/pitch']",
