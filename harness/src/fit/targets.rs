@@ -580,13 +580,9 @@ pub fn evaluate_each_from(
     p: &[f64],
     from: &ConditionStarts,
 ) -> Result<PointEvaluation, String> {
-    match &problem.executor {
-        crate::fit::Executor::Local => evaluate_each_here_from(problem, p, from),
-        crate::fit::Executor::Batches(b) => b
-            .evaluate_batch(problem, &[p.to_vec()], from)
-            .pop()
-            .unwrap_or_else(|| Err("the batch returned no evaluation".into())),
-    }
+    evaluate_many(problem, &[p.to_vec()], from)
+        .pop()
+        .unwrap_or_else(|| Err("the batch returned no evaluation".into()))
 }
 
 /// [`evaluate_each`] at each of `points`: one batch where the problem's executor sends its

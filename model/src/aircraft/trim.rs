@@ -700,6 +700,19 @@ mod tests {
         assert_eq!(again.controls, cold.controls);
     }
 
+    /// The gyroplane 5 kg heavier at 31.3 m/s, trimmed from `start`.
+    fn heavier_from(start: &WarmStart) -> Trim {
+        let mut heavier = gyroplane();
+        heavier.mass.mass_kg += 5.0;
+        trim_from(
+            &heavier,
+            condition(31.3),
+            TrimOptions::default(),
+            Some(start),
+        )
+        .unwrap()
+    }
+
     /// A warm start carried as numbers ([`StartPoint`]) is the start it came from, less its
     /// rotor solution: the trim from it is the trim from the start itself, bit for bit. A point
     /// that does not describe a start is refused, saying why.
@@ -716,17 +729,7 @@ mod tests {
                 ..first.warm_start.clone()
             }
         );
-        let mut heavier = gyroplane();
-        heavier.mass.mass_kg += 5.0;
-        let [from_start, from_point] = [&first.warm_start, &back].map(|start| {
-            trim_from(
-                &heavier,
-                condition(31.3),
-                TrimOptions::default(),
-                Some(start),
-            )
-            .unwrap()
-        });
+        let [from_start, from_point] = [&first.warm_start, &back].map(heavier_from);
         assert_eq!(from_start, from_point);
         let short = StartPoint {
             jacobian: Some(vec![vec![1.0; 2]; 2]),
@@ -758,15 +761,7 @@ mod tests {
             rotor: None,
             ..first.warm_start.clone()
         };
-        let [with, without] = [&first.warm_start, &bare].map(|start| {
-            trim_from(
-                &heavier,
-                condition(31.3),
-                TrimOptions::default(),
-                Some(start),
-            )
-            .unwrap()
-        });
+        let [with, without] = [&first.warm_start, &bare].map(heavier_from);
         assert_eq!(with, without);
         let mut other = gyroplane();
         other.main_rotor.rotor.flap_inertia_kg_m2 *= 1.01;
