@@ -4,6 +4,7 @@ use super::*;
 use cierva_harness::fit::retune::{self, RetuneParameter};
 use cierva_harness::inputs::corrections::CorrectionsFile;
 use cierva_harness::inputs::record;
+use cierva_harness::plan;
 use cierva_harness::suite::Suite;
 
 /// Retune corrections from flight records in one command: estimate each condition's frequency
@@ -18,6 +19,13 @@ use cierva_harness::suite::Suite;
 /// `cierva-external/2`) instead of the aircraft file; `--fit` then names the parameters the
 /// model declares, their bounds default to its declared ranges, and its responses come from
 /// its linear model's A and B at each record's condition.
+///
+/// For a model too slow for one machine, `--evaluate-with CMD` sends each batch of the fit's
+/// evaluations (the response points at a point; a Jacobian's steps together) through a plan of
+/// its own under `--plans DIR`, which CMD runs on an engine (`{plan}`: the batch's folder;
+/// `{shards}`: how many shards, at most `--shards`); the retune is the same bit for bit, and a
+/// retune run again reads the batches already done. The model's responses before and after the
+/// fit (one evaluation a condition each) run on this machine (docs/scaling.md).
 ///
 /// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
 /// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
@@ -68,6 +76,18 @@ pub(crate) struct RetuneArgs {
     pub(crate) no_validate: bool,
     #[arg(long, value_enum, default_value_t = Format::Text)]
     pub(crate) format: Format,
+    /// Run each batch of the fit's evaluations through a plan with this command, such as
+    /// `cierva evaluate {plan} --shard 1/1` or `python3 examples/distributed/run_dask.py {plan}
+    /// --shards {shards}` (default: this machine's threads).
+    #[arg(long, value_name = "CMD")]
+    pub(crate) evaluate_with: Option<String>,
+    /// With --evaluate-with: where the batches' plans go (default: `retune-plans/<output's
+    /// stem>` here).
+    #[arg(long, value_name = "DIR", requires = "evaluate_with")]
+    pub(crate) plans: Option<PathBuf>,
+    /// With --evaluate-with: the most shards a batch is run in.
+    #[arg(long, default_value_t = 2, requires = "evaluate_with")]
+    pub(crate) shards: usize,
 }
 
 pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
@@ -82,14 +102,26 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         .map(|p| record::load(p))
         .collect::<Result<Vec<_>, _>>()?;
     let requests = requests(&a.fit, &a.bounds).map_err(Error::input)?;
+    let output = or_in_suite(a.output.clone(), Suite::retuned, format!("{id}.yaml"))?;
+    let mut how = how(&a);
+    let engine = engine(&a, &output, &id)?;
+    if let Some(batches) = &engine {
+        how.executor = cierva_harness::fit::Executor::Batches(batches.clone());
+    }
     let busy = spinner("estimating the responses and fitting");
-    let outcome = retune::retune(retuned, &records, &requests, &how(&a));
+    let outcome = retune::retune(retuned, &records, &requests, &how);
     busy.finish_and_clear();
+    // A batch the engine left without results: the fit went on without it, so what it found is
+    // not the retune; nothing is written.
+    if let Some(failure) = engine.as_ref().and_then(|e| e.failure()) {
+        return Err(Error::failure(format!(
+            "the retune of {shown} through plans stopped: {failure}"
+        )));
+    }
     let r = outcome.map_err(|e| match e {
         retune::RetuneError::Input(m) => Error::input(m),
         retune::RetuneError::Model(_) => Error::failure(format!("{shown}: {e}")),
     })?;
-    let output = or_in_suite(a.output.clone(), Suite::retuned, format!("{id}.yaml"))?;
     let id = output
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -110,26 +142,8 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     busy.finish_and_clear();
     let comparisons =
         comparisons.map_err(|e| Error::input(format!("the responses before and after: {e}")))?;
-    let mut predictions = Vec::new();
-    for p in &a.predict {
-        let rec = record::load(p)?;
-        predictions.extend(
-            retune::predict(retuned, both, &rec)
-                .map_err(|e| Error::input(format!("predicting {}: {e}", p.display())))?,
-        );
-    }
-    let loaded = CorrectionsFile {
-        path: output.clone(),
-        id: id.clone(),
-        target: retuned.corrects(),
-        corrections: corrections.clone(),
-        not_applied_to: vec![],
-        // retune is not cross-validated: it states no predictive error.
-        predictive_error: None,
-        domain: spec.domain.clone(),
-        calibrated_on: spec.calibrated_on.clone(),
-        posterior: spec.posterior.clone(),
-    };
+    let predictions = predictions(&a.predict, retuned, both)?;
+    let loaded = written(&output, &id, retuned, &spec);
     let revalidation = if a.no_validate {
         None
     } else {
@@ -186,6 +200,68 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
         ),
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The corrections file just written, as `validate --corrections` would load it.
+fn written(
+    output: &Path,
+    id: &str,
+    retuned: retune::subject::Retuned<'_>,
+    spec: &cierva_harness::inputs::corrections::CorrectionsFileSpec,
+) -> CorrectionsFile {
+    CorrectionsFile {
+        path: output.to_path_buf(),
+        id: id.to_string(),
+        target: retuned.corrects(),
+        corrections: spec.corrections.clone(),
+        not_applied_to: vec![],
+        // retune is not cross-validated: it states no predictive error.
+        predictive_error: None,
+        domain: spec.domain.clone(),
+        calibrated_on: spec.calibrated_on.clone(),
+        posterior: spec.posterior.clone(),
+    }
+}
+
+/// The records `paths` (not used in the fit) predicted by `retuned` with each set of `both`.
+fn predictions(
+    paths: &[PathBuf],
+    retuned: retune::subject::Retuned<'_>,
+    both: [&cierva_harness::inputs::corrections::CorrectionSet; 2],
+) -> Result<Vec<retune::Prediction>, Error> {
+    let mut out = Vec::new();
+    for p in paths {
+        let rec = record::load(p)?;
+        out.extend(
+            retune::predict(retuned, both, &rec)
+                .map_err(|e| Error::input(format!("predicting {}: {e}", p.display())))?,
+        );
+    }
+    Ok(out)
+}
+
+/// With `--evaluate-with`: the batches through plans (under `--plans`, default
+/// `retune-plans/<output's stem>`) that the retune's fit sends its evaluations to.
+fn engine(
+    a: &RetuneArgs,
+    output: &Path,
+    id: &str,
+) -> Result<Option<std::sync::Arc<plan::fit::PlanBatches>>, Error> {
+    let Some(command) = &a.evaluate_with else {
+        return Ok(None);
+    };
+    let stem = output
+        .file_stem()
+        .map_or(id.to_string(), |s| s.to_string_lossy().into_owned());
+    let dir = (a.plans.clone()).unwrap_or_else(|| Path::new("retune-plans").join(stem));
+    let (kind, path) = match (&a.aircraft, &a.case) {
+        (Some(p), _) => (plan::fit::RetunedFile::Aircraft, p),
+        (None, Some(p)) => (plan::fit::RetunedFile::Case, p),
+        (None, None) => return Err(Error::input("give the aircraft file or --case")),
+    };
+    let batches = plan::fit::retune_batches((kind, path, id), &dir, command, a.shards)
+        .map_err(Error::input)?;
+    Ok(Some(std::sync::Arc::new(batches)))
 }
 
 /// What a retune corrects: cierva's aircraft file, or the model a case checks.
@@ -258,6 +334,7 @@ fn how(a: &RetuneArgs) -> retune::How {
             band_hz: (a.band_hz.len() == 2).then(|| [a.band_hz[0], a.band_hz[1]]),
             outputs: (!a.outputs.is_empty()).then(|| a.outputs.clone()),
         },
+        executor: cierva_harness::fit::Executor::Local,
     }
 }
 

@@ -1,13 +1,17 @@
-//! A fit's iterations through plans (`cierva fit --evaluate-with CMD`): each batch of the
-//! fit's evaluations (the targets at a point; a Jacobian's steps together) is written as a plan
-//! of its own, `DIR/batch-NNNN/`, one evaluation a condition and point; the command (an
-//! engine's, which runs `cierva evaluate` on the shards) is run on it; and the fit reads the
-//! results back ([`PlanBatches`], the fit module's [`crate::fit::BatchEvaluator`]).
+//! A fit's or a retune's iterations through plans (`cierva fit --evaluate-with CMD`, `cierva
+//! retune --evaluate-with CMD`): each batch of the fit's evaluations (the targets at a point; a
+//! Jacobian's steps together) is written as a plan of its own, `DIR/batch-NNNN/`, one
+//! evaluation a condition and point; the command (an engine's, which runs `cierva evaluate` on
+//! the shards) is run on it; and the fit reads the results back ([`PlanBatches`], the fit
+//! module's [`crate::fit::BatchEvaluator`]).
 //!
-//! An evaluation asks the fit file's subject for the targets at one condition with the
-//! parameters at one point, as [`crate::fit::evaluate_each_here`] does on this machine, so the
-//! fit is the same bit for bit. A batch already complete in `DIR` (a fit run again after it
-//! stopped) is read, not run again.
+//! An evaluation asks the subject for the targets at one condition with the parameters at one
+//! point, as [`crate::fit::evaluate_each_here`] does on this machine, so the fit is the same bit
+//! for bit. A fit's batch names its fit file, whose targets its evaluations name by place; a
+//! retune's targets come from its records, so its batch holds them ([`RetuneBatch`]: each
+//! response point, its condition and the records' other controls' transfers) beside the
+//! aircraft file or the case it retunes. A batch already complete in `DIR` (a fit run again
+//! after it stopped) is read, not run again.
 
 use super::{
     Evaluates, Evaluation, FORMAT, FitBatch, LoadedPlan, PlanError, PlanFile, PlannedCase,
@@ -15,6 +19,7 @@ use super::{
 };
 use crate::fit::file::FitFile;
 use crate::fit::{ConditionStarts, Problem, Target, TargetCondition};
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -49,13 +54,40 @@ pub fn fingerprint(f: &FitFile) -> String {
     format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
 }
 
-/// Every string under a `file` or `case` key of a YAML value, in order.
+/// What a retune's evaluations depend on, hashed (FNV-1a, 64 bits, hex): the aircraft file or
+/// the case it retunes, and every file that names by a `file`, `case` or `..._file` key (an
+/// aircraft's rotor files), read relative to it. A change to a simulation behind the protocol
+/// that leaves these files alone is not seen.
+pub fn file_fingerprint(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let mut bytes = text.clone().into_bytes();
+    let here = path.parent().unwrap_or(Path::new("."));
+    let mut named: Vec<PathBuf> = Vec::new();
+    if let Ok(value) = serde_yaml::from_str::<serde_yaml::Value>(&text) {
+        named_files(&value, &mut named);
+    }
+    let mut files: Vec<PathBuf> = Vec::new();
+    for p in named.iter().map(|p| here.join(p)) {
+        if !files.contains(&p) {
+            files.push(p);
+        }
+    }
+    for p in files {
+        bytes.extend(std::fs::read(p).unwrap_or_default());
+    }
+    format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
+}
+
+/// Every string under a `file`, `case` or `..._file` key of a YAML value, in order.
 fn named_files(value: &serde_yaml::Value, out: &mut Vec<PathBuf>) {
     use serde_yaml::Value;
     match value {
         Value::Mapping(m) => {
             for (k, v) in m {
-                if let (Some("file" | "case"), Value::String(p)) = (k.as_str(), v) {
+                let named = k
+                    .as_str()
+                    .is_some_and(|k| k == "file" || k == "case" || k.ends_with("_file"));
+                if let (true, Value::String(p)) = (named, v) {
                     out.push(PathBuf::from(p));
                 }
                 named_files(v, out);
@@ -71,18 +103,202 @@ fn all_targets(f: &FitFile) -> Vec<&Target> {
     f.problem.targets.iter().chain(&f.predict).collect()
 }
 
-/// A batch's evaluations checked against its fit file: each names targets it has, all at one
-/// condition, and a value for each of its parameters; each its own group. The field at fault
-/// (`evaluations[k]`) and why.
-pub(super) fn check_evaluations(
-    f: &FitFile,
-    evaluations: &[Evaluation],
-) -> Result<(), (String, String)> {
-    check_each(f, evaluations).map_err(|(k, m)| (format!("evaluations[{k}]"), m))
+/// The fit file's problem with its targets and then its predictions as its targets, evaluated
+/// on this machine: what a fit's batch's evaluations name by place.
+pub(super) fn every_target(f: &FitFile) -> Problem {
+    let mut problem = f.problem.clone();
+    problem.targets = all_targets(f).into_iter().cloned().collect();
+    problem.executor = crate::fit::Executor::Local;
+    problem
 }
 
-fn check_each(f: &FitFile, evaluations: &[Evaluation]) -> Result<(), (usize, String)> {
-    let all = all_targets(f);
+/// A batch of a retune's evaluations: what it retunes (`cases[0]` of the plan), the parameters
+/// by name, and the response points its evaluations name by place.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RetuneBatch {
+    /// The batch's number in the retune, from 1.
+    pub batch: usize,
+    pub retuned: RetunedFile,
+    /// The parameters as `cierva retune --fit` names them, in the order of each evaluation's
+    /// values.
+    pub parameters: Vec<String>,
+    pub targets: Vec<PlannedResponse>,
+}
+
+/// What a retune's batch retunes: cierva's aircraft file, or a case whose model is `external`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RetunedFile {
+    Aircraft,
+    Case,
+}
+
+/// One point of a frequency response a retune matches ([`crate::fit::Measure::Response`]), with
+/// its condition.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlannedResponse {
+    pub airspeed_mph: f64,
+    pub climb_m_s: f64,
+    pub turn_rate_deg_s: f64,
+    pub mass_kg: Option<f64>,
+    pub density_altitude_ft: f64,
+    pub input: String,
+    pub output: String,
+    pub frequency_hz: f64,
+    pub imaginary: bool,
+    /// The records' other controls' measured transfers from `input` at this frequency.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub others: Vec<OtherTransfer>,
+}
+
+/// A record's other control's measured transfer from a response's input at its frequency
+/// ([`crate::fit::ResponsePoint::others`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OtherTransfer {
+    pub control: String,
+    pub re: f64,
+    pub im: f64,
+}
+
+impl PlannedResponse {
+    /// A retune's target as a batch holds it; `None` for a target that is not a response at a
+    /// flight condition.
+    fn of(t: &Target) -> Option<Self> {
+        let (TargetCondition::Flight(c, l), crate::fit::Measure::Response(r)) =
+            (&t.condition, &t.measure)
+        else {
+            return None;
+        };
+        Some(Self {
+            airspeed_mph: c.airspeed_mph,
+            climb_m_s: c.climb_m_s,
+            turn_rate_deg_s: c.turn_rate_deg_s,
+            mass_kg: l.mass_kg,
+            density_altitude_ft: l.density_altitude_ft,
+            input: r.input.clone(),
+            output: r.output.clone(),
+            frequency_hz: r.frequency_hz,
+            imaginary: r.imaginary,
+            others: (r.others.iter())
+                .map(|(n, h)| OtherTransfer {
+                    control: n.clone(),
+                    re: h.re,
+                    im: h.im,
+                })
+                .collect(),
+        })
+    }
+
+    /// The target to evaluate (its reference and standard error are not the batch's: an
+    /// evaluation gives the model's value only).
+    fn target(&self) -> Target {
+        let mut point = crate::fit::ResponsePoint::new(
+            &self.input,
+            &self.output,
+            self.frequency_hz,
+            self.imaginary,
+        );
+        point.others = (self.others.iter())
+            .map(|o| {
+                let h = rustfft::num_complex::Complex64::new(o.re, o.im);
+                (o.control.clone(), h)
+            })
+            .collect();
+        Target {
+            condition: TargetCondition::Flight(
+                crate::inputs::condition::TrimRequest {
+                    airspeed_mph: self.airspeed_mph,
+                    climb_m_s: self.climb_m_s,
+                    turn_rate_deg_s: self.turn_rate_deg_s,
+                },
+                crate::inputs::condition::Loading {
+                    mass_kg: self.mass_kg,
+                    density_altitude_ft: self.density_altitude_ft,
+                },
+            ),
+            measure: crate::fit::Measure::Response(point),
+            reference: 0.0,
+            standard_error: 1.0,
+            bounds: None,
+        }
+    }
+}
+
+/// A retune's batch as a problem to evaluate on this machine: the aircraft file or the case at
+/// `path` loaded, the parameters by name, the batch's targets. The field at fault and why.
+pub(super) fn retune_problem(
+    batch: &RetuneBatch,
+    path: &Path,
+) -> Result<Problem, (String, String)> {
+    use crate::fit::{FitParameter, FitSubject, ParameterKind};
+    let at = |field: &str| {
+        let field = field.to_string();
+        move |m: String| (field.clone(), m)
+    };
+    let subject = match batch.retuned {
+        RetunedFile::Aircraft => FitSubject::Aircraft {
+            file: Box::new(
+                crate::inputs::aircraft::load(path)
+                    .map_err(|e| e.render())
+                    .map_err(at("cases[0]"))?,
+            ),
+        },
+        RetunedFile::Case => {
+            let case = crate::suite::case::load(path)
+                .map_err(|e| e.render())
+                .map_err(at("cases[0]"))?;
+            let crate::checks::subject::Subject::External(e) = case.subject else {
+                return Err(at("cases[0]")(format!(
+                    "{}: a retune's case has an `external` model",
+                    path.display()
+                )));
+            };
+            FitSubject::Model { model: e.model }
+        }
+    };
+    let parameters = (batch.parameters.iter().enumerate())
+        .map(|(k, name)| {
+            let kind = match batch.retuned {
+                RetunedFile::Aircraft => ParameterKind::parse(name).ok_or_else(|| {
+                    at(&format!("study.retune.parameters[{k}]"))(format!(
+                        "`{name}` is not a correction or parameter"
+                    ))
+                })?,
+                RetunedFile::Case => ParameterKind::Declared(name.clone()),
+            };
+            Ok(FitParameter {
+                kind,
+                lower: f64::NEG_INFINITY,
+                upper: f64::INFINITY,
+                start: 0.0,
+                regularisation: 0.0,
+            })
+        })
+        .collect::<Result<Vec<_>, (String, String)>>()?;
+    Ok(Problem {
+        subject,
+        parameters,
+        targets: batch.targets.iter().map(PlannedResponse::target).collect(),
+        options: crate::fit::FitOptions::default(),
+        executor: crate::fit::Executor::Local,
+    })
+}
+
+/// A batch's evaluations checked against its problem (every target a batch may name, in
+/// order): each names targets it has, all at one condition, and a value for each of its
+/// parameters; each its own group. The field at fault (`evaluations[k]`) and why.
+pub(super) fn check_evaluations(
+    problem: &Problem,
+    evaluations: &[Evaluation],
+) -> Result<(), (String, String)> {
+    check_each(problem, evaluations).map_err(|(k, m)| (format!("evaluations[{k}]"), m))
+}
+
+fn check_each(problem: &Problem, evaluations: &[Evaluation]) -> Result<(), (usize, String)> {
+    let all = &problem.targets;
     for (k, e) in evaluations.iter().enumerate() {
         let Evaluates::Targets {
             targets, values, ..
@@ -96,13 +312,13 @@ fn check_each(f: &FitFile, evaluations: &[Evaluation]) -> Result<(), (usize, Str
                 "its index, group and case are its place, its place and 0".into(),
             ));
         }
-        if values.len() != f.problem.parameters.len() {
+        if values.len() != problem.parameters.len() {
             return Err((
                 k,
                 format!(
-                    "{} values for the fit file's {} parameters",
+                    "{} values for the {} parameters",
                     values.len(),
-                    f.problem.parameters.len()
+                    problem.parameters.len()
                 ),
             ));
         }
@@ -116,7 +332,7 @@ fn check_each(f: &FitFile, evaluations: &[Evaluation]) -> Result<(), (usize, Str
             return Err((
                 k,
                 format!(
-                    "target {t}: not a target of the fit file at this evaluation's condition ({} targets and predictions)",
+                    "target {t}: not a target at this evaluation's condition (the batch has {})",
                     all.len()
                 ),
             ));
@@ -133,18 +349,18 @@ type TargetsResult = (
     Option<String>,
 );
 
-/// One evaluation of a fit's batch: the fit file's targets at places `targets` (one condition)
-/// with the parameters at `values`, the model's trims started from `start` where given, on
-/// this machine: the values (NaN where a target has none), why each has none, or the error
-/// that stopped them all; and where the model's answers ended.
+/// One evaluation of a fit's or a retune's batch: `problem`'s targets at places `targets` (one
+/// condition) with the parameters at `values`, the model's trims started from `start` where
+/// given, on this machine: the values (NaN where a target has none), why each has none, or the
+/// error that stopped them all; and where the model's answers ended.
 pub(super) fn evaluate(
-    f: &FitFile,
+    problem: &Problem,
     targets: &[usize],
     values: &[f64],
     start: Option<&serde_json::Value>,
 ) -> (TargetsResult, Option<serde_json::Value>) {
-    let all = all_targets(f);
-    let mut problem = f.problem.clone();
+    let all = &problem.targets;
+    let mut problem = problem.clone();
     problem.targets = targets.iter().map(|&t| all[t].clone()).collect();
     let from = match (start, problem.targets.first()) {
         (Some(s), Some(t)) => ConditionStarts(vec![(
@@ -170,11 +386,23 @@ pub(super) fn evaluate(
     }
 }
 
+/// What a batch's evaluations ask: a fit file's targets, by place; or a retune's, which the
+/// batch holds.
+enum Source {
+    Fit(Box<FitFile>),
+    Retune {
+        /// The aircraft file or the case, as given.
+        path: PathBuf,
+        id: String,
+        retuned: RetunedFile,
+    },
+}
+
 /// A fit's evaluations sent through plans, a batch a plan: written to `dir/batch-NNNN/`, run by
 /// `command` (its `{plan}` the batch's folder, `{shards}` the shards to run it in), read back.
 pub struct PlanBatches {
-    file: Box<FitFile>,
-    /// The fit file's fingerprint when the fit started: every batch's.
+    source: Source,
+    /// The fit file's (or the retuned file's) fingerprint when the fit started: every batch's.
     fingerprint: String,
     dir: PathBuf,
     command: String,
@@ -192,6 +420,39 @@ pub fn batches(
     command: &str,
     shards: usize,
 ) -> Result<PlanBatches, String> {
+    through(
+        Source::Fit(Box::new(file.clone())),
+        fingerprint(file),
+        dir,
+        command,
+        shards,
+    )
+}
+
+/// A retune's evaluations sent through plans (`cierva retune --evaluate-with`): of cierva's
+/// aircraft file, or of the model of the case (`external`), at `path` as given, `id` its id.
+pub fn retune_batches(
+    (retuned, path, id): (RetunedFile, &Path, &str),
+    dir: &Path,
+    command: &str,
+    shards: usize,
+) -> Result<PlanBatches, String> {
+    let source = Source::Retune {
+        path: path.to_path_buf(),
+        id: id.to_string(),
+        retuned,
+    };
+    through(source, file_fingerprint(path), dir, command, shards)
+}
+
+/// Batches through plans of `source`, the command checked.
+fn through(
+    source: Source,
+    fingerprint: String,
+    dir: &Path,
+    command: &str,
+    shards: usize,
+) -> Result<PlanBatches, String> {
     if !command.contains("{plan}") {
         return Err(format!(
             "--evaluate-with `{command}`: the command names the batch's plan folder as {{plan}} (for example `cierva evaluate {{plan}} --shard 1/1`, or `python3 examples/distributed/run_dask.py {{plan}} --shards {{shards}}`)"
@@ -201,8 +462,8 @@ pub fn batches(
         return Err("--shards 0: give at least 1".into());
     }
     Ok(PlanBatches {
-        file: Box::new(file.clone()),
-        fingerprint: fingerprint(file),
+        source,
+        fingerprint,
         dir: absolute(dir),
         command: command.to_string(),
         shards,
@@ -219,18 +480,39 @@ impl PlanBatches {
         self.failed.lock().map_or(None, |f| f.clone())
     }
 
-    /// The places among the fit file's targets and predictions of `problem`'s targets (the
-    /// fit's own, a cross-validation band's, the predictions).
-    fn places(&self, problem: &Problem) -> Result<Vec<usize>, String> {
-        let all = all_targets(&self.file);
-        let same = problem.parameters.len() == self.file.problem.parameters.len()
+    /// The places of `problem`'s targets among those the batch's evaluations name: among the
+    /// fit file's targets and predictions (the fit's own, a cross-validation band's, the
+    /// predictions); a retune's own, in order, with the targets its batch holds.
+    fn places(
+        &self,
+        problem: &Problem,
+    ) -> Result<(Vec<usize>, Option<Vec<PlannedResponse>>), String> {
+        let file = match &self.source {
+            Source::Fit(file) => file,
+            Source::Retune { .. } => {
+                let planned = (problem.targets.iter())
+                    .map(|t| {
+                        PlannedResponse::of(t).ok_or_else(|| {
+                            format!(
+                                "`{}` at {}: a retune through plans asks frequency responses at flight conditions only",
+                                t.measure.name(),
+                                t.condition.label()
+                            )
+                        })
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                return Ok(((0..planned.len()).collect(), Some(planned)));
+            }
+        };
+        let all = all_targets(file);
+        let same = problem.parameters.len() == file.problem.parameters.len()
             && (problem.parameters.iter())
-                .zip(&self.file.problem.parameters)
+                .zip(&file.problem.parameters)
                 .all(|(a, b)| a.kind == b.kind);
         if !same {
             return Err("a fit through plans asks the fit file's parameters only".into());
         }
-        (problem.targets.iter())
+        let places = (problem.targets.iter())
             .map(|t| {
                 all.iter().position(|x| *x == t).ok_or_else(|| {
                     format!(
@@ -239,7 +521,8 @@ impl PlanBatches {
                     )
                 })
             })
-            .collect()
+            .collect::<Result<_, _>>()?;
+        Ok((places, None))
     }
 
     /// Records the first batch the engine failed (see [`Self::failure`]), and gives its message.
@@ -255,6 +538,7 @@ impl PlanBatches {
     fn run(
         &self,
         evaluations: Vec<Evaluation>,
+        (parameters, targets): (&[crate::fit::FitParameter], Option<Vec<PlannedResponse>>),
     ) -> Result<
         (
             LoadedPlan,
@@ -269,25 +553,43 @@ impl PlanBatches {
         // Named by its number and what it evaluates: the same fit run again finds its batches
         // where they were, and a fit that went another way (other values, another fit file)
         // never meets another's plan.
-        let content = format!("{}{:?}", self.fingerprint, evaluations);
+        let content = format!("{}{:?}{:?}", self.fingerprint, evaluations, targets);
         let hash = crate::suite::review::fnv1a64(content.as_bytes());
         let dir = self
             .dir
             .join(format!("batch-{batch:04}-{:08x}", hash >> 32));
         let groups = evaluations.len();
+        let (study, path, id) = match (&self.source, targets) {
+            (Source::Fit(file), _) => (
+                PlannedStudy::Fit(FitBatch { batch }),
+                file.path.clone(),
+                file.id.clone(),
+            ),
+            (Source::Retune { path, id, retuned }, targets) => (
+                PlannedStudy::Retune(RetuneBatch {
+                    batch,
+                    retuned: *retuned,
+                    parameters: parameters
+                        .iter()
+                        .map(|p| p.kind.name().to_string())
+                        .collect(),
+                    targets: targets.unwrap_or_default(),
+                }),
+                path.clone(),
+                id.clone(),
+            ),
+        };
         let file = PlanFile {
             format: FORMAT.into(),
             cierva_version: VERSION.into(),
-            study: PlannedStudy::Fit(FitBatch { batch }),
+            study,
             folder: absolute(Path::new(".")),
             corrections: Vec::new(),
             cases: vec![PlannedCase {
-                path: self.file.path.clone(),
-                id: self.file.id.clone(),
+                path,
+                id,
                 fingerprint: self.fingerprint.clone(),
-                inputs: (self.file.problem.parameters.iter())
-                    .map(|p| p.kind.model_name())
-                    .collect(),
+                inputs: parameters.iter().map(|p| p.kind.model_name()).collect(),
             }],
             groups,
             evaluations,
@@ -340,7 +642,7 @@ impl crate::fit::BatchEvaluator for PlanBatches {
         from: &ConditionStarts,
     ) -> Vec<Result<crate::fit::PointEvaluation, String>> {
         let failed = |e: String| (0..points.len()).map(|_| Err(e.clone())).collect();
-        let places = match self.places(problem) {
+        let (places, planned) = match self.places(problem) {
             Ok(p) => p,
             Err(e) => return failed(e),
         };
@@ -375,7 +677,7 @@ impl crate::fit::BatchEvaluator for PlanBatches {
             }
             index.push(mine);
         }
-        let (_, mut have) = match self.run(evaluations) {
+        let (_, mut have) = match self.run(evaluations, (&problem.parameters, planned)) {
             Ok(x) => x,
             Err(e) => return failed(e),
         };

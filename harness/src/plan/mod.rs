@@ -76,6 +76,10 @@ pub enum PlannedStudy {
     /// A batch of `cierva fit --evaluate-with`'s evaluations (the fit file in `cases`): the
     /// targets at a point, or a Jacobian's steps ([`fit`]).
     Fit(FitBatch),
+    /// A batch of `cierva retune --evaluate-with`'s evaluations (the aircraft file or the case
+    /// retuned in `cases`): the batch's response points at a point, or a Jacobian's steps
+    /// ([`fit`]).
+    Retune(fit::RetuneBatch),
 }
 
 /// Which batch of a fit a plan is.
@@ -244,8 +248,9 @@ pub struct LoadedPlan {
     pub id: String,
     pub studies: Vec<CaseJobs>,
     pub sensitivity: Option<(Case, SensitivityJobs)>,
-    /// A fit's batch: the fit file, loaded.
-    pub fit: Option<Box<crate::fit::file::FitFile>>,
+    /// A fit's or a retune's batch: the problem whose targets its evaluations name by place
+    /// (a fit file's targets and then its predictions; a retune's batch's response points).
+    pub fit: Option<Box<crate::fit::Problem>>,
 }
 
 impl From<PropagationSettings> for StudySettings {
@@ -637,14 +642,12 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
             sensitivity = Some((case, jobs));
             expected
         }
-        PlannedStudy::Fit(_) => {
-            let planned = (file.cases.first()).ok_or_else(|| at("cases", "no fit file".into()))?;
-            let f = crate::fit::file::load(&resolve(&planned.path))?;
-            if self::fit::fingerprint(&f) != planned.fingerprint || f.id != planned.id {
-                return Err(changed(0, planned));
-            }
-            self::fit::check_evaluations(&f, &file.evaluations).map_err(|(k, m)| at(&k, m))?;
-            fit = Some(Box::new(f));
+        PlannedStudy::Fit(_) | PlannedStudy::Retune(_) => {
+            let planned = (file.cases.first())
+                .ok_or_else(|| at("cases", "no fit file, aircraft file or case".into()))?;
+            let problem = batch_problem(&file, &resolve(&planned.path), &at)
+                .map_err(|e| e.unwrap_or_else(|| changed(0, planned)))?;
+            fit = Some(Box::new(problem));
             (file.evaluations.clone(), file.evaluations.len())
         }
     };
@@ -676,6 +679,34 @@ pub fn load(dir: &Path) -> Result<LoadedPlan, PlanError> {
         sensitivity,
         fit,
     })
+}
+
+/// A fit's or a retune's batch's problem (its subject at `path`, the first of the plan's
+/// `cases`), its evaluations checked against it; `Err(None)` where the file has changed since
+/// the batch was written (its fingerprint), else the error located by `at`.
+fn batch_problem(
+    file: &PlanFile,
+    path: &Path,
+    at: &dyn Fn(&str, String) -> PlanError,
+) -> Result<crate::fit::Problem, Option<PlanError>> {
+    let planned = &file.cases[0];
+    let problem = match &file.study {
+        PlannedStudy::Retune(batch) => {
+            if self::fit::file_fingerprint(path) != planned.fingerprint {
+                return Err(None);
+            }
+            self::fit::retune_problem(batch, path).map_err(|(k, m)| Some(at(&k, m)))?
+        }
+        _ => {
+            let f = crate::fit::file::load(path).map_err(|e| Some(PlanError::from(e)))?;
+            if self::fit::fingerprint(&f) != planned.fingerprint || f.id != planned.id {
+                return Err(None);
+            }
+            self::fit::every_target(&f)
+        }
+    };
+    self::fit::check_evaluations(&problem, &file.evaluations).map_err(|(k, m)| Some(at(&k, m)))?;
+    Ok(problem)
 }
 
 /// For the command line: the plan's folder `dir` made absolute, and the working folder set to
@@ -897,9 +928,9 @@ fn run_one(
             },
             ..,
         ) => match &plan.fit {
-            Some(f) => {
+            Some(problem) => {
                 let ((values, each, error), ended) =
-                    self::fit::evaluate(f, targets, values, from.as_ref());
+                    self::fit::evaluate(problem, targets, values, from.as_ref());
                 (errors, start) = (each, ended);
                 (None, values, error)
             }
@@ -1098,7 +1129,7 @@ fn gather(plan: &LoadedPlan) -> Result<(BTreeMap<usize, EvaluationResult>, Vec<u
 pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanError> {
     if plan.fit.is_some() {
         return Err(PlanError::Input(format!(
-            "{} is a batch of a fit's evaluations: `cierva fit --evaluate-with` reads it",
+            "{} is a batch of a fit's or a retune's evaluations: the `cierva fit` or `cierva retune` given `--evaluate-with` reads it",
             plan_path(&plan.dir).display()
         )));
     }
@@ -1164,7 +1195,7 @@ fn complete(plan: &LoadedPlan) -> Result<BTreeMap<usize, EvaluationResult>, Plan
 pub fn finish_sensitivity(plan: &LoadedPlan) -> Result<(Result<Study, String>, f64), PlanError> {
     if plan.fit.is_some() {
         return Err(PlanError::Input(format!(
-            "{} is a batch of a fit's evaluations: `cierva fit --evaluate-with` reads it",
+            "{} is a batch of a fit's or a retune's evaluations: the `cierva fit` or `cierva retune` given `--evaluate-with` reads it",
             plan_path(&plan.dir).display()
         )));
     }

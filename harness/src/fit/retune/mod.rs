@@ -112,10 +112,14 @@ pub const DIFFERENCE_STEP: f64 = 1e-2;
 /// together).
 pub const MAX_ITERATIONS: usize = 50;
 
-/// How to retune: the responses' estimation.
-#[derive(Debug, Clone, PartialEq, Default)]
+/// How to retune: the responses' estimation, and where the fit's evaluations run (this
+/// machine's threads by default; through plans for a model too slow for one machine:
+/// [`crate::plan::fit::retune_batches`]). The responses before the fit and after it, one
+/// evaluation a condition each, run on this machine.
+#[derive(Debug, Clone, Default)]
 pub struct How {
     pub responses: responses::ResponseSettings,
+    pub executor: crate::fit::Executor,
 }
 
 /// A retune: the records' responses, the fit problem and its result.
@@ -293,7 +297,7 @@ pub fn retune(
             max_iterations: MAX_ITERATIONS,
             ..fit::FitOptions::default()
         },
-        executor: crate::fit::Executor::Local,
+        executor: how.executor.clone(),
     };
     let mut problem = problem;
     let mut result = fit::fit(&problem);

@@ -63,6 +63,15 @@ impl Retuned<'_> {
                 requests
                     .iter()
                     .map(|r| {
+                        let unbounded = |p: &&crate::external::Parameter| {
+                            p.name == r.name && p.range.is_none()
+                        };
+                        if r.bounds.is_none() && declared.iter().any(|p| unbounded(&p)) {
+                            return Err(format!(
+                                "`{0}`: the model declares no range for it: give its bounds on the command line, `--bounds {0}=LO:HI`",
+                                r.name
+                            ));
+                        }
                         let (lower, upper, start) = crate::fit::file::declared_parameter(
                             &declared,
                             &r.name,
