@@ -4,7 +4,8 @@ use super::*;
 use cierva_harness::plan;
 
 /// Evaluate shard I of N of a plan (`cierva uncertainty --plan DIR` and `cierva sensitivity
-/// --plan DIR` write one, and `cierva fit --evaluate-with CMD` one a batch, for CMD to run): an Nth of
+/// --plan DIR` write one, and `cierva fit` and `cierva retune` given `--evaluate-with CMD` one a
+/// batch, for CMD to run): an Nth of
 /// its groups of evaluations, on every core this process may use, each evaluation's results
 /// written as it finishes and the shard's to DIR/results/shard-I-of-N.yaml at its end. A shard
 /// already done is skipped; one that was stopped takes up where it stopped (a killed worker

@@ -24,8 +24,9 @@ use cierva_harness::suite::Suite;
 /// evaluations (the response points at a point; a Jacobian's steps together) through a plan of
 /// its own under `--plans DIR`, which CMD runs on an engine (`{plan}`: the batch's folder;
 /// `{shards}`: how many shards, at most `--shards`); the retune is the same bit for bit, and a
-/// retune run again reads the batches already done. The model's responses before and after the
-/// fit (one evaluation a condition each) run on this machine (docs/scaling.md).
+/// retune run again reads the batches already done. The model's responses before, between and
+/// after the fits (one evaluation a condition each), the modes, `--predict` and the suite's run
+/// stay on this machine (docs/scaling.md).
 ///
 /// Example: `cierva retune aircraft/vpm-m16.yaml --records /tmp/vpm-m16-70mph-sweep.csv
 /// --fit hub_aoa_factor --output /tmp/vpm-m16-retuned.yaml --report /tmp/vpm-m16-retuned.md`
@@ -104,7 +105,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
     let requests = requests(&a.fit, &a.bounds).map_err(Error::input)?;
     let output = or_in_suite(a.output.clone(), Suite::retuned, format!("{id}.yaml"))?;
     let mut how = how(&a);
-    let engine = engine(&a, &output, &id)?;
+    let engine = engine(&a, &loaded, &output, &id)?;
     if let Some(batches) = &engine {
         how.executor = cierva_harness::fit::Executor::Batches(batches.clone());
     }
@@ -244,22 +245,25 @@ fn predictions(
 /// `retune-plans/<output's stem>`) that the retune's fit sends its evaluations to.
 fn engine(
     a: &RetuneArgs,
+    loaded: &Loaded,
     output: &Path,
     id: &str,
 ) -> Result<Option<std::sync::Arc<plan::fit::PlanBatches>>, Error> {
     let Some(command) = &a.evaluate_with else {
         return Ok(None);
     };
+    let retuned = match loaded {
+        Loaded::Aircraft(f) => retune::subject::Retuned::Aircraft(f),
+        Loaded::Model(e) => retune::subject::Retuned::Model(e),
+    };
     let stem = output
         .file_stem()
         .map_or(id.to_string(), |s| s.to_string_lossy().into_owned());
     let dir = (a.plans.clone()).unwrap_or_else(|| Path::new("retune-plans").join(stem));
-    let (kind, path) = match (&a.aircraft, &a.case) {
-        (Some(p), _) => (plan::fit::RetunedFile::Aircraft, p),
-        (None, Some(p)) => (plan::fit::RetunedFile::Case, p),
-        (None, None) => return Err(Error::input("give the aircraft file or --case")),
+    let Some(path) = a.aircraft.as_ref().or(a.case.as_ref()) else {
+        return Err(Error::input("give the aircraft file or --case"));
     };
-    let batches = plan::fit::retune_batches((kind, path, id), &dir, command, a.shards)
+    let batches = plan::fit::retune_batches((retuned, path, id), &dir, command, a.shards)
         .map_err(Error::input)?;
     Ok(Some(std::sync::Arc::new(batches)))
 }

@@ -55,9 +55,19 @@ pub fn fingerprint(f: &FitFile) -> String {
 }
 
 /// What a retune's evaluations depend on, hashed (FNV-1a, 64 bits, hex): the aircraft file or
-/// the case it retunes, and every file that names by a `file`, `case` or `..._file` key (an
-/// aircraft's rotor files), read relative to it. A change to a simulation behind the protocol
-/// that leaves these files alone is not seen.
+/// the case it retunes ([`file_fingerprint`]), and a model's declared parameters (their names,
+/// nominal values and ranges, as its `describe` gives them). A change to a simulation behind
+/// the protocol that leaves these alone is not seen.
+pub fn retune_fingerprint(path: &Path, subject: &crate::fit::FitSubject) -> String {
+    let mut text = file_fingerprint(path);
+    if let crate::fit::FitSubject::Model { model } = subject {
+        text += &format!("{:?}", model.parameters());
+    }
+    format!("{:016x}", crate::suite::review::fnv1a64(text.as_bytes()))
+}
+
+/// A file and every file it names by a `file`, `case` or `..._file` key (an aircraft's rotor
+/// files), read relative to it, hashed (FNV-1a, 64 bits, hex).
 pub fn file_fingerprint(path: &Path) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_default();
     let mut bytes = text.clone().into_bytes();
@@ -323,7 +333,7 @@ fn check_each(problem: &Problem, evaluations: &[Evaluation]) -> Result<(), (usiz
             ));
         }
         let Some(first) = targets.first().and_then(|&t| all.get(t)) else {
-            return Err((k, "names no target of the fit file".into()));
+            return Err((k, "names no target of the batch".into()));
         };
         if let Some(t) = targets
             .iter()
@@ -432,17 +442,22 @@ pub fn batches(
 /// A retune's evaluations sent through plans (`cierva retune --evaluate-with`): of cierva's
 /// aircraft file, or of the model of the case (`external`), at `path` as given, `id` its id.
 pub fn retune_batches(
-    (retuned, path, id): (RetunedFile, &Path, &str),
+    (retuned, path, id): (crate::fit::retune::subject::Retuned<'_>, &Path, &str),
     dir: &Path,
     command: &str,
     shards: usize,
 ) -> Result<PlanBatches, String> {
+    use crate::fit::retune::subject::Retuned;
     let source = Source::Retune {
         path: path.to_path_buf(),
         id: id.to_string(),
-        retuned,
+        retuned: match retuned {
+            Retuned::Aircraft(_) => RetunedFile::Aircraft,
+            Retuned::Model(_) => RetunedFile::Case,
+        },
     };
-    through(source, file_fingerprint(path), dir, command, shards)
+    let fingerprint = retune_fingerprint(path, &retuned.fit_subject());
+    through(source, fingerprint, dir, command, shards)
 }
 
 /// Batches through plans of `source`, the command checked.
@@ -553,7 +568,11 @@ impl PlanBatches {
         // Named by its number and what it evaluates: the same fit run again finds its batches
         // where they were, and a fit that went another way (other values, another fit file)
         // never meets another's plan.
-        let content = format!("{}{:?}{:?}", self.fingerprint, evaluations, targets);
+        let names: Vec<&str> = parameters.iter().map(|p| p.kind.name()).collect();
+        let content = format!(
+            "{}{:?}{:?}{names:?}",
+            self.fingerprint, evaluations, targets
+        );
         let hash = crate::suite::review::fnv1a64(content.as_bytes());
         let dir = self
             .dir
@@ -614,7 +633,7 @@ impl PlanBatches {
                 .arg(&command)
                 .stdout(std::io::stderr())
                 .status()
-                .map_err(|e| format!("cannot run `{command}`: {e}"))?;
+                .map_err(|e| self.fail(format!("cannot run `{command}`: {e}")))?;
             if !status.success() {
                 // What it finished is read; what it did not is named below.
                 eprintln!("note: `{command}` exited with {status}");

@@ -692,10 +692,12 @@ fn batch_problem(
     let planned = &file.cases[0];
     let problem = match &file.study {
         PlannedStudy::Retune(batch) => {
-            if self::fit::file_fingerprint(path) != planned.fingerprint {
+            let problem =
+                self::fit::retune_problem(batch, path).map_err(|(k, m)| Some(at(&k, m)))?;
+            if self::fit::retune_fingerprint(path, &problem.subject) != planned.fingerprint {
                 return Err(None);
             }
-            self::fit::retune_problem(batch, path).map_err(|(k, m)| Some(at(&k, m)))?
+            problem
         }
         _ => {
             let f = crate::fit::file::load(path).map_err(|e| Some(PlanError::from(e)))?;

@@ -1906,8 +1906,18 @@ fn the_readme_retune_through_the_protocol_is_the_built_in_one() {
     args.extend(README_BOUNDS);
     args.extend(["--no-validate", "--format", "json"]);
     let (code, served, err) = cierva_on_path(&dir, &args);
-    let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(code, 0, "{served}{err}");
+    // The served retune with its fit's batches through plans (issue 53, item 3), each run by
+    // `cierva evaluate` as an engine would: the served retune, bit for bit.
+    let engine = format!(
+        "for i in $(seq 1 {{shards}}); do '{}' evaluate {{plan}} --shard $i/{{shards}} --quiet || exit 1; done",
+        env!("CARGO_BIN_EXE_cierva")
+    );
+    args.extend(["--evaluate-with", &engine, "--plans", "plans"]);
+    let (code, planned, err) = cierva_on_path(&dir, &args);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 0, "{planned}{err}");
+    assert_eq!(planned, served, "{err}");
     let (a, b): (serde_json::Value, serde_json::Value) = (
         serde_json::from_str(&built_in).unwrap(),
         serde_json::from_str(&served).unwrap(),
