@@ -73,14 +73,13 @@ const HUB_MOTION_TOLERANCE: f64 = 1e-7;
 /// How many periodic solutions the revolution-averaged model may take to find them.
 const HUB_MOTION_ITERATIONS: usize = 20;
 
-/// How many earlier iterates [`Anderson`] mixes (six accelerations: seven iterates solve an
-/// affine map exactly). Measured on the model tests' heavy gyroplanes (`cargo test -p
-/// cierva-model heavy`, 274 evaluations, coupling 0.01-0.08): 4.18 periodic solutions an
-/// evaluation, at most 5, against 4.57 and at most 7 for the plain iteration. Where the
-/// coupling is larger (0.23: the VPM M16 with its blades' flap inertia under the hub's angular
-/// acceleration, reports/investigations.md, issue 52 item 12) the plain iteration ran out of
-/// its 20 solutions on the heavy test rotors, and this one halves a trim's and a
-/// linearisation's time.
+/// How many differences of earlier iterates [`Anderson`] mixes (a window of six iterates).
+/// Measured on the model tests' heavy gyroplanes (`cargo test -p cierva-model heavy`, 274
+/// evaluations): 4.18 periodic solutions an evaluation, at most 5, against 4.57 and at most 7
+/// for the plain iteration. With the blades' flap inertia under the hub's angular acceleration
+/// (reports/investigations.md, issue 52 item 12, not landed) the plain iteration ran out of its
+/// 20 solutions on the heavy test teetering rotor, and on the VPM M16 (coupling about 0.23) a
+/// trim took 0.119 s with this one against 0.257 s, a linearisation 0.163 s against 0.300 s.
 const ANDERSON_DEPTH: usize = 5;
 
 /// Anderson's acceleration of the fixed-point iteration `y = G(y)` for the body's accelerations
@@ -119,15 +118,22 @@ impl Anderson {
         let d_g = nalgebra::DMatrix::from_fn(6, m, |r, c| {
             self.history[c + 1].0[r] - self.history[c].0[r]
         });
-        let f = nalgebra::DVector::from_column_slice(&residual);
-        let gamma = d_f.clone().svd(true, true).solve(&f, 1e-12);
-        match gamma {
-            Ok(gamma) if gamma.iter().all(|x| x.is_finite()) => {
-                let mixed = d_g * gamma;
-                std::array::from_fn(|k| image[k] - mixed[k])
-            }
-            _ => image,
+        // A residual that is not finite is not mixed (an SVD of it would not end).
+        if !d_f.iter().all(|x| x.is_finite()) || !residual.iter().all(|x| x.is_finite()) {
+            self.history.clear();
+            return image;
         }
+        let f = nalgebra::DVector::from_column_slice(&residual);
+        let svd = d_f.svd(true, true);
+        // Directions among the differences below a ten-billionth of the largest are the
+        // periodic solutions' own noise near convergence: left out.
+        let cut = 1e-10 * svd.singular_values.max();
+        let mixed: Option<[f64; 6]> = svd.solve(&f, cut).ok().and_then(|gamma| {
+            let mixed = d_g * gamma;
+            let next: [f64; 6] = std::array::from_fn(|k| image[k] - mixed[k]);
+            next.iter().all(|x| x.is_finite()).then_some(next)
+        });
+        mixed.unwrap_or(image)
     }
 }
 
