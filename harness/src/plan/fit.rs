@@ -29,28 +29,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// simulation behind the protocol that leaves these files alone is not seen.
 pub fn fingerprint(f: &FitFile) -> String {
     use crate::fit::FitSubject;
-    let text = std::fs::read_to_string(&f.path).unwrap_or_default();
-    let mut bytes = text.clone().into_bytes();
     let subject = match &f.problem.subject {
         FitSubject::Aircraft { file } => Some(file.path.clone()),
         FitSubject::Rotor { file, .. } => Some(file.path.clone()),
         FitSubject::Model { .. } => None,
     };
-    let here = f.path.parent().unwrap_or(Path::new("."));
-    let mut named: Vec<PathBuf> = Vec::new();
-    if let Ok(value) = serde_yaml::from_str::<serde_yaml::Value>(&text) {
-        named_files(&value, &mut named);
-    }
-    // Each file once, where the fit file names a case for its targets and its predictions.
-    let mut files: Vec<PathBuf> = subject.into_iter().collect();
-    for p in named.iter().map(|p| here.join(p)) {
-        if !files.contains(&p) {
-            files.push(p);
-        }
-    }
-    for p in files {
-        bytes.extend(std::fs::read(p).unwrap_or_default());
-    }
+    let bytes = file_and_named(&f.path, subject);
     format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
 }
 
@@ -69,6 +53,13 @@ pub fn retune_fingerprint(path: &Path, subject: &crate::fit::FitSubject) -> Stri
 /// A file and every file it names by a `file`, `case` or `..._file` key (an aircraft's rotor
 /// files), read relative to it, hashed (FNV-1a, 64 bits, hex).
 pub fn file_fingerprint(path: &Path) -> String {
+    let bytes = file_and_named(path, None);
+    format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
+}
+
+/// The bytes of the file at `path`, then of `first` where given, then of every file it names
+/// (a `file`, `case` or `..._file` key, read relative to it), each file once.
+fn file_and_named(path: &Path, first: Option<PathBuf>) -> Vec<u8> {
     let text = std::fs::read_to_string(path).unwrap_or_default();
     let mut bytes = text.clone().into_bytes();
     let here = path.parent().unwrap_or(Path::new("."));
@@ -76,7 +67,8 @@ pub fn file_fingerprint(path: &Path) -> String {
     if let Ok(value) = serde_yaml::from_str::<serde_yaml::Value>(&text) {
         named_files(&value, &mut named);
     }
-    let mut files: Vec<PathBuf> = Vec::new();
+    // Each file once (a fit file names a case for its targets and its predictions).
+    let mut files: Vec<PathBuf> = first.into_iter().collect();
     for p in named.iter().map(|p| here.join(p)) {
         if !files.contains(&p) {
             files.push(p);
@@ -85,7 +77,7 @@ pub fn file_fingerprint(path: &Path) -> String {
     for p in files {
         bytes.extend(std::fs::read(p).unwrap_or_default());
     }
-    format!("{:016x}", crate::suite::review::fnv1a64(&bytes))
+    bytes
 }
 
 /// Every string under a `file`, `case` or `..._file` key of a YAML value, in order.
