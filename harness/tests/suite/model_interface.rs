@@ -1901,8 +1901,16 @@ fn the_readme_retune_through_the_protocol_is_the_built_in_one() {
         "--fit",
         "corrections.hub_aoa_factor",
         "corrections.profile_drag_scale",
-        "--bounds",
     ];
+    // The served aircraft declares its corrections without ranges: a retune without bounds
+    // is told how to give them on its own command line (exit 2).
+    let (code, _, err) = cierva_on_path(&dir, &args);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--bounds corrections.hub_aoa_factor=LO:HI"),
+        "{err}"
+    );
+    args.push("--bounds");
     args.extend(README_BOUNDS);
     args.extend(["--no-validate", "--format", "json"]);
     let (code, served, err) = cierva_on_path(&dir, &args);
