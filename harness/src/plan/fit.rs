@@ -42,9 +42,9 @@ pub fn fingerprint(f: &FitFile) -> String {
 /// the case it retunes ([`file_fingerprint`]), and a model's declared parameters (their names,
 /// nominal values and ranges, as its `describe` gives them). A change to a simulation behind
 /// the protocol that leaves these alone is not seen.
-pub fn retune_fingerprint(path: &Path, subject: &crate::fit::FitSubject) -> String {
+pub fn retune_fingerprint(path: &Path, model: Option<&dyn crate::external::FlightModel>) -> String {
     let mut text = file_fingerprint(path);
-    if let crate::fit::FitSubject::Model { model } = subject {
+    if let Some(model) = model {
         text += &format!("{:?}", model.parameters());
     }
     format!("{:016x}", crate::suite::review::fnv1a64(text.as_bytes()))
@@ -448,7 +448,11 @@ pub fn retune_batches(
             Retuned::Model(_) => RetunedFile::Case,
         },
     };
-    let fingerprint = retune_fingerprint(path, &retuned.fit_subject());
+    let model = match retuned {
+        Retuned::Aircraft(_) => None,
+        Retuned::Model(e) => Some(e.model.as_ref() as &dyn crate::external::FlightModel),
+    };
+    let fingerprint = retune_fingerprint(path, model);
     through(source, fingerprint, dir, command, shards)
 }
 

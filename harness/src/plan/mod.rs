@@ -694,7 +694,11 @@ fn batch_problem(
         PlannedStudy::Retune(batch) => {
             let problem =
                 self::fit::retune_problem(batch, path).map_err(|(k, m)| Some(at(&k, m)))?;
-            if self::fit::retune_fingerprint(path, &problem.subject) != planned.fingerprint {
+            let model = match &problem.subject {
+                crate::fit::FitSubject::Model { model } => Some(model.as_ref()),
+                _ => None,
+            };
+            if self::fit::retune_fingerprint(path, model) != planned.fingerprint {
                 return Err(None);
             }
             problem

@@ -34,6 +34,21 @@ fn instant_model(dir: &Path) -> PathBuf {
     case
 }
 
+/// The second batch's folder under `plans`, its plan edited (`from`'s first occurrence made
+/// `to`).
+fn edit_second_batch(plans: &Path, from: &str, to: &str) -> PathBuf {
+    let batch = std::fs::read_dir(plans)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_string_lossy().contains("batch-0002-"))
+        .unwrap();
+    let text = std::fs::read_to_string(batch.join("plan.yaml")).unwrap();
+    let edited = text.replacen(from, to, 1);
+    assert_ne!(edited, text);
+    std::fs::write(batch.join("plan.yaml"), edited).unwrap();
+    batch
+}
+
 fn settings(samples: usize) -> StudySettings {
     StudySettings {
         samples,
@@ -408,15 +423,7 @@ fn a_fit_through_plans_is_the_fit_on_one_machine() {
     assert!(err.contains("{plan}"), "{err}");
 
     // A batch's plan edited to name a target the fit file does not have: a located error.
-    let batch = std::fs::read_dir(dir.join("plans"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.to_string_lossy().contains("batch-0002-"))
-        .unwrap();
-    let text = std::fs::read_to_string(batch.join("plan.yaml")).unwrap();
-    let edited = text.replacen("    - 3\n", "    - 99\n", 1);
-    assert_ne!(edited, text);
-    std::fs::write(batch.join("plan.yaml"), edited).unwrap();
+    let batch = edit_second_batch(&dir.join("plans"), "    - 3\n", "    - 99\n");
     let at = batch.display().to_string();
     let (code, _, err) = cierva_in(&dir, &["evaluate", &at]);
     assert_eq!(code, 2, "{err}");
@@ -610,15 +617,7 @@ fn a_retune_through_plans_is_the_retune_on_one_machine() {
     assert!(!dir.join("retuned.yaml").exists());
 
     // A batch's plan edited to name a parameter no aircraft has: a located error.
-    let batch = std::fs::read_dir(dir.join("plans"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.to_string_lossy().contains("batch-0002-"))
-        .unwrap();
-    let text = std::fs::read_to_string(batch.join("plan.yaml")).unwrap();
-    let edited = text.replacen("- hub_aoa_factor", "- hub_aoa_factr", 1);
-    assert_ne!(edited, text);
-    std::fs::write(batch.join("plan.yaml"), edited).unwrap();
+    let batch = edit_second_batch(&dir.join("plans"), "- hub_aoa_factor", "- hub_aoa_factr");
     let (code, _, err) = cierva_in(&dir, &["evaluate", batch.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(
