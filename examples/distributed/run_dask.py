@@ -84,7 +84,12 @@ def main():
     if a.scheduler:
         client = Client(a.scheduler)
     else:
-        cluster = LocalCluster(n_workers=a.workers, threads_per_worker=1, processes=True,
+        # A task only starts `cierva evaluate` and waits for it, so on one machine a worker
+        # needs no process of its own: thread workers start in hundredths of a second where
+        # worker processes take about 0.4 s (docs/scaling.md). The kill measurement kills a
+        # worker's process, so it has them.
+        cluster = LocalCluster(n_workers=a.workers, threads_per_worker=1,
+                               processes=a.kill_one_worker_after is not None,
                                dashboard_address=":0")
         client = Client(cluster)
     print(f"workers up in {time.monotonic() - started:.1f} s", flush=True)

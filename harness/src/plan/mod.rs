@@ -34,7 +34,7 @@ use std::path::{Path, PathBuf};
 pub mod fit;
 
 /// The plan's format, in `plan.yaml` and every results file.
-pub const FORMAT: &str = "cierva-plan/1";
+pub const FORMAT: &str = "cierva-plan/2";
 
 /// The cierva version that writes a plan, which only the same version evaluates and finishes:
 /// another version may evaluate the same point differently.
@@ -193,9 +193,12 @@ pub struct EvaluationResult {
     pub evaluation: usize,
     /// Its wall time, s.
     pub seconds: f64,
-    /// Every check's results (the nominal run, a refined case, a point).
+    /// Every check's results (the nominal run, a refined case).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub results: Option<Vec<CheckResult>>,
+    /// What an uncertainty study reads of every check's results at a point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checks: Option<Vec<crate::uncertainty::propagate::CheckValues>>,
     /// The quantities' values (a sensitivity study's request), or the targets' (a fit's
     /// batch: NaN where `errors` gives why not).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -919,7 +922,7 @@ fn run_one(
     e: &Evaluation,
 ) -> EvaluationResult {
     let started = std::time::Instant::now();
-    let (mut errors, mut start) = (None, None);
+    let (mut errors, mut start, mut checks) = (None, None, None);
     let (results, values, error) = match (&e.what, &plan.sensitivity, model) {
         (Evaluates::Request { request, .. }, Some((_, jobs)), Some(model)) => {
             let (values, error) = split(jobs.evaluate(model, *request));
@@ -942,25 +945,30 @@ fn run_one(
             }
             None => (None, None, Some("not a fit's plan".into())),
         },
+        (Evaluates::Point { point, .. }, ..) => {
+            let error;
+            (checks, error) = split(plan.studies[e.case].evaluate(*point));
+            (None, None, error)
+        }
         (what, ..) => {
             let jobs = &plan.studies[e.case];
-            let (results, error) = split(match what {
-                Evaluates::Nominal => Ok(crate::suite::outcome::run_case(&jobs.case)),
-                Evaluates::Refined { level, .. } => Ok(crate::suite::outcome::run_case(
-                    jobs.refined_cases()[*level],
-                )),
-                Evaluates::Point { point, .. } => jobs.evaluate(*point),
-                Evaluates::Request { .. } | Evaluates::Targets { .. } => {
+            let results = match what {
+                Evaluates::Nominal => crate::suite::outcome::run_case(&jobs.case),
+                Evaluates::Refined { level, .. } => {
+                    crate::suite::outcome::run_case(jobs.refined_cases()[*level])
+                }
+                Evaluates::Point { .. } | Evaluates::Request { .. } | Evaluates::Targets { .. } => {
                     unreachable!("matched above")
                 }
-            });
-            (results, None, error)
+            };
+            (Some(results), None, None)
         }
     };
     EvaluationResult {
         evaluation: e.index,
         seconds: started.elapsed().as_secs_f64(),
         results,
+        checks,
         values,
         errors,
         error,
@@ -1042,18 +1050,27 @@ fn read_results(
                 targets.len(),
                 "targets' values",
             ),
+            (Evaluates::Point { .. }, _) => {
+                let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
+                (r.checks.as_ref().map(Vec::len), checks, "checks' values")
+            }
             _ => {
                 let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
                 (r.results.as_ref().map(Vec::len), checks, "checks' results")
             }
         };
-        let other = match &e.what {
-            Evaluates::Request { .. } => r.results.is_some() || r.errors.is_some(),
-            Evaluates::Targets { targets, .. } => {
-                r.results.is_some() || r.errors.as_ref().is_some_and(|x| x.len() != targets.len())
-            }
-            _ => r.values.is_some() || r.errors.is_some(),
-        };
+        let other = r.checks.is_some() && !matches!(e.what, Evaluates::Point { .. })
+            || match &e.what {
+                Evaluates::Request { .. } => r.results.is_some() || r.errors.is_some(),
+                Evaluates::Targets { targets, .. } => {
+                    r.results.is_some()
+                        || r.errors.as_ref().is_some_and(|x| x.len() != targets.len())
+                }
+                Evaluates::Point { .. } => {
+                    r.results.is_some() || r.values.is_some() || r.errors.is_some()
+                }
+                _ => r.values.is_some() || r.errors.is_some(),
+            };
         if other || given.is_some_and(|n| n != size) || given.is_none() == r.error.is_none() {
             return Err(at(
                 &format!("evaluations[{k}]"),
@@ -1151,17 +1168,21 @@ pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanErro
     for (c, jobs) in plan.studies.iter().enumerate() {
         let mut nominal = Vec::new();
         let mut refined = Vec::new();
-        let mut points: Vec<Option<Result<Vec<CheckResult>, String>>> =
+        let mut points: Vec<Option<Result<Vec<_>, String>>> =
             (0..jobs.points.len()).map(|_| None).collect();
         let mut seconds = 0.0;
         for e in plan.file.evaluations.iter().filter(|e| e.case == c) {
             let r = have.remove(&e.index).expect("every evaluation found");
             seconds += r.seconds;
+            if let Evaluates::Point { point, .. } = &e.what {
+                points[*point] = Some(outcome(r.checks, r.error));
+                continue;
+            }
             let result = outcome(r.results, r.error);
             match (&e.what, result) {
                 (Evaluates::Nominal, Ok(x)) => nominal = x,
                 (Evaluates::Refined { .. }, Ok(x)) => refined.push(x),
-                (Evaluates::Point { point, .. }, x) => points[*point] = Some(x),
+                (Evaluates::Point { .. }, _) => unreachable!("read above"),
                 (Evaluates::Request { .. } | Evaluates::Targets { .. }, _) => {
                     return Err(PlanError::Input(format!(
                         "evaluation {}: another study's evaluation in an uncertainty study's plan",

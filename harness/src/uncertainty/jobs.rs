@@ -9,8 +9,8 @@ use super::design::Design;
 use super::distribution::Input;
 use super::numerics::GridStudy;
 use super::propagate::{
-    CaseUncertainty, Point, Propagation, PropagationSettings, forget, inputs, point_of, values_of,
-    with_values, without_inputs,
+    CaseUncertainty, CheckValues, Point, Propagation, PropagationSettings, forget, inputs,
+    point_of, values_of, with_values, without_inputs,
 };
 use crate::checks::CheckClass;
 use crate::suite::case::Case;
@@ -70,7 +70,7 @@ impl Runs {
     pub fn from_results(
         nominal: Vec<CheckResult>,
         refined: Vec<Vec<CheckResult>>,
-        points: impl IntoIterator<Item = Result<Vec<CheckResult>, String>>,
+        points: impl IntoIterator<Item = Result<Vec<CheckValues>, String>>,
     ) -> Self {
         let points = (points.into_iter())
             .map(|p| point_from(&nominal, p))
@@ -174,7 +174,7 @@ impl CaseJobs {
     /// Point `k` evaluated: every check of the case with the point's values, its model started
     /// from its start's; `Err` where the case cannot be made with them (a value the model
     /// refuses). What the point's model remembers is kept: see [`Self::forget`].
-    pub fn evaluate(&self, k: usize) -> Result<Vec<CheckResult>, String> {
+    pub fn evaluate(&self, k: usize) -> Result<Vec<CheckValues>, String> {
         let job = &self.points[k];
         let start = (job.start).map(|s| self.parameters_of(s));
         let c = with_values(
@@ -183,7 +183,9 @@ impl CaseJobs {
             &job.values,
             (&job.tag, start.as_ref()),
         )?;
-        Ok(crate::suite::outcome::run_case(&c))
+        Ok((crate::suite::outcome::run_case(&c).iter())
+            .map(CheckValues::of)
+            .collect())
     }
 
     /// The parameter values point `k` asks its model with, by the model's names (what its
@@ -296,7 +298,7 @@ impl CaseJobs {
 
 /// A point from its evaluation: its results, or why the case could not be made with its
 /// values (no results).
-fn point_from(nominal: &[CheckResult], evaluated: Result<Vec<CheckResult>, String>) -> Point {
+fn point_from(nominal: &[CheckResult], evaluated: Result<Vec<CheckValues>, String>) -> Point {
     match evaluated {
         Ok(results) => point_of(nominal, &results),
         Err(e) => point_of(nominal, &[]).with_error(e),

@@ -449,7 +449,52 @@ pub(super) struct Point {
     pub(super) check_errors: Vec<Option<String>>,
 }
 
-pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Point {
+/// What an uncertainty study reads of one check's results at a point: whether it passed, why it
+/// gave no values (an error or a finding), and each quantity's value by name and tolerance. A
+/// plan's point results hold only this, a fifth of the whole [`CheckResult`] (its words, its
+/// plots), so that a study of thousands of points writes and reads little.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckValues {
+    pub check: String,
+    pub passed: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The finding's reason, where the check drew one (no equilibrium, inconclusive).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finding: Option<String>,
+    pub quantities: Vec<QuantityValue>,
+}
+
+/// A quantity's value, by its name and tolerance (a check's list may vary between points).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuantityValue {
+    pub quantity: String,
+    pub tolerance: String,
+    pub value: f64,
+}
+
+impl CheckValues {
+    /// What the study reads of `r`.
+    pub fn of(r: &CheckResult) -> Self {
+        Self {
+            check: r.check.clone(),
+            passed: r.passed,
+            error: r.error.clone(),
+            finding: r.finding.as_ref().map(|f| f.reason().to_string()),
+            quantities: (r.quantities.iter())
+                .map(|q| QuantityValue {
+                    quantity: q.quantity.clone(),
+                    tolerance: q.tolerance.clone(),
+                    value: q.value,
+                })
+                .collect(),
+        }
+    }
+}
+
+pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckValues]) -> Point {
     let mut error = None;
     let mut values = Vec::new();
     let mut passed = Vec::new();
@@ -462,10 +507,7 @@ pub(super) fn point_of(nominal: &[CheckResult], results: &[CheckResult]) -> Poin
             check_errors.push(None);
             continue;
         };
-        let why = r
-            .error
-            .as_deref()
-            .or(r.finding.as_ref().map(|f| f.reason()));
+        let why = r.error.as_deref().or(r.finding.as_deref());
         if let Some(e) = why {
             error.get_or_insert_with(|| format!("{}: {e}", r.check));
         }

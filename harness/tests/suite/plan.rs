@@ -208,6 +208,23 @@ fn a_plan_s_bad_input_is_a_located_error() {
     let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("a/results/shard-1-of-2.yaml:"), "{err}");
+    // A point's results that are not its checks' values alone (a point holds what the study
+    // reads of each check, not the whole results a nominal run holds).
+    assert!(
+        text.contains("  checks:\n") && text.contains("  results:\n"),
+        "{text}"
+    );
+    std::fs::write(
+        &shard,
+        text.replacen("  checks:\n", "  values: [1.0]\n  checks:\n", 1),
+    )
+    .unwrap();
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("a/results/shard-1-of-2.yaml:") && err.contains("1 checks' values"),
+        "{err}"
+    );
     std::fs::write(&shard, &text).unwrap();
     // Another cierva version's plan.
     let plan_path = dir.join("a/plan.yaml");
