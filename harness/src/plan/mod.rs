@@ -1059,7 +1059,7 @@ fn read_results(
                 (r.results.as_ref().map(Vec::len), checks, "checks' results")
             }
         };
-        let other = r.checks.is_some() && !matches!(e.what, Evaluates::Point { .. })
+        let other = (r.checks.is_some() && !matches!(e.what, Evaluates::Point { .. }))
             || match &e.what {
                 Evaluates::Request { .. } => r.results.is_some() || r.errors.is_some(),
                 Evaluates::Targets { targets, .. } => {
@@ -1069,7 +1069,8 @@ fn read_results(
                 Evaluates::Point { .. } => {
                     r.results.is_some() || r.values.is_some() || r.errors.is_some()
                 }
-                _ => r.values.is_some() || r.errors.is_some(),
+                // A nominal run or a refined case always has its results.
+                _ => r.values.is_some() || r.errors.is_some() || r.error.is_some(),
             };
         if other || given.is_some_and(|n| n != size) || given.is_none() == r.error.is_none() {
             return Err(at(

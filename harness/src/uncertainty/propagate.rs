@@ -451,8 +451,8 @@ pub(super) struct Point {
 
 /// What an uncertainty study reads of one check's results at a point: whether it passed, why it
 /// gave no values (an error or a finding), and each quantity's value by name and tolerance. A
-/// plan's point results hold only this, a fifth of the whole [`CheckResult`] (its words, its
-/// plots), so that a study of thousands of points writes and reads little.
+/// plan's point results hold only this, about a ninth of the whole [`CheckResult`]'s text (its
+/// words, bounds and margins), so that a study of thousands of points writes and reads little.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CheckValues {

@@ -225,6 +225,18 @@ fn a_plan_s_bad_input_is_a_located_error() {
         err.contains("a/results/shard-1-of-2.yaml:") && err.contains("1 checks' values"),
         "{err}"
     );
+    // And a nominal run's with a point's checks' values beside its whole results.
+    std::fs::write(
+        &shard,
+        text.replacen("  results:\n", "  checks: []\n  results:\n", 1),
+    )
+    .unwrap();
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("a/results/shard-1-of-2.yaml:") && err.contains("1 checks' results"),
+        "{err}"
+    );
     std::fs::write(&shard, &text).unwrap();
     // Another cierva version's plan.
     let plan_path = dir.join("a/plan.yaml");
