@@ -201,42 +201,39 @@ fn a_plan_s_bad_input_is_a_located_error() {
         err.contains("b/results/shard-1-of-2.yaml:") && err.contains("results of another plan"),
         "{err}"
     );
-    // A corrupted results file: its line and column.
+    // Results files refused at finishing, located: each edit of the first shard's file and
+    // what its error says besides the file's name.
     let shard = dir.join("a/results/shard-1-of-2.yaml");
     let text = std::fs::read_to_string(&shard).unwrap();
-    std::fs::write(&shard, text.replacen("seconds:", "seconds: [", 1)).unwrap();
-    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(err.contains("a/results/shard-1-of-2.yaml:"), "{err}");
-    // A point's results that are not its checks' values alone (a point holds what the study
-    // reads of each check, not the whole results a nominal run holds).
     assert!(
         text.contains("  checks:\n") && text.contains("  results:\n"),
         "{text}"
     );
-    std::fs::write(
-        &shard,
-        text.replacen("  checks:\n", "  values: [1.0]\n  checks:\n", 1),
-    )
-    .unwrap();
-    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("a/results/shard-1-of-2.yaml:") && err.contains("1 checks' values"),
-        "{err}"
-    );
-    // And a nominal run's with a point's checks' values beside its whole results.
-    std::fs::write(
-        &shard,
-        text.replacen("  results:\n", "  checks: []\n  results:\n", 1),
-    )
-    .unwrap();
-    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("a/results/shard-1-of-2.yaml:") && err.contains("1 checks' results"),
-        "{err}"
-    );
+    for (from, to, says) in [
+        // Corrupted: its line and column.
+        ("seconds:", "seconds: [", "shard-1-of-2.yaml:"),
+        // A point's results that are not its checks' values alone (a point holds what the
+        // study reads of each check, not the whole results a nominal run holds).
+        (
+            "  checks:\n",
+            "  values: [1.0]\n  checks:\n",
+            "1 checks' values",
+        ),
+        // A nominal run's with a point's checks' values beside its whole results.
+        (
+            "  results:\n",
+            "  checks: []\n  results:\n",
+            "1 checks' results",
+        ),
+    ] {
+        std::fs::write(&shard, text.replacen(from, to, 1)).unwrap();
+        let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+        assert_eq!(code, 2, "{to}: {err}");
+        assert!(
+            err.contains("a/results/shard-1-of-2.yaml:") && err.contains(says),
+            "{to}: {err}"
+        );
+    }
     std::fs::write(&shard, &text).unwrap();
     // Another cierva version's plan.
     let plan_path = dir.join("a/plan.yaml");
