@@ -234,6 +234,21 @@ fn a_plan_s_bad_input_is_a_located_error() {
             "{to}: {err}"
         );
     }
+    // A nominal run's results that are an error alone: a nominal run always has its results.
+    let mut doc: serde_yaml::Value = serde_yaml::from_str(&text).unwrap();
+    let nominal = (doc["evaluations"].as_sequence_mut().unwrap().iter_mut())
+        .find(|e| e.get("results").is_some())
+        .expect("the nominal run's results in shard 1");
+    let nominal = nominal.as_mapping_mut().unwrap();
+    nominal.remove("results");
+    nominal.insert("error".into(), "the case could not be made".into());
+    std::fs::write(&shard, serde_yaml::to_string(&doc).unwrap()).unwrap();
+    let (code, _, err) = cierva_in(&dir, &["uncertainty", "--from-plan", "a"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("a/results/shard-1-of-2.yaml:") && err.contains("1 checks' results"),
+        "{err}"
+    );
     std::fs::write(&shard, &text).unwrap();
     // Another cierva version's plan.
     let plan_path = dir.join("a/plan.yaml");
