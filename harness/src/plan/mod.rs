@@ -1039,6 +1039,7 @@ fn read_results(
                 ),
             ));
         }
+        let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
         let (given, size, what) = match (&e.what, &plan.sensitivity) {
             (Evaluates::Request { .. }, Some((_, jobs))) => (
                 r.values.as_ref().map(Vec::len),
@@ -1051,27 +1052,28 @@ fn read_results(
                 "targets' values",
             ),
             (Evaluates::Point { .. }, _) => {
-                let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
                 (r.checks.as_ref().map(Vec::len), checks, "checks' values")
             }
+            _ => (r.results.as_ref().map(Vec::len), checks, "checks' results"),
+        };
+        // Fields of another kind of evaluation than this one.
+        let other = match &e.what {
+            Evaluates::Request { .. } => {
+                r.results.is_some() || r.checks.is_some() || r.errors.is_some()
+            }
+            Evaluates::Targets { targets, .. } => {
+                r.results.is_some()
+                    || r.checks.is_some()
+                    || r.errors.as_ref().is_some_and(|x| x.len() != targets.len())
+            }
+            Evaluates::Point { .. } => {
+                r.results.is_some() || r.values.is_some() || r.errors.is_some()
+            }
+            // A nominal run or a refined case always has its results.
             _ => {
-                let checks = plan.studies.get(e.case).map_or(0, |j| j.case.checks.len());
-                (r.results.as_ref().map(Vec::len), checks, "checks' results")
+                r.checks.is_some() || r.values.is_some() || r.errors.is_some() || r.error.is_some()
             }
         };
-        let other = (r.checks.is_some() && !matches!(e.what, Evaluates::Point { .. }))
-            || match &e.what {
-                Evaluates::Request { .. } => r.results.is_some() || r.errors.is_some(),
-                Evaluates::Targets { targets, .. } => {
-                    r.results.is_some()
-                        || r.errors.as_ref().is_some_and(|x| x.len() != targets.len())
-                }
-                Evaluates::Point { .. } => {
-                    r.results.is_some() || r.values.is_some() || r.errors.is_some()
-                }
-                // A nominal run or a refined case always has its results.
-                _ => r.values.is_some() || r.errors.is_some() || r.error.is_some(),
-            };
         if other || given.is_some_and(|n| n != size) || given.is_none() == r.error.is_none() {
             return Err(at(
                 &format!("evaluations[{k}]"),
@@ -1175,23 +1177,19 @@ pub fn finish(plan: &LoadedPlan) -> Result<Vec<(CaseUncertainty, f64)>, PlanErro
         for e in plan.file.evaluations.iter().filter(|e| e.case == c) {
             let r = have.remove(&e.index).expect("every evaluation found");
             seconds += r.seconds;
-            if let Evaluates::Point { point, .. } = &e.what {
-                points[*point] = Some(outcome(r.checks, r.error));
-                continue;
-            }
-            let result = outcome(r.results, r.error);
-            match (&e.what, result) {
-                (Evaluates::Nominal, Ok(x)) => nominal = x,
-                (Evaluates::Refined { .. }, Ok(x)) => refined.push(x),
-                (Evaluates::Point { .. }, _) => unreachable!("read above"),
-                (Evaluates::Request { .. } | Evaluates::Targets { .. }, _) => {
+            let whole = |r: EvaluationResult| {
+                outcome(r.results, r.error)
+                    .map_err(|x| PlanError::Input(format!("evaluation {}: {x}", e.index)))
+            };
+            match &e.what {
+                Evaluates::Point { point, .. } => points[*point] = Some(outcome(r.checks, r.error)),
+                Evaluates::Nominal => nominal = whole(r)?,
+                Evaluates::Refined { .. } => refined.push(whole(r)?),
+                Evaluates::Request { .. } | Evaluates::Targets { .. } => {
                     return Err(PlanError::Input(format!(
                         "evaluation {}: another study's evaluation in an uncertainty study's plan",
                         e.index
                     )));
-                }
-                (_, Err(x)) => {
-                    return Err(PlanError::Input(format!("evaluation {}: {x}", e.index)));
                 }
             }
         }

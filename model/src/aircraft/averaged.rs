@@ -70,6 +70,12 @@ pub struct Averaged {
 /// acceleration in rad/s^2): the trim's own tolerance on them.
 const HUB_MOTION_TOLERANCE: f64 = 1e-7;
 
+/// The unit [`HUB_MOTION_TOLERANCE`] measures component `k` of the body's accelerations
+/// `[g - a_cg, w']` in: the apparent gravity in g, the angular acceleration in rad/s^2.
+fn hub_motion_unit(k: usize) -> f64 {
+    if k < 3 { rigid_body::G_M_S2 } else { 1.0 }
+}
+
 /// How many periodic solutions the revolution-averaged model may take to find them.
 const HUB_MOTION_ITERATIONS: usize = 20;
 
@@ -99,9 +105,7 @@ struct Anderson {
 impl Anderson {
     /// The next iterate after `y`, whose image is `image`.
     fn next(&mut self, y: [f64; 6], image: [f64; 6]) -> [f64; 6] {
-        let g = rigid_body::G_M_S2;
-        let scale = |k: usize| if k < 3 { 1.0 / g } else { 1.0 };
-        let residual: [f64; 6] = std::array::from_fn(|k| (image[k] - y[k]) * scale(k));
+        let residual: [f64; 6] = std::array::from_fn(|k| (image[k] - y[k]) / hub_motion_unit(k));
         self.history.push((image, residual));
         if self.history.len() > ANDERSON_DEPTH + 1 {
             self.history.remove(0);
@@ -273,9 +277,8 @@ impl Aircraft {
             )?;
             if heavy {
                 let next = self.accelerations(&total, &body_dot);
-                let g = rigid_body::G_M_S2;
                 change = (0..6)
-                    .map(|k| (next[k] - y[k]).abs() / if k < 3 { g } else { 1.0 })
+                    .map(|k| (next[k] - y[k]).abs() / hub_motion_unit(k))
                     .fold(0.0, f64::max);
                 if change > HUB_MOTION_TOLERANCE {
                     (y, warm) = (anderson.next(y, next), rl.beta0);
