@@ -197,6 +197,34 @@ impl RotorCache {
 }
 
 impl Aircraft {
+    /// The rotor's mean moment on the airframe at the hub (hub axes) and its spin acceleration
+    /// relative to the airframe's along the shaft, `Omega' - r_hub'`, from its periodic solution
+    /// `rl` at `op`: the mean aerodynamic moment with no shaft torque (a free rotor), the
+    /// gyroscopic couple of the blades' motion relative to the hub (the airframe's inertia
+    /// holds the rotor as a frozen disc), and the hub's angular acceleration on the blades'
+    /// inertia beyond that disc. The shaft's bearing carries no torque about the shaft: that part
+    /// changes the rotorspeed instead (the full model's balance, averaged); the rotorspeed's
+    /// change relative to the hub (with the airframe's `r_hub'` where the flapping sees the
+    /// hub's motion) takes its share of the blades' angular momentum from the hub.
+    fn mean_hub_moment(&self, rl: &SteadyLoads, op: &Operating) -> ([f64; 3], f64) {
+        let gyro = cross(op.hub_rates_rad_s, rl.angular_momentum_kg_m2_s);
+        let j = rl.inertia_beyond_disc_kg_m2;
+        let w_dot = op.hub_angular_acceleration_rad_s2;
+        let turning: [f64; 3] =
+            std::array::from_fn(|k| (0..3).map(|i| j[k][i] * w_dot[i]).sum::<f64>());
+        let k = rl.spin_momentum_per_omega_kg_m2;
+        let polar = -k[2];
+        let beyond = polar - self.rotor_polar_inertia_kg_m2();
+        let spin = (rl.driving_torque_n_m + gyro[2] + turning[2] - beyond * w_dot[2]) / polar;
+        let relative = spin + w_dot[2];
+        let m_hub = [
+            rl.moment_n_m[0] - gyro[0] - turning[0] - relative * k[0],
+            rl.moment_n_m[1] - gyro[1] - turning[1] - relative * k[1],
+            0.0,
+        ];
+        (m_hub, spin)
+    }
+
     /// The revolution-averaged equations at a state and control setting.
     ///
     /// `warm` is the main rotor's flap state at azimuth zero to start the periodic solution
@@ -259,13 +287,7 @@ impl Aircraft {
                 }
             };
             cache.last = Some((op, rl));
-            // Loads on the airframe at the hub: mean force, mean aerodynamic moment with no
-            // shaft torque (a free rotor), and the gyroscopic couple of the blades' motion
-            // relative to the hub (the airframe's inertia holds the rotor as a frozen disc).
-            let gyro = cross(op.hub_rates_rad_s, rl.angular_momentum_kg_m2_s);
-            // The shaft's bearing carries no torque about the shaft: that part of the couple
-            // would change the rotorspeed, as in the full model.
-            let m_hub = [rl.moment_n_m[0] - gyro[0], rl.moment_n_m[1] - gyro[1], 0.0];
+            let (m_hub, spin) = self.mean_hub_moment(&rl, &op);
             let rotor_loads =
                 Self::rotor_to_body(&frame, self.hub_force(rl.force_n, &frame, air), m_hub);
             let total = sum_loads(&[rotor_loads, prop_loads, af]);
@@ -288,12 +310,8 @@ impl Aircraft {
             let driving = inflow::DrivingLoads::of(&rl);
             let (equilibrium, wake, inflow_dot) =
                 self.inflow_response(&frame, driving, state.inflow, air);
-            let (rotor_omega_dot, prop_omega_dot) = self.spin_rates(
-                &frame,
-                rl.driving_torque_n_m / self.rotor_polar_inertia_kg_m2(),
-                prop_omega_dot,
-                &body_dot,
-            );
+            let (rotor_omega_dot, prop_omega_dot) =
+                self.spin_rates(&frame, spin, prop_omega_dot, &body_dot);
             let hub = frame.hub;
             let v_inplane = hub.u.hypot(hub.v);
             return Ok(Averaged {

@@ -91,11 +91,16 @@ impl Aircraft {
     }
 
     /// The rotor and propeller speeds' rates, relative to the airframe, from their rates under
-    /// their own torques (`driven`: `Q / I`) and the airframe's angular acceleration. The
-    /// rotor's absolute spin about the shaft is `Omega - r_hub` (it turns about `-z_hub`), so
-    /// `I_R (Omega' - r_hub') = Q`; an engine-driven propeller turning clockwise seen from
-    /// behind spins about `+x` at `Omega_p + p`, so `I_p (Omega_p' + p') = Q_e - Q_p`. The
-    /// shaft's tilt rate is neglected, as in the hub's rates.
+    /// their own torques (`driven`) and the airframe's angular acceleration. The rotor turns
+    /// about `-z_hub` on a bearing that carries no torque, so the blades' angular momentum
+    /// about the shaft changes by the torques on them alone, and its absolute spin `Omega -
+    /// r_hub` by `T / I_Rb`: `T` the aerodynamic torque and the inertial torques of the blades'
+    /// flapping and of the hub's rates and angular acceleration across the shaft on them (the
+    /// full model's `respond`, the averaged model's means), `I_Rb` the flapped blades' polar
+    /// inertia; with unflapped blades and no inertial torques, `I_R (Omega' - r_hub') = Q`. An
+    /// engine-driven propeller turning clockwise seen from behind spins about `+x` at
+    /// `Omega_p + p`, so `I_p (Omega_p' + p') = Q_e - Q_p`. The shaft's tilt rate is
+    /// neglected, as in the hub's rates.
     pub(super) fn spin_rates(
         &self,
         frame: &RotorFrame,
@@ -146,15 +151,22 @@ impl Aircraft {
             air.density_kg_m3,
             air.speed_of_sound_m_s,
         )?;
-        let (engine_torque, prop_omega_dot) = match pi.drive {
-            Drive::Governed { .. } => (ps.torque_n_m, 0.0),
+        // The engine's torque, the propeller's spin acceleration and the spin's angular
+        // momentum beyond the airframe's frozen share, `I_p sense Omega_p` along `+x` (a
+        // governed propeller has no spin state and no inertia in the model).
+        let (engine_torque, prop_omega_dot, spin) = match pi.drive {
+            Drive::Governed { .. } => (ps.torque_n_m, 0.0, 0.0),
             Drive::Engine {
                 max_power_w,
                 rated_rpm,
                 polar_inertia_kg_m2,
             } => {
                 let q = controls.throttle_percent / 100.0 * max_power_w / (rated_rpm * PI / 30.0);
-                (q, (q - ps.torque_n_m) / polar_inertia_kg_m2)
+                (
+                    q,
+                    (q - ps.torque_n_m) / polar_inertia_kg_m2,
+                    polar_inertia_kg_m2 * sense * prop_omega,
+                )
             }
         };
         let [fx_h, fy_h] = ps.inplane_force_n;
@@ -163,13 +175,14 @@ impl Aircraft {
         let pm = cross(parm, pf);
         // Propeller turning clockwise seen from behind: its angular velocity is along +x, the
         // engine's reaction on the airframe along -x. Its hub moments: hub x is body z, hub y
-        // body y (mirrored with the propeller's sense).
+        // body y (mirrored with the propeller's sense). The spin's gyroscopic couple on the
+        // airframe, `-w x (h, 0, 0)`: a yaw rate pitches, a pitch rate yaws.
         let prop_loads = as_loads(
             pf,
             [
                 pm[0] - sense * engine_torque,
-                pm[1] + my_h,
-                pm[2] + sense * mx_h,
+                pm[1] + my_h - pqr[2] * spin,
+                pm[2] + sense * mx_h + pqr[1] * spin,
             ],
         );
         let rudder = self.controls.rudder_rad.at(controls.pedal_percent);

@@ -17,6 +17,9 @@ struct Response {
     flap_dot: Vec<[f64; 2]>,
     total: Loads,
     body_dot: BodyState,
+    /// The rotor's spin acceleration relative to the airframe's along the shaft,
+    /// `Omega' - r_hub'`, rad/s^2.
+    spin: f64,
 }
 
 /// The full individual-blade state.
@@ -171,9 +174,11 @@ impl Aircraft {
     /// the blades' first mass moment, the hub force. The flap equations include the hub's
     /// rotation, and through the blades' first mass moment their weight and the hub's
     /// acceleration (the body's, solved with the blades': `Aircraft::coupled`; about a teeter
-    /// hinge these cancel unless the blades are coned). The blades' own inertia under the hub's
-    /// angular acceleration (`I w'.t`, [`crate::components::rotor`]) is not modelled. Lag is
-    /// not modelled.
+    /// hinge these cancel unless the blades are coned), and the blades' own inertia under the
+    /// hub's angular acceleration (`I w'.t`, [`crate::components::rotor`]); the hub moment
+    /// takes the hub's angular acceleration on the blades' inertia beyond the frozen disc
+    /// (a two-bladed rotor's turns with it). The rotorspeed's rate balances the torques about
+    /// the shaft over the flapped blades' polar inertia. Lag is not modelled.
     pub fn derivatives(
         &self,
         x: &FullState,
@@ -267,9 +272,8 @@ impl Aircraft {
         let op = op;
         // Each blade's aerodynamic loads, once; the flap (teeter) accelerations from them.
         let blades = Blades::new(rotor, blade, op, placed);
-        let (force, moment, torque, coriolis_torque) = blades.sums(omega);
+        let (force, moment, torque) = blades.sums();
         let i_r = self.rotor_polar_inertia_kg_m2();
-        let omega_dot = (torque + coriolis_torque) / i_r;
         let driving = inflow::DrivingLoads {
             thrust_n: -force[2],
             roll_n_m: moment[0],
@@ -297,14 +301,13 @@ impl Aircraft {
                 Hub::Teetering => -flap_dot[0][1],
                 Hub::Rigid => 0.0,
             };
-            let (h0, dh, f_hub) = blades.inertia(frame.hub_rates, beta_ddot, omega_dot, force);
-            let gyro = cross(frame.hub_rates, h0);
-            let m_hub = [
-                moment[0] - dh[0] - gyro[0],
-                moment[1] - dh[1] - gyro[1],
-                // A free rotor: no torque through the shaft.
-                0.0,
-            ];
+            let (m_hub, f_hub, spin) = blades.reaction(
+                frame.hub_rates,
+                beta_ddot,
+                hub,
+                (force, moment, torque),
+                i_r,
+            );
             let rotor_loads =
                 Self::rotor_to_body(&frame, self.hub_force(f_hub, &frame, air), m_hub);
             let total = sum_loads(&[rotor_loads, prop_loads, af]);
@@ -314,18 +317,21 @@ impl Aircraft {
                 flap_dot,
                 total,
                 body_dot,
+                spin,
             })
         };
         let heavy = self.heavy_blades();
         let Response {
-            flap_dot, body_dot, ..
+            flap_dot,
+            body_dot,
+            spin,
+            ..
         } = if heavy {
             self.coupled(&frame, &x.body, &respond, given)?
         } else {
             respond(None)?
         };
-        let (omega_dot, prop_omega_dot) =
-            self.spin_rates(&frame, omega_dot, prop_omega_dot, &body_dot);
+        let (omega_dot, prop_omega_dot) = self.spin_rates(&frame, spin, prop_omega_dot, &body_dot);
         Ok(FullDerivative {
             body: body_dot,
             rotor_azimuth_rad: omega,
@@ -486,32 +492,20 @@ impl<'a> Blades<'a> {
         }
     }
 
-    /// The blades' force and moment on the hub (hub axes), their aerodynamic torque, and the
-    /// torque of their flapping at rotorspeed `omega` (Coriolis).
-    fn sums(&self, omega: f64) -> ([f64; 3], [f64; 3], f64, f64) {
-        let rotor = self.rotor;
-        let i_b = rotor.flap_inertia_kg_m2;
+    /// The blades' aerodynamic force and moment on the hub (hub axes) and their aerodynamic
+    /// torque.
+    fn sums(&self) -> ([f64; 3], [f64; 3], f64) {
         let mut force = [0.0; 3];
         let mut moment = [0.0; 3];
         let mut torque = 0.0;
-        let mut coriolis_torque = 0.0;
-        for &Placed {
-            beta,
-            beta_dot,
-            loads: ref l,
-            ..
-        } in &self.placed
-        {
+        for Placed { loads: l, .. } in &self.placed {
             for k in 0..3 {
                 force[k] += l.force_n[k];
                 moment[k] += l.moment_n_m[k];
             }
             torque += l.torque_n_m;
-            // A blade flapping up comes nearer the shaft and speeds the rotor up.
-            let (s_m, e) = (rotor.flap_mass_moment_kg_m, rotor.hinge_offset_m);
-            coriolis_torque += 2.0 * omega * beta_dot * beta.sin() * (e * s_m + i_b * beta.cos());
         }
-        (force, moment, torque, coriolis_torque)
+        (force, moment, torque)
     }
 
     /// The flap (teeter) states' rates for the flap states `flap`, the flap equations seeing
@@ -556,6 +550,69 @@ impl<'a> Blades<'a> {
             Hub::Rigid => {}
         }
         flap_dot
+    }
+
+    /// The blades' moment and force on the hub (hub axes) and the rotor's spin acceleration
+    /// relative to the airframe's along the shaft, `Omega' - r_hub'`, for the flap accelerations
+    /// `beta_ddot` and the hub's motion `hub` as the flap equations see it (none: weightless
+    /// blades), from the blades' aerodynamic `(force, moment, torque)`; `i_r` the frozen disc's
+    /// polar inertia.
+    ///
+    /// A free rotor: no torque through the shaft's bearing, so the blades' angular momentum
+    /// about the shaft changes by the aerodynamic torque alone. With the hub's rates `w`:
+    /// `I_R r_hub' + dh_z + (w x h)_z + ((J - disc) w')_z = -Q` (the frozen disc's `I_R
+    /// r_hub'`; `dh` the rate along the blades' motion, `-I_Rb Omega'` of it from the
+    /// rotorspeed's change, `I_Rb` the flapped blades' polar inertia, the rest the flapping's
+    /// Coriolis and the hub's rates seen by the turning blades). The inertia's `zz` element
+    /// beyond the disc is `I_Rb - I_R`, so `Omega' - r_hub' = (Q + dh_z(Omega' = 0) + (w x h)_z +
+    /// ((J - disc) w')_z - (I_Rb - I_R) r_hub') / I_Rb`, the absolute spin changed by the
+    /// torques alone; the hub's `r_hub'` is known where the flap equations see the hub's motion,
+    /// and otherwise left out of the blades' angular momentum rate, as the hub's rates are.
+    fn reaction(
+        &self,
+        hub_rates: [f64; 3],
+        beta_ddot: impl Fn(usize) -> f64 + Copy,
+        hub: Option<&HubMotion>,
+        (force, moment, torque): ([f64; 3], [f64; 3], f64),
+        i_r: f64,
+    ) -> ([f64; 3], [f64; 3], f64) {
+        // The hub's angular acceleration on the blades' inertia beyond the frozen disc.
+        let turning = hub.map_or([0.0; 3], |h| self.beyond_disc_times(h.angular_acceleration));
+        let polar = self.polar_inertia();
+        let r_hub_dot = hub.map_or(0.0, |h| h.angular_acceleration[2]);
+        let (h0, still, _) = self.inertia(hub_rates, beta_ddot, 0.0, force);
+        let gyro = cross(hub_rates, h0);
+        let spin = (torque + still[2] + gyro[2] + turning[2] - (polar - i_r) * r_hub_dot) / polar;
+        let (_, dh, f_hub) = self.inertia(hub_rates, beta_ddot, spin + r_hub_dot, force);
+        let m_hub = [
+            moment[0] - dh[0] - gyro[0] - turning[0],
+            moment[1] - dh[1] - gyro[1] - turning[1],
+            0.0,
+        ];
+        (m_hub, f_hub, spin)
+    }
+
+    /// The flapped blades' polar inertia about the shaft, kg m^2: their angular momentum per
+    /// unit rotorspeed along `-z` ([`Blade::spin_momentum_per_omega`]).
+    fn polar_inertia(&self) -> f64 {
+        -self
+            .placed
+            .iter()
+            .map(|p| self.blade.spin_momentum_per_omega(p.angles)[2])
+            .sum::<f64>()
+    }
+
+    /// The blades' inertia beyond the frozen disc times the hub's angular acceleration `w_dot`
+    /// (hub axes; [`Blade::inertia_beyond_disc_times`]).
+    fn beyond_disc_times(&self, w_dot: [f64; 3]) -> [f64; 3] {
+        let mut sum = [0.0; 3];
+        for p in &self.placed {
+            let j = self.blade.inertia_beyond_disc_times(p.angles, w_dot);
+            for k in 0..3 {
+                sum[k] += j[k];
+            }
+        }
+        sum
     }
 
     /// The blades' angular momentum beyond the frozen disc and its rate, and the force on the

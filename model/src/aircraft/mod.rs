@@ -23,12 +23,20 @@
 //! equations with the rotor in its steady periodic motion at the present body state (the
 //! trim model: every load is a mean over one rotor revolution). The rotor's mean forces and
 //! aerodynamic moments reach the airframe at the hub, plus the gyroscopic couple
-//! `-omega_hub x H` when the body rotates. The rotor turns freely on its bearing (no torque
-//! about the shaft: an autogyro), so only the aerodynamic torque changes its absolute spin.
-//! `Omega` is the rotor speed relative to the airframe (as a rotor tachometer reads it), and
-//! the rotor turns about `-z_hub`, so its absolute spin is `Omega - r_hub` and
-//! `I_R (dOmega/dt - dr_hub/dt) = Q`. The airframe's angular accelerations see the aircraft's
-//! inertia without the rotor's polar moment about the shaft
+//! `-omega_hub x H` when the body rotates (`H` the blades' angular momentum beyond the frozen
+//! disc the airframe's inertia holds), the hub's angular acceleration on the blades' inertia
+//! beyond that disc, and the rotorspeed's change on the blades' angular momentum (a tilted
+//! disc's across the shaft). The rotor turns freely on its bearing (no torque about the shaft:
+//! an autogyro), so the blades' angular momentum about the shaft changes by the aerodynamic
+//! torque alone. `Omega` is the rotor speed relative to the airframe (as a rotor tachometer
+//! reads it), and the rotor turns about `-z_hub`, so its absolute spin is `Omega - r_hub` and
+//! `I_Rb (dOmega/dt - dr_hub/dt) = Q + (omega_hub x H)_z + ((J - disc) w')_z - (I_Rb - I_R)
+//! dr_hub/dt` (and, in the full model, the Coriolis torque of the flapping; `I_Rb` the flapped
+//! blades' polar inertia, `I_R` the frozen disc's, `J - disc` the blades' inertia beyond it,
+//! whose `zz` element the last term takes out): a tilted disc on a pitching or rolling
+//! airframe, or a two-bladed rotor's inertia on a turning one, trades spin with the airframe
+//! (tested by the full model's conservation of angular momentum in a vacuum). The airframe's angular
+//! accelerations see the aircraft's inertia without the rotor's polar moment about the shaft
 //! ([`rigid_body::derivatives_with_free_spins`]): yawing the airframe does not drag the rotor
 //! round with it.
 //!
@@ -57,9 +65,12 @@
 //! rolls the airframe against the propeller's rotation. The engine's shaft carries only that
 //! torque, so an engine-driven propeller is a free rotor about `x` as the main rotor is about
 //! its shaft: `I_p (dOmega_p/dt + dp/dt) = Q_engine - Q_propeller` for a propeller turning
-//! clockwise seen from behind, and its polar moment is out of the airframe's roll inertia. A
-//! governed propeller is held at its speed relative to the airframe, so it rolls with the
-//! airframe as part of its inertia.
+//! clockwise seen from behind, and its polar moment is out of the airframe's roll inertia. Its
+//! spin's angular momentum beyond the airframe's, `I_p Omega_p` along `x` (with the
+//! propeller's sense), gives the airframe the gyroscopic couple `-omega x h_p`: a yaw rate
+//! pitches it, a pitch rate yaws it. A governed propeller is held at its speed relative to the
+//! airframe, so it rolls with the airframe as part of its inertia, and the model gives it no
+//! spin inertia.
 //!
 //! # Hub angle-of-attack correction
 //! Seed 000 Sec. VII replaces the kinematic angle of attack at the hub by a factor times the
@@ -374,9 +385,13 @@ impl Aircraft {
         [p[0] + up[0], p[1] + up[1], p[2] + up[2]]
     }
 
-    /// Whether the main rotor's flapping feels the hub's motion: its blades have a mass moment
-    /// about a hinge (or the teeter bar). Their weight and the hub's acceleration act on them
-    /// only through it (`Blade::apparent_gravity_flap_moment_at`).
+    /// Whether the main rotor's flapping feels the hub's motion: its blades have a first mass
+    /// moment `S` about a hinge (or the teeter bar). Their weight acts through it, the hub's
+    /// angular acceleration through it and their flap inertia
+    /// (`Blade::apparent_gravity_flap_moment_at`). A rotor file with `S = 0` declares
+    /// weightless blades, and the hub's motion is then left out altogether, their inertia's
+    /// share too: the VPM M16's file is one, until its blades' `S` and undersling are given
+    /// (issue 52, item 12; reports/investigations.md).
     fn heavy_blades(&self) -> bool {
         let r = &self.main_rotor.rotor;
         r.flap_mass_moment_kg_m != 0.0 && r.hub != Hub::Rigid

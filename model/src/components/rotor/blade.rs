@@ -72,6 +72,11 @@ impl<'a> Blade<'a> {
     /// The frozen disc's share of one blade's angular momentum, `K diag(1/2, 1/2, 1) omega_hub`
     /// with `K = m e^2 + 2 e S + I` (see [`Self::angular_momentum_beyond_disc`]).
     fn disc_share(&self, op: &Operating) -> [f64; 3] {
+        self.disc_times(op.hub_rates_rad_s)
+    }
+
+    /// The frozen disc's inertia (one blade's share, `K diag(1/2, 1/2, 1)`) times `w`.
+    fn disc_times(&self, w: [f64; 3]) -> [f64; 3] {
         let rot = self.rotor;
         let (i, s_m, e) = (
             rot.flap_inertia_kg_m2,
@@ -79,8 +84,62 @@ impl<'a> Blade<'a> {
             rot.hinge_offset_m,
         );
         let k = rot.blade_mass_kg() * e * e + 2.0 * e * s_m + i;
-        let w = op.hub_rates_rad_s;
         [0.5 * k * w[0], 0.5 * k * w[1], k * w[2]]
+    }
+
+    /// One blade's angular momentum about the hub centre per unit rotorspeed, hub axes,
+    /// kg m^2: `(m e^2 + e S cos b) r x t + (e S + I cos b) e_b x t`, the blade turning at
+    /// `Omega` about the shaft at its flap angle ([`Self::angular_momentum_and_rate`]'s
+    /// rotation terms). A change of rotorspeed `Omega'` takes `Omega'` times it from the hub.
+    pub fn spin_momentum_per_omega(&self, angles: Angles) -> [f64; 3] {
+        let rot = self.rotor;
+        let (i, s_m, e) = (
+            rot.flap_inertia_kg_m2,
+            rot.flap_mass_moment_kg_m,
+            rot.hinge_offset_m,
+        );
+        let m = rot.blade_mass_kg();
+        let Angles { sp, cp, sb, cb } = angles;
+        let r_hat = [-cp, sp, 0.0];
+        let t_hat = [sp, cp, 0.0];
+        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
+        let (rt, et) = (cross(r_hat, t_hat), cross(e_b, t_hat));
+        let (a, b) = (e * e * m + e * s_m * cb, e * s_m + i * cb);
+        std::array::from_fn(|k| a * rt[k] + b * et[k])
+    }
+
+    /// One blade's inertia about the hub centre, less the frozen disc's share that the
+    /// airframe's inertia holds, times the hub's angular acceleration `w_dot` (hub axes),
+    /// kg m^2/s^2: the part of the blade's angular momentum rate that the hub's angular
+    /// acceleration gives and the airframe's equations do not (they carry the frozen disc;
+    /// [`Self::angular_momentum_and_rate`] holds the hub's rates). The blade's inertia is that
+    /// of [`Self::angular_momentum_and_rate`]'s `J omega_hub` terms:
+    /// `J = (m e^2 + 2 e S cos b + I) 1 - m e^2 r r' - e S (e_b r' + r e_b') - I e_b e_b'`.
+    /// Summed over three or more unflapped blades it is the frozen disc's, and this vanishes;
+    /// over two it turns with the rotor (the pair has no inertia about its span, twice its
+    /// share across it); flapping tilts and shrinks it.
+    pub fn inertia_beyond_disc_times(&self, angles: Angles, w_dot: [f64; 3]) -> [f64; 3] {
+        let rot = self.rotor;
+        let (i, s_m, e) = (
+            rot.flap_inertia_kg_m2,
+            rot.flap_mass_moment_kg_m,
+            rot.hinge_offset_m,
+        );
+        let m = rot.blade_mass_kg();
+        let Angles { sp, cp, sb, cb } = angles;
+        let r_hat = [-cp, sp, 0.0];
+        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (w_r, w_e) = (dot(w_dot, r_hat), dot(w_dot, e_b));
+        let x2 = e * e * m + 2.0 * e * s_m * cb + i;
+        let disc = self.disc_times(w_dot);
+        std::array::from_fn(|k| {
+            x2 * w_dot[k]
+                - (e * e * m * w_r * r_hat[k]
+                    + e * s_m * (w_r * e_b[k] + w_e * r_hat[k])
+                    + i * w_e * e_b[k])
+                - disc[k]
+        })
     }
 
     /// The blade angles `(beta, d beta / dt)` of blade 1 and, for a teetering hub, blade 2
@@ -203,33 +262,33 @@ impl<'a> Blade<'a> {
         ]
     }
 
-    /// The flap moment of the blade's weight and the hub's motion acting through its first mass
-    /// moment `S` about the hinge, positive flapping up (see the module's docs):
-    /// `S f.n + e S cos b (w'.t)`, with `f` the apparent gravity at the hub (`g - a_hub`) and
-    /// `w'` the hub's angular acceleration, both in hub axes; `n = d e_b / d beta` (the flapped
-    /// blade's direction `e_b = (-cos b cos psi, cos b sin psi, -sin b)`) and
-    /// `t = (sin psi, cos psi, 0)`. That is `S` times the apparent gravity at the hinge along
-    /// `n`. With the shaft upright in unaccelerated flight it is `-S g cos b`: the blade droops.
+    /// The flap moment of the blade's weight and the hub's motion, positive flapping up (see the
+    /// module's docs): `S f.n + (e S cos b + I) (w'.t)`, with `f` the apparent gravity at the
+    /// hub (`g - a_hub`) and `w'` the hub's angular acceleration, both in hub axes; `n = d e_b /
+    /// d beta` (the flapped blade's direction `e_b = (-cos b cos psi, cos b sin psi, -sin b)`)
+    /// and `t = (sin psi, cos psi, 0)`. That is `S` times the apparent gravity at the hinge
+    /// along `n`, and the blade's own flap inertia `I` under the hub's angular acceleration.
+    /// With the shaft upright in unaccelerated flight it is `-S g cos b`: the blade droops.
     pub(crate) fn apparent_gravity_flap_moment_at(
         &self,
         apparent_gravity_m_s2: [f64; 3],
         hub_angular_acceleration_rad_s2: [f64; 3],
         angles: Angles,
     ) -> f64 {
-        let s_m = self.rotor.flap_mass_moment_kg_m;
-        if s_m == 0.0 {
-            return 0.0;
-        }
+        let (s_m, i_m) = (
+            self.rotor.flap_mass_moment_kg_m,
+            self.rotor.flap_inertia_kg_m2,
+        );
         let Angles { sp, cp, sb, cb } = angles;
         let f = apparent_gravity_m_s2;
         let mut moment = 0.0;
-        if f != [0.0; 3] {
+        if s_m != 0.0 && f != [0.0; 3] {
             let n = [sb * cp, -sb * sp, -cb];
             moment = s_m * (f[0] * n[0] + f[1] * n[1] + f[2] * n[2]);
         }
         let (e, w) = (self.rotor.hinge_offset_m, hub_angular_acceleration_rad_s2);
-        if e != 0.0 && w != [0.0; 3] {
-            moment += e * s_m * cb * (w[0] * sp + w[1] * cp);
+        if w != [0.0; 3] {
+            moment += (e * s_m * cb + i_m) * (w[0] * sp + w[1] * cp);
         }
         moment
     }

@@ -65,7 +65,8 @@
 //! operating condition's `g - a_hub` and `w'` in hub axes ([`Operating::apparent_gravity_m_s2`],
 //! [`Operating::hub_angular_acceleration_rad_s2`]; how the aircraft finds them is in
 //! [`crate::aircraft`]). The blade's own inertia under the hub's angular acceleration, `I w'.t`,
-//! does not act through `S` and is not modelled (it vanishes in steady flight). A uniform blade
+//! does not act through `S` (it vanishes in steady flight; tested against D'Alembert's
+//! principle summed over a blade). A uniform blade
 //! of mass `m` hinged on the axis has `S = m R / 2` and `I = m R^2 / 3`, so that in hover its
 //! weight droops it by `S g / (I Omega^2) = 3 g / (2 Omega^2 R)` (tested).
 //!
@@ -77,7 +78,7 @@
 //! along the shaft; the model has no undersling, which would take `2 m u` from it): the
 //! apparent gravity across the shaft forces the teeter once per revolution, and along the
 //! shaft it softens the teeter's centrifugal stiffness (both tested). The pair's `I w'.t`
-//! terms add, and are not modelled.
+//! terms add: a roll or pitch acceleration of the hub teeters the pair even without precone.
 //!
 //! # The hub's own drag
 //! The hub, blade-root fittings and spindle head are bluff bodies in the free stream. Their

@@ -25,6 +25,17 @@ pub struct SteadyLoads {
     /// On a rotating hub the blades' inertial moment on it averages to `-omega_hub x H` (the
     /// gyroscopic couple); on a non-rotating hub it averages to zero.
     pub angular_momentum_kg_m2_s: [f64; 3],
+    /// Mean inertia of the blades about the hub centre beyond the frozen disc the airframe's
+    /// inertia holds, hub axes, kg m^2, by rows: the hub's angular acceleration `w'` takes
+    /// `J w'` of moment from the hub on average ([`Blade::inertia_beyond_disc_times`]; zero for
+    /// unflapped blades; left at zero for a rigid rotor, whose blades never see the hub's
+    /// motion, so that `w'` is zero there).
+    pub inertia_beyond_disc_kg_m2: [[f64; 3]; 3],
+    /// Mean angular momentum of the blades per unit rotorspeed, hub axes, kg m^2
+    /// ([`Blade::spin_momentum_per_omega`]): a change of rotorspeed `Omega'` takes `Omega'`
+    /// times it from the hub on average (along the shaft, `-I_R` and the flapping's share; across
+    /// it, the tilted disc's).
+    pub spin_momentum_per_omega_kg_m2: [f64; 3],
 }
 
 impl SteadyLoads {
@@ -41,6 +52,8 @@ impl SteadyLoads {
 pub(super) struct RevolutionSums {
     loads: BladeLoads,
     momentum: [f64; 3],
+    inertia: [[f64; 3]; 3],
+    spin: [f64; 3],
     a0: f64,
     c1: f64,
     s1: f64,
@@ -63,11 +76,13 @@ impl RevolutionSums {
         for (m, h) in self.momentum.iter_mut().zip(hb) {
             *m += h;
         }
+        self.add_inertia(blade, a1);
         if let Some((a2, d2, l2)) = second {
             let h2 = blade.angular_momentum_and_rate(op, a2, d2, 0.0, 0.0).0;
             for (m, h) in self.momentum.iter_mut().zip(h2) {
                 *m += h;
             }
+            self.add_inertia(blade, a2);
             l.torque_n_m += l2.torque_n_m;
             for j in 0..3 {
                 l.force_n[j] += l2.force_n[j];
@@ -83,6 +98,26 @@ impl RevolutionSums {
         self.a0 += b1;
         self.c1 += b1 * a1.cp;
         self.s1 += b1 * a1.sp;
+    }
+
+    /// Adds a blade's inertia beyond the frozen disc at its angles, column by column, and its
+    /// angular momentum per unit rotorspeed.
+    fn add_inertia(&mut self, blade: &Blade<'_>, angles: Angles) {
+        for (sum, v) in self
+            .spin
+            .iter_mut()
+            .zip(blade.spin_momentum_per_omega(angles))
+        {
+            *sum += v;
+        }
+        for col in 0..3 {
+            let mut unit = [0.0; 3];
+            unit[col] = 1.0;
+            let j = blade.inertia_beyond_disc_times(angles, unit);
+            for (row, v) in j.into_iter().enumerate() {
+                self.inertia[row][col] += v;
+            }
+        }
     }
 }
 
@@ -239,6 +274,12 @@ impl Blade<'_> {
                 let h = self.angular_momentum(op, 0.0, p, 0.0);
                 [0.0, 0.0, nb * h[2]]
             },
+            inertia_beyond_disc_kg_m2: [[0.0; 3]; 3],
+            spin_momentum_per_omega_kg_m2: [
+                0.0,
+                0.0,
+                nb * self.spin_momentum_per_omega(Angles::new(0.0, p))[2],
+            ],
         };
         if !(out.force_n[2].is_finite() && out.driving_torque_n_m.is_finite()) {
             return Err(RotorError::NonFinite("rotor load"));
@@ -370,6 +411,8 @@ impl Blade<'_> {
             b1_rad: -2.0 * sum.s1 / n as f64,
             beta0: start_state,
             angular_momentum_kg_m2_s: sum.momentum.map(mean),
+            inertia_beyond_disc_kg_m2: sum.inertia.map(|row| row.map(mean)),
+            spin_momentum_per_omega_kg_m2: sum.spin.map(mean),
         };
         if !out
             .force_n
