@@ -153,7 +153,6 @@ fn only_heavy_blades_tell_attitudes_apart() {
 /// held bound (the same state with weightless blades).
 #[test]
 fn the_full_model_averages_to_the_trim_with_heavy_blades_level_and_turning() {
-    let g = rigid_body::G_M_S2;
     for (hub, e, turn) in [
         (Hub::Teetering, 0.0, 0.0),
         (Hub::Teetering, 0.0, 0.25),
@@ -191,21 +190,7 @@ fn the_full_model_averages_to_the_trim_with_heavy_blades_level_and_turning() {
         );
         // The steady motion's accelerations, by the rigid body's kinematics: the apparent
         // gravity at the c.g. g - w x V, and no angular acceleration.
-        let b = &t.state.body;
-        let (st, ct) = b.theta_rad.sin_cos();
-        let (sf, cf) = b.phi_rad.sin_cos();
-        let turning = cross(
-            [b.p_rad_s, b.q_rad_s, b.r_rad_s],
-            [b.u_m_s, b.v_m_s, b.w_m_s],
-        );
-        let held = [
-            -g * st - turning[0],
-            g * sf * ct - turning[1],
-            g * cf * ct - turning[2],
-            0.0,
-            0.0,
-            0.0,
-        ];
+        let held = Aircraft::steady_accelerations(&t.state.body);
         let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
         let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
         for (body, deriv) in [
@@ -266,7 +251,6 @@ const HELD_FLAP_RAD: f64 = 2e-7;
 /// (sin psi, cos psi, 0)` (the blade's own flap inertia under `w'`).
 #[test]
 fn the_full_models_blade_and_body_accelerations_are_solved_together() {
-    let g = rigid_body::G_M_S2;
     for (hub, e) in [(Hub::Teetering, 0.0), (Hub::Articulated, 0.2)] {
         let a = heavy(hub, e);
         let t = trim::trim(&a, crate::testdata::level_70mph(), TrimOptions::default()).unwrap();
@@ -277,19 +261,7 @@ fn the_full_models_blade_and_body_accelerations_are_solved_together() {
         x.body.v_m_s += 1.0;
         x.rotor_azimuth_rad = 0.7;
         let free = a.derivatives(&x, &t.controls, air()).unwrap();
-        let (b, d) = (&x.body, &free.body);
-        let (st, ct) = b.theta_rad.sin_cos();
-        let (sf, cf) = b.phi_rad.sin_cos();
-        let w = [b.p_rad_s, b.q_rad_s, b.r_rad_s];
-        let turning = cross(w, [b.u_m_s, b.v_m_s, b.w_m_s]);
-        let implied = [
-            -g * st - d.u_m_s - turning[0],
-            g * sf * ct - d.v_m_s - turning[1],
-            g * cf * ct - d.w_m_s - turning[2],
-            d.p_rad_s,
-            d.q_rad_s,
-            d.r_rad_s,
-        ];
+        let implied = implied_accelerations(&x.body, &free.body);
         let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
         let given = |y: [f64; 6]| {
             a.derivatives_given(&blade, &x, &t.controls, air(), [0.0; 3], Some(y))
@@ -666,6 +638,21 @@ fn full_mean(
     let deriv = |x: &FullState| a.derivatives(x, controls, air()).unwrap();
     let (mean, _, x, _) = full_revolution(a, x, settle, &deriv);
     (mean, x)
+}
+
+/// The accelerations `y = (g - a_cg, w')` (body axes) that a full-model derivative `d` at the
+/// body state `b` implies, by the rigid body's kinematics (`a_cg = V' + w x V`; the steady
+/// motion's with `V'` and `w'` added).
+fn implied_accelerations(b: &BodyState, d: &BodyState) -> [f64; 6] {
+    let s = Aircraft::steady_accelerations(b);
+    [
+        s[0] - d.u_m_s,
+        s[1] - d.v_m_s,
+        s[2] - d.w_m_s,
+        d.p_rad_s,
+        d.q_rad_s,
+        d.r_rad_s,
+    ]
 }
 
 /// What [`full_revolution`] returns: the mean accelerations, blade 1's flapping harmonics, the
@@ -1070,7 +1057,6 @@ fn shake_bound(
     controls: &Controls,
     reference: [f64; 6],
 ) -> f64 {
-    let g = rigid_body::G_M_S2;
     let rot = &a.main_rotor.rotor;
     let blade = Blade::new(rot, a.main_rotor.numerics);
     let (i_b, s_m, e) = (
@@ -1101,22 +1087,7 @@ fn shake_bound(
     let n_max = 6;
     let mut c = vec![[0.0f64; 2]; n_max + 1];
     for (x, d) in samples {
-        let (b, db) = (&x.body, &d.body);
-        let (st, ct) = b.theta_rad.sin_cos();
-        let (sf, cf) = b.phi_rad.sin_cos();
-        let turning = cross(
-            [b.p_rad_s, b.q_rad_s, b.r_rad_s],
-            [b.u_m_s, b.v_m_s, b.w_m_s],
-        );
-        let implied = [
-            -g * st - db.u_m_s - turning[0],
-            g * sf * ct - db.v_m_s - turning[1],
-            g * cf * ct - db.w_m_s - turning[2],
-            db.p_rad_s,
-            db.q_rad_s,
-            db.r_rad_s,
-        ];
-        let f = moment(x, &implied) - moment(x, &reference);
+        let f = moment(x, &implied_accelerations(&x.body, &d.body)) - moment(x, &reference);
         for (n, c) in c.iter_mut().enumerate() {
             let scale = if n == 0 { 1.0 } else { 2.0 } / samples.len() as f64;
             let (s, co) = (n as f64 * x.rotor_azimuth_rad).sin_cos();

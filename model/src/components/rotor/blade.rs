@@ -77,14 +77,21 @@ impl<'a> Blade<'a> {
 
     /// The frozen disc's inertia (one blade's share, `K diag(1/2, 1/2, 1)`) times `w`.
     fn disc_times(&self, w: [f64; 3]) -> [f64; 3] {
+        let (i, s_m, e, m) = self.mass_data();
+        let k = m * e * e + 2.0 * e * s_m + i;
+        [0.5 * k * w[0], 0.5 * k * w[1], k * w[2]]
+    }
+
+    /// The blade's flap inertia `I` and first mass moment `S` about its hinge, the hinge's offset
+    /// `e`, and its mass `m` (thin rigid blade: the uniform rod's `4 S^2 / (3 I)`).
+    fn mass_data(&self) -> (f64, f64, f64, f64) {
         let rot = self.rotor;
-        let (i, s_m, e) = (
+        (
             rot.flap_inertia_kg_m2,
             rot.flap_mass_moment_kg_m,
             rot.hinge_offset_m,
-        );
-        let k = rot.blade_mass_kg() * e * e + 2.0 * e * s_m + i;
-        [0.5 * k * w[0], 0.5 * k * w[1], k * w[2]]
+            rot.blade_mass_kg(),
+        )
     }
 
     /// One blade's angular momentum about the hub centre per unit rotorspeed, hub axes,
@@ -92,17 +99,9 @@ impl<'a> Blade<'a> {
     /// `Omega` about the shaft at its flap angle ([`Self::angular_momentum_and_rate`]'s
     /// rotation terms). A change of rotorspeed `Omega'` takes `Omega'` times it from the hub.
     pub fn spin_momentum_per_omega(&self, angles: Angles) -> [f64; 3] {
-        let rot = self.rotor;
-        let (i, s_m, e) = (
-            rot.flap_inertia_kg_m2,
-            rot.flap_mass_moment_kg_m,
-            rot.hinge_offset_m,
-        );
-        let m = rot.blade_mass_kg();
-        let Angles { sp, cp, sb, cb } = angles;
-        let r_hat = [-cp, sp, 0.0];
-        let t_hat = [sp, cp, 0.0];
-        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
+        let (i, s_m, e, m) = self.mass_data();
+        let cb = angles.cb;
+        let [r_hat, t_hat, e_b, _] = unit_vectors(angles);
         let (rt, et) = (cross(r_hat, t_hat), cross(e_b, t_hat));
         let (a, b) = (e * e * m + e * s_m * cb, e * s_m + i * cb);
         std::array::from_fn(|k| a * rt[k] + b * et[k])
@@ -119,16 +118,9 @@ impl<'a> Blade<'a> {
     /// over two it turns with the rotor (the pair has no inertia about its span, twice its
     /// share across it); flapping tilts and shrinks it.
     pub fn inertia_beyond_disc_times(&self, angles: Angles, w_dot: [f64; 3]) -> [f64; 3] {
-        let rot = self.rotor;
-        let (i, s_m, e) = (
-            rot.flap_inertia_kg_m2,
-            rot.flap_mass_moment_kg_m,
-            rot.hinge_offset_m,
-        );
-        let m = rot.blade_mass_kg();
-        let Angles { sp, cp, sb, cb } = angles;
-        let r_hat = [-cp, sp, 0.0];
-        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
+        let (i, s_m, e, m) = self.mass_data();
+        let cb = angles.cb;
+        let [r_hat, _, e_b, _] = unit_vectors(angles);
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let (w_r, w_e) = (dot(w_dot, r_hat), dot(w_dot, e_b));
         let x2 = e * e * m + 2.0 * e * s_m * cb + i;
@@ -376,19 +368,10 @@ impl<'a> Blade<'a> {
         beta_ddot: f64,
         omega_dot_rad_s2: f64,
     ) -> ([f64; 3], [f64; 3]) {
-        let rot = self.rotor;
-        let (i, s_m, e) = (
-            rot.flap_inertia_kg_m2,
-            rot.flap_mass_moment_kg_m,
-            rot.hinge_offset_m,
-        );
-        let m = rot.blade_mass_kg();
+        let (i, s_m, e, m) = self.mass_data();
         let (w, w_dot) = (op.omega_rad_s, omega_dot_rad_s2);
-        let Angles { sp, cp, sb, cb } = angles;
-        let r_hat = [-cp, sp, 0.0];
-        let t_hat = [sp, cp, 0.0];
-        let e_b = [cb * r_hat[0], cb * r_hat[1], -sb];
-        let n_hat = [-sb * r_hat[0], -sb * r_hat[1], -cb];
+        let Angles { sb, cb, .. } = angles;
+        let [r_hat, t_hat, e_b, n_hat] = unit_vectors(angles);
         let (rt, rn, et, en) = (
             cross(r_hat, t_hat),
             cross(r_hat, n_hat),
@@ -484,4 +467,18 @@ impl<'a> Blade<'a> {
             ],
         ]
     }
+}
+
+/// The blade's unit vectors at `angles` (hub axes): the unflapped blade's direction
+/// `r = (-cos psi, sin psi, 0)`, the in-plane tangent `t = d r / d psi`, the flapped blade's
+/// direction `e_b` and `n = d e_b / d beta`.
+fn unit_vectors(angles: Angles) -> [[f64; 3]; 4] {
+    let Angles { sp, cp, sb, cb } = angles;
+    let r = [-cp, sp, 0.0];
+    [
+        r,
+        [sp, cp, 0.0],
+        [cb * r[0], cb * r[1], -sb],
+        [-sb * r[0], -sb * r[1], -cb],
+    ]
 }
