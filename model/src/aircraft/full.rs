@@ -578,12 +578,17 @@ impl<'a> Blades<'a> {
     ) -> ([f64; 3], [f64; 3], f64) {
         // The hub's angular acceleration on the blades' inertia beyond the frozen disc.
         let turning = hub.map_or([0.0; 3], |h| self.beyond_disc_times(h.angular_acceleration));
-        let polar = self.polar_inertia();
+        let (per_omega, tangential) = self.spin_share();
+        let polar = -per_omega[2];
         let r_hub_dot = hub.map_or(0.0, |h| h.angular_acceleration[2]);
-        let (h0, still, _) = self.inertia(hub_rates, beta_ddot, 0.0, force);
+        let (h0, still, still_force) = self.inertia(hub_rates, beta_ddot, 0.0, force);
         let gyro = cross(hub_rates, h0);
         let spin = (torque + still[2] + gyro[2] + turning[2] - (polar - i_r) * r_hub_dot) / polar;
-        let (_, dh, f_hub) = self.inertia(hub_rates, beta_ddot, spin + r_hub_dot, force);
+        // The rotorspeed's change relative to the hub takes `Omega'` times the blades' angular
+        // momentum per unit rotorspeed, and their centres of mass's tangential acceleration.
+        let omega_dot = spin + r_hub_dot;
+        let dh: [f64; 3] = std::array::from_fn(|k| still[k] + omega_dot * per_omega[k]);
+        let f_hub: [f64; 3] = std::array::from_fn(|k| still_force[k] - omega_dot * tangential[k]);
         let m_hub = [
             moment[0] - dh[0] - gyro[0] - turning[0],
             moment[1] - dh[1] - gyro[1] - turning[1],
@@ -592,14 +597,22 @@ impl<'a> Blades<'a> {
         (m_hub, f_hub, spin)
     }
 
-    /// The flapped blades' polar inertia about the shaft, kg m^2: their angular momentum per
-    /// unit rotorspeed along `-z` ([`Blade::spin_momentum_per_omega`]).
-    fn polar_inertia(&self) -> f64 {
-        -self
-            .placed
-            .iter()
-            .map(|p| self.blade.spin_momentum_per_omega(p.angles)[2])
-            .sum::<f64>()
+    /// What a change of rotorspeed takes from the hub, per unit `Omega'` (hub axes): the
+    /// blades' angular momentum per unit rotorspeed ([`Blade::spin_momentum_per_omega`]; along
+    /// `-z` the flapped blades' polar inertia, kg m^2) and the mass times the distance from the
+    /// shaft of their centres of mass along their tangents, `m (e + (S / m) cos b) t`, kg m (the
+    /// exact `Omega'` terms of [`Self::inertia`]).
+    fn spin_share(&self) -> ([f64; 3], [f64; 3]) {
+        let (mut per_omega, mut tangential) = ([0.0; 3], [0.0; 3]);
+        for p in &self.placed {
+            let k = self.blade.spin_momentum_per_omega(p.angles);
+            let t = self.blade.tangential_mass_moment(p.angles);
+            for j in 0..3 {
+                per_omega[j] += k[j];
+                tangential[j] += t[j];
+            }
+        }
+        (per_omega, tangential)
     }
 
     /// The blades' inertia beyond the frozen disc times the hub's angular acceleration `w_dot`

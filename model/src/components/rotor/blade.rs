@@ -107,6 +107,19 @@ impl<'a> Blade<'a> {
         std::array::from_fn(|k| a * rt[k] + b * et[k])
     }
 
+    /// The blade's mass times its centre of mass's distance from the shaft, along the tangent
+    /// `t = (sin psi, cos psi, 0)`, hub axes, kg m: `(m e + S cos b) t`. A change of rotorspeed
+    /// `Omega'` accelerates its centre of mass by `Omega'` times this over its mass
+    /// ([`Self::centre_of_mass_motion`]'s tangential term). Zero for weightless blades.
+    pub fn tangential_mass_moment(&self, angles: Angles) -> [f64; 3] {
+        let (_, s_m, e, m) = self.mass_data();
+        if m <= 0.0 {
+            return [0.0; 3];
+        }
+        let arm = m * e + s_m * angles.cb;
+        [arm * angles.sp, arm * angles.cp, 0.0]
+    }
+
     /// One blade's inertia about the hub centre, less the frozen disc's share that the
     /// airframe's inertia holds, times the hub's angular acceleration `w_dot` (hub axes),
     /// kg m^2/s^2: the part of the blade's angular momentum rate that the hub's angular
