@@ -507,7 +507,7 @@ mod tests {
     /// of azimuth; three blades). A rotor locked to the airframe kept `Omega` itself constant, and its
     /// absolute spin then swung with `r_hub`. (A two-bladed rotor's inertia is not the same
     /// about every axis across its shaft, and its spin trades angular momentum with the tumbling
-    /// airframe twice a revolution: `the_full_model_conserves_angular_momentum_in_a_vacuum`.)
+    /// airframe twice a revolution: `the_full_model_conserves_angular_momentum_and_energy_in_a_vacuum`.)
     #[test]
     fn a_free_rotor_keeps_its_absolute_spin_while_the_airframe_tumbles() {
         // A rigid hub: with no air to damp it, a teetering rotor's flapping is resonant at
