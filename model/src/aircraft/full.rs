@@ -571,7 +571,7 @@ impl<'a> Blades<'a> {
     fn reaction(
         &self,
         hub_rates: [f64; 3],
-        beta_ddot: impl Fn(usize) -> f64 + Copy,
+        beta_ddot: impl Fn(usize) -> f64,
         hub: Option<&HubMotion>,
         (force, moment, torque): ([f64; 3], [f64; 3], f64),
         i_r: f64,
@@ -581,7 +581,7 @@ impl<'a> Blades<'a> {
         let (per_omega, tangential) = self.spin_share();
         let polar = -per_omega[2];
         let r_hub_dot = hub.map_or(0.0, |h| h.angular_acceleration[2]);
-        let (h0, still, still_force) = self.inertia(hub_rates, beta_ddot, 0.0, force);
+        let (h0, still, still_force) = self.inertia(hub_rates, beta_ddot, force);
         let gyro = cross(hub_rates, h0);
         let spin = (torque + still[2] + gyro[2] + turning[2] - (polar - i_r) * r_hub_dot) / polar;
         // The rotorspeed's change relative to the hub takes `Omega'` times the blades' angular
@@ -631,12 +631,13 @@ impl<'a> Blades<'a> {
     /// The blades' angular momentum beyond the frozen disc and its rate, and the force on the
     /// hub (`force`, hub axes) less the motion of their centres of mass (relative acceleration
     /// and Coriolis, the hub turning at `hub_rates`), along the blades' motion (blade `k`'s flap
-    /// acceleration `beta_ddot(k)`, rotorspeed rate `omega_dot`; exact rates: the chain rule).
+    /// acceleration `beta_ddot(k)`; exact rates: the chain rule) with the rotorspeed held: a
+    /// change of rotorspeed adds its share linearly ([`Self::spin_share`], in
+    /// [`Self::reaction`]).
     fn inertia(
         &self,
         hub_rates: [f64; 3],
         beta_ddot: impl Fn(usize) -> f64,
-        omega_dot: f64,
         force: [f64; 3],
     ) -> ([f64; 3], [f64; 3], [f64; 3]) {
         let (blade, op) = (self.blade, &self.op);
@@ -647,15 +648,14 @@ impl<'a> Blades<'a> {
         for (k, p) in self.placed.iter().enumerate() {
             let (ang, beta_dot) = (p.angles, p.beta_dot);
             let (hb, hb_dot) =
-                blade.angular_momentum_and_rate(op, ang, beta_dot, beta_ddot(k), omega_dot);
+                blade.angular_momentum_and_rate(op, ang, beta_dot, beta_ddot(k), 0.0);
             for j in 0..3 {
                 h0[j] += hb[j];
                 dh[j] += hb_dot[j];
             }
             // The blade's centre of mass: relative acceleration and Coriolis.
             if cg_mass > 0.0 {
-                let [_, v, a] =
-                    blade.centre_of_mass_motion(op, ang, beta_dot, beta_ddot(k), omega_dot);
+                let [_, v, a] = blade.centre_of_mass_motion(op, ang, beta_dot, beta_ddot(k), 0.0);
                 let cor = cross(hub_rates, v);
                 for j in 0..3 {
                     f_hub[j] -= cg_mass * (a[j] + 2.0 * cor[j]);

@@ -72,14 +72,15 @@ impl<'a> Blade<'a> {
     /// The frozen disc's share of one blade's angular momentum, `K diag(1/2, 1/2, 1) omega_hub`
     /// with `K = m e^2 + 2 e S + I` (see [`Self::angular_momentum_beyond_disc`]).
     fn disc_share(&self, op: &Operating) -> [f64; 3] {
-        self.disc_times(op.hub_rates_rad_s)
+        let (d, w) = (self.disc(), op.hub_rates_rad_s);
+        [d[0] * w[0], d[1] * w[1], d[2] * w[2]]
     }
 
-    /// The frozen disc's inertia (one blade's share, `K diag(1/2, 1/2, 1)`) times `w`.
-    fn disc_times(&self, w: [f64; 3]) -> [f64; 3] {
+    /// The frozen disc's inertia, one blade's share, `K diag(1/2, 1/2, 1)` (its diagonal).
+    fn disc(&self) -> [f64; 3] {
         let (i, s_m, e, m) = self.mass_data();
         let k = m * e * e + 2.0 * e * s_m + i;
-        [0.5 * k * w[0], 0.5 * k * w[1], k * w[2]]
+        [0.5 * k, 0.5 * k, k]
     }
 
     /// The blade's flap inertia `I` and first mass moment `S` about its hinge, the hinge's offset
@@ -131,19 +132,25 @@ impl<'a> Blade<'a> {
     /// over two it turns with the rotor (the pair has no inertia about its span, twice its
     /// share across it); flapping tilts and shrinks it.
     pub fn inertia_beyond_disc_times(&self, angles: Angles, w_dot: [f64; 3]) -> [f64; 3] {
+        let j = self.inertia_beyond_disc(angles);
+        std::array::from_fn(|k| j[k][0] * w_dot[0] + j[k][1] * w_dot[1] + j[k][2] * w_dot[2])
+    }
+
+    /// The matrix of [`Self::inertia_beyond_disc_times`], hub axes, kg m^2, by rows: the blade's
+    /// `J` less the frozen disc's share `K diag(1/2, 1/2, 1)`.
+    pub fn inertia_beyond_disc(&self, angles: Angles) -> [[f64; 3]; 3] {
         let (i, s_m, e, m) = self.mass_data();
-        let cb = angles.cb;
-        let [r_hat, _, e_b, _] = unit_vectors(angles);
-        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        let (w_r, w_e) = (dot(w_dot, r_hat), dot(w_dot, e_b));
-        let x2 = e * e * m + 2.0 * e * s_m * cb + i;
-        let disc = self.disc_times(w_dot);
-        std::array::from_fn(|k| {
-            x2 * w_dot[k]
-                - (e * e * m * w_r * r_hat[k]
-                    + e * s_m * (w_r * e_b[k] + w_e * r_hat[k])
-                    + i * w_e * e_b[k])
-                - disc[k]
+        let [r, _, e_b, _] = unit_vectors(angles);
+        let x2 = e * e * m + 2.0 * e * s_m * angles.cb + i;
+        let disc = self.disc();
+        std::array::from_fn(|row| {
+            std::array::from_fn(|col| {
+                let diagonal = if row == col { x2 - disc[row] } else { 0.0 };
+                diagonal
+                    - (e * e * m * r[row] * r[col]
+                        + e * s_m * (e_b[row] * r[col] + r[row] * e_b[col])
+                        + i * e_b[row] * e_b[col])
+            })
         })
     }
 

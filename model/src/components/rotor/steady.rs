@@ -100,8 +100,8 @@ impl RevolutionSums {
         self.s1 += b1 * a1.sp;
     }
 
-    /// Adds a blade's inertia beyond the frozen disc at its angles, column by column, and its
-    /// angular momentum per unit rotorspeed.
+    /// Adds a blade's inertia beyond the frozen disc at its angles, and its angular momentum per
+    /// unit rotorspeed.
     fn add_inertia(&mut self, blade: &Blade<'_>, angles: Angles) {
         for (sum, v) in self
             .spin
@@ -110,12 +110,10 @@ impl RevolutionSums {
         {
             *sum += v;
         }
-        for col in 0..3 {
-            let mut unit = [0.0; 3];
-            unit[col] = 1.0;
-            let j = blade.inertia_beyond_disc_times(angles, unit);
-            for (row, v) in j.into_iter().enumerate() {
-                self.inertia[row][col] += v;
+        let j = blade.inertia_beyond_disc(angles);
+        for (sum, row) in self.inertia.iter_mut().zip(j) {
+            for (s, v) in sum.iter_mut().zip(row) {
+                *s += v;
             }
         }
     }
