@@ -334,10 +334,11 @@ fn shipped_fit_by(
 /// Seed 000's story: from the uncorrected model, the fit finds seed 000's corrections
 /// (blockage at its bound 1, hub factor 0.487 +- 0.036, seed 000's 0.5 within two standard
 /// errors), and the phugoid's damping falls (seed 000 Fig. 14: "the unmodified simulation
-/// predicts too much damping") at every speed but 40 mph: there the phugoid is neutral before
-/// the fit (+0.0016 1/s) and the fit now moves it 1.8e-4 1/s the other way, a miss of seed
-/// 000's story since issue 52 item 12's inertial terms (the fit raised it by 0.0054 1/s before
-/// them), guarded at its measured size. Every derivative was outside its flight bound; the
+/// predicts too much damping") at every speed. At 40 mph it missed that story while the
+/// phugoid was neutral before the fit (issue 52 item 12's rotor and propeller inertial terms:
+/// the fit moved it 1.8e-4 1/s the other way); since the blades' flap inertia feels the hub's
+/// angular acceleration it is damped before the fit (-0.0062 1/s) and the fit raises its real
+/// part by 1.0e-3 1/s, as at the other speeds. Every derivative was outside its flight bound; the
 /// bounds are soft (issue 52, item 13), and what seed 000 claims is checked on the result: each
 /// derivative inside its bounds "over most of the speed range", 3 or more of the 4 airspeeds.
 /// The one miss, X_u at 40 mph (the VPM M16's tailplane in the propeller's slipstream: the fit
@@ -346,20 +347,16 @@ fn shipped_fit_by(
 fn seed000_story_fit_brings_x_u_and_z_w_inside_and_lightens_the_phugoid() {
     // "Over most of the speed range" (seed 000, beside Fig. 13) of its four airspeeds.
     const MOST_OF_FOUR: usize = 3;
-    // X_u at 40 mph ends 0.995 standard errors outside its bound (measured at 0.4868 hub
-    // factor); the guard moves with the model, not to meet the bound (issue 52, item 13).
-    const X_U_40_MISS_SE: f64 = 0.995;
+    // X_u at 40 mph ends 1.081 standard errors outside its bound (measured at 0.4862 hub
+    // factor; 0.995 at 0.4868 before the blades' flap inertia felt the hub's angular
+    // acceleration, issue 52 item 12); the guard moves with the model, not to meet the bound
+    // (issue 52, item 13).
+    const X_U_40_MISS_SE: f64 = 1.081;
     // How far the miss may move before the test says so: 0.05 standard errors, five times the
     // hundredth of a standard error to which `shipped_fit` holds the fitted parameters against
     // the committed file: a rerun's scatter passes, a change of the model's X_u at 40 mph by a
     // twentieth of its standard error does not.
     const MISS_MOVES: f64 = 0.05;
-    // The fit's change of the phugoid's real part at 40 mph, 1/s (after less before: -1.83e-4,
-    // measured, the other way from seed 000's story), and how far it may move before the test
-    // says so: a tenth of it. The fitted parameters hold to a hundredth of their standard errors
-    // on a rerun (`shipped_fit`), which moves it by far less.
-    const PHUGOID_40_SHIFT_PER_S: f64 = -1.83e-4;
-    const PHUGOID_SHIFT_MOVES_PER_S: f64 = 1.8e-5;
     let (f, run) = shipped_fit("vpm-m16-seed000", true);
     let r = &run.result;
     assert_eq!(r.status, cierva_harness::fit::Status::Converged, "{r:?}");
@@ -401,16 +398,7 @@ fn seed000_story_fit_brings_x_u_and_z_w_inside_and_lightens_the_phugoid() {
     let phugoids: Vec<_> = run.modes.iter().filter(|m| m.mode == "phugoid").collect();
     assert_eq!(phugoids.len(), 4);
     for m in phugoids {
-        if m.condition == "40 mph 425 kg" {
-            let shift = m.after[0] - m.before[0];
-            assert!(
-                (shift - PHUGOID_40_SHIFT_PER_S).abs() < PHUGOID_SHIFT_MOVES_PER_S,
-                "{m:?}: the fit moves the 40 mph phugoid's real part by {shift:e} 1/s, \
-                 guarded at {PHUGOID_40_SHIFT_PER_S:e}"
-            );
-        } else {
-            assert!(m.after[0] > m.before[0], "{m:?}");
-        }
+        assert!(m.after[0] > m.before[0], "{m:?}");
     }
 }
 
@@ -706,9 +694,11 @@ fn estimated_parameters_in_a_corrections_file_are_applied_and_checked() {
 /// errors; with the modulus form (issue 33, item 4) it converges with all eight inside, seven of
 /// its ten parameters on a bound (guarded here: none outside). Its RMS relative error falls by a
 /// third only (29.5 % to 19.7 %): Y_v's reference is its bound's middle and it ends near the
-/// bound. L_v and N_v stay outside (the prediction rows); I_xx ends at the end of its range. Ten
-/// parameters from eight targets are not separately identifiable, and the fit says so rather
-/// than print standard errors.
+/// bound. L_v and N_v stay outside (the prediction rows). Since the blades' flap inertia took the
+/// hub's angular acceleration (issue 52, item 12), L_p is inside before the fit and I_xx ends
+/// inside its range (about 255 kg m^2), where it ended at its end (200) before; L_eta_c, outside
+/// before, needs the lateral gearing at its range's end. Ten parameters from eight targets are
+/// not separately identifiable, and the fit says so rather than print standard errors.
 #[test]
 fn table2_fit_brings_four_of_six_inside_at_each_weight_and_says_the_rest_cannot() {
     let (f, run) = shipped_fit_by("vpm-m16-table2-reachable", true, 0.7);
@@ -723,8 +713,11 @@ fn table2_fit_brings_four_of_six_inside_at_each_weight_and_says_the_rest_cannot(
             assert!(by < 0.5, "{t:?}: {a}, {by} standard errors outside");
             outside += 1;
         }
-        if t.measure.name() == "L_p" || t.measure.name() == "L_eta_c" {
+        if t.measure.name() == "L_eta_c" {
             assert!(!(bounds.lower..=bounds.upper).contains(b), "{t:?}: {b}");
+        }
+        if t.measure.name() == "L_p" {
+            assert!((bounds.lower..=bounds.upper).contains(b), "{t:?}: {b}");
         }
     }
     assert_eq!(outside, 0, "{:?}", r.after);
@@ -738,7 +731,11 @@ fn table2_fit_brings_four_of_six_inside_at_each_weight_and_says_the_rest_cannot(
         .iter()
         .position(|k| k.name() == "mass.ixx_kg_m2")
         .unwrap();
-    assert!((r.values[i] - 200.0).abs() < 1e-6, "I_xx: {}", r.values[i]);
+    assert!(
+        r.values[i] > 201.0 && r.values[i] < 319.0,
+        "I_xx: {} (range 200-320)",
+        r.values[i]
+    );
     assert!(r.standard_errors.iter().all(|s| s.is_infinite()));
     assert!(
         r.warnings

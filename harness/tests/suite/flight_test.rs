@@ -264,8 +264,12 @@ fn as_record(k: usize, f: flight::FlownTest) -> cierva_harness::inputs::record::
 
 /// The teeter channel demodulated at the azimuth and averaged over a revolution
 /// (`ident::tip_path_plane`) gives the tip-path plane the linearisation with flapping states
-/// finds at trim (its equilibrium's `beta_1c`, `beta_1s`), within 1 % of the tilt: the record's
-/// azimuth and teeter conventions (seed 003's) and the model's agree.
+/// finds at trim (its equilibrium's `beta_1c`, `beta_1s`), within 2 % of the tilt: the record's
+/// azimuth and teeter conventions (seed 003's) and the model's agree (a convention's slip would
+/// be of the tilt's whole size). The flight starts from the full model's periodic trim, whose
+/// controls differ from the averaged trim's by the two-bladed rotor's shake's mean (its blades
+/// feel the body's angular acceleration: issue 52, item 12): `beta_1c` 1.1 % of the tilt apart
+/// (within 1 % before).
 #[test]
 fn the_teeter_channel_gives_the_tip_path_plane() {
     let a = vpm_m16();
@@ -286,8 +290,8 @@ fn the_teeter_channel_gives_the_tip_path_plane() {
         .equilibrium;
     let tilt = e.beta_1c_rad.hypot(e.beta_1s_rad);
     assert!(
-        (mean(&c) - e.beta_1c_rad).abs() < 0.01 * tilt
-            && (mean(&s) - e.beta_1s_rad).abs() < 0.01 * tilt,
+        (mean(&c) - e.beta_1c_rad).abs() < 0.02 * tilt
+            && (mean(&s) - e.beta_1s_rad).abs() < 0.02 * tilt,
         "record ({}, {}) against the model's ({}, {})",
         mean(&c),
         mean(&s),

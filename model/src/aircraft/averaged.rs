@@ -83,9 +83,10 @@ const HUB_MOTION_ITERATIONS: usize = 20;
 /// Measured on the model tests' heavy gyroplanes (`cargo test -p cierva-model heavy`, 274
 /// evaluations): 4.18 periodic solutions an evaluation, at most 5, against 4.57 and at most 7
 /// for the plain iteration. With the blades' flap inertia under the hub's angular acceleration
-/// (reports/investigations.md, issue 52 item 12, not landed) the plain iteration ran out of its
-/// 20 solutions on the heavy test teetering rotor, and on the VPM M16 (coupling about 0.23) a
-/// trim took 0.119 s with this one against 0.257 s, a linearisation 0.163 s against 0.300 s.
+/// (reports/investigations.md, issue 52 item 12; measured before it landed) the plain iteration
+/// ran out of its 20 solutions on the heavy test teetering rotor, and on the VPM M16 (coupling
+/// about 0.23) a trim took 0.119 s with this one against 0.257 s, a linearisation 0.163 s
+/// against 0.300 s.
 const ANDERSON_DEPTH: usize = 5;
 
 /// Anderson's acceleration of the fixed-point iteration `y = G(y)` for the body's accelerations
@@ -260,8 +261,9 @@ impl Aircraft {
             self.propeller_and_airframe(b, prop_omega, controls, air)?;
         // The rotor's periodic solution with the hub's motion that the body's accelerations
         // imply, those accelerations depending on the rotor's loads in turn: from the steady
-        // motion's (a trim's, exact there), until they agree (weightless blades: at once).
-        let heavy = self.heavy_blades();
+        // motion's (a trim's, exact there), until they agree (at once where the blades do not
+        // feel the hub's motion).
+        let feel = self.blades_feel_the_hub();
         let mut y = Self::steady_accelerations(b);
         let mut warm = warm;
         let mut change = f64::INFINITY;
@@ -297,12 +299,24 @@ impl Aircraft {
                 &total,
                 &self.free_spins_at(&frame.c),
             )?;
-            if heavy {
-                let next = self.accelerations(&total, &body_dot);
-                change = (0..6)
+            if feel {
+                let mut next = self.accelerations(&total, &body_dot);
+                // What the blades do not feel need not agree, and is not mixed: the apparent
+                // gravity, for blades without a first mass moment (so that evaluations differing
+                // only in attitude keep sharing the rotor's periodic solution).
+                let felt = if self.blades_feel_weight() {
+                    0
+                } else {
+                    y[..3].copy_from_slice(&next[..3]);
+                    3
+                };
+                change = (felt..6)
                     .map(|k| (next[k] - y[k]).abs() / hub_motion_unit(k))
                     .fold(0.0, f64::max);
                 if change > HUB_MOTION_TOLERANCE {
+                    if felt == 3 {
+                        next[..3].copy_from_slice(&y[..3]);
+                    }
                     (y, warm) = (anderson.next(y, next), rl.beta0);
                     continue;
                 }

@@ -291,7 +291,7 @@ impl Aircraft {
             self.propeller_and_airframe(&air_body, prop_omega, controls, air)?;
         let free = self.free_spins_at(&frame.c);
         // The flap (teeter) accelerations and the body's, with the hub's motion as the flap
-        // equations see it (none: weightless blades).
+        // equations see it (none: a rigid hub's blades do not flap).
         let respond = |hub: Option<&HubMotion>| -> Result<Response, AircraftError> {
             let flap_dot = blades.flap_rates(&x.flap, hub);
             // Inertial reaction of the blades' relative motion: H_rel along the state's rates.
@@ -320,13 +320,13 @@ impl Aircraft {
                 spin,
             })
         };
-        let heavy = self.heavy_blades();
+        let feel = self.blades_feel_the_hub();
         let Response {
             flap_dot,
             body_dot,
             spin,
             ..
-        } = if heavy {
+        } = if feel {
             self.coupled(&frame, &x.body, &respond, given)?
         } else {
             respond(None)?
@@ -356,8 +356,9 @@ impl Aircraft {
     /// evaluation and the right-hand side stays a function of the state alone: with
     /// `y = (-F/m, w')` in body axes, `respond` (the blades' aerodynamic loads, the propeller
     /// and the airframe computed once, outside it) maps an assumed `y` to the `y` it implies,
-    /// `b + A y`; seven calls give `b` and `A` (exactly: the map is affine), and
-    /// `(1 - A) y = b` is solved by LU. This is the mass matrix's coupling solved as a linear
+    /// `b + A y`; seven calls give `b` and `A` (exactly: the map is affine; four for blades
+    /// without a first mass moment, which do not feel the apparent gravity), and `(1 - A) y =
+    /// b` is solved by LU. This is the mass matrix's coupling solved as a linear
     /// system, as an individual-blade simulation that carries the blades' inertia does; taking
     /// the accelerations from the previous evaluation instead would make the derivative depend
     /// on the integrator's history. The coupling is small but not neglected: along the shaft,
@@ -366,7 +367,10 @@ impl Aircraft {
     /// `(3/4) N_b m_blade / m` for uniform blades (`S^2 / I = 3 m_blade / 4`). Measured for the
     /// test gyroplane with uniform blades: 0.077 with three articulated blades of 14.7 kg on
     /// 450 kg (0.074 by the formula), 0.012 with its two teetering blades of 9.8 kg, which feel
-    /// the hub's acceleration only through their precone.
+    /// the hub's acceleration only through their precone. In roll and pitch the blades' flap
+    /// inertia couples more, whether or not they have a first moment: a flapping hinge carries no
+    /// moment, so the body's angular acceleration answers without the rotor's in-plane inertia
+    /// (about 0.23 of the VPM M16's roll inertia).
     ///
     /// With `given` accelerations (`y`), the flap equations see the hub's motion they imply
     /// instead ([`Aircraft::derivatives_given`]).
@@ -384,7 +388,10 @@ impl Aircraft {
         let image = |r: &Response| self.accelerations(&r.total, &r.body_dot);
         let base = image(&respond(Some(&hub(&[0.0; 6])))?);
         let mut system = nalgebra::Matrix6::<f64>::identity();
-        for j in 0..6 {
+        // Blades without a first mass moment do not feel the apparent gravity: its columns are
+        // zero, and are not evaluated.
+        let felt = if self.blades_feel_weight() { 0 } else { 3 };
+        for j in felt..6 {
             let mut unit = [0.0; 6];
             unit[j] = 1.0;
             let column = image(&respond(Some(&hub(&unit)))?);
@@ -509,7 +516,7 @@ impl<'a> Blades<'a> {
     }
 
     /// The flap (teeter) states' rates for the flap states `flap`, the flap equations seeing
-    /// the hub's motion `hub` (none: weightless blades).
+    /// the hub's motion `hub` (none: blades that do not feel it).
     fn flap_rates(&self, flap: &[[f64; 2]], hub: Option<&HubMotion>) -> Vec<[f64; 2]> {
         let (rotor, blade, op) = (self.rotor, self.blade, &self.op);
         let placed = &self.placed;
@@ -554,8 +561,8 @@ impl<'a> Blades<'a> {
 
     /// The blades' moment and force on the hub (hub axes) and the rotor's spin acceleration
     /// relative to the airframe's along the shaft, `Omega' - r_hub'`, for the flap accelerations
-    /// `beta_ddot` and the hub's motion `hub` as the flap equations see it (none: weightless
-    /// blades), from the blades' aerodynamic `(force, moment, torque)`; `i_r` the frozen disc's
+    /// `beta_ddot` and the hub's motion `hub` as the flap equations see it (none: blades
+    /// that do not feel it), from the blades' aerodynamic `(force, moment, torque)`; `i_r` the frozen disc's
     /// polar inertia.
     ///
     /// A free rotor: no torque through the shaft's bearing, so the blades' angular momentum

@@ -25,9 +25,11 @@
 //! derivative by more than 0.5 % of its row's scale (tested).
 //!
 //! # Cost
-//! 36 revolution-averaged evaluations (18 variables, both sides), over two threads. The 12 that
-//! leave the rotor's operating state unchanged (attitudes, pedal, throttle, propeller speed;
-//! the attitudes only where the blades are weightless) take the trim's periodic solution. The
+//! 36 revolution-averaged evaluations (18 variables, both sides), over two threads. Those that
+//! leave the rotor's operating state unchanged take the trim's periodic solution: the attitudes
+//! where the blades do not feel their weight (the gravity they change has no moment about the
+//! c.g.); the pedal, throttle and propeller speed only on a rigid hub, for elsewhere the body's
+//! angular acceleration they change reaches the flapping through the blades' inertia. The
 //! others start their secant steps from what the trim learned of the revolution map, and each
 //! column's second side starts its blade where the first side's mirrored about the trim's puts
 //! it: about 2.5 revolutions of the main rotor each, where a cold solution takes 4 or more.

@@ -385,23 +385,32 @@ impl Aircraft {
         [p[0] + up[0], p[1] + up[1], p[2] + up[2]]
     }
 
-    /// Whether the main rotor's flapping feels the hub's motion: its blades have a first mass
-    /// moment `S` about a hinge (or the teeter bar). Their weight acts through it, the hub's
-    /// angular acceleration through it and their flap inertia
-    /// (`Blade::apparent_gravity_flap_moment_at`). A rotor file with `S = 0` declares
-    /// weightless blades, and the hub's motion is then left out altogether, their inertia's
-    /// share too: the VPM M16's file is one, until its blades' `S` and undersling are given
-    /// (issue 52, item 12; reports/investigations.md).
-    fn heavy_blades(&self) -> bool {
+    /// Whether the main rotor's flapping feels the hub's motion: on a hub that lets its blades
+    /// flap, always, for every blade has a flap inertia `I` (a rotor file's is validated
+    /// positive). The hub's angular acceleration acts through it and the first mass moment `S`,
+    /// `(e S cos b + I) (w'.t)` (`Blade::apparent_gravity_flap_moment_at`), and the blades'
+    /// weight and the hub's acceleration through `S` alone ([`Aircraft::blades_feel_weight`]).
+    /// A rotor file with `S = 0` declares blades whose first moment about the hinge is nothing
+    /// (a teetering pair underslung so that the coned pair's centre of mass is on the teeter
+    /// bolt: issue 52, item 12; reports/investigations.md): their weight leaves the flapping
+    /// alone, and the hub's angular acceleration does not (before, a gate on `S` left it out).
+    fn blades_feel_the_hub(&self) -> bool {
+        self.main_rotor.rotor.hub != Hub::Rigid
+    }
+
+    /// Whether the main rotor's flapping feels its blades' weight and the hub's acceleration:
+    /// its blades have a first mass moment `S` about a hinge (or the teeter bar), on a hub that
+    /// lets them flap.
+    fn blades_feel_weight(&self) -> bool {
         let r = &self.main_rotor.rotor;
         r.flap_mass_moment_kg_m != 0.0 && r.hub != Hub::Rigid
     }
 
-    /// The main rotor's operating state, its hub moving as `hub` says (hub axes). Without
-    /// [`Aircraft::heavy_blades`] the hub's motion changes none of the rotor's loads, and the
-    /// operating state leaves it out: evaluations that differ only in attitude (a trim's, a
-    /// linearisation's) then find the rotor in one operating state and share its periodic
-    /// solution.
+    /// The main rotor's operating state, its hub moving as `hub` says (hub axes). What the
+    /// blades do not feel ([`Aircraft::blades_feel_the_hub`], [`Aircraft::blades_feel_weight`])
+    /// changes none of the rotor's loads, and the operating state leaves it out: evaluations
+    /// that differ only in attitude (a trim's, a linearisation's) then find the rotor in one
+    /// operating state and share its periodic solution, unless its blades feel their weight.
     fn operating(
         &self,
         frame: &RotorFrame,
@@ -410,9 +419,13 @@ impl Aircraft {
         air: Air,
         hub: &HubMotion,
     ) -> Operating {
-        let (apparent_gravity, angular_acceleration) = match self.heavy_blades() {
-            true => (hub.apparent_gravity, hub.angular_acceleration),
-            false => ([0.0; 3], [0.0; 3]),
+        let apparent_gravity = match self.blades_feel_weight() {
+            true => hub.apparent_gravity,
+            false => [0.0; 3],
+        };
+        let angular_acceleration = match self.blades_feel_the_hub() {
+            true => hub.angular_acceleration,
+            false => [0.0; 3],
         };
         Operating {
             omega_rad_s: omega,

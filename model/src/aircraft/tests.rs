@@ -8,8 +8,18 @@ use crate::testdata::sea_level_air as air;
 
 /// The individual-blade right-hand side, averaged over one revolution along the blades'
 /// own periodic motion, gives back the trim: the revolution-averaged and full models are
-/// the same physics. Teetering and articulated hubs; level flight and a turn (hub rates,
-/// gyroscopic terms).
+/// the same physics. Teetering and articulated hubs of the test gyroplane, whose blades have
+/// no first mass moment but a flap inertia; level flight and a turn (hub rates, gyroscopic
+/// terms):
+///
+/// * held in the trim's steady motion (the flap equations seeing the trim's hub motion), the
+///   full model flies the trim's periodic flapping back to where it began within 1e-6 rad;
+/// * free (the flap equations seeing the body's own angular acceleration, solved with the
+///   blades', through the blades' flap inertia `I w'.t`), its flapping is the trim's within
+///   what the free body's shaking can move it ([`shake_bound`]); a two-bladed rotor's inertia
+///   turns with it and shakes the hub twice a revolution.
+///
+/// Either way the mean accelerations are the trim's zeros to the azimuth discretisation.
 #[test]
 fn the_full_model_averages_to_the_trim() {
     for (hub, turn, qs) in [
@@ -35,26 +45,26 @@ fn the_full_model_averages_to_the_trim() {
             air: air(),
         };
         let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
-        let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
-        let start = x.flap.clone();
-        let (mean, x) = full_mean(&a, x, &t.controls, 0);
-        // Quasi-steady inflow follows the instantaneous loads, so the trim's flapping (with
-        // the mean-load inflow) is only nearly periodic under it.
-        for (s, e) in x.flap.iter().zip(&start).filter(|_| !qs) {
-            assert!(
-                (s[0] - e[0]).abs() < 1e-6,
-                "{hub:?}: flapping not periodic: {s:?} vs {e:?}"
+        let case = format!("{hub:?} turn {turn}");
+        for (body, x, (mean, _, end, _), bound) in held_and_free(&a, &t, 1e-6) {
+            // Quasi-steady inflow follows the instantaneous loads, so the trim's flapping
+            // (with the mean-load inflow) is only nearly periodic under it.
+            for (s, e) in end.flap.iter().zip(&x.flap).filter(|_| !qs) {
+                assert!(
+                    (s[0] - e[0]).abs() < bound,
+                    "{case}, {body}: flapping not periodic: {s:?} vs {e:?} (bound {bound:e})"
+                );
+            }
+            // The trim's accelerations are zero to 1e-7 g and rad/s^2; the full model's mean
+            // matches them to the azimuth discretisation (5 deg in the trim, 2.5 deg here):
+            // measured below 4e-6 g, 2e-3 rad/s^2 and 5e-6 /s in rotorspeed (quasi-steady
+            // inflow: 1.3e-4 g, 3.5e-3 rad/s^2, 5e-5 /s).
+            assert_mean_accelerations_small(
+                &mean,
+                end.rotor_omega_rad_s,
+                &format!("{case}, {body}"),
             );
         }
-        // The trim's accelerations are zero to 1e-7 g and rad/s^2; the full model's mean
-        // matches them to the azimuth discretisation (5 deg in the trim, 2.5 deg here):
-        // measured below 4e-6 g, 2e-3 rad/s^2 and 5e-6 /s in rotorspeed (quasi-steady
-        // inflow: 1.3e-4 g, 3.5e-3 rad/s^2, 5e-5 /s).
-        assert_mean_accelerations_small(
-            &mean,
-            x.rotor_omega_rad_s,
-            &format!("{hub:?} turn {turn}"),
-        );
     }
 }
 
@@ -96,10 +106,11 @@ fn heavy(hub: Hub, hinge_offset_m: f64) -> Aircraft {
     a
 }
 
-/// The hub's motion is in the main rotor's operating state only where the blades feel it (a
-/// mass moment about a hinge or the teeter bar). Evaluations of a weightless rotor at two
-/// attitudes then share one periodic solution, and the second is what solving it afresh gives,
-/// bit for bit; a heavy rotor's flapping feels the attitude, and it is solved again.
+/// The hub's motion is in the main rotor's operating state only where the blades feel it: the
+/// apparent gravity where they have a mass moment about a hinge or the teeter bar. Evaluations
+/// of a rotor without one at two attitudes then share one periodic solution, and the second is
+/// what solving it afresh gives, bit for bit; a heavy rotor's flapping feels the attitude, and
+/// it is solved again.
 #[test]
 fn only_heavy_blades_tell_attitudes_apart() {
     let c = Condition {
@@ -129,6 +140,56 @@ fn only_heavy_blades_tell_attitudes_apart() {
         } else {
             assert!(cache.solutions() > solved);
             assert_ne!(second.rotor.a0_rad, level.rotor.a0_rad);
+        }
+    }
+}
+
+/// A blade's own flap inertia feels the hub's angular acceleration, `I w'.t`, whether or not
+/// the blade has a first mass moment about its hinge: the term needs no weight. A rotor file
+/// with `S = 0` (the test gyroplane's, the VPM M16's: a teetering pair underslung so that the
+/// coned pair's centre of mass is on the teeter bolt) leaves out the weight's terms, not the
+/// inertia's: off trim, rolling or pitching, its averaged and full models accelerate as those
+/// of blades with a vanishing first moment (`S` = 1e-9 kg m) do, within 1e-7 rad/s^2 and
+/// 1e-7 g. Gated on `S` (the code before this test), the averaged model's roll acceleration
+/// rolling at 0.05 rad/s was -0.099 rad/s^2 with `S = 0` against -0.130 with 1e-9.
+#[test]
+fn blades_without_a_first_moment_feel_the_hubs_angular_acceleration() {
+    let a = gyroplane();
+    assert_eq!(a.main_rotor.rotor.flap_mass_moment_kg_m, 0.0);
+    let mut faint = a.clone();
+    faint.main_rotor.rotor.flap_mass_moment_kg_m = 1e-9;
+    let c = crate::testdata::level_70mph();
+    let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
+    let g = rigid_body::G_M_S2;
+    for (dp, dq) in [(0.05, 0.0), (0.0, 0.05)] {
+        let mut s = t.state;
+        s.body.p_rad_s += dp;
+        s.body.q_rad_s += dq;
+        let warm = t.averaged.flap_start;
+        let none = a.averaged(&s, &t.controls, air(), warm).unwrap().body_dot;
+        let some = faint
+            .averaged(&s, &t.controls, air(), warm)
+            .unwrap()
+            .body_dot;
+        let x = a.full_state(&s, &t.controls, air(), warm);
+        let full_none = a.derivatives(&x, &t.controls, air()).unwrap().body;
+        let full_some = faint.derivatives(&x, &t.controls, air()).unwrap().body;
+        for (model, x, y) in [("averaged", none, some), ("full", full_none, full_some)] {
+            let (x, y) = (x.to_array(), y.to_array());
+            eprintln!(
+                "p {dp} q {dq}, {model}: S = 0 {:?}; S = 1e-9 {:?}",
+                &x[..6],
+                &y[..6]
+            );
+            for k in 0..6 {
+                let bound = if k < 3 { 1e-7 * g } else { 1e-7 };
+                assert!(
+                    (x[k] - y[k]).abs() < bound,
+                    "p {dp} q {dq}, {model} model, acceleration {k}: S = 0 gives {}, S = 1e-9 {}",
+                    x[k],
+                    y[k]
+                );
+            }
         }
     }
 }
@@ -188,24 +249,7 @@ fn the_full_model_averages_to_the_trim_with_heavy_blades_level_and_turning() {
             effect > 20.0 * HELD_FLAP_RAD,
             "{case}: the weight moves the flapping by only {effect:e} rad"
         );
-        // The steady motion's accelerations, by the rigid body's kinematics: the apparent
-        // gravity at the c.g. g - w x V, and no angular acceleration.
-        let held = Aircraft::steady_accelerations(&t.state.body);
-        let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
-        let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
-        for (body, deriv) in [
-            (
-                "held",
-                &(|x: &FullState| {
-                    a.derivatives_given(&blade, x, &t.controls, air(), [0.0; 3], Some(held))
-                        .unwrap()
-                }) as &dyn Fn(&FullState) -> FullDerivative,
-            ),
-            ("free", &|x: &FullState| {
-                a.derivatives(x, &t.controls, air()).unwrap()
-            }),
-        ] {
-            let (mean, flap, end, samples) = full_revolution(&a, x.clone(), 0, deriv);
+        for (body, x, (mean, flap, end, _), bound) in held_and_free(&a, &t, HELD_FLAP_RAD) {
             let departure = end
                 .flap
                 .iter()
@@ -215,10 +259,6 @@ fn the_full_model_averages_to_the_trim_with_heavy_blades_level_and_turning() {
             let harmonics = (0..3)
                 .map(|k| (flap[k] - trimmed[k]).abs())
                 .fold(0.0, f64::max);
-            let bound = match body {
-                "held" => HELD_FLAP_RAD,
-                _ => shake_bound(&a, &samples, &t.controls, held),
-            };
             eprintln!(
                 "{case}, {body}: effect {effect:.3e} rad, departure {departure:.3e} rad, harmonics {harmonics:.3e} rad, bound {bound:.3e} rad"
             );
@@ -231,6 +271,33 @@ fn the_full_model_averages_to_the_trim_with_heavy_blades_level_and_turning() {
             assert_mean_accelerations_small(&mean, x.rotor_omega_rad_s, &format!("{case}, {body}"));
         }
     }
+}
+
+/// The full model flown a revolution from the trim `t`'s flapping, its flap equations seeing
+/// the trim's steady hub motion (`"held"`: the apparent gravity at the c.g. `g - w x V` and no
+/// angular acceleration, by the rigid body's kinematics) and then the body's own accelerations
+/// (`"free"`); with each run's start, its [`Revolution`], and how far its flapping may stray from
+/// the trim's: `held_bound`, or what the free body's shaking can move it ([`shake_bound`]).
+fn held_and_free(
+    a: &Aircraft,
+    t: &trim::Trim,
+    held_bound: f64,
+) -> Vec<(&'static str, FullState, Revolution, f64)> {
+    let held = Aircraft::steady_accelerations(&t.state.body);
+    let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
+    let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
+    let given = |x: &FullState| {
+        a.derivatives_given(&blade, x, &t.controls, air(), [0.0; 3], Some(held))
+            .unwrap()
+    };
+    let free = |x: &FullState| a.derivatives(x, &t.controls, air()).unwrap();
+    let held_run = full_revolution(a, x.clone(), 0, &given);
+    let free_run = full_revolution(a, x.clone(), 0, &free);
+    let shake = shake_bound(a, &free_run.3, &t.controls, held);
+    vec![
+        ("held", x.clone(), held_run, held_bound),
+        ("free", x, free_run, shake),
+    ]
 }
 
 /// How far the full model's flapping may stray from the trim's in a revolution, with the
@@ -419,10 +486,15 @@ const CONING_PER_G: f64 = 0.03;
 /// hub in both models, the revolution-averaged and the individual-blade one, and changes
 /// nothing else: at the trim (no rates, still air) the hub moves with the body, so the
 /// force lies along the body's velocity, and with the hub above the c.g. its moment is nose
-/// up.
+/// up. Nothing else, that is, while the blades flap under the same hub motion: the drag's
+/// moment accelerates the body, and blades that feel the hub's angular acceleration answer
+/// it. So the averaged model is asked on a rigid hub (its blades feel nothing of the hub's
+/// motion) and the full model with the trim's hub motion held.
 #[test]
 fn the_hubs_drag_is_a_flat_plate_at_the_hub_in_both_models() {
     let (a, t) = crate::testdata::trimmed_gyroplane(31.3);
+    let mut rigid = a.clone();
+    rigid.main_rotor.rotor.hub = Hub::Rigid;
     let f = 0.4;
     let mut dragged = a.clone();
     dragged.main_rotor.rotor.hub_drag_area_m2 = f;
@@ -433,8 +505,10 @@ fn the_hubs_drag_is_a_flat_plate_at_the_hub_in_both_models() {
     // 0.5 x 1.225 x 0.4 x 31.3^2: about 240 N against the flight path.
     assert!((want[0] + 240.0).abs() < 5.0, "{want:?}");
     let warm = t.averaged.flap_start;
-    let before = a.averaged(&t.state, &t.controls, air(), warm).unwrap();
-    let after = dragged
+    let mut rigid_dragged = rigid.clone();
+    rigid_dragged.main_rotor.rotor.hub_drag_area_m2 = f;
+    let before = rigid.averaged(&t.state, &t.controls, air(), warm).unwrap();
+    let after = rigid_dragged
         .averaged(&t.state, &t.controls, air(), warm)
         .unwrap();
     let (l0, l1) = (before.loads.rotor, after.loads.rotor);
@@ -449,8 +523,14 @@ fn the_hubs_drag_is_a_flat_plate_at_the_hub_in_both_models() {
     assert_eq!(before.rotor.thrust_n, after.rotor.thrust_n);
     assert_eq!(before.loads.airframe, after.loads.airframe);
     let x = a.full_state(&t.state, &t.controls, air(), warm);
-    let d0 = a.derivatives(&x, &t.controls, air()).unwrap();
-    let d1 = dragged.derivatives(&x, &t.controls, air()).unwrap();
+    let held = Some(Aircraft::steady_accelerations(&t.state.body));
+    let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
+    let d0 = a
+        .derivatives_given(&blade, &x, &t.controls, air(), [0.0; 3], held)
+        .unwrap();
+    let d1 = dragged
+        .derivatives_given(&blade, &x, &t.controls, air(), [0.0; 3], held)
+        .unwrap();
     let m = a.mass.mass_kg;
     let du = [
         d1.body.u_m_s - d0.body.u_m_s,
@@ -628,14 +708,20 @@ fn the_pusher_slipstream_stiffens_the_fin_and_its_swirl_yaws_the_aircraft() {
 
 /// The revolution mean of the full model's accelerations with the body frozen (RK4 on
 /// azimuth and flap only, as in the trim), after `settle` revolutions for the blades to
-/// reach their periodic motion; and the state at the end.
+/// reach their periodic motion, the flap equations seeing the hub's motion that the body's
+/// accelerations `given` imply (none: the body's own); and the state at the end.
 fn full_mean(
     a: &Aircraft,
     x: FullState,
     controls: &Controls,
     settle: usize,
+    given: Option<[f64; 6]>,
 ) -> ([f64; 7], FullState) {
-    let deriv = |x: &FullState| a.derivatives(x, controls, air()).unwrap();
+    let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
+    let deriv = |x: &FullState| {
+        a.derivatives_given(&blade, x, controls, air(), [0.0; 3], given)
+            .unwrap()
+    };
     let (mean, _, x, _) = full_revolution(a, x, settle, &deriv);
     (mean, x)
 }
@@ -657,7 +743,7 @@ fn implied_accelerations(b: &BodyState, d: &BodyState) -> [f64; 6] {
 
 /// What [`full_revolution`] returns: the mean accelerations, blade 1's flapping harmonics, the
 /// state at the end, and the states and derivatives at the start of each step.
-type Revolution = (
+pub(super) type Revolution = (
     [f64; 7],
     [f64; 3],
     FullState,
@@ -668,7 +754,7 @@ type Revolution = (
 /// harmonics over the last revolution as the trim reports them
 /// (`beta = a0 - a1 cos psi - b1 sin psi`, rad; for a teeter, blade 1 is at the precone
 /// plus the teeter angle).
-fn full_revolution(
+pub(super) fn full_revolution(
     a: &Aircraft,
     mut x: FullState,
     settle: usize,
@@ -735,6 +821,9 @@ fn full_revolution(
 
 /// With the body pitching or rolling, the full model's revolution mean gives the averaged
 /// model's accelerations: the gyroscopic and flapping terms are the same physics in both.
+/// The full model's flap equations see the hub's motion that the averaged model's
+/// accelerations imply, as the averaged model's periodic solution does (free, the body
+/// shakes as well: [`the_averaged_models_heavy_blades_see_the_bodys_accelerations_off_trim`]).
 /// Measured (0.05 rad/s of pitch or roll rate, teetering rotor): within 2e-5 g and
 /// 1.4e-3 rad/s^2 (the azimuth discretisation, as in the trim test above).
 #[test]
@@ -750,7 +839,10 @@ fn the_full_model_averages_to_the_averaged_model_under_body_rates() {
             .averaged(&s, &t.controls, air(), t.averaged.flap_start)
             .unwrap();
         let x = a.full_state(&s, &t.controls, air(), avg.flap_start);
-        let (m, _) = full_mean(&a, x, &t.controls, 3);
+        let given = implied_accelerations(&s.body, &avg.body_dot);
+        let (m, _) = full_mean(&a, x.clone(), &t.controls, 3, Some(given));
+        let (free, _) = full_mean(&a, x, &t.controls, 3, None);
+        eprintln!("p {dp} q {dq}: given the averaged model's accelerations {m:?}; free {free:?}");
         let b = avg.body_dot;
         let g = rigid_body::G_M_S2;
         for (k, want) in [b.u_m_s, b.v_m_s, b.w_m_s].into_iter().enumerate() {
@@ -874,10 +966,20 @@ fn the_averaged_models_heavy_blades_see_the_bodys_accelerations_off_trim() {
 /// feel at that instant) changes neither rotor's absolute spin, `Omega - r_hub` for the
 /// main rotor (`U_T = (Omega - omega_z) r`) and `Omega_p + p` for the propeller turning
 /// about `+x`; and the airframe that accelerates is the aircraft without the two rotors'
-/// polar moments about their shafts. Averaged and full models alike.
+/// polar moments about their shafts. Averaged and full models alike, for blades that do
+/// not feel the hub's angular acceleration: the averaged model on a rigid hub, the full model
+/// with the trim's hub motion held. Blades that feel it (the test gyroplane's teeter, through
+/// its flap inertia) change this bookkeeping by about 1 % of the step's yaw acceleration: the
+/// step rolls the airframe too (through `I_xz`), the teetered pair's product of inertia turns
+/// that into spin, and the precone adds `-2 I sin^2 p r'`; and the airframe no longer carries
+/// their in-plane inertia. That balance is the one
+/// [`the_full_model_conserves_angular_momentum_and_energy_in_a_vacuum`] holds, element by
+/// element.
 #[test]
 fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
     let a = gyroplane();
+    let mut rigid = a.clone();
+    rigid.main_rotor.rotor.hub = Hub::Rigid;
     let c = crate::testdata::level_70mph();
     let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
     let mut stepped = t.controls;
@@ -905,10 +1007,10 @@ fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
     let rates = |b: &BodyState| [b.p_rad_s, b.q_rad_s, b.r_rad_s];
     let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
 
-    let before = a
+    let before = rigid
         .averaged(&t.state, &t.controls, air(), t.averaged.flap_start)
         .unwrap();
-    let after = a
+    let after = rigid
         .averaged(&t.state, &stepped, air(), t.averaged.flap_start)
         .unwrap();
     let dw = {
@@ -947,8 +1049,14 @@ fn a_yawing_moment_leaves_the_free_rotors_absolute_spin_alone() {
 
     // The same in the individual-blade model, at one instant of its periodic motion.
     let x = a.full_state(&t.state, &t.controls, air(), t.averaged.flap_start);
-    let f0 = a.derivatives(&x, &t.controls, air()).unwrap();
-    let f1 = a.derivatives(&x, &stepped, air()).unwrap();
+    let held = Some(Aircraft::steady_accelerations(&t.state.body));
+    let blade = Blade::new(&a.main_rotor.rotor, a.main_rotor.numerics);
+    let f0 = a
+        .derivatives_given(&blade, &x, &t.controls, air(), [0.0; 3], held)
+        .unwrap();
+    let f1 = a
+        .derivatives_given(&blade, &x, &stepped, air(), [0.0; 3], held)
+        .unwrap();
     let dw = {
         let (x, y) = (rates(&f1.body), rates(&f0.body));
         [x[0] - y[0], x[1] - y[1], x[2] - y[2]]

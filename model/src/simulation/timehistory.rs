@@ -312,8 +312,10 @@ mod tests {
     /// two-bladed rotor's 2/rev shaking is not in the linear model): pitch and roll rate within
     /// 10 % of the largest pitch rate and pitch attitude within 20 % of its largest excursion;
     /// the full model adds the blades' flapping dynamics (its pitch rate runs a little ahead
-    /// of the linear model's in the aft half, and the attitude keeps the difference).
-    /// Measured: 8.9 % and 16 %. Before the two-bladed rotor's azimuth-dependent inertia was
+    /// of the linear model's in the aft half, and the attitude keeps the difference). The full
+    /// model flies from its own trim ([`crate::simulation::periodic_trim`]), with its controls.
+    /// Measured: 7.9 % and 4.4 % (8.6 % and 16.8 % while it flew the averaged trim's controls
+    /// from the periodic orbit, and drifted before the doublet began). Before the two-bladed rotor's azimuth-dependent inertia was
     /// modelled (the airframe held the blades as a frozen disc and nothing else), the full
     /// model was 38 % off in pitch rate and rolled 5 times as much as the linear model.
     #[test]
@@ -399,9 +401,12 @@ mod tests {
         let pt = crate::simulation::periodic_trim::periodic_trim(&a, c, &t, TrimOptions::default())
             .unwrap();
         let step = 5f64.to_radians();
+        // Flown from the full model's own trim: the averaged trim's controls are not the
+        // periodic orbit's (the two-bladed rotor's shake rectifies into mean loads the
+        // averaged model does not see), and from the orbit they would accelerate it.
         let controls = |time: f64| Controls {
-            stick_longitudinal_percent: t.controls.stick_longitudinal_percent + doublet(time),
-            ..t.controls
+            stick_longitudinal_percent: pt.controls.stick_longitudinal_percent + doublet(time),
+            ..pt.controls
         };
         let settings = |duration_s| Settings {
             azimuth_step_rad: step,

@@ -437,9 +437,9 @@ pub struct Operating {
     /// It acts on the blades' flapping through their first mass moment (see the module's docs).
     /// Zero: weightless blades, or a hub in free fall.
     pub apparent_gravity_m_s2: [f64; 3],
-    /// The hub's angular acceleration, hub axes, rad/s^2: through a blade's first mass moment
-    /// and the hinge offset it accelerates the hinge (see the module's docs). Zero in steady
-    /// motion (a tunnel, a trim).
+    /// The hub's angular acceleration, hub axes, rad/s^2: it acts on a blade's own flap inertia
+    /// (`I w'.t`), and through its first mass moment and the hinge offset it accelerates the
+    /// hinge (see the module's docs). Zero in steady motion (a tunnel, a trim).
     pub hub_angular_acceleration_rad_s2: [f64; 3],
 }
 
