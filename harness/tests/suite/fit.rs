@@ -332,7 +332,7 @@ fn shipped_fit_by(
 }
 
 /// Seed 000's story: from the uncorrected model, the fit finds seed 000's corrections
-/// (blockage at its bound 1, hub factor 0.487 +- 0.036, seed 000's 0.5 within two standard
+/// (blockage at its bound 1, hub factor 0.486 +- 0.039, seed 000's 0.5 within two standard
 /// errors), and the phugoid's damping falls (seed 000 Fig. 14: "the unmodified simulation
 /// predicts too much damping") at every speed. At 40 mph it missed that story while the
 /// phugoid was neutral before the fit (issue 52 item 12's rotor and propeller inertial terms:
@@ -691,9 +691,9 @@ fn estimated_parameters_in_a_corrections_file_are_applied_and_checked() {
 /// estimated by published methods (`cierva estimate`), their ranges are the methods' (sidewash
 /// 0.0215-0.0756, where it was -0.3 to 0.3): with the signed wake-skew form the fit ended
 /// infeasible, Y_v, L_p and N_r at minimum weight outside by 0.10, 0.28 and 0.003 standard
-/// errors; with the modulus form (issue 33, item 4) it converges with all eight inside, seven of
-/// its ten parameters on a bound (guarded here: none outside). Its RMS relative error falls by a
-/// third only (29.5 % to 19.7 %): Y_v's reference is its bound's middle and it ends near the
+/// errors; with the modulus form (issue 33, item 4) it converges with all eight inside, eight of
+/// its ten parameters on a bound (guarded here: none outside). Its RMS relative error falls by
+/// half (36.3 % to 18.1 %): Y_v's reference is its bound's middle and it ends near the
 /// bound. L_v and N_v stay outside (the prediction rows). Since the blades' flap inertia took the
 /// hub's angular acceleration (issue 52, item 12), L_p is inside before the fit and I_xx ends
 /// inside its range (about 255 kg m^2), where it ended at its end (200) before; L_eta_c, outside
