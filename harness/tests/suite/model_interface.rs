@@ -571,6 +571,7 @@ fn close(a: f64, b: f64) -> bool {
 }
 
 #[test]
+#[ignore = "slow (about 8 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn cierva_served_through_the_protocol_gives_the_built_in_numbers() {
     let dir = mirrored_suite();
     let mut args = vec!["validate", "--no-report", "--format", "json"];
@@ -1161,6 +1162,7 @@ const SERVED_AGAINST_BUILT_IN: f64 = 1e-9;
 const HIDDEN_BLOCKAGE: f64 = 0.55;
 
 #[test]
+#[ignore = "slow (about 5 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn a_fit_through_the_protocol_recovers_the_built_in_fit() {
     let dir = mirrored_suite();
     std::fs::create_dir_all(dir.join("fits")).unwrap();

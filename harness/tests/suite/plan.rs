@@ -62,6 +62,7 @@ fn settings(samples: usize) -> StudySettings {
 /// finished: every number the one-machine study states, bit for bit (the JSON of both, which
 /// prints each double to the digits that read back to it).
 #[test]
+#[ignore = "slow (about 13 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn a_plan_finishes_as_the_one_machine_study_bit_for_bit() {
     let dir = fresh("table2");
     let path = repo_root().join("cases/cierva-table2-vpm-m16-70mph-max-weight.yaml");
@@ -374,6 +375,7 @@ fn fit_run(dir: &Path, extra: &[&str]) -> (i32, serde_json::Value, String) {
 /// it is a model failure that names the batch and what to run; a command that does not name
 /// `{plan}` is refused (exit 2).
 #[test]
+#[ignore = "slow (about 6 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn a_fit_through_plans_is_the_fit_on_one_machine() {
     let dir = fresh("fit");
     instant_model(&dir);

@@ -24,6 +24,7 @@ fn table2_uncertainty(extra: &[&str]) -> (serde_json::Value, String) {
 /// validation quantity of seed 001 Table 2, and N_v's (every sampled input combination above
 /// flight's bound) a model-form error.
 #[test]
+#[ignore = "slow (about 7 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn uncertainty_json_gives_each_validation_quantity_its_verdict() {
     let (v, out) = table2_uncertainty(&[]);
     let results = v["results"].as_array().unwrap();
@@ -109,6 +110,7 @@ fn uncertainty_refuses_bad_sampling_input() {
 /// `--validation-only` samples the validation checks alone: Table 2's BCAR regression check is
 /// left out, and a verdict-only check shows as `passes`.
 #[test]
+#[ignore = "slow (about 7 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn uncertainty_validation_only_leaves_other_classes_out() {
     let (v, out) = table2_uncertainty(&["--validation-only"]);
     let results = v["results"].as_array().unwrap();
@@ -126,6 +128,7 @@ fn uncertainty_validation_only_leaves_other_classes_out() {
 /// quantity under its verdict. It is refused (exit 2, before any run) with case paths or
 /// corrections: the summary is the whole suite's, of its committed model.
 #[test]
+#[ignore = "slow (about 14 s in a release test run since the VPM M16's blades feel the hub's angular acceleration, 2026-11-30; out of the cold `cargo test`, held under 5 minutes): run by .ci/run with `cargo test --test suite -- --ignored`"]
 fn uncertainty_write_summary_writes_the_suites_verdicts_the_same_each_time() {
     use crate::common::cierva_in;
     let case = "cases/cierva-table2-vpm-m16-70mph-max-weight.yaml";
