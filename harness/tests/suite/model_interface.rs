@@ -466,8 +466,13 @@ const THROUGH_THE_PROTOCOL: f64 = 1e-9;
 
 /// A temporary suite holding [`MIRRORED`] with their model served by `cierva serve`, and the
 /// repository's `aircraft/` and `flight-refs/` linked beside its cases (their relative paths).
+/// One folder a call: tests that run at once in one process each get their own (one folder a
+/// process let one test's set-up remove another's records mid-run).
 fn mirrored_suite() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-as-external-{}", std::process::id()));
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir =
+        std::env::temp_dir().join(format!("cierva-as-external-{}-{call}", std::process::id()));
     super::common::new_suite(&dir);
     for linked in ["aircraft", "flight-refs"] {
         std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
