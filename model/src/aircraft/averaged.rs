@@ -300,23 +300,17 @@ impl Aircraft {
                 &self.free_spins_at(&frame.c),
             )?;
             if feel {
-                let mut next = self.accelerations(&total, &body_dot);
-                // What the blades do not feel need not agree, and is not mixed: the apparent
-                // gravity, for blades without a first mass moment (so that evaluations differing
-                // only in attitude keep sharing the rotor's periodic solution).
-                let felt = if self.blades_feel_weight() {
-                    0
-                } else {
-                    y[..3].copy_from_slice(&next[..3]);
-                    3
-                };
+                let next = self.accelerations(&total, &body_dot);
+                // What the blades do not feel need not agree, and is not mixed: taken as it is
+                // (the apparent gravity, for blades without a first mass moment), so that
+                // evaluations differing only in attitude keep sharing the rotor's periodic
+                // solution.
+                let felt = self.first_felt_acceleration();
+                y[..felt].copy_from_slice(&next[..felt]);
                 change = (felt..6)
                     .map(|k| (next[k] - y[k]).abs() / hub_motion_unit(k))
                     .fold(0.0, f64::max);
                 if change > HUB_MOTION_TOLERANCE {
-                    if felt == 3 {
-                        next[..3].copy_from_slice(&y[..3]);
-                    }
                     (y, warm) = (anderson.next(y, next), rl.beta0);
                     continue;
                 }

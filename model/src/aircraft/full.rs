@@ -388,10 +388,8 @@ impl Aircraft {
         let image = |r: &Response| self.accelerations(&r.total, &r.body_dot);
         let base = image(&respond(Some(&hub(&[0.0; 6])))?);
         let mut system = nalgebra::Matrix6::<f64>::identity();
-        // Blades without a first mass moment do not feel the apparent gravity: its columns are
-        // zero, and are not evaluated.
-        let felt = if self.blades_feel_weight() { 0 } else { 3 };
-        for j in felt..6 {
+        // The columns of what the blades do not feel are zero, and are not evaluated.
+        for j in self.first_felt_acceleration()..6 {
             let mut unit = [0.0; 6];
             unit[j] = 1.0;
             let column = image(&respond(Some(&hub(&unit)))?);

@@ -406,6 +406,13 @@ impl Aircraft {
         r.flap_mass_moment_kg_m != 0.0 && r.hub != Hub::Rigid
     }
 
+    /// The first of the body's accelerations `[g - a_cg, w']` ([`Aircraft::hub_motion`]) that
+    /// the blades feel: all of them where they feel their weight, else the angular acceleration
+    /// alone (index 3).
+    fn first_felt_acceleration(&self) -> usize {
+        if self.blades_feel_weight() { 0 } else { 3 }
+    }
+
     /// The main rotor's operating state, its hub moving as `hub` says (hub axes). What the
     /// blades do not feel ([`Aircraft::blades_feel_the_hub`], [`Aircraft::blades_feel_weight`])
     /// changes none of the rotor's loads, and the operating state leaves it out: evaluations
