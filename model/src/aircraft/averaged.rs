@@ -1,7 +1,7 @@
 //! The revolution-averaged model: its state, its evaluation with the rotor in its steady
 //! periodic motion, and what it reports.
 
-use super::{Air, Aircraft, AircraftError, Controls, cross, positive_state, sum_loads};
+use super::{Air, Aircraft, AircraftError, Controls, MainRotor, cross, positive_state, sum_loads};
 use crate::components::inflow;
 use crate::components::propeller::PropellerState;
 use crate::components::rigid_body::{self, BodyState, Loads};
@@ -74,6 +74,21 @@ const HUB_MOTION_TOLERANCE: f64 = 1e-7;
 /// `[g - a_cg, w']` in: the apparent gravity in g, the angular acceleration in rad/s^2.
 fn hub_motion_unit(k: usize) -> f64 {
     if k < 3 { rigid_body::G_M_S2 } else { 1.0 }
+}
+
+/// The body's accelerations `[g - a_cg, w']` a revolution-averaged evaluation solves the
+/// rotor's flapping under ([`Aircraft::averaged_under`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum HubAccelerations {
+    /// Those the evaluation's own loads imply, iterated to agreement: the model's equations.
+    Agreed,
+    /// The steady motion's at the evaluated state (`w' = 0`, the c.g. turning with the body's
+    /// rates). A trim's root is the same as under [`HubAccelerations::Agreed`]: where the state
+    /// derivative is zero, the implied accelerations are the steady motion's.
+    Steady,
+    /// These, whatever the loads imply: a linearisation's columns, which eliminate the
+    /// difference to first order as they do the inflow's.
+    Held([f64; 6]),
 }
 
 /// How many periodic solutions the revolution-averaged model may take to find them.
@@ -190,6 +205,35 @@ impl RotorCache {
         self.entries.extend(solution);
     }
 
+    /// The rotor's periodic solution at `op`: the one held for it, or solved from
+    /// the flap state `warm` and held. It becomes the latest ([`RotorCache::last`]).
+    fn periodic(
+        &mut self,
+        op: &Operating,
+        warm: [f64; 2],
+        rotor: &MainRotor,
+    ) -> Result<SteadyLoads, AircraftError> {
+        if let Some(seed) = self.seed.take()
+            && seed.0 == *op
+        {
+            self.entries.push(seed);
+        }
+        let rl = match self.entries.iter().find(|(o, _)| o == op) {
+            Some((_, l)) => *l,
+            None => {
+                let l = Blade::new(&rotor.rotor, rotor.numerics).steady_with(
+                    op,
+                    warm,
+                    &mut self.map,
+                )?;
+                self.entries.push((*op, l));
+                l
+            }
+        };
+        self.last = Some((*op, rl));
+        Ok(rl)
+    }
+
     /// How many periodic solutions it holds.
     #[cfg(test)]
     pub(crate) fn solutions(&self) -> usize {
@@ -251,6 +295,25 @@ impl Aircraft {
         warm: [f64; 2],
         cache: &mut RotorCache,
     ) -> Result<Averaged, AircraftError> {
+        self.averaged_under(state, controls, air, warm, cache, HubAccelerations::Agreed)
+            .map(|(a, _, _)| a)
+    }
+
+    /// [`Aircraft::averaged_cached`] with the body's accelerations the rotor's flapping is
+    /// solved under as `hub` says; beside the evaluation, the accelerations its loads imply,
+    /// `[g - a_cg, w']`, and whether the two agree in what the blades feel (within
+    /// [`HUB_MOTION_TOLERANCE`]; always under [`HubAccelerations::Agreed`]). Where they agree,
+    /// the evaluation is the model's own, bit for bit, whatever `hub` was: the model's
+    /// iteration starts from the steady motion's accelerations and stops there at once.
+    pub(crate) fn averaged_under(
+        &self,
+        state: &State,
+        controls: &Controls,
+        air: Air,
+        warm: [f64; 2],
+        cache: &mut RotorCache,
+        hub: HubAccelerations,
+    ) -> Result<(Averaged, [f64; 6], bool), AircraftError> {
         let b = &state.body;
         let mr = &self.main_rotor;
         let omega = state.rotor_omega_rad_s;
@@ -262,33 +325,21 @@ impl Aircraft {
         // The rotor's periodic solution with the hub's motion that the body's accelerations
         // imply, those accelerations depending on the rotor's loads in turn: from the steady
         // motion's (a trim's, exact there), until they agree (at once where the blades do not
-        // feel the hub's motion).
+        // feel the hub's motion), unless they are held.
         let feel = self.blades_feel_the_hub();
-        let mut y = Self::steady_accelerations(b);
+        let held = match hub {
+            HubAccelerations::Agreed => None,
+            HubAccelerations::Steady => Some(Self::steady_accelerations(b)),
+            HubAccelerations::Held(y) => Some(y),
+        };
+        let mut y = held.unwrap_or_else(|| Self::steady_accelerations(b));
         let mut warm = warm;
         let mut change = f64::INFINITY;
         let mut anderson = Anderson::default();
         for _ in 0..HUB_MOTION_ITERATIONS {
             let hub_motion = self.hub_motion(&frame, b, &y);
             let op = self.operating(&frame, omega, state.inflow, air, &hub_motion);
-            if let Some(seed) = cache.seed.take()
-                && seed.0 == op
-            {
-                cache.entries.push(seed);
-            }
-            let rl: SteadyLoads = match cache.entries.iter().find(|(o, _)| *o == op) {
-                Some((_, l)) => *l,
-                None => {
-                    let l = Blade::new(&mr.rotor, mr.numerics).steady_with(
-                        &op,
-                        warm,
-                        &mut cache.map,
-                    )?;
-                    cache.entries.push((op, l));
-                    l
-                }
-            };
-            cache.last = Some((op, rl));
+            let rl = cache.periodic(&op, warm, mr)?;
             let (m_hub, spin) = self.mean_hub_moment(&rl, &op);
             let rotor_loads =
                 Self::rotor_to_body(&frame, self.hub_force(rl.force_n, &frame, air), m_hub);
@@ -299,21 +350,22 @@ impl Aircraft {
                 &total,
                 &self.free_spins_at(&frame.c),
             )?;
+            let next = self.accelerations(&total, &body_dot);
+            // What the blades do not feel need not agree, and is not mixed: taken as it is
+            // (the apparent gravity, for blades without a first mass moment), so that
+            // evaluations differing only in attitude keep sharing the rotor's periodic
+            // solution.
+            let felt = self.first_felt_acceleration();
             if feel {
-                let next = self.accelerations(&total, &body_dot);
-                // What the blades do not feel need not agree, and is not mixed: taken as it is
-                // (the apparent gravity, for blades without a first mass moment), so that
-                // evaluations differing only in attitude keep sharing the rotor's periodic
-                // solution.
-                let felt = self.first_felt_acceleration();
-                y[..felt].copy_from_slice(&next[..felt]);
                 change = (felt..6)
                     .map(|k| (next[k] - y[k]).abs() / hub_motion_unit(k))
                     .fold(0.0, f64::max);
-                if change > HUB_MOTION_TOLERANCE {
-                    (y, warm) = (anderson.next(y, next), rl.beta0);
-                    continue;
-                }
+            }
+            let agrees = !feel || change <= HUB_MOTION_TOLERANCE;
+            if !agrees && held.is_none() {
+                y[..felt].copy_from_slice(&next[..felt]);
+                (y, warm) = (anderson.next(y, next), rl.beta0);
+                continue;
             }
             let driving = inflow::DrivingLoads::of(&rl);
             let (equilibrium, wake, inflow_dot) =
@@ -322,7 +374,7 @@ impl Aircraft {
                 self.spin_rates(&frame, spin, prop_omega_dot, &body_dot);
             let hub = frame.hub;
             let v_inplane = hub.u.hypot(hub.v);
-            return Ok(Averaged {
+            let averaged = Averaged {
                 body_dot,
                 rotor_omega_dot_rad_s2: rotor_omega_dot,
                 propeller_omega_dot_rad_s2: prop_omega_dot,
@@ -349,7 +401,8 @@ impl Aircraft {
                     airframe: af,
                 },
                 flap_start: rl.beta0,
-            });
+            };
+            return Ok((averaged, next, agrees));
         }
         Err(AircraftError::Invalid {
             name: "the body's accelerations and the rotor's flapping under them (no agreement in 20 periodic solutions; largest change, g or rad/s^2)",

@@ -103,6 +103,7 @@ use crate::components::rotor::{
 use serde::Serialize;
 use thiserror::Error;
 
+pub(crate) use averaged::HubAccelerations;
 pub use averaged::{Averaged, ComponentLoads, RotorCache, RotorReport, State};
 pub use controls::{ControlMaps, Controls, LinearMap};
 pub use drive::{Drive, PropellerInstallation, Rotation};

@@ -144,6 +144,51 @@ fn only_heavy_blades_tell_attitudes_apart() {
     }
 }
 
+/// A trim's solver steps with the rotor's flapping solved under the steady motion's
+/// accelerations (a periodic solution an evaluation, where the model iterates about five),
+/// and lands on the model's own trim: the model's evaluation at the trim, afresh from the
+/// trim's flapping start, is the trim's evaluation bit for bit, its iteration stopping at once.
+/// At the trim the steady motion's accelerations are those the loads imply, so the evaluation
+/// under them is the model's (it `agrees`). Level and turning (the c.g.'s centripetal
+/// acceleration in the apparent gravity), weightless blades (the angular acceleration felt) and
+/// heavy ones (the apparent gravity too). With the turn's `w x V` left out of the steady
+/// motion's accelerations, the heavy blades' evaluation under them does not agree (the trim
+/// still ends on the model's own, confirmed under its own accelerations, at more cost).
+#[test]
+fn a_trim_solved_under_the_steady_motion_is_the_models_own() {
+    for (a, turn) in [
+        (gyroplane(), 0.0),
+        (gyroplane(), 0.15),
+        (heavy(Hub::Teetering, 0.0), 0.15),
+        (heavy(Hub::Articulated, 0.3), 0.15),
+    ] {
+        let c = Condition {
+            airspeed_m_s: 31.3,
+            climb_m_s: 0.0,
+            turn_rate_rad_s: turn,
+            air: air(),
+        };
+        let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
+        assert!(t.residual_norm <= t.tolerance, "{:?}", t.residuals);
+        let case = format!("{:?}, turning at {turn} rad/s", a.main_rotor.rotor.hub);
+        let warm = t.averaged.flap_start;
+        let own = a.averaged(&t.state, &t.controls, air(), warm).unwrap();
+        assert_eq!(own, t.averaged, "{case}");
+        let (steady, _, agrees) = a
+            .averaged_under(
+                &t.state,
+                &t.controls,
+                air(),
+                warm,
+                &mut RotorCache::default(),
+                HubAccelerations::Steady,
+            )
+            .unwrap();
+        assert!(agrees, "{case}");
+        assert_eq!(steady, t.averaged, "{case}");
+    }
+}
+
 /// A blade's own flap inertia feels the hub's angular acceleration, `I w'.t`, whether or not
 /// the blade has a first mass moment about its hinge: the term needs no weight. A rotor file
 /// with `S = 0` (the test gyroplane's, the VPM M16's: a teetering pair underslung so that the

@@ -18,7 +18,9 @@
 //! and the inflow mismatch divided by the tip speed. Failure returns the last residuals by
 //! name.
 
-use crate::aircraft::{Air, Aircraft, AircraftError, Averaged, Controls, Drive, RotorCache, State};
+use crate::aircraft::{
+    Air, Aircraft, AircraftError, Averaged, Controls, Drive, HubAccelerations, RotorCache, State,
+};
 use crate::components::rigid_body::{BodyState, G_M_S2};
 use crate::components::rotor::{
     Inflow, InflowModel, Numerics, Operating, RevolutionMap, Rotor, SteadyLoads,
@@ -156,8 +158,13 @@ pub(crate) struct Problem<'a> {
     /// The rotor's periodic solutions so far (a Jacobian column that moves only the pedal or
     /// throttle finds the rotor as it was) and what they learned of its revolution map.
     pub(crate) rotor: RotorCache,
-    /// The last evaluation (the solver's last call is at its solution).
-    pub(crate) last: Option<(Vec<f64>, Vec<f64>, Averaged)>,
+    /// The body's accelerations the rotor's flapping is solved under: the steady motion's
+    /// while the solver steps (the same root, at a periodic solution an evaluation), then the
+    /// model's own to confirm it ([`trim_from`]).
+    pub(crate) hub: HubAccelerations,
+    /// The last evaluation (the solver's last call is at its solution), and whether it is the
+    /// model's own (the accelerations it was solved under agree with those it implies).
+    pub(crate) last: Option<(Vec<f64>, Vec<f64>, Averaged, bool)>,
     /// Model evaluations so far.
     pub(crate) calls: usize,
 }
@@ -220,25 +227,27 @@ impl Problem<'_> {
     }
 
     fn evaluate(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged), AircraftError> {
-        if let Some((lx, r, a)) = &self.last
+        if let Some((lx, r, a, agrees)) = &self.last
             && lx.as_slice() == x
+            && (*agrees || self.hub != HubAccelerations::Agreed)
         {
             return Ok((r.clone(), a.clone()));
         }
-        let (r, a) = self.evaluate_afresh(x)?;
-        self.last = Some((x.to_vec(), r.clone(), a.clone()));
+        let (r, a, agrees) = self.evaluate_afresh(x)?;
+        self.last = Some((x.to_vec(), r.clone(), a.clone(), agrees));
         Ok((r, a))
     }
 
-    fn evaluate_afresh(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged), AircraftError> {
+    fn evaluate_afresh(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged, bool), AircraftError> {
         let (state, controls) = self.unpack(x);
         self.calls += 1;
-        let a = self.aircraft.averaged_cached(
+        let (a, _, agrees) = self.aircraft.averaged_under(
             &state,
             &controls,
             self.condition.air,
             self.warm,
             &mut self.rotor,
+            self.hub,
         )?;
         self.warm = a.flap_start;
         let d = &a.body_dot;
@@ -271,7 +280,70 @@ impl Problem<'_> {
         if self.engine {
             r.push(a.propeller_omega_dot_rad_s2 / self.prop0);
         }
-        Ok((r, a))
+        Ok((r, a, agrees))
+    }
+
+    /// The trim's unknowns from the warm start if it fits (its rotor solution spares its first
+    /// evaluation a revolution, what it learned of the revolution map a few more), then (or
+    /// else) from the cold start `x0`: solved with the rotor's flapping under the steady
+    /// motion's accelerations, then confirmed under the model's own.
+    fn solve(
+        &mut self,
+        x0: Vec<f64>,
+        start: Option<&WarmStart>,
+        newton: NewtonOptions,
+    ) -> Result<solve::Converged, SolveError> {
+        let warm = start
+            .filter(|w| w.x.len() == x0.len() && w.tip0 == self.tip0)
+            .map(|w| {
+                (
+                    w.x.clone(),
+                    w.jacobian.clone(),
+                    w.flap,
+                    (w.rotor_seed(self.aircraft), Some(w.map)),
+                )
+            });
+        let cold = (x0, None, [0.0, 0.0], (None, None));
+        let mut sol = Err(SolveError::Singular {
+            x: Vec::new(),
+            residuals: Vec::new(),
+        });
+        for (x, jacobian, flap, (seed, map)) in warm.into_iter().chain(std::iter::once(cold)) {
+            self.warm = flap;
+            self.last = None;
+            self.rotor.seed(seed);
+            if let Some(map) = map {
+                self.rotor.learned(map);
+            }
+            sol = solve::newton_from(
+                |x| self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
+                &x,
+                jacobian,
+                newton,
+            );
+            if sol.is_ok() {
+                break;
+            }
+        }
+        // The root found with the hub's motion held at the steady motion's is the model's: there
+        // the accelerations the loads imply are the steady motion's (to the trim's tolerance), so
+        // the model's own evaluation, which starts its iteration from them, stops at once with the
+        // same periodic solution: the solver's last evaluation is the model's. Confirmed so, and
+        // stepped on under the model's own accelerations should it not be (the solver's Jacobian
+        // carried over).
+        sol.and_then(|held| {
+            self.hub = HubAccelerations::Agreed;
+            solve::newton_from(
+                |x| self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
+                &held.x,
+                held.jacobian,
+                newton,
+            )
+            .map(|agreed| solve::Converged {
+                iterations: held.iterations + agreed.iterations,
+                ..agreed
+            })
+        })
     }
 }
 
@@ -429,44 +501,12 @@ pub fn trim_from(
         harmonics,
         warm: [0.0, 0.0],
         rotor: RotorCache::default(),
+        hub: HubAccelerations::Steady,
         last: None,
         calls: 0,
     };
     let x0 = cold_start(aircraft, &condition, tip0, engine);
-    // The warm start if it fits (its rotor solution spares its first evaluation a revolution,
-    // what it learned of the revolution map a few more), then (or else) the cold one.
-    let warm = start
-        .filter(|w| w.x.len() == x0.len() && w.tip0 == tip0)
-        .map(|w| {
-            (
-                w.x.clone(),
-                w.jacobian.clone(),
-                w.flap,
-                (w.rotor_seed(aircraft), Some(w.map)),
-            )
-        });
-    let cold = (x0, None, [0.0, 0.0], (None, None));
-    let mut sol = Err(SolveError::Singular {
-        x: Vec::new(),
-        residuals: Vec::new(),
-    });
-    for (x, jacobian, flap, (seed, map)) in warm.into_iter().chain(std::iter::once(cold)) {
-        p.warm = flap;
-        p.last = None;
-        p.rotor.seed(seed);
-        if let Some(map) = map {
-            p.rotor.learned(map);
-        }
-        sol = solve::newton_from(
-            |x| p.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
-            &x,
-            jacobian,
-            options.newton,
-        );
-        if sol.is_ok() {
-            break;
-        }
-    }
+    let sol = p.solve(x0, start, options.newton);
     let names = residual_names(engine);
     let sol = match sol {
         Ok(s) => s,

@@ -2,7 +2,9 @@
 //! refined on the periodic orbit that a simulation ([`super::timehistory`]) flies.
 
 use crate::aircraft::trim::{Condition, Problem, Trim, TrimError, TrimOptions, residual_names};
-use crate::aircraft::{Air, Aircraft, AircraftError, Controls, Drive, FullState, RotorCache};
+use crate::aircraft::{
+    Air, Aircraft, AircraftError, Controls, Drive, FullState, HubAccelerations, RotorCache,
+};
 use crate::components::rotor::Blade;
 use crate::solve::{self, SolveError};
 use serde::Serialize;
@@ -87,6 +89,7 @@ pub fn periodic_trim(
         harmonics: false,
         warm: averaged.averaged.flap_start,
         rotor: RotorCache::default(),
+        hub: HubAccelerations::Agreed,
         last: None,
         calls: 0,
     };
