@@ -2181,13 +2181,13 @@ fn a_quantity_the_refined_run_cannot_give_has_no_verdict() {
 /// How closely a request carrying every declared parameter at its nominal value must give the
 /// model's own answer: a value declared in another unit than the file's (degrees for radians,
 /// deg/kPa for rad/Pa) goes back through its conversion, a few rounding steps, which the solves
-/// inside an evaluation carry on: the trim's Newton steps, and, since the blades' flap inertia
-/// feels the body's angular acceleration (issue 52, item 12), the two iterated to agreement by
-/// Anderson's mixing, whose least squares near convergence magnify a rounding difference.
-/// Measured: 1.4e-11 in the Montgomerie-Parsons' linear model at 50 mph (within 1e-12 before
-/// the iteration). A conversion's slip (degrees taken as radians) moves the answer by its whole
-/// size.
-const NOMINAL_REQUEST_AGREEMENT: f64 = 1e-9;
+/// inside an evaluation carry on (the trim's Newton steps). Measured: 5.5e-13 in the
+/// Montgomerie-Parsons' linear model at 50 mph. It was 1.4e-11, and this guard 1e-9, while
+/// every evaluation iterated the rotor's flapping to the body's accelerations by Anderson's
+/// mixing, whose least squares near convergence magnify a rounding difference; trims and
+/// linearisations no longer iterate (issue 51's performance). A conversion's slip (degrees
+/// taken as radians) moves the answer by its whole size.
+const NOMINAL_REQUEST_AGREEMENT: f64 = 1e-12;
 
 /// A declared parameter's nominal value is the model as it is: for every shipped aircraft and
 /// rotor, a request that sets every declared parameter to its nominal value gets the answer of

@@ -67,7 +67,10 @@ pub struct Averaged {
 
 /// How closely the revolution-averaged model's body accelerations must agree with those its
 /// rotor's flapping was solved under (the apparent gravity at the c.g. in g, the angular
-/// acceleration in rad/s^2): the trim's own tolerance on them.
+/// acceleration in rad/s^2): the default trim's tolerance on them. A trim at this tolerance
+/// or tighter ends where its evaluation under the steady motion's accelerations agrees, and is
+/// the model's own; a looser one is confirmed by the model's own evaluation, which then
+/// iterates.
 const HUB_MOTION_TOLERANCE: f64 = 1e-7;
 
 /// The unit [`HUB_MOTION_TOLERANCE`] measures component `k` of the body's accelerations
@@ -285,8 +288,9 @@ impl Aircraft {
     }
 
     /// [`Aircraft::averaged`], reusing the rotor's periodic solution when the rotor's operating
-    /// state is one the cache has seen (perturbations of attitude, pedal, throttle or
-    /// propeller speed leave it unchanged).
+    /// state is one the cache has seen (perturbations of attitude where the blades do not feel
+    /// their weight leave it unchanged; of pedal, throttle and propeller speed too on a rigid
+    /// hub, for elsewhere the body's angular acceleration they change reaches the flapping).
     pub fn averaged_cached(
         &self,
         state: &State,
@@ -302,9 +306,9 @@ impl Aircraft {
     /// [`Aircraft::averaged_cached`] with the body's accelerations the rotor's flapping is
     /// solved under as `hub` says; beside the evaluation, the accelerations its loads imply,
     /// `[g - a_cg, w']`, and whether the two agree in what the blades feel (within
-    /// [`HUB_MOTION_TOLERANCE`]; always under [`HubAccelerations::Agreed`]). Where they agree,
-    /// the evaluation is the model's own, bit for bit, whatever `hub` was: the model's
-    /// iteration starts from the steady motion's accelerations and stops there at once.
+    /// [`HUB_MOTION_TOLERANCE`]; always under [`HubAccelerations::Agreed`]). Where they agree
+    /// under [`HubAccelerations::Steady`], the evaluation is the model's own, bit for bit: the
+    /// model's iteration starts from the steady motion's accelerations and stops there at once.
     pub(crate) fn averaged_under(
         &self,
         state: &State,

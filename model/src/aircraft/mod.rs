@@ -50,8 +50,10 @@
 //! evaluation (`Aircraft::coupled`). The revolution-averaged model iterates its rotor's
 //! periodic solution, from the steady motion's accelerations (`a_cg = w x V`, `w' = 0`: a
 //! trim's, where a turn's load factor enters), to the accelerations its loads imply, within
-//! the trim's tolerance on them; at a trim the first solution is the answer. Rotors whose
-//! blades have no first mass moment skip both.
+//! the trim's tolerance on them; at a trim the first solution is the answer. A trim's Newton
+//! steps solve under the steady motion's accelerations (the same root), and a linearisation
+//! holds them and eliminates them as fast variables (`HubAccelerations`). Blades without a
+//! first mass moment feel the angular acceleration alone; a rigid hub feels neither.
 //!
 //! # Propeller and engine
 //! The propeller thrusts along body `+x` (a pusher), in the axial component of the local air

@@ -159,14 +159,13 @@ fn a_trim_solved_under_the_steady_motion_is_the_models_own() {
     for (a, turn) in [
         (gyroplane(), 0.0),
         (gyroplane(), 0.15),
+        (heavy(Hub::Teetering, 0.0), 0.0),
         (heavy(Hub::Teetering, 0.0), 0.15),
         (heavy(Hub::Articulated, 0.3), 0.15),
     ] {
         let c = Condition {
-            airspeed_m_s: 31.3,
-            climb_m_s: 0.0,
             turn_rate_rad_s: turn,
-            air: air(),
+            ..crate::testdata::level_70mph()
         };
         let t = trim::trim(&a, c, TrimOptions::default()).unwrap();
         assert!(t.residual_norm <= t.tolerance, "{:?}", t.residuals);

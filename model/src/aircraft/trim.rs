@@ -160,7 +160,7 @@ pub(crate) struct Problem<'a> {
     pub(crate) rotor: RotorCache,
     /// The body's accelerations the rotor's flapping is solved under: the steady motion's
     /// while the solver steps (the same root, at a periodic solution an evaluation), then the
-    /// model's own to confirm it ([`trim_from`]).
+    /// model's own to confirm it ([`Problem::solve`]).
     pub(crate) hub: HubAccelerations,
     /// The last evaluation (the solver's last call is at its solution), and whether it is the
     /// model's own (the accelerations it was solved under agree with those it implies).
@@ -286,10 +286,44 @@ impl Problem<'_> {
     /// The trim's unknowns from the warm start if it fits (its rotor solution spares its first
     /// evaluation a revolution, what it learned of the revolution map a few more), then (or
     /// else) from the cold start `x0`: solved with the rotor's flapping under the steady
-    /// motion's accelerations, then confirmed under the model's own.
+    /// motion's accelerations, then confirmed under the model's own. Where no root is found so,
+    /// the model's own equations are tried from the same starts, and a failure reports their
+    /// residuals.
     fn solve(
         &mut self,
         x0: Vec<f64>,
+        start: Option<&WarmStart>,
+        newton: NewtonOptions,
+    ) -> Result<solve::Converged, SolveError> {
+        self.hub = HubAccelerations::Steady;
+        let held = self.attempts(&x0, start, newton);
+        self.hub = HubAccelerations::Agreed;
+        match held {
+            // The root found with the hub's motion held at the steady motion's is the model's:
+            // there the accelerations the loads imply are the steady motion's (to the trim's
+            // tolerance), so the model's own evaluation, which starts its iteration from them,
+            // stops at once with the same periodic solution: the solver's last evaluation is
+            // the model's. Confirmed so, and stepped on under the model's own accelerations
+            // should it not be (the solver's Jacobian carried over).
+            Ok(held) => solve::newton_from(
+                |x| self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
+                &held.x,
+                held.jacobian,
+                newton,
+            )
+            .map(|agreed| solve::Converged {
+                iterations: held.iterations + agreed.iterations,
+                ..agreed
+            }),
+            Err(_) => self.attempts(&x0, start, newton),
+        }
+    }
+
+    /// Newton from the warm start if it fits, then (or else) from the cold start `x0`, under
+    /// the accelerations `self.hub` says.
+    fn attempts(
+        &mut self,
+        x0: &[f64],
         start: Option<&WarmStart>,
         newton: NewtonOptions,
     ) -> Result<solve::Converged, SolveError> {
@@ -303,7 +337,7 @@ impl Problem<'_> {
                     (w.rotor_seed(self.aircraft), Some(w.map)),
                 )
             });
-        let cold = (x0, None, [0.0, 0.0], (None, None));
+        let cold = (x0.to_vec(), None, [0.0, 0.0], (None, None));
         let mut sol = Err(SolveError::Singular {
             x: Vec::new(),
             residuals: Vec::new(),
@@ -325,25 +359,7 @@ impl Problem<'_> {
                 break;
             }
         }
-        // The root found with the hub's motion held at the steady motion's is the model's: there
-        // the accelerations the loads imply are the steady motion's (to the trim's tolerance), so
-        // the model's own evaluation, which starts its iteration from them, stops at once with the
-        // same periodic solution: the solver's last evaluation is the model's. Confirmed so, and
-        // stepped on under the model's own accelerations should it not be (the solver's Jacobian
-        // carried over).
-        sol.and_then(|held| {
-            self.hub = HubAccelerations::Agreed;
-            solve::newton_from(
-                |x| self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
-                &held.x,
-                held.jacobian,
-                newton,
-            )
-            .map(|agreed| solve::Converged {
-                iterations: held.iterations + agreed.iterations,
-                ..agreed
-            })
-        })
+        sol
     }
 }
 
