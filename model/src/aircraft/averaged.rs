@@ -331,6 +331,7 @@ impl Aircraft {
         // motion's (a trim's, exact there), until they agree (at once where the blades do not
         // feel the hub's motion), unless they are held.
         let feel = self.blades_feel_the_hub();
+        let felt = self.first_felt_acceleration();
         let held = match hub {
             HubAccelerations::Agreed => None,
             HubAccelerations::Steady => Some(Self::steady_accelerations(b)),
@@ -359,7 +360,6 @@ impl Aircraft {
             // (the apparent gravity, for blades without a first mass moment), so that
             // evaluations differing only in attitude keep sharing the rotor's periodic
             // solution.
-            let felt = self.first_felt_acceleration();
             if feel {
                 change = (felt..6)
                     .map(|k| (next[k] - y[k]).abs() / hub_motion_unit(k))

@@ -238,6 +238,11 @@ impl Problem<'_> {
         Ok((r, a))
     }
 
+    /// The scaled residuals at `x`, as the solver takes them.
+    fn residuals(&mut self, x: &[f64]) -> Result<Vec<f64>, String> {
+        self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string())
+    }
+
     fn evaluate_afresh(&mut self, x: &[f64]) -> Result<(Vec<f64>, Averaged, bool), AircraftError> {
         let (state, controls) = self.unpack(x);
         self.calls += 1;
@@ -305,16 +310,11 @@ impl Problem<'_> {
             // stops at once with the same periodic solution: the solver's last evaluation is
             // the model's. Confirmed so, and stepped on under the model's own accelerations
             // should it not be (the solver's Jacobian carried over).
-            Ok(held) => solve::newton_from(
-                |x| self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
-                &held.x,
-                held.jacobian,
-                newton,
-            )
-            .map(|agreed| solve::Converged {
-                iterations: held.iterations + agreed.iterations,
-                ..agreed
-            }),
+            Ok(held) => solve::newton_from(|x| self.residuals(x), &held.x, held.jacobian, newton)
+                .map(|agreed| solve::Converged {
+                    iterations: held.iterations + agreed.iterations,
+                    ..agreed
+                }),
             Err(_) => self.attempts(&x0, start, newton),
         }
     }
@@ -349,12 +349,7 @@ impl Problem<'_> {
             if let Some(map) = map {
                 self.rotor.learned(map);
             }
-            sol = solve::newton_from(
-                |x| self.evaluate(x).map(|(r, _)| r).map_err(|e| e.to_string()),
-                &x,
-                jacobian,
-                newton,
-            );
+            sol = solve::newton_from(|x| self.residuals(x), &x, jacobian, newton);
             if sol.is_ok() {
                 break;
             }
