@@ -9,10 +9,11 @@
 //! recurrence, re-seeded every 256 samples against drift) and a chirp-z transform on rustfft
 //! for evenly spaced frequencies (Bluestein's algorithm), which the tests check against it.
 
+use cierva_fft::plans;
+use rustfft::Fft;
 use rustfft::num_complex::Complex64 as C;
-use rustfft::{Fft, FftPlanner};
 use std::f64::consts::PI;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 /// Trapezoidal finite Fourier integral of `x` (sampled at `dt`, from `t = 0`) at each `w`.
 pub fn transform(x: &[f64], dt: f64, omegas: &[f64]) -> Vec<C> {
@@ -162,18 +163,6 @@ thread_local! {
     static BUFFERS: std::cell::RefCell<(Vec<C>, Vec<C>)> = const {
         std::cell::RefCell::new((Vec::new(), Vec::new()))
     };
-}
-
-/// The forward and inverse FFTs of length `l`, planned once per process: the planner keeps
-/// what it has planned (its twiddle factors were a twelfth of an identification's
-/// instructions when each transform planned its own).
-fn plans(l: usize) -> (Arc<dyn Fft<f64>>, Arc<dyn Fft<f64>>) {
-    static PLANNER: OnceLock<Mutex<FftPlanner<f64>>> = OnceLock::new();
-    let mut planner = PLANNER
-        .get_or_init(|| Mutex::new(FftPlanner::new()))
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    (planner.plan_fft_forward(l), planner.plan_fft_inverse(l))
 }
 
 /// A Hann taper over `n` samples and its time derivative (per second) at step `dt`.
