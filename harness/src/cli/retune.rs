@@ -8,7 +8,9 @@ use cierva_harness::plan;
 use cierva_harness::suite::Suite;
 
 /// Retune corrections from flight records in one command: estimate each condition's frequency
-/// responses from its records (coherence, random error), fit the named corrections with
+/// responses from its records (coherence, random error; against the excitation a record's
+/// sidecar names under `excitation`, unbiased by the pilot's loops, or else from the
+/// controls), fit the named corrections with
 /// clarabel so that the model's responses as flown (its linearisation with the rotor's
 /// flapping) match them, weighted by their random errors, within bounds with their sources;
 /// write the corrections file and a before/after report (each response's mismatch cost,

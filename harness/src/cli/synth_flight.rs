@@ -22,7 +22,9 @@ pub(crate) enum Manoeuvre {
 /// identification format (`cierva identify` reads it): a pilot flies the input on one
 /// control with a loose attitude hold about slowly drifting references, through Dryden
 /// turbulence, and instruments with noise, bias and lag record air data at the probe,
-/// rates, attitudes, rotorspeed and every control at 100 Hz. The sidecar says it is
+/// rates, attitudes, rotorspeed and every control at 100 Hz. The test input is recorded as
+/// `<control>_excitation_percent`, named by the sidecar's `excitation` (what an excitation
+/// system logs; `cierva retune` estimates the responses against it). The sidecar says it is
 /// synthetic, with the command, seed and truth.
 ///
 /// Example: `cierva synth-flight aircraft/vpm-m16.yaml --airspeed-mph 70 --manoeuvre sweep
@@ -174,6 +176,7 @@ pub(crate) fn synth_flight(a: SynthFlightArgs) -> Result<ExitCode, Error> {
         controls,
         channels: Default::default(),
         travel: Default::default(),
+        excitation: flown.excitation.clone(),
     };
     write_record(
         &a.output,

@@ -23,6 +23,8 @@
 //! channels: {PITCH: theta_deg}           # optional: a column's cierva name, its unit the suffix
 //! trim: {u_m_s: 30.8, w_m_s: 0.0, theta_rad: 0.0, omega_rotor_rad_s: 38.0, eta_s_rad: 0.0}
 //! controls: [eta_s_rad]
+//! excitation: {eta_s_rad: sweep_command_v}  # optional: the column recording what an
+//!                                           # excitation system added to the control
 //! ```
 //!
 //! A control in % of travel is `<control>_percent` (`eta_s_percent`). Records written before
@@ -115,6 +117,14 @@ pub struct RecordMeta {
     /// columns are positions or changes from trim ([`crate::inputs::channels::Travel`]).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub travel: BTreeMap<String, crate::inputs::channels::Travel>,
+    /// The excitation added to a control, by the control's channel (`eta_s_percent`): the
+    /// channel that records it, in any unit (a response estimated against it does not depend on
+    /// its scale). A computer-generated input summed with the pilot's command is recorded so; a
+    /// pilot's own sweep has none. Where each record at a condition names one, `cierva retune`
+    /// estimates the responses against it, unbiased by the pilot's loops
+    /// ([`crate::ident::frequency_response::referenced`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub excitation: BTreeMap<String, String>,
 }
 
 /// A loaded, checked record.
@@ -240,11 +250,19 @@ pub fn load_using(
         .chain(required.iter().copied().filter(|c| *c != "time_s"))
         .chain(controls.iter().map(String::as_str))
         .collect();
-    let wanted: Vec<&str> = needed.iter().chain(used).copied().collect();
+    let excitations: Vec<&str> = meta.excitation.values().map(String::as_str).collect();
+    let wanted: Vec<&str> = needed
+        .iter()
+        .chain(used)
+        .chain(&excitations)
+        .copied()
+        .collect();
     let plan = crate::inputs::channels::plan(&written, &meta.channels, &meta.travel, &wanted)
         .map_err(|(field, m)| InputError::field(&side, &side_src, &field, m))?;
     let mut channels = plan.names;
     let mut notes = plan.notes;
+    check_excitation(&side, &side_src, &meta, &channels, csv_path)?;
+    let needed: Vec<&str> = needed.into_iter().chain(excitations).collect();
     check_channels(csv_path, &channels, &needed)?;
     let (mut data, left_out) = samples(csv_path, lines, &channels, &needed)?;
     for (k, factor) in plan.factors.iter().enumerate() {
@@ -274,6 +292,95 @@ pub fn load_using(
     })
 }
 
+/// The sidecar's `field` names `control`, which is none of the record's `controls`.
+fn not_a_control(
+    side: &Path,
+    src: &str,
+    field: &str,
+    control: &str,
+    controls: &[String],
+) -> InputError {
+    let hint = yaml::nearest(control, controls)
+        .map(|n| format!(" (did you mean `{n}`?)"))
+        .unwrap_or_default();
+    InputError::field(
+        side,
+        src,
+        field,
+        format!(
+            "`{control}` is not a control of this record{hint}: `controls:` lists {}",
+            if controls.is_empty() {
+                "none".to_string()
+            } else {
+                format!("`{}`", controls.join("`, `"))
+            }
+        ),
+    )
+}
+
+/// A sidecar's `excitation:` checked against the record's controls and channels: each key a
+/// control the sidecar lists, each value a channel of the CSV.
+fn check_excitation(
+    side: &Path,
+    src: &str,
+    meta: &RecordMeta,
+    channels: &[String],
+    csv_path: &Path,
+) -> Result<(), InputError> {
+    for (control, column) in &meta.excitation {
+        let field = format!("excitation.{control}");
+        if !meta.controls.contains(control) {
+            return Err(not_a_control(side, src, &field, control, &meta.controls));
+        }
+        if !channels.contains(column) {
+            let hint = yaml::nearest(column, channels)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(InputError::field(
+                side,
+                src,
+                &field,
+                format!("no channel `{column}` in {}{hint}", csv_path.display()),
+            ));
+        }
+        if let Some((other, _)) = meta
+            .excitation
+            .iter()
+            .find(|(c, v)| *v == column && *c != control)
+        {
+            return Err(InputError::field(
+                side,
+                src,
+                &field,
+                format!(
+                    "`{column}` is named for `{other}` too: each excited control's excitation is a channel of its own"
+                ),
+            ));
+        }
+        if column == "time_s" || REQUIRED.contains(&column.as_str()) {
+            return Err(InputError::field(
+                side,
+                src,
+                &field,
+                format!(
+                    "`{column}` is a measured channel: the excitation is the signal an excitation system added to `{control}`, recorded in a channel of its own"
+                ),
+            ));
+        }
+        if meta.controls.contains(column) {
+            return Err(InputError::field(
+                side,
+                src,
+                &field,
+                format!(
+                    "`{column}` is a control: the excitation is the signal added to `{control}` (an excitation system's command), recorded in a channel of its own"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// A sidecar's `travel:` checked, and its trim values in a control's own unit taken to % of
 /// travel (a trim value is a position). Each control must be one the record lists, its travel
 /// well formed, and its trim given once.
@@ -286,22 +393,7 @@ fn check_travel(side: &Path, src: &str, meta: &mut RecordMeta) -> Result<(), Inp
     for (control, t) in &meta.travel {
         let field = format!("travel.{control}");
         if !controls.contains(control) {
-            let hint = yaml::nearest(control, &controls)
-                .map(|n| format!(" (did you mean `{n}`?)"))
-                .unwrap_or_default();
-            return Err(InputError::field(
-                side,
-                src,
-                &field,
-                format!(
-                    "`{control}` is not a control of this record{hint}: `controls:` lists {}",
-                    if controls.is_empty() {
-                        "none".to_string()
-                    } else {
-                        format!("`{}`", controls.join("`, `"))
-                    }
-                ),
-            ));
+            return Err(not_a_control(side, src, &field, control, &controls));
         }
         if let Some(problem) = t.problem() {
             return Err(InputError::field(side, src, &field, problem));
@@ -394,6 +486,15 @@ fn current_names_of_sidecar(
         trim.insert(name, *value);
     }
     meta.trim = trim;
+    let mut excitation = BTreeMap::new();
+    for (key, value) in &meta.excitation {
+        let name = current_name(key);
+        if name != *key && meta.excitation.contains_key(&name) {
+            return Err(clash(format!("excitation.{key}"), key, &name));
+        }
+        excitation.insert(name, current_name(value));
+    }
+    meta.excitation = excitation;
     Ok(())
 }
 

@@ -38,7 +38,8 @@ pub fn markdown(
     }
     let _ = writeln!(
         s,
-        "\nMatched: the records' frequency responses as flown, real and imaginary parts at coherent frequencies two resolution bins apart, each weighted by its random error ({} targets), against {}. Reduced chi-square at the optimum: {} ({} degrees of freedom; about 1 when the targets' standard errors describe the misfit).",
+        "\nMatched: the records' frequency responses as flown, {}, real and imaginary parts at coherent frequencies two resolution bins apart, each weighted by its random error ({} targets), against {}. Reduced chi-square at the optimum: {} ({} degrees of freedom; about 1 when the targets' standard errors describe the misfit).",
+        estimators(&r.responses),
         r.problem.targets.len(),
         r.model,
         g(r.reduced_chi_square, 3),
@@ -182,4 +183,27 @@ fn revalidation_markdown(v: &Revalidation) -> String {
         }
     }
     s
+}
+
+/// How the responses were estimated, in words: against the records' excitations, from the
+/// controls, or each at some conditions.
+fn estimators(responses: &[crate::fit::retune::responses::RecordedResponse]) -> String {
+    use crate::fit::retune::responses::ResponseEstimator;
+    let mut by: Vec<(ResponseEstimator, Vec<String>)> = Vec::new();
+    for r in responses {
+        let label = r.condition.label();
+        match by.iter_mut().find(|(e, _)| *e == r.estimator) {
+            Some((_, c)) if !c.contains(&label) => c.push(label),
+            Some(_) => {}
+            None => by.push((r.estimator, vec![label])),
+        }
+    }
+    match by.as_slice() {
+        [(e, _)] => format!("estimated {}", e.describe()),
+        _ => by
+            .iter()
+            .map(|(e, c)| format!("estimated {} at {}", e.describe(), c.join(", ")))
+            .collect::<Vec<_>>()
+            .join("; "),
+    }
 }

@@ -117,6 +117,7 @@ pub fn synthesize(
         controls: controls.iter().map(|c| c.to_string()).collect(),
         channels: Default::default(),
         travel: Default::default(),
+        excitation: Default::default(),
     };
     Ok((meta, channels, data))
 }

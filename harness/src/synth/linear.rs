@@ -527,5 +527,6 @@ fn sidecar(s: &LinearTest, dt: f64, control_channel: String) -> RecordMeta {
         controls: vec![control_channel],
         channels: Default::default(),
         travel: Default::default(),
+        excitation: Default::default(),
     }
 }

@@ -78,6 +78,7 @@ pub fn synthesize_teeter(
         controls: vec![],
         channels: Default::default(),
         travel: Default::default(),
+        excitation: Default::default(),
     };
     (names, data, meta)
 }

@@ -117,6 +117,7 @@ fn a_model_is_identified_as_itself_from_a_record_s_controls() {
             controls: names(&["eta_s_percent", "eta_p_percent"]),
             channels: Default::default(),
             travel: Default::default(),
+            excitation: Default::default(),
         },
         channels,
         data,

@@ -457,12 +457,16 @@ fn stick_in_degrees(dir: &Path, record: &str, positions: bool, extra: &str) -> P
     let side: String = side
         .replacen(&format!("id: {id}"), "id: stick", 1)
         .lines()
-        .map(|l| match l.strip_prefix("  eta_s_percent: ") {
-            Some(x) => format!(
-                "  eta_s_deg: {}\n",
-                STICK_AT_0_DEG + x.parse::<f64>().unwrap() * span / 100.0
-            ),
-            None => format!("{l}\n"),
+        // The trim's stick position (the sidecar's `excitation` names a channel under the same
+        // key).
+        .map(|l| {
+            match l
+                .strip_prefix("  eta_s_percent: ")
+                .and_then(|x| x.parse::<f64>().ok())
+            {
+                Some(x) => format!("  eta_s_deg: {}\n", STICK_AT_0_DEG + x * span / 100.0),
+                None => format!("{l}\n"),
+            }
         })
         .collect();
     let logged = if positions {
@@ -646,4 +650,75 @@ fn a_bad_travel_is_a_located_error() {
     assert!(text.contains("trim.eta_s_deg"), "{text}");
     assert!(text.contains("give the control's trim once"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The logged record of [`logged`] with the sidecar's `excitation` replaced by `block`.
+fn with_excitation(dir: &Path, block: &str) -> PathBuf {
+    let csv = logged(dir, MAP);
+    let side = dir.join("logged.yaml");
+    let text = std::fs::read_to_string(&side).unwrap();
+    let mut kept = Vec::new();
+    let mut skipping = false;
+    for line in text.lines() {
+        if line.starts_with("excitation:") {
+            skipping = true;
+            continue;
+        }
+        if skipping && line.starts_with(' ') {
+            continue;
+        }
+        skipping = false;
+        kept.push(line);
+    }
+    std::fs::write(&side, kept.join("\n") + "\n" + block).unwrap();
+    csv
+}
+
+/// A sidecar's `excitation` names the channel recording what was added to a control: it loads
+/// in any unit, kept as written; one that names no control of the record, no channel of the
+/// CSV, or a control's own channel is a located error at its entry.
+#[test]
+fn a_records_excitation_is_checked_and_kept() {
+    let dir = scratch("excitation-good");
+    let rec = record::load(&with_excitation(
+        &dir,
+        "excitation:\n  eta_s_percent: alt_ft\n",
+    ))
+    .unwrap();
+    assert_eq!(rec.meta.excitation["eta_s_percent"], "alt_ft");
+    assert_eq!(rec.channel("alt_ft").unwrap()[0], 2000.0);
+    let _ = std::fs::remove_dir_all(&dir);
+    let cases = [
+        (
+            "excitation:\n  eta_z_percent: alt_ft\n",
+            "`eta_z_percent` is not a control of this record",
+        ),
+        (
+            "excitation:\n  eta_s_percent: sweep_cmd\n",
+            "no channel `sweep_cmd` in",
+        ),
+        (
+            "excitation:\n  eta_s_percent: eta_c_percent\n",
+            "`eta_c_percent` is a control",
+        ),
+        (
+            "excitation:\n  eta_s_percent: q_rad_s\n",
+            "`q_rad_s` is a measured channel",
+        ),
+        (
+            "excitation:\n  eta_s_percent: alt_ft\n  eta_t_percent: alt_ft\n",
+            "is named for",
+        ),
+    ];
+    for (k, (block, want)) in cases.iter().enumerate() {
+        let dir = scratch(&format!("excitation-bad-{k}"));
+        let e = record::load(&with_excitation(&dir, block)).unwrap_err();
+        let text = e.render();
+        assert!(text.contains(want), "{block}: {text}");
+        assert!(
+            text.contains("logged.yaml") && text.contains("excitation."),
+            "{text}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -223,6 +223,7 @@ mod history {
             controls: vec![],
             channels: Default::default(),
             travel: Default::default(),
+            excitation: Default::default(),
         };
         let rec = Record {
             path: "r.csv".into(),

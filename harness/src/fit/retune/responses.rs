@@ -18,7 +18,7 @@
 //!
 //! Two choices keep them so, each stated where it is made:
 //! - frequencies are kept at least [`INDEPENDENT_BINS`] resolution bins apart
-//!   ([`independent`]): estimates closer than that share data through the window's lobe;
+//!   (`spaced`): estimates closer than that share data through the window's lobe;
 //! - the attitudes are not outputs ([`OUTPUTS`]): each is its rate's integral, measured again,
 //!   and its response's error is the rate's.
 //!
@@ -37,6 +37,22 @@
 //! 5 sets of four 120 s sweeps): at 0.15 Hz, where the pilot's roll and heading loops act,
 //! `q / eta_s` missed by 10 of its standard errors (rms over the real and imaginary parts) with
 //! the control alone and by 1.3 as flown.
+//!
+//! # Records with a recorded excitation
+//! A pilot's attitude hold answers turbulence at the band's low end, so the swept control
+//! carries a part correlated with the output's noise, and a response estimated from the
+//! control's spectra is biased there (closed-loop identification). Where every record at a
+//! condition names, in its sidecar's `excitation`, the channel recording what an excitation
+//! system added to the control it moves, the responses are estimated against those
+//! excitations instead ([`fr::referenced`]: `G_RU^-1 G_Ry`, the other controls' transfers
+//! `G_RU^-1 G_RO`, and what the controls leave unexplained for the standard error): the
+//! excitation is independent of the disturbance, so the estimate is consistent under the
+//! pilot's loops (no closed-loop bias as the records grow). A frequency is judged by the
+//! coherence its own random error implies, and the resolution bias is taken with the
+//! magnitude of the control's cross-spectrum with its excitation in place of its autospectrum
+//! (its phase's slope, small away from the pilot's crossover, is left out). A record
+//! that does not excite a control has a zero excitation for it. Without an excitation in every
+//! record the responses come from the controls ([`ResponseEstimator::Direct`]) and the report says so.
 //!
 //! # The estimator's resolution bias
 //! A response estimated with windows of length `T` is the true one smoothed over a spectral
@@ -124,6 +140,8 @@ pub struct RecordedResponse {
     pub condition: TargetCondition,
     pub input: String,
     pub output: String,
+    /// Against the records' excitations, or from their controls.
+    pub estimator: ResponseEstimator,
     /// Every frequency of the grid where the response is estimated.
     #[serde(skip)]
     pub points: Vec<Point>,
@@ -132,7 +150,10 @@ pub struct RecordedResponse {
     /// The points that are targets (coherent, and spaced by [`INDEPENDENT_BINS`]).
     pub used: Vec<usize>,
     /// The records' other controls (`other_controls`): a pilot's hold moves them with the
-    /// input.
+    /// input. (Under [`ResponseEstimator::Referenced`], the transfers below are `G_RU^-1 G_RO` and
+    /// the spectra those of the other controls and the output less their parts through the
+    /// excited controls: [`fr::referenced::Referenced`]; [`Self::standard_error`] is then
+    /// `sqrt(K_ii G_rr / (2 n_d))` exactly.)
     pub other_controls: Vec<String>,
     /// At each point, each other control's measured transfer from `input`, in the order of
     /// `other_controls` (conditioned on the other excited controls: `G_EE^-1 G_EO`), which the
@@ -477,28 +498,40 @@ fn estimate(
     fr::estimate(&runs, s).map_err(|e| located(&e, g, inputs, output))
 }
 
-/// The indices of the points to fit: coherent (at least [`COHERENCE_MIN`]), with a finite
-/// random error, and each at least [`INDEPENDENT_BINS`] bins of the shortest window the
-/// composite leans on (weight at least [`WEIGHT_MIN`]) above the last one kept.
-pub fn independent(est: &fr::CompositeEstimate, input: usize) -> Vec<usize> {
-    let r = &est.inputs[input];
+/// An estimate's grid: its frequencies, and each window's weight in the composite at each.
+struct Grid<'a> {
+    frequencies_hz: &'a [f64],
+    weights: &'a [Vec<f64>],
+    windows_s: &'a [f64],
+}
+
+/// The indices of the points to fit, from one input's coherence, random error and response
+/// on `grid`: coherent (at least [`COHERENCE_MIN`]), with a finite random error, and each at
+/// least [`INDEPENDENT_BINS`] bins of the shortest window the composite leans on (weight at
+/// least [`WEIGHT_MIN`]) above the last one kept.
+fn spaced(
+    grid: &Grid<'_>,
+    coherence: &[f64],
+    random_error: &[Option<f64>],
+    response: &[Option<C>],
+) -> Vec<usize> {
     let mut kept: Vec<usize> = Vec::new();
-    for (k, &f) in est.frequencies_hz.iter().enumerate() {
-        let usable = r.coherence[k] >= COHERENCE_MIN
-            && r.random_error[k].is_some_and(f64::is_finite)
-            && r.response[k].is_some_and(|h| h.norm() > 0.0 && h.norm().is_finite());
+    for (k, &f) in grid.frequencies_hz.iter().enumerate() {
+        let usable = coherence[k] >= COHERENCE_MIN
+            && random_error[k].is_some_and(f64::is_finite)
+            && response[k].is_some_and(|h| h.norm() > 0.0 && h.norm().is_finite());
         if !usable {
             continue;
         }
-        let shortest_s = est.weights[k]
+        let shortest_s = grid.weights[k]
             .iter()
-            .zip(&est.windows_s)
+            .zip(grid.windows_s)
             .filter(|(w, _)| **w >= WEIGHT_MIN)
             .map(|(_, t)| *t)
             .fold(f64::INFINITY, f64::min);
         let bin_hz = 1.0 / shortest_s;
         if kept.last().is_none_or(|&j| {
-            f - est.frequencies_hz[j] >= INDEPENDENT_BINS * bin_hz * (1.0 - fr::ROUNDING)
+            f - grid.frequencies_hz[j] >= INDEPENDENT_BINS * bin_hz * (1.0 - fr::ROUNDING)
         }) {
             kept.push(k);
         }
@@ -506,7 +539,217 @@ pub fn independent(est: &fr::CompositeEstimate, input: usize) -> Vec<usize> {
     kept
 }
 
-/// Every response of every condition's records: each excited control to each output.
+/// One input's estimate over a grid, from either estimator: at each frequency, the response,
+/// its coherence and normalised random error, the other controls' transfers and the spectra
+/// left unexplained ([`RecordedResponse`]'s fields), and the log of the spectrum that weights
+/// the estimate's smoothing (the input's, or its cross-spectrum with the excitation).
+struct InputEstimate {
+    response: Vec<Option<C>>,
+    coherence: Vec<f64>,
+    random_error: Vec<Option<f64>>,
+    split: Vec<Option<(Vec<C>, Vec<C>)>>,
+    ln_weighting: Vec<f64>,
+}
+
+/// How a condition's responses were estimated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ResponseEstimator {
+    /// From the controls' spectra (`G_uu^-1 G_uy`): biased where a pilot's loop answers the
+    /// disturbance.
+    Direct,
+    /// Against the excitations the records carry ([`fr::referenced`]).
+    Referenced,
+}
+
+impl ResponseEstimator {
+    /// In words, for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ResponseEstimator::Direct => {
+                "from the controls (no recorded excitation: biased where a pilot's loop answers the disturbance)"
+            }
+            ResponseEstimator::Referenced => "against the records' excitations",
+        }
+    }
+}
+
+/// Each record's excitation channels, one per excited control in order, `None` for a control
+/// the record does not excite (its excitation is zero there); `None` in all when some record
+/// names no excitation for the control it moves (its sidecar's first): the responses are then
+/// estimated from the controls.
+fn excitations(g: &ConditionRecords<'_>, excited: &[String]) -> Option<Vec<Vec<Option<String>>>> {
+    g.records
+        .iter()
+        .map(|r| {
+            let own = r.meta.controls.first()?;
+            r.meta.excitation.get(own)?;
+            Some(
+                excited
+                    .iter()
+                    .map(|c| r.meta.excitation.get(&format!("{c}_percent")).cloned())
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// The estimates of each excited control's response of `output` against the records'
+/// excitations (`refs`, per record as [`excitations`] gives them), with the other controls'
+/// transfers and what none of the controls explains.
+fn referenced_estimates(
+    g: &ConditionRecords<'_>,
+    excited: &[String],
+    other: &[String],
+    output: &str,
+    refs: &[Vec<Option<String>>],
+    s: &fr::SpectralSettings,
+) -> Result<(Vec<InputEstimate>, fr::JointSpectra), String> {
+    let (e, m) = (excited.len(), other.len());
+    let controls: Vec<String> = excited.iter().chain(other).cloned().collect();
+    let mut runs = Vec::with_capacity(g.records.len());
+    for (rec, names) in g.records.iter().zip(refs) {
+        let run = run_of(rec, &controls, output)?;
+        let n = run.output.len();
+        let mut inputs: Vec<Vec<f64>> = names
+            .iter()
+            .map(|name| match name {
+                Some(c) => rec.channel(c).map(<[f64]>::to_vec).ok_or_else(|| {
+                    format!(
+                        "{}: no channel `{c}` (its sidecar's `excitation`)",
+                        rec.path.display()
+                    )
+                }),
+                None => Ok(vec![0.0; n]),
+            })
+            .collect::<Result<_, _>>()?;
+        inputs.extend(run.inputs);
+        runs.push(fr::RecordSignals { inputs, ..run });
+    }
+    // Each record's own excitation and the control it moves must have power in the band; the
+    // other excitations are zero there, and the other controls may be still.
+    let own: Vec<Option<usize>> = g
+        .records
+        .iter()
+        .map(|r| {
+            let first = r.meta.controls.first()?;
+            excited
+                .iter()
+                .position(|c| format!("{c}_percent") == *first)
+        })
+        .collect();
+    let required =
+        |run: usize, input: usize| own[run].is_some_and(|i| input == i || input == e + i);
+    let joint = fr::joint_spectra(&runs, s, e, &required).map_err(|err| {
+        let file = |run: usize| {
+            g.records
+                .get(run)
+                .map_or(String::new(), |r| r.path.display().to_string())
+        };
+        match &err {
+            fr::FrError::NoPower { run, input, .. } if *input < e => format!(
+                "{}: the excitation `{}` of `{}_percent` (its sidecar's `excitation`): {err}",
+                file(*run),
+                refs[*run][*input].as_deref().unwrap_or("?"),
+                excited[*input]
+            ),
+            fr::FrError::NoPower { run, input, .. } => format!(
+                "{}: control `{}_percent`: {err}",
+                file(*run),
+                controls.get(*input - e).map_or("?", String::as_str)
+            ),
+            fr::FrError::NotFinite {
+                run,
+                signal,
+                sample,
+            } => {
+                let name = match *signal {
+                    k if k < e => format!("the excitation of `{}_percent`", excited[k]),
+                    k if k < e + controls.len() => format!("control `{}_percent`", controls[k - e]),
+                    _ => format!("output `{output}`"),
+                };
+                format!("{}: {name} is not finite at sample {sample}", file(*run))
+            }
+            _ => located(&err, g, &controls, output),
+        }
+    })?;
+    let p = 2 * e + m + 1;
+    let mut out: Vec<InputEstimate> = (0..e)
+        .map(|_| InputEstimate {
+            response: Vec::new(),
+            coherence: Vec::new(),
+            random_error: Vec::new(),
+            split: Vec::new(),
+            ln_weighting: Vec::new(),
+        })
+        .collect();
+    for (g_k, &n) in joint.spectra.iter().zip(&joint.averages) {
+        let r = fr::referenced::referenced(g_k, e, m);
+        for (i, o) in out.iter_mut().enumerate() {
+            o.ln_weighting.push(g_k[i * p + e + i].norm().ln());
+            match &r {
+                Some(r) => {
+                    o.response.push(Some(r.response[i]));
+                    o.coherence.push(r.coherence[i]);
+                    o.random_error.push(r.random_error(i, n - e as f64));
+                    o.split
+                        .push(Some((r.transfers[i].clone(), r.unexplained.clone())));
+                }
+                None => {
+                    o.response.push(None);
+                    o.coherence.push(0.0);
+                    o.random_error.push(None);
+                    o.split.push(None);
+                }
+            }
+        }
+    }
+    Ok((out, joint))
+}
+
+/// The estimates of each excited control's response of `output` from the controls' spectra,
+/// each conditioned on the other excited controls, with the other controls' transfers and
+/// spectra conditioned on the excited ones.
+fn direct_estimates(
+    g: &ConditionRecords<'_>,
+    excited: &[String],
+    other: &[String],
+    output: &str,
+    s: &fr::SpectralSettings,
+) -> Result<(Vec<InputEstimate>, fr::CompositeEstimate), String> {
+    let all: Vec<String> = excited.iter().chain(other).cloned().collect();
+    let est = estimate(g, excited, output, s)?;
+    // The same output against every control, for the spectra of what the excited ones leave
+    // (the responses themselves are the excited controls' alone).
+    let with_all = if other.is_empty() {
+        None
+    } else {
+        Some(estimate(g, &all, output, s)?)
+    };
+    let p = excited.len() + 1;
+    let out = (0..excited.len())
+        .map(|i| {
+            let r = &est.inputs[i];
+            InputEstimate {
+                response: r.response.clone(),
+                coherence: r.coherence.clone(),
+                random_error: r.random_error.clone(),
+                split: (0..est.frequencies_hz.len())
+                    .map(|k| match &with_all {
+                        Some(w) => conditioned(&w.spectra[k], all.len() + 1, excited.len(), i),
+                        None => Some((Vec::new(), Vec::new())),
+                    })
+                    .collect(),
+                ln_weighting: est.spectra.iter().map(|g| g[i * p + i].re.ln()).collect(),
+            }
+        })
+        .collect();
+    Ok((out, est))
+}
+
+/// Every response of every condition's records: each excited control to each output,
+/// estimated against the records' excitations where each record carries one for the control
+/// it moves ([`ResponseEstimator::Referenced`]), from the controls otherwise.
 pub fn responses(
     records: &[Record],
     s: &ResponseSettings,
@@ -527,85 +770,115 @@ pub fn responses(
     for g in by_condition(records)? {
         let excited = controls(&g)?;
         let other = other_controls(&g, &excited);
-        let all: Vec<String> = excited.iter().chain(&other).cloned().collect();
         let settings = settings(&g, s);
+        let refs = excitations(&g, &excited);
         for output in OUTPUTS {
             if !excited.iter().any(|i| wanted(i, output)) {
                 continue;
             }
-            let est = estimate(&g, &excited, output, &settings)?;
-            // The same output against every control, for the spectra of what the excited ones
-            // leave (the responses themselves are the excited controls' alone).
-            let with_all = if other.is_empty() {
-                None
-            } else {
-                Some(estimate(&g, &all, output, &settings)?)
+            let (estimates, frequencies_hz, windows_s, weights, estimator) = match &refs {
+                Some(refs) => {
+                    let (e, j) =
+                        referenced_estimates(&g, &excited, &other, output, refs, &settings)?;
+                    (
+                        e,
+                        j.frequencies_hz,
+                        j.windows_s,
+                        j.weights,
+                        ResponseEstimator::Referenced,
+                    )
+                }
+                None => {
+                    let (e, est) = direct_estimates(&g, &excited, &other, output, &settings)?;
+                    (
+                        e,
+                        est.frequencies_hz,
+                        est.windows_s,
+                        est.weights,
+                        ResponseEstimator::Direct,
+                    )
+                }
+            };
+            let grid = Grid {
+                frequencies_hz: &frequencies_hz,
+                weights: &weights,
+                windows_s: &windows_s,
             };
             for (i, input) in excited.iter().enumerate() {
                 if !wanted(input, output) {
                     continue;
                 }
-                let r = &est.inputs[i];
-                let mut points = Vec::new();
-                let mut random_error = Vec::new();
-                let (mut window_moment_hz2, mut input_log_slope_per_hz) = (Vec::new(), Vec::new());
-                let p = excited.len() + 1;
-                let ln_input = |k: usize| est.spectra[k][i * p + i].re.ln();
-                let (mut others, mut unexplained) = (Vec::new(), Vec::new());
-                let mut index = vec![None; est.frequencies_hz.len()];
-                for (k, &f) in est.frequencies_hz.iter().enumerate() {
-                    let split = match &with_all {
-                        Some(w) => conditioned(&w.spectra[k], all.len() + 1, excited.len(), i),
-                        None => Some((Vec::new(), Vec::new())),
-                    };
-                    if let (Some(h), Some(e), Some((t, m))) =
-                        (r.response[k], r.random_error[k], split)
-                        && h.norm() > 0.0
-                        && h.norm().is_finite()
-                        && e.is_finite()
-                    {
-                        others.push(other.iter().cloned().zip(t).collect());
-                        unexplained.push(m);
-                        index[k] = Some(points.len());
-                        points.push(Point {
-                            frequency_hz: f,
-                            response: h,
-                            coherence: r.coherence[k],
-                        });
-                        random_error.push(e);
-                        window_moment_hz2
-                            .push(spectral_window_moment(&est.windows_s, &est.weights[k]));
-                        let (a, b) = (
-                            k.saturating_sub(1),
-                            (k + 1).min(est.frequencies_hz.len() - 1),
-                        );
-                        input_log_slope_per_hz.push(
-                            (ln_input(b) - ln_input(a))
-                                / (est.frequencies_hz[b] - est.frequencies_hz[a]),
-                        );
-                    }
-                }
-                let used = independent(&est, i)
-                    .into_iter()
-                    .filter_map(|k| index[k])
-                    .collect();
-                out.push(RecordedResponse {
-                    condition: g.condition,
-                    input: input.clone(),
-                    output: output.to_string(),
-                    points,
-                    random_error,
-                    used,
-                    other_controls: other.clone(),
-                    others,
-                    unexplained,
-                    window_moment_hz2,
-                    input_log_slope_per_hz,
-                });
+                out.push(recorded(
+                    &g,
+                    input,
+                    output,
+                    &other,
+                    &estimates[i],
+                    &grid,
+                    estimator,
+                ));
             }
         }
     }
     Ok(out)
+}
+
+/// One input's [`RecordedResponse`] from its estimate on `grid`.
+fn recorded(
+    g: &ConditionRecords<'_>,
+    input: &str,
+    output: &str,
+    other: &[String],
+    est: &InputEstimate,
+    grid: &Grid<'_>,
+    estimator: ResponseEstimator,
+) -> RecordedResponse {
+    let f = grid.frequencies_hz;
+    let mut points = Vec::new();
+    let mut random_error = Vec::new();
+    let (mut window_moment_hz2, mut input_log_slope_per_hz) = (Vec::new(), Vec::new());
+    let (mut others, mut unexplained) = (Vec::new(), Vec::new());
+    let mut index = vec![None; f.len()];
+    for k in 0..f.len() {
+        if let (Some(h), Some(e), Some((t, m))) =
+            (est.response[k], est.random_error[k], est.split[k].clone())
+            && h.norm() > 0.0
+            && h.norm().is_finite()
+            && e.is_finite()
+        {
+            others.push(other.iter().cloned().zip(t).collect());
+            unexplained.push(m);
+            index[k] = Some(points.len());
+            points.push(Point {
+                frequency_hz: f[k],
+                response: h,
+                coherence: est.coherence[k],
+            });
+            random_error.push(e);
+            window_moment_hz2.push(spectral_window_moment(grid.windows_s, &grid.weights[k]));
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(f.len() - 1));
+            input_log_slope_per_hz
+                .push((est.ln_weighting[b] - est.ln_weighting[a]) / (f[b] - f[a]));
+        }
+    }
+    let used = spaced(grid, &est.coherence, &est.random_error, &est.response)
+        .into_iter()
+        .filter_map(|k| index[k])
+        .collect();
+    RecordedResponse {
+        condition: g.condition,
+        input: input.to_string(),
+        output: output.to_string(),
+        estimator,
+        points,
+        random_error,
+        used,
+        other_controls: other.to_vec(),
+        others,
+        unexplained,
+        window_moment_hz2,
+        input_log_slope_per_hz,
+    }
 }
 
 /// The fit's targets: each used point's real and imaginary parts, with the record's other

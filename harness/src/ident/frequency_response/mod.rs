@@ -1,6 +1,7 @@
 //! Non-parametric frequency responses from records: Welch's spectra ([`spectra`]) over several
 //! window lengths, composited per frequency ([`composite`]), with coherence, the random error
-//! it implies, and responses conditioned on correlated inputs.
+//! it implies, and responses conditioned on correlated inputs; or, where the records carry the
+//! excitation added to a control, estimated against it ([`referenced`]).
 //!
 //! Pure numerics: runs in, responses out, errors as [`FrError`] (the command line locates
 //! them in the files). Several runs (records) are averaged as CIFER concatenates them: each
@@ -12,6 +13,7 @@
 //! sample rate.
 
 pub mod composite;
+pub mod referenced;
 pub mod spectra;
 
 use composite::MIN_CYCLES;
@@ -307,14 +309,19 @@ fn plan(
     Ok((segs, log_grid(lo, hi, s.points)))
 }
 
-/// An input with no power in the band, in any run.
+/// An input with no power in the band in a run where `required(run, input)` says it must
+/// have some.
 fn check_power(
     runs: &[RecordSignals],
     shortest: &spectra::WindowSpectra,
     freqs: &[f64],
+    required: &dyn Fn(usize, usize) -> bool,
 ) -> Result<(), FrError> {
     for (run, r) in runs.iter().enumerate() {
         for (input, x) in r.inputs.iter().enumerate() {
+            if !required(run, input) {
+                continue;
+            }
             let n = x.len() as f64;
             let mean = x.iter().sum::<f64>() / n;
             let variance = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
@@ -339,13 +346,23 @@ fn check_power(
     Ok(())
 }
 
-/// The composite frequency responses of the runs' output to each of their inputs (the first
-/// conditioned on the others, and each of the others likewise).
-pub fn estimate(
+/// The windows' spectra of the runs over the band's grid, checked (`required(run, input)`:
+/// the inputs that must have power in the band), with the normalised covariance of their
+/// averages.
+#[allow(clippy::type_complexity)]
+fn windows_of(
     runs: &[RecordSignals],
+    dt: f64,
     settings: &SpectralSettings,
-) -> Result<CompositeEstimate, FrError> {
-    let (dt, q) = check_runs(runs)?;
+    required: &dyn Fn(usize, usize) -> bool,
+) -> Result<
+    (
+        Vec<spectra::WindowSpectra>,
+        nalgebra::DMatrix<f64>,
+        Vec<f64>,
+    ),
+    FrError,
+> {
     let (segs, freqs) = plan(runs, dt, settings)?;
     let signals: Vec<Vec<Vec<f64>>> = runs
         .iter()
@@ -359,10 +376,112 @@ pub fn estimate(
     let shortest = (0..segs.len())
         .min_by_key(|&i| segs[i].len)
         .expect("at least one window");
-    check_power(runs, &windows[shortest], &freqs)?;
+    check_power(runs, &windows[shortest], &freqs, required)?;
     let lengths: Vec<usize> = runs.iter().map(|r| r.output.len()).collect();
     let r = spectra::averages_covariance(&lengths, dt, &segs);
+    Ok((windows, r, freqs))
+}
+
+/// The composite frequency responses of the runs' output to each of their inputs (the first
+/// conditioned on the others, and each of the others likewise).
+pub fn estimate(
+    runs: &[RecordSignals],
+    settings: &SpectralSettings,
+) -> Result<CompositeEstimate, FrError> {
+    let (dt, q) = check_runs(runs)?;
+    let (windows, r, freqs) = windows_of(runs, dt, settings, &|_, _| true)?;
     Ok(combine(&windows, &r, &freqs, settings, q))
+}
+
+/// The composite's spectra of every signal of the runs (their inputs, then their output),
+/// without responses, for an estimator of its own ([`referenced`]): the windows are weighted
+/// for a response to the first `fitted` inputs. `required(run, input)` says which inputs must
+/// have power in the band in which run (an excitation applied in some records and not others
+/// is zero in the others).
+pub fn joint_spectra(
+    runs: &[RecordSignals],
+    settings: &SpectralSettings,
+    fitted: usize,
+    required: &dyn Fn(usize, usize) -> bool,
+) -> Result<JointSpectra, FrError> {
+    let (dt, q) = check_runs(runs)?;
+    if !(1..=q).contains(&fitted) {
+        return Err(FrError::Settings(format!(
+            "{fitted} fitted inputs of {q}: give 1 to {q}"
+        )));
+    }
+    let (windows, r, freqs) = windows_of(runs, dt, settings, required)?;
+    let (spectra, averages, weights) = composite_spectra(&windows, &r, &freqs, settings, fitted);
+    Ok(JointSpectra {
+        frequencies_hz: freqs,
+        windows_s: settings.windows_s.clone(),
+        overlap: settings.overlap,
+        averages,
+        weights,
+        spectra,
+    })
+}
+
+/// The composite's spectra, without responses ([`joint_spectra`]); fields as
+/// [`CompositeEstimate`]'s, `spectra` over every signal (the inputs, then the output).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointSpectra {
+    pub frequencies_hz: Vec<f64>,
+    pub windows_s: Vec<f64>,
+    pub overlap: f64,
+    pub averages: Vec<f64>,
+    pub weights: Vec<Vec<f64>>,
+    pub spectra: Vec<Vec<C>>,
+}
+
+/// At every frequency, the windows' composite of the spectra for a response to `fitted`
+/// inputs: the spectra (`p x p` row-major), the equivalent number of averages and each window's
+/// weight.
+#[allow(clippy::type_complexity)]
+fn composite_spectra(
+    windows: &[spectra::WindowSpectra],
+    r: &nalgebra::DMatrix<f64>,
+    freqs: &[f64],
+    settings: &SpectralSettings,
+    fitted: usize,
+) -> (Vec<Vec<C>>, Vec<f64>, Vec<Vec<f64>>) {
+    let fitted = fitted as f64;
+    let (mut out, mut averages, mut weights) = (Vec::new(), Vec::new(), Vec::new());
+    for (f, &hz) in freqs.iter().enumerate() {
+        let cand: Vec<usize> = (0..windows.len())
+            .filter(|&i| hz * settings.windows_s[i] >= MIN_CYCLES * (1.0 - ROUNDING))
+            .collect();
+        // Each window's random error relative to the others' at a coherence they share (see
+        // `composite`): `1 / sqrt(n_i - q)`.
+        let eps: Vec<f64> = cand
+            .iter()
+            .map(|&i| {
+                let dof = 1.0 / r[(i, i)] - fitted;
+                if dof > 0.0 {
+                    dof.recip().sqrt()
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        let a = composite::weights(&cand, &eps, r);
+        let n = composite::equivalent_averages(&cand, &a, r);
+        let p2 = windows[0].g[f].len();
+        let mut g = vec![C::new(0.0, 0.0); p2];
+        for (k, &i) in cand.iter().enumerate() {
+            for (v, w) in g.iter_mut().zip(&windows[i].g[f]) {
+                *v += w * a[k];
+            }
+        }
+        let mut all = vec![0.0; windows.len()];
+        for (k, &i) in cand.iter().enumerate() {
+            all[i] = a[k];
+        }
+        weights.push(all);
+        averages.push(n);
+        out.push(g);
+    }
+    (out, averages, weights)
 }
 
 /// The composite at every frequency.
@@ -384,41 +503,10 @@ fn combine(
         };
         q
     ];
-    let (mut multiple, mut averages, mut weights) = (Vec::new(), Vec::new(), Vec::new());
-    let mut spectra = Vec::with_capacity(freqs.len());
-    for (f, &hz) in freqs.iter().enumerate() {
-        let cand: Vec<usize> = (0..windows.len())
-            .filter(|&i| hz * settings.windows_s[i] >= MIN_CYCLES * (1.0 - ROUNDING))
-            .collect();
-        // Each window's random error relative to the others' at a coherence they share (see
-        // `composite`): `1 / sqrt(n_i - q)`.
-        let eps: Vec<f64> = cand
-            .iter()
-            .map(|&i| {
-                let dof = 1.0 / r[(i, i)] - fitted;
-                if dof > 0.0 {
-                    dof.recip().sqrt()
-                } else {
-                    f64::INFINITY
-                }
-            })
-            .collect();
-        let a = composite::weights(&cand, &eps, r);
-        let n = composite::equivalent_averages(&cand, &a, r);
-        let mut g = vec![C::new(0.0, 0.0); p * p];
-        for (k, &i) in cand.iter().enumerate() {
-            for (v, w) in g.iter_mut().zip(&windows[i].g[f]) {
-                *v += w * a[k];
-            }
-        }
-        let mut all = vec![0.0; windows.len()];
-        for (k, &i) in cand.iter().enumerate() {
-            all[i] = a[k];
-        }
-        weights.push(all);
-        averages.push(n);
-        let solved = composite::solve(&g, p);
-        spectra.push(g.clone());
+    let (spectra, averages, weights) = composite_spectra(windows, r, freqs, settings, q);
+    let mut multiple = Vec::with_capacity(freqs.len());
+    for (g, &n) in spectra.iter().zip(&averages) {
+        let solved = composite::solve(g, p);
         multiple.push(solved.as_ref().map_or(0.0, |s| s.multiple_coherence));
         for (i, out) in inputs.iter_mut().enumerate() {
             let gamma = solved.as_ref().map_or(0.0, |s| s.coherence[i]);

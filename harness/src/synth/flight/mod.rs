@@ -71,6 +71,22 @@ pub struct FlownTest {
     pub probe_position_m: [f64; 3],
     pub cg_position_m: [f64; 3],
     pub pilot: Option<Pilot>,
+    /// The sidecar's `excitation`: the moved control's channel and the one recording the test
+    /// input ([`excitation_channel`]).
+    pub excitation: BTreeMap<String, String>,
+}
+
+/// The channel recording the test input on the `control`th of [`CONTROL_CHANNELS`]
+/// (`eta_s_excitation_percent`): what an excitation system adds to the pilot's command, so
+/// that the responses can be estimated against it, unbiased by the pilot's loops
+/// ([`crate::ident::frequency_response::referenced`]).
+pub fn excitation_channel(control: usize) -> String {
+    let c = CONTROL_CHANNELS[control];
+    format!(
+        "{}_excitation{}",
+        c.strip_suffix(crate::inputs::record::PERCENT).unwrap_or(c),
+        crate::inputs::record::PERCENT
+    )
 }
 
 impl FlownTest {
@@ -108,6 +124,7 @@ impl FlownTest {
                 controls: record_controls(control),
                 channels: Default::default(),
                 travel: Default::default(),
+                excitation: self.excitation,
             },
             channels: self.channels,
             data: self.data,
@@ -267,8 +284,10 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
     if truth.iter().flatten().any(|v| !v.is_finite()) {
         return Err("the flight's record is not finite".into());
     }
-    let data = instruments(test, &names, &truth, dt)?;
+    let mut data = instruments(test, &names, &truth, dt)?;
     let trim = trim_mean(&start, settings, &names, &row)?;
+    let mut names = names;
+    let excitation = record_excitation(test, &times, &mut names, &mut data);
     Ok(FlownTest {
         channels: names,
         data,
@@ -276,7 +295,23 @@ pub fn fly(aircraft: &Aircraft, test: &FlightTest) -> Result<FlownTest, String> 
         probe_position_m: probe,
         cg_position_m: cg,
         pilot,
+        excitation,
     })
+}
+
+/// The test input as the excitation system commands it, appended to the record's channels
+/// (recorded digitally, so without the instruments' noise, lag or quantisation): the sidecar's
+/// `excitation`, the moved control's channel to the new one.
+fn record_excitation(
+    test: &FlightTest,
+    times: &[f64],
+    names: &mut Vec<String>,
+    data: &mut Vec<Vec<f64>>,
+) -> BTreeMap<String, String> {
+    let column = excitation_channel(test.control);
+    names.push(column.clone());
+    data.push(times.iter().map(|&t| test.input.at(t)).collect());
+    BTreeMap::from([(CONTROL_CHANNELS[test.control].to_string(), column)])
 }
 
 /// The true record's columns: the sample times, then each row's channels in order
