@@ -40,8 +40,8 @@ const COVERAGE_BAND: (f64, f64) = (0.90, 0.99);
 ///
 /// None since the responses are estimated against the records' excitations
 /// (`ident::frequency_response::referenced`; `cierva synth-flight` records its test input),
-/// measured 2026-11-30: the hub factor 36 of 40, the propeller blockage 37, the profile drag
-/// 37. From the controls (the estimator before, on the same flights) they were 34, 35 and 38,
+/// measured 2026-11-30: the hub factor 36 of 40 (the band's floor), the propeller blockage
+/// 37, the profile drag 37. From the controls (the estimator before, on the same flights) they were 34, 35 and 38,
 /// the hub factor and the blockage listed here. That change is within what these 40 trials can
 /// tell apart: on 60 held-back trials (`scripts/retune-trials --seed 7`, other speeds, sweep
 /// amplitudes and record lengths) the two estimators hold 55 and 55 hub factors, 50 and 52
