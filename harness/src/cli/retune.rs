@@ -433,8 +433,9 @@ fn print_text(
         );
     }
     println!(
-        "matched the records' frequency responses ({}) with {}; reduced chi-square {}",
+        "matched the records' frequency responses ({}, {}) with {}; reduced chi-square {}",
         count(r.problem.targets.len(), "target", "targets"),
+        cierva_harness::report::retune::estimators(&r.responses),
         r.model,
         cierva_harness::units::sig(r.reduced_chi_square, 3)
     );

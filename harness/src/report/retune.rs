@@ -187,7 +187,7 @@ fn revalidation_markdown(v: &Revalidation) -> String {
 
 /// How the responses were estimated, in words: against the records' excitations, from the
 /// controls, or each at some conditions.
-fn estimators(responses: &[crate::fit::retune::responses::RecordedResponse]) -> String {
+pub fn estimators(responses: &[crate::fit::retune::responses::RecordedResponse]) -> String {
     use crate::fit::retune::responses::ResponseEstimator;
     let mut by: Vec<(ResponseEstimator, Vec<String>)> = Vec::new();
     for r in responses {
