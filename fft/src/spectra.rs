@@ -4,24 +4,23 @@
 //! Each run is cut into segments of `len` samples, `hop` apart (overlapping when `hop < len`),
 //! centred in the run. A segment's signals have their taper-weighted mean removed (so a
 //! record's trim value leaks nothing into the band), are tapered by a Hann window
-//! ([`fourier::hann`]) and transformed at the grid's frequencies:
+//! ([`hann`]) and transformed at the grid's frequencies:
 //! `S_a(f) = sum_k w_k x_a(k) exp(-i 2 pi f k dt)`, the rectangle rule of the finite Fourier
-//! integral in [`fourier`] (its trapezoidal end terms vanish: the taper is zero at both ends).
+//! integral in the harness's `ident::fourier` (its trapezoidal end terms vanish: the taper is zero at both ends).
 //! The one-sided spectral matrix of a segment is `G_ab = 2 dt conj(S_a) S_b / sum_k w_k^2`
 //! (Bendat and Piersol 2010, ch. 11: for white noise of variance `s^2` it is `2 s^2 dt`, the
 //! one-sided density), averaged over every segment of every run (several records are
 //! averaged, not joined).
 //!
-//! The transforms are those of [`fourier::transform`] (checked against it in the tests), done
-//! as one matrix product per window length: a table of `exp(-i w k dt)` for the grid (made by
+//! The transforms are those of the harness's `ident::fourier::transform` (checked against it in
+//! the tests), done as one matrix product per window length: a table of `exp(-i w k dt)` for the grid (made by
 //! the same re-seeded phasor recurrence) times the matrix of every tapered segment of every
 //! signal, so the segments' many transforms at arbitrary frequencies cost one product.
 //!
-//! [`fourier`]: super::super::fourier
-//! [`fourier::hann`]: super::super::fourier::hann
-//! [`fourier::transform`]: super::super::fourier::transform
+//! In this crate for the build: its loops over frequencies, segments and signals were most of
+//! the harness's frequency-response tests' time unoptimised (see the crate's doc).
 
-use super::super::fourier::hann;
+use crate::hann;
 use nalgebra::DMatrix;
 use rustfft::num_complex::Complex64 as C;
 use std::collections::HashMap;
@@ -59,7 +58,7 @@ pub struct WindowSpectra {
     pub band_power: Vec<Vec<f64>>,
 }
 
-/// Samples between re-seeds of the phasor recurrence (as in [`super::super::fourier::transform`]):
+/// Samples between re-seeds of the phasor recurrence (as in the harness's `fourier::transform`):
 /// a complex product's rounding, about 1e-16 a step, stays below 1e-13 over 256 steps.
 const RESEED: usize = 256;
 
