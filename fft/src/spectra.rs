@@ -6,19 +6,20 @@
 //! record's trim value leaks nothing into the band), are tapered by a Hann window
 //! ([`hann`]) and transformed at the grid's frequencies:
 //! `S_a(f) = sum_k w_k x_a(k) exp(-i 2 pi f k dt)`, the rectangle rule of the finite Fourier
-//! integral in the harness's `ident::fourier` (its trapezoidal end terms vanish: the taper is zero at both ends).
-//! The one-sided spectral matrix of a segment is `G_ab = 2 dt conj(S_a) S_b / sum_k w_k^2`
+//! integral in the harness's `ident::fourier` (its trapezoidal end terms vanish: the taper is
+//! zero at both ends). The one-sided spectral matrix of a segment is `G_ab = 2 dt conj(S_a) S_b / sum_k w_k^2`
 //! (Bendat and Piersol 2010, ch. 11: for white noise of variance `s^2` it is `2 s^2 dt`, the
 //! one-sided density), averaged over every segment of every run (several records are
 //! averaged, not joined).
 //!
 //! The transforms are those of the harness's `ident::fourier::transform` (checked against it in
-//! the tests), done as one matrix product per window length: a table of `exp(-i w k dt)` for the grid (made by
-//! the same re-seeded phasor recurrence) times the matrix of every tapered segment of every
-//! signal, so the segments' many transforms at arbitrary frequencies cost one product.
+//! the tests), done as one matrix product per window length: a table of `exp(-i w k dt)` for
+//! the grid (made by the same re-seeded phasor recurrence) times the matrix of every tapered
+//! segment of every signal, so the segments' many transforms at arbitrary frequencies cost one
+//! product.
 //!
 //! In this crate for the build: its loops over frequencies, segments and signals were most of
-//! the harness's frequency-response tests' time unoptimised (see the crate's doc).
+//! the harness's frequency-response tests' time unoptimised (see `cierva-fft`'s crate doc).
 
 use crate::hann;
 use nalgebra::DMatrix;
