@@ -180,6 +180,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
             "model": r.model,
             "reduced_chi_square": finite(r.reduced_chi_square),
             "targets": r.problem.targets.len(),
+            "matched": r.matched,
             "responses": comparisons.iter().map(|c| serde_json::json!({
                 "condition": c.condition,
                 "input": c.input,
@@ -439,6 +440,12 @@ fn print_text(
         r.model,
         cierva_harness::units::sig(r.reduced_chi_square, 3)
     );
+    if let Some(m) = &r.matched {
+        println!(
+            "  matched processing: {}",
+            m.described(&r.parameter_names())
+        );
+    }
     for w in &r.result.warnings {
         println!("  warning: {w}");
     }

@@ -48,6 +48,13 @@ pub fn markdown(
             .len()
             .saturating_sub(r.problem.parameters.len())
     );
+    if let Some(m) = &r.matched {
+        let _ = writeln!(
+            s,
+            "\nMatched processing: {} (`fit::retune::matched`; docs/validation.md, \"Retuning the corrections\").",
+            m.described(&r.parameter_names())
+        );
+    }
     let _ = writeln!(
         s,
         "\n## Fitted\n\nStandard errors: the larger of the cost's curvature, `(J'J)^-1`, and a cluster-robust sandwich around it (the residuals grouped by frequency; Liang and Zeger 1986). The coverage test checks them against known answers (docs/validation.md, \"Retuning the corrections\").\n\n| parameter | value | standard error | from the curvature alone | 95 % interval | bounds | the bounds' source |\n| --- | --- | --- | --- | --- | --- | --- |"

@@ -14,6 +14,7 @@
 //! coverage trials (a rotor whose blades flap is not a quasi-static one), so it was removed
 //! (`docs/validation.md`, "Retuning the corrections").
 
+pub mod matched;
 pub mod responses;
 pub mod subject;
 
@@ -145,6 +146,9 @@ pub struct Retune {
     /// neighbours), by condition: the targets' standard errors came from them, and they are the
     /// "before" of [`responses::compare`].
     pub uncorrected: Vec<(TargetCondition, crate::run::responses::Responses)>,
+    /// What the matched processing did to the targets ([`matched`]); `None` where the first
+    /// fit did not converge.
+    pub matched: Option<matched::Matched>,
 }
 
 /// The parameters, with their bounds: a correction's from the request or [`DEFAULT_BOUNDS`], a
@@ -306,6 +310,18 @@ pub fn retune(
     {
         result = refit_with_errors_at_fit(retuned, &estimated, &mut problem, result)?;
     }
+    let mut matched = None;
+    if result.status == fit::Status::Converged {
+        match matched::refit(retuned, records, &how.responses, &mut problem, &result) {
+            Ok((again, m)) => {
+                result = again;
+                matched = Some(m);
+            }
+            Err(e) => result.warnings.push(format!(
+                "the matched processing could not be done ({e}): the targets are the records' estimates as they are, the estimator's bias in them"
+            )),
+        }
+    }
     result.warnings.extend(left_out);
     let curvature_standard_errors = result.standard_errors.clone();
     if result.status == fit::Status::Converged {
@@ -337,10 +353,20 @@ pub fn retune(
         model,
         curvature_standard_errors,
         uncorrected: models,
+        matched,
     })
 }
 
 impl Retune {
+    /// The fitted parameters' names, in the fit's order.
+    pub fn parameter_names(&self) -> Vec<String> {
+        self.result
+            .parameters
+            .iter()
+            .map(|k| k.name().to_string())
+            .collect()
+    }
+
     /// Each parameter's fitted value by its name.
     pub fn values_by_name(&self) -> serde_json::Map<String, serde_json::Value> {
         self.result
@@ -509,6 +535,13 @@ fn refit_with_errors_at_fit(
 ) -> Result<fit::FitResult, String> {
     let models = retuned.responses(&first.corrections(), estimated, true)?;
     problem.targets = responses::targets(estimated, &models)?;
+    Ok(again_from(problem, first))
+}
+
+/// `problem` fitted again, started where `first` ended: its `before` stays `first`'s and its
+/// `cost_start` the cost there with `problem`'s targets; iterations and evaluations are both
+/// fits'.
+fn again_from(problem: &Problem, first: fit::FitResult) -> fit::FitResult {
     let mut again = problem.clone();
     for (p, v) in again.parameters.iter_mut().zip(&first.values) {
         p.start = *v;
@@ -523,7 +556,7 @@ fn refit_with_errors_at_fit(
     second.before = first.before;
     second.iterations += first.iterations;
     second.evaluations += first.evaluations;
-    Ok(second)
+    second
 }
 
 /// A check whose verdict the corrections changed.

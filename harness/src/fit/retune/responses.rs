@@ -392,7 +392,12 @@ fn other_controls(g: &ConditionRecords<'_>, excited: &[String]) -> Vec<String> {
 
 /// A record's output and inputs (changes from its trim, as identification takes them), as a
 /// run of the estimator.
-fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::RecordSignals, String> {
+fn run_of(
+    rec: &Record,
+    inputs: &[String],
+    output: &str,
+    flown: Option<Flown<'_>>,
+) -> Result<fr::RecordSignals, String> {
     let mut config = crate::ident::ConfigSpec::for_model(crate::ident::Setup::Longitudinal);
     config.states = vec![output.to_string()];
     config.kinematics.clear();
@@ -410,13 +415,23 @@ fn run_of(rec: &Record, inputs: &[String], output: &str) -> Result<fr::RecordSig
             us[k].clone()
         })
         .collect();
+    let measured = xs.into_iter().next().unwrap_or_default();
+    let output = match flown {
+        Some(f) => f(rec, output, &measured)?,
+        None => measured,
+    };
     Ok(fr::RecordSignals {
         name: rec.path.display().to_string(),
         inputs: ordered,
-        output: xs.into_iter().next().unwrap_or_default(),
+        output,
         dt_s: rec.dt_s(),
     })
 }
+
+/// A model's output flown with a record's recorded controls, in place of the record's own
+/// (`(record, output, the record's output)`): what [`responses_flown`] estimates from
+/// ([`super::matched`]).
+pub type Flown<'a> = &'a (dyn Fn(&Record, &str, &[f64]) -> Result<Vec<f64>, String> + Sync);
 
 /// The estimator's settings for a group's records.
 fn settings(g: &ConditionRecords<'_>, s: &ResponseSettings) -> fr::SpectralSettings {
@@ -489,11 +504,12 @@ fn estimate(
     inputs: &[String],
     output: &str,
     s: &fr::SpectralSettings,
+    flown: Option<Flown<'_>>,
 ) -> Result<fr::CompositeEstimate, String> {
     let runs = g
         .records
         .iter()
-        .map(|r| run_of(r, inputs, output))
+        .map(|r| run_of(r, inputs, output, flown))
         .collect::<Result<Vec<_>, _>>()?;
     fr::estimate(&runs, s).map_err(|e| located(&e, g, inputs, output))
 }
@@ -604,12 +620,13 @@ fn referenced_estimates(
     output: &str,
     refs: &[Vec<Option<String>>],
     s: &fr::SpectralSettings,
+    flown: Option<Flown<'_>>,
 ) -> Result<(Vec<InputEstimate>, fr::JointSpectra), String> {
     let (e, m) = (excited.len(), other.len());
     let controls: Vec<String> = excited.iter().chain(other).cloned().collect();
     let mut runs = Vec::with_capacity(g.records.len());
     for (rec, names) in g.records.iter().zip(refs) {
-        let run = run_of(rec, &controls, output)?;
+        let run = run_of(rec, &controls, output, flown)?;
         let n = run.output.len();
         let mut inputs: Vec<Vec<f64>> = names
             .iter()
@@ -716,15 +733,16 @@ fn direct_estimates(
     other: &[String],
     output: &str,
     s: &fr::SpectralSettings,
+    flown: Option<Flown<'_>>,
 ) -> Result<(Vec<InputEstimate>, fr::CompositeEstimate), String> {
     let all: Vec<String> = excited.iter().chain(other).cloned().collect();
-    let est = estimate(g, excited, output, s)?;
+    let est = estimate(g, excited, output, s, flown)?;
     // The same output against every control, for the spectra of what the excited ones leave
     // (the responses themselves are the excited controls' alone).
     let with_all = if other.is_empty() {
         None
     } else {
-        Some(estimate(g, &all, output, s)?)
+        Some(estimate(g, &all, output, s, flown)?)
     };
     let p = excited.len() + 1;
     let out = (0..excited.len())
@@ -754,6 +772,17 @@ pub fn responses(
     records: &[Record],
     s: &ResponseSettings,
 ) -> Result<Vec<RecordedResponse>, String> {
+    responses_flown(records, s, None)
+}
+
+/// [`responses`], each record's outputs replaced by `flown`'s (a model flown with the
+/// record's controls, [`super::matched`]) where it is given: the same estimator, the same
+/// grid, the same targets' frequencies.
+pub fn responses_flown(
+    records: &[Record],
+    s: &ResponseSettings,
+    flown: Option<Flown<'_>>,
+) -> Result<Vec<RecordedResponse>, String> {
     if let Some(o) = &s.outputs
         && let Some(name) = o.iter().find(|n| !OUTPUTS.contains(&n.as_str()))
     {
@@ -779,7 +808,7 @@ pub fn responses(
             let (estimates, frequencies_hz, windows_s, weights, estimator) = match &refs {
                 Some(refs) => {
                     let (e, j) =
-                        referenced_estimates(&g, &excited, &other, output, refs, &settings)?;
+                        referenced_estimates(&g, &excited, &other, output, refs, &settings, flown)?;
                     (
                         e,
                         j.frequencies_hz,
@@ -789,7 +818,8 @@ pub fn responses(
                     )
                 }
                 None => {
-                    let (e, est) = direct_estimates(&g, &excited, &other, output, &settings)?;
+                    let (e, est) =
+                        direct_estimates(&g, &excited, &other, output, &settings, flown)?;
                     (
                         e,
                         est.frequencies_hz,

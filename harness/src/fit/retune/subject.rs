@@ -143,16 +143,28 @@ impl Retuned<'_> {
         let model = self.flight_model();
         let conditions = responses::frequencies_by_condition(estimated, neighbourhood);
         crate::run::parallel::parallel_map(&conditions, |(c, frequencies)| {
-            let TargetCondition::Flight(request, loading) = *c else {
-                return Err("a retune's condition is a flight condition".to_string());
-            };
-            model
-                .responses(&Self::request(values, request, loading), frequencies)
+            self.responses_at(model.as_ref(), values, c, frequencies)
                 .map(|m| (*c, m))
-                .map_err(|e| format!("at {}: {e}", c.label()))
         })
         .into_iter()
         .collect()
+    }
+
+    /// `model`'s responses (this subject's [`Self::flight_model`]) at one condition and
+    /// `frequencies_hz`, with the values of `values`.
+    pub fn responses_at(
+        &self,
+        model: &dyn crate::external::FlightModel,
+        values: &CorrectionSet,
+        condition: &TargetCondition,
+        frequencies_hz: &[f64],
+    ) -> Result<Responses, String> {
+        let TargetCondition::Flight(request, loading) = *condition else {
+            return Err("a retune's condition is a flight condition".to_string());
+        };
+        model
+            .responses(&Self::request(values, request, loading), frequencies_hz)
+            .map_err(|e| format!("at {}: {e}", condition.label()))
     }
 
     /// The linear model at a flight condition with the values of `values`: the aircraft's
