@@ -441,10 +441,7 @@ fn print_text(
         cierva_harness::units::sig(r.reduced_chi_square, 3)
     );
     if let Some(m) = &r.matched {
-        println!(
-            "  matched processing: {}",
-            m.described(&r.parameter_names())
-        );
+        println!("  matched processing: {}", m.described());
     }
     for w in &r.result.warnings {
         println!("  warning: {w}");

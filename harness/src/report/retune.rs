@@ -52,7 +52,7 @@ pub fn markdown(
         let _ = writeln!(
             s,
             "\nMatched processing: {} (`fit::retune::matched`; docs/validation.md, \"Retuning the corrections\").",
-            m.described(&r.parameter_names())
+            m.described()
         );
     }
     let _ = writeln!(

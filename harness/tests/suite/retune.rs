@@ -341,11 +341,12 @@ fn retune_by_responses_recovers_the_readme_examples_corrections() {
 /// transforms' rounding: 2.8e-6 measured (2026-12-01), the tolerance 35 times that.
 const FLOWN_RELATIVE: f64 = 1e-4;
 
-/// A record with one control channel, `eta_s_percent`, at 100 Hz.
-fn matched_record(u: Vec<f64>) -> Record {
-    let meta: cierva_harness::inputs::record::RecordMeta = serde_yaml::from_str(
-        "id: t\ntitle: a test record\nprovenance: {source: a unit test}\naircraft: none\nsample_rate_hz: 100\ntrim: {eta_s_percent: 30.0}\n",
-    )
+/// A record with one control channel, `eta_s_percent`, at 100 Hz, its trim 30 %, with the
+/// sidecar's `travel` lines `travel` (empty: the control's position in % of travel).
+fn matched_record(u: Vec<f64>, travel: &str) -> Record {
+    let meta: cierva_harness::inputs::record::RecordMeta = serde_yaml::from_str(&format!(
+        "id: t\ntitle: a test record\nprovenance: {{source: a unit test}}\naircraft: none\nsample_rate_hz: 100\ntrim: {{eta_s_percent: 30.0}}\n{travel}"
+    ))
     .unwrap();
     Record {
         path: "t.csv".into(),
@@ -378,7 +379,7 @@ fn the_flown_output_is_the_linear_system_flown_in_time() {
                 .sum::<f64>()
     };
     let u: Vec<f64> = (0..n).map(|k| control(k as f64 * dt)).collect();
-    let rec = matched_record(u);
+    let rec = matched_record(u.clone(), "");
     let h = Responses::of_linear_model(&model, &grid(n, dt, 20.0), String::new()).unwrap();
     let measured = vec![0.1; n];
     let flown = flown_output(&rec, "q", &h, &measured).unwrap();
@@ -410,6 +411,26 @@ fn the_flown_output_is_the_linear_system_flown_in_time() {
         worst < FLOWN_RELATIVE * rms,
         "largest difference {worst:.3e} against an RMS of {rms:.3e}"
     );
+    // The same control logged as its changes from trim (the sidecar's trim still a position):
+    // the same flight, from rest at zero change, not from a step of the trim's 30 %.
+    let changes = matched_record(
+        u.iter().map(|v| v - 30.0).collect(),
+        "travel: {eta_s: {unit: deg, at_0_percent: 0.0, at_100_percent: 100.0, logged: change_from_trim}}\n",
+    );
+    let flown_changes = flown_output(&changes, "q", &h, &measured).unwrap();
+    let apart = flown
+        .iter()
+        .zip(&flown_changes)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        apart < FLOWN_RELATIVE * rms,
+        "logged as changes, the flight differs by {apart:.3e}"
+    );
+    // A record whose responses are not on its grid is refused, not misread.
+    let other = Responses::of_linear_model(&model, &grid(n + 1, dt, 20.0), String::new()).unwrap();
+    let refused = flown_output(&rec, "q", &other, &measured).unwrap_err();
+    assert!(refused.contains("not on the record's grid"), "{refused}");
 }
 
 #[test]

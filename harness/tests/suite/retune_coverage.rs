@@ -38,21 +38,37 @@ const COVERAGE_BAND: (f64, f64) = (0.90, 0.99);
 /// discrepancy, reported by the test and guarded at its count; the band is not moved for it.
 /// A parameter listed here that comes into the band fails the test until it is taken off.
 ///
-/// None since the responses are estimated against the records' excitations
-/// (`ident::frequency_response::referenced`; `cierva synth-flight` records its test input),
-/// measured 2026-11-30: the hub factor 36 of 40 (the band's floor), the propeller blockage
-/// 37, the profile drag 37. From the controls (the estimator before, on the same flights) they were 34, 35 and 38,
-/// the hub factor and the blockage listed here. That change is within what these 40 trials can
-/// tell apart: on 60 held-back trials (`scripts/retune-trials --seed 7`, other speeds, sweep
-/// amplitudes and record lengths) the two estimators hold 55 and 55 hub factors, 50 and 52
-/// blockages, 50 and 51 drag scales (reports/investigations.md, "Retune's intervals per
-/// parameter"). The profile drag's errors leaned high with either estimator (mean +0.71
-/// standard errors here, +1.06 held back), in calm air as in turbulence: the estimator's
-/// smoothing, which the matched processing (`fit::retune::matched`, 2026-12-01) takes out;
-/// held back with it, 56, 57 and 56 of 60 for the hub factor, the blockage and the drag scale
-/// on seed 7, but 53, 47 and 54 on seed 8, whose blockage misses (most of them also missed
-/// before) are open (docs/validation.md).
-const KNOWN_MISSES: [(&str, usize, &str); 0] = [];
+/// Before the matched processing (`fit::retune::matched`, 2026-12-01), with the responses
+/// estimated against the records' excitations (`ident::frequency_response::referenced`;
+/// `cierva synth-flight` records its test input), measured 2026-11-30: the hub factor 36 of 40
+/// (the band's floor), the propeller blockage 37, the profile drag 37, none listed. From the
+/// controls (the estimator before that, on the same flights) they were 34, 35 and 38. The
+/// profile drag's errors leaned high (mean +0.71 standard errors here, +1.06 held back), in
+/// calm air as in turbulence: the estimator's bias (its smoothing, leakage and the other
+/// controls' transfers), which the matched processing corrects for. With it, measured
+/// 2026-12-01 (`.ci/run` on 15a3039): the hub factor 38, the blockage 34, the drag scale 40,
+/// the last two listed below with their reasons. Held back (docs/validation.md, 60 trials
+/// each) it gives 56, 57 and 56 on seed 7 (55, 50, 50 before) and 53, 47 and 54 on seed 8 (51,
+/// 49, 50 before).
+const KNOWN_MISSES: [(&str, usize, &str); 2] = [
+    (
+        "propeller_blockage",
+        34,
+        "37 of 40 before the matched processing: a worse count accepted because the matched \
+         processing removes a bias shown on known answers (the drag scale's), and over this \
+         test and the 120 held-back trials the blockage holds 138 of 160 with it against 136 \
+         without; its misses are errors in turbulence that its standard errors do not carry, \
+         most of them on trials that missed before as well (seed 8: 10 of 13), their cause \
+         not yet found (issue 51, item 6, open)",
+    ),
+    (
+        "profile_drag_scale",
+        40,
+        "above the band (40 of 40; at a true 95 % that comes with probability 0.13), since the \
+         matched processing took out its high lean; held back it holds 56 and 54 of 60, \
+         inside the band: listed until more trials tell wide intervals from chance",
+    ),
+];
 
 /// Airspeeds a trial picks from, mph: the VPM M16's cruise range (seed 001 flew 30-70 mph).
 const AIRSPEEDS_MPH: [u32; 3] = [50, 60, 70];

@@ -12,8 +12,9 @@
 //! `h` is the bounded, non-causal one its frequency response implies, which the fit compares
 //! with anyway). Measured on known answers (issue 51, item 6; `reports/investigations.md`,
 //! "What leans retune's drag scale high"), that difference leaned the profile-drag scale high
-//! by +0.06 (1.2 standard errors) where the flown system was the very linearisation retune
-//! matches: the estimator's, not the model's form.
+//! by +0.0665 (1.57 standard errors on average) where the flown system was the very
+//! linearisation retune matches, as much as flying the individual blades did (+0.061): the
+//! estimator's, not the model's form.
 //!
 //! The correction, a plug-in estimate of the estimator's bias in the manner of Efron and
 //! Tibshirani (1993, ch. 10), taken once, conditional on the recorded controls, with no
@@ -52,8 +53,8 @@ pub const PADDING_RECORDS: usize = 4;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Matched {
     /// The fitted values it started from (the fit against the records' estimates as they are),
-    /// where the model was flown.
-    pub values_before: Vec<f64>,
+    /// where the model was flown, by the parameters' names.
+    pub values_before: std::collections::BTreeMap<String, f64>,
     /// The targets whose references it moved.
     pub corrected: usize,
     /// The targets with no flown estimate or no model value (left as they are).
@@ -65,28 +66,31 @@ pub struct Matched {
 }
 
 impl Matched {
-    /// What it did, in words, with the values it started from by `names` (the fit's
-    /// parameters).
-    pub fn described(&self, names: &[String]) -> String {
+    /// What it did, in words.
+    pub fn described(&self) -> String {
         let sig = crate::units::sig;
-        let before: Vec<String> = names
+        let before: Vec<String> = self
+            .values_before
             .iter()
-            .zip(&self.values_before)
             .map(|(n, v)| format!("{n} {}", sig(*v, 4)))
             .collect();
         format!(
-            "each target less the estimator's own bias there (the model at the values fitted to the estimates as they are, {}, flown with the records' controls through the same estimator: {} moved{}; the bias {} standard errors RMS, {} at most; J and the figures compare with the estimates as they are)",
-            before.join(", "),
+            "{} moved by the estimator's own bias (RMS {}, at most {} standard errors{}), found by flying the model with the records' controls at the values fitted first ({}) through the same estimator; the cost and the reduced chi-square are against the moved targets, each response's J against the records' estimates",
             crate::units::count(self.corrected, "target", "targets"),
-            match self.missing {
-                0 => String::new(),
-                m => format!(", {m} without a flown estimate or a model value left as they are"),
-            },
             sig(self.bias_rms_se, 2),
             sig(self.bias_max_se, 2),
+            match self.missing {
+                0 => String::new(),
+                m => format!("; {m} with no flown estimate or model value left as they are"),
+            },
+            before.join(", "),
         )
     }
 }
+
+/// How far a frequency of [`grid`] may sit from its bin, in bins: rounding only (a frequency
+/// is `k / (m dt)`, a few ulps).
+const GRID_ROUNDING: f64 = 1e-6;
 
 /// The frequencies a record's flown output is built from: the bins of a transform of
 /// [`PADDING_RECORDS`] times its `samples` (the zeros make the circular convolution the linear
@@ -149,6 +153,19 @@ pub fn flown_output(
 ) -> Result<Vec<f64>, String> {
     let n = measured.len();
     let m = PADDING_RECORDS * n;
+    let on_grid = h.frequencies_hz.len() < m / 2
+        && h.frequencies_hz
+            .iter()
+            .enumerate()
+            .all(|(k, f)| (f * m as f64 * rec.dt_s() - (k + 1) as f64).abs() < GRID_ROUNDING);
+    if !on_grid {
+        return Err(format!(
+            "{}: the model's responses are not on the record's grid ({} frequencies from {} Hz)",
+            rec.path.display(),
+            h.frequencies_hz.len(),
+            h.frequencies_hz.first().copied().unwrap_or(f64::NAN)
+        ));
+    }
     let Some(o) = h.states.iter().position(|s| s == output) else {
         // An output the model has no state for is no target (`answerable`): its records'
         // estimate is left as it is.
@@ -311,7 +328,12 @@ pub fn refit(
     *problem = moved;
     let again = super::again_from(problem, fitted.clone());
     let matched = Matched {
-        values_before: fitted.values.clone(),
+        values_before: fitted
+            .parameters
+            .iter()
+            .zip(&fitted.values)
+            .map(|(k, v)| (k.name().to_string(), *v))
+            .collect(),
         corrected,
         missing,
         bias_rms_se: (sum2 / corrected.max(1) as f64).sqrt(),

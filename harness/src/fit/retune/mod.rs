@@ -146,8 +146,9 @@ pub struct Retune {
     /// neighbours), by condition: the targets' standard errors came from them, and they are the
     /// "before" of [`responses::compare`].
     pub uncorrected: Vec<(TargetCondition, crate::run::responses::Responses)>,
-    /// What the matched processing did to the targets ([`matched`]); `None` where the first
-    /// fit did not converge.
+    /// What the matched processing did to the targets ([`matched`]); `None` where the fit
+    /// before it did not converge, or where it could not be done or its fit did not converge
+    /// (a warning says which).
     pub matched: Option<matched::Matched>,
 }
 
@@ -310,18 +311,8 @@ pub fn retune(
     {
         result = refit_with_errors_at_fit(retuned, &estimated, &mut problem, result)?;
     }
-    let mut matched = None;
-    if result.status == fit::Status::Converged {
-        match matched::refit(retuned, records, &how.responses, &mut problem, &result) {
-            Ok((again, m)) => {
-                result = again;
-                matched = Some(m);
-            }
-            Err(e) => result.warnings.push(format!(
-                "the matched processing could not be done ({e}): the targets are the records' estimates as they are, the estimator's bias in them"
-            )),
-        }
-    }
+    let (mut result, matched) =
+        with_matched_processing(retuned, records, how, &mut problem, result);
     result.warnings.extend(left_out);
     let curvature_standard_errors = result.standard_errors.clone();
     if result.status == fit::Status::Converged {
@@ -358,15 +349,6 @@ pub fn retune(
 }
 
 impl Retune {
-    /// The fitted parameters' names, in the fit's order.
-    pub fn parameter_names(&self) -> Vec<String> {
-        self.result
-            .parameters
-            .iter()
-            .map(|k| k.name().to_string())
-            .collect()
-    }
-
     /// Each parameter's fitted value by its name.
     pub fn values_by_name(&self) -> serde_json::Map<String, serde_json::Value> {
         self.result
@@ -517,6 +499,39 @@ fn answerable(
         }
     }
     (kept, left_out)
+}
+
+/// The matched processing's fit ([`matched::refit`]) after a converged `result`: its result
+/// and what it did, or `result` with a warning (and `problem` as it was) where it cannot be
+/// done or its fit does not converge.
+fn with_matched_processing(
+    retuned: subject::Retuned<'_>,
+    records: &[Record],
+    how: &How,
+    problem: &mut Problem,
+    mut result: fit::FitResult,
+) -> (fit::FitResult, Option<matched::Matched>) {
+    if result.status != fit::Status::Converged {
+        return (result, None);
+    }
+    let before = problem.clone();
+    match matched::refit(retuned, records, &how.responses, problem, &result) {
+        Ok((again, m)) if again.status == fit::Status::Converged => (again, Some(m)),
+        Ok((again, _)) => {
+            *problem = before;
+            result.warnings.push(format!(
+                "the fit with the matched processing's targets ended {}: the fit before it is kept, against the records' estimates as they are, the estimator's bias in them",
+                again.status.described()
+            ));
+            (result, None)
+        }
+        Err(e) => {
+            result.warnings.push(format!(
+                "the matched processing could not be done ({e}): the fit before it is kept, against the records' estimates as they are, the estimator's bias in them"
+            ));
+            (result, None)
+        }
+    }
 }
 
 /// The fit again with the targets' standard errors taken at the fitted corrections.
