@@ -1,5 +1,7 @@
 //! The identification's numerical kernels: the FFTs it takes ([`plans`]), planned once per
-//! process, the Hann taper ([`hann`]) and Welch's averaged spectra ([`spectra`]).
+//! process, the Hann taper ([`hann`]), Welch's averaged spectra ([`spectra`]), the finite
+//! Fourier transforms of the equation-error estimator ([`fourier`]) and its regression's
+//! arithmetic ([`regression`]).
 //!
 //! A crate of its own for the build, not for the numbers: rustfft's algorithms are generic
 //! over the scalar, so their code is generated in the crate that plans an `f64` transform, at
@@ -9,8 +11,12 @@
 //! `cargo test`'s largest cost. The spectra's loops (complex products over frequencies,
 //! segments and signals, through iterator adaptors and nalgebra's indexing) are here for the
 //! same reason: unoptimised in the harness they were most of its frequency-response tests'
-//! time. Release builds optimise every crate alike, so there the crate changes nothing.
+//! time; so are the chirp-z transforms and the regression's solution and sandwich covariance
+//! (nalgebra's SVD and products, generated where they are called), most of the equation-error
+//! tests' time. Release builds optimise every crate alike, so there the crate changes nothing.
 
+pub mod fourier;
+pub mod regression;
 pub mod spectra;
 
 use rustfft::{Fft, FftPlanner};

@@ -12,12 +12,16 @@
 //! Records may be split into overlapping tapered segments (Tischler); their equations are
 //! stacked.
 //!
-//! Statistics: ordinary least squares by singular value decomposition; `s^2 = RSS / (n - p)`;
-//! covariance `s^2 (X'X)^-1`; 95 % bounds `+-t(0.975, n - p)` standard errors. The estimator
+//! Statistics: ordinary least squares by singular value decomposition (or instrumental
+//! variables, given a first model), on regressors scaled to unit column norms; the
+//! heteroscedasticity-consistent (sandwich) covariance, each frequency point's variance its own
+//! squared residual with the small-sample factor `n / (n - p)`; 95 % bounds `+-t(0.975, n - p)`
+//! standard errors. The arithmetic is `cierva_fft::regression`'s. The estimator
 //! never panics on data: it returns [`IdentError`] or fits with warnings.
 
 use super::fourier::{ChirpZ, hann, transform};
-use nalgebra::{DMatrix, DVector};
+use cierva_fft::regression::{self, Failure};
+use nalgebra::DMatrix;
 pub use rustfft::num_complex::Complex64 as C;
 use serde::Serialize;
 use thiserror::Error;
@@ -426,8 +430,9 @@ pub fn fit_equations(
     equations: &[Equation],
     instruments: Option<(&DMatrix<f64>, &DMatrix<f64>)>,
 ) -> Result<Vec<EquationFit>, IdentError> {
-    let ins_ft = instruments
-        .map(|(a, b)| state_instruments(a, b, &spectra.omegas, &spectra.var_ft, spectra.states));
+    let ins_ft = instruments.map(|(a, b)| {
+        regression::state_instruments(a, b, &spectra.omegas, &spectra.var_ft, spectra.states)
+    });
     let index = |name: &str| {
         spectra
             .names
@@ -481,67 +486,25 @@ fn fit(
             rows,
         });
     }
-    let (y, x) = regression(y_c, var_ft, cols, fixed);
-    // Scale columns to unit norm for a meaningful condition number and a stable solve.
-    let scales: Vec<f64> = (0..p).map(|c| x.column(c).norm()).collect();
-    if let Some(c) = scales
-        .iter()
-        .position(|s| s.is_nan() || *s <= 0.0 || s.is_infinite())
-    {
-        return Err(IdentError::Singular {
-            state: eq.state.clone(),
-            detail: format!(
+    // The arithmetic (the regression, its column scaling, the solution and the sandwich
+    // covariance; see the module's documentation) is `cierva_fft::regression`'s.
+    let singular = |detail: String| IdentError::Singular {
+        state: eq.state.clone(),
+        detail,
+    };
+    let solved =
+        regression::equation_error(y_c, var_ft, ins_ft, cols, fixed).map_err(|f| match f {
+            Failure::ZeroColumn(c) => singular(format!(
                 "the regressor of `{}` is zero or not finite",
                 eq.estimate[c]
-            ),
-        });
-    }
-    let xs = DMatrix::from_fn(rows, p, |i, c| x[(i, c)] / scales[c]);
-    let svd = xs.clone().svd(true, true);
-    let sv = &svd.singular_values;
-    let (smax, smin) = (sv.max(), sv.min());
-    if smin.is_nan() || smin <= smax * 1e-13 {
-        return Err(IdentError::Singular {
-            state: eq.state.clone(),
-            detail: format!("singular values from {smax:.3e} down to {smin:.3e}"),
-        });
-    }
-    let dof = rows - p;
-    // Least squares by SVD; instrumental variables: the instruments Zs are built like Xs (same
-    // column scales) and theta = (Zs'Xs)^-1 Zs'y.
-    let theta_s = match ins_ft {
-        None => svd.solve(&y, 0.0).map_err(|_| IdentError::Singular {
-            state: eq.state.clone(),
-            detail: "the normal equations cannot be inverted".into(),
-        })?,
-        Some(_) => {
-            let zs = zs_of(ins_ft, cols, &scales, m, p);
-            let zx_inv =
-                (zs.transpose() * &xs)
-                    .try_inverse()
-                    .ok_or_else(|| IdentError::Singular {
-                        state: eq.state.clone(),
-                        detail: "the normal equations cannot be inverted".into(),
-                    })?;
-            &zx_inv * (zs.transpose() * &y)
-        }
-    };
-    let resid = &y - &xs * &theta_s;
-    let rss = resid.norm_squared();
-    let mean = y.mean();
-    let tss = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
-    // Heteroscedasticity-consistent (sandwich) covariance: the equation error's variance
-    // changes with frequency (turbulence and sensor noise are coloured, and the derivative
-    // transform weights noise by w), so one pooled variance misstates the errors. Each
-    // frequency point's variance is its own squared residual, real and imaginary parts pooled,
-    // with the n/(n - p) small-sample factor:
-    //   cov = G^-1 (sum_r s_r^2 z_r z_r') G^-T,  G = Z'X (Z = X for least squares).
-    let z_rows = match ins_ft {
-        Some(_) => zs_of(ins_ft, cols, &scales, m, p),
-        None => xs.clone(),
-    };
-    let cov_s = sandwich(eq, &z_rows, &xs, &resid, dof)?;
-    let t = student_t_975(dof);
+            )),
+            Failure::Singular { largest, smallest } => singular(format!(
+                "singular values from {largest:.3e} down to {smallest:.3e}"
+            )),
+            Failure::NotInvertible => singular("the normal equations cannot be inverted".into()),
+        })?;
+    let (theta_s, cov_s, scales) = (&solved.theta, &solved.covariance, &solved.scales);
+    let t = student_t_975(solved.dof);
     let mut estimates = Vec::with_capacity(p);
     for c in 0..p {
         let value = theta_s[c] / scales[c];
@@ -561,76 +524,21 @@ fn fit(
                 .collect()
         })
         .collect();
-    let condition_number = smax / smin;
-    let warnings = warnings_of(eq, &estimates, &correlation, condition_number);
+    let warnings = warnings_of(eq, &estimates, &correlation, solved.condition_number);
     Ok(EquationFit {
         state: eq.state.clone(),
         estimates,
         fixed: eq.fixed.clone(),
-        r_squared: if tss > 0.0 { 1.0 - rss / tss } else { 1.0 },
-        dof,
+        r_squared: if solved.tss > 0.0 {
+            1.0 - solved.rss / solved.tss
+        } else {
+            1.0
+        },
+        dof: solved.dof,
         correlation,
-        condition_number,
+        condition_number: solved.condition_number,
         warnings,
     })
-}
-
-/// The equation's regression in the frequency domain, real and imaginary parts as rows: the
-/// state derivative's transform less the fixed terms (`y`), and the estimated variables'
-/// transforms (`X`).
-fn regression(
-    y_c: &[C],
-    var_ft: &[Vec<C>],
-    cols: &[usize],
-    fixed: &[(usize, f64)],
-) -> (DVector<f64>, DMatrix<f64>) {
-    let m = y_c.len();
-    let (rows, p) = (2 * m, cols.len());
-    let mut y = DVector::zeros(rows);
-    let mut x = DMatrix::zeros(rows, p);
-    for k in 0..m {
-        let mut yk = y_c[k];
-        for (j, v) in fixed {
-            yk -= var_ft[*j][k] * *v;
-        }
-        y[2 * k] = yk.re;
-        y[2 * k + 1] = yk.im;
-        for (c, &j) in cols.iter().enumerate() {
-            x[(2 * k, c)] = var_ft[j][k].re;
-            x[(2 * k + 1, c)] = var_ft[j][k].im;
-        }
-    }
-    (y, x)
-}
-
-/// Heteroscedasticity-consistent (sandwich) covariance of the scaled estimates (see [`fit`]):
-/// `G^-1 (sum_r s_r^2 z_r z_r') G^-T` with `G = Z'X`, each frequency point's variance its own
-/// squared residual times the small-sample factor `n/(n - p)`.
-fn sandwich(
-    eq: &Equation,
-    z_rows: &DMatrix<f64>,
-    xs: &DMatrix<f64>,
-    resid: &DVector<f64>,
-    dof: usize,
-) -> Result<DMatrix<f64>, IdentError> {
-    let (rows, p) = xs.shape();
-    let m = rows / 2;
-    let g_inv = (z_rows.transpose() * xs)
-        .try_inverse()
-        .ok_or_else(|| IdentError::Singular {
-            state: eq.state.clone(),
-            detail: "the normal equations cannot be inverted".into(),
-        })?;
-    let small_sample = rows as f64 / dof as f64;
-    let mut meat = DMatrix::zeros(p, p);
-    for k in 0..m {
-        let s2k = 0.5 * (resid[2 * k].powi(2) + resid[2 * k + 1].powi(2)) * small_sample;
-        for r in [2 * k, 2 * k + 1] {
-            let zr = z_rows.row(r);
-            meat += zr.transpose() * zr * s2k;
-        }
-    }
-    Ok(&g_inv * meat * g_inv.transpose())
 }
 
 /// The fit's warnings: pairs of highly correlated coefficients, poorly identified ones, and
@@ -665,57 +573,6 @@ fn warnings_of(
         ));
     }
     warnings
-}
-
-/// The scaled instrument matrix, built like the regressors.
-fn zs_of(
-    ins_ft: Option<&[Vec<C>]>,
-    cols: &[usize],
-    scales: &[f64],
-    m: usize,
-    p: usize,
-) -> DMatrix<f64> {
-    let mut zs = DMatrix::zeros(2 * m, p);
-    if let Some(z_ft) = ins_ft {
-        for k in 0..m {
-            for (c, &j) in cols.iter().enumerate() {
-                zs[(2 * k, c)] = z_ft[j][k].re / scales[c];
-                zs[(2 * k + 1, c)] = z_ft[j][k].im / scales[c];
-            }
-        }
-    }
-    zs
-}
-
-/// Instrument transforms: for every stacked (segment, frequency) point, the states' response
-/// `(i w I - a)^-1 b U` to the controls' transforms; the controls themselves follow unchanged.
-fn state_instruments(
-    a: &DMatrix<f64>,
-    b: &DMatrix<f64>,
-    omegas: &[f64],
-    var_ft: &[Vec<C>],
-    n: usize,
-) -> Vec<Vec<C>> {
-    let points = var_ft.first().map_or(0, Vec::len);
-    let m = var_ft.len() - n;
-    let mut out: Vec<Vec<C>> = vec![Vec::with_capacity(points); n];
-    for idx in 0..points {
-        let w = omegas[idx];
-        let sys = DMatrix::from_fn(n, n, |i, j| {
-            C::new(-a[(i, j)], if i == j { w } else { 0.0 })
-        });
-        let rhs = DMatrix::from_fn(n, 1, |i, _| {
-            (0..m)
-                .map(|k| C::new(b[(i, k)], 0.0) * var_ft[n + k][idx])
-                .sum::<C>()
-        });
-        let z = sys.lu().solve(&rhs).unwrap_or_else(|| DMatrix::zeros(n, 1));
-        for i in 0..n {
-            out[i].push(z[(i, 0)]);
-        }
-    }
-    out.extend(var_ft[n..].iter().cloned());
-    out
 }
 
 /// The 97.5 % quantile of Student's t with `dof` degrees of freedom (Cornish-Fisher expansion

@@ -404,7 +404,9 @@ pub fn read_limited(path: &Path, limit: u64) -> Result<String, InputError> {
 pub fn too_deep(src: &str, limit: usize) -> Option<(usize, usize)> {
     let mut scan = DepthScan::default();
     for (i, line) in src.lines().enumerate() {
-        if let Some(col) = scan.line(line, limit) {
+        if let Some(at) = scan.line(line.as_bytes(), limit) {
+            // The scan's columns are bytes; the error's is characters.
+            let col = line.get(..at).map_or(at, |s| s.chars().count());
             return Some((i + 1, col + 1));
         }
     }
@@ -419,17 +421,18 @@ struct DepthScan {
     /// Open flow collections (`[`, `{`).
     flow: usize,
     /// Inside a quoted scalar that runs on: its quote.
-    quote: Option<char>,
+    quote: Option<u8>,
     /// Inside a block scalar (`|`, `>`): the column its lines are indented beyond.
     block_scalar: Option<usize>,
 }
 
 impl DepthScan {
-    /// Scans one line; the 0-based character column where the depth first exceeds `limit`.
-    fn line(&mut self, line: &str, limit: usize) -> Option<usize> {
-        let chars: Vec<char> = line.chars().collect();
-        let indent = chars.iter().take_while(|c| **c == ' ').count();
-        let blank = chars[indent..].iter().all(|c| c.is_whitespace());
+    /// Scans one line; the 0-based byte column where the depth first exceeds `limit`. The scan
+    /// goes by bytes, without allocating: every character it looks for is ASCII, which no byte
+    /// of a longer UTF-8 character can be mistaken for, and YAML's white space is ASCII.
+    fn line(&mut self, chars: &[u8], limit: usize) -> Option<usize> {
+        let indent = chars.iter().take_while(|c| **c == b' ').count();
+        let blank = chars[indent..].iter().all(u8::is_ascii_whitespace);
         if let Some(parent) = self.block_scalar {
             if blank || indent > parent {
                 return None;
@@ -437,18 +440,19 @@ impl DepthScan {
             self.block_scalar = None;
         }
         if self.quote.is_some() || self.flow > 0 {
-            return self.inline(&chars, 0, limit);
+            return self.inline(chars, 0, limit);
         }
-        if blank || chars[indent] == '#' {
+        if blank || chars[indent] == b'#' {
             return None;
         }
-        let text: String = chars[indent..].iter().collect();
-        if text.starts_with("---") || text.starts_with("...") || text.starts_with('%') {
+        let text = &chars[indent..];
+        if text.starts_with(b"---") || text.starts_with(b"...") || text.starts_with(b"%") {
             self.blocks.clear();
             return None;
         }
-        let item =
-            |at: usize| chars.get(at) == Some(&'-') && chars.get(at + 1).is_none_or(|c| *c == ' ');
+        let item = |at: usize| {
+            chars.get(at) == Some(&b'-') && chars.get(at + 1).is_none_or(|c| *c == b' ')
+        };
         let seq = item(indent);
         // Close the collections this line is outside; a sequence's items may sit at its key's
         // column.
@@ -463,10 +467,10 @@ impl DepthScan {
         let mut is_seq = seq;
         loop {
             if self.blocks.last() != Some(&(at, is_seq)) {
-                let key = !is_seq && key_ends(&chars, at).is_some();
+                let key = !is_seq && key_ends(chars, at).is_some();
                 if !is_seq && !key {
                     // A scalar on its own line (a plain scalar's continuation).
-                    return self.value(&chars, at, indent, limit);
+                    return self.value(chars, at, indent, limit);
                 }
                 self.blocks.push((at, is_seq));
                 if self.blocks.len() + self.flow > limit {
@@ -476,41 +480,41 @@ impl DepthScan {
             let next = if is_seq {
                 at + 1
             } else {
-                match key_ends(&chars, at) {
+                match key_ends(chars, at) {
                     Some(colon) => colon + 1,
-                    None => return self.value(&chars, at, indent, limit),
+                    None => return self.value(chars, at, indent, limit),
                 }
             };
             let start = next
                 + chars[next.min(chars.len())..]
                     .iter()
-                    .take_while(|c| **c == ' ')
+                    .take_while(|c| **c == b' ')
                     .count();
             if start >= chars.len() {
                 return None;
             }
             if item(start) {
                 (at, is_seq) = (start, true);
-            } else if is_seq && key_ends(&chars, start).is_some() {
+            } else if is_seq && key_ends(chars, start).is_some() {
                 (at, is_seq) = (start, false);
             } else {
                 let owner = self.blocks.last().map_or(indent, |b| b.0);
-                return self.value(&chars, start, owner, limit);
+                return self.value(chars, start, owner, limit);
             }
         }
     }
 
     /// A value from column `at` on (after `key:` or `- `), in a collection at column `owner`.
-    fn value(&mut self, chars: &[char], at: usize, owner: usize, limit: usize) -> Option<usize> {
+    fn value(&mut self, chars: &[u8], at: usize, owner: usize, limit: usize) -> Option<usize> {
         let mut at = at;
         // Anchors and tags come before the value.
-        while matches!(chars.get(at), Some('&' | '!')) {
-            at += chars[at..].iter().take_while(|c| **c != ' ').count();
-            at += chars[at..].iter().take_while(|c| **c == ' ').count();
+        while matches!(chars.get(at), Some(b'&' | b'!')) {
+            at += chars[at..].iter().take_while(|c| **c != b' ').count();
+            at += chars[at..].iter().take_while(|c| **c == b' ').count();
         }
         match chars.get(at) {
-            Some('[' | '{' | '\'' | '"') => self.inline(chars, at, limit),
-            Some('|' | '>') => {
+            Some(b'[' | b'{' | b'\'' | b'"') => self.inline(chars, at, limit),
+            Some(b'|' | b'>') => {
                 self.block_scalar = Some(owner);
                 None
             }
@@ -519,46 +523,46 @@ impl DepthScan {
     }
 
     /// Flow collections and quoted scalars from column `from` on.
-    fn inline(&mut self, chars: &[char], from: usize, limit: usize) -> Option<usize> {
+    fn inline(&mut self, chars: &[u8], from: usize, limit: usize) -> Option<usize> {
         let mut token_start = true;
         let mut k = from;
         while k < chars.len() {
             let c = chars[k];
             match self.quote {
-                Some('\'') if c == '\'' => {
-                    if chars.get(k + 1) == Some(&'\'') {
+                Some(b'\'') if c == b'\'' => {
+                    if chars.get(k + 1) == Some(&b'\'') {
                         k += 1;
                     } else {
                         self.quote = None;
                         token_start = false;
                     }
                 }
-                Some('"') if c == '\\' => k += 1,
-                Some('"') if c == '"' => {
+                Some(b'"') if c == b'\\' => k += 1,
+                Some(b'"') if c == b'"' => {
                     self.quote = None;
                     token_start = false;
                 }
                 Some(_) => {}
                 None => match c {
-                    '[' | '{' => {
+                    b'[' | b'{' => {
                         self.flow += 1;
                         if self.blocks.len() + self.flow > limit {
                             return Some(k);
                         }
                         token_start = true;
                     }
-                    ']' | '}' => {
+                    b']' | b'}' => {
                         self.flow = self.flow.saturating_sub(1);
                         token_start = false;
                         if self.flow == 0 {
                             return None;
                         }
                     }
-                    ',' => token_start = true,
-                    ':' => token_start = chars.get(k + 1).is_none_or(|c| c.is_whitespace()),
-                    '\'' | '"' if token_start => self.quote = Some(c),
-                    '#' if k == 0 || chars[k - 1].is_whitespace() => return None,
-                    c if c.is_whitespace() => {}
+                    b',' => token_start = true,
+                    b':' => token_start = chars.get(k + 1).is_none_or(u8::is_ascii_whitespace),
+                    b'\'' | b'"' if token_start => self.quote = Some(c),
+                    b'#' if k == 0 || chars[k - 1].is_ascii_whitespace() => return None,
+                    c if c.is_ascii_whitespace() => {}
                     _ => token_start = false,
                 },
             }
@@ -570,20 +574,20 @@ impl DepthScan {
 
 /// Where the key of a block mapping entry starting at column `at` ends: the column of its
 /// `:` (followed by a space or the end of the line), outside quotes, before any comment.
-fn key_ends(chars: &[char], at: usize) -> Option<usize> {
+fn key_ends(chars: &[u8], at: usize) -> Option<usize> {
     let mut k = at;
-    if let Some(&q) = chars.get(at).filter(|c| matches!(c, '\'' | '"')) {
+    if let Some(&q) = chars.get(at).filter(|c| matches!(c, b'\'' | b'"')) {
         k = at + 1 + chars[at + 1..].iter().position(|c| *c == q)? + 1;
     } else if matches!(
         chars.get(at),
-        Some('[' | '{' | '#' | '|' | '>' | '&' | '*' | '!')
+        Some(b'[' | b'{' | b'#' | b'|' | b'>' | b'&' | b'*' | b'!')
     ) {
         return None;
     }
     while k < chars.len() {
         match chars[k] {
-            ':' if chars.get(k + 1).is_none_or(|c| *c == ' ') => return Some(k),
-            '#' if chars[k - 1] == ' ' => return None,
+            b':' if chars.get(k + 1).is_none_or(|c| *c == b' ') => return Some(k),
+            b'#' if chars[k - 1] == b' ' => return None,
             _ => k += 1,
         }
     }
