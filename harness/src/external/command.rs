@@ -231,8 +231,10 @@ pub struct ExternalCommand {
     refine: Option<(String, usize)>,
     /// Answers by request (what the request asks, without its paths): a case's checks at one
     /// condition share one run. Each request has one cell, filled once: a check that asks
-    /// while another's identical request runs waits for its answer.
-    answers: Mutex<HashMap<String, Arc<AnswerCell>>>,
+    /// while another's identical request runs waits for its answer. With each, the request's
+    /// parameter values as the key writes them, for [`FlightModel::forget`] to compare whole
+    /// (searching every key for them was most of an external model's study's own time).
+    answers: Mutex<HashMap<String, (String, Arc<AnswerCell>)>>,
 }
 
 /// One request's answer, filled once.
@@ -417,11 +419,13 @@ impl ExternalCommand {
         // The map's lock is held only to find the request's cell; the cell's own lock is held
         // while the command runs, by the first check that asks.
         let cell = Arc::clone(
-            self.answers
+            &self
+                .answers
                 .lock()
                 .unwrap_or_else(PoisonError::into_inner)
                 .entry(key)
-                .or_default(),
+                .or_insert_with(|| (format!("{:?}", request.parameters), Arc::default()))
+                .1,
         );
         cell.get_or_init(|| self.run(compute, request, with))
             .clone()
@@ -1290,11 +1294,11 @@ impl FlightModel for ExternalCommand {
     /// Forgets its answers to requests with these values (a study's point, once its checks
     /// have run).
     fn forget(&self, values: &super::Values) {
-        let with = format!("parameters: {values:?}, start:");
+        let with = format!("{values:?}");
         self.answers
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
-            .retain(|key, _| !key.contains(&with));
+            .retain(|_, (parameters, _)| *parameters != with);
     }
 
     /// The `start` its answer `of` the request gave, where it gave one (read from the
@@ -1325,7 +1329,7 @@ impl FlightModel for ExternalCommand {
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
             .get(&key)
-            .cloned()?;
+            .map(|(_, cell)| Arc::clone(cell))?;
         match cell.get()? {
             Ok(Answer::Trim(_, s) | Answer::Linear(_, s) | Answer::Responses(_, s)) => s.clone(),
             _ => None,
