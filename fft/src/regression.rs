@@ -10,6 +10,8 @@ use rustfft::num_complex::Complex64 as C;
 /// Why an equation has no solution; the harness names the equation and the variable.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Failure {
+    /// No estimated variable, or no more rows (twice the points) than estimated variables.
+    TooFewRows,
     /// The regressor of the estimated variable at this position is zero or not finite.
     ZeroColumn(usize),
     /// The scaled regressors' singular values, from the largest down to the smallest, span more
@@ -39,8 +41,7 @@ pub struct Solved {
 /// Solves one equation: `y_c` the state derivative's transform at each point, `var_ft` every
 /// variable's, `cols` the estimated variables' positions in it, `fixed` the known ones with
 /// their values (moved to the left), `ins_ft` the instruments' transforms (instrumental
-/// variables) or none (least squares). Needs more rows (twice the points) than columns; the
-/// caller checks that.
+/// variables) or none (least squares). Needs more rows (twice the points) than columns.
 pub fn equation_error(
     y_c: &[C],
     var_ft: &[Vec<C>],
@@ -50,6 +51,9 @@ pub fn equation_error(
 ) -> Result<Solved, Failure> {
     let m = y_c.len();
     let (rows, p) = (2 * m, cols.len());
+    if p == 0 || rows <= p {
+        return Err(Failure::TooFewRows);
+    }
     let (y, x) = regression(y_c, var_ft, cols, fixed);
     // Scale columns to unit norm for a meaningful condition number and a stable solve.
     let scales: Vec<f64> = (0..p).map(|c| x.column(c).norm()).collect();

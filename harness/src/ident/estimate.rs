@@ -502,6 +502,11 @@ fn fit(
                 "singular values from {largest:.3e} down to {smallest:.3e}"
             )),
             Failure::NotInvertible => singular("the normal equations cannot be inverted".into()),
+            Failure::TooFewRows => IdentError::Underdetermined {
+                state: eq.state.clone(),
+                p,
+                rows,
+            },
         })?;
     let (theta_s, cov_s, scales) = (&solved.theta, &solved.covariance, &solved.scales);
     let t = student_t_975(solved.dof);

@@ -293,7 +293,8 @@ fn the_depth_scan_counts_collections_not_brackets() {
     assert_eq!(deepest("a: {b: [1,\n  2], c: 3}\nd: see [1] and {2}\n"), 3);
     assert_eq!(yaml::too_deep("a:\n  b:\n    c: 1\n", 2), Some((3, 5)));
     // The scan goes by bytes; the column it reports counts characters ("ü" and "é" are two
-    // bytes each), and a bracket inside a longer character's text is still only text.
+    // bytes each, so a byte column would be 13), and brackets in a quoted scalar among
+    // longer characters are still only text.
     assert_eq!(yaml::too_deep("über: {é: [1]}\n", 2), Some((1, 11)));
     assert_eq!(deepest("tëxt: \"[[ü]]\"\n"), 1);
 }
