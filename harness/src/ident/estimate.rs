@@ -479,15 +479,9 @@ fn fit(
 ) -> Result<EquationFit, IdentError> {
     let m = y_c.len();
     let (rows, p) = (2 * m, cols.len());
-    if p == 0 || rows <= p {
-        return Err(IdentError::Underdetermined {
-            state: eq.state.clone(),
-            p,
-            rows,
-        });
-    }
     // The arithmetic (the regression, its column scaling, the solution and the sandwich
-    // covariance; see the module's documentation) is `cierva_fft::regression`'s.
+    // covariance; see the module's documentation) is `cierva_fft::regression`'s, and so is the
+    // refusal of too few rows (no estimated variable, or no more rows than variables).
     let singular = |detail: String| IdentError::Singular {
         state: eq.state.clone(),
         detail,

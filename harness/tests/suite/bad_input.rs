@@ -20,7 +20,7 @@ fn every_bad_case_gets_its_located_error() {
 #[test]
 fn shared_tolerances_are_used_and_never_shadowed() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let dir = std::env::temp_dir().join(format!("cierva-library-{}", std::process::id()));
+    let dir = crate::common::scratch("library");
     let cases = dir.join("cases");
     std::fs::create_dir_all(&cases).unwrap();
     std::fs::copy(
@@ -109,7 +109,7 @@ fn a_mass_above_the_aircrafts_maximum_is_refused() {
 /// both named no line).
 #[test]
 fn a_correction_out_of_range_and_a_format_version_are_located() {
-    let dir = std::env::temp_dir().join(format!("cierva-located-{}", std::process::id()));
+    let dir = crate::common::scratch("located");
     common::new_suite(&dir);
     std::os::unix::fs::symlink(common::repo_root().join("aircraft"), dir.join("aircraft")).unwrap();
     std::fs::copy(

@@ -1,7 +1,8 @@
 //! Shared by the suite's tests: [`cierva`], the command run from the repository's root;
-//! [`SplitMix`], the seeded draws of known-answer trials; and,
-//! for the bad-input tests, [`check_fixtures`]: every YAML file in a folder is a broken input
-//! whose header says what the error must contain and on which line it must point.
+//! [`scratch`], the run's folders for tests to write in; [`SplitMix`], the seeded draws of
+//! known-answer trials; and, for the bad-input tests, [`check_fixtures`]: every YAML file in a
+//! folder is a broken input whose header says what the error must contain and on which line it
+//! must point.
 //!
 //! ```yaml
 //! # error: <text the message must contain>
@@ -10,6 +11,7 @@
 
 use cierva_harness::inputs::yaml::InputError;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// The repository's root: the suite this repository is (its `cierva.toml`), where its cases,
 /// aircraft and references are.
@@ -53,6 +55,71 @@ pub fn cierva_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
+}
+
+/// A scratch folder for a test, `<temp>/cierva-tests-<pid>/<name>` (`<temp>` the system's
+/// temporary folder, `<pid>` this test process's id); the caller creates and removes `name`
+/// itself, and gives each of its folders a name of its own in the run.
+///
+/// Many tests' folders are shared by a module's tests (a suite one test builds and others
+/// read), so no single test can remove them when done. Instead all of a run's folders sit
+/// under the run's one root, and the first call in a process (the root is made once, with
+/// [`OnceLock`]) sweeps the roots earlier runs left: every `cierva-tests-<pid>` folder in
+/// `<temp>` that is not this process's and is stale. Stale means, on Linux, that process is
+/// gone (no `/proc/<pid>`); elsewhere, or without `/proc`, the folder was last modified more
+/// than 24 hours ago. Only names of exactly that form are read, so folders of other tools
+/// (such as `scripts/retune-trials`' `cierva-retune-trials-<random>`) are never touched.
+/// Sweeping ignores every error (another run may be sweeping at the same time).
+pub fn scratch(name: &str) -> PathBuf {
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        let temp = std::env::temp_dir();
+        sweep_stale_scratch(&temp);
+        let root = temp.join(format!("cierva-tests-{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&root);
+        root
+    })
+    .join(name)
+}
+
+/// Removes the stale scratch folders of other runs from `temp` (see [`scratch`]), ignoring
+/// every error.
+fn sweep_stale_scratch(temp: &Path) {
+    let Ok(entries) = std::fs::read_dir(temp) else {
+        return;
+    };
+    let me = std::process::id();
+    for entry in entries.flatten() {
+        let Some(pid) = entry.file_name().to_str().and_then(scratch_pid) else {
+            continue;
+        };
+        let is_dir = entry.file_type().is_ok_and(|kind| kind.is_dir());
+        if pid != me && is_dir && is_stale(pid, &entry.path()) {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// The process id in a run's scratch root's name, `cierva-tests-<pid>`; `None` for any other
+/// name.
+fn scratch_pid(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix("cierva-tests-")?;
+    (!rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| rest.parse::<u32>().ok())
+        .flatten()
+}
+
+/// Whether the scratch folder `dir` of process `pid` is stale: on Linux, that process is gone;
+/// elsewhere (or without `/proc`), `dir` was last modified more than 24 hours ago.
+fn is_stale(pid: u32, dir: &Path) -> bool {
+    if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
+        return !Path::new("/proc").join(pid.to_string()).exists();
+    }
+    std::fs::metadata(dir)
+        .and_then(|meta| meta.modified())
+        .ok()
+        .and_then(|modified| modified.elapsed().ok())
+        .is_some_and(|age| age > std::time::Duration::from_secs(24 * 60 * 60))
 }
 
 /// Loads every fixture in `dir` with `load` and returns what went wrong (empty when every
@@ -257,5 +324,24 @@ impl SplitMix {
     pub fn normal(&mut self) -> f64 {
         let (u, v) = (self.next().max(1e-300), self.next());
         (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+    }
+}
+
+/// The sweep of stale scratch folders reads a pid only from a run's own root's name, never
+/// another tool's (`scripts/retune-trials`' random suffix may be all digits).
+#[test]
+fn scratch_sweeps_only_its_own_names() {
+    assert_eq!(scratch_pid("cierva-tests-4242"), Some(4242));
+    for other in [
+        "cierva-retune-trials-12345678",
+        "cierva-retune-trials-ab12cd34",
+        "cierva-tests-x42",
+        "cierva-tests-",
+        "cierva-tests-42-1",
+        "cierva-tests-99999999999",
+        "cierva-ident-4242",
+        "other-tests-4242",
+    ] {
+        assert_eq!(scratch_pid(other), None, "{other}");
     }
 }

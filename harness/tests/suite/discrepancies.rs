@@ -166,7 +166,7 @@ fn the_committed_scores_and_records_are_the_last_accepted() {
 fn a_hand_edited_scoreboard_is_not_what_was_accepted() {
     use cierva_harness::suite::review::{LOG_FILE, acceptance_state};
     let from = super::common::repo_root().join("reports");
-    let dir = std::env::temp_dir().join(format!("cierva-accepted-{}", std::process::id()));
+    let dir = crate::common::scratch("accepted");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("discrepancies")).unwrap();
     for f in ["scoreboard.yaml", LOG_FILE] {

@@ -159,7 +159,7 @@ fn file_uses_its_estimates(name: &str, coefficients: usize) {
 /// a file that does not load, are bad input (exit 2) with the reason.
 #[test]
 fn estimate_refuses_a_file_with_nothing_to_estimate() {
-    let dir = std::env::temp_dir().join(format!("cierva-no-geometry-{}", std::process::id()));
+    let dir = crate::common::scratch("no-geometry");
     std::fs::create_dir_all(&dir).unwrap();
     let aircraft = repo_root().join("aircraft");
     for f in [

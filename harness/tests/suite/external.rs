@@ -86,7 +86,7 @@ pub fn suite_with_command(dir: &Path, command: &str, timeout_s: f64) -> PathBuf 
 #[test]
 fn a_broken_external_command_is_an_error_that_shows_why() {
     require_python3();
-    let base = std::env::temp_dir().join(format!("cierva-external-{}", std::process::id()));
+    let base = crate::common::scratch("external");
     // Each: the command, and what the error must say.
     let cases: [(&str, &str, &[&str]); 6] = [
         (
@@ -158,7 +158,7 @@ fn a_broken_external_command_is_an_error_that_shows_why() {
 /// that names the table's line and column, inside the case's located error.
 #[test]
 fn a_bad_trim_table_is_a_located_error() {
-    let dir = std::env::temp_dir().join(format!("cierva-external-files-{}", std::process::id()));
+    let dir = crate::common::scratch("external-files");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();

@@ -532,7 +532,7 @@ fn every_shipped_fit_file_loads() {
 
 /// A fit file in a scratch directory, naming the shipped aircraft file by its absolute path.
 fn scratch_fit(name: &str, parameters: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-fit-{}", std::process::id()));
+    let dir = crate::common::scratch("fit");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.yaml"));
     let text = format!(
@@ -646,7 +646,7 @@ fn estimated_parameters_in_a_corrections_file_are_applied_and_checked() {
         ((m.at_100_percent + m.at_0_percent) - (roll.at_100_percent + roll.at_0_percent)).abs()
             < 1e-12
     );
-    let dir = std::env::temp_dir().join(format!("cierva-corr-{}", std::process::id()));
+    let dir = crate::common::scratch("corr");
     std::fs::create_dir_all(&dir).unwrap();
     for (name, applies, estimated, says) in [
         ("ok", "aircraft: vpm-m16", "mass.izz_kg_m2: 400.0", ""),
@@ -790,7 +790,7 @@ fn corrections_are_not_applied_to_a_regime_they_make_worse() {
 
     // On TR 487's descent: the profile drag doubled moves the rotor speed, except where the
     // file is not applied.
-    let dir = std::env::temp_dir().join(format!("cierva-not-applied-{}", std::process::id()));
+    let dir = crate::common::scratch("not-applied");
     std::fs::create_dir_all(&dir).unwrap();
     let write = |name: &str, extra: &str| {
         let path = dir.join(format!("{name}.yaml"));
@@ -851,7 +851,7 @@ fn corrections_are_not_applied_to_a_regime_they_make_worse() {
 fn a_check_outside_the_fitted_domain_is_labelled_an_extrapolation() {
     use cierva_harness::inputs::corrections;
     use cierva_harness::suite::{case, outcome};
-    let dir = std::env::temp_dir().join(format!("cierva-domain-{}", std::process::id()));
+    let dir = crate::common::scratch("domain");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("low-mu.yaml");
     std::fs::write(
@@ -927,7 +927,7 @@ fn a_fits_own_targets_are_calibrated_on_it_and_counted_apart() {
     assert_eq!(rows.len(), 10, "{rows:?}");
     assert!(rows.contains(&"row-01".to_string()), "{rows:?}");
     // Applied to TR 487 with its one check among the fit's.
-    let dir = std::env::temp_dir().join(format!("cierva-calibrated-{}", std::process::id()));
+    let dir = crate::common::scratch("calibrated");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("own.yaml");
     std::fs::write(

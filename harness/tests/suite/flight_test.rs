@@ -102,7 +102,7 @@ fn an_instrument_lags_biases_and_adds_noise() {
 }
 
 fn write(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-sensors-{}", std::process::id()));
+    let dir = crate::common::scratch("sensors");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(format!("{name}.yaml"));
     std::fs::write(&p, text).unwrap();

@@ -449,7 +449,7 @@ fn a_non_finite_sample_is_an_error() {
 
 /// A scratch folder for one test's records.
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cierva-fr-{}-{name}", std::process::id()));
+    let d = crate::common::scratch(&format!("fr-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -25,7 +25,7 @@ fn root() -> PathBuf {
 
 /// A fresh scratch folder for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-frc-{name}-{}", std::process::id()));
+    let dir = crate::common::scratch(&format!("frc-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

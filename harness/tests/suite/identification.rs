@@ -49,7 +49,7 @@ fn settings(
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-ident-{}", std::process::id()));
+    let dir = crate::common::scratch("ident");
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(format!("{name}.csv"))
 }
@@ -522,4 +522,38 @@ fn the_blade_passage_average_removes_the_shaking_and_keeps_the_dynamics() {
     assert!(sinc > 0.96);
     let flat = blade_passage_average(&[3.0; 50], window);
     assert!(flat.iter().all(|v| (v - 3.0).abs() < 1e-12));
+}
+
+/// An equation with more estimated coefficients than rows (two per frequency point) is refused
+/// by the regression kernel (`cierva_fft::regression`, `TooFewRows`), and the harness names the
+/// equation and the counts: one point gives 2 rows for 3 coefficients.
+#[test]
+fn an_equation_with_more_coefficients_than_rows_is_refused_by_name() {
+    use cierva_harness::ident::estimate::{C, Equation, IdentError, Spectra, fit_equations};
+    let names = ["u", "w", "eta_s"].map(String::from).to_vec();
+    let spectra = Spectra::from_response(
+        names,
+        2,
+        &[1.0],
+        vec![
+            vec![C::new(1.0, 0.5)],
+            vec![C::new(-0.3, 0.2)],
+            vec![C::new(1.0, 0.0)],
+        ],
+    )
+    .unwrap();
+    let equation = Equation {
+        state: "u".into(),
+        estimate: ["u", "w", "eta_s"].map(String::from).to_vec(),
+        fixed: vec![],
+    };
+    let err = fit_equations(&spectra, &[equation], None).unwrap_err();
+    assert!(
+        matches!(&err, IdentError::Underdetermined { state, p: 3, rows: 2 } if state == "u"),
+        "{err:?}"
+    );
+    assert_eq!(
+        err.to_string(),
+        "equation `u`: 3 parameters but only 2 equations"
+    );
 }

@@ -230,7 +230,7 @@ fn an_autorotation_gives_up_at_its_revolution_limit_with_its_residuals() {
 
 /// A scratch folder of this test's own.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-limits-{name}-{}", std::process::id()));
+    let dir = crate::common::scratch(&format!("limits-{name}"));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

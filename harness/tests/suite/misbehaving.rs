@@ -29,8 +29,7 @@ const MAX_PRINTED_BYTES: usize = 64_000;
 /// A suite in a fresh folder under the system's temporary folder, whose one case runs
 /// `command` for two trims (a sweep at 30 and 40 mph), with `timeout_s`.
 fn suite_with(name: &str, command: &str, timeout_s: f64) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cierva-misbehaving-{}-{name}", std::process::id()));
+    let dir = crate::common::scratch(&format!("misbehaving-{name}"));
     super::external::suite_with_command(&dir, command, timeout_s)
 }
 
@@ -197,7 +196,7 @@ fn a_response_that_grows_without_end_is_refused_while_it_is_written() {
 #[test]
 fn identical_requests_asked_at_once_run_the_command_once() {
     super::external::require_python3();
-    let dir = std::env::temp_dir().join(format!("cierva-once-{}", std::process::id()));
+    let dir = crate::common::scratch("once");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     // Each run appends a line to runs.txt, then answers after 0.3 s.

@@ -80,10 +80,7 @@ fn suite(name: &str, protocol: &str) -> PathBuf {
 
 /// [`suite`], the model run in persistent mode where `persistent` says so.
 fn suite_in(name: &str, protocol: &str, persistent: bool) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "cierva-model-interface-{}-{name}",
-        std::process::id()
-    ));
+    let dir = crate::common::scratch(&format!("model-interface-{name}"));
     super::common::new_suite(&dir);
     std::fs::write(dir.join("cases/model.py"), MODEL).unwrap();
     std::fs::write(
@@ -471,8 +468,7 @@ const THROUGH_THE_PROTOCOL: f64 = 1e-9;
 fn mirrored_suite() -> PathBuf {
     static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir =
-        std::env::temp_dir().join(format!("cierva-as-external-{}-{call}", std::process::id()));
+    let dir = crate::common::scratch(&format!("as-external-{call}"));
     super::common::new_suite(&dir);
     for linked in ["aircraft", "flight-refs"] {
         std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
@@ -938,7 +934,7 @@ fn uncertainty_through_the_protocol_samples_the_built_in_inputs_and_values() {
 #[test]
 fn a_time_history_request_carries_the_initial_state() {
     super::external::require_python3();
-    let dir = std::env::temp_dir().join(format!("cierva-initial-{}", std::process::id()));
+    let dir = crate::common::scratch("initial");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     // Notes the initial state it is given, and answers a still response (every row zero).
@@ -1579,7 +1575,7 @@ fn an_external_model_without_a_timeout_takes_the_default() {
 /// offer (`simulation: linear`: it has one) is a located error naming the model.
 #[test]
 fn a_time_history_through_the_protocol_flies_as_the_built_in_aircraft() {
-    let dir = std::env::temp_dir().join(format!("cierva-served-history-{}", std::process::id()));
+    let dir = crate::common::scratch("served-history");
     super::common::new_suite(&dir);
     for linked in ["aircraft", "flight-refs"] {
         std::os::unix::fs::symlink(repo_root().join(linked), dir.join(linked)).unwrap();
@@ -2099,7 +2095,7 @@ fn an_autorotation_check_asks_any_model_through_the_interface() {
 #[test]
 fn a_rotor_through_the_protocol_autorotates_as_the_built_in_one() {
     let case = "cases/naca-tr487-vertical-descent.yaml";
-    let dir = std::env::temp_dir().join(format!("cierva-rotor-served-{}", std::process::id()));
+    let dir = crate::common::scratch("rotor-served");
     super::common::new_suite(&dir);
     std::os::unix::fs::symlink(repo_root().join("aircraft"), dir.join("aircraft")).unwrap();
     std::os::unix::fs::symlink(repo_root().join("flight-refs"), dir.join("flight-refs")).unwrap();

@@ -225,8 +225,7 @@ fn every_mutant_of_the_full_campaign_is_refused_with_a_located_error_or_loads() 
 /// panics, that every error is located, and that the loaders refuse a fair share.
 fn campaign(per_file: usize) {
     let root = repo_root();
-    let scratch =
-        std::env::temp_dir().join(format!("cierva-mutation-{}-{per_file}", std::process::id()));
+    let scratch = crate::common::scratch(&format!("mutation-{per_file}"));
     let mut files = Vec::new();
     for dir in super::common::DATA_DIRS {
         std::fs::create_dir_all(scratch.join(dir)).unwrap();

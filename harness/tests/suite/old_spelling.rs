@@ -12,9 +12,7 @@ use std::path::{Path, PathBuf};
 const SWEEP: &str = "flight-refs/synthetic-flight-vpm-m16-60mph-stick-sweep";
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir()
-        .join(format!("cierva-old-spelling-{}", std::process::id()))
-        .join(name);
+    let dir = crate::common::scratch("old-spelling").join(name);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

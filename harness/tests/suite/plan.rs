@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// A fresh folder of its own under the system's temporary one.
 fn fresh(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-plan-{name}-{}", std::process::id()));
+    let dir = crate::common::scratch(&format!("plan-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

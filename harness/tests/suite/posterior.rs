@@ -302,7 +302,7 @@ fn a_study_draws_a_calibrations_fitted_parameters_from_its_posterior() {
     let case =
         cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
             .unwrap();
-    let dir = std::env::temp_dir().join(format!("cierva-posterior-{}", std::process::id()));
+    let dir = crate::common::scratch("posterior");
     std::fs::create_dir_all(&dir).unwrap();
     let file = |name: &str, posterior: &str| {
         let path = dir.join(format!("{name}.yaml"));
@@ -561,7 +561,7 @@ fn inputs_of_one_method_are_drawn_at_one_quantile() {
     let text = std::fs::read_to_string(root.join("aircraft/vpm-m16.yaml")).unwrap();
     let once = text.replacen("shares: wake-dynamic-pressure, ", "", 1);
     assert_ne!(once, text);
-    let dir = std::env::temp_dir().join(format!("cierva-shares-{}", std::process::id()));
+    let dir = crate::common::scratch("shares");
     std::fs::create_dir_all(&dir).unwrap();
     // The files it refers to, beside it.
     for entry in std::fs::read_dir(root.join("aircraft")).unwrap() {

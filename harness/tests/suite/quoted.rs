@@ -22,7 +22,7 @@ impl Drop for Folder {
 fn folder_with(name: &str, text: &str) -> Folder {
     static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("cierva-quoted-{}-{k}", std::process::id()));
+    let dir = crate::common::scratch(&format!("quoted-{k}"));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join(name), text).unwrap();
     Folder(dir)

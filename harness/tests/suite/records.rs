@@ -11,9 +11,7 @@ use std::path::{Path, PathBuf};
 const SWEEP: &str = "flight-refs/synthetic-flight-vpm-m16-60mph-stick-sweep";
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir()
-        .join(format!("cierva-records-{}", std::process::id()))
-        .join(name);
+    let dir = crate::common::scratch("records").join(name);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

@@ -8,7 +8,7 @@ use cierva_harness::suite::{case, outcome};
 /// A scratch case on seed 002's VPM M16 matrices (60 kn) with one BCAR check of the short
 /// period's margin and no expected verdict.
 fn bcar_case_without_a_verdict() -> case::Case {
-    let dir = std::env::temp_dir().join(format!("cierva-report-{}", std::process::id()));
+    let dir = crate::common::scratch("report");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bcar-margin.yaml");
     let text = format!(
@@ -114,7 +114,7 @@ fn a_bode_diagram_is_stacked_and_sets_incoherent_points_apart() {
     assert!(figs[2].series.iter().any(|s| s.name == "threshold 0.6"));
 
     // In the report: one figure under the stack's caption, three panels in its SVG.
-    let dir = std::env::temp_dir().join(format!("cierva-bode-{}", std::process::id()));
+    let dir = crate::common::scratch("bode");
     let case =
         super::common::repo_root().join("cases/cierva-frequency-response-vpm-m16-60mph.yaml");
     let (code, out, err) = super::common::cierva(&[

@@ -93,7 +93,7 @@ fn edited(
 /// output channel, an output no record measures.
 #[test]
 fn retune_refuses_bad_records_with_located_errors() {
-    let dir = std::env::temp_dir().join(format!("cierva-retune-bad-{}", std::process::id()));
+    let dir = crate::common::scratch("retune-bad");
     std::fs::create_dir_all(&dir).unwrap();
     let a = sweep(&dir, "a", 60, 100, 1);
     let b = sweep(&dir, "b", 60, 50, 2);
@@ -221,7 +221,7 @@ fn retune_refuses_bad_records_with_located_errors() {
 /// frequency-response matching from the uncorrected aircraft. Returns the JSON output and the
 /// folder it wrote to.
 fn readme_example(tag: &str) -> (serde_json::Value, PathBuf) {
-    let dir = std::env::temp_dir().join(format!("cierva-retune-{tag}-{}", std::process::id()));
+    let dir = crate::common::scratch(&format!("retune-{tag}"));
     std::fs::create_dir_all(&dir).unwrap();
     let record = super::common::readme_record(&dir);
     let (code, stdout, stderr) = super::common::retune_hub_and_drag(&dir, &[&record], &[]);

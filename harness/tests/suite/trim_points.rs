@@ -124,8 +124,7 @@ fn vpm_m16_trims(airspeeds: &[f64]) -> Vec<(f64, f64)> {
 /// for a trend, and no expectation judges it). `stick_error_per_mph` is added to the
 /// truth's stick trend about 55 mph (a model whose trend is that much off).
 fn flight_test_suite(name: &str, stick_error_per_mph: f64) -> std::path::PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("cierva-trim-points-{}-{name}", std::process::id()));
+    let dir = crate::common::scratch(&format!("trim-points-{name}"));
     new_suite(&dir);
     std::os::unix::fs::symlink(repo_root().join("aircraft"), dir.join("aircraft")).unwrap();
     std::fs::create_dir_all(dir.join("flight-refs")).unwrap();

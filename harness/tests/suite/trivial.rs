@@ -11,7 +11,7 @@ fn root() -> &'static Path {
 
 /// `cierva validate` on a case written to a temporary file: exit code and stdout.
 fn validate_case(name: &str, yaml: &str) -> (i32, String) {
-    let dir = std::env::temp_dir().join(format!("cierva-trivial-{}", std::process::id()));
+    let dir = crate::common::scratch("trivial");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.yaml"));
     std::fs::write(&path, yaml).unwrap();

@@ -68,7 +68,7 @@ fn the_tutorials_run_as_written() {
         .collect();
     tutorials.sort();
     assert!(tutorials.len() >= 4, "{tutorials:?}");
-    let root = std::env::temp_dir().join(format!("cierva-tutorials-{}", std::process::id()));
+    let root = crate::common::scratch("tutorials");
     let _ = std::fs::remove_dir_all(&root);
     let mut failed = Vec::new();
     for t in &tutorials {

@@ -597,7 +597,7 @@ fn a_calibrations_predictive_error_is_carried_into_u_input() {
     let case =
         cierva_harness::suite::case::load(&root.join("cases/naca-tr487-vertical-descent.yaml"))
             .unwrap();
-    let dir = std::env::temp_dir().join(format!("cierva-calibration-{}", std::process::id()));
+    let dir = crate::common::scratch("calibration");
     std::fs::create_dir_all(&dir).unwrap();
     let file = |name: &str, regimes: &str, not_applied: &str| {
         let path = dir.join(format!("{name}.yaml"));
@@ -1181,7 +1181,7 @@ fn a_malformed_uncertainty_summary_is_a_located_error() {
     let over = good.replace("passes_percent: 63", "passes_percent: 163");
     let err = summary::parse(path, &over).unwrap_err();
     assert!(err.message.contains("more than 100"), "{}", err.render());
-    let dir = std::env::temp_dir().join(format!("cierva-no-summary-{}", std::process::id()));
+    let dir = crate::common::scratch("no-summary");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("cierva.toml"), "format_version = 1\n").unwrap();

@@ -624,7 +624,7 @@ mod acceptance_log {
     /// refused untouched rather than rewritten.
     #[test]
     fn the_log_is_only_appended_to() {
-        let dir = std::env::temp_dir().join(format!("cierva-acceptances-{}", std::process::id()));
+        let dir = crate::common::scratch("acceptances");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(LOG_FILE);
         let _ = std::fs::remove_file(&path);
@@ -671,7 +671,7 @@ mod acceptance_log {
     /// not appended to. Entries logged before the chain began are covered by the first link.
     #[test]
     fn an_entry_appended_or_edited_by_hand_breaks_the_chain() {
-        let dir = std::env::temp_dir().join(format!("cierva-chain-{}", std::process::id()));
+        let dir = crate::common::scratch("chain");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(LOG_FILE);
         let _ = std::fs::remove_file(&path);
@@ -882,7 +882,7 @@ mod yaml {
 
     #[test]
     fn typos_get_a_suggestion_and_a_caret() {
-        let dir = std::env::temp_dir().join(format!("cierva-yaml-{}", std::process::id()));
+        let dir = crate::common::scratch("yaml");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("t.yaml");
         std::fs::write(&path, "id: a\nmas_kg: 3\n").unwrap();
@@ -936,7 +936,7 @@ mod rotor_file {
         let shipped =
             cierva_harness::inputs::rotor::load(&root.join("aircraft/pca-2-rotor.yaml")).unwrap();
         assert!(!shipped.rotor.yawed_flow_drag);
-        let dir = std::env::temp_dir().join(format!("cierva-yawed-{}", std::process::id()));
+        let dir = crate::common::scratch("yawed");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("pca-2-rotor.yaml");
         let on = text.replacen("\n  elements:", "\n  yawed_flow_drag: true\n  elements:", 1);
@@ -983,7 +983,7 @@ mod rotor_file {
             .map(|l| format!("{l}\n"))
             .collect();
         assert!(!bare.contains("hub_drag"), "{bare}");
-        let dir = std::env::temp_dir().join(format!("cierva-hub-drag-{}", std::process::id()));
+        let dir = crate::common::scratch("hub-drag");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("pca-2-rotor.yaml");
         std::fs::write(&path, &bare).unwrap();

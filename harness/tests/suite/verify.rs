@@ -21,7 +21,7 @@ fn truth() -> LinearModel {
 }
 
 fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("cierva-verify-{}", std::process::id()));
+    let dir = crate::common::scratch("verify");
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

@@ -265,7 +265,7 @@ fn the_command_gives_the_rotor_files_answer_and_warns_outside_momentum_theorys_v
 
     // A rotor file of the user's that states no physics runs with the defaults, and the text
     // says so and how to give them.
-    let dir = std::env::temp_dir().join(format!("cierva-no-physics-{}", std::process::id()));
+    let dir = crate::common::scratch("no-physics");
     std::fs::create_dir_all(&dir).unwrap();
     let src = std::fs::read_to_string(root().join("aircraft/pca-2-rotor.yaml")).unwrap();
     let (head, rest) = src.split_once("physics:\n").unwrap();
@@ -297,7 +297,7 @@ fn the_command_gives_the_rotor_files_answer_and_warns_outside_momentum_theorys_v
 #[test]
 fn a_check_on_an_answer_outside_an_equations_validity_does_not_pass() {
     use cierva_harness::checks::result::Finding;
-    let dir = std::env::temp_dir().join(format!("cierva-validity-{}", std::process::id()));
+    let dir = crate::common::scratch("validity");
     std::fs::create_dir_all(&dir).unwrap();
     let src = std::fs::read_to_string(root().join("cases/naca-tr487-vertical-descent.yaml"))
         .unwrap()

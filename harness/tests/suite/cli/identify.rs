@@ -4,7 +4,7 @@ use super::*;
 
 #[test]
 fn synth_then_identify_round_trips() {
-    let dir = std::env::temp_dir().join(format!("cierva-cli-{}", std::process::id()));
+    let dir = crate::common::scratch("cli");
     std::fs::create_dir_all(&dir).unwrap();
     let csv = dir.join("sweep.csv");
     let (code, out, err) = cierva(&[

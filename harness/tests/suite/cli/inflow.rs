@@ -33,7 +33,7 @@ fn inflow_reads_a_teeter_record() {
 /// wake set over the rotor file's physics, which the command says.
 #[test]
 fn a_synthetic_teeter_record_regenerates_bit_for_bit() {
-    let dir = std::env::temp_dir().join(format!("cierva-teeter-regen-{}", std::process::id()));
+    let dir = crate::common::scratch("teeter-regen");
     std::fs::create_dir_all(dir.join("flight-refs")).unwrap();
     let link = dir.join("aircraft");
     if !link.exists() {

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 #[test]
 fn a_suite_is_a_directory_that_init_makes_anywhere() {
     use crate::common::cierva_in;
-    let dir = std::env::temp_dir().join(format!("cierva-suite-{}", std::process::id()));
+    let dir = crate::common::scratch("suite");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (code, _, err) = cierva_in(&dir, &["validate"]);

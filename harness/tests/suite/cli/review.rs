@@ -51,7 +51,7 @@ fn review_accept_needs_a_reason() {
 fn the_scoreboard_ratchets_item_by_item() {
     use crate::common::cierva_in;
     use cierva_harness::suite::{review::acceptance_state, scoreboard};
-    let dir = std::env::temp_dir().join(format!("cierva-ratchet-{}", std::process::id()));
+    let dir = crate::common::scratch("ratchet");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     assert_eq!(cierva_in(&dir, &["init", "s"]).0, 0);

@@ -5,7 +5,7 @@ use std::path::Path;
 
 #[test]
 fn simulate_flies_a_doublet_and_reads_a_control_csv() {
-    let dir = std::env::temp_dir().join(format!("cierva-sim-{}", std::process::id()));
+    let dir = crate::common::scratch("sim");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("doublet.csv");
     let (code, _, err) = cierva(&[
@@ -108,7 +108,7 @@ fn simulate_flies_a_doublet_and_reads_a_control_csv() {
 /// column, puts a caret under the field, and suggests the nearest column name.
 #[test]
 fn a_bad_control_csv_is_located_with_a_caret_and_a_suggestion() {
-    let dir = std::env::temp_dir().join(format!("cierva-csv-{}", std::process::id()));
+    let dir = crate::common::scratch("csv");
     std::fs::create_dir_all(&dir).unwrap();
     let typo = dir.join("typo.csv");
     std::fs::write(&typo, "time_s,eta_s_percnt\n0,0\n1,1\n").unwrap();

@@ -7,7 +7,7 @@ use super::*;
 /// aircraft print the model beside the identified derivatives. Bad arguments are errors.
 #[test]
 fn synth_flight_records_identify_against_the_aircraft() {
-    let dir = std::env::temp_dir().join(format!("cierva-synth-flight-{}", std::process::id()));
+    let dir = crate::common::scratch("synth-flight");
     std::fs::create_dir_all(&dir).unwrap();
     let mut paths = Vec::new();
     for (control, amplitude) in [("eta_s", "4"), ("eta_c", "3")] {
@@ -95,7 +95,7 @@ fn synth_flight_records_identify_against_the_aircraft() {
 /// `scripts/regenerate-references` and commit what it rewrites.
 #[test]
 fn the_self_consistency_tables_are_the_models_own_flights() {
-    let dir = std::env::temp_dir().join(format!("cierva-self-consistency-{}", std::process::id()));
+    let dir = crate::common::scratch("self-consistency");
     std::fs::create_dir_all(&dir).unwrap();
     let specs = [
         ("eta_s", "4", "701"),
@@ -193,7 +193,7 @@ fn the_self_consistency_tables_are_the_models_own_flights() {
 /// v1c are found.
 #[test]
 fn a_flight_records_teeter_gives_seed_003s_inflow() {
-    let dir = std::env::temp_dir().join(format!("cierva-teeter-flight-{}", std::process::id()));
+    let dir = crate::common::scratch("teeter-flight");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("trimmed.csv");
     let (code, stdout, stderr) = cierva(&[

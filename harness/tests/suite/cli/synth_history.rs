@@ -6,7 +6,7 @@ use super::*;
 /// flies it with the model that made it finds nothing but the noise it was given.
 #[test]
 fn synth_history_writes_a_record_a_time_history_check_reads() {
-    let dir = std::env::temp_dir().join(format!("cierva-synth-history-{}", std::process::id()));
+    let dir = crate::common::scratch("synth-history");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("lin-doublet.csv");
     let (code, _, err) = cierva(&[

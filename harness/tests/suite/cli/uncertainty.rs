@@ -140,7 +140,7 @@ fn uncertainty_write_summary_writes_the_suites_verdicts_the_same_each_time() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("no case paths and no --corrections"), "{err}");
 
-    let dir = std::env::temp_dir().join(format!("cierva-summary-{}", std::process::id()));
+    let dir = crate::common::scratch("summary");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (code, _, err) = cierva_in(&dir, &["init", "s"]);

@@ -116,7 +116,7 @@ fn validate_with_fitted_corrections_reports_the_checks_that_now_pass() {
 /// data, and a Markdown summary with the counts; the JSON output names the files.
 #[test]
 fn validate_writes_a_report_with_plots_and_a_summary() {
-    let dir = std::env::temp_dir().join(format!("cierva-report-{}", std::process::id()));
+    let dir = crate::common::scratch("report");
     let _ = std::fs::remove_dir_all(&dir);
     let d = dir.to_str().unwrap();
     let (code, out, err) = cierva(&[
@@ -212,7 +212,7 @@ fn validate_writes_a_report_with_plots_and_a_summary() {
 #[test]
 fn junit_xml_has_one_testcase_per_check_and_selection_picks_checks() {
     crate::external::require_python3();
-    let dir = std::env::temp_dir().join(format!("cierva-junit-{}", std::process::id()));
+    let dir = crate::common::scratch("junit");
     let xml = dir.join("out/junit.xml");
     let fixture = root().join("harness/tests/fixtures/unexpected-pass.yaml");
     let mut args = vec!["validate", "--format", "json", "--junit"];
