@@ -129,6 +129,12 @@ pub(crate) fn sensitivity(a: SensitivityArgs) -> Result<ExitCode, Error> {
         }
         (None, Some(path)) => {
             let Some(v) = a.airspeed_mph else {
+                if cierva_harness::suite::case::load(path).is_ok() {
+                    return Err(Error::input(format!(
+                        "{} is a case, not an aircraft file: give it with --case {0}",
+                        path.display()
+                    )));
+                }
                 return Err(Error::input("give --airspeed-mph with an aircraft file"));
             };
             file = load_aircraft(path)?;

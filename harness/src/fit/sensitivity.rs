@@ -391,10 +391,15 @@ pub fn from_case(
     let request = match conditions.as_slice() {
         [one] => *one,
         [] => {
+            let mut kinds: Vec<&str> = case.checks.iter().map(|c| c.kind().name()).collect();
+            kinds.sort_unstable();
+            kinds.dedup();
             return Err(format!(
-                "{} has no derivative or trim check{}",
+                "{} has no derivative or trim check{} (its checks are of kind {}): sensitivity \
+                 moves parameters about one trim, and reads the `derivative` and `trim` checks there",
                 case.id,
-                airspeed_mph.map_or(String::new(), |v| format!(" at {v} mph"))
+                airspeed_mph.map_or(String::new(), |v| format!(" at {v} mph")),
+                kinds.join(", ")
             ));
         }
         many => {

@@ -44,3 +44,25 @@ fn sensitivity_studies_a_case_and_refuses_unknown_parameters() {
         "{out}"
     );
 }
+
+/// What a user meets first: a case given where the aircraft file goes is named as a case, with
+/// the option to give it by; a case without a derivative or trim check says which kinds it has
+/// and which the study reads.
+#[test]
+fn sensitivity_names_a_case_given_as_an_aircraft_and_the_kinds_it_cannot_study() {
+    let case = root().join("cases/vpm-m16-trim-max-weight.yaml");
+    let case = case.to_str().unwrap();
+    let (code, _, err) = cierva(&["sensitivity", case]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("is a case, not an aircraft file: give it with --case"),
+        "{err}"
+    );
+    let (code, _, err) = cierva(&["sensitivity", "--case", case]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("has no derivative or trim check (its checks are of kind trim_sweep)")
+            && err.contains("reads the `derivative` and `trim` checks"),
+        "{err}"
+    );
+}
