@@ -58,24 +58,25 @@ pub fn cierva_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
 }
 
 /// A scratch folder for a test, `<temp>/cierva-tests-<pid>/<name>` (`<temp>` the system's
-/// temporary folder, `<pid>` this test process's id); the caller creates and removes `name`
-/// itself, and gives each of its folders a name of its own in the run.
+/// temporary folder, `<pid>` this test process's id); the caller creates `name` itself, and
+/// gives each of its folders a name of its own in the run.
 ///
 /// Many tests' folders are shared by a module's tests (a suite one test builds and others
 /// read), so no single test can remove them when done. Instead all of a run's folders sit
 /// under the run's one root, and the first call in a process (the root is made once, with
 /// [`OnceLock`]) sweeps the roots earlier runs left: every `cierva-tests-<pid>` folder in
-/// `<temp>` that is not this process's and is stale. Stale means, on Linux, that process is
-/// gone (no `/proc/<pid>`); elsewhere, or without `/proc`, the folder was last modified more
-/// than 24 hours ago. Only names of exactly that form are read, so folders of other tools
-/// (such as `scripts/retune-trials`' `cierva-retune-trials-<random>`) are never touched.
-/// Sweeping ignores every error (another run may be sweeping at the same time).
+/// `<temp>` that is not this process's and is stale ([`is_stale`]). A root of this process's
+/// own id left by an earlier process is emptied first. Only names of exactly that form are
+/// read, so folders of other tools (such as `scripts/retune-trials`'
+/// `cierva-retune-trials-<random>`) are never touched. Sweeping ignores every error (another
+/// run may be sweeping at the same time).
 pub fn scratch(name: &str) -> PathBuf {
     static ROOT: OnceLock<PathBuf> = OnceLock::new();
     ROOT.get_or_init(|| {
         let temp = std::env::temp_dir();
         sweep_stale_scratch(&temp);
         let root = temp.join(format!("cierva-tests-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
         let _ = std::fs::create_dir_all(&root);
         root
     })
@@ -109,17 +110,23 @@ fn scratch_pid(name: &str) -> Option<u32> {
         .flatten()
 }
 
-/// Whether the scratch folder `dir` of process `pid` is stale: on Linux, that process is gone;
-/// elsewhere (or without `/proc`), `dir` was last modified more than 24 hours ago.
+/// Whether the scratch root `dir` of process `pid` is stale. On Linux, that process is gone
+/// (no `/proc/<pid>`) and the root was last changed over an hour ago: a run in another PID
+/// namespace that shares the temporary folder is invisible in `/proc`, and a root a run is
+/// still filling keeps changing. Elsewhere (or without `/proc`), the root was last changed over
+/// a day ago.
 fn is_stale(pid: u32, dir: &Path) -> bool {
+    let older_than = |hours: u64| {
+        std::fs::metadata(dir)
+            .and_then(|meta| meta.modified())
+            .ok()
+            .and_then(|modified| modified.elapsed().ok())
+            .is_some_and(|age| age > std::time::Duration::from_secs(hours * 60 * 60))
+    };
     if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
-        return !Path::new("/proc").join(pid.to_string()).exists();
+        return !Path::new("/proc").join(pid.to_string()).exists() && older_than(1);
     }
-    std::fs::metadata(dir)
-        .and_then(|meta| meta.modified())
-        .ok()
-        .and_then(|modified| modified.elapsed().ok())
-        .is_some_and(|age| age > std::time::Duration::from_secs(24 * 60 * 60))
+    older_than(24)
 }
 
 /// Loads every fixture in `dir` with `load` and returns what went wrong (empty when every

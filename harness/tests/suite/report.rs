@@ -8,7 +8,7 @@ use cierva_harness::suite::{case, outcome};
 /// A scratch case on seed 002's VPM M16 matrices (60 kn) with one BCAR check of the short
 /// period's margin and no expected verdict.
 fn bcar_case_without_a_verdict() -> case::Case {
-    let dir = crate::common::scratch("report");
+    let dir = crate::common::scratch("bcar-report");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bcar-margin.yaml");
     let text = format!(

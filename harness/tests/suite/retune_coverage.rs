@@ -58,13 +58,13 @@ const KNOWN_MISSES: [(&str, usize, &str); 2] = [
          processing removes a bias shown on known answers (the drag scale's), and over this \
          test and the 120 held-back trials the blockage holds 138 of 160 with it against 136 \
          without; its misses are errors its standard errors do not carry, in calm air as in \
-         turbulence (seed 8: 53 of 60 calm, 47 in turbulence), each the configuration's own \
-         and the same for every draw of the noise (one such condition flown 12 times \
-         scatters by a seventh of its standard error about an error of 2.6): the difference \
-         between the aircraft flown (individual blades under the pilot's loop) and the model \
-         fitted (the flapping linearisation about one trim), which the blockage absorbs and \
-         the residuals do not show (reports/investigations.md, \
-         \"Where the blockage's misses come from\"; issue 51, item 6, open)",
+         turbulence (seed 8: 53 of 60 calm, 47 in turbulence); one missed condition flown \
+         again 12 times gives the same wrong blockage each time (scatter a seventh of its \
+         standard error, error 2.6 standard errors), most likely the difference between the \
+         aircraft flown (individual blades under the pilot's loop) and the model fitted (the \
+         flapping linearisation about one trim), which the blockage absorbs; not settled \
+         (reports/investigations.md, \"Where the blockage's misses come from\"; issue 51, \
+         item 6, open)",
     ),
     (
         "profile_drag_scale",
