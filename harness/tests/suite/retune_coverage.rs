@@ -60,11 +60,11 @@ const KNOWN_MISSES: [(&str, usize, &str); 2] = [
          without; its misses are errors its standard errors do not carry, in calm air as in \
          turbulence (seed 8: 53 of 60 calm, 47 in turbulence); one missed condition flown \
          again 12 times gives the same wrong blockage each time (scatter a seventh of its \
-         standard error, error 2.6 standard errors), most likely the difference between the \
-         aircraft flown (individual blades under the pilot's loop) and the model fitted (the \
-         flapping linearisation about one trim), which the blockage absorbs; not settled \
-         (reports/investigations.md, \"Where the blockage's misses come from\"; issue 51, \
-         item 6, open)",
+         standard error, error 2.6 standard errors): cierva's own model reduction, the difference \
+         between the individual blades flown and the flapping linearisation fitted, which \
+         the blockage absorbs (flown by that linearisation instead, seed 8's 60 calm trials \
+         hold it 59 times; reports/investigations.md, \"Where the blockage's misses come \
+         from\"; issue 51, item 6, open until the reduction is taken out)",
     ),
     (
         "profile_drag_scale",
