@@ -169,6 +169,7 @@ pub(crate) fn retune(a: RetuneArgs) -> Result<ExitCode, Error> {
             "standard_errors": r.standard_errors_by_name(),
             "intervals_95": r.intervals_by_name(),
             "status": r.result.status.name(),
+            "stalled": r.result.stalled(),
             "status_detail": r.result.status.detail(),
             "curvature_standard_errors": r
                 .result
@@ -412,7 +413,7 @@ fn print_text(
         aircraft,
         count(records, "record", "records"),
         count(r.conditions.len(), "condition", "conditions"),
-        r.result.status.described()
+        r.result.status_described()
     );
     let sig = cierva_harness::units::sig;
     for (((k, v), se), i) in r

@@ -94,6 +94,9 @@ impl Status {
     }
 }
 
+/// How the warning of a fit that stalled begins ([`FitResult::stalled`]).
+const STALLED: &str = "stopped where every trial step";
+
 /// A fit's outcome.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitResult {
@@ -128,6 +131,30 @@ impl FitResult {
             k.set(&mut c, *v);
         }
         c
+    }
+
+    /// Whether the fit stopped because every trial step its trust region allowed left the model
+    /// without an equilibrium at some target (its warning says so): its end is where its path
+    /// met the edge of the model's equilibria, which need not be the cost's minimum.
+    pub fn stalled(&self) -> bool {
+        self.warnings.iter().any(|w| w.starts_with(STALLED))
+    }
+
+    /// The status in words ([`Status::described`]), and for a fit that [stalled](Self::stalled),
+    /// that it did: a status of converged alone would read as the cost's minimum.
+    pub fn status_described(&self) -> String {
+        format!("{}{}", self.status.described(), self.stalled_described())
+    }
+
+    /// `, but stopped at the edge ...` for a fit that [stalled](Self::stalled), else nothing:
+    /// what follows its status wherever the status is written.
+    pub fn stalled_described(&self) -> &'static str {
+        if self.stalled() {
+            ", but stopped at the edge of the model's equilibria (every trial step lost one): the \
+             end may be where the fit's path met that edge, not the cost's minimum"
+        } else {
+            ""
+        }
     }
 }
 
@@ -832,9 +859,9 @@ fn hard_bounds_left_violated(problem: &Problem, y: &[f64]) -> Option<Status> {
 fn end_warnings(problem: &Problem, p: &[f64], stalled: Option<usize>, warnings: &mut Vec<String>) {
     if let Some(lost) = stalled {
         warnings.push(format!(
-            "stopped where every trial step ({lost}, the trust region shrunk by 4 each time) left \
-             the model without an equilibrium at some target: the cost may fall beyond the edge \
-             of the model's equilibria, and the standard errors describe its curvature here only"
+            "{STALLED} ({lost}, the trust region shrunk by 4 each time) left the model without an \
+             equilibrium at some target: the cost may fall beyond the edge of the model's \
+             equilibria, and the standard errors describe its curvature here only"
         ));
     }
     for (q, v) in problem.parameters.iter().zip(p) {

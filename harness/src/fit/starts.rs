@@ -79,13 +79,6 @@ pub fn points(problem: &Problem, start: &[f64], end: &[f64], n: usize) -> Vec<Ve
 /// The box's least half-width, as a fraction of a parameter's bounds.
 pub const MIN_BOX: f64 = 0.02;
 
-/// Whether a fit stopped because every trial step lost an equilibrium (the fit's warning).
-fn stalled(r: &FitResult) -> bool {
-    r.warnings
-        .iter()
-        .any(|w| w.starts_with("stopped where every trial step"))
-}
-
 /// Fits `problem` from `n` starts (its own, then [`points`]) and keeps the best end (its cost and
 /// targets before the fit stay the file's own start's), with a warning when the
 /// ends the data cannot tell apart spread by more than a standard error, or when a start other
@@ -119,7 +112,7 @@ pub fn fit_from_starts(problem: &Problem, n: usize, done: impl Fn(usize)) -> (Fi
                 cost: r.cost,
                 status: r.status.name(),
                 evaluations: r.evaluations,
-                stalled: stalled(r),
+                stalled: r.stalled(),
             })
             .collect(),
         best,

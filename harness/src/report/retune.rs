@@ -6,6 +6,31 @@ use crate::fit::retune::responses::ResponseComparison;
 use crate::fit::retune::{ModeRow, Prediction, Retune, Revalidation};
 use std::fmt::Write;
 
+/// The report's first line: the version, the fit's status (and that it stopped at the edge of
+/// the model's equilibria, where it did), its iterations and cost.
+fn written_by(r: &Retune) -> String {
+    let g = crate::units::sig;
+    format!(
+        "Written by `cierva retune` (cierva {}). Fit status: **{}**{}, {} iterations, {} model evaluations; cost {} -> {}.{}",
+        env!("CARGO_PKG_VERSION"),
+        r.result.status.name(),
+        match r.result.status.detail() {
+            "" => String::new(),
+            d => format!(" ({d})"),
+        },
+        r.result.iterations,
+        r.result.evaluations,
+        g(r.result.cost_start, 4),
+        g(r.result.cost, 4),
+        if r.result.stalled() {
+            " **It stopped at the edge of the model's equilibria** (every trial step lost one): \
+             its end may be where its path met that edge, not the cost's minimum."
+        } else {
+            ""
+        }
+    )
+}
+
 /// The before/after report for people (markdown).
 pub fn markdown(
     r: &Retune,
@@ -18,20 +43,7 @@ pub fn markdown(
     let g = crate::units::sig;
     let mut s = String::new();
     let _ = writeln!(s, "# Retune of {aircraft}\n");
-    let _ = writeln!(
-        s,
-        "Written by `cierva retune` (cierva {}). Fit status: **{}**{}, {} iterations, {} model evaluations; cost {} -> {}.\n",
-        env!("CARGO_PKG_VERSION"),
-        r.result.status.name(),
-        match r.result.status.detail() {
-            "" => String::new(),
-            d => format!(" ({d})"),
-        },
-        r.result.iterations,
-        r.result.evaluations,
-        g(r.result.cost_start, 4),
-        g(r.result.cost, 4)
-    );
+    let _ = writeln!(s, "{}\n", written_by(r));
     let _ = writeln!(s, "## Records\n");
     for (c, ids) in &r.conditions {
         let _ = writeln!(s, "- {}: {}", c.label(), ids.join(", "));

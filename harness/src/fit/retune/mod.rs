@@ -448,6 +448,7 @@ pub fn corrections_file(
                 })
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
             "status": r.result.status.name(),
+            "stalled": r.result.stalled(),
             "detail": r.result.status.detail(),
             "model": r.model,
             "reduced_chi_square": r.reduced_chi_square.is_finite().then_some(r.reduced_chi_square),
