@@ -38,7 +38,7 @@ mod targets;
 
 pub use solve::{
     BatchEvaluator, Birge, Executor, FitOptions, FitResult, INTERVAL_Z, Interval, POSTERIOR_METHOD,
-    Problem, Status, fit, interval, posterior, scale_by_birge,
+    Problem, STALLED_MEANS, Status, fit, interval, posterior, scale_by_birge,
 };
 pub use targets::{
     Bounds, ConditionStarts, Enforce, FitParameter, FitSubject, Measure, ParameterKind,

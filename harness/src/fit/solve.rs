@@ -94,8 +94,9 @@ impl Status {
     }
 }
 
-/// How the warning of a fit that stalled begins ([`FitResult::stalled`]).
-const STALLED: &str = "stopped where every trial step";
+/// What a fit that [stalled](FitResult::stalled) means, wherever its status is written.
+pub const STALLED_MEANS: &str = "stopped at the edge of the model's equilibria (every trial step \
+     lost one): the end may be where the fit's path met that edge, not the cost's minimum";
 
 /// A fit's outcome.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -121,6 +122,11 @@ pub struct FitResult {
     /// ([`posterior`]) is made of.
     #[serde(skip)]
     pub information: Vec<Vec<f64>>,
+    /// The trial steps lost where the fit stopped because every step its trust region allowed
+    /// left the model without an equilibrium at some target (its warning says so too); `None`
+    /// for any other end.
+    #[serde(skip)]
+    pub stall: Option<usize>,
 }
 
 impl FitResult {
@@ -134,10 +140,10 @@ impl FitResult {
     }
 
     /// Whether the fit stopped because every trial step its trust region allowed left the model
-    /// without an equilibrium at some target (its warning says so): its end is where its path
+    /// without an equilibrium at some target ([`FitResult::stall`]): its end is where its path
     /// met the edge of the model's equilibria, which need not be the cost's minimum.
     pub fn stalled(&self) -> bool {
-        self.warnings.iter().any(|w| w.starts_with(STALLED))
+        self.stall.is_some()
     }
 
     /// The status in words ([`Status::described`]), and for a fit that [stalled](Self::stalled),
@@ -148,12 +154,11 @@ impl FitResult {
 
     /// `, but stopped at the edge ...` for a fit that [stalled](Self::stalled), else nothing:
     /// what follows its status wherever the status is written.
-    pub fn stalled_described(&self) -> &'static str {
+    pub fn stalled_described(&self) -> String {
         if self.stalled() {
-            ", but stopped at the edge of the model's equilibria (every trial step lost one): the \
-             end may be where the fit's path met that edge, not the cost's minimum"
+            format!(", but {STALLED_MEANS}")
         } else {
-            ""
+            String::new()
         }
     }
 }
@@ -518,6 +523,7 @@ fn unstarted(problem: &Problem, status: Status) -> FitResult {
         after: vec![f64::NAN; problem.targets.len()],
         warnings: vec![],
         information: Vec::new(),
+        stall: None,
     }
 }
 
@@ -754,6 +760,7 @@ pub fn fit(problem: &Problem) -> FitResult {
         after: at.y,
         warnings,
         information,
+        stall: stalled,
     }
 }
 
@@ -859,9 +866,9 @@ fn hard_bounds_left_violated(problem: &Problem, y: &[f64]) -> Option<Status> {
 fn end_warnings(problem: &Problem, p: &[f64], stalled: Option<usize>, warnings: &mut Vec<String>) {
     if let Some(lost) = stalled {
         warnings.push(format!(
-            "{STALLED} ({lost}, the trust region shrunk by 4 each time) left the model without an \
-             equilibrium at some target: the cost may fall beyond the edge of the model's \
-             equilibria, and the standard errors describe its curvature here only"
+            "stopped where every trial step ({lost}, the trust region shrunk by 4 each time) left \
+             the model without an equilibrium at some target: the cost may fall beyond the edge \
+             of the model's equilibria, and the standard errors describe its curvature here only"
         ));
     }
     for (q, v) in problem.parameters.iter().zip(p) {

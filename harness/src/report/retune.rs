@@ -23,10 +23,9 @@ fn written_by(r: &Retune) -> String {
         g(r.result.cost_start, 4),
         g(r.result.cost, 4),
         if r.result.stalled() {
-            " **It stopped at the edge of the model's equilibria** (every trial step lost one): \
-             its end may be where its path met that edge, not the cost's minimum."
+            format!(" **It {}.**", crate::fit::STALLED_MEANS)
         } else {
-            ""
+            String::new()
         }
     )
 }

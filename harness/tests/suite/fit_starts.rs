@@ -21,6 +21,7 @@ fn ended(values: [f64; 2], cost: f64, status: Status) -> FitResult {
         after: vec![],
         warnings: vec![],
         information: vec![],
+        stall: None,
     }
 }
 
@@ -100,19 +101,14 @@ fn a_spread_beyond_a_standard_error_warns_and_one_within_does_not() {
 /// A fit that stopped because every trial step left the model without an equilibrium says so
 /// after its status, where a status of converged alone would read as the cost's minimum (issue
 /// 51, item 6: a held-back retune ended that way at the blockage's lower bound, reduced
-/// chi-square 8, and read "converged"); its warning is what marks it, as the fit writes it.
+/// chi-square 8, and read "converged"); the solver marks it with the trial steps it lost.
 #[test]
 fn a_stalled_fit_says_so_after_its_status() {
     let mut r = ended([0.4, 1.7], 846.0, Status::Converged);
     assert!(!r.stalled());
     assert_eq!(r.status_described(), "converged");
     assert_eq!(r.stalled_described(), "");
-    r.warnings.push(
-        "stopped where every trial step (7, the trust region shrunk by 4 each time) left the \
-         model without an equilibrium at some target: the cost may fall beyond the edge of the \
-         model's equilibria, and the standard errors describe its curvature here only"
-            .into(),
-    );
+    r.stall = Some(7);
     assert!(r.stalled());
     assert!(
         r.status_described()
